@@ -1,0 +1,144 @@
+# psensd: one Makefile for the whole tree.  The layout is the architecture:
+#   sim/      the simulation library (libpsim.a) and its tools in sim/cmd/
+#   drivers/  device drivers behind one method table (libpsdrv.a); no simulation here
+#   daemon/   psensd, psensctl and psvirt: joins sim/ and drivers/
+#   tests/    unit (cmocka), system (shell, real binaries), fuzz (libFuzzer), bench
+# Every directory may add rules in its own module.mk (included below).
+#
+# Optional drivers: WITH_MODBUS / WITH_USB / WITH_GPIOD = auto | yes | no.
+# auto drops a driver whose library pkg-config cannot find; yes makes that an error.
+
+CC      ?= gcc
+BUILD   ?= build
+PREFIX  ?= /usr/local
+DESTDIR ?=
+SAN     ?=
+PKG     ?= pkg-config
+
+WITH_MODBUS ?= auto
+WITH_USB    ?= auto
+WITH_GPIOD  ?= auto
+
+WARN    = -Wall -Wextra -Werror -Wshadow -Wformat=2 -Wstrict-prototypes \
+          -Wmissing-prototypes -Wpointer-arith -Wvla
+OPT     ?= -O2 -g
+CPPFLAGS_BASE = -D_GNU_SOURCE
+CFLAGS_ALL    = -std=c11 $(WARN) $(OPT) $(CPPFLAGS_BASE)
+LDLIBS_BASE   = -lm
+
+ifeq ($(SAN),1)
+  CFLAGS_ALL += -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+  LDFLAGS    += -fsanitize=address,undefined
+endif
+
+# ---- required libraries ---------------------------------------------------
+REQ_PKGS = sqlite3 inih libsystemd
+CFLAGS_ALL += $(shell $(PKG) --cflags $(REQ_PKGS) 2>/dev/null)
+LIBS_REQ   := $(shell $(PKG) --libs $(REQ_PKGS) 2>/dev/null)
+
+# ---- optional drivers -----------------------------------------------------
+# $(call feature,VAR,pkg,DEFINE) -> sets HAVE_<VAR> to yes/no
+define feature
+ifeq ($$(WITH_$(1)),no)
+  HAVE_$(1) := no
+else ifeq ($$(shell $$(PKG) --exists $(2) && echo yes),yes)
+  HAVE_$(1) := yes
+else ifeq ($$(WITH_$(1)),yes)
+  $$(error WITH_$(1)=yes but pkg-config cannot find $(2))
+else
+  HAVE_$(1) := no
+endif
+ifeq ($$(HAVE_$(1)),yes)
+  CFLAGS_ALL += -D$(3) $$(shell $$(PKG) --cflags $(2))
+  LIBS_OPT   += $$(shell $$(PKG) --libs $(2))
+endif
+endef
+LIBS_OPT :=
+$(eval $(call feature,MODBUS,libmodbus,PS_WITH_MODBUS))
+$(eval $(call feature,USB,libusb-1.0,PS_WITH_USB))
+$(eval $(call feature,GPIOD,libgpiod,PS_WITH_GPIOD))
+
+# ---- sources --------------------------------------------------------------
+SIM_SRC      := $(wildcard sim/*.c)
+SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
+DRV_SRC_ALL  := $(wildcard drivers/*.c)
+DRV_MODBUS   := $(wildcard drivers/modbus*.c)
+DRV_USB      := $(wildcard drivers/dali_usb*.c drivers/usb_*.c)
+DRV_GPIOD    := $(wildcard drivers/gpio*.c)
+DRV_SRC      := $(filter-out $(DRV_MODBUS) $(DRV_USB) $(DRV_GPIOD),$(DRV_SRC_ALL))
+ifeq ($(HAVE_MODBUS),yes)
+  DRV_SRC += $(DRV_MODBUS)
+endif
+ifeq ($(HAVE_USB),yes)
+  DRV_SRC += $(DRV_USB)
+endif
+ifeq ($(HAVE_GPIOD),yes)
+  DRV_SRC += $(DRV_GPIOD)
+endif
+DAEMON_SRC   := $(wildcard daemon/*.c)
+DAEMON_CMDS  := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
+# psvirt serves the virtual room over Modbus: it needs libmodbus.
+ifneq ($(HAVE_MODBUS),yes)
+  DAEMON_CMDS := $(filter-out psvirt,$(DAEMON_CMDS))
+endif
+
+obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
+
+LIBPSIM   = $(BUILD)/lib/libpsim.a
+LIBPSDRV  = $(BUILD)/lib/libpsdrv.a
+LIBPSD    = $(BUILD)/lib/libpsd.a
+PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
+LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
+
+.PHONY: all check bench fuzz install clean deps run demo sim drivers daemon config-status
+all: $(PROGRAMS)
+
+sim: $(addprefix $(BUILD)/bin/,$(SIM_CMDS))
+drivers: $(LIBPSDRV)
+daemon: $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS))
+
+config-status:
+	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) cc=$(CC) build=$(BUILD) san=$(SAN)"
+
+# The include path enforces the layering: sim/ sees only sim/, drivers/ only
+# drivers/, daemon/ and tests/ see everything.
+INC = -Isim -Idrivers -Idaemon
+$(BUILD)/obj/sim/%.o: INC = -Isim
+$(BUILD)/obj/drivers/%.o: INC = -Idrivers
+$(BUILD)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(INC) $(CFLAGS) -MMD -MP -c -o $@ $<
+
+$(LIBPSIM): $(call obj,$(SIM_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+$(LIBPSDRV): $(call obj,$(DRV_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+$(LIBPSD): $(call obj,$(DAEMON_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+# sim tools link only the simulation library: sim/ knows nothing of devices.
+$(addprefix $(BUILD)/bin/,$(SIM_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/sim/cmd/%.o $(LIBPSIM)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+
+$(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/cmd/%.o $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+
+-include $(wildcard */module.mk)
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
+
+# ---- Debian packages the build and the tests need -------------------------
+# Installed by `make deps` (and so by the README's two commands) when run as root.
+DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsystemd-dev \
+            libcmocka-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev
+DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus mbpoll socat valgrind \
+            libclang-rt-14-dev systemd
+deps:
+	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
+
+clean:
+	rm -rf $(BUILD) $(BUILD)-fuzz

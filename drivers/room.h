@@ -1,0 +1,65 @@
+/* The virtual room: a stateful model of one daylit zone, used by the loopback
+ * driver and by psvirt.  It knows numbers, not the simulation: the daemon fills
+ * struct ps_room_params from the scene's precomputed results.
+ *
+ *   sensor volts = gain * (daylight_sensor(t) * daylight_scale(t)
+ *                          + output(t) * elec_sensor) + offset + noise
+ *   task lux     = daylight_task(t) * daylight_scale(t) + output(t) * elec_task_lux
+ *
+ * output(t) is the ballast model's light output (fraction of full), which
+ * follows commands through a fade-rate limit, a minimum level and a
+ * first-order lamp lag integrated exactly (stable for any step). */
+#ifndef PS_ROOM_H
+#define PS_ROOM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* One daylight condition at a time of day. */
+struct ps_room_daypoint {
+	double t;             /* seconds since local midnight */
+	double sensor;        /* sensor response to daylight (response units, x gain = volts) */
+	double task_lux;      /* task illuminance from daylight, lux */
+};
+
+struct ps_ballast_params {
+	double fade_rate;     /* max change of commanded level per second (fraction/s); <= 0: instant */
+	double min_level;     /* lowest non-zero output (fraction), e.g. 0.01 for DALI, 0.1 for 0-10 V */
+	double lag_tau;       /* lamp response time constant, s (may be 1e-3 while the step is 1 s) */
+	int off_below_min;    /* command below min_level: 1 = switch off, 0 = clamp to min */
+};
+
+enum ps_room_fault {
+	PS_ROOM_FAULT_NONE = 0,
+	PS_ROOM_FAULT_STUCK,      /* sensor repeats its last value */
+	PS_ROOM_FAULT_OPEN,       /* sensor reads 0 V */
+	PS_ROOM_FAULT_SATURATED,  /* sensor reads the saturation voltage */
+	PS_ROOM_FAULT_DROP,       /* replies are dropped (reads time out) */
+	PS_ROOM_FAULT_LATE,       /* replies come late */
+	PS_ROOM_FAULT_BALLAST,    /* ballast ignores commands */
+	PS_ROOM_FAULT_COUNT
+};
+
+struct ps_room_fault_window {
+	int kind;             /* enum ps_room_fault */
+	double start, end;    /* seconds on the room's clock (time of day) */
+};
+
+struct ps_room_params {
+	const struct ps_room_daypoint *daylight;  /* sorted by t; interpolated linearly, */
+	size_t ndaylight;                         /* zero before the first and after the last */
+	double elec_sensor;   /* sensor response with the lights at full output */
+	double elec_task_lux; /* task lux with the lights at full output */
+	double gain;          /* volts per response unit */
+	double offset;        /* volts */
+	double noise;         /* standard deviation of sensor noise, volts */
+	double saturation;    /* volts where the sensor clips (e.g. 10) */
+	double task_noise;    /* standard deviation of task meter noise, lux */
+	uint64_t seed;        /* noise is reproducible */
+	struct ps_ballast_params ballast;
+	const struct ps_room_fault_window *faults;
+	size_t nfaults;
+	double late_s;        /* delay of a late reply */
+};
+
+#endif

@@ -1,0 +1,42 @@
+/* Errors of the simulation library: a project code with one strerror, and a
+ * message that names the file and the line or byte offset.  The library never
+ * prints; the tools print ps_err.msg. */
+#ifndef PS_ERR_H
+#define PS_ERR_H
+
+#include <stddef.h>
+
+enum ps_errcode {
+	PS_OK = 0,
+	PS_EIO = 1,      /* could not open, read or write a file (errno kept in sys_errno) */
+	PS_EFORMAT,      /* malformed input: bad header, truncated data, bad number */
+	PS_ERANGE,       /* a value outside what is allowed */
+	PS_ENOMEM,       /* out of memory, or an allocation larger than the input allows */
+	PS_EINVAL,       /* a bad argument or option from the caller */
+	PS_EUNSUPPORTED, /* valid input this code does not handle (says which) */
+	PS_EMISSING,     /* something required is absent (a file, a key, a program) */
+	PS_ECOUNT
+};
+
+struct ps_err {
+	int code;          /* enum ps_errcode */
+	int sys_errno;     /* errno at the failure for PS_EIO, else 0 */
+	char msg[512];     /* "file:line: what is wrong", ready to print */
+};
+
+/* Text of a code (never NULL). */
+const char *ps_strerror(int code);
+
+/* Fill *e (may be NULL) and return -1, so callers can write
+ * `return ps_errf(e, PS_EFORMAT, "%s:%d: ...", path, line);` */
+int ps_errf(struct ps_err *e, int code, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
+/* Like ps_errf with code PS_EIO and the current errno appended (": No such file"). */
+int ps_errsys(struct ps_err *e, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+
+/* Clear an error record. */
+void ps_err_clear(struct ps_err *e);
+
+#endif

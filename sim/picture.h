@@ -1,0 +1,66 @@
+/* Radiance pictures (.hdr, .pic): reading and writing.
+ *
+ * A picture is kept as the 4-byte RGBE (or XYZE) pixels the file stores, in
+ * Radiance's standard orientation (-Y N +X M: row 0 is the top scanline, x
+ * grows to the right), whatever orientation the file used.  Decoding a pixel
+ * to radiance is exact and done on demand in double: a mantissa m with
+ * exponent e reads as (m + 0.5) * 2^(e - 136), as Radiance's colr_color()
+ * does, then divided by the header's EXPOSURE (and COLORCORR) products.
+ * Keeping 4 bytes a pixel lets 4096 x 4096 pictures fit in 64 MiB and keeps
+ * radiances from 2^-136 to 2^119 without float underflow. */
+#ifndef PS_PICTURE_H
+#define PS_PICTURE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "err.h"
+
+enum ps_pic_format { PS_PIC_RGBE = 0, PS_PIC_XYZE = 1 };
+
+struct ps_picture {
+	int width;                 /* pixels per row in standard orientation */
+	int height;                /* rows */
+	uint8_t *pix;              /* width * height * 4 bytes, row-major, row 0 = top */
+	int format;                /* enum ps_pic_format */
+	double exposure[3];        /* product of all EXPOSURE= and COLORCORR= lines, per channel */
+	double pixaspect;          /* product of PIXASPECT= lines (1 if none) */
+	int has_primaries;
+	double primaries[8];       /* PRIMARIES= rx ry gx gy bx by wx wy */
+	char *view;                /* all VIEW= options in order, joined by spaces (NULL if none) */
+	char *header;              /* the whole header text as read (for writing it back) */
+	int orientation;           /* the file's resolution-string orientation flags (see picture.c) */
+};
+
+/* Read a picture file.  On error returns -1 with e->msg naming the file and the
+ * header line or byte offset.  Never allocates more than the file can justify. */
+int ps_pic_read(struct ps_picture *pic, const char *path, struct ps_err *e);
+/* Read from memory (name is used in messages). */
+int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len,
+                    const char *name, struct ps_err *e);
+void ps_pic_free(struct ps_picture *pic);
+
+/* Radiance of pixel (x, y) in standard orientation, in the picture's own
+ * colour space (RGB or XYZ), exposure divided out. */
+void ps_pic_get(const struct ps_picture *pic, int x, int y, double out[3]);
+
+/* The 256-entry table of 2^(e-136) that decoding uses (e = 0 means black). */
+extern const double ps_rgbe_scale[256];
+
+/* Encode one colour as RGBE the way Radiance's setcolr() does. */
+void ps_rgbe_encode(const double rgb[3], uint8_t out[4]);
+/* Decode one RGBE pixel exactly as Radiance does ((m + 0.5) * 2^(e-136)). */
+void ps_rgbe_decode(const uint8_t in[4], double rgb[3]);
+
+/* Write a picture that Radiance reads: "#?RADIANCE", extra header lines
+ * (may be NULL; each must end in a newline), VIEW= (if view non-NULL),
+ * FORMAT=32-bit_rle_rgbe, "-Y H +X W", new-style run-length scanlines.
+ * rgb is width * height * 3 doubles, row 0 = top. */
+int ps_pic_write(const char *path, int width, int height, const double *rgb,
+                 const char *view, const char *extra_header, struct ps_err *e);
+/* Same onto an open stream (path is for messages). */
+int ps_pic_write_fp(FILE *fp, const char *path, int width, int height, const double *rgb,
+                    const char *view, const char *extra_header, struct ps_err *e);
+
+#endif

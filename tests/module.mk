@@ -1,0 +1,48 @@
+# tests: unit tests (cmocka, one program per tests/unit/test_*.c), system tests
+# (tests/system/NNN-*.sh against the real binaries), libFuzzer targets, benchmarks.
+UNIT_SRC   := $(wildcard tests/unit/test_*.c)
+UNIT_BINS  := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(UNIT_SRC))
+UNIT_HELP  := $(wildcard tests/unit/helpers/*.c)
+SYS_TESTS  := $(sort $(wildcard tests/system/[0-9]*.sh))
+BENCH_SRC  := $(wildcard tests/bench/bench_*.c)
+BENCH_BINS := $(patsubst tests/bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
+TEST_LIBS   = $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+
+$(UNIT_BINS): $(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(call obj,$(UNIT_HELP)) $(TEST_LIBS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS) -lcmocka
+
+$(BENCH_BINS): $(BUILD)/bench/%: $(BUILD)/obj/tests/bench/%.o $(TEST_LIBS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+
+tests: all $(UNIT_BINS) $(TEST_EXTRA)
+
+# The README's test command.  Installs missing Debian packages (as root), builds
+# everything, then runs every unit and system test; ends with "N passed, N failed".
+check: deps
+	$(MAKE) tests
+	BUILD=$(BUILD) BIN=$(BUILD)/bin TOP=$(CURDIR) sh tests/run.sh $(UNIT_BINS) $(SYS_TESTS)
+
+bench: all $(BENCH_BINS)
+	@for b in $(BENCH_BINS); do echo "== $$b"; BUILD=$(BUILD) $$b || exit 1; done
+
+# libFuzzer targets: tests/fuzz/fuzz_*.c, built with clang into $(BUILD)-fuzz.
+FUZZ_SRC    := $(wildcard tests/fuzz/fuzz_*.c)
+FUZZ_TIME   ?= 60
+FUZZ_BUILD   = $(BUILD)-fuzz
+fuzz:
+	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang OPT="-O1 -g -fsanitize=fuzzer-no-link,address,undefined" \
+	    LDFLAGS="-fsanitize=address,undefined" fuzz-bins
+	@for f in $(FUZZ_SRC); do n=$$(basename $$f .c); \
+	    mkdir -p $(FUZZ_BUILD)/corpus/$$n; \
+	    seeds=tests/fuzz/seeds/$$n; [ -d $$seeds ] || seeds=; \
+	    echo "== $$n for $(FUZZ_TIME) s"; \
+	    $(FUZZ_BUILD)/fuzz/$$n -max_total_time=$(FUZZ_TIME) -print_final_stats=1 \
+	        $(FUZZ_BUILD)/corpus/$$n $$seeds 2>&1 | grep -E 'stat::number_of_executed_units|ERROR|SUMMARY' ; \
+	    [ $${PIPESTATUS:-0} ] ; done
+FUZZ_BINS = $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
+fuzz-bins: $(FUZZ_BINS)
+$(FUZZ_BINS): $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(TEST_LIBS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -fsanitize=fuzzer,address,undefined -o $@ $^ $(LIBS)

@@ -1,0 +1,44 @@
+# Shared helpers for system tests: TAP output, temporary directories,
+# waiting for readiness, stopping by PID.  Source it first:  . "$(dirname "$0")/lib.sh"
+set -u
+BUILD=${BUILD:-build}
+BIN=${BIN:-$BUILD/bin}
+TOP=${TOP:-$(pwd)}
+_tap_n=0
+_tap_failed=0
+ok()      { _tap_n=$((_tap_n + 1)); echo "ok $_tap_n - $*"; }
+not_ok()  { _tap_n=$((_tap_n + 1)); _tap_failed=$((_tap_failed + 1)); echo "not ok $_tap_n - $*"; }
+skip()    { _tap_n=$((_tap_n + 1)); echo "ok $_tap_n # SKIP $*"; }
+# check DESCRIPTION COMMAND...: ok when the command succeeds
+check()   { d=$1; shift; if "$@"; then ok "$d"; else not_ok "$d"; fi; }
+# skip_all REASON: the whole file cannot run here
+skip_all() { echo "$*"; exit 77; }
+diag()    { echo "# $*"; }
+done_testing() { echo "1..$_tap_n"; [ "$_tap_failed" = 0 ]; }
+
+# A fresh temporary directory removed on exit; short, for socket paths.
+TMP=$(mktemp -d /tmp/pst.XXXXXX)
+_cleanup_pids=""
+_cleanup() {
+	for p in $_cleanup_pids; do kill "$p" 2>/dev/null; done
+	sleep 0.05
+	for p in $_cleanup_pids; do kill -9 "$p" 2>/dev/null; done
+	rm -rf "$TMP"
+}
+trap _cleanup EXIT
+# remember a PID to stop on exit
+track_pid() { _cleanup_pids="$_cleanup_pids $1"; }
+# wait_for SECONDS COMMAND...: poll (every 20 ms) until the command succeeds
+wait_for() {
+	_t=$1; shift
+	_n=$(awk "BEGIN{print int($_t * 50)}")
+	while [ "$_n" -gt 0 ]; do
+		"$@" 2>/dev/null && return 0
+		sleep 0.02; _n=$((_n - 1))
+	done
+	return 1
+}
+# free_port: an unused TCP port on 127.0.0.1
+free_port() {
+	/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
+}
