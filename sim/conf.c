@@ -15,6 +15,7 @@ struct reader {
 	size_t pos;
 	FILE *fp;              /* file input */
 	int line;              /* line of the text handed out last */
+	int oom;
 	struct ps_conf *c;
 };
 
@@ -52,16 +53,38 @@ void ps_conf_error(struct ps_conf *c, int line, const char *fmt, ...)
 
 /* Our own check of each line's shape, so that every syntax error is reported
  * with its line (inih only returns the first). */
+static struct ps_conf_section *add_section(struct ps_conf *c, const char *name, int line);
+
 static void check_line_shape(struct reader *r, const char *line, size_t len)
 {
 	const char *p = line;
+	const char *close;
 	while (*p == ' ' || *p == '\t' || *p == '\r')
 		p++;
 	if (*p == '\0' || *p == '\n' || *p == ';' || *p == '#')
 		return;
 	if (*p == '[') {
-		if (!memchr(p, ']', len - (size_t)(p - line)))
+		/* Sections are created here, not in the handler: inih calls the
+		 * handler only for keys, so it would miss empty sections and give
+		 * the line of the first key instead of the header's. */
+		char name[CONF_MAX_LINE];
+		size_t n;
+		close = memchr(p, ']', len - (size_t)(p - line));
+		if (!close) {
 			ps_conf_error(r->c, r->line, "section header without ']'");
+			return;
+		}
+		n = (size_t)(close - p - 1);
+		memcpy(name, p + 1, n);
+		name[n] = '\0';
+		for (size_t i = 1; i < r->c->nsec; i++)
+			if (strcmp(r->c->sec[i].name, name) == 0) {
+				ps_conf_error(r->c, r->line, "section [%s] appears twice (first at line %d)",
+				              name, r->c->sec[i].line);
+				break;
+			}
+		if (!add_section(r->c, name, r->line))
+			r->oom = 1;
 		return;
 	}
 	if (!strchr(p, '=') && !strchr(p, ':'))
@@ -140,22 +163,17 @@ static int on_pair(void *user, const char *section, const char *key, const char 
 	struct ps_conf *c = h->c;
 	struct ps_conf_section *s = &c->sec[c->nsec - 1];
 	struct ps_conf_kv *grown;
-	if (strcmp(s->name, section) != 0 || (key == NULL && value == NULL)) {
-		/* a new section begins (inih calls with NULL key when INI_CALL_HANDLER_ON_NEW_SECTION) */
-		if (strcmp(s->name, section) != 0) {
-			if (ps_conf_section(c, section) && strcmp(section, "") != 0)
-				ps_conf_error(c, h->r->line, "section [%s] appears twice", section);
-			s = add_section(c, section, h->r->line);
-			if (!s) {
-				h->oom = 1;
-				return 0;
-			}
-		}
-		if (key == NULL)
-			return 1;
-	}
 	if (key == NULL)
 		return 1;
+	if (strcmp(s->name, section) != 0) {
+		/* The reader created the section; a mismatch means inih read the
+		 * header differently from us: keep going under inih's name. */
+		s = add_section(c, section, h->r->line);
+		if (!s) {
+			h->oom = 1;
+			return 0;
+		}
+	}
 	if (*key == '\0') {
 		ps_conf_error(c, h->r->line, "empty key");
 		return 1;
@@ -212,7 +230,7 @@ static int parse_common(struct ps_conf *c, struct reader *r, const char *path, s
 		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
 	}
 	rc = ini_parse_stream(read_line, r, on_pair, &h);
-	if (h.oom) {
+	if (h.oom || r->oom) {
 		ps_conf_free(c);
 		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
 	}
