@@ -142,3 +142,25 @@ deps:
 
 clean:
 	rm -rf $(BUILD) $(BUILD)-fuzz
+
+# ---- install ---------------------------------------------------------------
+SYSCONFDIR ?= /etc
+UNITDIR    ?= /lib/systemd/system
+DATADIR    ?= $(PREFIX)/share/psensd
+MANDIR     ?= $(PREFIX)/share/man
+MAN_PAGES  := $(wildcard sim/cmd/*.[1-8] daemon/cmd/*.[1-8] drivers/*.[1-8] config/*.[1-8])
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/sbin
+	install -m 755 $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(filter-out psensd,$(DAEMON_CMDS))) $(DESTDIR)$(PREFIX)/bin/
+	if [ -f $(BUILD)/bin/psensd ]; then install -m 755 $(BUILD)/bin/psensd $(DESTDIR)$(PREFIX)/sbin/; fi
+	for m in $(MAN_PAGES); do s=$${m##*.}; install -d $(DESTDIR)$(MANDIR)/man$$s; \
+	    install -m 644 $$m $(DESTDIR)$(MANDIR)/man$$s/; done
+	install -d $(DESTDIR)$(SYSCONFDIR)/psensd
+	for f in config/*.conf; do [ -f "$$f" ] || continue; \
+	    [ -f $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/} ] || install -m 644 $$f $(DESTDIR)$(SYSCONFDIR)/psensd/; done
+	if [ -f systemd/psensd.service ]; then install -d $(DESTDIR)$(UNITDIR); \
+	    sed 's|@SBINDIR@|$(PREFIX)/sbin|g; s|@SYSCONFDIR@|$(SYSCONFDIR)|g' systemd/psensd.service \
+	    > $(DESTDIR)$(UNITDIR)/psensd.service; chmod 644 $(DESTDIR)$(UNITDIR)/psensd.service; fi
+	install -d $(DESTDIR)$(DATADIR)
+	cp -R config/example $(DESTDIR)$(DATADIR)/
+	if [ -d sim/data ]; then cp -R sim/data/. $(DESTDIR)$(DATADIR)/; fi

@@ -27,20 +27,15 @@ check: deps
 bench: all $(BENCH_BINS)
 	@for b in $(BENCH_BINS); do echo "== $$b"; BUILD=$(BUILD) $$b || exit 1; done
 
-# libFuzzer targets: tests/fuzz/fuzz_*.c, built with clang into $(BUILD)-fuzz.
+# libFuzzer targets: tests/fuzz/fuzz_*.c, built with clang into $(BUILD)-fuzz,
+# each run for FUZZ_TIME seconds from its seeds in tests/fuzz/seeds/<name>/.
 FUZZ_SRC    := $(wildcard tests/fuzz/fuzz_*.c)
 FUZZ_TIME   ?= 60
 FUZZ_BUILD   = $(BUILD)-fuzz
 fuzz:
-	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang OPT="-O1 -g -fsanitize=fuzzer-no-link,address,undefined" \
+	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang OPT="-O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all" \
 	    LDFLAGS="-fsanitize=address,undefined" fuzz-bins
-	@for f in $(FUZZ_SRC); do n=$$(basename $$f .c); \
-	    mkdir -p $(FUZZ_BUILD)/corpus/$$n; \
-	    seeds=tests/fuzz/seeds/$$n; [ -d $$seeds ] || seeds=; \
-	    echo "== $$n for $(FUZZ_TIME) s"; \
-	    $(FUZZ_BUILD)/fuzz/$$n -max_total_time=$(FUZZ_TIME) -print_final_stats=1 \
-	        $(FUZZ_BUILD)/corpus/$$n $$seeds 2>&1 | grep -E 'stat::number_of_executed_units|ERROR|SUMMARY' ; \
-	    [ $${PIPESTATUS:-0} ] ; done
+	CORPUS=$(FUZZ_BUILD)/corpus sh tests/fuzz/run.sh $(FUZZ_TIME) $(patsubst tests/fuzz/%.c,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_SRC))
 FUZZ_BINS = $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
 fuzz-bins: $(FUZZ_BINS)
 $(FUZZ_BINS): $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(TEST_LIBS)
