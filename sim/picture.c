@@ -1,0 +1,595 @@
+/* Radiance picture reading and writing.
+ *
+ * The whole file is read into memory and decoded in one pass into 4-byte
+ * RGBE pixels in standard orientation.  Every read from the input goes through
+ * struct cursor, which knows how many bytes are left, so a truncated or
+ * hostile file can only produce an error naming its byte offset. */
+#include "picture.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum {
+	HEADER_MAX = 1 << 20,       /* a header longer than 1 MiB is not a picture */
+	PIC_MAX_PIXELS = 1 << 28,   /* 1 GiB of RGBE */
+	PIC_MAX_RATIO = 256,        /* pixels per remaining input byte we believe */
+	RLE_MIN_LEN = 8,            /* new-style run-length scanlines: 8..0x7fff */
+	RLE_MAX_LEN = 0x7fff,
+	RLE_MIN_RUN = 4,            /* shorter runs are written as literals */
+	ORIENT_XDECR = 1,           /* Radiance's resolution-string flags */
+	ORIENT_YDECR = 2,
+	ORIENT_YMAJOR = 4,
+	ORIENT_STANDARD = ORIENT_YMAJOR | ORIENT_YDECR,
+};
+
+/* 2^(e-136): a stored mantissa m reads as (m + 0.5) * ps_rgbe_scale[e];
+ * e = 0 is black.  Hexadecimal literals make every entry exact. */
+const double ps_rgbe_scale[256] = {
+	0.0, 0x1p-135, 0x1p-134, 0x1p-133, 0x1p-132, 0x1p-131, 0x1p-130, 0x1p-129,
+	0x1p-128, 0x1p-127, 0x1p-126, 0x1p-125, 0x1p-124, 0x1p-123, 0x1p-122, 0x1p-121,
+	0x1p-120, 0x1p-119, 0x1p-118, 0x1p-117, 0x1p-116, 0x1p-115, 0x1p-114, 0x1p-113,
+	0x1p-112, 0x1p-111, 0x1p-110, 0x1p-109, 0x1p-108, 0x1p-107, 0x1p-106, 0x1p-105,
+	0x1p-104, 0x1p-103, 0x1p-102, 0x1p-101, 0x1p-100, 0x1p-99, 0x1p-98, 0x1p-97,
+	0x1p-96, 0x1p-95, 0x1p-94, 0x1p-93, 0x1p-92, 0x1p-91, 0x1p-90, 0x1p-89,
+	0x1p-88, 0x1p-87, 0x1p-86, 0x1p-85, 0x1p-84, 0x1p-83, 0x1p-82, 0x1p-81,
+	0x1p-80, 0x1p-79, 0x1p-78, 0x1p-77, 0x1p-76, 0x1p-75, 0x1p-74, 0x1p-73,
+	0x1p-72, 0x1p-71, 0x1p-70, 0x1p-69, 0x1p-68, 0x1p-67, 0x1p-66, 0x1p-65,
+	0x1p-64, 0x1p-63, 0x1p-62, 0x1p-61, 0x1p-60, 0x1p-59, 0x1p-58, 0x1p-57,
+	0x1p-56, 0x1p-55, 0x1p-54, 0x1p-53, 0x1p-52, 0x1p-51, 0x1p-50, 0x1p-49,
+	0x1p-48, 0x1p-47, 0x1p-46, 0x1p-45, 0x1p-44, 0x1p-43, 0x1p-42, 0x1p-41,
+	0x1p-40, 0x1p-39, 0x1p-38, 0x1p-37, 0x1p-36, 0x1p-35, 0x1p-34, 0x1p-33,
+	0x1p-32, 0x1p-31, 0x1p-30, 0x1p-29, 0x1p-28, 0x1p-27, 0x1p-26, 0x1p-25,
+	0x1p-24, 0x1p-23, 0x1p-22, 0x1p-21, 0x1p-20, 0x1p-19, 0x1p-18, 0x1p-17,
+	0x1p-16, 0x1p-15, 0x1p-14, 0x1p-13, 0x1p-12, 0x1p-11, 0x1p-10, 0x1p-9,
+	0x1p-8, 0x1p-7, 0x1p-6, 0x1p-5, 0x1p-4, 0x1p-3, 0x1p-2, 0x1p-1,
+	0x1p0, 0x1p1, 0x1p2, 0x1p3, 0x1p4, 0x1p5, 0x1p6, 0x1p7,
+	0x1p8, 0x1p9, 0x1p10, 0x1p11, 0x1p12, 0x1p13, 0x1p14, 0x1p15,
+	0x1p16, 0x1p17, 0x1p18, 0x1p19, 0x1p20, 0x1p21, 0x1p22, 0x1p23,
+	0x1p24, 0x1p25, 0x1p26, 0x1p27, 0x1p28, 0x1p29, 0x1p30, 0x1p31,
+	0x1p32, 0x1p33, 0x1p34, 0x1p35, 0x1p36, 0x1p37, 0x1p38, 0x1p39,
+	0x1p40, 0x1p41, 0x1p42, 0x1p43, 0x1p44, 0x1p45, 0x1p46, 0x1p47,
+	0x1p48, 0x1p49, 0x1p50, 0x1p51, 0x1p52, 0x1p53, 0x1p54, 0x1p55,
+	0x1p56, 0x1p57, 0x1p58, 0x1p59, 0x1p60, 0x1p61, 0x1p62, 0x1p63,
+	0x1p64, 0x1p65, 0x1p66, 0x1p67, 0x1p68, 0x1p69, 0x1p70, 0x1p71,
+	0x1p72, 0x1p73, 0x1p74, 0x1p75, 0x1p76, 0x1p77, 0x1p78, 0x1p79,
+	0x1p80, 0x1p81, 0x1p82, 0x1p83, 0x1p84, 0x1p85, 0x1p86, 0x1p87,
+	0x1p88, 0x1p89, 0x1p90, 0x1p91, 0x1p92, 0x1p93, 0x1p94, 0x1p95,
+	0x1p96, 0x1p97, 0x1p98, 0x1p99, 0x1p100, 0x1p101, 0x1p102, 0x1p103,
+	0x1p104, 0x1p105, 0x1p106, 0x1p107, 0x1p108, 0x1p109, 0x1p110, 0x1p111,
+	0x1p112, 0x1p113, 0x1p114, 0x1p115, 0x1p116, 0x1p117, 0x1p118, 0x1p119,
+};
+
+void ps_rgbe_decode(const uint8_t in[4], double rgb[3])
+{
+	double f = ps_rgbe_scale[in[3]];
+	if (in[3] == 0) {
+		rgb[0] = rgb[1] = rgb[2] = 0.0;
+		return;
+	}
+	rgb[0] = (in[0] + 0.5) * f;
+	rgb[1] = (in[1] + 0.5) * f;
+	rgb[2] = (in[2] + 0.5) * f;
+}
+
+void ps_rgbe_encode(const double rgb[3], uint8_t out[4])
+{
+	double c[3], d;
+	int e;
+	for (int i = 0; i < 3; i++)
+		c[i] = (isfinite(rgb[i]) && rgb[i] > 0.0) ? rgb[i] : (isinf(rgb[i]) && rgb[i] > 0 ? 1e300 : 0.0);
+	d = c[0] > c[1] ? c[0] : c[1];
+	if (c[2] > d)
+		d = c[2];
+	if (d <= 1e-32) {
+		out[0] = out[1] = out[2] = out[3] = 0;
+		return;
+	}
+	d = frexp(d, &e) * 256.0 / d;
+	if (e > 127) {          /* beyond RGBE's range: the largest colour it holds */
+		out[0] = out[1] = out[2] = 255;
+		out[3] = 255;
+		return;
+	}
+	for (int i = 0; i < 3; i++) {
+		double m = c[i] * d;
+		out[i] = (uint8_t)(m >= 255.0 ? 255 : m);
+	}
+	out[3] = (uint8_t)(e + 128);
+}
+
+void ps_pic_get(const struct ps_picture *pic, int x, int y, double out[3])
+{
+	const uint8_t *p = pic->pix + ((size_t)y * (size_t)pic->width + (size_t)x) * 4;
+	ps_rgbe_decode(p, out);
+	out[0] /= pic->exposure[0];
+	out[1] /= pic->exposure[1];
+	out[2] /= pic->exposure[2];
+}
+
+void ps_pic_free(struct ps_picture *pic)
+{
+	if (!pic)
+		return;
+	free(pic->pix);
+	free(pic->view);
+	free(pic->header);
+	memset(pic, 0, sizeof *pic);
+}
+
+/* ---- reading -------------------------------------------------------------- */
+
+struct cursor {
+	const uint8_t *data;
+	size_t len;
+	size_t pos;
+	const char *name;
+	struct ps_err *e;
+};
+
+static int truncated(struct cursor *c, const char *what, long scanline)
+{
+	if (scanline >= 0)
+		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: file ends inside %s of scanline %ld",
+		               c->name, c->pos, what, scanline);
+	return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: file ends inside %s", c->name, c->pos, what);
+}
+
+static char *append_text(char *dst, const char *src, size_t n, const char *sep)
+{
+	size_t old = dst ? strlen(dst) : 0, nsep = (dst && *dst) ? strlen(sep) : 0;
+	char *p = realloc(dst, old + nsep + n + 1);
+	if (!p) {
+		free(dst);
+		return NULL;
+	}
+	if (nsep)
+		memcpy(p + old, sep, nsep);
+	memcpy(p + old + nsep, src, n);
+	p[old + nsep + n] = '\0';
+	return p;
+}
+
+/* Parse n doubles from s; 0 if all were there and positive where required. */
+static int parse_numbers(const char *s, double *v, int n)
+{
+	char *end;
+	for (int i = 0; i < n; i++) {
+		errno = 0;
+		v[i] = strtod(s, &end);
+		if (end == s || errno == ERANGE || !isfinite(v[i]))
+			return -1;
+		s = end;
+	}
+	while (*s == ' ' || *s == '\t' || *s == '\r')
+		s++;
+	return *s == '\0' ? 0 : -1;
+}
+
+/* Radiance takes view options from VIEW= lines and from the command lines of
+ * the programs that set a view (rpict -vta ...), in header order. */
+static int is_view_program(const char *line)
+{
+	static const char *const progs[] = { "rpict", "rview", "rvu", "rpiece", "pinterp", NULL };
+	const char *end = line + strcspn(line, " \t");
+	const char *base = line;
+	for (const char *p = line; p < end; p++)
+		if (*p == '/')
+			base = p + 1;
+	for (int i = 0; progs[i]; i++) {
+		size_t n = strlen(progs[i]);
+		if ((size_t)(end - base) == n && strncmp(base, progs[i], n) == 0)
+			return 1;
+	}
+	return 0;
+}
+
+static int header_line(struct ps_picture *pic, struct cursor *c, char *line, int lineno,
+                       int *have_format)
+{
+	double v[8];
+	if (strncmp(line, "FORMAT=", 7) == 0) {
+		const char *f = line + 7;
+		size_t n = strcspn(f, " \t\r");
+		if (n == 15 && strncmp(f, "32-bit_rle_rgbe", 15) == 0)
+			pic->format = PS_PIC_RGBE;
+		else if (n == 15 && strncmp(f, "32-bit_rle_xyze", 15) == 0)
+			pic->format = PS_PIC_XYZE;
+		else
+			return ps_errf(c->e, PS_EUNSUPPORTED, "%s: header line %d: unsupported %s",
+			               c->name, lineno, line);
+		*have_format = 1;
+	} else if (strncmp(line, "EXPOSURE=", 9) == 0) {
+		if (parse_numbers(line + 9, v, 1) != 0 || v[0] <= 0.0)
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad EXPOSURE (%s)",
+			               c->name, lineno, line + 9);
+		for (int i = 0; i < 3; i++)
+			pic->exposure[i] *= v[0];
+	} else if (strncmp(line, "COLORCORR=", 10) == 0) {
+		if (parse_numbers(line + 10, v, 3) != 0 || v[0] <= 0 || v[1] <= 0 || v[2] <= 0)
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad COLORCORR (%s)",
+			               c->name, lineno, line + 10);
+		for (int i = 0; i < 3; i++)
+			pic->exposure[i] *= v[i];
+	} else if (strncmp(line, "PIXASPECT=", 10) == 0) {
+		if (parse_numbers(line + 10, v, 1) != 0 || v[0] <= 0.0)
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad PIXASPECT (%s)",
+			               c->name, lineno, line + 10);
+		pic->pixaspect *= v[0];
+	} else if (strncmp(line, "PRIMARIES=", 10) == 0) {
+		if (parse_numbers(line + 10, v, 8) != 0)
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: PRIMARIES needs 8 numbers (%s)",
+			               c->name, lineno, line + 10);
+		memcpy(pic->primaries, v, sizeof pic->primaries);
+		pic->has_primaries = 1;
+	} else if (strncmp(line, "VIEW=", 5) == 0 || is_view_program(line)) {
+		const char *opts = strncmp(line, "VIEW=", 5) == 0 ? line + 5 : line + strcspn(line, " \t");
+		while (*opts == ' ' || *opts == '\t')
+			opts++;
+		pic->view = append_text(pic->view, opts, strlen(opts), " ");
+		if (!pic->view)
+			return ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+	}
+	return 0;
+}
+
+static int read_header(struct ps_picture *pic, struct cursor *c)
+{
+	int lineno = 0, have_format = 0;
+	char *line = NULL;
+	if (c->len < 2 || c->data[0] != '#' || c->data[1] != '?')
+		return ps_errf(c->e, PS_EFORMAT, "%s: byte 0: not a Radiance picture (no '#?' magic)",
+		               c->name);
+	for (;;) {
+		const uint8_t *nl;
+		size_t start = c->pos, n;
+		if (c->pos >= c->len)
+			return truncated(c, "the header (no blank line ends it)", -1);
+		nl = memchr(c->data + c->pos, '\n', c->len - c->pos);
+		if (!nl)
+			return truncated(c, "the header (no blank line ends it)", -1);
+		n = (size_t)(nl - (c->data + c->pos));
+		lineno++;
+		if (c->pos + n + 1 > HEADER_MAX)
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: header longer than %d bytes",
+			               c->name, lineno, HEADER_MAX);
+		if (memchr(c->data + c->pos, '\0', n))
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d (byte %zu): NUL byte in header",
+			               c->name, lineno, c->pos);
+		c->pos += n + 1;
+		if (n == 0 || (n == 1 && c->data[start] == '\r'))
+			break;
+		line = malloc(n + 1);
+		if (!line)
+			return ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+		memcpy(line, c->data + start, n);
+		line[n] = '\0';
+		if (n && line[n - 1] == '\r')
+			line[n - 1] = '\0';
+		if (header_line(pic, c, line, lineno, &have_format) != 0) {
+			free(line);
+			return -1;
+		}
+		free(line);
+		pic->header = append_text(pic->header, (const char *)c->data + start, n + 1, "");
+		if (!pic->header)
+			return ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+	}
+	(void)have_format;   /* Radiance assumes 32-bit_rle_rgbe when FORMAT= is absent */
+	return 0;
+}
+
+/* "-Y 256 +X 512\n" and its seven siblings. */
+static int read_resolution(struct cursor *c, int *orient, long *slow, long *fast)
+{
+	char buf[64];
+	const uint8_t *nl;
+	size_t n;
+	char s1, a1, s2, a2;
+	long n1, n2;
+	int used = 0;
+	if (c->pos >= c->len)
+		return truncated(c, "the resolution line", -1);
+	nl = memchr(c->data + c->pos, '\n', c->len - c->pos);
+	n = nl ? (size_t)(nl - (c->data + c->pos)) : c->len - c->pos;
+	if (!nl || n >= sizeof buf)
+		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line", c->name, c->pos);
+	memcpy(buf, c->data + c->pos, n);
+	buf[n] = '\0';
+	if (sscanf(buf, "%c%c %ld %c%c %ld%n", &s1, &a1, &n1, &s2, &a2, &n2, &used) != 6 ||
+	    (size_t)used != n || (s1 != '+' && s1 != '-') || (s2 != '+' && s2 != '-') ||
+	    !((a1 == 'X' && a2 == 'Y') || (a1 == 'Y' && a2 == 'X')))
+		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line '%s'",
+		               c->name, c->pos, buf);
+	if (n1 <= 0 || n2 <= 0 || n1 > INT_MAX / 4 || n2 > INT_MAX / 4)
+		return ps_errf(c->e, PS_ERANGE, "%s: byte %zu: bad picture size in '%s'",
+		               c->name, c->pos, buf);
+	c->pos += n + 1;
+	*orient = 0;
+	if (a1 == 'Y')
+		*orient |= ORIENT_YMAJOR;
+	if ((a1 == 'X' ? s1 : s2) == '-')
+		*orient |= ORIENT_XDECR;
+	if ((a1 == 'Y' ? s1 : s2) == '-')
+		*orient |= ORIENT_YDECR;
+	*slow = n1;
+	*fast = n2;
+	return 0;
+}
+
+/* Old-style scanline: flat pixels, with 1 1 1 n repeating the previous pixel
+ * n << shift times (shift grows by 8 for each consecutive repeat). */
+static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long done, long scanline)
+{
+	int shift = 0;
+	long j = done;
+	while (j < len) {
+		const uint8_t *p;
+		if (c->len - c->pos < 4)
+			return truncated(c, "a pixel", scanline);
+		p = c->data + c->pos;
+		if (p[0] == 1 && p[1] == 1 && p[2] == 1) {
+			unsigned long count;
+			if (j == 0)
+				return ps_errf(c->e, PS_EFORMAT,
+				               "%s: byte %zu: scanline %ld starts with a repeat of no pixel",
+				               c->name, c->pos, scanline);
+			if (shift > 24)
+				return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: repeat count overflows in scanline %ld",
+				               c->name, c->pos, scanline);
+			count = (unsigned long)p[3] << shift;
+			if (count > (unsigned long)(len - j))
+				return ps_errf(c->e, PS_EFORMAT,
+				               "%s: byte %zu: repeat of %lu pixels overruns scanline %ld (%ld left)",
+				               c->name, c->pos, count, scanline, len - j);
+			for (unsigned long k = 0; k < count; k++, j++)
+				memcpy(sl + 4 * j, sl + 4 * (j - 1), 4);
+			shift += 8;
+		} else {
+			memcpy(sl + 4 * j, p, 4);
+			j++;
+			shift = 0;
+		}
+		c->pos += 4;
+	}
+	return 0;
+}
+
+static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
+{
+	const uint8_t *p;
+	if (len < RLE_MIN_LEN || len > RLE_MAX_LEN)
+		return read_old_scanline(c, sl, len, 0, scanline);
+	if (c->len - c->pos < 4)
+		return truncated(c, "the start", scanline);
+	p = c->data + c->pos;
+	if (p[0] != 2 || p[1] != 2 || (p[2] & 0x80))
+		return read_old_scanline(c, sl, len, 0, scanline);
+	if (((long)p[2] << 8 | p[3]) != len)
+		return ps_errf(c->e, PS_EFORMAT,
+		               "%s: byte %zu: scanline %ld says %ld pixels, the picture has %ld",
+		               c->name, c->pos, scanline, (long)p[2] << 8 | p[3], len);
+	c->pos += 4;
+	for (int comp = 0; comp < 4; comp++) {
+		long j = 0;
+		while (j < len) {
+			unsigned code;
+			if (c->pos >= c->len)
+				return truncated(c, "run-length data", scanline);
+			code = c->data[c->pos];
+			if (code > 128) {
+				code &= 127;
+				if (c->pos + 1 >= c->len)
+					return truncated(c, "a run", scanline);
+				if ((long)code > len - j)
+					return ps_errf(c->e, PS_EFORMAT,
+					               "%s: byte %zu: run of %u overruns scanline %ld", c->name,
+					               c->pos, code, scanline);
+				for (unsigned k = 0; k < code; k++)
+					sl[4 * (j + k) + comp] = c->data[c->pos + 1];
+				j += code;
+				c->pos += 2;
+			} else {
+				if (code == 0 || code == 128)
+					return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: zero-length run in scanline %ld",
+					               c->name, c->pos, scanline);
+				if ((long)code > len - j)
+					return ps_errf(c->e, PS_EFORMAT,
+					               "%s: byte %zu: literal of %u overruns scanline %ld",
+					               c->name, c->pos, code, scanline);
+				if (c->len - c->pos - 1 < code)
+					return truncated(c, "literal data", scanline);
+				for (unsigned k = 0; k < code; k++)
+					sl[4 * (j + k) + comp] = c->data[c->pos + 1 + k];
+				j += code;
+				c->pos += 1 + code;
+			}
+		}
+	}
+	return 0;
+}
+
+int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
+                    struct ps_err *e)
+{
+	struct cursor c = { data, len, 0, name ? name : "(picture)", e };
+	long slow = 0, fast = 0;
+	int orient = 0;
+	size_t npix;
+	uint8_t *sl = NULL;
+	memset(pic, 0, sizeof *pic);
+	pic->exposure[0] = pic->exposure[1] = pic->exposure[2] = 1.0;
+	pic->pixaspect = 1.0;
+	if (read_header(pic, &c) != 0 || read_resolution(&c, &orient, &slow, &fast) != 0)
+		goto fail;
+	npix = (size_t)slow * (size_t)fast;
+	/* Refuse sizes no file of this length can hold (beyond any plausible
+	 * run-length compression) before allocating anything. */
+	if (npix > PIC_MAX_PIXELS || npix / PIC_MAX_RATIO > (c.len - c.pos) + 1) {
+		ps_errf(e, PS_ERANGE, "%s: byte %zu: %ld x %ld pixels cannot be in the %zu bytes left",
+		        c.name, c.pos, fast, slow, c.len - c.pos);
+		goto fail;
+	}
+	pic->orientation = orient;
+	if (orient & ORIENT_YMAJOR) {
+		pic->height = (int)slow;
+		pic->width = (int)fast;
+	} else {
+		pic->width = (int)slow;
+		pic->height = (int)fast;
+	}
+	pic->pix = malloc(npix * 4);
+	sl = malloc((size_t)fast * 4);
+	if (!pic->pix || !sl) {
+		ps_errf(e, PS_ENOMEM, "%s: out of memory for %ld x %ld pixels", c.name, fast, slow);
+		goto fail;
+	}
+	for (long s = 0; s < slow; s++) {
+		if (read_scanline(&c, sl, fast, s) != 0)
+			goto fail;
+		for (long p = 0; p < fast; p++) {
+			long xc, yc;   /* coordinates increasing along +X and +Y */
+			if (orient & ORIENT_YMAJOR) {
+				yc = (orient & ORIENT_YDECR) ? slow - 1 - s : s;
+				xc = (orient & ORIENT_XDECR) ? fast - 1 - p : p;
+			} else {
+				xc = (orient & ORIENT_XDECR) ? slow - 1 - s : s;
+				yc = (orient & ORIENT_YDECR) ? fast - 1 - p : p;
+			}
+			memcpy(pic->pix + 4 * ((size_t)(pic->height - 1 - yc) * (size_t)pic->width + (size_t)xc),
+			       sl + 4 * p, 4);
+		}
+	}
+	free(sl);
+	return 0;
+fail:
+	free(sl);
+	ps_pic_free(pic);
+	return -1;
+}
+
+int ps_pic_read(struct ps_picture *pic, const char *path, struct ps_err *e)
+{
+	FILE *fp = fopen(path, "rb");
+	uint8_t *buf = NULL;
+	size_t len = 0, cap = 0;
+	int rc;
+	memset(pic, 0, sizeof *pic);
+	if (!fp)
+		return ps_errsys(e, "%s", path);
+	for (;;) {
+		size_t got;
+		if (len == cap) {
+			size_t ncap = cap ? cap * 2 : 1 << 16;
+			uint8_t *nb = realloc(buf, ncap);
+			if (!nb) {
+				free(buf);
+				fclose(fp);
+				return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
+			}
+			buf = nb;
+			cap = ncap;
+		}
+		got = fread(buf + len, 1, cap - len, fp);
+		len += got;
+		if (got == 0)
+			break;
+	}
+	if (ferror(fp)) {
+		rc = ps_errsys(e, "%s: read error", path);
+		fclose(fp);
+		free(buf);
+		return rc;
+	}
+	fclose(fp);
+	rc = ps_pic_read_mem(pic, buf, len, path, e);
+	free(buf);
+	return rc;
+}
+
+/* ---- writing -------------------------------------------------------------- */
+
+/* One component plane of a new-style scanline: runs of at least RLE_MIN_RUN
+ * equal bytes (up to 127) as 128+n, value; everything else as literals of
+ * up to 128 bytes. */
+static void put_plane(FILE *fp, const uint8_t *sl, long len, int comp)
+{
+	long j = 0;
+	while (j < len) {
+		long lit_end = j, run = 0;
+		/* find where the next run of RLE_MIN_RUN or more starts */
+		while (lit_end < len) {
+			run = 1;
+			while (run < 127 && lit_end + run < len &&
+			       sl[4 * (lit_end + run) + comp] == sl[4 * lit_end + comp])
+				run++;
+			if (run >= RLE_MIN_RUN)
+				break;
+			lit_end += run;
+			run = 0;
+		}
+		while (j < lit_end) {
+			long n = lit_end - j > 128 ? 128 : lit_end - j;
+			putc((int)n, fp);
+			for (long k = 0; k < n; k++)
+				putc(sl[4 * (j + k) + comp], fp);
+			j += n;
+		}
+		if (run >= RLE_MIN_RUN) {
+			putc((int)(128 + run), fp);
+			putc(sl[4 * j + comp], fp);
+			j += run;
+		}
+	}
+}
+
+int ps_pic_write_fp(FILE *fp, const char *path, int width, int height, const double *rgb,
+                    const char *view, const char *extra_header, struct ps_err *e)
+{
+	uint8_t *sl;
+	if (width <= 0 || height <= 0)
+		return ps_errf(e, PS_EINVAL, "%s: bad picture size %d x %d", path, width, height);
+	sl = malloc((size_t)width * 4);
+	if (!sl)
+		return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
+	fputs("#?RADIANCE\n", fp);
+	if (extra_header)
+		fputs(extra_header, fp);
+	if (view)
+		fprintf(fp, "VIEW= %s\n", view);
+	fputs("FORMAT=32-bit_rle_rgbe\n\n", fp);
+	fprintf(fp, "-Y %d +X %d\n", height, width);
+	for (int y = 0; y < height; y++) {
+		for (int x = 0; x < width; x++)
+			ps_rgbe_encode(rgb + 3 * ((size_t)y * (size_t)width + (size_t)x), sl + 4 * x);
+		if (width < RLE_MIN_LEN || width > RLE_MAX_LEN) {
+			fwrite(sl, 4, (size_t)width, fp);
+			continue;
+		}
+		putc(2, fp);
+		putc(2, fp);
+		putc(width >> 8, fp);
+		putc(width & 0xff, fp);
+		for (int comp = 0; comp < 4; comp++)
+			put_plane(fp, sl, width, comp);
+	}
+	free(sl);
+	if (ferror(fp))
+		return ps_errsys(e, "%s: write error", path);
+	return 0;
+}
+
+int ps_pic_write(const char *path, int width, int height, const double *rgb, const char *view,
+                 const char *extra_header, struct ps_err *e)
+{
+	FILE *fp = fopen(path, "wb");
+	int rc;
+	if (!fp)
+		return ps_errsys(e, "%s", path);
+	rc = ps_pic_write_fp(fp, path, width, height, rgb, view, extra_header, e);
+	if (fclose(fp) != 0 && rc == 0)
+		rc = ps_errsys(e, "%s: write error", path);
+	return rc;
+}

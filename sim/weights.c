@@ -1,0 +1,441 @@
+#include "weights.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fisheye.h"
+#include "sum.h"
+
+#define DEG (M_PI / 180.0)
+
+/* Gauss-Legendre rules on [-1, 1], computed once per build (no globals). */
+enum { GL_MAXN = 24, GL_RULES = 3 };
+static const int gl_orders[GL_RULES] = { 6, 12, 24 };
+
+struct gl_rule {
+	int n;
+	double x[GL_MAXN], w[GL_MAXN];
+};
+
+static void gl_compute(struct gl_rule *r, int n)
+{
+	r->n = n;
+	for (int i = 0; i < n; i++) {
+		double x = cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+		for (int it = 0; it < 100; it++) {
+			double p0 = 1.0, p1 = x;
+			for (int k = 2; k <= n; k++) {
+				double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+				p0 = p1;
+				p1 = p2;
+			}
+			dp = n * (x * p1 - p0) / (x * x - 1.0);
+			double dx = p1 / dp;
+			x -= dx;
+			if (fabs(dx) < 1e-16)
+				break;
+		}
+		{
+			double p0 = 1.0, p1 = x;
+			for (int k = 2; k <= n; k++) {
+				double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+				p0 = p1;
+				p1 = p2;
+			}
+			dp = n * (x * p1 - p0) / (x * x - 1.0);
+		}
+		r->x[i] = x;
+		r->w[i] = 2.0 / ((1.0 - x * x) * dp * dp);
+	}
+}
+
+/* What an edge integral needs. */
+struct edge_ctx {
+	const struct ps_sensor *s;
+	struct ps_fisheye f;
+	double rot;              /* radians */
+	double *rho_breaks;      /* sorted plane radii where the integrand has a kink or jump */
+	int *rho_is_field;       /* 1 for the field's edge (hemisphere: square-root singularity) */
+	int nrho;
+	int use_phi_breaks;
+	struct gl_rule gl[GL_RULES];
+};
+
+struct brk {
+	double a;
+	int field;
+};
+
+static void sort_brk(struct brk *b, int n)
+{
+	for (int i = 1; i < n; i++) {
+		struct brk k = b[i];
+		int j = i - 1;
+		while (j >= 0 && b[j].a > k.a) {
+			b[j + 1] = b[j];
+			j--;
+		}
+		b[j + 1] = k;
+	}
+}
+
+/* M along the segment's line at plane azimuth a, in patch (i, j), with phi
+ * shifted into the patch's branch by phi_shift. */
+static double m_at(const struct edge_ctx *c, double p, double an, double a, int i, int j,
+                   double phi_shift)
+{
+	double ca = cos(a - an);
+	double rho = ca > 0 ? p / ca : INFINITY;
+	double theta = ps_fisheye_theta(&c->f, rho);
+	double phi = a - M_PI / 2 - c->rot + phi_shift;
+	return ps_sensor_m_in(c->s, i, j, theta, phi);
+}
+
+/* Integral of M d(alpha) over alpha in [a0, a1] on one smooth piece. */
+static double piece(const struct edge_ctx *c, double p, double an, double a0, double a1,
+                    int field0, int field1)
+{
+	double len = a1 - a0, am = 0.5 * (a0 + a1), sum = 0.0;
+	double ca = cos(am - an), rho = ca > 0 ? p / ca : INFINITY;
+	double theta = ps_fisheye_theta(&c->f, rho), phi = am - M_PI / 2 - c->rot, phin = phi;
+	const struct gl_rule *g;
+	int i, j;
+	if (len <= 0)
+		return 0.0;
+	ps_sensor_locate(c->s, theta, &phin, &i, &j);
+	g = &c->gl[len < 0.05 ? 0 : len < 0.5 ? 1 : 2];
+	if (c->f.type == PS_VT_HEMI && rho < 1.0 && (field0 || field1)) {
+		/* theta = asin(rho) has a square-root singularity at the field's edge:
+		 * alpha = edge -/+ len s^2 makes the integrand smooth in s. */
+		double edge = field1 ? a1 : a0, dir = field1 ? -1.0 : 1.0;
+		g = &c->gl[2];
+		for (int k = 0; k < g->n; k++) {
+			double sq = 0.5 * (g->x[k] + 1.0);
+			double a = edge + dir * len * sq * sq;
+			sum += g->w[k] * 0.5 * m_at(c, p, an, a, i, j, phin - phi) * 2.0 * len * sq;
+		}
+		return sum;
+	}
+	for (int k = 0; k < g->n; k++)
+		sum += g->w[k] * m_at(c, p, an, am + 0.5 * len * g->x[k], i, j, phin - phi);
+	return 0.5 * len * sum;
+}
+
+/* Integral of M d(alpha) along the segment from A to B (see weights.h). */
+static double edge_integral(const struct edge_ctx *c, double ax, double ay, double bx, double by)
+{
+	double dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
+	double cr = ax * dy - ay * dx, dalpha, alo, ahi, t, fx, fy, p, an;
+	double ra = hypot(ax, ay), rb = hypot(bx, by), rmin, rmax;
+	struct brk b[512];
+	int nb = 0;
+	double total = 0.0;
+	/* A segment on a line through the origin sweeps no azimuth (M is 0 where
+	 * it would jump): it contributes nothing. */
+	if (len2 == 0.0 || fabs(cr) <= 1e-15 * len2)
+		return 0.0;
+	dalpha = atan2(cr, ax * bx + ay * by);
+	alo = atan2(ay, ax);
+	if (dalpha < 0)
+		alo += dalpha;
+	ahi = alo + fabs(dalpha);
+	t = -(ax * dx + ay * dy) / len2;
+	fx = ax + t * dx;
+	fy = ay + t * dy;
+	p = hypot(fx, fy);
+	an = atan2(fy, fx);
+	rmin = (t > 0 && t < 1) ? p : fmin(ra, rb);
+	rmax = fmax(ra, rb);
+	b[nb++] = (struct brk){ alo, 0 };
+	/* circles: rho = p / cos(alpha - an) = rc */
+	for (int k = 0; k < c->nrho && nb < 500; k++) {
+		double rc = c->rho_breaks[k], d;
+		if (rc < rmin || rc > rmax || rc <= p)
+			continue;
+		d = acos(p / rc);
+		for (int sgn = -1; sgn <= 1; sgn += 2) {
+			double a = an + sgn * d;
+			a += 2 * M_PI * ceil((alo - a) / (2 * M_PI));
+			if (a > alo && a < ahi)
+				b[nb++] = (struct brk){ a, c->rho_is_field[k] };
+		}
+	}
+	/* rays: phi = pb[j]; start from the first one at or after alo */
+	if (c->use_phi_breaks) {
+		const struct ps_sensor *s = c->s;
+		double off = M_PI / 2 + c->rot;   /* alpha = phi + off */
+		double plo = alo - off, shift;
+		int i0, j;
+		ps_sensor_locate(s, 0.0, &plo, &i0, &j);
+		shift = (alo - off) - plo;        /* a multiple of 2 pi */
+		for (int k = 0; k < s->np + 1 && nb < 510; k++, j++) {
+			double a;
+			if (j >= s->np) {
+				j -= s->np;
+				shift += 2 * M_PI;
+			}
+			a = s->pb[j] + off + shift;
+			if (a >= ahi)
+				break;
+			if (a > alo)
+				b[nb++] = (struct brk){ a, 0 };
+		}
+	}
+	sort_brk(b + 1, nb - 1);
+	b[nb++] = (struct brk){ ahi, 0 };
+	{
+		struct ps_sum acc;
+		ps_sum_init(&acc);
+		for (int k = 0; k + 1 < nb; k++)
+			ps_sum_add(&acc, piece(c, p, an, b[k].a, b[k + 1].a, b[k].field, b[k + 1].field));
+		total = ps_sum_get(&acc);
+	}
+	return dalpha < 0 ? -total : total;
+}
+
+static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_deg,
+                    const struct ps_view *v, int width, int height, struct ps_err *e)
+{
+	memset(c, 0, sizeof *c);
+	c->s = s;
+	c->rot = rot_deg * DEG;
+	ps_fisheye_init(&c->f, v, width, height);
+	for (int k = 0; k < GL_RULES; k++)
+		gl_compute(&c->gl[k], gl_orders[k]);
+	c->rho_breaks = malloc(((size_t)s->nt + 2) * sizeof *c->rho_breaks);
+	c->rho_is_field = malloc(((size_t)s->nt + 2) * sizeof *c->rho_is_field);
+	if (!c->rho_breaks || !c->rho_is_field) {
+		free(c->rho_breaks);
+		free(c->rho_is_field);
+		return ps_errf(e, PS_ENOMEM, "out of memory");
+	}
+	for (int i = 1; i <= s->nt; i++)
+		if (s->tb[i] < c->f.theta_field) {
+			c->rho_breaks[c->nrho] = ps_fisheye_rho(&c->f, s->tb[i]);
+			c->rho_is_field[c->nrho++] = 0;
+		}
+	c->rho_breaks[c->nrho] = 1.0;
+	c->rho_is_field[c->nrho++] = 1;
+	if (s->kind == PS_SENS_COSINE && c->f.type == PS_VT_ANGULAR) {
+		/* the cosine's end at 90 degrees is a kink */
+		c->rho_breaks[c->nrho - 1] = 0.5;
+		c->rho_is_field[c->nrho - 1] = 0;
+		c->rho_breaks[c->nrho] = 1.0;
+		c->rho_is_field[c->nrho++] = 1;
+	}
+	c->use_phi_breaks = s->kind == PS_SENS_TABLE;
+	return 0;
+}
+
+static void ctx_free(struct edge_ctx *c)
+{
+	free(c->rho_breaks);
+	free(c->rho_is_field);
+}
+
+double ps_weights_rect_solid_angle(int type, double u0, double v0, double u1, double v1)
+{
+	struct ps_sensor s;
+	struct ps_view v;
+	struct edge_ctx c;
+	double sa;
+	ps_view_default_fisheye(&v);
+	v.type = type;
+	if (ps_sensor_builtin(&s, PS_SENS_UNIFORM, NULL) != 0)
+		return NAN;
+	if (ctx_init(&c, &s, 0.0, &v, 1, 1, NULL) != 0) {
+		ps_sensor_free(&s);
+		return NAN;
+	}
+	sa = edge_integral(&c, u0, v0, u1, v0) + edge_integral(&c, u1, v0, u1, v1) +
+	     edge_integral(&c, u1, v1, u0, v1) + edge_integral(&c, u0, v1, u0, v0);
+	ctx_free(&c);
+	ps_sensor_free(&s);
+	return sa;
+}
+
+void ps_weights_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
+                    int width, int height, int method, char *buf, size_t len)
+{
+	snprintf(buf, len, "%s|%s|%.17g|%c|%.17g|%.17g|%.17g|%.17g|%dx%d|%s", s->path,
+	         ps_reading_name(s->reading), rotation_deg, v->type, v->vh, v->vv, v->vs, v->vl,
+	         width, height, method == PS_W_CENTRE ? "centre" : "exact");
+}
+
+void ps_weights_free(struct ps_weights *w)
+{
+	if (!w)
+		return;
+	free(w->runs);
+	free(w->w);
+	memset(w, 0, sizeof *w);
+}
+
+static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n)
+{
+	if (w->nruns == *cap) {
+		size_t ncap = *cap ? *cap * 2 : 256;
+		struct ps_wrun *nr = realloc(w->runs, ncap * sizeof *nr);
+		if (!nr)
+			return -1;
+		w->runs = nr;
+		*cap = ncap;
+	}
+	w->runs[w->nruns++] = (struct ps_wrun){ row, x0, n, w->nw };
+	return 0;
+}
+
+/* x range [lo, hi] of pixels on bottom-based row j whose squares come
+ * within plane radius R of the origin; lo > hi when none. */
+static void row_range(const struct ps_fisheye *f, int j, double R, int *lo, int *hi)
+{
+	double v0 = ps_fisheye_v(f, j), v1 = ps_fisheye_v(f, j + 1);
+	double dy = (v0 <= 0 && v1 >= 0) ? 0.0 : fmin(fabs(v0), fabs(v1)), hw, du = f->su / f->width;
+	*lo = 1;
+	*hi = 0;
+	if (dy > R)
+		return;
+	hw = sqrt(R * R - dy * dy);
+	/* pixel x spans [u(x), u(x+1)]: keep those meeting [-hw, hw] */
+	*lo = (int)floor((-hw - f->u0) / du) - 1;
+	*hi = (int)ceil((hw - f->u0) / du) + 1;
+	if (*lo < 0)
+		*lo = 0;
+	if (*hi > f->width - 1)
+		*hi = f->width - 1;
+}
+
+int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                     const struct ps_view *v, int width, int height, int method,
+                     struct ps_err *e)
+{
+	struct edge_ctx c;
+	double R, *hline[2] = { NULL, NULL }, *vrow = NULL, *u = NULL;
+	int *lo = NULL, *hi = NULL;
+	size_t cap_runs = 0, cap_w = 0;
+	struct ps_sum total;
+	memset(w, 0, sizeof *w);
+	if (width <= 0 || height <= 0)
+		return ps_errf(e, PS_EINVAL, "bad picture size %d x %d", width, height);
+	if (!isfinite(rotation_deg))
+		return ps_errf(e, PS_EINVAL, "rotation %g is not a finite angle", rotation_deg);
+	if (ps_view_check_fisheye(v, "view", e) != 0)
+		return -1;
+	w->width = width;
+	w->height = height;
+	w->method = method;
+	ps_weights_key(s, rotation_deg, v, width, height, method, w->key, sizeof w->key);
+	if (ctx_init(&c, s, rotation_deg, v, width, height, e) != 0)
+		return -1;
+	/* plane radius beyond which the sensor sees nothing */
+	R = ps_fisheye_rho(&c.f, fmin(ps_sensor_extent(s), c.f.theta_field));
+	if (ps_sensor_extent(s) >= c.f.theta_field)
+		R = 1.0;
+	R *= 1.0 + 1e-12;
+	lo = malloc((size_t)height * sizeof *lo);
+	hi = malloc((size_t)height * sizeof *hi);
+	hline[0] = malloc(((size_t)width + 1) * sizeof(double));
+	hline[1] = malloc(((size_t)width + 1) * sizeof(double));
+	vrow = malloc(((size_t)width + 1) * sizeof *vrow);
+	u = malloc(((size_t)width + 1) * sizeof *u);
+	if (!lo || !hi || !hline[0] || !hline[1] || !vrow || !u)
+		goto oom;
+	for (int x = 0; x <= width; x++)
+		u[x] = ps_fisheye_u(&c.f, x);
+	for (int j = 0; j < height; j++)
+		row_range(&c.f, j, R, &lo[j], &hi[j]);
+	ps_sum_init(&total);
+	/* lines j = 0 (bottom) .. height; row j lies between lines j and j+1 */
+	for (int j = 0; j < height; j++) {
+		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+		double *hb = hline[j & 1], *ht = hline[(j + 1) & 1];
+		int row = height - 1 - j;
+		if (lo[j] > hi[j])
+			continue;
+		if (method == PS_W_EXACT) {
+			/* bottom line: reuse what the row below computed, where it did */
+			int plo = j > 0 ? lo[j - 1] : 1, phi_ = j > 0 ? hi[j - 1] : 0;
+			for (int x = lo[j]; x <= hi[j]; x++)
+				if (x < plo || x > phi_)
+					hb[x] = edge_integral(&c, u[x], vb, u[x + 1], vb);
+			for (int x = lo[j]; x <= hi[j]; x++)
+				ht[x] = edge_integral(&c, u[x], vt, u[x + 1], vt);
+			for (int x = lo[j]; x <= hi[j] + 1; x++)
+				vrow[x] = edge_integral(&c, u[x], vb, u[x], vt);
+		}
+		if (push_run(w, &cap_runs, row, lo[j], hi[j] - lo[j] + 1) != 0)
+			goto oom;
+		if (w->nw + (size_t)(hi[j] - lo[j] + 1) > cap_w) {
+			size_t ncap = cap_w ? cap_w * 2 : 4096;
+			double *nw;
+			while (ncap < w->nw + (size_t)(hi[j] - lo[j] + 1))
+				ncap *= 2;
+			nw = realloc(w->w, ncap * sizeof *nw);
+			if (!nw)
+				goto oom;
+			w->w = nw;
+			cap_w = ncap;
+		}
+		for (int x = lo[j]; x <= hi[j]; x++) {
+			double wt;
+			if (method == PS_W_EXACT) {
+				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
+				struct ps_sum ps;
+				ps_sum_init(&ps);
+				ps_sum_add(&ps, hb[x]);
+				ps_sum_add(&ps, vrow[x + 1]);
+				ps_sum_add(&ps, -ht[x]);
+				ps_sum_add(&ps, -vrow[x]);
+				wt = ps_sum_get(&ps);
+				if (wt < 0 && wt > -1e-15)
+					wt = 0.0;   /* rounding on a pixel the sensor barely sees */
+			} else {
+				double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
+				double rho = hypot(uc, vc), th = ps_fisheye_theta(&c.f, rho);
+				wt = rho > 1.0 ? 0.0
+				     : ps_sensor_value(s, th, atan2(vc, uc) - M_PI / 2 - c.rot) *
+				           ps_fisheye_jacobian(&c.f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+			}
+			w->w[w->nw++] = wt;
+			ps_sum_add(&total, wt);
+		}
+	}
+	w->sens_sum = ps_sum_get(&total);
+	w->sens_full = ps_sensor_integral(s);
+	w->coverage = w->sens_full > 0 ? w->sens_sum / w->sens_full : 0.0;
+	if (method == PS_W_EXACT) {
+		w->solid_angle = ps_weights_rect_solid_angle(c.f.type, u[0], ps_fisheye_v(&c.f, 0),
+		                                             u[width], ps_fisheye_v(&c.f, height));
+	} else {
+		struct ps_sum sa;
+		ps_sum_init(&sa);
+		for (int j = 0; j < height; j++)
+			for (int x = 0; x < width; x++) {
+				double uc = 0.5 * (u[x] + u[x + 1]);
+				double vc = ps_fisheye_v(&c.f, j + 0.5);
+				ps_sum_add(&sa, ps_fisheye_jacobian(&c.f, hypot(uc, vc)) * (u[x + 1] - u[x]) *
+				                    (c.f.sv / height));
+			}
+		w->solid_angle = ps_sum_get(&sa);
+	}
+	free(lo);
+	free(hi);
+	free(hline[0]);
+	free(hline[1]);
+	free(vrow);
+	free(u);
+	ctx_free(&c);
+	return 0;
+oom:
+	free(lo);
+	free(hi);
+	free(hline[0]);
+	free(hline[1]);
+	free(vrow);
+	free(u);
+	ctx_free(&c);
+	ps_weights_free(w);
+	return ps_errf(e, PS_ENOMEM, "out of memory building %d x %d weights", width, height);
+}

@@ -1,0 +1,62 @@
+/* Pixel weights: for each pixel of a fisheye picture, the integral of the
+ * sensor's sensitivity over the pixel's footprint on the sphere.
+ *
+ * Exact method: with M(theta, phi) = integral_0^theta S(t, phi) sin t dt
+ * (continuous in theta for every reading), Fubini along each ray gives
+ *   W(pixel) = closed integral along the pixel's boundary of M d(alpha)
+ * (alpha the plane azimuth, counter-clockwise).  Each boundary edge is a
+ * straight segment, split where it crosses a sensitivity cell's circle or
+ * ray, the end of the table or the field's edge; on each piece the integrand
+ * is smooth and Gauss-Legendre quadrature is accurate to rounding.  So the
+ * result does not depend on where a boundary falls, and a pixel the sensor
+ * cannot see costs nothing.  Every edge is shared by two pixels and computed
+ * once.
+ *
+ * Centre-point method (the paper's psens, kept for comparison): sensitivity
+ * at the pixel's centre times the projection's Jacobian there times the
+ * pixel's plane area. */
+#ifndef PS_WEIGHTS_H
+#define PS_WEIGHTS_H
+
+#include <stddef.h>
+
+#include "err.h"
+#include "sensor.h"
+#include "view.h"
+
+enum ps_wmethod { PS_W_EXACT = 0, PS_W_CENTRE = 1 };
+
+/* A run of consecutive weighted pixels on one row (row 0 = top). */
+struct ps_wrun {
+	int row, x0, n;
+	size_t off;          /* index of the run's first weight in w[] */
+};
+
+struct ps_weights {
+	int width, height, method;
+	struct ps_wrun *runs;
+	size_t nruns;
+	double *w;           /* weights of the runs' pixels, steradian x sensitivity */
+	size_t nw;
+	double solid_angle;  /* total solid angle of the picture's pixels in the field, sr */
+	double sens_sum;     /* sum of all weights */
+	double sens_full;    /* the sensitivity's integral over the whole sphere */
+	double coverage;     /* sens_sum / sens_full: below 1 when the picture misses part */
+	char key[512];       /* equal keys give equal maps */
+};
+
+/* Build the map for a sensor (with its reading), rotation in degrees (turns
+ * the sensitivity towards growing azimuth), a fisheye view and a size. */
+int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                     const struct ps_view *v, int width, int height, int method,
+                     struct ps_err *e);
+void ps_weights_free(struct ps_weights *w);
+/* The key ps_weights_build would give. */
+void ps_weights_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
+                    int width, int height, int method, char *buf, size_t len);
+
+/* Exact solid angle of the part of a plane-coordinate rectangle inside the
+ * field (for tests and the total). */
+double ps_weights_rect_solid_angle(int type, double u0, double v0, double u1, double v1);
+
+#endif
