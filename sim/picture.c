@@ -392,7 +392,7 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 				j += code;
 				c->pos += 2;
 			} else {
-				if (code == 0 || code == 128)
+				if (code == 0)
 					return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: zero-length run in scanline %ld",
 					               c->name, c->pos, scanline);
 				if ((long)code > len - j)

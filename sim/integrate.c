@@ -1,0 +1,161 @@
+#include "integrate.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sum.h"
+
+const double ps_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 1.0 / 3, 1.0 / 3 };
+
+void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
+{
+	/* columns: XYZ of each primary scaled so that R + G + B = white (Y = 1) */
+	double p[3][3], inv[3][3], det, wx = prim[6] / prim[7], wz = (1 - prim[6] - prim[7]) / prim[7];
+	double sc[3];
+	for (int k = 0; k < 3; k++) {
+		double x = prim[2 * k], y = prim[2 * k + 1];
+		p[0][k] = x / y;
+		p[1][k] = 1.0;
+		p[2][k] = (1 - x - y) / y;
+	}
+	det = p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
+	      p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+	      p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+	inv[0][0] = (p[1][1] * p[2][2] - p[1][2] * p[2][1]) / det;
+	inv[0][1] = (p[0][2] * p[2][1] - p[0][1] * p[2][2]) / det;
+	inv[0][2] = (p[0][1] * p[1][2] - p[0][2] * p[1][1]) / det;
+	inv[1][0] = (p[1][2] * p[2][0] - p[1][0] * p[2][2]) / det;
+	inv[1][1] = (p[0][0] * p[2][2] - p[0][2] * p[2][0]) / det;
+	inv[1][2] = (p[0][2] * p[1][0] - p[0][0] * p[1][2]) / det;
+	inv[2][0] = (p[1][0] * p[2][1] - p[1][1] * p[2][0]) / det;
+	inv[2][1] = (p[0][1] * p[2][0] - p[0][0] * p[2][1]) / det;
+	inv[2][2] = (p[0][0] * p[1][1] - p[0][1] * p[1][0]) / det;
+	for (int k = 0; k < 3; k++)
+		sc[k] = inv[k][0] * wx + inv[k][1] * 1.0 + inv[k][2] * wz;
+	for (int i = 0; i < 3; i++)
+		for (int k = 0; k < 3; k++)
+			m[i][k] = p[i][k] * sc[k];
+}
+
+static void invert3(double a[3][3], double out[3][3])
+{
+	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+	             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+	out[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) / det;
+	out[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
+	out[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
+	out[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) / det;
+	out[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
+	out[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
+	out[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) / det;
+	out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
+	out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
+}
+
+/* Rearrange v so that its k largest values come first (quickselect, O(n)). */
+static void select_largest(double *v, size_t n, size_t k)
+{
+	size_t lo = 0, hi = n;
+	while (hi - lo > 1) {
+		double pivot = v[lo + (hi - lo) / 2];
+		size_t i = lo, j = hi - 1;
+		while (i <= j) {
+			while (v[i] > pivot)
+				i++;
+			while (v[j] < pivot)
+				j--;
+			if (i <= j) {
+				double t = v[i];
+				v[i] = v[j];
+				v[j] = t;
+				i++;
+				if (j == 0)
+					break;
+				j--;
+			}
+		}
+		if (k <= j + 1 && j + 1 > lo)
+			hi = j + 1;
+		else if (k >= i)
+			lo = i;
+		else
+			return;
+	}
+}
+
+int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
+                 struct ps_response *r, struct ps_err *e)
+{
+	struct ps_sum tot, ch[3];
+	double k[3][3];   /* radiance channel c of the stored pixel -> weighted RGB */
+	double best = -1.0, *contrib = NULL;
+	size_t ncontrib = 0;
+	memset(r, 0, sizeof *r);
+	if (pic->width != w->width || pic->height != w->height)
+		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
+		               pic->height, w->width, w->height);
+	/* exposure and colour space folded into one matrix, applied per pixel */
+	if (pic->format == PS_PIC_XYZE) {
+		double m[3][3], minv[3][3];
+		ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+		invert3(m, minv);
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				k[i][c] = minv[i][c] / pic->exposure[c];
+	} else {
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				k[i][c] = i == c ? 1.0 / pic->exposure[c] : 0.0;
+	}
+	contrib = malloc((w->nw ? w->nw : 1) * sizeof *contrib);
+	if (!contrib)
+		return ps_errf(e, PS_ENOMEM, "out of memory");
+	ps_sum_init(&tot);
+	for (int c = 0; c < 3; c++)
+		ps_sum_init(&ch[c]);
+	for (size_t ri = 0; ri < w->nruns; ri++) {
+		const struct ps_wrun *run = &w->runs[ri];
+		const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
+		const double *wt = w->w + run->off;
+		for (int i = 0; i < run->n; i++, px += 4) {
+			double raw[3], rgb[3], b, f;
+			if (wt[i] == 0.0 || px[3] == 0)
+				continue;
+			f = ps_rgbe_scale[px[3]];
+			raw[0] = (px[0] + 0.5) * f;
+			raw[1] = (px[1] + 0.5) * f;
+			raw[2] = (px[2] + 0.5) * f;
+			for (int c = 0; c < 3; c++)
+				rgb[c] = k[c][0] * raw[0] + k[c][1] * raw[1] + k[c][2] * raw[2];
+			b = (coef[0] * rgb[0] + coef[1] * rgb[1] + coef[2] * rgb[2]) * wt[i];
+			ps_sum_add(&tot, b);
+			for (int c = 0; c < 3; c++)
+				ps_sum_add(&ch[c], rgb[c] * wt[i]);
+			contrib[ncontrib++] = b;
+			if (b > best) {
+				best = b;
+				r->brightest_x = run->x0 + i;
+				r->brightest_row = run->row;
+			}
+		}
+	}
+	r->response = ps_sum_get(&tot);
+	for (int c = 0; c < 3; c++)
+		r->rgb[c] = ps_sum_get(&ch[c]);
+	r->solid_angle = w->solid_angle;
+	r->npixels = ncontrib;
+	if (r->response > 0 && ncontrib > 0) {
+		size_t top = ncontrib / 100 ? ncontrib / 100 : 1;
+		struct ps_sum s;
+		r->brightest_share = best / r->response;
+		select_largest(contrib, ncontrib, top);
+		ps_sum_init(&s);
+		for (size_t i = 0; i < top; i++)
+			ps_sum_add(&s, contrib[i]);
+		r->top1_share = ps_sum_get(&s) / r->response;
+	}
+	free(contrib);
+	return 0;
+}
