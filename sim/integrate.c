@@ -6,7 +6,9 @@
 
 #include "sum.h"
 
-const double ps_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 1.0 / 3, 1.0 / 3 };
+/* White is 0.3333, 0.3333 exactly as Radiance's color.h has it (not 1/3): only
+ * then is the Y row psens's default 0.265074126 0.670114631 0.064811243. */
+const double ps_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 0.3333, 0.3333 };
 
 void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
 {

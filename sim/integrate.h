@@ -28,7 +28,7 @@ struct ps_response {
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e);
 
-/* Radiance's standard primaries (CIE x, y of R, G, B and white). */
+/* Radiance's standard primaries (CIE x, y of R, G, B and white 0.3333 0.3333). */
 extern const double ps_std_primaries[8];
 /* The 3 x 3 matrix from RGB with the given primaries to CIE XYZ (Y of white = 1). */
 void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3]);

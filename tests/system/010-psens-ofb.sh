@@ -1,21 +1,27 @@
 #!/bin/sh
 # psens on the validation office renders against the reference numbers of
 # their README (Radiance-computed cosine sums, an independent peer): the
-# response of an ideal cosine sensor is the irradiance in W/m2, to 0.01 %.
+# response of the ideal cosine sensor is the irradiance in W/m2, to 0.01 %.
+# The same through the shipped 2-degree cosine table carries the table's own
+# sampling error (linear reading: -1.0e-4 on a uniform sky), so it gets 2e-4.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psens" ] || skip_all "psens not built"
 SEN=config/example/ofb/sensors/cosine.sen
 # picture  reference W/m2   (tests/data/ofb/README.fixtures.md, "Reference numbers")
 while read -r pic ref; do
 	case "$pic" in *_512.hdr) path=tests/data/ofb/img512/$pic ;; *) path=config/example/ofb/img/$pic ;; esac
-	out=$("$BIN/psens" -s "$SEN" "$path" 2>"$TMP/err")
-	got=$(printf '%s\n' "$out" | sed -n 's/.*Response: *\([^ ]*\).*/\1/p')
-	if [ -z "$got" ]; then
-		not_ok "$pic: no Response in output: $out $(cat "$TMP/err")"
-		continue
-	fi
-	check "$pic: response $got W/m2 within 0.01 % of $ref" \
-		awk -v g="$got" -v r="$ref" 'BEGIN { d = (g - r) / r; if (d < 0) d = -d; exit !(d <= 1e-4) }'
+	for sen in builtin:cosine "$SEN"; do
+		tol=1e-4
+		[ "$sen" = "$SEN" ] && tol=2e-4
+		out=$("$BIN/psens" -s "$sen" "$path" 2>"$TMP/err")
+		got=$(printf '%s\n' "$out" | sed -n 's/.*Response: *\([^ ]*\).*/\1/p')
+		if [ -z "$got" ]; then
+			not_ok "$pic: no Response in output: $out $(cat "$TMP/err")"
+			continue
+		fi
+		check "$pic with $(basename "$sen"): response $got W/m2 within $tol of $ref" \
+			awk -v g="$got" -v r="$ref" -v t="$tol" 'BEGIN { d = (g - r) / r; if (d < 0) d = -d; exit !(d <= t) }'
+	done
 done <<'REF'
 day_0318_sensor_256.hdr 5.069840
 day_0318_task_256.hdr 6.690722

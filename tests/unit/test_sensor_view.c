@@ -1,0 +1,127 @@
+/* Sensitivity files and view options: what they accept, and a located error
+ * for everything else. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <cmocka.h>
+
+#include "sensor.h"
+#include "view.h"
+
+#define DEG (M_PI / 180.0)
+
+static void good_tables(void **state)
+{
+	struct ps_sensor s;
+	struct ps_err e;
+	const char *t = "Elevation angles of the photometer\n"
+	                "degrees\t0\t90\t180\t270\r\n"
+	                "0\t1\t1\t1\t1\n"
+	                "\n"
+	                "45 0.5 0.25  0.5 1\n"
+	                "90\t0 0 0 0\n";
+	(void)state;
+	assert_int_equal(ps_sensor_parse(&s, t, strlen(t), "a.sen", &e), 0);
+	assert_int_equal(s.ntheta, 3);
+	assert_int_equal(s.nphi, 4);
+	assert_true(s.total == 4 + 2.25);
+	/* linear reading: exact table values at the table's points ... */
+	assert_true(fabs(ps_sensor_value(&s, 45 * DEG, 90 * DEG) - 0.25) < 1e-15);
+	/* ... and bilinear between them, wrapping from 270 to 360 */
+	assert_true(fabs(ps_sensor_value(&s, 45 * DEG, 315 * DEG) - 0.75) < 1e-14);
+	assert_true(fabs(ps_sensor_value(&s, 22.5 * DEG, 90 * DEG) - 0.625) < 1e-14);
+	assert_true(ps_sensor_value(&s, 91 * DEG, 0) == 0.0);
+	/* cell reading: each value holds to the midpoints; phi cells wrap */
+	assert_int_equal(ps_sensor_set_reading(&s, PS_READ_CELL, &e), 0);
+	assert_true(ps_sensor_value(&s, 40 * DEG, 100 * DEG) == 0.25);
+	assert_true(ps_sensor_value(&s, 40 * DEG, 350 * DEG) == 0.5);
+	assert_true(ps_sensor_value(&s, 40 * DEG, 314 * DEG) == 1.0 && ps_sensor_value(&s, 40 * DEG, 316 * DEG) == 0.5);
+	assert_true(ps_sensor_value(&s, 22.4 * DEG, 100 * DEG) == 1.0);
+	/* the last cell ends at 1.5 * 90 - 0.5 * 45 = 112.5 */
+	assert_true(fabs(s.theta_end - 112.5 * DEG) < 1e-15);
+	ps_sensor_free(&s);
+}
+
+static void located_errors(void **state)
+{
+	static const struct {
+		const char *text, *want;
+	} cases[] = {
+		{ "", "a.sen:0: empty sensitivity table" },
+		{ "azimuths 0 90 180 270\n", "a.sen:1: first line must be 'degrees'" },
+		{ "degrees 10 90 180 270\n0 1 1 1 1\n", "a.sen:1: azimuths must start at 0" },
+		{ "degrees 0 90 90 270\n", "a.sen:1: azimuth 90 does not increase" },
+		{ "degrees 0 90 180\n", "a.sen:1: azimuths must reach at least 270" },
+		{ "degrees 0 90 180 360\n", "a.sen:1: azimuths must reach at least 270 and stay below 360" },
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n10 1 x 1 1\n", "a.sen:3: 'x' is not a number" },
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n10 1 nan 1 1\n", "a.sen:3: 'nan' is not a finite number" },
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n10 1 -1 1 1\n", "a.sen:3: negative sensitivity -1" },
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n10 1 1 1\n", "a.sen:3: row has 4 values" },
+		{ "degrees 0 90 180 270\n5 1 1 1 1\n", "a.sen:2: polar angle 5 must be 0" },
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n20 1 1 1 1\n10 1 1 1 1\n", "a.sen:4: polar angle 10 does not increase" },
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n190 1 1 1 1\n", "a.sen:3: polar angle 190 is beyond 180" },
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n", "needs at least two polar angle rows" },
+		{ "degrees 0 90 180 270\n0 0 0 0 0\n9 0 0 0 0\n", "every sensitivity is zero" },
+	};
+	(void)state;
+	for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
+		struct ps_sensor s;
+		struct ps_err e;
+		assert_int_equal(ps_sensor_parse(&s, cases[k].text, strlen(cases[k].text), "a.sen", &e), -1);
+		if (!strstr(e.msg, cases[k].want))
+			fail_msg("case %zu: '%s' lacks '%s'", k, e.msg, cases[k].want);
+	}
+	{
+		struct ps_sensor s;
+		struct ps_err e;
+		assert_int_equal(ps_sensor_read(&s, "/nonexistent.sen", &e), -1);
+		assert_non_null(strstr(e.msg, "/nonexistent.sen: No such file"));
+	}
+}
+
+static void views(void **state)
+{
+	struct ps_view v;
+	struct ps_err e;
+	(void)state;
+	ps_view_default(&v);
+	/* later options override earlier ones; other words are skipped */
+	assert_int_equal(ps_view_parse(&v, "rpict -vtv -vh 30 -x 256 -vta -vp 1 2 3 -vd 0 0 -1 "
+	                                   "-vu 0 1 0 -vh 180 -vv 170 -vs 0.1 -vl -0.2 -ab 3 oct",
+	                               "t", &e), 0);
+	assert_int_equal(v.type, PS_VT_ANGULAR);
+	assert_true(v.vp[2] == 3 && v.vd[2] == -1 && v.vu[1] == 1);
+	assert_true(v.vh == 180 && v.vv == 170 && v.vs == 0.1 && v.vl == -0.2);
+	assert_int_equal(ps_view_check_fisheye(&v, "t", &e), 0);
+	assert_int_equal(ps_view_parse(&v, "-vth -vh 200", "t", &e), 0);
+	assert_int_equal(ps_view_check_fisheye(&v, "pic.hdr: VIEW", &e), -1);
+	assert_non_null(strstr(e.msg, "pic.hdr: VIEW: -vh 200"));
+	ps_view_default(&v);
+	assert_int_equal(ps_view_check_fisheye(&v, "t", &e), -1);
+	assert_non_null(strstr(e.msg, "-vtv is not a fisheye"));
+	assert_int_equal(ps_view_parse(&v, "-vta -vp 1 2", "t", &e), -1);
+	assert_non_null(strstr(e.msg, "-vp needs 3 numbers"));
+	assert_int_equal(ps_view_parse(&v, "-vtx", "t", &e), -1);
+	assert_int_equal(ps_view_parse(&v, "-vh abc", "t", &e), -1);
+	assert_non_null(strstr(e.msg, "'abc' is not a number"));
+	assert_int_equal(ps_view_parse(&v, "-vta -vd 0 0 0", "t", &e), 0);
+	assert_int_equal(ps_view_check_fisheye(&v, "t", &e), -1);
+	assert_non_null(strstr(e.msg, "-vd is a zero vector"));
+	assert_int_equal(ps_view_parse(&v, "-vd 0 1 0 -vu 0 2 0", "t", &e), 0);
+	assert_int_equal(ps_view_check_fisheye(&v, "t", &e), -1);
+	assert_non_null(strstr(e.msg, "parallel"));
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(good_tables),
+		cmocka_unit_test(located_errors),
+		cmocka_unit_test(views),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
