@@ -19,7 +19,8 @@ struct ps_response {
 	double solid_angle;    /* the weight map's total solid angle */
 	double brightest_share;/* the largest single pixel's share of the response */
 	int brightest_x, brightest_row;
-	double top1_share;     /* share of the brightest 1 % of weighted pixels */
+	double top1_share;     /* share of the brightest 1 % of weighted pixels; NaN unless
+	                          the brightest pixel alone gives more than 0.1 % */
 	size_t npixels;        /* pixels with non-zero weight */
 };
 

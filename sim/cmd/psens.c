@@ -169,14 +169,17 @@ int main(int argc, char **argv)
 		if (!quiet)
 			warnings(path, &w, &r, &sens, &view);
 		if (json) {
+			char top1[32] = "null";
+			if (!isnan(r.top1_share))
+				snprintf(top1, sizeof top1, "%.6g", r.top1_share);
 			printf("{\"picture\": ");
 			json_string(path);
 			printf(", \"solid_angle\": %.10g, \"sensitivity_total\": %.10g, \"response\": %.10g, "
 			       "\"r\": %.10g, \"g\": %.10g, \"b\": %.10g, \"coverage\": %.10g, "
-			       "\"brightest_share\": %.6g, \"top1_share\": %.6g, \"pixels\": %zu, "
+			       "\"brightest_share\": %.6g, \"top1_share\": %s, \"pixels\": %zu, "
 			       "\"width\": %d, \"height\": %d, \"method\": \"%s\", \"reading\": \"%s\"}\n",
 			       r.solid_angle, sens.total, r.response, r.rgb[0], r.rgb[1], r.rgb[2], w.coverage,
-			       r.brightest_share, r.top1_share, r.npixels, pic.width, pic.height,
+			       r.brightest_share, top1, r.npixels, pic.width, pic.height,
 			       method == PS_W_CENTRE ? "centre" : "exact", ps_reading_name(sens.reading));
 		} else {
 			if (argc - optind > 1)
