@@ -11,16 +11,18 @@
 #include "integrate.h"
 #include "picture.h"
 #include "sensor.h"
+#include "spectral.h"
 #include "view.h"
 #include "weights.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell]\n"
-	            "             [-c] [-j] [-q] picture...\n"
+	            "             [-f filter] [-c] [-j] [-q] picture...\n"
 	            "  -s FILE   sensitivity table (rsensor/SPOT layout), or builtin:cosine\n"
 	            "  -r DEG    turn the sensitivity about the sensor axis (growing azimuth)\n"
 	            "  -R -G -B  colour coefficients (default 0.265074126 0.670114631 0.064811243)\n"
+	            "  -f FILE   colour filter (wavelength, response): coefficients as psfilter gives\n"
 	            "  -m MODE   reading of the table: linear (default) or cell (rsensor's)\n"
 	            "  -c        the paper's centre-point weights instead of exact ones\n"
 	            "  -j        one JSON object per picture\n"
@@ -114,13 +116,19 @@ int main(int argc, char **argv)
 	struct ps_err e;
 	int have_w = 0;
 
-	while ((opt = getopt(argc, argv, "s:r:R:G:B:m:cjqh")) != -1) {
+	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:cjqh")) != -1) {
 		switch (opt) {
 		case 's': sensfile = optarg; break;
 		case 'r': if (parse_num("-r", optarg, &rot)) return 2; break;
 		case 'R': if (parse_num("-R", optarg, &coef[0])) return 2; break;
 		case 'G': if (parse_num("-G", optarg, &coef[1])) return 2; break;
 		case 'B': if (parse_num("-B", optarg, &coef[2])) return 2; break;
+		case 'f':
+			if (ps_filter_rgb(optarg, coef, &e) != 0) {
+				fprintf(stderr, "psens: %s\n", e.msg);
+				return 1;
+			}
+			break;
 		case 'm':
 			reading = ps_reading_parse(optarg);
 			if (reading < 0) {
