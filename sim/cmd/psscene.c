@@ -1,0 +1,415 @@
+/* psscene: precompute a space's simulated task-sensor ratios from fisheye
+ * renders at the sensor and at the task, for each daylight and electric
+ * condition of a scene file; write the results file psensd runs on.
+ *   psscene [-o results] [-C cachedir | -N] [-q] scene
+ * See psscene(1) and psscene(5). */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cache.h"
+#include "integrate.h"
+#include "picture.h"
+#include "render.h"
+#include "results.h"
+#include "scene.h"
+#include "sensor.h"
+#include "spectral.h"
+#include "view.h"
+#include "weights.h"
+
+#define LUX_PER_WM2 179.0
+
+struct run {
+	const struct ps_scene *sc;
+	struct ps_sensor sensor, cosine;
+	char sensor_id[200];       /* what identifies the sensor in cache keys */
+	double rgb[3];
+	const char *cache;         /* NULL: no cache */
+	struct ps_weights w;       /* the last weight map, reused while its key matches */
+	int have_w;
+	int done, total, reused, computed, rendered;
+	int tty, quiet;
+	char hashes[4096];         /* every input hash, for the scene hash */
+};
+
+static void progress(struct run *r, const char *label, const char *what)
+{
+	int width = 30, filled;
+	r->done++;
+	if (!r->tty || r->quiet)
+		return;
+	filled = r->total ? width * r->done / r->total : width;
+	fprintf(stderr, "\rpsscene: [%.*s%*s] %d/%d %-12s %-6s", filled,
+	        "==============================", width - filled, "", r->done, r->total, label, what);
+	if (r->done == r->total)
+		fputc('\n', stderr);
+	fflush(stderr);
+}
+
+static int file_exists(const char *path)
+{
+	struct stat st;
+	return stat(path, &st) == 0;
+}
+
+/* Render a missing picture when the scene says how and rpict is here. */
+static int ensure_picture(struct run *r, const struct ps_condition *c, const char *pic,
+                          int task, struct ps_err *e)
+{
+	char rpict[4096];
+	const struct ps_place *at = task ? &r->sc->task_at : &r->sc->sensor_at;
+	double field = task ? 180.0 : ps_render_field(ps_sensor_extent(&r->sensor));
+	char **argv;
+	int rc;
+	if (file_exists(pic))
+		return 0;
+	if (!c->octree || !at->have) {
+		return ps_errf(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing%s", r->sc->path,
+		               c->label, task ? "task" : "sensor", pic,
+		               c->octree ? "; give the [sensor]/[task] position to render it"
+		                         : "; render it (see psscene(1)) or name an octree to render from");
+	}
+	if (ps_render_find("rpict", rpict, sizeof rpict) != 0)
+		return ps_errf(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing and rpict "
+		               "(Radiance) is not on PATH; render it with: rpict -vta -vp %g %g %g "
+		               "-vd %g %g %g -vu %g %g %g -vh %g -vv %g -x %d -y %d %s > %s",
+		               r->sc->path, c->label, task ? "task" : "sensor", pic, at->pos[0], at->pos[1],
+		               at->pos[2], at->dir[0], at->dir[1], at->dir[2], at->up[0], at->up[1],
+		               at->up[2], field, field, r->sc->resolution, r->sc->resolution, c->octree, pic);
+	argv = ps_render_argv(rpict, at->pos, at->dir, at->up, field, r->sc->resolution,
+	                      r->sc->render_options, c->octree);
+	if (!argv)
+		return ps_errf(e, PS_ENOMEM, "out of memory");
+	if (!r->quiet)
+		fprintf(stderr, "%spsscene: rendering %s (-vta -vh %g) with %s\n", r->tty ? "\n" : "",
+		        pic, field, rpict);
+	rc = ps_render_run(argv, pic, e);
+	ps_render_free_argv(argv);
+	if (rc == 0)
+		r->rendered++;
+	return rc;
+}
+
+/* Response of one picture to the sensor (or the cosine at the task), through
+ * the cache.  out[0] = response, out[1] = brightest pixel's share. */
+static int integrate(struct run *r, const char *path, int task, double out[2], struct ps_err *e)
+{
+	char hash[65], key[1024];
+	const double *coef = task ? (const double[3]){ PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B }
+	                          : r->rgb;
+	const struct ps_sensor *s = task ? &r->cosine : &r->sensor;
+	struct ps_picture pic;
+	struct ps_view view;
+	struct ps_response resp;
+	char wkey[512], where[4200];
+	if (ps_hash_file(path, hash, e) != 0)
+		return -1;
+	snprintf(key, sizeof key, "v1 %s %s rot=%.17g reading=%s rgb=%.17g,%.17g,%.17g exact", hash,
+	         task ? "builtin:cosine" : r->sensor_id, task ? 0.0 : r->sc->rotation,
+	         ps_reading_name(s->reading), coef[0], coef[1], coef[2]);
+	{
+		size_t n = strlen(r->hashes);
+		snprintf(r->hashes + n, sizeof r->hashes - n, "%.16s", hash);
+	}
+	if (r->cache && ps_cache_get(r->cache, key, out, 2)) {
+		r->reused++;
+		return 0;
+	}
+	if (ps_pic_read(&pic, path, e) != 0)
+		return -1;
+	snprintf(where, sizeof where, "%s: VIEW", path);
+	ps_view_default(&view);
+	if (!pic.view) {
+		ps_view_default_fisheye(&view);
+		if (!r->quiet)
+			fprintf(stderr, "psscene: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n", path);
+	} else if (ps_view_parse(&view, pic.view, where, e) != 0) {
+		ps_pic_free(&pic);
+		return -1;
+	}
+	if (ps_view_check_fisheye(&view, where, e) != 0) {
+		ps_pic_free(&pic);
+		return -1;
+	}
+	/* weight maps are shared by every picture of the same view and size */
+	ps_weights_key(s, task ? 0.0 : r->sc->rotation, &view, pic.width, pic.height, PS_W_EXACT,
+	               wkey, sizeof wkey);
+	if (!r->have_w || strcmp(wkey, r->w.key) != 0) {
+		ps_weights_free(&r->w);
+		r->have_w = ps_weights_build(&r->w, s, task ? 0.0 : r->sc->rotation, &view, pic.width,
+		                             pic.height, PS_W_EXACT, e) == 0;
+		if (!r->have_w) {
+			ps_pic_free(&pic);
+			return -1;
+		}
+	}
+	if (ps_integrate(&r->w, &pic, coef, &resp, e) != 0) {
+		ps_pic_free(&pic);
+		return -1;
+	}
+	if (!r->quiet && r->w.coverage < 1 - 1e-9)
+		fprintf(stderr, "psscene: warning: %s holds %.2f %% of the sensitivity\n", path,
+		        100 * r->w.coverage);
+	ps_pic_free(&pic);
+	out[0] = resp.response;
+	out[1] = resp.brightest_share;
+	r->computed++;
+	if (r->cache) {
+		struct ps_err ce;
+		if (ps_cache_put(r->cache, key, out, 2, &ce) != 0 && !r->quiet)
+			fprintf(stderr, "psscene: warning: cache not written: %s\n", ce.msg);
+	}
+	return 0;
+}
+
+static void fmt_time(double tod, char *buf, size_t len)
+{
+	if (tod < 0)
+		snprintf(buf, len, "-");
+	else
+		snprintf(buf, len, "%02d:%02d", (int)(tod / 3600), (int)fmod(tod / 60, 60));
+}
+
+static void print_table(const struct ps_scene *sc, const struct ps_results *res, int cosine_sensor)
+{
+	printf("scene: %s (%s)\n", sc->name, sc->path);
+	printf("sensor: %s, %s reading, rotation %g, R G B %.6f %.6f %.6f\n", res->sensitivity,
+	       res->reading, res->rotation, res->rgb[0], res->rgb[1], res->rgb[2]);
+	printf("\n%-10s %-9s %-5s %-5s %14s %10s %10s %13s %9s\n", "condition", "kind", "date", "time",
+	       "sensor resp.", cosine_sensor ? "sensor lx" : "", "task lx", "lx per resp.",
+	       cosine_sensor ? "task/sens" : "");
+	for (size_t i = 0; i < res->ncond; i++) {
+		const struct ps_result_cond *c = &res->cond[i];
+		char t[16];
+		fmt_time(c->tod_s, t, sizeof t);
+		if (!c->computed) {
+			printf("%-10s %-9s %-5s %-5s %14s (optional; pictures missing)\n", c->label,
+			       c->kind ? "electric" : "daylight", *c->date ? c->date : "-", t, "-");
+			continue;
+		}
+		printf("%-10s %-9s %-5s %-5s %14.6g ", c->label, c->kind ? "electric" : "daylight",
+		       *c->date ? c->date : "-", t, c->sensor_response);
+		if (cosine_sensor)
+			printf("%10.1f ", LUX_PER_WM2 * c->sensor_response);
+		else
+			printf("%10s ", "");
+		printf("%10.1f %13.2f", c->task_lux, c->ratio);
+		if (cosine_sensor)
+			printf(" %9.3f", c->ratio / LUX_PER_WM2);
+		printf("\n");
+	}
+	printf("\nsummary (ratios in task lux per unit of sensor response%s):\n",
+	       cosine_sensor ? "; lux/lux in brackets" : "");
+	if (!isnan(res->daylight_ratio_mean)) {
+		printf("  daylight ratio      %.2f", res->daylight_ratio_mean);
+		if (cosine_sensor)
+			printf(" (%.3f)", res->daylight_ratio_mean / LUX_PER_WM2);
+		printf(", spread %.2f %% (sd), %.2f to %.2f\n",
+		       100 * res->daylight_ratio_sd / res->daylight_ratio_mean, res->daylight_ratio_min,
+		       res->daylight_ratio_max);
+	}
+	if (!isnan(res->electric_ratio)) {
+		printf("  electric ratio      %.2f", res->electric_ratio);
+		if (cosine_sensor)
+			printf(" (%.3f)", res->electric_ratio / LUX_PER_WM2);
+		printf("\n");
+	}
+	if (!isnan(res->task_sensor_ratio))
+		printf("  task-sensor ratio   %.3f  (electric over daylight ratio, as the paper's Table 1)\n",
+		       res->task_sensor_ratio);
+	if (sc->nref && cosine_sensor) {
+		printf("\nbeside other figures (reported, not tuned to):\n");
+		printf("  %-28s %10s", "quantity", "psscene");
+		for (size_t k = 0; k < sc->nref; k++)
+			printf(" %16.16s", sc->ref[k].label);
+		printf("\n");
+#define ROW(name, ours, field, fmt)                                                      \
+	do {                                                                                 \
+		printf("  %-28s " fmt, name, ours);                                              \
+		for (size_t k = 0; k < sc->nref; k++)                                            \
+			if (isnan(sc->ref[k].field))                                                 \
+				printf(" %16s", "-");                                                    \
+			else                                                                         \
+				printf(" %16.4g", sc->ref[k].field);                                     \
+		printf("\n");                                                                    \
+	} while (0)
+		ROW("daylight task/sensor (lx/lx)", res->daylight_ratio_mean / LUX_PER_WM2, daylight_ratio, "%10.3f");
+		ROW("electric task/sensor (lx/lx)", res->electric_ratio / LUX_PER_WM2, electric_ratio, "%10.3f");
+		ROW("task-sensor ratio", res->task_sensor_ratio, task_sensor_ratio, "%10.3f");
+		ROW("electric task lux", res->electric_task_lux, electric_task_lux, "%10.1f");
+		ROW("electric sensor lux", LUX_PER_WM2 * res->electric_sensor_response, electric_sensor_lux,
+		    "%10.1f");
+#undef ROW
+	}
+}
+
+static void usage(FILE *fp)
+{
+	fprintf(fp, "usage: psscene [-o results] [-C cachedir | -N] [-q] scene\n"
+	            "  -o FILE  results file (default: the scene's name with .results)\n"
+	            "  -C DIR   cache directory (default: the scene's cache key, else\n"
+	            "           $XDG_CACHE_HOME/psensd or ~/.cache/psensd)\n"
+	            "  -N       no cache\n"
+	            "  -q       quiet: no table, no progress\n");
+}
+
+int main(int argc, char **argv)
+{
+	const char *out = NULL, *cache = NULL;
+	int nocache = 0, opt, status = 0;
+	char outbuf[4096], cachebuf[4096], shash[65], hash[65];
+	struct ps_scene sc;
+	struct ps_results res;
+	struct run r;
+	struct ps_err e;
+
+	memset(&r, 0, sizeof r);
+	while ((opt = getopt(argc, argv, "o:C:Nqh")) != -1) {
+		switch (opt) {
+		case 'o': out = optarg; break;
+		case 'C': cache = optarg; break;
+		case 'N': nocache = 1; break;
+		case 'q': r.quiet = 1; break;
+		case 'h': usage(stdout); return 0;
+		default: usage(stderr); return 2;
+		}
+	}
+	if (optind != argc - 1) {
+		usage(stderr);
+		return 2;
+	}
+	if (ps_scene_read(&sc, argv[optind], &e) != 0) {
+		fprintf(stderr, "psscene: %s\n", e.msg);
+		return 1;
+	}
+	r.sc = &sc;
+	if (!out) {
+		const char *dot = strrchr(sc.path, '.');
+		size_t n = dot && !strchr(dot, '/') ? (size_t)(dot - sc.path) : strlen(sc.path);
+		snprintf(outbuf, sizeof outbuf, "%.*s.results", (int)n, sc.path);
+		out = outbuf;
+	}
+	if (!nocache) {
+		if (!cache && sc.cache_dir)
+			cache = sc.cache_dir;
+		if (!cache) {
+			const char *x = getenv("XDG_CACHE_HOME"), *home = getenv("HOME");
+			if (x && *x)
+				snprintf(cachebuf, sizeof cachebuf, "%s/psensd", x);
+			else
+				snprintf(cachebuf, sizeof cachebuf, "%s/.cache/psensd", home ? home : "/tmp");
+			cache = cachebuf;
+		}
+		r.cache = cache;
+	}
+	if (ps_sensor_open(&r.sensor, sc.sensitivity, &e) != 0 ||
+	    ps_sensor_set_reading(&r.sensor, sc.reading, &e) != 0 ||
+	    ps_sensor_builtin(&r.cosine, PS_SENS_COSINE, &e) != 0) {
+		fprintf(stderr, "psscene: %s\n", e.msg);
+		return 1;
+	}
+	if (strncmp(sc.sensitivity, "builtin:", 8) == 0)
+		snprintf(r.sensor_id, sizeof r.sensor_id, "%s", sc.sensitivity);
+	else if (ps_hash_file(sc.sensitivity, hash, &e) == 0)
+		snprintf(r.sensor_id, sizeof r.sensor_id, "sensor:%s", hash);
+	else {
+		fprintf(stderr, "psscene: %s\n", e.msg);
+		return 1;
+	}
+	memcpy(r.rgb, sc.rgb, sizeof r.rgb);
+	if (sc.filter && ps_filter_rgb(sc.filter, r.rgb, &e) != 0) {
+		fprintf(stderr, "psscene: %s\n", e.msg);
+		return 1;
+	}
+	r.tty = isatty(2);
+	r.total = (int)(2 * sc.ncond);
+	memset(&res, 0, sizeof res);
+	res.scene = strdup(sc.path);
+	res.sensitivity = strdup(sc.sensitivity);
+	res.reading = strdup(ps_reading_name(sc.reading));
+	res.rotation = sc.rotation;
+	memcpy(res.rgb, r.rgb, sizeof res.rgb);
+	res.cond = calloc(sc.ncond, sizeof *res.cond);
+	res.ncond = sc.ncond;
+	for (size_t i = 0; i < sc.ncond && status == 0; i++) {
+		const struct ps_condition *c = &sc.cond[i];
+		struct ps_result_cond *rc = &res.cond[i];
+		double sv[2], tv[2];
+		int missing = 0;
+		rc->label = strdup(c->label);
+		rc->kind = c->kind;
+		rc->date = strdup(c->date);
+		rc->tod_s = c->tod_s;
+		for (int task = 0; task < 2; task++)
+			if (ensure_picture(&r, c, task ? c->task_pic : c->sensor_pic, task, &e) != 0) {
+				if (c->optional && e.code == PS_EMISSING) {
+					missing = 1;
+					continue;
+				}
+				if (r.tty && !r.quiet)
+					fputc('\n', stderr);
+				fprintf(stderr, "psscene: %s\n", e.msg);
+				status = 1;
+				break;
+			}
+		if (status)
+			break;
+		if (missing) {
+			if (!r.quiet)
+				fprintf(stderr, "%spsscene: %s: pictures missing; optional condition left out\n",
+				        r.tty ? "\n" : "", c->label);
+			r.done += 2;
+			continue;
+		}
+		if (integrate(&r, c->sensor_pic, 0, sv, &e) != 0 || (progress(&r, c->label, "sensor"), 0) ||
+		    integrate(&r, c->task_pic, 1, tv, &e) != 0) {
+			if (r.tty && !r.quiet)
+				fputc('\n', stderr);
+			fprintf(stderr, "psscene: condition %s: %s\n", c->label, e.msg);
+			status = 1;
+			break;
+		}
+		progress(&r, c->label, "task");
+		rc->computed = 1;
+		rc->sensor_response = sv[0];
+		rc->brightest_share = sv[1];
+		rc->task_irradiance = tv[0];
+		rc->task_lux = LUX_PER_WM2 * tv[0];
+		rc->ratio = sv[0] > 0 ? rc->task_lux / sv[0] : NAN;
+	}
+	if (status == 0) {
+		char all[8192];
+		ps_results_summarise(&res);
+		if (ps_hash_file(sc.path, shash, &e) != 0) {
+			fprintf(stderr, "psscene: %s\n", e.msg);
+			return 1;
+		}
+		snprintf(all, sizeof all, "%s|%s|%s|%.17g|%.17g,%.17g,%.17g", shash, r.sensor_id, r.hashes,
+		         sc.rotation, r.rgb[0], r.rgb[1], r.rgb[2]);
+		ps_hash_string(all, hash);
+		res.scene_hash = strdup(hash);
+		if (ps_results_write(&res, out, &e) != 0) {
+			fprintf(stderr, "psscene: %s\n", e.msg);
+			status = 1;
+		} else if (!r.quiet) {
+			print_table(&sc, &res, r.sensor.kind == PS_SENS_COSINE ||
+			                           (strstr(sc.sensitivity, "cosine") != NULL));
+			printf("\n%d integrations: %d computed, %d reused from the cache%s%s; %d rendered\n",
+			       r.computed + r.reused, r.computed, r.reused, r.cache ? " " : "",
+			       r.cache ? r.cache : "", r.rendered);
+			printf("results: %s\n", out);
+		}
+	}
+	ps_results_free(&res);
+	ps_weights_free(&r.w);
+	ps_sensor_free(&r.sensor);
+	ps_sensor_free(&r.cosine);
+	ps_scene_free(&sc);
+	return status;
+}

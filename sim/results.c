@@ -1,0 +1,218 @@
+#include "results.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "conf.h"
+#include "scene.h"
+#include "sum.h"
+
+void ps_results_free(struct ps_results *r)
+{
+	if (!r)
+		return;
+	for (size_t i = 0; i < r->ncond; i++) {
+		free(r->cond[i].label);
+		free(r->cond[i].date);
+	}
+	free(r->cond);
+	free(r->scene);
+	free(r->scene_hash);
+	free(r->sensitivity);
+	free(r->reading);
+	memset(r, 0, sizeof *r);
+}
+
+void ps_results_summarise(struct ps_results *r)
+{
+	struct ps_sum s, s2;
+	int n = 0;
+	r->daylight_ratio_mean = r->daylight_ratio_min = r->daylight_ratio_max = NAN;
+	r->daylight_ratio_sd = r->electric_ratio = r->task_sensor_ratio = NAN;
+	r->electric_sensor_response = r->electric_task_lux = NAN;
+	ps_sum_init(&s);
+	ps_sum_init(&s2);
+	for (size_t i = 0; i < r->ncond; i++) {
+		const struct ps_result_cond *c = &r->cond[i];
+		if (!c->computed)
+			continue;
+		if (c->kind == PS_COND_DAYLIGHT) {
+			ps_sum_add(&s, c->ratio);
+			if (n == 0 || c->ratio < r->daylight_ratio_min)
+				r->daylight_ratio_min = c->ratio;
+			if (n == 0 || c->ratio > r->daylight_ratio_max)
+				r->daylight_ratio_max = c->ratio;
+			n++;
+		} else if (isnan(r->electric_ratio)) {
+			r->electric_ratio = c->ratio;
+			r->electric_sensor_response = c->sensor_response;
+			r->electric_task_lux = c->task_lux;
+		}
+	}
+	if (n > 0) {
+		r->daylight_ratio_mean = ps_sum_get(&s) / n;
+		for (size_t i = 0; i < r->ncond; i++)
+			if (r->cond[i].computed && r->cond[i].kind == PS_COND_DAYLIGHT) {
+				double d = r->cond[i].ratio - r->daylight_ratio_mean;
+				ps_sum_add(&s2, d * d);
+			}
+		r->daylight_ratio_sd = n > 1 ? sqrt(ps_sum_get(&s2) / (n - 1)) : 0.0;
+	}
+	if (n > 0 && !isnan(r->electric_ratio))
+		r->task_sensor_ratio = r->electric_ratio / r->daylight_ratio_mean;
+}
+
+static void put_num(FILE *fp, const char *key, double v)
+{
+	if (isnan(v))
+		fprintf(fp, "%s = nan\n", key);
+	else
+		fprintf(fp, "%s = %.17g\n", key, v);
+}
+
+int ps_results_write(const struct ps_results *r, const char *path, struct ps_err *e)
+{
+	char tmp[4096];
+	FILE *fp;
+	snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+	fp = fopen(tmp, "w");
+	if (!fp)
+		return ps_errsys(e, "%s", tmp);
+	fprintf(fp, "; psscene results: the simulated task-sensor ratios psensd runs on.\n"
+	            "; Written by psscene; see psscene(5).\n[psresults]\nversion = %d\n",
+	        PS_RESULTS_VERSION);
+	fprintf(fp, "scene = %s\nscene_hash = %s\nsensitivity = %s\n", r->scene ? r->scene : "",
+	        r->scene_hash ? r->scene_hash : "", r->sensitivity ? r->sensitivity : "");
+	put_num(fp, "rotation", r->rotation);
+	fprintf(fp, "reading = %s\nrgb = %.17g %.17g %.17g\n", r->reading ? r->reading : "linear",
+	        r->rgb[0], r->rgb[1], r->rgb[2]);
+	for (size_t i = 0; i < r->ncond; i++) {
+		const struct ps_result_cond *c = &r->cond[i];
+		fprintf(fp, "\n[condition %s]\nkind = %s\n", c->label,
+		        c->kind == PS_COND_ELECTRIC ? "electric" : "daylight");
+		if (c->date && *c->date)
+			fprintf(fp, "date = %s\n", c->date);
+		put_num(fp, "tod_s", c->tod_s);
+		fprintf(fp, "computed = %s\n", c->computed ? "yes" : "no");
+		put_num(fp, "sensor_response", c->sensor_response);
+		put_num(fp, "task_irradiance", c->task_irradiance);
+		put_num(fp, "task_lux", c->task_lux);
+		put_num(fp, "ratio", c->ratio);
+		put_num(fp, "brightest_share", c->brightest_share);
+	}
+	fprintf(fp, "\n[summary]\n");
+	put_num(fp, "daylight_ratio_mean", r->daylight_ratio_mean);
+	put_num(fp, "daylight_ratio_min", r->daylight_ratio_min);
+	put_num(fp, "daylight_ratio_max", r->daylight_ratio_max);
+	put_num(fp, "daylight_ratio_sd", r->daylight_ratio_sd);
+	put_num(fp, "electric_ratio", r->electric_ratio);
+	put_num(fp, "electric_sensor_response", r->electric_sensor_response);
+	put_num(fp, "electric_task_lux", r->electric_task_lux);
+	put_num(fp, "task_sensor_ratio", r->task_sensor_ratio);
+	if (fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) {
+		int rc = ps_errsys(e, "%s: write error", tmp);
+		fclose(fp);
+		unlink(tmp);
+		return rc;
+	}
+	fclose(fp);
+	/* the old file stays whole until the new one is complete */
+	if (rename(tmp, path) != 0) {
+		int rc = ps_errsys(e, "rename %s to %s", tmp, path);
+		unlink(tmp);
+		return rc;
+	}
+	return 0;
+}
+
+static double num(struct ps_conf *c, struct ps_conf_section *s, const char *key)
+{
+	struct ps_conf_kv *kv = ps_conf_kv(s, key);
+	double v;
+	if (!kv) {
+		ps_conf_error(c, s ? s->line : 0, "[%s] needs '%s'", s ? s->name : "", key);
+		return NAN;
+	}
+	if (strcmp(kv->value, "nan") == 0)
+		return NAN;
+	if (ps_parse_double(kv->value, &v) != 0) {
+		ps_conf_error(c, kv->line, "%s: '%s' is not a number", key, kv->value);
+		return NAN;
+	}
+	return v;
+}
+
+int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
+{
+	struct ps_conf c;
+	struct ps_conf_section *s;
+	long version;
+	memset(r, 0, sizeof *r);
+	if (ps_conf_load(&c, path, e) != 0)
+		return -1;
+	s = ps_conf_section(&c, "psresults");
+	if (!s) {
+		ps_conf_free(&c);
+		return ps_errf(e, PS_EFORMAT, "%s: not a psscene results file (no [psresults])", path);
+	}
+	ps_conf_int(&c, s, "version", 0, 0, 1000000, &version);
+	if (version != PS_RESULTS_VERSION) {
+		ps_conf_free(&c);
+		return ps_errf(e, PS_EUNSUPPORTED, "%s:%d: results version %ld, this psensd reads %d: "
+		               "run psscene again", path, s->line, version, PS_RESULTS_VERSION);
+	}
+	r->version = (int)version;
+	r->scene = strdup(ps_conf_str(&c, s, "scene", ""));
+	r->scene_hash = strdup(ps_conf_str(&c, s, "scene_hash", ""));
+	r->sensitivity = strdup(ps_conf_str(&c, s, "sensitivity", ""));
+	r->reading = strdup(ps_conf_str(&c, s, "reading", "linear"));
+	r->rotation = num(&c, s, "rotation");
+	if (sscanf(ps_conf_str(&c, s, "rgb", ""), "%lf %lf %lf", &r->rgb[0], &r->rgb[1], &r->rgb[2]) != 3)
+		ps_conf_error(&c, s->line, "[psresults] needs rgb = R G B");
+	for (size_t i = 0; i < c.nsec; i++) {
+		const char *label = ps_conf_section_is(&c.sec[i], "condition");
+		struct ps_result_cond *grown, *k;
+		static const char *const kinds[] = { "daylight", "electric", NULL };
+		int computed;
+		if (!label)
+			continue;
+		c.sec[i].used = 1;
+		grown = realloc(r->cond, (r->ncond + 1) * sizeof *grown);
+		if (!grown)
+			break;
+		r->cond = grown;
+		k = &r->cond[r->ncond++];
+		memset(k, 0, sizeof *k);
+		k->label = strdup(label);
+		ps_conf_enum(&c, &c.sec[i], "kind", kinds, 0, &k->kind);
+		k->date = strdup(ps_conf_str(&c, &c.sec[i], "date", ""));
+		k->tod_s = num(&c, &c.sec[i], "tod_s");
+		ps_conf_bool(&c, &c.sec[i], "computed", 1, &computed);
+		k->computed = computed;
+		k->sensor_response = num(&c, &c.sec[i], "sensor_response");
+		k->task_irradiance = num(&c, &c.sec[i], "task_irradiance");
+		k->task_lux = num(&c, &c.sec[i], "task_lux");
+		k->ratio = num(&c, &c.sec[i], "ratio");
+		k->brightest_share = num(&c, &c.sec[i], "brightest_share");
+	}
+	if (ps_conf_section(&c, "summary")) {
+		/* derived from the conditions: recomputed, not trusted */
+		struct ps_conf_section *sum = ps_conf_section(&c, "summary");
+		for (size_t j = 0; j < sum->nkv; j++)
+			sum->kv[j].used = 1;
+	}
+	ps_conf_check_unused(&c);
+	if (c.nerrors) {
+		ps_errf(e, PS_EFORMAT, "%s%s", c.errors[0], c.nerrors > 1 ? " (and more)" : "");
+		ps_conf_free(&c);
+		ps_results_free(r);
+		return -1;
+	}
+	ps_conf_free(&c);
+	ps_results_summarise(r);
+	return 0;
+}

@@ -1,0 +1,56 @@
+/* A scene: the sensor, the task point and the conditions whose renders give
+ * the simulated task-sensor ratios (the scene file, psscene(5)). */
+#ifndef PS_SCENE_H
+#define PS_SCENE_H
+
+#include <stddef.h>
+
+#include "err.h"
+
+enum ps_cond_kind { PS_COND_DAYLIGHT = 0, PS_COND_ELECTRIC = 1 };
+
+struct ps_place {
+	double pos[3], dir[3], up[3];   /* where a picture is rendered from */
+	int have;                       /* position given */
+};
+
+struct ps_condition {
+	char *label;
+	int kind;                /* enum ps_cond_kind */
+	char *date;              /* "MM-DD" or "" */
+	double tod_s;            /* time of day, s since midnight; -1 if none */
+	char *sensor_pic, *task_pic;   /* resolved paths */
+	char *octree;            /* for rendering missing pictures, or NULL */
+	int optional;
+	int line;                /* of the section, for messages */
+};
+
+struct ps_reference {
+	char *label;             /* e.g. "paper measured" */
+	double daylight_ratio, electric_ratio, task_sensor_ratio;
+	double electric_task_lux, electric_sensor_lux;   /* NAN when absent */
+};
+
+struct ps_scene {
+	char *path, *name;
+	char *sensitivity;       /* resolved path or builtin:... */
+	double rotation;
+	int reading;
+	double rgb[3];
+	char *filter;            /* resolved, or NULL */
+	struct ps_place sensor_at, task_at;
+	int resolution;          /* for rendering */
+	char *render_options;    /* extra rpict options, or NULL */
+	char *cache_dir;         /* resolved, or NULL */
+	struct ps_condition *cond;
+	size_t ncond;
+	struct ps_reference *ref;
+	size_t nref;
+};
+
+/* Read a scene file.  Every error (file:line) is reported, all in one pass:
+ * the messages are joined with newlines in e->msg. */
+int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e);
+void ps_scene_free(struct ps_scene *s);
+
+#endif
