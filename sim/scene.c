@@ -22,6 +22,13 @@ void ps_scene_free(struct ps_scene *s)
 	}
 	for (size_t i = 0; i < s->nref; i++)
 		free(s->ref[i].label);
+	for (size_t i = 0; i < s->nvar; i++) {
+		free(s->var[i].label);
+		free(s->var[i].of);
+		free(s->var[i].sensor_pic);
+		free(s->var[i].task_pic);
+	}
+	free(s->var);
 	free(s->cond);
 	free(s->ref);
 	free(s->path);
@@ -111,7 +118,30 @@ static int add_condition(struct ps_scene *s, struct ps_conf *c, struct ps_conf_s
 	k->task_pic = ps_conf_path(c, sec, "task_picture");
 	k->octree = ps_conf_path(c, sec, "octree");
 	ps_conf_bool(c, sec, "optional", 0, &k->optional);
+	ps_conf_double(c, sec, "reference_sensor_response", NAN, 0, 1e30, &k->ref_sensor);
+	ps_conf_double(c, sec, "reference_task_irradiance", NAN, 0, 1e30, &k->ref_task);
 	return k->label && k->date ? 0 : -1;
+}
+
+static int add_variant(struct ps_scene *s, struct ps_conf *c, struct ps_conf_section *sec,
+                       const char *label)
+{
+	struct ps_variant *grown = realloc(s->var, (s->nvar + 1) * sizeof *grown), *v;
+	if (!grown)
+		return -1;
+	s->var = grown;
+	v = &s->var[s->nvar++];
+	memset(v, 0, sizeof *v);
+	v->label = strdup(label);
+	v->line = sec->line;
+	ps_conf_required(c, sec, "of");
+	v->of = strdup(ps_conf_str(c, sec, "of", ""));
+	ps_conf_required(c, sec, "sensor_picture");
+	ps_conf_required(c, sec, "task_picture");
+	v->sensor_pic = ps_conf_path(c, sec, "sensor_picture");
+	v->task_pic = ps_conf_path(c, sec, "task_picture");
+	ps_conf_double(c, sec, "render_seconds", NAN, 0, 1e9, &v->render_seconds);
+	return v->label && v->of ? 0 : -1;
 }
 
 static int add_reference(struct ps_scene *s, struct ps_conf *c, struct ps_conf_section *sec,
@@ -179,6 +209,10 @@ int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)
 			c.sec[i].used = 1;
 			if (add_condition(s, &c, &c.sec[i], label) != 0)
 				goto oom;
+		} else if ((label = ps_conf_section_is(&c.sec[i], "variant"))) {
+			c.sec[i].used = 1;
+			if (add_variant(s, &c, &c.sec[i], label) != 0)
+				goto oom;
 		} else if ((label = ps_conf_section_is(&c.sec[i], "reference"))) {
 			c.sec[i].used = 1;
 			if (add_reference(s, &c, &c.sec[i], label) != 0)
@@ -191,6 +225,14 @@ int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)
 		for (size_t j = 0; j < i; j++)
 			if (strcmp(s->cond[i].label, s->cond[j].label) == 0)
 				ps_conf_error(&c, s->cond[i].line, "condition '%s' appears twice", s->cond[i].label);
+	for (size_t i = 0; i < s->nvar; i++) {
+		size_t k = 0;
+		while (k < s->ncond && strcmp(s->cond[k].label, s->var[i].of) != 0)
+			k++;
+		if (k == s->ncond && *s->var[i].of)
+			ps_conf_error(&c, s->var[i].line, "[variant %s]: no condition '%s'", s->var[i].label,
+			              s->var[i].of);
+	}
 	ps_conf_check_unused(&c);
 	if (c.nerrors) {
 		size_t used = 0;

@@ -22,7 +22,18 @@ struct ps_condition {
 	char *sensor_pic, *task_pic;   /* resolved paths */
 	char *octree;            /* for rendering missing pictures, or NULL */
 	int optional;
+	double ref_sensor, ref_task;   /* converged reference: sensor response and task
+	                                  irradiance (W/m2), NAN when not given */
 	int line;                /* of the section, for messages */
+};
+
+/* Another render of a condition with other settings (bounces, resolution):
+ * psscene prints error against run time for them. */
+struct ps_variant {
+	char *label, *of;
+	char *sensor_pic, *task_pic;
+	double render_seconds;   /* NAN when not given */
+	int line;
 };
 
 struct ps_reference {
@@ -46,6 +57,8 @@ struct ps_scene {
 	size_t ncond;
 	struct ps_reference *ref;
 	size_t nref;
+	struct ps_variant *var;
+	size_t nvar;
 };
 
 /* Read a scene file.  Every error (file:line) is reported, all in one pass:

@@ -26,6 +26,7 @@ check: deps
 
 bench: all $(BENCH_BINS)
 	@for b in $(BENCH_BINS); do echo "== $$b"; BUILD=$(BUILD) $$b || exit 1; done
+	@for s in $(wildcard tests/bench/*.sh); do echo "== $$s"; BUILD=$(BUILD) BIN=$(BUILD)/bin sh $$s || exit 1; done
 
 # libFuzzer targets: tests/fuzz/fuzz_*.c, built with clang into $(BUILD)-fuzz,
 # each run for FUZZ_TIME seconds from its seeds in tests/fuzz/seeds/<name>/.

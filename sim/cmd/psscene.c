@@ -249,6 +249,48 @@ static void print_table(const struct ps_scene *sc, const struct ps_results *res,
 	}
 }
 
+/* Error against run time of other renders of a condition: against the
+ * condition's converged reference when the scene gives one, else against the
+ * condition's own pictures. */
+static int print_variants(struct run *r, const struct ps_scene *sc, const struct ps_results *res,
+                          struct ps_err *e)
+{
+	for (size_t k = 0; k < sc->ncond; k++) {
+		const struct ps_condition *c = &sc->cond[k];
+		const struct ps_result_cond *rc = &res->cond[k];
+		double rs = isnan(c->ref_sensor) ? rc->sensor_response : c->ref_sensor;
+		double rt = isnan(c->ref_task) ? rc->task_irradiance : c->ref_task;
+		int header = 0;
+		if (!rc->computed)
+			continue;
+		for (size_t i = 0; i < sc->nvar; i++) {
+			const struct ps_variant *v = &sc->var[i];
+			double sv[2], tv[2], ratio, rratio = rt / rs;
+			char secs[32];
+			if (strcmp(v->of, c->label) != 0)
+				continue;
+			if (!header) {
+				printf("\nrenders of %s: error against %s\n", c->label,
+				       isnan(c->ref_sensor) ? "its own pictures" : "the converged reference");
+				printf("  %-14s %10s %12s %12s %10s %10s\n", "variant", "render s", "sensor",
+				       "task W/m2", "ratio", "ratio err");
+				printf("  %-14s %10s %12.6g %12.6g %10.4g\n", "reference", "", rs, rt, rratio);
+				header = 1;
+			}
+			if (integrate(r, v->sensor_pic, 0, sv, e) != 0 || integrate(r, v->task_pic, 1, tv, e) != 0)
+				return -1;
+			ratio = tv[0] / sv[0];
+			if (isnan(v->render_seconds))
+				snprintf(secs, sizeof secs, "-");
+			else
+				snprintf(secs, sizeof secs, "%.1f", v->render_seconds);
+			printf("  %-14s %10s %12.6g %12.6g %10.4g %+9.2f%%\n", v->label, secs, sv[0], tv[0],
+			       ratio, 100 * (ratio / rratio - 1));
+		}
+	}
+	return 0;
+}
+
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psscene [-o results] [-C cachedir | -N] [-q] scene\n"
@@ -400,6 +442,10 @@ int main(int argc, char **argv)
 		} else if (!r.quiet) {
 			print_table(&sc, &res, r.sensor.kind == PS_SENS_COSINE ||
 			                           (strstr(sc.sensitivity, "cosine") != NULL));
+			if (print_variants(&r, &sc, &res, &e) != 0) {
+				fprintf(stderr, "psscene: %s\n", e.msg);
+				status = 1;
+			}
 			printf("\n%d integrations: %d computed, %d reused from the cache%s%s; %d rendered\n",
 			       r.computed + r.reused, r.computed, r.reused, r.cache ? " " : "",
 			       r.cache ? r.cache : "", r.rendered);
