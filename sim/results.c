@@ -161,9 +161,10 @@ int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
 	}
 	ps_conf_int(&c, s, "version", 0, 0, 1000000, &version);
 	if (version != PS_RESULTS_VERSION) {
+		int line = ps_conf_kv(s, "version") ? ps_conf_kv(s, "version")->line : s->line;
 		ps_conf_free(&c);
 		return ps_errf(e, PS_EUNSUPPORTED, "%s:%d: results version %ld, this psensd reads %d: "
-		               "run psscene again", path, s->line, version, PS_RESULTS_VERSION);
+		               "run psscene again", path, line, version, PS_RESULTS_VERSION);
 	}
 	r->version = (int)version;
 	r->scene = strdup(ps_conf_str(&c, s, "scene", ""));

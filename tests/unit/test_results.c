@@ -70,7 +70,7 @@ static void other_versions_and_garbage(void **state)
 	fputs("[psresults]\nversion = 2\n", fp);
 	fclose(fp);
 	assert_int_equal(ps_results_read(&r, path, &e), -1);
-	assert_non_null(strstr(e.msg, ":1: results version 2, this psensd reads 1"));
+	assert_non_null(strstr(e.msg, ":2: results version 2, this psensd reads 1"));
 	fp = fopen(path, "w");
 	fputs("[psresults]\nversion = 1\nrgb = 1 1 1\nrotation = 0\n[condition a]\nkind = daylight\n"
 	      "tod_s = x\n", fp);
