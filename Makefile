@@ -90,7 +90,7 @@ LIBPSD    = $(BUILD)/lib/libpsd.a
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
-.PHONY: all check bench fuzz install clean deps run demo sim drivers daemon config-status
+.PHONY: all check bench fuzz install clean deps run sim drivers daemon config-status tests fuzz-bins
 all: $(PROGRAMS)
 
 sim: $(addprefix $(BUILD)/bin/,$(SIM_CMDS))
@@ -164,3 +164,11 @@ install: all
 	install -d $(DESTDIR)$(DATADIR)
 	cp -R config/example $(DESTDIR)$(DATADIR)/
 	if [ -d sim/data ]; then cp -R sim/data/. $(DESTDIR)$(DATADIR)/; fi
+
+# ---- the README's main command ----------------------------------------------
+# psensd on the loopback room with the example scene, for a simulated day:
+# precomputes the scene's ratios (psscene) when they are stale, then prints
+# the day's summary.
+run: deps
+	$(MAKE) all
+	$(BUILD)/bin/psensd -f config/psensd.conf -s

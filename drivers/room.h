@@ -62,4 +62,30 @@ struct ps_room_params {
 	double late_s;        /* delay of a late reply */
 };
 
+/* The model. */
+struct ps_room;
+
+/* Copies the arrays; NULL with errno on failure. */
+struct ps_room *ps_room_new(const struct ps_room_params *p, double t0);
+void ps_room_free(struct ps_room *r);
+/* Command the ballast (ignored during a BALLAST fault). */
+void ps_room_command(struct ps_room *r, double now, double level);
+/* The sensor's volts, with noise; -1 and errno (ETIMEDOUT for a dropped or
+ * late reply) during such faults, odd values during sensor faults. */
+int ps_room_sensor(struct ps_room *r, double now, double *volts);
+/* The task meter's lux, with noise. */
+int ps_room_task(struct ps_room *r, double now, double *lux);
+/* Light output (fraction of full) now. */
+double ps_room_output(struct ps_room *r, double now);
+/* Task lux without noise or faults: the truth a summary compares with. */
+double ps_room_true_task_lux(struct ps_room *r, double now);
+/* Daylight parts now: sensor volts and task lux. */
+void ps_room_daylight(struct ps_room *r, double now, double *volts, double *lux);
+/* Integral of the light output over time since t0 (fraction x seconds). */
+double ps_room_energy(struct ps_room *r, double now);
+/* The fault active now (enum ps_room_fault). */
+int ps_room_fault(const struct ps_room *r, double now);
+/* Seconds since midnight of time now (the room's clock: now modulo a day). */
+double ps_room_tod(double now);
+
 #endif

@@ -1,0 +1,79 @@
+#include "roomsetup.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "scene.h"
+
+int psd_day_of_year(const char *mmdd)
+{
+	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
+	int m, d, n = 0;
+	if (!mmdd || sscanf(mmdd, "%d-%d%n", &m, &d, &n) != 2 || mmdd[n] || m < 1 || m > 12 || d < 1 || d > 31)
+		return -1;
+	return start[m - 1] + d;
+}
+
+static double shape(double t, double sunrise, double sunset)
+{
+	if (t <= sunrise || t >= sunset)
+		return 0.0;
+	return sin(M_PI * (t - sunrise) / (sunset - sunrise));
+}
+
+int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
+                          struct ps_room_daypoint *day, struct ps_room_params *p)
+{
+	/* daylight at full sun-up shape (shape = 1) for the chosen day: nearest
+	 * conditions in day of year on either side, linear between them */
+	double best_lo = -1e9, best_hi = 1e9, s_lo = 0, s_hi = 0, l_lo = 0, l_hi = 0;
+	int found = 0;
+	memset(p, 0, sizeof *p);
+	for (size_t i = 0; i < r->ncond; i++) {
+		const struct ps_result_cond *c = &r->cond[i];
+		double sh, d;
+		if (!c->computed || c->kind != PS_COND_DAYLIGHT)
+			continue;
+		sh = shape(c->tod_s, sunrise, sunset);
+		if (sh <= 0.05)
+			continue;   /* too near night to scale from */
+		d = psd_day_of_year(c->date) >= 0 ? psd_day_of_year(c->date) : doy;
+		if (d <= doy && d > best_lo) {
+			best_lo = d;
+			s_lo = c->sensor_response / sh;
+			l_lo = c->task_lux / sh;
+		}
+		if (d >= doy && d < best_hi) {
+			best_hi = d;
+			s_hi = c->sensor_response / sh;
+			l_hi = c->task_lux / sh;
+		}
+		found = 1;
+	}
+	if (!found || isnan(r->electric_sensor_response))
+		return -1;
+	if (best_lo < -1e8) {
+		s_lo = s_hi;
+		l_lo = l_hi;
+		best_lo = best_hi;
+	}
+	if (best_hi > 1e8) {
+		s_hi = s_lo;
+		l_hi = l_lo;
+		best_hi = best_lo;
+	}
+	{
+		double w = best_hi > best_lo ? (doy - best_lo) / (best_hi - best_lo) : 0.0;
+		double s = s_lo + w * (s_hi - s_lo), l = l_lo + w * (l_hi - l_lo);
+		for (int k = 0; k < PSD_DAY_POINTS; k++) {
+			double t = k * 900.0, sh = shape(t, sunrise, sunset);
+			day[k] = (struct ps_room_daypoint){ t, s * sh, l * sh };
+		}
+	}
+	p->daylight = day;
+	p->ndaylight = PSD_DAY_POINTS;
+	p->elec_sensor = r->electric_sensor_response;
+	p->elec_task_lux = r->electric_task_lux;
+	return 0;
+}

@@ -1,0 +1,167 @@
+/* The loopback driver.  Device options (psensd.conf [device NAME] with
+ * driver = loopback):
+ *   gain        volts per unit of sensor response (default 1)
+ *   offset      volts (0)           noise        volts, standard deviation (0)
+ *   saturation  volts (10)          task_noise   lux, standard deviation (0)
+ *   seed        noise seed (1)
+ *   fade_rate   fraction per second (0: instant)   min_level  (0.01)
+ *   lag_tau     lamp time constant, s (0.05)       off_below_min  yes|no (yes)
+ *   faults      "KIND HH:MM-HH:MM, ..." with KIND one of stuck, open,
+ *               saturated, drop, late, ballast
+ * Points: role sensor (volts), task (lux), dim (light output). */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "loopback.h"
+
+struct loopback {
+	struct ps_room_params opts;   /* from the device options */
+	struct ps_room_fault_window faults[16];
+	struct ps_room *room;
+};
+
+static const char *const fault_names[] = { "none", "stuck", "open", "saturated", "drop",
+                                           "late", "ballast", NULL };
+
+static int parse_faults(struct ps_dev *dev, struct loopback *lb, const struct ps_opts *o)
+{
+	const char *v = ps_opt_get(o, "faults");
+	char *copy, *save = NULL;
+	if (!v)
+		return 0;
+	copy = strdup(v);
+	if (!copy)
+		return ps_dev_fail(dev, ENOMEM, "out of memory");
+	for (char *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+		char kind[32];
+		int h1, m1, h2, m2, k, n = 0;
+		if (sscanf(item, " %31s %d:%d-%d:%d %n", kind, &h1, &m1, &h2, &m2, &n) != 5 || item[n]) {
+			free(copy);
+			return ps_dev_fail(dev, EINVAL, "%s:%d: faults: '%s' is not KIND HH:MM-HH:MM",
+			                   o->file, ps_opt_line(o, "faults"), item);
+		}
+		for (k = 1; fault_names[k] && strcmp(fault_names[k], kind) != 0; k++)
+			;
+		if (!fault_names[k] || lb->opts.nfaults >= 16) {
+			free(copy);
+			return ps_dev_fail(dev, EINVAL, "%s:%d: faults: '%s' is not a fault (stuck, open, "
+			                   "saturated, drop, late, ballast) or too many", o->file,
+			                   ps_opt_line(o, "faults"), kind);
+		}
+		lb->faults[lb->opts.nfaults++] =
+		        (struct ps_room_fault_window){ k, h1 * 3600.0 + m1 * 60, h2 * 3600.0 + m2 * 60 };
+	}
+	free(copy);
+	lb->opts.faults = lb->faults;
+	return 0;
+}
+
+static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
+{
+	struct loopback *lb = calloc(1, sizeof *lb);
+	long seed;
+	int off = 1;
+	static const char *const yesno[] = { "no", "yes", NULL };
+	if (!lb)
+		return ps_dev_fail(dev, ENOMEM, "out of memory");
+	dev->priv = lb;
+	if (ps_opt_double(o, "gain", 1, 0, 1e9, &lb->opts.gain, dev->err, sizeof dev->err) ||
+	    ps_opt_double(o, "offset", 0, -100, 100, &lb->opts.offset, dev->err, sizeof dev->err) ||
+	    ps_opt_double(o, "noise", 0, 0, 100, &lb->opts.noise, dev->err, sizeof dev->err) ||
+	    ps_opt_double(o, "saturation", 10, 0, 1000, &lb->opts.saturation, dev->err, sizeof dev->err) ||
+	    ps_opt_double(o, "task_noise", 0, 0, 1e6, &lb->opts.task_noise, dev->err, sizeof dev->err) ||
+	    ps_opt_long(o, "seed", 1, 0, 0x7fffffff, &seed, dev->err, sizeof dev->err) ||
+	    ps_opt_double(o, "fade_rate", 0, 0, 1e6, &lb->opts.ballast.fade_rate, dev->err, sizeof dev->err) ||
+	    ps_opt_double(o, "min_level", 0.01, 0, 1, &lb->opts.ballast.min_level, dev->err, sizeof dev->err) ||
+	    ps_opt_double(o, "lag_tau", 0.05, 0, 1e6, &lb->opts.ballast.lag_tau, dev->err, sizeof dev->err) ||
+	    ps_opt_enum(o, "off_below_min", yesno, 1, &off, dev->err, sizeof dev->err))
+		return -1;
+	lb->opts.seed = (uint64_t)seed;
+	lb->opts.ballast.off_below_min = off;
+	return parse_faults(dev, lb, o);
+}
+
+int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, double now)
+{
+	struct loopback *lb = dev->priv;
+	struct ps_room_params merged = *p;
+	if (!lb)
+		return ps_dev_fail(dev, EINVAL, "loopback: not open");
+	merged.gain = lb->opts.gain;
+	merged.offset = lb->opts.offset;
+	merged.noise = lb->opts.noise;
+	merged.saturation = lb->opts.saturation;
+	merged.task_noise = lb->opts.task_noise;
+	merged.seed = lb->opts.seed;
+	merged.ballast = lb->opts.ballast;
+	merged.faults = lb->opts.faults;
+	merged.nfaults = lb->opts.nfaults;
+	ps_room_free(lb->room);
+	lb->room = ps_room_new(&merged, now);
+	return lb->room ? 0 : ps_dev_fail(dev, ENOMEM, "out of memory");
+}
+
+struct ps_room *ps_loopback_room(struct ps_dev *dev)
+{
+	struct loopback *lb = dev->priv;
+	return lb ? lb->room : NULL;
+}
+
+static int lb_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
+{
+	(void)o;
+	if (pt->role != PS_ROLE_SENSOR && pt->role != PS_ROLE_TASK_LUX && pt->role != PS_ROLE_DIM)
+		return ps_dev_fail(dev, EINVAL, "loopback: no %s points (sensor, task and dim only)",
+		                   ps_role_name(pt->role));
+	return 0;
+}
+
+static int lb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+{
+	struct loopback *lb = dev->priv;
+	if (!lb->room)
+		return ps_dev_fail(dev, ENODEV, "loopback %s: no room", dev->name);
+	if (pt->role == PS_ROLE_SENSOR) {
+		if (ps_room_sensor(lb->room, now, value) != 0)
+			return ps_dev_fail(dev, errno, "loopback %s: sensor reply %s", dev->name,
+			                   ps_room_fault(lb->room, now) == PS_ROOM_FAULT_LATE ? "late" : "dropped");
+		return 0;
+	}
+	if (pt->role == PS_ROLE_TASK_LUX)
+		return ps_room_task(lb->room, now, value);
+	*value = ps_room_output(lb->room, now);
+	return 0;
+}
+
+static int lb_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+{
+	struct loopback *lb = dev->priv;
+	if (!lb->room)
+		return ps_dev_fail(dev, ENODEV, "loopback %s: no room", dev->name);
+	if (pt->role != PS_ROLE_DIM)
+		return ps_dev_fail(dev, EINVAL, "loopback: %s is not an output", pt->name);
+	ps_room_command(lb->room, now, value);
+	return 0;
+}
+
+static void lb_close(struct ps_dev *dev)
+{
+	struct loopback *lb = dev->priv;
+	if (lb)
+		ps_room_free(lb->room);
+	free(lb);
+	dev->priv = NULL;
+}
+
+const struct ps_driver ps_driver_loopback = {
+	.name = "loopback",
+	.summary = "the virtual room built from the scene's simulated ratios",
+	.compiled_in = 1,
+	.open = lb_open,
+	.add_point = lb_add_point,
+	.read = lb_read,
+	.write = lb_write,
+	.close = lb_close,
+};

@@ -1,0 +1,48 @@
+/* Every driver this build knows.  A driver whose library was not found at
+ * build time stays in the table and fails with "not compiled in". */
+#include <errno.h>
+#include <string.h>
+
+#include "driver.h"
+#include "loopback.h"
+
+__attribute__((unused)) static int not_compiled(struct ps_dev *dev, const struct ps_opts *opts)
+{
+	(void)opts;
+	return ps_dev_fail(dev, ENOTSUP, "driver %s not compiled in (its library was missing at build time)",
+	                   dev->drv ? dev->drv->name : "?");
+}
+
+#define STUB(n, what) { .name = n, .summary = what, .compiled_in = 0, .open = not_compiled }
+
+#ifdef PS_WITH_MODBUS
+extern const struct ps_driver ps_driver_modbus;
+#else
+static const struct ps_driver ps_driver_modbus = STUB("modbus", "Modbus TCP and RTU (libmodbus)");
+#endif
+#ifdef PS_WITH_USB
+extern const struct ps_driver ps_driver_dali_usb;
+#else
+static const struct ps_driver ps_driver_dali_usb = STUB("dali_usb", "DALI over USB (libusb)");
+#endif
+#ifdef PS_WITH_GPIOD
+extern const struct ps_driver ps_driver_gpio;
+#else
+static const struct ps_driver ps_driver_gpio = STUB("gpio", "GPIO relays, buttons, light-to-frequency (libgpiod)");
+#endif
+
+const struct ps_driver *const ps_drivers[] = {
+	&ps_driver_loopback,
+	&ps_driver_modbus,
+	&ps_driver_dali_usb,
+	&ps_driver_gpio,
+	NULL,
+};
+
+const struct ps_driver *ps_driver_find(const char *name)
+{
+	for (int i = 0; ps_drivers[i]; i++)
+		if (strcmp(ps_drivers[i]->name, name) == 0)
+			return ps_drivers[i];
+	return NULL;
+}

@@ -1,0 +1,183 @@
+/* The virtual room (see room.h). */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ballast.h"
+#include "room.h"
+
+struct ps_room {
+	struct ps_room_params p;
+	struct ps_room_daypoint *day;
+	struct ps_room_fault_window *faults;
+	struct ps_ballast ballast;
+	uint64_t rng;         /* splitmix64 state: reproducible noise */
+	double last_volts;    /* for the stuck sensor */
+	int have_last;
+};
+
+static uint64_t splitmix64(uint64_t *s)
+{
+	uint64_t z = (*s += 0x9e3779b97f4a7c15ULL);
+	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+	z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+	return z ^ (z >> 31);
+}
+
+/* standard normal by Box-Muller */
+static double gauss(uint64_t *s)
+{
+	double u1 = ((splitmix64(s) >> 11) + 1.0) * 0x1p-53, u2 = (splitmix64(s) >> 11) * 0x1p-53;
+	return sqrt(-2.0 * log(u1)) * cos(2 * M_PI * u2);
+}
+
+double ps_room_tod(double now)
+{
+	double t = fmod(now, 86400.0);
+	return t < 0 ? t + 86400.0 : t;
+}
+
+struct ps_room *ps_room_new(const struct ps_room_params *p, double t0)
+{
+	struct ps_room *r = calloc(1, sizeof *r);
+	if (!r)
+		return NULL;
+	r->p = *p;
+	if (p->ndaylight) {
+		r->day = malloc(p->ndaylight * sizeof *r->day);
+		if (!r->day)
+			goto fail;
+		memcpy(r->day, p->daylight, p->ndaylight * sizeof *r->day);
+	}
+	if (p->nfaults) {
+		r->faults = malloc(p->nfaults * sizeof *r->faults);
+		if (!r->faults)
+			goto fail;
+		memcpy(r->faults, p->faults, p->nfaults * sizeof *r->faults);
+	}
+	r->p.daylight = r->day;
+	r->p.faults = r->faults;
+	r->rng = p->seed;
+	ps_ballast_init(&r->ballast, &p->ballast, t0, 1.0);
+	return r;
+fail:
+	free(r->day);
+	free(r);
+	errno = ENOMEM;
+	return NULL;
+}
+
+void ps_room_free(struct ps_room *r)
+{
+	if (!r)
+		return;
+	free(r->day);
+	free(r->faults);
+	free(r);
+}
+
+int ps_room_fault(const struct ps_room *r, double now)
+{
+	double tod = ps_room_tod(now);
+	for (size_t i = 0; i < r->p.nfaults; i++)
+		if (tod >= r->faults[i].start && tod < r->faults[i].end)
+			return r->faults[i].kind;
+	return PS_ROOM_FAULT_NONE;
+}
+
+void ps_room_daylight(struct ps_room *r, double now, double *volts, double *lux)
+{
+	double tod = ps_room_tod(now), s = 0, l = 0;
+	const struct ps_room_daypoint *d = r->day;
+	size_t n = r->p.ndaylight;
+	if (n && tod >= d[0].t && tod <= d[n - 1].t) {
+		size_t i = 0;
+		while (i + 1 < n && d[i + 1].t < tod)
+			i++;
+		if (i + 1 < n && d[i + 1].t > d[i].t) {
+			double w = (tod - d[i].t) / (d[i + 1].t - d[i].t);
+			s = d[i].sensor + w * (d[i + 1].sensor - d[i].sensor);
+			l = d[i].task_lux + w * (d[i + 1].task_lux - d[i].task_lux);
+		} else {
+			s = d[i].sensor;
+			l = d[i].task_lux;
+		}
+	}
+	*volts = r->p.gain * s;
+	*lux = l;
+}
+
+void ps_room_command(struct ps_room *r, double now, double level)
+{
+	if (ps_room_fault(r, now) == PS_ROOM_FAULT_BALLAST) {
+		ps_ballast_advance(&r->ballast, now);
+		return;
+	}
+	ps_ballast_command(&r->ballast, now, level);
+}
+
+double ps_room_output(struct ps_room *r, double now)
+{
+	ps_ballast_advance(&r->ballast, now);
+	return r->ballast.output;
+}
+
+double ps_room_energy(struct ps_room *r, double now)
+{
+	ps_ballast_advance(&r->ballast, now);
+	return r->ballast.energy;
+}
+
+double ps_room_true_task_lux(struct ps_room *r, double now)
+{
+	double dv, dl;
+	ps_room_daylight(r, now, &dv, &dl);
+	return dl + ps_room_output(r, now) * r->p.elec_task_lux;
+}
+
+int ps_room_sensor(struct ps_room *r, double now, double *volts)
+{
+	double dv, dl, v;
+	switch (ps_room_fault(r, now)) {
+	case PS_ROOM_FAULT_DROP:
+	case PS_ROOM_FAULT_LATE:
+		errno = ETIMEDOUT;
+		return -1;
+	case PS_ROOM_FAULT_OPEN:
+		*volts = 0.0;
+		return 0;
+	case PS_ROOM_FAULT_SATURATED:
+		*volts = r->p.saturation;
+		return 0;
+	case PS_ROOM_FAULT_STUCK:
+		if (r->have_last) {
+			*volts = r->last_volts;
+			return 0;
+		}
+		break;
+	default:
+		break;
+	}
+	ps_room_daylight(r, now, &dv, &dl);
+	v = dv + r->p.gain * ps_room_output(r, now) * r->p.elec_sensor + r->p.offset;
+	if (r->p.noise > 0)
+		v += r->p.noise * gauss(&r->rng);
+	if (r->p.saturation > 0 && v > r->p.saturation)
+		v = r->p.saturation;
+	if (v < 0)
+		v = 0;
+	r->last_volts = v;
+	r->have_last = 1;
+	*volts = v;
+	return 0;
+}
+
+int ps_room_task(struct ps_room *r, double now, double *lux)
+{
+	double v = ps_room_true_task_lux(r, now);
+	if (r->p.task_noise > 0)
+		v += r->p.task_noise * gauss(&r->rng);
+	*lux = v < 0 ? 0 : v;
+	return 0;
+}

@@ -1,0 +1,38 @@
+#!/bin/sh
+# psensd on the loopback room over a simulated day: the real binary, a
+# configuration in a temporary directory, results recomputed by psscene when
+# stale, the set-point control's summary against what it must be, and a
+# sensor fault that drives the lights to the safe level and clears.
+. "$(dirname "$0")/lib.sh"
+[ -x "$BIN/psensd" ] || skip_all "psensd not built"
+mkdir -p "$TMP/example"
+cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
+sed "s|^results = .*|results = state/ofb.results|" config/psensd.conf > "$TMP/psensd.conf"
+mkdir -p "$TMP/state"
+PATH="$TOP/$BIN:$PATH" "$BIN/psensd" -f "$TMP/psensd.conf" -n > "$TMP/n.out" 2>&1
+check "-n checks the config" grep -q "configuration OK" "$TMP/n.out"
+PATH="$TOP/$BIN:$PATH" "$BIN/psensd" -f "$TMP/psensd.conf" -s > "$TMP/out" 2> "$TMP/err"
+check "psensd ran psscene for the missing results" grep -q "running" "$TMP/err"
+check "results written" test -s "$TMP/state/ofb.results"
+num() { sed -n "s/.*$1[^0-9-]*\([-0-9.]*\).*/\1/p" "$TMP/out" | head -n 1; }
+check "never below the 500 lx target by more than 2 %: $(grep 'below' "$TMP/out")" \
+	grep -q "time below target (by more than 2 %): 0.0 %" "$TMP/out"
+energy=$(num "energy:")
+check "energy $energy % of full: daylight saves, the minimum level bounds it" \
+	awk -v e="$energy" 'BEGIN { exit !(e > 10 && e < 60) }'
+check "the estimate tracks the truth: $(grep estimated "$TMP/out")" \
+	awk -v r="$(sed -n 's/.*rms \([0-9.]*\) %.*/\1/p' "$TMP/out")" 'BEGIN { exit !(r < 1.0) }'
+check "the open-circuit fault at 12:00 drives the lights to 100 %" grep -q "12:00 fault: sensor reads 0.000 V.*safe level 100 %" "$TMP/err"
+check "and control resumes at 12:20" grep -q "12:20 fault cleared" "$TMP/err"
+check "20 periods at the safe level" grep -q "periods at the safe level after a fault: 20" "$TMP/out"
+# the second run reuses the results
+PATH="$TOP/$BIN:$PATH" "$BIN/psensd" -f "$TMP/psensd.conf" -s > /dev/null 2> "$TMP/err2"
+check "fresh results are not recomputed" sh -c "! grep -q running '$TMP/err2'"
+# bad configs: every error with file:line, in one pass
+printf '[psensd]\nperiod = -1\n[zone a]\ndevice = nosuch\nalgorithm = magic\n' > "$TMP/bad.conf"
+"$BIN/psensd" -f "$TMP/bad.conf" -n 2> "$TMP/bad.err" && not_ok "bad config accepted" || ok "bad config refused"
+check "period error at line 2" grep -q "bad.conf:2: period: -1 is outside" "$TMP/bad.err"
+check "missing device at line 4" grep -q "bad.conf:4: device: no \[device nosuch\]" "$TMP/bad.err"
+check "bad algorithm at line 5" grep -q "bad.conf:5: algorithm: 'magic' is not one of" "$TMP/bad.err"
+check "missing results key" grep -q "needs 'results'" "$TMP/bad.err"
+done_testing
