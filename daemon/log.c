@@ -22,6 +22,7 @@ void log_init(int foreground, int level, const char *ident)
 		openlog(log_state.ident, LOG_PID | LOG_NDELAY, LOG_DAEMON);
 }
 
+__attribute__((format(printf, 4, 0)))
 static void vlog(int level, int prio, const char *errtext, const char *fmt, va_list ap)
 {
 	char msg[1024];
