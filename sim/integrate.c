@@ -10,36 +10,6 @@
  * then is the Y row psens's default 0.265074126 0.670114631 0.064811243. */
 const double ps_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 0.3333, 0.3333 };
 
-void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
-{
-	/* columns: XYZ of each primary scaled so that R + G + B = white (Y = 1) */
-	double p[3][3], inv[3][3], det, wx = prim[6] / prim[7], wz = (1 - prim[6] - prim[7]) / prim[7];
-	double sc[3];
-	for (int k = 0; k < 3; k++) {
-		double x = prim[2 * k], y = prim[2 * k + 1];
-		p[0][k] = x / y;
-		p[1][k] = 1.0;
-		p[2][k] = (1 - x - y) / y;
-	}
-	det = p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
-	      p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
-	      p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
-	inv[0][0] = (p[1][1] * p[2][2] - p[1][2] * p[2][1]) / det;
-	inv[0][1] = (p[0][2] * p[2][1] - p[0][1] * p[2][2]) / det;
-	inv[0][2] = (p[0][1] * p[1][2] - p[0][2] * p[1][1]) / det;
-	inv[1][0] = (p[1][2] * p[2][0] - p[1][0] * p[2][2]) / det;
-	inv[1][1] = (p[0][0] * p[2][2] - p[0][2] * p[2][0]) / det;
-	inv[1][2] = (p[0][2] * p[1][0] - p[0][0] * p[1][2]) / det;
-	inv[2][0] = (p[1][0] * p[2][1] - p[1][1] * p[2][0]) / det;
-	inv[2][1] = (p[0][1] * p[2][0] - p[0][0] * p[2][1]) / det;
-	inv[2][2] = (p[0][0] * p[1][1] - p[0][1] * p[1][0]) / det;
-	for (int k = 0; k < 3; k++)
-		sc[k] = inv[k][0] * wx + inv[k][1] * 1.0 + inv[k][2] * wz;
-	for (int i = 0; i < 3; i++)
-		for (int k = 0; k < 3; k++)
-			m[i][k] = p[i][k] * sc[k];
-}
-
 static void invert3(double a[3][3], double out[3][3])
 {
 	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
@@ -54,6 +24,25 @@ static void invert3(double a[3][3], double out[3][3])
 	out[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) / det;
 	out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
 	out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
+}
+
+void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
+{
+	/* columns: XYZ of each primary scaled so that R + G + B = white (Y = 1) */
+	double p[3][3], inv[3][3], wx = prim[6] / prim[7], wz = (1 - prim[6] - prim[7]) / prim[7];
+	double sc[3];
+	for (int k = 0; k < 3; k++) {
+		double x = prim[2 * k], y = prim[2 * k + 1];
+		p[0][k] = x / y;
+		p[1][k] = 1.0;
+		p[2][k] = (1 - x - y) / y;
+	}
+	invert3(p, inv);
+	for (int k = 0; k < 3; k++)
+		sc[k] = inv[k][0] * wx + inv[k][1] * 1.0 + inv[k][2] * wz;
+	for (int i = 0; i < 3; i++)
+		for (int k = 0; k < 3; k++)
+			m[i][k] = p[i][k] * sc[k];
 }
 
 /* Rearrange v so that its k largest values come first (quickselect, O(n)). */

@@ -6,6 +6,8 @@
  * hostile file can only produce an error naming its byte offset. */
 #include "picture.h"
 
+#include "file.h"
+
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -472,38 +474,13 @@ fail:
 
 int ps_pic_read(struct ps_picture *pic, const char *path, struct ps_err *e)
 {
-	FILE *fp = fopen(path, "rb");
-	uint8_t *buf = NULL;
-	size_t len = 0, cap = 0;
+	uint8_t *buf;
+	size_t len;
 	int rc;
 	memset(pic, 0, sizeof *pic);
-	if (!fp)
-		return ps_errsys(e, "%s", path);
-	for (;;) {
-		size_t got;
-		if (len == cap) {
-			size_t ncap = cap ? cap * 2 : 1 << 16;
-			uint8_t *nb = realloc(buf, ncap);
-			if (!nb) {
-				free(buf);
-				fclose(fp);
-				return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
-			}
-			buf = nb;
-			cap = ncap;
-		}
-		got = fread(buf + len, 1, cap - len, fp);
-		len += got;
-		if (got == 0)
-			break;
-	}
-	if (ferror(fp)) {
-		rc = ps_errsys(e, "%s: read error", path);
-		fclose(fp);
-		free(buf);
-		return rc;
-	}
-	fclose(fp);
+	/* 4 GiB: more than the largest picture we accept could need */
+	if (ps_read_file(path, (size_t)4 << 30, &buf, &len, e) != 0)
+		return -1;
 	rc = ps_pic_read_mem(pic, buf, len, path, e);
 	free(buf);
 	return rc;

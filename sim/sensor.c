@@ -1,5 +1,7 @@
 #include "sensor.h"
 
+#include "file.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -386,44 +388,13 @@ fail:
 
 int ps_sensor_read(struct ps_sensor *s, const char *path, struct ps_err *e)
 {
-	FILE *fp = fopen(path, "rb");
-	char *buf = NULL;
-	size_t len = 0, cap = 0;
+	uint8_t *buf;
+	size_t len;
 	int rc;
 	memset(s, 0, sizeof *s);
-	if (!fp)
-		return ps_errsys(e, "%s", path);
-	for (;;) {
-		size_t got;
-		if (len == cap) {
-			char *nb;
-			if (cap >= SENSOR_MAX_FILE) {
-				fclose(fp);
-				free(buf);
-				return ps_errf(e, PS_ERANGE, "%s: larger than %d bytes", path, SENSOR_MAX_FILE);
-			}
-			nb = realloc(buf, cap ? cap * 2 : 65536);
-			if (!nb) {
-				fclose(fp);
-				free(buf);
-				return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
-			}
-			buf = nb;
-			cap = cap ? cap * 2 : 65536;
-		}
-		got = fread(buf + len, 1, cap - len, fp);
-		len += got;
-		if (got == 0)
-			break;
-	}
-	if (ferror(fp)) {
-		rc = ps_errsys(e, "%s: read error", path);
-		fclose(fp);
-		free(buf);
-		return rc;
-	}
-	fclose(fp);
-	rc = ps_sensor_parse(s, buf ? buf : "", len, path, e);
+	if (ps_read_file(path, SENSOR_MAX_FILE, &buf, &len, e) != 0)
+		return -1;
+	rc = ps_sensor_parse(s, (const char *)buf, len, path, e);
 	free(buf);
 	return rc;
 }

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cie.h"
+#include "file.h"
 #include "integrate.h"
 #include "sum.h"
 
@@ -145,40 +146,13 @@ fail:
 
 int ps_filter_read(struct ps_filter *f, const char *path, int percent, struct ps_err *e)
 {
-	FILE *fp = fopen(path, "rb");
-	char *buf = NULL;
-	size_t len = 0, cap = 0;
+	uint8_t *buf;
+	size_t len;
 	int rc;
 	memset(f, 0, sizeof *f);
-	if (!fp)
-		return ps_errsys(e, "%s", path);
-	for (;;) {
-		size_t got;
-		if (len == cap) {
-			char *nb;
-			if (cap >= (64u << 20)) {
-				fclose(fp);
-				free(buf);
-				return ps_errf(e, PS_ERANGE, "%s: larger than 64 MiB", path);
-			}
-			nb = realloc(buf, cap ? cap * 2 : 65536);
-			if (!nb) {
-				fclose(fp);
-				free(buf);
-				return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
-			}
-			buf = nb;
-			cap = cap ? cap * 2 : 65536;
-		}
-		got = fread(buf + len, 1, cap - len, fp);
-		len += got;
-		if (got == 0)
-			break;
-	}
-	rc = ferror(fp) ? ps_errsys(e, "%s: read error", path) : 0;
-	fclose(fp);
-	if (rc == 0)
-		rc = ps_filter_parse(f, buf ? buf : "", len, path, percent, e);
+	if (ps_read_file(path, (size_t)64 << 20, &buf, &len, e) != 0)
+		return -1;
+	rc = ps_filter_parse(f, (const char *)buf, len, path, percent, e);
 	free(buf);
 	return rc;
 }

@@ -22,33 +22,33 @@ struct gl_rule {
 	double x[GL_MAXN], w[GL_MAXN];
 };
 
+/* Legendre polynomial P_n(x) and its derivative. */
+static void legendre(int n, double x, double *p, double *dp)
+{
+	double p0 = 1.0, p1 = x;
+	for (int k = 2; k <= n; k++) {
+		double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+		p0 = p1;
+		p1 = p2;
+	}
+	*p = p1;
+	*dp = n * (x * p1 - p0) / (x * x - 1.0);
+}
+
 static void gl_compute(struct gl_rule *r, int n)
 {
 	r->n = n;
 	for (int i = 0; i < n; i++) {
-		double x = cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
-		for (int it = 0; it < 100; it++) {
-			double p0 = 1.0, p1 = x;
-			for (int k = 2; k <= n; k++) {
-				double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
-				p0 = p1;
-				p1 = p2;
-			}
-			dp = n * (x * p1 - p0) / (x * x - 1.0);
-			double dx = p1 / dp;
+		double x = cos(M_PI * (i + 0.75) / (n + 0.5)), p, dp;
+		for (int it = 0; it < 100; it++) {   /* Newton on P_n */
+			double dx;
+			legendre(n, x, &p, &dp);
+			dx = p / dp;
 			x -= dx;
 			if (fabs(dx) < 1e-16)
 				break;
 		}
-		{
-			double p0 = 1.0, p1 = x;
-			for (int k = 2; k <= n; k++) {
-				double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
-				p0 = p1;
-				p1 = p2;
-			}
-			dp = n * (x * p1 - p0) / (x * x - 1.0);
-		}
+		legendre(n, x, &p, &dp);
 		r->x[i] = x;
 		r->w[i] = 2.0 / ((1.0 - x * x) * dp * dp);
 	}
