@@ -148,6 +148,7 @@ SYSCONFDIR ?= /etc
 UNITDIR    ?= /lib/systemd/system
 DATADIR    ?= $(PREFIX)/share/psensd
 MANDIR     ?= $(PREFIX)/share/man
+STATEDIR   ?= /var/lib/psensd
 MAN_PAGES  := $(wildcard sim/cmd/*.[1-8] daemon/cmd/*.[1-8] drivers/*.[1-8] config/*.[1-8])
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/sbin
@@ -156,8 +157,11 @@ install: all
 	for m in $(MAN_PAGES); do s=$${m##*.}; install -d $(DESTDIR)$(MANDIR)/man$$s; \
 	    install -m 644 $$m $(DESTDIR)$(MANDIR)/man$$s/; done
 	install -d $(DESTDIR)$(SYSCONFDIR)/psensd
+	# the example configuration, pointed at the installed example scene
 	for f in config/*.conf; do [ -f "$$f" ] || continue; \
-	    [ -f $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/} ] || install -m 644 $$f $(DESTDIR)$(SYSCONFDIR)/psensd/; done
+	    [ -f $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/} ] || \
+	    sed 's|^scene = example/|scene = $(DATADIR)/example/|; s|^results = .*|results = $(STATEDIR)/ofb.results|' \
+	        $$f > $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/}; done
 	if [ -f systemd/psensd.service ]; then install -d $(DESTDIR)$(UNITDIR); \
 	    sed 's|@SBINDIR@|$(PREFIX)/sbin|g; s|@SYSCONFDIR@|$(SYSCONFDIR)|g' systemd/psensd.service \
 	    > $(DESTDIR)$(UNITDIR)/psensd.service; chmod 644 $(DESTDIR)$(UNITDIR)/psensd.service; fi
