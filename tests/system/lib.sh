@@ -10,7 +10,7 @@ ok()      { _tap_n=$((_tap_n + 1)); echo "ok $_tap_n - $*"; }
 not_ok()  { _tap_n=$((_tap_n + 1)); _tap_failed=$((_tap_failed + 1)); echo "not ok $_tap_n - $*"; }
 skip()    { _tap_n=$((_tap_n + 1)); echo "ok $_tap_n # SKIP $*"; }
 # check DESCRIPTION COMMAND...: ok when the command succeeds
-check()   { d=$1; shift; if "$@"; then ok "$d"; else not_ok "$d"; fi; }
+check()   { _check_d=$1; shift; if "$@"; then ok "$_check_d"; else not_ok "$_check_d"; fi; }
 # skip_all REASON: the whole file cannot run here
 skip_all() { echo "$*"; exit 77; }
 diag()    { echo "# $*"; }
