@@ -24,7 +24,7 @@ WARN    = -Wall -Wextra -Werror -Wshadow -Wformat=2 -Wstrict-prototypes \
 OPT     ?= -O2 -g
 CPPFLAGS_BASE = -D_GNU_SOURCE
 CFLAGS_ALL    = -std=c11 $(WARN) $(OPT) $(CPPFLAGS_BASE)
-LDLIBS_BASE   = -lm
+LDLIBS_BASE   = -lm -pthread
 
 ifeq ($(SAN),1)
   CFLAGS_ALL += -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer

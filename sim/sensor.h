@@ -46,7 +46,10 @@ struct ps_sensor {
 	double *tb;             /* nt + 1 theta breakpoints, radians, tb[0] = 0 */
 	double *pb;             /* np + 1 phi breakpoints, radians, pb[np] = pb[0] + 2 pi */
 	double *corner;         /* (nt) x (np + 1) x 2: S at (tb[i], pb[j]) and (tb[i+1], pb[j]) */
-	double *cum;            /* (nt + 1) x (np + 1): integral_0^tb[i] S(t, pb[j]) sin t dt */
+	double *cum;            /* (nt + 1) x np x 2: integral_0^tb[i] S(t, phi) sin t dt along
+	                           each patch's left and right edge */
+	double *mcoef;          /* nt x np x 6: per patch edge (A, a, b) with
+	                           M(theta) = A + b sin(theta) - (a + b theta) cos(theta) */
 	double theta_end;       /* radians: S = 0 beyond */
 };
 

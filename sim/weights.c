@@ -1,9 +1,11 @@
 #include "weights.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "fisheye.h"
 #include "sum.h"
@@ -153,9 +155,18 @@ static double edge_integral(const struct edge_ctx *c, double ax, double ay, doub
 	rmax = fmax(ra, rb);
 	b[nb++] = (struct brk){ alo, 0 };
 	/* circles: rho = p / cos(alpha - an) = rc */
-	for (int k = 0; k < c->nrho && nb < 500; k++) {
+	/* rho_breaks is sorted: start at the first one not below rmin */
+	int lo = 0, hi = c->nrho;
+	while (lo < hi) {
+		int mid = (lo + hi) / 2;
+		if (c->rho_breaks[mid] < rmin)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	for (int k = lo; k < c->nrho && c->rho_breaks[k] <= rmax && nb < 500; k++) {
 		double rc = c->rho_breaks[k], d;
-		if (rc < rmin || rc > rmax || rc <= p)
+		if (rc <= p)
 			continue;
 		d = acos(p / rc);
 		for (int sgn = -1; sgn <= 1; sgn += 2) {
@@ -310,14 +321,95 @@ static void row_range(const struct ps_fisheye *f, int j, double R, int *lo, int 
 		*hi = f->width - 1;
 }
 
+/* A band of rows computed by one thread; the runs and their offsets are laid
+ * out before, so threads write disjoint parts of w->w and the map is the same
+ * whatever the number of threads. */
+struct band {
+	const struct edge_ctx *c;
+	const struct ps_sensor *s;
+	int method;
+	const double *u;
+	const int *lo, *hi;
+	const size_t *off;    /* offset of row j's first weight */
+	int j0, j1;           /* bottom-based rows [j0, j1) */
+	double *w;
+	int oom;
+};
+
+static void *band_run(void *arg)
+{
+	struct band *b = arg;
+	const struct edge_ctx *c = b->c;
+	int width = c->f.width, prev = -2;   /* the last row done here; -2: none */
+	double *hline[2], *vrow;
+	hline[0] = malloc(((size_t)width + 1) * sizeof(double));
+	hline[1] = malloc(((size_t)width + 1) * sizeof(double));
+	vrow = malloc(((size_t)width + 1) * sizeof *vrow);
+	if (!hline[0] || !hline[1] || !vrow) {
+		b->oom = 1;
+		goto out;
+	}
+	/* lines j (bottom) and j+1 (top) bound row j */
+	for (int j = b->j0; j < b->j1; j++) {
+		double vb = ps_fisheye_v(&c->f, j), vt = ps_fisheye_v(&c->f, j + 1);
+		double *hb = hline[j & 1], *ht = hline[(j + 1) & 1], *out = b->w + b->off[j];
+		const double *u = b->u;
+		int lo = b->lo[j], hi = b->hi[j];
+		if (lo > hi)
+			continue;
+		if (b->method == PS_W_EXACT) {
+			/* bottom line: reuse what the row below computed, where it did */
+			int plo = prev == j - 1 ? b->lo[j - 1] : 1, phi_ = prev == j - 1 ? b->hi[j - 1] : 0;
+			for (int x = lo; x <= hi; x++)
+				if (x < plo || x > phi_)
+					hb[x] = edge_integral(c, u[x], vb, u[x + 1], vb);
+			for (int x = lo; x <= hi; x++)
+				ht[x] = edge_integral(c, u[x], vt, u[x + 1], vt);
+			for (int x = lo; x <= hi + 1; x++)
+				vrow[x] = edge_integral(c, u[x], vb, u[x], vt);
+		}
+		prev = j;
+		for (int x = lo; x <= hi; x++) {
+			double wt;
+			if (b->method == PS_W_EXACT) {
+				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
+				struct ps_sum ps;
+				ps_sum_init(&ps);
+				ps_sum_add(&ps, hb[x]);
+				ps_sum_add(&ps, vrow[x + 1]);
+				ps_sum_add(&ps, -ht[x]);
+				ps_sum_add(&ps, -vrow[x]);
+				wt = ps_sum_get(&ps);
+				if (wt < 0 && wt > -1e-15)
+					wt = 0.0;   /* rounding on a pixel the sensor barely sees */
+			} else {
+				double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
+				double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
+				wt = rho > 1.0 ? 0.0
+				     : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+				           ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+			}
+			out[x - lo] = wt;
+		}
+	}
+out:
+	free(hline[0]);
+	free(hline[1]);
+	free(vrow);
+	return NULL;
+}
+
 int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                      const struct ps_view *v, int width, int height, int method,
                      struct ps_err *e)
 {
+	enum { MAX_THREADS = 8 };
 	struct edge_ctx c;
-	double R, *hline[2] = { NULL, NULL }, *vrow = NULL, *u = NULL;
-	int *lo = NULL, *hi = NULL;
-	size_t cap_runs = 0, cap_w = 0;
+	struct band bands[MAX_THREADS];
+	pthread_t tid[MAX_THREADS];
+	double R, *u = NULL;
+	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0;
+	size_t *off = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
 	if (width <= 0 || height <= 0)
@@ -339,72 +431,58 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	R *= 1.0 + 1e-12;
 	lo = malloc((size_t)height * sizeof *lo);
 	hi = malloc((size_t)height * sizeof *hi);
-	hline[0] = malloc(((size_t)width + 1) * sizeof(double));
-	hline[1] = malloc(((size_t)width + 1) * sizeof(double));
-	vrow = malloc(((size_t)width + 1) * sizeof *vrow);
+	off = malloc((size_t)height * sizeof *off);
 	u = malloc(((size_t)width + 1) * sizeof *u);
-	if (!lo || !hi || !hline[0] || !hline[1] || !vrow || !u)
+	if (!lo || !hi || !off || !u)
 		goto oom;
 	for (int x = 0; x <= width; x++)
 		u[x] = ps_fisheye_u(&c.f, x);
-	for (int j = 0; j < height; j++)
-		row_range(&c.f, j, R, &lo[j], &hi[j]);
-	ps_sum_init(&total);
-	/* lines j = 0 (bottom) .. height; row j lies between lines j and j+1 */
+	/* the layout: one run per row the sensor sees, bottom row first */
 	for (int j = 0; j < height; j++) {
-		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
-		double *hb = hline[j & 1], *ht = hline[(j + 1) & 1];
-		int row = height - 1 - j;
+		row_range(&c.f, j, R, &lo[j], &hi[j]);
+		off[j] = w->nw;
 		if (lo[j] > hi[j])
 			continue;
-		if (method == PS_W_EXACT) {
-			/* bottom line: reuse what the row below computed, where it did */
-			int plo = j > 0 ? lo[j - 1] : 1, phi_ = j > 0 ? hi[j - 1] : 0;
-			for (int x = lo[j]; x <= hi[j]; x++)
-				if (x < plo || x > phi_)
-					hb[x] = edge_integral(&c, u[x], vb, u[x + 1], vb);
-			for (int x = lo[j]; x <= hi[j]; x++)
-				ht[x] = edge_integral(&c, u[x], vt, u[x + 1], vt);
-			for (int x = lo[j]; x <= hi[j] + 1; x++)
-				vrow[x] = edge_integral(&c, u[x], vb, u[x], vt);
-		}
-		if (push_run(w, &cap_runs, row, lo[j], hi[j] - lo[j] + 1) != 0)
+		if (push_run(w, &cap_runs, height - 1 - j, lo[j], hi[j] - lo[j] + 1) != 0)
 			goto oom;
-		if (w->nw + (size_t)(hi[j] - lo[j] + 1) > cap_w) {
-			size_t ncap = cap_w ? cap_w * 2 : 4096;
-			double *nw;
-			while (ncap < w->nw + (size_t)(hi[j] - lo[j] + 1))
-				ncap *= 2;
-			nw = realloc(w->w, ncap * sizeof *nw);
-			if (!nw)
-				goto oom;
-			w->w = nw;
-			cap_w = ncap;
-		}
-		for (int x = lo[j]; x <= hi[j]; x++) {
-			double wt;
-			if (method == PS_W_EXACT) {
-				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
-				struct ps_sum ps;
-				ps_sum_init(&ps);
-				ps_sum_add(&ps, hb[x]);
-				ps_sum_add(&ps, vrow[x + 1]);
-				ps_sum_add(&ps, -ht[x]);
-				ps_sum_add(&ps, -vrow[x]);
-				wt = ps_sum_get(&ps);
-				if (wt < 0 && wt > -1e-15)
-					wt = 0.0;   /* rounding on a pixel the sensor barely sees */
-			} else {
-				double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
-				double rho = hypot(uc, vc), th = ps_fisheye_theta(&c.f, rho);
-				wt = rho > 1.0 ? 0.0
-				     : ps_sensor_value(s, th, atan2(vc, uc) - M_PI / 2 - c.rot) *
-				           ps_fisheye_jacobian(&c.f, rho) * (u[x + 1] - u[x]) * (vt - vb);
-			}
-			w->w[w->nw++] = wt;
-			ps_sum_add(&total, wt);
+		w->nw += (size_t)(hi[j] - lo[j] + 1);
+	}
+	w->w = malloc((w->nw ? w->nw : 1) * sizeof *w->w);
+	if (!w->w)
+		goto oom;
+	/* bands of about equal pixel counts, one per core for large maps */
+	if (w->nw > 65536) {
+		long n = sysconf(_SC_NPROCESSORS_ONLN);
+		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+	}
+	{
+		int j = 0;
+		for (int t = 0; t < nthreads; t++) {
+			size_t want = w->nw * (size_t)(t + 1) / (size_t)nthreads;
+			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0 };
+			while (j < height && (t == nthreads - 1 || off[j] < want))
+				j++;
+			bands[t].j1 = j;
 		}
 	}
+	for (int t = 1; t < nthreads; t++)
+		if (pthread_create(&tid[t], NULL, band_run, &bands[t]) != 0)
+			bands[t].oom = -1;   /* run it here instead */
+		else
+			started |= 1 << t;
+	band_run(&bands[0]);
+	for (int t = 1; t < nthreads; t++) {
+		if (started & (1 << t))
+			pthread_join(tid[t], NULL);
+		else
+			band_run(&bands[t]);
+		oom |= bands[t].oom > 0;
+	}
+	if (oom || bands[0].oom)
+		goto oom;
+	ps_sum_init(&total);
+	for (size_t i = 0; i < w->nw; i++)
+		ps_sum_add(&total, w->w[i]);
 	w->sens_sum = ps_sum_get(&total);
 	w->sens_full = ps_sensor_integral(s);
 	w->coverage = w->sens_full > 0 ? w->sens_sum / w->sens_full : 0.0;
@@ -425,18 +503,14 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	}
 	free(lo);
 	free(hi);
-	free(hline[0]);
-	free(hline[1]);
-	free(vrow);
+	free(off);
 	free(u);
 	ctx_free(&c);
 	return 0;
 oom:
 	free(lo);
 	free(hi);
-	free(hline[0]);
-	free(hline[1]);
-	free(vrow);
+	free(off);
 	free(u);
 	ctx_free(&c);
 	ps_weights_free(w);
