@@ -160,7 +160,7 @@ install: all
 	# the example configuration, pointed at the installed example scene
 	for f in config/*.conf; do [ -f "$$f" ] || continue; \
 	    [ -f $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/} ] || \
-	    sed 's|^scene = example/|scene = $(DATADIR)/example/|; s|^results = .*|results = $(STATEDIR)/ofb.results|' \
+	    sed 's|^scene = example/|scene = $(DATADIR)/example/|; s|^results = .*|results = $(STATEDIR)/ofb.results|; s|^database = .*|database = $(STATEDIR)/psensd.db|' \
 	        $$f > $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/}; done
 	if [ -f systemd/psensd.service ]; then install -d $(DESTDIR)$(UNITDIR); \
 	    sed 's|@SBINDIR@|$(PREFIX)/sbin|g; s|@SYSCONFDIR@|$(SYSCONFDIR)|g' systemd/psensd.service \

@@ -18,6 +18,7 @@
 
 #include "conf.h"
 #include "control.h"
+#include "db.h"
 #include "driver.h"
 #include "log.h"
 #include "loopback.h"
@@ -31,7 +32,7 @@ extern char **environ;
 
 struct config {
 	struct ps_conf conf;
-	char *results, *scene;
+	char *results, *scene, *database;
 	double period, safe_level, sensor_min, sensor_max, tolerance;
 	char date[16];
 	double start, end, sunrise, sunset;
@@ -74,6 +75,7 @@ static int config_load(struct config *cf, const char *path)
 	s = ps_conf_section(c, "psensd");
 	cf->results = ps_conf_path(c, s, "results");
 	cf->scene = ps_conf_path(c, s, "scene");
+	cf->database = ps_conf_path(c, s, "database");
 	if (!cf->results)
 		ps_conf_error(c, s ? s->line : 0, "[psensd] needs 'results' (a psscene results file)");
 	ps_conf_double(c, s, "period", 60, 0.001, 86400, &cf->period);
@@ -149,6 +151,7 @@ static void config_free(struct config *cf)
 {
 	free(cf->results);
 	free(cf->scene);
+	free(cf->database);
 	free(cf->device_name);
 	ps_conf_free(&cf->conf);
 }
@@ -212,6 +215,8 @@ static int simulate_day(struct config *cf)
 	struct ps_point sensor = { "sensor", PS_ROLE_SENSOR, NULL }, dim = { "dim", PS_ROLE_DIM, NULL };
 	struct ps_room *room;
 	struct summary s = { 0, 0, 0, INFINITY, 0, 0, 0, 0 };
+	struct psd_db *db = NULL;
+	char dberr[512];
 	int in_fault = 0;
 	double t, e0;
 	if (ps_results_read(&res, cf->results, &e) != 0) {
@@ -243,6 +248,12 @@ static int simulate_day(struct config *cf)
 			log_warnx("%s:%d: unknown key '%s' for driver %s", cf->conf.path, cf->dev_opts.v[i].line,
 			          cf->dev_opts.v[i].key, cf->drv->name);
 	room = ps_loopback_room(&dev);
+	if (cf->database && !(db = psd_db_open(cf->database, dberr, sizeof dberr))) {
+		log_warnx("%s", dberr);
+		cf->drv->close(&dev);
+		ps_results_free(&res);
+		return -1;
+	}
 	cf->ctl.daylight_ratio = res.daylight_ratio_mean;
 	cf->ctl.elec_sensor = res.electric_sensor_response;
 	cf->ctl.elec_task_lux = res.electric_task_lux;
@@ -250,7 +261,7 @@ static int simulate_day(struct config *cf)
 	cf->drv->write(&dev, &dim, cf->start, 1.0);
 	e0 = ps_room_energy(room, cf->start);
 	for (t = cf->start; t < cf->end; t += cf->period) {
-		double volts, level, truth;
+		double volts = NAN, level, truth;
 		int fault = cf->drv->read(&dev, &sensor, t, &volts) != 0;
 		if (!fault && (volts < cf->sensor_min || volts > cf->sensor_max)) {
 			snprintf(dev.err, sizeof dev.err, "sensor reads %.3f V, outside %g to %g V", volts,
@@ -281,6 +292,19 @@ static int simulate_day(struct config *cf)
 			}
 		}
 		cf->drv->write(&dev, &dim, t, level);
+		if (db) {
+			struct psd_sample smp = {
+				t, ps_room_tod(t), volts, level,
+				fault ? NAN : cf->ctl.est_task_lux, NAN,
+				fault ? NAN : cf->ctl.daylight_volts,
+				fault ? NAN : cf->ctl.daylight_ratio * cf->ctl.daylight_volts / cf->ctl.sensor_gain,
+				"daylight_mean", cf->ctl.daylight_ratio, fault ? dev.err : NULL
+			};
+			if (psd_db_add(db, &smp, dberr, sizeof dberr) != 0) {
+				/* the log is a record, not the control: say so and go on */
+				log_warnx("%s: %s", cf->database, dberr);
+			}
+		}
 		/* the illuminance the occupants get, just before the next reading */
 		truth = ps_room_true_task_lux(room, t + cf->period * 0.999);
 		if (truth < cf->ctl.target_lux * (1 - cf->tolerance))
@@ -309,6 +333,7 @@ static int simulate_day(struct config *cf)
 		}
 		printf("  periods at the safe level after a fault: %.0f\n", s.fault_samples);
 	}
+	psd_db_close(db);
 	cf->drv->close(&dev);
 	ps_results_free(&res);
 	return 0;

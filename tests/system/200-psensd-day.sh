@@ -7,7 +7,7 @@
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 mkdir -p "$TMP/example"
 cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-sed "s|^results = .*|results = state/ofb.results|" config/psensd.conf > "$TMP/psensd.conf"
+sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd.db|" config/psensd.conf > "$TMP/psensd.conf"
 mkdir -p "$TMP/state"
 PATH="$TOP/$BIN:$PATH" "$BIN/psensd" -f "$TMP/psensd.conf" -n > "$TMP/n.out" 2>&1
 check "-n checks the config" grep -q "configuration OK" "$TMP/n.out"
@@ -25,6 +25,17 @@ check "the estimate tracks the truth: $(grep estimated "$TMP/out")" \
 check "the open-circuit fault at 12:00 drives the lights to 100 %" grep -q "12:00 fault: sensor reads 0.000 V.*safe level 100 %" "$TMP/err"
 check "and control resumes at 12:20" grep -q "12:20 fault cleared" "$TMP/err"
 check "20 periods at the safe level" grep -q "periods at the safe level after a fault: 20" "$TMP/out"
+# every sample is in the log, and psensctl exports it (sqlite3 is the peer)
+check "840 samples in the database" test "$(sqlite3 "$TMP/state/psensd.db" 'select count(*) from samples')" = 840
+check "integrity check" test "$(sqlite3 "$TMP/state/psensd.db" 'pragma integrity_check')" = ok
+check "WAL journal" test "$(sqlite3 "$TMP/state/psensd.db" 'pragma journal_mode')" = wal
+"$BIN/psensctl" -d "$TMP/state/psensd.db" export --csv > "$TMP/log.csv"
+check "export: header and 840 rows" test "$(wc -l < "$TMP/log.csv")" = 841
+check "export header" test "$(head -n 1 "$TMP/log.csv")" = "t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault"
+check "the 20 fault samples carry their reason and full output" \
+	test "$(grep -c ',1,.*outside 0.01 to 9.9 V' "$TMP/log.csv")" = 20
+"$BIN/psensctl" -d "$TMP/nonexistent.db" export --csv > /dev/null 2> "$TMP/ctl.err"
+check "a missing database is a clear error" grep -q "nonexistent.db" "$TMP/ctl.err"
 # the second run reuses the results
 PATH="$TOP/$BIN:$PATH" "$BIN/psensd" -f "$TMP/psensd.conf" -s > /dev/null 2> "$TMP/err2"
 check "fresh results are not recomputed" sh -c "! grep -q running '$TMP/err2'"
