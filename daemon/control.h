@@ -1,31 +1,50 @@
 /* Control laws: pure functions of a reading and their state, so each is
- * tested alone (psensd.conf(5) documents the constants). */
+ * tested alone (psensd.conf(5) documents the constants).  Notation (the
+ * literature's, hardware-facts section 4): u the light output (0..1), S the
+ * sensor's volts, S_E the night signal at full output, E_E the electric task
+ * lux at full output, r_D the daylight volts per task lux. */
 #ifndef PSD_CONTROL_H
 #define PSD_CONTROL_H
 
-enum psd_algorithm { PSD_ALG_SETPOINT = 0, PSD_ALG_CLOSED_PROPORTIONAL, PSD_ALG_COUNT };
+enum psd_algorithm {
+	PSD_ALG_SETPOINT = 0,        /* the simulated ratios: estimate the task lux, hold the target */
+	PSD_ALG_CLOSED_PROPORTIONAL, /* u = (E_t - S/r_D) / (E_E - S_E/r_D): two calibrations */
+	PSD_ALG_OPEN_PROPORTIONAL,   /* u = 1 - S/S_full: the sensor sees daylight only */
+	PSD_ALG_INTEGRAL_RESET,      /* drive u until S = S_set */
+	PSD_ALG_SWITCHING,           /* steps down above s_off, up below s_on, after a delay */
+	PSD_ALG_COUNT
+};
+
+extern const char *const psd_algorithm_names[];   /* config names, NULL-terminated */
 
 struct psd_control {
 	int algorithm;
 	double target_lux;       /* wanted task illuminance */
 	double min_level;        /* lowest dim level (0 to 1) */
-	double max_step;         /* largest change per control period (fade limit) */
+	double max_step;         /* largest change per control period (fade limit), 0: none */
 	double hysteresis;       /* ignore changes smaller than this (fraction) */
 	/* the model, from the scene's results and the sensor's gain */
 	double sensor_gain;      /* volts per unit of sensor response */
 	double daylight_ratio;   /* task lux per unit of daylight sensor response */
 	double elec_sensor;      /* sensor response at full electric output */
 	double elec_task_lux;    /* task lux at full electric output */
-	/* closed-loop proportional: output = 1 - k (volts - v_night) / v_night */
-	double k;
-	double v_night;          /* volts at night with the lights full (night calibration) */
+	/* open-loop proportional: volts at which daylight alone meets the target (0: from the model) */
+	double s_full;
+	/* integral reset: the maintained signal (0: night signal at the design level) and the gain */
+	double s_set, ki;
+	/* switching: thresholds (volts), hold time (s), number of steps (1 = on/off) */
+	double s_off, s_on, delay;
+	int steps;
 	/* state */
 	double level;            /* last commanded level */
 	double est_task_lux;     /* the last estimate of the task illuminance */
 	double daylight_volts;   /* the daylight part of the last reading */
+	double pending_since;    /* switching: when the threshold was first crossed (-1: not) */
+	int pending_dir;         /* switching: -1 down, +1 up, 0 none */
 };
 
-/* Next level from a sensor reading (volts) with the lights at level c->level. */
-double psd_control_step(struct psd_control *c, double volts);
+/* Next level from a reading (volts) at time now (seconds), the lights being
+ * at c->level since the last step. */
+double psd_control_step(struct psd_control *c, double volts, double now);
 
 #endif

@@ -62,7 +62,6 @@ static int hhmm(struct ps_conf *c, struct ps_conf_section *s, const char *key, d
 /* Read and check the whole configuration; every error is printed, all in one pass. */
 static int config_load(struct config *cf, const char *path)
 {
-	static const char *const algs[] = { "setpoint", "closed-proportional", NULL };
 	struct ps_err e;
 	struct ps_conf *c = &cf->conf;
 	struct ps_conf_section *s, *zone = NULL, *dev = NULL;
@@ -115,14 +114,25 @@ static int config_load(struct config *cf, const char *path)
 				ps_conf_error(c, ps_conf_kv(zone, "device")->line, "device: no [device %s]", v);
 			cf->device_name = strdup(v);
 		}
-		ps_conf_enum(c, zone, "algorithm", algs, PSD_ALG_SETPOINT, &k->algorithm);
+		ps_conf_enum(c, zone, "algorithm", psd_algorithm_names, PSD_ALG_SETPOINT, &k->algorithm);
 		ps_conf_double(c, zone, "target_lux", 500, 0, 1e6, &k->target_lux);
 		ps_conf_double(c, zone, "min_level", 0.1, 0, 1, &k->min_level);
 		ps_conf_double(c, zone, "max_step", 0, 0, 1, &k->max_step);
 		ps_conf_double(c, zone, "hysteresis", 0, 0, 1, &k->hysteresis);
 		ps_conf_double(c, zone, "sensor_gain", 1, 1e-12, 1e12, &k->sensor_gain);
-		ps_conf_double(c, zone, "k", 1, 0, 1e6, &k->k);
-		ps_conf_double(c, zone, "v_night", 1, 1e-9, 1e6, &k->v_night);
+		ps_conf_double(c, zone, "s_full", 0, 0, 1e6, &k->s_full);
+		ps_conf_double(c, zone, "s_set", 0, 0, 1e6, &k->s_set);
+		ps_conf_double(c, zone, "ki", 1, 0, 100, &k->ki);
+		ps_conf_double(c, zone, "s_off", 1e9, 0, 1e9, &k->s_off);
+		ps_conf_double(c, zone, "s_on", 0, 0, 1e9, &k->s_on);
+		ps_conf_double(c, zone, "delay", 300, 0, 86400, &k->delay);
+		{
+			long steps;
+			ps_conf_int(c, zone, "steps", 1, 1, 16, &steps);
+			k->steps = (int)steps;
+		}
+		if (k->s_on > k->s_off)
+			ps_conf_error(c, zone->line, "[%s]: s_on must not exceed s_off (the deadband)", zone->name);
 	}
 	if (dev) {
 		v = ps_conf_str(c, dev, "driver", NULL);
@@ -280,7 +290,7 @@ static int simulate_day(struct config *cf)
 			if (in_fault)
 				log_info("%02d:%02d fault cleared: control resumes", (int)(t / 3600), (int)fmod(t / 60, 60));
 			in_fault = 0;
-			level = psd_control_step(&cf->ctl, volts);
+			level = psd_control_step(&cf->ctl, volts, t);
 			truth = ps_room_true_task_lux(room, t);
 			if (truth > 0) {
 				double err = (cf->ctl.est_task_lux - truth) / truth;
@@ -318,7 +328,7 @@ static int simulate_day(struct config *cf)
 		printf("psensd: simulated %s %02d:%02d-%02d:%02d on the loopback room (%s), every %g s, "
 		       "%s control, target %g lx\n", cf->date, (int)(cf->start / 3600), (int)fmod(cf->start / 60, 60),
 		       (int)(cf->end / 3600), (int)fmod(cf->end / 60, 60), res.scene, cf->period,
-		       cf->ctl.algorithm == PSD_ALG_SETPOINT ? "set-point" : "closed-loop proportional",
+		       psd_algorithm_names[cf->ctl.algorithm],
 		       cf->ctl.target_lux);
 		printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
 		       res.daylight_ratio_mean, res.electric_ratio, res.task_sensor_ratio);
