@@ -8,6 +8,9 @@
  *   lag_tau     lamp time constant, s (0.05)       off_below_min  yes|no (yes)
  *   faults      "KIND HH:MM-HH:MM, ..." with KIND one of stuck, open,
  *               saturated, drop, late, ballast
+ *   replay      a CSV written by psensctl export --csv: its day of daylight
+ *               replaces the scene's (replay.h)
+ *   replay_ratio  lux per daylight volt, for a replay without daylight_lux
  * Points: role sensor (volts), task (lux), dim (light output). */
 #include <errno.h>
 #include <stdio.h>
@@ -15,10 +18,13 @@
 #include <string.h>
 
 #include "loopback.h"
+#include "replay.h"
 
 struct loopback {
 	struct ps_room_params opts;   /* from the device options */
 	struct ps_room_fault_window faults[16];
+	struct ps_room_daypoint *replay;   /* the replayed day, or NULL */
+	size_t nreplay;
 	struct ps_room *room;
 };
 
@@ -80,7 +86,18 @@ static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 		return -1;
 	lb->opts.seed = (uint64_t)seed;
 	lb->opts.ballast.off_below_min = off;
-	return parse_faults(dev, lb, o);
+	if (parse_faults(dev, lb, o) != 0)
+		return -1;
+	if (ps_opt_get(o, "replay")) {
+		double ratio;
+		char err[512];
+		if (ps_opt_double(o, "replay_ratio", 0, 0, 1e9, &ratio, dev->err, sizeof dev->err) != 0)
+			return -1;
+		if (ps_replay_read(ps_opt_get(o, "replay"), lb->opts.gain, ratio, &lb->replay,
+		                   &lb->nreplay, err, sizeof err) != 0)
+			return ps_dev_fail(dev, EINVAL, "%s:%d: replay: %s", o->file, ps_opt_line(o, "replay"), err);
+	}
+	return 0;
 }
 
 int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, double now)
@@ -98,6 +115,10 @@ int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, dou
 	merged.ballast = lb->opts.ballast;
 	merged.faults = lb->opts.faults;
 	merged.nfaults = lb->opts.nfaults;
+	if (lb->replay) {
+		merged.daylight = lb->replay;
+		merged.ndaylight = lb->nreplay;
+	}
 	ps_room_free(lb->room);
 	lb->room = ps_room_new(&merged, now);
 	return lb->room ? 0 : ps_dev_fail(dev, ENOMEM, "out of memory");
@@ -149,8 +170,10 @@ static int lb_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 static void lb_close(struct ps_dev *dev)
 {
 	struct loopback *lb = dev->priv;
-	if (lb)
+	if (lb) {
 		ps_room_free(lb->room);
+		free(lb->replay);
+	}
 	free(lb);
 	dev->priv = NULL;
 }

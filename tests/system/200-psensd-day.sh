@@ -36,6 +36,16 @@ check "the 20 fault samples carry their reason and full output" \
 	test "$(grep -c ',1,.*outside 0.01 to 9.9 V' "$TMP/log.csv")" = 20
 "$BIN/psensctl" -d "$TMP/nonexistent.db" export --csv > /dev/null 2> "$TMP/ctl.err"
 check "a missing database is a clear error" grep -q "nonexistent.db" "$TMP/ctl.err"
+# the exported day replayed through the loopback room gives the same day
+sed "s|^seed = .*|seed = 7\nreplay = $TMP/log.csv|; /^database = /d" "$TMP/psensd.conf" > "$TMP/replay.conf"
+"$BIN/psensd" -f "$TMP/replay.conf" -s > "$TMP/replay.out" 2>&1
+e1=$(sed -n 's/.*energy: \([0-9.]*\) %.*/\1/p' "$TMP/out"); e2=$(sed -n 's/.*energy: \([0-9.]*\) %.*/\1/p' "$TMP/replay.out")
+check "the replayed day costs the same energy ($e1 % vs $e2 %, within 0.5 points)" \
+	awk -v a="$e1" -v b="$e2" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 0.5) }'
+printf 'tod_s,daylight_v,daylight_lux\n5,1,100\n1,1,100\n' > "$TMP/bad.csv"
+sed "s|^seed = .*|seed = 7\nreplay = $TMP/bad.csv|; /^database = /d" "$TMP/psensd.conf" > "$TMP/badreplay.conf"
+"$BIN/psensd" -f "$TMP/badreplay.conf" -s > /dev/null 2> "$TMP/badreplay.err"
+check "a bad replay file is named with its line" grep -q "bad.csv:3: tod_s 1 does not follow 5" "$TMP/badreplay.err"
 # the second run reuses the results
 PATH="$TOP/$BIN:$PATH" "$BIN/psensd" -f "$TMP/psensd.conf" -s > /dev/null 2> "$TMP/err2"
 check "fresh results are not recomputed" sh -c "! grep -q running '$TMP/err2'"
