@@ -80,9 +80,14 @@ void ps_room_free(struct ps_room *r)
 int ps_room_fault(const struct ps_room *r, double now)
 {
 	double tod = ps_room_tod(now);
-	for (size_t i = 0; i < r->p.nfaults; i++)
-		if (tod >= r->faults[i].start && tod < r->faults[i].end)
-			return r->faults[i].kind;
+	for (size_t i = 0; i < r->p.nfaults; i++) {
+		const struct ps_room_fault_window *f = &r->faults[i];
+		/* a window whose end is before its start crosses midnight */
+		int in = f->start <= f->end ? (tod >= f->start && tod < f->end)
+		                            : (tod >= f->start || tod < f->end);
+		if (in)
+			return f->kind;
+	}
 	return PS_ROOM_FAULT_NONE;
 }
 
@@ -92,9 +97,17 @@ void ps_room_daylight(struct ps_room *r, double now, double *volts, double *lux)
 	const struct ps_room_daypoint *d = r->day;
 	size_t n = r->p.ndaylight;
 	if (n && tod >= d[0].t && tod <= d[n - 1].t) {
-		size_t i = 0;
-		while (i + 1 < n && d[i + 1].t < tod)
-			i++;
+		/* the last point at or before tod (binary search: replays hold a
+		 * point per logged period) */
+		size_t lo = 0, hi = n - 1, i;
+		while (lo < hi) {
+			size_t mid = (lo + hi + 1) / 2;
+			if (d[mid].t <= tod)
+				lo = mid;
+			else
+				hi = mid - 1;
+		}
+		i = lo;
 		if (i + 1 < n && d[i + 1].t > d[i].t) {
 			double w = (tod - d[i].t) / (d[i + 1].t - d[i].t);
 			s = d[i].sensor + w * (d[i + 1].sensor - d[i].sensor);
