@@ -1,18 +1,828 @@
-/* Placeholder for the dali_usb driver: replaced by the real driver.  It keeps the
- * registry linkable while the driver is written. */
+/* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0.
+ * See psensd-dali_usb(7) for the options.
+ *
+ * Why asynchronous: a DALI transaction takes 30 to 50 ms on the bus and the
+ * interface answers in two reports (echo, then answer or "no answer"), so a
+ * synchronous exchange would hold the daemon for longer than the driver
+ * contract allows.  Instead an IN transfer is always pending, the SEND report
+ * goes out as an asynchronous OUT transfer, and everything else happens in
+ * service(): libusb's file descriptors are gathered in one epoll descriptor
+ * (fd()), timeouts and the frame rate are deadlines on the daemon's clock
+ * (deadline()).  read() and write() also run service(), so a caller that only
+ * writes still makes progress.
+ *
+ * One transaction is on the bus at a time; the next SEND waits frame_gap
+ * after the last one's final report (the bus's settling time before a new
+ * forward frame is at most 21.2 ms, priority 5).  Reports are matched on the
+ * sequence number; reports for other numbers (another master repeating our
+ * last frame, a late answer after a timeout) are ignored.
+ *
+ * Unplug: any NO_DEVICE/IO error closes the interface and the driver rescans
+ * with a backoff of 0.5 s doubling to 8 s from service(), read() and write();
+ * meanwhile read and write fail with ENODEV (the daemon drives the lights to
+ * its safe level, which the driver remembers and sends on reconnect).  With
+ * the safe_level option the driver also programs each ballast's SYSTEM
+ * FAILURE LEVEL at every connect, which is where the gear goes by itself
+ * when the bus goes down with the interface. */
 #include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/epoll.h>
+#include <unistd.h>
 
+#include <libusb.h>
+
+#include "dali.h"
+#include "dali_transport.h"
+#include "dali_usb.h"
 #include "driver.h"
 
-static int dali_usb_open(struct ps_dev *dev, const struct ps_opts *opts)
+#define MAX_POINTS 64
+#define QCAP 256
+#define MAX_FDS 32
+#define BACKOFF_MIN 0.5
+#define BACKOFF_MAX 8.0
+#define CLOSE_WAIT 1.0      /* seconds to wait for cancelled transfers */
+#define SERIAL_TIMEOUT_MS 50
+
+enum { ST_DOWN = 0, ST_UP, ST_CLOSING };
+
+enum tx_kind { TX_DAPC, TX_QUERY_ACTUAL, TX_QUERY_PHYS_MIN, TX_QUERY_SFL, TX_SET_SFL, TX_SET_FADE };
+
+struct tx {
+	int kind;
+	int point;
+	int tries;
+};
+
+struct dpoint {
+	struct ps_point *pt;
+	struct ps_dali_addr addr;
+	int want;          /* level asked for by write(), -1 none yet */
+	int sent;          /* level last acknowledged on the bus, -1 unknown */
+	int phys_min;      /* QUERY PHYSICAL MINIMUM, 1 until known */
+	int actual;        /* last QUERY ACTUAL LEVEL answer, -1 none */
+	int actual_errno;  /* the last query's failure, 0 if it was answered */
+	int dapc_pending;  /* a DAPC is queued or on the bus */
+	int query_pending;
+	int err;           /* an asynchronous failure to report on the next call */
+	char errmsg[200];
+};
+
+struct dali_usb {
+	const struct ps_dali_transport *tp;
+	char serial[64], port[32];
+	double timeout, frame_gap, safe_level, fade_time;
+	long retries;
+
+	libusb_context *ctx;
+	libusb_device_handle *h;
+	int reattach;
+	int epfd;
+	int fds[MAX_FDS];
+	int nfds;
+	struct libusb_transfer *in, *out;
+	int in_busy, out_busy;
+	uint8_t inbuf[64], outbuf[64];
+
+	int state;
+	double now;
+	double next_scan, backoff, closing_until;
+	char down_why[400];
+
+	struct tx q[QCAP];
+	size_t qhead, qlen;
+	struct tx cur;
+	int cur_active, cur_seq, cur_garbled, cur_frame;
+	double cur_deadline, next_send;
+	int seq;
+
+	struct dpoint pts[MAX_POINTS];
+	int npts;
+	struct ps_dali_usb_stats st;
+};
+
+extern const struct ps_driver ps_driver_dali_usb;
+
+const struct ps_dali_transport *ps_dali_transport_find(const char *name)
 {
-	(void)opts;
-	return ps_dev_fail(dev, ENOSYS, "driver dali_usb: not yet implemented");
+	static const struct ps_dali_transport *const all[] = { &ps_dali_tridonic, NULL };
+	for (int i = 0; all[i]; i++)
+		if (strcmp(all[i]->name, name) == 0)
+			return all[i];
+	return NULL;
+}
+
+/* ---- the epoll set that stands for libusb's descriptors ------------------ */
+
+static void fd_added(int fd, short events, void *user)
+{
+	struct dali_usb *d = user;
+	struct epoll_event ev = { .events = (uint32_t)events, .data.fd = fd };
+	if (d->nfds < MAX_FDS && epoll_ctl(d->epfd, EPOLL_CTL_ADD, fd, &ev) == 0)
+		d->fds[d->nfds++] = fd;
+}
+
+static void fd_removed(int fd, void *user)
+{
+	struct dali_usb *d = user;
+	for (int i = 0; i < d->nfds; i++)
+		if (d->fds[i] == fd) {
+			epoll_ctl(d->epfd, EPOLL_CTL_DEL, fd, NULL);
+			d->fds[i] = d->fds[--d->nfds];
+			return;
+		}
+}
+
+static void ctx_free(struct dali_usb *d)
+{
+	if (!d->ctx)
+		return;
+	libusb_set_pollfd_notifiers(d->ctx, NULL, NULL, NULL);
+	for (int i = 0; i < d->nfds; i++)
+		epoll_ctl(d->epfd, EPOLL_CTL_DEL, d->fds[i], NULL);
+	d->nfds = 0;
+	libusb_exit(d->ctx);
+	d->ctx = NULL;
+}
+
+static int ctx_new(struct dali_usb *d)
+{
+	const struct libusb_pollfd **pf;
+	int r = libusb_init(&d->ctx);
+	if (r != 0) {
+		d->ctx = NULL;
+		snprintf(d->down_why, sizeof d->down_why, "libusb: %s", libusb_strerror(r));
+		return -1;
+	}
+	libusb_set_pollfd_notifiers(d->ctx, fd_added, fd_removed, d);
+	pf = libusb_get_pollfds(d->ctx);
+	for (int i = 0; pf && pf[i]; i++)
+		fd_added(pf[i]->fd, pf[i]->events, d);
+	libusb_free_pollfds(pf);
+	return 0;
+}
+
+static void pump_events(struct dali_usb *d)
+{
+	struct timeval zero = { 0, 0 };
+	if (d->ctx)
+		libusb_handle_events_timeout_completed(d->ctx, &zero, NULL);
+}
+
+/* ---- the transaction queue ------------------------------------------------ */
+
+static int q_push(struct dali_usb *d, int kind, int point)
+{
+	if (d->qlen >= QCAP)
+		return -1;
+	d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ kind, point, 0 };
+	return 0;
+}
+
+static void q_push_front(struct dali_usb *d, struct tx t)
+{
+	if (d->qlen >= QCAP)
+		return;
+	d->qhead = (d->qhead + QCAP - 1) % QCAP;
+	d->q[d->qhead] = t;
+	d->qlen++;
+}
+
+/* ---- connection ------------------------------------------------------------ */
+
+static void lost(struct dali_usb *d, const char *why)
+{
+	if (d->state != ST_UP)
+		return;
+	snprintf(d->down_why, sizeof d->down_why, "%s", why);
+	d->state = ST_CLOSING;
+	d->closing_until = d->now + CLOSE_WAIT;
+	if (d->in_busy)
+		libusb_cancel_transfer(d->in);
+	if (d->out_busy)
+		libusb_cancel_transfer(d->out);
+	/* what was queued is redone from the points' state on reconnect */
+	d->qlen = 0;
+	d->cur_active = 0;
+	for (int i = 0; i < d->npts; i++)
+		d->pts[i].dapc_pending = d->pts[i].query_pending = 0;
+}
+
+static void teardown(struct dali_usb *d)
+{
+	if (d->h) {
+		libusb_release_interface(d->h, d->tp->interface);
+		if (d->reattach)
+			libusb_attach_kernel_driver(d->h, d->tp->interface);
+		libusb_close(d->h);
+		d->h = NULL;
+	}
+	/* transfers still in flight after CLOSE_WAIT are leaked, not freed under libusb */
+	if (!d->in_busy && d->in)
+		libusb_free_transfer(d->in);
+	if (!d->out_busy && d->out)
+		libusb_free_transfer(d->out);
+	d->in = d->out = NULL;
+	d->in_busy = d->out_busy = 0;
+	ctx_free(d);
+	d->state = ST_DOWN;
+}
+
+static void in_done(struct libusb_transfer *t);
+
+static int submit_in(struct dali_usb *d)
+{
+	int r;
+	libusb_fill_interrupt_transfer(d->in, d->h, d->tp->ep_in, d->inbuf, d->tp->report_len, in_done, d, 0);
+	r = libusb_submit_transfer(d->in);
+	if (r == 0)
+		d->in_busy = 1;
+	return r;
+}
+
+static int read_serial(libusb_device_handle *h, int idx, char *out, size_t len)
+{
+	unsigned char buf[256];
+	int n, j = 0;
+	if (idx == 0)
+		return -1;
+	/* language 0x0409; a short timeout: this runs inside a daemon call */
+	n = libusb_control_transfer(h, LIBUSB_ENDPOINT_IN, LIBUSB_REQUEST_GET_DESCRIPTOR,
+	                            (uint16_t)(LIBUSB_DT_STRING << 8 | idx), 0x0409, buf, sizeof buf,
+	                            SERIAL_TIMEOUT_MS);
+	if (n < 2 || buf[1] != LIBUSB_DT_STRING)
+		return -1;
+	for (int i = 2; i + 1 < n && i < buf[0] && (size_t)j + 1 < len; i += 2)
+		out[j++] = buf[i + 1] ? '?' : (char)buf[i];
+	out[j] = 0;
+	return 0;
+}
+
+static void port_path(libusb_device *dev, char *out, size_t len)
+{
+	uint8_t ports[8];
+	int n = libusb_get_port_numbers(dev, ports, 8), k;
+	k = snprintf(out, len, "%d-", libusb_get_bus_number(dev));
+	for (int i = 0; i < n && k > 0 && (size_t)k < len; i++)
+		k += snprintf(out + k, len - (size_t)k, i ? ".%d" : "%d", ports[i]);
+}
+
+/* Find, open and claim the interface.  0 ok; -1 with d->down_why. */
+static int connect_usb(struct dali_usb *d)
+{
+	libusb_device **list = NULL;
+	libusb_device_handle *found = NULL;
+	char where[64] = "", other[64] = "";
+	ssize_t n;
+	int r, matches = 0;
+	if (!d->ctx && ctx_new(d) != 0) {
+		errno = ENODEV;
+		return -1;
+	}
+	n = libusb_get_device_list(d->ctx, &list);
+	for (ssize_t i = 0; i < n; i++) {
+		struct libusb_device_descriptor dd;
+		libusb_device_handle *h;
+		char path[64], serial[64];
+		if (libusb_get_device_descriptor(list[i], &dd) != 0 || dd.idVendor != d->tp->vid ||
+		    dd.idProduct != d->tp->pid)
+			continue;
+		port_path(list[i], path, sizeof path);
+		if (d->port[0] && strcmp(path, d->port) != 0)
+			continue;
+		if (libusb_open(list[i], &h) != 0)
+			continue;
+		if (d->serial[0] && (read_serial(h, dd.iSerialNumber, serial, sizeof serial) != 0 ||
+		                     strcmp(serial, d->serial) != 0)) {
+			libusb_close(h);
+			continue;
+		}
+		if (++matches == 1) {
+			found = h;
+			snprintf(where, sizeof where, "%s", path);
+		} else {
+			snprintf(other, sizeof other, "%s", path);
+			libusb_close(h);
+		}
+	}
+	if (n > 0)
+		libusb_free_device_list(list, 1);
+	if (matches != 1) {
+		if (found)
+			libusb_close(found);
+		if (matches == 0)
+			snprintf(d->down_why, sizeof d->down_why, "no %s DALI USB interface %04x:%04x%s%s%s%s found",
+			         d->tp->name, d->tp->vid, d->tp->pid, d->port[0] ? " at port " : "", d->port,
+			         d->serial[0] ? " with serial " : "", d->serial);
+		else
+			snprintf(d->down_why, sizeof d->down_why,
+			         "%d %s interfaces found (at %s and %s): choose one with port = or serial =",
+			         matches, d->tp->name, where, other);
+		ctx_free(d);
+		errno = matches ? EINVAL : ENODEV;
+		return -1;
+	}
+	d->h = found;
+	d->reattach = 0;
+	/* the interface enumerates as HID: usbhid holds it until we detach it */
+	if (libusb_kernel_driver_active(d->h, d->tp->interface) == 1) {
+		r = libusb_detach_kernel_driver(d->h, d->tp->interface);
+		if (r == 0)
+			d->reattach = 1;
+	}
+	r = libusb_claim_interface(d->h, d->tp->interface);
+	d->in = libusb_alloc_transfer(0);
+	d->out = libusb_alloc_transfer(0);
+	if (r != 0 || !d->in || !d->out || (r = submit_in(d)) != 0) {
+		snprintf(d->down_why, sizeof d->down_why, "interface at %s: cannot claim it: %s", where,
+		         libusb_strerror(r ? r : LIBUSB_ERROR_NO_MEM));
+		d->state = ST_UP;   /* so that teardown releases everything */
+		teardown(d);
+		errno = ENODEV;
+		return -1;
+	}
+	d->state = ST_UP;
+	d->st.connects++;
+	d->backoff = BACKOFF_MIN;
+	d->cur_active = 0;
+	d->next_send = d->now;
+	/* redo each point's setup and last level on every connect */
+	for (int i = 0; i < d->npts; i++) {
+		struct dpoint *p = &d->pts[i];
+		p->sent = -1;
+		p->dapc_pending = p->query_pending = 0;
+		if (p->addr.kind == PS_DALI_SHORT)
+			q_push(d, TX_QUERY_PHYS_MIN, i);
+		if (d->fade_time >= 0)
+			q_push(d, TX_SET_FADE, i);
+		if (d->safe_level >= 0)
+			q_push(d, TX_QUERY_SFL, i);
+		if (p->want >= 0) {
+			q_push(d, TX_DAPC, i);
+			p->dapc_pending = 1;
+		}
+	}
+	return 0;
+}
+
+/* ---- one transaction ------------------------------------------------------- */
+
+static void out_done(struct libusb_transfer *t)
+{
+	struct dali_usb *d = t->user_data;
+	d->out_busy = 0;
+	if (d->state != ST_UP)
+		return;
+	if (t->status == LIBUSB_TRANSFER_NO_DEVICE || t->status == LIBUSB_TRANSFER_ERROR ||
+	    t->status == LIBUSB_TRANSFER_STALL)
+		lost(d, "interface gone (sending)");
+	else if (t->status == LIBUSB_TRANSFER_TIMED_OUT && d->cur_active)
+		d->cur_deadline = d->now;   /* the interface did not take the report: retry */
+}
+
+static int frame_for(struct dali_usb *d, const struct tx *t, int *twice, int *dtr0)
+{
+	struct dpoint *p = &d->pts[t->point];
+	int level;
+	*twice = 0;
+	*dtr0 = -1;
+	switch (t->kind) {
+	case TX_DAPC:
+		level = ps_dali_clamp_physical_min(p->want, p->phys_min);
+		if (level > PS_DALI_MAX_LEVEL && level != PS_DALI_MASK)
+			level = PS_DALI_MAX_LEVEL;
+		if (p->pt->role == PS_ROLE_RELAY)
+			return ps_dali_cmd(&p->addr, p->want ? PS_DALI_RECALL_MAX : PS_DALI_OFF);
+		return ps_dali_dapc(&p->addr, level);
+	case TX_QUERY_ACTUAL:
+		return ps_dali_cmd(&p->addr, PS_DALI_QUERY_ACTUAL_LEVEL);
+	case TX_QUERY_PHYS_MIN:
+		return ps_dali_cmd(&p->addr, PS_DALI_QUERY_PHYSICAL_MINIMUM);
+	case TX_QUERY_SFL:
+		return ps_dali_cmd(&p->addr, PS_DALI_QUERY_SYSTEM_FAILURE_LEVEL);
+	case TX_SET_SFL:
+		*twice = 1;
+		*dtr0 = ps_dali_fraction_to_level(d->safe_level);
+		return ps_dali_cmd(&p->addr, PS_DALI_SET_SYSTEM_FAILURE_LEVEL);
+	case TX_SET_FADE:
+		*twice = 1;
+		*dtr0 = ps_dali_fade_time_code(d->fade_time);
+		return ps_dali_cmd(&p->addr, PS_DALI_SET_FADE_TIME);
+	}
+	return -1;
+}
+
+static const char *tx_name(int kind)
+{
+	static const char *const names[] = { "DAPC", "QUERY ACTUAL LEVEL", "QUERY PHYSICAL MINIMUM",
+		                             "QUERY SYSTEM FAILURE LEVEL", "SET SYSTEM FAILURE LEVEL",
+		                             "SET FADE TIME" };
+	return names[kind];
+}
+
+static void send_next(struct dali_usb *d)
+{
+	int frame, twice, dtr0, len, r;
+	if (d->state != ST_UP || d->cur_active || d->out_busy || !d->qlen || d->now < d->next_send)
+		return;
+	d->cur = d->q[d->qhead];
+	d->qhead = (d->qhead + 1) % QCAP;
+	d->qlen--;
+	frame = frame_for(d, &d->cur, &twice, &dtr0);
+	d->seq = d->tp->next_seq(d->seq);
+	len = frame < 0 ? -1 : d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)frame, twice, dtr0);
+	if (len < 0) {
+		struct dpoint *p = &d->pts[d->cur.point];
+		p->err = EINVAL;
+		snprintf(p->errmsg, sizeof p->errmsg, "%s: cannot be encoded for this interface", tx_name(d->cur.kind));
+		return;
+	}
+	libusb_fill_interrupt_transfer(d->out, d->h, d->tp->ep_out, d->outbuf, len, out_done, d,
+	                               (unsigned)(d->timeout * 1000 + 0.5));
+	r = libusb_submit_transfer(d->out);
+	if (r != 0) {
+		lost(d, "interface gone (submit)");
+		return;
+	}
+	d->out_busy = 1;
+	d->cur_active = 1;
+	d->cur_seq = d->seq;
+	d->cur_garbled = 0;
+	d->cur_frame = frame;
+	d->cur.tries++;
+	d->cur_deadline = d->now + d->timeout;
+	d->st.frames++;
+}
+
+/* The current transaction ended: answer >= 0, -1 no answer. */
+static void finish(struct dali_usb *d, int answer)
+{
+	struct tx t = d->cur;
+	struct dpoint *p = &d->pts[t.point];
+	int sfl;
+	d->cur_active = 0;
+	d->next_send = d->now + d->frame_gap;
+	switch (t.kind) {
+	case TX_DAPC: {
+		int twice, dtr0;
+		p->dapc_pending = 0;
+		p->sent = d->cur_frame & 0xFF;
+		p->err = 0;
+		/* a write arrived while this frame was on the bus: send the new level */
+		if (frame_for(d, &t, &twice, &dtr0) != d->cur_frame) {
+			q_push_front(d, (struct tx){ TX_DAPC, t.point, 0 });
+			p->dapc_pending = 1;
+		}
+		break;
+	}
+	case TX_QUERY_ACTUAL:
+		p->query_pending = 0;
+		p->actual = answer;
+		p->actual_errno = answer < 0 ? ETIMEDOUT : 0;
+		if (answer < 0)
+			snprintf(p->errmsg, sizeof p->errmsg, "no ballast answered QUERY ACTUAL LEVEL");
+		break;
+	case TX_QUERY_PHYS_MIN:
+		if (answer >= 1 && answer <= PS_DALI_MAX_LEVEL)
+			p->phys_min = answer;
+		break;
+	case TX_QUERY_SFL:
+		sfl = ps_dali_fraction_to_level(d->safe_level);
+		/* only write EEPROM when it differs (gear tolerates ~10^5 writes) */
+		if (answer != sfl)
+			q_push_front(d, (struct tx){ TX_SET_SFL, t.point, 0 });
+		break;
+	default:
+		break;
+	}
+}
+
+/* The current transaction failed this try: retry or give up. */
+static void failed_try(struct dali_usb *d, int err, const char *why)
+{
+	struct tx t = d->cur;
+	struct dpoint *p = &d->pts[t.point];
+	char desc[64];
+	int twice, dtr0, f;
+	d->cur_active = 0;
+	d->next_send = d->now + d->frame_gap;
+	if (t.tries <= d->retries) {
+		d->st.retries++;
+		q_push_front(d, t);
+		return;
+	}
+	d->st.failed++;
+	f = frame_for(d, &t, &twice, &dtr0);
+	ps_dali_describe((unsigned)f, desc, sizeof desc);
+	p->err = err;
+	snprintf(p->errmsg, sizeof p->errmsg, "%s: %s after %d tries", desc, why, t.tries);
+	if (t.kind == TX_DAPC) {
+		p->dapc_pending = 0;
+		p->sent = -1;
+	} else if (t.kind == TX_QUERY_ACTUAL) {
+		p->query_pending = 0;
+		p->actual = -1;
+		p->actual_errno = err;
+	}
+}
+
+static void on_report(struct dali_usb *d, const uint8_t *buf, size_t len)
+{
+	struct ps_dali_reply r;
+	d->tp->decode(buf, len, &r);
+	if (r.event == PS_DALI_EV_MALFORMED) {
+		d->st.garbled++;
+		if (d->cur_active)
+			d->cur_garbled = 1;
+		return;
+	}
+	if (r.event == PS_DALI_EV_IGNORE || r.event == PS_DALI_EV_OBSERVED || r.event == PS_DALI_EV_INFO)
+		return;
+	if (!d->cur_active || r.seq != d->cur_seq) {
+		d->st.stray++;
+		return;
+	}
+	switch (r.event) {
+	case PS_DALI_EV_ECHO:
+		break;
+	case PS_DALI_EV_NO_ANSWER:
+		finish(d, -1);
+		break;
+	case PS_DALI_EV_ANSWER:
+		finish(d, (int)r.value);
+		break;
+	case PS_DALI_EV_BUS_ERROR:
+		d->st.garbled++;
+		failed_try(d, EPROTO, r.value == 3 ? "garbled answer (framing error)" :
+		                      r.value == 2 ? "DALI bus shorted or unpowered" : "checksum error");
+		break;
+	}
+}
+
+static void in_done(struct libusb_transfer *t)
+{
+	struct dali_usb *d = t->user_data;
+	d->in_busy = 0;
+	if (d->state != ST_UP)
+		return;
+	switch (t->status) {
+	case LIBUSB_TRANSFER_COMPLETED:
+		on_report(d, t->buffer, (size_t)t->actual_length);
+		if (d->state == ST_UP && submit_in(d) != 0)
+			lost(d, "interface gone (receiving)");
+		break;
+	case LIBUSB_TRANSFER_TIMED_OUT:
+	case LIBUSB_TRANSFER_CANCELLED:
+		if (submit_in(d) != 0)
+			lost(d, "interface gone (receiving)");
+		break;
+	default:
+		lost(d, t->status == LIBUSB_TRANSFER_NO_DEVICE ? "interface unplugged" : "USB error on the interface");
+		break;
+	}
+}
+
+/* ---- the driver methods ---------------------------------------------------- */
+
+static int du_service(struct ps_dev *dev, double now)
+{
+	struct dali_usb *d = dev->priv;
+	if (!d)
+		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
+	d->now = now;
+	pump_events(d);
+	if (d->state == ST_CLOSING && ((!d->in_busy && !d->out_busy) || now >= d->closing_until)) {
+		teardown(d);
+		d->next_scan = now + d->backoff;
+	}
+	if (d->state == ST_DOWN && now >= d->next_scan) {
+		if (connect_usb(d) != 0) {
+			d->next_scan = now + d->backoff;
+			d->backoff = fmin(d->backoff * 2, BACKOFF_MAX);
+		}
+	}
+	if (d->state == ST_UP && d->cur_active && now >= d->cur_deadline) {
+		d->st.timeouts++;
+		failed_try(d, d->cur_garbled ? EPROTO : ETIMEDOUT,
+		           d->cur_garbled ? "garbled report from the interface" : "no reply from the interface");
+	}
+	send_next(d);
+	return 0;
+}
+
+static int du_fd(struct ps_dev *dev)
+{
+	struct dali_usb *d = dev->priv;
+	return d ? d->epfd : -1;
+}
+
+static double du_deadline(struct ps_dev *dev)
+{
+	struct dali_usb *d = dev->priv;
+	if (!d)
+		return INFINITY;
+	switch (d->state) {
+	case ST_DOWN:
+		return d->next_scan;
+	case ST_CLOSING:
+		return d->closing_until;
+	}
+	if (d->cur_active)
+		return d->cur_deadline;
+	return d->qlen && !d->out_busy ? d->next_send : INFINITY;
+}
+
+static int gone(struct ps_dev *dev, struct dali_usb *d)
+{
+	return ps_dev_fail(dev, ENODEV, "DALI USB interface: %s (retrying in %.1f s)", d->down_why,
+	                   d->state == ST_DOWN ? fmax(0, d->next_scan - d->now) : d->backoff);
+}
+
+static int take_error(struct ps_dev *dev, struct dpoint *p)
+{
+	int err = p->err;
+	p->err = 0;
+	return ps_dev_fail(dev, err, "%s", p->errmsg);
+}
+
+static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+{
+	struct dali_usb *d = dev->priv;
+	struct dpoint *p = pt ? pt->priv : NULL;
+	if (!d || !p)
+		return ps_dev_fail(dev, EINVAL, "dali_usb: point not added");
+	if (!(value >= 0 && value <= 1))
+		return ps_dev_fail(dev, EINVAL, "%s: light output %g is outside 0 to 1", pt->name, value);
+	/* remembered even while the interface is gone: sent on reconnect */
+	p->want = pt->role == PS_ROLE_RELAY ? (value >= 0.5) : ps_dali_fraction_to_level(value);
+	du_service(dev, now);
+	if (d->state != ST_UP)
+		return gone(dev, d);
+	if (!p->dapc_pending) {
+		if (q_push(d, TX_DAPC, (int)(p - d->pts)) != 0)
+			return ps_dev_fail(dev, EAGAIN, "%s: DALI queue full", pt->name);
+		p->dapc_pending = 1;
+		send_next(d);
+	}
+	if (p->err)
+		return take_error(dev, p);
+	return 0;
+}
+
+static int du_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+{
+	struct dali_usb *d = dev->priv;
+	struct dpoint *p = pt ? pt->priv : NULL;
+	if (!d || !p)
+		return ps_dev_fail(dev, EINVAL, "dali_usb: point not added");
+	du_service(dev, now);
+	if (d->state != ST_UP)
+		return gone(dev, d);
+	if (!p->query_pending && q_push(d, TX_QUERY_ACTUAL, (int)(p - d->pts)) == 0) {
+		p->query_pending = 1;
+		send_next(d);
+	}
+	if (p->actual_errno)
+		return ps_dev_fail(dev, p->actual_errno, "%s: %s", pt->name, p->errmsg);
+	if (p->actual < 0)
+		return ps_dev_fail(dev, ETIMEDOUT, "%s: no answer to QUERY ACTUAL LEVEL yet", pt->name);
+	if (p->actual == PS_DALI_MASK)
+		return ps_dev_fail(dev, ERANGE, "%s: the ballast answers MASK (level unknown)", pt->name);
+	*value = pt->role == PS_ROLE_RELAY ? (p->actual > 0) : ps_dali_level_to_fraction(p->actual);
+	return 0;
+}
+
+static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
+{
+	struct dali_usb *d = dev->priv;
+	struct dpoint *p;
+	const char *a = ps_opt_get(o, "address");
+	char why[120];
+	if (!d)
+		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
+	if (pt->role != PS_ROLE_DIM && pt->role != PS_ROLE_RELAY)
+		return ps_dev_fail(dev, EINVAL, "%s:%d: %s: dali_usb drives dim and relay points, not %s",
+		                   o && o->file ? o->file : "(config)", ps_opt_line(o, "address"), pt->name,
+		                   ps_role_name(pt->role));
+	if (d->npts >= MAX_POINTS)
+		return ps_dev_fail(dev, EINVAL, "%s: more than %d points on one interface", pt->name, MAX_POINTS);
+	p = &d->pts[d->npts];
+	memset(p, 0, sizeof *p);
+	p->addr = (struct ps_dali_addr){ PS_DALI_BROADCAST, 0 };
+	if (a && ps_dali_addr_parse(a, &p->addr, why, sizeof why) != 0)
+		return ps_dev_fail(dev, EINVAL, "%s:%d: address: '%s' %s", o->file ? o->file : "(config)",
+		                   ps_opt_line(o, "address"), a, why);
+	p->pt = pt;
+	p->want = p->sent = p->actual = -1;
+	p->phys_min = 1;
+	pt->priv = p;
+	d->npts++;
+	if (d->state == ST_UP) {
+		int i = d->npts - 1;
+		if (p->addr.kind == PS_DALI_SHORT)
+			q_push(d, TX_QUERY_PHYS_MIN, i);
+		if (d->fade_time >= 0)
+			q_push(d, TX_SET_FADE, i);
+		if (d->safe_level >= 0)
+			q_push(d, TX_QUERY_SFL, i);
+	}
+	return 0;
+}
+
+static void du_close(struct ps_dev *dev)
+{
+	struct dali_usb *d = dev->priv;
+	if (!d)
+		return;
+	if (d->state == ST_UP)
+		lost(d, "closed");
+	/* bounded: cancelled transfers complete within a few ms on a live device */
+	for (int i = 0; i < 50 && (d->in_busy || d->out_busy); i++) {
+		struct timeval tv = { 0, 10000 };
+		libusb_handle_events_timeout_completed(d->ctx, &tv, NULL);
+	}
+	teardown(d);
+	if (d->epfd >= 0)
+		close(d->epfd);
+	free(d);
+	dev->priv = NULL;
+}
+
+static int du_open(struct ps_dev *dev, const struct ps_opts *o)
+{
+	struct dali_usb *d = calloc(1, sizeof *d);
+	const char *v;
+	char *e = dev->err;
+	size_t el = sizeof dev->err;
+	if (!d)
+		return ps_dev_fail(dev, ENOMEM, "out of memory");
+	dev->priv = d;
+	d->epfd = epoll_create1(EPOLL_CLOEXEC);
+	d->safe_level = d->fade_time = -1;
+	d->backoff = BACKOFF_MIN;
+	d->next_scan = -INFINITY;
+	d->seq = 0;
+	if (d->epfd < 0)
+		return ps_dev_fail(dev, errno, "epoll: %s", strerror(errno));
+	v = ps_opt_get(o, "transport");
+	d->tp = ps_dali_transport_find(v ? v : "tridonic");
+	if (!d->tp)
+		return ps_dev_fail(dev, EINVAL, "%s:%d: transport: '%s' is not a known interface (tridonic)",
+		                   o->file ? o->file : "(config)", ps_opt_line(o, "transport"), v);
+	if ((v = ps_opt_get(o, "serial")))
+		snprintf(d->serial, sizeof d->serial, "%s", v);
+	if ((v = ps_opt_get(o, "port"))) {
+		int bus, n = 0;
+		if (sscanf(v, "%d-%*[0-9.]%n", &bus, &n) != 1 || v[n] || strlen(v) >= sizeof d->port)
+			return ps_dev_fail(dev, EINVAL, "%s:%d: port: '%s' is not BUS-PORT[.PORT...] (as in /sys/bus/usb/devices, e.g. 1-1.4)",
+			                   o->file ? o->file : "(config)", ps_opt_line(o, "port"), v);
+		snprintf(d->port, sizeof d->port, "%s", v);
+	}
+	if (ps_opt_double(o, "timeout", 0.2, 0.01, 10, &d->timeout, e, el) ||
+	    ps_opt_long(o, "retries", 2, 0, 10, &d->retries, e, el) ||
+	    ps_opt_double(o, "frame_gap", 0.022, 0.0, 1, &d->frame_gap, e, el))
+		return -1;
+	if (ps_opt_get(o, "safe_level") &&
+	    ps_opt_double(o, "safe_level", 1, 0, 1, &d->safe_level, e, el))
+		return -1;
+	if (ps_opt_get(o, "fade_time") &&
+	    ps_opt_double(o, "fade_time", 0, 0, 90.5, &d->fade_time, e, el))
+		return -1;
+	/* the device may be absent: open succeeds and reads fail with ENODEV until
+	 * it appears; only an ambiguous choice is a configuration error */
+	d->now = 0;
+	if (connect_usb(d) != 0) {
+		if (errno == EINVAL)
+			return ps_dev_fail(dev, EINVAL, "%s", d->down_why);
+		d->next_scan = -INFINITY;
+	}
+	return 0;
+}
+
+int ps_dali_usb_stats(struct ps_dev *dev, struct ps_dali_usb_stats *st)
+{
+	struct dali_usb *d = dev->priv;
+	if (dev->drv != &ps_driver_dali_usb || !d)
+		return ps_dev_fail(dev, EINVAL, "not a dali_usb device");
+	*st = d->st;
+	st->connected = d->state == ST_UP;
+	st->pending = (int)d->qlen + d->cur_active;
+	return 0;
 }
 
 const struct ps_driver ps_driver_dali_usb = {
 	.name = "dali_usb",
-	.summary = "placeholder",
+	.summary = "DALI ballasts through a Tridonic/Lunatone DALI USB interface (libusb)",
 	.compiled_in = 1,
-	.open = dali_usb_open,
+	.open = du_open,
+	.add_point = du_add_point,
+	.read = du_read,
+	.write = du_write,
+	.fd = du_fd,
+	.deadline = du_deadline,
+	.service = du_service,
+	.close = du_close,
 };

@@ -1,0 +1,23 @@
+/* The DALI USB driver's extras beyond the driver.h table: counters for tests,
+ * benchmarks and psensctl.  The driver itself is ps_driver_dali_usb. */
+#ifndef PS_DALI_USB_H
+#define PS_DALI_USB_H
+
+#include "driver.h"
+
+struct ps_dali_usb_stats {
+	unsigned long frames;       /* SEND reports written (retries included) */
+	unsigned long retries;      /* frames sent again after a timeout or garbled answer */
+	unsigned long timeouts;     /* transactions that hit the reply timeout */
+	unsigned long garbled;      /* bus errors and malformed reports */
+	unsigned long failed;       /* transactions given up after all retries */
+	unsigned long connects;     /* successful connects (1 + replugs) */
+	unsigned long stray;        /* reports for no outstanding sequence number */
+	int connected;              /* 1 while the interface is claimed */
+	int pending;                /* transactions queued or in flight */
+};
+
+/* 0, or -1 (EINVAL) when dev is not a dali_usb device. */
+int ps_dali_usb_stats(struct ps_dev *dev, struct ps_dali_usb_stats *st);
+
+#endif
