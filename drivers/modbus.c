@@ -83,7 +83,8 @@ static void set_timeout(modbus_t *ctx, double s, int byte)
 		modbus_set_response_timeout(ctx, sec, usec);
 }
 
-/* Close; the next attempt comes after wait seconds. */
+/* Close; the next attempt comes after wait seconds, and each failed attempt
+ * after that doubles the wait (wait 0: try at once, then backoff_min). */
 static void drop_connection(struct mb_dev *m, double now, double wait, const char *why)
 {
 	if (m->connected)
@@ -91,6 +92,7 @@ static void drop_connection(struct mb_dev *m, double now, double wait, const cha
 	m->connected = 0;
 	m->timeouts = 0;
 	m->next_connect = now + wait;
+	m->backoff = wait > 0 ? fmin(2 * wait, m->backoff_max) : m->backoff_min;
 	snprintf(m->lost_why, sizeof m->lost_why, "%s", why);
 }
 
@@ -254,8 +256,8 @@ static int classify(struct ps_dev *dev, struct mb_dev *m, const struct mb_point 
 	/* anything else is the transport: reset, refused, broken pipe, tty gone */
 	*out = ENODEV;
 	ps_dev_fail(dev, ENODEV, "%s: connection lost (%s); next attempt in %.1f s", what,
-	            modbus_strerror(e), m->backoff);
-	drop_connection(m, now, m->backoff, modbus_strerror(e));
+	            modbus_strerror(e), m->backoff_min);
+	drop_connection(m, now, m->backoff_min, modbus_strerror(e));
 	return 0;
 }
 
