@@ -1,0 +1,22 @@
+# tests/emu: the emulated DALI USB interface (libumockdev + real libusb) for the
+# DALI driver's tests.  Built only when the driver is (libusb) and umockdev is
+# there; the tests that need it skip otherwise.
+#   libpsemu.a       the emulator: vusb.c (usbfs on umockdev) + dali_emu.c (interface, ballasts)
+UMOCK_FOUND := $(shell $(PKG) --exists umockdev-1.0 && echo yes)
+ifeq ($(HAVE_USB)$(UMOCK_FOUND),yesyes)
+EMU_CFLAGS := $(patsubst -I%,-isystem %,$(shell $(PKG) --cflags umockdev-1.0)) -DPS_WITH_UMOCKDEV
+EMU_LIBS   := $(shell $(PKG) --libs umockdev-1.0)
+LIBPSEMU   := $(BUILD)/lib/libpsemu.a
+EMU_UNIT   := $(BUILD)/tests/test_dali_usb $(BUILD)/tests/test_dali_day
+
+$(BUILD)/obj/tests/emu/%.o: CFLAGS += $(EMU_CFLAGS)
+$(patsubst $(BUILD)/tests/%,$(BUILD)/obj/tests/unit/%.o,$(EMU_UNIT)): CFLAGS += $(EMU_CFLAGS) -Itests/emu
+
+$(LIBPSEMU): $(call obj,tests/emu/vusb.c tests/emu/dali_emu.c)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+$(EMU_UNIT): $(LIBPSEMU)
+$(EMU_UNIT): LIBS += $(LIBPSEMU) $(EMU_LIBS)
+
+endif

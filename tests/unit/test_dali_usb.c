@@ -1,0 +1,622 @@
+/* The DALI USB driver through the driver.h table, with real libusb against the
+ * emulated Tridonic interface and its ballasts (tests/emu, libumockdev):
+ * the transport's bytes against the worked examples of the hardware notes,
+ * finding and claiming the interface, levels on the ballasts, query answers,
+ * fades, the physical minimum, the safe level, faults, unplug and replug,
+ * the choice between two interfaces and the bus's frame rate. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#if defined(PS_WITH_USB) && defined(PS_WITH_UMOCKDEV)
+#include <poll.h>
+#include <time.h>
+
+#include "dali.h"
+#include "dali_emu.h"
+#include "helpers/dali_preload.h"
+#include "dali_transport.h"
+#include "dali_usb.h"
+#include "driver.h"
+
+/* ---- transport bytes ----------------------------------------------------------- */
+
+static void tridonic_send_report(void **state)
+{
+	uint8_t out[64], want[64] = { 0 };
+	(void)state;
+	/* hardware notes 1.1: DAPC short 5 level 200 seq 0x2A -> 12 2A 00 03 00 00 0A C8 00... */
+	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 0x2A, 0x0AC8, 0, -1), 64);
+	memcpy(want, (uint8_t[]){ 0x12, 0x2A, 0x00, 0x03, 0x00, 0x00, 0x0A, 0xC8 }, 8);
+	assert_memory_equal(out, want, 64);
+	/* python-dali's log: DAPC short 21 level 1, seq 0xD6 */
+	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 0xD6, 0x2A01, 0, -1), 64);
+	assert_memory_equal(out, ((uint8_t[]){ 0x12, 0xD6, 0x00, 0x03, 0x00, 0x00, 0x2A, 0x01, 0x00 }), 9);
+	/* send twice with DTR0 first: flags 0x20 | 0x10, DTR0 in byte 8 */
+	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 7, 0xFF2C, 1, 229), 64);
+	assert_memory_equal(out, ((uint8_t[]){ 0x12, 7, 0x30, 0x03, 0, 0, 0xFF, 0x2C, 229 }), 9);
+	assert_int_equal(ps_dali_tridonic.encode_send(out, 63, 7, 0xFF2C, 1, -1), -1);   /* too small */
+	assert_int_equal(ps_dali_tridonic.encode_send(out, 64, 256, 0xFF2C, 1, -1), -1);
+	/* sequence numbers run 1..255 and skip 0 */
+	assert_int_equal(ps_dali_tridonic.next_seq(255), 1);
+	assert_int_equal(ps_dali_tridonic.next_seq(0), 1);
+	assert_int_equal(ps_dali_tridonic.next_seq(41), 42);
+}
+
+static void tridonic_reports(void **state)
+{
+	struct ps_dali_reply r;
+	uint8_t in[64] = { 0 };
+	(void)state;
+	/* python-dali's log: 12 73 00 00 2A 01 00 F5 D6, then 12 71 00 00 00 00 00 8A D6 */
+	memcpy(in, (uint8_t[]){ 0x12, 0x73, 0, 0, 0x2A, 0x01, 0x00, 0xF5, 0xD6 }, 9);
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_ECHO);
+	assert_int_equal(r.seq, 0xD6);
+	assert_int_equal(r.value, 0x2A01);
+	memcpy(in, (uint8_t[]){ 0x12, 0x71, 0, 0, 0, 0, 0x00, 0x8A, 0xD6 }, 9);
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_NO_ANSWER);
+	assert_int_equal(r.seq, 0xD6);
+	memcpy(in, (uint8_t[]){ 0x12, 0x72, 0, 0, 0, 0xC8, 0x00, 0x8A, 0x05 }, 9);
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_ANSWER);
+	assert_int_equal(r.value, 200);
+	assert_int_equal(r.seq, 5);
+	memcpy(in, (uint8_t[]){ 0x12, 0x77, 0, 0, 0, 3, 0, 0, 9 }, 9);       /* framing error */
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_BUS_ERROR);
+	assert_int_equal(r.value, 3);
+	in[5] = 4;                                                            /* bus ok: news only */
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_IGNORE);
+	memcpy(in, (uint8_t[]){ 0x11, 0x73, 0, 0, 0xFF, 0x05, 0, 0, 0 }, 9);  /* another master */
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_OBSERVED);
+	assert_int_equal(r.seq, -1);
+	assert_int_equal(r.value, 0xFF05);
+	ps_dali_tridonic.decode(in, 8, &r);                                   /* short */
+	assert_int_equal(r.event, PS_DALI_EV_MALFORMED);
+	in[0] = 0x12;
+	in[1] = 0x7E;                                                         /* no such type */
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_MALFORMED);
+	in[0] = 0x99;
+	ps_dali_tridonic.decode(in, 64, &r);
+	assert_int_equal(r.event, PS_DALI_EV_MALFORMED);
+}
+
+/* ---- the emulator and a device on it ---------------------------------------------- */
+
+static double fade_clock;   /* the ballasts' clock: tests move fades along */
+
+static double get_fade_clock(void *user)
+{
+	(void)user;
+	return fade_clock;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
+struct fx {
+	struct psemu *emu;
+	struct ps_dev dev;
+	struct ps_opt o[8];
+	struct ps_opts opts;
+	struct ps_point pt[4];
+	struct ps_opt po[4];
+	struct ps_opts popts[4];
+	int open;
+};
+
+static int setup_n(void **state, int nifaces)
+{
+	static struct fx f;
+	char err[256];
+	memset(&f, 0, sizeof f);
+	f.emu = psemu_new(err, sizeof err);
+	if (!f.emu)
+		fail_msg("%s", err);
+	for (int i = 0; i < nifaces; i++)
+		if (psemu_add(f.emu, i + 1, i ? "B2" : "A1", 4, err, sizeof err) != i)
+			fail_msg("%s", err);
+	fade_clock = 1000;
+	psemu_set_clock(f.emu, get_fade_clock, NULL);
+	*state = &f;
+	return 0;
+}
+
+static int setup(void **state)
+{
+	return setup_n(state, 1);
+}
+
+static int setup_two(void **state)
+{
+	return setup_n(state, 2);
+}
+
+static int teardown(void **state)
+{
+	struct fx *f = *state;
+	if (f->open)
+		f->dev.drv->close(&f->dev);
+	psemu_free(f->emu);
+	return 0;
+}
+
+/* open dali_usb with key, value, ..., NULL */
+static int open_dev(struct fx *f, ...)
+{
+	va_list ap;
+	const char *k;
+	memset(&f->dev, 0, sizeof f->dev);
+	f->dev.drv = ps_driver_find("dali_usb");
+	assert_non_null(f->dev.drv);
+	assert_true(f->dev.drv->compiled_in);
+	snprintf(f->dev.name, sizeof f->dev.name, "dali");
+	f->opts = (struct ps_opts){ f->o, 0, "test.conf" };
+	va_start(ap, f);
+	while ((k = va_arg(ap, const char *)) && f->opts.n < 8) {
+		f->o[f->opts.n] = (struct ps_opt){ k, va_arg(ap, const char *), 10 + (int)f->opts.n, 0 };
+		f->opts.n++;
+	}
+	va_end(ap);
+	if (f->dev.drv->open(&f->dev, &f->opts) != 0) {
+		int e = errno;
+		f->dev.drv->close(&f->dev);
+		errno = e;
+		return -1;
+	}
+	f->open = 1;
+	return 0;
+}
+
+static void add_point(struct fx *f, int i, int role, const char *addr)
+{
+	snprintf(f->pt[i].name, sizeof f->pt[i].name, "p%d", i);
+	f->pt[i].role = role;
+	f->po[i] = (struct ps_opt){ "address", addr, 20 + i, 0 };
+	f->popts[i] = (struct ps_opts){ &f->po[i], 1, "test.conf" };
+	if (f->dev.drv->add_point(&f->dev, &f->pt[i], &f->popts[i]) != 0)
+		fail_msg("add_point %s: %s", addr, f->dev.err);
+}
+
+static struct ps_dali_usb_stats stats(struct fx *f)
+{
+	struct ps_dali_usb_stats st;
+	assert_int_equal(ps_dali_usb_stats(&f->dev, &st), 0);
+	return st;
+}
+
+static int is_idle(struct fx *f)
+{
+	struct ps_dali_usb_stats st = stats(f);
+	return st.connected && st.pending == 0;
+}
+
+static int is_connected(struct fx *f)
+{
+	return stats(f).connected;
+}
+
+static int is_down(struct fx *f)
+{
+	return !stats(f).connected;
+}
+
+/* The daemon's loop in small: poll the driver's fd until its deadline, call
+ * service(); until pred holds or the (real-time) limit passes. */
+static int run_until(struct fx *f, int (*pred)(struct fx *), double limit)
+{
+	double end = now_s() + limit;
+	for (;;) {
+		double t = now_s(), dl;
+		struct pollfd p = { f->dev.drv->fd(&f->dev), POLLIN | POLLOUT, 0 };
+		int ms;
+		f->dev.drv->service(&f->dev, t);
+		if (pred(f))
+			return 1;
+		if (t >= end)
+			return 0;
+		dl = f->dev.drv->deadline(&f->dev);
+		ms = isinf(dl) ? 20 : (int)fmax(0, fmin(20, (dl - t) * 1000));
+		poll(&p, p.fd >= 0, ms);
+	}
+}
+
+static struct psemu_ballast ballast(struct fx *f, int iface, int addr)
+{
+	struct psemu_ballast b;
+	assert_int_equal(psemu_ballast(f->emu, iface, addr, &b), 0);
+	return b;
+}
+
+static int dwrite(struct fx *f, int i, double v)
+{
+	return f->dev.drv->write(&f->dev, &f->pt[i], now_s(), v);
+}
+
+/* ---- the tests ----------------------------------------------------------------------- */
+
+static void opens_detaches_and_claims(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dali_usb_stats st;
+	assert_int_equal(open_dev(f, NULL), 0);
+	st = stats(f);
+	assert_int_equal(st.connected, 1);
+	assert_int_equal(st.connects, 1);
+	assert_true(f->dev.drv->fd(&f->dev) >= 0);
+	/* nothing to do yet: no deadline */
+	assert_true(isinf(f->dev.drv->deadline(&f->dev)));
+}
+
+static void levels_reach_the_ballasts(void **state)
+{
+	struct fx *f = *state;
+	static const double fr[] = { 1.0, 0.5, 0.1, 0.0123, 0.001, 0.0 };
+	/* ballasts 2 and 3 are group 1 */
+	psemu_ballast_setup(f->emu, 0, 2, 1u << 1, 1);
+	psemu_ballast_setup(f->emu, 0, 3, 1u << 1, 1);
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	add_point(f, 1, PS_ROLE_DIM, "group 1");
+	add_point(f, 2, PS_ROLE_DIM, "short 1");
+	for (size_t k = 0; k < sizeof fr / sizeof fr[0]; k++) {
+		/* the level on the wire is the curve's inverse: 1 + (253/3)(log10(100 f) + 1) */
+		int want = fr[k] > 0 ? (int)lround(1 + 253.0 / 3 * (log10(100 * fr[k]) + 1)) : 0;
+		int want1 = fr[k] > 0 ? (int)lround(1 + 253.0 / 3 * (log10(100 * fr[k] / 2) + 1)) : 0;
+		assert_int_equal(dwrite(f, 0, fr[k]), 0);
+		assert_int_equal(dwrite(f, 1, fr[k]), 0);
+		assert_int_equal(dwrite(f, 2, fr[k] / 2), 0);
+		assert_true(run_until(f, is_idle, 3));
+		assert_int_equal(ballast(f, 0, 0).level, want);
+		assert_int_equal(ballast(f, 0, 2).level, want);
+		assert_int_equal(ballast(f, 0, 3).level, want);
+		assert_int_equal(ballast(f, 0, 1).level, fr[k] / 2 >= 0.001 ? want1 : fr[k] > 0 ? 1 : 0);
+	}
+	assert_int_equal(stats(f).failed, 0);
+}
+
+static void the_latest_write_wins_and_frames_keep_the_bus_rate(void **state)
+{
+	struct fx *f = *state;
+	struct psemu_stats es;
+	struct ps_dali_usb_stats st;
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	add_point(f, 1, PS_ROLE_DIM, "1");
+	/* a burst faster than the bus: only the last level of each point matters */
+	for (int k = 1; k <= 40; k++) {
+		assert_int_equal(dwrite(f, 0, k / 40.0), 0);
+		assert_int_equal(dwrite(f, 1, 1 - k / 80.0), 0);
+		f->dev.drv->service(&f->dev, now_s());
+	}
+	assert_true(run_until(f, is_idle, 5));
+	assert_int_equal(ballast(f, 0, 0).level, 254);
+	assert_int_equal(ballast(f, 0, 1).level, ps_dali_fraction_to_level(0.5));
+	/* frames start at least 21.2 ms (priority 5 settling) after the last final report */
+	assert_int_equal(psemu_stats(f->emu, 0, &es), 0);
+	st = stats(f);
+	print_message("# %u SENDs for 80 writes, shortest gap %.1f ms\n", es.sends, 1e3 * es.min_gap);
+	assert_int_equal(es.gap_violations, 0);
+	assert_true(es.min_gap >= 0.0212);
+	assert_true(es.sends < 80);
+	assert_int_equal(st.frames, es.sends);
+}
+
+static void query_answers_follow_the_fade(void **state)
+{
+	struct fx *f = *state;
+	double v = -1;
+	int r;
+	/* 2 s fade: FADE TIME code 4, sent as DTR0 + SET FADE TIME twice */
+	assert_int_equal(open_dev(f, "fade_time", "2", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(100)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).fade_time, 4);
+	fade_clock += 10;   /* the first fade is over */
+	assert_int_equal(ballast(f, 0, 0).level, 100);
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(200)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).target, 200);
+	fade_clock += 1.0;   /* half way: linear in level steps */
+	/* read() queues QUERY ACTUAL LEVEL and answers from the last reply */
+	r = f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v);
+	assert_int_equal(r, -1);
+	assert_int_equal(errno, ETIMEDOUT);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 150);
+	fade_clock += 1.5;
+	assert_true(run_until(f, is_idle, 3));   /* the query read() just queued */
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_true(fabs(v - ps_dali_level_to_fraction(200)) < 1e-15);
+}
+
+static void physical_minimum_is_respected(void **state)
+{
+	struct fx *f = *state;
+	psemu_ballast_setup(f->emu, 0, 0, 0, 85);   /* 1 % lowest */
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	assert_true(run_until(f, is_idle, 3));     /* QUERY PHYSICAL MINIMUM answered */
+	assert_int_equal(dwrite(f, 0, 0.002), 0);   /* level 33 asked */
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).level, 85);
+	assert_int_equal(stats(f).frames, 2);        /* one query, one DAPC 85 */
+}
+
+static void relay_points_switch(void **state)
+{
+	struct fx *f = *state;
+	double v;
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_RELAY, "broadcast");
+	assert_int_equal(dwrite(f, 0, 0), 0);
+	assert_true(run_until(f, is_idle, 3));
+	for (int a = 0; a < 4; a++)
+		assert_int_equal(ballast(f, 0, a).level, 0);
+	assert_int_equal(dwrite(f, 0, 1), 0);
+	assert_true(run_until(f, is_idle, 3));
+	for (int a = 0; a < 4; a++)
+		assert_int_equal(ballast(f, 0, a).level, 254);
+	/* all four answer 254 together: identical answers do not collide */
+	f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_true(v == 1.0);
+}
+
+static void broadcast_query_collides(void **state)
+{
+	struct fx *f = *state;
+	double v;
+	assert_int_equal(open_dev(f, "retries", "1", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	add_point(f, 1, PS_ROLE_DIM, "broadcast");
+	assert_int_equal(dwrite(f, 1, 1.0), 0);
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	/* four ballasts answer 229, 254, 254, 254 at once: a framing error */
+	f->dev.drv->read(&f->dev, &f->pt[1], now_s(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[1], now_s(), &v), -1);
+	assert_int_equal(errno, EPROTO);
+	assert_non_null(strstr(f->dev.err, "garbled"));
+	assert_non_null(strstr(f->dev.err, "broadcast QUERY ACTUAL LEVEL"));
+	assert_int_equal(stats(f).retries, 1);
+}
+
+static void faults_are_retried(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dali_usb_stats st;
+	assert_int_equal(open_dev(f, "timeout", "0.05", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	psemu_fault(f->emu, 0, PSEMU_FAULT_NO_ANSWER, 1);
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).level, 229);
+	st = stats(f);
+	assert_int_equal(st.timeouts, 1);
+	assert_int_equal(st.retries, 1);
+	psemu_fault(f->emu, 0, PSEMU_FAULT_GARBLED, 1);
+	assert_int_equal(dwrite(f, 0, 0.25), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).level, ps_dali_fraction_to_level(0.25));
+	assert_int_equal(stats(f).retries, 2);
+	psemu_fault(f->emu, 0, PSEMU_FAULT_MALFORMED, 1);
+	assert_int_equal(dwrite(f, 0, 0.75), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).level, ps_dali_fraction_to_level(0.75));
+	st = stats(f);
+	assert_int_equal(st.retries, 3);
+	assert_int_equal(st.garbled, 2);
+	assert_int_equal(st.failed, 0);
+}
+
+static void silence_fails_after_the_retries(void **state)
+{
+	struct fx *f = *state;
+	assert_int_equal(open_dev(f, "timeout", "0.03", "retries", "2", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "5");   /* nobody there: QUERY PHYSICAL MINIMUM gets no answer */
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(stats(f).frames, 1);
+	psemu_fault(f->emu, 0, PSEMU_FAULT_NO_ANSWER, 3);
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(stats(f).failed, 1);
+	assert_int_equal(stats(f).frames, 4);
+	assert_int_equal(stats(f).timeouts, 3);
+	/* the failure is reported once, on the next call */
+	assert_int_equal(dwrite(f, 0, 0.5), -1);
+	assert_int_equal(errno, ETIMEDOUT);
+	assert_non_null(strstr(f->dev.err, "short 5 DAPC 229"));
+	assert_non_null(strstr(f->dev.err, "3 tries"));
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+}
+
+static void safe_level_unplug_and_replug(void **state)
+{
+	struct fx *f = *state;
+	char err[256];
+	int r;
+	double t0;
+	assert_int_equal(open_dev(f, "safe_level", "0.5", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "broadcast");
+	assert_int_equal(dwrite(f, 0, 0.1), 0);
+	assert_true(run_until(f, is_idle, 3));
+	for (int a = 0; a < 4; a++) {
+		struct psemu_ballast b = ballast(f, 0, a);
+		assert_int_equal(b.sfl, 229);            /* 50 % programmed as the system failure level */
+		assert_int_equal(b.level, 170);          /* 10 % */
+		assert_int_equal(b.config_writes, 1);
+	}
+	/* unplugged: the bus goes down with it and the gear goes to its SFL */
+	assert_int_equal(psemu_unplug(f->emu, 0), 0);
+	for (int a = 0; a < 4; a++)
+		assert_int_equal(ballast(f, 0, a).level, 229);
+	assert_true(run_until(f, is_down, 3));
+	r = dwrite(f, 0, 0.2);
+	assert_int_equal(r, -1);
+	assert_int_equal(errno, ENODEV);
+	assert_non_null(strstr(f->dev.err, "unplugged"));
+	/* still gone: rescans fail, with backoff, and writes keep failing */
+	assert_false(run_until(f, is_connected, 0.7));
+	assert_int_equal(dwrite(f, 0, 0.3), -1);
+	assert_int_equal(errno, ENODEV);
+	assert_non_null(strstr(f->dev.err, "no tridonic DALI USB interface"));
+	/* back: the driver finds it (new device number), and sends the last level */
+	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
+	t0 = now_s();
+	assert_true(run_until(f, is_idle, 10));
+	print_message("# reconnected %.2f s after the replug\n", now_s() - t0);
+	assert_int_equal(stats(f).connects, 2);
+	for (int a = 0; a < 4; a++) {
+		struct psemu_ballast b = ballast(f, 0, a);
+		assert_int_equal(b.level, ps_dali_fraction_to_level(0.3));
+		assert_int_equal(b.config_writes, 1);    /* SFL already right: not written again */
+	}
+	assert_int_equal(dwrite(f, 0, 0.4), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).level, ps_dali_fraction_to_level(0.4));
+}
+
+static void unplug_in_the_middle_of_a_transfer(void **state)
+{
+	struct fx *f = *state;
+	char err[256];
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "2");
+	assert_true(run_until(f, is_idle, 3));
+	psemu_fault(f->emu, 0, PSEMU_FAULT_UNPLUG, 1);
+	assert_int_equal(dwrite(f, 0, 0.6), 0);    /* the frame goes out, then the interface is gone */
+	assert_true(run_until(f, is_down, 3));
+	assert_int_equal(dwrite(f, 0, 0.7), -1);
+	assert_int_equal(errno, ENODEV);
+	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
+	assert_true(run_until(f, is_idle, 10));
+	assert_int_equal(ballast(f, 0, 2).level, ps_dali_fraction_to_level(0.7));
+	assert_int_equal(stats(f).connects, 2);
+}
+
+static void absent_at_open_then_found(void **state)
+{
+	struct fx *f = *state;
+	char err[256];
+	assert_int_equal(psemu_unplug(f->emu, 0), 0);
+	assert_int_equal(open_dev(f, NULL), 0);     /* open succeeds without the device */
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	assert_int_equal(dwrite(f, 0, 0.5), -1);
+	assert_int_equal(errno, ENODEV);
+	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
+	assert_true(run_until(f, is_idle, 10));
+	assert_int_equal(ballast(f, 0, 0).level, 229);
+}
+
+static void two_interfaces_need_a_choice(void **state)
+{
+	struct fx *f = *state;
+	assert_int_equal(open_dev(f, NULL), -1);
+	assert_int_equal(errno, EINVAL);
+	assert_non_null(strstr(f->dev.err, "2 tridonic interfaces found"));
+	assert_int_equal(open_dev(f, "serial", "B2", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 1, 1).level, 229);
+	assert_int_equal(ballast(f, 0, 1).level, 254);   /* the other bus is untouched */
+	f->dev.drv->close(&f->dev);
+	f->open = 0;
+	assert_int_equal(open_dev(f, "port", "1-1", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, 0.1), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 1).level, 170);
+	assert_int_equal(ballast(f, 1, 1).level, 229);
+	f->dev.drv->close(&f->dev);
+	f->open = 0;
+	/* a serial nobody has: open succeeds, the device is absent */
+	assert_int_equal(open_dev(f, "serial", "ZZ", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, 0.1), -1);
+	assert_int_equal(errno, ENODEV);
+	assert_non_null(strstr(f->dev.err, "with serial ZZ"));
+}
+
+static void bad_options_name_file_and_line(void **state)
+{
+	struct fx *f = *state;
+	struct ps_point p = { "sensor", PS_ROLE_SENSOR, NULL };
+	struct ps_opt o = { "address", "group 16", 33, 0 };
+	struct ps_opts po = { &o, 1, "test.conf" };
+	assert_int_equal(open_dev(f, "timeout", "-1", NULL), -1);
+	assert_int_equal(errno, EINVAL);
+	assert_non_null(strstr(f->dev.err, "test.conf:10: timeout"));
+	assert_int_equal(open_dev(f, "port", "usb1", NULL), -1);
+	assert_non_null(strstr(f->dev.err, "test.conf:10: port"));
+	assert_int_equal(open_dev(f, "transport", "hasseb", NULL), -1);
+	assert_non_null(strstr(f->dev.err, "not a known interface"));
+	assert_int_equal(open_dev(f, NULL), 0);
+	p.role = PS_ROLE_DIM;
+	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), -1);
+	assert_non_null(strstr(f->dev.err, "test.conf:33: address: 'group 16'"));
+	p.role = PS_ROLE_SENSOR;
+	o.value = "1";
+	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), -1);
+	assert_non_null(strstr(f->dev.err, "dim and relay"));
+	p.role = PS_ROLE_DIM;
+	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &p, now_s(), 1.5), -1);
+	assert_int_equal(errno, EINVAL);
+}
+
+int main(int argc, char **argv)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(tridonic_send_report),
+		cmocka_unit_test(tridonic_reports),
+		cmocka_unit_test_setup_teardown(opens_detaches_and_claims, setup, teardown),
+		cmocka_unit_test_setup_teardown(levels_reach_the_ballasts, setup, teardown),
+		cmocka_unit_test_setup_teardown(the_latest_write_wins_and_frames_keep_the_bus_rate, setup, teardown),
+		cmocka_unit_test_setup_teardown(query_answers_follow_the_fade, setup, teardown),
+		cmocka_unit_test_setup_teardown(physical_minimum_is_respected, setup, teardown),
+		cmocka_unit_test_setup_teardown(relay_points_switch, setup, teardown),
+		cmocka_unit_test_setup_teardown(broadcast_query_collides, setup, teardown),
+		cmocka_unit_test_setup_teardown(faults_are_retried, setup, teardown),
+		cmocka_unit_test_setup_teardown(silence_fails_after_the_retries, setup, teardown),
+		cmocka_unit_test_setup_teardown(safe_level_unplug_and_replug, setup, teardown),
+		cmocka_unit_test_setup_teardown(unplug_in_the_middle_of_a_transfer, setup, teardown),
+		cmocka_unit_test_setup_teardown(absent_at_open_then_found, setup, teardown),
+		cmocka_unit_test_setup_teardown(two_interfaces_need_a_choice, setup_two, teardown),
+		cmocka_unit_test_setup_teardown(bad_options_name_file_and_line, setup, teardown),
+	};
+	(void)argc;
+	ps_test_need_umockdev(argv);
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
+
+#else
+int main(void)
+{
+	printf("the DALI USB driver or umockdev was not built in (libusb-1.0, umockdev-1.0)\n");
+	return 77;
+}
+#endif
