@@ -1,0 +1,11 @@
+# daemon/: test tools that join the drivers and the daemon's control law.
+# mbdrive (tests/system/peers/mbdrive.c) runs the Modbus driver from the
+# command line for the 3xx system tests and the Modbus benchmark.
+ifeq ($(HAVE_MODBUS),yes)
+MBDRIVE = $(BUILD)/tests/mbdrive
+$(MBDRIVE): $(BUILD)/obj/tests/system/peers/mbdrive.o $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+TEST_EXTRA += $(MBDRIVE)
+bench: $(MBDRIVE)
+endif
