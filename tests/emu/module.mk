@@ -7,7 +7,7 @@ ifeq ($(HAVE_USB)$(UMOCK_FOUND),yesyes)
 EMU_CFLAGS := $(patsubst -I%,-isystem %,$(shell $(PKG) --cflags umockdev-1.0)) -DPS_WITH_UMOCKDEV
 EMU_LIBS   := $(shell $(PKG) --libs umockdev-1.0)
 LIBPSEMU   := $(BUILD)/lib/libpsemu.a
-EMU_UNIT   := $(BUILD)/tests/test_dali_usb $(BUILD)/tests/test_dali_day
+EMU_UNIT   := $(BUILD)/tests/test_dali_usb
 
 $(BUILD)/obj/tests/emu/%.o: CFLAGS += $(EMU_CFLAGS)
 $(patsubst $(BUILD)/tests/%,$(BUILD)/obj/tests/unit/%.o,$(EMU_UNIT)): CFLAGS += $(EMU_CFLAGS) -Itests/emu

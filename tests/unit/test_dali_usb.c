@@ -18,6 +18,7 @@
 #include <poll.h>
 #include <time.h>
 
+#include "control.h"
 #include "dali.h"
 #include "dali_emu.h"
 #include "helpers/dali_preload.h"
@@ -588,6 +589,90 @@ static void bad_options_name_file_and_line(void **state)
 	assert_int_equal(errno, EINVAL);
 }
 
+
+/* The daemon's control over a simulated day, dimming the emulated ballasts:
+ * the set-point law (daemon/control.c) reads a sensor whose signal comes
+ * from the ballasts' real arc power levels, and its commands reach the gear
+ * through libusb.  Analytic bound: with the lights quantised to DALI steps
+ * (at most half a step, 1.38 %, off in ratio) the task illuminance misses the
+ * target by at most 1.38 % of (electric task lux + the electric part of the
+ * daylight estimate).  An hour without the interface puts the lights at the
+ * safe level (the gear's system failure level while the bus is down). */
+static double daylight_lux(double t)
+{
+	double x = (t - 6 * 3600.0) / (12.5 * 3600.0);
+	return x > 0 && x < 1 ? 900 * sin(M_PI * x) : 0;
+}
+
+static void a_simulated_day_with_the_control_law(void **state)
+{
+	struct fx *f = *state;
+	struct psd_control c = { 0 };
+	const double ratio = 400, es = 0.8, ee = 600, gain = 0.5, step = 600;
+	const double half_step = pow(10.0, 1.5 / 253) - 1;
+	double used = 0, hours = 0, worst = 0;
+	int dimmed = 0, outage_steps = 0;
+	char err[256];
+	c.algorithm = PSD_ALG_SETPOINT;
+	c.target_lux = 500;
+	c.min_level = 0.1;
+	c.sensor_gain = gain;
+	c.daylight_ratio = ratio;
+	c.elec_sensor = es;
+	c.elec_task_lux = ee;
+	c.level = 1;
+	assert_int_equal(open_dev(f, "safe_level", "1.0", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "broadcast");
+	assert_int_equal(dwrite(f, 0, 1.0), 0);
+	assert_true(run_until(f, is_idle, 3));
+	for (double t = 6 * 3600.0; t < 20 * 3600.0; t += step) {
+		int outage = t >= 12 * 3600.0 && t < 13 * 3600.0;
+		double ua = ps_dali_level_to_fraction(ballast(f, 0, 0).level);
+		double d = daylight_lux(t), volts = gain * (d / ratio + ua * es), prev = c.level, level, task;
+		if (outage && ballast(f, 0, 0).level != 0 && stats(f).connected)
+			assert_int_equal(psemu_unplug(f->emu, 0), 0);
+		if (!outage && !stats(f).connected) {
+			assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
+			assert_true(run_until(f, is_idle, 10));
+		}
+		level = psd_control_step(&c, volts, t);
+		if (dwrite(f, 0, level) != 0) {
+			/* the daemon's rule: any failure puts the lights at the safe level */
+			assert_int_equal(errno, ENODEV);
+			c.level = 1.0;
+			dwrite(f, 0, 1.0);
+			outage_steps++;
+			for (int a = 0; a < 4; a++)
+				assert_int_equal(ballast(f, 0, a).level, 254);
+			continue;
+		}
+		assert_true(run_until(f, is_idle, 3));
+		for (int a = 0; a < 4; a++)
+			assert_int_equal(ballast(f, 0, a).level, ps_dali_fraction_to_level(level));
+		ua = ps_dali_level_to_fraction(ballast(f, 0, 0).level);
+		task = d + ua * ee;
+		if (level > c.min_level && level < 1) {
+			double bound = half_step * (ee * level + ratio * es * prev) + 1e-9;
+			double miss = fabs(task - c.target_lux);
+			dimmed++;
+			if (miss > bound)
+				fail_msg("%02d:%02d task %.2f lx, target %g, bound %.2f", (int)(t / 3600),
+				         (int)fmod(t / 60, 60), task, c.target_lux, bound);
+			if (miss > worst)
+				worst = miss;
+		} else {
+			assert_true(task >= c.target_lux * (1 - half_step) - 1e-9);
+		}
+		used += ua * step / 3600;
+		hours += step / 3600;
+	}
+	print_message("# day: %d dimmed periods, worst miss %.2f lx, energy %.1f %% of full, %d periods "
+	              "without the interface\n", dimmed, worst, 100 * used / hours, outage_steps);
+	assert_true(dimmed >= 30);   /* mornings and afternoons; at midday daylight alone is enough */
+	assert_int_equal(outage_steps, 6);
+	assert_int_equal(stats(f).connects, 2);
+}
+
 int main(int argc, char **argv)
 {
 	const struct CMUnitTest tests[] = {
@@ -607,6 +692,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(absent_at_open_then_found, setup, teardown),
 		cmocka_unit_test_setup_teardown(two_interfaces_need_a_choice, setup_two, teardown),
 		cmocka_unit_test_setup_teardown(bad_options_name_file_and_line, setup, teardown),
+		cmocka_unit_test_setup_teardown(a_simulated_day_with_the_control_law, setup, teardown),
 	};
 	(void)argc;
 	ps_test_need_umockdev(argv);
