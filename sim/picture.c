@@ -131,6 +131,32 @@ struct cursor {
 	struct ps_err *e;
 };
 
+/* A growing string: appending costs the bytes appended, never the length so
+ * far, so a header of many small lines stays linear. */
+struct strbuf {
+	char *p;
+	size_t n, cap;
+};
+
+static int sb_append(struct strbuf *b, const char *s, size_t n)
+{
+	if (b->n + n + 1 > b->cap) {
+		size_t cap = b->cap ? b->cap : 64;
+		char *p;
+		while (cap < b->n + n + 1)
+			cap *= 2;
+		p = realloc(b->p, cap);
+		if (!p)
+			return -1;
+		b->p = p;
+		b->cap = cap;
+	}
+	memcpy(b->p + b->n, s, n);
+	b->n += n;
+	b->p[b->n] = '\0';
+	return 0;
+}
+
 static int truncated(struct cursor *c, const char *what, long scanline)
 {
 	if (scanline >= 0)
@@ -139,22 +165,7 @@ static int truncated(struct cursor *c, const char *what, long scanline)
 	return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: file ends inside %s", c->name, c->pos, what);
 }
 
-static char *append_text(char *dst, const char *src, size_t n, const char *sep)
-{
-	size_t old = dst ? strlen(dst) : 0, nsep = (dst && *dst) ? strlen(sep) : 0;
-	char *p = realloc(dst, old + nsep + n + 1);
-	if (!p) {
-		free(dst);
-		return NULL;
-	}
-	if (nsep)
-		memcpy(p + old, sep, nsep);
-	memcpy(p + old + nsep, src, n);
-	p[old + nsep + n] = '\0';
-	return p;
-}
-
-/* Parse n doubles from s; 0 if all were there and positive where required. */
+/* Parse n doubles from s; 0 if all were there, finite, and nothing follows. */
 static int parse_numbers(const char *s, double *v, int n)
 {
 	char *end;
@@ -165,7 +176,7 @@ static int parse_numbers(const char *s, double *v, int n)
 			return -1;
 		s = end;
 	}
-	while (*s == ' ' || *s == '\t' || *s == '\r')
+	while (*s == ' ' || *s == '\t')
 		s++;
 	return *s == '\0' ? 0 : -1;
 }
@@ -188,41 +199,45 @@ static int is_view_program(const char *line)
 	return 0;
 }
 
-static int header_line(struct ps_picture *pic, struct cursor *c, char *line, int lineno,
-                       int *have_format)
+/* One header line (NUL-terminated, newline and any '\r' removed). */
+static int header_line(struct ps_picture *pic, struct cursor *c, const char *line, int lineno,
+                       struct strbuf *view)
 {
 	double v[8];
 	if (strncmp(line, "FORMAT=", 7) == 0) {
 		const char *f = line + 7;
-		size_t n = strcspn(f, " \t\r");
+		size_t n;
+		while (*f == ' ' || *f == '\t')
+			f++;
+		n = strcspn(f, " \t");
 		if (n == 15 && strncmp(f, "32-bit_rle_rgbe", 15) == 0)
 			pic->format = PS_PIC_RGBE;
 		else if (n == 15 && strncmp(f, "32-bit_rle_xyze", 15) == 0)
 			pic->format = PS_PIC_XYZE;
 		else
-			return ps_errf(c->e, PS_EUNSUPPORTED, "%s: header line %d: unsupported %s",
+			return ps_errf(c->e, PS_EUNSUPPORTED, "%s: header line %d: unsupported %.200s",
 			               c->name, lineno, line);
-		*have_format = 1;
 	} else if (strncmp(line, "EXPOSURE=", 9) == 0) {
 		if (parse_numbers(line + 9, v, 1) != 0 || v[0] <= 0.0)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad EXPOSURE (%s)",
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad EXPOSURE (%.200s)",
 			               c->name, lineno, line + 9);
 		for (int i = 0; i < 3; i++)
 			pic->exposure[i] *= v[0];
 	} else if (strncmp(line, "COLORCORR=", 10) == 0) {
 		if (parse_numbers(line + 10, v, 3) != 0 || v[0] <= 0 || v[1] <= 0 || v[2] <= 0)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad COLORCORR (%s)",
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad COLORCORR (%.200s)",
 			               c->name, lineno, line + 10);
 		for (int i = 0; i < 3; i++)
 			pic->exposure[i] *= v[i];
 	} else if (strncmp(line, "PIXASPECT=", 10) == 0) {
 		if (parse_numbers(line + 10, v, 1) != 0 || v[0] <= 0.0)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad PIXASPECT (%s)",
+			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad PIXASPECT (%.200s)",
 			               c->name, lineno, line + 10);
 		pic->pixaspect *= v[0];
 	} else if (strncmp(line, "PRIMARIES=", 10) == 0) {
 		if (parse_numbers(line + 10, v, 8) != 0)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: PRIMARIES needs 8 numbers (%s)",
+			return ps_errf(c->e, PS_EFORMAT,
+			               "%s: header line %d: PRIMARIES needs 8 numbers (%.200s)",
 			               c->name, lineno, line + 10);
 		memcpy(pic->primaries, v, sizeof pic->primaries);
 		pic->has_primaries = 1;
@@ -230,85 +245,146 @@ static int header_line(struct ps_picture *pic, struct cursor *c, char *line, int
 		const char *opts = strncmp(line, "VIEW=", 5) == 0 ? line + 5 : line + strcspn(line, " \t");
 		while (*opts == ' ' || *opts == '\t')
 			opts++;
-		pic->view = append_text(pic->view, opts, strlen(opts), " ");
-		if (!pic->view)
+		if ((view->n && sb_append(view, " ", 1) != 0) || sb_append(view, opts, strlen(opts)) != 0)
 			return ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
 	}
+	/* anything else (SOFTWARE=, CAPDATE=, program lines) is kept in pic->header */
 	return 0;
 }
 
+/* The header: "#?" magic, lines up to an empty one.  Line numbers in messages
+ * are 1-based lines of the file. */
 static int read_header(struct ps_picture *pic, struct cursor *c)
 {
-	int lineno = 0, have_format = 0;
-	char *line = NULL;
+	struct strbuf line = { 0 }, view = { 0 };
+	int lineno = 0, rc = -1;
+	size_t end;
 	if (c->len < 2 || c->data[0] != '#' || c->data[1] != '?')
 		return ps_errf(c->e, PS_EFORMAT, "%s: byte 0: not a Radiance picture (no '#?' magic)",
 		               c->name);
 	for (;;) {
-		const uint8_t *nl;
-		size_t start = c->pos, n;
-		if (c->pos >= c->len)
-			return truncated(c, "the header (no blank line ends it)", -1);
-		nl = memchr(c->data + c->pos, '\n', c->len - c->pos);
-		if (!nl)
-			return truncated(c, "the header (no blank line ends it)", -1);
-		n = (size_t)(nl - (c->data + c->pos));
+		size_t avail = c->len - c->pos, n;
+		const uint8_t *start = c->data + c->pos, *nl;
+		/* look for the newline no further than the header may reach */
+		if (avail > HEADER_MAX - c->pos)
+			avail = HEADER_MAX - c->pos;
+		nl = memchr(start, '\n', avail);
 		lineno++;
-		if (c->pos + n + 1 > HEADER_MAX)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: header longer than %d bytes",
-			               c->name, lineno, HEADER_MAX);
-		if (memchr(c->data + c->pos, '\0', n))
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d (byte %zu): NUL byte in header",
-			               c->name, lineno, c->pos);
-		c->pos += n + 1;
-		if (n == 0 || (n == 1 && c->data[start] == '\r'))
-			break;
-		line = malloc(n + 1);
-		if (!line)
-			return ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
-		memcpy(line, c->data + start, n);
-		line[n] = '\0';
-		if (n && line[n - 1] == '\r')
-			line[n - 1] = '\0';
-		if (header_line(pic, c, line, lineno, &have_format) != 0) {
-			free(line);
-			return -1;
+		if (!nl) {
+			if (c->len > HEADER_MAX)
+				ps_errf(c->e, PS_EFORMAT, "%s: header line %d: header longer than %d bytes",
+				        c->name, lineno, HEADER_MAX);
+			else
+				truncated(c, "the header (no empty line ends it)", -1);
+			goto out;
 		}
-		free(line);
-		pic->header = append_text(pic->header, (const char *)c->data + start, n + 1, "");
-		if (!pic->header)
-			return ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+		n = (size_t)(nl - start);
+		if (memchr(start, '\0', n)) {
+			ps_errf(c->e, PS_EFORMAT, "%s: header line %d (byte %zu): NUL byte in header",
+			        c->name, lineno, c->pos + (size_t)((const uint8_t *)memchr(start, '\0', n) - start));
+			goto out;
+		}
+		c->pos += n + 1;
+		if (n > 0 && start[n - 1] == '\r')
+			n--;
+		if (n == 0)
+			break;
+		line.n = 0;
+		if (sb_append(&line, (const char *)start, n) != 0) {
+			ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+			goto out;
+		}
+		if (header_line(pic, c, line.p, lineno, &view) != 0)
+			goto out;
 	}
-	(void)have_format;   /* Radiance assumes 32-bit_rle_rgbe when FORMAT= is absent */
+	/* Radiance assumes 32-bit_rle_rgbe when FORMAT= is absent (format is 0). */
+	end = c->pos;   /* the header text kept: everything before the empty line */
+	while (end > 0 && (c->data[end - 1] == '\n' || c->data[end - 1] == '\r'))
+		end--;
+	pic->header = malloc(end + 2);
+	if (!pic->header) {
+		ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+		goto out;
+	}
+	memcpy(pic->header, c->data, end);
+	pic->header[end] = '\n';
+	pic->header[end + 1] = '\0';
+	pic->view = view.p;
+	view.p = NULL;
+	rc = 0;
+out:
+	free(line.p);
+	free(view.p);
+	return rc;
+}
+
+/* One "-Y" / "+X" axis and its count in a resolution line. */
+static int parse_axis(const char **s, char *sign, char *axis, long *count)
+{
+	const char *p = *s;
+	long v = 0;
+	while (*p == ' ' || *p == '\t')
+		p++;
+	if ((p[0] != '-' && p[0] != '+') || (p[1] != 'X' && p[1] != 'Y'))
+		return -1;
+	*sign = p[0];
+	*axis = p[1];
+	p += 2;
+	if (*p != ' ' && *p != '\t')
+		return -1;
+	while (*p == ' ' || *p == '\t')
+		p++;
+	if (*p < '0' || *p > '9')
+		return -1;
+	for (; *p >= '0' && *p <= '9'; p++) {
+		if (v > (long)INT_MAX / 10)
+			return -2;   /* too large for any picture */
+		v = v * 10 + (*p - '0');
+	}
+	*count = v;
+	*s = p;
 	return 0;
 }
 
-/* "-Y 256 +X 512\n" and its seven siblings. */
+/* "-Y 256 +X 512\n" and its seven siblings: the first axis is the slow one
+ * (scanlines), the second the fast one (pixels within a scanline). */
 static int read_resolution(struct cursor *c, int *orient, long *slow, long *fast)
 {
-	char buf[64];
+	char buf[80];
 	const uint8_t *nl;
+	const char *s = buf;
 	size_t n;
 	char s1, a1, s2, a2;
-	long n1, n2;
-	int used = 0;
+	long n1 = 0, n2 = 0;
+	int r1, r2 = -1;
 	if (c->pos >= c->len)
 		return truncated(c, "the resolution line", -1);
 	nl = memchr(c->data + c->pos, '\n', c->len - c->pos);
 	n = nl ? (size_t)(nl - (c->data + c->pos)) : c->len - c->pos;
-	if (!nl || n >= sizeof buf)
-		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line", c->name, c->pos);
+	if (n >= sizeof buf)
+		n = sizeof buf - 1;
 	memcpy(buf, c->data + c->pos, n);
 	buf[n] = '\0';
-	if (sscanf(buf, "%c%c %ld %c%c %ld%n", &s1, &a1, &n1, &s2, &a2, &n2, &used) != 6 ||
-	    (size_t)used != n || (s1 != '+' && s1 != '-') || (s2 != '+' && s2 != '-') ||
-	    !((a1 == 'X' && a2 == 'Y') || (a1 == 'Y' && a2 == 'X')))
-		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line '%s'",
+	if (memchr(buf, '\0', n))
+		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line (NUL byte)",
+		               c->name, c->pos);
+	if (!nl)
+		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: no resolution line after the header%s%.40s%s",
+		               c->name, c->pos, n ? " ('" : "", buf, n ? "')" : "");
+	r1 = parse_axis(&s, &s1, &a1, &n1);
+	if (r1 == 0)
+		r2 = parse_axis(&s, &s2, &a2, &n2);
+	if (r1 == 0 && r2 == 0) {
+		while (*s == ' ' || *s == '\t' || *s == '\r')
+			s++;
+	}
+	if (r1 != -2 && (r1 == -1 || r2 == -1 || *s != '\0' || a1 == a2))
+		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line '%.60s'",
 		               c->name, c->pos, buf);
-	if (n1 <= 0 || n2 <= 0 || n1 > INT_MAX / 4 || n2 > INT_MAX / 4)
-		return ps_errf(c->e, PS_ERANGE, "%s: byte %zu: bad picture size in '%s'",
+	if (r1 == -2 || r2 == -2 || n1 <= 0 || n2 <= 0)
+		return ps_errf(c->e, PS_ERANGE, "%s: byte %zu: bad picture size in '%.60s'",
 		               c->name, c->pos, buf);
-	c->pos += n + 1;
+	c->pos += (size_t)(nl - (c->data + c->pos)) + 1;
 	*orient = 0;
 	if (a1 == 'Y')
 		*orient |= ORIENT_YMAJOR;
@@ -323,10 +399,10 @@ static int read_resolution(struct cursor *c, int *orient, long *slow, long *fast
 
 /* Old-style scanline: flat pixels, with 1 1 1 n repeating the previous pixel
  * n << shift times (shift grows by 8 for each consecutive repeat). */
-static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long done, long scanline)
+static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 {
 	int shift = 0;
-	long j = done;
+	long j = 0;
 	while (j < len) {
 		const uint8_t *p;
 		if (c->len - c->pos < 4)
@@ -339,7 +415,8 @@ static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long done,
 				               "%s: byte %zu: scanline %ld starts with a repeat of no pixel",
 				               c->name, c->pos, scanline);
 			if (shift > 24)
-				return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: repeat count overflows in scanline %ld",
+				return ps_errf(c->e, PS_EFORMAT,
+				               "%s: byte %zu: repeat count overflows in scanline %ld",
 				               c->name, c->pos, scanline);
 			count = (unsigned long)p[3] << shift;
 			if (count > (unsigned long)(len - j))
@@ -359,22 +436,25 @@ static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long done,
 	return 0;
 }
 
+/* One scanline of len pixels into sl (len * 4 bytes), in whichever encoding
+ * the file used for it. */
 static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 {
 	const uint8_t *p;
 	if (len < RLE_MIN_LEN || len > RLE_MAX_LEN)
-		return read_old_scanline(c, sl, len, 0, scanline);
+		return read_old_scanline(c, sl, len, scanline);
 	if (c->len - c->pos < 4)
 		return truncated(c, "the start", scanline);
 	p = c->data + c->pos;
 	if (p[0] != 2 || p[1] != 2 || (p[2] & 0x80))
-		return read_old_scanline(c, sl, len, 0, scanline);
+		return read_old_scanline(c, sl, len, scanline);
 	if (((long)p[2] << 8 | p[3]) != len)
 		return ps_errf(c->e, PS_EFORMAT,
 		               "%s: byte %zu: scanline %ld says %ld pixels, the picture has %ld",
 		               c->name, c->pos, scanline, (long)p[2] << 8 | p[3], len);
 	c->pos += 4;
 	for (int comp = 0; comp < 4; comp++) {
+		uint8_t *o = sl + comp;
 		long j = 0;
 		while (j < len) {
 			unsigned code;
@@ -382,20 +462,24 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 				return truncated(c, "run-length data", scanline);
 			code = c->data[c->pos];
 			if (code > 128) {
+				uint8_t v;
 				code &= 127;
-				if (c->pos + 1 >= c->len)
-					return truncated(c, "a run", scanline);
 				if ((long)code > len - j)
 					return ps_errf(c->e, PS_EFORMAT,
-					               "%s: byte %zu: run of %u overruns scanline %ld", c->name,
-					               c->pos, code, scanline);
+					               "%s: byte %zu: run of %u overruns scanline %ld",
+					               c->name, c->pos, code, scanline);
+				if (c->len - c->pos < 2)
+					return truncated(c, "a run", scanline);
+				v = c->data[c->pos + 1];
 				for (unsigned k = 0; k < code; k++)
-					sl[4 * (j + k) + comp] = c->data[c->pos + 1];
+					o[4 * (j + (long)k)] = v;
 				j += code;
 				c->pos += 2;
 			} else {
+				const uint8_t *q = c->data + c->pos + 1;
 				if (code == 0)
-					return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: zero-length run in scanline %ld",
+					return ps_errf(c->e, PS_EFORMAT,
+					               "%s: byte %zu: zero-length run in scanline %ld",
 					               c->name, c->pos, scanline);
 				if ((long)code > len - j)
 					return ps_errf(c->e, PS_EFORMAT,
@@ -404,7 +488,7 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 				if (c->len - c->pos - 1 < code)
 					return truncated(c, "literal data", scanline);
 				for (unsigned k = 0; k < code; k++)
-					sl[4 * (j + k) + comp] = c->data[c->pos + 1 + k];
+					o[4 * (j + (long)k)] = q[k];
 				j += code;
 				c->pos += 1 + code;
 			}
@@ -413,25 +497,46 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 	return 0;
 }
 
+/* Where pixel p of scanline s lands in standard orientation (row 0 = top). */
+static size_t standard_index(const struct ps_picture *pic, int orient, long slow, long fast,
+                             long s, long p)
+{
+	long xc, yc;   /* coordinates increasing along +X and +Y */
+	if (orient & ORIENT_YMAJOR) {
+		yc = (orient & ORIENT_YDECR) ? slow - 1 - s : s;
+		xc = (orient & ORIENT_XDECR) ? fast - 1 - p : p;
+	} else {
+		xc = (orient & ORIENT_XDECR) ? slow - 1 - s : s;
+		yc = (orient & ORIENT_YDECR) ? fast - 1 - p : p;
+	}
+	return (size_t)(pic->height - 1 - yc) * (size_t)pic->width + (size_t)xc;
+}
+
 int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
                     struct ps_err *e)
 {
 	struct cursor c = { data, len, 0, name ? name : "(picture)", e };
 	long slow = 0, fast = 0;
 	int orient = 0;
-	size_t npix;
+	size_t npix, left;
 	uint8_t *sl = NULL;
 	memset(pic, 0, sizeof *pic);
 	pic->exposure[0] = pic->exposure[1] = pic->exposure[2] = 1.0;
 	pic->pixaspect = 1.0;
+	if (!data && len)
+		return ps_errf(e, PS_EINVAL, "%s: no data", c.name);
 	if (read_header(pic, &c) != 0 || read_resolution(&c, &orient, &slow, &fast) != 0)
 		goto fail;
 	npix = (size_t)slow * (size_t)fast;
-	/* Refuse sizes no file of this length can hold (beyond any plausible
-	 * run-length compression) before allocating anything. */
-	if (npix > PIC_MAX_PIXELS || npix / PIC_MAX_RATIO > (c.len - c.pos) + 1) {
+	left = c.len - c.pos;
+	/* Refuse sizes no file of this length can hold before allocating.  The
+	 * densest encoding Radiance writes is a new-style scanline of 127-pixel
+	 * runs, under 16 pixels a byte; PIC_MAX_RATIO leaves room for old-style
+	 * repeats while keeping a hostile file from asking for more than a few
+	 * hundred times its own size. */
+	if (npix > PIC_MAX_PIXELS || npix / PIC_MAX_RATIO > left) {
 		ps_errf(e, PS_ERANGE, "%s: byte %zu: %ld x %ld pixels cannot be in the %zu bytes left",
-		        c.name, c.pos, fast, slow, c.len - c.pos);
+		        c.name, c.pos, slow, fast, left);
 		goto fail;
 	}
 	pic->orientation = orient;
@@ -443,27 +548,24 @@ int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 		pic->height = (int)fast;
 	}
 	pic->pix = malloc(npix * 4);
-	sl = malloc((size_t)fast * 4);
-	if (!pic->pix || !sl) {
-		ps_errf(e, PS_ENOMEM, "%s: out of memory for %ld x %ld pixels", c.name, fast, slow);
+	if (orient != ORIENT_STANDARD)
+		sl = malloc((size_t)fast * 4);
+	if (!pic->pix || (orient != ORIENT_STANDARD && !sl)) {
+		ps_errf(e, PS_ENOMEM, "%s: out of memory for %ld x %ld pixels", c.name, slow, fast);
 		goto fail;
 	}
 	for (long s = 0; s < slow; s++) {
+		if (orient == ORIENT_STANDARD) {   /* scanline s is row s: decode in place */
+			if (read_scanline(&c, pic->pix + (size_t)s * (size_t)fast * 4, fast, s) != 0)
+				goto fail;
+			continue;
+		}
 		if (read_scanline(&c, sl, fast, s) != 0)
 			goto fail;
-		for (long p = 0; p < fast; p++) {
-			long xc, yc;   /* coordinates increasing along +X and +Y */
-			if (orient & ORIENT_YMAJOR) {
-				yc = (orient & ORIENT_YDECR) ? slow - 1 - s : s;
-				xc = (orient & ORIENT_XDECR) ? fast - 1 - p : p;
-			} else {
-				xc = (orient & ORIENT_XDECR) ? slow - 1 - s : s;
-				yc = (orient & ORIENT_YDECR) ? fast - 1 - p : p;
-			}
-			memcpy(pic->pix + 4 * ((size_t)(pic->height - 1 - yc) * (size_t)pic->width + (size_t)xc),
-			       sl + 4 * p, 4);
-		}
+		for (long p = 0; p < fast; p++)
+			memcpy(pic->pix + 4 * standard_index(pic, orient, slow, fast, s, p), sl + 4 * p, 4);
 	}
+	/* Bytes after the last scanline are ignored, as Radiance does. */
 	free(sl);
 	return 0;
 fail:
