@@ -276,9 +276,12 @@ static int run_rtu(struct virt *v, const char *device, const char *ready)
 		rc = modbus_receive(v->ctx, q);
 		if (rc > 0)
 			serve(v, fd, q, rc);
-		else if (rc < 0 && errno != ETIMEDOUT && errno != EMBBADCRC && errno != EMBBADDATA) {
-			fprintf(stderr, "psvirt: %s: %s\n", device, modbus_strerror(errno));
+		else if (rc < 0) {
+			/* a bad frame or a line with nobody on the other end: drop what
+			 * is there, and do not spin on a hung-up line */
 			modbus_flush(v->ctx);
+			if (errno != ETIMEDOUT && errno != EMBBADCRC && errno != EMBBADDATA)
+				usleep(50000);
 		}
 	}
 	modbus_close(v->ctx);
@@ -506,6 +509,7 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	modbus_set_slave(v.ctx, (int)a.unit);
+	modbus_set_debug(v.ctx, getenv("PSVIRT_DEBUG") != NULL);
 	modbus_set_indication_timeout(v.ctx, 1, 0);   /* a half-sent request cannot stall us */
 	v.map->tab_registers[REG_AO0] = v.last_ao0 = 4095;   /* the room starts at full output */
 	v.map->tab_registers[REG_FAULT] = (uint16_t)a.fault;
