@@ -1,7 +1,10 @@
 # tests/emu: the emulated DALI USB interface (libumockdev + real libusb) for the
 # DALI driver's tests.  Built only when the driver is (libusb) and umockdev is
 # there; the tests that need it skip otherwise.
-#   libpsemu.a       the emulator: vusb.c (usbfs on umockdev) + dali_emu.c (interface, ballasts)
+#   libpsemu.a         the emulator: vusb.c (usbfs on umockdev) + dali_emu.c (interface, ballasts)
+#   tests/psemu-run    a parent that hosts the emulator and runs a program, whose
+#                      real libusb reaches it from the child (emulation.md 2.4)
+#   tests/dali-client  a small program driving the dali_usb driver, for system tests
 UMOCK_FOUND := $(shell $(PKG) --exists umockdev-1.0 && echo yes)
 ifeq ($(HAVE_USB)$(UMOCK_FOUND),yesyes)
 EMU_CFLAGS := $(patsubst -I%,-isystem %,$(shell $(PKG) --cflags umockdev-1.0)) -DPS_WITH_UMOCKDEV
@@ -19,4 +22,13 @@ $(LIBPSEMU): $(call obj,tests/emu/vusb.c tests/emu/dali_emu.c)
 $(EMU_UNIT): $(LIBPSEMU)
 $(EMU_UNIT): LIBS += $(LIBPSEMU) $(EMU_LIBS)
 
+$(BUILD)/tests/psemu-run: $(BUILD)/obj/tests/emu/psemu_run.o $(LIBPSEMU)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(EMU_LIBS) $(LIBS)
+
+$(BUILD)/tests/dali-client: $(BUILD)/obj/tests/emu/dali_client.o $(TEST_LIBS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+
+tests: $(BUILD)/tests/psemu-run $(BUILD)/tests/dali-client
 endif

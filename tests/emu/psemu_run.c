@@ -1,0 +1,169 @@
+/* psemu-run: host emulated DALI USB interfaces in this process and run a
+ * program as a child, whose real libusb reaches them through umockdev
+ * (emulation.md 2.4).  Run with libumockdev-preload.so.0 preloaded:
+ *
+ *   LD_PRELOAD=libumockdev-preload.so.0 psemu-run [-i PORT:SERIAL:N]... [-c FIFO]
+ *       [-s STATEFILE] [-t SECONDS] -- PROGRAM ARGS...
+ *
+ * -i adds an interface at USB port 1-PORT with N ballasts (default 1:A1:4).
+ * -c names a control FIFO, one command a line:
+ *      unplug I | replug I | fault I none|noanswer|garbled|malformed|unplug COUNT | dump
+ * -s: after each command and at the end, the ballasts' state is written there
+ *     (psemu_dump lines), atomically.
+ * -t: kill the child after this many seconds (default 60).
+ * Exit status: the child's; 124 on the time limit; 77 without the preload. */
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+#include <glib.h>
+
+#include "dali_emu.h"
+
+static struct psemu *emu;
+static const char *state_path;
+
+static void write_state(void)
+{
+	char buf[16384], tmp[4200];
+	FILE *fp;
+	if (!state_path)
+		return;
+	psemu_dump(emu, buf, sizeof buf);
+	snprintf(tmp, sizeof tmp, "%s.tmp", state_path);
+	fp = fopen(tmp, "w");
+	if (!fp)
+		return;
+	fputs(buf, fp);
+	fclose(fp);
+	rename(tmp, state_path);
+}
+
+static int fault_kind(const char *s)
+{
+	static const char *const names[] = { "none", "noanswer", "garbled", "malformed", "unplug", NULL };
+	for (int i = 0; names[i]; i++)
+		if (strcmp(s, names[i]) == 0)
+			return i;
+	return -1;
+}
+
+static gpointer control(gpointer path)
+{
+	/* O_RDWR: a read-only open of a FIFO would block inside the preload
+	 * while it holds umockdev's lock (emulation.md pitfall 5) */
+	int fd = open(path, O_RDWR | O_CLOEXEC);
+	FILE *fp = fd >= 0 ? fdopen(fd, "r") : NULL;
+	char line[256], err[256], kind[32];
+	int i, n;
+	if (!fp)
+		return NULL;
+	while (fgets(line, sizeof line, fp)) {
+		if (sscanf(line, "unplug %d", &i) == 1) {
+			if (psemu_unplug(emu, i) != 0)
+				fprintf(stderr, "psemu-run: unplug %d: not plugged\n", i);
+		} else if (sscanf(line, "replug %d", &i) == 1) {
+			if (psemu_replug(emu, i, err, sizeof err) != 0)
+				fprintf(stderr, "psemu-run: %s\n", err);
+		} else if (sscanf(line, "fault %d %31s %d", &i, kind, &n) == 3 && fault_kind(kind) >= 0) {
+			psemu_fault(emu, i, fault_kind(kind), n);
+		} else if (strncmp(line, "dump", 4) != 0) {
+			fprintf(stderr, "psemu-run: unknown command: %s", line);
+		}
+		write_state();
+	}
+	fclose(fp);
+	return NULL;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
+int main(int argc, char **argv)
+{
+	const char *ctl = NULL;
+	char err[256], buf[16384];
+	double limit = 60, end;
+	int opt, nif = 0, status = 0, rc;
+	pid_t pid;
+	while ((opt = getopt(argc, argv, "i:c:s:t:")) != -1) {
+		switch (opt) {
+		case 'i': {
+			int port, n, k = 0;
+			char serial[64];
+			if (!emu && !(emu = psemu_new(err, sizeof err))) {
+				printf("psemu-run: %s\n", err);
+				return 77;
+			}
+			if (sscanf(optarg, "%d:%63[^:]:%d%n", &port, serial, &n, &k) != 3 || optarg[k] ||
+			    psemu_add(emu, port, serial, n, err, sizeof err) < 0) {
+				fprintf(stderr, "psemu-run: -i %s: want PORT:SERIAL:N (%s)\n", optarg, err);
+				return 2;
+			}
+			nif++;
+			break;
+		}
+		case 'c': ctl = optarg; break;
+		case 's': state_path = optarg; break;
+		case 't': limit = atof(optarg); break;
+		default:
+			fprintf(stderr, "usage: psemu-run [-i PORT:SERIAL:N]... [-c FIFO] [-s FILE] [-t S] -- PROG ARGS...\n");
+			return 2;
+		}
+	}
+	if (optind >= argc) {
+		fprintf(stderr, "psemu-run: no program to run\n");
+		return 2;
+	}
+	if (!emu && !(emu = psemu_new(err, sizeof err))) {
+		printf("psemu-run: %s\n", err);
+		return 77;
+	}
+	if (!nif && psemu_add(emu, 1, "A1", 4, err, sizeof err) < 0) {
+		fprintf(stderr, "psemu-run: %s\n", err);
+		return 1;
+	}
+	write_state();
+	if (ctl) {
+		if (mkfifo(ctl, 0600) != 0 && errno != EEXIST) {
+			fprintf(stderr, "psemu-run: %s: %s\n", ctl, strerror(errno));
+			return 1;
+		}
+		g_thread_unref(g_thread_new("psemu-ctl", control, (gpointer)ctl));
+	}
+	/* the child inherits LD_PRELOAD and UMOCKDEV_DIR: its libusb sees our devices */
+	pid = fork();
+	if (pid == 0) {
+		execvp(argv[optind], argv + optind);
+		fprintf(stderr, "psemu-run: %s: %s\n", argv[optind], strerror(errno));
+		_exit(127);
+	}
+	if (pid < 0) {
+		fprintf(stderr, "psemu-run: fork: %s\n", strerror(errno));
+		return 1;
+	}
+	end = now_s() + limit;
+	while ((rc = waitpid(pid, &status, WNOHANG)) == 0 && now_s() < end)
+		g_usleep(10000);
+	if (rc == 0) {
+		kill(pid, SIGKILL);
+		waitpid(pid, &status, 0);
+		fprintf(stderr, "psemu-run: %s killed after %g s\n", argv[optind], limit);
+		status = 124 << 8;
+	}
+	write_state();
+	psemu_dump(emu, buf, sizeof buf);
+	fputs(buf, stdout);
+	psemu_free(emu);
+	return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
