@@ -308,8 +308,8 @@ static int connect_usb(struct dali_usb *d)
 			libusb_close(h);
 		}
 	}
-	if (n > 0)
-		libusb_free_device_list(list, 1);
+	if (n >= 0 && list)
+		libusb_free_device_list(list, 1);   /* allocated even when empty */
 	if (matches != 1) {
 		if (found)
 			libusb_close(found);
