@@ -8,7 +8,10 @@
  * period.
  *
  * Never a long block: every transaction is bounded by the response timeout
- * times (retries + 1); a lost connection is closed and retried only when
+ * times (retries + 1), plus a TCP connect bounded by the same timeout per
+ * try; after a timeout or a garbled reply a TCP connection is replaced (a
+ * late reply must not be taken for the next request's); a lost connection
+ * is closed and retried only when
  * `now` has passed the backoff, which doubles from backoff_min to
  * backoff_max while the device stays away.  Failures follow driver.h:
  * exceptions and garbled replies EPROTO, no reply ETIMEDOUT, connection
@@ -40,6 +43,7 @@ struct mb_point {
 struct mb_dev {
 	modbus_t *ctx;
 	char where[160];      /* "127.0.0.1:502" or "/dev/ttyUSB0" */
+	int tcp;
 	int unit;
 	double timeout;
 	long retries, lost_after;
@@ -154,6 +158,7 @@ static int mb_open(struct ps_dev *dev, const struct ps_opts *o)
 			return -1;
 		snprintf(portstr, sizeof portstr, "%ld", port);
 		snprintf(m->where, sizeof m->where, "%s:%ld", host, port);
+		m->tcp = 1;
 		m->ctx = modbus_new_tcp_pi(host, portstr);
 	} else {
 		if (ps_opt_long(o, "baud", 9600, 1, 10000000, &baud, e, el) ||
@@ -234,20 +239,23 @@ static int classify(struct ps_dev *dev, struct mb_dev *m, const struct mb_point 
 		return 0;   /* the device answered: asking again gives the same answer */
 	}
 	if (e == EMBBADCRC || e == EMBBADDATA || e == EMBBADEXC || e == EMBUNKEXC || e == EMBMDATA ||
-	    e == EMBBADSLAVE) {
-		*out = EPROTO;
-		ps_dev_fail(dev, EPROTO, "%s: garbled reply (%s)", what, modbus_strerror(e));
+	    e == EMBBADSLAVE || e == ETIMEDOUT) {
+		*out = e == ETIMEDOUT ? ETIMEDOUT : EPROTO;
+		if (e == ETIMEDOUT)
+			ps_dev_fail(dev, ETIMEDOUT, "%s: no reply within %.3f s", what, m->timeout);
+		else
+			ps_dev_fail(dev, EPROTO, "%s: garbled reply (%s)", what, modbus_strerror(e));
+		if (m->tcp) {
+			/* a reply may still be on its way (late) or the stream is out of
+			 * step: on TCP only a new connection is sure to carry nothing
+			 * stale, and it costs one handshake; the next try opens it */
+			drop_connection(m, now, 0, e == ETIMEDOUT ? "no reply" : "garbled reply");
+			return 1;
+		}
+		/* a serial line: drop what has arrived; after lost_after timeouts
+		 * in a row reopen the device (a USB adapter may have gone) */
 		modbus_flush(m->ctx);
-		return 1;
-	}
-	if (e == ETIMEDOUT) {
-		*out = ETIMEDOUT;
-		ps_dev_fail(dev, ETIMEDOUT, "%s: no reply within %.3f s", what, m->timeout);
-		/* a late reply must not be taken for the next one's */
-		modbus_flush(m->ctx);
-		if (++m->timeouts >= m->lost_after) {
-			/* silent for long: reconnect (a TCP peer may have vanished
-			 * without a reset); the first attempt is immediate */
+		if (e == ETIMEDOUT && ++m->timeouts >= m->lost_after) {
 			drop_connection(m, now, 0, "no reply");
 			return 0;
 		}

@@ -283,8 +283,9 @@ static int cmd_control(double seconds, double t0)
 		}
 		steps++;
 		faults += fault;
-		printf("tod=%02d:%02d volts=%.4f level=%.4f truth=%.1f%s%s\n", isnan(tod) ? 99 : (int)(tod / 3600),
-		       isnan(tod) ? 99 : (int)fmod(tod / 60, 60), volts, level, lux, *why ? " fault=" : "", why);
+		printf("tod=%02d:%02d volts=%.4f level=%.4f truth=%.1f est=%.1f%s%s\n", isnan(tod) ? 99 : (int)(tod / 3600),
+		       isnan(tod) ? 99 : (int)fmod(tod / 60, 60), volts, level, lux, fault ? NAN : ctl.est_task_lux,
+		       *why ? " fault=" : "", why);
 		fflush(stdout);
 	}
 	printf("control: %.0f steps, %.0f at the safe level, %.0f of %.0f judged steps below target\n", steps,
