@@ -32,7 +32,7 @@ ifeq ($(SAN),1)
 endif
 
 # ---- required libraries ---------------------------------------------------
-REQ_PKGS = sqlite3 inih libsystemd nettle
+REQ_PKGS = sqlite3 inih libsystemd nettle json-c
 CFLAGS_ALL += $(shell $(PKG) --cflags $(REQ_PKGS) 2>/dev/null)
 LIBS_REQ   := $(shell $(PKG) --libs $(REQ_PKGS) 2>/dev/null)
 
@@ -134,7 +134,7 @@ $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/c
 # ---- Debian packages the build and the tests need -------------------------
 # Installed by `make deps` (and so by the README's two commands) when run as root.
 DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsystemd-dev nettle-dev \
-            libcmocka-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev
+            libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus mbpoll socat valgrind \
             libclang-rt-14-dev systemd
 deps:

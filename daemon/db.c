@@ -12,7 +12,19 @@ struct psd_db {
 	sqlite3 *h;
 	sqlite3_stmt *ins;
 	int pending;          /* samples in the open transaction */
+	int batch;
+	unsigned long committed;
 };
+
+void psd_db_set_batch(struct psd_db *db, int batch)
+{
+	db->batch = batch > 0 ? batch : 1;
+}
+
+unsigned long psd_db_committed(const struct psd_db *db)
+{
+	return db->committed;
+}
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
@@ -29,6 +41,23 @@ static const char schema[] =
 	" t REAL NOT NULL, tod_s REAL, sensor_v REAL, output REAL, est_task_lux REAL,"
 	" task_lux REAL, daylight_v REAL, daylight_lux REAL, condition TEXT, ratio REAL, fault TEXT);"
 	"CREATE INDEX IF NOT EXISTS samples_t ON samples(t);";
+
+/* Schema 2 names the zone of each sample (several zones share one log). */
+static int migrate(sqlite3 *h)
+{
+	sqlite3_stmt *st;
+	int has_zone = 0;
+	if (sqlite3_prepare_v2(h, "PRAGMA table_info(samples)", -1, &st, NULL) != SQLITE_OK)
+		return -1;
+	while (sqlite3_step(st) == SQLITE_ROW)
+		has_zone |= strcmp((const char *)sqlite3_column_text(st, 1), "zone") == 0;
+	sqlite3_finalize(st);
+	if (has_zone)
+		return 0;
+	return sqlite3_exec(h, "BEGIN; ALTER TABLE samples ADD COLUMN zone TEXT;"
+	                       " UPDATE meta SET value = '2' WHERE key = 'schema'; COMMIT;",
+	                    NULL, NULL, NULL) == SQLITE_OK ? 0 : -1;
+}
 
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 {
@@ -48,8 +77,15 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 		sqlite3_free(msg);
 		goto bad;
 	}
+	if (migrate(db->h) != 0) {
+		fail(db->h, path, err, errlen);
+		goto bad;
+	}
+	db->batch = DB_BATCH;
 	if (sqlite3_prepare_v2(db->h,
-	                       "INSERT INTO samples VALUES(?,?,?,?,?,?,?,?,?,?,?)", -1, &db->ins,
+	                       "INSERT INTO samples(t, tod_s, sensor_v, output, est_task_lux, task_lux,"
+	                       " daylight_v, daylight_lux, condition, ratio, fault, zone)"
+	                       " VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", -1, &db->ins,
 	                       NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -90,12 +126,16 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 		sqlite3_bind_text(db->ins, 11, s->fault, -1, SQLITE_TRANSIENT);
 	else
 		sqlite3_bind_null(db->ins, 11);
+	if (s->zone)
+		sqlite3_bind_text(db->ins, 12, s->zone, -1, SQLITE_TRANSIENT);
+	else
+		sqlite3_bind_null(db->ins, 12);
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
 		sqlite3_reset(db->ins);
 		return fail(db->h, "insert", err, errlen);
 	}
 	sqlite3_reset(db->ins);
-	if (++db->pending >= DB_BATCH)
+	if (++db->pending >= db->batch)
 		return psd_db_commit(db, err, errlen);
 	return 0;
 }
@@ -106,6 +146,7 @@ int psd_db_commit(struct psd_db *db, char *err, size_t errlen)
 		return 0;
 	if (sqlite3_exec(db->h, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
 		return fail(db->h, "commit", err, errlen);
+	db->committed += (unsigned long)db->pending;
 	db->pending = 0;
 	return 0;
 }
@@ -158,18 +199,18 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 	}
 	sqlite3_busy_timeout(h, 2000);
 	if (sqlite3_prepare_v2(h, "SELECT t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-	                          " daylight_lux, condition, ratio, fault FROM samples ORDER BY rowid",
+	                          " daylight_lux, condition, ratio, fault, zone FROM samples ORDER BY rowid",
 	                       -1, &st, NULL) != SQLITE_OK) {
 		fail(h, path, err, errlen);
 		sqlite3_close(h);
 		return -1;
 	}
-	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault\n", fp);
+	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone\n", fp);
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-		for (int c = 0; c < 11; c++) {
+		for (int c = 0; c < 12; c++) {
 			if (c)
 				fputc(',', fp);
-			if (c == 8 || c == 10)
+			if (c == 8 || c >= 10)
 				csv_text(fp, st, c);
 			else
 				csv_num(fp, st, c);

@@ -17,19 +17,24 @@ struct psd_sample {
 	const char *condition;/* the scene condition the ratio came from */
 	double ratio;         /* task lux per unit of sensor response used */
 	const char *fault;    /* NULL or a short text */
+	const char *zone;     /* the zone's name */
 };
 
 struct psd_db;
 
 /* Open (creating the schema); -1 with a message in err. */
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen);
+/* Samples per transaction (default 60; 1 commits every sample at once). */
+void psd_db_set_batch(struct psd_db *db, int batch);
+/* Samples committed so far by this connection: what a SIGKILL cannot take. */
+unsigned long psd_db_committed(const struct psd_db *db);
 /* Queue a sample; every `batch` samples are committed in one transaction. */
 int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen);
 /* Commit what is queued. */
 int psd_db_commit(struct psd_db *db, char *err, size_t errlen);
 void psd_db_close(struct psd_db *db);
 /* Write the samples as CSV (header: t,tod_s,sensor_v,output,est_task_lux,
- * task_lux,daylight_v,daylight_lux,condition,ratio,fault) to fp. */
+ * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone) to fp. */
 int psd_db_export_csv(const char *path, void *fp, char *err, size_t errlen);
 
 #endif

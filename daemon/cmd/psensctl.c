@@ -1,38 +1,230 @@
-/* psensctl: talk to psensd.  This version reads the sample log directly
- * (readable while psensd writes it):
- *   psensctl -d DATABASE export --csv
- * See psensctl(1). */
+/* psensctl: talk to psensd over its control socket, and export its log.
+ *
+ *   psensctl [-s socket] [-j] status [ZONE] | target ZONE LUX |
+ *            override ZONE LEVEL SECONDS | release ZONE | ratios | log |
+ *            reload | ping | help
+ *   psensctl [-s socket | -d database] export --csv
+ *
+ * Replies are JSON lines; -j prints them as they come, otherwise they are
+ * shown for a person.  See psensctl(1). */
+#include <errno.h>
 #include <getopt.h>
+#include <json-c/json.h>
+#include <math.h>
+#include <poll.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
 
+#include "ctlsock.h"
 #include "db.h"
 
 static void usage(FILE *fp)
 {
-	fprintf(fp, "usage: psensctl -d database export --csv\n");
+	fprintf(fp, "usage: psensctl [-s socket] [-j] [-w seconds] command [arguments]\n"
+	            "       psensctl [-s socket | -d database] export --csv\n"
+	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
+	            "          release ZONE, ratios, log, reload, ping, help\n");
+}
+
+static const char *default_socket(void)
+{
+	const char *env = getenv("PSENSD_SOCKET");
+	return env && *env ? env : "/run/psensd/psensd.sock";
+}
+
+/* One request, one reply line (malloc'd) or NULL after a message. */
+static char *ask(const char *path, const char *request, int timeout_ms)
+{
+	struct sockaddr_un sa = { .sun_family = AF_UNIX };
+	size_t cap = 4096, n = 0, len = strlen(request);
+	char *buf = malloc(cap);
+	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+	if (!buf || fd < 0 || strlen(path) >= sizeof sa.sun_path) {
+		fprintf(stderr, "psensctl: %s: %s\n", path, fd < 0 ? strerror(errno) : "cannot use this path");
+		goto bad;
+	}
+	snprintf(sa.sun_path, sizeof sa.sun_path, "%s", path);
+	if (connect(fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
+		fprintf(stderr, "psensctl: cannot reach psensd at %s: %s\n", path, strerror(errno));
+		goto bad;
+	}
+	if (send(fd, request, len, MSG_NOSIGNAL) != (ssize_t)len || send(fd, "\n", 1, MSG_NOSIGNAL) != 1) {
+		fprintf(stderr, "psensctl: %s: %s\n", path, strerror(errno));
+		goto bad;
+	}
+	for (;;) {
+		struct pollfd p = { fd, POLLIN, 0 };
+		ssize_t got;
+		int rc = poll(&p, 1, timeout_ms);
+		if (rc == 0) {
+			fprintf(stderr, "psensctl: %s: no reply in %d ms\n", path, timeout_ms);
+			goto bad;
+		}
+		if (rc < 0 && errno == EINTR)
+			continue;
+		if (n + 1 >= cap) {
+			char *grown = cap < (1u << 24) ? realloc(buf, cap * 2) : NULL;
+			if (!grown) {
+				fprintf(stderr, "psensctl: reply too long\n");
+				goto bad;
+			}
+			buf = grown;
+			cap *= 2;
+		}
+		got = read(fd, buf + n, cap - n - 1);
+		if (got <= 0) {
+			fprintf(stderr, "psensctl: %s: connection closed without a reply\n", path);
+			goto bad;
+		}
+		n += (size_t)got;
+		if (memchr(buf, '\n', n)) {
+			*(char *)memchr(buf, '\n', n) = '\0';
+			close(fd);
+			return buf;
+		}
+	}
+bad:
+	if (fd >= 0)
+		close(fd);
+	free(buf);
+	return NULL;
+}
+
+static void show_value(json_object *v, int indent, const char *key);
+
+static void show_object(json_object *o, int indent)
+{
+	json_object_object_foreach(o, key, val)
+	{
+		if (strcmp(key, "ok") == 0)
+			continue;
+		show_value(val, indent, key);
+	}
+}
+
+/* A person's view of a reply: key: value, nested blocks indented. */
+static void show_value(json_object *v, int indent, const char *key)
+{
+	enum json_type t = json_object_get_type(v);
+	if (t == json_type_object) {
+		printf("%*s%s:\n", indent, "", key);
+		show_object(v, indent + 2);
+	} else if (t == json_type_array) {
+		size_t n = json_object_array_length(v);
+		printf("%*s%s: (%zu)\n", indent, "", key, n);
+		for (size_t i = 0; i < n; i++) {
+			json_object *e = json_object_array_get_idx(v, i);
+			json_object *name;
+			if (json_object_get_type(e) == json_type_object) {
+				const char *label = json_object_object_get_ex(e, "name", &name) ||
+				                            json_object_object_get_ex(e, "label", &name)
+				                    ? json_object_get_string(name) : "";
+				printf("%*s- %s\n", indent + 2, "", label);
+				show_object(e, indent + 4);
+			} else {
+				printf("%*s- %s\n", indent + 2, "", json_object_get_string(e));
+			}
+		}
+	} else if (t == json_type_null) {
+		printf("%*s%s: -\n", indent, "", key);
+	} else if (t == json_type_double) {
+		printf("%*s%s: %.6g\n", indent, "", key, json_object_get_double(v));
+	} else {
+		printf("%*s%s: %s\n", indent, "", key, json_object_get_string(v));
+	}
+}
+
+static int export_csv(const char *sock, const char *dbpath, int timeout_ms)
+{
+	char err[512];
+	json_object *o = NULL, *db;
+	int rc;
+	if (!dbpath) {
+		char *reply = ask(sock, "log", timeout_ms);
+		if (!reply)
+			return 1;
+		o = json_tokener_parse(reply);
+		free(reply);
+		if (!o || !json_object_object_get_ex(o, "database", &db) || !json_object_get_string(db) ||
+		    json_object_get_type(db) != json_type_string) {
+			fprintf(stderr, "psensctl: psensd keeps no database (use -d)\n");
+			json_object_put(o);
+			return 1;
+		}
+		dbpath = json_object_get_string(db);
+	}
+	rc = psd_db_export_csv(dbpath, stdout, err, sizeof err);
+	if (rc != 0)
+		fprintf(stderr, "psensctl: %s\n", err);
+	json_object_put(o);
+	return rc == 0 && fflush(stdout) == 0 ? 0 : 1;
 }
 
 int main(int argc, char **argv)
 {
-	const char *dbpath = NULL;
-	char err[512];
-	int opt;
-	while ((opt = getopt(argc, argv, "+d:h")) != -1) {
+	const char *sock = default_socket(), *dbpath = NULL;
+	char request[PSD_CTL_MAX_LINE];
+	int opt, raw = 0, timeout_ms = 5000;
+	size_t used = 0;
+	char *reply;
+	json_object *o, *ok, *err;
+	while ((opt = getopt(argc, argv, "+s:d:jw:h")) != -1) {
 		switch (opt) {
+		case 's': sock = optarg; break;
 		case 'd': dbpath = optarg; break;
+		case 'j': raw = 1; break;
+		case 'w': timeout_ms = (int)(atof(optarg) * 1000); break;
 		case 'h': usage(stdout); return 0;
 		default: usage(stderr); return 2;
 		}
 	}
-	if (!dbpath || optind + 2 != argc || strcmp(argv[optind], "export") != 0 ||
-	    strcmp(argv[optind + 1], "--csv") != 0) {
+	if (optind >= argc) {
 		usage(stderr);
 		return 2;
 	}
-	if (psd_db_export_csv(dbpath, stdout, err, sizeof err) != 0) {
-		fprintf(stderr, "psensctl: %s\n", err);
+	if (timeout_ms <= 0)
+		timeout_ms = 5000;
+	if (strcmp(argv[optind], "export") == 0) {
+		if (optind + 2 != argc || strcmp(argv[optind + 1], "--csv") != 0) {
+			usage(stderr);
+			return 2;
+		}
+		return export_csv(sock, dbpath, timeout_ms);
+	}
+	for (int i = optind; i < argc; i++) {
+		int n = snprintf(request + used, sizeof request - used, "%s%s", i > optind ? " " : "", argv[i]);
+		if (n < 0 || (size_t)n >= sizeof request - used) {
+			fprintf(stderr, "psensctl: request longer than %zu bytes\n", sizeof request - 1);
+			return 2;
+		}
+		used += (size_t)n;
+	}
+	if (!(reply = ask(sock, request, timeout_ms)))
+		return 1;
+	if (raw) {
+		puts(reply);
+		o = json_tokener_parse(reply);
+	} else {
+		o = json_tokener_parse(reply);
+		if (!o) {
+			fprintf(stderr, "psensctl: not a JSON reply: %s\n", reply);
+			free(reply);
+			return 1;
+		}
+		if (json_object_object_get_ex(o, "ok", &ok) && json_object_get_boolean(ok))
+			show_object(o, 0);
+	}
+	free(reply);
+	if (!o || !json_object_object_get_ex(o, "ok", &ok) || !json_object_get_boolean(ok)) {
+		if (o && json_object_object_get_ex(o, "error", &err))
+			fprintf(stderr, "psensctl: %s\n", json_object_get_string(err));
+		json_object_put(o);
 		return 1;
 	}
-	return fflush(stdout) == 0 ? 0 : 1;
+	json_object_put(o);
+	return 0;
 }

@@ -1,0 +1,32 @@
+/* The daemon's clock: one type for real time and for a simulated day, so the
+ * tests run a day in seconds through the same event loop and control code.
+ *
+ * Time is seconds on the room's clock: the time of day at which the clock
+ * started plus the time elapsed since.  Real time follows CLOCK_MONOTONIC
+ * (never jumps with NTP or DST), optionally sped up; simulated time jumps
+ * straight to the next deadline. */
+#ifndef PSD_CLOCK_H
+#define PSD_CLOCK_H
+
+#include <time.h>
+
+struct psd_clock {
+	int simulated;
+	double origin;            /* clock value at start (seconds since local midnight) */
+	double speed;             /* real: clock seconds per wall second */
+	struct timespec mono0;    /* real: CLOCK_MONOTONIC at start */
+	double now;               /* simulated: the current time */
+};
+
+void psd_clock_real(struct psd_clock *c, double origin, double speed);
+void psd_clock_simulated(struct psd_clock *c, double origin);
+double psd_clock_now(struct psd_clock *c);
+/* Milliseconds poll() should wait for deadline: 0 when simulated or past,
+ * -1 for an infinite deadline, at most max_ms. */
+int psd_clock_wait_ms(struct psd_clock *c, double deadline, int max_ms);
+/* Simulated: move to deadline (never back).  Real: nothing. */
+void psd_clock_advance(struct psd_clock *c, double deadline);
+/* Seconds since local midnight now, from the wall clock. */
+double psd_clock_local_tod(void);
+
+#endif

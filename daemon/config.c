@@ -1,0 +1,421 @@
+#include "config.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "roomsetup.h"
+
+const char *const psd_action_names[] = { "none", "occupancy", "override", "calibrate", NULL };
+
+static int hhmm(struct ps_conf *c, struct ps_conf_section *s, const char *key, double def, double *out)
+{
+	struct ps_conf_kv *kv = ps_conf_kv(s, key);
+	int h, m, n = 0;
+	*out = def;
+	if (!kv)
+		return 0;
+	if (sscanf(kv->value, "%d:%d%n", &h, &m, &n) != 2 || kv->value[n] || h < 0 || h > 24 || m < 0 ||
+	    m > 59 || (h == 24 && m > 0)) {
+		ps_conf_error(c, kv->line, "%s: '%s' is not HH:MM", key, kv->value);
+		return -1;
+	}
+	*out = h * 3600.0 + m * 60.0;
+	return 0;
+}
+
+static int line_of(struct ps_conf_section *s, const char *key)
+{
+	struct ps_conf_kv *kv = ps_conf_kv(s, key);
+	return kv ? kv->line : s->line;
+}
+
+/* Copy every key of s not in `own` (NULL-terminated) into the option pool. */
+static void driver_opts(struct psd_config *cf, struct ps_conf_section *s, const char *const *own,
+                        struct ps_opts *o)
+{
+	o->v = cf->optpool + cf->nopt;
+	o->n = 0;
+	o->file = cf->conf.path;
+	for (size_t j = 0; j < s->nkv; j++) {
+		int mine = 0;
+		for (size_t k = 0; own[k]; k++)
+			mine |= strcmp(s->kv[j].key, own[k]) == 0;
+		if (mine)
+			continue;
+		if (cf->nopt >= PSD_MAX_OPTS) {
+			ps_conf_error(&cf->conf, s->kv[j].line, "more than %d driver keys in the file",
+			              PSD_MAX_OPTS);
+			return;
+		}
+		s->kv[j].used = 1;   /* the driver reports the keys it does not know */
+		cf->optpool[cf->nopt++] = (struct ps_opt){ s->kv[j].key, s->kv[j].value, s->kv[j].line, 0 };
+		o->n++;
+	}
+}
+
+static int find_name(const char *name, const void *base, size_t n, size_t stride)
+{
+	for (size_t i = 0; i < n; i++)
+		if (strcmp((const char *)base + i * stride, name) == 0)
+			return (int)i;
+	return -1;
+}
+
+int psd_config_point(const struct psd_config *cf, const char *name)
+{
+	return find_name(name, cf->pt, cf->npt, sizeof cf->pt[0]);
+}
+
+int psd_config_zone(const struct psd_config *cf, const char *name)
+{
+	return find_name(name, cf->zone, cf->nzone, sizeof cf->zone[0]);
+}
+
+static int set_name(struct ps_conf *c, int line, char *dst, size_t size, const char *name, const char *kind)
+{
+	size_t n = strlen(name);
+	if (n == 0 || n >= size || strspn(name, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+	                                        "0123456789_-.") != n) {
+		ps_conf_error(c, line, "[%s %s]: a name is 1 to %zu letters, digits, '_', '-' or '.'", kind,
+		              name, size - 1);
+		return -1;
+	}
+	memcpy(dst, name, n + 1);
+	return 0;
+}
+
+static const char *const point_keys[] = { "device", "role", "action", "min", "max", NULL };
+
+static void load_devices(struct psd_config *cf)
+{
+	struct ps_conf *c = &cf->conf;
+	static const char *const own[] = { "driver", NULL };
+	for (size_t i = 0; i < c->nsec; i++) {
+		struct ps_conf_section *s = &c->sec[i];
+		const char *name = ps_conf_section_is(s, "device"), *drv;
+		struct psd_device_conf *d;
+		if (!name)
+			continue;
+		s->used = 1;
+		if (cf->ndev >= PSD_MAX_DEVICES) {
+			ps_conf_error(c, s->line, "more than %d devices", PSD_MAX_DEVICES);
+			continue;
+		}
+		d = &cf->dev[cf->ndev];
+		if (set_name(c, s->line, d->name, sizeof d->name, name, "device") != 0)
+			continue;
+		if (find_name(d->name, cf->dev, cf->ndev, sizeof cf->dev[0]) >= 0) {
+			ps_conf_error(c, s->line, "[device %s] is defined twice", d->name);
+			continue;
+		}
+		d->line = s->line;
+		drv = ps_conf_str(c, s, "driver", NULL);
+		if (!drv)
+			ps_conf_error(c, s->line, "[device %s] needs 'driver'", d->name);
+		else if (!(d->drv = ps_driver_find(drv)))
+			ps_conf_error(c, line_of(s, "driver"), "driver: no driver '%s' (loopback, modbus, "
+			              "dali_usb, gpio)", drv);
+		driver_opts(cf, s, own, &d->opts);
+		cf->ndev++;
+	}
+}
+
+static void load_points(struct psd_config *cf)
+{
+	struct ps_conf *c = &cf->conf;
+	for (size_t i = 0; i < c->nsec; i++) {
+		struct ps_conf_section *s = &c->sec[i];
+		const char *name = ps_conf_section_is(s, "point"), *v;
+		struct psd_point_conf *p;
+		if (!name)
+			continue;
+		s->used = 1;
+		if (cf->npt >= PSD_MAX_POINTS) {
+			ps_conf_error(c, s->line, "more than %d points", PSD_MAX_POINTS);
+			continue;
+		}
+		p = &cf->pt[cf->npt];
+		memset(p, 0, sizeof *p);
+		if (set_name(c, s->line, p->name, sizeof p->name, name, "point") != 0)
+			continue;
+		if (psd_config_point(cf, p->name) >= 0) {
+			ps_conf_error(c, s->line, "[point %s] is defined twice", p->name);
+			continue;
+		}
+		p->line = s->line;
+		p->device = -1;
+		v = ps_conf_str(c, s, "device", NULL);
+		if (!v)
+			ps_conf_error(c, s->line, "[point %s] needs 'device'", p->name);
+		else if ((p->device = find_name(v, cf->dev, cf->ndev, sizeof cf->dev[0])) < 0)
+			ps_conf_error(c, line_of(s, "device"), "device: no [device %s]", v);
+		v = ps_conf_str(c, s, "role", NULL);
+		p->role = v ? ps_role_parse(v) : -1;
+		if (!v)
+			ps_conf_error(c, s->line, "[point %s] needs 'role' (sensor, task, dim, relay, input)", p->name);
+		else if (p->role < 0)
+			ps_conf_error(c, line_of(s, "role"), "role: '%s' is not sensor, task, dim, relay or input", v);
+		ps_conf_enum(c, s, "action", psd_action_names, PSD_ACT_NONE, &p->action);
+		if (p->action != PSD_ACT_NONE && p->role != PS_ROLE_INPUT)
+			ps_conf_error(c, line_of(s, "action"), "action: only an input point has an action");
+		ps_conf_double(c, s, "min", p->role == PS_ROLE_TASK_LUX ? 0 : cf->sensor_min, -1e9, 1e9, &p->min);
+		ps_conf_double(c, s, "max", p->role == PS_ROLE_TASK_LUX ? 2e5 : cf->sensor_max, -1e9, 1e9, &p->max);
+		if (p->min >= p->max)
+			ps_conf_error(c, s->line, "[point %s]: min must be below max", p->name);
+		driver_opts(cf, s, point_keys, &p->opts);
+		cf->npt++;
+	}
+}
+
+/* An implicit point "DEVICE.ROLE" for the zone shorthand `device = NAME`. */
+static int implicit_point(struct psd_config *cf, int dev, int role, int line)
+{
+	char name[96];
+	struct psd_point_conf *p;
+	int i;
+	snprintf(name, sizeof name, "%s.%s", cf->dev[dev].name, ps_role_name(role));
+	if ((i = psd_config_point(cf, name)) >= 0)
+		return i;
+	if (cf->npt >= PSD_MAX_POINTS) {
+		ps_conf_error(&cf->conf, line, "more than %d points", PSD_MAX_POINTS);
+		return -1;
+	}
+	if (strlen(name) >= sizeof p->name) {
+		ps_conf_error(&cf->conf, line, "device name too long for its implicit point %s", name);
+		return -1;
+	}
+	p = &cf->pt[cf->npt];
+	memset(p, 0, sizeof *p);
+	memcpy(p->name, name, strlen(name) + 1);
+	p->device = dev;
+	p->role = role;
+	p->min = role == PS_ROLE_TASK_LUX ? 0 : cf->sensor_min;
+	p->max = role == PS_ROLE_TASK_LUX ? 2e5 : cf->sensor_max;
+	p->opts.file = cf->conf.path;
+	p->line = line;
+	return (int)cf->npt++;
+}
+
+/* "a, b c" -> point indices of the wanted role; returns the count. */
+static int point_list(struct psd_config *cf, struct ps_conf_section *s, const char *key, int role,
+                      int *out, int max)
+{
+	struct ps_conf_kv *kv = ps_conf_kv(s, key);
+	char *copy, *save = NULL;
+	int n = 0;
+	if (!kv)
+		return 0;
+	if (!(copy = strdup(kv->value))) {
+		ps_conf_error(&cf->conf, kv->line, "out of memory");
+		return 0;
+	}
+	for (char *w = strtok_r(copy, ", \t", &save); w; w = strtok_r(NULL, ", \t", &save)) {
+		int i = psd_config_point(cf, w);
+		if (i < 0)
+			ps_conf_error(&cf->conf, kv->line, "%s: no [point %s]", key, w);
+		else if (cf->pt[i].role != role)
+			ps_conf_error(&cf->conf, kv->line, "%s: point %s has role %s, not %s", key, w,
+			              ps_role_name(cf->pt[i].role), ps_role_name(role));
+		else if (n >= max)
+			ps_conf_error(&cf->conf, kv->line, "%s: more than %d points", key, max);
+		else
+			out[n++] = i;
+	}
+	free(copy);
+	return n;
+}
+
+static void load_control(struct ps_conf *c, struct ps_conf_section *s, struct psd_control *k)
+{
+	long steps;
+	memset(k, 0, sizeof *k);
+	ps_conf_enum(c, s, "algorithm", psd_algorithm_names, PSD_ALG_SETPOINT, &k->algorithm);
+	ps_conf_double(c, s, "target_lux", 500, 0, 1e6, &k->target_lux);
+	ps_conf_double(c, s, "min_level", 0.1, 0, 1, &k->min_level);
+	ps_conf_double(c, s, "max_step", 0, 0, 1, &k->max_step);
+	ps_conf_double(c, s, "hysteresis", 0, 0, 1, &k->hysteresis);
+	ps_conf_double(c, s, "sensor_gain", 1, 1e-12, 1e12, &k->sensor_gain);
+	ps_conf_double(c, s, "s_full", 0, 0, 1e6, &k->s_full);
+	ps_conf_double(c, s, "s_set", 0, 0, 1e6, &k->s_set);
+	ps_conf_double(c, s, "ki", 1, 0, 100, &k->ki);
+	ps_conf_double(c, s, "s_off", 1e9, 0, 1e9, &k->s_off);
+	ps_conf_double(c, s, "s_on", 0, 0, 1e9, &k->s_on);
+	ps_conf_double(c, s, "delay", 300, 0, 86400, &k->delay);
+	ps_conf_int(c, s, "steps", 1, 1, 16, &steps);
+	k->steps = (int)steps;
+	if (k->s_on > k->s_off)
+		ps_conf_error(c, s->line, "[%s]: s_on must not exceed s_off (the deadband)", s->name);
+}
+
+static void load_zones(struct psd_config *cf)
+{
+	struct ps_conf *c = &cf->conf;
+	for (size_t i = 0; i < c->nsec; i++) {
+		struct ps_conf_section *s = &c->sec[i];
+		const char *name = ps_conf_section_is(s, "zone"), *v;
+		struct psd_zone_conf *z;
+		int n;
+		if (!name)
+			continue;
+		s->used = 1;
+		if (cf->nzone >= PSD_MAX_ZONES) {
+			ps_conf_error(c, s->line, "more than %d zones", PSD_MAX_ZONES);
+			continue;
+		}
+		z = &cf->zone[cf->nzone];
+		memset(z, 0, sizeof *z);
+		if (set_name(c, s->line, z->name, sizeof z->name, name, "zone") != 0)
+			continue;
+		if (psd_config_zone(cf, z->name) >= 0) {
+			ps_conf_error(c, s->line, "[zone %s] is defined twice", z->name);
+			continue;
+		}
+		z->line = s->line;
+		z->sensor = z->task = -1;
+		if ((v = ps_conf_str(c, s, "device", NULL))) {
+			int d = find_name(v, cf->dev, cf->ndev, sizeof cf->dev[0]);
+			if (d < 0) {
+				ps_conf_error(c, line_of(s, "device"), "device: no [device %s]", v);
+			} else {
+				z->sensor = implicit_point(cf, d, PS_ROLE_SENSOR, line_of(s, "device"));
+				z->dim[0] = implicit_point(cf, d, PS_ROLE_DIM, line_of(s, "device"));
+				z->ndim = z->dim[0] >= 0;
+			}
+		}
+		if (point_list(cf, s, "sensor", PS_ROLE_SENSOR, &z->sensor, 1) == 0 && z->sensor < 0)
+			ps_conf_error(c, s->line, "[zone %s] needs 'sensor' (a point with role sensor) or 'device'",
+			              z->name);
+		point_list(cf, s, "task", PS_ROLE_TASK_LUX, &z->task, 1);
+		n = point_list(cf, s, "dim", PS_ROLE_DIM, z->dim + z->ndim, PSD_MAX_ZONE_OUT - z->ndim);
+		z->ndim += n;
+		z->nrelay = point_list(cf, s, "relay", PS_ROLE_RELAY, z->relay, PSD_MAX_ZONE_OUT);
+		z->ninput = point_list(cf, s, "input", PS_ROLE_INPUT, z->input, PSD_MAX_ZONE_OUT);
+		if (z->ndim + z->nrelay == 0)
+			ps_conf_error(c, s->line, "[zone %s] needs an output: 'dim' or 'relay' points", z->name);
+		load_control(c, s, &z->ctl);
+		ps_conf_double(c, s, "period", cf->period, 0.001, 86400, &z->period);
+		ps_conf_double(c, s, "safe_level", cf->safe_level, 0, 1, &z->safe_level);
+		ps_conf_double(c, s, "stale_after", cf->stale_after > 0 ? cf->stale_after : 2.5 * z->period,
+		               0, 86400 * 7, &z->stale_after);
+		ps_conf_double(c, s, "stuck_after", cf->stuck_after, 0, 86400 * 7, &z->stuck_after);
+		ps_conf_double(c, s, "verify_tolerance", 0, 0, 1, &z->verify_tolerance);
+		ps_conf_double(c, s, "override_time", 3600, 1, 86400 * 7, &z->override_s);
+		ps_conf_double(c, s, "vacancy_delay", 900, 0, 86400, &z->vacancy_s);
+		cf->nzone++;
+	}
+	if (cf->nzone == 0)
+		ps_conf_error(c, 0, "no [zone NAME] section: psensd has nothing to control");
+}
+
+/* A point used by two zones would be commanded twice: refuse it. */
+static void check_sharing(struct psd_config *cf)
+{
+	int owner[PSD_MAX_POINTS];
+	for (size_t i = 0; i < PSD_MAX_POINTS; i++)
+		owner[i] = -1;
+	for (size_t z = 0; z < cf->nzone; z++) {
+		struct psd_zone_conf *zc = &cf->zone[z];
+		int all[2 * PSD_MAX_ZONE_OUT], n = 0;
+		for (int i = 0; i < zc->ndim; i++)
+			all[n++] = zc->dim[i];
+		for (int i = 0; i < zc->nrelay; i++)
+			all[n++] = zc->relay[i];
+		for (int i = 0; i < n; i++) {
+			if (all[i] < 0)
+				continue;
+			if (owner[all[i]] >= 0 && owner[all[i]] != (int)z)
+				ps_conf_error(&cf->conf, zc->line, "[zone %s]: output %s already belongs to zone %s",
+				              zc->name, cf->pt[all[i]].name, cf->zone[owner[all[i]]].name);
+			owner[all[i]] = (int)z;
+		}
+	}
+}
+
+static int load(struct psd_config *cf)
+{
+	struct ps_conf *c = &cf->conf;
+	struct ps_conf_section *s = ps_conf_section(c, "psensd");
+	char *mode;
+	long maxc;
+	cf->results = ps_conf_path(c, s, "results");
+	cf->scene = ps_conf_path(c, s, "scene");
+	cf->database = ps_conf_path(c, s, "database");
+	cf->socket_path = ps_conf_path(c, s, "socket");
+	if (!s)
+		ps_conf_error(c, 0, "no [psensd] section");
+	else if (!cf->results)
+		ps_conf_error(c, s->line, "[psensd] needs 'results' (a psscene results file)");
+	ps_conf_double(c, s, "period", 60, 0.001, 86400, &cf->period);
+	ps_conf_double(c, s, "safe_level", 1.0, 0, 1, &cf->safe_level);
+	ps_conf_double(c, s, "sensor_min", 0.01, -100, 100, &cf->sensor_min);
+	ps_conf_double(c, s, "sensor_max", 9.9, -100, 1000, &cf->sensor_max);
+	ps_conf_double(c, s, "stale_after", 0, 0, 86400 * 7, &cf->stale_after);
+	ps_conf_double(c, s, "stuck_after", 0, 0, 86400 * 7, &cf->stuck_after);
+	ps_conf_int(c, s, "max_clients", 32, 1, 1024, &maxc);
+	cf->max_clients = maxc;
+	cf->socket_mode = 0660;
+	if ((mode = (char *)ps_conf_str(c, s, "socket_mode", NULL))) {
+		char *end;
+		long m = strtol(mode, &end, 8);
+		if (*end || m < 0 || m > 0777 || (m & 0007))
+			ps_conf_error(c, line_of(s, "socket_mode"), "socket_mode: '%s' is not octal permission "
+			              "bits without access for others (e.g. 0660)", mode);
+		else
+			cf->socket_mode = (double)m;
+	}
+	s = ps_conf_section(c, "simulate");
+	snprintf(cf->date, sizeof cf->date, "%s", ps_conf_str(c, s, "date", "03-18"));
+	if (psd_day_of_year(cf->date) < 0)
+		ps_conf_error(c, s ? line_of(s, "date") : 0, "date: '%s' is not MM-DD", cf->date);
+	hhmm(c, s, "start", 6 * 3600.0, &cf->start);
+	hhmm(c, s, "end", 20 * 3600.0, &cf->end);
+	hhmm(c, s, "sunrise", 6 * 3600.0, &cf->sunrise);
+	hhmm(c, s, "sunset", 18 * 3600.0, &cf->sunset);
+	ps_conf_double(c, s, "tolerance", 0.02, 0, 1, &cf->tolerance);
+	if (cf->end <= cf->start)
+		ps_conf_error(c, s ? s->line : 0, "[simulate]: end must be after start");
+	if (cf->sunset <= cf->sunrise)
+		ps_conf_error(c, s ? s->line : 0, "[simulate]: sunset must be after sunrise");
+	load_devices(cf);
+	load_points(cf);
+	load_zones(cf);
+	check_sharing(cf);
+	ps_conf_check_unused(c);
+	return c->nerrors ? -1 : 0;
+}
+
+int psd_config_load(struct psd_config *cf, const char *path)
+{
+	struct ps_err e;
+	memset(cf, 0, sizeof *cf);
+	if (ps_conf_load(&cf->conf, path, &e) != 0) {
+		/* e.msg already names the file */
+		cf->conf.errors = malloc(sizeof *cf->conf.errors);
+		if (cf->conf.errors && (cf->conf.errors[0] = strdup(e.msg)))
+			cf->conf.nerrors = 1;
+		return -1;
+	}
+	return load(cf);
+}
+
+int psd_config_load_string(struct psd_config *cf, const char *text, const char *path)
+{
+	struct ps_err e;
+	memset(cf, 0, sizeof *cf);
+	if (ps_conf_load_string(&cf->conf, text, path, &e) != 0) {
+		ps_conf_error(&cf->conf, 0, "%s", e.msg);
+		return -1;
+	}
+	return load(cf);
+}
+
+void psd_config_free(struct psd_config *cf)
+{
+	free(cf->results);
+	free(cf->scene);
+	free(cf->database);
+	free(cf->socket_path);
+	ps_conf_free(&cf->conf);
+	memset(cf, 0, sizeof *cf);
+}

@@ -1,0 +1,101 @@
+/* psensd.conf: the daemon's whole configuration, read and checked in one
+ * pass (every error as file:line), so that `psensd -n` and SIGHUP can judge
+ * a file before anything is changed.  See psensd.conf(5).
+ *
+ *   [psensd]          results, scene, database, socket, period, safe_level, ...
+ *   [simulate]        the day the loopback room plays (date, sunrise, ...)
+ *   [device NAME]     driver = NAME and the driver's own keys
+ *   [point NAME]      device = NAME, role = sensor|task|dim|relay|input, the
+ *                     daemon's keys (min, max, action) and the driver's keys
+ *   [zone NAME]       sensor, task, dim, relay, input points and the control
+ *
+ * A zone may name `device = NAME` instead of points: it then gets a sensor
+ * and a dim point on that device with no options (the loopback shorthand). */
+#ifndef PSD_CONFIG_H
+#define PSD_CONFIG_H
+
+#include <stddef.h>
+
+#include "conf.h"
+#include "control.h"
+#include "driver.h"
+
+enum {
+	PSD_MAX_DEVICES = 16,
+	PSD_MAX_POINTS = 64,
+	PSD_MAX_ZONES = 16,
+	PSD_MAX_ZONE_OUT = 8,     /* dim, relay or input points of one zone */
+	PSD_MAX_OPTS = 512,       /* driver options, all devices and points together */
+};
+
+enum psd_action { PSD_ACT_NONE = 0, PSD_ACT_OCCUPANCY, PSD_ACT_OVERRIDE, PSD_ACT_CALIBRATE };
+extern const char *const psd_action_names[];
+
+struct psd_device_conf {
+	char name[48];
+	const struct ps_driver *drv;
+	struct ps_opts opts;      /* the section's keys but `driver` */
+	int line;
+};
+
+struct psd_point_conf {
+	char name[48];
+	int device;               /* index into devices */
+	int role;                 /* enum ps_role */
+	int action;               /* inputs: enum psd_action */
+	double min, max;          /* valid range of a reading (sensor volts, task lux) */
+	struct ps_opts opts;      /* the driver's keys */
+	int line;
+};
+
+struct psd_zone_conf {
+	char name[48];
+	int sensor;               /* point index */
+	int task;                 /* point index or -1 */
+	int dim[PSD_MAX_ZONE_OUT], ndim;
+	int relay[PSD_MAX_ZONE_OUT], nrelay;
+	int input[PSD_MAX_ZONE_OUT], ninput;
+	struct psd_control ctl;   /* constants; state is zeroed */
+	double period;            /* seconds between control steps */
+	double safe_level;        /* light output on a fault */
+	double stale_after;       /* no good reading for this long: fault (s) */
+	double stuck_after;       /* an unchanged reading for this long: fault (s), 0: off */
+	double verify_tolerance;  /* read dim points back: a ballast that differs by more
+	                             than this one period after a command is a fault; 0: off */
+	double override_s;        /* a button's override lasts this long */
+	double vacancy_s;         /* occupancy: lights off after this long vacant */
+	int line;
+};
+
+struct psd_config {
+	struct ps_conf conf;      /* owns every string the options point into */
+	char *results, *scene, *database, *socket_path;
+	double socket_mode;       /* permission bits of the socket (octal in the file) */
+	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;
+	long max_clients;
+	/* [simulate] */
+	char date[16];
+	double start, end, sunrise, sunset, tolerance;
+	struct psd_device_conf dev[PSD_MAX_DEVICES];
+	size_t ndev;
+	struct psd_point_conf pt[PSD_MAX_POINTS];
+	size_t npt;
+	struct psd_zone_conf zone[PSD_MAX_ZONES];
+	size_t nzone;
+	struct ps_opt optpool[PSD_MAX_OPTS];
+	size_t nopt;
+};
+
+/* Read and check path into cf (allocated by the caller, may be large).
+ * Returns 0, or -1 with every error in cf->conf.errors (and a read failure
+ * as its only error).  psd_config_free() is needed either way. */
+int psd_config_load(struct psd_config *cf, const char *path);
+/* The same from text (tests and fuzzing); path only names it in messages. */
+int psd_config_load_string(struct psd_config *cf, const char *text, const char *path);
+void psd_config_free(struct psd_config *cf);
+
+/* Index of a device, point or zone by name, -1 if none. */
+int psd_config_point(const struct psd_config *cf, const char *name);
+int psd_config_zone(const struct psd_config *cf, const char *name);
+
+#endif

@@ -1,0 +1,230 @@
+/* The control socket's commands: one request line in, one JSON line out.
+ * Every reply has "ok"; a failed one has "error" too.  psensctl(1) lists
+ * the commands; `help` does as well. */
+#include <errno.h>
+#include <json-c/json.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "daemon.h"
+#include "log.h"
+#include "room.h"
+
+static const char help_text[] =
+	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | release ZONE | "
+	"ratios | log | reload | help";
+
+static void put_num(json_object *o, const char *key, double v)
+{
+	/* JSON has no NaN: an unknown value is null */
+	json_object_object_add(o, key, isfinite(v) ? json_object_new_double(v) : NULL);
+}
+
+static void put_str(json_object *o, const char *key, const char *v)
+{
+	json_object_object_add(o, key, v ? json_object_new_string(v) : NULL);
+}
+
+static void finish(json_object *o, char *reply, size_t len)
+{
+	const char *text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN);
+	if (strlen(text) >= len)
+		snprintf(reply, len, "{\"ok\":false,\"error\":\"reply too long\"}");
+	else
+		snprintf(reply, len, "%s", text);
+	json_object_put(o);
+}
+
+static void error_reply(char *reply, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void error_reply(char *reply, size_t len, const char *fmt, ...)
+{
+	char msg[512];
+	va_list ap;
+	json_object *o = json_object_new_object();
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	va_end(ap);
+	json_object_object_add(o, "ok", json_object_new_boolean(0));
+	put_str(o, "error", msg);
+	finish(o, reply, len);
+}
+
+static json_object *ok_reply(void)
+{
+	json_object *o = json_object_new_object();
+	json_object_object_add(o, "ok", json_object_new_boolean(1));
+	return o;
+}
+
+static json_object *zone_json(const struct psd_engine *e, const struct psd_zone *z, double now)
+{
+	json_object *o = json_object_new_object();
+	const struct psd_config *cf = e->cf;
+	put_str(o, "name", z->zc->name);
+	put_str(o, "algorithm", psd_algorithm_names[z->ctl.algorithm]);
+	put_num(o, "target_lux", z->ctl.target_lux);
+	put_num(o, "level", z->level);
+	put_num(o, "sensor_v", z->volts);
+	put_num(o, "est_task_lux", z->in_fault ? NAN : z->ctl.est_task_lux);
+	put_num(o, "task_lux", z->task_lux);
+	put_num(o, "daylight_v", z->ctl.daylight_volts);
+	put_str(o, "sensor", cf->pt[z->zc->sensor].name);
+	put_str(o, "fault", z->in_fault ? z->why : NULL);
+	put_num(o, "safe_level", z->zc->safe_level);
+	put_num(o, "period", z->zc->period);
+	if (now < z->override_until) {
+		json_object *ov = json_object_new_object();
+		put_num(ov, "level", z->override_level);
+		put_num(ov, "remaining_s", z->override_until - now);
+		json_object_object_add(o, "override", ov);
+	} else {
+		json_object_object_add(o, "override", NULL);
+	}
+	if (z->occupancy >= 0)
+		json_object_object_add(o, "occupied", json_object_new_boolean(z->occupancy));
+	json_object_object_add(o, "steps", json_object_new_int64((int64_t)z->steps));
+	json_object_object_add(o, "fault_steps", json_object_new_int64((int64_t)z->fault_steps));
+	if (z->room)
+		put_num(o, "true_task_lux", ps_room_true_task_lux(z->room, now));
+	return o;
+}
+
+static void status(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+{
+	struct psd_engine *e = &d->engine;
+	double now = psd_clock_now(&d->clock);
+	json_object *o, *zones;
+	char t[8];
+	if (argc > 2 || (argc == 2 && !psd_engine_zone(e, argv[1]))) {
+		error_reply(reply, len, argc > 2 ? "usage: status [ZONE]" : "no zone '%s'", argv[1]);
+		return;
+	}
+	o = ok_reply();
+	zones = json_object_new_array();
+	psd_hhmm(now, t);
+	put_num(o, "now", now);
+	put_str(o, "time", t);
+	put_str(o, "clock", d->clock.simulated ? "simulated" : "real");
+	json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
+	put_str(o, "config", d->config_path);
+	json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
+	put_num(o, "latency_max_s", e->lat_n ? e->lat_max : NAN);
+	put_num(o, "latency_mean_s", e->lat_n ? e->lat_sum / (double)e->lat_n : NAN);
+	put_num(o, "late_max_s", e->late_max);
+	json_object_object_add(o, "reloads", json_object_new_int64((int64_t)d->reloads));
+	json_object_object_add(o, "requests", json_object_new_int64((int64_t)d->ctl.requests));
+	json_object_object_add(o, "rejected", json_object_new_int64((int64_t)d->ctl.rejected));
+	for (size_t i = 0; i < e->nzone; i++)
+		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
+			json_object_array_add(zones, zone_json(e, &e->zone[i], now));
+	json_object_object_add(o, "zones", zones);
+	finish(o, reply, len);
+}
+
+static void ratios(struct psd_daemon *d, char *reply, size_t len)
+{
+	const struct ps_results *r = &d->engine.res;
+	json_object *o, *conds;
+	if (!d->engine.have_res) {
+		error_reply(reply, len, "no results loaded");
+		return;
+	}
+	o = ok_reply();
+	conds = json_object_new_array();
+	put_str(o, "results", d->engine.cf->results);
+	put_str(o, "scene", r->scene);
+	put_str(o, "scene_sha256", r->scene_hash);
+	put_num(o, "daylight_ratio_mean", r->daylight_ratio_mean);
+	put_num(o, "daylight_ratio_sd", r->daylight_ratio_sd);
+	put_num(o, "electric_ratio", r->electric_ratio);
+	put_num(o, "task_sensor_ratio", r->task_sensor_ratio);
+	for (size_t i = 0; i < r->ncond; i++) {
+		json_object *c = json_object_new_object();
+		put_str(c, "label", r->cond[i].label);
+		put_str(c, "date", r->cond[i].date);
+		put_num(c, "tod_s", r->cond[i].tod_s >= 0 ? r->cond[i].tod_s : NAN);
+		json_object_object_add(c, "computed", json_object_new_boolean(r->cond[i].computed));
+		put_num(c, "sensor_response", r->cond[i].computed ? r->cond[i].sensor_response : NAN);
+		put_num(c, "task_lux", r->cond[i].computed ? r->cond[i].task_lux : NAN);
+		put_num(c, "ratio", r->cond[i].computed ? r->cond[i].ratio : NAN);
+		json_object_array_add(conds, c);
+	}
+	json_object_object_add(o, "conditions", conds);
+	finish(o, reply, len);
+}
+
+static int number(const char *text, double *out)
+{
+	char *end;
+	errno = 0;
+	*out = strtod(text, &end);
+	return *text && !*end && errno == 0 && isfinite(*out) ? 0 : -1;
+}
+
+void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
+{
+	struct psd_daemon *d = user;
+	struct psd_engine *e = &d->engine;
+	char *argv[PSD_CTL_MAX_WORDS], err[512];
+	int argc = psd_ctl_split(line, argv, err, sizeof err);
+	double a, b;
+	(void)c;
+	if (argc < 0) {
+		error_reply(reply, len, "%s", err);
+		return;
+	}
+	if (argc == 0) {
+		error_reply(reply, len, "empty request; try help");
+		return;
+	}
+	if (strcmp(argv[0], "ping") == 0 && argc == 1) {
+		json_object *o = ok_reply();
+		json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
+		finish(o, reply, len);
+	} else if (strcmp(argv[0], "help") == 0) {
+		json_object *o = ok_reply();
+		put_str(o, "commands", help_text);
+		finish(o, reply, len);
+	} else if (strcmp(argv[0], "status") == 0) {
+		status(d, argc, argv, reply, len);
+	} else if (strcmp(argv[0], "ratios") == 0 && argc == 1) {
+		ratios(d, reply, len);
+	} else if (strcmp(argv[0], "log") == 0 && argc == 1) {
+		json_object *o = ok_reply();
+		put_str(o, "database", e->cf->database);
+		json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
+		finish(o, reply, len);
+	} else if (strcmp(argv[0], "target") == 0) {
+		if (argc != 3 || number(argv[2], &a) != 0)
+			error_reply(reply, len, "usage: target ZONE LUX");
+		else if (psd_engine_set_target(e, argv[1], a, err, sizeof err) != 0)
+			error_reply(reply, len, "%s", err);
+		else
+			finish(ok_reply(), reply, len);
+	} else if (strcmp(argv[0], "override") == 0) {
+		if (argc != 4 || number(argv[2], &a) != 0 || number(argv[3], &b) != 0)
+			error_reply(reply, len, "usage: override ZONE LEVEL SECONDS (level 0 to 1)");
+		else if (psd_engine_override(e, argv[1], a, b, psd_clock_now(&d->clock), err, sizeof err) != 0)
+			error_reply(reply, len, "%s", err);
+		else
+			finish(ok_reply(), reply, len);
+	} else if (strcmp(argv[0], "release") == 0) {
+		if (argc != 2)
+			error_reply(reply, len, "usage: release ZONE");
+		else if (psd_engine_release(e, argv[1], err, sizeof err) != 0)
+			error_reply(reply, len, "%s", err);
+		else
+			finish(ok_reply(), reply, len);
+	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
+		d->reload = 1;   /* after this request, like SIGHUP */
+		finish(ok_reply(), reply, len);
+	} else {
+		char shown[64];
+		snprintf(shown, sizeof shown, "%s", argv[0]);
+		error_reply(reply, len, "unknown request '%s' or wrong arguments; try help", shown);
+	}
+}

@@ -1,0 +1,297 @@
+#include "ctlsock.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <grp.h>
+#include <pwd.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "log.h"
+
+static double wall(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int psd_ctl_split(char *line, char **argv, char *err, size_t errlen)
+{
+	int n = 0;
+	char *p = line;
+	for (char *q = line; *q; q++)
+		if ((unsigned char)*q < 0x20 && *q != '\t') {
+			snprintf(err, errlen, "control character 0x%02x at byte %d", (unsigned char)*q, (int)(q - line));
+			return -1;
+		} else if ((unsigned char)*q == 0x7f) {
+			snprintf(err, errlen, "control character 0x7f at byte %d", (int)(q - line));
+			return -1;
+		}
+	for (;;) {
+		while (*p == ' ' || *p == '\t')
+			p++;
+		if (!*p)
+			break;
+		if (n == PSD_CTL_MAX_WORDS) {
+			snprintf(err, errlen, "more than %d words", PSD_CTL_MAX_WORDS);
+			return -1;
+		}
+		argv[n++] = p;
+		while (*p && *p != ' ' && *p != '\t')
+			p++;
+		if (*p)
+			*p++ = '\0';
+	}
+	return n;
+}
+
+int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
+                 void *user, char *err, size_t errlen)
+{
+	struct sockaddr_un sa = { .sun_family = AF_UNIX };
+	struct stat st;
+	memset(s, 0, sizeof *s);
+	s->lfd = -1;
+	if (strlen(path) >= sizeof sa.sun_path) {
+		snprintf(err, errlen, "%s: a socket path is at most %zu bytes", path, sizeof sa.sun_path - 1);
+		return -1;
+	}
+	s->cl = calloc((size_t)max_clients, sizeof *s->cl);
+	if (!s->cl) {
+		snprintf(err, errlen, "%s: out of memory", path);
+		return -1;
+	}
+	s->max = max_clients;
+	s->handler = h;
+	s->user = user;
+	snprintf(s->path, sizeof s->path, "%s", path);
+	snprintf(sa.sun_path, sizeof sa.sun_path, "%s", path);
+	/* a socket left by a killed daemon is replaced; anything else is not ours */
+	if (lstat(path, &st) == 0) {
+		if (!S_ISSOCK(st.st_mode)) {
+			snprintf(err, errlen, "%s exists and is not a socket", path);
+			goto bad;
+		}
+		unlink(path);
+	}
+	s->lfd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+	if (s->lfd < 0 || bind(s->lfd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
+	    chmod(path, (mode_t)mode) != 0 || listen(s->lfd, 64) != 0) {
+		snprintf(err, errlen, "%s: %s", path, strerror(errno));
+		goto bad;
+	}
+	return 0;
+bad:
+	if (s->lfd >= 0)
+		close(s->lfd);
+	free(s->cl);
+	s->cl = NULL;
+	s->lfd = -1;
+	s->path[0] = 0;
+	return -1;
+}
+
+int psd_ctl_pollfds(const struct psd_ctlsock *s, struct pollfd *fds, int max)
+{
+	int n = 0;
+	if (s->lfd < 0 || max < 1)
+		return 0;
+	fds[n++] = (struct pollfd){ s->lfd, POLLIN, 0 };
+	for (int i = 0; i < s->ncl && n < max; i++)
+		fds[n++] = (struct pollfd){ s->cl[i].fd, (short)(POLLIN | (s->cl[i].nout ? POLLOUT : 0)), 0 };
+	return n;
+}
+
+static void drop(struct psd_ctlsock *s, int i)
+{
+	close(s->cl[i].fd);
+	free(s->cl[i].out);
+	s->cl[i] = s->cl[--s->ncl];
+	memset(&s->cl[s->ncl], 0, sizeof s->cl[s->ncl]);
+}
+
+/* Queue text and a newline; a client that stops reading is dropped. */
+static int queue(struct psd_ctl_client *c, const char *text)
+{
+	size_t n = strlen(text);
+	if (c->nout + n + 1 > PSD_CTL_MAX_OUT)
+		return -1;
+	if (c->nout + n + 1 > c->outcap) {
+		size_t cap = c->outcap ? c->outcap : 4096;
+		char *grown;
+		while (cap < c->nout + n + 1)
+			cap *= 2;
+		if (!(grown = realloc(c->out, cap)))
+			return -1;
+		c->out = grown;
+		c->outcap = cap;
+	}
+	memcpy(c->out + c->nout, text, n);
+	c->out[c->nout + n] = '\n';
+	c->nout += n + 1;
+	return 0;
+}
+
+/* Root, the daemon's own user, or anyone in the daemon's group. */
+static int peer_allowed(uid_t uid, gid_t gid)
+{
+	struct passwd pw, *res = NULL;
+	char buf[4096];
+	gid_t groups[64];
+	int ng = 64;
+	if (uid == 0 || uid == geteuid() || gid == getegid())
+		return 1;
+	if (getpwuid_r(uid, &pw, buf, sizeof buf, &res) != 0 || !res)
+		return 0;
+	if (getgrouplist(pw.pw_name, pw.pw_gid, groups, &ng) < 0)
+		return 0;
+	for (int i = 0; i < ng; i++)
+		if (groups[i] == getegid())
+			return 1;
+	return 0;
+}
+
+static void accept_all(struct psd_ctlsock *s)
+{
+	for (;;) {
+		struct ucred cr;
+		socklen_t len = sizeof cr;
+		int fd = accept4(s->lfd, NULL, NULL, SOCK_NONBLOCK | SOCK_CLOEXEC);
+		if (fd < 0)
+			return;
+		if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cr, &len) != 0 || !peer_allowed(cr.uid, cr.gid)) {
+			static const char no[] = "{\"ok\":false,\"error\":\"permission denied\"}\n";
+			s->rejected++;
+			log_warnx("control socket: refused uid %d pid %d (not in the daemon's group)", (int)cr.uid,
+			          (int)cr.pid);
+			(void)!write(fd, no, sizeof no - 1);
+			close(fd);
+			continue;
+		}
+		if (s->ncl >= s->max) {
+			static const char busy[] = "{\"ok\":false,\"error\":\"too many clients\"}\n";
+			s->rejected++;
+			(void)!write(fd, busy, sizeof busy - 1);
+			close(fd);
+			continue;
+		}
+		s->cl[s->ncl] = (struct psd_ctl_client){ .fd = fd, .uid = cr.uid, .pid = cr.pid, .last = wall() };
+		s->ncl++;
+	}
+}
+
+/* Handle every complete line in the input buffer. */
+static void lines(struct psd_ctlsock *s, struct psd_ctl_client *c)
+{
+	char reply[PSD_CTL_MAX_OUT / 2];
+	char *nl;
+	while (!c->closing && (nl = memchr(c->in, '\n', c->nin))) {
+		size_t len = (size_t)(nl - c->in), eff = len;
+		*nl = '\0';
+		if (eff && c->in[eff - 1] == '\r')
+			c->in[--eff] = '\0';
+		reply[0] = '\0';
+		s->requests++;
+		if (strlen(c->in) != eff)
+			snprintf(reply, sizeof reply, "{\"ok\":false,\"error\":\"NUL byte in the request\"}");
+		else
+			s->handler(s->user, c, c->in, reply, sizeof reply);
+		if (queue(c, reply) != 0)
+			c->closing = 1;
+		memmove(c->in, nl + 1, c->nin - len - 1);
+		c->nin -= len + 1;
+	}
+}
+
+static int read_client(struct psd_ctlsock *s, struct psd_ctl_client *c)
+{
+	for (;;) {
+		ssize_t n = read(c->fd, c->in + c->nin, sizeof c->in - 1 - c->nin);
+		if (n == 0)
+			return c->nout ? (c->closing = 1, 0) : -1;
+		if (n < 0)
+			return errno == EAGAIN || errno == EINTR ? 0 : -1;
+		c->nin += (size_t)n;
+		c->last = wall();
+		lines(s, c);
+		if (c->nin == sizeof c->in - 1 && !memchr(c->in, '\n', c->nin)) {
+			char msg[128];
+			snprintf(msg, sizeof msg, "{\"ok\":false,\"error\":\"request longer than %d bytes\"}",
+			         PSD_CTL_MAX_LINE - 1);
+			s->rejected++;
+			queue(c, msg);
+			c->nin = 0;
+			c->closing = 1;
+		}
+		if (c->closing)
+			return 0;
+	}
+}
+
+static int write_client(struct psd_ctl_client *c)
+{
+	while (c->nout) {
+		ssize_t n = send(c->fd, c->out, c->nout, MSG_NOSIGNAL);
+		if (n < 0)
+			return errno == EAGAIN || errno == EINTR ? 0 : -1;
+		memmove(c->out, c->out + n, c->nout - (size_t)n);
+		c->nout -= (size_t)n;
+	}
+	return 0;
+}
+
+void psd_ctl_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds)
+{
+	double now = wall();
+	if (s->lfd < 0)
+		return;
+	/* clients first (by descriptor: the array shifts when one is dropped) */
+	for (int k = 1; k < nfds; k++) {
+		int i;
+		for (i = 0; i < s->ncl && s->cl[i].fd != fds[k].fd; i++)
+			;
+		if (i == s->ncl)
+			continue;
+		if (fds[k].revents & POLLIN) {
+			if (read_client(s, &s->cl[i]) != 0) {
+				drop(s, i);
+				continue;
+			}
+		} else if (fds[k].revents & (POLLERR | POLLHUP | POLLNVAL)) {
+			drop(s, i);
+			continue;
+		}
+		if (write_client(&s->cl[i]) != 0 || (s->cl[i].closing && s->cl[i].nout == 0)) {
+			if (s->cl[i].closing)
+				shutdown(s->cl[i].fd, SHUT_RDWR);
+			drop(s, i);
+		}
+	}
+	for (int i = 0; i < s->ncl; i++)
+		if (now - s->cl[i].last > PSD_CTL_IDLE_S) {
+			drop(s, i);
+			i--;
+		}
+	if (nfds > 0 && (fds[0].revents & POLLIN))
+		accept_all(s);
+}
+
+void psd_ctl_close(struct psd_ctlsock *s)
+{
+	while (s->ncl)
+		drop(s, s->ncl - 1);
+	free(s->cl);
+	s->cl = NULL;
+	if (s->lfd >= 0) {
+		close(s->lfd);
+		unlink(s->path);
+	}
+	s->lfd = -1;
+}

@@ -1,0 +1,62 @@
+/* The control socket: a Unix stream socket, one request per line, one reply
+ * line per request (JSON; psensctl(1) and socat(1) both speak it).
+ *
+ * It guards the daemon: requests longer than PSD_CTL_MAX_LINE get an error
+ * reply and the connection is closed; at most max_clients connections
+ * (one more is told "too many clients" and closed); a client idle for
+ * PSD_CTL_IDLE_S or not reading its replies (more than PSD_CTL_MAX_OUT
+ * queued) is dropped; peers are checked by SO_PEERCRED: root, the daemon's
+ * user, or members of the daemon's group. */
+#ifndef PSD_CTLSOCK_H
+#define PSD_CTLSOCK_H
+
+#include <poll.h>
+#include <stddef.h>
+#include <sys/types.h>
+
+enum { PSD_CTL_MAX_LINE = 1024, PSD_CTL_MAX_OUT = 1 << 16, PSD_CTL_IDLE_S = 120 };
+
+struct psd_ctl_client {
+	int fd;
+	uid_t uid;
+	pid_t pid;
+	char in[PSD_CTL_MAX_LINE + 1];
+	size_t nin;
+	char *out;
+	size_t nout, outcap;
+	double last;          /* wall seconds of the last activity */
+	int closing;          /* close once out is written */
+};
+
+/* handler: reply (a line without its newline) for one request line. */
+typedef void (*psd_ctl_handler)(void *user, const struct psd_ctl_client *c, char *line, char *reply,
+                                size_t replylen);
+
+struct psd_ctlsock {
+	int lfd;
+	char path[108];
+	struct psd_ctl_client *cl;
+	int ncl, max;
+	unsigned long requests, rejected;
+	psd_ctl_handler handler;
+	void *user;
+};
+
+/* Create the socket at path (an old socket file there is replaced) with the
+ * permission bits mode.  -1 with a message in err. */
+int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
+                 void *user, char *err, size_t errlen);
+/* Descriptors to poll; returns the count written (at most max). */
+int psd_ctl_pollfds(const struct psd_ctlsock *s, struct pollfd *fds, int max);
+/* Serve what poll() found on the descriptors psd_ctl_pollfds gave. */
+void psd_ctl_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds);
+/* Close every connection and the socket, and remove the file. */
+void psd_ctl_close(struct psd_ctlsock *s);
+
+/* Split a request into words (spaces and tabs); words are at most
+ * PSD_CTL_MAX_WORDS.  Returns the count, or -1 with a message in err for
+ * control characters or too many words. */
+enum { PSD_CTL_MAX_WORDS = 8 };
+int psd_ctl_split(char *line, char **argv, char *err, size_t errlen);
+
+#endif

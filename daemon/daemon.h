@@ -1,0 +1,43 @@
+/* psensd's state as a whole: the engine (devices, zones, log), the clock,
+ * the control socket, and what the event loop needs to reload and stop.
+ * One value, no globals: tests build and tear down as many as they like. */
+#ifndef PSD_DAEMON_H
+#define PSD_DAEMON_H
+
+#include "clock.h"
+#include "ctlsock.h"
+#include "engine.h"
+
+struct psd_daemon {
+	const char *config_path;
+	struct psd_engine engine;
+	struct psd_clock clock;
+	struct psd_ctlsock ctl;
+	int have_ctl;
+	double end;               /* simulated: stop at this time; real: INFINITY */
+	int watchdog_ms;          /* systemd watchdog interval / 2, 0: none */
+	int stop;                 /* 1: SIGTERM/SIGINT seen */
+	int reload;               /* 1: SIGHUP seen */
+	unsigned long reloads, reload_failures;
+	const char *self;         /* argv[0], to find psscene */
+};
+
+/* Load path, refresh the results, open the engine at the clock's now, and
+ * the control socket.  -1 after logging why. */
+int psd_daemon_start(struct psd_daemon *d, const char *path);
+/* The event loop until d->stop or the simulated end; returns 0. */
+int psd_daemon_run(struct psd_daemon *d);
+/* SIGHUP's work: a new config replaces the running one only when it loads
+ * and opens; otherwise the old one keeps running.  0 when replaced. */
+int psd_daemon_reload(struct psd_daemon *d);
+/* Safe level (unless why is NULL: already done), close everything. */
+void psd_daemon_stop(struct psd_daemon *d, const char *why);
+
+/* The control socket's handler (daemon/ctlcmd.c). */
+void psd_ctl_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
+
+/* Recompute the results with psscene when they are missing or older than
+ * the scene (daemon/refresh.c).  -1 after logging why. */
+int psd_refresh_results(const struct psd_config *cf, const char *self);
+
+#endif

@@ -1,0 +1,96 @@
+/* The running control: the configuration's devices opened, their points
+ * attached, and per zone the control state, its faults and its statistics.
+ * It does no waiting and reads no clock: the event loop (daemon/loop.c)
+ * hands it `now` and asks for its next deadline, so a simulated day and
+ * real time run the same code. */
+#ifndef PSD_ENGINE_H
+#define PSD_ENGINE_H
+
+#include <poll.h>
+#include <stddef.h>
+
+#include "config.h"
+#include "control.h"
+#include "db.h"
+#include "driver.h"
+#include "results.h"
+
+struct ps_room;
+
+/* What a loopback zone's truth says about the control, for the summary. */
+struct psd_zone_stats {
+	double samples, below, worst_lux, fault_steps;
+	double err_sum, err2_sum, err_max, err_n;
+	double energy0;           /* room energy when the zone started */
+};
+
+struct psd_zone {
+	const struct psd_zone_conf *zc;
+	struct psd_control ctl;
+	double next;              /* time of the next control step */
+	double started;
+	int in_fault;             /* at the safe level */
+	char why[256];            /* the fault, when in_fault */
+	double last_ok;           /* time of the last good reading */
+	double last_volts, same_since;  /* stuck detection */
+	double volts, task_lux;   /* last readings (NAN if none) */
+	double level;             /* last commanded output */
+	double override_level, override_until;   /* override: level until a time */
+	int occupancy;            /* -1 no occupancy input, 0 vacant, 1 occupied */
+	double vacant_since;
+	double verify_at;         /* when the dim points should show `level` */
+	unsigned long steps, fault_steps;
+	struct ps_room *room;     /* when the sensor is on a loopback device: the truth */
+	struct psd_zone_stats st;
+};
+
+struct psd_engine {
+	struct psd_config *cf;    /* owned: freed by psd_engine_close */
+	struct ps_dev dev[PSD_MAX_DEVICES];
+	int dev_open[PSD_MAX_DEVICES];
+	struct ps_point pt[PSD_MAX_POINTS];
+	struct psd_zone zone[PSD_MAX_ZONES];
+	size_t nzone;
+	struct ps_results res;
+	int have_res;
+	struct psd_db *db;
+	int db_batch;             /* samples per transaction (1 in real time) */
+	unsigned long logged;     /* samples committed to the database */
+	unsigned long log_errors;
+	double lat_max, lat_sum;  /* reading-to-command latency, wall seconds */
+	unsigned long lat_n;
+	double late_max;          /* worst lateness of a step against its schedule, clock s */
+};
+
+/* Open cf's devices and points at time now and prepare the zones (cf is then
+ * the engine's).  prev, when given, is the engine being replaced: zones of
+ * the same name keep their level and override.  -1 with a message in err;
+ * the engine is then closed and cf is still the caller's. */
+int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
+                    const struct psd_engine *prev, char *err, size_t errlen);
+/* Run every zone whose step is due at now. */
+void psd_engine_step(struct psd_engine *e, double now, double scheduled_late);
+/* The next time something is due: a zone's step or a driver's deadline. */
+double psd_engine_deadline(const struct psd_engine *e);
+/* Driver descriptors for poll(): fills up to max, returns the count; fd_dev
+ * gets the device index of each. */
+int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, int max);
+/* Let drivers whose fd fired or whose deadline passed do their work. */
+void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *fds,
+                        const int *fd_dev, int nfds);
+/* Every output to its zone's safe level (shutdown). */
+void psd_engine_safe(struct psd_engine *e, double now, const char *why);
+/* Commit the log and close every device.  Returns the config to free (or NULL). */
+struct psd_config *psd_engine_close(struct psd_engine *e);
+
+/* Control-socket actions; -1 with a message in err. */
+int psd_engine_set_target(struct psd_engine *e, const char *zone, double lux, char *err, size_t n);
+int psd_engine_override(struct psd_engine *e, const char *zone, double level, double seconds,
+                        double now, char *err, size_t n);
+int psd_engine_release(struct psd_engine *e, const char *zone, char *err, size_t n);
+struct psd_zone *psd_engine_zone(struct psd_engine *e, const char *name);
+
+/* "HH:MM" of a clock time (the room's clock: modulo a day). */
+void psd_hhmm(double t, char out[8]);
+
+#endif

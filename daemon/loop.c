@@ -1,0 +1,234 @@
+/* The event loop: one poll() over the signals, the control socket and the
+ * drivers' descriptors, with the timeout set by the next deadline.  A
+ * simulated clock jumps to that deadline instead of waiting, so a day runs
+ * in seconds through this same loop. */
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/signalfd.h>
+#include <time.h>
+#include <systemd/sd-daemon.h>
+#include <unistd.h>
+
+#include "daemon.h"
+#include "log.h"
+
+enum { MAX_POLL = 8 + 1024 + PSD_MAX_DEVICES };
+
+static int sigfd = -1;
+
+static double mono(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}   /* the process's signals: one per process by nature */
+
+static int signals_block(void)
+{
+	sigset_t set;
+	if (sigfd >= 0)
+		return 0;
+	sigemptyset(&set);
+	sigaddset(&set, SIGHUP);
+	sigaddset(&set, SIGTERM);
+	sigaddset(&set, SIGINT);
+	signal(SIGPIPE, SIG_IGN);
+	if (sigprocmask(SIG_BLOCK, &set, NULL) != 0)
+		return -1;
+	sigfd = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
+	return sigfd >= 0 ? 0 : -1;
+}
+
+static void signals_read(struct psd_daemon *d)
+{
+	struct signalfd_siginfo si;
+	while (read(sigfd, &si, sizeof si) == (ssize_t)sizeof si) {
+		if (si.ssi_signo == SIGHUP)
+			d->reload = 1;
+		else
+			d->stop = (int)si.ssi_signo;
+	}
+}
+
+static const char *socket_path(const struct psd_config *cf, char *buf, size_t n)
+{
+	const char *rt = getenv("RUNTIME_DIRECTORY");   /* set by systemd's RuntimeDirectory= */
+	if (cf->socket_path)
+		return cf->socket_path;
+	snprintf(buf, n, "%s/psensd.sock", rt && *rt ? rt : "/run/psensd");
+	return buf;
+}
+
+static void log_config_errors(const struct psd_config *cf)
+{
+	for (size_t i = 0; i < cf->conf.nerrors; i++)
+		log_warnx("%s", cf->conf.errors[i]);
+}
+
+int psd_daemon_start(struct psd_daemon *d, const char *path)
+{
+	struct psd_config *cf = calloc(1, sizeof *cf);
+	char err[1024] = "", sock[256];
+	double now = psd_clock_now(&d->clock);
+	d->config_path = path;
+	if (!cf) {
+		log_warn("config");
+		return -1;
+	}
+	if (psd_config_load(cf, path) != 0) {
+		log_config_errors(cf);
+		psd_config_free(cf);
+		free(cf);
+		return -1;
+	}
+	if (psd_refresh_results(cf, d->self) != 0 ||
+	    psd_engine_open(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, err, sizeof err) != 0) {
+		if (d->engine.cf == NULL && err[0])
+			log_warnx("%s", err);
+		psd_config_free(cf);
+		free(cf);
+		return -1;
+	}
+	if (signals_block() != 0) {
+		log_warn("signals");
+		return -1;
+	}
+	/* the socket: always in real time; in a simulated day only when configured */
+	if (!d->clock.simulated || cf->socket_path) {
+		if (psd_ctl_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
+		                 (int)cf->max_clients, psd_ctl_handle, d, err, sizeof err) != 0) {
+			log_warnx("control socket %s (set socket = in [psensd], or run under systemd "
+			          "with RuntimeDirectory=)", err);
+			psd_engine_close(&d->engine);
+			psd_config_free(cf);
+			free(cf);
+			return -1;
+		}
+		d->have_ctl = 1;
+		log_info("control socket %s", d->ctl.path);
+	}
+	return 0;
+}
+
+int psd_daemon_reload(struct psd_daemon *d)
+{
+	struct psd_config *cf = calloc(1, sizeof *cf), *old;
+	struct psd_engine *snap = malloc(sizeof *snap);
+	char err[1024];
+	double now = psd_clock_now(&d->clock);
+	int batch = d->engine.db_batch;
+	sd_notify(0, "RELOADING=1");
+	if (!cf || !snap) {
+		log_warn("reload");
+		goto keep;
+	}
+	if (psd_config_load(cf, d->config_path) != 0) {
+		log_config_errors(cf);
+		log_warnx("reload: %s has errors: the running configuration stays", d->config_path);
+		goto keep;
+	}
+	if (psd_refresh_results(cf, d->self) != 0) {
+		log_warnx("reload: no results for the new configuration: the running configuration stays");
+		goto keep;
+	}
+	/* devices can be opened once (a claimed USB interface, a GPIO line):
+	 * close the running ones, try the new, and reopen the old on failure */
+	*snap = d->engine;
+	old = psd_engine_close(&d->engine);
+	if (psd_engine_open(&d->engine, cf, now, batch, snap, err, sizeof err) != 0) {
+		log_warnx("reload: %s: the running configuration stays", err);
+		if (psd_engine_open(&d->engine, old, now, batch, snap, err, sizeof err) != 0) {
+			log_warnx("reload: cannot reopen the running configuration either: %s", err);
+			d->stop = SIGTERM;
+		}
+		psd_config_free(cf);
+		free(cf);
+		free(snap);
+		d->reload_failures++;
+		sd_notify(0, "READY=1");
+		return -1;
+	}
+	psd_config_free(old);
+	free(old);
+	free(snap);
+	d->reloads++;
+	log_info("reloaded %s", d->config_path);
+	sd_notify(0, "READY=1");
+	return 0;
+keep:
+	if (cf)
+		psd_config_free(cf);
+	free(cf);
+	free(snap);
+	d->reload_failures++;
+	sd_notify(0, "READY=1");
+	return -1;
+}
+
+int psd_daemon_run(struct psd_daemon *d)
+{
+	static struct pollfd fds[MAX_POLL];
+	static int fd_dev[MAX_POLL];
+	uint64_t wd_usec = 0;
+	double wd_next = 0;
+	if (sd_watchdog_enabled(0, &wd_usec) > 0)
+		d->watchdog_ms = (int)(wd_usec / 2000);
+	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
+	while (!d->stop) {
+		double now = psd_clock_now(&d->clock), deadline;
+		int n = 0, nctl, ndev, timeout;
+		if (d->clock.simulated && now >= d->end)
+			break;
+		psd_engine_step(&d->engine, now, 0);
+		deadline = psd_engine_deadline(&d->engine);
+		if (d->clock.simulated && deadline > d->end)
+			deadline = d->end;
+		fds[n++] = (struct pollfd){ sigfd, POLLIN, 0 };
+		nctl = d->have_ctl ? psd_ctl_pollfds(&d->ctl, fds + n, MAX_POLL - n - PSD_MAX_DEVICES) : 0;
+		n += nctl;
+		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, MAX_POLL - n);
+		timeout = psd_clock_wait_ms(&d->clock, deadline, d->watchdog_ms ? d->watchdog_ms : 60000);
+		if (poll(fds, (nfds_t)(n + ndev), timeout) < 0 && errno != EINTR) {
+			log_warn("poll");
+			break;
+		}
+		if (fds[0].revents & POLLIN)
+			signals_read(d);
+		if (nctl)
+			psd_ctl_service(&d->ctl, fds + 1, nctl);
+		now = psd_clock_now(&d->clock);
+		psd_engine_service(&d->engine, now, fds + 1 + nctl, fd_dev, ndev);
+		if (d->reload) {
+			d->reload = 0;
+			psd_daemon_reload(d);
+		}
+		if (d->watchdog_ms && mono() >= wd_next) {
+			sd_notify(0, "WATCHDOG=1");
+			wd_next = mono() + d->watchdog_ms / 1000.0;
+		}
+		psd_clock_advance(&d->clock, deadline);
+	}
+	return 0;
+}
+
+void psd_daemon_stop(struct psd_daemon *d, const char *why)
+{
+	double now = psd_clock_now(&d->clock);
+	sd_notify(0, "STOPPING=1");
+	if (d->engine.cf) {
+		if (why)
+			psd_engine_safe(&d->engine, now, why);
+		{
+			struct psd_config *cf = psd_engine_close(&d->engine);
+			psd_config_free(cf);
+			free(cf);
+		}
+	}
+	if (d->have_ctl)
+		psd_ctl_close(&d->ctl);
+	d->have_ctl = 0;
+}
