@@ -146,6 +146,8 @@ clean:
 # ---- install ---------------------------------------------------------------
 SYSCONFDIR ?= /etc
 UNITDIR    ?= /lib/systemd/system
+SYSUSERSDIR ?= /usr/lib/sysusers.d
+UDEVRULESDIR ?= /usr/lib/udev/rules.d
 DATADIR    ?= $(PREFIX)/share/psensd
 MANDIR     ?= $(PREFIX)/share/man
 STATEDIR   ?= /var/lib/psensd
@@ -165,6 +167,9 @@ install: all
 	if [ -f systemd/psensd.service ]; then install -d $(DESTDIR)$(UNITDIR); \
 	    sed 's|@SBINDIR@|$(PREFIX)/sbin|g; s|@SYSCONFDIR@|$(SYSCONFDIR)|g' systemd/psensd.service \
 	    > $(DESTDIR)$(UNITDIR)/psensd.service; chmod 644 $(DESTDIR)$(UNITDIR)/psensd.service; fi
+	install -d $(DESTDIR)$(SYSUSERSDIR) $(DESTDIR)$(UDEVRULESDIR)
+	install -m 644 systemd/psensd.sysusers $(DESTDIR)$(SYSUSERSDIR)/psensd.conf
+	install -m 644 systemd/60-psensd.rules $(DESTDIR)$(UDEVRULESDIR)/60-psensd.rules
 	install -d $(DESTDIR)$(DATADIR)
 	cp -R config/example $(DESTDIR)$(DATADIR)/
 	if [ -d sim/data ]; then cp -R sim/data/. $(DESTDIR)$(DATADIR)/; fi

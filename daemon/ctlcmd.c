@@ -31,7 +31,10 @@ static void put_str(json_object *o, const char *key, const char *v)
 
 static void finish(json_object *o, char *reply, size_t len)
 {
-	const char *text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN);
+	const char *text;
+	/* 10 significant digits: 0.3 reads 0.3, not 0.29999999999999999 */
+	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
+	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
 	if (strlen(text) >= len)
 		snprintf(reply, len, "{\"ok\":false,\"error\":\"reply too long\"}");
 	else

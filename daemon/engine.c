@@ -145,6 +145,8 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 	memset(e, 0, sizeof *e);
 	e->cf = cf;
 	e->db_batch = db_batch > 0 ? db_batch : 1;
+	if (prev)
+		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
 	if (cf->results) {
 		if (ps_results_read(&e->res, cf->results, &pe) != 0) {
 			fail(err, errlen, "%s", pe.msg);
@@ -230,11 +232,12 @@ static int command(struct psd_engine *e, struct psd_zone *z, double now, double 
 static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, const char *why)
 {
 	char t[8], ignored[256];
-	if (!z->in_fault || strcmp(z->why, why) != 0) {
-		psd_hhmm(now, t);
+	psd_hhmm(now, t);
+	if (!z->in_fault)
 		log_warnx("zone %s: %s fault: %s: lights to the safe level %.0f %%", z->zc->name, t, why,
 		          100 * z->zc->safe_level);
-	}
+	else if (strcmp(z->why, why) != 0)
+		log_debug("zone %s: %s fault now: %s", z->zc->name, t, why);
 	z->in_fault = 1;
 	snprintf(z->why, sizeof z->why, "%s", why);
 	command(e, z, now, z->zc->safe_level, ignored, sizeof ignored);
@@ -258,8 +261,11 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 		if (errno == ENODEV || errno == ENOTSUP || errno == EINVAL || now - z->last_ok >= zc->stale_after) {
 			if (errno == ENODEV || errno == ENOTSUP || errno == EINVAL)
 				snprintf(why, n, "%s", d->err);
-			else
-				snprintf(why, n, "no reading for %.0f s (%s)", now - z->last_ok, d->err);
+			else {
+				char since[8];
+				psd_hhmm(z->last_ok, since);
+				snprintf(why, n, "no reading since %s (%s)", since, d->err);
+			}
 			return -1;
 		}
 		log_debug("zone %s: %s (holding the level)", zc->name, d->err);
@@ -325,7 +331,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 			log_warnx("%s: %s", e->cf->database, err);
 		return;
 	}
-	e->logged = psd_db_committed(e->db);
+	e->logged = e->logged_base + psd_db_committed(e->db);
 }
 
 static void truth(struct psd_engine *e, struct psd_zone *z, double now)
@@ -410,8 +416,14 @@ void psd_engine_step(struct psd_engine *e, double now, double scheduled_late)
 	(void)scheduled_late;
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
-		if (z->next > now)
+		if (z->next > now) {
+			if (z->asap) {   /* an event's step keeps the schedule */
+				z->asap = 0;
+				zone_step(e, z, now);
+			}
 			continue;
+		}
+		z->asap = 0;
 		if (now - z->next > e->late_max)
 			e->late_max = now - z->next;
 		zone_step(e, z, now);
@@ -425,9 +437,12 @@ void psd_engine_step(struct psd_engine *e, double now, double scheduled_late)
 double psd_engine_deadline(const struct psd_engine *e)
 {
 	double t = INFINITY;
-	for (size_t i = 0; i < e->nzone; i++)
+	for (size_t i = 0; i < e->nzone; i++) {
 		if (e->zone[i].next < t)
 			t = e->zone[i].next;
+		if (e->zone[i].asap)
+			t = -INFINITY;   /* now */
+	}
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		const struct ps_dev *d = &e->dev[i];
 		if (d->drv->deadline) {
@@ -484,7 +499,7 @@ void psd_engine_safe(struct psd_engine *e, double now, const char *why)
 		char dberr[512];
 		if (psd_db_commit(e->db, dberr, sizeof dberr) != 0)
 			log_warnx("%s: %s", e->cf->database, dberr);
-		e->logged = psd_db_committed(e->db);
+		e->logged = e->logged_base + psd_db_committed(e->db);
 	}
 }
 
@@ -510,7 +525,7 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 					z->vacant_since = now;
 				}
 				log_info("zone %s: %s", z->zc->name, value > 0.5 ? "occupied" : "vacant");
-				z->next = now;   /* act on it now */
+				z->asap = 1;   /* act on it now, off the schedule */
 				break;
 			case PSD_ACT_OVERRIDE:
 				if (value < 0.5)
@@ -523,7 +538,7 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 					z->override_until = now + z->zc->override_s;
 					log_info("zone %s: button: full output for %.0f s", z->zc->name, z->zc->override_s);
 				}
-				z->next = now;
+				z->asap = 1;
 				break;
 			case PSD_ACT_CALIBRATE:
 				if (value > 0.5)
@@ -568,7 +583,7 @@ int psd_engine_override(struct psd_engine *e, const char *zone, double level, do
 		return fail(err, n, "duration %g s is outside 0 to 7 days", seconds);
 	z->override_level = level;
 	z->override_until = now + seconds;
-	z->next = now;   /* at once, not at the next period */
+	z->asap = 1;   /* at once, not at the next period */
 	log_info("zone %s: override %.0f %% for %g s", zone, 100 * level, seconds);
 	return 0;
 }
@@ -579,7 +594,7 @@ int psd_engine_release(struct psd_engine *e, const char *zone, char *err, size_t
 	if (!z)
 		return fail(err, n, "no zone '%s'", zone);
 	z->override_until = -INFINITY;
-	z->next = z->next > 0 ? z->next : 0;
+	z->asap = 1;
 	log_info("zone %s: override released", zone);
 	return 0;
 }

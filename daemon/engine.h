@@ -28,6 +28,7 @@ struct psd_zone {
 	const struct psd_zone_conf *zc;
 	struct psd_control ctl;
 	double next;              /* time of the next control step */
+	int asap;                 /* an event wants a step now, off the schedule */
 	double started;
 	int in_fault;             /* at the safe level */
 	char why[256];            /* the fault, when in_fault */
@@ -56,6 +57,7 @@ struct psd_engine {
 	struct psd_db *db;
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */
+	unsigned long logged_base;/* committed by the engines this one replaced */
 	unsigned long log_errors;
 	double lat_max, lat_sum;  /* reading-to-command latency, wall seconds */
 	unsigned long lat_n;

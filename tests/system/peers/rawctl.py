@@ -1,0 +1,59 @@
+#!/usr/bin/python3
+"""Raw control-socket client for tests: send bytes, print the reply lines.
+  rawctl.py SOCKET send TEXT          one request (\\n added), print the reply
+  rawctl.py SOCKET bytes N            N bytes of 'x' with no newline: print the reply
+  rawctl.py SOCKET hold N             open N connections at once, send ping on each,
+                                      print one reply per connection (or 'closed')
+  rawctl.py SOCKET burst N            N bad requests on one connection, print the count of error replies
+"""
+import socket, sys
+
+def conn(path):
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    s.settimeout(5)
+    s.connect(path)
+    return s
+
+def line(s):
+    buf = b""
+    while not buf.endswith(b"\n"):
+        try:
+            chunk = s.recv(65536)
+        except (ConnectionResetError, socket.timeout):
+            break
+        if not chunk:
+            break
+        buf += chunk
+    return buf.decode("utf-8", "replace").strip() or "closed"
+
+path, what = sys.argv[1], sys.argv[2]
+if what == "send":
+    s = conn(path); s.sendall(sys.argv[3].encode("utf-8", "surrogateescape") + b"\n"); print(line(s))
+elif what == "bytes":
+    s = conn(path)
+    try:
+        s.sendall(b"x" * int(sys.argv[3]))
+    except (BrokenPipeError, ConnectionResetError):
+        pass
+    print(line(s))
+elif what == "hold":
+    socks = [conn(path) for _ in range(int(sys.argv[3]))]
+    for s in socks:
+        try:
+            s.sendall(b"ping\n")
+        except (BrokenPipeError, ConnectionResetError):
+            pass
+    for s in socks:
+        print(line(s))
+elif what == "burst":
+    s = conn(path); n = int(sys.argv[3])
+    s.sendall(b"".join(b"nonsense %d \x01\n" % i if i % 2 else b"target nowhere abc\n" for i in range(n)))
+    got = 0
+    buf = b""
+    while got < n:
+        chunk = s.recv(65536)
+        if not chunk:
+            break
+        buf += chunk
+        got = buf.count(b"\n")
+    print(sum(1 for l in buf.split(b"\n") if b'"ok":false' in l))
