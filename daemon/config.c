@@ -85,7 +85,7 @@ static int set_name(struct ps_conf *c, int line, char *dst, size_t size, const c
 	return 0;
 }
 
-static const char *const point_keys[] = { "device", "role", "action", "min", "max", NULL };
+static const char *const point_keys[] = { "device", "role", "action", "valid_min", "valid_max", NULL };
 
 static void load_devices(struct psd_config *cf)
 {
@@ -159,10 +159,10 @@ static void load_points(struct psd_config *cf)
 		ps_conf_enum(c, s, "action", psd_action_names, PSD_ACT_NONE, &p->action);
 		if (p->action != PSD_ACT_NONE && p->role != PS_ROLE_INPUT)
 			ps_conf_error(c, line_of(s, "action"), "action: only an input point has an action");
-		ps_conf_double(c, s, "min", p->role == PS_ROLE_TASK_LUX ? 0 : cf->sensor_min, -1e9, 1e9, &p->min);
-		ps_conf_double(c, s, "max", p->role == PS_ROLE_TASK_LUX ? 2e5 : cf->sensor_max, -1e9, 1e9, &p->max);
+		ps_conf_double(c, s, "valid_min", p->role == PS_ROLE_TASK_LUX ? 0 : cf->sensor_min, -1e9, 1e9, &p->min);
+		ps_conf_double(c, s, "valid_max", p->role == PS_ROLE_TASK_LUX ? 2e5 : cf->sensor_max, -1e9, 1e9, &p->max);
 		if (p->min >= p->max)
-			ps_conf_error(c, s->line, "[point %s]: min must be below max", p->name);
+			ps_conf_error(c, s->line, "[point %s]: valid_min must be below valid_max", p->name);
 		driver_opts(cf, s, point_keys, &p->opts);
 		cf->npt++;
 	}

@@ -256,10 +256,12 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 	double v = NAN;
 	if (d->drv->read(d, &e->pt[zc->sensor], now, &v) != 0) {
 		z->volts = NAN;
-		/* a lost device is a fault at once; a missed reply only once the
-		 * last good reading is older than stale_after */
-		if (errno == ENODEV || errno == ENOTSUP || errno == EINVAL || now - z->last_ok >= zc->stale_after) {
-			if (errno == ENODEV || errno == ENOTSUP || errno == EINVAL)
+		/* a lost device or a reading out of its range is a fault at once;
+		 * a missed or garbled reply only once the last good reading is
+		 * older than stale_after */
+		int at_once = errno == ENODEV || errno == ENOTSUP || errno == EINVAL || errno == ERANGE;
+		if (at_once || now - z->last_ok >= zc->stale_after) {
+			if (at_once)
 				snprintf(why, n, "%s", d->err);
 			else {
 				char since[8];
