@@ -300,6 +300,7 @@ static void load_zones(struct psd_config *cf)
 		               0, 86400 * 7, &z->stale_after);
 		ps_conf_double(c, s, "stuck_after", cf->stuck_after, 0, 86400 * 7, &z->stuck_after);
 		ps_conf_double(c, s, "verify_tolerance", 0, 0, 1, &z->verify_tolerance);
+		ps_conf_bool(c, s, "readback", 0, &z->readback);
 		ps_conf_double(c, s, "override_time", 3600, 1, 86400 * 7, &z->override_s);
 		ps_conf_double(c, s, "vacancy_delay", 900, 0, 86400, &z->vacancy_s);
 		cf->nzone++;

@@ -62,6 +62,7 @@ struct psd_zone_conf {
 	double stuck_after;       /* an unchanged reading for this long: fault (s), 0: off */
 	double verify_tolerance;  /* read dim points back: a ballast that differs by more
 	                             than this one period after a command is a fault; 0: off */
+	int readback;             /* read the first dim point's actual output before each step */
 	double override_s;        /* a button's override lasts this long */
 	double vacancy_s;         /* occupancy: lights off after this long vacant */
 	int line;

@@ -389,6 +389,14 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			z->in_fault = 0;
 			z->why[0] = 0;
 		}
+		if (rc == 0 && zc->readback && zc->ndim > 0) {
+			/* the lamps' actual output, not the last command: it matters
+			 * when the period is short against the ballast's fade */
+			struct ps_dev *d = dev_of(e, zc->dim[0]);
+			double out;
+			if (d->drv->read(d, &e->pt[zc->dim[0]], now, &out) == 0 && out >= 0 && out <= 1)
+				z->ctl.level = out;
+		}
 		if (rc == 0)
 			level = psd_control_step(&z->ctl, z->volts, now);
 		else
