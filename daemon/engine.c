@@ -383,12 +383,6 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	if (rc < 0) {
 		enter_fault(e, z, now, why);
 	} else if (rc == 0 || !z->in_fault) {
-		if (z->in_fault) {
-			psd_hhmm(now, t);
-			log_info("zone %s: %s fault cleared: control resumes", zc->name, t);
-			z->in_fault = 0;
-			z->why[0] = 0;
-		}
 		if (rc == 0 && zc->readback && zc->ndim > 0) {
 			/* the lamps' actual output, not the last command: it matters
 			 * when the period is short against the ballast's fade */
@@ -407,14 +401,23 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			level = 0;
 		if (level != z->level)
 			z->verify_at = now + zc->period * 0.999;
-		if (command(e, z, now, level, why, sizeof why) != 0)
+		if (command(e, z, now, level, why, sizeof why) != 0) {
+			/* an output that cannot be commanded keeps the zone in its fault */
 			enter_fault(e, z, now, why);
-		else if (rc == 0) {
-			double lat = wall() - t0;
-			e->lat_sum += lat;
-			e->lat_n++;
-			if (lat > e->lat_max)
-				e->lat_max = lat;
+		} else {
+			if (z->in_fault) {
+				psd_hhmm(now, t);
+				log_info("zone %s: %s fault cleared: control resumes", zc->name, t);
+				z->in_fault = 0;
+				z->why[0] = 0;
+			}
+			if (rc == 0) {
+				double lat = wall() - t0;
+				e->lat_sum += lat;
+				e->lat_n++;
+				if (lat > e->lat_max)
+					e->lat_max = lat;
+			}
 		}
 	}
 	log_sample(e, z, now);
