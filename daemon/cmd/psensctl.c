@@ -42,7 +42,7 @@ static char *ask(const char *path, const char *request, int timeout_ms)
 	struct sockaddr_un sa = { .sun_family = AF_UNIX };
 	size_t cap = 4096, n = 0, len = strlen(request);
 	char *buf = malloc(cap);
-	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0), send_errno = 0;
 	if (!buf || fd < 0 || strlen(path) >= sizeof sa.sun_path) {
 		fprintf(stderr, "psensctl: %s: %s\n", path, fd < 0 ? strerror(errno) : "cannot use this path");
 		goto bad;
@@ -52,10 +52,10 @@ static char *ask(const char *path, const char *request, int timeout_ms)
 		fprintf(stderr, "psensctl: cannot reach psensd at %s: %s\n", path, strerror(errno));
 		goto bad;
 	}
-	if (send(fd, request, len, MSG_NOSIGNAL) != (ssize_t)len || send(fd, "\n", 1, MSG_NOSIGNAL) != 1) {
-		fprintf(stderr, "psensctl: %s: %s\n", path, strerror(errno));
-		goto bad;
-	}
+	/* a send that fails may still leave psensd's reason to read (it
+	 * refuses a peer or a crowd with one line, then closes) */
+	if (send(fd, request, len, MSG_NOSIGNAL) != (ssize_t)len || send(fd, "\n", 1, MSG_NOSIGNAL) != 1)
+		send_errno = errno;
 	for (;;) {
 		struct pollfd p = { fd, POLLIN, 0 };
 		ssize_t got;
@@ -77,7 +77,8 @@ static char *ask(const char *path, const char *request, int timeout_ms)
 		}
 		got = read(fd, buf + n, cap - n - 1);
 		if (got <= 0) {
-			fprintf(stderr, "psensctl: %s: connection closed without a reply\n", path);
+			fprintf(stderr, "psensctl: %s: %s\n", path,
+			        send_errno ? strerror(send_errno) : "connection closed without a reply");
 			goto bad;
 		}
 		n += (size_t)got;

@@ -64,6 +64,21 @@ check "1000 bad requests on one connection: 1000 error replies" test "$($PY "$PE
 check "psensd still answers" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
 check "psensctl reports an error reply with exit 1" sh -c "! \"$BIN/psensctl\" -s \"$S\" target nowhere 3 2> \"$TMP/e\""
 check "... and the reason on stderr" grep -q "no zone 'nowhere'" "$TMP/e"
+# peers: the file mode keeps others out; SO_PEERCRED too, if the mode is loosened
+if [ "$(id -u)" = 0 ] && command -v setpriv > /dev/null; then
+	chmod 755 "$TMP"
+	setpriv --reuid=65534 --regid=65534 --clear-groups "$BIN/psensctl" -s "$S" ping > /dev/null 2> "$TMP/nobody.err"
+	check "another user cannot connect through mode 0660: $(cat "$TMP/nobody.err")" grep -q "Permission denied" "$TMP/nobody.err"
+	chmod 666 "$S"
+	setpriv --reuid=65534 --regid=65534 --clear-groups "$BIN/psensctl" -s "$S" ping > /dev/null 2> "$TMP/nobody.err"
+	check "with the socket opened to all, SO_PEERCRED still refuses: $(cat "$TMP/nobody.err")" grep -q "permission denied" "$TMP/nobody.err"
+	check "... and psensd logs the refused uid" grep -q "control socket: refused uid 65534" "$TMP/err"
+	chmod 660 "$S"
+else
+	skip "peer credentials: needs root and setpriv"
+	skip "peer credentials: needs root and setpriv"
+	skip "peer credentials: needs root and setpriv"
+fi
 # SIGHUP: a good new config replaces the running one
 sed -i 's/^target_lux = .*/target_lux = 450/' "$TMP/psensd.conf"
 kill -HUP $PID

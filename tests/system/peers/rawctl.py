@@ -57,3 +57,20 @@ elif what == "burst":
         buf += chunk
         got = buf.count(b"\n")
     print(sum(1 for l in buf.split(b"\n") if b'"ok":false' in l))
+elif what == "crowd":
+    # N clients connected at once, each sending M status requests in turn;
+    # print how many replies were ok
+    import threading
+    n, m = int(sys.argv[3]), int(sys.argv[4])
+    socks = [conn(path) for _ in range(n)]
+    good = [0] * n
+    def run(i):
+        f = socks[i].makefile("rb")
+        for _ in range(m):
+            socks[i].sendall(b"status\n")
+            if b'"ok":true' in f.readline():
+                good[i] += 1
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(n)]
+    for t in threads: t.start()
+    for t in threads: t.join()
+    print(sum(good))
