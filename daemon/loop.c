@@ -231,4 +231,8 @@ void psd_daemon_stop(struct psd_daemon *d, const char *why)
 	if (d->have_ctl)
 		psd_ctl_close(&d->ctl);
 	d->have_ctl = 0;
+	if (sigfd >= 0) {
+		close(sigfd);
+		sigfd = -1;
+	}
 }

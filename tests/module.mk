@@ -43,3 +43,13 @@ $(FUZZ_BINS): $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(TEST_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -fsanitize=fuzzer,address,undefined -o $@ $^ $(LIBS)
 -include tests/emu/module.mk
+
+# The daemon's system tests once under valgrind (memcheck, leaks, descriptors
+# left open): tests/valgrind.sh.  The load, kill and 3600x Modbus tests are
+# timing tests and stay out (valgrind runs 20-50 times slower).
+VALGRIND_TESTS := $(wildcard tests/system/200-*.sh tests/system/210-*.sh tests/system/220-*.sh \
+                  tests/system/230-*.sh tests/system/410-*.sh)
+.PHONY: check-valgrind
+check-valgrind: deps
+	$(MAKE) tests
+	BUILD=$(BUILD) BIN=$(BUILD)/bin TOP=$(CURDIR) sh tests/valgrind.sh $(VALGRIND_TESTS)

@@ -40,11 +40,11 @@ echo "status office" | socat - "UNIX-CONNECT:$S" > "$TMP/socat.out"
 check "socat gets a JSON status line" grep -q '^{"ok":true,.*"zones":\[{"name":"office"' "$TMP/socat.out"
 check "target office 420" ctl target office 420
 check "status shows the new target" test "$(field "d['zones'][0]['target_lux']")" = 420.0
-check "override office 0.3 for 600 s" ctl override office 0.3 600
-wait_for 3 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"level\":0.3'"
+check "override office 0.3 for 6000 s" ctl override office 0.3 6000
+wait_for 10 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"level\":0.3'"
 check "the override sets the level at once" test "$(field "d['zones'][0]['level']")" = 0.3
 check "release" ctl release office
-wait_for 3 sh -c "! \"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"level\":0.3,'"
+wait_for 10 sh -c "! \"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"level\":0.3,'"
 check "released: the control takes over again" sh -c "! \"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"level\":0.3,'"
 ctl ratios > "$TMP/ratios"
 check "ratios lists the scene's conditions" grep -q "daylight_ratio_mean" "$TMP/ratios"
