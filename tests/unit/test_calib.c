@@ -1,0 +1,181 @@
+/* Calibration arithmetic against analytic answers: a first-order settling
+ * with seeded noise, exact and noisy lines, exact daylight ratios, and the
+ * drift detector's timing. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "calib.h"
+
+/* a small reproducible Gaussian (xorshift + Box-Muller) */
+static uint64_t rng_state;
+static double uniform(void)
+{
+	rng_state ^= rng_state << 13;
+	rng_state ^= rng_state >> 7;
+	rng_state ^= rng_state << 17;
+	return ((rng_state >> 11) + 0.5) / 9007199254740992.0;
+}
+static double gauss(void)
+{
+	return sqrt(-2 * log(uniform())) * cos(2 * M_PI * uniform());
+}
+
+/* v(t) = 2 + 1.5 exp(-t / tau) + N(0, 0.002): settled means land within 4
+ * standard errors (plus the floor) of 2 (the standard error comes from 8
+ * readings: Student's t with 7 degrees of freedom, 99.5 % at 3.5), and settling is never declared
+ * while the transient is still more than 20 sigma away. */
+static void settling_of_a_lag(void **state)
+{
+	const double A = 2, B = 1.5, sigma = 0.002, floor = 1e-4;
+	int outside = 0, runs = 0;
+	(void)state;
+	/* time constants up to a quarter of the window: a window judges a
+	 * transient only when it spans several time constants */
+	for (int tau100 = 10; tau100 <= 50; tau100 += 20) {
+		double tau = tau100 / 100.0;
+		for (int seed = 1; seed <= 100; seed++) {
+			struct psd_settle s;
+			double mean, se, t;
+			int done = 0;
+			rng_state = 0x9e3779b97f4a7c15ull * (uint64_t)(seed + 1000 * tau100);
+			psd_settle_init(&s, 2.0, 8, 3.0, floor);
+			for (t = 0; t < 60 && !done; t += 0.25) {
+				double v = A + B * exp(-t / tau) + sigma * gauss();
+				done = psd_settle_add(&s, t, v, &mean, &se);
+			}
+			assert_true(done);
+			/* the transient at the window's start was small */
+			assert_true(B * exp(-(t - 0.25 - 2.0) / tau) < 20 * sigma);
+			runs++;
+			outside += fabs(mean - A) > 4 * se + floor;
+		}
+	}
+	/* 1.3 % of these 300 runs fall outside; allow 3 % */
+	assert_true(outside <= runs * 3 / 100);
+}
+
+static void night_fit_exact_line(void **state)
+{
+	struct psd_night_point p[6];
+	struct psd_night_fit f;
+	char err[128];
+	const double levels[6] = { 1, 0.75, 0.5, 0.25, 0.1, 0 };
+	(void)state;
+	for (int i = 0; i < 6; i++)
+		p[i] = (struct psd_night_point){ levels[i], 0.05 + 0.547 * levels[i], 0.001,
+		                                 12 + 1265.4 * levels[i] };
+	assert_int_equal(psd_night_fit(p, 6, &f, err, sizeof err), 0);
+	assert_true(fabs(f.gain / 0.547 - 1) < 1e-12);
+	assert_true(fabs(f.offset - 0.05) < 1e-12);
+	assert_true(fabs(f.r2 - 1) < 1e-12);
+	assert_true(f.max_resid_pct < 1e-9);
+	assert_true(fabs(f.lux_gain / 1265.4 - 1) < 1e-12);
+	assert_true(fabs(f.lux_offset - 12) < 1e-9);
+}
+
+/* noise of known sigma on each point: the fitted gain lies within 3 of its
+ * quoted standard errors of the truth in at least 97 % of 400 runs */
+static void night_fit_noisy(void **state)
+{
+	int inside = 0;
+	(void)state;
+	for (int seed = 1; seed <= 400; seed++) {
+		struct psd_night_point p[6];
+		struct psd_night_fit f;
+		char err[128];
+		rng_state = 0xdeadbeefcafef00dull * (uint64_t)seed;
+		for (int i = 0; i < 6; i++) {
+			double u = i / 5.0;
+			p[i] = (struct psd_night_point){ u, 0.05 + 0.547 * u + 0.003 * gauss(), 0.003, NAN };
+		}
+		assert_int_equal(psd_night_fit(p, 6, &f, err, sizeof err), 0);
+		assert_true(f.gain_se > 0.001 && f.gain_se < 0.01);
+		inside += fabs(f.gain - 0.547) <= 3 * f.gain_se;
+	}
+	assert_true(inside >= 388);
+}
+
+static void night_fit_refuses(void **state)
+{
+	struct psd_night_point same[3] = { { 0.5, 1, 0.01, NAN }, { 0.5, 1.1, 0.01, NAN }, { 0.5, 0.9, 0.01, NAN } };
+	struct psd_night_point nan[3] = { { 0, 1, 0.01, NAN }, { 0.5, NAN, 0.01, NAN }, { 1, 0.9, 0.01, NAN } };
+	struct psd_night_fit f;
+	char err[128];
+	(void)state;
+	assert_int_equal(psd_night_fit(same, 2, &f, err, sizeof err), -1);
+	assert_string_equal(err, "a night fit needs at least 3 levels (have 2)");
+	assert_int_equal(psd_night_fit(same, 3, &f, err, sizeof err), -1);
+	assert_string_equal(err, "every point is at one level: the gain is undetermined");
+	assert_int_equal(psd_night_fit(nan, 3, &f, err, sizeof err), -1);
+	assert_string_equal(err, "level 2 is not a number");
+}
+
+/* V = 0.05 + 0.547 u + vd, E = 1265.4 u + 236.2/0.5 vd: the ratio is exactly
+ * 472.4 lux per volt whatever the level and the daylight */
+static void day_ratio_exact(void **state)
+{
+	struct psd_day_sample s[5];
+	struct psd_day_fit f;
+	char err[128];
+	const double r = 236.2 / 0.5;
+	(void)state;
+	for (int i = 0; i < 5; i++) {
+		double u = 0.1 + 0.2 * i, vd = 0.5 + 0.7 * i;
+		s[i] = (struct psd_day_sample){ 36000 + 600 * i, u, 0.05 + 0.547 * u + vd, 1265.4 * u + r * vd };
+	}
+	assert_int_equal(psd_day_fit(s, 5, 0.05, 0.547, 1265.4, 0.1, &f, err, sizeof err), 0);
+	assert_true(fabs(f.ratio / r - 1) < 1e-12);
+	assert_true(f.sd < 1e-9);
+	assert_int_equal(f.n, 5);
+	assert_true(fabs(f.mean_tod - 37200) < 1e-9);
+	/* the paper's Table 2 sign: simulated above measured is positive */
+	assert_true(fabs(psd_ratio_error_pct(1.1 * r, r) - 10) < 1e-9);
+	/* too little daylight: refused, not a NaN */
+	assert_int_equal(psd_day_fit(s, 5, 0.05, 0.547, 1265.4, 10, &f, err, sizeof err), -1);
+	assert_string_equal(err, "0 of 5 samples have daylight above 10 V: at least 2 are needed");
+}
+
+static void drift_timing(void **state)
+{
+	struct psd_drift d;
+	int flagged_at = -1, cleared_at = -1;
+	(void)state;
+	psd_drift_init(&d, 0.2, 3600, 0.1);
+	/* matched for two hours, then the sensor is half covered (the measured
+	 * ratio doubles: ln 2 = 0.69 > 0.2), uncovered again at 6 h */
+	for (int t = 0; t <= 8 * 3600; t += 60) {
+		double vd = 2.0 * (t >= 7200 && t < 21600 ? 0.5 : 1), sim = 472.4;
+		int r = psd_drift_update(&d, t, vd, sim * 2.0, sim);
+		if (r > 0)
+			flagged_at = t;
+		if (r < 0)
+			cleared_at = t;
+	}
+	assert_int_equal(flagged_at, 7200 + 3600);   /* exactly the hold after it began */
+	assert_int_equal(cleared_at, 21600);
+	/* a 50-minute excursion never flags; darkness is no judgement */
+	psd_drift_init(&d, 0.2, 3600, 0.1);
+	for (int t = 0; t <= 8 * 3600; t += 60) {
+		double vd = t >= 7200 && t < 10200 ? 1.0 : 2.0;
+		assert_int_equal(psd_drift_update(&d, t, vd, 944.8, 472.4), 0);
+		assert_int_equal(psd_drift_update(&d, t, 0.01, 944.8, 472.4), 0);
+	}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(settling_of_a_lag),
+		cmocka_unit_test(night_fit_exact_line),
+		cmocka_unit_test(night_fit_noisy),
+		cmocka_unit_test(night_fit_refuses),
+		cmocka_unit_test(day_ratio_exact),
+		cmocka_unit_test(drift_timing),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
