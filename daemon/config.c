@@ -303,6 +303,15 @@ static void load_zones(struct psd_config *cf)
 		ps_conf_bool(c, s, "readback", 0, &z->readback);
 		ps_conf_double(c, s, "override_time", 3600, 1, 86400 * 7, &z->override_s);
 		ps_conf_double(c, s, "vacancy_delay", 900, 0, 86400, &z->vacancy_s);
+		ps_conf_double(c, s, "cal_window", 4 * z->period, 0.001, 86400, &z->cal_window);
+		ps_conf_double(c, s, "cal_timeout", 60 * z->period, 0.001, 86400 * 7, &z->cal_timeout);
+		ps_conf_double(c, s, "cal_floor", 0.001, 0, 10, &z->cal_floor);
+		ps_conf_int(c, s, "cal_day_samples", 5, 2, 64, &z->cal_day_samples);
+		ps_conf_double(c, s, "cal_day_interval", 600, 0.001, 86400, &z->cal_day_interval);
+		ps_conf_double(c, s, "cal_min_day_volts", 0.05, 0, 100, &z->cal_min_day_volts);
+		ps_conf_double(c, s, "cal_tolerance", 25, 0, 1000, &z->cal_tolerance);
+		ps_conf_double(c, s, "drift_margin", 0.25, 0.001, 10, &z->drift_margin);
+		ps_conf_double(c, s, "drift_hold", 3600, 0, 86400 * 30, &z->drift_hold);
 		cf->nzone++;
 	}
 	if (cf->nzone == 0)

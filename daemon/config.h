@@ -65,6 +65,16 @@ struct psd_zone_conf {
 	int readback;             /* read the first dim point's actual output before each step */
 	double override_s;        /* a button's override lasts this long */
 	double vacancy_s;         /* occupancy: lights off after this long vacant */
+	/* calibration sessions and drift (psensd.conf(5)) */
+	double cal_window;        /* settling window, s */
+	double cal_timeout;       /* longest wait at one night level, s */
+	double cal_floor;         /* volts: a change always allowed as settled */
+	long cal_day_samples;     /* day samples from a meter */
+	double cal_day_interval;  /* s between them */
+	double cal_min_day_volts; /* less daylight signal: not a day sample */
+	double cal_tolerance;     /* % error against the design still a pass */
+	double drift_margin;      /* |ln(measured/simulated)| */
+	double drift_hold;        /* s */
 	int line;
 };
 

@@ -37,6 +37,8 @@ double psd_control_step(struct psd_control *c, double volts, double now)
 {
 	double want, se = c->sensor_gain * c->elec_sensor;   /* S_E: volts at night, full output */
 	double rd = c->sensor_gain / c->daylight_ratio;      /* r_D: daylight volts per task lux */
+	double raw = volts;
+	volts -= c->offset;   /* the dark signal, once a night calibration measured it */
 	/* the daylight part of the signal: what the lights do not explain */
 	double day = volts / c->sensor_gain - c->level * c->elec_sensor;
 	if (day < 0)
@@ -58,7 +60,7 @@ double psd_control_step(struct psd_control *c, double volts, double now)
 		break;
 	}
 	case PSD_ALG_SWITCHING:
-		want = switching(c, volts, now);
+		want = switching(c, raw, now);   /* thresholds are the installer's raw volts */
 		c->level = want;
 		return want;   /* steps: no minimum dim level, no fade limit */
 	case PSD_ALG_SETPOINT:

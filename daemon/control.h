@@ -25,6 +25,7 @@ struct psd_control {
 	double hysteresis;       /* ignore changes smaller than this (fraction) */
 	/* the model, from the scene's results and the sensor's gain */
 	double sensor_gain;      /* volts per unit of sensor response */
+	double offset;           /* the sensor's volts in the dark (a night calibration) */
 	double daylight_ratio;   /* task lux per unit of daylight sensor response */
 	double elec_sensor;      /* sensor response at full electric output */
 	double elec_task_lux;    /* task lux at full electric output */

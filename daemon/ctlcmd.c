@@ -16,7 +16,7 @@
 
 static const char help_text[] =
 	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | release ZONE | "
-	"ratios | log | reload | help";
+	"ratios | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort";
 
 static void put_num(json_object *o, const char *key, double v)
 {
@@ -93,7 +93,121 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	json_object_object_add(o, "fault_steps", json_object_new_int64((int64_t)z->fault_steps));
 	if (z->room)
 		put_num(o, "true_task_lux", ps_room_true_task_lux(z->room, now));
+	if (z->zc->task >= 0) {
+		json_object_object_add(o, "drift", json_object_new_boolean(z->drift.flagged));
+		put_num(o, "drift_pct", 100 * (exp(z->drift.last_ln) - 1));
+	}
+	put_num(o, "sensor_gain", z->ctl.sensor_gain);
+	put_num(o, "offset", z->ctl.offset);
+	put_num(o, "daylight_ratio", z->ctl.daylight_ratio);
+	put_num(o, "electric_task_lux", z->ctl.elec_task_lux);
+	json_object_object_add(o, "calibrated_night", z->cal_night_id ? json_object_new_int64(z->cal_night_id) : NULL);
+	json_object_object_add(o, "calibrated_day", z->cal_day_id ? json_object_new_int64(z->cal_day_id) : NULL);
 	return o;
+}
+
+static json_object *cal_json(const struct psd_zone *z)
+{
+	const struct psd_cal *c = &z->cal;
+	json_object *o = json_object_new_object(), *pts = json_object_new_array();
+	put_str(o, "zone", z->zc->name);
+	put_str(o, "kind", psd_cal_kind_names[c->kind]);
+	put_str(o, "state", psd_cal_state_names[c->state]);
+	json_object_object_add(o, "session", c->id ? json_object_new_int64(c->id) : NULL);
+	put_str(o, "message", c->msg[0] ? c->msg : NULL);
+	if (c->kind == PSD_CAL_NIGHT) {
+		for (int i = 0; i < c->npt; i++) {
+			json_object *p = json_object_new_object();
+			put_num(p, "level", c->pt[i].level);
+			put_num(p, "volts", c->pt[i].volts);
+			put_num(p, "volts_se", c->pt[i].volts_se);
+			put_num(p, "lux", c->pt[i].lux);
+			json_object_array_add(pts, p);
+		}
+		json_object_object_add(o, "levels", pts);
+		if (c->state == PSD_CAL_DONE || c->state == PSD_CAL_ACCEPTED) {
+			put_num(o, "offset", c->night.offset);
+			put_num(o, "offset_se", c->night.offset_se);
+			put_num(o, "gain", c->night.gain);
+			put_num(o, "gain_se", c->night.gain_se);
+			put_num(o, "r2", c->night.r2);
+			put_num(o, "max_resid_pct", c->night.max_resid_pct);
+			put_num(o, "lux_gain", c->night.lux_gain);
+		}
+	} else {
+		for (int i = 0; i < c->nds; i++) {
+			json_object *p = json_object_new_object();
+			put_num(p, "tod_s", c->ds[i].t);
+			put_num(p, "level", c->ds[i].level);
+			put_num(p, "volts", c->ds[i].volts);
+			put_num(p, "lux", c->ds[i].lux);
+			json_object_array_add(pts, p);
+		}
+		json_object_object_add(o, "samples", pts);
+		if (c->state == PSD_CAL_DONE || c->state == PSD_CAL_ACCEPTED) {
+			put_num(o, "ratio", c->day.ratio);
+			put_num(o, "ratio_se", c->day.ratio_se);
+			put_num(o, "sim_ratio", c->sim_ratio);
+			put_str(o, "condition", c->sim_condition);
+			put_num(o, "error_pct", c->error_pct);
+		}
+	}
+	return o;
+}
+
+static void calibrate(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+{
+	struct psd_engine *e = &d->engine;
+	struct psd_zone *z = argc >= 3 ? psd_engine_zone(e, argv[1]) : NULL;
+	double now = psd_clock_now(&d->clock), a;
+	char err[512], *end;
+	int rc = 0;
+	if (argc < 3) {
+		error_reply(reply, len, "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort");
+		return;
+	}
+	if (!z) {
+		error_reply(reply, len, "no zone '%s'", argv[1]);
+		return;
+	}
+	if (strcmp(argv[2], "night") == 0 && argc == 3) {
+		rc = psd_cal_start(e, argv[1], PSD_CAL_NIGHT, 0, now, err, sizeof err);
+	} else if (strcmp(argv[2], "day") == 0 && argc <= 4) {
+		a = z->level;
+		if (argc == 4 && (a = strtod(argv[3], &end), *end || end == argv[3])) {
+			error_reply(reply, len, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
+			return;
+		}
+		rc = psd_cal_start(e, argv[1], PSD_CAL_DAY, a, now, err, sizeof err);
+	} else if (strcmp(argv[2], "lux") == 0 && argc == 4) {
+		a = strtod(argv[3], &end);
+		if (*end || end == argv[3]) {
+			error_reply(reply, len, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
+			return;
+		}
+		rc = psd_cal_lux(e, argv[1], a, now, err, sizeof err);
+	} else if (strcmp(argv[2], "finish") == 0 && argc == 3) {
+		rc = psd_cal_finish(e, argv[1], now, err, sizeof err);
+	} else if (strcmp(argv[2], "accept") == 0 && argc == 3) {
+		rc = psd_cal_accept(e, argv[1], err, sizeof err);
+	} else if (strcmp(argv[2], "abort") == 0 && argc == 3) {
+		if (psd_cal_abort(e, z, now, "by request") != 0) {
+			error_reply(reply, len, "zone %s has no running session", argv[1]);
+			return;
+		}
+	} else if (strcmp(argv[2], "status") != 0 || argc != 3) {
+		error_reply(reply, len, "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort");
+		return;
+	}
+	if (rc != 0) {
+		error_reply(reply, len, "%s", err);
+		return;
+	}
+	{
+		json_object *o = ok_reply();
+		json_object_object_add(o, "calibration", cal_json(z));
+		finish(o, reply, len);
+	}
 }
 
 static void status(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
@@ -222,6 +336,8 @@ void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char
 			error_reply(reply, len, "%s", err);
 		else
 			finish(ok_reply(), reply, len);
+	} else if (strcmp(argv[0], "calibrate") == 0) {
+		calibrate(d, argc, argv, reply, len);
 	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
 		d->reload = 1;   /* after this request, like SIGHUP */
 		finish(ok_reply(), reply, len);

@@ -21,6 +21,11 @@ void psd_db_set_batch(struct psd_db *db, int batch)
 	db->batch = batch > 0 ? batch : 1;
 }
 
+struct sqlite3 *psd_db_sqlite(struct psd_db *db)
+{
+	return db->h;
+}
+
 unsigned long psd_db_committed(const struct psd_db *db)
 {
 	return db->committed;

@@ -33,6 +33,8 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 /* Commit what is queued. */
 int psd_db_commit(struct psd_db *db, char *err, size_t errlen);
 void psd_db_close(struct psd_db *db);
+/* The connection, for the calibration records that share the file. */
+struct sqlite3 *psd_db_sqlite(struct psd_db *db);
 /* Write the samples as CSV (header: t,tod_s,sensor_v,output,est_task_lux,
  * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone) to fp. */
 int psd_db_export_csv(const char *path, void *fp, char *err, size_t errlen);

@@ -171,6 +171,10 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		}
 	}
 	e->nzone = cf->nzone;
+	for (size_t i = 0; i < e->nzone; i++)
+		psd_drift_init(&e->zone[i].drift, cf->zone[i].drift_margin, cf->zone[i].drift_hold,
+		               cf->zone[i].cal_min_day_volts);
+	psd_cal_load(e, now);
 	/* the outputs start where the control believes they are (full output,
 	 * or the level before a reload) */
 	for (size_t i = 0; i < e->nzone; i++) {
@@ -240,6 +244,8 @@ static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, co
 		log_debug("zone %s: %s fault now: %s", z->zc->name, t, why);
 	z->in_fault = 1;
 	snprintf(z->why, sizeof z->why, "%s", why);
+	if (z->cal.state == PSD_CAL_RUNNING)
+		psd_cal_abort(e, z, now, why);
 	command(e, z, now, z->zc->safe_level, ignored, sizeof ignored);
 	z->ctl.level = z->zc->safe_level;
 	z->ctl.pending_dir = 0;
@@ -391,14 +397,23 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			if (d->drv->read(d, &e->pt[zc->dim[0]], now, &out) == 0 && out >= 0 && out <= 1)
 				z->ctl.level = out;
 		}
-		if (rc == 0)
+		if (rc == 0) {
+			psd_drift_step(e, z, now);
+			psd_cal_feed(e, z, now, z->volts, z->task_lux);
+		}
+		if (psd_cal_level(e, z, now, &level))
+			;   /* a calibration session holds the lights */
+		else if (rc == 0)
 			level = psd_control_step(&z->ctl, z->volts, now);
 		else
 			level = z->level;   /* a missed reading: hold until it is stale */
-		if (now < z->override_until)
+		if (z->cal.state == PSD_CAL_RUNNING)
+			;
+		else if (now < z->override_until)
 			level = z->override_level;
 		else if (z->occupancy == 0 && now - z->vacant_since >= zc->vacancy_s)
 			level = 0;
+		z->ctl.level = level;   /* what the lights are told, whoever decided it */
 		if (level != z->level)
 			z->verify_at = now + zc->period * 0.999;
 		if (command(e, z, now, level, why, sizeof why) != 0) {

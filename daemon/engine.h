@@ -13,6 +13,7 @@
 #include "control.h"
 #include "db.h"
 #include "driver.h"
+#include "calsession.h"
 #include "results.h"
 
 struct ps_room;
@@ -42,6 +43,9 @@ struct psd_zone {
 	double verify_at;         /* when the dim points should show `level` */
 	unsigned long steps, fault_steps;
 	struct ps_room *room;     /* when the sensor is on a loopback device: the truth */
+	struct psd_cal cal;       /* the calibration session (daemon/calibrate.c) */
+	struct psd_drift drift;   /* measured against simulated ratio, with a task meter */
+	long long cal_night_id, cal_day_id;   /* the accepted calibrations in force, 0: none */
 	struct psd_zone_stats st;
 };
 
@@ -91,6 +95,22 @@ int psd_engine_override(struct psd_engine *e, const char *zone, double level, do
                         double now, char *err, size_t n);
 int psd_engine_release(struct psd_engine *e, const char *zone, char *err, size_t n);
 struct psd_zone *psd_engine_zone(struct psd_engine *e, const char *name);
+
+/* Calibration (daemon/calibrate.c).  Each -1 with a message in err. */
+int psd_cal_start(struct psd_engine *e, const char *zone, int kind, double level, double now, char *err,
+                  size_t n);
+int psd_cal_lux(struct psd_engine *e, const char *zone, double lux, double now, char *err, size_t n);
+int psd_cal_finish(struct psd_engine *e, const char *zone, double now, char *err, size_t n);
+int psd_cal_accept(struct psd_engine *e, const char *zone, char *err, size_t n);
+int psd_cal_abort(struct psd_engine *e, struct psd_zone *z, double now, const char *why);
+/* From a zone's step: the level a running session wants (1) or not (0). */
+int psd_cal_level(struct psd_engine *e, struct psd_zone *z, double now, double *level);
+/* A good reading (volts; lux NAN without a meter) at the session's level. */
+void psd_cal_feed(struct psd_engine *e, struct psd_zone *z, double now, double volts, double lux);
+/* At open: resume running sessions, apply accepted calibrations. */
+void psd_cal_load(struct psd_engine *e, double now);
+/* Drift of the measured ratio, per good step with a task meter. */
+void psd_drift_step(struct psd_engine *e, struct psd_zone *z, double now);
 
 /* "HH:MM" of a clock time (the room's clock: modulo a day). */
 void psd_hhmm(double t, char out[8]);

@@ -7,7 +7,8 @@
  *   fade_rate   fraction per second (0: instant)   min_level  (0.01)
  *   lag_tau     lamp time constant, s (0.05)       off_below_min  yes|no (yes)
  *   faults      "KIND HH:MM-HH:MM, ..." with KIND one of stuck, open,
- *               saturated, drop, late, ballast
+ *               saturated, drop, late, ballast, obstruct (the sensor sees half
+ *               its daylight: drift for the daemon to find)
  *   replay      a CSV written by psensctl export --csv: its day of daylight
  *               replaces the scene's (replay.h)
  *   replay_ratio  lux per daylight volt, for a replay without daylight_lux
@@ -44,7 +45,7 @@ struct loopback {
 };
 
 static const char *const fault_names[] = { "none", "stuck", "open", "saturated", "drop",
-                                           "late", "ballast", NULL };
+                                           "late", "ballast", "obstruct", NULL };
 
 static int parse_faults(struct ps_dev *dev, struct loopback *lb, const struct ps_opts *o)
 {
@@ -68,7 +69,7 @@ static int parse_faults(struct ps_dev *dev, struct loopback *lb, const struct ps
 		if (!fault_names[k] || lb->opts.nfaults >= 16) {
 			free(copy);
 			return ps_dev_fail(dev, EINVAL, "%s:%d: faults: '%s' is not a fault (stuck, open, "
-			                   "saturated, drop, late, ballast) or too many", o->file,
+			                   "saturated, drop, late, ballast, obstruct) or too many", o->file,
 			                   ps_opt_line(o, "faults"), kind);
 		}
 		lb->faults[lb->opts.nfaults++] =

@@ -173,6 +173,8 @@ int ps_room_sensor(struct ps_room *r, double now, double *volts)
 		break;
 	}
 	ps_room_daylight(r, now, &dv, &dl);
+	if (ps_room_fault(r, now) == PS_ROOM_FAULT_OBSTRUCT)
+		dv *= 0.5;
 	v = dv + r->p.gain * ps_room_output(r, now) * r->p.elec_sensor + r->p.offset;
 	if (r->p.noise > 0)
 		v += r->p.noise * gauss(&r->rng);

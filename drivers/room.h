@@ -37,6 +37,7 @@ enum ps_room_fault {
 	PS_ROOM_FAULT_DROP,       /* replies are dropped (reads time out) */
 	PS_ROOM_FAULT_LATE,       /* replies come late */
 	PS_ROOM_FAULT_BALLAST,    /* ballast ignores commands */
+	PS_ROOM_FAULT_OBSTRUCT,   /* something covers half the sensor's view of the daylight */
 	PS_ROOM_FAULT_COUNT
 };
 

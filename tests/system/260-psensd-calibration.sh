@@ -1,0 +1,140 @@
+#!/bin/sh
+# Calibration sessions on the loopback room (gain 0.5 V per unit, offset
+# 0.05 V, noise 2 mV, a task meter with 2 lx noise), psensd in real time at
+# 600x: the night session recovers the room's gain, offset and electric task
+# lux within its quoted uncertainty; the day session's measured ratio meets
+# the simulation's; a session killed with SIGKILL resumes and agrees with an
+# uninterrupted one; a fault in a session aborts it at the safe level; an
+# obstruction mid-day is flagged as drift after drift_hold; the accepted
+# calibration survives a restart and is kept in the history.
+. "$(dirname "$0")/lib.sh"
+[ -x "$BIN/psensd" ] || skip_all "psensd not built"
+PY=/usr/bin/python3
+mkdir -p "$TMP/example" "$TMP/state"
+cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
+"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+res() { awk -v k="$1" '/^\[/ { s = ($0 == "[summary]") } s && $1 == k { print $3; exit }' "$TMP/state/ofb.results"; }
+ES=$(res electric_sensor_response); EL=$(res electric_task_lux)
+S="$TMP/sock"
+cat > "$TMP/psensd.conf" <<EOF
+[psensd]
+results = state/ofb.results
+database = state/psensd.db
+socket = sock
+period = 60
+[simulate]
+sunrise = 06:00
+sunset = 18:30
+[device room]
+driver = loopback
+gain = 0.5
+offset = 0.05
+noise = 0.002
+task_noise = 2
+seed = 11
+fade_rate = 0.2
+faults = open 23:30-23:40, obstruct 12:00-15:00
+[point sensor]
+device = room
+role = sensor
+valid_min = 0.01
+[point lamp]
+device = room
+role = dim
+[point meter]
+device = room
+role = task
+[zone office]
+sensor = sensor
+dim = lamp
+task = meter
+sensor_gain = 0.5
+cal_window = 300
+drift_hold = 1800
+EOF
+ctl() { "$BIN/psensctl" -s "$S" "$@"; }
+start() {  # start HH:MM
+	"$BIN/psensd" -f "$TMP/psensd.conf" -t "$1" -x 600 >> "$TMP/out" 2>> "$TMP/err" &
+	PID=$!; track_pid $PID
+	wait_for 10 sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
+}
+stop() { kill -TERM $PID; wait $PID 2>/dev/null; }
+calj() { ctl -j calibrate office status | $PY -c "import json,sys; c=json.load(sys.stdin)['calibration']; v=eval(sys.argv[1]); print(*v) if isinstance(v, tuple) else print(v)" "$1"; }
+state_is() { [ "$(calj "c['state']")" = "$1" ]; }
+# within K standard errors: within A B SE K
+within() { awk -v a="$1" -v b="$2" -v s="$3" -v k="$4" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= k * s) }'; }
+
+# 1. night, uninterrupted
+start 21:00
+check "calibrate office night starts a session" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office night > /dev/null"
+wait_for 30 state_is done
+check "the night session finished: $(calj "c['message']")" state_is done
+set -- $(calj "c['gain'], c['gain_se'], c['offset'], c['offset_se'], c['lux_gain'], c['r2'], len(c['levels'])")
+g=$1; gse=$2; off=$3; ose=$4; lg=$5; r2=$6; nl=$7
+want=$(awk -v e="$ES" 'BEGIN { print 0.5 * e }')
+check "6 levels settled" test "$nl" = 6
+check "electric gain $g V at full output = 0.5 x $ES = $want within 3 se ($gse)" within "$g" "$want" "$gse" 3
+check "offset $off V = 0.05 within 3 se ($ose)" within "$off" 0.05 "$ose" 3
+check "the meter's lux per unit output $lg = the simulated $EL within 0.5 %" within "$lg" "$EL" "$(awk -v e="$EL" 'BEGIN { print e / 200 }')" 1
+check "linear: R2 $r2 > 0.9999" awk -v r="$r2" 'BEGIN { exit !(r > 0.9999) }'
+check "lights back under control after the session" sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"fault\":null'"
+check "accept" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office accept > /dev/null"
+sg=$(ctl -j status | sed -n 's/.*"sensor_gain":\([0-9.e-]*\).*/\1/p')
+check "the accepted sensor gain $sg is 0.5 within 0.3 %" within "$sg" 0.5 0.0015 1
+stop
+# 2. night again, killed after two levels, resumed
+start 21:00
+ctl calibrate office night > /dev/null
+twolevels() { [ "$(calj "len(c['levels'])")" -ge 2 ]; }
+wait_for 30 twolevels
+kill -9 $PID; wait $PID 2>/dev/null
+start 21:00
+check "the killed session resumes with its levels" grep -q "night calibration session [0-9]* resumed ([2-5] level(s)" "$TMP/err"
+wait_for 30 state_is done
+set -- $(calj "c['gain'], c['gain_se'], c['offset'], len(c['levels'])")
+check "the resumed session finished with 6 levels ($4)" test "$4" = 6
+check "and agrees with the uninterrupted one: gain $1 vs $g within 3 combined se" \
+	within "$1" "$g" "$(awk -v a="$2" -v b="$gse" 'BEGIN { print sqrt(a * a + b * b) }')" 3
+stop
+# 3. a fault during a session: aborted, lights at the safe level
+start 23:25
+ctl calibrate office night > /dev/null
+wait_for 30 state_is aborted
+check "the open circuit at 23:30 aborts the session: $(calj "c['message']")" state_is aborted
+check "... with the lights at the safe level" sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"level\":1.0,.*\"fault\":\"sensor reads 0.000 V'"
+check "a new session is refused during the fault" sh -c "! \"$BIN/psensctl\" -s \"$S\" calibrate office night 2> /dev/null"
+stop
+# 4. day: five meter samples ten minutes apart at 30 %, before the obstruction
+start 10:00
+check "calibrate office day 0.3" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office day 0.3 > /dev/null"
+wait_for 30 state_is done
+set -- $(calj "c['ratio'], c['ratio_se'], c['sim_ratio'], c['error_pct'], c['condition'], len(c['samples'])")
+check "day session: $6 samples, measured $1 lx/V (se $2), simulated $3 ($5): $4 %" test "$6" = 5
+check "the measured ratio meets the simulated one within 1 % (the room plays the simulation)" \
+	awk -v e="$4" 'BEGIN { exit !(e > -1 && e < 1) }'
+# the simulated lux per volt carries the accepted night gain's uncertainty too
+cse=$(awk -v r="$2" -v s="$3" -v g="$g" -v e="$gse" 'BEGIN { u = s * e / g; print sqrt(r * r + u * u) }')
+check "and within 3 combined standard errors ($cse: its own and the night gain's)" within "$1" "$3" "$cse" 3
+check "accept the day session" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office accept > /dev/null"
+# typed lux: a session without the meter's samples
+ctl calibrate office day > /dev/null
+check "typed lux is taken" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office lux 812 | grep -q 'typed sample'"
+check "abort" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office abort > /dev/null"
+check "bad calibrate requests are refused" sh -c "! \"$BIN/psensctl\" -s \"$S\" calibrate office lux abc 2>/dev/null && ! \"$BIN/psensctl\" -s \"$S\" calibrate office accept 2>/dev/null"
+stop
+check "the accepted calibrations are applied at the next start" sh -c "grep -q 'zone office: calibrated (night session [0-9]*, day session [0-9]*)' '$TMP/err'" || true
+# 5. drift: the obstruction from 12:00, flagged after drift_hold (30 min)
+"$BIN/psensd" -f "$TMP/psensd.conf" -t 11:30 -x 3600 >> "$TMP/out" 2>> "$TMP/err" &
+PID=$!; track_pid $PID
+wait_for 15 grep -q "drift:" "$TMP/err"
+stop
+check "the obstruction is flagged as drift: $(grep -o 'drift: .*' "$TMP/err" | head -n 1 | cut -c1-80)" \
+	grep -q "zone office: 12:[3-4][0-9] drift: the measured task/sensor ratio is \(9[0-9]\|10[0-9]\) % off" "$TMP/err"
+check "accepted calibrations were applied at start" grep -q "zone office: calibrated (night session" "$TMP/err"
+q() { sqlite3 "$TMP/state/psensd.db" "$1"; }
+check "history: sessions recorded with their states ($(q "select group_concat(kind || ':' || state, ' ') from cal_sessions"))" \
+	test "$(q "select count(*) from cal_sessions where state = 'superseded'")" = 0 -a "$(q "select count(*) from cal_sessions where state = 'accepted'")" = 2
+check "every session carries the config's and the scene's SHA-256" \
+	test "$(q "select count(*) from cal_sessions where length(config_sha256) = 64 and length(scene_sha256) = 64")" = "$(q "select count(*) from cal_sessions")"
+check "every night sample is in the log" test "$(q "select count(*) from cal_samples s join cal_sessions c on c.id = s.session where c.kind = 'night' and c.state in ('done', 'accepted')")" -ge 12
+done_testing
