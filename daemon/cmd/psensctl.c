@@ -21,11 +21,13 @@
 
 #include "ctlsock.h"
 #include "db.h"
+#include "report.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psensctl [-s socket] [-j] [-w seconds] command [arguments]\n"
 	            "       psensctl [-s socket | -d database] export --csv\n"
+	            "       psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
 	            "          release ZONE, ratios, log, reload, ping, help\n");
 }
@@ -139,30 +141,89 @@ static void show_value(json_object *v, int indent, const char *key)
 	}
 }
 
-static int export_csv(const char *sock, const char *dbpath, int timeout_ms)
+/* The database: -d, else the one psensd names (o keeps the string). */
+static const char *database(const char *sock, const char *dbpath, int timeout_ms, json_object **o)
 {
-	char err[512];
-	json_object *o = NULL, *db;
-	int rc;
+	json_object *db;
+	*o = NULL;
 	if (!dbpath) {
 		char *reply = ask(sock, "log", timeout_ms);
 		if (!reply)
-			return 1;
-		o = json_tokener_parse(reply);
+			return NULL;
+		*o = json_tokener_parse(reply);
 		free(reply);
-		if (!o || !json_object_object_get_ex(o, "database", &db) || !json_object_get_string(db) ||
+		if (!*o || !json_object_object_get_ex(*o, "database", &db) || !json_object_get_string(db) ||
 		    json_object_get_type(db) != json_type_string) {
 			fprintf(stderr, "psensctl: psensd keeps no database (use -d)\n");
-			json_object_put(o);
-			return 1;
+			json_object_put(*o);
+			*o = NULL;
+			return NULL;
 		}
 		dbpath = json_object_get_string(db);
 	}
+	return dbpath;
+}
+
+static int export_csv(const char *sock, const char *dbpath, int timeout_ms)
+{
+	char err[512];
+	json_object *o;
+	int rc;
+	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
 	rc = psd_db_export_csv(dbpath, stdout, err, sizeof err);
 	if (rc != 0)
 		fprintf(stderr, "psensctl: %s\n", err);
 	json_object_put(o);
 	return rc == 0 && fflush(stdout) == 0 ? 0 : 1;
+}
+
+static int report(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
+{
+	const char *out = NULL, *zone = NULL;
+	double tol = 25;
+	char err[512], *end;
+	json_object *o;
+	FILE *fp = stdout;
+	int verdict, rc;
+	for (int i = 0; i < argc; i++) {
+		if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+			out = argv[++i];
+		else if (strcmp(argv[i], "-t") == 0 && i + 1 < argc) {
+			tol = strtod(argv[++i], &end);
+			if (*end || !(tol >= 0)) {
+				fprintf(stderr, "psensctl: report -t %s: a percentage\n", argv[i]);
+				return 2;
+			}
+		} else if (!zone && argv[i][0] != '-')
+			zone = argv[i];
+		else {
+			usage(stderr);
+			return 2;
+		}
+	}
+	if (!zone) {
+		usage(stderr);
+		return 2;
+	}
+	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	if (out && !(fp = fopen(out, "w"))) {
+		fprintf(stderr, "psensctl: %s: %s\n", out, strerror(errno));
+		json_object_put(o);
+		return 1;
+	}
+	rc = psd_report_svg(dbpath, zone, tol, fp, &verdict, err, sizeof err);
+	if (out && fclose(fp) != 0)
+		rc = -1;
+	json_object_put(o);
+	if (rc != 0) {
+		fprintf(stderr, "psensctl: %s\n", rc ? err : "write error");
+		return 1;
+	}
+	if (out)
+		printf("%s: zone %s: %s\n", out, zone, verdict > 0 ? "PASS" : verdict < 0 ? "FAIL" : "not calibrated");
+	return 0;
 }
 
 int main(int argc, char **argv)
@@ -196,6 +257,8 @@ int main(int argc, char **argv)
 		}
 		return export_csv(sock, dbpath, timeout_ms);
 	}
+	if (strcmp(argv[optind], "report") == 0)
+		return report(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	for (int i = optind; i < argc; i++) {
 		int n = snprintf(request + used, sizeof request - used, "%s%s", i > optind ? " " : "", argv[i]);
 		if (n < 0 || (size_t)n >= sizeof request - used) {

@@ -137,4 +137,18 @@ check "history: sessions recorded with their states ($(q "select group_concat(ki
 check "every session carries the config's and the scene's SHA-256" \
 	test "$(q "select count(*) from cal_sessions where length(config_sha256) = 64 and length(scene_sha256) = 64")" = "$(q "select count(*) from cal_sessions")"
 check "every night sample is in the log" test "$(q "select count(*) from cal_samples s join cal_sessions c on c.id = s.session where c.kind = 'night' and c.state in ('done', 'accepted')")" -ge 12
+# the commissioning report, from the database alone
+"$BIN/psensctl" -d "$TMP/state/psensd.db" report office -o "$TMP/report.svg" > "$TMP/report.out"
+check "psensctl report writes the SVG and its verdict: $(cat "$TMP/report.out")" grep -q "report.svg: zone office: PASS" "$TMP/report.out"
+if command -v xmllint > /dev/null; then
+	check "the report is well-formed XML (xmllint)" xmllint --noout "$TMP/report.svg"
+else
+	skip "xmllint not installed"
+fi
+check "it shows the day session's measured ratio" grep -q "$(printf '%.2f' "$(q "select json_extract(results, '$.ratio') from cal_sessions where kind = 'day' and state = 'accepted'")") lux/V" "$TMP/report.svg"
+check "and the sessions' states, the aborted one with its reason" grep -q "aborted.*sensor reads 0.000 V" "$TMP/report.svg"
+"$BIN/psensctl" -d "$TMP/state/psensd.db" report office -t 0.01 -o "$TMP/strict.svg" > "$TMP/strict.out"
+check "with a 0.01 % tolerance the same results FAIL" grep -q "FAIL" "$TMP/strict.out"
+"$BIN/psensctl" -d "$TMP/state/psensd.db" report nosuch -o "$TMP/none.svg" > "$TMP/none.out"
+check "a zone never calibrated is 'not calibrated'" grep -q "not calibrated" "$TMP/none.out"
 done_testing
