@@ -265,7 +265,9 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 		/* a lost device or a reading out of its range is a fault at once;
 		 * a missed or garbled reply only once the last good reading is
 		 * older than stale_after */
-		int at_once = errno == ENODEV || errno == ENOTSUP || errno == EINVAL || errno == ERANGE;
+		/* EOVERFLOW: a counting sensor lost edges; its value would be low */
+		int at_once = errno == ENODEV || errno == ENOTSUP || errno == EINVAL || errno == ERANGE ||
+		              errno == EOVERFLOW;
 		if (at_once || now - z->last_ok >= zc->stale_after) {
 			if (at_once)
 				snprintf(why, n, "%s", d->err);

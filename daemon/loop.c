@@ -79,6 +79,13 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		log_warn("config");
 		return -1;
 	}
+	/* before any device opens: a driver's library may start threads, which
+	 * inherit the mask, and a signal must reach the signalfd, not them */
+	if (signals_block() != 0) {
+		log_warn("signals");
+		free(cf);
+		return -1;
+	}
 	if (psd_config_load(cf, path) != 0) {
 		log_config_errors(cf);
 		psd_config_free(cf);
@@ -91,10 +98,6 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 			log_warnx("%s", err);
 		psd_config_free(cf);
 		free(cf);
-		return -1;
-	}
-	if (signals_block() != 0) {
-		log_warn("signals");
 		return -1;
 	}
 	/* the socket: always in real time; in a simulated day only when configured */

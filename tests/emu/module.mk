@@ -32,3 +32,16 @@ $(BUILD)/tests/dali-client: $(BUILD)/obj/tests/emu/dali_client.o $(TEST_LIBS)
 
 tests: $(BUILD)/tests/psemu-run $(BUILD)/tests/dali-client
 endif
+
+# The emulated GPIO chip as an LD_PRELOAD fixture (tests/emu/vgpio*.c), for
+# psensd with the gpio driver (tests/system/420).  Built without the
+# sanitizers: it is loaded into whichever psensd the test runs.
+ifeq ($(HAVE_GPIOD)$(shell $(PKG) --exists umockdev-1.0 && echo yes),yesyes)
+VGPIO_SO := $(BUILD)/tests/libvgpio_fixture.so
+$(VGPIO_SO): tests/emu/vgpio.c tests/emu/vgpio_fixture.c tests/emu/vgpio.h
+	@mkdir -p $(dir $@)
+	$(CC) -std=c11 $(WARN) -O2 -g -D_GNU_SOURCE -fPIC -shared \
+	    $(patsubst -I%,-isystem %,$(shell $(PKG) --cflags umockdev-1.0)) -o $@ \
+	    tests/emu/vgpio.c tests/emu/vgpio_fixture.c $(shell $(PKG) --libs umockdev-1.0)
+tests: $(VGPIO_SO)
+endif
