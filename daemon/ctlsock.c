@@ -81,9 +81,13 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 		}
 		unlink(path);
 	}
+	/* The backlog is the kernel's maximum: a crowd of clients connecting
+	 * between two turns of the poll loop queues rather than being refused
+	 * (non-blocking clients see EAGAIN on a full AF_UNIX backlog).  The
+	 * max_clients cap is applied after accept, with an error reply. */
 	s->lfd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
 	if (s->lfd < 0 || bind(s->lfd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
-	    chmod(path, (mode_t)mode) != 0 || listen(s->lfd, 64) != 0) {
+	    chmod(path, (mode_t)mode) != 0 || listen(s->lfd, SOMAXCONN) != 0) {
 		snprintf(err, errlen, "%s: %s", path, strerror(errno));
 		goto bad;
 	}

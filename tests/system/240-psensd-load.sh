@@ -21,8 +21,8 @@ steps() { "$BIN/psensctl" -s "$S" -j status | sed -n 's/.*"steps":\([0-9]*\).*/\
 s0=$(steps); t0=$(date +%s.%N)
 good=0; bad=0; r=0
 while [ $r -lt 5 ]; do   # five rounds, to hold the load for a second or more
-	good=$((good + $($PY "$PEERS/rawctl.py" "$S" crowd 100 20)))
-	bad=$((bad + $($PY "$PEERS/rawctl.py" "$S" burst 1000)))
+	n=$($PY "$PEERS/rawctl.py" "$S" crowd 100 20); good=$((good + ${n:-0}))
+	n=$($PY "$PEERS/rawctl.py" "$S" burst 1000); bad=$((bad + ${n:-0}))
 	r=$((r + 1))
 done
 t1=$(date +%s.%N); s1=$(steps)

@@ -6,13 +6,23 @@
                                       print one reply per connection (or 'closed')
   rawctl.py SOCKET burst N            N bad requests on one connection, print the count of error replies
 """
-import socket, sys
+import socket, sys, time
 
 def conn(path):
-    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    s.settimeout(5)
-    s.connect(path)
-    return s
+    # A socket with a timeout is non-blocking underneath: a full listen
+    # backlog gives EAGAIN, which a client retries until its timeout.
+    end = time.monotonic() + 5
+    while True:
+        s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        s.settimeout(5)
+        try:
+            s.connect(path)
+            return s
+        except BlockingIOError:
+            s.close()
+            if time.monotonic() > end:
+                raise
+            time.sleep(0.01)
 
 def line(s):
     buf = b""
