@@ -281,7 +281,12 @@ static void close_gate(struct gpio_point *p, double now)
 static void drain(struct ps_dev *dev, struct gpio_point *p, double now)
 {
 	struct gpiod_line_event ev[PS_FREQ_KERNEL_FIFO];
-	for (;;) {
+	/* Bounded: edges arriving faster than they are read would keep this
+	 * loop going forever and starve the control socket and the other
+	 * devices.  A line still readable afterwards brings the poll loop back
+	 * at once; at such rates the kernel buffer is full at every read, so
+	 * the gate counts as overrun (never as a low rate). */
+	for (int reads = 0; reads < 64; reads++) {
 		struct pollfd pf = { gpiod_line_event_get_fd(p->line), POLLIN, 0 };
 		int n;
 		if (poll(&pf, 1, 0) <= 0)

@@ -101,13 +101,20 @@ check "override: both relays on" test "$(lv 0) $(lv 1)" = "1 0"
 # them 40 at a time (every 200 us), more than the kernel's 16-event buffer
 cmd tsl230 3 20000000 4 5
 overrun() { "$BIN/psensctl" -s "$S" -j status | grep -q '"fault":"gpio io line 3: edges lost at [0-9]* edges/s'; }
-wait_for 8 overrun
-check "lost edges are a fault, not a low count: $("$BIN/psensctl" -s "$S" -j status | grep -o 'edges lost[^)]*)')" overrun
+# (checked as it happens: under a sanitizer the emulator's own thread can be
+# starved for a gate, and a gate of what the emulated pin really delivered
+# is a good reading)
+if wait_for 8 overrun; then
+	ok "lost edges are a fault, not a low count: $("$BIN/psensctl" -s "$S" -j status | grep -o 'edges lost[^)]*)')"
+else
+	not_ok "lost edges are a fault, not a low count: $("$BIN/psensctl" -s "$S" -j status)"
+fi
 check "the divider goes up to /100 trying" wait_for 3 sh -c "[ \"\$(awk '\$2 == 4 || \$2 == 5 { printf \"%s\", \$4 }' '$TMP/vgpio.state')\" = 11 ]"
 check "the emulated kernel buffer did drop events ($(awk '$2 == 3 { print $8 }' "$TMP/vgpio.state"))" test "$(awk '$2 == 3 { print $8 }' "$TMP/vgpio.state")" -gt 0
 wait_for 3 sh -c "[ \"\$(awk '\$2 == 0 || \$2 == 1 { printf \"%s\", \$4 }' '$TMP/vgpio.state')\" = 10 ]"
 check "the lights at the safe level: both relays on" test "$(lv 0) $(lv 1)" = "1 0"
-check "still overrun at /100: the fault stays" overrun
+at100() { "$BIN/psensctl" -s "$S" -j status | grep -q '"fault":"gpio io line 3: edges lost at [0-9]* edges/s with the divider at /100'; }
+check "still overrun at /100: the fault stays" wait_for 5 at100
 cleared=$(grep -c "fault cleared" "$TMP/err")
 cmd tsl230 3 500 4 5
 wait_for 10 sh -c "[ \$(grep -c 'fault cleared' '$TMP/err') -gt $cleared ]"
