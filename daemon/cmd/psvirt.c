@@ -153,8 +153,12 @@ static void send_garbage(struct virt *v, int fd, const uint8_t *q, int off)
 	(void)n;
 }
 
-/* Serve one request; returns 1 when the connection must be closed. */
-static int serve(struct virt *v, int fd, const uint8_t *q, int len)
+/* Serve one request; returns 1 when the connection must be closed, 2 when
+ * the reply is late: with *late_s set (TCP) it is deferred by that many
+ * seconds and finished by reply_late(), so one slow reply does not stall the
+ * other clients (nor the fault registers' writes); without (a serial line,
+ * where a late reply does hold the line) psvirt sleeps. */
+static int serve(struct virt *v, int fd, const uint8_t *q, int len, double *late_s)
 {
 	uint16_t *hr = v->map->tab_registers;
 	int off = modbus_get_header_length(v->ctx), fault;
@@ -163,6 +167,10 @@ static int serve(struct virt *v, int fd, const uint8_t *q, int len)
 	if (refresh(v, now) != 0) {
 		if (errno == ETIMEDOUT)
 			return 0;   /* the room drops the reply */
+		if (late_s) {
+			*late_s = hr[REG_LATE_MS] * 1e-3;
+			return 2;
+		}
 		usleep((useconds_t)hr[REG_LATE_MS] * 1000);
 	}
 	fault = hr[REG_FAULT] < FAULT_COUNT ? hr[REG_FAULT] : FAULT_NONE;
@@ -171,7 +179,13 @@ static int serve(struct virt *v, int fd, const uint8_t *q, int len)
 		if (hr[REG_FAULT_COUNT] > 0 && --hr[REG_FAULT_COUNT] == 0)
 			hr[REG_FAULT] = FAULT_NONE;
 		switch (fault) {
-		case FAULT_LATE: usleep((useconds_t)hr[REG_LATE_MS] * 1000); break;
+		case FAULT_LATE:
+			if (late_s) {
+				*late_s = hr[REG_LATE_MS] * 1e-3;
+				return 2;
+			}
+			usleep((useconds_t)hr[REG_LATE_MS] * 1000);
+			break;
 		case FAULT_EXCEPTION: modbus_reply_exception(v->ctx, q, hr[REG_EXCEPTION]); return 0;
 		case FAULT_GARBAGE: send_garbage(v, fd, q, off); return 0;
 		default: return !v->rtu;   /* disconnect: TCP closes, a serial line goes silent */
@@ -180,6 +194,17 @@ static int serve(struct virt *v, int fd, const uint8_t *q, int len)
 	if (modbus_reply(v->ctx, q, len, v->map) < 0)
 		return !v->rtu;
 	refresh(v, now);   /* a write to AO0 takes effect now */
+	return 0;
+}
+
+/* Finish a deferred reply with the room as it is now; 1: close the client. */
+static int reply_late(struct virt *v, int fd, const uint8_t *q, int len)
+{
+	modbus_set_socket(v->ctx, fd);
+	refresh(v, room_now(v));
+	if (modbus_reply(v->ctx, q, len, v->map) < 0)
+		return 1;
+	refresh(v, room_now(v));
 	return 0;
 }
 
@@ -196,12 +221,19 @@ static int write_ready(const char *path, const char *what)
 	return 0;
 }
 
+/* A TCP client and its deferred reply, if any (due > 0). */
+struct client {
+	int fd, len;
+	double due;
+	uint8_t q[MODBUS_TCP_MAX_ADU_LENGTH];
+};
+
 static int run_tcp(struct virt *v, const char *ready)
 {
-	int lfd = modbus_tcp_listen(v->ctx, MAX_CLIENTS), clients[MAX_CLIENTS], n = 0;
+	int lfd = modbus_tcp_listen(v->ctx, MAX_CLIENTS), n = 0;
+	struct client cl[MAX_CLIENTS];
 	struct sockaddr_in a;
 	socklen_t alen = sizeof a;
-	uint8_t q[MODBUS_TCP_MAX_ADU_LENGTH];
 	char port[16];
 	if (lfd < 0 || getsockname(lfd, (struct sockaddr *)&a, &alen) != 0) {
 		fprintf(stderr, "psvirt: cannot listen: %s\n", modbus_strerror(errno));
@@ -214,43 +246,59 @@ static int run_tcp(struct virt *v, const char *ready)
 	}
 	while (!stop) {
 		struct pollfd p[MAX_CLIENTS + 1];
+		double t = mono(), wait = 0.2;
 		p[0] = (struct pollfd){ lfd, POLLIN, 0 };
-		for (int i = 0; i < n; i++)
-			p[i + 1] = (struct pollfd){ clients[i], POLLIN, 0 };
-		if (poll(p, (nfds_t)n + 1, 200) <= 0)
-			continue;
+		/* a client waiting for a late reply is not read until it has it */
+		for (int i = 0; i < n; i++) {
+			p[i + 1] = (struct pollfd){ cl[i].fd, cl[i].due > 0 ? 0 : POLLIN, 0 };
+			if (cl[i].due > 0)
+				wait = fmin(wait, fmax(cl[i].due - t, 0));
+		}
+		poll(p, (nfds_t)n + 1, (int)ceil(wait * 1000));
 		if (p[0].revents & POLLIN) {
 			int c = accept(lfd, NULL, NULL);
 			if (c >= 0 && n < MAX_CLIENTS)
-				clients[n++] = c;
+				cl[n++] = (struct client){ .fd = c };
 			else if (c >= 0)
 				close(c);
 		}
+		t = mono();
 		for (int i = 0; i < n; i++) {
 			int rc, drop = 0;
-			if (!(p[i + 1].revents & (POLLIN | POLLHUP | POLLERR)))
-				continue;
-			modbus_set_socket(v->ctx, clients[i]);
-			rc = modbus_receive(v->ctx, q);
-			if (rc < 0)
-				drop = 1;
-			else if (rc > 0)
-				drop = serve(v, clients[i], q, rc);
+			double late = 0;
+			if (cl[i].due > 0) {
+				if (t >= cl[i].due) {
+					cl[i].due = 0;
+					drop = reply_late(v, cl[i].fd, cl[i].q, cl[i].len);
+				} else if (p[i + 1].revents & (POLLHUP | POLLERR)) {
+					drop = 1;
+				}
+			} else if (p[i + 1].revents & (POLLIN | POLLHUP | POLLERR)) {
+				modbus_set_socket(v->ctx, cl[i].fd);
+				rc = modbus_receive(v->ctx, cl[i].q);
+				if (rc < 0)
+					drop = 1;
+				else if (rc > 0 && (drop = serve(v, cl[i].fd, cl[i].q, rc, &late)) == 2) {
+					cl[i].len = rc;
+					cl[i].due = mono() + late;
+					drop = 0;
+				}
+			}
 			if (drop) {
-				close(clients[i]);
+				close(cl[i].fd);
 				/* poll results are indexed by the old positions: move the last
 				 * client here only after its own turn is past */
-				clients[i] = -1;
+				cl[i].fd = -1;
 			}
 		}
 		for (int i = 0; i < n;)
-			if (clients[i] < 0)
-				clients[i] = clients[--n];
+			if (cl[i].fd < 0)
+				cl[i] = cl[--n];
 			else
 				i++;
 	}
 	for (int i = 0; i < n; i++)
-		close(clients[i]);
+		close(cl[i].fd);
 	close(lfd);
 	return 0;
 }
@@ -275,7 +323,7 @@ static int run_rtu(struct virt *v, const char *device, const char *ready)
 			continue;
 		rc = modbus_receive(v->ctx, q);
 		if (rc > 0)
-			serve(v, fd, q, rc);
+			serve(v, fd, q, rc, NULL);
 		else if (rc < 0) {
 			/* a bad frame or a line with nobody on the other end: drop what
 			 * is there, and do not spin on a hung-up line */
