@@ -29,14 +29,15 @@ trap _cleanup EXIT
 # remember a PID to stop on exit
 track_pid() { _cleanup_pids="$_cleanup_pids $1"; }
 # wait_for SECONDS COMMAND...: poll (every 20 ms) until the command succeeds
+# (bounded by the clock, not by a count of tries: a command that is itself
+# slow, e.g. a status request to a loaded daemon, must not stretch the wait)
 wait_for() {
-	_t=$1; shift
-	_n=$(awk "BEGIN{print int($_t * 50)}")
-	while [ "$_n" -gt 0 ]; do
+	_end=$(awk -v t="$1" -v now="$(date +%s.%N)" 'BEGIN { printf "%.3f", now + t }'); shift
+	while :; do
 		"$@" 2>/dev/null && return 0
-		sleep 0.02; _n=$((_n - 1))
+		awk -v e="$_end" -v now="$(date +%s.%N)" 'BEGIN { exit !(now < e) }' || return 1
+		sleep 0.02
 	done
-	return 1
 }
 # free_port: an unused TCP port on 127.0.0.1
 free_port() {
