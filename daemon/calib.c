@@ -234,10 +234,23 @@ void psd_drift_init(struct psd_drift *d, double margin, double hold, double min_
 
 int psd_drift_update(struct psd_drift *d, double now, double day_volts, double day_lux, double sim_ratio)
 {
-	double l;
-	if (!(day_volts >= d->min_day_volts) || !(day_lux > 0) || !(sim_ratio > 0))
-		return 0;   /* too dark to judge: neither in nor out */
-	l = log(day_lux / day_volts / sim_ratio);
+	double l, lux_as_volts, floor_v;
+	if (!isfinite(day_volts) || !isfinite(day_lux) || !(sim_ratio > 0))
+		return 0;
+	/* Daylight must show in one of the two signals (in the sensor's units)
+	 * to judge: a sensor covered completely (no daylight in its signal,
+	 * plenty on the desk) is the drift most worth flagging.  Too dark to
+	 * judge breaks a sustained excursion: at night, a small unknown sensor
+	 * offset flickering across the threshold must not add up to an hour. */
+	lux_as_volts = day_lux / sim_ratio;
+	if (!(fmax(day_volts, lux_as_volts) >= d->min_day_volts)) {
+		d->out_since = -1;
+		return 0;
+	}
+	/* a part at or below zero (noise, a covered sensor) is a ratio off by
+	 * a factor of 1000 at most, so the log stays finite */
+	floor_v = 1e-3 * fmax(day_volts, lux_as_volts);
+	l = log(fmax(lux_as_volts, floor_v) / fmax(day_volts, floor_v));
 	d->last_ln = l;
 	if (fabs(l) > d->margin) {
 		if (d->out_since < 0)

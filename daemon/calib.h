@@ -15,7 +15,9 @@
  *              100 (simulated - measured) / measured (the paper's Table 2).
  *   drift      the measured ratio against the simulated one over time:
  *              flagged when |ln(measured / simulated)| stays above a margin
- *              for a hold time. */
+ *              for a hold time, judged while daylight shows in the sensor's
+ *              signal or on the task (a covered sensor is drift too); a
+ *              sample too dark to judge ends a sustained excursion. */
 #ifndef PSD_CALIB_H
 #define PSD_CALIB_H
 
@@ -79,7 +81,7 @@ double psd_ratio_error_pct(double simulated, double measured);
 struct psd_drift {
 	double margin;            /* |ln(measured/simulated)| above this is out */
 	double hold;              /* seconds out before it is drift */
-	double min_day_volts;     /* less daylight signal than this: no judgement */
+	double min_day_volts;     /* less daylight than this in both signals (task lux as volts): no judgement */
 	double out_since;         /* -1: in */
 	int flagged;
 	double last_ln;           /* the last ln(measured/simulated) judged */

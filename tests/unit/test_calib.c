@@ -158,13 +158,54 @@ static void drift_timing(void **state)
 	}
 	assert_int_equal(flagged_at, 7200 + 3600);   /* exactly the hold after it began */
 	assert_int_equal(cleared_at, 21600);
-	/* a 50-minute excursion never flags; darkness is no judgement */
+	/* a 50-minute excursion never flags; darkness (in both signals) is no
+	 * judgement */
 	psd_drift_init(&d, 0.2, 3600, 0.1);
 	for (int t = 0; t <= 8 * 3600; t += 60) {
 		double vd = t >= 7200 && t < 10200 ? 1.0 : 2.0;
 		assert_int_equal(psd_drift_update(&d, t, vd, 944.8, 472.4), 0);
-		assert_int_equal(psd_drift_update(&d, t, 0.01, 944.8, 472.4), 0);
+		assert_int_equal(psd_drift_update(&d, t + 30, 0.01, 4.7, 472.4), 0);
 	}
+}
+
+/* A sensor covered completely: no daylight in its signal (even a little
+ * below zero from noise), plenty on the desk.  The task's daylight alone
+ * qualifies the sample, and the ratio is off by the floor of 1000x. */
+static void drift_covered_sensor(void **state)
+{
+	struct psd_drift d;
+	int flagged_at = -1;
+	(void)state;
+	psd_drift_init(&d, 0.25, 1800, 0.05);
+	for (int t = 0; t <= 3 * 3600; t += 60) {
+		double vd = t >= 3600 ? (t % 120 ? -0.002 : 0.001) : 2.0;
+		int r = psd_drift_update(&d, t, vd, 944.8, 472.4);
+		if (r > 0)
+			flagged_at = t;
+	}
+	assert_int_equal(flagged_at, 3600 + 1800);
+	assert_true(d.last_ln > log(999) && d.last_ln < log(1001));
+}
+
+/* Night with an unknown sensor offset at the judging threshold: the
+ * daylight part of the signal flickers across it on noise, the task sees
+ * none.  Each judged sample is out, but the dark ones between them end the
+ * excursion: no drift in a whole night. */
+static void drift_night_offset(void **state)
+{
+	struct psd_drift d;
+	unsigned seed = 12345;
+	(void)state;
+	psd_drift_init(&d, 0.25, 3600, 0.05);
+	for (int t = 0; t <= 10 * 3600; t += 60) {
+		double vd, lux;
+		seed = seed * 1103515245u + 12345u;
+		vd = 0.05 + 0.002 * (((seed >> 16) & 0x7fff) / 16383.5 - 1);   /* 0.048 to 0.052 */
+		seed = seed * 1103515245u + 12345u;
+		lux = 2.0 * (((seed >> 16) & 0x7fff) / 16383.5 - 1);           /* +-2 lx meter noise */
+		assert_int_equal(psd_drift_update(&d, t, vd, lux, 472.4), 0);
+	}
+	assert_false(d.flagged);
 }
 
 int main(void)
@@ -176,6 +217,8 @@ int main(void)
 		cmocka_unit_test(night_fit_refuses),
 		cmocka_unit_test(day_ratio_exact),
 		cmocka_unit_test(drift_timing),
+		cmocka_unit_test(drift_covered_sensor),
+		cmocka_unit_test(drift_night_offset),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
