@@ -191,9 +191,15 @@ static int finish(struct psd_engine *e, struct psd_zone *z, double now, char *er
 		         z->cal.night.r2);
 	else
 		snprintf(z->cal.msg, sizeof z->cal.msg, "done: %.2f lux per volt (se %.2f) from %zu samples; "
-		         "simulated %.2f (%s): %+.1f %%; accept to use it", z->cal.day.ratio, z->cal.day.ratio_se,
-		         z->cal.day.n, z->cal.sim_ratio, z->cal.sim_condition, z->cal.error_pct);
-	log_info("zone %s: calibration session %lld %s", z->zc->name, z->cal.id, z->cal.msg);
+		         "simulated %.2f (%s): %+.1f %%, %s the %g %% tolerance%s", z->cal.day.ratio,
+		         z->cal.day.ratio_se, z->cal.day.n, z->cal.sim_ratio, z->cal.sim_condition, z->cal.error_pct,
+		         fabs(z->cal.error_pct) <= z->zc->cal_tolerance ? "within" : "outside", z->zc->cal_tolerance,
+		         fabs(z->cal.error_pct) <= z->zc->cal_tolerance ? "; accept to use it"
+		         : " (the sensor moved or covered, the wrong filter, or a scene unlike the room?); accept to use it anyway");
+	if (z->cal.kind == PSD_CAL_DAY && !(fabs(z->cal.error_pct) <= z->zc->cal_tolerance))
+		log_warnx("zone %s: calibration session %lld %s", z->zc->name, z->cal.id, z->cal.msg);
+	else
+		log_info("zone %s: calibration session %lld %s", z->zc->name, z->cal.id, z->cal.msg);
 	z->asap = 1;
 	return 0;
 }

@@ -60,7 +60,7 @@ struct psd_cal {
 	double sim_ratio;         /* simulated lux per volt of the nearest condition */
 	char sim_condition[64];
 	double error_pct;         /* 100 (simulated - measured) / measured */
-	char msg[256];            /* why it ended, or what it waits for */
+	char msg[384];            /* why it ended, or what it waits for */
 };
 
 #endif

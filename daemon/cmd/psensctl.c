@@ -2,8 +2,10 @@
  *
  *   psensctl [-s socket] [-j] status [ZONE] | target ZONE LUX |
  *            override ZONE LEVEL SECONDS | release ZONE | ratios | log |
- *            reload | ping | help
+ *            reload | ping | help |
+ *            calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort
  *   psensctl [-s socket | -d database] export --csv
+ *   psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]
  *
  * Replies are JSON lines; -j prints them as they come, otherwise they are
  * shown for a person.  See psensctl(1). */
@@ -29,7 +31,8 @@ static void usage(FILE *fp)
 	            "       psensctl [-s socket | -d database] export --csv\n"
 	            "       psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
-	            "          release ZONE, ratios, log, reload, ping, help\n");
+	            "          release ZONE, ratios, log, reload, ping, help,\n"
+	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort\n");
 }
 
 static const char *default_socket(void)

@@ -115,6 +115,7 @@ check "the measured ratio meets the simulated one within 1 % (the room plays the
 # the simulated lux per volt carries the accepted night gain's uncertainty too
 cse=$(awk -v r="$2" -v s="$3" -v g="$g" -v e="$gse" 'BEGIN { u = s * e / g; print sqrt(r * r + u * u) }')
 check "and within 3 combined standard errors ($cse: its own and the night gain's)" within "$1" "$3" "$cse" 3
+check "its message says it is within the 25 % tolerance" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office status | grep -q 'within the 25 % tolerance; accept'"
 check "accept the day session" sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office accept > /dev/null"
 # typed lux: a session without the meter's samples
 ctl calibrate office day > /dev/null
@@ -151,4 +152,18 @@ check "and the sessions' states, the aborted one with its reason" grep -q "abort
 check "with a 0.01 % tolerance the same results FAIL" grep -q "FAIL" "$TMP/strict.out"
 "$BIN/psensctl" -d "$TMP/state/psensd.db" report nosuch -o "$TMP/none.svg" > "$TMP/none.out"
 check "a zone never calibrated is 'not calibrated'" grep -q "not calibrated" "$TMP/none.out"
+# 6. an installer's typed readings three times the true ones: outside the
+# tolerance, said in the message and logged as a warning
+start 10:00
+ctl calibrate office day > /dev/null
+ctl -j status office > "$TMP/st.json"
+tl=$($PY -c "import json,sys; print(json.load(open(sys.argv[1]))['zones'][0]['true_task_lux'])" "$TMP/st.json")
+ctl calibrate office lux "$(awk -v l="$tl" 'BEGIN { print 3 * l }')" > /dev/null
+ctl calibrate office lux "$(awk -v l="$tl" 'BEGIN { print 3 * l }')" > /dev/null
+ctl calibrate office finish > /dev/null
+check "typed lux 3x the truth ($tl lx): $(calj "c['message']" | cut -c1-90)..." sh -c "\"$BIN/psensctl\" -s \"$S\" calibrate office status | grep -q 'outside the 25 % tolerance'"
+# (the meter's own samples come in too, so the error is not -67 % exactly)
+check "the error is far below -25 % ($(calj "round(c['error_pct'], 1)") %)" awk -v e="$(calj "c['error_pct']")" 'BEGIN { exit !(e < -40) }'
+check "and said in the log" grep -q "calibration session [0-9]* done: .*outside the 25 % tolerance" "$TMP/err"
+stop
 done_testing
