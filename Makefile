@@ -133,9 +133,11 @@ $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/c
 
 # ---- Debian packages the build and the tests need -------------------------
 # Installed by `make deps` (and so by the README's two commands) when run as root.
+# (python3-serial-asyncio is only a Recommends of python3-pymodbus, whose
+# client and server modules import it: deps.sh installs no recommends.)
 DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsystemd-dev nettle-dev \
             libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev
-DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus mbpoll socat valgrind libxml2-utils \
+DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
             libclang-rt-14-dev systemd
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
