@@ -91,7 +91,7 @@ int ps_room_fault(const struct ps_room *r, double now)
 	return PS_ROOM_FAULT_NONE;
 }
 
-void ps_room_daylight(struct ps_room *r, double now, double *volts, double *lux)
+void ps_room_daylight(const struct ps_room *r, double now, double *volts, double *lux)
 {
 	double tod = ps_room_tod(now), s = 0, l = 0;
 	const struct ps_room_daypoint *d = r->day;
@@ -142,11 +142,17 @@ double ps_room_energy(struct ps_room *r, double now)
 	return r->ballast.energy;
 }
 
-double ps_room_true_task_lux(struct ps_room *r, double now)
+/* The truth is looked at, never lived through: the ballast is advanced on a
+ * copy, so asking what the desk gets before the next step (psensd's
+ * statistics) cannot move the room's own clock ahead, where a command
+ * arriving in between (an override) would be applied late. */
+double ps_room_true_task_lux(const struct ps_room *r, double now)
 {
+	struct ps_ballast b = r->ballast;
 	double dv, dl;
 	ps_room_daylight(r, now, &dv, &dl);
-	return dl + ps_room_output(r, now) * r->p.elec_task_lux;
+	ps_ballast_advance(&b, now);
+	return dl + b.output * r->p.elec_task_lux;
 }
 
 int ps_room_sensor(struct ps_room *r, double now, double *volts)

@@ -78,10 +78,11 @@ int ps_room_sensor(struct ps_room *r, double now, double *volts);
 int ps_room_task(struct ps_room *r, double now, double *lux);
 /* Light output (fraction of full) now. */
 double ps_room_output(struct ps_room *r, double now);
-/* Task lux without noise or faults: the truth a summary compares with. */
-double ps_room_true_task_lux(struct ps_room *r, double now);
+/* Task lux without noise or faults: the truth a summary compares with.
+ * Asking does not advance the room (any time, even ahead of its clock). */
+double ps_room_true_task_lux(const struct ps_room *r, double now);
 /* Daylight parts now: sensor volts and task lux. */
-void ps_room_daylight(struct ps_room *r, double now, double *volts, double *lux);
+void ps_room_daylight(const struct ps_room *r, double now, double *volts, double *lux);
 /* Integral of the light output over time since t0 (fraction x seconds). */
 double ps_room_energy(struct ps_room *r, double now);
 /* The fault active now (enum ps_room_fault). */

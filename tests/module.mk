@@ -27,6 +27,10 @@ check: deps
 bench: all $(BENCH_BINS)
 	@for b in $(BENCH_BINS); do echo "== $$b"; BUILD=$(BUILD) $$b || exit 1; done
 	@for s in $(wildcard tests/bench/*.sh); do echo "== $$s"; BUILD=$(BUILD) BIN=$(BUILD)/bin sh $$s || exit 1; done
+	@echo "== the fuzz targets, $(BENCH_FUZZ_TIME) s each: executions without a crash"
+	@$(MAKE) --no-print-directory fuzz FUZZ_TIME=$(BENCH_FUZZ_TIME) > $(BUILD)/bench-fuzz.log 2>&1; rc=$$?; \
+	    grep -E '^(target|fuzz_)|CRASH' $(BUILD)/bench-fuzz.log; exit $$rc
+BENCH_FUZZ_TIME ?= 10
 
 # libFuzzer targets: tests/fuzz/fuzz_*.c, built with clang into $(BUILD)-fuzz,
 # each run for FUZZ_TIME seconds from its seeds in tests/fuzz/seeds/<name>/.

@@ -35,8 +35,12 @@ static void summary(struct psd_daemon *d, double start, double end)
 		       z->ctl.target_lux);
 		printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
 		       e->res.daylight_ratio_mean, e->res.electric_ratio, e->res.task_sensor_ratio);
-		printf("  energy: %.1f %% of full output (%.2f of %.2f full-output hours)\n", 100 * used / hours,
-		       used, hours);
+		if (hours >= 1)
+			printf("  energy: %.1f %% of full output (%.2f of %.2f full-output hours)\n", 100 * used / hours,
+			       used, hours);
+		else if (hours > 0)
+			printf("  energy: %.1f %% of full output (%.2f of %.2f full-output minutes)\n",
+			       100 * used / hours, 60 * used, 60 * hours);
 		printf("  time below target (by more than %.0f %%): %.1f %% (%.0f of %.0f periods; lowest %.0f lx)\n",
 		       100 * cf->tolerance, 100 * s->below / s->samples, s->below, s->samples, s->worst_lux);
 		if (s->err_n > 0)
@@ -133,8 +137,10 @@ int main(int argc, char **argv)
 	}
 	d.self = argv[0];
 	start = psd_clock_now(&d.clock);
-	if (psd_daemon_start(&d, path) != 0)
+	if (psd_daemon_start(&d, path) != 0) {
+		psd_daemon_stop(&d, NULL);   /* what it did open (the signalfd) */
 		return 1;
+	}
 	log_info("controlling %zu zone(s) from %s on a %s clock", d.engine.nzone, path,
 	         simulate ? "simulated" : "real-time");
 	psd_daemon_run(&d);

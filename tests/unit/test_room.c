@@ -59,11 +59,34 @@ static void fault_windows(void **state)
 	ps_room_free(r);
 }
 
+/* Looking ahead at the truth (psensd asks what the desk gets just before
+ * its next step) must not move the room's clock: a command that comes in
+ * between, an override say, takes effect when it is given. */
+static void truth_ahead_does_not_move_the_room(void **state)
+{
+	struct ps_room_params p = { 0 };
+	struct ps_room *r;
+	(void)state;
+	p.gain = 1;
+	p.elec_sensor = 1;
+	p.elec_task_lux = 1000;
+	p.saturation = 10;
+	r = ps_room_new(&p, 0);                /* no fade, no lag: output follows at once */
+	ps_room_command(r, 0, 0.1);
+	assert_true(fabs(ps_room_true_task_lux(r, 59.94) - 100) < 1e-9);
+	ps_room_command(r, 5, 1.0);            /* an override at 5 s */
+	assert_true(fabs(ps_room_output(r, 6) - 1.0) < 1e-12);
+	/* energy from 0 to 10 s: 0.1 x 5 + 1 x 5 */
+	assert_true(fabs(ps_room_energy(r, 10) - 5.5) < 1e-9);
+	ps_room_free(r);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(daylight_is_interpolated_linearly),
 		cmocka_unit_test(fault_windows),
+		cmocka_unit_test(truth_ahead_does_not_move_the_room),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
