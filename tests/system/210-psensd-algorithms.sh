@@ -5,9 +5,7 @@
 # the literature reports), switching keeps to its deadband.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 below() { sed -n 's/.*time below target (by more than 2 %): \([0-9.]*\) %.*/\1/p' "$1"; }
 for alg in setpoint closed-proportional open-proportional integral-reset switching; do
 	sed "s|^results = .*|results = state/ofb.results|; /^database = /d; s|^algorithm = .*|algorithm = $alg|; /^faults = /d" \

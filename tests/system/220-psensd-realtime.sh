@@ -9,9 +9,7 @@
 command -v socat > /dev/null || skip_all "socat not installed"
 PY=/usr/bin/python3
 PEERS="$TOP/tests/system/peers"
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 S="$TMP/sock"
 sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd.db\nsocket = sock\nmax_clients = 4|; /^faults = /d" \
 	config/psensd.conf > "$TMP/psensd.conf"

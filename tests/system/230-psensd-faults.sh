@@ -5,9 +5,7 @@
 # stepped one switched by two relays with an occupancy sensor.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 run() {  # run NAME FAULT WINDOW [ZONE-KEYS]
 	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/$1.db|; s|^faults = .*|faults = $2 $3|" \
 		config/psensd.conf > "$TMP/$1.conf"

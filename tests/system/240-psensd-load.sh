@@ -8,9 +8,7 @@
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 PY=/usr/bin/python3
 PEERS="$TOP/tests/system/peers"
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 S="$TMP/sock"
 sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd.db\nsocket = sock\nmax_clients = 128|; s|^period = .*|period = 0.1|; /^faults = /d" \
 	config/psensd.conf > "$TMP/psensd.conf"

@@ -9,9 +9,7 @@
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v sqlite3 > /dev/null || skip_all "sqlite3 not installed"
 KILLS=${PSENSD_KILLS:-50}
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 S="$TMP/sock"
 sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd.db\nsocket = sock|" \
 	config/psensd.conf > "$TMP/psensd.conf"

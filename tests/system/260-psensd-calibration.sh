@@ -10,9 +10,7 @@
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 PY=/usr/bin/python3
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 res() { awk -v k="$1" '/^\[/ { s = ($0 == "[summary]") } s && $1 == k { print $3; exit }' "$TMP/state/ofb.results"; }
 ES=$(res electric_sensor_response); EL=$(res electric_task_lux)
 S="$TMP/sock"

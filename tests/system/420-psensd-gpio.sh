@@ -15,9 +15,7 @@ SO=$TOP/$BUILD/tests/libvgpio_fixture.so
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 PRE=libumockdev-preload.so.0
 LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded" && skip_all "$PRE is not installed (umockdev)"
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 S="$TMP/sock"
 cat > "$TMP/psensd.conf" <<EOF
 [psensd]

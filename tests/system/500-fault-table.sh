@@ -18,10 +18,7 @@
 # 400, 410 and 420 test the same drivers' normal operation in detail.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
-PY=/usr/bin/python3
-mkdir -p "$TMP/example" "$TMP/state"
-cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
-"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+example_results
 S="$TMP/sock"
 ROWS="$TMP/rows"
 : > "$ROWS"
@@ -67,16 +64,28 @@ finish() {
 	rows=$(sqlite3 "$TMP/state/$DB" 'select count(*) from samples')
 	check "$DB: nothing lost: $rows rows in the database, $n logged before SIGTERM" test "$rows" -ge "${n:-1}"
 }
+# psensd_section PERIOD STALE_AFTER: the [psensd] section every part's config
+# starts with, logging to state/$DB
+psensd_section() {
+	printf '[psensd]\nresults = state/ofb.results\ndatabase = state/%s\nsocket = sock\nperiod = %s\nstale_after = %s\n' \
+		"$DB" "$1" "$2"
+}
+# came_up WHAT PID ERRFILE: psensd answers within 20 s, else one failure
+# naming its last words, and it is stopped (the part's cases are not run)
+came_up() {
+	wait_for 20 alive && return 0
+	not_ok "$1: psensd did not come up: $(tail -3 "$3")"
+	kill "$2" 2>/dev/null
+	return 1
+}
+# the emulators run inside the process under test through umockdev's preload
+PRE=libumockdev-preload.so.0
+preload_ok() { ! LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded"; }
+EMU_ASAN="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0"
 
 # ---- loopback: faults are windows of the room's day; the clock starts at 11:00
 DB=loop.db
-cat > "$TMP/loop.conf" <<EOF
-[psensd]
-results = state/ofb.results
-database = state/$DB
-socket = sock
-period = 60
-stale_after = 150
+{ psensd_section 60 150; cat <<EOF
 [simulate]
 date = 03-18
 sunrise = 06:00
@@ -107,10 +116,11 @@ sensor_gain = 0.5
 cal_day_interval = 60
 cal_day_samples = 60
 EOF
+} > "$TMP/loop.conf"
 "$BIN/psensd" -f "$TMP/loop.conf" -n > /dev/null 2> "$TMP/loop.n" || diag "config: $(cat "$TMP/loop.n")"
 "$BIN/psensd" -f "$TMP/loop.conf" -t 11:00 -x 600 > /dev/null 2> "$TMP/loop.err" &
 pid=$!; track_pid $pid
-wait_for 10 alive
+if came_up loopback "$pid" "$TMP/loop.err"; then
 # the windows come by themselves: inject and clear wait for the room's clock
 past() { status | awk -v t="$1" '{ if (match($0, /"now":[0-9.]+/)) { split(substr($0, RSTART, RLENGTH), a, ":"); exit !(a[2] >= t) } exit 1 }'; }
 at() { wait_for 60 past "$(($1 / 100 * 3600 + $1 % 100 * 60))"; }
@@ -121,6 +131,7 @@ case_run normal loopback "bad value (saturated)" "at 1320" "at 1340" "outside"
 case_run session loopback "stall (dropped replies)" "at 1400" "at 1420" "dropped"
 case_run session loopback "bad value (open circuit)" "at 1440" "at 1500" "outside"
 finish $pid $pid
+fi
 
 # ---- modbus through psvirt
 if [ -x "$BIN/psvirt" ] && command -v mbpoll > /dev/null; then
@@ -136,14 +147,14 @@ if [ -x "$BIN/psvirt" ] && command -v mbpoll > /dev/null; then
 		wait_for 10 test -s "$TMP/ready"
 	}
 	virt
-	{ printf '[psensd]\nresults = state/ofb.results\ndatabase = state/%s\nsocket = sock\nperiod = 60\nstale_after = 150\n' "$DB"
+	{ psensd_section 60 150
 	  device_tcp "$port" timeout=0.1 retries=0 backoff_min=0.05 backoff_max=0.2
 	  points
 	  printf '[zone office]\nsensor = sensor\ntask = lux\ndim = dim\nsensor_gain = 0.5\ncal_day_interval = 60\ncal_day_samples = 60\n'
 	} > "$TMP/mb.conf"
 	"$BIN/psensd" -f "$TMP/mb.conf" -t 11:00 -x 600 > /dev/null 2> "$TMP/mb.err" &
 	pid=$!; track_pid $pid
-	wait_for 10 alive
+	if came_up modbus "$pid" "$TMP/mb.err"; then
 	reg() { echo "mbpoll -m tcp -p $port -a 1 -0 -1 -q -r $1 -t 4 127.0.0.1 $2 > /dev/null"; }
 	for phase in normal session; do
 		case_run $phase modbus "slow (reply after 400 ms)" "$(reg 902 400) && $(reg 901 0) && $(reg 900 1)" "$(reg 900 0)" "modbus io"
@@ -153,22 +164,16 @@ if [ -x "$BIN/psvirt" ] && command -v mbpoll > /dev/null; then
 		case_run $phase modbus "gone (psvirt killed)" "kill $pv" "sleep 1; $(echo virt)" "modbus io"
 	done
 	finish $pid $pid
+	fi
 else
 	skip "modbus: psvirt or mbpoll missing"
 fi
 # ---- DALI USB through the emulated Tridonic interface (psemu-run, umockdev):
 # the sensor and task meter are the loopback room's, the ballasts on DALI
 RUN=$BUILD/tests/psemu-run
-PRE=libumockdev-preload.so.0
-if [ -x "$RUN" ] && ! LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded"; then
+if [ -x "$RUN" ] && preload_ok; then
 	DB=dali.db
-	cat > "$TMP/dali.conf" <<EOF
-[psensd]
-results = state/ofb.results
-database = state/$DB
-socket = sock
-period = 0.5
-stale_after = 2
+	{ psensd_section 0.5 2; cat <<EOF
 [device room]
 driver = loopback
 gain = 0.5
@@ -199,15 +204,13 @@ sensor_gain = 0.5
 cal_day_interval = 1
 cal_day_samples = 60
 EOF
-	LD_PRELOAD=$PRE ASAN_OPTIONS="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0" \
+	} > "$TMP/dali.conf"
+	LD_PRELOAD=$PRE ASAN_OPTIONS="$EMU_ASAN" \
 		"$RUN" -c "$TMP/dctl" -s "$TMP/emu.state" -t 300 -i 1:A1:2 -- \
 		"$BIN/psensd" -f "$TMP/dali.conf" -t 12:00 > /dev/null 2> "$TMP/dali.err" &
 	pid=$!; track_pid $pid
 	emu() { echo "$*" > "$TMP/dctl"; }
-	if ! wait_for 20 alive; then
-		not_ok "dali: psensd under the emulator did not come up: $(tail -3 "$TMP/dali.err")"
-		kill "$pid" 2>/dev/null
-	else
+	if came_up dali "$pid" "$TMP/dali.err"; then
 	for phase in normal session; do
 		# the override moves the level at every case, so the driver has frames to send
 		"$BIN/psensctl" -s "$S" override office 0.3 3600 > /dev/null
@@ -227,15 +230,9 @@ fi
 
 # ---- GPIO: a TSL230R on an emulated gpiochip (tests/emu/vgpio_fixture.c)
 SO=$TOP/$BUILD/tests/libvgpio_fixture.so
-if [ -f "$SO" ] && ! LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded"; then
+if [ -f "$SO" ] && preload_ok; then
 	DB=gpio.db
-	cat > "$TMP/gpio.conf" <<EOF
-[psensd]
-results = state/ofb.results
-database = state/$DB
-socket = sock
-period = 0.5
-stale_after = 2
+	{ psensd_section 0.5 2; cat <<EOF
 [device room]
 driver = loopback
 task_noise = 2
@@ -268,15 +265,13 @@ sensor_gain = 0.5
 cal_day_interval = 1
 cal_day_samples = 60
 EOF
+	} > "$TMP/gpio.conf"
 	LD_PRELOAD=$PRE:$SO VGPIO_TARGET=psensd VGPIO_CTL="$TMP/gctl" VGPIO_STATE="$TMP/vgpio.state" \
-		ASAN_OPTIONS="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0" \
+		ASAN_OPTIONS="$EMU_ASAN" \
 		"$BIN/psensd" -f "$TMP/gpio.conf" -t 12:00 > /dev/null 2> "$TMP/gpio.err" &
 	pid=$!; track_pid $pid
 	pin() { echo "tsl230 3 $1 4 5" > "$TMP/gctl"; }
-	if ! wait_for 20 alive; then
-		not_ok "gpio: psensd on the emulated chip did not come up: $(tail -3 "$TMP/gpio.err")"
-		kill "$pid" 2>/dev/null
-	else
+	if came_up gpio "$pid" "$TMP/gpio.err"; then
 	pin 2000
 	for phase in normal session; do
 		case_run $phase gpio "garbage (edges lost)" "pin 20000000" "pin 2000" "edges lost"

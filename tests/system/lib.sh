@@ -43,3 +43,10 @@ wait_for() {
 free_port() {
 	/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
 }
+# example_results: the example scene copied to $TMP/example and its results
+# precomputed (no rendering) in $TMP/state/ofb.results
+example_results() {
+	mkdir -p "$TMP/example" "$TMP/state"
+	cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
+	"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
+}
