@@ -234,7 +234,7 @@ void psd_drift_init(struct psd_drift *d, double margin, double hold, double min_
 
 int psd_drift_update(struct psd_drift *d, double now, double day_volts, double day_lux, double sim_ratio)
 {
-	double l, lux_as_volts, floor_v;
+	double l, lux_as_volts, shown;
 	if (!isfinite(day_volts) || !isfinite(day_lux) || !(sim_ratio > 0))
 		return 0;
 	/* Daylight must show in one of the two signals (in the sensor's units)
@@ -243,14 +243,14 @@ int psd_drift_update(struct psd_drift *d, double now, double day_volts, double d
 	 * judge breaks a sustained excursion: at night, a small unknown sensor
 	 * offset flickering across the threshold must not add up to an hour. */
 	lux_as_volts = day_lux / sim_ratio;
-	if (!(fmax(day_volts, lux_as_volts) >= d->min_day_volts)) {
+	shown = fmax(day_volts, lux_as_volts);
+	if (!(shown >= d->min_day_volts)) {
 		d->out_since = -1;
 		return 0;
 	}
 	/* a part at or below zero (noise, a covered sensor) is a ratio off by
 	 * a factor of 1000 at most, so the log stays finite */
-	floor_v = 1e-3 * fmax(day_volts, lux_as_volts);
-	l = log(fmax(lux_as_volts, floor_v) / fmax(day_volts, floor_v));
+	l = log(fmax(lux_as_volts, 1e-3 * shown) / fmax(day_volts, 1e-3 * shown));
 	d->last_ln = l;
 	if (fabs(l) > d->margin) {
 		if (d->out_since < 0)

@@ -167,7 +167,7 @@ static char *results_json(struct psd_engine *e, struct psd_zone *z)
 static int finish(struct psd_engine *e, struct psd_zone *z, double now, char *err, size_t n)
 {
 	char *json;
-	int rc;
+	int rc, outside = 0;   /* a day session off the design by more than cal_tolerance */
 	if (z->cal.kind == PSD_CAL_NIGHT) {
 		if (psd_night_fit(z->cal.pt, (size_t)z->cal.npt, &z->cal.night, err, n) != 0)
 			return -1;
@@ -178,6 +178,7 @@ static int finish(struct psd_engine *e, struct psd_zone *z, double now, char *er
 			return -1;
 		nearest_condition(e, z, z->cal.day.mean_tod);
 		z->cal.error_pct = psd_ratio_error_pct(z->cal.sim_ratio, z->cal.day.ratio);
+		outside = !(fabs(z->cal.error_pct) <= z->zc->cal_tolerance);
 	}
 	json = results_json(e, z);
 	rc = psd_calstore_end(db(e), z->cal.id, "done", now, json, NULL, err, n);
@@ -193,10 +194,10 @@ static int finish(struct psd_engine *e, struct psd_zone *z, double now, char *er
 		snprintf(z->cal.msg, sizeof z->cal.msg, "done: %.2f lux per volt (se %.2f) from %zu samples; "
 		         "simulated %.2f (%s): %+.1f %%, %s the %g %% tolerance%s", z->cal.day.ratio,
 		         z->cal.day.ratio_se, z->cal.day.n, z->cal.sim_ratio, z->cal.sim_condition, z->cal.error_pct,
-		         fabs(z->cal.error_pct) <= z->zc->cal_tolerance ? "within" : "outside", z->zc->cal_tolerance,
-		         fabs(z->cal.error_pct) <= z->zc->cal_tolerance ? "; accept to use it"
-		         : " (the sensor moved or covered, the wrong filter, or a scene unlike the room?); accept to use it anyway");
-	if (z->cal.kind == PSD_CAL_DAY && !(fabs(z->cal.error_pct) <= z->zc->cal_tolerance))
+		         outside ? "outside" : "within", z->zc->cal_tolerance,
+		         outside ? " (the sensor moved or covered, the wrong filter, or a scene unlike the room?); accept to use it anyway"
+		         : "; accept to use it");
+	if (outside)
 		log_warnx("zone %s: calibration session %lld %s", z->zc->name, z->cal.id, z->cal.msg);
 	else
 		log_info("zone %s: calibration session %lld %s", z->zc->name, z->cal.id, z->cal.msg);

@@ -131,7 +131,7 @@ static gpointer generator(gpointer data)
 		g_mutex_lock(&v->lock);
 		for (unsigned l = 0; l < v->nlines; l++) {
 			static const double div[4] = { 1, 2, 10, 100 };
-			uint64_t period;
+			uint64_t period, behind;
 			double hz = v->rate[l];
 			if (hz <= 0)
 				continue;
@@ -145,8 +145,9 @@ static gpointer generator(gpointer data)
 			 * the last few due edges would be dropped anyway; count them
 			 * dropped in one step instead of walking millions of edges
 			 * under the lock, which starved the process under test. */
-			if (v->next_edge[l] <= now && (now - v->next_edge[l]) / period > 4 * KFIFO) {
-				uint64_t skip = (now - v->next_edge[l]) / period - 4 * KFIFO;
+			behind = v->next_edge[l] <= now ? (now - v->next_edge[l]) / period : 0;
+			if (behind > 4 * KFIFO) {
+				uint64_t skip = behind - 4 * KFIFO;
 				if (v->owner[l] && slot_at(v, v->owner[l] - 1)->event)
 					v->dropped[l] += 2 * skip;
 				v->next_edge[l] += skip * period;

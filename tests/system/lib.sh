@@ -32,10 +32,11 @@ track_pid() { _cleanup_pids="$_cleanup_pids $1"; }
 # (bounded by the clock, not by a count of tries: a command that is itself
 # slow, e.g. a status request to a loaded daemon, must not stretch the wait)
 wait_for() {
-	_end=$(awk -v t="$1" -v now="$(date +%s.%N)" 'BEGIN { printf "%.3f", now + t }'); shift
+	# the deadline in ms (awk once, for a fractional SECONDS)
+	_end=$(( $(date +%s%N) / 1000000 + $(awk -v t="$1" 'BEGIN { printf "%d", t * 1000 }') )); shift
 	while :; do
 		"$@" 2>/dev/null && return 0
-		awk -v e="$_end" -v now="$(date +%s.%N)" 'BEGIN { exit !(now < e) }' || return 1
+		[ $(( $(date +%s%N) / 1000000 )) -lt "$_end" ] || return 1
 		sleep 0.02
 	done
 }
