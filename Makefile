@@ -5,8 +5,9 @@
 #   tests/    unit (cmocka), system (shell, real binaries), fuzz (libFuzzer), bench
 # Every directory may add rules in its own module.mk (included below).
 #
-# Optional drivers: WITH_MODBUS / WITH_USB / WITH_GPIOD = auto | yes | no.
-# auto drops a driver whose library pkg-config cannot find; yes makes that an error.
+# Optional drivers: WITH_MODBUS / WITH_USB / WITH_GPIOD = auto | yes | no
+# (drivers/module.mk).  auto drops a driver whose library pkg-config cannot
+# find; yes makes that an error.
 
 CC      ?= gcc
 BUILD   ?= build
@@ -14,10 +15,6 @@ PREFIX  ?= /usr/local
 DESTDIR ?=
 SAN     ?=
 PKG     ?= pkg-config
-
-WITH_MODBUS ?= auto
-WITH_USB    ?= auto
-WITH_GPIOD  ?= auto
 
 WARN    = -Wall -Wextra -Werror -Wshadow -Wformat=2 -Wstrict-prototypes \
           -Wmissing-prototypes -Wpointer-arith -Wvla
@@ -32,49 +29,19 @@ ifeq ($(SAN),1)
 endif
 
 # ---- required libraries ---------------------------------------------------
-REQ_PKGS = sqlite3 inih libsystemd nettle json-c
+# cairo draws the pictures' marks and legends (its text through fontconfig),
+# libpng writes them (sim/canvas.c)
+REQ_PKGS = sqlite3 inih libsystemd nettle json-c cairo libpng fontconfig
 CFLAGS_ALL += $(shell $(PKG) --cflags $(REQ_PKGS) 2>/dev/null)
 LIBS_REQ   := $(shell $(PKG) --libs $(REQ_PKGS) 2>/dev/null)
-
-# ---- optional drivers -----------------------------------------------------
-# $(call feature,VAR,pkg,DEFINE) -> sets HAVE_<VAR> to yes/no
-define feature
-ifeq ($$(WITH_$(1)),no)
-  HAVE_$(1) := no
-else ifeq ($$(shell $$(PKG) --exists $(2) && echo yes),yes)
-  HAVE_$(1) := yes
-else ifeq ($$(WITH_$(1)),yes)
-  $$(error WITH_$(1)=yes but pkg-config cannot find $(2))
-else
-  HAVE_$(1) := no
-endif
-ifeq ($$(HAVE_$(1)),yes)
-  CFLAGS_ALL += -D$(3) $$(shell $$(PKG) --cflags $(2))
-  LIBS_OPT   += $$(shell $$(PKG) --libs $(2))
-endif
-endef
-LIBS_OPT :=
-$(eval $(call feature,MODBUS,libmodbus,PS_WITH_MODBUS))
-$(eval $(call feature,USB,libusb-1.0,PS_WITH_USB))
-$(eval $(call feature,GPIOD,libgpiod,PS_WITH_GPIOD))
 
 # ---- sources --------------------------------------------------------------
 SIM_SRC      := $(wildcard sim/*.c)
 SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
-DRV_SRC_ALL  := $(wildcard drivers/*.c)
-DRV_MODBUS   := $(wildcard drivers/modbus*.c)
-DRV_USB      := $(wildcard drivers/dali_usb*.c drivers/usb_*.c)
-DRV_GPIOD    := $(wildcard drivers/gpio*.c)
-DRV_SRC      := $(filter-out $(DRV_MODBUS) $(DRV_USB) $(DRV_GPIOD),$(DRV_SRC_ALL))
-ifeq ($(HAVE_MODBUS),yes)
-  DRV_SRC += $(DRV_MODBUS)
-endif
-ifeq ($(HAVE_USB),yes)
-  DRV_SRC += $(DRV_USB)
-endif
-ifeq ($(HAVE_GPIOD),yes)
-  DRV_SRC += $(DRV_GPIOD)
-endif
+# drivers/module.mk: which drivers this build compiles (DRV_SRC), their
+# libraries, and HAVE_MODBUS / HAVE_USB / HAVE_GPIOD.  Included here, before
+# the rules that use DRV_SRC.
+include drivers/module.mk
 DAEMON_SRC   := $(wildcard daemon/*.c)
 DAEMON_CMDS  := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
 # psvirt serves the virtual room over Modbus: it needs libmodbus.
@@ -128,7 +95,7 @@ $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
 
--include $(wildcard */module.mk)
+-include $(filter-out drivers/module.mk,$(wildcard */module.mk))
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
 
 # ---- Debian packages the build and the tests need -------------------------
@@ -136,9 +103,10 @@ $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/c
 # (python3-serial-asyncio is only a Recommends of python3-pymodbus, whose
 # client and server modules import it: deps.sh installs no recommends.)
 DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsystemd-dev nettle-dev \
-            libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev
+            libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev \
+            libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
-            libclang-rt-14-dev systemd
+            libclang-rt-14-dev systemd pngcheck
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
 

@@ -1,66 +1,141 @@
-/* On-site calibration sessions, one zone at a time, driven by the zone's
- * control steps (the engine calls psd_cal_level and psd_cal_feed).
+/* On-site calibration sessions, one per zone, driven by the zone's control
+ * steps.
  *
- * night  the lights step through PSD_CAL_LEVELS (full, dim levels, off);
- *        at each the sensor's reading is fed to a settling detector, and
- *        the settled mean and its standard error are recorded; then the
+ * night  the lights step through psd_calsession_levels (full, dim levels,
+ *        off); at each the sensor's reading is fed to a settling detector,
+ *        and the settled mean and its standard error are recorded; then the
  *        night line (offset, electric gain, linearity, the meter's lux per
- *        unit output) is fitted.
+ *        unit output) is fitted (daemon/calfit.h).
  * day    the lights are held at a level; a sample (volts, task lux) is
- *        taken every `interval` from a task meter, or whenever the
- *        installer types the lux (`calibrate ZONE lux N`); `finish` (or
- *        `samples` reached) gives the measured ratio, compared with the
- *        simulated ratio of the condition nearest in time of day.
+ *        taken every cal_day_interval from a task meter, or whenever the
+ *        installer types the lux; finish (or cal_day_samples reached) gives
+ *        the measured ratio, compared with the simulated ratio of the
+ *        condition nearest in time of day.
  *
- * Every sample is committed to the database as it is taken
- * (daemon/calstore.c), so a session interrupted by a crash or SIGKILL
- * resumes where it was when psensd starts again.  A fault in a session
- * aborts it (the lights go to the safe level as always).  `accept` makes a
- * finished session the zone's calibration: its constants replace the
- * simulated ones, and the one it supersedes stays in the history. */
+ * Every sample is committed to the database as it is taken (daemon/db.c),
+ * so a session interrupted by a crash or SIGKILL resumes where it was when
+ * psensd starts again (psd_calsession_resume).  A fault aborts a session (the
+ * engine calls psd_calsession_abort and drives the lights to the safe level
+ * as always).  Accepting a finished session makes it the zone's
+ * calibration; the one it supersedes stays in the history.
+ *
+ * A session sees its zone only through struct psd_calsession_ctx, which the
+ * engine fills for each call, and never writes into the zone: every call
+ * says in struct psd_calsession_ask what it wants done (step the zone now,
+ * apply accepted constants), and the engine does it. */
 #ifndef PSD_CALSESSION_H
 #define PSD_CALSESSION_H
 
 #include <stddef.h>
 
-#include "calib.h"
+#include "calfit.h"
 
-enum { PSD_CAL_NONE = 0, PSD_CAL_NIGHT, PSD_CAL_DAY };
-enum { PSD_CAL_IDLE = 0, PSD_CAL_RUNNING, PSD_CAL_DONE, PSD_CAL_ABORTED, PSD_CAL_ACCEPTED };
+struct psd_db;
+struct psd_zone_conf;
+struct psd_control;
+struct ps_results;
+
+enum psd_calsession_kind { PSD_CAL_NONE = 0, PSD_CAL_NIGHT, PSD_CAL_DAY };
+enum psd_calsession_state { PSD_CAL_IDLE = 0, PSD_CAL_RUNNING, PSD_CAL_DONE, PSD_CAL_ABORTED, PSD_CAL_ACCEPTED };
 enum { PSD_CAL_NLEVELS = 6, PSD_CAL_MAX_DAY = 64 };
 
-extern const double psd_cal_levels[PSD_CAL_NLEVELS];
-extern const char *const psd_cal_kind_names[];    /* "none", "night", "day" */
-extern const char *const psd_cal_state_names[];   /* "idle", "running", ... */
+extern const double psd_calsession_levels[PSD_CAL_NLEVELS];   /* 1, 0.75, 0.5, 0.25, 0.1, 0 */
+extern const char *const psd_calsession_kind_names[];        /* "none", "night", "day", NULL */
+extern const char *const psd_calsession_state_names[];       /* "idle", "running", ..., NULL */
 
-struct psd_cal {
-	int kind, state;
+/* What a session may know of its zone, filled by the engine for each call. */
+struct psd_calsession_ctx {
+	const char *zone;                    /* the zone's name: records and messages */
+	const struct psd_zone_conf *zc;      /* the cal_* keys; zc->task >= 0: a task meter */
+	const struct psd_control *ctl;       /* the constants in force (read only) */
+	const struct ps_results *res;        /* the simulated ratios; NULL: none */
+	struct psd_db *db;                   /* the records; NULL: sessions are refused */
+	const char *config_path;             /* hashed into each session's record */
+	double now;                          /* seconds on the daemon's clock */
+};
+
+/* Constants an accepted calibration gives the zone's control; NAN (or not
+ * above 0 for the gains and ratios) keeps the one in force. */
+struct psd_calsession_consts {
+	int kind;                 /* enum psd_calsession_kind */
+	long long id;             /* the accepted session */
+	double offset;            /* night: volts in the dark */
+	double sensor_gain;       /* night: volts per unit of sensor response */
+	double elec_task_lux;     /* night, with a task meter: lux at full output */
+	double daylight_ratio;    /* day: task lux per unit of daylight response */
+};
+
+/* What the zone should do after a call; the engine acts on it. */
+struct psd_calsession_ask {
+	int step_now;             /* step the zone at once, off its schedule */
+	int napply;               /* constants to apply, in order */
+	struct psd_calsession_consts apply[2];
+};
+
+/* One zone's session (the engine keeps it in its zone; the socket's status
+ * reads it). */
+struct psd_calsession {
+	int kind, state;          /* enum psd_calsession_kind, psd_calsession_state */
 	long long id;             /* the session's row in cal_sessions */
 	double started;
 	/* night */
-	int step;                 /* index into psd_cal_levels */
+	int step;                 /* index into psd_calsession_levels */
 	double step_started;
-	struct psd_settle settle;
+	struct psd_calfit_settle settle;
 	double settle_timeout;    /* seconds at one level before it gives up */
-	struct psd_night_point pt[PSD_CAL_NLEVELS];
+	struct psd_calfit_level pt[PSD_CAL_NLEVELS];
 	int npt;
 	double level_since;       /* when the current level was first commanded (INFINITY: not yet) */
 	int commanded;            /* the step (night) whose level was commanded */
-	double lux_t[PSD_SETTLE_MAX], lux_v[PSD_SETTLE_MAX];   /* the meter at this level */
+	double lux_t[PSD_CALFIT_SETTLE_MAX], lux_v[PSD_CALFIT_SETTLE_MAX];   /* the meter at this level */
 	int nlux;
 	/* day */
 	double hold_level;
 	double interval, next_sample;
 	int want_samples;
-	struct psd_day_sample ds[PSD_CAL_MAX_DAY];
+	struct psd_calfit_sample ds[PSD_CAL_MAX_DAY];
 	int nds;
 	/* results */
-	struct psd_night_fit night;
-	struct psd_day_fit day;
+	struct psd_calfit_line night;
+	struct psd_calfit_ratio day;
 	double sim_ratio;         /* simulated lux per volt of the nearest condition */
 	char sim_condition[64];
 	double error_pct;         /* 100 (simulated - measured) / measured */
 	char msg[384];            /* why it ended, or what it waits for */
 };
+
+/* Each call fills *ask (cleared first).  Those returning int give -1 with a
+ * message in err when the request is refused; the session is then as it
+ * was. */
+
+/* At engine open: the zone's accepted calibrations, to apply (ask->apply). */
+void psd_calsession_accepted(const struct psd_calsession_ctx *c, struct psd_calsession_ask *ask);
+/* Then: resume the zone's session left running, if any (level: the zone's
+ * output now, a day session's hold level). */
+void psd_calsession_resume(struct psd_calsession *s, const struct psd_calsession_ctx *c, double level,
+                           struct psd_calsession_ask *ask);
+/* Start a session of a kind; a day session holds the lights at level. */
+int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, double level,
+                         struct psd_calsession_ask *ask, char *err, size_t n);
+/* A reading the installer typed (a hand-held meter), paired with the
+ * zone's volts and output now. */
+int psd_calsession_typed_lux(struct psd_calsession *s, const struct psd_calsession_ctx *c, double lux,
+                             double volts, double level, struct psd_calsession_ask *ask, char *err, size_t n);
+/* End a running day session and fit it. */
+int psd_calsession_finish(struct psd_calsession *s, const struct psd_calsession_ctx *c,
+                          struct psd_calsession_ask *ask, char *err, size_t n);
+/* Accept a finished session: its constants are in ask->apply. */
+int psd_calsession_accept(struct psd_calsession *s, const struct psd_calsession_ctx *c,
+                          struct psd_calsession_ask *ask, char *err, size_t n);
+/* Abort a running session (a fault, a request); -1 when none runs. */
+int psd_calsession_abort(struct psd_calsession *s, const struct psd_calsession_ctx *c, const char *why,
+                         struct psd_calsession_ask *ask);
+/* From a zone's step: 1 and the level to hold while a session runs, else 0. */
+int psd_calsession_level(struct psd_calsession *s, double now, double *level);
+/* A good reading (volts; lux NAN without a meter) with the lights at level. */
+void psd_calsession_feed(struct psd_calsession *s, const struct psd_calsession_ctx *c, double volts, double lux,
+                         double level, struct psd_calsession_ask *ask);
+/* 1 while a session runs. */
+int psd_calsession_running(const struct psd_calsession *s);
 
 #endif

@@ -1,6 +1,7 @@
 #include "clock.h"
 
 #include <math.h>
+#include <stdio.h>
 
 void psd_clock_real(struct psd_clock *c, double origin, double speed)
 {
@@ -57,4 +58,16 @@ double psd_clock_local_tod(void)
 	clock_gettime(CLOCK_REALTIME, &ts);
 	localtime_r(&ts.tv_sec, &tm);
 	return tm.tm_hour * 3600.0 + tm.tm_min * 60.0 + tm.tm_sec + ts.tv_nsec * 1e-9;
+}
+
+double psd_clock_tod(double t)
+{
+	double tod = fmod(t, 86400.0);
+	return tod < 0 ? tod + 86400.0 : tod;
+}
+
+void psd_clock_hhmm(double t, char out[8])
+{
+	int m = (int)floor(psd_clock_tod(t) / 60 + 1e-9);
+	snprintf(out, 8, "%02d:%02d", (m / 60) % 24, m % 60);
 }

@@ -28,5 +28,9 @@ int psd_clock_wait_ms(struct psd_clock *c, double deadline, int max_ms);
 void psd_clock_advance(struct psd_clock *c, double deadline);
 /* Seconds since local midnight now, from the wall clock. */
 double psd_clock_local_tod(void);
+/* Time of day of a clock time t: seconds since midnight (t modulo a day). */
+double psd_clock_tod(double t);
+/* "HH:MM" of a clock time t. */
+void psd_clock_hhmm(double t, char out[8]);
 
 #endif

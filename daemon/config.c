@@ -48,10 +48,31 @@ static void driver_opts(struct psd_config *cf, struct ps_conf_section *s, const 
 			              PSD_MAX_OPTS);
 			return;
 		}
-		s->kv[j].used = 1;   /* the driver reports the keys it does not know */
+		s->kv[j].used = 1;   /* judged by the driver's table (check_driver_keys) */
 		cf->optpool[cf->nopt++] = (struct ps_opt){ s->kv[j].key, s->kv[j].value, s->kv[j].line, 0 };
 		o->n++;
 	}
+}
+
+struct section {
+	struct psd_config *cf;
+	int line;
+};
+
+static void report(void *user, int line, const char *why)
+{
+	struct section *s = user;
+	ps_conf_error(&s->cf->conf, line ? line : s->line, "%s", why);   /* 0: a key missing from it */
+}
+
+/* A section's driver keys, judged by the driver's table and check (every
+ * error with its line, as for the daemon's own keys). */
+static void check_driver_keys(struct psd_config *cf, const struct ps_driver *drv, const struct ps_opts *o,
+                              int role, int line)
+{
+	struct section s = { cf, line };
+	if (drv)
+		ps_driver_check(drv, o, role, report, &s);
 }
 
 static int find_name(const char *name, const void *base, size_t n, size_t stride)
@@ -113,10 +134,13 @@ static void load_devices(struct psd_config *cf)
 		drv = ps_conf_str(c, s, "driver", NULL);
 		if (!drv)
 			ps_conf_error(c, s->line, "[device %s] needs 'driver'", d->name);
-		else if (!(d->drv = ps_driver_find(drv)))
-			ps_conf_error(c, line_of(s, "driver"), "driver: no driver '%s' (loopback, modbus, "
-			              "dali_usb, gpio)", drv);
+		else if (!(d->drv = ps_driver_find(drv))) {
+			char names[128];
+			ps_driver_names(names, sizeof names);
+			ps_conf_error(c, line_of(s, "driver"), "driver: no driver '%s' (%s)", drv, names);
+		}
 		driver_opts(cf, s, own, &d->opts);
+		check_driver_keys(cf, d->drv, &d->opts, -1, s->line);
 		cf->ndev++;
 	}
 }
@@ -164,6 +188,9 @@ static void load_points(struct psd_config *cf)
 		if (p->min >= p->max)
 			ps_conf_error(c, s->line, "[point %s]: valid_min must be below valid_max", p->name);
 		driver_opts(cf, s, point_keys, &p->opts);
+		/* a point whose device or role is wrong was reported above */
+		if (p->device >= 0 && p->role >= 0)
+			check_driver_keys(cf, cf->dev[p->device].drv, &p->opts, p->role, s->line);
 		cf->npt++;
 	}
 }
@@ -214,13 +241,13 @@ static int point_list(struct psd_config *cf, struct ps_conf_section *s, const ch
 		int i = psd_config_point(cf, w);
 		if (i < 0)
 			ps_conf_error(&cf->conf, kv->line, "%s: no [point %s]", key, w);
-		else if (cf->pt[i].role != role)
+		else if (cf->pt[i].role >= 0 && cf->pt[i].role != role)
 			ps_conf_error(&cf->conf, kv->line, "%s: point %s has role %s, not %s", key, w,
 			              ps_role_name(cf->pt[i].role), ps_role_name(role));
 		else if (n >= max)
 			ps_conf_error(&cf->conf, kv->line, "%s: more than %d points", key, max);
 		else
-			out[n++] = i;
+			out[n++] = i;   /* one whose role is wrong too: reported at the point, not again here */
 	}
 	free(copy);
 	return n;

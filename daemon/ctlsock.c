@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "errbuf.h"
 #include "log.h"
 
 static double wall(void)
@@ -27,22 +28,16 @@ int psd_ctl_split(char *line, char **argv, char *err, size_t errlen)
 	int n = 0;
 	char *p = line;
 	for (char *q = line; *q; q++)
-		if ((unsigned char)*q < 0x20 && *q != '\t') {
-			snprintf(err, errlen, "control character 0x%02x at byte %d", (unsigned char)*q, (int)(q - line));
-			return -1;
-		} else if ((unsigned char)*q == 0x7f) {
-			snprintf(err, errlen, "control character 0x7f at byte %d", (int)(q - line));
-			return -1;
-		}
+		if (((unsigned char)*q < 0x20 && *q != '\t') || (unsigned char)*q == 0x7f)
+			return psd_errf(err, errlen, "control character 0x%02x at byte %d", (unsigned char)*q,
+			                (int)(q - line));
 	for (;;) {
 		while (*p == ' ' || *p == '\t')
 			p++;
 		if (!*p)
 			break;
-		if (n == PSD_CTL_MAX_WORDS) {
-			snprintf(err, errlen, "more than %d words", PSD_CTL_MAX_WORDS);
-			return -1;
-		}
+		if (n == PSD_CTL_MAX_WORDS)
+			return psd_errf(err, errlen, "more than %d words", PSD_CTL_MAX_WORDS);
 		argv[n++] = p;
 		while (*p && *p != ' ' && *p != '\t')
 			p++;
@@ -59,15 +54,12 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 	struct stat st;
 	memset(s, 0, sizeof *s);
 	s->lfd = -1;
-	if (strlen(path) >= sizeof sa.sun_path) {
-		snprintf(err, errlen, "%s: a socket path is at most %zu bytes", path, sizeof sa.sun_path - 1);
-		return -1;
-	}
+	if (strlen(path) >= sizeof sa.sun_path)
+		return psd_errf(err, errlen, "%s: a socket path is at most %zu bytes", path,
+		                sizeof sa.sun_path - 1);
 	s->cl = calloc((size_t)max_clients, sizeof *s->cl);
-	if (!s->cl) {
-		snprintf(err, errlen, "%s: out of memory", path);
-		return -1;
-	}
+	if (!s->cl)
+		return psd_errf(err, errlen, "%s: out of memory", path);
 	s->max = max_clients;
 	s->handler = h;
 	s->user = user;
@@ -76,7 +68,7 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 	/* a socket left by a killed daemon is replaced; anything else is not ours */
 	if (lstat(path, &st) == 0) {
 		if (!S_ISSOCK(st.st_mode)) {
-			snprintf(err, errlen, "%s exists and is not a socket", path);
+			psd_errf(err, errlen, "%s exists and is not a socket", path);
 			goto bad;
 		}
 		unlink(path);
@@ -88,7 +80,7 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 	s->lfd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
 	if (s->lfd < 0 || bind(s->lfd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
 	    chmod(path, (mode_t)mode) != 0 || listen(s->lfd, SOMAXCONN) != 0) {
-		snprintf(err, errlen, "%s: %s", path, strerror(errno));
+		psd_errf(err, errlen, "%s: %s", path, strerror(errno));
 		goto bad;
 	}
 	return 0;

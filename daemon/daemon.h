@@ -8,6 +8,10 @@
 #include "ctlsock.h"
 #include "engine.h"
 
+/* Descriptors one turn of the loop polls: the signals, the control socket's
+ * clients and listener, the drivers'. */
+enum { PSD_MAX_POLL = 8 + 1024 + PSD_MAX_DEVICES };
+
 struct psd_daemon {
 	const char *config_path;
 	struct psd_engine engine;
@@ -20,6 +24,8 @@ struct psd_daemon {
 	int reload;               /* 1: SIGHUP seen */
 	unsigned long reloads, reload_failures;
 	const char *self;         /* argv[0], to find psscene */
+	struct pollfd fds[PSD_MAX_POLL];   /* the loop's poll set, rebuilt each turn */
+	int fd_dev[PSD_MAX_POLL];          /* the device of each driver descriptor */
 };
 
 /* Load path, refresh the results, open the engine at the clock's now, and
@@ -30,6 +36,8 @@ int psd_daemon_run(struct psd_daemon *d);
 /* SIGHUP's work: a new config replaces the running one only when it loads
  * and opens; otherwise the old one keeps running.  0 when replaced. */
 int psd_daemon_reload(struct psd_daemon *d);
+/* Log a refused configuration's errors, each at LOG_ERR. */
+void psd_daemon_config_errors(const struct psd_config *cf);
 /* Safe level (unless why is NULL: already done), close everything. */
 void psd_daemon_stop(struct psd_daemon *d, const char *why);
 

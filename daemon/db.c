@@ -2,112 +2,241 @@
 
 #include <math.h>
 #include <sqlite3.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "errbuf.h"
 
 enum { DB_BATCH = 60 };
 
 struct psd_db {
 	sqlite3 *h;
-	sqlite3_stmt *ins;
+	sqlite3_stmt *ins;    /* the sample insert (NULL when read-only) */
 	int pending;          /* samples in the open transaction */
 	int batch;
 	unsigned long committed;
 };
+
+/* ---- the schema -------------------------------------------------------------
+ * Step i takes a database at version i to version i + 1, in one transaction
+ * with meta 'schema', so a file of any earlier version is brought forward in
+ * place with every row kept.  To change the schema, add a step at the end
+ * (e.g. "ALTER TABLE samples ADD COLUMN utc REAL;"), then the column to
+ * struct psd_sample, the insert below and the readers. */
+static const char *const steps[PSD_DB_SCHEMA] = {
+	/* 0 -> 1: the sample log */
+	"CREATE TABLE IF NOT EXISTS samples("
+	" t REAL NOT NULL, tod_s REAL, sensor_v REAL, output REAL, est_task_lux REAL,"
+	" task_lux REAL, daylight_v REAL, daylight_lux REAL, condition TEXT, ratio REAL, fault TEXT);"
+	"CREATE INDEX IF NOT EXISTS samples_t ON samples(t);",
+	/* 1 -> 2: the zone of each sample (several zones share one log) */
+	"ALTER TABLE samples ADD COLUMN zone TEXT;",
+	/* 2 -> 3: calibration sessions and their samples (a version-2 file may
+	 * have them already, created apart under meta 'cal_schema') */
+	"CREATE TABLE IF NOT EXISTS cal_sessions("
+	" id INTEGER PRIMARY KEY, zone TEXT NOT NULL, kind TEXT NOT NULL, state TEXT NOT NULL,"
+	" started REAL, ended REAL, config_sha256 TEXT, scene_sha256 TEXT, results TEXT, note TEXT);"
+	"CREATE TABLE IF NOT EXISTS cal_samples("
+	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
+	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
+};
+
+static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
+                                     " daylight_lux, condition, ratio, fault, zone";
+
+static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
+{
+	return psd_errf(err, errlen, "%s: %s", what, h ? sqlite3_errmsg(h) : "out of memory");
+}
+
+int psd_db_schema(struct psd_db *db)
+{
+	sqlite3_stmt *st;
+	int v = -1;
+	if (sqlite3_prepare_v2(db->h, "SELECT value FROM meta WHERE key = 'schema'", -1, &st, NULL) != SQLITE_OK)
+		return sqlite3_errcode(db->h) == SQLITE_ERROR ? 0 : -1;   /* no meta table: a new file */
+	v = sqlite3_step(st) == SQLITE_ROW ? sqlite3_column_int(st, 0) : 0;
+	sqlite3_finalize(st);
+	return v;
+}
+
+static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen)
+{
+	char *msg = NULL;
+	int v;
+	if (sqlite3_exec(db->h, "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
+	                        "CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT);",
+	                 NULL, NULL, &msg) != SQLITE_OK)
+		goto bad;
+	if ((v = psd_db_schema(db)) < 0)
+		return fail(db->h, path, err, errlen);
+	if (v > PSD_DB_SCHEMA)
+		return psd_errf(err, errlen, "%s: schema version %d is newer than this psensd's (%d)", path, v,
+		                PSD_DB_SCHEMA);
+	for (; v < PSD_DB_SCHEMA; v++) {
+		char set[96];
+		snprintf(set, sizeof set, "INSERT OR REPLACE INTO meta VALUES('schema', '%d');", v + 1);
+		if (sqlite3_exec(db->h, "BEGIN IMMEDIATE", NULL, NULL, &msg) != SQLITE_OK)
+			goto bad;
+		if (sqlite3_exec(db->h, steps[v], NULL, NULL, &msg) != SQLITE_OK ||
+		    sqlite3_exec(db->h, set, NULL, NULL, &msg) != SQLITE_OK ||
+		    sqlite3_exec(db->h, "COMMIT", NULL, NULL, &msg) != SQLITE_OK) {
+			sqlite3_exec(db->h, "ROLLBACK", NULL, NULL, NULL);
+			psd_errf(err, errlen, "%s: schema %d to %d: %s", path, v, v + 1, msg ? msg : "failed");
+			sqlite3_free(msg);
+			return -1;
+		}
+	}
+	return 0;
+bad:
+	psd_errf(err, errlen, "%s: %s", path, msg ? msg : sqlite3_errmsg(db->h));
+	sqlite3_free(msg);
+	return -1;
+}
+
+static struct psd_db *open_db(const char *path, int flags, char *err, size_t errlen)
+{
+	struct psd_db *db = calloc(1, sizeof *db);
+	if (!db) {
+		psd_errf(err, errlen, "%s: out of memory", path);
+		return NULL;
+	}
+	if (sqlite3_open_v2(path, &db->h, flags, NULL) != SQLITE_OK) {
+		fail(db->h, path, err, errlen);
+		sqlite3_close(db->h);
+		free(db);
+		return NULL;
+	}
+	sqlite3_busy_timeout(db->h, 2000);   /* a reader or the writer may hold it briefly */
+	db->batch = DB_BATCH;
+	return db;
+}
+
+struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
+{
+	struct psd_db *db = open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, err, errlen);
+	char sql[256];
+	if (!db)
+		return NULL;
+	if (migrate(db, path, err, errlen) != 0)
+		goto bad;
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
+		fail(db->h, path, err, errlen);
+		goto bad;
+	}
+	return db;
+bad:
+	psd_db_close(db);
+	return NULL;
+}
+
+struct psd_db *psd_db_open_readonly(const char *path, char *err, size_t errlen)
+{
+	return open_db(path, SQLITE_OPEN_READONLY, err, errlen);
+}
+
+void psd_db_close(struct psd_db *db)
+{
+	char err[256];
+	if (!db)
+		return;
+	if (db->ins)
+		psd_db_commit(db, err, sizeof err);
+	sqlite3_finalize(db->ins);
+	sqlite3_close(db->h);
+	free(db);
+}
+
+/* ---- binding and reading values ---------------------------------------------- */
+
+static void bind_num(sqlite3_stmt *st, int i, double v)
+{
+	if (isfinite(v))
+		sqlite3_bind_double(st, i, v);
+	else
+		sqlite3_bind_null(st, i);
+}
+
+static void bind_text(sqlite3_stmt *st, int i, const char *s)
+{
+	if (s)
+		sqlite3_bind_text(st, i, s, -1, SQLITE_TRANSIENT);
+	else
+		sqlite3_bind_null(st, i);
+}
+
+static double col_num(sqlite3_stmt *st, int i)
+{
+	return sqlite3_column_type(st, i) == SQLITE_NULL ? NAN : sqlite3_column_double(st, i);
+}
+
+static const char *col_text(sqlite3_stmt *st, int i)
+{
+	return (const char *)sqlite3_column_text(st, i);
+}
+
+/* Prepare sql and bind by the letters of fmt (t text, d double, i int64);
+ * NULL with a message in err. */
+static sqlite3_stmt *prepare(struct psd_db *db, const char *sql, char *err, size_t errlen, const char *fmt,
+                             va_list ap)
+{
+	sqlite3_stmt *st;
+	int i = 1;
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK) {
+		fail(db->h, "prepare", err, errlen);
+		return NULL;
+	}
+	for (const char *f = fmt; *f; f++, i++) {
+		if (*f == 't')
+			bind_text(st, i, va_arg(ap, const char *));
+		else if (*f == 'd')
+			bind_num(st, i, va_arg(ap, double));
+		else
+			sqlite3_bind_int64(st, i, va_arg(ap, long long));
+	}
+	return st;
+}
+
+/* Run a statement that returns no rows. */
+static int run(struct psd_db *db, const char *sql, char *err, size_t errlen, const char *fmt, ...)
+{
+	sqlite3_stmt *st;
+	va_list ap;
+	int rc;
+	va_start(ap, fmt);
+	st = prepare(db, sql, err, errlen, fmt, ap);
+	va_end(ap);
+	if (!st)
+		return -1;
+	rc = sqlite3_step(st);
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE || rc == SQLITE_ROW ? 0 : fail(db->h, "write", err, errlen);
+}
+
+/* A query: the statement ready to step, or NULL with a message in err. */
+static sqlite3_stmt *query(struct psd_db *db, char *err, size_t errlen, const char *sql, const char *fmt, ...)
+{
+	sqlite3_stmt *st;
+	va_list ap;
+	va_start(ap, fmt);
+	st = prepare(db, sql, err, errlen, fmt, ap);
+	va_end(ap);
+	return st;
+}
+
+/* ---- the sample log -------------------------------------------------------- */
 
 void psd_db_set_batch(struct psd_db *db, int batch)
 {
 	db->batch = batch > 0 ? batch : 1;
 }
 
-struct sqlite3 *psd_db_sqlite(struct psd_db *db)
-{
-	return db->h;
-}
-
 unsigned long psd_db_committed(const struct psd_db *db)
 {
 	return db->committed;
-}
-
-static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
-{
-	snprintf(err, errlen, "%s: %s", what, h ? sqlite3_errmsg(h) : "out of memory");
-	return -1;
-}
-
-static const char schema[] =
-	"PRAGMA journal_mode=WAL;"
-	"PRAGMA synchronous=NORMAL;"
-	"CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT);"
-	"INSERT OR IGNORE INTO meta VALUES('schema', '1');"
-	"CREATE TABLE IF NOT EXISTS samples("
-	" t REAL NOT NULL, tod_s REAL, sensor_v REAL, output REAL, est_task_lux REAL,"
-	" task_lux REAL, daylight_v REAL, daylight_lux REAL, condition TEXT, ratio REAL, fault TEXT);"
-	"CREATE INDEX IF NOT EXISTS samples_t ON samples(t);";
-
-/* Schema 2 names the zone of each sample (several zones share one log). */
-static int migrate(sqlite3 *h)
-{
-	sqlite3_stmt *st;
-	int has_zone = 0;
-	if (sqlite3_prepare_v2(h, "PRAGMA table_info(samples)", -1, &st, NULL) != SQLITE_OK)
-		return -1;
-	while (sqlite3_step(st) == SQLITE_ROW)
-		has_zone |= strcmp((const char *)sqlite3_column_text(st, 1), "zone") == 0;
-	sqlite3_finalize(st);
-	if (has_zone)
-		return 0;
-	return sqlite3_exec(h, "BEGIN; ALTER TABLE samples ADD COLUMN zone TEXT;"
-	                       " UPDATE meta SET value = '2' WHERE key = 'schema'; COMMIT;",
-	                    NULL, NULL, NULL) == SQLITE_OK ? 0 : -1;
-}
-
-struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
-{
-	struct psd_db *db = calloc(1, sizeof *db);
-	char *msg = NULL;
-	if (!db) {
-		snprintf(err, errlen, "%s: out of memory", path);
-		return NULL;
-	}
-	if (sqlite3_open_v2(path, &db->h, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, NULL) != SQLITE_OK) {
-		fail(db->h, path, err, errlen);
-		goto bad;
-	}
-	sqlite3_busy_timeout(db->h, 2000);   /* readers (psensctl export) may hold it briefly */
-	if (sqlite3_exec(db->h, schema, NULL, NULL, &msg) != SQLITE_OK) {
-		snprintf(err, errlen, "%s: %s", path, msg ? msg : "schema");
-		sqlite3_free(msg);
-		goto bad;
-	}
-	if (migrate(db->h) != 0) {
-		fail(db->h, path, err, errlen);
-		goto bad;
-	}
-	db->batch = DB_BATCH;
-	if (sqlite3_prepare_v2(db->h,
-	                       "INSERT INTO samples(t, tod_s, sensor_v, output, est_task_lux, task_lux,"
-	                       " daylight_v, daylight_lux, condition, ratio, fault, zone)"
-	                       " VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", -1, &db->ins,
-	                       NULL) != SQLITE_OK) {
-		fail(db->h, path, err, errlen);
-		goto bad;
-	}
-	return db;
-bad:
-	sqlite3_close(db->h);
-	free(db);
-	return NULL;
-}
-
-static void bind_num(sqlite3_stmt *st, int i, double v)
-{
-	if (isnan(v))
-		sqlite3_bind_null(st, i);
-	else
-		sqlite3_bind_double(st, i, v);
 }
 
 int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen)
@@ -122,19 +251,10 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 6, s->task_lux);
 	bind_num(db->ins, 7, s->daylight_v);
 	bind_num(db->ins, 8, s->daylight_lux);
-	if (s->condition)
-		sqlite3_bind_text(db->ins, 9, s->condition, -1, SQLITE_TRANSIENT);
-	else
-		sqlite3_bind_null(db->ins, 9);
+	bind_text(db->ins, 9, s->condition);
 	bind_num(db->ins, 10, s->ratio);
-	if (s->fault)
-		sqlite3_bind_text(db->ins, 11, s->fault, -1, SQLITE_TRANSIENT);
-	else
-		sqlite3_bind_null(db->ins, 11);
-	if (s->zone)
-		sqlite3_bind_text(db->ins, 12, s->zone, -1, SQLITE_TRANSIENT);
-	else
-		sqlite3_bind_null(db->ins, 12);
+	bind_text(db->ins, 11, s->fault);
+	bind_text(db->ins, 12, s->zone);
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
 		sqlite3_reset(db->ins);
 		return fail(db->h, "insert", err, errlen);
@@ -156,29 +276,59 @@ int psd_db_commit(struct psd_db *db, char *err, size_t errlen)
 	return 0;
 }
 
-void psd_db_close(struct psd_db *db)
+static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 {
-	char err[256];
-	if (!db)
-		return;
-	psd_db_commit(db, err, sizeof err);
-	sqlite3_finalize(db->ins);
-	sqlite3_close(db->h);
-	free(db);
+	*s = (struct psd_sample){
+		col_num(st, 0), col_num(st, 1), col_num(st, 2), col_num(st, 3), col_num(st, 4), col_num(st, 5),
+		col_num(st, 6), col_num(st, 7), col_text(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
+	};
 }
 
-static void csv_num(FILE *fp, sqlite3_stmt *st, int col)
+long long psd_db_zone_count(struct psd_db *db, const char *zone, char *err, size_t errlen)
 {
-	if (sqlite3_column_type(st, col) != SQLITE_NULL)
-		fprintf(fp, "%.10g", sqlite3_column_double(st, col));
+	sqlite3_stmt *st = query(db, err, errlen, "SELECT count(*) FROM samples WHERE zone = ? OR zone IS NULL", "t",
+	                         zone);
+	long long n = -1;
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW)
+		n = sqlite3_column_int64(st, 0);
+	else
+		fail(db->h, "count", err, errlen);
+	sqlite3_finalize(st);
+	return n;
 }
 
-static void csv_text(FILE *fp, sqlite3_stmt *st, int col)
+int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn, void *user, char *err,
+                        size_t errlen)
 {
-	const unsigned char *t = sqlite3_column_text(st, col);
+	char sql[256];
+	sqlite3_stmt *st;
+	int rc;
+	snprintf(sql, sizeof sql, "SELECT %s FROM samples WHERE zone = ? OR zone IS NULL ORDER BY rowid",
+	         sample_columns);
+	if (!(st = query(db, err, errlen, sql, "t", zone)))
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_sample s;
+		row_sample(st, &s);
+		fn(user, &s);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+static void csv_num(FILE *fp, double v)
+{
+	if (!isnan(v))
+		fprintf(fp, "%.10g", v);
+}
+
+static void csv_text(FILE *fp, const char *t)
+{
 	if (!t)
 		return;
-	if (strpbrk((const char *)t, ",\"\n")) {
+	if (strpbrk(t, ",\"\n")) {
 		fputc('"', fp);
 		for (; *t; t++) {
 			if (*t == '"')
@@ -187,44 +337,171 @@ static void csv_text(FILE *fp, sqlite3_stmt *st, int col)
 		}
 		fputc('"', fp);
 	} else {
-		fputs((const char *)t, fp);
+		fputs(t, fp);
 	}
+}
+
+static void csv_row(void *user, const struct psd_sample *s)
+{
+	FILE *fp = user;
+	const double num[] = { s->t, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux, s->daylight_v,
+	                       s->daylight_lux };
+	for (size_t i = 0; i < sizeof num / sizeof num[0]; i++) {
+		csv_num(fp, num[i]);
+		fputc(',', fp);
+	}
+	csv_text(fp, s->condition);
+	fputc(',', fp);
+	csv_num(fp, s->ratio);
+	fputc(',', fp);
+	csv_text(fp, s->fault);
+	fputc(',', fp);
+	csv_text(fp, s->zone);
+	fputc('\n', fp);
 }
 
 int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 {
-	FILE *fp = out;
-	sqlite3 *h = NULL;
-	sqlite3_stmt *st = NULL;
+	struct psd_db *db = psd_db_open_readonly(path, err, errlen);
+	char sql[256];
+	sqlite3_stmt *st;
 	int rc;
-	if (sqlite3_open_v2(path, &h, SQLITE_OPEN_READONLY, NULL) != SQLITE_OK) {
-		fail(h, path, err, errlen);
-		sqlite3_close(h);
+	if (!db)
+		return -1;
+	snprintf(sql, sizeof sql, "SELECT %s FROM samples ORDER BY rowid", sample_columns);
+	if (!(st = query(db, err, errlen, sql, ""))) {
+		psd_db_close(db);
 		return -1;
 	}
-	sqlite3_busy_timeout(h, 2000);
-	if (sqlite3_prepare_v2(h, "SELECT t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-	                          " daylight_lux, condition, ratio, fault, zone FROM samples ORDER BY rowid",
-	                       -1, &st, NULL) != SQLITE_OK) {
-		fail(h, path, err, errlen);
-		sqlite3_close(h);
-		return -1;
-	}
-	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone\n", fp);
+	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone\n",
+	      (FILE *)out);
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-		for (int c = 0; c < 12; c++) {
-			if (c)
-				fputc(',', fp);
-			if (c == 8 || c >= 10)
-				csv_text(fp, st, c);
-			else
-				csv_num(fp, st, c);
-		}
-		fputc('\n', fp);
+		struct psd_sample s;
+		row_sample(st, &s);
+		csv_row(out, &s);
 	}
 	if (rc != SQLITE_DONE)
-		fail(h, path, err, errlen);
+		fail(db->h, path, err, errlen);
 	sqlite3_finalize(st);
-	sqlite3_close(h);
+	psd_db_close(db);
 	return rc == SQLITE_DONE ? 0 : -1;
+}
+
+/* ---- calibration records --------------------------------------------------- */
+
+static int cal_fail(struct psd_db *db, const char *what, char *err, size_t errlen)
+{
+	return psd_errf(err, errlen, "calibration log: %s: %s", what, sqlite3_errmsg(db->h));
+}
+
+long long psd_db_cal_begin(struct psd_db *db, const char *zone, const char *kind, double started,
+                           const char *config_sha256, const char *scene_sha256, char *err, size_t errlen)
+{
+	if (run(db, "INSERT INTO cal_sessions(zone, kind, state, started, config_sha256, scene_sha256)"
+	            " VALUES(?, ?, 'running', ?, ?, ?)", err, errlen, "ttdtt", zone, kind, started, config_sha256,
+	        scene_sha256) != 0)
+		return cal_fail(db, "begin", err, errlen);
+	return (long long)sqlite3_last_insert_rowid(db->h);
+}
+
+int psd_db_cal_sample(struct psd_db *db, long long id, int seq, double t, double level, double volts,
+                      double volts_se, double lux, const char *source, char *err, size_t errlen)
+{
+	if (run(db, "INSERT OR REPLACE INTO cal_samples(session, seq, t, level, volts, volts_se, lux, source)"
+	            " VALUES(?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "iidddddt", id, (long long)seq, t, level, volts,
+	        volts_se, lux, source) != 0)
+		return cal_fail(db, "sample", err, errlen);
+	return 0;
+}
+
+int psd_db_cal_end(struct psd_db *db, long long id, const char *state, double ended, const char *results,
+                   const char *note, char *err, size_t errlen)
+{
+	if (run(db, "UPDATE cal_sessions SET state = ?, ended = ?, results = ?, note = ? WHERE id = ?", err, errlen,
+	        "tdtti", state, ended, results, note, id) != 0)
+		return cal_fail(db, "end", err, errlen);
+	return 0;
+}
+
+int psd_db_cal_accept(struct psd_db *db, long long id, char *err, size_t errlen)
+{
+	if (sqlite3_exec(db->h, "SAVEPOINT accept", NULL, NULL, NULL) != SQLITE_OK)
+		return cal_fail(db, "begin", err, errlen);
+	if (run(db, "UPDATE cal_sessions SET state = 'superseded' WHERE state = 'accepted' AND"
+	            " (zone, kind) = (SELECT zone, kind FROM cal_sessions WHERE id = ?)", err, errlen, "i", id) != 0 ||
+	    run(db, "UPDATE cal_sessions SET state = 'accepted' WHERE id = ? AND state = 'done'", err, errlen, "i",
+	        id) != 0) {
+		cal_fail(db, "accept", err, errlen);
+		sqlite3_exec(db->h, "ROLLBACK TO accept; RELEASE accept", NULL, NULL, NULL);
+		return -1;
+	}
+	return sqlite3_exec(db->h, "RELEASE accept", NULL, NULL, NULL) == SQLITE_OK ? 0
+	                                                                           : cal_fail(db, "commit", err, errlen);
+}
+
+int psd_db_cal_running(struct psd_db *db, const char *zone, long long *id, char *kind, size_t kindlen,
+                       double *started)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT id, kind, started FROM cal_sessions WHERE zone = ? AND"
+	                         " state = 'running' ORDER BY id DESC LIMIT 1", "t", zone);
+	int rc;
+	if (!st)
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW) {
+		*id = sqlite3_column_int64(st, 0);
+		snprintf(kind, kindlen, "%s", col_text(st, 1) ? col_text(st, 1) : "");
+		*started = sqlite3_column_double(st, 2);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_ROW ? 0 : rc == SQLITE_DONE ? 1 : -1;
+}
+
+int psd_db_cal_samples(struct psd_db *db, long long id, psd_db_cal_sample_fn fn, void *user)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT t, level, volts, volts_se, lux FROM cal_samples"
+	                         " WHERE session = ? ORDER BY seq", "i", id);
+	int rc;
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		fn(user, col_num(st, 0), col_num(st, 1), col_num(st, 2), col_num(st, 3), col_num(st, 4));
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : -1;
+}
+
+char *psd_db_cal_accepted(struct psd_db *db, const char *zone, const char *kind, long long *id)
+{
+	char err[256], *out = NULL;
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT id, results FROM cal_sessions WHERE zone = ? AND"
+	                         " kind = ? AND state = 'accepted' ORDER BY id DESC LIMIT 1", "tt", zone, kind);
+	if (!st)
+		return NULL;
+	if (sqlite3_step(st) == SQLITE_ROW && col_text(st, 1)) {
+		*id = sqlite3_column_int64(st, 0);
+		out = strdup(col_text(st, 1));
+	}
+	sqlite3_finalize(st);
+	return out;
+}
+
+int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_fn fn, void *user, char *err,
+                        size_t errlen)
+{
+	sqlite3_stmt *st = query(db, err, errlen, "SELECT id, zone, kind, state, started, ended, results, note"
+	                         " FROM cal_sessions WHERE zone = ? ORDER BY id", "t", zone);
+	int rc;
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_db_cal_session s = {
+			sqlite3_column_int64(st, 0), col_text(st, 1), col_text(st, 2), col_text(st, 3),
+			col_num(st, 4), col_num(st, 5), col_text(st, 6), col_text(st, 7),
+		};
+		fn(user, &s);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
 }

@@ -1,9 +1,22 @@
-/* The sample log: every control period's sample in SQLite (WAL, batched
- * transactions), readable while psensd writes it. */
+/* The database: one SQLite file (WAL) holding the sample log and the
+ * calibration records, readable while psensd writes it.  This module owns
+ * the whole schema, every statement and the migrations: the version is
+ * meta 'schema', and opening for writing takes an older file forward in
+ * place, keeping every row (db.c lists the steps; adding a column is one
+ * more step there).
+ *
+ *   samples       one row per zone per control period (struct psd_sample)
+ *   cal_sessions  one row per calibration session: zone, kind, state
+ *                 (running, done, aborted, accepted, superseded), start and
+ *                 end, the config's and the scene's SHA-256, results (JSON)
+ *   cal_samples   every sample of a session, committed as it is taken */
 #ifndef PSD_DB_H
 #define PSD_DB_H
 
 #include <stddef.h>
+
+/* The schema version this build writes. */
+enum { PSD_DB_SCHEMA = 3 };
 
 struct psd_sample {
 	double t;             /* seconds on the daemon's clock */
@@ -22,8 +35,17 @@ struct psd_sample {
 
 struct psd_db;
 
-/* Open (creating the schema); -1 with a message in err. */
+/* Open for writing (creating or migrating the schema); ":memory:" for a
+ * private in-memory database.  NULL with a message in err. */
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen);
+/* Open an existing database read-only (psensctl export and report). */
+struct psd_db *psd_db_open_readonly(const char *path, char *err, size_t errlen);
+void psd_db_close(struct psd_db *db);
+/* The schema version of the open file (meta 'schema'), -1 on error. */
+int psd_db_schema(struct psd_db *db);
+
+/* ---- the sample log -------------------------------------------------------- */
+
 /* Samples per transaction (default 60; 1 commits every sample at once). */
 void psd_db_set_batch(struct psd_db *db, int batch);
 /* Samples committed so far by this connection: what a SIGKILL cannot take. */
@@ -32,11 +54,56 @@ unsigned long psd_db_committed(const struct psd_db *db);
 int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen);
 /* Commit what is queued. */
 int psd_db_commit(struct psd_db *db, char *err, size_t errlen);
-void psd_db_close(struct psd_db *db);
-/* The connection, for the calibration records that share the file. */
-struct sqlite3 *psd_db_sqlite(struct psd_db *db);
+/* A zone's samples (and those logged before samples named their zone), in
+ * the order they were logged; fn gets each.  -1 with a message in err. */
+typedef void (*psd_db_sample_fn)(void *user, const struct psd_sample *s);
+long long psd_db_zone_count(struct psd_db *db, const char *zone, char *err, size_t errlen);
+int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn, void *user, char *err,
+                        size_t errlen);
 /* Write the samples as CSV (header: t,tod_s,sensor_v,output,est_task_lux,
  * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone) to fp. */
 int psd_db_export_csv(const char *path, void *fp, char *err, size_t errlen);
+
+/* ---- calibration records --------------------------------------------------- *
+ * Written through the sample log's connection: while a batch of samples
+ * holds a transaction open (a simulated day) a record is committed with
+ * it, otherwise at once. */
+
+/* A new running session; its id, or -1 with a message. */
+long long psd_db_cal_begin(struct psd_db *db, const char *zone, const char *kind, double started,
+                           const char *config_sha256, const char *scene_sha256, char *err, size_t errlen);
+/* Sample seq of session id (replaces one of the same seq). */
+int psd_db_cal_sample(struct psd_db *db, long long id, int seq, double t, double level, double volts,
+                      double volts_se, double lux, const char *source, char *err, size_t errlen);
+/* End a session: state done or aborted, its results (JSON) and a note. */
+int psd_db_cal_end(struct psd_db *db, long long id, const char *state, double ended, const char *results,
+                   const char *note, char *err, size_t errlen);
+/* Accept a done session: the zone's accepted one of that kind becomes
+ * 'superseded' (it stays in the history). */
+int psd_db_cal_accept(struct psd_db *db, long long id, char *err, size_t errlen);
+/* The zone's running session, if any: 0 found (id, kind, start time), 1
+ * none, -1 error. */
+int psd_db_cal_running(struct psd_db *db, const char *zone, long long *id, char *kind, size_t kindlen,
+                       double *started);
+/* Every sample of a session in order. */
+typedef void (*psd_db_cal_sample_fn)(void *user, double t, double level, double volts, double volts_se,
+                                     double lux);
+int psd_db_cal_samples(struct psd_db *db, long long id, psd_db_cal_sample_fn fn, void *user);
+/* The results (JSON, malloc'd) of the zone's accepted session of a kind, or
+ * NULL; its id in *id. */
+char *psd_db_cal_accepted(struct psd_db *db, const char *zone, const char *kind, long long *id);
+
+/* A session as the report reads it (strings valid during the callback). */
+struct psd_db_cal_session {
+	long long id;
+	const char *zone, *kind, *state;
+	double started, ended;    /* NAN when not recorded */
+	const char *results;      /* JSON or NULL */
+	const char *note;         /* NULL or why it was aborted */
+};
+typedef void (*psd_db_cal_session_fn)(void *user, const struct psd_db_cal_session *s);
+/* A zone's sessions in the order they were started. */
+int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_fn fn, void *user, char *err,
+                        size_t errlen);
 
 #endif

@@ -2,23 +2,15 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "clock.h"
+#include "errbuf.h"
 #include "log.h"
-#include "loopback.h"
-#include "room.h"
 #include "roomsetup.h"
-
-void psd_hhmm(double t, char out[8])
-{
-	double tod = ps_room_tod(t);
-	int m = (int)floor(tod / 60 + 1e-9);
-	snprintf(out, 8, "%02d:%02d", (m / 60) % 24, m % 60);
-}
 
 static double wall(void)
 {
@@ -30,33 +22,24 @@ static double wall(void)
 static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value);
 static int command(struct psd_engine *e, struct psd_zone *z, double now, double level, char *why, size_t n);
 
-static int fail(char *err, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static int fail(char *err, size_t n, const char *fmt, ...)
+/* A simulated device's room, built from the results (daemon/roomsetup.c). */
+static int setup_room(struct psd_engine *e, struct ps_dev *d, double now, char *err, size_t n)
 {
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(err, n, fmt, ap);
-	va_end(ap);
-	return -1;
-}
-
-/* Report driver keys nobody used: a typo must not pass silently. */
-static int unused_keys(const struct ps_opts *o, const char *driver, char *err, size_t n)
-{
-	for (size_t i = 0; i < o->n; i++)
-		if (!o->v[i].used)
-			return fail(err, n, "%s:%d: unknown key '%s' for driver %s", o->file, o->v[i].line,
-			            o->v[i].key, driver);
-	return 0;
+	const struct psd_config *cf = e->cf;
+	struct ps_room_params *room = e->have_res ? psd_roomsetup_new(&e->res, cf->date, cf->sunrise, cf->sunset)
+	                                          : NULL;
+	int rc;
+	if (!room)
+		return psd_errf(err, n, "device %s: the %s room needs results with a daylight and an electric "
+		                "condition (%s)", d->name, d->drv->name, cf->results);
+	rc = d->drv->setup(d, room, now);
+	psd_roomsetup_free(room);
+	return rc == 0 ? 0 : psd_errf(err, n, "device %s: %s", d->name, d->err);
 }
 
 static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 {
 	struct psd_config *cf = e->cf;
-	struct ps_room_daypoint day[PSD_DAY_POINTS];
-	struct ps_room_params rp;
-	int have_day = e->have_res && psd_room_from_results(&e->res, psd_day_of_year(cf->date), cf->sunrise,
-	                                                   cf->sunset, day, &rp) == 0;
 	for (size_t i = 0; i < cf->ndev; i++) {
 		struct ps_dev *d = &e->dev[i];
 		memset(d, 0, sizeof *d);
@@ -65,17 +48,11 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 		d->on_event = on_event;
 		d->event_user = e;
 		e->dev_open[i] = 1;
+		/* the keys were judged by the configuration's check (the driver's table) */
 		if (d->drv->open(d, &cf->dev[i].opts) != 0)
-			return fail(err, n, "device %s: %s", d->name, d->err);
-		if (unused_keys(&cf->dev[i].opts, d->drv->name, err, n) != 0)
+			return psd_errf(err, n, "device %s: %s", d->name, d->err);
+		if (d->drv->setup && setup_room(e, d, now, err, n) != 0)
 			return -1;
-		if (strcmp(d->drv->name, "loopback") == 0) {
-			if (!have_day)
-				return fail(err, n, "device %s: the loopback room needs results with a daylight and "
-				            "an electric condition (%s)", d->name, cf->results);
-			if (ps_loopback_set_room(d, &rp, now) != 0)
-				return fail(err, n, "device %s: %s", d->name, d->err);
-		}
 	}
 	for (size_t i = 0; i < cf->npt; i++) {
 		struct psd_point_conf *pc = &cf->pt[i];
@@ -85,11 +62,53 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 		snprintf(p->name, sizeof p->name, "%s", pc->name);
 		p->role = pc->role;
 		if (d->drv->add_point(d, p, &pc->opts) != 0)
-			return fail(err, n, "point %s: %s", p->name, d->err);
-		if (unused_keys(&pc->opts, d->drv->name, err, n) != 0)
-			return -1;
+			return psd_errf(err, n, "point %s: %s", p->name, d->err);
 	}
 	return 0;
+}
+
+/* What a calibration session may see of its zone (calsession.h). */
+static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struct psd_zone *z, double now)
+{
+	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, e->have_res ? &e->res : NULL, e->db,
+	                                     e->cf->conf.path, now };
+}
+
+/* Do what a session asked: a step now, accepted constants in force. */
+static void cal_act(struct psd_zone *z, const struct psd_calsession_ask *ask)
+{
+	if (ask->step_now)
+		z->asap = 1;
+	for (int i = 0; i < ask->napply; i++) {
+		const struct psd_calsession_consts *k = &ask->apply[i];
+		if (isfinite(k->offset))
+			z->ctl.offset = k->offset;
+		if (k->sensor_gain > 0)
+			z->ctl.sensor_gain = k->sensor_gain;
+		if (k->elec_task_lux > 0)
+			z->ctl.elec_task_lux = k->elec_task_lux;
+		if (k->daylight_ratio > 0)
+			z->ctl.daylight_ratio = k->daylight_ratio;
+		if (k->kind == PSD_CAL_NIGHT)
+			z->cal_night_id = k->id;
+		else
+			z->cal_day_id = k->id;
+	}
+}
+
+/* At open: the accepted calibrations in force, a session left running resumed. */
+static void cal_load(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	struct psd_calsession_ctx c = cal_ctx(e, z, now);
+	struct psd_calsession_ask ask;
+	psd_calsession_accepted(&c, &ask);
+	cal_act(z, &ask);
+	if (z->cal_night_id || z->cal_day_id)
+		log_info("zone %s: calibrated (night session %lld, day session %lld): sensor gain %.5g, offset "
+		         "%.4g V, daylight ratio %.5g", z->zc->name, z->cal_night_id, z->cal_day_id, z->ctl.sensor_gain,
+		         z->ctl.offset, z->ctl.daylight_ratio);
+	psd_calsession_resume(&z->cal, &c, z->level, &ask);
+	cal_act(z, &ask);
 }
 
 static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd_zone_conf *zc, double now,
@@ -120,8 +139,12 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 			z->occupancy = 1;   /* occupied until an input says otherwise */
 	z->vacant_since = now;
 	z->verify_at = INFINITY;
-	if (strcmp(sd->drv->name, "loopback") == 0 && (z->room = ps_loopback_room((struct ps_dev *)sd)))
-		z->st.energy0 = ps_room_energy(z->room, now);
+	if (sd->drv->truth) {
+		struct ps_truth t;
+		z->sim = (struct ps_dev *)sd;
+		if (sd->drv->truth(z->sim, now, &t) == 0)
+			z->st.energy0 = t.energy;
+	}
 	z->st.worst_lux = INFINITY;
 	if (prev) {
 		for (size_t i = 0; i < prev->nzone; i++) {
@@ -149,7 +172,7 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
 	if (cf->results) {
 		if (ps_results_read(&e->res, cf->results, &pe) != 0) {
-			fail(err, errlen, "%s", pe.msg);
+			psd_errf(err, errlen, "%s", pe.msg);
 			goto bad;
 		}
 		e->have_res = 1;
@@ -165,16 +188,17 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		if ((cf->zone[i].ctl.algorithm == PSD_ALG_SETPOINT ||
 		     cf->zone[i].ctl.algorithm == PSD_ALG_CLOSED_PROPORTIONAL) &&
 		    !(e->zone[i].ctl.daylight_ratio > 0 && e->zone[i].ctl.elec_task_lux > 0)) {
-			fail(err, errlen, "zone %s: %s control needs the simulated daylight and electric ratios (%s)",
+			psd_errf(err, errlen, "zone %s: %s control needs the simulated daylight and electric ratios (%s)",
 			     cf->zone[i].name, psd_algorithm_names[cf->zone[i].ctl.algorithm], cf->results);
 			goto bad;
 		}
 	}
 	e->nzone = cf->nzone;
 	for (size_t i = 0; i < e->nzone; i++)
-		psd_drift_init(&e->zone[i].drift, cf->zone[i].drift_margin, cf->zone[i].drift_hold,
+		psd_calfit_drift_init(&e->zone[i].drift, cf->zone[i].drift_margin, cf->zone[i].drift_hold,
 		               cf->zone[i].cal_min_day_volts);
-	psd_cal_load(e, now);
+	for (size_t i = 0; i < e->nzone; i++)
+		cal_load(e, &e->zone[i], now);
 	/* the outputs start where the control believes they are (full output,
 	 * or the level before a reload) */
 	for (size_t i = 0; i < e->nzone; i++) {
@@ -235,8 +259,8 @@ static int command(struct psd_engine *e, struct psd_zone *z, double now, double 
 
 static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, const char *why)
 {
-	char t[8], ignored[256];
-	psd_hhmm(now, t);
+	char t[8], err[256];
+	psd_clock_hhmm(now, t);
 	if (!z->in_fault)
 		log_warnx("zone %s: %s fault: %s: lights to the safe level %.0f %%", z->zc->name, t, why,
 		          100 * z->zc->safe_level);
@@ -244,9 +268,21 @@ static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, co
 		log_debug("zone %s: %s fault now: %s", z->zc->name, t, why);
 	z->in_fault = 1;
 	snprintf(z->why, sizeof z->why, "%s", why);
-	if (z->cal.state == PSD_CAL_RUNNING)
-		psd_cal_abort(e, z, now, why);
-	command(e, z, now, z->zc->safe_level, ignored, sizeof ignored);
+	if (psd_calsession_running(&z->cal)) {
+		struct psd_calsession_ctx c = cal_ctx(e, z, now);
+		struct psd_calsession_ask ask;
+		psd_calsession_abort(&z->cal, &c, why, &ask);
+		cal_act(z, &ask);
+	}
+	/* an output that cannot be commanded even to the safe level needs a
+	 * person: said once, until the safe level is reached */
+	if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {
+		if (!z->unsafe)
+			log_errx("zone %s: %s cannot reach the safe level: %s", z->zc->name, t, err);
+		z->unsafe = 1;
+	} else {
+		z->unsafe = 0;
+	}
 	z->ctl.level = z->zc->safe_level;
 	z->ctl.pending_dir = 0;
 	z->fault_steps++;
@@ -262,18 +298,15 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 	double v = NAN;
 	if (d->drv->read(d, &e->pt[zc->sensor], now, &v) != 0) {
 		z->volts = NAN;
-		/* a lost device or a reading out of its range is a fault at once;
-		 * a missed or garbled reply only once the last good reading is
-		 * older than stale_after */
-		/* EOVERFLOW: a counting sensor lost edges; its value would be low */
-		int at_once = errno == ENODEV || errno == ENOTSUP || errno == EINVAL || errno == ERANGE ||
-		              errno == EOVERFLOW;
+		/* a lost device or a wrong value is a fault at once; a missed or
+		 * garbled reply only once the last good reading is stale (driver.h) */
+		int at_once = ps_dev_fault_at_once(errno);
 		if (at_once || now - z->last_ok >= zc->stale_after) {
 			if (at_once)
 				snprintf(why, n, "%s", d->err);
 			else {
 				char since[8];
-				psd_hhmm(z->last_ok, since);
+				psd_clock_hhmm(z->last_ok, since);
 				snprintf(why, n, "no reading since %s (%s)", since, d->err);
 			}
 			return -1;
@@ -326,7 +359,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 	int fault = z->in_fault;
 	double dl = z->ctl.daylight_ratio * z->ctl.daylight_volts / z->ctl.sensor_gain;
 	struct psd_sample s = {
-		now, ps_room_tod(now), z->volts, z->level,
+		now, psd_clock_tod(now), z->volts, z->level,
 		fault ? NAN : z->ctl.est_task_lux, z->task_lux,
 		fault ? NAN : z->ctl.daylight_volts,
 		fault ? NAN : dl,
@@ -344,14 +377,20 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 	e->logged = e->logged_base + psd_db_committed(e->db);
 }
 
+int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t)
+{
+	return z->sim && z->sim->drv->truth(z->sim, now, t) == 0 ? 0 : -1;
+}
+
 static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 {
+	struct ps_truth tr;
 	double t;
 	struct psd_zone_stats *s = &z->st;
-	if (!z->room)
+	if (!z->sim)
 		return;
-	if (!z->in_fault && !isnan(z->ctl.est_task_lux)) {
-		t = ps_room_true_task_lux(z->room, now);
+	if (!z->in_fault && !isnan(z->ctl.est_task_lux) && psd_engine_truth(z, now, &tr) == 0) {
+		t = tr.task_lux;
 		if (t > 0) {
 			double err = (z->ctl.est_task_lux - t) / t;
 			s->err_sum += err;
@@ -362,12 +401,37 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 		}
 	}
 	/* what the occupants get just before the next reading */
-	t = ps_room_true_task_lux(z->room, now + z->zc->period * 0.999);
+	if (psd_engine_truth(z, now + z->zc->period * 0.999, &tr) != 0)
+		return;
+	t = tr.task_lux;
 	if (t < z->ctl.target_lux * (1 - e->cf->tolerance))
 		s->below++;
 	if (t < s->worst_lux)
 		s->worst_lux = t;
 	s->samples++;
+}
+
+/* Drift of the measured ratio, per good step with a task meter. */
+static void drift_step(struct psd_zone *z, double now)
+{
+	double gain_e, vd, ed;
+	int r;
+	if (z->zc->task < 0 || !isfinite(z->task_lux) || !isfinite(z->volts) || psd_calsession_running(&z->cal))
+		return;
+	gain_e = z->ctl.sensor_gain * z->ctl.elec_sensor;
+	vd = z->volts - z->ctl.offset - gain_e * z->ctl.level;
+	ed = z->task_lux - z->ctl.elec_task_lux * z->ctl.level;
+	r = psd_calfit_drift_update(&z->drift, now, vd, ed, z->ctl.daylight_ratio / z->ctl.sensor_gain);
+	if (r > 0) {
+		char t[8];
+		psd_clock_hhmm(now, t);
+		log_warnx("zone %s: %s drift: the measured task/sensor ratio is %.0f %% off the simulated one for "
+		          "%.0f s (sensor obstructed, dirty or moved, or the room changed?)", z->zc->name, t,
+		          100 * (exp(z->drift.last_ln) - 1), now - z->drift.out_since);
+	} else if (r < 0) {
+		log_info("zone %s: drift cleared: the measured ratio is back within %.0f %%", z->zc->name,
+		         100 * (exp(z->zc->drift_margin / 2) - 1));
+	}
 }
 
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
@@ -400,16 +464,19 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 				z->ctl.level = out;
 		}
 		if (rc == 0) {
-			psd_drift_step(e, z, now);
-			psd_cal_feed(e, z, now, z->volts, z->task_lux);
+			struct psd_calsession_ctx c = cal_ctx(e, z, now);
+			struct psd_calsession_ask ask;
+			drift_step(z, now);
+			psd_calsession_feed(&z->cal, &c, z->volts, z->task_lux, z->level, &ask);
+			cal_act(z, &ask);
 		}
-		if (psd_cal_level(e, z, now, &level))
+		if (psd_calsession_level(&z->cal, now, &level))
 			;   /* a calibration session holds the lights */
 		else if (rc == 0)
 			level = psd_control_step(&z->ctl, z->volts, now);
 		else
 			level = z->level;   /* a missed reading: hold until it is stale */
-		if (z->cal.state == PSD_CAL_RUNNING)
+		if (psd_calsession_running(&z->cal))
 			;
 		else if (now < z->override_until)
 			level = z->override_level;
@@ -423,7 +490,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			enter_fault(e, z, now, why);
 		} else {
 			if (z->in_fault) {
-				psd_hhmm(now, t);
+				psd_clock_hhmm(now, t);
 				log_info("zone %s: %s fault cleared: control resumes", zc->name, t);
 				z->in_fault = 0;
 				z->why[0] = 0;
@@ -441,9 +508,8 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	truth(e, z, now);
 }
 
-void psd_engine_step(struct psd_engine *e, double now, double scheduled_late)
+void psd_engine_step(struct psd_engine *e, double now)
 {
-	(void)scheduled_late;
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
 		if (z->next > now) {
@@ -520,7 +586,7 @@ void psd_engine_safe(struct psd_engine *e, double now, const char *why)
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
 		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0)
-			log_warnx("zone %s: cannot reach the safe level: %s", z->zc->name, err);
+			log_errx("zone %s: cannot reach the safe level: %s", z->zc->name, err);
 		else
 			log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
 			         100 * z->zc->safe_level);
@@ -589,42 +655,88 @@ struct psd_zone *psd_engine_zone(struct psd_engine *e, const char *name)
 	return NULL;
 }
 
-int psd_engine_set_target(struct psd_engine *e, const char *zone, double lux, char *err, size_t n)
+int psd_engine_set_target(struct psd_zone *z, double lux, char *err, size_t n)
 {
-	struct psd_zone *z = psd_engine_zone(e, zone);
-	if (!z)
-		return fail(err, n, "no zone '%s'", zone);
 	if (!(lux >= 0 && lux <= 1e6))
-		return fail(err, n, "target %g lx is outside 0 to 1e6", lux);
+		return psd_errf(err, n, "target %g lx is outside 0 to 1e6", lux);
 	z->ctl.target_lux = lux;
-	log_info("zone %s: target %g lx", zone, lux);
+	log_info("zone %s: target %g lx", z->zc->name, lux);
 	return 0;
 }
 
-int psd_engine_override(struct psd_engine *e, const char *zone, double level, double seconds, double now,
-                        char *err, size_t n)
+int psd_engine_override(struct psd_zone *z, double level, double seconds, double now, char *err, size_t n)
 {
-	struct psd_zone *z = psd_engine_zone(e, zone);
-	if (!z)
-		return fail(err, n, "no zone '%s'", zone);
 	if (!(level >= 0 && level <= 1))
-		return fail(err, n, "level %g is outside 0 to 1", level);
+		return psd_errf(err, n, "level %g is outside 0 to 1", level);
 	if (!(seconds > 0 && seconds <= 7 * 86400))
-		return fail(err, n, "duration %g s is outside 0 to 7 days", seconds);
+		return psd_errf(err, n, "duration %g s is outside 0 to 7 days", seconds);
 	z->override_level = level;
 	z->override_until = now + seconds;
 	z->asap = 1;   /* at once, not at the next period */
-	log_info("zone %s: override %.0f %% for %g s", zone, 100 * level, seconds);
+	log_info("zone %s: override %.0f %% for %g s", z->zc->name, 100 * level, seconds);
 	return 0;
 }
 
-int psd_engine_release(struct psd_engine *e, const char *zone, char *err, size_t n)
+void psd_engine_release(struct psd_zone *z)
 {
-	struct psd_zone *z = psd_engine_zone(e, zone);
-	if (!z)
-		return fail(err, n, "no zone '%s'", zone);
 	z->override_until = -INFINITY;
 	z->asap = 1;
-	log_info("zone %s: override released", zone);
+	log_info("zone %s: override released", z->zc->name);
+}
+
+int psd_engine_cal_start(struct psd_engine *e, struct psd_zone *z, int kind, double level, double now, char *err,
+                         size_t n)
+{
+	struct psd_calsession_ctx c = cal_ctx(e, z, now);
+	struct psd_calsession_ask ask;
+	if (z->in_fault && !psd_calsession_running(&z->cal))
+		return psd_errf(err, n, "zone %s is at its safe level: %s", z->zc->name, z->why);
+	if (psd_calsession_start(&z->cal, &c, kind, level, &ask, err, n) != 0)
+		return -1;
+	cal_act(z, &ask);
+	return 0;
+}
+
+int psd_engine_cal_lux(struct psd_engine *e, struct psd_zone *z, double lux, double now, char *err, size_t n)
+{
+	struct psd_calsession_ctx c = cal_ctx(e, z, now);
+	struct psd_calsession_ask ask;
+	if (psd_calsession_typed_lux(&z->cal, &c, lux, z->in_fault ? NAN : z->volts, z->level, &ask, err, n) != 0)
+		return -1;
+	cal_act(z, &ask);
+	return 0;
+}
+
+int psd_engine_cal_finish(struct psd_engine *e, struct psd_zone *z, double now, char *err, size_t n)
+{
+	struct psd_calsession_ctx c = cal_ctx(e, z, now);
+	struct psd_calsession_ask ask;
+	if (psd_calsession_finish(&z->cal, &c, &ask, err, n) != 0)
+		return -1;
+	cal_act(z, &ask);
+	return 0;
+}
+
+int psd_engine_cal_accept(struct psd_engine *e, struct psd_zone *z, double now, char *err, size_t n)
+{
+	struct psd_calsession_ctx c = cal_ctx(e, z, now);
+	struct psd_calsession_ask ask;
+	if (psd_calsession_accept(&z->cal, &c, &ask, err, n) != 0)
+		return -1;
+	cal_act(z, &ask);
+	log_info("zone %s: calibration session %lld accepted (sensor gain %.5g V per unit, offset %.4g V, "
+	         "daylight ratio %.5g, electric task lux %.5g)", z->zc->name, z->cal.id, z->ctl.sensor_gain,
+	         z->ctl.offset, z->ctl.daylight_ratio, z->ctl.elec_task_lux);
+	return 0;
+}
+
+int psd_engine_cal_abort(struct psd_engine *e, struct psd_zone *z, double now, const char *why, char *err,
+                         size_t n)
+{
+	struct psd_calsession_ctx c = cal_ctx(e, z, now);
+	struct psd_calsession_ask ask;
+	if (psd_calsession_abort(&z->cal, &c, why, &ask) != 0)
+		return psd_errf(err, n, "zone %s has no running session", z->zc->name);
+	cal_act(z, &ask);
 	return 0;
 }

@@ -9,20 +9,18 @@
 #include <poll.h>
 #include <stddef.h>
 
+#include "calsession.h"
 #include "config.h"
 #include "control.h"
 #include "db.h"
 #include "driver.h"
-#include "calsession.h"
 #include "results.h"
 
-struct ps_room;
-
-/* What a loopback zone's truth says about the control, for the summary. */
+/* What a simulated zone's truth says about the control, for the summary. */
 struct psd_zone_stats {
 	double samples, below, worst_lux, fault_steps;
 	double err_sum, err2_sum, err_max, err_n;
-	double energy0;           /* room energy when the zone started */
+	double energy0;           /* the room's energy when the zone started */
 };
 
 struct psd_zone {
@@ -33,6 +31,7 @@ struct psd_zone {
 	double started;
 	int in_fault;             /* at the safe level */
 	char why[256];            /* the fault, when in_fault */
+	int unsafe;               /* the safe level could not be commanded (logged once) */
 	double last_ok;           /* time of the last good reading */
 	double last_volts, same_since;  /* stuck detection */
 	double volts, task_lux;   /* last readings (NAN if none) */
@@ -42,9 +41,9 @@ struct psd_zone {
 	double vacant_since;
 	double verify_at;         /* when the dim points should show `level` */
 	unsigned long steps, fault_steps;
-	struct ps_room *room;     /* when the sensor is on a loopback device: the truth */
-	struct psd_cal cal;       /* the calibration session (daemon/calibrate.c) */
-	struct psd_drift drift;   /* measured against simulated ratio, with a task meter */
+	struct ps_dev *sim;       /* the sensor's device when it is simulated (has a truth hook) */
+	struct psd_calsession cal;     /* the calibration session (daemon/calsession.c) */
+	struct psd_calfit_drift drift; /* measured against simulated ratio, with a task meter */
 	long long cal_night_id, cal_day_id;   /* the accepted calibrations in force, 0: none */
 	struct psd_zone_stats st;
 };
@@ -75,7 +74,7 @@ struct psd_engine {
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen);
 /* Run every zone whose step is due at now. */
-void psd_engine_step(struct psd_engine *e, double now, double scheduled_late);
+void psd_engine_step(struct psd_engine *e, double now);
 /* The next time something is due: a zone's step or a driver's deadline. */
 double psd_engine_deadline(const struct psd_engine *e);
 /* Driver descriptors for poll(): fills up to max, returns the count; fd_dev
@@ -89,30 +88,28 @@ void psd_engine_safe(struct psd_engine *e, double now, const char *why);
 /* Commit the log and close every device.  Returns the config to free (or NULL). */
 struct psd_config *psd_engine_close(struct psd_engine *e);
 
-/* Control-socket actions; -1 with a message in err. */
-int psd_engine_set_target(struct psd_engine *e, const char *zone, double lux, char *err, size_t n);
-int psd_engine_override(struct psd_engine *e, const char *zone, double level, double seconds,
-                        double now, char *err, size_t n);
-int psd_engine_release(struct psd_engine *e, const char *zone, char *err, size_t n);
+/* What is true in a simulated zone's room at now (its sensor's device's
+ * truth hook, driver.h); -1 when the zone's sensor is real hardware. */
+int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t);
+
+/* The zone of a name, NULL when there is none (the socket resolves a name
+ * once; the actions below take the zone). */
 struct psd_zone *psd_engine_zone(struct psd_engine *e, const char *name);
 
-/* Calibration (daemon/calibrate.c).  Each -1 with a message in err. */
-int psd_cal_start(struct psd_engine *e, const char *zone, int kind, double level, double now, char *err,
-                  size_t n);
-int psd_cal_lux(struct psd_engine *e, const char *zone, double lux, double now, char *err, size_t n);
-int psd_cal_finish(struct psd_engine *e, const char *zone, double now, char *err, size_t n);
-int psd_cal_accept(struct psd_engine *e, const char *zone, char *err, size_t n);
-int psd_cal_abort(struct psd_engine *e, struct psd_zone *z, double now, const char *why);
-/* From a zone's step: the level a running session wants (1) or not (0). */
-int psd_cal_level(struct psd_engine *e, struct psd_zone *z, double now, double *level);
-/* A good reading (volts; lux NAN without a meter) at the session's level. */
-void psd_cal_feed(struct psd_engine *e, struct psd_zone *z, double now, double volts, double lux);
-/* At open: resume running sessions, apply accepted calibrations. */
-void psd_cal_load(struct psd_engine *e, double now);
-/* Drift of the measured ratio, per good step with a task meter. */
-void psd_drift_step(struct psd_engine *e, struct psd_zone *z, double now);
+/* Control-socket actions; -1 with a message in err. */
+int psd_engine_set_target(struct psd_zone *z, double lux, char *err, size_t n);
+int psd_engine_override(struct psd_zone *z, double level, double seconds, double now, char *err, size_t n);
+void psd_engine_release(struct psd_zone *z);
 
-/* "HH:MM" of a clock time (the room's clock: modulo a day). */
-void psd_hhmm(double t, char out[8]);
+/* Calibration sessions (daemon/calsession.h) on a zone.  Each -1 with a
+ * message in err. */
+int psd_engine_cal_start(struct psd_engine *e, struct psd_zone *z, int kind, double level, double now, char *err,
+                         size_t n);
+/* A lux reading the installer typed, paired with the zone's reading now. */
+int psd_engine_cal_lux(struct psd_engine *e, struct psd_zone *z, double lux, double now, char *err, size_t n);
+int psd_engine_cal_finish(struct psd_engine *e, struct psd_zone *z, double now, char *err, size_t n);
+int psd_engine_cal_accept(struct psd_engine *e, struct psd_zone *z, double now, char *err, size_t n);
+int psd_engine_cal_abort(struct psd_engine *e, struct psd_zone *z, double now, const char *why, char *err,
+                         size_t n);
 
 #endif

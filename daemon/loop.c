@@ -16,8 +16,8 @@
 #include "daemon.h"
 #include "log.h"
 
-enum { MAX_POLL = 8 + 1024 + PSD_MAX_DEVICES };
-
+/* The process's signals: one signalfd per process by nature (a signal
+ * mask is the process's), so it is the one state kept outside the daemon. */
 static int sigfd = -1;
 
 static double mono(void)
@@ -25,7 +25,7 @@ static double mono(void)
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}   /* the process's signals: one per process by nature */
+}
 
 static int signals_block(void)
 {
@@ -63,10 +63,10 @@ static const char *socket_path(const struct psd_config *cf, char *buf, size_t n)
 	return buf;
 }
 
-static void log_config_errors(const struct psd_config *cf)
+void psd_daemon_config_errors(const struct psd_config *cf)
 {
 	for (size_t i = 0; i < cf->conf.nerrors; i++)
-		log_warnx("%s", cf->conf.errors[i]);
+		log_errx("%s", cf->conf.errors[i]);
 }
 
 int psd_daemon_start(struct psd_daemon *d, const char *path)
@@ -76,18 +76,18 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	double now = psd_clock_now(&d->clock);
 	d->config_path = path;
 	if (!cf) {
-		log_warn("config");
+		log_err("config");
 		return -1;
 	}
 	/* before any device opens: a driver's library may start threads, which
 	 * inherit the mask, and a signal must reach the signalfd, not them */
 	if (signals_block() != 0) {
-		log_warn("signals");
+		log_err("signals");
 		free(cf);
 		return -1;
 	}
 	if (psd_config_load(cf, path) != 0) {
-		log_config_errors(cf);
+		psd_daemon_config_errors(cf);
 		psd_config_free(cf);
 		free(cf);
 		return -1;
@@ -95,7 +95,7 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	if (psd_refresh_results(cf, d->self) != 0 ||
 	    psd_engine_open(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, err, sizeof err) != 0) {
 		if (d->engine.cf == NULL && err[0])
-			log_warnx("%s", err);
+			log_errx("%s", err);
 		psd_config_free(cf);
 		free(cf);
 		return -1;
@@ -104,7 +104,7 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctl_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
 		                 (int)cf->max_clients, psd_ctl_handle, d, err, sizeof err) != 0) {
-			log_warnx("control socket %s (set socket = in [psensd], or run under systemd "
+			log_errx("control socket %s (set socket = in [psensd], or run under systemd "
 			          "with RuntimeDirectory=)", err);
 			psd_engine_close(&d->engine);
 			psd_config_free(cf);
@@ -126,16 +126,16 @@ int psd_daemon_reload(struct psd_daemon *d)
 	int batch = d->engine.db_batch;
 	sd_notify(0, "RELOADING=1");
 	if (!cf || !snap) {
-		log_warn("reload");
+		log_err("reload");
 		goto keep;
 	}
 	if (psd_config_load(cf, d->config_path) != 0) {
-		log_config_errors(cf);
-		log_warnx("reload: %s has errors: the running configuration stays", d->config_path);
+		psd_daemon_config_errors(cf);
+		log_errx("reload: %s has errors: the running configuration stays", d->config_path);
 		goto keep;
 	}
 	if (psd_refresh_results(cf, d->self) != 0) {
-		log_warnx("reload: no results for the new configuration: the running configuration stays");
+		log_errx("reload: no results for the new configuration: the running configuration stays");
 		goto keep;
 	}
 	/* devices can be opened once (a claimed USB interface, a GPIO line):
@@ -143,9 +143,9 @@ int psd_daemon_reload(struct psd_daemon *d)
 	*snap = d->engine;
 	old = psd_engine_close(&d->engine);
 	if (psd_engine_open(&d->engine, cf, now, batch, snap, err, sizeof err) != 0) {
-		log_warnx("reload: %s: the running configuration stays", err);
+		log_errx("reload: %s: the running configuration stays", err);
 		if (psd_engine_open(&d->engine, old, now, batch, snap, err, sizeof err) != 0) {
-			log_warnx("reload: cannot reopen the running configuration either: %s", err);
+			log_errx("reload: cannot reopen the running configuration either: %s", err);
 			d->stop = SIGTERM;
 		}
 		psd_config_free(cf);
@@ -174,8 +174,8 @@ keep:
 
 int psd_daemon_run(struct psd_daemon *d)
 {
-	static struct pollfd fds[MAX_POLL];
-	static int fd_dev[MAX_POLL];
+	struct pollfd *fds = d->fds;
+	int *fd_dev = d->fd_dev;
 	uint64_t wd_usec = 0;
 	double wd_next = 0;
 	if (sd_watchdog_enabled(0, &wd_usec) > 0)
@@ -186,17 +186,17 @@ int psd_daemon_run(struct psd_daemon *d)
 		int n = 0, nctl, ndev, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
-		psd_engine_step(&d->engine, now, 0);
+		psd_engine_step(&d->engine, now);
 		deadline = psd_engine_deadline(&d->engine);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
 		fds[n++] = (struct pollfd){ sigfd, POLLIN, 0 };
-		nctl = d->have_ctl ? psd_ctl_pollfds(&d->ctl, fds + n, MAX_POLL - n - PSD_MAX_DEVICES) : 0;
+		nctl = d->have_ctl ? psd_ctl_pollfds(&d->ctl, fds + n, PSD_MAX_POLL - n - PSD_MAX_DEVICES) : 0;
 		n += nctl;
-		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, MAX_POLL - n);
+		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n);
 		timeout = psd_clock_wait_ms(&d->clock, deadline, d->watchdog_ms ? d->watchdog_ms : 60000);
 		if (poll(fds, (nfds_t)(n + ndev), timeout) < 0 && errno != EINTR) {
-			log_warn("poll");
+			log_err("poll");
 			break;
 		}
 		if (fds[0].revents & POLLIN)

@@ -24,7 +24,7 @@ int psd_refresh_results(const struct psd_config *cf, const char *self)
 	if (!cf->scene)
 		return 0;
 	if (stat(cf->scene, &ss) != 0) {
-		log_warn("%s", cf->scene);
+		log_err("%s", cf->scene);
 		return -1;
 	}
 	if (stat(cf->results, &rs) == 0 && rs.st_mtime >= ss.st_mtime)
@@ -42,14 +42,14 @@ int psd_refresh_results(const struct psd_config *cf, const char *self)
 	argv[4] = cf->scene;
 	argv[5] = NULL;
 	if ((errno = posix_spawnp(&pid, psscene, NULL, NULL, argv, environ)) != 0) {
-		log_warn("cannot run %s", psscene);
+		log_err("cannot run %s", psscene);
 		return -1;
 	}
 	while (waitpid(pid, &status, 0) < 0)
 		if (errno != EINTR)
 			return -1;
 	if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-		log_warnx("%s failed on %s", psscene, cf->scene);
+		log_errx("%s failed on %s", psscene, cf->scene);
 		return -1;
 	}
 	return 0;

@@ -2,8 +2,10 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "room.h"
 #include "scene.h"
 
 int psd_day_of_year(const char *mmdd)
@@ -76,4 +78,29 @@ int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, d
 	p->elec_sensor = r->electric_sensor_response;
 	p->elec_task_lux = r->electric_task_lux;
 	return 0;
+}
+
+/* One block: the parameters, then the day they point to. */
+struct roomsetup {
+	struct ps_room_params p;
+	struct ps_room_daypoint day[PSD_DAY_POINTS];
+};
+
+struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char *date, double sunrise,
+                                         double sunset)
+{
+	struct roomsetup *rs;
+	int doy = psd_day_of_year(date);
+	if (doy < 0 || !(rs = malloc(sizeof *rs)))
+		return NULL;
+	if (psd_room_from_results(r, doy, sunrise, sunset, rs->day, &rs->p) != 0) {
+		free(rs);
+		return NULL;
+	}
+	return &rs->p;
+}
+
+void psd_roomsetup_free(struct ps_room_params *p)
+{
+	free(p);   /* the first member of its block */
 }

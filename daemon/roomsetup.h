@@ -1,9 +1,14 @@
-/* From the scene's precomputed results to the virtual room's parameters. */
+/* From the scene's precomputed results to a simulated room's parameters
+ * (drivers/room.h), which the daemon hands to a simulated device through
+ * the driver table's setup hook.  The one daemon file that builds a room
+ * (psvirt, which serves the room over Modbus, calls it too). */
 #ifndef PSD_ROOMSETUP_H
 #define PSD_ROOMSETUP_H
 
 #include "results.h"
-#include "room.h"
+
+struct ps_room_daypoint;
+struct ps_room_params;
 
 enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
 
@@ -16,6 +21,12 @@ enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
  * Returns -1 when the results have no electric or no daylight condition. */
 int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p);
+/* The same, allocated with its day of daylight (free with
+ * psd_roomsetup_free) for the date "MM-DD"; NULL when the results have no
+ * electric or no daylight condition, or the date is malformed. */
+struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char *date, double sunrise,
+                                         double sunset);
+void psd_roomsetup_free(struct ps_room_params *p);
 /* Day of year of "MM-DD" (non-leap year); -1 if malformed. */
 int psd_day_of_year(const char *mmdd);
 

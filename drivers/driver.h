@@ -12,15 +12,20 @@
  *    into steps driven by deadline()/service().
  *  - Time comes in as `now`, seconds on the daemon's clock (monotonic, or
  *    simulated in tests).  Drivers do not read the clock for control timing.
- *  - Failure: return -1 with errno set and a one-line detail in dev->err:
+ *  - Failure: return -1 with errno set and a one-line detail in dev->err
+ *    (ps_dev_fail does both):
  *      EINVAL   bad option (dev->err is "file:line: key: why")
  *      ENOTSUP  driver not compiled in
  *      ETIMEDOUT no reply in time        EPROTO   garbled or exception reply
+ *      EAGAIN   busy (a queue full): asked again later
  *      ERANGE   reading outside the point's valid range (open circuit, saturation)
+ *      EOVERFLOW a counting sensor lost events: its value would read low
  *      ENODEV   device gone (unplugged, connection lost); the driver reconnects
  *               by itself on later calls, with backoff, and succeeds again once
  *               the device is back.
- *    The daemon drives lights to the safe level on any failure and logs dev->err.
+ *    ps_dev_fault_at_once() says which of these are a fault at once and which
+ *    a missed reply; the daemon drives the lights to the safe level on a
+ *    fault and logs dev->err.
  *  - Events from inputs (buttons, occupancy) are delivered through
  *    dev->on_event from inside service().
  */
@@ -28,6 +33,8 @@
 #define PS_DRIVER_H
 
 #include <stddef.h>
+
+#include "opts.h"
 
 enum ps_role {
 	PS_ROLE_SENSOR = 0,   /* photosensor signal, volts */
@@ -42,37 +49,22 @@ enum ps_role {
 const char *ps_role_name(int role);
 int ps_role_parse(const char *name);   /* -1 if unknown */
 
-/* One configuration option handed to a driver: key, value and where it was
- * written, so a driver's message can name file and line. */
-struct ps_opt {
-	const char *key;
-	const char *value;
-	int line;
-	int used;             /* set by ps_opt_get; the daemon reports unused keys */
-};
-
-struct ps_opts {
-	struct ps_opt *v;
-	size_t n;
-	const char *file;     /* config file name for messages */
-};
-
-/* Find an option (marks it used), NULL if absent. */
-const char *ps_opt_get(const struct ps_opts *o, const char *key);
-/* Typed lookups: 0 ok (absent gives def), -1 with errno EINVAL and a
- * "file:line: key: why" message in err. */
-int ps_opt_double(const struct ps_opts *o, const char *key, double def, double min,
-                  double max, double *out, char *err, size_t errlen);
-int ps_opt_long(const struct ps_opts *o, const char *key, long def, long min, long max,
-                long *out, char *err, size_t errlen);
-/* names NULL-terminated; *out = index. */
-int ps_opt_enum(const struct ps_opts *o, const char *key, const char *const *names, int def,
-                int *out, char *err, size_t errlen);
-/* Line of an option for messages (0 if absent). */
-int ps_opt_line(const struct ps_opts *o, const char *key);
-
 struct ps_dev;
 struct ps_point;
+struct ps_room_params;   /* drivers/room.h: a simulated room's day and responses */
+
+/* What is true in a simulated room at a time (the truth hook): what a
+ * summary or a status compares the control's estimate with. */
+struct ps_truth {
+	double task_lux;      /* true task illuminance, no noise, no fault */
+	double output;        /* the lamps' light output, 0..1 */
+	double energy;        /* integral of the output since the room was set up, fraction x s */
+	double daylight_v;    /* daylight part of the sensor signal, volts */
+	double daylight_lux;  /* daylight part of the task illuminance */
+	const char *fault;    /* the simulated fault active now, by its name in the
+	                         device's faults key ("drop", "late", "open", ...);
+	                         NULL for none */
+};
 
 typedef void (*ps_event_fn)(void *user, struct ps_dev *dev, struct ps_point *pt,
                             double now, double value);
@@ -94,8 +86,15 @@ struct ps_dev {
 
 struct ps_driver {
 	const char *name;
-	const char *summary;  /* one line for --help and man pages */
+	const char *summary;  /* one line for psensd -h and -L */
 	int compiled_in;      /* 0 for a stub: every method fails with ENOTSUP */
+	/* The keys it takes (opts.h), NULL-key terminated; NULL for a stub. */
+	const struct ps_opt_spec *options;
+	/* Checks across keys the table cannot express (e.g. a Modbus device needs
+	 * host or device), on a device section (role < 0) or a point section
+	 * whose keys passed the table; NULL if none.  -1 with the key's line in
+	 * *line and why (no location).  Pure: no I/O, so psensd -n runs it. */
+	int (*check)(const struct ps_opts *opts, int role, int *line, char *why, size_t n);
 	/* Parse options, connect.  May succeed while the device is absent (then
 	 * reads fail with ENODEV until it appears). */
 	int (*open)(struct ps_dev *dev, const struct ps_opts *opts);
@@ -113,15 +112,49 @@ struct ps_driver {
 	int (*service)(struct ps_dev *dev, double now);
 	/* Release everything (lines, interfaces, sockets).  Safe after a failed open. */
 	void (*close)(struct ps_dev *dev);
+	/* Simulated devices only, NULL for hardware.  setup: give an opened
+	 * device its room, built by the daemon from the scene's results
+	 * (daemon/roomsetup.c); the device's own options are merged in.  Called
+	 * once after open, before add_point.  truth: what is true in the room
+	 * at now, without advancing it (any time, even ahead of its clock). */
+	int (*setup)(struct ps_dev *dev, const struct ps_room_params *room, double now);
+	int (*truth)(struct ps_dev *dev, double now, struct ps_truth *t);
+	/* Optional (NULL): a request for the device itself from the control
+	 * socket, e.g. DALI commissioning (psensctl dali DEVICE scan).  words
+	 * are the request after the device's name; pts are points of this
+	 * device the daemon resolved for it (a zone's outputs), npts may be 0.
+	 * Work longer than a moment runs step-wise from service(); the reply,
+	 * one JSON object, goes to out.  0 ok; -1 with errno and dev->err
+	 * (EINVAL a bad request, EBUSY other work runs, ENODEV the device is
+	 * gone). */
+	int (*command)(struct ps_dev *dev, int nwords, char **words, struct ps_point *const *pts, int npts,
+	               double now, char *out, size_t outlen);
 };
 
 /* The registry: every driver this build knows, compiled in or not. */
 extern const struct ps_driver *const ps_drivers[];
 /* Find by name; NULL if no such driver exists at all. */
 const struct ps_driver *ps_driver_find(const char *name);
+/* "loopback, modbus, ..." of the registry, for messages. */
+void ps_driver_names(char *out, size_t n);
+/* Judge a device section (role < 0) or a point section: every key against
+ * the driver's table, then, when they all pass, its check method.  Each
+ * error goes to report (opts.h); returns the number of errors.  A stub
+ * (not compiled in) has no table: its keys are not judged. */
+int ps_driver_check(const struct ps_driver *drv, const struct ps_opts *o, int role, ps_opt_report_fn report,
+                    void *user);
 
 /* Set dev->err (printf-style) and errno; returns -1. */
 int ps_dev_fail(struct ps_dev *dev, int err, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
+/* What a failed read's errno means: 1 a fault at once (ENODEV, ENOTSUP,
+ * EINVAL, ERANGE, EOVERFLOW: the device is gone or misconfigured, or the
+ * value is wrong), 0 a missed reply (ETIMEDOUT, EPROTO, EAGAIN, ...: a
+ * fault only once the last good reading is older than the zone's
+ * stale_after; until then the level is held). */
+int ps_dev_fault_at_once(int err);
+/* The driver's check method on a section, for its own open (role < 0) and
+ * add_point: -1 with errno EINVAL and "file:line: why" in dev->err. */
+int ps_dev_check(struct ps_dev *dev, const struct ps_opts *o, int role);
 
 #endif

@@ -2,17 +2,11 @@
  * interface): relays, buttons and occupancy inputs, and light-to-frequency
  * sensors of the TSL230R kind.  See psensd-gpio(7).
  *
- * Device options: chip (a path, name, label or number: gpiochip0,
- * /dev/gpiochip0, 0), consumer (the label the kernel shows, "psensd").
- * Point options:
- *   relay   line, active_low (no), initial (off)
- *   input   line, active_low, edge (both|rising|falling), debounce (0.02 s),
- *           bias (as-is|pull-up|pull-down|disable)
- *   sensor  kind = frequency, line, gate (1 s), factor (signal per Hz, 1),
- *           max_rate (edges per second the driver will take, 2000),
- *           s2, s3 (the divider pins; without them the divider is 1),
- *           s0, s1 and sensitivity (1|10|100) for the sensitivity pins,
- *           gap (3: an interval this many times the shortest is lost edges)
+ * Its keys are in gpio_options below: the chip and consumer for a device;
+ * for a relay its line, active_low and initial state; for an input its line,
+ * active_low, edge, bias and debounce; for a sensor kind = frequency, its
+ * line, gate, factor, max_rate, gap, the divider pins s2 and s3 and the
+ * sensitivity pins s0 and s1 with sensitivity.
  *
  * All edge events of a device are gathered in one epoll descriptor (fd());
  * service() drains them, debounces inputs and closes gates; deadline() is
@@ -66,18 +60,85 @@ struct gpio_dev {
 	double now;               /* the last time service() ran */
 };
 
-static const char *const yesno[] = { "no", "yes", NULL };
+static const char *const onoff[] = { "off", "on", NULL };
+static const char *const edges[] = { "both", "rising", "falling", NULL };
+static const char *const biases[] = { "as-is", "pull-up", "pull-down", "disable", NULL };
+static const char *const kinds[] = { "frequency", NULL };
+static const char *const sensitivities[] = { "1", "10", "100", NULL };
+
+#define PT PS_OPT_POINT
+#define RELAY PS_ROLE_BIT(PS_ROLE_RELAY)
+#define INPUT PS_ROLE_BIT(PS_ROLE_INPUT)
+#define SENSOR PS_ROLE_BIT(PS_ROLE_SENSOR)
+static const struct ps_opt_spec gpio_options[] = {
+	{ "chip", PS_OPT_STRING, PS_OPT_DEVICE, 0, "gpiochip0", 0, 0, NULL, NULL,
+	  "the chip: a path, name, label or number" },
+	{ "consumer", PS_OPT_STRING, PS_OPT_DEVICE, 0, "psensd", 0, 0, NULL, NULL,
+	  "the label the kernel shows for the lines psensd holds" },
+	{ "line", PS_OPT_LONG, PT, RELAY | INPUT | SENSOR, NULL, 0, 1023, NULL, NULL,
+	  "the line's offset on the chip (required)" },
+	{ "active_low", PS_OPT_BOOL, PT, RELAY | INPUT, "no", 0, 0, NULL, NULL, "the line is active low" },
+	{ "initial", PS_OPT_ENUM, PT, RELAY, "off", 0, 0, onoff, NULL,
+	  "the relay's state from the request until psensd's first command" },
+	{ "edge", PS_OPT_ENUM, PT, INPUT, "both", 0, 0, edges, NULL, "which changes of an input are events" },
+	{ "bias", PS_OPT_ENUM, PT, INPUT, "as-is", 0, 0, biases, NULL, "the input's bias" },
+	{ "debounce", PS_OPT_DOUBLE, PT, INPUT, "0.02", 0, 10, NULL, NULL,
+	  "seconds an input must hold still before its level counts" },
+	{ "kind", PS_OPT_ENUM, PT, SENSOR, NULL, 0, 0, kinds, NULL,
+	  "frequency: a light-to-frequency sensor (required on a sensor)" },
+	{ "gate", PS_OPT_DOUBLE, PT, SENSOR, "1", 0.01, 3600, NULL, NULL, "seconds per measurement" },
+	{ "factor", PS_OPT_DOUBLE, PT, SENSOR, "1", 1e-12, 1e12, NULL, NULL, "signal units per hertz" },
+	{ "max_rate", PS_OPT_DOUBLE, PT, SENSOR, "2000", 1, 1e7, NULL, NULL,
+	  "edges per second the driver takes before it raises the divider" },
+	{ "gap", PS_OPT_DOUBLE, PT, SENSOR, "3", 1.1, 1000, NULL, NULL,
+	  "an interval this many times the shortest in a gate means lost edges" },
+	{ "s0", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the sensitivity pin S0's line" },
+	{ "s1", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the sensitivity pin S1's line" },
+	{ "s2", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the divider pin S2's line (with s3)" },
+	{ "s3", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the divider pin S3's line (with s2)" },
+	{ "sensitivity", PS_OPT_LONG, PT, SENSOR, "1", 0, 0, sensitivities, NULL,
+	  "the sensitivity set on s0 and s1" },
+	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+};
+#undef PT
+#undef RELAY
+#undef INPUT
+#undef SENSOR
+
+/* The rules across a point's keys; errors through the reader. */
+static int check_point(const struct ps_opt_reader *r, int role)
+{
+	const struct ps_opts *o = r->opts;
+	if (role != PS_ROLE_RELAY && role != PS_ROLE_INPUT && role != PS_ROLE_SENSOR)
+		return ps_opt_fail(r, "line", "gpio: no %s points (relay, input and frequency sensors)", ps_role_name(role));
+	if (!ps_opt_get(o, "line"))
+		return ps_opt_fail(r, "line", "gpio: 'line' (the line's offset on the chip) is required");
+	if (role == PS_ROLE_SENSOR && !ps_opt_get(o, "kind"))
+		return ps_opt_fail(r, "kind", "gpio: a sensor point needs kind = frequency (a light-to-frequency sensor)");
+	if (!ps_opt_get(o, "s2") != !ps_opt_get(o, "s3"))
+		return ps_opt_fail(r, ps_opt_get(o, "s2") ? "s2" : "s3", "gpio: the divider needs both s2 and s3");
+	return 0;
+}
+
+static int gpio_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
+{
+	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, why, n, line };
+	return role < 0 ? 0 : check_point(&r, role);
+}
 
 static int gpio_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct gpio_dev *g = calloc(1, sizeof *g);
-	const char *chip = ps_opt_get(o, "chip"), *consumer = ps_opt_get(o, "consumer");
+	struct ps_opt_reader r = { o, gpio_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	const char *chip = NULL, *consumer = NULL;
 	if (!g)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = g;
 	g->epfd = -1;
-	snprintf(g->chipname, sizeof g->chipname, "%s", chip ? chip : "gpiochip0");
-	snprintf(g->consumer, sizeof g->consumer, "%s", consumer ? consumer : "psensd");
+	if (ps_opt_string(&r, "chip", &chip) || ps_opt_string(&r, "consumer", &consumer))
+		return -1;
+	snprintf(g->chipname, sizeof g->chipname, "%s", chip);
+	snprintf(g->consumer, sizeof g->consumer, "%s", consumer);
 	/* by path, name, label or number; not by scanning /dev (see the man page) */
 	if (!(g->chip = gpiod_chip_open_lookup(g->chipname)))
 		return ps_dev_fail(dev, errno ? errno : ENODEV, "gpio: cannot open chip %s: %s", g->chipname,
@@ -87,22 +148,20 @@ static int gpio_open(struct ps_dev *dev, const struct ps_opts *o)
 	return 0;
 }
 
-static struct gpiod_line *get_line(struct ps_dev *dev, const struct ps_opts *o, const char *key, int required,
-                                   int *offset)
+/* The line a key names, or NULL: absent (errno 0; the check said whether
+ * it is required) or a failure (errno set, dev->err). */
+static struct gpiod_line *get_line(struct ps_dev *dev, const struct ps_opts *o, const char *key, int *offset)
 {
 	struct gpio_dev *g = dev->priv;
-	long n;
+	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	long n = -1;
 	struct gpiod_line *l;
-	if (!ps_opt_get(o, key)) {
-		if (required)
-			ps_dev_fail(dev, EINVAL, "%s:%d: gpio: '%s' (the line's offset on %s) is required", o->file,
-			            ps_opt_line(o, "device"), key, g->chipname);
-		else
-			errno = 0;
+	if (ps_opt_long(&r, key, &n) != 0)
+		return NULL;
+	if (n < 0) {
+		errno = 0;
 		return NULL;
 	}
-	if (ps_opt_long(o, key, 0, 0, 1023, &n, dev->err, sizeof dev->err) != 0)
-		return NULL;
 	if (!(l = gpiod_chip_get_line(g->chip, (unsigned)n))) {
 		ps_dev_fail(dev, EINVAL, "%s:%d: %s: %s has no line %ld (%u lines)", o->file, ps_opt_line(o, key), key,
 		            g->chipname, n, gpiod_chip_num_lines(g->chip));
@@ -136,40 +195,29 @@ static int watch(struct ps_dev *dev, struct gpio_point *p)
 
 static int add_frequency(struct ps_dev *dev, struct gpio_point *p, const struct ps_opts *o)
 {
+	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	long sens;
-	int off, flags = 0;
+	int off;
 	struct gpiod_line *s0, *s1;
-	if (ps_opt_double(o, "gate", 1, 0.01, 3600, &p->gate, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "factor", 1, 1e-12, 1e12, &p->factor, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "max_rate", 2000, 1, 1e7, &p->max_rate, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "gap", 3, 1.1, 1000, &p->gap, dev->err, sizeof dev->err) ||
-	    ps_opt_long(o, "sensitivity", 1, 1, 100, &sens, dev->err, sizeof dev->err))
+	if (ps_opt_double(&r, "gate", &p->gate) || ps_opt_double(&r, "factor", &p->factor) ||
+	    ps_opt_double(&r, "max_rate", &p->max_rate) || ps_opt_double(&r, "gap", &p->gap) ||
+	    ps_opt_long(&r, "sensitivity", &sens))
 		return -1;
-	if (sens != 1 && sens != 10 && sens != 100)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: sensitivity: %ld is not 1, 10 or 100", o->file,
-		                   ps_opt_line(o, "sensitivity"), sens);
-	if (!(p->line = get_line(dev, o, "line", 1, &p->offset)))
+	if (!(p->line = get_line(dev, o, "line", &p->offset)) ||
+	    request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_EVENT_RISING_EDGE, 0, 0) != 0)
 		return -1;
-	if (request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_EVENT_RISING_EDGE, flags, 0) != 0)
+	/* the divider pins, output, starting at /1 (the check made sure both or
+	 * neither are given); the sensitivity pins fixed */
+	if (!(p->s2 = get_line(dev, o, "s2", &off)) && errno)
 		return -1;
-	/* the divider pins, output, starting at /1; the sensitivity pins fixed */
-	p->s2 = get_line(dev, o, "s2", 0, &off);
-	if (!p->s2 && errno)
+	if (!(p->s3 = get_line(dev, o, "s3", &off)) && errno)
 		return -1;
-	p->s3 = get_line(dev, o, "s3", 0, &off);
-	if (!p->s3 && errno)
-		return -1;
-	if ((p->s2 != NULL) != (p->s3 != NULL))
-		return ps_dev_fail(dev, EINVAL, "%s:%d: gpio: the divider needs both s2 and s3", o->file,
-		                   ps_opt_line(o, p->s2 ? "s2" : "s3"));
 	if (p->s2 && (request(dev, o, "s2", p->s2, GPIOD_LINE_REQUEST_DIRECTION_OUTPUT, 0, 0) != 0 ||
 	              request(dev, o, "s3", p->s3, GPIOD_LINE_REQUEST_DIRECTION_OUTPUT, 0, 0) != 0))
 		return -1;
-	s0 = get_line(dev, o, "s0", 0, &off);
-	if (!s0 && errno)
+	if (!(s0 = get_line(dev, o, "s0", &off)) && errno)
 		return -1;
-	s1 = get_line(dev, o, "s1", 0, &off);
-	if (!s1 && errno)
+	if (!(s1 = get_line(dev, o, "s1", &off)) && errno)
 		return -1;
 	/* S1 S0: 01 x1, 10 x10, 11 x100 */
 	if (s0 && request(dev, o, "s0", s0, GPIOD_LINE_REQUEST_DIRECTION_OUTPUT, 0, sens != 10) != 0)
@@ -183,61 +231,50 @@ static int add_frequency(struct ps_dev *dev, struct gpio_point *p, const struct 
 	return watch(dev, p);
 }
 
+static int add_input(struct ps_dev *dev, struct gpio_point *p, const struct ps_opts *o, int flags)
+{
+	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	int bias;
+	if (ps_opt_choice(&r, "edge", &p->edge) || ps_opt_choice(&r, "bias", &bias) ||
+	    ps_opt_double(&r, "debounce", &p->debounce) || !(p->line = get_line(dev, o, "line", &p->offset)))
+		return -1;
+	flags |= bias == 1 ? GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_UP : bias == 2 ? GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_DOWN
+	         : bias == 3 ? GPIOD_LINE_REQUEST_FLAG_BIAS_DISABLE : 0;
+	/* both edges always: debouncing needs to see the bounce settle; edge
+	 * chooses which changes are events */
+	if (request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_EVENT_BOTH_EDGES, flags, 0) != 0 || watch(dev, p) != 0)
+		return -1;
+	p->state = gpiod_line_get_value(p->line);
+	return 0;
+}
+
 static int gpio_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
 {
 	struct gpio_dev *g = dev->priv;
+	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	struct gpio_point *p;
-	int al = 0, flags, init = 0, edge = 0, bias = 0;
-	static const char *const onoff[] = { "off", "on", NULL };
-	static const char *const edges[] = { "both", "rising", "falling", NULL };
-	static const char *const biases[] = { "as-is", "pull-up", "pull-down", "disable", NULL };
-	const char *kind;
+	int flags, init = 0, rc;
 	if (g->np >= GPIO_MAX_POINTS)
 		return ps_dev_fail(dev, EINVAL, "gpio: at most %d points per chip", GPIO_MAX_POINTS);
+	if (ps_dev_check(dev, o, pt->role) != 0)
+		return -1;
 	p = &g->p[g->np];
 	memset(p, 0, sizeof *p);
 	p->pt = pt;
 	p->role = pt->role;
 	p->state = p->pending = -1;
-	if (ps_opt_enum(o, "active_low", yesno, 0, &al, dev->err, sizeof dev->err) != 0)
+	if (pt->role != PS_ROLE_SENSOR && ps_opt_choice(&r, "active_low", &p->active_low) != 0)
 		return -1;
-	p->active_low = al;
-	flags = al ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0;
-	switch (pt->role) {
-	case PS_ROLE_RELAY:
-		if (ps_opt_enum(o, "initial", onoff, 0, &init, dev->err, sizeof dev->err) != 0 ||
-		    !(p->line = get_line(dev, o, "line", 1, &p->offset)) ||
-		    request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_DIRECTION_OUTPUT, flags, init) != 0)
-			return -1;
-		break;
-	case PS_ROLE_INPUT:
-		if (ps_opt_enum(o, "edge", edges, 0, &edge, dev->err, sizeof dev->err) != 0 ||
-		    ps_opt_enum(o, "bias", biases, 0, &bias, dev->err, sizeof dev->err) != 0 ||
-		    ps_opt_double(o, "debounce", 0.02, 0, 10, &p->debounce, dev->err, sizeof dev->err) != 0 ||
-		    !(p->line = get_line(dev, o, "line", 1, &p->offset)))
-			return -1;
-		flags |= bias == 1 ? GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_UP : bias == 2 ? GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_DOWN
-		         : bias == 3 ? GPIOD_LINE_REQUEST_FLAG_BIAS_DISABLE : 0;
-		/* both edges always: debouncing needs to see the bounce settle */
-		(void)edge;
-		if (request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_EVENT_BOTH_EDGES, flags, 0) != 0 ||
-		    watch(dev, p) != 0)
-			return -1;
-		p->edge = edge;
-		p->state = gpiod_line_get_value(p->line);
-		break;
-	case PS_ROLE_SENSOR:
-		kind = ps_opt_get(o, "kind");
-		if (!kind || strcmp(kind, "frequency") != 0)
-			return ps_dev_fail(dev, EINVAL, "%s:%d: gpio: a sensor point needs kind = frequency (a "
-			                   "light-to-frequency sensor)", o->file, kind ? ps_opt_line(o, "kind") : 0);
-		if (add_frequency(dev, p, o) != 0)
-			return -1;
-		break;
-	default:
-		return ps_dev_fail(dev, EINVAL, "gpio: no %s points (relay, input and frequency sensors)",
-		                   ps_role_name(pt->role));
-	}
+	flags = p->active_low ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0;
+	if (pt->role == PS_ROLE_RELAY)
+		rc = ps_opt_choice(&r, "initial", &init) || !(p->line = get_line(dev, o, "line", &p->offset)) ||
+		     request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_DIRECTION_OUTPUT, flags, init) != 0 ? -1 : 0;
+	else if (pt->role == PS_ROLE_INPUT)
+		rc = add_input(dev, p, o, flags);
+	else
+		rc = add_frequency(dev, p, o);   /* a sensor (the check took no other role) */
+	if (rc != 0)
+		return -1;
 	pt->priv = p;
 	g->np++;
 	return 0;
@@ -278,7 +315,7 @@ static void close_gate(struct gpio_point *p, double now)
 	p->gate_end = now + p->gate;
 }
 
-static void drain(struct ps_dev *dev, struct gpio_point *p, double now)
+static void drain(struct gpio_point *p, double now)
 {
 	struct gpiod_line_event ev[PS_FREQ_KERNEL_FIFO];
 	/* Bounded: edges arriving faster than they are read would keep this
@@ -304,7 +341,6 @@ static void drain(struct ps_dev *dev, struct gpio_point *p, double now)
 			p->pending = v;
 			p->pending_until = now + p->debounce;
 		}
-		(void)dev;
 	}
 }
 
@@ -318,7 +354,7 @@ static int gpio_service(struct ps_dev *dev, double now)
 		struct gpio_point *p = &g->p[i];
 		if (p->role == PS_ROLE_RELAY)
 			continue;
-		drain(dev, p, now);
+		drain(p, now);
 		if (p->kind == 1) {
 			if (isnan(p->gate_end)) {
 				ps_freq_gate_reset(&p->g);
@@ -409,6 +445,8 @@ const struct ps_driver ps_driver_gpio = {
 	.name = "gpio",
 	.summary = "GPIO relays, buttons, occupancy and light-to-frequency sensors (libgpiod)",
 	.compiled_in = 1,
+	.options = gpio_options,
+	.check = gpio_check,
 	.open = gpio_open,
 	.add_point = gpio_add_point,
 	.read = gpio_read,

@@ -1,22 +1,11 @@
-/* The loopback driver.  Device options (psensd.conf [device NAME] with
- * driver = loopback):
- *   gain        volts per unit of sensor response (default 1)
- *   offset      volts (0)           noise        volts, standard deviation (0)
- *   saturation  volts (10)          task_noise   lux, standard deviation (0)
- *   seed        noise seed (1)
- *   fade_rate   fraction per second (0: instant)   min_level  (0.01)
- *   lag_tau     lamp time constant, s (0.05)       off_below_min  yes|no (yes)
- *   faults      "KIND HH:MM-HH:MM, ..." with KIND one of stuck, open,
- *               saturated, drop, late, ballast, obstruct (the sensor sees half
- *               its daylight: drift for the daemon to find)
- *   replay      a CSV written by psensctl export --csv: its day of daylight
- *               replaces the scene's (replay.h)
- *   replay_ratio  lux per daylight volt, for a replay without daylight_lux
- * Points: role sensor (volts), task (lux), dim (light output; read back
- * gives the ballast's output), relay (the room's lights are the fraction of
- * relays closed when no dim point drives them: a stepped system), input
- * (an occupancy sensor: point option `occupied = HH:MM-HH:MM, ...`, its
- * changes delivered as events through deadline/service). */
+/* The loopback driver: the virtual room (room.h) behind the driver table.
+ * Its keys are in lb_options below (psensd.conf(5) and psensd -L list
+ * them); the obstruct fault makes the sensor see half its daylight, drift
+ * for the daemon to find.  Points: role sensor (volts), task (lux), dim
+ * (light output; read back gives the ballast's output), relay (the room's
+ * lights are the fraction of relays closed when no dim point drives them: a
+ * stepped system), input (an occupancy sensor with `occupied`, its changes
+ * delivered as events through deadline/service). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -44,73 +33,67 @@ struct loopback {
 	double serviced;                     /* inputs are reported up to here */
 };
 
-static const char *const fault_names[] = { "none", "stuck", "open", "saturated", "drop",
-                                           "late", "ballast", "obstruct", NULL };
+static const char *const fault_names[] = { "stuck", "open", "saturated", "drop", "late", "ballast", "obstruct",
+                                           NULL };   /* enum ps_room_fault, from 1 */
 
-static int parse_faults(struct ps_dev *dev, struct loopback *lb, const struct ps_opts *o)
-{
-	const char *v = ps_opt_get(o, "faults");
-	char *copy, *save = NULL;
-	if (!v)
-		return 0;
-	copy = strdup(v);
-	if (!copy)
-		return ps_dev_fail(dev, ENOMEM, "out of memory");
-	for (char *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
-		char kind[32];
-		int h1, m1, h2, m2, k, n = 0;
-		if (sscanf(item, " %31s %d:%d-%d:%d %n", kind, &h1, &m1, &h2, &m2, &n) != 5 || item[n]) {
-			free(copy);
-			return ps_dev_fail(dev, EINVAL, "%s:%d: faults: '%s' is not KIND HH:MM-HH:MM",
-			                   o->file, ps_opt_line(o, "faults"), item);
-		}
-		for (k = 1; fault_names[k] && strcmp(fault_names[k], kind) != 0; k++)
-			;
-		if (!fault_names[k] || lb->opts.nfaults >= 16) {
-			free(copy);
-			return ps_dev_fail(dev, EINVAL, "%s:%d: faults: '%s' is not a fault (stuck, open, "
-			                   "saturated, drop, late, ballast, obstruct) or too many", o->file,
-			                   ps_opt_line(o, "faults"), kind);
-		}
-		lb->faults[lb->opts.nfaults++] =
-		        (struct ps_room_fault_window){ k, h1 * 3600.0 + m1 * 60, h2 * 3600.0 + m2 * 60 };
-	}
-	free(copy);
-	lb->opts.faults = lb->faults;
-	return 0;
-}
+#define DEV PS_OPT_DEVICE
+static const struct ps_opt_spec lb_options[] = {
+	{ "gain", PS_OPT_DOUBLE, DEV, 0, "1", 0, 1e9, NULL, NULL, "volts per unit of sensor response" },
+	{ "offset", PS_OPT_DOUBLE, DEV, 0, "0", -100, 100, NULL, NULL, "volts added to the sensor's signal" },
+	{ "noise", PS_OPT_DOUBLE, DEV, 0, "0", 0, 100, NULL, NULL, "the sensor's noise, volts (standard deviation)" },
+	{ "saturation", PS_OPT_DOUBLE, DEV, 0, "10", 0, 1000, NULL, NULL, "volts at which the sensor clips" },
+	{ "task_noise", PS_OPT_DOUBLE, DEV, 0, "0", 0, 1e6, NULL, NULL, "the task meter's noise, lux (standard deviation)" },
+	{ "seed", PS_OPT_LONG, DEV, 0, "1", 0, 0x7fffffff, NULL, NULL, "the noise's seed: a run is reproducible" },
+	{ "fade_rate", PS_OPT_DOUBLE, DEV, 0, "0", 0, 1e6, NULL, NULL,
+	  "the ballast's fade, fraction of full output per second (0: instant)" },
+	{ "min_level", PS_OPT_DOUBLE, DEV, 0, "0.01", 0, 1, NULL, NULL, "the ballast's lowest output above off" },
+	{ "lag_tau", PS_OPT_DOUBLE, DEV, 0, "0.05", 0, 1e6, NULL, NULL, "the lamp's time constant, seconds" },
+	{ "off_below_min", PS_OPT_BOOL, DEV, 0, "yes", 0, 0, NULL, NULL,
+	  "a command below min_level switches off (no: holds min_level)" },
+	{ "faults", PS_OPT_WINDOWS, DEV, 0, NULL, 0, 16, fault_names, NULL,
+	  "faults by time of day: KIND HH:MM-HH:MM, ..." },
+	{ "replay", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL,
+	  "a CSV written by psensctl export --csv: its day of daylight replaces the scene's" },
+	{ "replay_ratio", PS_OPT_DOUBLE, DEV, 0, "0", 0, 1e9, NULL, NULL,
+	  "lux per daylight volt, for a replay without daylight_lux" },
+	{ "occupied", PS_OPT_WINDOWS, PS_OPT_POINT, PS_ROLE_BIT(PS_ROLE_INPUT), NULL, 0, LB_MAX_WINDOWS, NULL, NULL,
+	  "an occupancy input's occupied times: HH:MM-HH:MM, ..." },
+	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+};
+#undef DEV
 
 static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct loopback *lb = calloc(1, sizeof *lb);
+	struct ps_opt_reader r = { o, lb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opt_window w[16];
+	const char *replay = NULL;
+	size_t nw;
 	long seed;
-	int off = 1;
-	static const char *const yesno[] = { "no", "yes", NULL };
+	int off;
 	if (!lb)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = lb;
-	if (ps_opt_double(o, "gain", 1, 0, 1e9, &lb->opts.gain, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "offset", 0, -100, 100, &lb->opts.offset, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "noise", 0, 0, 100, &lb->opts.noise, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "saturation", 10, 0, 1000, &lb->opts.saturation, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "task_noise", 0, 0, 1e6, &lb->opts.task_noise, dev->err, sizeof dev->err) ||
-	    ps_opt_long(o, "seed", 1, 0, 0x7fffffff, &seed, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "fade_rate", 0, 0, 1e6, &lb->opts.ballast.fade_rate, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "min_level", 0.01, 0, 1, &lb->opts.ballast.min_level, dev->err, sizeof dev->err) ||
-	    ps_opt_double(o, "lag_tau", 0.05, 0, 1e6, &lb->opts.ballast.lag_tau, dev->err, sizeof dev->err) ||
-	    ps_opt_enum(o, "off_below_min", yesno, 1, &off, dev->err, sizeof dev->err))
+	if (ps_opt_double(&r, "gain", &lb->opts.gain) || ps_opt_double(&r, "offset", &lb->opts.offset) ||
+	    ps_opt_double(&r, "noise", &lb->opts.noise) || ps_opt_double(&r, "saturation", &lb->opts.saturation) ||
+	    ps_opt_double(&r, "task_noise", &lb->opts.task_noise) || ps_opt_long(&r, "seed", &seed) ||
+	    ps_opt_double(&r, "fade_rate", &lb->opts.ballast.fade_rate) ||
+	    ps_opt_double(&r, "min_level", &lb->opts.ballast.min_level) ||
+	    ps_opt_double(&r, "lag_tau", &lb->opts.ballast.lag_tau) || ps_opt_choice(&r, "off_below_min", &off) ||
+	    ps_opt_windows(&r, "faults", w, &nw) || ps_opt_string(&r, "replay", &replay))
 		return -1;
 	lb->opts.seed = (uint64_t)seed;
 	lb->opts.ballast.off_below_min = off;
-	if (parse_faults(dev, lb, o) != 0)
-		return -1;
-	if (ps_opt_get(o, "replay")) {
+	for (size_t i = 0; i < nw; i++)
+		lb->faults[i] = (struct ps_room_fault_window){ w[i].kind + 1, w[i].start, w[i].end };
+	lb->opts.faults = lb->faults;
+	lb->opts.nfaults = nw;
+	if (replay) {
 		double ratio;
 		char err[512];
-		if (ps_opt_double(o, "replay_ratio", 0, 0, 1e9, &ratio, dev->err, sizeof dev->err) != 0)
+		if (ps_opt_double(&r, "replay_ratio", &ratio) != 0)
 			return -1;
-		if (ps_replay_read(ps_opt_get(o, "replay"), lb->opts.gain, ratio, &lb->replay,
-		                   &lb->nreplay, err, sizeof err) != 0)
+		if (ps_replay_read(replay, lb->opts.gain, ratio, &lb->replay, &lb->nreplay, err, sizeof err) != 0)
 			return ps_dev_fail(dev, EINVAL, "%s:%d: replay: %s", o->file, ps_opt_line(o, "replay"), err);
 	}
 	return 0;
@@ -147,28 +130,18 @@ struct ps_room *ps_loopback_room(struct ps_dev *dev)
 	return lb ? lb->room : NULL;
 }
 
-static int parse_windows(struct ps_dev *dev, struct lb_input *in, const struct ps_opts *o)
+static int read_windows(struct ps_dev *dev, struct lb_input *in, const struct ps_opts *o)
 {
-	const char *v = ps_opt_get(o, "occupied");
-	char *copy, *save = NULL;
-	if (!v)
-		return 0;
-	if (!(copy = strdup(v)))
-		return ps_dev_fail(dev, ENOMEM, "out of memory");
-	for (char *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
-		int h1, m1, h2, m2, n = 0;
-		if (sscanf(item, " %d:%d-%d:%d %n", &h1, &m1, &h2, &m2, &n) != 4 || item[n] ||
-		    in->nwin >= LB_MAX_WINDOWS || h1 < 0 || h1 > 24 || h2 < 0 || h2 > 24 || m1 < 0 || m1 > 59 ||
-		    m2 < 0 || m2 > 59) {
-			free(copy);
-			return ps_dev_fail(dev, EINVAL, "%s:%d: occupied: '%s' is not HH:MM-HH:MM (at most %d)",
-			                   o->file, ps_opt_line(o, "occupied"), item, LB_MAX_WINDOWS);
-		}
-		in->win[in->nwin][0] = h1 * 3600.0 + m1 * 60;
-		in->win[in->nwin][1] = h2 * 3600.0 + m2 * 60;
-		in->nwin++;
+	struct ps_opt_reader r = { o, lb_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opt_window w[LB_MAX_WINDOWS];
+	size_t n;
+	if (ps_opt_windows(&r, "occupied", w, &n) != 0)
+		return -1;
+	for (size_t i = 0; i < n; i++) {
+		in->win[i][0] = w[i].start;
+		in->win[i][1] = w[i].end;
 	}
-	free(copy);
+	in->nwin = (int)n;
 	return 0;
 }
 
@@ -194,7 +167,7 @@ static int lb_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 		memset(in, 0, sizeof *in);
 		in->pt = pt;
 		in->state = -1;
-		if (parse_windows(dev, in, o) != 0)
+		if (read_windows(dev, in, o) != 0)
 			return -1;
 		pt->priv = in;
 		lb->ninput++;
@@ -303,6 +276,18 @@ static int lb_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 	return 0;
 }
 
+static int lb_truth(struct ps_dev *dev, double now, struct ps_truth *t)
+{
+	struct loopback *lb = dev->priv;
+	int fault;
+	if (!lb || !lb->room)
+		return ps_dev_fail(dev, ENODEV, "loopback %s: no room", dev->name);
+	ps_room_truth(lb->room, now, t);
+	fault = ps_room_fault(lb->room, now);
+	t->fault = fault > 0 && fault < PS_ROOM_FAULT_COUNT ? fault_names[fault - 1] : NULL;   /* names from stuck (1) */
+	return 0;
+}
+
 static void lb_close(struct ps_dev *dev)
 {
 	struct loopback *lb = dev->priv;
@@ -318,6 +303,7 @@ const struct ps_driver ps_driver_loopback = {
 	.name = "loopback",
 	.summary = "the virtual room built from the scene's simulated ratios",
 	.compiled_in = 1,
+	.options = lb_options,
 	.open = lb_open,
 	.add_point = lb_add_point,
 	.read = lb_read,
@@ -325,4 +311,6 @@ const struct ps_driver ps_driver_loopback = {
 	.deadline = lb_deadline,
 	.service = lb_service,
 	.close = lb_close,
+	.setup = ps_loopback_set_room,
+	.truth = lb_truth,
 };

@@ -1,11 +1,8 @@
 /* The Modbus driver (libmodbus): analog input and output modules and task lux
  * meters over Modbus TCP or RTU.  psensd-modbus(5) documents every option.
  *
- * Device options: host, port (TCP) or device, baud, parity, data_bits,
- * stop_bits (RTU); unit; timeout, byte_timeout, retries; backoff_min,
- * backoff_max, lost_after.  Point options (modbus_point.h): table, address,
- * type, word_order, unit, mask, status_mask, raw_min, raw_max, min, max,
- * period.
+ * Its options, device and point keys, are the table ps_mb_options in
+ * modbus_point.c.
  *
  * Never a long block: every transaction is bounded by the response timeout
  * times (retries + 1), plus a TCP connect bounded by the same timeout per
@@ -57,8 +54,6 @@ struct mb_dev {
 	size_t npts;
 };
 
-static const char *const parity_names[] = { "none", "even", "odd", NULL };
-
 /* Exceptions by code, as the Modbus specification names them. */
 static const char *exception_name(int code)
 {
@@ -67,15 +62,6 @@ static const char *exception_name(int code)
 		"negative acknowledge", "memory parity error", "?", "gateway path unavailable",
 		"gateway target device failed to respond" };
 	return code > 0 && code < (int)(sizeof names / sizeof names[0]) ? names[code] : "?";
-}
-
-static int valid_baud(long b)
-{
-	static const long ok[] = { 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200, 230400 };
-	for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++)
-		if (b == ok[i])
-			return 1;
-	return 0;
 }
 
 static void set_timeout(modbus_t *ctx, double s, int byte)
@@ -127,51 +113,32 @@ static int connect_now(struct ps_dev *dev, struct mb_dev *m, double now)
 static int mb_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct mb_dev *m = calloc(1, sizeof *m);
-	const char *host, *device;
+	struct ps_opt_reader r = { o, ps_mb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	const char *host = NULL, *device = NULL;
 	long port, unit, baud, bits, stop;
 	int parity;
 	double byte_timeout;
-	char *e = dev->err;
-	size_t el = sizeof dev->err;
 	if (!m)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = m;
-	host = ps_opt_get(o, "host");
-	device = ps_opt_get(o, "device");
-	if (!host == !device)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: modbus device %s needs either host (TCP) or "
-		                   "device (RTU)", o->file, ps_opt_line(o, host ? "device" : "host"), dev->name);
-	if (ps_opt_long(o, "unit", 1, 0, 255, &unit, e, el) ||
-	    ps_opt_double(o, "timeout", 0.2, 0.001, 10, &m->timeout, e, el) ||
-	    ps_opt_double(o, "byte_timeout", 0.05, 0, 10, &byte_timeout, e, el) ||
-	    ps_opt_long(o, "retries", 1, 0, 5, &m->retries, e, el) ||
-	    ps_opt_double(o, "backoff_min", 1, 0.001, 3600, &m->backoff_min, e, el) ||
-	    ps_opt_double(o, "backoff_max", 60, 0.001, 86400, &m->backoff_max, e, el) ||
-	    ps_opt_long(o, "lost_after", 3, 1, 1000, &m->lost_after, e, el))
+	if (ps_mb_check_device(o, dev->err, sizeof dev->err) != 0 || ps_opt_string(&r, "host", &host) ||
+	    ps_opt_string(&r, "device", &device) || ps_opt_long(&r, "unit", &unit) ||
+	    ps_opt_double(&r, "timeout", &m->timeout) || ps_opt_double(&r, "byte_timeout", &byte_timeout) ||
+	    ps_opt_long(&r, "retries", &m->retries) || ps_opt_double(&r, "backoff_min", &m->backoff_min) ||
+	    ps_opt_double(&r, "backoff_max", &m->backoff_max) || ps_opt_long(&r, "lost_after", &m->lost_after))
 		return -1;
-	if (m->backoff_max < m->backoff_min)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: backoff_max: must not be below backoff_min", o->file,
-		                   ps_opt_line(o, "backoff_max"));
 	if (host) {
 		char portstr[16];
-		if (ps_opt_long(o, "port", 502, 1, 65535, &port, e, el))
+		if (ps_opt_long(&r, "port", &port))
 			return -1;
 		snprintf(portstr, sizeof portstr, "%ld", port);
 		snprintf(m->where, sizeof m->where, "%s:%ld", host, port);
 		m->tcp = 1;
 		m->ctx = modbus_new_tcp_pi(host, portstr);
 	} else {
-		if (ps_opt_long(o, "baud", 9600, 1, 10000000, &baud, e, el) ||
-		    ps_opt_enum(o, "parity", parity_names, 0, &parity, e, el) ||
-		    ps_opt_long(o, "data_bits", 8, 7, 8, &bits, e, el) ||
-		    ps_opt_long(o, "stop_bits", 1, 1, 2, &stop, e, el))
+		if (ps_opt_long(&r, "baud", &baud) || ps_opt_choice(&r, "parity", &parity) ||
+		    ps_opt_long(&r, "data_bits", &bits) || ps_opt_long(&r, "stop_bits", &stop))
 			return -1;
-		if (!valid_baud(baud))
-			return ps_dev_fail(dev, EINVAL, "%s:%d: baud: '%ld' is not a standard rate (1200 to 230400)",
-			                   o->file, ps_opt_line(o, "baud"), baud);
-		if (unit == 0 || unit > 247)
-			return ps_dev_fail(dev, EINVAL, "%s:%d: unit: RTU units are 1 to 247", o->file,
-			                   ps_opt_line(o, "unit"));
 		snprintf(m->where, sizeof m->where, "%s", device);
 		m->ctx = modbus_new_rtu(device, (int)baud, "NEO"[parity], (int)bits, (int)stop);
 	}
@@ -428,6 +395,8 @@ const struct ps_driver ps_driver_modbus = {
 	.name = "modbus",
 	.summary = "Modbus TCP and RTU (libmodbus): analog I/O modules and lux meters",
 	.compiled_in = 1,
+	.options = ps_mb_options,
+	.check = ps_mb_check,
 	.open = mb_open,
 	.add_point = mb_add_point,
 	.read = mb_read,

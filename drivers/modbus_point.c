@@ -36,14 +36,57 @@ static void type_range(int type, double *lo, double *hi)
 	}
 }
 
-static int fail(const struct ps_opts *o, const char *key, char *err, size_t errlen, const char *why)
-{
-	const char *v = ps_opt_get(o, key);
-	snprintf(err, errlen, "%s:%d: %s%s%s%s %s", o && o->file ? o->file : "(config)",
-	         ps_opt_line(o, key), key, v ? ": '" : "", v ? v : "", v ? "'" : "", why);
-	errno = EINVAL;
-	return -1;
-}
+static const char *const parity_names[] = { "none", "even", "odd", NULL };
+static const char *const baud_names[] = { "1200", "2400", "4800", "9600", "19200", "38400", "57600", "115200",
+                                          "230400", NULL };
+
+#define DEV PS_OPT_DEVICE
+#define PT PS_OPT_POINT
+const struct ps_opt_spec ps_mb_options[] = {
+	{ "host", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL,
+	  "TCP: the module's IP address (exactly one of host and device)" },
+	{ "port", PS_OPT_LONG, DEV, 0, "502", 1, 65535, NULL, NULL, "TCP: the module's port" },
+	{ "device", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL, "RTU: the serial device, e.g. /dev/ttyUSB0" },
+	{ "baud", PS_OPT_LONG, DEV, 0, "9600", 0, 0, baud_names, NULL, "RTU: the line's rate" },
+	{ "parity", PS_OPT_ENUM, DEV, 0, "none", 0, 0, parity_names, NULL, "RTU: the parity bit" },
+	{ "data_bits", PS_OPT_LONG, DEV, 0, "8", 7, 8, NULL, NULL, "RTU: bits per character" },
+	{ "stop_bits", PS_OPT_LONG, DEV, 0, "1", 1, 2, NULL, NULL, "RTU: stop bits" },
+	{ "unit", PS_OPT_LONG, DEV, 0, "1", 0, 255, NULL, NULL, "the unit (slave) id; RTU 1 to 247" },
+	{ "timeout", PS_OPT_DOUBLE, DEV, 0, "0.2", 0.001, 10, NULL, NULL,
+	  "seconds to wait for a reply (also bounds a TCP connect)" },
+	{ "byte_timeout", PS_OPT_DOUBLE, DEV, 0, "0.05", 0, 10, NULL, NULL,
+	  "seconds allowed between the bytes of a reply (0: the response timeout only)" },
+	{ "retries", PS_OPT_LONG, DEV, 0, "1", 0, 5, NULL, NULL, "further tries after a timeout or a garbled reply" },
+	{ "backoff_min", PS_OPT_DOUBLE, DEV, 0, "1", 0.001, 3600, NULL, NULL,
+	  "seconds before reconnecting after the connection is lost" },
+	{ "backoff_max", PS_OPT_DOUBLE, DEV, 0, "60", 0.001, 86400, NULL, NULL,
+	  "the longest wait the doubling backoff reaches, seconds" },
+	{ "lost_after", PS_OPT_LONG, DEV, 0, "3", 1, 1000, NULL, NULL,
+	  "RTU: timeouts in a row before the serial device is reopened" },
+	{ "table", PS_OPT_ENUM, PT, 0, NULL, 0, 0, ps_mb_table_names, NULL, "where the value lives (required)" },
+	{ "address", PS_OPT_LONG, PT, 0, NULL, 0, 65535, NULL, NULL,
+	  "the 0-based protocol address: 40001 is 0 (required)" },
+	{ "type", PS_OPT_ENUM, PT, 0, "u16", 0, 0, ps_mb_type_names, NULL, "a register's type; 32-bit types take two" },
+	{ "word_order", PS_OPT_ENUM, PT, 0, "abcd", 0, 0, ps_mb_order_names, NULL,
+	  "32-bit types: abcd high word first, cdab low word first" },
+	{ "unit", PS_OPT_LONG, PT, 0, NULL, 0, 255, NULL, NULL, "the point's own unit id (default: the device's)" },
+	{ "mask", PS_OPT_LONG, PT, 0, "0xffff", 1, 0xffff, NULL, NULL, "AND-ed into a 16-bit register before decoding" },
+	{ "status_mask", PS_OPT_LONG, PT, 0, "0", 0, 0xffff, NULL, NULL,
+	  "any of these bits set in a 16-bit register: a fault (ERANGE)" },
+	{ "raw_min", PS_OPT_DOUBLE, PT, 0, NULL, -FLT_MAX, FLT_MAX, NULL, NULL,
+	  "the valid raw range's start, mapped onto min (default: the type's range)" },
+	{ "raw_max", PS_OPT_DOUBLE, PT, 0, NULL, -FLT_MAX, FLT_MAX, NULL, NULL,
+	  "the valid raw range's end, mapped onto max" },
+	{ "min", PS_OPT_DOUBLE, PT, 0, NULL, -1e15, 1e15, NULL, NULL,
+	  "the value at raw_min (default: sensor 0 V, dim 0, else as read)" },
+	{ "max", PS_OPT_DOUBLE, PT, 0, NULL, -1e15, 1e15, NULL, NULL,
+	  "the value at raw_max (default: sensor 10 V, dim 1, else as read)" },
+	{ "period", PS_OPT_DOUBLE, PT, 0, "0", 0, 86400, NULL, NULL,
+	  "poll period in seconds (0: read when asked)" },
+	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+};
+#undef DEV
+#undef PT
 
 /* Which tables a role may use: values come from registers, outputs go to
  * holding registers (or coils for relays), inputs are bits. */
@@ -59,38 +102,37 @@ static int table_fits(int role, int table)
 	}
 }
 
-int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, char *err,
-                      size_t errlen)
+/* A point's keys through the table, then the rules across them; errors go
+ * through the reader (its err, or its line for a check). */
+static int parse_point(struct ps_mb_point *p, int role, const struct ps_opt_reader *r)
 {
-	long addr, unit, mask, status;
+	const struct ps_opts *o = r->opts;
+	long addr = -1, unit = -1, mask, status;
 	double tlo, thi, lo, hi;
 	int given_raw, given_scale;
 	memset(p, 0, sizeof *p);
 	p->role = role;
-	if (!ps_opt_get(o, "table"))
-		return fail(o, "table", err, errlen, "is required (input_register, holding_register, coil "
-		            "or discrete_input)");
-	if (!ps_opt_get(o, "address"))
-		return fail(o, "address", err, errlen, "is required (0-based: 40001 is 0)");
-	if (ps_opt_enum(o, "table", ps_mb_table_names, 0, &p->table, err, errlen) ||
-	    ps_opt_enum(o, "type", ps_mb_type_names, PS_MB_U16, &p->type, err, errlen) ||
-	    ps_opt_enum(o, "word_order", ps_mb_order_names, PS_MB_ABCD, &p->order, err, errlen) ||
-	    ps_opt_long(o, "address", 0, 0, 65535, &addr, err, errlen) ||
-	    ps_opt_long(o, "unit", -1, 0, 255, &unit, err, errlen) ||
-	    ps_opt_long(o, "mask", 0xffff, 1, 0xffff, &mask, err, errlen) ||
-	    ps_opt_long(o, "status_mask", 0, 0, 0xffff, &status, err, errlen) ||
-	    ps_opt_double(o, "period", 0, 0, 86400, &p->period, err, errlen))
+	p->table = -1;
+	if (ps_opt_choice(r, "table", &p->table) || ps_opt_choice(r, "type", &p->type) ||
+	    ps_opt_choice(r, "word_order", &p->order) || ps_opt_long(r, "address", &addr) ||
+	    ps_opt_long(r, "unit", &unit) || ps_opt_long(r, "mask", &mask) || ps_opt_long(r, "status_mask", &status) ||
+	    ps_opt_double(r, "period", &p->period))
 		return -1;
+	if (p->table < 0)
+		return ps_opt_fail(r, "table", "table is required (input_register, holding_register, coil or "
+		                   "discrete_input)");
+	if (addr < 0)
+		return ps_opt_fail(r, "address", "address is required (0-based: 40001 is 0)");
 	p->address = (int)addr;
 	p->unit = (int)unit;
 	p->mask = (uint16_t)mask;
 	p->status_mask = (uint16_t)status;
 	if (!table_fits(role, p->table))
-		return fail(o, "table", err, errlen, role == PS_ROLE_INPUT
-		            ? "does not suit an input point (coil or discrete_input)"
-		            : role == PS_ROLE_DIM ? "does not suit a dim output (holding_register)"
-		            : role == PS_ROLE_RELAY ? "does not suit a relay (coil or holding_register)"
-		            : "does not suit a reading (input_register or holding_register)");
+		return ps_opt_fail(r, "table", "table: '%s' %s", ps_mb_table_names[p->table], role == PS_ROLE_INPUT
+		                   ? "does not suit an input point (coil or discrete_input)"
+		                   : role == PS_ROLE_DIM ? "does not suit a dim output (holding_register)"
+		                   : role == PS_ROLE_RELAY ? "does not suit a relay (coil or holding_register)"
+		                   : "does not suit a reading (input_register or holding_register)");
 	if (p->table == PS_MB_COIL || p->table == PS_MB_DISCRETE_INPUT) {
 		/* a bit is 0 or 1: no type, no scaling */
 		p->raw_min = p->min = 0;
@@ -98,18 +140,26 @@ int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, 
 		return 0;
 	}
 	if (addr + ps_mb_point_count(p) - 1 > 65535)
-		return fail(o, "address", err, errlen, "leaves no room for the second register");
-	if (ps_mb_point_count(p) == 2 && (ps_opt_get(o, "mask") || ps_opt_get(o, "status_mask")))
-		return fail(o, ps_opt_get(o, "mask") ? "mask" : "status_mask", err, errlen,
-		            "applies to 16-bit types only");
+		return ps_opt_fail(r, "address", "address: '%ld' leaves no room for the second register", addr);
+	if (ps_mb_point_count(p) == 2 && (ps_opt_get(o, "mask") || ps_opt_get(o, "status_mask"))) {
+		const char *k = ps_opt_get(o, "mask") ? "mask" : "status_mask";
+		return ps_opt_fail(r, k, "%s: '%s' applies to 16-bit types only", k, ps_opt_get(o, k));
+	}
 	type_range(p->type, &tlo, &thi);
 	given_raw = ps_opt_get(o, "raw_min") || ps_opt_get(o, "raw_max");
 	given_scale = ps_opt_get(o, "min") || ps_opt_get(o, "max");
-	if (ps_opt_double(o, "raw_min", tlo, tlo, thi, &p->raw_min, err, errlen) ||
-	    ps_opt_double(o, "raw_max", thi, tlo, thi, &p->raw_max, err, errlen))
+	p->raw_min = tlo;
+	p->raw_max = thi;
+	if (ps_opt_double(r, "raw_min", &p->raw_min) || ps_opt_double(r, "raw_max", &p->raw_max))
 		return -1;
+	for (int i = 0; i < 2; i++) {
+		const char *k = i ? "raw_max" : "raw_min";
+		double v = i ? p->raw_max : p->raw_min;
+		if (v < tlo || v > thi)
+			return ps_opt_fail(r, k, "%s: '%s' is outside %g to %g", k, ps_opt_get(o, k), tlo, thi);
+	}
 	if (p->raw_min == p->raw_max)
-		return fail(o, "raw_max", err, errlen, "must differ from raw_min");
+		return ps_opt_fail(r, "raw_max", "raw_max: '%g' must differ from raw_min", p->raw_max);
 	/* default scaling: an integer sensor register spans 0..10 V and a dim
 	 * register spans light output 0..1; everything else (and every f32,
 	 * which already carries engineering units) is taken as it is */
@@ -119,17 +169,63 @@ int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, 
 		lo = 0, hi = 10;
 	else if (p->type != PS_MB_F32 && role == PS_ROLE_DIM)
 		lo = 0, hi = 1;
-	if (p->type == PS_MB_F32 && given_scale && !given_raw)
-		return fail(o, ps_opt_get(o, "min") ? "min" : "max", err, errlen,
-		            "on an f32 point needs raw_min and raw_max too");
-	if (ps_opt_double(o, "min", lo, -1e15, 1e15, &p->min, err, errlen) ||
-	    ps_opt_double(o, "max", hi, -1e15, 1e15, &p->max, err, errlen))
+	if (p->type == PS_MB_F32 && given_scale && !given_raw) {
+		const char *k = ps_opt_get(o, "min") ? "min" : "max";
+		return ps_opt_fail(r, k, "%s: '%s' on an f32 point needs raw_min and raw_max too", k, ps_opt_get(o, k));
+	}
+	p->min = lo;
+	p->max = hi;
+	if (ps_opt_double(r, "min", &p->min) || ps_opt_double(r, "max", &p->max))
 		return -1;
 	if (p->min == p->max)
-		return fail(o, "max", err, errlen, "must differ from min");
+		return ps_opt_fail(r, "max", "max: '%g' must differ from min", p->max);
 	if (role == PS_ROLE_DIM && (fmin(p->min, p->max) > 0 || fmax(p->min, p->max) < 1))
-		return fail(o, "max", err, errlen, "leaves light output 0..1 outside min..max");
+		return ps_opt_fail(r, "max", "max: '%g' leaves light output 0..1 outside min..max", p->max);
 	return 0;
+}
+
+int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, char *err, size_t errlen)
+{
+	struct ps_opt_reader r = { o, ps_mb_options, PS_OPT_POINT, err, errlen, NULL };
+	return parse_point(p, role, &r);
+}
+
+/* The device's rules across keys (the table judges each key). */
+static int check_device(const struct ps_opt_reader *r)
+{
+	const struct ps_opts *o = r->opts;
+	static const char *const rtu_only[] = { "baud", "parity", "data_bits", "stop_bits", "lost_after", NULL };
+	const char *host = ps_opt_get(o, "host"), *device = ps_opt_get(o, "device");
+	double bmin = 1, bmax = 60;
+	long unit = 1;
+	if (!host == !device)
+		return ps_opt_fail(r, host ? "device" : "host", "a modbus device needs either host (TCP) or device (RTU)");
+	for (int i = 0; host && rtu_only[i]; i++)
+		if (ps_opt_get(o, rtu_only[i]))
+			return ps_opt_fail(r, rtu_only[i], "%s: applies to RTU (device =), not TCP", rtu_only[i]);
+	if (device && ps_opt_get(o, "port"))
+		return ps_opt_fail(r, "port", "port: applies to TCP (host =), not RTU");
+	if (ps_opt_double(r, "backoff_min", &bmin) || ps_opt_double(r, "backoff_max", &bmax) ||
+	    ps_opt_long(r, "unit", &unit))
+		return -1;
+	if (bmax < bmin)
+		return ps_opt_fail(r, "backoff_max", "backoff_max: must not be below backoff_min");
+	if (device && (unit == 0 || unit > 247))
+		return ps_opt_fail(r, "unit", "unit: RTU units are 1 to 247");
+	return 0;
+}
+
+int ps_mb_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
+{
+	struct ps_mb_point p;
+	struct ps_opt_reader r = { o, ps_mb_options, role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT, why, n, line };
+	return role < 0 ? check_device(&r) : parse_point(&p, role, &r);
+}
+
+int ps_mb_check_device(const struct ps_opts *o, char *err, size_t errlen)
+{
+	struct ps_opt_reader r = { o, ps_mb_options, PS_OPT_DEVICE, err, errlen, NULL };
+	return check_device(&r);
 }
 
 static uint32_t join32(const struct ps_mb_point *p, const uint16_t *regs)

@@ -48,10 +48,18 @@ struct ps_mb_point {
 	double period;         /* poll period in seconds, 0: read on demand */
 };
 
+/* The driver's options, device and point keys (opts.h). */
+extern const struct ps_opt_spec ps_mb_options[];
+
 /* Parse a point's options for a role; 0, or -1 with errno EINVAL and a
  * "file:line: key: why" message in err. */
 int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, char *err,
                       size_t errlen);
+/* The rules across a device's keys (exactly one of host and device, ...);
+ * the same errors. */
+int ps_mb_check_device(const struct ps_opts *o, char *err, size_t errlen);
+/* The driver's check method (driver.h): a device (role < 0) or a point. */
+int ps_mb_check(const struct ps_opts *o, int role, int *line, char *why, size_t n);
 
 /* Registers (or bits) the point spans: 1 or 2. */
 int ps_mb_point_count(const struct ps_mb_point *p);

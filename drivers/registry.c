@@ -1,6 +1,9 @@
 /* Every driver this build knows.  A driver whose library was not found at
- * build time stays in the table and fails with "not compiled in". */
+ * build time stays in the table and fails with "not compiled in" (its keys
+ * are then not judged: a stub has no option table).  drivers/module.mk
+ * decides which are compiled; drivers/README.md says how to add one. */
 #include <errno.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "driver.h"
@@ -31,13 +34,24 @@ extern const struct ps_driver ps_driver_gpio;
 static const struct ps_driver ps_driver_gpio = STUB("gpio", "GPIO relays, buttons, light-to-frequency (libgpiod)");
 #endif
 
+extern const struct ps_driver ps_driver_file;
+
 const struct ps_driver *const ps_drivers[] = {
 	&ps_driver_loopback,
 	&ps_driver_modbus,
 	&ps_driver_dali_usb,
 	&ps_driver_gpio,
+	&ps_driver_file,
 	NULL,
 };
+
+void ps_driver_names(char *out, size_t n)
+{
+	size_t len = 0;
+	out[0] = 0;
+	for (int i = 0; ps_drivers[i] && len < n; i++)
+		len += (size_t)snprintf(out + len, n - len, "%s%s", i ? ", " : "", ps_drivers[i]->name);
+}
 
 const struct ps_driver *ps_driver_find(const char *name)
 {

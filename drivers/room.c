@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "ballast.h"
+#include "driver.h"
 #include "room.h"
 
 struct ps_room {
@@ -148,11 +149,19 @@ double ps_room_energy(struct ps_room *r, double now)
  * arriving in between (an override) would be applied late. */
 double ps_room_true_task_lux(const struct ps_room *r, double now)
 {
+	struct ps_truth t;
+	ps_room_truth(r, now, &t);
+	return t.task_lux;
+}
+
+void ps_room_truth(const struct ps_room *r, double now, struct ps_truth *t)
+{
 	struct ps_ballast b = r->ballast;
-	double dv, dl;
-	ps_room_daylight(r, now, &dv, &dl);
+	ps_room_daylight(r, now, &t->daylight_v, &t->daylight_lux);
 	ps_ballast_advance(&b, now);
-	return dl + b.output * r->p.elec_task_lux;
+	t->output = b.output;
+	t->energy = b.energy;
+	t->task_lux = t->daylight_lux + b.output * r->p.elec_task_lux;
 }
 
 int ps_room_sensor(struct ps_room *r, double now, double *volts)

@@ -81,6 +81,10 @@ double ps_room_output(struct ps_room *r, double now);
 /* Task lux without noise or faults: the truth a summary compares with.
  * Asking does not advance the room (any time, even ahead of its clock). */
 double ps_room_true_task_lux(const struct ps_room *r, double now);
+/* Everything true at now (driver.h's struct ps_truth), without advancing
+ * the room: true task lux, light output, energy since t0, daylight parts. */
+struct ps_truth;
+void ps_room_truth(const struct ps_room *r, double now, struct ps_truth *t);
 /* Daylight parts now: sensor volts and task lux. */
 void ps_room_daylight(const struct ps_room *r, double now, double *volts, double *lux);
 /* Integral of the light output over time since t0 (fraction x seconds). */

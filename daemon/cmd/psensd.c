@@ -13,24 +13,24 @@
 
 #include "daemon.h"
 #include "log.h"
-#include "room.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
 {
 	const struct psd_engine *e = &d->engine;
 	const struct psd_config *cf = e->cf;
 	char t0[8], t1[8];
-	psd_hhmm(start, t0);
-	psd_hhmm(end, t1);
+	psd_clock_hhmm(start, t0);
+	psd_clock_hhmm(end, t1);
 	for (size_t i = 0; i < e->nzone; i++) {
 		const struct psd_zone *z = &e->zone[i];
 		const struct psd_zone_stats *s = &z->st;
 		double hours = (end - start) / 3600.0, used;
-		if (!z->room || s->samples == 0)
+		struct ps_truth t;
+		if (s->samples == 0 || psd_engine_truth(z, end, &t) != 0)
 			continue;
-		used = (ps_room_energy(z->room, end) - s->energy0) / 3600.0;
-		printf("psensd: %s %s %s-%s on the loopback room (%s), zone %s every %g s, %s control, "
-		       "target %g lx\n", d->clock.simulated ? "simulated" : "ran", cf->date, t0, t1,
+		used = (t.energy - s->energy0) / 3600.0;
+		printf("psensd: %s %s %s-%s on the %s room (%s), zone %s every %g s, %s control, "
+		       "target %g lx\n", d->clock.simulated ? "simulated" : "ran", cf->date, t0, t1, z->sim->drv->name,
 		       e->res.scene, z->zc->name, z->zc->period, psd_algorithm_names[z->ctl.algorithm],
 		       z->ctl.target_lux);
 		printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
@@ -65,13 +65,62 @@ static int parse_hhmm(const char *s, double *out)
 
 static void usage(FILE *fp)
 {
-	fprintf(fp, "usage: psensd [-f config] [-n | -s] [-t HH:MM] [-x speed] [-v]\n"
+	fprintf(fp, "usage: psensd [-f config] [-n | -s] [-t HH:MM] [-x speed] [-v] | -L\n"
 	            "  -f FILE   configuration (default /etc/psensd/psensd.conf)\n"
 	            "  -n        check the configuration and exit\n"
 	            "  -s        run the [simulate] day on a simulated clock and print a summary\n"
 	            "  -t HH:MM  real time: start the clock at this time of day (default: now)\n"
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
-	            "  -v        more messages\n");
+	            "  -v        more messages\n"
+	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n"
+	            "drivers:\n");
+	for (int i = 0; ps_drivers[i]; i++)
+		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
+		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
+}
+
+/* What a key takes, for -L: its range, its choices, or its kind. */
+static void accepts(const struct ps_opt_spec *o, char *out, size_t n)
+{
+	size_t len = 0;
+	out[0] = 0;
+	if (o->names) {
+		for (int i = 0; o->names[i] && len < n; i++)
+			len += (size_t)snprintf(out + len, n - len, "%s%s", i ? "|" : "", o->names[i]);
+		if (o->type == PS_OPT_WINDOWS)
+			snprintf(out + len, n - len, " HH:MM-HH:MM,...");
+	} else if (o->type == PS_OPT_DOUBLE) {
+		snprintf(out, n, "%g..%g", o->min, o->max);
+	} else if (o->type == PS_OPT_LONG) {
+		snprintf(out, n, "%.0f..%.0f", o->min, o->max);
+	} else if (o->type == PS_OPT_BOOL) {
+		snprintf(out, n, "yes|no");
+	} else if (o->type == PS_OPT_WINDOWS) {
+		snprintf(out, n, "HH:MM-HH:MM,...");
+	} else {
+		snprintf(out, n, "text");
+	}
+}
+
+/* -L: every driver's option table, one key a line. */
+static void list_options(void)
+{
+	for (int i = 0; ps_drivers[i]; i++) {
+		const struct ps_driver *drv = ps_drivers[i];
+		printf("%s%s: %s\n", drv->name, drv->compiled_in ? "" : " (not compiled in)", drv->summary);
+		for (const struct ps_opt_spec *o = drv->options; o && o->key; o++) {
+			char what[200], roles[64] = "";
+			size_t len = 0;
+			accepts(o, what, sizeof what);
+			for (int r = 0; r < PS_ROLE_COUNT && o->roles; r++)
+				if (o->roles & PS_ROLE_BIT(r))
+					len += (size_t)snprintf(roles + len, sizeof roles - len, "%s%s", len ? "," : " (",
+					                        ps_role_name(r));
+			printf("  %-6s %-13s %-7s default %-10s %s%s%s: %s\n", o->scope == PS_OPT_DEVICE ? "device" : "point",
+			       o->key, ps_opt_type_names[o->type], o->def ? o->def : "-", what, roles, len ? ")" : "",
+			       o->doc);
+		}
+	}
 }
 
 int main(int argc, char **argv)
@@ -82,8 +131,14 @@ int main(int argc, char **argv)
 	static struct psd_daemon d;
 	static struct psd_config cf;
 	char *end;
-	while ((opt = getopt(argc, argv, "f:nst:x:vh")) != -1) {
+	static const struct option longopts[] = {
+		{ "list-driver-options", no_argument, NULL, 'L' },
+		{ "help", no_argument, NULL, 'h' },
+		{ NULL, 0, NULL, 0 },
+	};
+	while ((opt = getopt_long(argc, argv, "f:nst:x:vhL", longopts, NULL)) != -1) {
 		switch (opt) {
+		case 'L': list_options(); return 0;
 		case 'f': path = optarg; break;
 		case 'n': check = 1; break;
 		case 's': simulate = 1; break;
@@ -112,8 +167,7 @@ int main(int argc, char **argv)
 	log_init(1, verbose, "psensd");
 	if (check) {
 		rc = psd_config_load(&cf, path);
-		for (size_t i = 0; i < cf.conf.nerrors; i++)
-			log_warnx("%s", cf.conf.errors[i]);
+		psd_daemon_config_errors(&cf);
 		if (rc == 0)
 			printf("%s: configuration OK (%zu device(s), %zu point(s), %zu zone(s))\n", path, cf.ndev,
 			       cf.npt, cf.nzone);
@@ -123,8 +177,7 @@ int main(int argc, char **argv)
 	/* the clock's origin: the [simulate] start, -t, or now */
 	if (simulate) {
 		if (psd_config_load(&cf, path) != 0) {
-			for (size_t i = 0; i < cf.conf.nerrors; i++)
-				log_warnx("%s", cf.conf.errors[i]);
+			psd_daemon_config_errors(&cf);
 			psd_config_free(&cf);
 			return 1;
 		}

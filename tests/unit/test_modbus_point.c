@@ -255,14 +255,14 @@ static void bad_options_name_file_and_line(void **state)
 	static const char *const word[] = { "table=input_register", "address=0", "word_order=badc", NULL };
 	(void)state;
 	expect_error(PS_ROLE_SENSOR, notable, "site.conf:0: table is required");
-	expect_error(PS_ROLE_SENSOR, badtable, "site.conf:10: table: 'registers' is not a known choice");
+	expect_error(PS_ROLE_SENSOR, badtable, "site.conf:10: table: 'registers' is not one of input_register, holding_register, coil, discrete_input");
 	expect_error(PS_ROLE_DIM, input_dim, "site.conf:10: table: 'input_register' does not suit a dim output");
 	expect_error(PS_ROLE_TASK_LUX, addr, "site.conf:11: address: '65535' leaves no room");
 	expect_error(PS_ROLE_SENSOR, same, "site.conf:13: raw_max: '5' must differ from raw_min");
 	expect_error(PS_ROLE_SENSOR, raw32, "site.conf:12: raw_max: '70000' is outside 0 to 65535");
 	expect_error(PS_ROLE_TASK_LUX, mask32, "site.conf:13: mask: '0xff' applies to 16-bit types only");
 	expect_error(PS_ROLE_SENSOR, fscale, "site.conf:13: max: '5' on an f32 point needs raw_min");
-	expect_error(PS_ROLE_SENSOR, word, "site.conf:12: word_order: 'badc' is not a known choice");
+	expect_error(PS_ROLE_SENSOR, word, "site.conf:12: word_order: 'badc' is not one of abcd, cdab");
 }
 
 /* Every u16 value through the dim map and back stays within half a step. */

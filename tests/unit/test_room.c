@@ -8,6 +8,8 @@
 #include <math.h>
 #include <cmocka.h>
 
+#include "driver.h"
+#include "loopback.h"
 #include "room.h"
 
 static void daylight_is_interpolated_linearly(void **state)
@@ -66,6 +68,7 @@ static void truth_ahead_does_not_move_the_room(void **state)
 {
 	struct ps_room_params p = { 0 };
 	struct ps_room *r;
+	struct ps_truth t;
 	(void)state;
 	p.gain = 1;
 	p.elec_sensor = 1;
@@ -74,11 +77,43 @@ static void truth_ahead_does_not_move_the_room(void **state)
 	r = ps_room_new(&p, 0);                /* no fade, no lag: output follows at once */
 	ps_room_command(r, 0, 0.1);
 	assert_true(fabs(ps_room_true_task_lux(r, 59.94) - 100) < 1e-9);
+	/* the truth hook's view: everything at 59.94 s, the room still at 0 */
+	ps_room_truth(r, 59.94, &t);
+	assert_true(fabs(t.task_lux - 100) < 1e-9 && fabs(t.output - 0.1) < 1e-12);
+	assert_true(fabs(t.energy - 5.994) < 1e-9);
 	ps_room_command(r, 5, 1.0);            /* an override at 5 s */
 	assert_true(fabs(ps_room_output(r, 6) - 1.0) < 1e-12);
 	/* energy from 0 to 10 s: 0.1 x 5 + 1 x 5 */
 	assert_true(fabs(ps_room_energy(r, 10) - 5.5) < 1e-9);
 	ps_room_free(r);
+}
+
+/* The truth hook names the fault the room plays, as the faults key does
+ * (psvirt holds or drops a reply on "late" and "drop"): the first kind, a
+ * middle one and the last, and none between the windows. */
+static void truth_names_the_fault(void **state)
+{
+	struct ps_opt o[] = { { "faults", "stuck 01:00-02:00, drop 03:00-04:00, obstruct 05:00-06:00", 1, 0 } };
+	struct ps_opts opts = { o, 1, "test.conf" };
+	struct ps_room_params p = { 0 };
+	struct ps_dev dev = { 0 };
+	struct ps_truth t;
+	(void)state;
+	p.gain = 1;
+	p.elec_sensor = 1;
+	p.saturation = 10;
+	dev.drv = &ps_driver_loopback;
+	assert_int_equal(dev.drv->open(&dev, &opts), 0);
+	assert_int_equal(dev.drv->setup(&dev, &p, 0), 0);
+	assert_int_equal(dev.drv->truth(&dev, 5400, &t), 0);
+	assert_string_equal(t.fault, "stuck");
+	assert_int_equal(dev.drv->truth(&dev, 12600, &t), 0);
+	assert_string_equal(t.fault, "drop");
+	assert_int_equal(dev.drv->truth(&dev, 19800, &t), 0);
+	assert_string_equal(t.fault, "obstruct");
+	assert_int_equal(dev.drv->truth(&dev, 25200, &t), 0);
+	assert_null(t.fault);
+	dev.drv->close(&dev);
 }
 
 int main(void)
@@ -87,6 +122,7 @@ int main(void)
 		cmocka_unit_test(daylight_is_interpolated_linearly),
 		cmocka_unit_test(fault_windows),
 		cmocka_unit_test(truth_ahead_does_not_move_the_room),
+		cmocka_unit_test(truth_names_the_fault),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

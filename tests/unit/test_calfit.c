@@ -9,7 +9,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "calib.h"
+#include "calfit.h"
 
 /* a small reproducible Gaussian (xorshift + Box-Muller) */
 static uint64_t rng_state;
@@ -39,14 +39,14 @@ static void settling_of_a_lag(void **state)
 	for (int tau100 = 10; tau100 <= 50; tau100 += 20) {
 		double tau = tau100 / 100.0;
 		for (int seed = 1; seed <= 100; seed++) {
-			struct psd_settle s;
+			struct psd_calfit_settle s;
 			double mean, se, t;
 			int done = 0;
 			rng_state = 0x9e3779b97f4a7c15ull * (uint64_t)(seed + 1000 * tau100);
-			psd_settle_init(&s, 2.0, 8, 3.0, floor);
+			psd_calfit_settle_init(&s, 2.0, 8, 3.0, floor);
 			for (t = 0; t < 60 && !done; t += 0.25) {
 				double v = A + B * exp(-t / tau) + sigma * gauss();
-				done = psd_settle_add(&s, t, v, &mean, &se);
+				done = psd_calfit_settle_add(&s, t, v, &mean, &se);
 			}
 			assert_true(done);
 			/* the transient at the window's start was small */
@@ -61,15 +61,15 @@ static void settling_of_a_lag(void **state)
 
 static void night_fit_exact_line(void **state)
 {
-	struct psd_night_point p[6];
-	struct psd_night_fit f;
+	struct psd_calfit_level p[6];
+	struct psd_calfit_line f;
 	char err[128];
 	const double levels[6] = { 1, 0.75, 0.5, 0.25, 0.1, 0 };
 	(void)state;
 	for (int i = 0; i < 6; i++)
-		p[i] = (struct psd_night_point){ levels[i], 0.05 + 0.547 * levels[i], 0.001,
+		p[i] = (struct psd_calfit_level){ levels[i], 0.05 + 0.547 * levels[i], 0.001,
 		                                 12 + 1265.4 * levels[i] };
-	assert_int_equal(psd_night_fit(p, 6, &f, err, sizeof err), 0);
+	assert_int_equal(psd_calfit_night(p, 6, &f, err, sizeof err), 0);
 	assert_true(fabs(f.gain / 0.547 - 1) < 1e-12);
 	assert_true(fabs(f.offset - 0.05) < 1e-12);
 	assert_true(fabs(f.r2 - 1) < 1e-12);
@@ -85,15 +85,15 @@ static void night_fit_noisy(void **state)
 	int inside = 0;
 	(void)state;
 	for (int seed = 1; seed <= 400; seed++) {
-		struct psd_night_point p[6];
-		struct psd_night_fit f;
+		struct psd_calfit_level p[6];
+		struct psd_calfit_line f;
 		char err[128];
 		rng_state = 0xdeadbeefcafef00dull * (uint64_t)seed;
 		for (int i = 0; i < 6; i++) {
 			double u = i / 5.0;
-			p[i] = (struct psd_night_point){ u, 0.05 + 0.547 * u + 0.003 * gauss(), 0.003, NAN };
+			p[i] = (struct psd_calfit_level){ u, 0.05 + 0.547 * u + 0.003 * gauss(), 0.003, NAN };
 		}
-		assert_int_equal(psd_night_fit(p, 6, &f, err, sizeof err), 0);
+		assert_int_equal(psd_calfit_night(p, 6, &f, err, sizeof err), 0);
 		assert_true(f.gain_se > 0.001 && f.gain_se < 0.01);
 		inside += fabs(f.gain - 0.547) <= 3 * f.gain_se;
 	}
@@ -102,16 +102,16 @@ static void night_fit_noisy(void **state)
 
 static void night_fit_refuses(void **state)
 {
-	struct psd_night_point same[3] = { { 0.5, 1, 0.01, NAN }, { 0.5, 1.1, 0.01, NAN }, { 0.5, 0.9, 0.01, NAN } };
-	struct psd_night_point nan[3] = { { 0, 1, 0.01, NAN }, { 0.5, NAN, 0.01, NAN }, { 1, 0.9, 0.01, NAN } };
-	struct psd_night_fit f;
+	struct psd_calfit_level same[3] = { { 0.5, 1, 0.01, NAN }, { 0.5, 1.1, 0.01, NAN }, { 0.5, 0.9, 0.01, NAN } };
+	struct psd_calfit_level nan[3] = { { 0, 1, 0.01, NAN }, { 0.5, NAN, 0.01, NAN }, { 1, 0.9, 0.01, NAN } };
+	struct psd_calfit_line f;
 	char err[128];
 	(void)state;
-	assert_int_equal(psd_night_fit(same, 2, &f, err, sizeof err), -1);
+	assert_int_equal(psd_calfit_night(same, 2, &f, err, sizeof err), -1);
 	assert_string_equal(err, "a night fit needs at least 3 levels (have 2)");
-	assert_int_equal(psd_night_fit(same, 3, &f, err, sizeof err), -1);
+	assert_int_equal(psd_calfit_night(same, 3, &f, err, sizeof err), -1);
 	assert_string_equal(err, "every point is at one level: the gain is undetermined");
-	assert_int_equal(psd_night_fit(nan, 3, &f, err, sizeof err), -1);
+	assert_int_equal(psd_calfit_night(nan, 3, &f, err, sizeof err), -1);
 	assert_string_equal(err, "level 2 is not a number");
 }
 
@@ -119,38 +119,38 @@ static void night_fit_refuses(void **state)
  * 472.4 lux per volt whatever the level and the daylight */
 static void day_ratio_exact(void **state)
 {
-	struct psd_day_sample s[5];
-	struct psd_day_fit f;
+	struct psd_calfit_sample s[5];
+	struct psd_calfit_ratio f;
 	char err[128];
 	const double r = 236.2 / 0.5;
 	(void)state;
 	for (int i = 0; i < 5; i++) {
 		double u = 0.1 + 0.2 * i, vd = 0.5 + 0.7 * i;
-		s[i] = (struct psd_day_sample){ 36000 + 600 * i, u, 0.05 + 0.547 * u + vd, 1265.4 * u + r * vd };
+		s[i] = (struct psd_calfit_sample){ 36000 + 600 * i, u, 0.05 + 0.547 * u + vd, 1265.4 * u + r * vd };
 	}
-	assert_int_equal(psd_day_fit(s, 5, 0.05, 0.547, 1265.4, 0.1, &f, err, sizeof err), 0);
+	assert_int_equal(psd_calfit_day(s, 5, 0.05, 0.547, 1265.4, 0.1, &f, err, sizeof err), 0);
 	assert_true(fabs(f.ratio / r - 1) < 1e-12);
 	assert_true(f.sd < 1e-9);
 	assert_int_equal(f.n, 5);
 	assert_true(fabs(f.mean_tod - 37200) < 1e-9);
 	/* the paper's Table 2 sign: simulated above measured is positive */
-	assert_true(fabs(psd_ratio_error_pct(1.1 * r, r) - 10) < 1e-9);
+	assert_true(fabs(psd_calfit_error_pct(1.1 * r, r) - 10) < 1e-9);
 	/* too little daylight: refused, not a NaN */
-	assert_int_equal(psd_day_fit(s, 5, 0.05, 0.547, 1265.4, 10, &f, err, sizeof err), -1);
+	assert_int_equal(psd_calfit_day(s, 5, 0.05, 0.547, 1265.4, 10, &f, err, sizeof err), -1);
 	assert_string_equal(err, "0 of 5 samples have daylight above 10 V: at least 2 are needed");
 }
 
 static void drift_timing(void **state)
 {
-	struct psd_drift d;
+	struct psd_calfit_drift d;
 	int flagged_at = -1, cleared_at = -1;
 	(void)state;
-	psd_drift_init(&d, 0.2, 3600, 0.1);
+	psd_calfit_drift_init(&d, 0.2, 3600, 0.1);
 	/* matched for two hours, then the sensor is half covered (the measured
 	 * ratio doubles: ln 2 = 0.69 > 0.2), uncovered again at 6 h */
 	for (int t = 0; t <= 8 * 3600; t += 60) {
 		double vd = 2.0 * (t >= 7200 && t < 21600 ? 0.5 : 1), sim = 472.4;
-		int r = psd_drift_update(&d, t, vd, sim * 2.0, sim);
+		int r = psd_calfit_drift_update(&d, t, vd, sim * 2.0, sim);
 		if (r > 0)
 			flagged_at = t;
 		if (r < 0)
@@ -160,11 +160,11 @@ static void drift_timing(void **state)
 	assert_int_equal(cleared_at, 21600);
 	/* a 50-minute excursion never flags; darkness (in both signals) is no
 	 * judgement */
-	psd_drift_init(&d, 0.2, 3600, 0.1);
+	psd_calfit_drift_init(&d, 0.2, 3600, 0.1);
 	for (int t = 0; t <= 8 * 3600; t += 60) {
 		double vd = t >= 7200 && t < 10200 ? 1.0 : 2.0;
-		assert_int_equal(psd_drift_update(&d, t, vd, 944.8, 472.4), 0);
-		assert_int_equal(psd_drift_update(&d, t + 30, 0.01, 4.7, 472.4), 0);
+		assert_int_equal(psd_calfit_drift_update(&d, t, vd, 944.8, 472.4), 0);
+		assert_int_equal(psd_calfit_drift_update(&d, t + 30, 0.01, 4.7, 472.4), 0);
 	}
 }
 
@@ -173,13 +173,13 @@ static void drift_timing(void **state)
  * qualifies the sample, and the ratio is off by the floor of 1000x. */
 static void drift_covered_sensor(void **state)
 {
-	struct psd_drift d;
+	struct psd_calfit_drift d;
 	int flagged_at = -1;
 	(void)state;
-	psd_drift_init(&d, 0.25, 1800, 0.05);
+	psd_calfit_drift_init(&d, 0.25, 1800, 0.05);
 	for (int t = 0; t <= 3 * 3600; t += 60) {
 		double vd = t >= 3600 ? (t % 120 ? -0.002 : 0.001) : 2.0;
-		int r = psd_drift_update(&d, t, vd, 944.8, 472.4);
+		int r = psd_calfit_drift_update(&d, t, vd, 944.8, 472.4);
 		if (r > 0)
 			flagged_at = t;
 	}
@@ -193,17 +193,17 @@ static void drift_covered_sensor(void **state)
  * excursion: no drift in a whole night. */
 static void drift_night_offset(void **state)
 {
-	struct psd_drift d;
+	struct psd_calfit_drift d;
 	unsigned seed = 12345;
 	(void)state;
-	psd_drift_init(&d, 0.25, 3600, 0.05);
+	psd_calfit_drift_init(&d, 0.25, 3600, 0.05);
 	for (int t = 0; t <= 10 * 3600; t += 60) {
 		double vd, lux;
 		seed = seed * 1103515245u + 12345u;
 		vd = 0.05 + 0.002 * (((seed >> 16) & 0x7fff) / 16383.5 - 1);   /* 0.048 to 0.052 */
 		seed = seed * 1103515245u + 12345u;
 		lux = 2.0 * (((seed >> 16) & 0x7fff) / 16383.5 - 1);           /* +-2 lx meter noise */
-		assert_int_equal(psd_drift_update(&d, t, vd, lux, 472.4), 0);
+		assert_int_equal(psd_calfit_drift_update(&d, t, vd, lux, 472.4), 0);
 	}
 	assert_false(d.flagged);
 }

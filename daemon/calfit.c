@@ -1,30 +1,31 @@
-#include "calib.h"
+#include "calfit.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "errbuf.h"
 #include "sum.h"
 
-void psd_settle_init(struct psd_settle *s, double window, int min_n, double k, double floor)
+void psd_calfit_settle_init(struct psd_calfit_settle *s, double window, int min_n, double k, double floor)
 {
 	memset(s, 0, sizeof *s);
 	s->window = window;
-	s->min_n = min_n < 3 ? 3 : min_n > PSD_SETTLE_MAX ? PSD_SETTLE_MAX : min_n;
+	s->min_n = min_n < 3 ? 3 : min_n > PSD_CALFIT_SETTLE_MAX ? PSD_CALFIT_SETTLE_MAX : min_n;
 	s->k = k;
 	s->floor = floor;
 }
 
-int psd_settle_add(struct psd_settle *s, double t, double v, double *mean, double *se)
+int psd_calfit_settle_add(struct psd_calfit_settle *s, double t, double v, double *mean, double *se)
 {
 	struct ps_sum st, sv, stt, stv, svv;
 	double n, tm, vm, ctt, ctv, cvv, slope, resid_var, se_mean, span;
 	int first = 0;
 	if (!isfinite(v))
 		return 0;
-	if (s->n == PSD_SETTLE_MAX) {
-		memmove(s->t, s->t + 1, (PSD_SETTLE_MAX - 1) * sizeof s->t[0]);
-		memmove(s->v, s->v + 1, (PSD_SETTLE_MAX - 1) * sizeof s->v[0]);
+	if (s->n == PSD_CALFIT_SETTLE_MAX) {
+		memmove(s->t, s->t + 1, (PSD_CALFIT_SETTLE_MAX - 1) * sizeof s->t[0]);
+		memmove(s->v, s->v + 1, (PSD_CALFIT_SETTLE_MAX - 1) * sizeof s->v[0]);
 		s->n--;
 	}
 	s->t[s->n] = t;
@@ -72,7 +73,7 @@ int psd_settle_add(struct psd_settle *s, double t, double v, double *mean, doubl
 	return 1;
 }
 
-int psd_night_fit(const struct psd_night_point *p, size_t n, struct psd_night_fit *f, char *err, size_t errlen)
+int psd_calfit_night(const struct psd_calfit_level *p, size_t n, struct psd_calfit_line *f, char *err, size_t errlen)
 {
 	struct ps_sum sw, swx, swy, sxx, sxy, syy;
 	double w, xm, ym, cxx, cxy, cyy, chi2, full;
@@ -80,22 +81,16 @@ int psd_night_fit(const struct psd_night_point *p, size_t n, struct psd_night_fi
 	int levels = 0;
 	memset(f, 0, sizeof *f);
 	f->lux_gain = f->lux_gain_se = f->lux_offset = NAN;
-	if (n < 3) {
-		snprintf(err, errlen, "a night fit needs at least 3 levels (have %zu)", n);
-		return -1;
-	}
+	if (n < 3)
+		return psd_errf(err, errlen, "a night fit needs at least 3 levels (have %zu)", n);
 	for (size_t i = 0; i < n; i++) {
-		if (!isfinite(p[i].level) || !isfinite(p[i].volts)) {
-			snprintf(err, errlen, "level %zu is not a number", i + 1);
-			return -1;
-		}
+		if (!isfinite(p[i].level) || !isfinite(p[i].volts))
+			return psd_errf(err, errlen, "level %zu is not a number", i + 1);
 		levels += i == 0 || p[i].level != p[0].level;
 		nlux += isfinite(p[i].lux);
 	}
-	if (levels < 2) {
-		snprintf(err, errlen, "every point is at one level: the gain is undetermined");
-		return -1;
-	}
+	if (levels < 2)
+		return psd_errf(err, errlen, "every point is at one level: the gain is undetermined");
 	/* weights 1/se^2, with a floor so an exactly repeated reading (se 0)
 	 * does not take all the weight */
 	ps_sum_init(&sw);
@@ -179,8 +174,8 @@ int psd_night_fit(const struct psd_night_point *p, size_t n, struct psd_night_fi
 	return 0;
 }
 
-int psd_day_fit(const struct psd_day_sample *s, size_t n, double offset, double gain_e, double elec_lux,
-                double min_day_volts, struct psd_day_fit *f, char *err, size_t errlen)
+int psd_calfit_day(const struct psd_calfit_sample *s, size_t n, double offset, double gain_e, double elec_lux,
+                   double min_day_volts, struct psd_calfit_ratio *f, char *err, size_t errlen)
 {
 	struct ps_sum sr, srr, st;
 	double m = 0, mean, var;
@@ -195,11 +190,9 @@ int psd_day_fit(const struct psd_day_sample *s, size_t n, double offset, double 
 		ps_sum_add(&st, s[i].t);
 		m++;
 	}
-	if (m < 2) {
-		snprintf(err, errlen, "%g of %zu samples have daylight above %g V: at least 2 are needed", m, n,
-		         min_day_volts);
-		return -1;
-	}
+	if (m < 2)
+		return psd_errf(err, errlen, "%g of %zu samples have daylight above %g V: at least 2 are needed", m,
+		                n, min_day_volts);
 	mean = ps_sum_get(&sr) / m;
 	ps_sum_init(&srr);
 	for (size_t i = 0; i < n; i++) {
@@ -217,12 +210,12 @@ int psd_day_fit(const struct psd_day_sample *s, size_t n, double offset, double 
 	return 0;
 }
 
-double psd_ratio_error_pct(double simulated, double measured)
+double psd_calfit_error_pct(double simulated, double measured)
 {
 	return 100 * (simulated - measured) / measured;
 }
 
-void psd_drift_init(struct psd_drift *d, double margin, double hold, double min_day_volts)
+void psd_calfit_drift_init(struct psd_calfit_drift *d, double margin, double hold, double min_day_volts)
 {
 	memset(d, 0, sizeof *d);
 	d->margin = margin;
@@ -232,7 +225,7 @@ void psd_drift_init(struct psd_drift *d, double margin, double hold, double min_
 	d->last_ln = NAN;
 }
 
-int psd_drift_update(struct psd_drift *d, double now, double day_volts, double day_lux, double sim_ratio)
+int psd_calfit_drift_update(struct psd_calfit_drift *d, double now, double day_volts, double day_lux, double sim_ratio)
 {
 	double l, lux_as_volts, shown;
 	if (!isfinite(day_volts) || !isfinite(day_lux) || !(sim_ratio > 0))

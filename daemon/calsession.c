@@ -1,0 +1,443 @@
+/* Calibration sessions (see calsession.h). */
+#include "calsession.h"
+
+#include <json-c/json.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cache.h"
+#include "clock.h"
+#include "config.h"
+#include "control.h"
+#include "db.h"
+#include "errbuf.h"
+#include "log.h"
+#include "results.h"
+
+const double psd_calsession_levels[PSD_CAL_NLEVELS] = { 1.0, 0.75, 0.5, 0.25, 0.1, 0.0 };
+const char *const psd_calsession_kind_names[] = { "none", "night", "day", NULL };
+const char *const psd_calsession_state_names[] = { "idle", "running", "done", "aborted", "accepted", NULL };
+
+int psd_calsession_running(const struct psd_calsession *s)
+{
+	return s->state == PSD_CAL_RUNNING;
+}
+
+static void settle_reset(struct psd_calsession *s, const struct psd_calsession_ctx *c)
+{
+	psd_calfit_settle_init(&s->settle, c->zc->cal_window, 4, 3.0, c->zc->cal_floor);
+	s->step_started = c->now;
+	s->nlux = 0;
+	s->level_since = INFINITY;   /* readings count once the level is commanded */
+	s->commanded = -1;
+}
+
+/* The session's constants from the zone's configuration. */
+static void begin(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, long long id,
+                  double started, double level)
+{
+	memset(s, 0, sizeof *s);
+	s->kind = kind;
+	s->state = PSD_CAL_RUNNING;
+	s->id = id;
+	s->started = started;
+	s->settle_timeout = c->zc->cal_timeout;
+	s->hold_level = level;
+	s->interval = c->zc->cal_day_interval;
+	s->want_samples = (int)c->zc->cal_day_samples;
+	s->next_sample = c->now;
+	settle_reset(s, c);
+}
+
+int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, double level,
+                         struct psd_calsession_ask *ask, char *err, size_t n)
+{
+	char cfg[65] = "", scene[65] = "";
+	struct ps_err pe;
+	long long id;
+	memset(ask, 0, sizeof *ask);
+	if (!c->db)
+		return psd_errf(err, n, "calibration sessions are recorded in the database: set database = in [psensd]");
+	if (s->state == PSD_CAL_RUNNING)
+		return psd_errf(err, n, "zone %s: a %s session is running (abort it first)", c->zone,
+		                psd_calsession_kind_names[s->kind]);
+	if (kind != PSD_CAL_NIGHT && kind != PSD_CAL_DAY)
+		return psd_errf(err, n, "no calibration of kind %d", kind);
+	if (kind == PSD_CAL_DAY && !(level >= 0 && level <= 1))
+		return psd_errf(err, n, "level %g is outside 0 to 1", level);
+	if (!c->config_path || ps_hash_file(c->config_path, cfg, &pe) != 0)
+		cfg[0] = 0;
+	snprintf(scene, sizeof scene, "%s", c->res && c->res->scene_hash ? c->res->scene_hash : "");
+	id = psd_db_cal_begin(c->db, c->zone, psd_calsession_kind_names[kind], c->now, cfg, scene, err, n);
+	if (id < 0)
+		return -1;
+	begin(s, c, kind, id, c->now, level);
+	snprintf(s->msg, sizeof s->msg, "%s", kind == PSD_CAL_NIGHT ? "settling at 100 %" :
+	         c->zc->task >= 0 ? "sampling the task meter" : "waiting for typed lux (calibrate ZONE lux N)");
+	ask->step_now = 1;
+	log_info("zone %s: %s calibration session %lld started", c->zone, psd_calsession_kind_names[kind], s->id);
+	return 0;
+}
+
+int psd_calsession_abort(struct psd_calsession *s, const struct psd_calsession_ctx *c, const char *why,
+                         struct psd_calsession_ask *ask)
+{
+	char err[512];
+	memset(ask, 0, sizeof *ask);
+	if (s->state != PSD_CAL_RUNNING)
+		return -1;
+	s->state = PSD_CAL_ABORTED;
+	snprintf(s->msg, sizeof s->msg, "aborted: %s", why);
+	if (c->db && psd_db_cal_end(c->db, s->id, "aborted", c->now, NULL, why, err, sizeof err) != 0)
+		log_warnx("%s", err);
+	log_warnx("zone %s: calibration session %lld aborted: %s", c->zone, s->id, why);
+	ask->step_now = 1;
+	return 0;
+}
+
+/* The nearest daylight condition in time of day: its ratio in lux per volt
+ * at the zone's sensor gain. */
+static void nearest_condition(struct psd_calsession *s, const struct psd_calsession_ctx *c, double tod)
+{
+	double best = INFINITY;
+	s->sim_ratio = NAN;
+	s->sim_condition[0] = 0;
+	for (size_t i = 0; c->res && i < c->res->ncond; i++) {
+		const struct ps_result_cond *rc = &c->res->cond[i];
+		double d = fabs(rc->tod_s - tod);
+		if (!rc->computed || rc->tod_s < 0 || !(rc->ratio > 0) || d >= best)
+			continue;
+		best = d;
+		s->sim_ratio = rc->ratio / c->ctl->sensor_gain;
+		snprintf(s->sim_condition, sizeof s->sim_condition, "%s", rc->label);
+	}
+}
+
+static char *results_json(const struct psd_calsession *s, const struct psd_calsession_ctx *c)
+{
+	json_object *o = json_object_new_object();
+	char *out;
+	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
+#define NUM(k, v) json_object_object_add(o, k, isfinite(v) ? json_object_new_double(v) : NULL)
+	if (s->kind == PSD_CAL_NIGHT) {
+		const struct psd_calfit_line *f = &s->night;
+		double es = c->res ? c->res->electric_sensor_response : NAN;
+		double el = c->res ? c->res->electric_task_lux : NAN;
+		NUM("offset", f->offset);
+		NUM("offset_se", f->offset_se);
+		NUM("gain", f->gain);
+		NUM("gain_se", f->gain_se);
+		NUM("r2", f->r2);
+		NUM("max_resid_pct", f->max_resid_pct);
+		NUM("lux_gain", f->lux_gain);
+		NUM("lux_gain_se", f->lux_gain_se);
+		NUM("sensor_gain", f->gain / es);
+		NUM("sensor_gain_se", f->gain_se / es);
+		NUM("sim_electric_lux", el);
+		NUM("electric_lux_error_pct", psd_calfit_error_pct(el, f->lux_gain));
+		json_object_object_add(o, "levels", json_object_new_int(s->npt));
+	} else {
+		const struct psd_calfit_ratio *f = &s->day;
+		NUM("ratio", f->ratio);
+		NUM("ratio_se", f->ratio_se);
+		NUM("sd", f->sd);
+		json_object_object_add(o, "samples", json_object_new_int((int)f->n));
+		NUM("mean_tod_s", f->mean_tod);
+		NUM("sim_ratio", s->sim_ratio);
+		json_object_object_add(o, "condition", json_object_new_string(s->sim_condition));
+		NUM("error_pct", s->error_pct);
+		NUM("sensor_gain", c->ctl->sensor_gain);
+		NUM("daylight_ratio", f->ratio * c->ctl->sensor_gain);
+		NUM("offset", c->ctl->offset);
+	}
+#undef NUM
+	out = strdup(json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN));
+	json_object_put(o);
+	return out;
+}
+
+static int finish(struct psd_calsession *s, const struct psd_calsession_ctx *c, struct psd_calsession_ask *ask,
+                  char *err, size_t n)
+{
+	const struct psd_control *k = c->ctl;
+	char *json;
+	int rc, outside = 0;   /* a day session off the design by more than cal_tolerance */
+	if (s->kind == PSD_CAL_NIGHT) {
+		if (psd_calfit_night(s->pt, (size_t)s->npt, &s->night, err, n) != 0)
+			return -1;
+	} else {
+		if (psd_calfit_day(s->ds, (size_t)s->nds, k->offset, k->sensor_gain * k->elec_sensor, k->elec_task_lux,
+		                   c->zc->cal_min_day_volts, &s->day, err, n) != 0)
+			return -1;
+		nearest_condition(s, c, s->day.mean_tod);
+		s->error_pct = psd_calfit_error_pct(s->sim_ratio, s->day.ratio);
+		outside = !(fabs(s->error_pct) <= c->zc->cal_tolerance);
+	}
+	if (!(json = results_json(s, c)))
+		return psd_errf(err, n, "out of memory");
+	rc = psd_db_cal_end(c->db, s->id, "done", c->now, json, NULL, err, n);
+	free(json);
+	if (rc != 0)
+		return -1;
+	s->state = PSD_CAL_DONE;
+	if (s->kind == PSD_CAL_NIGHT)
+		snprintf(s->msg, sizeof s->msg, "done: offset %.4f V, %.4f V at full output (se %.4f), "
+		         "R2 %.6f; accept to use it", s->night.offset, s->night.gain, s->night.gain_se, s->night.r2);
+	else
+		snprintf(s->msg, sizeof s->msg, "done: %.2f lux per volt (se %.2f) from %zu samples; "
+		         "simulated %.2f (%s): %+.1f %%, %s the %g %% tolerance%s", s->day.ratio, s->day.ratio_se,
+		         s->day.n, s->sim_ratio, s->sim_condition, s->error_pct, outside ? "outside" : "within",
+		         c->zc->cal_tolerance,
+		         outside ? " (the sensor moved or covered, the wrong filter, or a scene unlike the room?); "
+		                   "accept to use it anyway" : "; accept to use it");
+	if (outside)
+		log_warnx("zone %s: calibration session %lld %s", c->zone, s->id, s->msg);
+	else
+		log_info("zone %s: calibration session %lld %s", c->zone, s->id, s->msg);
+	ask->step_now = 1;
+	return 0;
+}
+
+/* Finish, or abort when the fit fails: what a session does when it has
+ * every sample it wants. */
+static void finish_or_abort(struct psd_calsession *s, const struct psd_calsession_ctx *c,
+                            struct psd_calsession_ask *ask)
+{
+	char err[512];
+	if (finish(s, c, ask, err, sizeof err) != 0)
+		psd_calsession_abort(s, c, err, ask);
+}
+
+static int running_day(const struct psd_calsession *s, const struct psd_calsession_ctx *c, char *err, size_t n)
+{
+	if (s->state != PSD_CAL_RUNNING || s->kind != PSD_CAL_DAY)
+		return psd_errf(err, n, "zone %s has no running day session", c->zone);
+	return 0;
+}
+
+int psd_calsession_finish(struct psd_calsession *s, const struct psd_calsession_ctx *c,
+                          struct psd_calsession_ask *ask, char *err, size_t n)
+{
+	memset(ask, 0, sizeof *ask);
+	if (running_day(s, c, err, n) != 0)
+		return -1;
+	return finish(s, c, ask, err, n);
+}
+
+static int record(struct psd_calsession *s, const struct psd_calsession_ctx *c, double level, double volts,
+                  double se, double lux, const char *source, char *err, size_t n)
+{
+	int seq = s->kind == PSD_CAL_NIGHT ? s->npt : s->nds;
+	return psd_db_cal_sample(c->db, s->id, seq, c->now, level, volts, se, lux, source, err, n);
+}
+
+int psd_calsession_typed_lux(struct psd_calsession *s, const struct psd_calsession_ctx *c, double lux,
+                             double volts, double level, struct psd_calsession_ask *ask, char *err, size_t n)
+{
+	memset(ask, 0, sizeof *ask);
+	if (running_day(s, c, err, n) != 0)
+		return -1;
+	if (!(lux >= 0 && lux < 2e5))
+		return psd_errf(err, n, "%g lux is outside 0 to 200000", lux);
+	if (!isfinite(volts))
+		return psd_errf(err, n, "zone %s has no good reading to pair with it", c->zone);
+	if (s->nds >= PSD_CAL_MAX_DAY)
+		return psd_errf(err, n, "%d samples already: finish the session", PSD_CAL_MAX_DAY);
+	if (record(s, c, level, volts, NAN, lux, "typed", err, n) != 0)
+		return -1;
+	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
+	snprintf(s->msg, sizeof s->msg, "%d typed sample(s); finish when done", s->nds);
+	return 0;
+}
+
+/* The constants a finished session gives (NAN: keep the one in force). */
+static struct psd_calsession_consts consts_of(const struct psd_calsession *s, const struct psd_control *k)
+{
+	struct psd_calsession_consts out = { s->kind, s->id, NAN, NAN, NAN, NAN };
+	if (s->kind == PSD_CAL_NIGHT) {
+		out.offset = s->night.offset;
+		if (k->elec_sensor > 0)
+			out.sensor_gain = s->night.gain / k->elec_sensor;
+		out.elec_task_lux = s->night.lux_gain;
+	} else {
+		out.daylight_ratio = s->day.ratio * k->sensor_gain;
+	}
+	return out;
+}
+
+int psd_calsession_accept(struct psd_calsession *s, const struct psd_calsession_ctx *c,
+                          struct psd_calsession_ask *ask, char *err, size_t n)
+{
+	memset(ask, 0, sizeof *ask);
+	if (s->state != PSD_CAL_DONE)
+		return psd_errf(err, n, "zone %s has no finished session to accept (%s)", c->zone,
+		                psd_calsession_state_names[s->state]);
+	if (psd_db_cal_accept(c->db, s->id, err, n) != 0)
+		return -1;
+	s->state = PSD_CAL_ACCEPTED;
+	snprintf(s->msg, sizeof s->msg, "accepted: the zone's control now runs on it");
+	ask->apply[ask->napply++] = consts_of(s, c->ctl);
+	return 0;
+}
+
+int psd_calsession_level(struct psd_calsession *s, double now, double *level)
+{
+	if (s->state != PSD_CAL_RUNNING)
+		return 0;
+	*level = s->kind == PSD_CAL_NIGHT ? psd_calsession_levels[s->step] : s->hold_level;
+	if (s->commanded != s->step) {
+		s->commanded = s->step;
+		s->level_since = now;
+	}
+	return 1;
+}
+
+static void feed_day(struct psd_calsession *s, const struct psd_calsession_ctx *c, double volts, double lux,
+                     double level, struct psd_calsession_ask *ask)
+{
+	char err[512];
+	if (c->zc->task < 0 || !isfinite(lux) || c->now < s->next_sample)
+		return;
+	if (record(s, c, level, volts, NAN, lux, "meter", err, sizeof err) != 0) {
+		psd_calsession_abort(s, c, err, ask);
+		return;
+	}
+	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
+	s->next_sample = c->now + s->interval;
+	snprintf(s->msg, sizeof s->msg, "%d of %d meter samples", s->nds, s->want_samples);
+	if (s->nds >= s->want_samples || s->nds >= PSD_CAL_MAX_DAY)
+		finish_or_abort(s, c, ask);
+}
+
+/* The meter's mean over the settled window of the sensor (NAN: none). */
+static double settled_lux(const struct psd_calsession *s, double now)
+{
+	double sum = 0, m = 0;
+	for (int i = 0; i < s->nlux; i++)
+		if (s->lux_t[i] >= s->settle.t[0] && now - s->lux_t[i] <= s->settle.window) {
+			sum += s->lux_v[i];
+			m++;
+		}
+	return m ? sum / m : NAN;
+}
+
+static void feed_night(struct psd_calsession *s, const struct psd_calsession_ctx *c, double volts, double lux,
+                       struct psd_calsession_ask *ask)
+{
+	char err[512];
+	double mean, se, now = c->now, at = psd_calsession_levels[s->step];
+	if (isfinite(lux)) {
+		if (s->nlux == PSD_CALFIT_SETTLE_MAX) {
+			memmove(s->lux_t, s->lux_t + 1, (PSD_CALFIT_SETTLE_MAX - 1) * sizeof s->lux_t[0]);
+			memmove(s->lux_v, s->lux_v + 1, (PSD_CALFIT_SETTLE_MAX - 1) * sizeof s->lux_v[0]);
+			s->nlux--;
+		}
+		s->lux_t[s->nlux] = now;
+		s->lux_v[s->nlux++] = lux;
+	}
+	if (!psd_calfit_settle_add(&s->settle, now, volts, &mean, &se)) {
+		if (now - s->step_started > s->settle_timeout)
+			psd_calsession_abort(s, c, "the sensor did not settle (cal_timeout)", ask);
+		return;
+	}
+	s->pt[s->npt] = (struct psd_calfit_level){ at, mean, se, settled_lux(s, now) };
+	if (record(s, c, at, mean, se, s->pt[s->npt].lux, "settled", err, sizeof err) != 0) {
+		psd_calsession_abort(s, c, err, ask);
+		return;
+	}
+	log_info("zone %s: night level %.0f %%: %.5f V (se %.5f) after %.0f s", c->zone, 100 * at, mean, se,
+	         now - s->step_started);
+	s->npt++;
+	if (++s->step == PSD_CAL_NLEVELS) {
+		finish_or_abort(s, c, ask);
+		return;
+	}
+	settle_reset(s, c);
+	snprintf(s->msg, sizeof s->msg, "settling at %.0f %%", 100 * psd_calsession_levels[s->step]);
+}
+
+void psd_calsession_feed(struct psd_calsession *s, const struct psd_calsession_ctx *c, double volts, double lux,
+                         double level, struct psd_calsession_ask *ask)
+{
+	memset(ask, 0, sizeof *ask);
+	if (s->state != PSD_CAL_RUNNING)
+		return;
+	/* a reading counts only once the session's level was commanded at an
+	 * earlier step: the one taken as the command goes out is the old level's */
+	if (!(c->now > s->level_since))
+		return;
+	if (s->kind == PSD_CAL_DAY)
+		feed_day(s, c, volts, lux, level, ask);
+	else
+		feed_night(s, c, volts, lux, ask);
+}
+
+/* An accepted session's constants from its stored results. */
+static int consts_from_json(const char *json, int kind, long long id, struct psd_calsession_consts *k)
+{
+	json_object *o = json_tokener_parse(json), *v;
+	if (!o)
+		return -1;
+#define GET(key) (json_object_object_get_ex(o, key, &v) && v ? json_object_get_double(v) : NAN)
+	*k = (struct psd_calsession_consts){ kind, id, NAN, NAN, NAN, NAN };
+	if (kind == PSD_CAL_NIGHT) {
+		k->offset = GET("offset");
+		k->sensor_gain = GET("sensor_gain");
+		k->elec_task_lux = GET("lux_gain");
+	} else {
+		k->daylight_ratio = GET("daylight_ratio");
+	}
+#undef GET
+	json_object_put(o);
+	return 0;
+}
+
+void psd_calsession_accepted(const struct psd_calsession_ctx *c, struct psd_calsession_ask *ask)
+{
+	memset(ask, 0, sizeof *ask);
+	for (int kind = PSD_CAL_NIGHT; c->db && kind <= PSD_CAL_DAY; kind++) {
+		long long id;
+		char *json = psd_db_cal_accepted(c->db, c->zone, psd_calsession_kind_names[kind], &id);
+		if (json && consts_from_json(json, kind, id, &ask->apply[ask->napply]) == 0)
+			ask->napply++;
+		free(json);
+	}
+}
+
+struct resume {
+	struct psd_calsession *s;
+};
+
+static void resume_sample(void *user, double t, double level, double volts, double se, double lux)
+{
+	struct psd_calsession *s = ((struct resume *)user)->s;
+	if (s->kind == PSD_CAL_NIGHT && s->npt < PSD_CAL_NLEVELS) {
+		s->pt[s->npt++] = (struct psd_calfit_level){ level, volts, se, lux };
+		s->step = s->npt;
+	} else if (s->kind == PSD_CAL_DAY && s->nds < PSD_CAL_MAX_DAY) {
+		s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(t), level, volts, lux };
+		s->hold_level = level;
+	}
+}
+
+void psd_calsession_resume(struct psd_calsession *s, const struct psd_calsession_ctx *c, double level,
+                           struct psd_calsession_ask *ask)
+{
+	struct resume r = { s };
+	char kind[16];
+	long long id;
+	double started;
+	memset(ask, 0, sizeof *ask);
+	if (!c->db || psd_db_cal_running(c->db, c->zone, &id, kind, sizeof kind, &started) != 0)
+		return;
+	begin(s, c, strcmp(kind, "night") == 0 ? PSD_CAL_NIGHT : PSD_CAL_DAY, id, started, level);
+	psd_db_cal_samples(c->db, id, resume_sample, &r);
+	settle_reset(s, c);
+	snprintf(s->msg, sizeof s->msg, "resumed with %d level(s), %d sample(s)", s->npt, s->nds);
+	log_info("zone %s: %s calibration session %lld resumed (%d level(s), %d sample(s) kept)", c->zone, kind, id,
+	         s->npt, s->nds);
+	if (s->kind == PSD_CAL_NIGHT && s->step >= PSD_CAL_NLEVELS)
+		finish_or_abort(s, c, ask);
+}

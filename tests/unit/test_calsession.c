@@ -1,0 +1,358 @@
+/* Calibration sessions against an in-memory SQLite database (and a file for
+ * the crash): readings made from known constants must give those constants
+ * back exactly, every sample must be on record, and the session must say
+ * what the zone should do rather than do it. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "calsession.h"
+#include "config.h"
+#include "control.h"
+#include "db.h"
+#include "log.h"
+#include "results.h"
+#include "scene.h"
+
+#define assert_near(a, b, tol) assert_true(fabs((double)(a) - (double)(b)) <= (tol))
+
+/* The room the readings come from: volts = OFFSET + GAIN_E u + daylight,
+ * task lux = LUX_E u + RATIO x daylight volts. */
+#define OFFSET 0.05
+#define GAIN_E 0.547
+#define LUX_E 1264.8
+#define RATIO 472.5
+#define PERIOD 60.0
+
+struct fixture {
+	struct psd_db *db;
+	struct psd_zone_conf zc;
+	struct psd_control ctl;
+	struct ps_result_cond cond[2];
+	struct ps_results res;
+	struct psd_calsession s;
+	struct psd_calsession_ctx c;
+	double now;
+};
+
+static void fixture_init(struct fixture *f, struct psd_db *db, int task)
+{
+	memset(f, 0, sizeof *f);
+	f->db = db;
+	snprintf(f->zc.name, sizeof f->zc.name, "office");
+	f->zc.sensor = 0;
+	f->zc.task = task ? 1 : -1;
+	f->zc.period = PERIOD;
+	f->zc.cal_window = 4 * PERIOD;
+	f->zc.cal_timeout = 60 * PERIOD;
+	f->zc.cal_floor = 0.001;
+	f->zc.cal_day_samples = 5;
+	f->zc.cal_day_interval = 600;
+	f->zc.cal_min_day_volts = 0.05;
+	f->zc.cal_tolerance = 25;
+	/* the simulation: 1.094 units at full output, a daylight condition at
+	 * 15:00 of 236.25 lux per unit */
+	f->ctl.sensor_gain = 0.5;
+	f->ctl.offset = OFFSET;
+	f->ctl.elec_sensor = GAIN_E / 0.5;
+	f->ctl.elec_task_lux = LUX_E;
+	f->ctl.daylight_ratio = 236.25;
+	f->cond[0] = (struct ps_result_cond){ .label = "day_0318", .kind = PS_COND_DAYLIGHT, .date = "03-18",
+	                                      .tod_s = 15 * 3600.0, .computed = 1, .ratio = 236.25 };
+	f->cond[1] = (struct ps_result_cond){ .label = "elec", .kind = PS_COND_ELECTRIC, .date = "", .tod_s = -1,
+	                                      .computed = 1, .ratio = 1156.68 };
+	f->res.cond = f->cond;
+	f->res.ncond = 2;
+	f->res.scene_hash = "0123";
+	f->res.electric_sensor_response = GAIN_E / 0.5;
+	f->res.electric_task_lux = LUX_E;
+	f->now = 21 * 3600.0;
+}
+
+static const struct psd_calsession_ctx *ctx(struct fixture *f)
+{
+	f->c = (struct psd_calsession_ctx){ f->zc.name, &f->zc, &f->ctl, &f->res, f->db, NULL, f->now };
+	return &f->c;
+}
+
+/* One control step of the zone: the level the session holds, then its
+ * reading one period later (as the engine feeds it). */
+static void step(struct fixture *f, double daylight_v, struct psd_calsession_ask *ask)
+{
+	double u = NAN;
+	assert_int_equal(psd_calsession_level(&f->s, f->now, &u), 1);
+	f->now += PERIOD;
+	psd_calsession_feed(&f->s, ctx(f), OFFSET + GAIN_E * u + daylight_v,
+	                    f->zc.task >= 0 ? LUX_E * u + RATIO * daylight_v : NAN, u, ask);
+}
+
+static void run_night(struct fixture *f, int levels)
+{
+	struct psd_calsession_ask ask;
+	for (int i = 0; i < 1000 && f->s.npt < levels && psd_calsession_running(&f->s); i++)
+		step(f, 0, &ask);
+}
+
+struct count {
+	int n;
+	const char *states[8];
+	long long ids[8];
+	char buf[8][16];
+};
+
+static void count_session(void *user, const struct psd_db_cal_session *s)
+{
+	struct count *c = user;
+	if (c->n < 8) {
+		snprintf(c->buf[c->n], sizeof c->buf[0], "%s", s->state);
+		c->states[c->n] = c->buf[c->n];
+		c->ids[c->n] = s->id;
+	}
+	c->n++;
+}
+
+static void count_sample(void *user, double t, double level, double volts, double se, double lux)
+{
+	(void)t, (void)level, (void)volts, (void)se, (void)lux;
+	(*(int *)user)++;
+}
+
+static struct count sessions(struct psd_db *db)
+{
+	struct count c = { 0 };
+	char err[256];
+	assert_int_equal(psd_db_cal_sessions(db, "office", count_session, &c, err, sizeof err), 0);
+	return c;
+}
+
+static int samples_of(struct psd_db *db, long long id)
+{
+	int n = 0;
+	assert_int_equal(psd_db_cal_samples(db, id, count_sample, &n), 0);
+	return n;
+}
+
+/* A night session settles at each of the six levels, fits the line the
+ * readings were made from, records every level, and on accept gives the
+ * constants for the engine to apply. */
+static void night_to_done_and_accepted(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 1);
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	assert_int_equal(ask.step_now, 1);
+	assert_int_equal(ask.napply, 0);
+	assert_int_equal(f.s.state, PSD_CAL_RUNNING);
+	/* a second start is refused and changes nothing */
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, 0.3, &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "a night session is running"));
+	run_night(&f, PSD_CAL_NLEVELS);
+	assert_int_equal(f.s.state, PSD_CAL_DONE);
+	assert_int_equal(f.s.npt, PSD_CAL_NLEVELS);
+	for (int i = 0; i < PSD_CAL_NLEVELS; i++)
+		assert_near(f.s.pt[i].level, psd_calsession_levels[i], 0);
+	assert_near(f.s.night.offset, OFFSET, 1e-9);
+	assert_near(f.s.night.gain, GAIN_E, 1e-9);
+	assert_near(f.s.night.lux_gain, LUX_E, 1e-6);
+	assert_int_equal(samples_of(db, f.s.id), PSD_CAL_NLEVELS);
+	assert_string_equal(sessions(db).states[0], "done");
+	/* the lights are no longer held */
+	assert_int_equal(psd_calsession_level(&f.s, f.now, &(double){ 0 }), 0);
+	assert_int_equal(psd_calsession_accept(&f.s, ctx(&f), &ask, err, sizeof err), 0);
+	assert_int_equal(f.s.state, PSD_CAL_ACCEPTED);
+	assert_int_equal(ask.napply, 1);
+	assert_int_equal(ask.apply[0].kind, PSD_CAL_NIGHT);
+	assert_int_equal(ask.apply[0].id, f.s.id);
+	assert_near(ask.apply[0].offset, OFFSET, 1e-9);
+	assert_near(ask.apply[0].sensor_gain, 0.5, 1e-9);   /* GAIN_E over the simulated response */
+	assert_near(ask.apply[0].elec_task_lux, LUX_E, 1e-6);
+	assert_true(isnan(ask.apply[0].daylight_ratio));
+	assert_string_equal(sessions(db).states[0], "accepted");
+	/* the session never wrote into the zone's constants */
+	assert_near(f.ctl.sensor_gain, 0.5, 0);
+	assert_near(f.ctl.elec_task_lux, LUX_E, 0);
+	psd_db_close(db);
+}
+
+/* A day session with a task meter and one typed reading: the measured
+ * ratio is the one the readings were made from, compared with the
+ * simulated condition nearest in time of day. */
+static void day_with_meter_and_typed(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	const double u = 0.3;
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 1);
+	f.now = 10 * 3600.0;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, 1.5, &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "level 1.5 is outside 0 to 1"));
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, u, &ask, err, sizeof err), 0);
+	/* typed: a hand-held meter's reading paired with the volts now */
+	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), LUX_E * u + RATIO * 2.0, OFFSET + GAIN_E * u + 2.0, u,
+	                                          &ask, err, sizeof err),
+	                 0);
+	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), 1e6, 1, u, &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "outside 0 to 200000"));
+	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), 800, NAN, u, &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "no good reading"));
+	/* the meter every 600 s until five samples in all */
+	for (int i = 0; i < 200 && psd_calsession_running(&f.s); i++) {
+		double u_held;
+		assert_int_equal(psd_calsession_level(&f.s, f.now, &u_held), 1);
+		assert_near(u_held, u, 0);
+		step(&f, 1.0 + 0.01 * i, &ask);
+	}
+	assert_int_equal(f.s.state, PSD_CAL_DONE);
+	assert_int_equal(f.s.nds, 5);
+	assert_int_equal(samples_of(db, f.s.id), 5);
+	assert_near(f.s.day.ratio, RATIO, 1e-9);
+	assert_near(f.s.day.ratio_se, 0, 1e-9);
+	assert_string_equal(f.s.sim_condition, "day_0318");
+	assert_near(f.s.sim_ratio, 236.25 / 0.5, 1e-12);
+	assert_near(f.s.error_pct, 100 * (236.25 / 0.5 - RATIO) / RATIO, 1e-9);
+	assert_int_equal(psd_calsession_accept(&f.s, ctx(&f), &ask, err, sizeof err), 0);
+	assert_int_equal(ask.napply, 1);
+	assert_near(ask.apply[0].daylight_ratio, RATIO * 0.5, 1e-9);
+	assert_true(isnan(ask.apply[0].offset) && isnan(ask.apply[0].sensor_gain));
+	psd_db_close(db);
+}
+
+/* A fault aborts a running session: on record with the reason, the lights
+ * no longer held, and the zone asked to step at once. */
+static void abort_on_fault(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct count c;
+	(void)state;
+	fixture_init(&f, db, 0);
+	assert_int_equal(psd_calsession_abort(&f.s, ctx(&f), "nothing runs", &ask), -1);
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	run_night(&f, 2);
+	assert_int_equal(f.s.npt, 2);
+	assert_int_equal(psd_calsession_abort(&f.s, ctx(&f), "sensor reads 0.000 V", &ask), 0);
+	assert_int_equal(ask.step_now, 1);
+	assert_int_equal(f.s.state, PSD_CAL_ABORTED);
+	assert_non_null(strstr(f.s.msg, "sensor reads 0.000 V"));
+	assert_int_equal(psd_calsession_level(&f.s, f.now, &(double){ 0 }), 0);
+	c = sessions(db);
+	assert_int_equal(c.n, 1);
+	assert_string_equal(c.states[0], "aborted");
+	assert_int_equal(psd_calsession_accept(&f.s, ctx(&f), &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "no finished session to accept (aborted)"));
+	/* without a database no session starts */
+	f.db = NULL;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "set database ="));
+	psd_db_close(db);
+}
+
+/* psensd killed in the middle of a night session: the next start finds it
+ * running in the file, resumes with the levels it had, and finishes with
+ * the same line. */
+static void resume_after_crash(void **state)
+{
+	char err[512], path[] = "/tmp/test_calsession.XXXXXX";
+	struct fixture f, g;
+	struct psd_calsession_ask ask;
+	struct psd_db *db;
+	int fd = mkstemp(path);
+	long long id;
+	(void)state;
+	assert_true(fd >= 0);
+	close(fd);
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	fixture_init(&f, db, 0);
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	run_night(&f, 3);
+	assert_int_equal(f.s.npt, 3);
+	id = f.s.id;
+	psd_db_close(db);   /* the process is gone: nothing ended the session */
+
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	fixture_init(&g, db, 0);
+	g.now = f.now + 3600;
+	psd_calsession_resume(&g.s, ctx(&g), 1.0, &ask);
+	assert_int_equal(g.s.state, PSD_CAL_RUNNING);
+	assert_int_equal(g.s.id, id);
+	assert_int_equal(g.s.kind, PSD_CAL_NIGHT);
+	assert_int_equal(g.s.npt, 3);
+	assert_int_equal(g.s.step, 3);
+	run_night(&g, PSD_CAL_NLEVELS);
+	assert_int_equal(g.s.state, PSD_CAL_DONE);
+	assert_near(g.s.night.offset, OFFSET, 1e-9);
+	assert_near(g.s.night.gain, GAIN_E, 1e-9);
+	assert_int_equal(samples_of(db, id), PSD_CAL_NLEVELS);
+	assert_int_equal(sessions(db).n, 1);
+	psd_db_close(db);
+	unlink(path);
+}
+
+/* Accepting a second night session supersedes the first, which stays in
+ * the history; at the next open the second one's constants are in force. */
+static void accept_supersedes(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	long long first, second;
+	struct count c;
+	(void)state;
+	fixture_init(&f, db, 0);
+	for (int k = 0; k < 2; k++) {
+		assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+		run_night(&f, PSD_CAL_NLEVELS);
+		assert_int_equal(psd_calsession_accept(&f.s, ctx(&f), &ask, err, sizeof err), 0);
+		if (k == 0)
+			first = f.s.id;
+		else
+			second = f.s.id;
+	}
+	c = sessions(db);
+	assert_int_equal(c.n, 2);
+	assert_int_equal(c.ids[0], first);
+	assert_string_equal(c.states[0], "superseded");
+	assert_int_equal(c.ids[1], second);
+	assert_string_equal(c.states[1], "accepted");
+	psd_calsession_accepted(ctx(&f), &ask);
+	assert_int_equal(ask.napply, 1);
+	assert_int_equal(ask.apply[0].id, second);
+	assert_int_equal(ask.apply[0].kind, PSD_CAL_NIGHT);
+	assert_near(ask.apply[0].offset, OFFSET, 1e-9);
+	assert_near(ask.apply[0].sensor_gain, 0.5, 1e-9);
+	psd_db_close(db);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(night_to_done_and_accepted),
+		cmocka_unit_test(day_with_meter_and_typed),
+		cmocka_unit_test(abort_on_fault),
+		cmocka_unit_test(resume_after_crash),
+		cmocka_unit_test(accept_supersedes),
+	};
+	log_init(1, PSD_LOG_WARN, "test_calsession");
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,175 @@
+/* The database's schema and its migrations: files written by earlier
+ * psensd versions (made here with the statements those versions ran) are
+ * brought forward in place with every row kept; a newer file is refused. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <sqlite3.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "db.h"
+
+static char path[64];
+
+static int setup(void **state)
+{
+	int fd;
+	(void)state;
+	snprintf(path, sizeof path, "/tmp/test_db.XXXXXX");
+	fd = mkstemp(path);
+	if (fd < 0)
+		return -1;
+	close(fd);
+	unlink(path);
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	char wal[80];
+	(void)state;
+	unlink(path);
+	snprintf(wal, sizeof wal, "%s-wal", path);
+	unlink(wal);
+	snprintf(wal, sizeof wal, "%s-shm", path);
+	unlink(wal);
+	return 0;
+}
+
+static void exec(const char *sql)
+{
+	sqlite3 *h;
+	assert_int_equal(sqlite3_open(path, &h), SQLITE_OK);
+	assert_int_equal(sqlite3_exec(h, sql, NULL, NULL, NULL), SQLITE_OK);
+	sqlite3_close(h);
+}
+
+static long long scalar(const char *sql)
+{
+	sqlite3 *h;
+	sqlite3_stmt *st;
+	long long v = -1;
+	assert_int_equal(sqlite3_open(path, &h), SQLITE_OK);
+	assert_int_equal(sqlite3_prepare_v2(h, sql, -1, &st, NULL), SQLITE_OK);
+	if (sqlite3_step(st) == SQLITE_ROW)
+		v = sqlite3_column_int64(st, 0);
+	sqlite3_finalize(st);
+	sqlite3_close(h);
+	return v;
+}
+
+/* What version 1 wrote: the sample log without zones. */
+static const char v1[] =
+	"CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT);"
+	"INSERT INTO meta VALUES('schema', '1');"
+	"CREATE TABLE samples(t REAL NOT NULL, tod_s REAL, sensor_v REAL, output REAL, est_task_lux REAL,"
+	" task_lux REAL, daylight_v REAL, daylight_lux REAL, condition TEXT, ratio REAL, fault TEXT);"
+	"CREATE INDEX samples_t ON samples(t);"
+	"INSERT INTO samples VALUES(21600, 21600, 0.5, 1, 600, NULL, 0.1, 47, 'daylight_mean', 236, NULL);"
+	"INSERT INTO samples VALUES(21660, 21660, 0.0, 1, NULL, NULL, NULL, NULL, 'daylight_mean', 236, 'open');";
+
+static void from_version_1(void **state)
+{
+	char err[256];
+	struct psd_db *db;
+	(void)state;
+	exec(v1);
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	assert_int_equal(psd_db_schema(db), PSD_DB_SCHEMA);
+	/* the old rows, with no zone, belong to every zone's report */
+	assert_int_equal(psd_db_zone_count(db, "office", err, sizeof err), 2);
+	assert_true(psd_db_cal_begin(db, "office", "night", 0, "", "", err, sizeof err) > 0);
+	psd_db_close(db);
+	assert_int_equal(scalar("SELECT count(*) FROM samples"), 2);
+	assert_int_equal(scalar("SELECT count(*) FROM samples WHERE zone IS NULL AND fault = 'open'"), 1);
+	assert_int_equal(scalar("SELECT value FROM meta WHERE key = 'schema'"), PSD_DB_SCHEMA);
+	assert_int_equal(scalar("SELECT count(*) FROM cal_sessions"), 1);
+}
+
+/* What version 2 wrote: zones, and the calibration tables made apart
+ * (meta 'cal_schema' 1) with a session on record. */
+static void from_version_2(void **state)
+{
+	char err[256];
+	struct psd_db *db;
+	struct psd_sample s = { 30000, 30000, 1.2, 0.5, 510, NAN, 0.9, 212, "daylight_mean", 236, NULL, "office" };
+	(void)state;
+	exec(v1);
+	exec("ALTER TABLE samples ADD COLUMN zone TEXT; UPDATE meta SET value = '2' WHERE key = 'schema';"
+	     "CREATE TABLE cal_sessions(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, kind TEXT NOT NULL,"
+	     " state TEXT NOT NULL, started REAL, ended REAL, config_sha256 TEXT, scene_sha256 TEXT, results TEXT,"
+	     " note TEXT);"
+	     "CREATE TABLE cal_samples(session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL,"
+	     " t REAL, level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));"
+	     "INSERT INTO meta VALUES('cal_schema', '1');"
+	     "INSERT INTO cal_sessions VALUES(7, 'office', 'night', 'accepted', 75600, 77000, 'a', 'b',"
+	     " '{\"offset\":0.05}', NULL);"
+	     "INSERT INTO cal_samples VALUES(7, 0, 75900, 1, 0.597, 0.0005, NULL, 'settled');");
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	assert_int_equal(psd_db_schema(db), PSD_DB_SCHEMA);
+	{
+		long long id = 0;
+		char *json = psd_db_cal_accepted(db, "office", "night", &id);
+		assert_non_null(json);
+		assert_int_equal(id, 7);
+		assert_string_equal(json, "{\"offset\":0.05}");
+		free(json);
+	}
+	/* and it goes on logging */
+	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+	assert_int_equal(psd_db_commit(db, err, sizeof err), 0);
+	psd_db_close(db);
+	assert_int_equal(scalar("SELECT count(*) FROM samples"), 3);
+	assert_int_equal(scalar("SELECT count(*) FROM samples WHERE zone = 'office'"), 1);
+	assert_int_equal(scalar("SELECT count(*) FROM cal_samples WHERE session = 7"), 1);
+}
+
+/* A file from a newer psensd is not touched. */
+static void newer_refused(void **state)
+{
+	char err[256];
+	(void)state;
+	exec("CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT); INSERT INTO meta VALUES('schema', '99');");
+	assert_null(psd_db_open(path, err, sizeof err));
+	assert_non_null(strstr(err, "schema version 99 is newer than this psensd's"));
+	assert_int_equal(scalar("SELECT value FROM meta WHERE key = 'schema'"), 99);
+}
+
+/* A new file is made at the current version; opening it again changes
+ * nothing. */
+static void new_file(void **state)
+{
+	char err[256];
+	struct psd_db *db;
+	(void)state;
+	for (int i = 0; i < 2; i++) {
+		db = psd_db_open(path, err, sizeof err);
+		assert_non_null(db);
+		assert_int_equal(psd_db_schema(db), PSD_DB_SCHEMA);
+		psd_db_close(db);
+	}
+	assert_int_equal(scalar("SELECT count(*) FROM meta"), 1);
+	db = psd_db_open_readonly(path, err, sizeof err);
+	assert_non_null(db);
+	assert_int_equal(psd_db_schema(db), PSD_DB_SCHEMA);
+	psd_db_close(db);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test_setup_teardown(from_version_1, setup, teardown),
+		cmocka_unit_test_setup_teardown(from_version_2, setup, teardown),
+		cmocka_unit_test_setup_teardown(newer_refused, setup, teardown),
+		cmocka_unit_test_setup_teardown(new_file, setup, teardown),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
