@@ -1,0 +1,25 @@
+/* Contour lines of a sampled field (marching squares), drawn on a canvas.
+ *
+ * The field is nx x ny samples, row-major, row 0 at the top; a NaN sample
+ * (outside a fisheye's field) leaves its cells out.  On each cell edge whose
+ * ends straddle the level the crossing is interpolated linearly; a cell with
+ * crossings on all four edges (a saddle) is resolved by its centre's mean. */
+#ifndef PS_CONTOUR_H
+#define PS_CONTOUR_H
+
+#include "canvas.h"
+
+/* Called for each segment, in sample coordinates (x across, y down). */
+typedef void (*ps_contour_fn)(void *arg, double x0, double y0, double x1, double y1);
+
+/* Every segment of the level's contour; returns how many. */
+long ps_contour(const double *val, int nx, int ny, double level, ps_contour_fn fn, void *arg);
+
+/* Draw the level's contour: sample (i, j) is at canvas (ox + i step, oy + j step).
+ * The label (may be NULL) goes on the segment nearest canvas (lx, ly), with
+ * a halo.  Returns the number of segments drawn. */
+long ps_contour_draw(struct ps_canvas *c, const double *val, int nx, int ny, double ox, double oy,
+                     double step, double level, const double rgb[3], double width,
+                     const char *label, double font, double lx, double ly);
+
+#endif

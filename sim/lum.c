@@ -1,0 +1,48 @@
+#include "lum.h"
+
+#include "integrate.h"
+
+static void invert3(const double a[3][3], double out[3][3])
+{
+	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+	             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+	out[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) / det;
+	out[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
+	out[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
+	out[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) / det;
+	out[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
+	out[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
+	out[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) / det;
+	out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
+	out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
+}
+
+void ps_lum_init(struct ps_lum *l, const struct ps_picture *pic)
+{
+	double m[3][3];
+	if (pic->format == PS_PIC_XYZE) {
+		ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+		invert3(m, l->to_rgb);
+	} else {
+		ps_rgb_to_xyz_matrix(pic->has_primaries ? pic->primaries : ps_std_primaries, m);
+		for (int i = 0; i < 3; i++)
+			for (int k = 0; k < 3; k++)
+				l->to_rgb[i][k] = i == k;
+	}
+	for (int k = 0; k < 3; k++)
+		l->y[k] = m[1][k];
+}
+
+void ps_lum_rgb(const struct ps_lum *l, const struct ps_picture *pic, int x, int row, double rgb[3])
+{
+	double c[3];
+	ps_pic_get(pic, x, row, c);
+	for (int i = 0; i < 3; i++)
+		rgb[i] = l->to_rgb[i][0] * c[0] + l->to_rgb[i][1] * c[1] + l->to_rgb[i][2] * c[2];
+}
+
+double ps_lum_y(const struct ps_lum *l, const double rgb[3])
+{
+	return l->y[0] * rgb[0] + l->y[1] * rgb[1] + l->y[2] * rgb[2];
+}
