@@ -11,12 +11,13 @@
 #include <unistd.h>
 
 #include "daemon.h"
+#include "errbuf.h"
 #include "log.h"
-#include "room.h"
 
 static const char help_text[] =
 	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | release ZONE | "
-	"ratios | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort";
+	"ratios | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort | "
+	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
 
 static void put_num(json_object *o, const char *key, double v)
 {
@@ -49,7 +50,7 @@ static void error_reply(char *reply, size_t len, const char *fmt, ...)
 	va_list ap;
 	json_object *o = json_object_new_object();
 	va_start(ap, fmt);
-	vsnprintf(msg, sizeof msg, fmt, ap);
+	psd_verrf(msg, sizeof msg, fmt, ap);
 	va_end(ap);
 	json_object_object_add(o, "ok", json_object_new_boolean(0));
 	put_str(o, "error", msg);
@@ -67,6 +68,7 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 {
 	json_object *o = json_object_new_object();
 	const struct psd_config *cf = e->cf;
+	struct ps_truth truth;
 	put_str(o, "name", z->zc->name);
 	put_str(o, "algorithm", psd_algorithm_names[z->ctl.algorithm]);
 	put_num(o, "target_lux", z->ctl.target_lux);
@@ -91,8 +93,8 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 		json_object_object_add(o, "occupied", json_object_new_boolean(z->occupancy));
 	json_object_object_add(o, "steps", json_object_new_int64((int64_t)z->steps));
 	json_object_object_add(o, "fault_steps", json_object_new_int64((int64_t)z->fault_steps));
-	if (z->room)
-		put_num(o, "true_task_lux", ps_room_true_task_lux(z->room, now));
+	if (psd_engine_truth(z, now, &truth) == 0)
+		put_num(o, "true_task_lux", truth.task_lux);
 	if (z->zc->task >= 0) {
 		json_object_object_add(o, "drift", json_object_new_boolean(z->drift.flagged));
 		put_num(o, "drift_pct", 100 * (exp(z->drift.last_ln) - 1));
@@ -108,11 +110,11 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 
 static json_object *cal_json(const struct psd_zone *z)
 {
-	const struct psd_cal *c = &z->cal;
+	const struct psd_calsession *c = &z->cal;
 	json_object *o = json_object_new_object(), *pts = json_object_new_array();
 	put_str(o, "zone", z->zc->name);
-	put_str(o, "kind", psd_cal_kind_names[c->kind]);
-	put_str(o, "state", psd_cal_state_names[c->state]);
+	put_str(o, "kind", psd_calsession_kind_names[c->kind]);
+	put_str(o, "state", psd_calsession_state_names[c->state]);
 	json_object_object_add(o, "session", c->id ? json_object_new_int64(c->id) : NULL);
 	put_str(o, "message", c->msg[0] ? c->msg : NULL);
 	if (c->kind == PSD_CAL_NIGHT) {
@@ -155,48 +157,54 @@ static json_object *cal_json(const struct psd_zone *z)
 	return o;
 }
 
+/* The zone a request names, resolved once; NULL after the error reply. */
+static struct psd_zone *zone_arg(struct psd_daemon *d, const char *name, char *reply, size_t len)
+{
+	struct psd_zone *z = psd_engine_zone(&d->engine, name);
+	if (!z)
+		error_reply(reply, len, "no zone '%s'", name);
+	return z;
+}
+
+static const char cal_usage[] = "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort";
+
 static void calibrate(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
 {
 	struct psd_engine *e = &d->engine;
-	struct psd_zone *z = argc >= 3 ? psd_engine_zone(e, argv[1]) : NULL;
+	struct psd_zone *z;
 	double now = psd_clock_now(&d->clock), a;
 	char err[512], *end;
 	int rc = 0;
 	if (argc < 3) {
-		error_reply(reply, len, "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort");
+		error_reply(reply, len, "%s", cal_usage);
 		return;
 	}
-	if (!z) {
-		error_reply(reply, len, "no zone '%s'", argv[1]);
+	if (!(z = zone_arg(d, argv[1], reply, len)))
 		return;
-	}
 	if (strcmp(argv[2], "night") == 0 && argc == 3) {
-		rc = psd_cal_start(e, argv[1], PSD_CAL_NIGHT, 0, now, err, sizeof err);
+		rc = psd_engine_cal_start(e, z, PSD_CAL_NIGHT, 0, now, err, sizeof err);
 	} else if (strcmp(argv[2], "day") == 0 && argc <= 4) {
 		a = z->level;
 		if (argc == 4 && (a = strtod(argv[3], &end), *end || end == argv[3])) {
 			error_reply(reply, len, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
 			return;
 		}
-		rc = psd_cal_start(e, argv[1], PSD_CAL_DAY, a, now, err, sizeof err);
+		rc = psd_engine_cal_start(e, z, PSD_CAL_DAY, a, now, err, sizeof err);
 	} else if (strcmp(argv[2], "lux") == 0 && argc == 4) {
 		a = strtod(argv[3], &end);
 		if (*end || end == argv[3]) {
 			error_reply(reply, len, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
 			return;
 		}
-		rc = psd_cal_lux(e, argv[1], a, now, err, sizeof err);
+		rc = psd_engine_cal_lux(e, z, a, now, err, sizeof err);
 	} else if (strcmp(argv[2], "finish") == 0 && argc == 3) {
-		rc = psd_cal_finish(e, argv[1], now, err, sizeof err);
+		rc = psd_engine_cal_finish(e, z, now, err, sizeof err);
 	} else if (strcmp(argv[2], "accept") == 0 && argc == 3) {
-		rc = psd_cal_accept(e, argv[1], err, sizeof err);
+		rc = psd_engine_cal_accept(e, z, now, err, sizeof err);
 	} else if (strcmp(argv[2], "abort") == 0 && argc == 3) {
-		if (psd_cal_abort(e, z, now, "by request") != 0) {
-			error_reply(reply, len, "zone %s has no running session", argv[1]);
-			return;
-		}
+		rc = psd_engine_cal_abort(e, z, now, "by request", err, sizeof err);
 	} else if (strcmp(argv[2], "status") != 0 || argc != 3) {
-		error_reply(reply, len, "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort");
+		error_reply(reply, len, "%s", cal_usage);
 		return;
 	}
 	if (rc != 0) {
@@ -210,19 +218,93 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, char *reply, 
 	}
 }
 
+/* dali DEVICE REQUEST...: a DALI interface's own requests (commissioning),
+ * answered by its driver's command method; verify ZONE hands it the zone's
+ * outputs on that interface. */
+static void dali(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+{
+	struct psd_engine *e = &d->engine;
+	struct ps_dev *dev = NULL;
+	struct ps_point *pts[2 * PSD_MAX_ZONE_OUT];
+	int npts = 0, di = -1;
+	size_t outlen = len > 64 ? len - 64 : len;   /* room for {"ok":true,"dali":...} */
+	char *out;
+	json_object *o, *res;
+	if (argc < 3) {
+		error_reply(reply, len, "usage: dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|"
+		                        "identify SHORT [SECONDS]|verify ZONE|status|abort");
+		return;
+	}
+	for (size_t i = 0; e->cf && i < e->cf->ndev; i++)
+		if (e->dev_open[i] && strcmp(e->dev[i].name, argv[1]) == 0)
+			di = (int)i;
+	if (di < 0) {
+		error_reply(reply, len, "no device '%s'", argv[1]);
+		return;
+	}
+	dev = &e->dev[di];
+	if (!dev->drv->command || strncmp(dev->drv->name, "dali", 4) != 0) {
+		error_reply(reply, len, "device %s (driver %s) is not a DALI interface", argv[1], dev->drv->name);
+		return;
+	}
+	if (strcmp(argv[2], "verify") == 0 && argc == 4) {
+		const struct psd_zone *z = zone_arg(d, argv[3], reply, len);
+		const struct psd_zone_conf *zc;
+		if (!z)
+			return;
+		zc = z->zc;
+		for (int k = 0; k < zc->ndim + zc->nrelay; k++) {
+			int p = k < zc->ndim ? zc->dim[k] : zc->relay[k - zc->ndim];
+			if (e->cf->pt[p].device == di)
+				pts[npts++] = &e->pt[p];
+		}
+		if (!npts) {
+			error_reply(reply, len, "zone %s has no outputs on %s", argv[3], argv[1]);
+			return;
+		}
+	}
+	if (!(out = malloc(outlen))) {
+		error_reply(reply, len, "out of memory");
+		return;
+	}
+	if (dev->drv->command(dev, argc - 2, argv + 2, pts, npts, psd_clock_now(&d->clock), out, outlen) != 0) {
+		error_reply(reply, len, "%s", dev->err);
+		free(out);
+		return;
+	}
+	res = json_tokener_parse(out);
+	free(out);
+	if (!res) {
+		error_reply(reply, len, "device %s: its driver's reply is not JSON", argv[1]);
+		return;
+	}
+	if (strcmp(argv[2], "status") != 0) {
+		char words[160] = "";
+		size_t k = 0;
+		for (int i = 2; i < argc && k < sizeof words; i++)
+			k += (size_t)snprintf(words + k, sizeof words - k, "%s%s", i > 2 ? " " : "", argv[i]);
+		log_info("device %s: dali %s", argv[1], words);
+	}
+	o = ok_reply();
+	json_object_object_add(o, "dali", res);
+	finish(o, reply, len);
+}
+
 static void status(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
 {
 	struct psd_engine *e = &d->engine;
 	double now = psd_clock_now(&d->clock);
 	json_object *o, *zones;
 	char t[8];
-	if (argc > 2 || (argc == 2 && !psd_engine_zone(e, argv[1]))) {
-		error_reply(reply, len, argc > 2 ? "usage: status [ZONE]" : "no zone '%s'", argv[1]);
+	if (argc > 2) {
+		error_reply(reply, len, "usage: status [ZONE]");
 		return;
 	}
+	if (argc == 2 && !zone_arg(d, argv[1], reply, len))
+		return;
 	o = ok_reply();
 	zones = json_object_new_array();
-	psd_hhmm(now, t);
+	psd_clock_hhmm(now, t);
 	put_num(o, "now", now);
 	put_str(o, "time", t);
 	put_str(o, "clock", d->clock.simulated ? "simulated" : "real");
@@ -286,6 +368,7 @@ void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char
 {
 	struct psd_daemon *d = user;
 	struct psd_engine *e = &d->engine;
+	struct psd_zone *z;
 	char *argv[PSD_CTL_MAX_WORDS], err[512];
 	int argc = psd_ctl_split(line, argv, err, sizeof err);
 	double a, b;
@@ -318,26 +401,32 @@ void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char
 	} else if (strcmp(argv[0], "target") == 0) {
 		if (argc != 3 || number(argv[2], &a) != 0)
 			error_reply(reply, len, "usage: target ZONE LUX");
-		else if (psd_engine_set_target(e, argv[1], a, err, sizeof err) != 0)
+		else if (!(z = zone_arg(d, argv[1], reply, len)))
+			;
+		else if (psd_engine_set_target(z, a, err, sizeof err) != 0)
 			error_reply(reply, len, "%s", err);
 		else
 			finish(ok_reply(), reply, len);
 	} else if (strcmp(argv[0], "override") == 0) {
 		if (argc != 4 || number(argv[2], &a) != 0 || number(argv[3], &b) != 0)
 			error_reply(reply, len, "usage: override ZONE LEVEL SECONDS (level 0 to 1)");
-		else if (psd_engine_override(e, argv[1], a, b, psd_clock_now(&d->clock), err, sizeof err) != 0)
+		else if (!(z = zone_arg(d, argv[1], reply, len)))
+			;
+		else if (psd_engine_override(z, a, b, psd_clock_now(&d->clock), err, sizeof err) != 0)
 			error_reply(reply, len, "%s", err);
 		else
 			finish(ok_reply(), reply, len);
 	} else if (strcmp(argv[0], "release") == 0) {
-		if (argc != 2)
+		if (argc != 2) {
 			error_reply(reply, len, "usage: release ZONE");
-		else if (psd_engine_release(e, argv[1], err, sizeof err) != 0)
-			error_reply(reply, len, "%s", err);
-		else
+		} else if ((z = zone_arg(d, argv[1], reply, len))) {
+			psd_engine_release(z);
 			finish(ok_reply(), reply, len);
+		}
 	} else if (strcmp(argv[0], "calibrate") == 0) {
 		calibrate(d, argc, argv, reply, len);
+	} else if (strcmp(argv[0], "dali") == 0) {
+		dali(d, argc, argv, reply, len);
 	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
 		d->reload = 1;   /* after this request, like SIGHUP */
 		finish(ok_reply(), reply, len);

@@ -43,6 +43,13 @@ int ps_dali_dtr0(int value)
 	return value < 0 || value > 255 ? -1 : (PS_DALI_DTR0 << 8) | value;
 }
 
+int ps_dali_special(int address_byte, int data)
+{
+	if (address_byte < 0xA1 || address_byte > 0xCB || !(address_byte & 1) || data < 0 || data > 255)
+		return -1;
+	return address_byte << 8 | data;
+}
+
 int ps_dali_frame_addr(unsigned frame, struct ps_dali_addr *a)
 {
 	unsigned ab = (frame >> 8) & 0xFF;
@@ -83,6 +90,7 @@ static const char *opcode_name(unsigned op)
 	case PS_DALI_RECALL_MAX: return "RECALL MAX LEVEL";
 	case PS_DALI_RECALL_MIN: return "RECALL MIN LEVEL";
 	case PS_DALI_RESET: return "RESET";
+	case PS_DALI_IDENTIFY_DEVICE: return "IDENTIFY DEVICE";
 	case PS_DALI_SET_MAX_LEVEL: return "SET MAX LEVEL";
 	case PS_DALI_SET_MIN_LEVEL: return "SET MIN LEVEL";
 	case PS_DALI_SET_SYSTEM_FAILURE_LEVEL: return "SET SYSTEM FAILURE LEVEL";
@@ -92,6 +100,9 @@ static const char *opcode_name(unsigned op)
 	case PS_DALI_QUERY_STATUS: return "QUERY STATUS";
 	case PS_DALI_QUERY_GEAR_PRESENT: return "QUERY CONTROL GEAR PRESENT";
 	case PS_DALI_QUERY_LAMP_FAILURE: return "QUERY LAMP FAILURE";
+	case PS_DALI_QUERY_MISSING_SHORT_ADDRESS: return "QUERY MISSING SHORT ADDRESS";
+	case PS_DALI_QUERY_VERSION: return "QUERY VERSION NUMBER";
+	case PS_DALI_QUERY_DEVICE_TYPE: return "QUERY DEVICE TYPE";
 	case PS_DALI_QUERY_PHYSICAL_MINIMUM: return "QUERY PHYSICAL MINIMUM";
 	case PS_DALI_QUERY_ACTUAL_LEVEL: return "QUERY ACTUAL LEVEL";
 	case PS_DALI_QUERY_MAX_LEVEL: return "QUERY MAX LEVEL";
@@ -99,6 +110,30 @@ static const char *opcode_name(unsigned op)
 	case PS_DALI_QUERY_POWER_ON_LEVEL: return "QUERY POWER ON LEVEL";
 	case PS_DALI_QUERY_SYSTEM_FAILURE_LEVEL: return "QUERY SYSTEM FAILURE LEVEL";
 	case PS_DALI_QUERY_FADE: return "QUERY FADE TIME/RATE";
+	case PS_DALI_QUERY_GROUPS_0_7: return "QUERY GROUPS 0-7";
+	case PS_DALI_QUERY_GROUPS_8_15: return "QUERY GROUPS 8-15";
+	case PS_DALI_QUERY_RANDOM_H: return "QUERY RANDOM ADDRESS (H)";
+	case PS_DALI_QUERY_RANDOM_M: return "QUERY RANDOM ADDRESS (M)";
+	case PS_DALI_QUERY_RANDOM_L: return "QUERY RANDOM ADDRESS (L)";
+	}
+	return NULL;
+}
+
+static const char *special_name(unsigned ab)
+{
+	switch (ab) {
+	case PS_DALI_TERMINATE: return "TERMINATE";
+	case PS_DALI_DTR0: return "DTR0";
+	case PS_DALI_INITIALISE: return "INITIALISE";
+	case PS_DALI_RANDOMISE: return "RANDOMISE";
+	case PS_DALI_COMPARE: return "COMPARE";
+	case PS_DALI_WITHDRAW: return "WITHDRAW";
+	case PS_DALI_SEARCHADDRH: return "SEARCHADDRH";
+	case PS_DALI_SEARCHADDRM: return "SEARCHADDRM";
+	case PS_DALI_SEARCHADDRL: return "SEARCHADDRL";
+	case PS_DALI_PROGRAM_SHORT_ADDRESS: return "PROGRAM SHORT ADDRESS";
+	case PS_DALI_VERIFY_SHORT_ADDRESS: return "VERIFY SHORT ADDRESS";
+	case PS_DALI_QUERY_SHORT_ADDRESS: return "QUERY SHORT ADDRESS";
 	}
 	return NULL;
 }
@@ -110,10 +145,22 @@ void ps_dali_describe(unsigned frame, char *buf, size_t len)
 	const char *name;
 	frame &= 0xFFFF;
 	if (ps_dali_frame_addr(frame, &a) != 0) {
-		if ((frame >> 8) == PS_DALI_DTR0)
-			snprintf(buf, len, "DTR0 %u", frame & 0xFF);
+		const char *sp = special_name(frame >> 8);
+		unsigned data = frame & 0xFF;
+		if ((frame >> 8) == PS_DALI_UNADDRESSED && (name = opcode_name(data)))
+			snprintf(buf, len, "unaddressed %s", name);
+		else if (sp && (frame >> 8 == PS_DALI_SEARCHADDRH || frame >> 8 == PS_DALI_SEARCHADDRM ||
+		                frame >> 8 == PS_DALI_SEARCHADDRL || frame >> 8 == PS_DALI_DTR0))
+			snprintf(buf, len, "%s %u", sp, data);
+		else if (sp && (frame >> 8 == PS_DALI_PROGRAM_SHORT_ADDRESS || frame >> 8 == PS_DALI_VERIFY_SHORT_ADDRESS ||
+		                frame >> 8 == PS_DALI_INITIALISE) && (data & 0x81) == 0x01)
+			snprintf(buf, len, "%s short %u", sp, data >> 1);
+		else if (sp && frame >> 8 == PS_DALI_INITIALISE)
+			snprintf(buf, len, "%s %s", sp, data == 0 ? "all" : data == 0xFF ? "unaddressed" : "?");
+		else if (sp)
+			snprintf(buf, len, "%s%s", sp, data == 0xFF && frame >> 8 == PS_DALI_PROGRAM_SHORT_ADDRESS ? " none" : "");
 		else
-			snprintf(buf, len, "special %02X %02X", frame >> 8, frame & 0xFF);
+			snprintf(buf, len, "special %02X %02X", frame >> 8, data);
 		return;
 	}
 	if (a.kind == PS_DALI_SHORT)

@@ -28,15 +28,22 @@ enum {
 	PS_DALI_RECALL_MAX = 0x05,
 	PS_DALI_RECALL_MIN = 0x06,
 	PS_DALI_RESET = 0x20,
+	PS_DALI_IDENTIFY_DEVICE = 0x25,
 	PS_DALI_SET_MAX_LEVEL = 0x2A,
 	PS_DALI_SET_MIN_LEVEL = 0x2B,
 	PS_DALI_SET_SYSTEM_FAILURE_LEVEL = 0x2C,
 	PS_DALI_SET_POWER_ON_LEVEL = 0x2D,
 	PS_DALI_SET_FADE_TIME = 0x2E,
 	PS_DALI_SET_FADE_RATE = 0x2F,
+	PS_DALI_ADD_TO_GROUP = 0x60,        /* + group 0..15 */
+	PS_DALI_REMOVE_FROM_GROUP = 0x70,   /* + group 0..15 */
+	PS_DALI_SET_SHORT_ADDRESS = 0x80,
 	PS_DALI_QUERY_STATUS = 0x90,
 	PS_DALI_QUERY_GEAR_PRESENT = 0x91,
 	PS_DALI_QUERY_LAMP_FAILURE = 0x92,
+	PS_DALI_QUERY_MISSING_SHORT_ADDRESS = 0x96,
+	PS_DALI_QUERY_VERSION = 0x97,
+	PS_DALI_QUERY_DEVICE_TYPE = 0x99,
 	PS_DALI_QUERY_PHYSICAL_MINIMUM = 0x9A,
 	PS_DALI_QUERY_ACTUAL_LEVEL = 0xA0,
 	PS_DALI_QUERY_MAX_LEVEL = 0xA1,
@@ -44,10 +51,36 @@ enum {
 	PS_DALI_QUERY_POWER_ON_LEVEL = 0xA3,
 	PS_DALI_QUERY_SYSTEM_FAILURE_LEVEL = 0xA4,
 	PS_DALI_QUERY_FADE = 0xA5,
+	PS_DALI_QUERY_GROUPS_0_7 = 0xC0,
+	PS_DALI_QUERY_GROUPS_8_15 = 0xC1,
+	PS_DALI_QUERY_RANDOM_H = 0xC2,
+	PS_DALI_QUERY_RANDOM_M = 0xC3,
+	PS_DALI_QUERY_RANDOM_L = 0xC4,
 };
 
-/* Special command address bytes (the data byte is the value). */
-#define PS_DALI_DTR0 0xA3
+/* Special command address bytes (the data byte is the value); all gear
+ * listen.  INITIALISE's data: 0x00 all gear, 0xFF gear without a short
+ * address, 0AAAAAA1 the gear at short address A.  INITIALISE and RANDOMISE
+ * are sent twice; the others act only inside INITIALISE's 15 minutes. */
+enum {
+	PS_DALI_TERMINATE = 0xA1,
+	PS_DALI_DTR0 = 0xA3,
+	PS_DALI_INITIALISE = 0xA5,
+	PS_DALI_RANDOMISE = 0xA7,
+	PS_DALI_COMPARE = 0xA9,            /* "yes" from gear whose random address <= the search address */
+	PS_DALI_WITHDRAW = 0xAB,
+	PS_DALI_SEARCHADDRH = 0xB1,
+	PS_DALI_SEARCHADDRM = 0xB3,
+	PS_DALI_SEARCHADDRL = 0xB5,
+	PS_DALI_PROGRAM_SHORT_ADDRESS = 0xB7,   /* data 0AAAAAA1, or 0xFF to delete */
+	PS_DALI_VERIFY_SHORT_ADDRESS = 0xB9,
+	PS_DALI_QUERY_SHORT_ADDRESS = 0xBB,     /* answer 0AAAAAA1, or 0xFF: none */
+};
+/* Address byte of a command to all gear without a short address (1111110S). */
+#define PS_DALI_UNADDRESSED 0xFD
+
+/* Frame of a special command. */
+int ps_dali_special(int address_byte, int data);
 
 /* Address byte with the selector bit: DAPC when command == 0, command else. */
 int ps_dali_addr_byte(const struct ps_dali_addr *a, int command);

@@ -23,7 +23,14 @@
  * its safe level, which the driver remembers and sends on reconnect).  With
  * the safe_level option the driver also programs each ballast's SYSTEM
  * FAILURE LEVEL at every connect, which is where the gear goes by itself
- * when the bus goes down with the interface. */
+ * when the bus goes down with the interface.
+ *
+ * Commissioning (dali_commission.h) runs beside the control: the command
+ * method starts one job at a time (scan, address, group, identify, verify),
+ * whose transactions take turns with the queue's, so zones keep being
+ * dimmed between the frames of a search.  While a job moves the light of
+ * some ballasts (identify, verify), frames to the points that reach them
+ * wait in the queue; when it ends those points get their level again. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -34,7 +41,10 @@
 
 #include <libusb.h>
 
+#include <json-c/json.h>
+
 #include "dali.h"
+#include "dali_commission.h"
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
@@ -49,12 +59,14 @@
 
 enum { ST_DOWN = 0, ST_UP, ST_CLOSING };
 
-enum tx_kind { TX_DAPC, TX_QUERY_ACTUAL, TX_QUERY_PHYS_MIN, TX_QUERY_SFL, TX_SET_SFL, TX_SET_FADE };
+enum tx_kind { TX_DAPC, TX_QUERY_ACTUAL, TX_QUERY_PHYS_MIN, TX_QUERY_SFL, TX_SET_SFL, TX_SET_FADE, TX_JOB };
 
 struct tx {
 	int kind;
-	int point;
+	int point;             /* -1 for TX_JOB */
 	int tries;
+	unsigned frame;        /* TX_JOB: the commissioning job's transaction */
+	int twice;
 };
 
 struct dpoint {
@@ -67,6 +79,7 @@ struct dpoint {
 	int actual_errno;  /* the last query's failure, 0 if it was answered */
 	int dapc_pending;  /* a DAPC is queued or on the bus */
 	int query_pending;
+	int held;          /* a commissioning job held its frames back */
 	int err;           /* an asynchronous failure to report on the next call */
 	char errmsg[200];
 };
@@ -91,6 +104,7 @@ struct dali_usb {
 	double now;
 	double next_scan, backoff, closing_until;
 	char down_why[400];
+	char lost_why[160];   /* why the link last went down; kept across failed rescans */
 
 	struct tx q[QCAP];
 	size_t qhead, qlen;
@@ -102,17 +116,72 @@ struct dali_usb {
 	struct dpoint pts[MAX_POINTS];
 	int npts;
 	struct ps_dali_usb_stats st;
+
+	struct ps_dali_commission *job;   /* the last commissioning job, NULL before the first */
+	int job_busy;          /* its transaction is on the bus or queued for a retry */
+	int last_was_job;      /* the last SEND was the job's: the queue's turn */
+	int job_held;          /* points were held back while it ran */
 };
 
 extern const struct ps_driver ps_driver_dali_usb;
 
+/* The interfaces, and their names for the transport key (in that order). */
+static const struct ps_dali_transport *const transports[] = { &ps_dali_tridonic, NULL };
+static const char *const transport_names[] = { "tridonic", NULL };
+
 const struct ps_dali_transport *ps_dali_transport_find(const char *name)
 {
-	static const struct ps_dali_transport *const all[] = { &ps_dali_tridonic, NULL };
-	for (int i = 0; all[i]; i++)
-		if (strcmp(all[i]->name, name) == 0)
-			return all[i];
+	for (int i = 0; transports[i]; i++)
+		if (strcmp(transports[i]->name, name) == 0)
+			return transports[i];
 	return NULL;
+}
+
+/* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
+static int valid_port(const char *v, char *why, size_t n)
+{
+	int bus, len = 0;
+	if (sscanf(v, "%d-%*[0-9.]%n", &bus, &len) == 1 && !v[len] && strlen(v) < 32)
+		return 0;
+	snprintf(why, n, "is not BUS-PORT[.PORT...] (as in /sys/bus/usb/devices, e.g. 1-1.4)");
+	return -1;
+}
+
+static int valid_address(const char *v, char *why, size_t n)
+{
+	struct ps_dali_addr a;
+	return ps_dali_addr_parse(v, &a, why, n);
+}
+
+#define DEV PS_OPT_DEVICE
+static const struct ps_opt_spec du_options[] = {
+	{ "transport", PS_OPT_ENUM, DEV, 0, "tridonic", 0, 0, transport_names, NULL,
+	  "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020)" },
+	{ "serial", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL, "the interface with this USB serial number" },
+	{ "port", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, valid_port,
+	  "the interface at this USB port, BUS-PORT[.PORT...] (e.g. 1-1.4)" },
+	{ "timeout", PS_OPT_DOUBLE, DEV, 0, "0.2", 0.01, 10, NULL, NULL,
+	  "seconds for the interface's answer to a frame" },
+	{ "retries", PS_OPT_LONG, DEV, 0, "2", 0, 10, NULL, NULL, "further tries of a frame that got no answer" },
+	{ "frame_gap", PS_OPT_DOUBLE, DEV, 0, "0.022", 0, 1, NULL, NULL,
+	  "seconds between a transaction's end and the next frame" },
+	{ "safe_level", PS_OPT_DOUBLE, DEV, 0, NULL, 0, 1, NULL, NULL,
+	  "program each ballast's SYSTEM FAILURE LEVEL to this output (absent: leave it)" },
+	{ "fade_time", PS_OPT_DOUBLE, DEV, 0, NULL, 0, 90.5, NULL, NULL,
+	  "program each ballast's fade time, seconds (absent: leave it)" },
+	{ "address", PS_OPT_STRING, PS_OPT_POINT, 0, "broadcast", 0, 0, NULL, valid_address,
+	  "the ballasts: a short address 0 to 63, group N or broadcast" },
+	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+};
+#undef DEV
+
+static int du_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
+{
+	if (role < 0 || role == PS_ROLE_DIM || role == PS_ROLE_RELAY)
+		return 0;
+	*line = ps_opt_line(o, "address");
+	snprintf(why, n, "dali_usb drives dim and relay points, not %s", ps_role_name(role));
+	return -1;
 }
 
 /* ---- the epoll set that stands for libusb's descriptors ------------------ */
@@ -178,7 +247,7 @@ static int q_push(struct dali_usb *d, int kind, int point)
 {
 	if (d->qlen >= QCAP)
 		return -1;
-	d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ kind, point, 0 };
+	d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ kind, point, 0, 0, 0 };
 	return 0;
 }
 
@@ -198,6 +267,7 @@ static void lost(struct dali_usb *d, const char *why)
 	if (d->state != ST_UP)
 		return;
 	snprintf(d->down_why, sizeof d->down_why, "%s", why);
+	snprintf(d->lost_why, sizeof d->lost_why, "%s", why);
 	d->state = ST_CLOSING;
 	d->closing_until = d->now + CLOSE_WAIT;
 	if (d->in_busy)
@@ -207,6 +277,12 @@ static void lost(struct dali_usb *d, const char *why)
 	/* what was queued is redone from the points' state on reconnect */
 	d->qlen = 0;
 	d->cur_active = 0;
+	if (d->job) {
+		char msg[480];
+		snprintf(msg, sizeof msg, "DALI USB interface: %s", why);
+		ps_dali_commission_fail(d->job, d->now, msg);
+	}
+	d->job_busy = 0;
 	for (int i = 0; i < d->npts; i++)
 		d->pts[i].dapc_pending = d->pts[i].query_pending = 0;
 }
@@ -270,6 +346,18 @@ static void port_path(libusb_device *dev, char *out, size_t len)
 		k += snprintf(out + k, len - (size_t)k, i ? ".%d" : "%d", ports[i]);
 }
 
+/* A rescan after a loss that finds nothing keeps the loss's cause in front:
+ * "interface unplugged; rescan: no ... found" tells the log what happened,
+ * the rescan's words alone would not. */
+static void keep_cause(struct dali_usb *d)
+{
+	char scan[sizeof d->down_why];
+	if (!d->lost_why[0])
+		return;
+	snprintf(scan, sizeof scan, "%s", d->down_why);
+	snprintf(d->down_why, sizeof d->down_why, "%.159s; rescan: %.230s", d->lost_why, scan);
+}
+
 /* Find, open and claim the interface.  0 ok; -1 with d->down_why. */
 static int connect_usb(struct dali_usb *d)
 {
@@ -321,6 +409,7 @@ static int connect_usb(struct dali_usb *d)
 			snprintf(d->down_why, sizeof d->down_why,
 			         "%d %s interfaces found (at %s and %s): choose one with port = or serial =",
 			         matches, d->tp->name, where, other);
+		keep_cause(d);
 		ctx_free(d);
 		errno = matches ? EINVAL : ENODEV;
 		return -1;
@@ -339,12 +428,14 @@ static int connect_usb(struct dali_usb *d)
 	if (r != 0 || !d->in || !d->out || (r = submit_in(d)) != 0) {
 		snprintf(d->down_why, sizeof d->down_why, "interface at %s: cannot claim it: %s", where,
 		         libusb_strerror(r ? r : LIBUSB_ERROR_NO_MEM));
+		keep_cause(d);
 		d->state = ST_UP;   /* so that teardown releases everything */
 		teardown(d);
 		errno = ENODEV;
 		return -1;
 	}
 	d->state = ST_UP;
+	d->lost_why[0] = 0;
 	d->st.connects++;
 	d->backoff = BACKOFF_MIN;
 	d->cur_active = 0;
@@ -376,8 +467,9 @@ static void out_done(struct libusb_transfer *t)
 	d->out_busy = 0;
 	if (d->state != ST_UP)
 		return;
-	if (t->status == LIBUSB_TRANSFER_NO_DEVICE || t->status == LIBUSB_TRANSFER_ERROR ||
-	    t->status == LIBUSB_TRANSFER_STALL)
+	if (t->status == LIBUSB_TRANSFER_NO_DEVICE)
+		lost(d, "interface unplugged");
+	else if (t->status == LIBUSB_TRANSFER_ERROR || t->status == LIBUSB_TRANSFER_STALL)
 		lost(d, "interface gone (sending)");
 	else if (t->status == LIBUSB_TRANSFER_TIMED_OUT && d->cur_active)
 		d->cur_deadline = d->now;   /* the interface did not take the report: retry */
@@ -385,10 +477,14 @@ static void out_done(struct libusb_transfer *t)
 
 static int frame_for(struct dali_usb *d, const struct tx *t, int *twice, int *dtr0)
 {
-	struct dpoint *p = &d->pts[t->point];
+	struct dpoint *p = t->kind == TX_JOB ? NULL : &d->pts[t->point];
 	int level;
 	*twice = 0;
 	*dtr0 = -1;
+	if (!p) {
+		*twice = t->twice;
+		return (int)t->frame;
+	}
 	switch (t->kind) {
 	case TX_DAPC:
 		level = ps_dali_clamp_physical_min(p->want, p->phys_min);
@@ -419,32 +515,85 @@ static const char *tx_name(int kind)
 {
 	static const char *const names[] = { "DAPC", "QUERY ACTUAL LEVEL", "QUERY PHYSICAL MINIMUM",
 		                             "QUERY SYSTEM FAILURE LEVEL", "SET SYSTEM FAILURE LEVEL",
-		                             "SET FADE TIME" };
+		                             "SET FADE TIME", "commissioning" };
 	return names[kind];
+}
+
+/* Index in the queue of the first transaction that may go now: not one to a
+ * point whose light a commissioning job is moving.  -1 if none. */
+static int sendable(struct dali_usb *d)
+{
+	for (size_t i = 0; i < d->qlen; i++) {
+		const struct tx *t = &d->q[(d->qhead + i) % QCAP];
+		if (t->kind == TX_JOB || !d->job || !ps_dali_commission_holds(d->job, &d->pts[t->point].addr))
+			return (int)i;
+	}
+	return -1;
+}
+
+/* Take the i-th queued transaction out, keeping the order of the rest. */
+static struct tx q_take(struct dali_usb *d, size_t i)
+{
+	struct tx t = d->q[(d->qhead + i) % QCAP];
+	for (size_t k = i; k > 0; k--)
+		d->q[(d->qhead + k) % QCAP] = d->q[(d->qhead + k - 1) % QCAP];
+	d->qhead = (d->qhead + 1) % QCAP;
+	d->qlen--;
+	return t;
+}
+
+/* The job's next transaction, if it has one and none is under way. */
+static int job_ready(const struct dali_usb *d, struct ps_dali_tx *tx)
+{
+	double until;
+	return d->job && !d->job_busy && ps_dali_commission_next(d->job, tx, &until) == PS_DALI_NEXT_TX;
+}
+
+/* A job's transaction ended (rx: enum ps_dali_rx). */
+static void job_done(struct dali_usb *d, int rx, unsigned value, const char *why)
+{
+	d->job_busy = 0;
+	if (d->job)
+		ps_dali_commission_result(d->job, d->now, rx, value, why);
 }
 
 static void send_next(struct dali_usb *d)
 {
-	int frame, twice, dtr0, len, r;
-	if (d->state != ST_UP || d->cur_active || d->out_busy || !d->qlen || d->now < d->next_send)
+	int frame, twice, dtr0, len, r, qi;
+	struct ps_dali_tx jt;
+	int have_job;
+	if (d->state != ST_UP || d->cur_active || d->out_busy || d->now < d->next_send)
 		return;
-	d->cur = d->q[d->qhead];
-	d->qhead = (d->qhead + 1) % QCAP;
-	d->qlen--;
+	qi = sendable(d);
+	have_job = job_ready(d, &jt);
+	if (qi < 0 && !have_job)
+		return;
+	/* the job and the queue take turns: zones are dimmed between search frames */
+	if (have_job && (qi < 0 || !d->last_was_job)) {
+		d->cur = (struct tx){ TX_JOB, -1, 0, jt.frame, jt.twice };
+		d->job_busy = 1;
+	} else {
+		d->cur = q_take(d, (size_t)qi);
+	}
+	d->last_was_job = d->cur.kind == TX_JOB;
 	frame = frame_for(d, &d->cur, &twice, &dtr0);
 	d->seq = d->tp->next_seq(d->seq);
 	len = frame < 0 ? -1 : d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)frame, twice, dtr0);
 	if (len < 0) {
-		struct dpoint *p = &d->pts[d->cur.point];
-		p->err = EINVAL;
-		snprintf(p->errmsg, sizeof p->errmsg, "%s: cannot be encoded for this interface", tx_name(d->cur.kind));
+		if (d->cur.kind == TX_JOB) {
+			job_done(d, PS_DALI_RX_FAILED, 0, "a commissioning frame cannot be encoded for this interface");
+		} else {
+			struct dpoint *p = &d->pts[d->cur.point];
+			p->err = EINVAL;
+			snprintf(p->errmsg, sizeof p->errmsg, "%s: cannot be encoded for this interface", tx_name(d->cur.kind));
+		}
 		return;
 	}
 	libusb_fill_interrupt_transfer(d->out, d->h, d->tp->ep_out, d->outbuf, len, out_done, d,
 	                               (unsigned)(d->timeout * 1000 + 0.5));
 	r = libusb_submit_transfer(d->out);
 	if (r != 0) {
-		lost(d, "interface gone (submit)");
+		lost(d, r == LIBUSB_ERROR_NO_DEVICE ? "interface unplugged" : "interface gone (submit)");
 		return;
 	}
 	d->out_busy = 1;
@@ -461,10 +610,15 @@ static void send_next(struct dali_usb *d)
 static void finish(struct dali_usb *d, int answer)
 {
 	struct tx t = d->cur;
-	struct dpoint *p = &d->pts[t.point];
+	struct dpoint *p;
 	int sfl;
 	d->cur_active = 0;
 	d->next_send = d->now + d->frame_gap;
+	if (t.kind == TX_JOB) {
+		job_done(d, answer < 0 ? PS_DALI_RX_NONE : PS_DALI_RX_ANSWER, answer < 0 ? 0 : (unsigned)answer, NULL);
+		return;
+	}
+	p = &d->pts[t.point];
 	switch (t.kind) {
 	case TX_DAPC: {
 		int twice, dtr0;
@@ -473,7 +627,7 @@ static void finish(struct dali_usb *d, int answer)
 		p->err = 0;
 		/* a write arrived while this frame was on the bus: send the new level */
 		if (frame_for(d, &t, &twice, &dtr0) != d->cur_frame) {
-			q_push_front(d, (struct tx){ TX_DAPC, t.point, 0 });
+			q_push_front(d, (struct tx){ .kind = TX_DAPC, .point = t.point });
 			p->dapc_pending = 1;
 		}
 		break;
@@ -493,7 +647,7 @@ static void finish(struct dali_usb *d, int answer)
 		sfl = ps_dali_fraction_to_level(d->safe_level);
 		/* only write EEPROM when it differs (gear tolerates ~10^5 writes) */
 		if (answer != sfl)
-			q_push_front(d, (struct tx){ TX_SET_SFL, t.point, 0 });
+			q_push_front(d, (struct tx){ .kind = TX_SET_SFL, .point = t.point });
 		break;
 	default:
 		break;
@@ -504,7 +658,7 @@ static void finish(struct dali_usb *d, int answer)
 static void failed_try(struct dali_usb *d, int err, const char *why)
 {
 	struct tx t = d->cur;
-	struct dpoint *p = &d->pts[t.point];
+	struct dpoint *p;
 	char desc[64];
 	int twice, dtr0, f;
 	d->cur_active = 0;
@@ -517,6 +671,13 @@ static void failed_try(struct dali_usb *d, int err, const char *why)
 	d->st.failed++;
 	f = frame_for(d, &t, &twice, &dtr0);
 	ps_dali_describe((unsigned)f, desc, sizeof desc);
+	if (t.kind == TX_JOB) {
+		char msg[200];
+		snprintf(msg, sizeof msg, "%s: %s after %d tries", desc, why, t.tries);
+		job_done(d, PS_DALI_RX_FAILED, 0, msg);
+		return;
+	}
+	p = &d->pts[t.point];
 	p->err = err;
 	snprintf(p->errmsg, sizeof p->errmsg, "%s: %s after %d tries", desc, why, t.tries);
 	if (t.kind == TX_DAPC) {
@@ -556,10 +717,26 @@ static void on_report(struct dali_usb *d, const uint8_t *buf, size_t len)
 		break;
 	case PS_DALI_EV_BUS_ERROR:
 		d->st.garbled++;
+		if (d->cur.kind == TX_JOB && (r.value == 1 || r.value == 3)) {
+			/* commissioning reads a garbled backward frame: several answered */
+			d->cur_active = 0;
+			d->next_send = d->now + d->frame_gap;
+			job_done(d, PS_DALI_RX_COLLISION, 0, NULL);
+			break;
+		}
 		failed_try(d, EPROTO, r.value == 3 ? "garbled answer (framing error)" :
 		                      r.value == 2 ? "DALI bus shorted or unpowered" : "checksum error");
 		break;
 	}
+}
+
+/* Whichever transfer meets a vanished device first names it the same way,
+ * so that the fault the zone logs says "unplugged" however the race went. */
+static void resubmit_in(struct dali_usb *d)
+{
+	int r = submit_in(d);
+	if (r != 0)
+		lost(d, r == LIBUSB_ERROR_NO_DEVICE ? "interface unplugged" : "interface gone (receiving)");
 }
 
 static void in_done(struct libusb_transfer *t)
@@ -571,18 +748,179 @@ static void in_done(struct libusb_transfer *t)
 	switch (t->status) {
 	case LIBUSB_TRANSFER_COMPLETED:
 		on_report(d, t->buffer, (size_t)t->actual_length);
-		if (d->state == ST_UP && submit_in(d) != 0)
-			lost(d, "interface gone (receiving)");
+		if (d->state == ST_UP)
+			resubmit_in(d);
 		break;
 	case LIBUSB_TRANSFER_TIMED_OUT:
 	case LIBUSB_TRANSFER_CANCELLED:
-		if (submit_in(d) != 0)
-			lost(d, "interface gone (receiving)");
+		resubmit_in(d);
 		break;
 	default:
 		lost(d, t->status == LIBUSB_TRANSFER_NO_DEVICE ? "interface unplugged" : "USB error on the interface");
 		break;
 	}
+}
+
+/* ---- commissioning ------------------------------------------------------------ */
+
+static int du_service(struct ps_dev *dev, double now);
+static int gone(struct ps_dev *dev, struct dali_usb *d);
+
+/* Move the job's waits on; while it runs, note the points it holds back;
+ * once it has ended, give those points their level again (the job moved
+ * their ballasts' light). */
+static void job_service(struct dali_usb *d)
+{
+	if (!d->job)
+		return;
+	ps_dali_commission_poll(d->job, d->now);
+	if (d->job->state == PS_DALI_COMMISSION_RUNNING) {
+		for (int i = 0; i < d->npts; i++)
+			if (!d->pts[i].held && ps_dali_commission_holds(d->job, &d->pts[i].addr)) {
+				d->pts[i].held = 1;
+				d->job_held = 1;
+			}
+		return;
+	}
+	if (!d->job_held || d->state != ST_UP)
+		return;
+	d->job_held = 0;
+	for (int i = 0; i < d->npts; i++) {
+		struct dpoint *p = &d->pts[i];
+		if (!p->held)
+			continue;
+		p->held = 0;
+		if (p->want >= 0 && !p->dapc_pending && q_push(d, TX_DAPC, i) == 0)
+			p->dapc_pending = 1;
+	}
+}
+
+static int dali_addr_of_word(const char *w, struct ps_dali_addr *a, char *why, size_t len)
+{
+	return ps_dali_addr_parse(w, a, why, len);
+}
+
+static int word_long(const char *w, long min, long max, long *out)
+{
+	char *end;
+	long v = strtol(w, &end, 10);
+	if (!*w || *end || v < min || v > max)
+		return -1;
+	*out = v;
+	return 0;
+}
+
+static const char command_usage[] =
+	"scan | address [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | verify ZONE | status | abort";
+
+/* Start a job from the request's words; 0, or -1 with errno and dev->err. */
+static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, struct ps_point *const *pts, int npts,
+                     double now)
+{
+	struct ps_dali_commission *c = d->job;
+	struct ps_dali_addr a;
+	char why[160];
+	long n, g;
+	int rc;
+	if (strcmp(w[0], "scan") == 0 && nw == 1) {
+		rc = ps_dali_commission_scan(c, now);
+	} else if (strcmp(w[0], "address") == 0 && nw <= 2) {
+		int all = nw == 2 && strcmp(w[1], "all") == 0;
+		if (nw == 2 && !all && strcmp(w[1], "new") != 0)
+			return ps_dev_fail(dev, EINVAL, "address new|all: '%s' is neither", w[1]);
+		rc = ps_dali_commission_address(c, all ? PS_DALI_ADDRESS_ALL : PS_DALI_ADDRESS_NEW, now);
+	} else if (strcmp(w[0], "group") == 0 && nw == 4) {
+		if (dali_addr_of_word(w[1], &a, why, sizeof why) != 0)
+			return ps_dev_fail(dev, EINVAL, "group: '%s': %s", w[1], why);
+		if (strcmp(w[2], "add") != 0 && strcmp(w[2], "remove") != 0)
+			return ps_dev_fail(dev, EINVAL, "group ADDRESS add|remove GROUP: '%s' is neither", w[2]);
+		if (word_long(w[3], 0, 15, &g) != 0)
+			return ps_dev_fail(dev, EINVAL, "group: '%s' is not a group 0 to 15", w[3]);
+		rc = ps_dali_commission_group(c, &a, (int)g, strcmp(w[2], "add") == 0, now);
+	} else if (strcmp(w[0], "identify") == 0 && (nw == 2 || nw == 3)) {
+		if (word_long(w[1], 0, 63, &n) != 0)
+			return ps_dev_fail(dev, EINVAL, "identify: '%s' is not a short address 0 to 63", w[1]);
+		g = 10;
+		if (nw == 3 && word_long(w[2], 1, 600, &g) != 0)
+			return ps_dev_fail(dev, EINVAL, "identify: '%s' is not 1 to 600 seconds", w[2]);
+		rc = ps_dali_commission_identify(c, (int)n, (double)g, now);
+	} else if (strcmp(w[0], "verify") == 0 && nw == 2) {
+		struct ps_dali_addr t[PS_DALI_VERIFY_MAX];
+		const char *names[PS_DALI_VERIFY_MAX];
+		int nt = 0;
+		for (int i = 0; i < npts && nt < PS_DALI_VERIFY_MAX; i++) {
+			const struct dpoint *p = pts[i] ? pts[i]->priv : NULL;
+			if (!p || p < d->pts || p >= d->pts + d->npts)
+				continue;
+			t[nt] = p->addr;
+			names[nt++] = pts[i]->name;
+		}
+		if (!nt)
+			return ps_dev_fail(dev, EINVAL, "verify %s: the zone has no outputs on %s", w[1], dev->name);
+		/* full output, then 10 % (170): a change whichever level the zone is at */
+		rc = ps_dali_commission_verify(c, t, names, nt, PS_DALI_MAX_LEVEL, ps_dali_fraction_to_level(0.1), now);
+	} else {
+		return ps_dev_fail(dev, EINVAL, "usage: dali %s %s", dev->name, command_usage);
+	}
+	if (rc != 0)
+		return ps_dev_fail(dev, EINVAL, "%s", c->msg);
+	return 0;
+}
+
+static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *const *pts, int npts, double now,
+                      char *out, size_t outlen)
+{
+	struct dali_usb *d = dev->priv;
+	json_object *o;
+	const char *text;
+	int fresh = 0;
+	if (!d)
+		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
+	if (nw < 1)
+		return ps_dev_fail(dev, EINVAL, "usage: dali %s %s", dev->name, command_usage);
+	du_service(dev, now);
+	if (strcmp(w[0], "abort") == 0 && nw == 1) {
+		if (!d->job || d->job->state != PS_DALI_COMMISSION_RUNNING)
+			return ps_dev_fail(dev, EINVAL, "%s: no commissioning job is running", dev->name);
+		ps_dali_commission_abort(d->job, now);
+	} else if (strcmp(w[0], "status") != 0 || nw != 1) {
+		if (d->job && d->job->state == PS_DALI_COMMISSION_RUNNING)
+			return ps_dev_fail(dev, EBUSY, "%s: %s is running (%s): wait for it, or abort it", dev->name,
+			                   ps_dali_commission_kinds[d->job->kind], d->job->step);
+		if (d->state != ST_UP)
+			return gone(dev, d);
+		if (!d->job) {
+			if (!(d->job = calloc(1, sizeof *d->job)))
+				return ps_dev_fail(dev, ENOMEM, "out of memory");
+			fresh = 1;
+		}
+		/* a bad request starts nothing: the last job's report stays */
+		if (start_job(dev, d, nw, w, pts, npts, now) != 0) {
+			if (fresh) {
+				free(d->job);
+				d->job = NULL;
+			}
+			return -1;
+		}
+		d->job_busy = 0;
+		send_next(d);
+	}
+	o = json_object_new_object();
+	json_object_object_add(o, "device", json_object_new_string(dev->name));
+	json_object_object_add(o, "connected", json_object_new_boolean(d->state == ST_UP));
+	if (d->job)
+		ps_dali_commission_json(d->job, now, o);
+	else
+		json_object_object_add(o, "job", NULL);
+	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
+	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
+	if (strlen(text) >= outlen) {
+		json_object_put(o);
+		return ps_dev_fail(dev, ENOSPC, "%s: the report does not fit in %zu bytes", dev->name, outlen);
+	}
+	snprintf(out, outlen, "%s", text);
+	json_object_put(o);
+	return 0;
 }
 
 /* ---- the driver methods ---------------------------------------------------- */
@@ -609,6 +947,7 @@ static int du_service(struct ps_dev *dev, double now)
 		failed_try(d, d->cur_garbled ? EPROTO : ETIMEDOUT,
 		           d->cur_garbled ? "garbled report from the interface" : "no reply from the interface");
 	}
+	job_service(d);
 	send_next(d);
 	return 0;
 }
@@ -632,7 +971,18 @@ static double du_deadline(struct ps_dev *dev)
 	}
 	if (d->cur_active)
 		return d->cur_deadline;
-	return d->qlen && !d->out_busy ? d->next_send : INFINITY;
+	{
+		double t = INFINITY, until;
+		struct ps_dali_tx tx;
+		if (!d->out_busy && (sendable(d) >= 0 || job_ready(d, &tx)))
+			t = d->next_send;
+		if (d->job && !d->job_busy && ps_dali_commission_next(d->job, &tx, &until) == PS_DALI_NEXT_WAIT)
+			t = fmin(t, until);
+		/* a job that ended with points held back has their levels to send */
+		if (d->job_held && d->job && d->job->state != PS_DALI_COMMISSION_RUNNING)
+			t = -INFINITY;
+		return t;
+	}
 }
 
 static int gone(struct ps_dev *dev, struct dali_usb *d)
@@ -698,23 +1048,20 @@ static int du_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
 {
 	struct dali_usb *d = dev->priv;
+	struct ps_opt_reader r = { o, du_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	struct dpoint *p;
-	const char *a = ps_opt_get(o, "address");
+	const char *a = NULL;
 	char why[120];
 	if (!d)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
-	if (pt->role != PS_ROLE_DIM && pt->role != PS_ROLE_RELAY)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: %s: dali_usb drives dim and relay points, not %s",
-		                   o && o->file ? o->file : "(config)", ps_opt_line(o, "address"), pt->name,
-		                   ps_role_name(pt->role));
+	if (ps_dev_check(dev, o, pt->role) != 0 || ps_opt_string(&r, "address", &a) != 0)
+		return -1;
 	if (d->npts >= MAX_POINTS)
 		return ps_dev_fail(dev, EINVAL, "%s: more than %d points on one interface", pt->name, MAX_POINTS);
 	p = &d->pts[d->npts];
 	memset(p, 0, sizeof *p);
-	p->addr = (struct ps_dali_addr){ PS_DALI_BROADCAST, 0 };
-	if (a && ps_dali_addr_parse(a, &p->addr, why, sizeof why) != 0)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: address: '%s' %s", o->file ? o->file : "(config)",
-		                   ps_opt_line(o, "address"), a, why);
+	if (ps_dali_addr_parse(a, &p->addr, why, sizeof why) != 0)
+		return ps_dev_fail(dev, EINVAL, "%s: %s", a, why);
 	p->pt = pt;
 	p->want = p->sent = p->actual = -1;
 	p->phys_min = 1;
@@ -747,6 +1094,7 @@ static void du_close(struct ps_dev *dev)
 	teardown(d);
 	if (d->epfd >= 0)
 		close(d->epfd);
+	free(d->job);
 	free(d);
 	dev->priv = NULL;
 }
@@ -754,9 +1102,9 @@ static void du_close(struct ps_dev *dev)
 static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct dali_usb *d = calloc(1, sizeof *d);
-	const char *v;
-	char *e = dev->err;
-	size_t el = sizeof dev->err;
+	struct ps_opt_reader r = { o, du_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	const char *serial = NULL, *port = NULL;
+	int transport = 0;
 	if (!d)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = d;
@@ -767,30 +1115,14 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	d->seq = 0;
 	if (d->epfd < 0)
 		return ps_dev_fail(dev, errno, "epoll: %s", strerror(errno));
-	v = ps_opt_get(o, "transport");
-	d->tp = ps_dali_transport_find(v ? v : "tridonic");
-	if (!d->tp)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: transport: '%s' is not a known interface (tridonic)",
-		                   o->file ? o->file : "(config)", ps_opt_line(o, "transport"), v);
-	if ((v = ps_opt_get(o, "serial")))
-		snprintf(d->serial, sizeof d->serial, "%s", v);
-	if ((v = ps_opt_get(o, "port"))) {
-		int bus, n = 0;
-		if (sscanf(v, "%d-%*[0-9.]%n", &bus, &n) != 1 || v[n] || strlen(v) >= sizeof d->port)
-			return ps_dev_fail(dev, EINVAL, "%s:%d: port: '%s' is not BUS-PORT[.PORT...] (as in /sys/bus/usb/devices, e.g. 1-1.4)",
-			                   o->file ? o->file : "(config)", ps_opt_line(o, "port"), v);
-		snprintf(d->port, sizeof d->port, "%s", v);
-	}
-	if (ps_opt_double(o, "timeout", 0.2, 0.01, 10, &d->timeout, e, el) ||
-	    ps_opt_long(o, "retries", 2, 0, 10, &d->retries, e, el) ||
-	    ps_opt_double(o, "frame_gap", 0.022, 0.0, 1, &d->frame_gap, e, el))
+	if (ps_opt_choice(&r, "transport", &transport) || ps_opt_string(&r, "serial", &serial) ||
+	    ps_opt_string(&r, "port", &port) || ps_opt_double(&r, "timeout", &d->timeout) ||
+	    ps_opt_long(&r, "retries", &d->retries) || ps_opt_double(&r, "frame_gap", &d->frame_gap) ||
+	    ps_opt_double(&r, "safe_level", &d->safe_level) || ps_opt_double(&r, "fade_time", &d->fade_time))
 		return -1;
-	if (ps_opt_get(o, "safe_level") &&
-	    ps_opt_double(o, "safe_level", 1, 0, 1, &d->safe_level, e, el))
-		return -1;
-	if (ps_opt_get(o, "fade_time") &&
-	    ps_opt_double(o, "fade_time", 0, 0, 90.5, &d->fade_time, e, el))
-		return -1;
+	d->tp = transports[transport];
+	snprintf(d->serial, sizeof d->serial, "%s", serial ? serial : "");
+	snprintf(d->port, sizeof d->port, "%s", port ? port : "");
 	/* the device may be absent: open succeeds and reads fail with ENODEV until
 	 * it appears; only an ambiguous choice is a configuration error */
 	d->now = 0;
@@ -810,13 +1142,22 @@ int ps_dali_usb_stats(struct ps_dev *dev, struct ps_dali_usb_stats *st)
 	*st = d->st;
 	st->connected = d->state == ST_UP;
 	st->pending = (int)d->qlen + d->cur_active;
+	st->job_running = d->job && d->job->state == PS_DALI_COMMISSION_RUNNING;
 	return 0;
+}
+
+const struct ps_dali_commission *ps_dali_usb_job(struct ps_dev *dev)
+{
+	struct dali_usb *d = dev->priv;
+	return dev->drv == &ps_driver_dali_usb && d ? d->job : NULL;
 }
 
 const struct ps_driver ps_driver_dali_usb = {
 	.name = "dali_usb",
 	.summary = "DALI ballasts through a Tridonic/Lunatone DALI USB interface (libusb)",
 	.compiled_in = 1,
+	.options = du_options,
+	.check = du_check,
 	.open = du_open,
 	.add_point = du_add_point,
 	.read = du_read,
@@ -825,4 +1166,5 @@ const struct ps_driver ps_driver_dali_usb = {
 	.deadline = du_deadline,
 	.service = du_service,
 	.close = du_close,
+	.command = du_command,
 };

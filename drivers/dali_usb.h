@@ -15,9 +15,14 @@ struct ps_dali_usb_stats {
 	unsigned long stray;        /* reports for no outstanding sequence number */
 	int connected;              /* 1 while the interface is claimed */
 	int pending;                /* transactions queued or in flight */
+	int job_running;            /* a commissioning job runs */
 };
 
 /* 0, or -1 (EINVAL) when dev is not a dali_usb device. */
 int ps_dali_usb_stats(struct ps_dev *dev, struct ps_dali_usb_stats *st);
+
+struct ps_dali_commission;
+/* The last commissioning job (dali_commission.h), NULL before the first. */
+const struct ps_dali_commission *ps_dali_usb_job(struct ps_dev *dev);
 
 #endif

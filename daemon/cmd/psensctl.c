@@ -3,7 +3,9 @@
  *   psensctl [-s socket] [-j] status [ZONE] | target ZONE LUX |
  *            override ZONE LEVEL SECONDS | release ZONE | ratios | log |
  *            reload | ping | help |
- *            calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort
+ *            calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort |
+ *            dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|
+ *                 identify SHORT [SECONDS]|verify ZONE|status|abort
  *   psensctl [-s socket | -d database] export --csv
  *   psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]
  *
@@ -32,7 +34,9 @@ static void usage(FILE *fp)
 	            "       psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
 	            "          release ZONE, ratios, log, reload, ping, help,\n"
-	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort\n");
+	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
+	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
+	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n");
 }
 
 static const char *default_socket(void)
@@ -144,6 +148,152 @@ static void show_value(json_object *v, int indent, const char *key)
 	}
 }
 
+/* ---- dali: commissioning jobs, followed until they end ------------------------------- */
+
+static json_object *member(json_object *o, const char *key)
+{
+	json_object *v;
+	return o && json_object_object_get_ex(o, key, &v) ? v : NULL;
+}
+
+static const char *text_of(json_object *o, const char *key)
+{
+	json_object *v = member(o, key);
+	return v && json_object_get_type(v) != json_type_null ? json_object_get_string(v) : NULL;
+}
+
+/* a value for a table cell: "-" for null (no answer) */
+static const char *cell(json_object *o, const char *key, char *buf, size_t len)
+{
+	json_object *v = member(o, key);
+	if (!v || json_object_get_type(v) == json_type_null)
+		return "-";
+	if (json_object_get_type(v) == json_type_array) {
+		size_t n = json_object_array_length(v), k = 0;
+		buf[0] = 0;
+		for (size_t i = 0; i < n && k < len; i++)
+			k += (size_t)snprintf(buf + k, len - k, "%s%s", i ? "," : "",
+			                      json_object_get_string(json_object_array_get_idx(v, i)));
+		return n ? buf : "none";
+	}
+	snprintf(buf, len, "%s", json_object_get_string(v));
+	return buf;
+}
+
+static int state_is(json_object *r, const char *state)
+{
+	const char *s = text_of(r, "state");
+	return s && strcmp(s, state) == 0;
+}
+
+static void dali_show(json_object *r)
+{
+	const char *job = text_of(r, "job"), *msg = text_of(r, "message");
+	json_object *list;
+	char a[64], b[64], c[64], d[64], e[64], f[64], g[64], h[64], i[64], j[64], k[64], l[64], m[64];
+	if (!job) {
+		printf("%s: no commissioning job since psensd started\n", text_of(r, "device"));
+		return;
+	}
+	printf("%s %s %s in %s s (%s frames)%s%s\n", text_of(r, "device"), job, cell(r, "state", c, sizeof c),
+	       cell(r, "elapsed_s", a, sizeof a), cell(r, "frames", b, sizeof b), msg ? ": " : "", msg ? msg : "");
+	if (state_is(r, "running"))
+		printf("  now: %s\n", text_of(r, "step"));
+	if (strcmp(job, "scan") == 0 && (list = member(r, "ballasts"))) {
+		printf("  short ballasts type phys_min min max fade_s rate groups    failure power_on status level\n");
+		for (size_t n = 0; n < json_object_array_length(list); n++) {
+			json_object *x = json_object_array_get_idx(list, n);
+			printf("  %5s %-8s %4s %8s %3s %3s %6s %4s %-9s %7s %8s %6s %5s\n", cell(x, "address", a, sizeof a),
+			       cell(x, "ballasts", b, sizeof b), cell(x, "device_type", c, sizeof c),
+			       cell(x, "physical_min", d, sizeof d), cell(x, "min_level", e, sizeof e),
+			       cell(x, "max_level", f, sizeof f), cell(x, "fade_time_s", g, sizeof g),
+			       cell(x, "fade_rate", h, sizeof h), cell(x, "groups", i, sizeof i),
+			       cell(x, "failure_level", j, sizeof j), cell(x, "power_on_level", k, sizeof k),
+			       cell(x, "status", l, sizeof l), cell(x, "actual_level", m, sizeof m));
+		}
+		printf("  gear without a short address: %s\n", cell(r, "unaddressed", a, sizeof a));
+	} else if (strcmp(job, "address") == 0 && (list = member(r, "found"))) {
+		printf("  random    short  was\n");
+		for (size_t n = 0; n < json_object_array_length(list); n++) {
+			json_object *x = json_object_array_get_idx(list, n);
+			printf("  %-8s  %5s  %3s\n", cell(x, "random", a, sizeof a), cell(x, "address", b, sizeof b),
+			       cell(x, "was", c, sizeof c));
+		}
+	} else if (strcmp(job, "group") == 0) {
+		printf("  %s: groups %s\n", cell(r, "address", a, sizeof a), cell(r, "groups", b, sizeof b));
+	} else if (strcmp(job, "verify") == 0 && (list = member(r, "targets"))) {
+		for (size_t n = 0; n < json_object_array_length(list); n++) {
+			json_object *t = json_object_array_get_idx(list, n), *bl = member(t, "ballasts");
+			printf("  %s (%s): %s\n", cell(t, "point", a, sizeof a), cell(t, "address", b, sizeof b),
+			       json_object_get_boolean(member(t, "ok")) ? "every ballast follows" : "NOT ALL FOLLOW");
+			for (size_t q = 0; bl && q < json_object_array_length(bl); q++) {
+				json_object *x = json_object_array_get_idx(bl, q);
+				printf("    short %-3s expected %-8s got %-8s %s\n", cell(x, "address", a, sizeof a),
+				       cell(x, "expected", b, sizeof b), cell(x, "got", c, sizeof c),
+				       json_object_get_boolean(member(x, "ok")) ? "ok" : "NOT FOLLOWING");
+			}
+		}
+		if ((list = member(r, "others_following")) && json_object_array_length(list))
+			printf("  outside the zone but following: %s\n", cell(r, "others_following", a, sizeof a));
+	}
+}
+
+/* Start a job and follow it with "dali DEVICE status" until it ends.
+ * Exit status: 0 done (and, for verify, every ballast follows), 1 else. */
+static int dali_follow(const char *sock, const char *request, const char *device, int raw, int timeout_ms)
+{
+	char status_req[128], *reply = ask(sock, request, timeout_ms), last[128] = "";
+	json_object *o = reply ? json_tokener_parse(reply) : NULL, *r, *ok;
+	int rc;
+	if (!reply)
+		return 1;
+	if (!o || !json_object_object_get_ex(o, "ok", &ok) || !json_object_get_boolean(ok)) {
+		fprintf(stderr, "psensctl: %s\n", o && text_of(o, "error") ? text_of(o, "error") : reply);
+		json_object_put(o);
+		free(reply);
+		return 1;
+	}
+	if (raw)
+		puts(reply);
+	snprintf(status_req, sizeof status_req, "dali %s status", device);
+	while ((r = member(o, "dali")) && state_is(r, "running")) {
+		const char *stepname = text_of(r, "step");
+		if (!raw && stepname && strcmp(stepname, last) != 0) {
+			fprintf(stderr, "  %s\n", stepname);
+			snprintf(last, sizeof last, "%s", stepname);
+		}
+		poll(NULL, 0, 250);
+		free(reply);
+		json_object_put(o);
+		if (!(reply = ask(sock, status_req, timeout_ms)))
+			return 1;
+		if (!(o = json_tokener_parse(reply))) {
+			fprintf(stderr, "psensctl: not a JSON reply: %s\n", reply);
+			free(reply);
+			return 1;
+		}
+	}
+	if (raw)
+		puts(reply);
+	else if (r)
+		dali_show(r);
+	rc = r && state_is(r, "done") &&
+	     !(member(r, "ok") && json_object_get_type(member(r, "ok")) == json_type_boolean &&
+	       !json_object_get_boolean(member(r, "ok"))) ? 0 : 1;
+	json_object_put(o);
+	free(reply);
+	return rc;
+}
+
+static int dali_is_job(const char *w)
+{
+	static const char *const jobs[] = { "scan", "address", "group", "identify", "verify", NULL };
+	for (int i = 0; jobs[i]; i++)
+		if (strcmp(w, jobs[i]) == 0)
+			return 1;
+	return 0;
+}
+
 /* The database: -d, else the one psensd names (o keeps the string). */
 static const char *database(const char *sock, const char *dbpath, int timeout_ms, json_object **o)
 {
@@ -236,7 +386,7 @@ int main(int argc, char **argv)
 	int opt, raw = 0, timeout_ms = 5000;
 	size_t used = 0;
 	char *reply;
-	json_object *o, *ok, *err;
+	json_object *o, *ok, *err, *dj;
 	while ((opt = getopt(argc, argv, "+s:d:jw:h")) != -1) {
 		switch (opt) {
 		case 's': sock = optarg; break;
@@ -270,6 +420,8 @@ int main(int argc, char **argv)
 		}
 		used += (size_t)n;
 	}
+	if (strcmp(argv[optind], "dali") == 0 && optind + 2 < argc && dali_is_job(argv[optind + 2]))
+		return dali_follow(sock, request, argv[optind + 1], raw, timeout_ms);
 	if (!(reply = ask(sock, request, timeout_ms)))
 		return 1;
 	if (raw) {
@@ -282,8 +434,12 @@ int main(int argc, char **argv)
 			free(reply);
 			return 1;
 		}
-		if (json_object_object_get_ex(o, "ok", &ok) && json_object_get_boolean(ok))
-			show_object(o, 0);
+		if (json_object_object_get_ex(o, "ok", &ok) && json_object_get_boolean(ok)) {
+			if (strcmp(argv[optind], "dali") == 0 && json_object_object_get_ex(o, "dali", &dj))
+				dali_show(dj);
+			else
+				show_object(o, 0);
+		}
 	}
 	free(reply);
 	if (!o || !json_object_object_get_ex(o, "ok", &ok) || !json_object_get_boolean(ok)) {

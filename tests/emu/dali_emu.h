@@ -11,10 +11,34 @@
  * dimming daemon uses.  Several ballasts answering one query with different
  * values collide into a framing error, as on a real bus.
  *
+ * Commissioning (IEC 62386-102 special commands): each ballast has its own
+ * short address (or none), a 24-bit random address (0xFFFFFF after reset;
+ * RANDOMISE draws a new one, available 100 ms later), a search address and
+ * the initialisation state (disabled, enabled, withdrawn) that INITIALISE
+ * (all, unaddressed, or one short address; sent twice) opens for 15 minutes
+ * on the ballasts' clock and TERMINATE closes.  COMPARE, WITHDRAW, PROGRAM /
+ * VERIFY / QUERY SHORT ADDRESS act as the standard says; ADD TO / REMOVE FROM
+ * GROUP and SET SHORT ADDRESS are configuration commands (sent twice).
+ *
+ * Backward frames of several ballasts at once: each ballast answers after
+ * its own settling time (5.5 to 10.5 ms; 8 ms unless set).  Answers with the
+ * same value whose starts lie within 83 us of each other (the slack a DALI
+ * receiver allows on a 416.7 us half bit) add up to one clean frame; any
+ * other overlap is a framing error (bus status 3), as on a real bus.  So two
+ * ballasts saying "yes" together collide unless they answer in step.
+ *
+ * Bus timing: off by default (reports come at once).  On, each report comes
+ * when the frames it stands for would have ended on a real bus: 15.83 ms per
+ * forward frame, the ballast's settling time and 9.17 ms for a backward
+ * frame, 11.33 ms of silence for "no answer", 13.5 ms between the frames of
+ * a send-twice or DTR0 transaction.  Either way stats.bus_time adds those
+ * durations up.
+ *
  * Faults, each for the next N SEND reports: no answer (echo only), garbled
  * answer (bus status 3), a malformed report, and unplug in the middle of the
  * transfer (after the echo).  Unplug/replug at any time; a replugged interface
- * gets a new device number, as after a real replug.
+ * gets a new device number, as after a real replug.  Per ballast: dead after
+ * it has answered N more backward frames (it then ignores the bus).
  *
  * Thread safety: the firmware runs in umockdev's worker thread; every public
  * function takes the emulator's lock.  One psemu per process (one testbed). */
@@ -34,8 +58,19 @@ enum psemu_fault {
 	PSEMU_FAULT_UNPLUG,       /* unplugged after the echo, before the answer */
 };
 
+enum psemu_init { PSEMU_INIT_DISABLED = 0, PSEMU_INIT_ENABLED, PSEMU_INIT_WITHDRAWN };
+
 struct psemu_ballast {
 	int present;
+	int short_addr;       /* 0..63, -1 none */
+	unsigned random;      /* 24-bit random address */
+	unsigned search;      /* 24-bit search address */
+	int init_state;       /* enum psemu_init, brought up to the clock (15 minutes) */
+	int device_type;      /* QUERY DEVICE TYPE (6: LED) */
+	int fade_rate;        /* FADE RATE code */
+	double reply_ms;      /* settling time before its backward frames */
+	int dead;             /* stopped answering: ignores the bus */
+	unsigned level_changes;   /* commands that moved its target level */
 	int level;            /* actual arc power level now (0..254) */
 	int target;           /* where a running fade ends */
 	int fade_time;        /* FADE TIME code 0..15 */
@@ -55,6 +90,9 @@ struct psemu_stats {
 	double min_gap;           /* shortest time from a final report to the next SEND, s */
 	unsigned gap_violations;  /* SENDs sooner than 21.2 ms after the last final report */
 	unsigned last_frame;      /* the last forward frame put on the bus */
+	unsigned early_compares;  /* COMPAREs within 100 ms of a RANDOMISE */
+	unsigned specials;        /* special commands (INITIALISE, COMPARE, ...) on the bus */
+	double bus_time;          /* seconds the SENDs would take on a real bus */
 	int plugged;
 	int devnum;
 };
@@ -65,8 +103,9 @@ struct psemu;
 struct psemu *psemu_new(char *err, size_t errlen);
 void psemu_free(struct psemu *e);
 
-/* An interface at USB port 1-<port> with a serial number and n ballasts at
- * short addresses 0..n-1.  Returns the interface index, -1 on failure. */
+/* An interface at USB port 1-<port> with a serial number and n ballasts in
+ * slots 0..n-1, each at the short address of its slot, random address
+ * 0xFFFFFF.  Returns the interface index, -1 on failure. */
 int psemu_add(struct psemu *e, int port, const char *serial, int nballasts, char *err, size_t errlen);
 
 /* Unplug (the bus loses power: ballasts go to their system failure level);
@@ -79,13 +118,26 @@ void psemu_fault(struct psemu *e, int iface, int fault, int count);
  * Tests set it to move fades along without waiting. */
 void psemu_set_clock(struct psemu *e, double (*now)(void *user), void *user);
 
-/* A copy of one ballast's state, levels brought up to the clock's time. */
-int psemu_ballast(struct psemu *e, int iface, int addr, struct psemu_ballast *out);
+/* Report timing of a real bus (see above): 1 on, 0 off (the default). */
+void psemu_set_bus_timing(struct psemu *e, int on);
+
+/* A copy of one ballast's state (by slot), levels brought up to the clock's time. */
+int psemu_ballast(struct psemu *e, int iface, int slot, struct psemu_ballast *out);
 /* Configure a ballast before a test: groups, physical minimum (also its MIN LEVEL). */
-int psemu_ballast_setup(struct psemu *e, int iface, int addr, unsigned groups, int phys_min);
+int psemu_ballast_setup(struct psemu *e, int iface, int slot, unsigned groups, int phys_min);
+/* Its identity for commissioning: short address (-1 none), random address
+ * (0..0xFFFFFF), settling time of its answers in ms (5.5 to 10.5). */
+int psemu_ballast_identity(struct psemu *e, int iface, int slot, int short_addr, unsigned random_addr,
+                           double reply_ms);
+/* The values its next n RANDOMISE commands draw (then its own generator,
+ * seeded from interface and slot): two ballasts given the same value collide. */
+int psemu_ballast_randoms(struct psemu *e, int iface, int slot, const unsigned *values, int n);
+/* It goes dead after answering n more backward frames (n < 0: never). */
+int psemu_ballast_dead_after(struct psemu *e, int iface, int slot, int n);
 int psemu_stats(struct psemu *e, int iface, struct psemu_stats *out);
 
-/* One line per ballast: "iface I addr A level L target T fade F sfl S min M". */
+/* One line per ballast: "iface I slot N level L target T fade F sfl S min M
+ * short A groups G random R plugged P" (short -1: none; groups, random hex). */
 int psemu_dump(struct psemu *e, char *buf, size_t len);
 
 #endif

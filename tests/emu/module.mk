@@ -10,7 +10,7 @@ ifeq ($(HAVE_USB)$(UMOCK_FOUND),yesyes)
 EMU_CFLAGS := $(patsubst -I%,-isystem %,$(shell $(PKG) --cflags umockdev-1.0)) -DPS_WITH_UMOCKDEV
 EMU_LIBS   := $(shell $(PKG) --libs umockdev-1.0)
 LIBPSEMU   := $(BUILD)/lib/libpsemu.a
-EMU_UNIT   := $(BUILD)/tests/test_dali_usb
+EMU_UNIT   := $(BUILD)/tests/test_dali_usb $(BUILD)/tests/test_dali_commission
 
 $(BUILD)/obj/tests/emu/%.o: CFLAGS += $(EMU_CFLAGS)
 $(patsubst $(BUILD)/tests/%,$(BUILD)/obj/tests/unit/%.o,$(EMU_UNIT)): CFLAGS += $(EMU_CFLAGS) -Itests/emu
@@ -21,6 +21,12 @@ $(LIBPSEMU): $(call obj,tests/emu/vusb.c tests/emu/dali_emu.c)
 
 $(EMU_UNIT): $(LIBPSEMU)
 $(EMU_UNIT): LIBS += $(LIBPSEMU) $(EMU_LIBS)
+
+# the commissioning bench runs on the emulator too (tests/bench)
+EMU_BENCH := $(BUILD)/bench/bench_dali_commission
+$(BUILD)/obj/tests/bench/bench_dali_commission.o: CFLAGS += $(EMU_CFLAGS) -Itests/emu -Itests/unit
+$(EMU_BENCH): $(LIBPSEMU) $(call obj,tests/unit/helpers/dali_preload.c)
+$(EMU_BENCH): LIBS += $(LIBPSEMU) $(EMU_LIBS)
 
 $(BUILD)/tests/psemu-run: $(BUILD)/obj/tests/emu/psemu_run.o $(LIBPSEMU)
 	@mkdir -p $(dir $@)

@@ -2,10 +2,17 @@
  * program as a child, whose real libusb reaches them through umockdev
  * (emulation.md 2.4).  Run with libumockdev-preload.so.0 preloaded:
  *
- *   LD_PRELOAD=libumockdev-preload.so.0 psemu-run [-i PORT:SERIAL:N]... [-c FIFO]
- *       [-s STATEFILE] [-t SECONDS] -- PROGRAM ARGS...
+ *   LD_PRELOAD=libumockdev-preload.so.0 psemu-run [-i PORT:SERIAL:N [-b SPEC]...]...
+ *       [-c FIFO] [-s STATEFILE] [-u FILE] [-t SECONDS] -- PROGRAM ARGS...
  *
- * -i adds an interface at USB port 1-PORT with N ballasts (default 1:A1:4).
+ * -i adds an interface at USB port 1-PORT with N ballasts (default 1:A1:4),
+ *    in slots 0..N-1 at short addresses 0..N-1.
+ * -b sets up one ballast of the last interface:
+ *      SLOT:short=A|none,random=0xR,draw=0xR,reply=MS,groups=0xG,phys=N,dead=N
+ *    (any of the keys; draw: what its next RANDOMISE draws; reply: its
+ *    settling time in ms; dead: it stops answering after N answers).
+ * -u writes the testbed's UMOCKDEV_DIR to FILE, so that another program
+ *    (run with the preload and that UMOCKDEV_DIR) reaches the same devices.
  * -c names a control FIFO, one command a line:
  *      unplug I | replug I | fault I none|noanswer|garbled|malformed|unplug COUNT | dump
  * -s: after each command and at the end, the ballasts' state is written there
@@ -82,6 +89,57 @@ static gpointer control(gpointer path)
 	return NULL;
 }
 
+/* -b SLOT:key=value,... on interface iface; 0 or -1 */
+static int ballast_spec(int iface, const char *spec)
+{
+	char buf[256], *save = NULL;
+	int slot, n = 0, short_addr = -2, dead = -2, phys = 0;
+	unsigned random_addr = 0x1000000, draw = 0x1000000, groups = 0x10000;
+	double reply = 0;
+	struct psemu_ballast b;
+	if (sscanf(spec, "%d:%n", &slot, &n) != 1 || psemu_ballast(emu, iface, slot, &b) != 0)
+		return -1;
+	snprintf(buf, sizeof buf, "%s", spec + n);
+	for (char *kv = strtok_r(buf, ",", &save); kv; kv = strtok_r(NULL, ",", &save)) {
+		char *eq = strchr(kv, '='), *end;
+		unsigned long v;
+		if (!eq)
+			return -1;
+		*eq++ = 0;
+		if (strcmp(kv, "short") == 0 && strcmp(eq, "none") == 0) {
+			short_addr = -1;
+			continue;
+		}
+		if (strcmp(kv, "reply") == 0) {
+			reply = strtod(eq, &end);
+			if (*end)
+				return -1;
+			continue;
+		}
+		v = strtoul(eq, &end, 0);
+		if (*end || end == eq)
+			return -1;
+		if (strcmp(kv, "short") == 0) short_addr = (int)v;
+		else if (strcmp(kv, "random") == 0) random_addr = (unsigned)v;
+		else if (strcmp(kv, "draw") == 0) draw = (unsigned)v;
+		else if (strcmp(kv, "groups") == 0) groups = (unsigned)v;
+		else if (strcmp(kv, "phys") == 0) phys = (int)v;
+		else if (strcmp(kv, "dead") == 0) dead = (int)v;
+		else return -1;
+	}
+	if (psemu_ballast_identity(emu, iface, slot, short_addr != -2 ? short_addr : b.short_addr,
+	                           random_addr <= 0xFFFFFF ? random_addr : b.random, reply > 0 ? reply : b.reply_ms) != 0)
+		return -1;
+	if (draw <= 0xFFFFFF && psemu_ballast_randoms(emu, iface, slot, &draw, 1) != 0)
+		return -1;
+	if ((groups <= 0xFFFF || phys) &&
+	    psemu_ballast_setup(emu, iface, slot, groups <= 0xFFFF ? groups : b.groups, phys ? phys : b.phys_min) != 0)
+		return -1;
+	if (dead != -2 && psemu_ballast_dead_after(emu, iface, slot, dead) != 0)
+		return -1;
+	return 0;
+}
+
 static double now_s(void)
 {
 	struct timespec ts;
@@ -91,12 +149,12 @@ static double now_s(void)
 
 int main(int argc, char **argv)
 {
-	const char *ctl = NULL;
+	const char *ctl = NULL, *udir_file = NULL;
 	char err[256], buf[16384];
 	double limit = 60, end;
 	int opt, nif = 0, status = 0, rc;
 	pid_t pid;
-	while ((opt = getopt(argc, argv, "i:c:s:t:")) != -1) {
+	while ((opt = getopt(argc, argv, "i:b:c:s:u:t:")) != -1) {
 		switch (opt) {
 		case 'i': {
 			int port, n, k = 0;
@@ -113,11 +171,20 @@ int main(int argc, char **argv)
 			nif++;
 			break;
 		}
+		case 'b':
+			if (!nif || ballast_spec(nif - 1, optarg) != 0) {
+				fprintf(stderr, "psemu-run: -b %s: want SLOT:short=A|none,random=0xR,draw=0xR,reply=MS,"
+				                "groups=0xG,phys=N,dead=N after an -i\n", optarg);
+				return 2;
+			}
+			break;
 		case 'c': ctl = optarg; break;
+		case 'u': udir_file = optarg; break;
 		case 's': state_path = optarg; break;
 		case 't': limit = atof(optarg); break;
 		default:
-			fprintf(stderr, "usage: psemu-run [-i PORT:SERIAL:N]... [-c FIFO] [-s FILE] [-t S] -- PROG ARGS...\n");
+			fprintf(stderr, "usage: psemu-run [-i PORT:SERIAL:N [-b SPEC]...]... [-c FIFO] [-s FILE] [-u FILE] [-t S] "
+			                "-- PROG ARGS...\n");
 			return 2;
 		}
 	}
@@ -134,6 +201,14 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	write_state();
+	if (udir_file) {
+		FILE *fp = fopen(udir_file, "w");
+		const char *dir = getenv("UMOCKDEV_DIR");
+		if (!fp || !dir || fprintf(fp, "%s\n", dir) < 0 || fclose(fp) != 0) {
+			fprintf(stderr, "psemu-run: %s: cannot write the testbed's directory\n", udir_file);
+			return 1;
+		}
+	}
 	if (ctl) {
 		if (mkfifo(ctl, 0600) != 0 && errno != EEXIST) {
 			fprintf(stderr, "psemu-run: %s: %s\n", ctl, strerror(errno));

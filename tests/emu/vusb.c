@@ -28,6 +28,7 @@ struct vusb {
 	GMutex lock;
 	GQueue in_urbs, done, in_data;
 	gboolean driver_bound, gone;
+	UMockdevIoctlClient *claimed_by;   /* the connection holding interface 0, as usbfs tracks it */
 	int gate_fd;
 	vusb_out_fn cb;
 	void *user;
@@ -200,6 +201,38 @@ static void do_control(struct vusb *d, struct urb_rec *r, const uint8_t *buf)
 static void complete(UMockdevIoctlClient *c, int ret, int err)
 {
 	umockdev_ioctl_client_complete(c, ret, err);
+}
+
+/* The claiming connection closed (its process exited or closed the device):
+ * the kernel releases its interfaces. */
+static void claim_gone(gpointer user, GObject *was)
+{
+	struct vusb *d = user;
+	g_mutex_lock(&d->lock);
+	if ((GObject *)d->claimed_by == was)
+		d->claimed_by = NULL;
+	g_mutex_unlock(&d->lock);
+}
+
+/* CLAIMINTERFACE / RELEASEINTERFACE of interface 0 by client: 0 or an errno.
+ * A second connection's claim fails with EBUSY, as usbfs does. */
+static int claim(struct vusb *d, UMockdevIoctlClient *client, int take)
+{
+	int rc = 0;
+	g_mutex_lock(&d->lock);
+	if (take && d->driver_bound) {
+		rc = EBUSY;
+	} else if (take && d->claimed_by && d->claimed_by != client) {
+		rc = EBUSY;
+	} else if (take && !d->claimed_by) {
+		d->claimed_by = client;
+		g_object_weak_ref(G_OBJECT(client), claim_gone, d);
+	} else if (!take && d->claimed_by == client) {
+		g_object_weak_unref(G_OBJECT(client), claim_gone, d);
+		d->claimed_by = NULL;
+	}
+	g_mutex_unlock(&d->lock);
+	return rc;
 }
 
 static gboolean submit_urb(struct vusb *d, UMockdevIoctlClient *client, UMockdevIoctlData *arg)
@@ -385,8 +418,9 @@ static gboolean on_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gpoi
 			return TRUE;
 		}
 		g = (void *)gd->data;
-		if (g->interface == 0 && d->driver_bound) {
-			snprintf(g->driver, sizeof g->driver, "usbhid");
+		if (g->interface == 0 && (d->driver_bound || d->claimed_by)) {
+			/* a program's claim shows as the usbfs driver (libusb: not a kernel driver) */
+			snprintf(g->driver, sizeof g->driver, "%s", d->driver_bound ? "usbhid" : "usbfs");
 			complete(client, 0, 0);
 		} else {
 			complete(client, -1, ENODATA);
@@ -424,10 +458,17 @@ static gboolean on_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gpoi
 			return TRUE;
 		}
 		ok = ((struct usbdevfs_disconnect_claim *)(void *)cd->data)->interface == 0;
-		if (ok)
-			d->driver_bound = FALSE;
 		g_object_unref(cd);
-		complete(client, ok ? 0 : -1, ok ? 0 : EINVAL);
+		if (!ok) {
+			complete(client, -1, EINVAL);
+			return TRUE;
+		}
+		g_mutex_lock(&d->lock);
+		if (!d->claimed_by)
+			d->driver_bound = FALSE;
+		g_mutex_unlock(&d->lock);
+		ok = claim(d, client, 1);
+		complete(client, ok ? -1 : 0, ok);
 		return TRUE;
 	}
 	if (req == USBDEVFS_CLAIMINTERFACE || req == USBDEVFS_RELEASEINTERFACE) {
@@ -440,12 +481,12 @@ static gboolean on_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gpoi
 		}
 		ifno = *(unsigned *)cd->data;
 		g_object_unref(cd);
-		if (ifno != 0)
+		if (ifno != 0) {
 			complete(client, -1, EINVAL);
-		else if (req == USBDEVFS_CLAIMINTERFACE && d->driver_bound)
-			complete(client, -1, EBUSY);
-		else
-			complete(client, 0, 0);
+		} else {
+			int rc = claim(d, client, req == USBDEVFS_CLAIMINTERFACE);
+			complete(client, rc ? -1 : 0, rc);
+		}
 		return TRUE;
 	}
 	if (req == USBDEVFS_RESET || req == USBDEVFS_CLEAR_HALT || req == USBDEVFS_SETINTERFACE ||
@@ -551,6 +592,8 @@ void vusb_free(struct vusb *d)
 	GError *err = NULL;
 	if (!d)
 		return;
+	if (d->claimed_by)
+		g_object_weak_unref(G_OBJECT(d->claimed_by), claim_gone, d);
 	if (d->handler) {
 		umockdev_testbed_detach_ioctl(d->tb, d->devnode, &err);
 		g_clear_error(&err);

@@ -20,7 +20,7 @@ check "all four emulated ballasts are at 229" test "$(grep -c 'level 229 target 
 
 # 2. two interfaces: the serial number picks one; a group address on it
 emu -i 1:A1:2 -i 2:B2:3 -- "$CLIENT" serial=B2 -- point 0 dim 1 set 0 0.1 idle 3 > "$TMP/2.out" 2>&1
-check "serial B2: its short address 1 is at 10 % (level 170)" grep -q "iface 1 addr 1 level 170" "$TMP/2.out"
+check "serial B2: its short address 1 is at 10 % (level 170)" grep -q "iface 1 slot 1 level 170" "$TMP/2.out"
 check "the other interface's ballasts are untouched" test "$(grep -c '^iface 0 .*level 254' "$TMP/2.out")" = 2
 emu -i 1:A1:2 -i 2:B2:3 -- "$CLIENT" -- point 0 dim 1 > "$TMP/2b.out" 2>&1
 check "without a choice, open fails and names both" grep -Eq "2 tridonic interfaces found \(at 1-[12] and 1-[12]\)" "$TMP/2b.out"
@@ -35,7 +35,7 @@ pid=$!
 track_pid "$pid"
 wait_for 10 grep -q "mark ready" "$TMP/3.out"
 echo "dump" > "$TMP/ctl"
-check "10 % before the unplug" wait_for 5 grep -q "iface 0 addr 1 level 170" "$TMP/state"
+check "10 % before the unplug" wait_for 5 grep -q "iface 0 slot 1 level 170" "$TMP/state"
 echo "unplug 0" > "$TMP/ctl"
 check "the driver notices the unplug" wait_for 10 grep -q "^down ok" "$TMP/3.out"
 two_at_safe_level() { test "$(grep -c 'level 229 target 229 .* plugged 0' "$TMP/state")" = 2; }

@@ -484,6 +484,9 @@ static void safe_level_unplug_and_replug(void **state)
 	assert_int_equal(dwrite(f, 0, 0.3), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_non_null(strstr(f->dev.err, "no tridonic DALI USB interface"));
+	/* the cause stays in front of the rescan's words: a log of this fault
+	 * says what happened (500-fault-table greps the samples for it) */
+	assert_non_null(strstr(f->dev.err, "interface unplugged; rescan: "));
 	/* back: the driver finds it (new device number), and sends the last level */
 	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
 	t0 = now_s();
@@ -512,6 +515,8 @@ static void unplug_in_the_middle_of_a_transfer(void **state)
 	assert_true(run_until(f, is_down, 3));
 	assert_int_equal(dwrite(f, 0, 0.7), -1);
 	assert_int_equal(errno, ENODEV);
+	/* seen first by the sending side, the loss is still called an unplug */
+	assert_non_null(strstr(f->dev.err, "unplugged"));
 	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
 	assert_true(run_until(f, is_idle, 10));
 	assert_int_equal(ballast(f, 0, 2).level, ps_dali_fraction_to_level(0.7));
@@ -562,6 +567,42 @@ static void two_interfaces_need_a_choice(void **state)
 	assert_non_null(strstr(f->dev.err, "with serial ZZ"));
 }
 
+/* The interface belongs to whoever claimed it first: a second program (here
+ * a second device on its own libusb context and connection) is refused by
+ * usbfs with EBUSY and keeps retrying as for an absent interface. */
+static void a_second_claim_is_refused(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dev other = { 0 };
+	struct ps_point pt = { "other", PS_ROLE_DIM, NULL };
+	struct ps_opt o = { "address", "1", 40, 0 };
+	struct ps_opts po = { &o, 1, "other.conf" };
+	struct ps_opts none = { NULL, 0, "other.conf" };
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	other.drv = f->dev.drv;
+	snprintf(other.name, sizeof other.name, "other");
+	assert_int_equal(other.drv->open(&other, &none), 0);
+	assert_int_equal(other.drv->add_point(&other, &pt, &po), 0);
+	assert_int_equal(other.drv->write(&other, &pt, now_s(), 0.1), -1);
+	assert_int_equal(errno, ENODEV);
+	assert_non_null(strstr(other.err, "cannot claim it"));
+	assert_non_null(strstr(other.err, "busy"));
+	/* the owner goes on */
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 1).level, 229);
+	/* released: the other one gets it at its next scan */
+	f->dev.drv->close(&f->dev);
+	f->open = 0;
+	for (int i = 0; i < 100 && other.drv->write(&other, &pt, now_s(), 0.1) != 0; i++) {
+		other.drv->service(&other, now_s());
+		poll(NULL, 0, 50);
+	}
+	assert_int_equal(other.drv->write(&other, &pt, now_s(), 0.1), 0);
+	other.drv->close(&other);
+}
+
 static void bad_options_name_file_and_line(void **state)
 {
 	struct fx *f = *state;
@@ -574,7 +615,7 @@ static void bad_options_name_file_and_line(void **state)
 	assert_int_equal(open_dev(f, "port", "usb1", NULL), -1);
 	assert_non_null(strstr(f->dev.err, "test.conf:10: port"));
 	assert_int_equal(open_dev(f, "transport", "hasseb", NULL), -1);
-	assert_non_null(strstr(f->dev.err, "not a known interface"));
+	assert_non_null(strstr(f->dev.err, "test.conf:10: transport: 'hasseb' is not one of tridonic"));
 	assert_int_equal(open_dev(f, NULL), 0);
 	p.role = PS_ROLE_DIM;
 	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), -1);
@@ -691,6 +732,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(unplug_in_the_middle_of_a_transfer, setup, teardown),
 		cmocka_unit_test_setup_teardown(absent_at_open_then_found, setup, teardown),
 		cmocka_unit_test_setup_teardown(two_interfaces_need_a_choice, setup_two, teardown),
+		cmocka_unit_test_setup_teardown(a_second_claim_is_refused, setup, teardown),
 		cmocka_unit_test_setup_teardown(bad_options_name_file_and_line, setup, teardown),
 		cmocka_unit_test_setup_teardown(a_simulated_day_with_the_control_law, setup, teardown),
 	};
