@@ -1,67 +1,62 @@
 /* psvirt: the loopback virtual room served as a Modbus device, so psensd's
- * real Modbus driver runs the whole control loop with no hardware.
+ * real Modbus driver runs the whole control loop with no hardware; one room
+ * per zone for a whole site.
  *
- * The room is built as psensd builds it (psd_room_from_results, the loopback
- * driver with its options); psvirt only maps it onto the registers of an
- * ADAM-6024-style 0-10 V I/O module with a lux meter, and misbehaves on
- * request (late reply, exception, garbage, disconnect).  The register map is
- * in psvirt(1).  Time: the room's clock is --start plus --speed times the
- * real seconds since psvirt started (--speed 0 freezes it). */
+ * The parts: virtroom.c builds each zone's room as psensd builds it (the
+ * only part that knows the room); virtmap.c lays the zones out as an
+ * ADAM-6024-style 0-10 V module with a lux meter per zone; mbpdu.c answers
+ * the Modbus requests from that map; mbframe.c and mbserve.c frame them on
+ * TCP or RTU and serve every client without blocking.  This file reads the
+ * options and the configuration, and misbehaves on request (late reply,
+ * exception, garbage, disconnect: the fault registers 900-903).  psvirt(1)
+ * has the register map.  Time: the rooms' clock is --start plus --speed
+ * times the real seconds since psvirt started (--speed 0 freezes it).
+ *
+ * libmodbus opens and configures the serial line (termios, RS-485); its
+ * server API (modbus_receive, modbus_reply) is not used: it reads one
+ * client at a time with a byte timeout that restarts on every byte, sleeps
+ * its response timeout before flushing after an exception reply, cannot
+ * answer an unknown function with an exception and does not check the MBAP
+ * header, all of which psvirt must do for several clients at once. */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
-#include <poll.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 
 #include <modbus.h>
 
-#include "conf.h"
-#include "driver.h"
-#include "loopback.h"
+#include "config.h"
+#include "log.h"
+#include "mbpdu.h"
+#include "mbserve.h"
 #include "results.h"
-#include "room.h"
 #include "roomsetup.h"
+#include "virtmap.h"
+#include "virtroom.h"
 
-/* The register map (holding registers; 0..29 also as input registers). */
 enum {
-	REG_AI0 = 0,          /* photosensor, 0..65535 = 0..10 V */
-	REG_AO0 = 10,         /* dimming output, 0..4095 = 0..10 V = light output 0..1 */
-	REG_AO1 = 11,
-	REG_AI0_STATUS = 20,  /* bit 1 over-range, bit 3 open circuit */
-	REG_LUX = 100,        /* task lux, u32 high word first */
-	REG_LUX_STATUS = 102,
-	REG_LUX_F32 = 104,    /* task lux, f32 ABCD */
-	REG_LUX_F32_CDAB = 106,
-	REG_TOD = 200,        /* the room's time of day, u32 seconds */
-	REG_OUTPUT = 202,     /* light output x 10000 */
-	REG_TRUE_LUX = 203,   /* task lux without noise or faults, f32 ABCD */
-	REG_FAULT = 900,      /* 0 none, 1 late, 2 exception, 3 garbage, 4 disconnect */
-	REG_FAULT_COUNT = 901,/* requests to affect, 0: until cleared */
+	REG_FAULT = PSD_VIRT_FAULT,   /* 0 none, 1 late, 2 exception, 3 garbage, 4 disconnect */
+	REG_FAULT_COUNT = 901,        /* requests to affect, 0: until cleared */
 	REG_LATE_MS = 902,
 	REG_EXCEPTION = 903,
-	NREGS = 1000
 };
 enum { FAULT_NONE, FAULT_LATE, FAULT_EXCEPTION, FAULT_GARBAGE, FAULT_DISCONNECT, FAULT_COUNT };
 static const char *const fault_names[] = { "none", "late", "exception", "garbage", "disconnect", NULL };
 
-#define MAX_CLIENTS 8
-#define MAX_OPTS 32
+#define MAX_OPTS 64
+#define FRAME_TIMEOUT 1.0   /* s, from a frame's first byte (psvirt(1)) */
 
 struct virt {
-	modbus_t *ctx;
-	modbus_mapping_t *map;
-	int rtu;
-	struct ps_dev dev;
-	struct ps_point sensor, task, dim;
-	uint16_t last_ao0;
+	struct psd_virtmap map;
+	struct psd_mbmap mb;
+	struct psd_virtroom *room[PSD_VIRT_MAX_ZONES];
+	char zone[PSD_VIRT_MAX_ZONES][48];
+	int nzone, rtu;
+	unsigned unit;
 	double start, speed, t0;
 	long requests, faulted;
 };
@@ -78,7 +73,7 @@ static double mono(void)
 {
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec + ts.tv_nsec * 1e-9;
+	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static double room_now(const struct virt *v)
@@ -86,126 +81,91 @@ static double room_now(const struct virt *v)
 	return v->start + v->speed * (mono() - v->t0);
 }
 
-static void put_f32(uint16_t *r, double x, int cdab)
+/* Requests that only touch 900-903 always get through (psvirt(1)). */
+static int fault_registers_only(const struct psd_mbspan *sp, int nsp)
 {
-	float f = (float)x;
-	uint32_t u;
-	memcpy(&u, &f, sizeof u);
-	r[cdab] = (uint16_t)(u >> 16);
-	r[!cdab] = (uint16_t)u;
+	for (int i = 0; i < nsp; i++)
+		if (sp[i].table != PSD_MB_HOLDING || sp[i].addr < REG_FAULT ||
+		    (unsigned long)sp[i].addr + sp[i].count > REG_EXCEPTION + 1)
+			return 0;
+	return nsp > 0;
 }
 
-static void put_u32(uint16_t *r, double x)
+/* A reply that is not the reply: TCP, one to another transaction; RTU, a
+ * frame with a bad CRC. */
+static size_t garbage(const struct virt *v, const struct psd_mbadu *req, uint8_t *out)
 {
-	uint32_t u = (uint32_t)lround(fmin(fmax(x, 0), 4294967295.0));
-	r[0] = (uint16_t)(u >> 16);
-	r[1] = (uint16_t)u;
-}
-
-/* The room's state into the registers.  Returns -1 (errno ETIMEDOUT) when
- * the room drops or delays the sensor's reply (its drop and late faults). */
-static int refresh(struct virt *v, double now)
-{
-	uint16_t *hr = v->map->tab_registers;
-	double volts = 0, lux = 0;
-	int rc = 0, fault;
-	struct ps_room *room = ps_loopback_room(&v->dev);
-	/* AO0 written since the last request: command the ballast */
-	if (hr[REG_AO0] != v->last_ao0) {
-		v->last_ao0 = hr[REG_AO0] > 4095 ? 4095 : hr[REG_AO0];
-		hr[REG_AO0] = v->last_ao0;
-		ps_driver_loopback.write(&v->dev, &v->dim, now, v->last_ao0 / 4095.0);
+	uint8_t pdu[4] = { req->pdu[0], 2, 0x12, 0x34 };
+	struct psd_mbadu other = *req;
+	if (v->rtu) {
+		size_t n = psd_mbframe_rtu_put(req->unit, pdu, sizeof pdu, out);
+		out[n - 2] ^= 0x5a;
+		return n;
 	}
-	if (ps_driver_loopback.read(&v->dev, &v->sensor, now, &volts) != 0)
-		rc = -1;
-	fault = ps_room_fault(room, now);
-	hr[REG_AI0] = (uint16_t)lround(fmin(fmax(volts, 0), 10) / 10 * 65535);
-	hr[REG_AI0_STATUS] = (uint16_t)((volts >= 10 || fault == PS_ROOM_FAULT_SATURATED ? 0x0002 : 0) |
-	                                (fault == PS_ROOM_FAULT_OPEN ? 0x0008 : 0));
-	ps_driver_loopback.read(&v->dev, &v->task, now, &lux);
-	put_u32(hr + REG_LUX, lux);
-	hr[REG_LUX_STATUS] = 0;
-	put_f32(hr + REG_LUX_F32, lux, 0);
-	put_f32(hr + REG_LUX_F32_CDAB, lux, 1);
-	put_u32(hr + REG_TOD, ps_room_tod(now));
-	hr[REG_OUTPUT] = (uint16_t)lround(ps_room_output(room, now) * 10000);
-	put_f32(hr + REG_TRUE_LUX, ps_room_true_task_lux(room, now), 0);
-	memcpy(v->map->tab_input_registers, hr, NREGS * sizeof *hr);
-	if (rc != 0)
-		errno = ps_room_fault(room, now) == PS_ROOM_FAULT_LATE ? EAGAIN : ETIMEDOUT;
-	return rc;
+	other.tid ^= 0x5a;
+	return psd_mbframe_tcp_put(&other, pdu, sizeof pdu, out);
 }
 
-/* Does this request write the fault registers?  Those always get through. */
-static int writes_fault_regs(const uint8_t *q, int off)
+/* The injected fault of registers 900-903 for one request, counted down;
+ * an action of mbserve.h, or -1 for none. */
+static int injected(struct virt *v, const struct psd_mbadu *req, uint8_t *out, size_t *n, double *delay)
 {
-	int fc = q[off], addr = q[off + 1] << 8 | q[off + 2];
-	return (fc == MODBUS_FC_WRITE_SINGLE_REGISTER || fc == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) &&
-	       addr >= REG_FAULT && addr <= REG_EXCEPTION;
+	uint16_t *hr = v->map.hr;
+	int fault = hr[REG_FAULT] < FAULT_COUNT ? hr[REG_FAULT] : FAULT_NONE;
+	if (fault == FAULT_NONE)
+		return -1;
+	v->faulted++;
+	if (hr[REG_FAULT_COUNT] > 0 && --hr[REG_FAULT_COUNT] == 0)
+		hr[REG_FAULT] = FAULT_NONE;
+	switch (fault) {
+	case FAULT_LATE:
+		*delay = hr[REG_LATE_MS] * 1e-3;
+		return PSD_MBS_DEFER;
+	case FAULT_EXCEPTION:
+		*n = psd_mbpdu_exception(req->pdu[0], (uint8_t)hr[REG_EXCEPTION], out);
+		return PSD_MBS_REPLY;
+	case FAULT_GARBAGE:
+		*n = garbage(v, req, out);
+		return PSD_MBS_RAW;
+	default:   /* disconnect: TCP closes, a serial line goes silent */
+		return v->rtu ? PSD_MBS_SILENT : PSD_MBS_CLOSE;
+	}
 }
 
-static void send_garbage(struct virt *v, int fd, const uint8_t *q, int off)
+/* mbserve's handler: units, the rooms' own faults, the injected faults,
+ * then the answer from the register map. */
+static int on_request(void *user, const struct psd_mbadu *req, int deferred, uint8_t *out, size_t *n,
+                      double *delay)
 {
-	/* TCP: a reply to another transaction; RTU: a reply with a bad CRC */
-	uint8_t tcp[11] = { q[0], (uint8_t)(q[1] ^ 0x5a), 0, 0, 0, 5, q[6], q[off], 2, 0x12, 0x34 };
-	uint8_t rtu[7] = { q[0], q[off], 2, 0x12, 0x34, 0xde, 0xad };
-	ssize_t n = v->rtu ? write(fd, rtu, sizeof rtu) : write(fd, tcp, sizeof tcp);
-	(void)n;
-}
-
-/* Serve one request; returns 1 when the connection must be closed, 2 when
- * the reply is late: with *late_s set (TCP) it is deferred by that many
- * seconds and finished by reply_late(), so one slow reply does not stall the
- * other clients (nor the fault registers' writes); without (a serial line,
- * where a late reply does hold the line) psvirt sleeps. */
-static int serve(struct virt *v, int fd, const uint8_t *q, int len, double *late_s)
-{
-	uint16_t *hr = v->map->tab_registers;
-	int off = modbus_get_header_length(v->ctx), fault;
+	struct virt *v = user;
+	int broadcast = v->rtu && req->unit == 0;
 	double now = room_now(v);
-	v->requests++;
-	if (refresh(v, now) != 0) {
-		if (errno == ETIMEDOUT)
-			return 0;   /* the room drops the reply */
-		if (late_s) {
-			*late_s = hr[REG_LATE_MS] * 1e-3;
-			return 2;
+	if (!deferred) {
+		struct psd_mbspan sp[2];
+		int nsp, act;
+		if (v->rtu && req->unit != v->unit && !broadcast)
+			return PSD_MBS_SILENT;   /* another unit's frame on the bus */
+		v->requests++;
+		if (!v->rtu && req->unit != v->unit && req->unit != 0 && req->unit != 255) {
+			*n = psd_mbpdu_exception(req->pdu[0], PSD_MBX_GATEWAY_TARGET, out);
+			return PSD_MBS_REPLY;
 		}
-		usleep((useconds_t)hr[REG_LATE_MS] * 1000);
-	}
-	fault = hr[REG_FAULT] < FAULT_COUNT ? hr[REG_FAULT] : FAULT_NONE;
-	if (fault != FAULT_NONE && !writes_fault_regs(q, off)) {
-		v->faulted++;
-		if (hr[REG_FAULT_COUNT] > 0 && --hr[REG_FAULT_COUNT] == 0)
-			hr[REG_FAULT] = FAULT_NONE;
-		switch (fault) {
-		case FAULT_LATE:
-			if (late_s) {
-				*late_s = hr[REG_LATE_MS] * 1e-3;
-				return 2;
+		nsp = psd_mbpdu_spans(req->pdu, req->npdu, sp);
+		if (!broadcast && !fault_registers_only(sp, nsp)) {
+			switch (psd_virtmap_comms(&v->map, psd_virtmap_zones(&v->map, sp, nsp), now)) {
+			case PSD_VIRTROOM_DROP:
+				return PSD_MBS_SILENT;
+			case PSD_VIRTROOM_LATE:
+				*delay = v->map.hr[REG_LATE_MS] * 1e-3;
+				return PSD_MBS_DEFER;
 			}
-			usleep((useconds_t)hr[REG_LATE_MS] * 1000);
-			break;
-		case FAULT_EXCEPTION: modbus_reply_exception(v->ctx, q, hr[REG_EXCEPTION]); return 0;
-		case FAULT_GARBAGE: send_garbage(v, fd, q, off); return 0;
-		default: return !v->rtu;   /* disconnect: TCP closes, a serial line goes silent */
+			if ((act = injected(v, req, out, n, delay)) >= 0)
+				return act;
 		}
 	}
-	if (modbus_reply(v->ctx, q, len, v->map) < 0)
-		return !v->rtu;
-	refresh(v, now);   /* a write to AO0 takes effect now */
-	return 0;
-}
-
-/* Finish a deferred reply with the room as it is now; 1: close the client. */
-static int reply_late(struct virt *v, int fd, const uint8_t *q, int len)
-{
-	modbus_set_socket(v->ctx, fd);
-	refresh(v, room_now(v));
-	if (modbus_reply(v->ctx, q, len, v->map) < 0)
-		return 1;
-	refresh(v, room_now(v));
-	return 0;
+	v->map.now = now;
+	*n = psd_mbpdu_reply(&v->mb, req->pdu, req->npdu, out);
+	return broadcast ? PSD_MBS_SILENT : PSD_MBS_REPLY;
 }
 
 static int write_ready(const char *path, const char *what)
@@ -218,121 +178,6 @@ static int write_ready(const char *path, const char *what)
 	fprintf(fp, "%s\n", what);
 	if (fclose(fp) != 0 || rename(tmp, path) != 0)
 		return -1;
-	return 0;
-}
-
-/* A TCP client and its deferred reply, if any (due > 0). */
-struct client {
-	int fd, len;
-	double due;
-	uint8_t q[MODBUS_TCP_MAX_ADU_LENGTH];
-};
-
-static int run_tcp(struct virt *v, const char *ready)
-{
-	int lfd = modbus_tcp_listen(v->ctx, MAX_CLIENTS), n = 0;
-	struct client cl[MAX_CLIENTS];
-	struct sockaddr_in a;
-	socklen_t alen = sizeof a;
-	char port[16];
-	if (lfd < 0 || getsockname(lfd, (struct sockaddr *)&a, &alen) != 0) {
-		fprintf(stderr, "psvirt: cannot listen: %s\n", modbus_strerror(errno));
-		return -1;
-	}
-	snprintf(port, sizeof port, "%d", ntohs(a.sin_port));
-	if (ready && write_ready(ready, port) != 0) {
-		fprintf(stderr, "psvirt: %s: %s\n", ready, strerror(errno));
-		return -1;
-	}
-	while (!stop) {
-		struct pollfd p[MAX_CLIENTS + 1];
-		double t = mono(), wait = 0.2;
-		p[0] = (struct pollfd){ lfd, POLLIN, 0 };
-		/* a client waiting for a late reply is not read until it has it */
-		for (int i = 0; i < n; i++) {
-			p[i + 1] = (struct pollfd){ cl[i].fd, cl[i].due > 0 ? 0 : POLLIN, 0 };
-			if (cl[i].due > 0)
-				wait = fmin(wait, fmax(cl[i].due - t, 0));
-		}
-		poll(p, (nfds_t)n + 1, (int)ceil(wait * 1000));
-		if (p[0].revents & POLLIN) {
-			int c = accept(lfd, NULL, NULL);
-			if (c >= 0 && n < MAX_CLIENTS)
-				cl[n++] = (struct client){ .fd = c };
-			else if (c >= 0)
-				close(c);
-		}
-		t = mono();
-		for (int i = 0; i < n; i++) {
-			int rc, drop = 0;
-			double late = 0;
-			if (cl[i].due > 0) {
-				if (t >= cl[i].due) {
-					cl[i].due = 0;
-					drop = reply_late(v, cl[i].fd, cl[i].q, cl[i].len);
-				} else if (p[i + 1].revents & (POLLHUP | POLLERR)) {
-					drop = 1;
-				}
-			} else if (p[i + 1].revents & (POLLIN | POLLHUP | POLLERR)) {
-				modbus_set_socket(v->ctx, cl[i].fd);
-				rc = modbus_receive(v->ctx, cl[i].q);
-				if (rc < 0)
-					drop = 1;
-				else if (rc > 0 && (drop = serve(v, cl[i].fd, cl[i].q, rc, &late)) == 2) {
-					cl[i].len = rc;
-					cl[i].due = mono() + late;
-					drop = 0;
-				}
-			}
-			if (drop) {
-				close(cl[i].fd);
-				/* poll results are indexed by the old positions: move the last
-				 * client here only after its own turn is past */
-				cl[i].fd = -1;
-			}
-		}
-		for (int i = 0; i < n;)
-			if (cl[i].fd < 0)
-				cl[i] = cl[--n];
-			else
-				i++;
-	}
-	for (int i = 0; i < n; i++)
-		close(cl[i].fd);
-	close(lfd);
-	return 0;
-}
-
-static int run_rtu(struct virt *v, const char *device, const char *ready)
-{
-	uint8_t q[MODBUS_RTU_MAX_ADU_LENGTH];
-	int fd;
-	if (modbus_connect(v->ctx) != 0) {
-		fprintf(stderr, "psvirt: %s: %s\n", device, modbus_strerror(errno));
-		return -1;
-	}
-	fd = modbus_get_socket(v->ctx);
-	if (ready && write_ready(ready, device) != 0) {
-		fprintf(stderr, "psvirt: %s: %s\n", ready, strerror(errno));
-		return -1;
-	}
-	while (!stop) {
-		struct pollfd p = { fd, POLLIN, 0 };
-		int rc;
-		if (poll(&p, 1, 200) <= 0)
-			continue;
-		rc = modbus_receive(v->ctx, q);
-		if (rc > 0)
-			serve(v, fd, q, rc, NULL);
-		else if (rc < 0) {
-			/* a bad frame or a line with nobody on the other end: drop what
-			 * is there, and do not spin on a hung-up line */
-			modbus_flush(v->ctx);
-			if (errno != ETIMEDOUT && errno != EMBBADCRC && errno != EMBBADDATA)
-				usleep(50000);
-		}
-	}
-	modbus_close(v->ctx);
 	return 0;
 }
 
@@ -349,19 +194,22 @@ static void usage(FILE *fp)
 {
 	fprintf(fp,
 	        "usage: psvirt [-f psensd.conf] [--results FILE] [--date MM-DD] [--sunrise HH:MM]\n"
-	        "              [--sunset HH:MM] [--start HH:MM] [--speed F] [-o KEY=VALUE]...\n"
+	        "              [--sunset HH:MM] [--start HH:MM] [--speed F] [--zones N]\n"
+	        "              [-o [ZONE:]KEY=VALUE]...\n"
 	        "              (--tcp ADDR:PORT | --rtu DEVICE [--baud N] [--parity none|even|odd]\n"
 	        "              [--stop-bits 1|2]) [--unit N] [--ready-file FILE]\n"
+	        "              [--idle-timeout S] [--max-clients N] [-v]\n"
 	        "              [--fault late|exception|garbage|disconnect] [--fault-count N] [--late-ms N]\n"
-	        "The virtual room as a Modbus 0-10 V I/O module with a lux meter; see psvirt(1).\n");
+	        "The virtual room of each zone as one Modbus 0-10 V I/O module with a lux meter\n"
+	        "per zone; see psvirt(1).\n");
 }
 
 struct args {
 	const char *conf, *results, *date, *sunrise, *sunset, *start, *tcp, *rtu, *ready, *parity;
-	double speed;
-	long unit, baud, stop_bits, fault_count, late_ms;
-	int fault;
-	struct ps_opt opts[MAX_OPTS];
+	double speed, idle_timeout;
+	long unit, baud, stop_bits, fault_count, late_ms, zones, max_clients;
+	int fault, verbose;
+	struct ps_opt opts[MAX_OPTS];   /* -o: key may be ZONE:KEY */
 	size_t nopts;
 };
 
@@ -373,7 +221,8 @@ static int parse_args(struct args *a, int argc, char **argv)
 		{ "tcp", 1, NULL, 't' }, { "rtu", 1, NULL, 'u' }, { "baud", 1, NULL, 'b' },
 		{ "parity", 1, NULL, 'p' }, { "stop-bits", 1, NULL, 'B' }, { "unit", 1, NULL, 'U' },
 		{ "ready-file", 1, NULL, 'y' }, { "fault", 1, NULL, 'F' }, { "fault-count", 1, NULL, 'C' },
-		{ "late-ms", 1, NULL, 'L' }, { "help", 0, NULL, 'h' }, { NULL, 0, NULL, 0 }
+		{ "late-ms", 1, NULL, 'L' }, { "zones", 1, NULL, 'z' }, { "idle-timeout", 1, NULL, 'I' },
+		{ "max-clients", 1, NULL, 'M' }, { "help", 0, NULL, 'h' }, { NULL, 0, NULL, 0 }
 	};
 	int c;
 	memset(a, 0, sizeof *a);
@@ -383,7 +232,9 @@ static int parse_args(struct args *a, int argc, char **argv)
 	a->stop_bits = 1;
 	a->late_ms = 500;
 	a->parity = "none";
-	while ((c = getopt_long(argc, argv, "f:o:h", lo, NULL)) != -1) {
+	a->idle_timeout = 300;
+	a->max_clients = 32;
+	while ((c = getopt_long(argc, argv, "f:o:hv", lo, NULL)) != -1) {
 		char *end = NULL;
 		switch (c) {
 		case 'f': a->conf = optarg; break;
@@ -402,6 +253,10 @@ static int parse_args(struct args *a, int argc, char **argv)
 		case 'y': a->ready = optarg; break;
 		case 'C': a->fault_count = strtol(optarg, &end, 10); break;
 		case 'L': a->late_ms = strtol(optarg, &end, 10); break;
+		case 'z': a->zones = strtol(optarg, &end, 10); break;
+		case 'I': a->idle_timeout = strtod(optarg, &end); break;
+		case 'M': a->max_clients = strtol(optarg, &end, 10); break;
+		case 'v': a->verbose = 1; break;
 		case 'F':
 			for (a->fault = 1; fault_names[a->fault] && strcmp(fault_names[a->fault], optarg); a->fault++)
 				;
@@ -412,8 +267,8 @@ static int parse_args(struct args *a, int argc, char **argv)
 			break;
 		case 'o': {
 			char *eq = strchr(optarg, '=');
-			if (!eq || a->nopts >= MAX_OPTS) {
-				fprintf(stderr, "psvirt: -o: '%s' is not KEY=VALUE\n", optarg);
+			if (!eq || eq == optarg || a->nopts >= MAX_OPTS) {
+				fprintf(stderr, "psvirt: -o: '%s' is not [ZONE:]KEY=VALUE\n", optarg);
 				return -1;
 			}
 			*eq = 0;
@@ -433,56 +288,116 @@ static int parse_args(struct args *a, int argc, char **argv)
 		return -1;
 	}
 	if (!(a->speed >= 0) || a->unit < 1 || a->unit > 247 || a->late_ms < 0 || a->late_ms > 60000 ||
-	    a->fault_count < 0 || a->fault_count > 65535) {
+	    a->fault_count < 0 || a->fault_count > 65535 || a->zones < 0 || a->zones > PSD_VIRT_MAX_ZONES ||
+	    !(a->idle_timeout > 0) || a->max_clients < 1 || a->max_clients > 4096) {
 		fprintf(stderr, "psvirt: --speed must be >= 0, --unit 1 to 247, --late-ms 0 to 60000, "
-		                "--fault-count 0 to 65535\n");
+		                "--fault-count 0 to 65535, --zones 1 to %d, --idle-timeout > 0, "
+		                "--max-clients 1 to 4096\n", PSD_VIRT_MAX_ZONES);
 		return -1;
 	}
 	return 0;
 }
 
-/* The day as psensd builds it: results, date, sunrise and sunset from the
- * configuration (-f) unless the command line says otherwise. */
-static int build_room(struct virt *v, struct args *a)
+/* The zone an -o key names before its colon (a channel number or a zone's
+ * name), or -1 for every zone; -2 (with a message) for no such zone.
+ * *key is set past the colon. */
+static int opt_zone(const struct virt *v, const char *raw, const char **key)
 {
-	struct ps_conf conf;
-	struct ps_err e;
+	const char *colon = strchr(raw, ':');
+	char *end;
+	long k;
+	*key = raw;
+	if (!colon)
+		return -1;
+	*key = colon + 1;
+	k = strtol(raw, &end, 10);
+	if (end == colon && end != raw && k >= 0 && k < v->nzone)
+		return (int)k;
+	for (int z = 0; z < v->nzone; z++)
+		if ((size_t)(colon - raw) == strlen(v->zone[z]) && strncmp(raw, v->zone[z], (size_t)(colon - raw)) == 0)
+			return z;
+	fprintf(stderr, "psvirt: -o %s: no zone '%.*s' (%d zone(s): 0 to %d or their names)\n", raw,
+	        (int)(colon - raw), raw, v->nzone, v->nzone - 1);
+	return -2;
+}
+
+/* Zone z's options from the command line: its own (ZONE:KEY) before every
+ * zone's, so the first match wins; the source -o entries' used flags are
+ * set for the keys the room knows. */
+static int zone_cmdline_opts(const struct virt *v, struct args *a, int z, struct ps_opt *out, size_t *n,
+                             int *src)
+{
+	*n = 0;
+	for (int pass = 0; pass < 2; pass++)
+		for (size_t i = 0; i < a->nopts; i++) {
+			const char *key;
+			int oz = opt_zone(v, a->opts[i].key, &key);
+			if (oz == -2)
+				return -1;
+			if ((pass == 0 && oz == z) || (pass == 1 && oz == -1)) {
+				src[*n] = (int)i;
+				out[(*n)++] = (struct ps_opt){ key, a->opts[i].value, a->opts[i].line, 0 };
+			}
+		}
+	return 0;
+}
+
+/* The day, the zones and their options: from -f (psensd.conf: [psensd]
+ * results, [simulate], the [zone] sections in order, each with its sensor's
+ * loopback device's options) and the command line, which wins. */
+static int build_rooms(struct virt *v, struct args *a)
+{
+	struct psd_config *cf = NULL;
 	struct ps_results res;
-	struct ps_room_daypoint day[PSD_DAY_POINTS];
-	struct ps_room_params rp;
-	struct ps_opts opts = { a->opts, a->nopts, "psvirt -o" };
-	char *results = NULL;
-	const char *date = "03-18", *sunrise = "06:00", *sunset = "18:00", *start = "06:00";
-	double rise, set;
-	int rc = -1;
-	memset(&conf, 0, sizeof conf);
+	struct ps_err e;
+	struct psd_virtday day;
+	const char *results = a->results, *conf_path = a->conf ? a->conf : "";
+	char date[16] = "03-18";
+	double rise = 6 * 3600.0, set = 18 * 3600.0;
+	int rc = -1, have_res = 0;
+	const struct ps_opts *zone_conf[PSD_VIRT_MAX_ZONES] = { NULL };
+	v->start = 6 * 3600.0;
+	v->nzone = a->zones ? (int)a->zones : 1;
+	for (int z = 0; z < PSD_VIRT_MAX_ZONES; z++)
+		snprintf(v->zone[z], sizeof v->zone[z], "zone%d", z);
 	if (a->conf) {
-		struct ps_conf_section *ps, *sim;
-		if (ps_conf_load(&conf, a->conf, &e) != 0) {
-			fprintf(stderr, "psvirt: %s\n", e.msg);
+		if (!(cf = calloc(1, sizeof *cf))) {
+			fprintf(stderr, "psvirt: out of memory\n");
 			return -1;
 		}
-		ps = ps_conf_section(&conf, "psensd");
-		sim = ps_conf_section(&conf, "simulate");
-		results = ps_conf_path(&conf, ps, "results");
-		date = ps_conf_str(&conf, sim, "date", date);
-		sunrise = ps_conf_str(&conf, sim, "sunrise", sunrise);
-		sunset = ps_conf_str(&conf, sim, "sunset", sunset);
-		start = ps_conf_str(&conf, sim, "start", start);
+		if (psd_config_load(cf, a->conf) != 0) {
+			for (size_t i = 0; i < cf->conf.nerrors; i++)
+				fprintf(stderr, "psvirt: %s\n", cf->conf.errors[i]);
+			goto out;
+		}
+		if (cf->nzone > PSD_VIRT_MAX_ZONES || (a->zones && (size_t)a->zones != cf->nzone)) {
+			fprintf(stderr, "psvirt: %s has %zu zones: psvirt serves %s\n", a->conf, cf->nzone,
+			        a->zones ? "as many (drop --zones)" : "at most 10");
+			goto out;
+		}
+		v->nzone = (int)cf->nzone;
+		for (int z = 0; z < v->nzone; z++) {
+			const struct psd_zone_conf *zc = &cf->zone[z];
+			const struct psd_device_conf *dc = &cf->dev[cf->pt[zc->sensor].device];
+			snprintf(v->zone[z], sizeof v->zone[z], "%s", zc->name);
+			if (strcmp(dc->drv->name, "loopback") == 0)
+				zone_conf[z] = &dc->opts;
+		}
+		if (!results)
+			results = cf->results;
+		snprintf(date, sizeof date, "%s", cf->date);
+		rise = cf->sunrise;
+		set = cf->sunset;
+		v->start = cf->start;
 	}
-	if (a->results) {
-		free(results);
-		results = strdup(a->results);
-	}
-	date = a->date ? a->date : date;
-	sunrise = a->sunrise ? a->sunrise : sunrise;
-	sunset = a->sunset ? a->sunset : sunset;
-	start = a->start ? a->start : start;
+	if (a->date)
+		snprintf(date, sizeof date, "%s", a->date);
 	if (!results) {
 		fprintf(stderr, "psvirt: no results (--results FILE, or -f with [psensd] results)\n");
 		goto out;
 	}
-	if (psd_day_of_year(date) < 0 || hhmm(sunrise, &rise) || hhmm(sunset, &set) || hhmm(start, &v->start)) {
+	if (psd_day_of_year(date) < 0 || (a->sunrise && hhmm(a->sunrise, &rise)) || (a->sunset && hhmm(a->sunset, &set)) ||
+	    (a->start && hhmm(a->start, &v->start))) {
 		fprintf(stderr, "psvirt: date must be MM-DD and sunrise, sunset, start HH:MM\n");
 		goto out;
 	}
@@ -490,97 +405,208 @@ static int build_room(struct virt *v, struct args *a)
 		fprintf(stderr, "psvirt: %s\n", e.msg);
 		goto out;
 	}
-	if (psd_room_from_results(&res, psd_day_of_year(date), rise, set, day, &rp) != 0) {
-		fprintf(stderr, "psvirt: %s: needs a computed daylight and an electric condition\n", results);
-		ps_results_free(&res);
-		goto out;
-	}
-	ps_results_free(&res);
-	v->dev.drv = &ps_driver_loopback;
-	snprintf(v->dev.name, sizeof v->dev.name, "psvirt");
-	v->sensor = (struct ps_point){ "sensor", PS_ROLE_SENSOR, NULL };
-	v->task = (struct ps_point){ "task", PS_ROLE_TASK_LUX, NULL };
-	v->dim = (struct ps_point){ "dim", PS_ROLE_DIM, NULL };
-	if (ps_driver_loopback.open(&v->dev, &opts) != 0 || ps_loopback_set_room(&v->dev, &rp, v->start) != 0 ||
-	    ps_driver_loopback.add_point(&v->dev, &v->sensor, NULL) != 0 ||
-	    ps_driver_loopback.add_point(&v->dev, &v->task, NULL) != 0 ||
-	    ps_driver_loopback.add_point(&v->dev, &v->dim, NULL) != 0) {
-		fprintf(stderr, "psvirt: room: %s\n", v->dev.err);
-		goto out;
-	}
-	for (size_t i = 0; i < opts.n; i++)
-		if (!opts.v[i].used) {
-			fprintf(stderr, "psvirt: -o %s: not a loopback room option (see psensd.conf(5))\n", opts.v[i].key);
+	have_res = 1;
+	day = (struct psd_virtday){ &res, date, rise, set };
+	for (int z = 0; z < v->nzone; z++) {
+		struct ps_opt merged[2 * MAX_OPTS + 1];
+		int src[MAX_OPTS];
+		size_t n, nconf = zone_conf[z] ? zone_conf[z]->n : 0;
+		struct ps_opts cmd = { merged, 0, "psvirt -o" }, all = { merged, 0, "psvirt -o" };
+		char err[512], seed[32], *end = NULL;
+		const char *s;
+		if (zone_cmdline_opts(v, a, z, merged + 1, &n, src) != 0)
+			goto out;
+		if (n + nconf > 2 * MAX_OPTS) {
+			fprintf(stderr, "psvirt: zone %s: more than %d room options\n", v->zone[z], 2 * MAX_OPTS);
 			goto out;
 		}
+		/* the command line alone first, so its messages name it */
+		cmd.v = merged + 1;
+		cmd.n = n;
+		if (psd_virtroom_check(&cmd, err, sizeof err) != 0) {
+			fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+			goto out;
+		}
+		for (size_t i = 0; i < n; i++)
+			a->opts[src[i]].used |= merged[1 + i].used;
+		for (size_t i = 0; i < nconf; i++)
+			merged[1 + n + i] = zone_conf[z]->v[i];
+		if (nconf)
+			all.file = conf_path;
+		/* zones sharing their options must not share their noise: zone
+		 * k's seed is its seed option (1) plus k */
+		all.v = merged + 1;
+		all.n = n + nconf;
+		s = ps_opt_get(&all, "seed");
+		if (z > 0 && (!s || (strtol(s, &end, 10) >= 0 && !*end && *s))) {
+			snprintf(seed, sizeof seed, "%ld", (s ? strtol(s, NULL, 10) : 1) + z);
+			merged[0] = (struct ps_opt){ "seed", seed, 0, 0 };
+			all.v = merged;
+			all.n++;
+		}
+		if (!(v->room[z] = psd_virtroom_new(&day, &all, v->start, err, sizeof err))) {
+			fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+			goto out;
+		}
+		for (size_t i = all.n - nconf; i < all.n; i++)
+			if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
+				fprintf(stderr, "psvirt: %s:%d: unknown key '%s' for driver loopback\n", conf_path,
+				        all.v[i].line, all.v[i].key);
+				goto out;
+			}
+	}
+	/* a key no zone took is not a room option (one every zone overrides
+	 * with its own is) */
+	for (size_t i = 0; i < a->nopts; i++) {
+		const char *key, *other;
+		int known = 0;
+		opt_zone(v, a->opts[i].key, &key);
+		for (size_t j = 0; j < a->nopts && !known; j++)
+			known = a->opts[j].used && (opt_zone(v, a->opts[j].key, &other), strcmp(key, other) == 0);
+		if (!known) {
+			fprintf(stderr, "psvirt: -o %s: not a loopback room option (see psensd.conf(5))\n", key);
+			goto out;
+		}
+	}
 	rc = 0;
 out:
-	free(results);
-	ps_conf_free(&conf);
+	if (have_res)
+		ps_results_free(&res);
+	if (cf) {
+		psd_config_free(cf);
+		free(cf);
+	}
 	return rc;
+}
+
+static void hm(char *s, size_t n, double t)
+{
+	double tod = psd_virtroom_tod(t);
+	snprintf(s, n, "%02d:%02d", (int)(tod / 3600), (int)fmod(tod / 60, 60));
+}
+
+static void summary(struct virt *v)
+{
+	double end = room_now(v), sum = 0;
+	char from[8], to[8];
+	hm(from, sizeof from, v->start);
+	hm(to, sizeof to, end);
+	for (int z = 0; z < v->nzone; z++)
+		sum += end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0;
+	printf("psvirt: %ld requests (%ld faulted); room time %s to %s; light output %.1f %% of full on average\n",
+	       v->requests, v->faulted, from, to, sum / v->nzone);
+	for (int z = 0; v->nzone > 1 && z < v->nzone; z++)
+		printf("psvirt: zone %d %s: light output %.1f %% of full on average\n", z, v->zone[z],
+		       end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0);
+}
+
+/* The serial line, opened and configured by libmodbus; NULL on failure. */
+static modbus_t *open_line(const struct args *a, int *fd)
+{
+	char par = !strcmp(a->parity, "even") ? 'E' : !strcmp(a->parity, "odd") ? 'O' : 'N';
+	modbus_t *ctx = modbus_new_rtu(a->rtu, (int)a->baud, par, 8, (int)a->stop_bits);
+	if (!ctx || modbus_connect(ctx) != 0) {
+		fprintf(stderr, "psvirt: %s: %s\n", a->rtu, modbus_strerror(errno));
+		if (ctx)
+			modbus_free(ctx);
+		return NULL;
+	}
+	*fd = modbus_get_socket(ctx);
+	return ctx;
+}
+
+static void free_rooms(struct virt *v)
+{
+	for (int z = 0; z < PSD_VIRT_MAX_ZONES; z++)
+		psd_virtroom_free(v->room[z]);
 }
 
 int main(int argc, char **argv)
 {
+	static struct virt v;
 	struct args a;
-	struct virt v;
 	struct sigaction sa;
-	int rc;
-	double end;
-	memset(&v, 0, sizeof v);
+	struct psd_mbserve *srv;
+	struct psd_mbserve_opts so;
+	modbus_t *line = NULL;
+	char err[512], where[300];
 	if (parse_args(&a, argc, argv) != 0) {
 		usage(stderr);
 		return 2;
 	}
-	if (build_room(&v, &a) != 0) {
-		ps_driver_loopback.close(&v.dev);
+	log_init(1, a.verbose || getenv("PSVIRT_DEBUG") ? PSD_LOG_DEBUG : PSD_LOG_WARN, "psvirt");
+	if (build_rooms(&v, &a) != 0) {
+		free_rooms(&v);
 		return 1;
 	}
 	v.speed = a.speed;
+	v.unit = (unsigned)a.unit;
+	so = (struct psd_mbserve_opts){ a.idle_timeout, FRAME_TIMEOUT, (int)a.max_clients, a.baud,
+	                                getenv("PSVIRT_DEBUG") != NULL };
 	if (a.tcp) {
 		char host[256];
 		const char *colon = strrchr(a.tcp, ':');
 		if (!colon || colon == a.tcp || (size_t)(colon - a.tcp) >= sizeof host) {
 			fprintf(stderr, "psvirt: --tcp: '%s' is not ADDR:PORT\n", a.tcp);
+			free_rooms(&v);
 			return 2;
 		}
 		snprintf(host, sizeof host, "%.*s", (int)(colon - a.tcp), a.tcp);
-		v.ctx = modbus_new_tcp(host, atoi(colon + 1));
+		srv = psd_mbserve_tcp(host, colon + 1, &so, on_request, &v, err, sizeof err);
+		snprintf(where, sizeof where, "%d", srv ? psd_mbserve_port(srv) : 0);
 	} else {
-		char par = !strcmp(a.parity, "even") ? 'E' : !strcmp(a.parity, "odd") ? 'O' : 'N';
-		v.ctx = modbus_new_rtu(a.rtu, (int)a.baud, par, 8, (int)a.stop_bits);
+		int fd = -1;
 		v.rtu = 1;
+		srv = (line = open_line(&a, &fd)) ? psd_mbserve_rtu(fd, &so, on_request, &v, err, sizeof err) : NULL;
+		snprintf(where, sizeof where, "%s", a.rtu);
 	}
-	v.map = modbus_mapping_new(32, 8, NREGS, NREGS);
-	if (!v.ctx || !v.map) {
-		fprintf(stderr, "psvirt: %s\n", modbus_strerror(errno));
+	if (!srv) {
+		if (a.tcp || line)
+			fprintf(stderr, "psvirt: cannot %s: %s\n", a.tcp ? "listen" : "serve the line", err);
+		if (line) {
+			modbus_close(line);
+			modbus_free(line);
+		}
+		free_rooms(&v);
 		return 1;
 	}
-	modbus_set_slave(v.ctx, (int)a.unit);
-	modbus_set_debug(v.ctx, getenv("PSVIRT_DEBUG") != NULL);
-	modbus_set_indication_timeout(v.ctx, 1, 0);   /* a half-sent request cannot stall us */
-	v.map->tab_registers[REG_AO0] = v.last_ao0 = 4095;   /* the room starts at full output */
-	v.map->tab_registers[REG_FAULT] = (uint16_t)a.fault;
-	v.map->tab_registers[REG_FAULT_COUNT] = (uint16_t)a.fault_count;
-	v.map->tab_registers[REG_LATE_MS] = (uint16_t)a.late_ms;
-	v.map->tab_registers[REG_EXCEPTION] = MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE;
+	psd_virtmap_init(&v.map, v.room, v.nzone, &v.mb);
+	v.map.hr[REG_FAULT] = (uint16_t)a.fault;
+	v.map.hr[REG_FAULT_COUNT] = (uint16_t)a.fault_count;
+	v.map.hr[REG_LATE_MS] = (uint16_t)a.late_ms;
+	v.map.hr[REG_EXCEPTION] = PSD_MBX_DEVICE_FAILURE;
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigaction(SIGTERM, &sa, NULL);
 	sigaction(SIGINT, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
 	v.t0 = mono();
-	refresh(&v, v.start);
-	rc = a.tcp ? run_tcp(&v, a.ready) : run_rtu(&v, a.rtu, a.ready);
-	end = room_now(&v);
-	if (rc == 0)
-		printf("psvirt: %ld requests (%ld faulted); room time %02d:%02d to %02d:%02d; "
-		       "light output %.1f %% of full on average\n", v.requests, v.faulted,
-		       (int)(v.start / 3600), (int)fmod(v.start / 60, 60), (int)(ps_room_tod(end) / 3600),
-		       (int)fmod(ps_room_tod(end) / 60, 60),
-		       end > v.start ? 100 * ps_room_energy(ps_loopback_room(&v.dev), end) / (end - v.start) : 100.0);
-	modbus_mapping_free(v.map);
-	modbus_free(v.ctx);
-	ps_driver_loopback.close(&v.dev);
-	return rc == 0 ? 0 : 1;
+	psd_virtmap_refresh(&v.map, v.start);
+	if (v.nzone > 1) {
+		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", where, v.unit);
+		for (int z = 0; z < v.nzone; z++)
+			printf("%s %d %s (AI%d, AO%d at %d, lux at %d)", z ? "," : "", z, v.zone[z], z, z,
+			       PSD_VIRT_AO + z, PSD_VIRT_METER + 10 * z);
+		printf("\n");
+		fflush(stdout);
+	}
+	if (a.ready && write_ready(a.ready, where) != 0) {
+		fprintf(stderr, "psvirt: %s: %s\n", a.ready, strerror(errno));
+		psd_mbserve_free(srv);
+		free_rooms(&v);
+		return 1;
+	}
+	while (!stop)
+		if (psd_mbserve_step(srv, 1.0) != 0) {
+			fprintf(stderr, "psvirt: poll: %s\n", strerror(errno));
+			break;
+		}
+	summary(&v);
+	psd_mbserve_free(srv);
+	if (line) {
+		modbus_close(line);
+		modbus_free(line);
+	}
+	free_rooms(&v);
+	return stop ? 0 : 1;
 }

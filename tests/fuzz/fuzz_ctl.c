@@ -71,7 +71,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		abort();
 	json_object_put(o);
 	psd_clock_advance(&d.clock, psd_clock_now(&d.clock) + 1);
-	psd_engine_step(&d.engine, psd_clock_now(&d.clock), 0);
+	psd_engine_step(&d.engine, psd_clock_now(&d.clock));
 	d.reload = 0;
 	return 0;
 }

@@ -7,6 +7,7 @@ d="$TMP/dest"
 make -s BUILD="$BUILD" install PREFIX=/usr DESTDIR="$d" > "$TMP/log" 2>&1
 rc=$?; check "make install succeeds" test "$rc" = 0 || sed "s/^/# /" "$TMP/log"
 for f in usr/bin/psens usr/bin/mksens usr/bin/psfilter usr/bin/psscene usr/sbin/psensd \
+	usr/bin/pspng usr/bin/psshare usr/share/man/man1/pspng.1 usr/share/man/man1/psshare.1 \
 	usr/share/man/man1/psens.1 usr/share/man/man1/psscene.1 usr/share/man/man5/psscene.5 \
 	usr/share/man/man5/psensd.conf.5 usr/share/man/man8/psensd.8 etc/psensd/psensd.conf \
 	usr/share/psensd/example/ofb.scene usr/share/psensd/cie/LICENSE; do

@@ -1,8 +1,10 @@
 #!/bin/sh
 # Modbus RTU (19200 8N1: pyserial cannot set parity on a pty) through a socat
 # pseudo-terminal pair: psvirt on one end, mbpoll,
-# a pymodbus serial client and the driver on the other; a garbled frame (bad
-# CRC) is EPROTO, a silent line ETIMEDOUT.
+# a pymodbus serial client, raw frames and the driver on the other; a garbled
+# reply (bad CRC) is EPROTO, a silent line ETIMEDOUT; an unknown function,
+# a bad address or count get their exceptions, a request with a bad CRC no
+# reply, a broadcast is done without a reply.
 . "$(dirname "$0")/lib.sh"
 . "$(dirname "$0")/peers/common.sh"
 [ -x "$BIN/psvirt" ] || skip_all "psvirt not built"
@@ -63,8 +65,29 @@ c.close()
 EOP
 )
 check "pymodbus over RTU reads the light output x 10000: $got" test "$got" = 2501
-# last: libmodbus, as a bus server, takes the frame after another unit's
-# request for that unit's reply and ignores it, as on a shared RS-485 line
+# frames no library client sends (tests/system/peers/mbraw.py, CRC added there)
+rtu() { "$PY" "$PEERS/mbraw.py" rtu "$TMP/site" 19200 "$@"; }
+got=$(rtu send "07 07")
+check "function 07 over RTU: exception 1, a good CRC ($got)" sh -c 'case "$1" in "07 87 01 "??" "??) exit 0;; esac; exit 1' sh "$got"
+got=$(rtu send "07 04 001e 0001")
+check "input register 30: exception 2 ($got)" sh -c 'case "$1" in "07 84 02 "??" "??) exit 0;; esac; exit 1' sh "$got"
+got=$(rtu send "07 03 0000 0000")
+check "a read of count 0: exception 3 ($got)" sh -c 'case "$1" in "07 83 03 "??" "??) exit 0;; esac; exit 1' sh "$got"
+got=$(rtu sendbad "07 03 00ca 0001")
+check "a frame with a bad CRC gets no reply ($got)" test "$got" = silent
+got=$(rtu send "07 03 00ca 0001")
+check "the next good frame is answered: light output 2501 ($got)" sh -c 'case "$1" in "07 03 02 09 c5 "??" "??) exit 0;; esac; exit 1' sh "$got"
+got=$(rtu split "07 03 00ca 0001")
+check "a frame delivered in two pieces 20 ms apart (10 silences at 19200 baud) is still answered ($got)" \
+	sh -c 'case "$1" in "07 03 02 09 c5 "??" "??) exit 0;; esac; exit 1' sh "$got"
+got=$(rtu sendbad "07 03 00ca 0001 | 07 03 00ca 0001")
+check "a frame with a bad CRC and a good one in one write: the good one is found and answered ($got)" \
+	sh -c 'case "$1" in "07 03 02 09 c5 "??" "??) exit 0;; esac; exit 1' sh "$got"
+got=$(rtu send "00 06 000a 0fff")
+check "a broadcast (address 0) write of AO0 gets no reply ($got)" test "$got" = silent
+got=$(rtu send "07 03 00ca 0001")
+check "but is done: light output 10000 ($got)" sh -c 'case "$1" in "07 03 02 27 10 "??" "??) exit 0;; esac; exit 1' sh "$got"
+# last: a request for another unit gets no answer, as on a shared RS-485 line
 got=$(mbpoll -m rtu -b 19200 -P none -a 3 -0 -1 -q -o 0.3 -r 0 -t 3 "$TMP/site" 2>&1)
 check "another unit gets no answer" sh -c "printf '%s' \"\$1\" | grep -qi 'timed out'" sh "$got"
 done_testing

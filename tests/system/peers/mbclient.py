@@ -2,15 +2,44 @@
 """A Modbus client (pymodbus) reading psvirt the way a site's tools would.
 
   mbclient.py tcp HOST PORT COMMAND...      mbclient.py rtu DEVICE COMMAND...
-  COMMAND: hr ADDR COUNT | ir ADDR COUNT | write ADDR VALUE | u32 ADDR |
-           f32 ADDR [cdab]
+  COMMAND: [unit=N] hr ADDR COUNT | ir ADDR COUNT | write ADDR VALUE |
+           u32 ADDR | f32 ADDR [cdab] | status07 | time ADDR N [GAP]
 
 Prints the values one per line, or "exception N" for an exception reply and
-"error TEXT" when there is no usable reply (exit 1)."""
+"error TEXT" when there is no usable reply (exit 1).  status07 is function
+07 (read exception status).  time reads holding register ADDR N times on one
+connection, GAP seconds apart (0.02) as a poller does, and prints the
+latency of the reads as "reads N errors N median_ms X p90_ms X max_ms X"."""
 import struct
 import sys
+import time
 
 from pymodbus.client import ModbusSerialClient, ModbusTcpClient
+
+
+def timed(client, addr, n, unit, gap):
+    """n reads, each timed on the monotonic clock; errors (timeouts,
+    exceptions) count and are timed too."""
+    ms, errors = [], 0
+    for i in range(n):
+        if i:
+            time.sleep(gap)
+        t0 = time.monotonic()
+        try:
+            rr = client.read_holding_registers(addr, 1, slave=unit)
+            bad = rr.isError()
+        except Exception:  # pylint: disable=broad-except
+            bad = True
+        ms.append((time.monotonic() - t0) * 1000)
+        if bad:
+            errors += 1
+            client.close()
+            client.connect()
+    client.close()
+    ms.sort()
+    print(f"reads {n} errors {errors} median_ms {ms[n // 2]:.1f} "
+          f"p90_ms {ms[(n * 9) // 10]:.1f} max_ms {ms[-1]:.1f}")
+    return 0
 
 
 def main():
@@ -24,14 +53,23 @@ def main():
     if not client.connect():
         print("error cannot connect")
         return 1
-    cmd, addr = args[0], int(args[1])
+    unit = 1
+    if args[0].startswith("unit="):
+        unit = int(args[0][5:])
+        args = args[1:]
+    cmd = args[0]
+    addr = int(args[1]) if len(args) > 1 else 0
+    if cmd == "time":
+        return timed(client, addr, int(args[2]), unit, float(args[3]) if len(args) > 3 else 0.02)
     try:
         if cmd == "write":
-            rr = client.write_register(addr, int(args[2]), slave=1)
+            rr = client.write_register(addr, int(args[2]), slave=unit)
         elif cmd == "ir":
-            rr = client.read_input_registers(addr, int(args[2]), slave=1)
+            rr = client.read_input_registers(addr, int(args[2]), slave=unit)
+        elif cmd == "status07":
+            rr = client.read_exception_status(slave=unit)
         else:
-            rr = client.read_holding_registers(addr, int(args[2]) if cmd == "hr" else 2, slave=1)
+            rr = client.read_holding_registers(addr, int(args[2]) if cmd == "hr" else 2, slave=unit)
     except Exception as exc:  # pylint: disable=broad-except
         print(f"error {exc}")
         return 1
@@ -43,6 +81,8 @@ def main():
         return 1
     if cmd == "write":
         print("written")
+    elif cmd == "status07":
+        print(rr.status)
     elif cmd in ("hr", "ir"):
         for v in rr.registers:
             print(v)
