@@ -1,5 +1,6 @@
 #include "db.h"
 
+#include <errno.h>
 #include <math.h>
 #include <sqlite3.h>
 #include <stdarg.h>
@@ -8,6 +9,7 @@
 #include <string.h>
 
 #include "errbuf.h"
+#include "pidlock.h"
 
 enum { DB_BATCH = 60 };
 
@@ -17,6 +19,7 @@ struct psd_db {
 	int pending;          /* samples in the open transaction */
 	int batch;
 	unsigned long committed;
+	int lockfd;           /* the writer's flock on path.lock (daemon/pidlock.h), -1 none */
 };
 
 /* ---- the schema -------------------------------------------------------------
@@ -111,15 +114,52 @@ static struct psd_db *open_db(const char *path, int flags, char *err, size_t err
 	}
 	sqlite3_busy_timeout(db->h, 2000);   /* a reader or the writer may hold it briefly */
 	db->batch = DB_BATCH;
+	db->lockfd = -1;
 	return db;
+}
+
+/* One writer per database: two daemons appending to one log would
+ * interleave two clocks for the same zone.  The lock is a flock on a file
+ * beside the database, not SQLite's locking_mode=EXCLUSIVE, which would
+ * also shut out the readers (psensctl log, psreport, sqlite3) that must
+ * read the log while the daemon writes it. */
+/* The lock's descriptor; -1 for a private database (nothing to share);
+ * -2 with a message in err when it is taken or cannot be made. */
+static int lock_writer(const char *path, char *err, size_t errlen)
+{
+	char lock[4096];
+	pid_t holder;
+	int fd;
+	if (!*path || strcmp(path, ":memory:") == 0)
+		return -1;
+	if ((size_t)snprintf(lock, sizeof lock, "%s.lock", path) >= sizeof lock) {
+		psd_errf(err, errlen, "%s: path too long", path);
+		return -2;
+	}
+	if ((fd = psd_pidlock_take(lock, &holder)) >= 0)
+		return fd;
+	if (errno == EWOULDBLOCK && holder > 0)
+		psd_errf(err, errlen, "%s is in use by psensd pid %ld (it holds %s): one daemon per database", path,
+		         (long)holder, lock);
+	else if (errno == EWOULDBLOCK)
+		psd_errf(err, errlen, "%s is in use: another process holds %s: one daemon per database", path, lock);
+	else
+		psd_errf(err, errlen, "%s: %s", lock, strerror(errno));
+	return -2;
 }
 
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 {
-	struct psd_db *db = open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, err, errlen);
+	int lockfd = lock_writer(path, err, errlen);
+	struct psd_db *db;
 	char sql[256];
-	if (!db)
+	if (lockfd == -2)
 		return NULL;
+	if (!(db = open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, err, errlen))) {
+		psd_pidlock_release(lockfd);
+		return NULL;
+	}
+	db->lockfd = lockfd;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
 	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
@@ -147,6 +187,7 @@ void psd_db_close(struct psd_db *db)
 		psd_db_commit(db, err, sizeof err);
 	sqlite3_finalize(db->ins);
 	sqlite3_close(db->h);
+	psd_pidlock_release(db->lockfd);   /* after the last write */
 	free(db);
 }
 

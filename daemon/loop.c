@@ -92,28 +92,36 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
-	if (psd_refresh_results(cf, d->self) != 0 ||
-	    psd_engine_open(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, err, sizeof err) != 0) {
-		if (d->engine.cf == NULL && err[0])
-			log_errx("%s", err);
-		psd_config_free(cf);
-		free(cf);
-		return -1;
-	}
-	/* the socket: always in real time; in a simulated day only when configured */
+	/* the socket first (in real time; in a simulated day only when
+	 * configured): a second daemon on the same socket is refused before it
+	 * opens a device or commands a light */
 	if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctl_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
 		                 (int)cf->max_clients, psd_ctl_handle, d, err, sizeof err) != 0) {
-			log_errx("control socket %s (set socket = in [psensd], or run under systemd "
-			          "with RuntimeDirectory=)", err);
-			psd_engine_close(&d->engine);
+			if (errno == EADDRINUSE)
+				log_errx("control socket %s", err);
+			else
+				log_errx("control socket %s (set socket = in [psensd], or run under systemd "
+				          "with RuntimeDirectory=)", err);
 			psd_config_free(cf);
 			free(cf);
 			return -1;
 		}
 		d->have_ctl = 1;
-		log_info("control socket %s", d->ctl.path);
 	}
+	if (psd_refresh_results(cf, d->self) != 0 ||
+	    psd_engine_open(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, err, sizeof err) != 0) {
+		if (d->engine.cf == NULL && err[0])
+			log_errx("%s", err);
+		if (d->have_ctl)
+			psd_ctl_close(&d->ctl);
+		d->have_ctl = 0;
+		psd_config_free(cf);
+		free(cf);
+		return -1;
+	}
+	if (d->have_ctl)
+		log_info("control socket %s", d->ctl.path);
 	return 0;
 }
 
