@@ -364,6 +364,37 @@ static int number(const char *text, double *out)
 	return *text && !*end && errno == 0 && isfinite(*out) ? 0 : -1;
 }
 
+/* reload: now, and the outcome in the reply: ok, or ok false with the
+ * reasons (each file:line) and the running configuration kept. */
+static void reload(struct psd_daemon *d, char *reply, size_t len)
+{
+	struct psd_reload_why *w = malloc(sizeof *w);   /* 6 kB: not on the handler's stack */
+	json_object *o, *arr;
+	char msg[512];
+	if (!w) {
+		error_reply(reply, len, "reload: out of memory");
+		return;
+	}
+	if (psd_daemon_reload_why(d, w) == 0) {
+		o = ok_reply();
+		put_str(o, "reloaded", d->config_path);
+		finish(o, reply, len);
+		free(w);
+		return;
+	}
+	o = json_object_new_object();
+	arr = json_object_new_array();
+	json_object_object_add(o, "ok", json_object_new_boolean(0));
+	snprintf(msg, sizeof msg, "%s: reload refused (%d error(s)): the running configuration stays",
+	         d->config_path, w->n);
+	put_str(o, "error", msg);
+	for (int i = 0; i < w->n; i++)
+		json_object_array_add(arr, json_object_new_string(w->line[i]));
+	json_object_object_add(o, "reasons", arr);
+	finish(o, reply, len);
+	free(w);
+}
+
 void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
 {
 	struct psd_daemon *d = user;
@@ -428,8 +459,7 @@ void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char
 	} else if (strcmp(argv[0], "dali") == 0) {
 		dali(d, argc, argv, reply, len);
 	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
-		d->reload = 1;   /* after this request, like SIGHUP */
-		finish(ok_reply(), reply, len);
+		reload(d, reply, len);
 	} else {
 		char shown[64];
 		snprintf(shown, sizeof shown, "%s", argv[0]);

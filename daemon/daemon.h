@@ -36,6 +36,14 @@ int psd_daemon_run(struct psd_daemon *d);
 /* SIGHUP's work: a new config replaces the running one only when it loads
  * and opens; otherwise the old one keeps running.  0 when replaced. */
 int psd_daemon_reload(struct psd_daemon *d);
+/* The same, with the reasons of a refusal (each "file:line: why" when the
+ * configuration names one) in w, for the control socket's reload. */
+enum { PSD_RELOAD_WHY_MAX = 16, PSD_RELOAD_WHY_LEN = 400 };
+struct psd_reload_why {
+	int n;
+	char line[PSD_RELOAD_WHY_MAX][PSD_RELOAD_WHY_LEN];
+};
+int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w);
 /* Log a refused configuration's errors, each at LOG_ERR. */
 void psd_daemon_config_errors(const struct psd_config *cf);
 /* Safe level (unless why is NULL: already done), close everything. */

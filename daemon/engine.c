@@ -580,14 +580,16 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 	}
 }
 
-void psd_engine_safe(struct psd_engine *e, double now, const char *why)
+int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 {
 	char err[256];
+	int failed = 0;
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
-		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0)
+		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {
 			log_errx("zone %s: cannot reach the safe level: %s", z->zc->name, err);
-		else
+			failed++;
+		} else
 			log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
 			         100 * z->zc->safe_level);
 	}
@@ -597,6 +599,7 @@ void psd_engine_safe(struct psd_engine *e, double now, const char *why)
 			log_warnx("%s: %s", e->cf->database, dberr);
 		e->logged = e->logged_base + psd_db_committed(e->db);
 	}
+	return failed;
 }
 
 /* Inputs: occupancy sensors and buttons (override, calibration step). */

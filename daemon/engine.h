@@ -83,8 +83,9 @@ int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, in
 /* Let drivers whose fd fired or whose deadline passed do their work. */
 void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *fds,
                         const int *fd_dev, int nfds);
-/* Every output to its zone's safe level (shutdown). */
-void psd_engine_safe(struct psd_engine *e, double now, const char *why);
+/* Every output to its zone's safe level (shutdown).  Returns the count of
+ * zones that could not reach it (each logged at LOG_ERR). */
+int psd_engine_safe(struct psd_engine *e, double now, const char *why);
 /* Commit the log and close every device.  Returns the config to free (or NULL). */
 struct psd_config *psd_engine_close(struct psd_engine *e);
 

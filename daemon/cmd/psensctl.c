@@ -445,6 +445,9 @@ int main(int argc, char **argv)
 	if (!o || !json_object_object_get_ex(o, "ok", &ok) || !json_object_get_boolean(ok)) {
 		if (o && json_object_object_get_ex(o, "error", &err))
 			fprintf(stderr, "psensctl: %s\n", json_object_get_string(err));
+		if (o && json_object_object_get_ex(o, "reasons", &err) && json_object_is_type(err, json_type_array))
+			for (size_t i = 0; i < json_object_array_length(err); i++)
+				fprintf(stderr, "  %s\n", json_object_get_string(json_object_array_get_idx(err, i)));
 		json_object_put(o);
 		return 1;
 	}

@@ -126,7 +126,7 @@ static void list_options(void)
 int main(int argc, char **argv)
 {
 	const char *path = "/etc/psensd/psensd.conf";
-	int check = 0, simulate = 0, verbose = PSD_LOG_INFO, opt, rc = 0;
+	int check = 0, simulate = 0, verbose = PSD_LOG_INFO, opt, rc = 0, unsafe;
 	double start = NAN, speed = 1;
 	static struct psd_daemon d;
 	static struct psd_config cf;
@@ -200,8 +200,14 @@ int main(int argc, char **argv)
 	if (d.stop)
 		log_info("%s: stopping", strsignal(d.stop));
 	/* the safe level first (it commits the log), then the summary */
-	psd_engine_safe(&d.engine, psd_clock_now(&d.clock), d.stop ? strsignal(d.stop) : "end of the simulated day");
+	unsafe = psd_engine_safe(&d.engine, psd_clock_now(&d.clock), d.stop ? strsignal(d.stop) : "end of the simulated day");
 	summary(&d, start, psd_clock_now(&d.clock));
 	psd_daemon_stop(&d, NULL);
+	/* a shutdown that leaves lights where nobody can see them is a failure:
+	 * said at LOG_ERR, and the exit status says it to systemd and scripts */
+	if (unsafe) {
+		log_errx("stopped with %d zone(s) not at the safe level: check the outputs", unsafe);
+		rc = 1;
+	}
 	return rc;
 }
