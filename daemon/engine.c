@@ -215,6 +215,7 @@ bad:
 struct psd_config *psd_engine_close(struct psd_engine *e)
 {
 	struct psd_config *cf = e->cf;
+	psd_engine_stop_io(e);
 	psd_db_close(e->db);
 	e->db = NULL;
 	for (size_t i = 0; cf && i < cf->ndev; i++)
@@ -231,25 +232,127 @@ static struct ps_dev *dev_of(struct psd_engine *e, int point)
 	return &e->dev[e->cf->pt[point].device];
 }
 
+static struct psd_devio *io_of(struct psd_engine *e, int point)
+{
+	return e->io[e->cf->pt[point].device];
+}
+
+/* A point's read or write, through its device's I/O thread when it has one;
+ * on failure errno is the driver's and e->ioerr its message. */
+static int pt_read(struct psd_engine *e, int p, double now, double *v)
+{
+	struct ps_dev *d = dev_of(e, p);
+	struct psd_devio *io = io_of(e, p);
+	int rc, er;
+	if (io)
+		return psd_devio_take(io, (size_t)p, now, v, e->ioerr, sizeof e->ioerr);
+	rc = d->drv->read(d, &e->pt[p], now, v);
+	er = errno;
+	if (rc)
+		snprintf(e->ioerr, sizeof e->ioerr, "%s", d->err);
+	errno = er;
+	return rc;
+}
+
+static int pt_write(struct psd_engine *e, int p, double now, double v)
+{
+	struct ps_dev *d = dev_of(e, p);
+	struct psd_devio *io = io_of(e, p);
+	int rc, er;
+	if (io)
+		return psd_devio_write(io, (size_t)p, now, v, e->ioerr, sizeof e->ioerr);
+	rc = d->drv->write(d, &e->pt[p], now, v);
+	er = errno;
+	if (rc)
+		snprintf(e->ioerr, sizeof e->ioerr, "%s", d->err);
+	errno = er;
+	return rc;
+}
+
+void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock)
+{
+	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
+		if (e->io[i] || !e->dev_open[i] || !psd_devio_wanted(e->dev[i].drv))
+			continue;
+		if (!(e->io[i] = psd_devio_start(&e->dev[i], e->pt, e->cf->npt, clock)))
+			log_warnx("device %s: no I/O thread (%s): its I/O runs in the event loop", e->dev[i].name,
+			          strerror(errno));
+	}
+}
+
+void psd_engine_stop_io(struct psd_engine *e)
+{
+	for (size_t i = 0; i < PSD_MAX_DEVICES; i++) {
+		psd_devio_stop(e->io[i]);
+		e->io[i] = NULL;
+	}
+	for (size_t i = 0; i < e->nzone; i++)
+		e->zone[i].waiting = 0;
+}
+
+/* Before a step, the zone's reads on devices with an I/O thread are asked
+ * for; the step runs when they are all answered (the thread wakes the
+ * loop) or, for those still out, after half a period as missed replies.
+ * 1: not yet. */
+static int prefetch(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	const struct psd_zone_conf *zc = z->zc;
+	int pts[2 + PSD_MAX_ZONE_OUT], n = 0, pending = 0;
+	if (zc->task >= 0)
+		pts[n++] = zc->task;
+	pts[n++] = zc->sensor;
+	if (zc->verify_tolerance > 0 && now >= z->verify_at)
+		for (int i = 0; i < zc->ndim; i++)
+			pts[n++] = zc->dim[i];
+	else if (zc->readback && zc->ndim > 0)
+		pts[n++] = zc->dim[0];
+	for (int i = 0; i < n; i++) {
+		struct psd_devio *io = io_of(e, pts[i]);
+		if (!io)
+			continue;
+		if (!z->waiting) {   /* a new step: a fresh read (an answer left over is dropped) */
+			double junk;
+			char err[8];
+			if (psd_devio_ask(io, (size_t)pts[i], now) == 0)
+				psd_devio_take(io, (size_t)pts[i], now, &junk, err, sizeof err);
+			psd_devio_ask(io, (size_t)pts[i], now);
+			pending = 1;
+		} else if (psd_devio_ask(io, (size_t)pts[i], now) != 0) {
+			pending = 1;
+		}
+	}
+	if (!pending) {
+		z->waiting = 0;
+		return 0;
+	}
+	if (!z->waiting) {
+		z->waiting = 1;
+		z->wait_since = now;
+		return 1;
+	}
+	if (now - z->wait_since < zc->period * 0.5)
+		return 1;
+	z->waiting = 0;   /* what is still out counts as no reply */
+	return 0;
+}
+
 /* Command every output of the zone; returns -1 (with why) when one fails. */
 static int command(struct psd_engine *e, struct psd_zone *z, double now, double level, char *why, size_t n)
 {
 	const struct psd_zone_conf *zc = z->zc;
 	int rc = 0;
 	for (int i = 0; i < zc->ndim; i++) {
-		struct ps_dev *d = dev_of(e, zc->dim[i]);
-		if (d->drv->write(d, &e->pt[zc->dim[i]], now, level) != 0 && rc == 0) {
-			snprintf(why, n, "%s", d->err);
+		if (pt_write(e, zc->dim[i], now, level) != 0 && rc == 0) {
+			snprintf(why, n, "%s", e->ioerr);
 			rc = -1;
 		}
 	}
 	/* relay k of n closes above k/n: n relays are the steps of a stepped
 	 * system, one relay switches a dimmed circuit off at level 0 */
 	for (int i = 0; i < zc->nrelay; i++) {
-		struct ps_dev *d = dev_of(e, zc->relay[i]);
 		double on = level > (double)i / zc->nrelay + 1e-9;
-		if (d->drv->write(d, &e->pt[zc->relay[i]], now, on) != 0 && rc == 0) {
-			snprintf(why, n, "%s", d->err);
+		if (pt_write(e, zc->relay[i], now, on) != 0 && rc == 0) {
+			snprintf(why, n, "%s", e->ioerr);
 			rc = -1;
 		}
 	}
@@ -294,24 +397,23 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 {
 	const struct psd_zone_conf *zc = z->zc;
 	const struct psd_point_conf *pc = &e->cf->pt[zc->sensor];
-	struct ps_dev *d = dev_of(e, zc->sensor);
 	double v = NAN;
-	if (d->drv->read(d, &e->pt[zc->sensor], now, &v) != 0) {
+	if (pt_read(e, zc->sensor, now, &v) != 0) {
 		z->volts = NAN;
 		/* a lost device or a wrong value is a fault at once; a missed or
 		 * garbled reply only once the last good reading is stale (driver.h) */
 		int at_once = ps_dev_fault_at_once(errno);
 		if (at_once || now - z->last_ok >= zc->stale_after) {
 			if (at_once)
-				snprintf(why, n, "%s", d->err);
+				snprintf(why, n, "%s", e->ioerr);
 			else {
 				char since[8];
 				psd_clock_hhmm(z->last_ok, since);
-				snprintf(why, n, "no reading since %s (%s)", since, d->err);
+				snprintf(why, n, "no reading since %s (%.200s)", since, e->ioerr);
 			}
 			return -1;
 		}
-		log_debug("zone %s: %s (holding the level)", zc->name, d->err);
+		log_debug("zone %s: %s (holding the level)", zc->name, e->ioerr);
 		return 1;
 	}
 	z->volts = v;
@@ -337,10 +439,9 @@ static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, 
 	if (zc->verify_tolerance <= 0 || now < z->verify_at)
 		return 0;
 	for (int i = 0; i < zc->ndim; i++) {
-		struct ps_dev *d = dev_of(e, zc->dim[i]);
 		double got;
-		if (d->drv->read(d, &e->pt[zc->dim[i]], now, &got) != 0) {
-			snprintf(why, n, "%s: cannot read the output back: %s", e->pt[zc->dim[i]].name, d->err);
+		if (pt_read(e, zc->dim[i], now, &got) != 0) {
+			snprintf(why, n, "%s: cannot read the output back: %.180s", e->pt[zc->dim[i]].name, e->ioerr);
 			return -1;
 		}
 		if (fabs(got - z->level) > zc->verify_tolerance &&
@@ -440,10 +541,11 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	char why[256], t[8];
 	double level, t0;
 	int rc;
+	if (prefetch(e, z, now))
+		return;   /* woken when the I/O threads answer */
 	z->steps++;
 	if (zc->task >= 0) {
-		struct ps_dev *d = dev_of(e, zc->task);
-		if (d->drv->read(d, &e->pt[zc->task], now, &z->task_lux) != 0)
+		if (pt_read(e, zc->task, now, &z->task_lux) != 0)
 			z->task_lux = NAN;   /* a meter is a record, not the control */
 	} else {
 		z->task_lux = NAN;
@@ -458,9 +560,8 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		if (rc == 0 && zc->readback && zc->ndim > 0) {
 			/* the lamps' actual output, not the last command: it matters
 			 * when the period is short against the ballast's fade */
-			struct ps_dev *d = dev_of(e, zc->dim[0]);
 			double out;
-			if (d->drv->read(d, &e->pt[zc->dim[0]], now, &out) == 0 && out >= 0 && out <= 1)
+			if (pt_read(e, zc->dim[0], now, &out) == 0 && out >= 0 && out <= 1)
 				z->ctl.level = out;
 		}
 		if (rc == 0) {
@@ -541,7 +642,7 @@ double psd_engine_deadline(const struct psd_engine *e)
 	}
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		const struct ps_dev *d = &e->dev[i];
-		if (d->drv->deadline) {
+		if (d->drv->deadline && !e->io[i]) {   /* an I/O thread keeps its device's deadlines */
 			double dl = d->drv->deadline((struct ps_dev *)d);
 			if (dl < t)
 				t = dl;
@@ -555,7 +656,7 @@ int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, in
 	int n = 0;
 	for (size_t i = 0; e->cf && i < e->cf->ndev && n < max; i++) {
 		struct ps_dev *d = &e->dev[i];
-		int fd = d->drv->fd ? d->drv->fd(d) : -1;
+		int fd = e->io[i] ? psd_devio_fd(e->io[i]) : d->drv->fd ? d->drv->fd(d) : -1;
 		if (fd < 0)
 			continue;
 		fds[n] = (struct pollfd){ fd, POLLIN, 0 };
@@ -569,6 +670,17 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		struct ps_dev *d = &e->dev[i];
 		int due = 0;
+		if (e->io[i]) {   /* its thread answered: events, and the zones waiting on it */
+			for (int k = 0; k < nfds; k++)
+				due |= fd_dev[k] == (int)i && (fds[k].revents & POLLIN);
+			if (!due)
+				continue;
+			psd_devio_drain(e->io[i]);
+			for (size_t z = 0; z < e->nzone; z++)
+				if (e->zone[z].waiting)
+					e->zone[z].asap = 1;
+			continue;
+		}
 		if (!d->drv->service)
 			continue;
 		for (int k = 0; k < nfds; k++)
@@ -584,6 +696,7 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 {
 	char err[256];
 	int failed = 0;
+	psd_engine_stop_io(e);   /* the last commands wait for their outcome */
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
 		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {

@@ -13,6 +13,7 @@
 #include "config.h"
 #include "control.h"
 #include "db.h"
+#include "devio.h"
 #include "driver.h"
 #include "results.h"
 
@@ -28,6 +29,9 @@ struct psd_zone {
 	struct psd_control ctl;
 	double next;              /* time of the next control step */
 	int asap;                 /* an event wants a step now, off the schedule */
+	int waiting;              /* its reads are asked of I/O threads (devio.h): the step
+	                             completes when they answer or after half a period */
+	double wait_since;
 	double started;
 	int in_fault;             /* at the safe level */
 	char why[256];            /* the fault, when in_fault */
@@ -65,6 +69,8 @@ struct psd_engine {
 	double lat_max, lat_sum;  /* reading-to-command latency, wall seconds */
 	unsigned long lat_n;
 	double late_max;          /* worst lateness of a step against its schedule, clock s */
+	struct psd_devio *io[PSD_MAX_DEVICES];   /* a device's I/O thread, NULL: called in the loop */
+	char ioerr[256];          /* the message of the last failed point read or write */
 };
 
 /* Open cf's devices and points at time now and prepare the zones (cf is then
@@ -73,6 +79,13 @@ struct psd_engine {
  * the engine is then closed and cf is still the caller's. */
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen);
+/* Real time: give each device with blocking I/O (psd_devio_wanted) its
+ * I/O thread, which reads clock (a copy).  Until then, and in a simulated
+ * day, the loop calls the drivers itself.  A thread that cannot start
+ * leaves its device called in the loop (logged). */
+void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock);
+/* Stop and join every I/O thread: the drivers are called in the loop again. */
+void psd_engine_stop_io(struct psd_engine *e);
 /* Run every zone whose step is due at now. */
 void psd_engine_step(struct psd_engine *e, double now);
 /* The next time something is due: a zone's step or a driver's deadline. */

@@ -123,6 +123,8 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	}
 	if (d->have_ctl)
 		log_info("control socket %s", d->ctl.path);
+	if (!d->clock.simulated)
+		psd_engine_start_io(&d->engine, &d->clock);
 	return 0;
 }
 
@@ -214,6 +216,8 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 		if (psd_engine_open(&d->engine, old, now, batch, snap, err, sizeof err) != 0) {
 			refuse(w, "reload: cannot reopen the running configuration either: %s", err);
 			d->stop = SIGTERM;
+		} else if (!d->clock.simulated) {
+			psd_engine_start_io(&d->engine, &d->clock);
 		}
 		psd_config_free(cf);
 		free(cf);
@@ -225,6 +229,8 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	psd_config_free(old);
 	free(old);
 	free(snap);
+	if (!d->clock.simulated)
+		psd_engine_start_io(&d->engine, &d->clock);
 	d->reloads++;
 	log_info("reloaded %s", d->config_path);
 	sd_notify(0, "READY=1");
