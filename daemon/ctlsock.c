@@ -325,8 +325,18 @@ void psd_ctl_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds)
 			drop(s, i);
 			i--;
 		}
-	if (nfds > 0 && (fds[0].revents & POLLIN))
+	if (nfds > 0 && (fds[0].revents & POLLIN)) {
+		int first = s->ncl;
 		accept_all(s);
+		/* a new client's request is usually there already: read it in
+		 * this turn rather than the next (a read with nothing is EAGAIN) */
+		for (int i = first; i < s->ncl; i++)
+			if (read_client(s, &s->cl[i]) != 0 || write_client(&s->cl[i]) != 0 ||
+			    (s->cl[i].closing && s->cl[i].nout == 0)) {
+				drop(s, i);
+				i--;
+			}
+	}
 }
 
 void psd_ctl_close(struct psd_ctlsock *s)

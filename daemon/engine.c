@@ -292,7 +292,9 @@ void psd_engine_stop_io(struct psd_engine *e)
 
 /* Before a step, the zone's reads on devices with an I/O thread are asked
  * for; the step runs when they are all answered (the thread wakes the
- * loop) or, for those still out, after half a period as missed replies.
+ * loop) or, for those still out, at its next scheduled step as missed
+ * replies (a slow device is a queue: an answer late in the period is still
+ * fresher than none).
  * 1: not yet. */
 static int prefetch(struct psd_engine *e, struct psd_zone *z, double now)
 {
@@ -330,7 +332,7 @@ static int prefetch(struct psd_engine *e, struct psd_zone *z, double now)
 		z->wait_since = now;
 		return 1;
 	}
-	if (now - z->wait_since < zc->period * 0.5)
+	if (now - z->wait_since < zc->period * 0.95)
 		return 1;
 	z->waiting = 0;   /* what is still out counts as no reply */
 	return 0;

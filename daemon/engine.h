@@ -30,7 +30,7 @@ struct psd_zone {
 	double next;              /* time of the next control step */
 	int asap;                 /* an event wants a step now, off the schedule */
 	int waiting;              /* its reads are asked of I/O threads (devio.h): the step
-	                             completes when they answer or after half a period */
+	                             completes when they answer or at the next step */
 	double wait_since;
 	double started;
 	int in_fault;             /* at the safe level */
