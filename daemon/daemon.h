@@ -46,6 +46,13 @@ struct psd_reload_why {
 int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w);
 /* Log a refused configuration's errors, each at LOG_ERR. */
 void psd_daemon_config_errors(const struct psd_config *cf);
+/* Shutdown: every zone to its safe level, then (real time) the devices
+ * that send step-wise are served until what was asked is sent (their
+ * deadlines idle) or for at most PSD_SETTLE_S: a DALI frame queued behind
+ * one on the bus would be lost when the interface closes.  Returns the
+ * count of zones that cannot reach the safe level. */
+enum { PSD_SETTLE_MS = 1000 };
+int psd_daemon_safe(struct psd_daemon *d, const char *why);
 /* Safe level (unless why is NULL: already done), close everything. */
 void psd_daemon_stop(struct psd_daemon *d, const char *why);
 

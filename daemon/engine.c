@@ -653,6 +653,20 @@ double psd_engine_deadline(const struct psd_engine *e)
 	return t;
 }
 
+double psd_engine_io_deadline(const struct psd_engine *e)
+{
+	double t = INFINITY;
+	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
+		const struct ps_dev *d = &e->dev[i];
+		if (d->drv->fd && d->drv->deadline && !e->io[i]) {
+			double dl = d->drv->deadline((struct ps_dev *)d);
+			if (dl < t)
+				t = dl;
+		}
+	}
+	return t;
+}
+
 int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, int max)
 {
 	int n = 0;

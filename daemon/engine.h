@@ -99,6 +99,10 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 /* Every output to its zone's safe level (shutdown).  Returns the count of
  * zones that could not reach it (each logged at LOG_ERR). */
 int psd_engine_safe(struct psd_engine *e, double now, const char *why);
+/* The earliest deadline of the devices that run step-wise on their own
+ * descriptor (a driver with an fd method: DALI USB, GPIO): INFINITY when
+ * all of them are idle, e.g. every frame asked for is on the bus. */
+double psd_engine_io_deadline(const struct psd_engine *e);
 /* Commit the log and close every device.  Returns the config to free (or NULL). */
 struct psd_config *psd_engine_close(struct psd_engine *e);
 

@@ -291,13 +291,32 @@ int psd_daemon_run(struct psd_daemon *d)
 	return 0;
 }
 
+int psd_daemon_safe(struct psd_daemon *d, const char *why)
+{
+	int unsafe = psd_engine_safe(&d->engine, psd_clock_now(&d->clock), why);
+	double until = mono() + PSD_SETTLE_MS / 1000.0;
+	if (d->clock.simulated)
+		return unsafe;
+	for (;;) {
+		double dl = psd_engine_io_deadline(&d->engine), left = until - mono();
+		int n, timeout;
+		if (!isfinite(dl) || left <= 0)
+			break;
+		n = psd_engine_pollfds(&d->engine, d->fds, d->fd_dev, PSD_MAX_POLL);
+		timeout = psd_clock_wait_ms(&d->clock, dl, (int)(left * 1000) + 1);
+		if (poll(d->fds, (nfds_t)n, timeout) < 0 && errno != EINTR)
+			break;
+		psd_engine_service(&d->engine, psd_clock_now(&d->clock), d->fds, d->fd_dev, n);
+	}
+	return unsafe;
+}
+
 void psd_daemon_stop(struct psd_daemon *d, const char *why)
 {
-	double now = psd_clock_now(&d->clock);
 	sd_notify(0, "STOPPING=1");
 	if (d->engine.cf) {
 		if (why)
-			psd_engine_safe(&d->engine, now, why);
+			psd_daemon_safe(d, why);
 		{
 			struct psd_config *cf = psd_engine_close(&d->engine);
 			psd_config_free(cf);

@@ -200,7 +200,7 @@ int main(int argc, char **argv)
 	if (d.stop)
 		log_info("%s: stopping", strsignal(d.stop));
 	/* the safe level first (it commits the log), then the summary */
-	unsafe = psd_engine_safe(&d.engine, psd_clock_now(&d.clock), d.stop ? strsignal(d.stop) : "end of the simulated day");
+	unsafe = psd_daemon_safe(&d, d.stop ? strsignal(d.stop) : "end of the simulated day");
 	summary(&d, start, psd_clock_now(&d.clock));
 	psd_daemon_stop(&d, NULL);
 	/* a shutdown that leaves lights where nobody can see them is a failure:
