@@ -273,7 +273,8 @@ int psd_devio_take(struct psd_devio *io, size_t pt, double now, double *value, c
 	int rc, e;
 	pthread_mutex_lock(&io->mu);
 	if (!s->have) {
-		snprintf(err, errlen, "%s: no reply for %.1f s (the device's I/O thread is busy)", io->dev->name,
+		snprintf(err, errlen, "%s %s: %s: no reply for %.1f s (its I/O thread is still in a transaction)",
+		         io->dev->drv->name, io->dev->name, io->pts[pt].name,
 		         s->read_want || s->read_busy ? now - s->asked_at : 0.0);
 		pthread_mutex_unlock(&io->mu);
 		errno = ETIMEDOUT;

@@ -44,7 +44,7 @@ void psd_devio_drain(struct psd_devio *io);
 int psd_devio_ask(struct psd_devio *io, size_t pt, double now);
 /* Take the ready result of pt: as the driver's read (0 and *value, or -1
  * with errno and the driver's message in err; dev->err is the worker's).
- * -1 ETIMEDOUT "no reply for N s" when none is ready. */
+ * -1 ETIMEDOUT "DRIVER DEVICE: POINT: no reply for N s" when none is ready. */
 int psd_devio_take(struct psd_devio *io, size_t pt, double now, double *value, char *err, size_t errlen);
 /* Queue a write of value to pt; returns the last finished write's outcome
  * for pt (0, or -1 with errno and the message in err), 0 when none
