@@ -60,7 +60,8 @@ $(FUZZ_BINS): $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(TEST_LIBS)
 # left open): tests/valgrind.sh.  The load, kill and 3600x Modbus tests are
 # timing tests and stay out (valgrind runs 20-50 times slower).
 VALGRIND_TESTS := $(wildcard tests/system/200-*.sh tests/system/210-*.sh tests/system/220-*.sh \
-                  tests/system/230-*.sh tests/system/410-*.sh tests/system/415-*.sh tests/system/430-*.sh)
+                  tests/system/230-*.sh tests/system/245-*.sh tests/system/246-*.sh \
+                  tests/system/410-*.sh tests/system/415-*.sh tests/system/430-*.sh)
 .PHONY: check-valgrind
 check-valgrind: deps
 	$(MAKE) tests
