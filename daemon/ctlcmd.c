@@ -317,6 +317,13 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	json_object_object_add(o, "reloads", json_object_new_int64((int64_t)d->reloads));
 	json_object_object_add(o, "requests", json_object_new_int64((int64_t)d->ctl.requests));
 	json_object_object_add(o, "rejected", json_object_new_int64((int64_t)d->ctl.rejected));
+	{   /* each I/O thread (devio.h): seconds in its current transaction, 0 idle */
+		json_object *io = json_object_new_object();
+		for (size_t i = 0; e->cf && i < e->cf->ndev; i++)
+			if (e->io[i])
+				put_num(io, e->dev[i].name, psd_devio_busy(e->io[i]));
+		json_object_object_add(o, "io_busy_s", io);
+	}
 	for (size_t i = 0; i < e->nzone; i++)
 		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
 			json_object_array_add(zones, zone_json(e, &e->zone[i], now));
