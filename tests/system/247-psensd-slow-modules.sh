@@ -60,13 +60,14 @@ diag "watchdog: $wdn notifications in $SECS s, the largest gap $wdgap ms (every 
 check "the watchdog is fed all along: no gap of 1 s ($wdgap ms)" \
 	awk -v g="${wdgap:-nan}" -v n="${wdn:-0}" 'BEGIN { exit !(n > 10 && g + 0 < 1000 && g == g + 0) }'
 "$BIN/psensctl" -s "$TMP/sock" -j status > "$TMP/st.json"
-check "control runs on every zone: stepped, in no fault, off full output" $PY -c '
+check "control runs on every zone: stepped, in no fault, off full output; an I/O thread per module" $PY -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
 zs = d["zones"]
 bad = [z["name"] for z in zs if z["steps"] < 2 or z["fault"] or not z["level"] < 1]
 print("# zones:", " ".join("%s:%d steps, level %.2f%s" % (z["name"], z["steps"], z["level"], ", FAULT " + z["fault"] if z["fault"] else "") for z in zs))
-sys.exit(len(zs) != 10 or bool(bad))' "$TMP/st.json"
+print("# I/O threads, seconds in a transaction:", d["io_busy_s"])
+sys.exit(len(zs) != 10 or bool(bad) or sorted(d["io_busy_s"]) != ["io0", "io1", "io2"])' "$TMP/st.json"
 kill -TERM $pd; wait $pd
 rc=$?
 check "psensd stops cleanly (exit $rc)" test "$rc" = 0
