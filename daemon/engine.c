@@ -164,6 +164,12 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen)
 {
+	return psd_engine_open_io(e, cf, now, db_batch, prev, NULL, err, errlen);
+}
+
+int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
+                       const struct psd_engine *prev, const struct psd_clock *clock, char *err, size_t errlen)
+{
 	struct ps_err pe;
 	memset(e, 0, sizeof *e);
 	e->cf = cf;
@@ -199,6 +205,10 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		               cf->zone[i].cal_min_day_volts);
 	for (size_t i = 0; i < e->nzone; i++)
 		cal_load(e, &e->zone[i], now);
+	/* the I/O threads before the first commands: a slow module must not
+	 * hold the loop at start or at a reload either */
+	if (clock && !clock->simulated)
+		psd_engine_start_io(e, clock);
 	/* the outputs start where the control believes they are (full output,
 	 * or the level before a reload) */
 	for (size_t i = 0; i < e->nzone; i++) {

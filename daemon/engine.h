@@ -79,6 +79,10 @@ struct psd_engine {
  * the engine is then closed and cf is still the caller's. */
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen);
+/* The same, and in real time (clock not simulated, not NULL) the I/O
+ * threads (psd_engine_start_io) started before the first commands. */
+int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
+                       const struct psd_engine *prev, const struct psd_clock *clock, char *err, size_t errlen);
 /* Real time: give each device with blocking I/O (psd_devio_wanted) its
  * I/O thread, which reads clock (a copy).  Until then, and in a simulated
  * day, the loop calls the drivers itself.  A thread that cannot start

@@ -110,7 +110,7 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		d->have_ctl = 1;
 	}
 	if (psd_refresh_results(cf, d->self) != 0 ||
-	    psd_engine_open(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, err, sizeof err) != 0) {
+	    psd_engine_open_io(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, &d->clock, err, sizeof err) != 0) {
 		if (d->engine.cf == NULL && err[0])
 			log_errx("%s", err);
 		if (d->have_ctl)
@@ -122,8 +122,6 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	}
 	if (d->have_ctl)
 		log_info("control socket %s", d->ctl.path);
-	if (!d->clock.simulated)
-		psd_engine_start_io(&d->engine, &d->clock);
 	return 0;
 }
 

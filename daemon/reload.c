@@ -94,15 +94,13 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	 * close the running ones, try the new, and reopen the old on failure */
 	*snap = d->engine;
 	old = psd_engine_close(&d->engine);
-	if (psd_engine_open(&d->engine, cf, now, batch, snap, err, sizeof err) != 0) {
+	if (psd_engine_open_io(&d->engine, cf, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 		locate(cf, err, where, sizeof where);
 		refuse(w, "%s", where);
 		log_errx("reload: the running configuration stays");
-		if (psd_engine_open(&d->engine, old, now, batch, snap, err, sizeof err) != 0) {
+		if (psd_engine_open_io(&d->engine, old, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 			refuse(w, "reload: cannot reopen the running configuration either: %s", err);
 			d->stop = SIGTERM;
-		} else if (!d->clock.simulated) {
-			psd_engine_start_io(&d->engine, &d->clock);
 		}
 		psd_config_free(cf);
 		free(cf);
@@ -114,8 +112,6 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	psd_config_free(old);
 	free(old);
 	free(snap);
-	if (!d->clock.simulated)
-		psd_engine_start_io(&d->engine, &d->clock);
 	d->reloads++;
 	log_info("reloaded %s", d->config_path);
 	sd_notify(0, "READY=1");
