@@ -366,13 +366,17 @@ static int number(const char *text, double *out)
 
 void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
 {
-	struct psd_daemon *d = user;
+	(void)c;
+	psd_ctl_request(user, line, reply, len);
+}
+
+void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len)
+{
 	struct psd_engine *e = &d->engine;
 	struct psd_zone *z;
 	char *argv[PSD_CTL_MAX_WORDS], err[512];
 	int argc = psd_ctl_split(line, argv, err, sizeof err);
 	double a, b;
-	(void)c;
 	if (argc < 0) {
 		error_reply(reply, len, "%s", err);
 		return;
