@@ -38,7 +38,7 @@ password_file $TMP/passwd
 user $(id -un)
 EOC
 "$MOSQ" -c "$TMP/mosquitto.conf" 2> "$TMP/mosquitto.err" & track_pid $!
-TLS="-p $P --cafile $C/ca.crt --cert $C/client.crt --key $C/client.key"
+TLS="-h 127.0.0.1 -p $P --cafile $C/ca.crt --cert $C/client.crt --key $C/client.key"
 wait_for 5 mosquitto_pub $TLS -u watcher -P watch -t probe -n
 check "mosquitto speaks TLS on 127.0.0.1:$P" mosquitto_pub $TLS -u watcher -P watch -t probe -n
 check "it refuses a client without a password" sh -c "! mosquitto_pub $TLS -t probe -n 2> /dev/null"
@@ -50,7 +50,7 @@ conf() {   # conf PASSWORD
 	printf '\n[mqtt]\nhost = 127.0.0.1\nport = %s\nsite = tls\nuser = psensd\npassword_file = secret\ncafile = pki/ca.crt\ncertfile = pki/client.crt\nkeyfile = pki/client.key\n' "$P" >> "$TMP/psensd.conf"
 }
 conf right-secret
-check "psensd -n accepts the [mqtt] section" "$BIN/psensd" -n -f "$TMP/psensd.conf"
+check "psensd -n accepts the [mqtt] section" sh -c "\"$BIN/psensd\" -n -f \"$TMP/psensd.conf\" > /dev/null"
 line=$(grep -n '^password_file' "$TMP/psensd.conf" | cut -d: -f1)
 chmod 620 "$TMP/secret"
 "$BIN/psensd" -n -f "$TMP/psensd.conf" > /dev/null 2> "$TMP/n.err"; rc=$?
