@@ -419,6 +419,8 @@ static int load(struct psd_config *cf)
 	load_zones(cf);
 	check_sharing(cf);
 	psd_mqttconf_load(&cf->mqtt, c);
+	if (cf->mqtt.enabled && !cf->database)
+		ps_conf_error(c, cf->mqtt.line, "[mqtt] publishes the sample log: set database in [psensd]");
 	ps_conf_check_unused(c);
 	return c->nerrors ? -1 : 0;
 }
