@@ -18,6 +18,7 @@
 
 enum { BATCH = 64, MSG = 4096, TOPIC = 256, MAX_SEEN = 2 * PSD_MAX_ZONES };
 static const double RETRY_MIN = 0.5, RETRY_MAX = 5;   /* s between connection attempts */
+static const double CURSOR_EVERY = 1;                 /* s between saves of the cursor */
 
 struct slot {
 	int mid;
@@ -44,7 +45,7 @@ struct psd_mqtt {
 	long inflight;
 	int discovery;
 	int connected, sock_ok, announce, failing, cursor_dirty, abort;
-	double retry_at, backoff, tokens, refill_at;
+	double retry_at, backoff, tokens, refill_at, saved_at;
 	struct slot *q;
 	size_t qcap, qhead, qn;
 	long long cursor, sent;
@@ -112,11 +113,16 @@ static void advance(struct psd_mqtt *m)
 	}
 }
 
-static void save_cursor(struct psd_mqtt *m)
+/* At most once a second (CURSOR_EVERY) but at close: each save is a
+ * transaction in the log the control writes too; a cursor saved late only
+ * means more duplicates after a crash, never a loss. */
+static void save_cursor(struct psd_mqtt *m, int now)
 {
 	char err[256];
-	if (!m->cursor_dirty || !m->e->db)
+	double t = mono();
+	if (!m->cursor_dirty || !m->e->db || (!now && t < m->saved_at + CURSOR_EVERY))
 		return;
+	m->saved_at = t;
 	if (psd_db_mqtt_set_cursor(m->e->db, m->site, m->cursor, err, sizeof err) != 0) {
 		log_warnx("mqtt: cursor: %s", err);
 		return;
@@ -575,7 +581,7 @@ void psd_mqtt_service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
 		    rc != MOSQ_ERR_NO_CONN)
 			lost(m, mosquitto_strerror(rc));
 	}
-	save_cursor(m);
+	save_cursor(m, 0);
 }
 
 int psd_mqtt_wait_ms(const struct psd_mqtt *m)
@@ -624,7 +630,7 @@ void psd_mqtt_close(struct psd_mqtt *m)
 		mosquitto_disconnect(m->mosq);
 		mosquitto_loop(m->mosq, 50, 1);
 	}
-	save_cursor(m);
+	save_cursor(m, 1);
 	mosquitto_destroy(m->mosq);
 	mosquitto_lib_cleanup();
 	free(m->q);
