@@ -44,7 +44,7 @@ struct psd_mqtt {
 	double rate;
 	long inflight;
 	int discovery;
-	int connected, sock_ok, announce, failing, cursor_dirty, abort;
+	int connected, sock_ok, announce, failing, cursor_dirty, abort, closing;
 	double retry_at, backoff, tokens, refill_at, saved_at;
 	struct slot *q;
 	size_t qcap, qhead, qn;
@@ -401,7 +401,7 @@ done:
 
 static void lost(struct psd_mqtt *m, const char *why)
 {
-	if (m->connected)
+	if (m->connected && !m->closing)
 		log_warnx("mqtt: connection lost (%s): publishing resumes from sample %lld when it is back", why,
 		          m->cursor);
 	m->connected = 0;
@@ -618,6 +618,7 @@ void psd_mqtt_close(struct psd_mqtt *m)
 	int mid;
 	if (!m)
 		return;
+	m->closing = 1;
 	if (m->connected) {
 		double until = mono() + 1;
 		publish(m, m->status_topic, "offline", 1, &mid);
