@@ -317,6 +317,20 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	json_object_object_add(o, "reloads", json_object_new_int64((int64_t)d->reloads));
 	json_object_object_add(o, "requests", json_object_new_int64((int64_t)d->ctl.requests));
 	json_object_object_add(o, "rejected", json_object_new_int64((int64_t)d->ctl.rejected));
+	if (d->mqtt) {   /* [mqtt]: the publisher's state (daemon/mqtt.h) */
+		struct psd_mqtt_stats ms;
+		json_object *mq = json_object_new_object();
+		psd_mqtt_stats(d->mqtt, &ms);
+		json_object_object_add(mq, "connected", json_object_new_boolean(ms.connected));
+		json_object_object_add(mq, "cursor", json_object_new_int64(ms.cursor));
+		json_object_object_add(mq, "sent", json_object_new_int64(ms.sent));
+		json_object_object_add(mq, "published", json_object_new_int64((int64_t)ms.published));
+		json_object_object_add(mq, "acked", json_object_new_int64((int64_t)ms.acked));
+		json_object_object_add(mq, "commands", json_object_new_int64((int64_t)ms.commands));
+		json_object_object_add(mq, "refused", json_object_new_int64((int64_t)ms.refused));
+		json_object_object_add(mq, "connects", json_object_new_int64((int64_t)ms.connects));
+		json_object_object_add(o, "mqtt", mq);
+	}
 	for (size_t i = 0; i < e->nzone; i++)
 		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
 			json_object_array_add(zones, zone_json(e, &e->zone[i], now));

@@ -77,6 +77,10 @@ pub -t psensd/lab/office/set/accept -n
 check "accept with no session: the calibration code's refusal" got 'reply {"command":"accept"' '"ok":false'
 check "psensd still answers on its socket" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
 check "and still runs" kill -0 $PID
+"$BIN/psensctl" -s "$S" -j status > "$TMP/status"
+check "psensctl status: the publisher is connected" grep -q '"mqtt":{"connected":true,' "$TMP/status"
+check "psensctl status: the refusals are counted ($(grep -o '"refused":[0-9]*' "$TMP/status"))" \
+	sh -c "[ \$(grep -o '\"refused\":[0-9]*' '$TMP/status' | cut -d: -f2) -ge 11 ]"
 
 # Home Assistant discovery: the zone renamed by SIGHUP
 ha() { mosquitto_sub -p "$P" -v -t 'homeassistant/#' -W 1 2>/dev/null | awk 'length($2) > 0 { print $1 }' | sort; }
