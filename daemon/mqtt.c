@@ -207,8 +207,11 @@ static void row(void *user, long long id, double utc, const struct psd_sample *s
 		json_object_object_add(o, "utc", json_object_new_string(iso));
 		json_object_object_add(o, "fault", faulted ? json_object_new_string(s->fault) : NULL);
 		if (event(m, s->zone, o, &mid) != 0 || push(m, mid, id) != 0) {
-			m->abort = 1;     /* the state went out but not its event: send both again */
+			/* the state went out but not its event: send both again, and
+			 * let the state's acknowledgement not move the cursor past it */
+			m->abort = 1;
 			m->sent = id - 1;
+			m->q[(m->qhead + m->qn - 1) % m->qcap].id = id - 1;
 			return;
 		}
 	}
