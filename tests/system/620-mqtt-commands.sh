@@ -7,7 +7,7 @@
 # Assistant discovery: a zone renamed by SIGHUP has its retained config
 # messages removed (empty) and the new one announced; a zone removed while
 # psensd was stopped is removed at the next start (the announced list is
-# kept in the database).
+# kept in the database).  Fault events come from the log, with the sample ids.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 MOSQ=$(command -v mosquitto || echo /usr/sbin/mosquitto)
@@ -20,7 +20,7 @@ printf 'listener %s 127.0.0.1\nallow_anonymous true\nuser %s\n' "$P" "$(id -un)"
 wait_for 5 mosquitto_pub -p "$P" -t probe -n
 S="$TMP/sock"
 conf() {   # conf ZONE: the example with its zone named ZONE
-	sed "s|^results = .*|results = $TMP/state/ofb.results|; s|^database = .*|database = $TMP/psensd.db\nsocket = $S|; /^faults = /d; s|^\[zone office\]|[zone $1]|" \
+	sed "s|^results = .*|results = $TMP/state/ofb.results|; s|^database = .*|database = $TMP/psensd.db\nsocket = $S|; s|^faults = .*|faults = open 08:01-08:03|; s|^\[zone office\]|[zone $1]|" \
 		config/psensd.conf > "$TMP/psensd.conf"
 	printf '\n[mqtt]\nhost = 127.0.0.1\nport = %s\nsite = lab\n' "$P" >> "$TMP/psensd.conf"
 }
@@ -81,6 +81,16 @@ check "and still runs" kill -0 $PID
 check "psensctl status: the publisher is connected" grep -q '"mqtt":{"connected":true,' "$TMP/status"
 check "psensctl status: the refusals are counted ($(grep -o '"refused":[0-9]*' "$TMP/status"))" \
 	sh -c "[ \$(grep -o '\"refused\":[0-9]*' '$TMP/status' | cut -d: -f2) -ge 11 ]"
+
+# the room's sensor opens from 08:01 to 08:03 (0.1 s to 0.3 s into the run at -x 600):
+# a fault event with the first faulty sample's id, then fault_cleared, from the log
+wait_for 30 grep -q '^psensd/lab/office/event {"event":"fault_cleared"' "$TMP/sub.log"
+check "a fault event from the log ($(grep -o '"event":"fault","id":[0-9]*' "$TMP/sub.log" | head -n 1))" \
+	grep -q '^psensd/lab/office/event {"event":"fault","id":[0-9]*,"utc":"[-0-9T:.]*Z","fault":"' "$TMP/sub.log"
+id=$(grep -o '"event":"fault","id":[0-9]*' "$TMP/sub.log" | head -n 1 | cut -d: -f3)
+check "its id is the first sample with the fault in the log ($id)" \
+	test "$id" = "$(sqlite3 "$TMP/psensd.db" "SELECT min(rowid) FROM samples WHERE fault IS NOT NULL")"
+check "fault_cleared when the sensor is back" grep -q '^psensd/lab/office/event {"event":"fault_cleared","id":[0-9]*' "$TMP/sub.log"
 
 # Home Assistant discovery: the zone renamed by SIGHUP
 ha() { mosquitto_sub -p "$P" -v -t 'homeassistant/#' -W 1 2>/dev/null | awk 'length($2) > 0 { print $1 }' | sort; }
