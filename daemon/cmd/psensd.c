@@ -77,6 +77,11 @@ static void usage(FILE *fp)
 	for (int i = 0; ps_drivers[i]; i++)
 		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
 		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
+#ifdef PS_WITH_MQTT
+	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7)\n");
+#else
+	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
+#endif
 }
 
 /* What a key takes, for -L: its range, its choices, or its kind. */

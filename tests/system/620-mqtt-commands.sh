@@ -10,6 +10,7 @@
 # kept in the database).  Fault events come from the log, with the sample ids.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
+"$BIN/psensd" -h | grep -q "^mqtt: .*not compiled in" && skip_all "psensd built without MQTT (WITH_MQTT=no)"
 MOSQ=$(command -v mosquitto || echo /usr/sbin/mosquitto)
 [ -x "$MOSQ" ] || skip_all "mosquitto not installed"
 command -v mosquitto_sub > /dev/null || skip_all "mosquitto-clients not installed"

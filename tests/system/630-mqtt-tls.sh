@@ -7,6 +7,7 @@
 # psensd goes on controlling without publishing.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
+"$BIN/psensd" -h | grep -q "^mqtt: .*not compiled in" && skip_all "psensd built without MQTT (WITH_MQTT=no)"
 MOSQ=$(command -v mosquitto || echo /usr/sbin/mosquitto)
 [ -x "$MOSQ" ] || skip_all "mosquitto not installed"
 command -v mosquitto_sub > /dev/null || skip_all "mosquitto-clients not installed"
