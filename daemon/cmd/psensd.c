@@ -173,6 +173,13 @@ int main(int argc, char **argv)
 	if (check) {
 		rc = psd_config_load(&cf, path);
 		psd_daemon_config_errors(&cf);
+#ifndef PS_WITH_MQTT
+		if (rc == 0 && cf.mqtt.enabled) {   /* it would be refused at start */
+			log_errx("%s:%d: [mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)",
+			         path, cf.mqtt.line);
+			rc = -1;
+		}
+#endif
 		if (rc == 0)
 			printf("%s: configuration OK (%zu device(s), %zu point(s), %zu zone(s))\n", path, cf.ndev,
 			       cf.npt, cf.nzone);
