@@ -113,5 +113,6 @@ wait_for 10 grep -q "zone hall removed from Home Assistant" "$TMP/err"
 sleep 0.5
 check "at start: hall (announced before, now gone) is removed" test "$(ha | grep -c psensd_lab_hall/)" = 0
 check "lobby announced" test "$(ha | grep -c psensd_lab_lobby/)" = 5
-kill $PID; wait $PID
+kill $PID; wait $PID; rc=$?
+check "psensd exits 0 on SIGTERM (no sanitizer report)" test "$rc" = 0
 done_testing

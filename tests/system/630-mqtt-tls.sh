@@ -69,7 +69,8 @@ PID=$!; track_pid $PID
 wait_for 10 grep -q '^psensd/tls/office/state' "$TMP/sub.log"
 check "the right password and certificate: samples arrive over TLS" grep -q '^psensd/tls/office/state {"id":1,' "$TMP/sub.log"
 check "status online" grep -q '^psensd/tls/status online' "$TMP/sub.log"
-kill $PID; wait $PID
+kill $PID; wait $PID; rc=$?
+check "psensd exits 0 on SIGTERM (no sanitizer report)" test "$rc" = 0
 
 conf wrong-secret
 : > "$TMP/sub.log"
@@ -81,5 +82,6 @@ check "a wrong password: the broker refuses ($(grep -o 'refused the connection.*
 sleep 1
 check "nothing is published with it" test ! -s "$TMP/sub.log"
 check "psensd goes on controlling" sh -c "\"$BIN/psensctl\" -s \"$TMP/sock\" status office > /dev/null"
-kill $PID; wait $PID
+kill $PID; wait $PID; rc=$?
+check "and exits 0 on SIGTERM" test "$rc" = 0
 done_testing

@@ -130,6 +130,7 @@ static void state_json(void **state)
 static void discovery(void **state)
 {
 	char topic[256], payload[2048];
+	json_object *o;
 	int k, n = 0, empty = 0;
 	(void)state;
 	for (k = 0; psd_mqtt_discovery(k, "homeassistant", "b.1", "a", 0, topic, sizeof topic, payload,
@@ -142,7 +143,9 @@ static void discovery(void **state)
 			continue;
 		}
 		n++;
-		assert_non_null(json_tokener_parse(payload) ? payload : NULL);
+		o = json_tokener_parse(payload);
+		assert_non_null(o);
+		json_object_put(o);
 		assert_non_null(strstr(payload, "\"availability_topic\":\"psensd/b.1/status\""));
 		assert_non_null(strstr(payload, "\"state_topic\":\"psensd/b.1/a/state\""));
 	}
