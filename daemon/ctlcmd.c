@@ -329,6 +329,8 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 		json_object_object_add(mq, "commands", json_object_new_int64((int64_t)ms.commands));
 		json_object_object_add(mq, "refused", json_object_new_int64((int64_t)ms.refused));
 		json_object_object_add(mq, "connects", json_object_new_int64((int64_t)ms.connects));
+		put_num(mq, "turn_max_s", ms.turn_max);
+		put_num(mq, "turn_cpu_max_s", ms.turn_cpu_max);
 		json_object_object_add(o, "mqtt", mq);
 	}
 	for (size_t i = 0; i < e->nzone; i++)

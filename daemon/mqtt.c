@@ -554,7 +554,26 @@ int psd_mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd)
 	return 1;
 }
 
+static void service(struct psd_mqtt *m, const struct pollfd *pfd, double now);
+
+static double cpu(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 void psd_mqtt_service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
+{
+	double t0 = mono(), c0 = cpu(), dt, dc;
+	service(m, pfd, now);
+	if ((dt = mono() - t0) > m->st.turn_max)
+		m->st.turn_max = dt;
+	if ((dc = cpu() - c0) > m->st.turn_cpu_max)
+		m->st.turn_cpu_max = dc;
+}
+
+static void service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
 {
 	int rc;
 	m->now = now;

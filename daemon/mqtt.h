@@ -33,6 +33,8 @@ struct psd_mqtt_stats {
 	long long cursor;            /* last sample id acknowledged */
 	long long sent;              /* last sample id published */
 	unsigned long published, acked, commands, refused, connects;
+	double turn_max;             /* the longest psd_mqtt_service, wall seconds */
+	double turn_cpu_max;         /* the most CPU time one took (the rest: waiting for the CPU) */
 };
 
 /* Start the client for the engine's log (the engine must have a database);

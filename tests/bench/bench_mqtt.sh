@@ -5,7 +5,10 @@
 # outage), at a bounded rate and unbounded (the publish throughput: QoS 1,
 # every message acknowledged), while psensd controls its own zone every
 # 0.1 s; the worst lateness of a control step during the catch-up (psensd's
-# late_max_s), beside the same run with nothing to catch up.
+# late_max_s), beside the same run with nothing to catch up, and the longest
+# turn the publisher took from the loop (mqtt.turn_max_s, wall; and the most
+# CPU time one turn used, turn_cpu_max_s): what MQTT can add to a step's
+# lateness, the difference being time spent waiting for a CPU.
 BUILD=${BUILD:-build}
 BIN=${BIN:-$BUILD/bin}
 MOSQ=$(command -v mosquitto || echo /usr/sbin/mosquitto)
@@ -43,7 +46,7 @@ backlog() {
 		ratio, fault, zone, utc) SELECT (i / $ZONES) * 60.0, (i / $ZONES) * 60.0, 1.5, 0.5, 500, NULL, 1.0, 300,
 		'daylight_mean', 236.1, NULL, 'z' || (i % $ZONES), 1.7e9 + (i / $ZONES) * 60 FROM n;"
 }
-printf '%-10s %9s %10s %10s %14s %14s\n' "rate /s" backlog "catch-up s" "msg/s" "late max ms" "cursor"
+printf '%-10s %9s %10s %10s %12s %8s %12s %10s\n' "rate /s" backlog "catch-up s" "msg/s" "late max ms" "turn ms" "turn cpu ms" "cursor"
 one() {   # one RATE BACKLOG
 	backlog "$2"
 	conf "$1" mqtt
@@ -56,13 +59,16 @@ one() {   # one RATE BACKLOG
 	"$BIN/psensd" -f "$tmp/c.conf" -t 12:00 > /dev/null 2> "$tmp/err" & pd=$!; pids="$pids $pd"
 	if [ "$2" -gt 0 ]; then wait $sub; else sleep "${BENCH_SECS:-15}"; fi
 	t1=$(now_ms)
-	late=$("$BIN/psensctl" -s "$tmp/sock" -j status | /usr/bin/python3 -c 'import json,sys; print("%.2f" % (1000 * json.load(sys.stdin)["late_max_s"]))')
+	"$BIN/psensctl" -s "$tmp/sock" -j status > "$tmp/st"
+	late=$(/usr/bin/python3 -c 'import json,sys; print("%.2f" % (1000 * json.load(open(sys.argv[1]))["late_max_s"]))' "$tmp/st")
+	turn=$(/usr/bin/python3 -c 'import json,sys; print("%.2f" % (1000 * json.load(open(sys.argv[1]))["mqtt"]["turn_max_s"]))' "$tmp/st")
+	tcpu=$(/usr/bin/python3 -c 'import json,sys; print("%.2f" % (1000 * json.load(open(sys.argv[1]))["mqtt"]["turn_cpu_max_s"]))' "$tmp/st")
 	kill $pd; wait $pd 2> /dev/null
 	cur=$(sqlite3 "$tmp/db" "SELECT sample FROM mqtt_cursor")
 	s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", (b - a) / 1000 }')
 	r=$(awk -v n="$2" -v a="$t0" -v b="$t1" 'BEGIN { printf "%.0f", n / ((b - a) / 1000) }')
 	[ "$2" -gt 0 ] || { s=-; r=-; }
-	printf '%-10s %9s %10s %10s %14s %14s\n' "$1" "$2" "$s" "$r" "$late" "$cur"
+	printf '%-10s %9s %10s %10s %12s %8s %12s %10s\n' "$1" "$2" "$s" "$r" "$late" "$turn" "$tcpu" "$cur"
 }
 one 200 0
 
