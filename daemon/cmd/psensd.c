@@ -72,16 +72,16 @@ static void usage(FILE *fp)
 	            "  -t HH:MM  real time: start the clock at this time of day (default: now)\n"
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
 	            "  -v        more messages\n"
-	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n"
-	            "drivers:\n");
-	for (int i = 0; ps_drivers[i]; i++)
-		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
-		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
+	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n");
 #ifdef PS_WITH_MQTT
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7)\n");
 #else
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
 #endif
+	fprintf(fp, "drivers:\n");
+	for (int i = 0; ps_drivers[i]; i++)
+		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
+		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
 }
 
 /* What a key takes, for -L: its range, its choices, or its kind. */

@@ -33,7 +33,8 @@ check "mosquitto listens on 127.0.0.1:$P" mosquitto_pub -p "$P" -t probe -n
 
 mosquitto_sub -p "$P" -q 1 -c -i fleet-sub -v -t 'psensd/+/+/state' -t 'psensd/+/status' > "$TMP/sub.log" 2> "$TMP/sub.err" &
 SUB=$!; track_pid $SUB
-sleep 0.3
+# subscribed before any psensd publishes
+wait_for 10 sh -c "mosquitto_pub -p $P -q 1 -t psensd/probe/status -m x && grep -q '^psensd/probe/status' '$TMP/sub.log'"
 
 for s in s1 s2 s3; do
 	mkdir -p "$TMP/$s"

@@ -33,6 +33,7 @@ got() { last "$1" > "$TMP/last"; grep -q -- "$2" "$TMP/last"; }
 mosquitto_pub -p "$P" -q 1 -r -t psensd/lab/office/set/target -m 100
 mosquitto_sub -p "$P" -q 1 -v -t 'psensd/lab/+/reply' -t 'psensd/lab/+/event' -t 'psensd/lab/event' > "$TMP/sub.log" &
 track_pid $!
+wait_for 10 sh -c "mosquitto_pub -p $P -q 1 -t psensd/lab/event -m probe && grep -q '^psensd/lab/event probe' '$TMP/sub.log'"
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > "$TMP/out" 2> "$TMP/err" &
 PID=$!; track_pid $PID
 wait_for 10 grep -q "mqtt: connected" "$TMP/err"

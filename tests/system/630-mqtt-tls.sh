@@ -64,6 +64,8 @@ chmod 600 "$TMP/secret"
 
 mosquitto_sub $TLS -u watcher -P watch -q 1 -v -t 'psensd/tls/#' > "$TMP/sub.log" &
 track_pid $!
+# subscribed before psensd publishes its first sample
+wait_for 10 sh -c "mosquitto_pub $TLS -u watcher -P watch -t psensd/tls/probe -m x && grep -q '^psensd/tls/probe' '$TMP/sub.log'"
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/err" &
 PID=$!; track_pid $PID
 wait_for 10 grep -q '^psensd/tls/office/state' "$TMP/sub.log"
@@ -73,6 +75,7 @@ kill $PID; wait $PID; rc=$?
 check "psensd exits 0 on SIGTERM (no sanitizer report)" test "$rc" = 0
 
 conf wrong-secret
+sleep 0.5
 : > "$TMP/sub.log"
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/err" &
 PID=$!; track_pid $PID
