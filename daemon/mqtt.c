@@ -611,8 +611,8 @@ int psd_mqtt_wait_ms(const struct psd_mqtt *m)
 	double ms = 1000;
 	if (!m->sock_ok)
 		ms = 1000 * (m->retry_at - mono());
-	else if (m->connected && m->backlog)
-		ms = 1000 * (1 - m->tokens) / m->rate;
+	else if (m->connected && m->backlog && (m->qcap - m->qn) / 2 >= 1)
+		ms = 1000 * (1 - m->tokens) / m->rate;   /* the next token (a full window waits for PUBACKs) */
 	if (ms < 1)
 		ms = 1;
 	return ms > 1000 ? 1000 : (int)ms;
