@@ -29,6 +29,35 @@ conf office
 last() { wait_for 5 grep -q -- "$1" "$TMP/sub.log"; grep -- "$1" "$TMP/sub.log" | tail -n 1; }
 # got PATTERN TEXT: the last message matching PATTERN also holds TEXT
 got() { last "$1" > "$TMP/last"; grep -q -- "$2" "$TMP/last"; }
+# TCP sockets a process holds (/proc/PID/fd against /proc/net/tcp and tcp6)
+tcp_socks() {
+	/usr/bin/python3 - "$1" << 'EOP'
+import os, sys
+pid = sys.argv[1]
+inodes = set()
+for f in ("/proc/net/tcp", "/proc/net/tcp6"):
+    for line in open(f).readlines()[1:]:
+        inodes.add(line.split()[9])
+n = 0
+for fd in os.listdir("/proc/%s/fd" % pid):
+    try:
+        t = os.readlink("/proc/%s/fd/%s" % (pid, fd))
+    except OSError:
+        continue
+    if t.startswith("socket:[") and t[8:-1] in inodes:
+        n += 1
+print(n)
+EOP
+}
+# no [mqtt]: psensd opens no connection (and the same check sees the one it opens with [mqtt], below)
+sed '/^\[mqtt\]/,$d' "$TMP/psensd.conf" > "$TMP/plain.conf"
+"$BIN/psensd" -f "$TMP/plain.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/plain.err" &
+PID=$!; track_pid $PID
+wait_for 10 "$BIN/psensctl" -s "$S" ping > /dev/null
+check "without [mqtt]: no TCP socket ($(tcp_socks $PID))" test "$(tcp_socks $PID)" = 0
+check "and no MQTT message" sh -c "! grep -q mqtt '$TMP/plain.err'"
+kill $PID; wait $PID
+
 # a retained command, there before psensd subscribes: refused, not run at every connect
 mosquitto_pub -p "$P" -q 1 -r -t psensd/lab/office/set/target -m 100
 mosquitto_sub -p "$P" -q 1 -v -t 'psensd/lab/+/reply' -t 'psensd/lab/+/event' -t 'psensd/lab/event' > "$TMP/sub.log" &
@@ -38,6 +67,7 @@ wait_for 10 sh -c "mosquitto_pub -p $P -q 1 -t psensd/lab/event -m probe && grep
 PID=$!; track_pid $PID
 wait_for 10 grep -q "mqtt: connected" "$TMP/err"
 check "psensd connected to the broker" grep -q "mqtt: connected" "$TMP/err"
+check "with [mqtt]: one TCP socket, the broker's ($(tcp_socks $PID))" test "$(tcp_socks $PID)" = 1
 check "a retained command: refused" got 'retained command' command_refused
 mosquitto_pub -p "$P" -q 1 -r -t psensd/lab/office/set/target -n   # cleared
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
