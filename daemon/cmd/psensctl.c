@@ -7,7 +7,8 @@
  *            dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|
  *                 identify SHORT [SECONDS]|verify ZONE|status|abort
  *   psensctl [-s socket | -d database] export --csv
- *   psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]
+ *   psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]
+ *            [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]
  *
  * Replies are JSON lines; -j prints them as they come, otherwise they are
  * shown for a person.  See psensctl(1). */
@@ -21,17 +22,20 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/un.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "ctlsock.h"
 #include "db.h"
-#include "report.h"
+#include "config.h"
+#include "reportdoc.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psensctl [-s socket] [-j] [-w seconds] command [arguments]\n"
 	            "       psensctl [-s socket | -d database] export --csv\n"
-	            "       psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]\n"
+	            "       psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]\n"
+	            "                [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
 	            "          release ZONE, ratios, log, reload, ping, help,\n"
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
@@ -331,51 +335,100 @@ static int export_csv(const char *sock, const char *dbpath, int timeout_ms)
 	return rc == 0 && fflush(stdout) == 0 ? 0 : 1;
 }
 
+/* report [ZONE] [-o FILE] [--format pdf|png|svg] [-t PERCENT] [-c CONFIG]
+ * [--site TEXT] [--page N]: the commissioning record (daemon/reportdoc.c). */
 static int report(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
 {
-	const char *out = NULL, *zone = NULL;
-	double tol = 25;
-	char err[512], *end;
+	struct psd_report_opts ro = { .tolerance_pct = 25, .format = -1 };
+	struct psd_report_out res;
+	struct psd_config *cf = NULL;
+	const char *out = NULL;
+	char err[1024], *end;
 	json_object *o;
-	FILE *fp = stdout;
-	int verdict, rc;
+	int rc;
 	for (int i = 0; i < argc; i++) {
-		if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+		if (strcmp(a, "-o") == 0 && v)
 			out = argv[++i];
-		else if (strcmp(argv[i], "-t") == 0 && i + 1 < argc) {
-			tol = strtod(argv[++i], &end);
-			if (*end || !(tol >= 0)) {
+		else if (strcmp(a, "-t") == 0 && v) {
+			ro.tolerance_pct = strtod(argv[++i], &end);
+			if (*end || !(ro.tolerance_pct >= 0)) {
 				fprintf(stderr, "psensctl: report -t %s: a percentage\n", argv[i]);
 				return 2;
 			}
-		} else if (!zone && argv[i][0] != '-')
-			zone = argv[i];
+		} else if ((strcmp(a, "-f") == 0 || strcmp(a, "--format") == 0) && v) {
+			char name[8];
+			snprintf(name, sizeof name, "x.%s", argv[++i]);
+			if ((ro.format = psd_report_format_of(name)) < 0) {
+				fprintf(stderr, "psensctl: report --format %s: one of pdf, png, svg\n", argv[i]);
+				return 2;
+			}
+		} else if (strcmp(a, "-c") == 0 && v)
+			ro.config_path = argv[++i];
+		else if (strcmp(a, "--site") == 0 && v)
+			ro.site = argv[++i];
+		else if (strcmp(a, "--page") == 0 && v) {
+			long p = strtol(argv[++i], &end, 10);
+			if (*end || p < 1 || p > 1000) {
+				fprintf(stderr, "psensctl: report --page %s: a page number from 1\n", argv[i]);
+				return 2;
+			}
+			ro.page = (int)p;
+		} else if (!ro.zone && a[0] != '-')
+			ro.zone = a;
 		else {
 			usage(stderr);
 			return 2;
 		}
 	}
-	if (!zone) {
-		usage(stderr);
+	if (ro.format < 0 && out && (ro.format = psd_report_format_of(out)) < 0) {
+		fprintf(stderr, "psensctl: report -o %s: name a .pdf, .png or .svg file, or give --format\n", out);
 		return 2;
 	}
-	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
-		return 1;
-	if (out && !(fp = fopen(out, "w"))) {
-		fprintf(stderr, "psensctl: %s: %s\n", out, strerror(errno));
-		json_object_put(o);
+	if (ro.format < 0)
+		ro.format = PSD_REPORT_PDF;
+	if (!out && isatty(STDOUT_FILENO)) {
+		fprintf(stderr, "psensctl: report: give -o FILE (the report is not text)\n");
+		return 2;
+	}
+	if (ro.config_path) {
+		if (!(cf = calloc(1, sizeof *cf))) {
+			fprintf(stderr, "psensctl: out of memory\n");
+			return 1;
+		}
+		if (psd_config_load(cf, ro.config_path) != 0) {
+			for (size_t k = 0; k < cf->conf.nerrors; k++)
+				fprintf(stderr, "psensctl: %s\n", cf->conf.errors[k]);
+			if (!cf->conf.nerrors)
+				fprintf(stderr, "psensctl: %s: cannot be read\n", ro.config_path);
+			psd_config_free(cf);
+			free(cf);
+			return 1;
+		}
+		ro.cf = cf;
+	}
+	if (!(ro.dbpath = database(sock, dbpath, timeout_ms, &o))) {
+		if (cf)
+			psd_config_free(cf);
+		free(cf);
 		return 1;
 	}
-	rc = psd_report_svg(dbpath, zone, tol, fp, &verdict, err, sizeof err);
-	if (out && fclose(fp) != 0)
-		rc = -1;
+	ro.written = time(NULL);
+	rc = psd_report_write(&ro, out, &res, err, sizeof err);
 	json_object_put(o);
+	if (cf)
+		psd_config_free(cf);
+	free(cf);
 	if (rc != 0) {
-		fprintf(stderr, "psensctl: %s\n", rc ? err : "write error");
+		fprintf(stderr, "psensctl: report: %s\n", err);
+		psd_report_out_free(&res);
 		return 1;
 	}
 	if (out)
-		printf("%s: zone %s: %s\n", out, zone, verdict > 0 ? "PASS" : verdict < 0 ? "FAIL" : "not calibrated");
+		for (int i = 0; i < res.nzones; i++)
+			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict > 0 ? "PASS" :
+			       res.zone[i].verdict < 0 ? "FAIL" : "not calibrated");
+	psd_report_out_free(&res);
 	return 0;
 }
 
