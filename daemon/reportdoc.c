@@ -483,6 +483,39 @@ static int overall(const struct doc *d)
 
 /* ---- the cover --------------------------------------------------------------- */
 
+struct chart {
+	double x0, y0, x1, y1;           /* the plot area */
+	double tlo, thi, ylo, yhi;
+};
+
+struct legend {
+	const char *label;
+	const double *rgb;
+	int kind;                        /* 0 line, 1 dashed line, 2 shade */
+	double alpha;
+};
+
+
+
+static void frame(struct doc *d, const struct chart *c, const struct zone *z, const char *title, const char *ytitle,
+                  const struct legend *lg, int nlg, int xtitle);
+static void line(struct doc *d, const struct chart *c, const struct zone *z, const double *y, const double rgb[3],
+                 double lw, int dashed);
+
+static void overview(struct doc *d, double top, double bottom, double tmin, double tmax)
+{
+	static const double *const pal[] = { PURPLE, GREEN, ORANGE, BLUE, RED, BLACK };
+	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, bottom, tmin, tmax > tmin ? tmax : tmin + 3600, 0,
+		           100 };
+	struct legend lg[PSD_MAX_ZONES] = { { 0 } };
+	int n = d->nzones < 6 ? d->nzones : 6;
+	for (int i = 0; i < n; i++)
+		lg[i] = (struct legend){ d->zones[i].name, pal[i], 0, 1 };
+	frame(d, &c, NULL, "Light output, every zone", "light output (%)", lg, n, 1);
+	for (int i = 0; i < n; i++)
+		line(d, &c, &d->zones[i], d->zones[i].out, pal[i], 1.1, 0);
+}
+
 static double keyval(struct doc *d, double y, const char *key, const char *val, int mono)
 {
 	text(d, MARGIN, y, 8.5, 1, -1, BLACK, key);
@@ -500,7 +533,7 @@ static void cover(struct doc *d)
 	double y = MARGIN + 22, tmin = INFINITY, tmax = -INFINITY;
 	int v = overall(d), checks = 0, fails = 0;
 	struct tm tm;
-	static const double cols[] = { 0, 62, 200, 250, 292, 380, 425, 470 };
+	static const double cols[] = { 0, 55, 180, 220, 260, 355, 393, 438 };
 	static const char *const head[] = { "zone", "sensor", "target", "samples", "recorded", "faults",
 	                                    "energy", "verdict" };
 	begin_page(d);
@@ -604,6 +637,9 @@ static void cover(struct doc *d)
 	              "ratio. A zone passes when every completed or accepted session is within the tolerance; a zone "
 	              "with no such session is not calibrated. The pages that follow show, per zone, the recorded "
 	              "signals with faults and calibration sessions shaded, and the sessions themselves.");
+	/* every zone's light output over the record: fills the page to the sign-off */
+	if (FOOT_Y - 172 - 40 - (y + 30) >= 80 && isfinite(tmin))
+		overview(d, y + 30, FOOT_Y - 172 - 44, tmin, tmax);
 	/* the sign-off, at the foot of the page */
 	y = FOOT_Y - 172;
 	hline(d, MARGIN, PAGE_W - MARGIN, y - 16, 0.8, BLACK);
@@ -628,11 +664,6 @@ static void cover(struct doc *d)
 }
 
 /* ---- a zone's charts --------------------------------------------------------- */
-
-struct chart {
-	double x0, y0, x1, y1;           /* the plot area */
-	double tlo, thi, ylo, yhi;
-};
 
 static double cx(const struct chart *c, double t)
 {
@@ -675,13 +706,6 @@ static void line(struct doc *d, const struct chart *c, const struct zone *z, con
 	cairo_restore(d->cr);
 }
 
-struct legend {
-	const char *label;
-	const double *rgb;
-	int kind;                        /* 0 line, 1 dashed line, 2 shade */
-	double alpha;
-};
-
 /* The chart's frame, shading, ticks, axis titles and legend; xtitle only
  * under the last chart. */
 static void frame(struct doc *d, const struct chart *c, const struct zone *z, const char *title, const char *ytitle,
@@ -691,6 +715,8 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 	char lab[32];
 	double x, lw, avail, size = 7;
 	/* shading: faults (red), calibration sessions (blue) */
+	if (!z)
+		goto unshaded;
 	cairo_save(d->cr);
 	cairo_rectangle(d->cr, c->x0, c->y0, c->x1 - c->x0, c->y1 - c->y0);
 	cairo_clip(d->cr);
@@ -710,6 +736,7 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 	cairo_set_source_rgba(d->cr, BLUE[0], BLUE[1], BLUE[2], 0.16);
 	cairo_fill(d->cr);
 	cairo_restore(d->cr);
+unshaded:
 	/* grid and y ticks */
 	if (psd_ticks_num(c->ylo, c->yhi, 6, &yt) == 0)
 		for (int i = 0; i < yt.n; i++) {
@@ -728,7 +755,7 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 			cairo_line_to(d->cr, x, c->y1 + 3);
 			cairo_stroke(d->cr);
 			psd_tick_time_label(tt.v[i], lab, sizeof lab);
-			text(d, x, c->y1 + 11, 6.5, 0, 0, BLACK, lab);
+			text(d, x, c->y1 + 12, 6.5, 0, 0, BLACK, lab);
 		}
 	/* day boundaries */
 	for (double day = ceil(c->tlo / 86400) * 86400; day <= c->thi; day += 86400) {
@@ -753,7 +780,7 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 	cairo_stroke(d->cr);
 	text_up(d, MARGIN + 6, (c->y0 + c->y1) / 2, 7, BLACK, ytitle);
 	if (xtitle)
-		text(d, (c->x0 + c->x1) / 2, c->y1 + 21, 7, 0, 0, BLACK, "local time of day (hh:mm); day 1 is the "
+		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, "local time of day (hh:mm); day 1 is the "
 		     "day psensd started");
 	/* title and legend above the plot */
 	lw = text(d, c->x0, c->y0 - 4, 8.5, 1, -1, BLACK, title);
@@ -905,7 +932,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	const struct psd_zone_conf *zc = zconf(d, z);
 	double y, bottom = FOOT_Y - 16, charts_min = 4 * 92 + 3 * 30 + 12;
 	int rows = z->nsess + (z->nacc ? z->nacc + 3 : 0), row = 0, acc = 0;
-	double tables_h = 26 + (z->nsess ? z->nsess : 1) * ROW_H + (z->nacc ? 30 + (z->nacc + 1) * ROW_H : 0);
+	double tables_h = 12 + 26 + (z->nsess ? z->nsess : 1) * ROW_H + (z->nacc ? 36 + z->nacc * ROW_H : 0);
 	double top = MARGIN + 52;
 	double room = bottom - top - charts_min - 24;
 	int fit = tables_h <= room ? rows : (int)((room - 26 - (z->nacc ? 30 : 0)) / ROW_H);
@@ -914,8 +941,8 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	begin_page(d);
 	if (!d->cr)
 		return;
-	text(d, MARGIN, MARGIN + 14, 16, 1, -1, BLACK, "Zone ");
-	text_fit(d, MARGIN + 50, MARGIN + 14, PAGE_W - 2 * MARGIN - 200, 16, 9, 1, BLACK, z->name);
+	snprintf(buf, sizeof buf, "Zone %s", z->name);
+	text_fit(d, MARGIN, MARGIN + 14, PAGE_W - 2 * MARGIN - 170, 16, 9, 1, BLACK, buf);
 	text(d, PAGE_W - MARGIN, MARGIN + 14, 16, 1, 1, verdict_rgb(z->verdict), verdict_word(z->verdict));
 	sensor_text(d, z, sensor, sizeof sensor);
 	when(z->tmin, a, sizeof a);
@@ -950,7 +977,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 			y = table_head(d, y, row ? "Calibration sessions (continued)" : "Calibration sessions", SCOLS, shead, 7);
 			if (!z->nsess)
 				y = text(d, MARGIN, y, 7, 0, -1, GREY, "no calibration session recorded") * 0 + y + ROW_H;
-			for (; row < z->nsess && y + ROW_H <= bottom; row++)
+			for (; row < z->nsess && y <= bottom; row++)
 				y = session_row(d, y, &z->sess[row]);
 		}
 		if (row >= z->nsess && z->nacc && acc < z->nacc && y + 40 <= bottom) {
@@ -962,7 +989,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 			}
 			y = table_head(d, y + 10, acc ? "Acceptance tests (continued)" : "Acceptance tests", cols, head,
 			               z->nacccol);
-			for (; acc < z->nacc && y + ROW_H <= bottom; acc++)
+			for (; acc < z->nacc && y <= bottom; acc++)
 				y = acc_row(d, y, z, acc);
 		}
 		if (row >= z->nsess && acc >= z->nacc)
