@@ -36,6 +36,7 @@ static void usage(FILE *fp)
 	            "       psensctl [-s socket | -d database] export --csv\n"
 	            "       psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]\n"
 	            "                [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]\n"
+	            "                [--boxes FILE]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
 	            "          release ZONE, ratios, log, reload, ping, help,\n"
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
@@ -342,7 +343,7 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 	struct psd_report_opts ro = { .tolerance_pct = 25, .format = -1 };
 	struct psd_report_out res;
 	struct psd_config *cf = NULL;
-	const char *out = NULL;
+	const char *out = NULL, *boxes = NULL;
 	char err[1024], *end;
 	json_object *o;
 	int rc;
@@ -367,6 +368,8 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 			ro.config_path = argv[++i];
 		else if (strcmp(a, "--site") == 0 && v)
 			ro.site = argv[++i];
+		else if (strcmp(a, "--boxes") == 0 && v)
+			boxes = argv[++i];
 		else if (strcmp(a, "--page") == 0 && v) {
 			long p = strtol(argv[++i], &end, 10);
 			if (*end || p < 1 || p > 1000) {
@@ -423,6 +426,18 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 		fprintf(stderr, "psensctl: report: %s\n", err);
 		psd_report_out_free(&res);
 		return 1;
+	}
+	if (boxes) {
+		/* every text's box: page x0 y0 x1 y1 text (points, y down) */
+		FILE *bf = fopen(boxes, "w");
+		for (size_t i = 0; bf && i < res.boxes.n; i++)
+			fprintf(bf, "%d %.2f %.2f %.2f %.2f %s\n", res.boxes.box[i].page, res.boxes.box[i].x0,
+			        res.boxes.box[i].y0, res.boxes.box[i].x1, res.boxes.box[i].y1, res.boxes.box[i].text);
+		if (!bf || fclose(bf) != 0) {
+			fprintf(stderr, "psensctl: %s: %s\n", boxes, strerror(errno));
+			psd_report_out_free(&res);
+			return 1;
+		}
 	}
 	if (out)
 		for (int i = 0; i < res.nzones; i++)
