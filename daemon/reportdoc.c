@@ -83,7 +83,7 @@ static void add_sample(void *user, const struct psd_sample *s)
 		neumaier(&z->esum, &z->ecomp, s->output * dt / 3600);
 	if (dt > 0 && dt <= 3600 && s->fault)
 		z->fault_s += dt;
-	if (isfinite(s->est_task_lux) && isfinite(s->task_lux) && s->task_lux > 0) {
+	if (isfinite(s->est_task_lux) && isfinite(s->task_lux) && s->task_lux >= 50) {
 		double e = (s->est_task_lux - s->task_lux) / s->task_lux;
 		neumaier(&z->err2, &z->err2c, e * e);
 		z->nerr++;
@@ -459,13 +459,16 @@ static const struct psd_zone_conf *zconf(const struct doc *d, const struct zone 
 	return d->o->cf && z->ci >= 0 ? &d->o->cf->zone[z->ci] : NULL;
 }
 
-static void sensor_text(const struct doc *d, const struct zone *z, char *buf, size_t n)
+static void sensor_text(const struct doc *d, const struct zone *z, char *buf, size_t n, int compact)
 {
 	const struct psd_zone_conf *zc = zconf(d, z);
 	if (zc && zc->sensor >= 0) {
 		const struct psd_point_conf *p = &d->o->cf->pt[zc->sensor];
 		const struct psd_device_conf *dev = &d->o->cf->dev[p->device];
-		snprintf(buf, n, "%s on %s (%s)", p->name, dev->name, dev->drv ? dev->drv->name : "?");
+		if (compact)
+			snprintf(buf, n, "%s (%s)", p->name, dev->drv ? dev->drv->name : "?");
+		else
+			snprintf(buf, n, "point %s, device %s (%s)", p->name, dev->name, dev->drv ? dev->drv->name : "?");
 	} else {
 		snprintf(buf, n, "(no configuration given)");
 	}
@@ -594,7 +597,7 @@ static void cover(struct doc *d)
 			colw = (c < 7 ? cols[c + 1] : PAGE_W - 2 * MARGIN) - cols[c] - 6;
 			switch (c) {
 			case 0: snprintf(buf, sizeof buf, "%s", z->name); break;
-			case 1: sensor_text(d, z, buf, sizeof buf); break;
+			case 1: sensor_text(d, z, buf, sizeof buf, 1); break;
 			case 2:
 				if (zc)
 					snprintf(buf, sizeof buf, "%.0f lx", zc->ctl.target_lux);
@@ -944,7 +947,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	snprintf(buf, sizeof buf, "Zone %s", z->name);
 	text_fit(d, MARGIN, MARGIN + 14, PAGE_W - 2 * MARGIN - 170, 16, 9, 1, BLACK, buf);
 	text(d, PAGE_W - MARGIN, MARGIN + 14, 16, 1, 1, verdict_rgb(z->verdict), verdict_word(z->verdict));
-	sensor_text(d, z, sensor, sizeof sensor);
+	sensor_text(d, z, sensor, sizeof sensor, 0);
 	when(z->tmin, a, sizeof a);
 	when(z->tmax, b, sizeof b);
 	if (zc)
@@ -954,7 +957,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 		snprintf(buf, sizeof buf, "%lld samples, %s to %s", z->total, a, b);
 	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
 	if (z->nerr)
-		snprintf(buf, sizeof buf, "estimate against the task meter: rms %.1f %% over %lld samples; %d of %d "
+		snprintf(buf, sizeof buf, "estimate against the task meter (50 lx and more): rms %.1f %% over %lld samples; %d of %d "
 		         "calibration results within %.0f %%; faults %.0f min; energy %.2f full-load h", 100 *
 		         sqrt((z->err2 + z->err2c) / z->nerr), z->nerr, z->checks - z->fails, z->checks,
 		         d->o->tolerance_pct, z->fault_s / 60, z->energy_h);

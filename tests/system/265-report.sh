@@ -23,7 +23,7 @@ if command -v pdftotext > /dev/null; then
 	check "pdftotext: 2 pages" test "$(pdfinfo "$TMP/r.pdf" | awk '/^Pages:/ { print $2 }')" = 2
 	check "the title" has "Commissioning record"
 	check "the site" has "$SITE"
-	check "the zone and its sensor" has "room.sensor on room (loopback)"
+	check "the zone and its sensor" has "point room.sensor, device room (loopback)"
 	check "the configuration's SHA-256 (sha256sum)" has "$(sha256sum "$TMP/psensd.conf" | cut -c1-64)"
 	check "the simulated date" has "simulated date 03-18"
 	check "the record's span" has "day 1 06:00 to day 1 19:59"
