@@ -628,7 +628,7 @@ static void cover(struct doc *d)
 	/* the verdict, then its reason on its own line */
 	text(d, MARGIN, y + 12, 26, 1, -1, verdict_rgb(v), v == 0 && checks ? "INCOMPLETE" : verdict_word(v));
 	y += 30;
-	snprintf(buf, sizeof buf, "%d of %d calibration results within %.0f %% of the design prediction (the "
+	snprintf(buf, sizeof buf, "%d of %d calibration results within %g %% of the design prediction (the "
 	         "simulated ratios), over %d zone%s.", checks - fails, checks, o->tolerance_pct, d->nzones,
 	         d->nzones == 1 ? "" : "s");
 	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 9, 12, BLACK, buf);
@@ -682,12 +682,15 @@ static void line(struct doc *d, const struct chart *c, const struct zone *z, con
                  double lw, int dashed)
 {
 	int open = 0;
+	/* a gap much longer than the points' spacing (psensd not running) is
+	 * left blank, not bridged by a straight line */
+	double gap = z->n > 1 ? fmax(1800, 5 * (z->tmax - z->tmin) / (z->n - 1)) : INFINITY;
 	cairo_save(d->cr);
 	cairo_rectangle(d->cr, c->x0, c->y0, c->x1 - c->x0, c->y1 - c->y0);
 	cairo_clip(d->cr);
 	for (int i = 0; i < z->n; i++) {
 		/* a gap (NaN) or time going back (a second run appended) breaks the line */
-		if (!isfinite(y[i]) || (i > 0 && z->t[i] < z->t[i - 1])) {
+		if (!isfinite(y[i]) || (i > 0 && (z->t[i] < z->t[i - 1] || z->t[i] - z->t[i - 1] > gap))) {
 			open = 0;
 			if (!isfinite(y[i]))
 				continue;
@@ -958,11 +961,11 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
 	if (z->nerr)
 		snprintf(buf, sizeof buf, "estimate against the task meter (50 lx and more): rms %.1f %% over %lld samples; %d of %d "
-		         "calibration results within %.0f %%; faults %.0f min; energy %.2f full-load h", 100 *
+		         "calibration results within %g %%; faults %.0f min; energy %.2f full-load h", 100 *
 		         sqrt((z->err2 + z->err2c) / z->nerr), z->nerr, z->checks - z->fails, z->checks,
 		         d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
 	else
-		snprintf(buf, sizeof buf, "no task meter readings; %d of %d calibration results within %.0f %%; "
+		snprintf(buf, sizeof buf, "no task meter readings; %d of %d calibration results within %g %%; "
 		         "faults %.0f min; energy %.2f full-load h", z->checks - z->fails, z->checks, d->o->tolerance_pct,
 		         z->fault_s / 60, z->energy_h);
 	text_fit(d, MARGIN, MARGIN + 40, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);

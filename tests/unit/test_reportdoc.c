@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cmocka.h>
+#include <sqlite3.h>
 
 #include "db.h"
 #include "reportdoc.h"
@@ -60,6 +61,19 @@ static void make_db(void)
 	                                "fault: sensor reads 0.000 V, outside 0.01 to 9.9 V; the lights went to the "
 	                                "safe level and the session was abandoned", err, sizeof err), 0);
 	psd_db_close(db);
+	/* acceptance tests, in a table of their own (the report shows any such
+	 * table's columns, the zone's rows only) */
+	{
+		sqlite3 *h;
+		assert_int_equal(sqlite3_open(dbpath, &h), SQLITE_OK);
+		assert_int_equal(sqlite3_exec(h, "CREATE TABLE acceptance_tests(id INTEGER PRIMARY KEY, zone TEXT, "
+		                                 "test TEXT, measured TEXT, verdict TEXT);"
+		                                 "INSERT INTO acceptance_tests(zone, test, measured, verdict) VALUES"
+		                                 "('office', 'daylight 150 % of design', 'lights at 10 % power', 'PASS'),"
+		                                 "('corridor', 'little daylight', 'task 96 % of target', 'PASS');",
+		                              NULL, NULL, NULL), SQLITE_OK);
+		sqlite3_close(h);
+	}
 }
 
 static int setup(void **state)
@@ -143,6 +157,17 @@ static void no_overlap_pages_filled(void **state)
 	}
 	for (int p = 1; p <= r.pages; p++)
 		assert_true(psd_textboxes_bottom(&r.boxes, p) > 0.9 * 841.89);
+	/* the acceptance tests: each zone's row on its own page (corridor is page 2) */
+	{
+		int seen = 0;
+		for (size_t k = 0; k < r.boxes.n; k++) {
+			if (strcmp(r.boxes.box[k].text, "lights at 10 % power") == 0)
+				seen += r.boxes.box[k].page == 3 ? 1 : 100;
+			if (strcmp(r.boxes.box[k].text, "task 96 % of target") == 0)
+				seen += r.boxes.box[k].page == 2 ? 10 : 100;
+		}
+		assert_int_equal(seen, 11);
+	}
 	psd_report_out_free(&r);
 	/* one zone, strict: the same sessions fail */
 	o.zone = "office";
