@@ -51,7 +51,8 @@ check "no two texts overlap on any page ($(wc -l < "$TMP/boxes") boxes): $(head 
 check "every page has text down to its foot (no half-empty page)" \
 	awk '{ if ($5 > b[$1]) b[$1] = $5 } END { for (p in b) if (b[p] < 0.9 * 841.89) exit 1 }' "$TMP/boxes"
 # PNG and SVG
-R office -c "$TMP/psensd.conf" -o "$TMP/r.png" > /dev/null
+R office -c "$TMP/psensd.conf" -o "$TMP/r.png" > /dev/null 2> "$TMP/png.err"; rc=$?
+check "-o r.png exits 0: $(head -c 200 "$TMP/png.err")" test "$rc" = 0
 if command -v pngcheck > /dev/null; then
 	check "the PNG passes pngcheck: $(pngcheck "$TMP/r.png" 2>&1 | cut -c1-90)" pngcheck -q "$TMP/r.png"
 else
@@ -60,7 +61,8 @@ fi
 check "the PNG holds both pages at 1.5 px/pt (893 x 2544)" sh -c "pngcheck '$TMP/r.png' | grep -q '893x2544'"
 R office --page 1 -o "$TMP/p1.png" > /dev/null
 check "--page 1: the cover alone (893 x 1263)" sh -c "pngcheck '$TMP/p1.png' | grep -q '893x1263'"
-R office --format svg -o "$TMP/r.out.svg" > /dev/null
+R office --format svg -o "$TMP/r.out.svg" > /dev/null 2> "$TMP/svg.err"; rc=$?
+check "--format svg exits 0: $(head -c 200 "$TMP/svg.err")" test "$rc" = 0
 if command -v xmllint > /dev/null; then
 	check "the SVG is well-formed XML (xmllint)" xmllint --noout "$TMP/r.out.svg"
 else
