@@ -902,9 +902,32 @@ static double table_head(struct doc *d, double y, const char *title, const doubl
 
 static const double SCOLS[] = { 0, 18, 46, 98, 152, 206, 420 };
 
+/* A session's result in at most two lines of the result column: 1 or 2. */
+static int result_lines(struct doc *d, const char *s, char *l1, char *l2, size_t n)
+{
+	double maxw = SCOLS[6] - SCOLS[5] - 4;
+	snprintf(l1, n, "%s", s);
+	l2[0] = 0;
+	font(d, 7, 0);
+	if (width_of(d, l1) <= maxw)
+		return 1;
+	/* the longest first line that fits, broken after a space */
+	for (size_t k = strlen(l1); k > 0; k--)
+		if (s[k] == ' ') {
+			l1[k] = 0;
+			if (width_of(d, l1) <= maxw) {
+				snprintf(l2, n, "%s", s + k + 1);
+				return 2;
+			}
+		}
+	snprintf(l1, n, "%s", s);
+	return 1;
+}
+
 static double session_row(struct doc *d, double y, const struct session *s)
 {
-	char buf[64], a[32];
+	char buf[64], a[32], l1[200], l2[200];
+	int lines = result_lines(d, s->result[0] ? s->result : "-", l1, l2, sizeof l1);
 	const char *cells[7];
 	snprintf(buf, sizeof buf, "%lld", s->id);
 	cells[0] = buf;
@@ -916,10 +939,12 @@ static double session_row(struct doc *d, double y, const struct session *s)
 		text_fit(d, MARGIN + SCOLS[c], y, SCOLS[c + 1] - SCOLS[c] - 4, 7, 5, 0, BLACK, cells[c]);
 	when(s->ended, a, sizeof a);
 	text_fit(d, MARGIN + SCOLS[4], y, SCOLS[5] - SCOLS[4] - 4, 7, 5, 0, BLACK, a);
-	text_fit(d, MARGIN + SCOLS[5], y, SCOLS[6] - SCOLS[5] - 4, 7, 4.5, 0, BLACK, s->result[0] ? s->result : "-");
+	text_fit(d, MARGIN + SCOLS[5], y, SCOLS[6] - SCOLS[5] - 4, 7, 5, 0, BLACK, l1);
+	if (lines > 1)
+		text_fit(d, MARGIN + SCOLS[5] + 6, y + ROW_H - 1.5, SCOLS[6] - SCOLS[5] - 10, 7, 5, 0, BLACK, l2);
 	text_fit(d, MARGIN + SCOLS[6], y, PAGE_W - 2 * MARGIN - SCOLS[6], 7, 5, s->judged && !s->pass,
 	         !s->judged ? GREY : s->pass ? GREEN : RED, s->design[0] ? s->design : "not judged");
-	return y + ROW_H;
+	return y + lines * ROW_H - (lines > 1 ? 1.5 : 0);
 }
 
 static double acc_row(struct doc *d, double y, const struct zone *z, int r)
@@ -937,16 +962,16 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	char buf[400], sensor[160], a[32], b[32], what[80];
 	const struct psd_zone_conf *zc = zconf(d, z);
 	double y, bottom = FOOT_Y - 16, charts_min = 4 * 92 + 3 * 30 + 12;
-	int rows = z->nsess + (z->nacc ? z->nacc + 3 : 0), row = 0, acc = 0;
-	double tables_h = 12 + 26 + (z->nsess ? z->nsess : 1) * ROW_H + (z->nacc ? 36 + z->nacc * ROW_H : 0);
-	double top = MARGIN + 52;
-	double room = bottom - top - charts_min - 24;
-	int fit = tables_h <= room ? rows : (int)((room - 26 - (z->nacc ? 30 : 0)) / ROW_H);
-	(void)fit;
+	int row = 0, acc = 0, nlines = 0;
+	double tables_h, top = MARGIN + 52, room = bottom - top - charts_min - 24;
+	char l1[200], l2[200];
 	snprintf(what, sizeof what, "zone %s", z->name);
 	begin_page(d);
 	if (!d->cr)
 		return;
+	for (int i = 0; i < z->nsess; i++)
+		nlines += result_lines(d, z->sess[i].result[0] ? z->sess[i].result : "-", l1, l2, sizeof l1);
+	tables_h = 12 + 26 + (nlines ? nlines : 1) * ROW_H + (z->nacc ? 36 + z->nacc * ROW_H : 0);
 	snprintf(buf, sizeof buf, "Zone %s", z->name);
 	text_fit(d, MARGIN, MARGIN + 14, PAGE_W - 2 * MARGIN - 170, 16, 9, 1, BLACK, buf);
 	text(d, PAGE_W - MARGIN, MARGIN + 14, 16, 1, 1, verdict_rgb(z->verdict), verdict_word(z->verdict));
@@ -981,10 +1006,17 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	for (;;) {
 		if (row < z->nsess || (row == 0 && !z->nsess)) {
 			y = table_head(d, y, row ? "Calibration sessions (continued)" : "Calibration sessions", SCOLS, shead, 7);
-			if (!z->nsess)
-				y = text(d, MARGIN, y, 7, 0, -1, GREY, "no calibration session recorded") * 0 + y + ROW_H;
-			for (; row < z->nsess && y <= bottom; row++)
+			if (!z->nsess) {
+				text(d, MARGIN, y, 7, 0, -1, GREY, "no calibration session recorded");
+				y += ROW_H;
+			}
+			for (; row < z->nsess; row++) {
+				int lines = result_lines(d, z->sess[row].result[0] ? z->sess[row].result : "-", l1, l2,
+				                         sizeof l1);
+				if (y + (lines - 1) * ROW_H > bottom)
+					break;
 				y = session_row(d, y, &z->sess[row]);
+			}
 		}
 		if (row >= z->nsess && z->nacc && acc < z->nacc && y + 40 <= bottom) {
 			double cols[MAXCOL];
