@@ -18,6 +18,7 @@
 #include <cmocka.h>
 #include <sqlite3.h>
 
+#include "canvas.h"
 #include "db.h"
 #include "reportdoc.h"
 #include "textbox.h"
@@ -207,5 +208,7 @@ int main(void)
 		cmocka_unit_test(no_overlap_pages_filled),
 		cmocka_unit_test(misspelled_zone),
 	};
-	return cmocka_run_group_tests(tests, setup, teardown);
+	int rc = cmocka_run_group_tests(tests, setup, teardown);
+	ps_canvas_shutdown();   /* cairo's and fontconfig's caches, for leak checkers */
+	return rc;
 }
