@@ -9,7 +9,7 @@
 struct psd_textbox {
 	int page;
 	double x0, y0, x1, y1;
-	char text[48];            /* the start of the text, for messages */
+	char text[96];            /* the start of the text, for messages and tests */
 };
 
 struct psd_textboxes {

@@ -158,6 +158,13 @@ static void no_overlap_pages_filled(void **state)
 	}
 	for (int p = 1; p <= r.pages; p++)
 		assert_true(psd_textboxes_bottom(&r.boxes, p) > 0.9 * 841.89);
+	/* day 2 marked on the zone pages' charts (four charts each) and the cover's */
+	{
+		int days = 0;
+		for (size_t k = 0; k < r.boxes.n; k++)
+			days += strcmp(r.boxes.box[k].text, "day 2") == 0;
+		assert_int_equal(days, 1 + 4 + 4);
+	}
 	/* the acceptance tests: each zone's row on its own page (corridor is page 2) */
 	{
 		int seen = 0;
@@ -180,6 +187,50 @@ static void no_overlap_pages_filled(void **state)
 	assert_int_equal(r.verdict, -1);
 	assert_int_equal(psd_textboxes_overlap(&r.boxes, 0.01, &i, &j), 0);
 	psd_report_out_free(&r);
+}
+
+/* With the configuration: the sensor, the target line in the legend, the
+ * simulated date, and the file's SHA-256 on the cover (its value is
+ * checked against sha256sum in tests/system/265-report.sh). */
+static void with_config(void **state)
+{
+	static const char conf[] = "[psensd]\nresults = ofb.results\nperiod = 60\n[simulate]\ndate = 03-18\n"
+	                           "[device room]\ndriver = loopback\n[zone office]\ndevice = room\n"
+	                           "target_lux = 450\n";
+	struct psd_config *cf = calloc(1, sizeof *cf);
+	struct psd_report_out r;
+	char err[512], out[128], cpath[128];
+	int target = 0, sensor = 0, date = 0, sha = 0;
+	FILE *fp;
+	(void)state;
+	assert_non_null(cf);
+	snprintf(cpath, sizeof cpath, "%s/psensd.conf", dir);
+	fp = fopen(cpath, "w");
+	assert_non_null(fp);
+	fputs(conf, fp);
+	fclose(fp);
+	if (psd_config_load(cf, cpath) != 0)
+		fail_msg("%s", cf->conf.nerrors ? cf->conf.errors[0] : "config");
+	{
+		struct psd_report_opts o = { .dbpath = dbpath, .zone = "office", .config_path = cpath, .cf = cf,
+			                     .tolerance_pct = 25, .format = PSD_REPORT_PDF, .written = 1790000000 };
+		snprintf(out, sizeof out, "%s/conf.pdf", dir);
+		assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	}
+	for (size_t k = 0; k < r.boxes.n; k++) {
+		const char *t = r.boxes.box[k].text;
+		target += strcmp(t, "target") == 0 && r.boxes.box[k].page == 2;   /* the legend, not the cover's column */
+		sensor += strstr(t, "room.sensor") != NULL;
+		date += strstr(t, "simulated date 03-18") != NULL;
+		sha += strlen(t) >= 47 && strspn(t, "0123456789abcdef") >= 47;
+	}
+	assert_int_equal(target, 1);
+	assert_true(sensor >= 2);
+	assert_int_equal(date, 1);
+	assert_int_equal(sha, 1);
+	psd_report_out_free(&r);
+	psd_config_free(cf);
+	free(cf);
 }
 
 static void misspelled_zone(void **state)
@@ -206,6 +257,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(old_overlap_is_caught),
 		cmocka_unit_test(no_overlap_pages_filled),
+		cmocka_unit_test(with_config),
 		cmocka_unit_test(misspelled_zone),
 	};
 	int rc = cmocka_run_group_tests(tests, setup, teardown);
