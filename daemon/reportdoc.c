@@ -6,7 +6,6 @@
 #include <errno.h>
 #include <json-c/json.h>
 #include <math.h>
-#include <nettle/sha2.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cache.h"
 #include "chart.h"
 #include "db.h"
 #include "errbuf.h"
@@ -432,26 +432,6 @@ static void when(double t, char *buf, size_t n)
 	}
 	psd_tick_time_label(t, hm, sizeof hm);
 	snprintf(buf, n, "day %d %s", (int)floor(t / 86400) + 1, hm);
-}
-
-static void sha256_file(const char *path, char out[65])
-{
-	struct sha256_ctx c;
-	uint8_t dig[SHA256_DIGEST_SIZE], buf[8192];
-	size_t k;
-	FILE *fp = fopen(path, "rb");
-	out[0] = 0;
-	if (!fp)
-		return;
-	sha256_init(&c);
-	while ((k = fread(buf, 1, sizeof buf, fp)) > 0)
-		sha256_update(&c, k, buf);
-	if (!ferror(fp)) {
-		sha256_digest(&c, sizeof dig, dig);
-		for (int i = 0; i < SHA256_DIGEST_SIZE; i++)
-			snprintf(out + 2 * i, 3, "%02x", dig[i]);
-	}
-	fclose(fp);
 }
 
 static const struct psd_zone_conf *zconf(const struct doc *d, const struct zone *z)
@@ -1199,8 +1179,11 @@ int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_repo
 	for (int i = 0; i < d.nzones; i++)
 		if (load_zone(db, &d.zones[i], o->tolerance_pct, err, n) != 0)
 			goto out;
-	if (o->config_path)
-		sha256_file(o->config_path, d.config_sha);
+	if (o->config_path) {
+		struct ps_err pe = { 0 };
+		if (ps_hash_file(o->config_path, d.config_sha, &pe) != 0)
+			d.config_sha[0] = 0;   /* the cover then says it is unknown */
+	}
 	/* twice: the first pass counts the pages for "page n of N" */
 	layout(&d);
 	d.pages = d.nrec;
