@@ -345,9 +345,9 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 	struct psd_report_out res;
 	struct psd_config *cf = NULL;
 	const char *out = NULL, *boxes = NULL;
-	char err[1024], *end;
+	char err[1024], *end, *cfgpath = NULL;
 	json_object *o;
-	int rc;
+	int rc = 0;
 	for (int i = 0; i < argc; i++) {
 		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
 		if (strcmp(a, "-o") == 0 && v)
@@ -395,62 +395,67 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 		fprintf(stderr, "psensctl: report: give -o FILE (the report is not text)\n");
 		return 2;
 	}
+	if (!(ro.dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	/* asking psensd: its own configuration, when it is a path readable here */
+	if (!ro.config_path && !dbpath) {
+		char *reply = ask(sock, "status", timeout_ms);
+		json_object *st = reply ? json_tokener_parse(reply) : NULL, *c;
+		if (st && json_object_object_get_ex(st, "config", &c) && json_object_is_type(c, json_type_string) &&
+		    json_object_get_string(c)[0] == '/' && access(json_object_get_string(c), R_OK) == 0)
+			ro.config_path = cfgpath = strdup(json_object_get_string(c));
+		json_object_put(st);
+		free(reply);
+	}
 	if (ro.config_path) {
 		if (!(cf = calloc(1, sizeof *cf))) {
 			fprintf(stderr, "psensctl: out of memory\n");
-			return 1;
+			rc = 1;
+			goto done;
 		}
 		if (psd_config_load(cf, ro.config_path) != 0) {
 			for (size_t k = 0; k < cf->conf.nerrors; k++)
 				fprintf(stderr, "psensctl: %s\n", cf->conf.errors[k]);
 			if (!cf->conf.nerrors)
 				fprintf(stderr, "psensctl: %s: cannot be read\n", ro.config_path);
-			psd_config_free(cf);
-			free(cf);
-			return 1;
+			rc = 1;
+			goto done;
 		}
 		ro.cf = cf;
 	}
-	if (!(ro.dbpath = database(sock, dbpath, timeout_ms, &o))) {
-		if (cf)
-			psd_config_free(cf);
-		free(cf);
-		return 1;
-	}
 	ro.written = time(NULL);
-	rc = psd_report_write(&ro, out, &res, err, sizeof err);
+	if (psd_report_write(&ro, out, &res, err, sizeof err) != 0) {
+		fprintf(stderr, "psensctl: report: %s\n", err);
+		rc = 1;
+	} else {
+		if (boxes) {
+			/* every text's box: page x0 y0 x1 y1 text (points, y down) */
+			FILE *bf = fopen(boxes, "w");
+			for (size_t i = 0; bf && i < res.boxes.n; i++)
+				fprintf(bf, "%d %.2f %.2f %.2f %.2f %s\n", res.boxes.box[i].page, res.boxes.box[i].x0,
+				        res.boxes.box[i].y0, res.boxes.box[i].x1, res.boxes.box[i].y1, res.boxes.box[i].text);
+			if (!bf || fclose(bf) != 0) {
+				fprintf(stderr, "psensctl: %s: %s\n", boxes, strerror(errno));
+				rc = 1;
+			}
+		}
+		for (int i = 0; out && i < res.nzones; i++)
+			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict > 0 ? "PASS" :
+			       res.zone[i].verdict < 0 ? "FAIL" : "not calibrated");
+	}
+	psd_report_out_free(&res);
 	/* cairo's and fontconfig's font caches: nothing left for leak checkers.
 	 * Not after an SVG: cairo 1.16's SVG surface keeps a font hash entry
 	 * alive past its destruction and the reset then aborts on an assertion. */
 	if (ro.format != PSD_REPORT_SVG)
 		ps_canvas_shutdown();
+done:
 	json_object_put(o);
 	if (cf)
 		psd_config_free(cf);
 	free(cf);
-	if (rc != 0) {
-		fprintf(stderr, "psensctl: report: %s\n", err);
-		psd_report_out_free(&res);
-		return 1;
-	}
-	if (boxes) {
-		/* every text's box: page x0 y0 x1 y1 text (points, y down) */
-		FILE *bf = fopen(boxes, "w");
-		for (size_t i = 0; bf && i < res.boxes.n; i++)
-			fprintf(bf, "%d %.2f %.2f %.2f %.2f %s\n", res.boxes.box[i].page, res.boxes.box[i].x0,
-			        res.boxes.box[i].y0, res.boxes.box[i].x1, res.boxes.box[i].y1, res.boxes.box[i].text);
-		if (!bf || fclose(bf) != 0) {
-			fprintf(stderr, "psensctl: %s: %s\n", boxes, strerror(errno));
-			psd_report_out_free(&res);
-			return 1;
-		}
-	}
-	if (out)
-		for (int i = 0; i < res.nzones; i++)
-			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict > 0 ? "PASS" :
-			       res.zone[i].verdict < 0 ? "FAIL" : "not calibrated");
-	psd_report_out_free(&res);
-	return 0;
+	free(cfgpath);
+	return rc;
 }
 
 int main(int argc, char **argv)

@@ -85,4 +85,18 @@ check "a failed report leaves the older one as it was" cmp -s "$TMP/r.pdf" "$TMP
 check "and no temporary file behind" test -z "$(ls -A "$TMP" | grep '^\.')"
 R office -o "$TMP/r.txt" > /dev/null 2> "$TMP/ext.err"; rc=$?
 check "an unknown extension without --format: exit 2, said" sh -c "test $rc = 2 && grep -q 'pdf, .png or .svg' '$TMP/ext.err'"
+# asking a running psensd: its database and its configuration (an absolute path)
+sed "s|^database = .*|database = $TMP/state/psensd.db|; s|^results = .*|results = $TMP/state/ofb.results|; /^\[psensd\]/a socket = $TMP/sock" "$TMP/psensd.conf" > "$TMP/live.conf"
+"$BIN/psensd" -f "$TMP/live.conf" -t 12:30 -x 60 > "$TMP/live.out" 2> "$TMP/live.err" &
+PID=$!; track_pid $PID
+if wait_for 10 sh -c "\"$BIN/psensctl\" -s \"$TMP/sock\" ping > /dev/null"; then
+	"$BIN/psensctl" -s "$TMP/sock" report office -o "$TMP/live.pdf" > "$TMP/live.rep" 2>&1; rc=$?
+	check "report through the socket exits 0: $(cat "$TMP/live.rep")" test "$rc" = 0
+	if command -v pdftotext > /dev/null; then
+		check "and takes psensd's configuration: its path and SHA-256" sh -c "pdftotext -layout '$TMP/live.pdf' - | grep -q '$TMP/live.conf' && pdftotext -layout '$TMP/live.pdf' - | grep -q \"\$(sha256sum '$TMP/live.conf' | cut -c1-64)\""
+	fi
+	kill -TERM $PID; wait $PID 2>/dev/null
+else
+	not_ok "psensd did not answer on its socket: $(tail -n 3 "$TMP/live.err")"
+fi
 done_testing
