@@ -246,6 +246,7 @@ struct doc {
 	cairo_surface_t *rec[MAXPAGES];  /* every page, recorded */
 	int nrec;
 	int failed;
+	int mono;                        /* text in DejaVu Sans Mono (hashes) */
 };
 
 static void set_rgb(cairo_t *cr, const double c[3])
@@ -255,8 +256,8 @@ static void set_rgb(cairo_t *cr, const double c[3])
 
 static void font(struct doc *d, double size, int bold)
 {
-	cairo_select_font_face(d->cr, FONT, CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD :
-	                       CAIRO_FONT_WEIGHT_NORMAL);
+	cairo_select_font_face(d->cr, d->mono ? FONT " Mono" : FONT, CAIRO_FONT_SLANT_NORMAL,
+	                       bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
 	cairo_set_font_size(d->cr, size);
 }
 
@@ -502,10 +503,9 @@ static void overview(struct doc *d, double top, double bottom, double tmin, doub
 static double keyval(struct doc *d, double y, const char *key, const char *val, int mono)
 {
 	text(d, MARGIN, y, 8.5, 1, -1, BLACK, key);
-	if (mono) {
-		cairo_select_font_face(d->cr, "DejaVu Sans Mono", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-	}
+	d->mono = mono && strspn(val, "0123456789abcdef") >= 16;   /* a hash, not a remark */
 	text_fit(d, MARGIN + 120, y, PAGE_W - 2 * MARGIN - 120, 8.5, 6, 0, BLACK, val);
+	d->mono = 0;
 	return y + 13;
 }
 
