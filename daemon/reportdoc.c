@@ -17,6 +17,7 @@
 #include "chart.h"
 #include "db.h"
 #include "errbuf.h"
+#include "results.h"
 
 /* A4 in points; PNG pages at 1.5 px per point (108 dpi). */
 #define PAGE_W 595.28
@@ -240,6 +241,7 @@ struct doc {
 	struct zone *zones;
 	int nzones;
 	char config_sha[65];
+	char scene_sha[65];              /* from the configuration's results file */
 	cairo_t *cr;                     /* the current page */
 	int page, pages;                 /* pages: from the first pass, for "page n of N" */
 	struct psd_textboxes *boxes;
@@ -547,8 +549,8 @@ static void cover(struct doc *d)
 		y = keyval(d, y, "Configuration SHA-256", "(unknown)", 0);
 	y = keyval(d, y, "Scene", o->cf && o->cf->scene ? o->cf->scene : o->cf && o->cf->results ? o->cf->results :
 	           "(see the configuration)", 0);
-	y = keyval(d, y, "Scene SHA-256", d->nzones && d->zones[0].scene_sha[0] ? d->zones[0].scene_sha :
-	           "(no calibration recorded it)", 1);
+	y = keyval(d, y, "Scene SHA-256", d->scene_sha[0] ? d->scene_sha : d->nzones && d->zones[0].scene_sha[0] ?
+	           d->zones[0].scene_sha : "(unknown: no results file read, no calibration recorded it)", 1);
 	y = keyval(d, y, "Database", o->dbpath, 0);
 	when(tmin, a, sizeof a);
 	when(tmax, b, sizeof b);
@@ -1183,6 +1185,14 @@ int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_repo
 		struct ps_err pe = { 0 };
 		if (ps_hash_file(o->config_path, d.config_sha, &pe) != 0)
 			d.config_sha[0] = 0;   /* the cover then says it is unknown */
+	}
+	if (o->cf && o->cf->results) {
+		/* the scene and every input it names, as psscene hashed them */
+		struct ps_results res = { 0 };
+		struct ps_err pe = { 0 };
+		if (ps_results_read(&res, o->cf->results, &pe) == 0 && res.scene_hash)
+			snprintf(d.scene_sha, sizeof d.scene_sha, "%s", res.scene_hash);
+		ps_results_free(&res);
 	}
 	/* twice: the first pass counts the pages for "page n of N" */
 	layout(&d);

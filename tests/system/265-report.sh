@@ -25,6 +25,7 @@ if command -v pdftotext > /dev/null; then
 	check "the site" has "$SITE"
 	check "the zone and its sensor" has "point room.sensor, device room (loopback)"
 	check "the configuration's SHA-256 (sha256sum)" has "$(sha256sum "$TMP/psensd.conf" | cut -c1-64)"
+	check "the scene's SHA-256 (psscene's, from the results file)" has "$(awk '$1 == "scene_hash" { print $3; exit }' "$TMP/state/ofb.results")"
 	check "the simulated date" has "simulated date 03-18"
 	check "the record's span" has "day 1 06:00 to day 1 19:59"
 	check "the date it was written (UTC)" has "$(date -u +%Y-%m-%d)"
