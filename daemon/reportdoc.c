@@ -1130,6 +1130,15 @@ static int emit(struct doc *d, FILE *fp, char *err, size_t n)
 		s = cairo_pdf_surface_create_for_stream(to_file, fp, PAGE_W, PAGE_H);
 		cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE, "psensd commissioning record");
 		cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "psensctl report");
+		if (o->site)
+			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_SUBJECT, o->site);
+		{
+			char iso[32];
+			struct tm tm;
+			gmtime_r(&o->written, &tm);
+			strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm);
+			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATE_DATE, iso);
+		}
 	} else {
 		int pages = last - first + 1;
 		double w = PAGE_W * scale, h = (PAGE_H * pages + gap * (pages - 1)) * scale;

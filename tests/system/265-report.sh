@@ -20,7 +20,8 @@ check "it is a PDF" sh -c "head -c 5 '$TMP/r.pdf' | grep -q '%PDF-'"
 if command -v pdftotext > /dev/null; then
 	pdftotext -layout "$TMP/r.pdf" "$TMP/r.txt"
 	has() { grep -qF -- "$1" "$TMP/r.txt"; }
-	check "pdftotext: 2 pages" test "$(pdfinfo "$TMP/r.pdf" | awk '/^Pages:/ { print $2 }')" = 2
+	check "pdfinfo: 2 pages" test "$(pdfinfo "$TMP/r.pdf" | awk '/^Pages:/ { print $2 }')" = 2
+	check "pdfinfo: title and subject (the site)" sh -c "pdfinfo '$TMP/r.pdf' | grep -q '^Title: *psensd commissioning record' && pdfinfo '$TMP/r.pdf' | grep -q '^Subject: *$SITE'"
 	check "the title" has "Commissioning record"
 	check "the site" has "$SITE"
 	check "the zone and its sensor" has "point room.sensor, device room (loopback)"
