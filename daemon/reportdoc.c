@@ -1070,6 +1070,10 @@ static int pick_zones(const struct psd_report_opts *o, struct psd_db *db, struct
 		int found = 0;
 		for (int k = 0; k < nm.n; k++)
 			found |= strcmp(nm.name[k], o->zone) == 0;
+		/* a log written before samples named their zone: its samples are
+		 * every zone's (psd_db_zone_samples), so any name is taken */
+		if (!found && nm.n == 0 && psd_db_zone_count(db, "", err, n) > 0)
+			found = 1;
 		if (!found)
 			return psd_errf(err, n, "%s: no zone '%s' (zones: %s)", o->dbpath, o->zone,
 			                nm.n ? list : "none recorded");
@@ -1077,7 +1081,8 @@ static int pick_zones(const struct psd_report_opts *o, struct psd_db *db, struct
 		snprintf(nm.name[0], sizeof nm.name[0], "%s", o->zone);
 	}
 	if (nm.n <= 0)
-		return psd_errf(err, n, "%s: no zone recorded (no samples, no sessions)", o->dbpath);
+		return psd_errf(err, n, "%s: no zone recorded (%s)", o->dbpath, psd_db_zone_count(db, "", err, n) > 0 ?
+		                "its samples name none: give the zone" : "no samples, no sessions");
 	if (nm.n > PSD_MAX_ZONES)
 		nm.n = PSD_MAX_ZONES;
 	d->zones = calloc((size_t)nm.n, sizeof *d->zones);

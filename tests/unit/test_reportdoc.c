@@ -252,6 +252,38 @@ static void misspelled_zone(void **state)
 	assert_int_not_equal(system(out), 0);
 }
 
+/* A log from before samples named their zone (schema 2, zone NULL): any
+ * zone asked for is shown with those samples, as the old report did. */
+static void unnamed_samples(void **state)
+{
+	char err[512], out[128], path2[128];
+	struct psd_report_out r;
+	sqlite3 *h;
+	(void)state;
+	snprintf(path2, sizeof path2, "%s/old.db", dir);
+	assert_int_equal(sqlite3_open(path2, &h), SQLITE_OK);
+	assert_int_equal(sqlite3_exec(h, "CREATE TABLE samples(t REAL NOT NULL, tod_s REAL, sensor_v REAL, output REAL,"
+	                                 " est_task_lux REAL, task_lux REAL, daylight_v REAL, daylight_lux REAL,"
+	                                 " condition TEXT, ratio REAL, fault TEXT, zone TEXT);"
+	                                 "INSERT INTO samples(t, tod_s, sensor_v, output) VALUES (21600, 21600, 0.5, 0.4),"
+	                                 " (21660, 21660, 0.6, 0.3);", NULL, NULL, NULL), SQLITE_OK);
+	sqlite3_close(h);
+	{
+		struct psd_report_opts o = { .dbpath = path2, .zone = "office", .tolerance_pct = 25,
+			                     .format = PSD_REPORT_PDF, .written = 1790000000 };
+		snprintf(out, sizeof out, "%s/old.pdf", dir);
+		if (psd_report_write(&o, out, &r, err, sizeof err) != 0)
+			fail_msg("%s", err);
+		assert_int_equal(r.nzones, 1);
+		psd_report_out_free(&r);
+		/* without a zone: nothing names one */
+		o.zone = NULL;
+		assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), -1);
+		assert_non_null(strstr(err, "no zone recorded (its samples name none: give the zone)"));
+		psd_report_out_free(&r);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -259,6 +291,7 @@ int main(void)
 		cmocka_unit_test(no_overlap_pages_filled),
 		cmocka_unit_test(with_config),
 		cmocka_unit_test(misspelled_zone),
+		cmocka_unit_test(unnamed_samples),
 	};
 	int rc = cmocka_run_group_tests(tests, setup, teardown);
 	ps_canvas_shutdown();   /* cairo's and fontconfig's caches, for leak checkers */
