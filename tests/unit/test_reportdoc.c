@@ -156,8 +156,43 @@ static void no_overlap_pages_filled(void **state)
 		assert_true(r.boxes.box[k].x0 >= 0 && r.boxes.box[k].x1 <= 595.28);
 		assert_true(r.boxes.box[k].y0 >= 0 && r.boxes.box[k].y1 <= 841.89);
 	}
-	for (int p = 1; p <= r.pages; p++)
-		assert_true(psd_textboxes_bottom(&r.boxes, p) > 0.9 * 841.89);
+	/* no empty band: between the texts (tick labels included) no vertical
+	 * gap of 15 % of the page (the cover without its chart of every zone's
+	 * output had 27 %) */
+	for (int p = 1; p <= r.pages; p++) {
+		double reach = 0, worst = 0;
+		int first = 1;
+		for (;;) {
+			/* the next box down by its top edge, footer excluded */
+			const struct psd_textbox *next = NULL;
+			for (size_t k = 0; k < r.boxes.n; k++) {
+				const struct psd_textbox *b = &r.boxes.box[k];
+				if (b->page == p && b->y0 < 800 && (first || b->y0 > reach) && (!next || b->y0 < next->y0))
+					next = b;
+			}
+			if (!next)
+				break;
+			if (!first && next->y0 - reach > worst)
+				worst = next->y0 - reach;
+			/* everything starting above this box's bottom is within reach */
+			reach = next->y1;
+			for (size_t k = 0; k < r.boxes.n; k++)
+				if (r.boxes.box[k].page == p && r.boxes.box[k].y0 < 800 && r.boxes.box[k].y0 <= reach)
+					reach = fmax(reach, r.boxes.box[k].y1);
+			first = 0;
+		}
+		if (!(worst < 0.15 * 841.89))
+			fail_msg("page %d: an empty band of %.0f pt", p, worst);
+	}
+	/* the page's content (not its footer, from y 800) reaches 85 % down */
+	for (int p = 1; p <= r.pages; p++) {
+		double bottom = 0;
+		for (size_t k = 0; k < r.boxes.n; k++)
+			if (r.boxes.box[k].page == p && r.boxes.box[k].y0 < 800)
+				bottom = fmax(bottom, r.boxes.box[k].y1);
+		if (!(bottom > 0.85 * 841.89))
+			fail_msg("page %d: content ends at %.0f of 842 pt", p, bottom);
+	}
 	/* day 2 marked on the zone pages' charts (four charts each) and the cover's */
 	{
 		int days = 0;
