@@ -54,7 +54,7 @@ struct zone {
 	double tmin, tmax, vmax, luxmax, energy_h, fault_s, prev_t;
 	double esum, ecomp;              /* energy, Neumaier */
 	double err2, err2c;              /* squared estimate error, Neumaier */
-	long long nerr;
+	long long nerr, nmeas;            /* estimate errors; task meter readings */
 	struct session sess[MAXSESS];
 	int nsess, checks, fails, verdict;
 	char config_sha[65], scene_sha[65];
@@ -89,6 +89,7 @@ static void add_sample(void *user, const struct psd_sample *s)
 		neumaier(&z->err2, &z->err2c, e * e);
 		z->nerr++;
 	}
+	z->nmeas += isfinite(s->task_lux);
 	z->prev_t = s->t;
 	if (s->t < z->tmin)
 		z->tmin = s->t;
@@ -815,8 +816,13 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	c.yhi = z->vmax > 0 ? z->vmax : 1;
 	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
 	{
-		const struct legend lg[] = { { "sensor signal", BLUE, 0, 1 }, fault, cal };
-		frame(d, &c, z, "Sensor", "sensor signal (V)", lg, 3, 0);
+		struct legend lg[3] = { { "sensor signal", BLUE, 0, 1 } };
+		int k = 1;
+		if (z->fault_s > 0)
+			lg[k++] = fault;
+		if (z->nsess)
+			lg[k++] = cal;
+		frame(d, &c, z, "Sensor", "sensor signal (V)", lg, k, 0);
 	}
 	line(d, &c, z, z->v, BLUE, 1.1, 0);
 	/* task lux */
@@ -828,9 +834,17 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 		c.yhi = 100;
 	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
 	{
-		const struct legend lg[] = { { "measured", GREEN, 0, 1 }, { "estimated", ORANGE, 1, 1 },
-			                     { "target", RED, 1, 1 }, fault, cal };
-		frame(d, &c, z, "Task illuminance", "task illuminance (lx)", lg, isfinite(target) ? 5 : 4, 0);
+		struct legend lg[5] = { { "estimated", ORANGE, 1, 1 } };
+		int k = 1;
+		if (z->nmeas)
+			lg[k++] = (struct legend){ "measured", GREEN, 0, 1 };
+		if (isfinite(target))
+			lg[k++] = (struct legend){ "target", RED, 1, 1 };
+		if (z->fault_s > 0)
+			lg[k++] = fault;
+		if (z->nsess)
+			lg[k++] = cal;
+		frame(d, &c, z, "Task illuminance", "task illuminance (lx)", lg, k, 0);
 	}
 	line(d, &c, z, z->lux, GREEN, 1.1, 0);
 	line(d, &c, z, z->est, ORANGE, 1.1, 1);
@@ -846,8 +860,13 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	c.ylo = 0;
 	c.yhi = 100;
 	{
-		const struct legend lg[] = { { "light output", PURPLE, 0, 1 }, fault, cal };
-		frame(d, &c, z, "Dimming level", "light output (%)", lg, 3, 0);
+		struct legend lg[3] = { { "light output", PURPLE, 0, 1 } };
+		int k = 1;
+		if (z->fault_s > 0)
+			lg[k++] = fault;
+		if (z->nsess)
+			lg[k++] = cal;
+		frame(d, &c, z, "Dimming level", "light output (%)", lg, k, 0);
 	}
 	line(d, &c, z, z->out, PURPLE, 1.1, 0);
 	/* energy */
