@@ -1264,6 +1264,7 @@ int psd_report_write(const struct psd_report_opts *o, const char *path, struct p
 	const char *slash;
 	int fd, rc;
 	FILE *fp;
+	memset(r, 0, sizeof *r);   /* freeable whatever fails */
 	if (!path)
 		return psd_report_render(o, stdout, r, err, n) == 0 && fflush(stdout) == 0 ? 0 : -1;
 	slash = strrchr(path, '/');
@@ -1272,7 +1273,7 @@ int psd_report_write(const struct psd_report_opts *o, const char *path, struct p
 	else
 		snprintf(tmp, sizeof tmp, ".%s.XXXXXX", path);
 	if ((fd = mkstemp(tmp)) < 0)
-		return psd_errf(err, n, "%s: %s", tmp, strerror(errno));
+		return psd_errf(err, n, "%s: %s", path, strerror(errno));   /* its directory */
 	if (!(fp = fdopen(fd, "wb"))) {
 		psd_errf(err, n, "%s: %s", tmp, strerror(errno));
 		close(fd);

@@ -342,7 +342,7 @@ static int export_csv(const char *sock, const char *dbpath, int timeout_ms)
 static int report(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
 {
 	struct psd_report_opts ro = { .tolerance_pct = 25, .format = -1 };
-	struct psd_report_out res;
+	struct psd_report_out res = { 0 };
 	struct psd_config *cf = NULL;
 	const char *out = NULL, *boxes = NULL;
 	char err[1024], *end, *cfgpath = NULL;

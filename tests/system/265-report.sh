@@ -100,6 +100,9 @@ cp "$TMP/r.pdf" "$TMP/keep.pdf"
 R ofice -o "$TMP/r.pdf" 2> /dev/null
 check "a failed report leaves the older one as it was" cmp -s "$TMP/r.pdf" "$TMP/keep.pdf"
 check "and no temporary file behind" test -z "$(ls -A "$TMP" | grep '^\.')"
+R office -o "$TMP/no/such/dir/r.pdf" 2> "$TMP/dir.err"; rc=$?
+check "an output directory that does not exist: exit 1, the path named: $(cat "$TMP/dir.err")" \
+	sh -c "test $rc = 1 && grep -q 'no/such/dir/r.pdf: No such file or directory' '$TMP/dir.err'"
 R office -o "$TMP/r.txt" > /dev/null 2> "$TMP/ext.err"; rc=$?
 check "an unknown extension without --format: exit 2, said" sh -c "test $rc = 2 && grep -q 'pdf, .png or .svg' '$TMP/ext.err'"
 # asking a running psensd: its database and its configuration (an absolute path)
