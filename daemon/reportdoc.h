@@ -49,7 +49,8 @@ int psd_report_format_of(const char *path);
 int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_report_out *r, char *err, size_t n);
 /* The same into path through a temporary file in its directory renamed
  * over it only when complete: a failure leaves no file (and an older one
- * untouched).  path NULL: standard output. */
+ * untouched).  path NULL: standard output.  Both zero *r first:
+ * psd_report_out_free(r) is right after any return. */
 int psd_report_write(const struct psd_report_opts *o, const char *path, struct psd_report_out *r, char *err,
                      size_t n);
 void psd_report_out_free(struct psd_report_out *r);
