@@ -250,6 +250,11 @@ struct doc {
 	int nrec;
 	int failed;
 	int mono;                        /* text in DejaVu Sans Mono (hashes) */
+	/* SVG: pages first..last drawn straight onto this surface (cairo 1.16's
+	 * SVG surface leaks a recording surface painted onto it) */
+	cairo_surface_t *direct;
+	int first, last;
+	double gap;
 };
 
 static void set_rgb(cairo_t *cr, const double c[3])
@@ -400,9 +405,16 @@ static void begin_page(struct doc *d)
 		return;
 	}
 	d->rec[d->nrec] = cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, &ext);
-	d->cr = cairo_create(d->rec[d->nrec]);
 	d->nrec++;
 	d->page++;
+	if (d->direct && d->page - 1 >= d->first && d->page - 1 <= d->last) {
+		d->cr = cairo_create(d->direct);
+		cairo_translate(d->cr, 0, (d->page - 1 - d->first) * (PAGE_H + d->gap));
+		cairo_rectangle(d->cr, 0, 0, PAGE_W, PAGE_H);
+		cairo_clip(d->cr);
+	} else {
+		d->cr = cairo_create(d->rec[d->nrec - 1]);
+	}
 	cairo_set_source_rgb(d->cr, 1, 1, 1);
 	cairo_paint(d->cr);
 }
@@ -1173,6 +1185,19 @@ static int emit(struct doc *d, FILE *fp, char *err, size_t n)
 	if (o->format != PSD_REPORT_PDF) {
 		cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
 		cairo_paint(cr);
+	}
+	if (o->format == PSD_REPORT_SVG) {
+		/* drawn again, straight onto the SVG surface (same layout, same boxes) */
+		drop_pages(d);
+		psd_textboxes_free(d->boxes);
+		d->direct = s;
+		d->first = first;
+		d->last = last;
+		d->gap = gap;
+		layout(d);
+		d->direct = NULL;
+		first = 0;
+		last = -1;
 	}
 	for (int i = first; i <= last; i++) {
 		cairo_save(cr);

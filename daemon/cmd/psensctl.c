@@ -444,11 +444,8 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 			       res.zone[i].verdict < 0 ? "FAIL" : "not calibrated");
 	}
 	psd_report_out_free(&res);
-	/* cairo's and fontconfig's font caches: nothing left for leak checkers.
-	 * Not after an SVG: cairo 1.16's SVG surface keeps a font hash entry
-	 * alive past its destruction and the reset then aborts on an assertion. */
-	if (ro.format != PSD_REPORT_SVG)
-		ps_canvas_shutdown();
+	/* cairo's and fontconfig's font caches: nothing left for leak checkers */
+	ps_canvas_shutdown();
 done:
 	json_object_put(o);
 	if (cf)

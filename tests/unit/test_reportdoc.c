@@ -222,6 +222,16 @@ static void no_overlap_pages_filled(void **state)
 	assert_int_equal(r.verdict, -1);
 	assert_int_equal(psd_textboxes_overlap(&r.boxes, 0.01, &i, &j), 0);
 	psd_report_out_free(&r);
+	/* SVG, page 2 alone: drawn straight onto the SVG surface, the same boxes */
+	o.format = PSD_REPORT_SVG;
+	o.page = 2;
+	snprintf(out, sizeof out, "%s/report.svg", dir);
+	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	assert_int_equal(r.pages, 2);
+	assert_int_equal(psd_textboxes_overlap(&r.boxes, 0.01, &i, &j), 0);
+	assert_int_equal(stat(out, &st), 0);
+	assert_true(st.st_size > 10000);
+	psd_report_out_free(&r);
 }
 
 /* With the configuration: the sensor, the target line in the legend, the
