@@ -85,6 +85,13 @@ if command -v xmllint > /dev/null; then
 else
 	skip "xmllint not installed"
 fi
+if command -v rsvg-convert > /dev/null; then
+	rsvg-convert -o "$TMP/svg.png" "$TMP/r.out.svg" 2> "$TMP/rsvg.err"
+	check "librsvg renders the SVG: two A4 pages and the gap at 96 dpi (794 x 2262): $(pngcheck "$TMP/svg.png" 2>&1 | cut -c1-80)" \
+		sh -c "pngcheck '$TMP/svg.png' | grep -q '794x2262'"
+else
+	skip "rsvg-convert not installed (librsvg2-bin)"
+fi
 R office > "$TMP/stdout.pdf"
 check "without -o the PDF goes to standard output" sh -c "head -c 5 '$TMP/stdout.pdf' | grep -q '%PDF-'"
 # errors: a misspelled zone
