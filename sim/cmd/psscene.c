@@ -10,9 +10,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "cache.h"
+#include "dcset.h"
 #include "integrate.h"
 #include "picture.h"
 #include "render.h"
@@ -291,6 +293,56 @@ static int print_variants(struct run *r, const struct ps_scene *sc, const struct
 	return 0;
 }
 
+/* The daylight-coefficient rows of both views (the scene's
+ * [daylight_coefficients]): the sensor's with its sensitivity, rotation and
+ * colour coefficients, the task's with a cosine. */
+static int dc_rows(struct run *r, struct ps_dcrow *srow, struct ps_dcrow *trow, struct ps_err *e)
+{
+	const struct ps_dcspec *d = &r->sc->dc;
+	if (ps_dcset_row(d->sensor_pattern, &d->sensor_view, d->mf, &r->sensor, r->sc->rotation, srow,
+	                 e) != 0)
+		return -1;
+	if (ps_dcset_row(d->task_pattern, &d->task_view, d->mf, &r->cosine, 0.0, trow, e) != 0) {
+		ps_dcrow_free(srow);
+		return -1;
+	}
+	if (srow->n != trow->n) {
+		ps_errf(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
+		        "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
+		        trow->mf);
+		ps_dcrow_free(srow);
+		ps_dcrow_free(trow);
+		return -1;
+	}
+	if (!r->quiet && srow->coverage < 1 - 1e-9)
+		fprintf(stderr, "psscene: warning: %s holds %.2f %% of the sensitivity\n",
+		        d->sensor_pattern, 100 * srow->coverage);
+	return 0;
+}
+
+static void print_dc(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+                     double seconds)
+{
+	static const double grey[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+	double *one = malloc((size_t)srow->n * 3 * sizeof *one), s, t;
+	int zero = 0;
+	if (!one)
+		return;
+	for (int i = 0; i < 3 * srow->n; i++)
+		one[i] = 1.0;
+	for (int p = 0; p < srow->n; p++)
+		zero += srow->c[3 * p] == 0 && srow->c[3 * p + 1] == 0 && srow->c[3 * p + 2] == 0 &&
+		        trow->c[3 * p] == 0 && trow->c[3 * p + 1] == 0 && trow->c[3 * p + 2] == 0;
+	s = ps_dcrow_apply(srow, r->rgb, one);
+	t = ps_dcrow_apply(trow, grey, one);
+	printf("\ndaylight coefficients: MF %d, %d patches of %d x %d (sensor) and %d x %d (task), "
+	       "%d zero in both views; %.2f s\n", srow->mf, srow->n, srow->width, srow->height,
+	       trow->width, trow->height, zero, seconds);
+	printf("  uniform sky and ground of radiance 1: sensor response %.6g, task %.6g W/m2 "
+	       "(%.1f lx), ratio %.2f\n", s, t, LUX_PER_WM2 * t, s > 0 ? LUX_PER_WM2 * t / s : NAN);
+	free(one);
+}
+
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psscene [-o results] [-C cachedir | -N] [-q] scene\n"
@@ -310,8 +362,13 @@ int main(int argc, char **argv)
 	struct ps_results res;
 	struct run r;
 	struct ps_err e;
+	struct ps_dcrow srow, trow;
+	int have_dc = 0;
+	double dc_seconds = 0;
 
 	memset(&r, 0, sizeof r);
+	memset(&srow, 0, sizeof srow);
+	memset(&trow, 0, sizeof trow);
 	while ((opt = getopt(argc, argv, "o:C:Nqh")) != -1) {
 		switch (opt) {
 		case 'o': out = optarg; break;
@@ -425,6 +482,18 @@ int main(int argc, char **argv)
 		rc->task_lux = LUX_PER_WM2 * tv[0];
 		rc->ratio = sv[0] > 0 ? rc->task_lux / sv[0] : NAN;
 	}
+	if (status == 0 && sc.dc.have) {
+		struct timespec t0, t1;
+		clock_gettime(CLOCK_MONOTONIC, &t0);
+		if (dc_rows(&r, &srow, &trow, &e) != 0) {
+			fprintf(stderr, "psscene: %s\n", e.msg);
+			status = 1;
+		} else {
+			have_dc = 1;
+			clock_gettime(CLOCK_MONOTONIC, &t1);
+			dc_seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+		}
+	}
 	if (status == 0) {
 		char all[8192];
 		ps_results_summarise(&res);
@@ -442,6 +511,8 @@ int main(int argc, char **argv)
 		} else if (!r.quiet) {
 			print_table(&sc, &res, r.sensor.kind == PS_SENS_COSINE ||
 			                           (strstr(sc.sensitivity, "cosine") != NULL));
+			if (have_dc)
+				print_dc(&r, &srow, &trow, dc_seconds);
 			if (print_variants(&r, &sc, &res, &e) != 0) {
 				fprintf(stderr, "psscene: %s\n", e.msg);
 				status = 1;
@@ -453,6 +524,8 @@ int main(int argc, char **argv)
 		}
 	}
 	ps_results_free(&res);
+	ps_dcrow_free(&srow);
+	ps_dcrow_free(&trow);
 	ps_weights_free(&r.w);
 	ps_sensor_free(&r.sensor);
 	ps_sensor_free(&r.cosine);
