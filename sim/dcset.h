@@ -13,7 +13,11 @@
  * weights built once for the set's view and size and applied to every
  * picture.  A sky's signal is then sum over patches and channels of
  * coef[c] x row[3p + c] x sky[3p + c] (ps_dcrow_apply): in W/m2 for a cosine
- * sensor, the irradiance at the view's point. */
+ * sensor, the irradiance at the view's point.
+ *
+ * The pictures are read and integrated one after the other with the one
+ * weight map (the parallel batches of the performance work had not landed
+ * when this was written: a set of 146 64 x 64 pictures takes 0.04 s). */
 #ifndef PS_DCSET_H
 #define PS_DCSET_H
 
