@@ -22,7 +22,10 @@
 #include "scene.h"
 #include "sensor.h"
 #include "spectral.h"
+#include "sum.h"
 #include "view.h"
+#include "weather.h"
+#include "year.h"
 #include "weights.h"
 
 #define LUX_PER_WM2 179.0
@@ -343,6 +346,78 @@ static void print_dc(const struct run *r, const struct ps_dcrow *srow, const str
 	free(one);
 }
 
+static double seconds_since(const struct timespec *t0)
+{
+	struct timespec t1;
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+	return (double)(t1.tv_sec - t0->tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0->tv_nsec);
+}
+
+/* The year of the scene's weather file through the two rows. */
+static int run_year(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+                    struct ps_results *res, double *secs, struct ps_err *e)
+{
+	const struct ps_dcspec *d = &r->sc->dc;
+	struct ps_weather w;
+	struct ps_skyopt o;
+	struct timespec t0;
+	int rc;
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	if (ps_weather_read(&w, d->weather, d->weather_illum ? PS_WX_EPW_ILLUM : 0, e) != 0)
+		return -1;
+	ps_skyopt_default(&o);
+	memcpy(o.ground, d->ground, sizeof o.ground);
+	rc = ps_year_run(srow, r->rgb, trow, &w, &o, &res->year, e);
+	ps_weather_free(&w);
+	if (rc != 0)
+		return -1;
+	res->have_year = 1;
+	res->weather = strdup(d->weather);
+	res->year_mf = srow->mf;
+	*secs = seconds_since(&t0);
+	return res->weather ? 0 : ps_errf(e, PS_ENOMEM, "out of memory");
+}
+
+static void print_year(const struct ps_results *res, double secs)
+{
+	const struct ps_year *y = &res->year;
+	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
+	                                   "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
+	printf("\nyear: %s\n  %zu steps, %zu with light, %zu dark skipped; %d of %d patches used; "
+	       "%.3f s\n", res->weather, y->steps, y->n, y->dark, y->used, y->patches, secs);
+	printf("  daylight ratio over the year %.2f (sum task lux / sum response)\n", y->mean_ratio);
+	printf("  %-5s %6s %10s %10s %9s %9s %9s\n", "month", "hours", "task lx", "sensor",
+	       "clear", "interm.", "overcast");
+	for (int m = 0; m < 12; m++) {
+		struct ps_sum ts, ss;
+		double cls[PS_SKY_NCLASS];
+		int n = 0;
+		ps_sum_init(&ts);
+		ps_sum_init(&ss);
+		for (size_t i = 0; i < y->n; i++)
+			if (y->h[i].month == m + 1) {
+				ps_sum_add(&ts, y->h[i].task_lux);
+				ps_sum_add(&ss, y->h[i].sensor);
+				n++;
+			}
+		for (int c = 0; c < PS_SKY_NCLASS; c++) {
+			struct ps_sum a, b;
+			ps_sum_init(&a);
+			ps_sum_init(&b);
+			for (size_t i = 0; i < y->n; i++)
+				if (y->h[i].month == m + 1 && y->h[i].sky_class == c) {
+					ps_sum_add(&a, y->h[i].task_lux);
+					ps_sum_add(&b, y->h[i].sensor);
+				}
+			cls[c] = ps_sum_get(&b) > 0 ? ps_sum_get(&a) / ps_sum_get(&b) : NAN;
+		}
+		printf("  %-5s %6d %10.0f %10.3f %9.2f %9.2f %9.2f\n", mon[m], n,
+		       n ? ps_sum_get(&ts) / n : 0.0, n ? ps_sum_get(&ss) / n : 0.0, cls[0], cls[1], cls[2]);
+	}
+	printf("  (mean task lux and sensor response over the month's hours with light; the\n"
+	       "  daylight ratio by sky class; the results file has it by hour as well)\n");
+}
+
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psscene [-o results] [-C cachedir | -N] [-q] scene\n"
@@ -364,7 +439,7 @@ int main(int argc, char **argv)
 	struct ps_err e;
 	struct ps_dcrow srow, trow;
 	int have_dc = 0;
-	double dc_seconds = 0;
+	double dc_seconds = 0, year_seconds = 0;
 
 	memset(&r, 0, sizeof r);
 	memset(&srow, 0, sizeof srow);
@@ -492,6 +567,10 @@ int main(int argc, char **argv)
 			have_dc = 1;
 			clock_gettime(CLOCK_MONOTONIC, &t1);
 			dc_seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+			if (sc.dc.weather && run_year(&r, &srow, &trow, &res, &year_seconds, &e) != 0) {
+				fprintf(stderr, "psscene: %s\n", e.msg);
+				status = 1;
+			}
 		}
 	}
 	if (status == 0) {
@@ -513,6 +592,8 @@ int main(int argc, char **argv)
 			                           (strstr(sc.sensitivity, "cosine") != NULL));
 			if (have_dc)
 				print_dc(&r, &srow, &trow, dc_seconds);
+			if (res.have_year)
+				print_year(&res, year_seconds);
 			if (print_variants(&r, &sc, &res, &e) != 0) {
 				fprintf(stderr, "psscene: %s\n", e.msg);
 				status = 1;
