@@ -18,9 +18,19 @@ enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
  * assumes a clear sky: each condition's value is scaled over the day by
  * sin(pi (t - sunrise) / (sunset - sunrise)), relative to its own time, and
  * conditions at other dates are interpolated linearly in day of year.
- * Returns -1 when the results have no electric or no daylight condition. */
+ * Returns -1 when the results have no electric or no daylight condition.
+ * When the results carry a year (psscene with a weather file), the day is
+ * that year's instead: psd_room_from_year. */
 int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p);
+/* A day of the results' year (day of year doy, non-leap numbering): one
+ * point per hour with light at the hour's middle as the weather file gives
+ * it (standard time), the room interpolating linearly between them, and
+ * zero an hour before the first and an hour after the last (a day without
+ * light: no points, dark all day).  -1 when the results carry no year or no
+ * electric condition. */
+int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
+                       struct ps_room_params *p);
 /* The same, allocated with its day of daylight (free with
  * psd_roomsetup_free) for the date "MM-DD"; NULL when the results have no
  * electric or no daylight condition, or the date is malformed. */
