@@ -410,6 +410,12 @@ static int load(struct psd_config *cf)
 	hhmm(c, s, "sunrise", 6 * 3600.0, &cf->sunrise);
 	hhmm(c, s, "sunset", 18 * 3600.0, &cf->sunset);
 	ps_conf_double(c, s, "tolerance", 0.02, 0, 1, &cf->tolerance);
+	ps_conf_bool(c, s, "year", 0, &cf->sim_year);
+	{
+		static const char *const estimates[] = { "mean", "dated", NULL };
+		ps_conf_enum(c, ps_conf_section(c, "psensd"), "estimate", estimates, 0, &cf->dated_estimate);
+		cf->dated_estimate |= cf->sim_year;
+	}
 	if (cf->end <= cf->start)
 		ps_conf_error(c, s ? s->line : 0, "[simulate]: end must be after start");
 	if (cf->sunset <= cf->sunrise)

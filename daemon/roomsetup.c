@@ -74,8 +74,7 @@ int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypo
 int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p)
 {
-	if (r->have_year)
-		return psd_room_from_year(r, doy, day, p);
+
 	/* daylight at full sun-up shape (shape = 1) for the chosen day: nearest
 	 * conditions in day of year on either side, linear between them */
 	double best_lo = -1e9, best_hi = 1e9, s_lo = 0, s_hi = 0, l_lo = 0, l_hi = 0;
@@ -143,6 +142,19 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 	if (doy < 0 || !(rs = malloc(sizeof *rs)))
 		return NULL;
 	if (psd_room_from_results(r, doy, sunrise, sunset, rs->day, &rs->p) != 0) {
+		free(rs);
+		return NULL;
+	}
+	return &rs->p;
+}
+
+struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date)
+{
+	struct roomsetup *rs;
+	int doy = psd_day_of_year(date);
+	if (doy < 0 || !(rs = malloc(sizeof *rs)))
+		return NULL;
+	if (psd_room_from_year(r, doy, rs->day, &rs->p) != 0) {
 		free(rs);
 		return NULL;
 	}

@@ -18,9 +18,7 @@ enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
  * assumes a clear sky: each condition's value is scaled over the day by
  * sin(pi (t - sunrise) / (sunset - sunrise)), relative to its own time, and
  * conditions at other dates are interpolated linearly in day of year.
- * Returns -1 when the results have no electric or no daylight condition.
- * When the results carry a year (psscene with a weather file), the day is
- * that year's instead: psd_room_from_year. */
+ * Returns -1 when the results have no electric or no daylight condition. */
 int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p);
 /* A day of the results' year (day of year doy, non-leap numbering): one
@@ -36,6 +34,8 @@ int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypo
  * electric or no daylight condition, or the date is malformed. */
 struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char *date, double sunrise,
                                          double sunset);
+/* The same from the results' year (psd_room_from_year): [simulate] year = yes. */
+struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);
 void psd_roomsetup_free(struct ps_room_params *p);
 /* Day of year of "MM-DD" (non-leap year); -1 if malformed. */
 int psd_day_of_year(const char *mmdd);

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "daemon.h"
+#include "dated.h"
 #include "log.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
@@ -194,6 +195,8 @@ int main(int argc, char **argv)
 		psd_daemon_stop(&d, NULL);   /* what it did open (the signalfd) */
 		return 1;
 	}
+	if (!simulate && !d.engine.cf->sim_year)
+		d.engine.month = psd_dated_month(NULL);   /* the dated estimate: today's month */
 	log_info("controlling %zu zone(s) from %s on a %s clock", d.engine.nzone, path,
 	         simulate ? "simulated" : "real-time");
 	psd_daemon_run(&d);

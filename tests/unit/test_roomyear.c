@@ -35,7 +35,7 @@ static void plays_the_date(void **state)
 	r.year.n = 5;
 	r.electric_sensor_response = 1.0;
 	r.electric_task_lux = 1000.0;
-	assert_int_equal(psd_room_from_results(&r, psd_day_of_year("03-18"), 0, 0, day, &p), 0);
+	assert_int_equal(psd_room_from_year(&r, psd_day_of_year("03-18"), day, &p), 0);
 	assert_int_equal(p.ndaylight, 5);
 	assert_true(day[0].t == 6.5 * 3600 && day[0].task_lux == 0);
 	assert_true(day[1].t == 7.5 * 3600 && day[1].task_lux == 100.0);
@@ -54,7 +54,7 @@ static void plays_the_date(void **state)
 	assert_true(l == 0.0 && v == 0.0);
 	ps_room_free(room);
 	/* a date without hours: dark all day */
-	assert_int_equal(psd_room_from_results(&r, psd_day_of_year("06-01"), 0, 0, day, &p), 0);
+	assert_int_equal(psd_room_from_year(&r, psd_day_of_year("06-01"), day, &p), 0);
 	assert_int_equal(p.ndaylight, 0);
 	/* no electric condition: refused */
 	r.electric_sensor_response = NAN;
