@@ -37,7 +37,9 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 		ps_sum_init(&em[k]);
 		ps_sum_init(&e2[k]);
 	}
-	c.daylight_ratio = r->year.mean_ratio;
+	/* a year without light has no ratio: any will do, there is no daylight */
+	c.daylight_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio
+	                   : ctl->daylight_ratio > 0 ? ctl->daylight_ratio : 1.0;
 	c.elec_sensor = r->electric_sensor_response;
 	c.elec_task_lux = r->electric_task_lux;
 	c.level = 1.0;
@@ -62,7 +64,8 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 		for (int s = 0; s < steps_day; s++) {
 			double t = s * o->period, volts, dv, dl, level, prev = c.level, ideal, truth;
 			int occ = t >= o->occ_start && t < o->occ_end;
-			double mean_ratio = r->year.mean_ratio, dated = NAN;
+			double mean_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio : c.daylight_ratio;
+			double dated = NAN;
 			if (ps_room_sensor(room, t, &volts) != 0)
 				volts = 0;
 			dated = psd_dated_ratio(r, m + 1, t, NULL);
