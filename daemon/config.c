@@ -413,8 +413,9 @@ static int load(struct psd_config *cf)
 	ps_conf_bool(c, s, "year", 0, &cf->sim_year);
 	{
 		static const char *const estimates[] = { "mean", "dated", NULL };
-		ps_conf_enum(c, ps_conf_section(c, "psensd"), "estimate", estimates, 0, &cf->dated_estimate);
-		cf->dated_estimate |= cf->sim_year;
+		/* default: dated when the room plays the year, else mean */
+		ps_conf_enum(c, ps_conf_section(c, "psensd"), "estimate", estimates, cf->sim_year,
+		             &cf->dated_estimate);
 	}
 	if (cf->end <= cf->start)
 		ps_conf_error(c, s ? s->line : 0, "[simulate]: end must be after start");
