@@ -8,7 +8,6 @@
 #include "canvas.h"
 #include "dated.h"
 #include "falsecolor.h"
-#include "room.h"
 #include "roomsetup.h"
 #include "sum.h"
 
@@ -20,111 +19,117 @@ static double clamp(double x, double lo, double hi)
 	return x < lo ? lo : x > hi ? hi : x;
 }
 
+/* one run's state, for the room's callbacks */
+struct run {
+	const struct ps_results *r;
+	const struct psd_annual_opt *o;
+	struct psd_annual *a;
+	struct psd_control c;
+	struct ps_sum em[2], e2[2];
+	int m, doy;
+	double mean_ratio, dated, prev;
+};
+
+static double law(void *ctx, double t, double volts)
+{
+	struct run *u = ctx;
+	u->dated = psd_dated_ratio(u->r, u->m + 1, t, NULL);
+	u->c.daylight_ratio = u->o->dated && u->dated > 0 ? u->dated : u->mean_ratio;
+	u->prev = u->c.level;
+	return psd_control_step(&u->c, volts, t);
+}
+
+static void seen(void *ctx, double t, double level, double truth, double dl)
+{
+	struct run *u = ctx;
+	const struct psd_annual_opt *o = u->o;
+	struct psd_annual *a = u->a;
+	struct psd_control *c = &u->c;
+	int m = u->m;
+	a->steps++;
+	if (o->task_img) {
+		int row = (int)(t / 600.0);
+		if (row < ROWS && fmod(t, 600.0) < o->period) {
+			o->task_img[row * DAYS + u->doy - 1] = (float)truth;
+			o->level_img[row * DAYS + u->doy - 1] = (float)level;
+		}
+	}
+	if (!(t >= o->occ_start && t < o->occ_end))
+		return;
+	{
+		double h = o->period / 3600.0;
+		double ideal = clamp((c->target_lux - dl) / c->elec_task_lux, c->min_level, 1.0);
+		a->occ_h += h;
+		a->energy_h += level * h;
+		a->ideal_h += ideal * h;
+		a->month[m].occ_h += h;
+		a->month[m].energy_h += level * h;
+		a->month[m].ideal_h += ideal * h;
+		if (truth < 0.9 * c->target_lux) {
+			a->below_h += h;
+			a->month[m].below_h += h;
+		}
+		if (level < ideal - 0.01 && truth < c->target_lux) {
+			a->overdim_h += h;
+			a->month[m].overdim_h += h;
+		}
+		if (fabs(level - u->prev) > 0.005)
+			a->changes++;
+	}
+	if (dl >= 50) {
+		/* the law's daylight estimate with each ratio */
+		double resp = c->daylight_volts / c->sensor_gain;
+		double est[2] = { u->mean_ratio * resp, (u->dated > 0 ? u->dated : u->mean_ratio) * resp };
+		for (int k = 0; k < 2; k++) {
+			double err = est[k] / dl - 1;
+			ps_sum_add(&u->em[k], err);
+			ps_sum_add(&u->e2[k], err * err);
+		}
+		a->est_n++;
+	}
+}
+
 int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
                    const struct psd_annual_opt *o, struct psd_annual *a)
 {
-	struct ps_room_daypoint day[PSD_DAY_POINTS];
-	struct ps_room_params p;
-	struct psd_control c = *ctl;
-	struct ps_sum em[2], e2[2];
+	static const int start[13] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334, 365 };
+	struct run u;
 	struct timespec t0, t1;
-	int steps_day = (int)floor(86400.0 / o->period + 0.5);
 	memset(a, 0, sizeof *a);
 	if (!r->have_year || isnan(r->electric_sensor_response) || o->period <= 0)
 		return -1;
 	clock_gettime(CLOCK_MONOTONIC, &t0);
+	memset(&u, 0, sizeof u);
+	u.r = r;
+	u.o = o;
+	u.a = a;
+	u.c = *ctl;
 	for (int k = 0; k < 2; k++) {
-		ps_sum_init(&em[k]);
-		ps_sum_init(&e2[k]);
+		ps_sum_init(&u.em[k]);
+		ps_sum_init(&u.e2[k]);
 	}
+	u.c.elec_sensor = r->electric_sensor_response;
+	u.c.elec_task_lux = r->electric_task_lux;
 	/* a year without light has no ratio: any will do, there is no daylight */
-	c.daylight_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio
-	                   : ctl->daylight_ratio > 0 ? ctl->daylight_ratio : 1.0;
-	c.elec_sensor = r->electric_sensor_response;
-	c.elec_task_lux = r->electric_task_lux;
-	c.level = 1.0;
-	c.pending_since = -1;
-	for (int doy = 1; doy <= DAYS; doy++) {
-		struct ps_room *room;
-		int m;
-		if (psd_room_from_year(r, doy, day, &p) != 0)
+	u.mean_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio
+	               : ctl->daylight_ratio > 0 ? ctl->daylight_ratio : 1.0;
+	u.c.daylight_ratio = u.mean_ratio;
+	u.c.level = 1.0;
+	u.c.pending_since = -1;
+	for (u.doy = 1; u.doy <= DAYS; u.doy++) {
+		u.m = 0;
+		while (u.m < 11 && u.doy > start[u.m + 1])
+			u.m++;
+		if (psd_room_play_day(r, u.doy, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
 			return -1;
-		p.gain = c.sensor_gain;
-		p.ballast.min_level = 0;
-		room = ps_room_new(&p, 0.0);
-		if (!room)
-			return -1;
-		{
-			static const int start[13] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334, 365 };
-			m = 0;
-			while (m < 11 && doy > start[m + 1])
-				m++;
-		}
-		ps_room_command(room, 0.0, c.level);
-		for (int s = 0; s < steps_day; s++) {
-			double t = s * o->period, volts, dv, dl, level, prev = c.level, ideal, truth;
-			int occ = t >= o->occ_start && t < o->occ_end;
-			double mean_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio : c.daylight_ratio;
-			double dated = NAN;
-			if (ps_room_sensor(room, t, &volts) != 0)
-				volts = 0;
-			dated = psd_dated_ratio(r, m + 1, t, NULL);
-			c.daylight_ratio = o->dated && dated > 0 ? dated : mean_ratio;
-			level = psd_control_step(&c, volts, t);
-			ps_room_command(room, t, level);
-			ps_room_daylight(room, t, &dv, &dl);
-			truth = ps_room_true_task_lux(room, t);
-			a->steps++;
-			if (o->task_img && s * o->period < 86400) {
-				int row = (int)(t / 600.0);
-				if (row < ROWS && fmod(t, 600.0) < o->period) {
-					o->task_img[row * DAYS + doy - 1] = (float)truth;
-					o->level_img[row * DAYS + doy - 1] = (float)level;
-				}
-			}
-			if (!occ)
-				continue;
-			{
-				double h = o->period / 3600.0;
-				ideal = clamp((c.target_lux - dl) / c.elec_task_lux, c.min_level, 1.0);
-				a->occ_h += h;
-				a->energy_h += level * h;
-				a->ideal_h += ideal * h;
-				a->month[m].occ_h += h;
-				a->month[m].energy_h += level * h;
-				a->month[m].ideal_h += ideal * h;
-				if (truth < 0.9 * c.target_lux) {
-					a->below_h += h;
-					a->month[m].below_h += h;
-				}
-				if (level < ideal - 0.01 && truth < c.target_lux) {
-					a->overdim_h += h;
-					a->month[m].overdim_h += h;
-				}
-				if (fabs(level - prev) > 0.005)
-					a->changes++;
-			}
-			if (dl >= 50) {
-				/* the law's daylight estimate with each ratio */
-				double resp = c.daylight_volts / c.sensor_gain;
-				double est[2] = { mean_ratio * resp, (dated > 0 ? dated : mean_ratio) * resp };
-				for (int k = 0; k < 2; k++) {
-					double err = est[k] / dl - 1;
-					ps_sum_add(&em[k], err);
-					ps_sum_add(&e2[k], err * err);
-				}
-				a->est_n++;
-			}
-		}
-		ps_room_free(room);
 	}
 	a->savings = a->occ_h > 0 ? 1 - a->energy_h / a->occ_h : NAN;
 	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
 	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
 	a->changes_per_h = a->occ_h > 0 ? a->changes / a->occ_h : NAN;
 	for (int k = 0; k < 2; k++) {
-		a->est_mean[k] = a->est_n ? 100 * ps_sum_get(&em[k]) / a->est_n : NAN;
-		a->est_rms[k] = a->est_n ? 100 * sqrt(ps_sum_get(&e2[k]) / a->est_n) : NAN;
+		a->est_mean[k] = a->est_n ? 100 * ps_sum_get(&u.em[k]) / a->est_n : NAN;
+		a->est_rms[k] = a->est_n ? 100 * sqrt(ps_sum_get(&u.e2[k]) / a->est_n) : NAN;
 	}
 	clock_gettime(CLOCK_MONOTONIC, &t1);
 	a->seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);

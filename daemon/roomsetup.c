@@ -148,6 +148,35 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 	return &rs->p;
 }
 
+int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,
+                      double level0, double (*law)(void *ctx, double t, double volts),
+                      void (*seen)(void *ctx, double t, double level, double task_lux,
+                                   double daylight_lux),
+                      void *ctx)
+{
+	struct ps_room_daypoint day[PSD_DAY_POINTS];
+	struct ps_room_params p;
+	struct ps_room *room;
+	int steps = (int)floor(86400.0 / period + 0.5);
+	if (period <= 0 || psd_room_from_year(r, doy, day, &p) != 0)
+		return -1;
+	p.gain = gain;
+	if (!(room = ps_room_new(&p, 0.0)))
+		return -1;
+	ps_room_command(room, 0.0, level0);
+	for (int s = 0; s < steps; s++) {
+		double t = s * period, volts, level, dv, dl;
+		if (ps_room_sensor(room, t, &volts) != 0)
+			volts = 0;
+		level = law(ctx, t, volts);
+		ps_room_command(room, t, level);
+		ps_room_daylight(room, t, &dv, &dl);
+		seen(ctx, t, level, ps_room_true_task_lux(room, t), dl);
+	}
+	ps_room_free(room);
+	return 0;
+}
+
 struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date)
 {
 	struct roomsetup *rs;
