@@ -13,6 +13,7 @@
 
 #include "daemon.h"
 #include "annual.h"
+#include "canvas.h"
 #include "dated.h"
 #include "log.h"
 
@@ -107,10 +108,13 @@ static int year_report(struct psd_daemon *d, const char *png)
 		}
 		if (png && i == 0) {
 			char err[512], title[256];
+			int rc;
 			snprintf(title, sizeof title, "%s: zone %s, %s, target %g lx (%s)",
 			         e->res.scene ? e->res.scene : "", z->zc->name,
 			         psd_algorithm_names[ctl.algorithm], ctl.target_lux, e->res.weather);
-			if (psd_annual_png(png, task, level, ctl.target_lux, title, err, sizeof err) != 0) {
+			rc = psd_annual_png(png, task, level, ctl.target_lux, title, err, sizeof err);
+			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
+			if (rc != 0) {
 				fprintf(stderr, "psensd: %s\n", err);
 				return 1;
 			}
