@@ -39,4 +39,9 @@ sed 's/^\[simulate\]/[simulate]\nyear = yes/' "$TMP/psensd.conf" > "$TMP/day.con
 "$BIN/psensd" -f "$TMP/day.conf" -s > "$TMP/day.out" 2> "$TMP/day.err"
 check "a simulated day of the year runs" test $? = 0
 check "its samples name the dated ratio" sh -c "sqlite3 '$TMP/state/psensd.db' \"select count(*) from samples where condition = 'daylight_dated'\" | grep -qv '^0$'"
+# estimate = mean holds even when the room plays the year
+sed 's/^\[psensd\]/[psensd]\nestimate = mean/' "$TMP/day.conf" > "$TMP/mean.conf"
+rm -f "$TMP/state/psensd.db"*
+"$BIN/psensd" -f "$TMP/mean.conf" -s > /dev/null 2>&1
+check "estimate = mean: the samples name the mean ratio" sh -c "sqlite3 '$TMP/state/psensd.db' \"select count(*) from samples where condition = 'daylight_dated'\" | grep -q '^0$' && sqlite3 '$TMP/state/psensd.db' \"select count(*) from samples where condition = 'daylight_mean'\" | grep -qv '^0$'"
 done_testing
