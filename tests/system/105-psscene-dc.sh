@@ -51,4 +51,17 @@ rm "$TMP"/s/dc/sensor/dc_14[0-5].hdr
 bad "a count no MF has" "140 pictures (patches 0 to 139) match no MF"
 sed -i 's/^sensor_view.*/sensor_view = -vtv -vp 1 1 1/' "$TMP/s/dc.scene"
 bad "a view that is no fisheye" "dc.scene:6: sensor_view: view type -vtv is not a fisheye"
+# the year: a bad weather line is named, the results file left alone
+sed -i 's/^sensor_view.*/sensor_view = -vta -vp 1.85 2.285 2.2 -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180/; s/^mf = 0/mf = 1/' "$TMP/s/dc.scene"
+cp config/example/ofb/dc/sensor/dc_14[0-5].hdr "$TMP/s/dc/sensor/"
+head -n 20 config/example/ofb/weather/sf-synthetic.wea > "$TMP/s/w.wea"
+echo "1 1 14.5 -5 100" >> "$TMP/s/w.wea"
+echo "weather = w.wea" >> "$TMP/s/dc.scene"
+bad "a negative irradiance in the weather" "w.wea:21"
+sed -i '$d' "$TMP/s/w.wea"
+"$BIN/psscene" -N -o "$TMP/dc.results" "$TMP/s/dc.scene" > "$TMP/out" 2>&1
+lit=$(awk 'NR > 6 && $4 + $5 > 0' "$TMP/s/w.wea" | wc -l)
+check "a short year runs: 14 steps, $lit with light (the file's lines with light)" \
+	grep -q "14 steps, $lit with light, $((14 - lit)) dark skipped" "$TMP/out"
+check "the results carry them (version 2)" sh -c "grep -q '^version = 2' '$TMP/dc.results' && grep -q '^hours = $lit\$' '$TMP/dc.results'"
 done_testing
