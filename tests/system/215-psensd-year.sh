@@ -34,6 +34,10 @@ sed "s|^results = .*|results = $TMP/state/noyear.results|; s|^scene = .*|scene =
 "$BIN/psensd" -f "$TMP/noyear.conf" -Y > /dev/null 2> "$TMP/err2"
 check "-Y without a year fails" test $? -ne 0
 check "and says a weather file is needed" grep -q "needs results with a year" "$TMP/err2"
+sed 's/^\[simulate\]/[simulate]\nyear = yes/' "$TMP/noyear.conf" > "$TMP/noyear-day.conf"
+"$BIN/psensd" -f "$TMP/noyear-day.conf" -s > /dev/null 2> "$TMP/err3"
+check "a day of the year without a year fails" test $? -ne 0
+check "and names what is missing" grep -q "year = yes needs results with a year" "$TMP/err3"
 # a simulated day of the year logs the dated ratio
 sed 's/^\[simulate\]/[simulate]\nyear = yes/' "$TMP/psensd.conf" > "$TMP/day.conf"
 "$BIN/psensd" -f "$TMP/day.conf" -s > "$TMP/day.out" 2> "$TMP/day.err"
