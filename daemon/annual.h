@@ -4,7 +4,8 @@
  * the room model and the law are the same ones the daemon runs, so the
  * year's 525,600 steps at 60 s take seconds).  Sensor noise is off and the
  * ballast follows commands at once; the room's day starts dark and the
- * lights at full output at midnight.
+ * lights at full output at midnight.  365 days in non-leap numbering: a
+ * leap year's February 29 is not played.
  *
  * Figures over the occupied hours (occ_start to occ_end every day, standard
  * time):
