@@ -123,13 +123,19 @@ static int year_report(struct psd_daemon *d, const char *png)
 		/* the laws side by side, each with the zone's constants */
 		printf("  the control laws over the year (the zone's constants; switching thresholds\n"
 		       "  from the model where the zone sets none):\n");
-		printf("  %-20s %9s %9s %9s %9s %9s %9s\n", "algorithm", "energy %", "savings %",
+		printf("  %-32s %9s %9s %9s %9s %9s %9s\n", "algorithm (dated ratio)", "energy %", "savings %",
 		       "effect. %", "below90 h", "overdim h", "changes/h");
-		for (int alg = 0; alg < PSD_ALG_COUNT; alg++) {
+		for (int row = 0; row < PSD_ALG_COUNT + 2; row++) {
+			/* the five laws with the dated ratio, then the two that use a
+			 * ratio again with the one mean ratio */
+			int alg = row < PSD_ALG_COUNT ? row
+			          : row == PSD_ALG_COUNT ? PSD_ALG_SETPOINT : PSD_ALG_CLOSED_PROPORTIONAL;
 			struct psd_control c = z->ctl;
 			struct psd_annual_opt q = o;
+			char name[48];
 			c.algorithm = alg;
 			q.task_img = q.level_img = NULL;
+			q.dated = row < PSD_ALG_COUNT;
 			if (alg == PSD_ALG_SWITCHING && c.s_off >= 1e9) {
 				double full = c.sensor_gain * c.elec_sensor;
 				double need = c.sensor_gain * c.target_lux / e->res.year.mean_ratio;
@@ -138,7 +144,9 @@ static int year_report(struct psd_daemon *d, const char *png)
 			}
 			if (psd_annual_run(&e->res, &c, &q, &b) != 0)
 				continue;
-			printf("  %-20s %9.1f %9.1f %9.1f %9.1f %9.1f %9.2f\n", psd_algorithm_names[alg],
+			snprintf(name, sizeof name, "%s%s", psd_algorithm_names[alg],
+			         row < PSD_ALG_COUNT ? "" : ", mean ratio");
+			printf("  %-32s %9.1f %9.1f %9.1f %9.1f %9.1f %9.2f\n", name,
 			       100 * b.energy_h / b.occ_h, 100 * b.savings, 100 * b.effectiveness, b.below_h,
 			       b.overdim_h, b.changes_per_h);
 		}
