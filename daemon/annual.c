@@ -33,9 +33,14 @@ struct run {
 static double law(void *ctx, double t, double volts)
 {
 	struct run *u = ctx;
+	u->prev = u->c.level;
+	if (!(t >= u->o->occ_start && t < u->o->occ_end)) {
+		u->c.level = 0;   /* nobody there: the lights off, as a vacancy sensor does */
+		u->c.pending_dir = 0;
+		return 0;
+	}
 	u->dated = psd_dated_ratio(u->r, u->m + 1, t, NULL);
 	u->c.daylight_ratio = u->o->dated && u->dated > 0 ? u->dated : u->mean_ratio;
-	u->prev = u->c.level;
 	return psd_control_step(&u->c, volts, t);
 }
 
@@ -73,7 +78,8 @@ static void seen(void *ctx, double t, double level, double truth, double dl)
 			a->overdim_h += h;
 			a->month[m].overdim_h += h;
 		}
-		if (fabs(level - u->prev) > 0.005)
+		/* the switch-on at arrival is not a dimming change */
+		if (fabs(level - u->prev) > 0.005 && t - o->period >= o->occ_start)
 			a->changes++;
 	}
 	if (dl >= 50) {
@@ -114,7 +120,7 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.mean_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio
 	               : ctl->daylight_ratio > 0 ? ctl->daylight_ratio : 1.0;
 	u.c.daylight_ratio = u.mean_ratio;
-	u.c.level = 1.0;
+	u.c.level = 0.0;
 	u.c.pending_since = -1;
 	for (u.doy = 1; u.doy <= DAYS; u.doy++) {
 		u.m = 0;
@@ -166,18 +172,20 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 		char buf[96];
 		ps_canvas_label(&cv, left + pw + 8, top + 10, 11, -1, ink, 0, "true task lux (log scale)");
 		ps_canvas_label(&cv, left + pw + 8, top + ph + gap + 10, 11, -1, ink, 0,
-		                "light output");
+		                "light output (off outside 08-18)");
 		ps_canvas_begin(&cv);
 		for (int k = 0; k <= 3; k++) {
 			uint8_t rgb[3];
 			ps_falsecolor_rgb8(k / 3.0, rgb);
-			for (int yy = 0; yy < 12; yy++)
-				for (int xx = 0; xx < 16; xx++)
-					ps_canvas_set(&cv, left + pw + 8 + xx, top + 24 + 18 * k + yy, 1, rgb);
-			rgb[0] = rgb[1] = rgb[2] = (uint8_t)(40 + 215 * (k / 3.0));
-			for (int yy = 0; yy < 12; yy++)
-				for (int xx = 0; xx < 16; xx++)
-					ps_canvas_set(&cv, left + pw + 8 + xx, top + ph + gap + 24 + 18 * k + yy, 1, rgb);
+			uint8_t grey[3], frame[3] = { 0, 0, 0 };
+			for (int yy = -1; yy < 13; yy++)
+				for (int xx = -1; xx < 17; xx++) {
+					int edge = yy < 0 || yy > 11 || xx < 0 || xx > 15;
+					grey[0] = grey[1] = grey[2] = (uint8_t)(40 + 215 * (k / 3.0));
+					ps_canvas_set(&cv, left + pw + 8 + xx, top + 24 + 18 * k + yy, 1, edge ? frame : rgb);
+					ps_canvas_set(&cv, left + pw + 8 + xx, top + ph + gap + 24 + 18 * k + yy, 1,
+					              edge ? frame : grey);
+				}
 		}
 		ps_canvas_end(&cv);
 		for (int k = 0; k <= 3; k++) {

@@ -3,8 +3,9 @@
  * at the control period, directly (no devices, no database, no event loop:
  * the room model and the law are the same ones the daemon runs, so the
  * year's 525,600 steps at 60 s take seconds).  Sensor noise is off and the
- * ballast follows commands at once; the room's day starts dark and the
- * lights at full output at midnight.  365 days in non-leap numbering: a
+ * ballast follows commands at once.  The lights are off outside the
+ * occupied hours (as a vacancy sensor leaves them) and the law runs inside
+ * them, from off at arrival.  365 days in non-leap numbering: a
  * leap year's February 29 is not played.
  *
  * Figures over the occupied hours (occ_start to occ_end every day, standard
@@ -18,7 +19,8 @@
  *   over-dimming    hours with the output more than 0.01 below the ideal's
  *                   while the task is below the target (dimmed past what
  *                   daylight allows);
- *   changes         steps whose output moved by more than 0.005, per hour;
+ *   changes         steps whose output moved by more than 0.005, per hour
+ *                   (the switch-on at arrival not counted);
  *   estimate error  where the task's true daylight is 50 lx or more, the
  *                   law's daylight estimate (ratio x the reading's daylight
  *                   response) against it: with the one mean ratio and with

@@ -171,7 +171,8 @@ int psd_room_play_day(const struct ps_results *r, int doy, double gain, double p
 		level = law(ctx, t, volts);
 		ps_room_command(room, t, level);
 		ps_room_daylight(room, t, &dv, &dl);
-		seen(ctx, t, level, ps_room_true_task_lux(room, t), dl);
+		/* the desk just after the command (an instant ballast has obeyed) */
+		seen(ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl);
 	}
 	ps_room_free(room);
 	return 0;

@@ -37,8 +37,8 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 /* Play day doy of the results' year on a room (psd_room_from_year; sensor
  * gain volts per unit, no noise, an instant ballast, the lights at level0 at
  * midnight): every period seconds from midnight, law(ctx, t, volts) gives the
- * level to command, then seen(ctx, t, level, true task lux, true daylight
- * lux at the task) reports the step.  The room stays inside this file
+ * level to command, then seen(ctx, t, level, true task lux a millisecond
+ * after the command, true daylight lux at the task) reports the step.  The room stays inside this file
  * (psensd -Y: annual.c).  -1 when the results have no year or no electric
  * condition, or out of memory. */
 int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,

@@ -109,9 +109,11 @@ static int year_report(struct psd_daemon *d, const char *png)
 		if (png && i == 0) {
 			char err[512], title[256];
 			int rc;
+			const char *sb = e->res.scene ? strrchr(e->res.scene, '/') : NULL;
+			const char *wb = strrchr(e->res.weather, '/');
 			snprintf(title, sizeof title, "%s: zone %s, %s, target %g lx (%s)",
-			         e->res.scene ? e->res.scene : "", z->zc->name,
-			         psd_algorithm_names[ctl.algorithm], ctl.target_lux, e->res.weather);
+			         sb ? sb + 1 : e->res.scene ? e->res.scene : "", z->zc->name,
+			         psd_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : e->res.weather);
 			rc = psd_annual_png(png, task, level, ctl.target_lux, title, err, sizeof err);
 			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
 			if (rc != 0) {
