@@ -172,7 +172,7 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 		char buf[96];
 		ps_canvas_label(&cv, left + pw + 8, top + 10, 11, -1, ink, 0, "true task lux (log scale)");
 		ps_canvas_label(&cv, left + pw + 8, top + ph + gap + 10, 11, -1, ink, 0,
-		                "light output (off outside 08-18)");
+		                "light output (off when unoccupied)");
 		ps_canvas_begin(&cv);
 		for (int k = 0; k <= 3; k++) {
 			uint8_t rgb[3];

@@ -72,7 +72,8 @@ static int year_report(struct psd_daemon *d, const char *png)
 	}
 	for (size_t i = 0; i < e->nzone; i++) {
 		const struct psd_zone *z = &e->zone[i];
-		struct psd_annual_opt o = { z->zc->period, 8 * 3600.0, 18 * 3600.0, 1, task, level };
+		struct psd_annual_opt o = { z->zc->period, e->cf->occ_from, e->cf->occ_to, 1, task, level };
+		char from[8], to[8];
 		struct psd_annual a, b;
 		struct psd_control ctl = z->ctl;
 		if (psd_annual_run(&e->res, &ctl, &o, &a) != 0) {
@@ -84,8 +85,10 @@ static int year_report(struct psd_daemon *d, const char *png)
 		       "target %g lx\n",
 		       e->res.weather, z->zc->name, psd_algorithm_names[ctl.algorithm], o.period,
 		       ctl.target_lux);
-		printf("  %.0f control steps in %.2f s (%.0f ns a step); occupied 08:00-18:00 every day, "
-		       "%.0f h\n", a.steps, a.seconds, 1e9 * a.seconds / a.steps, a.occ_h);
+		psd_clock_hhmm(o.occ_start, from);
+		psd_clock_hhmm(o.occ_end, to);
+		printf("  %.0f control steps in %.2f s (%.0f ns a step); occupied %s-%s every day, "
+		       "%.0f h\n", a.steps, a.seconds, 1e9 * a.seconds / a.steps, from, to, a.occ_h);
 		printf("  lighting energy %.0f full-output hours (%.1f %% of full), savings %.1f %%\n",
 		       a.energy_h, 100 * a.energy_h / a.occ_h, 100 * a.savings);
 		printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "

@@ -26,6 +26,10 @@ check "the year drawn as a PNG" sh -c "head -c 8 '$TMP/year.png' | od -An -c | g
 rms() { sed -n "s/.*$1.*rms \([0-9.]*\) %.*/\1/p" "$TMP/out" | head -n 1; }
 m=$(rms "one mean ratio"); d=$(rms "dated ratio")
 check "dated estimate rms $d % below the mean ratio's $m %" awk -v m="$m" -v d="$d" 'BEGIN { exit !(d < m) }'
+# the occupied hours from [simulate]
+sed 's/^\[simulate\]/[simulate]\noccupied_from = 09:00\noccupied_to = 17:00/' "$TMP/psensd.conf" > "$TMP/occ.conf"
+"$BIN/psensd" -f "$TMP/occ.conf" -Y > "$TMP/occ.out" 2>&1
+check "occupied_from and occupied_to: 2920 h" grep -q "occupied 09:00-17:00 every day, 2920 h" "$TMP/occ.out"
 # results without a year: refused, naming what is missing
 sed '/^weather = /d' "$TMP/example/ofb.scene" > "$TMP/example/noyear.scene"
 "$BIN/psscene" -q -N -o "$TMP/state/noyear.results" "$TMP/example/noyear.scene"
