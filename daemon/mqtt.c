@@ -31,7 +31,7 @@ struct slot {
 struct seen {
 	char zone[PSD_MQTT_NAME];
 	char fault[160];
-	int have_fault, faulted;
+	int faulted;              /* as of the last sample published (0 at a start) */
 	int have_live, cal_state, drift;
 };
 
@@ -200,7 +200,7 @@ static void row(void *user, long long id, double utc, const struct psd_sample *s
 	m->tokens -= 1;
 	sn = seen_of(m, s->zone);
 	faulted = s->fault != NULL;
-	if (sn->have_fault && (faulted != sn->faulted || (faulted && strcmp(sn->fault, s->fault) != 0))) {
+	if (faulted != sn->faulted || (faulted && strcmp(sn->fault, s->fault) != 0)) {
 		json_object *o = event_new(faulted ? "fault" : "fault_cleared");
 		json_object_object_add(o, "id", json_object_new_int64(id));
 		psd_mqtt_iso8601(utc, iso, sizeof iso);
@@ -215,7 +215,6 @@ static void row(void *user, long long id, double utc, const struct psd_sample *s
 			return;
 		}
 	}
-	sn->have_fault = 1;
 	sn->faulted = faulted;
 	snprintf(sn->fault, sizeof sn->fault, "%s", faulted ? s->fault : "");
 }
@@ -411,6 +410,11 @@ static void lost(struct psd_mqtt *m, const char *why)
 	m->sock_ok = 0;
 	m->qn = 0;
 	m->sent = m->cursor;      /* what was not acknowledged goes again */
+	/* and its fault events with it: as at a start, a zone is taken to be
+	 * without a fault until a sample says otherwise (an event may come
+	 * twice, with the same id; none is skipped) */
+	for (size_t i = 0; i < m->nseen; i++)
+		m->seen[i].faulted = 0;
 	m->retry_at = mono() + m->backoff;
 	m->backoff = m->backoff * 2 > RETRY_MAX ? RETRY_MAX : m->backoff * 2;
 }
