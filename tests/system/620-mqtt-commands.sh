@@ -21,7 +21,7 @@ printf 'listener %s 127.0.0.1\nallow_anonymous true\nuser %s\n' "$P" "$(id -un)"
 wait_for 5 mosquitto_pub -p "$P" -t probe -n
 S="$TMP/sock"
 conf() {   # conf ZONE: the example with its zone named ZONE
-	sed "s|^results = .*|results = $TMP/state/ofb.results|; s|^database = .*|database = $TMP/psensd.db\nsocket = $S|; s|^faults = .*|faults = open 08:01-08:30|; s|^\[zone office\]|[zone $1]|" \
+	sed "s|^results = .*|results = $TMP/state/ofb.results|; s|^database = .*|database = $TMP/psensd.db\nsocket = $S|; s|^faults = .*|faults = open 08:00-08:30|; s|^\[zone office\]|[zone $1]|" \
 		config/psensd.conf > "$TMP/psensd.conf"
 	printf '\n[mqtt]\nhost = 127.0.0.1\nport = %s\nsite = lab\n' "$P" >> "$TMP/psensd.conf"
 }
