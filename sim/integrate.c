@@ -45,6 +45,38 @@ void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
 			m[i][k] = p[i][k] * sc[k];
 }
 
+void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3])
+{
+	double to_xyz[3][3], from_xyz[3][3], m[3][3];
+	ps_rgb_to_xyz_matrix(ps_std_primaries, to_xyz);
+	invert3(to_xyz, from_xyz);
+	if (pic->format == PS_PIC_XYZE) {
+		/* XYZE holds luminance-based values (Y in cd/m2 once EXPOSURE is
+		 * divided out): Radiance's ra_xyze writes EXPOSURE=1/179 on the
+		 * unchanged XYZ of a radiance picture.  Back to radiance: / 179. */
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = from_xyz[i][c] / PS_WHTEFFICACY;
+	} else if (pic->has_primaries) {
+		/* RGB in the picture's own primaries -> XYZ -> standard RGB */
+		double own[3][3];
+		ps_rgb_to_xyz_matrix(pic->primaries, own);
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = from_xyz[i][0] * own[0][c] + from_xyz[i][1] * own[1][c] +
+				          from_xyz[i][2] * own[2][c];
+	} else {
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = i == c;
+	}
+	/* EXPOSURE and COLORCORR act on the stored channels, before any change
+	 * of colour space (Radiance divides them out of the pixel as read) */
+	for (int i = 0; i < 3; i++)
+		for (int c = 0; c < 3; c++)
+			k[i][c] = m[i][c] / pic->exposure[c];
+}
+
 /* Rearrange v so that its k largest values come first (quickselect, O(n)). */
 static void select_largest(double *v, size_t n, size_t k)
 {
@@ -87,19 +119,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	if (pic->width != w->width || pic->height != w->height)
 		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
 		               pic->height, w->width, w->height);
-	/* exposure and colour space folded into one matrix, applied per pixel */
-	if (pic->format == PS_PIC_XYZE) {
-		double m[3][3], minv[3][3];
-		ps_rgb_to_xyz_matrix(ps_std_primaries, m);
-		invert3(m, minv);
-		for (int i = 0; i < 3; i++)
-			for (int c = 0; c < 3; c++)
-				k[i][c] = minv[i][c] / pic->exposure[c];
-	} else {
-		for (int i = 0; i < 3; i++)
-			for (int c = 0; c < 3; c++)
-				k[i][c] = i == c ? 1.0 / pic->exposure[c] : 0.0;
-	}
+	ps_pic_rgb_matrix(pic, k);
 	/* Each row is summed in plain double and the rows are added with
 	 * compensation: a row's own rounding is n eps of the row, far below
 	 * what the compensated total keeps across rows (a 1e9 sun next to

@@ -24,8 +24,9 @@ struct ps_response {
 	size_t npixels;        /* pixels with non-zero weight */
 };
 
-/* Apply a weight map to a picture of the same size.  XYZE pictures are
- * converted to Radiance RGB first. */
+/* Apply a weight map to a picture of the same size.  XYZE pictures and
+ * RGBE pictures with their own PRIMARIES= are converted to Radiance RGB
+ * radiance first (see ps_pic_rgb_matrix). */
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e);
 
@@ -33,5 +34,19 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 extern const double ps_std_primaries[8];
 /* The 3 x 3 matrix from RGB with the given primaries to CIE XYZ (Y of white = 1). */
 void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3]);
+
+/* Radiance's luminous efficacy of its equal-energy white, lm/W (WHTEFFICACY). */
+#define PS_WHTEFFICACY 179.0
+
+/* The matrix k from a pixel's decoded stored channels ((m + 0.5) 2^(e-136),
+ * EXPOSURE not yet divided out) to standard-primaries RGB radiance,
+ * W/(sr m2): rgb[i] = sum_c k[i][c] stored[c].
+ *  - EXPOSURE= and COLORCORR= are divided out per stored channel;
+ *  - XYZE: XYZ -> RGB of the standard primaries, then / 179 (XYZE values are
+ *    luminance-based: Y in cd/m2, as Radiance's ra_xyze writes them);
+ *  - RGBE with PRIMARIES=: own RGB -> XYZ -> standard RGB, which keeps the
+ *    luminance (the default coefficients give the same Y); an XYZE
+ *    picture's PRIMARIES= line is ignored (XYZ has no primaries). */
+void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3]);
 
 #endif
