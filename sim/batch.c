@@ -8,10 +8,21 @@
 #include <string.h>
 
 #include "picview.h"
+#include "wcache.h"
 
 int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
                   const struct ps_view *v, int width, int height, int method,
                   const double coef[3], int nthreads, struct ps_err *e)
+{
+	int how;
+	return ps_batch_init_cache(b, s, rotation_deg, v, width, height, method, coef, nthreads,
+	                           NULL, 0, &how, NULL, e);
+}
+
+int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method,
+                        const double coef[3], int nthreads, const char *cachedir,
+                        size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
 {
 	memset(b, 0, sizeof *b);
 	if (nthreads > PS_BATCH_THREADS_MAX)
@@ -21,7 +32,8 @@ int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation
 	b->method = method;
 	memcpy(b->coef, coef, sizeof b->coef);
 	b->nthreads = nthreads > 0 ? nthreads : PS_BATCH_THREADS_DEFAULT;
-	return ps_weights_build(&b->w, s, rotation_deg, v, width, height, method, e);
+	return ps_weights_get(&b->w, s, rotation_deg, v, width, height, method, cachedir, max_bytes,
+	                      how, warn, e);
 }
 
 void ps_batch_free(struct ps_batch *b)

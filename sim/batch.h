@@ -57,6 +57,12 @@ struct ps_batch_result {
 int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
                   const struct ps_view *v, int width, int height, int method,
                   const double coef[3], int nthreads, struct ps_err *e);
+/* The same with the weights through the cache directory (sim/wcache.h;
+ * NULL: none): *how is a ps_wcache_how, warn gets its message. */
+int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method,
+                        const double coef[3], int nthreads, const char *cachedir,
+                        size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
 void ps_batch_free(struct ps_batch *b);
 
 /* Read and integrate n picture files; out[i] for paths[i].  Returns the

@@ -1,5 +1,6 @@
 #include "weights.h"
 
+#include <sys/mman.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -283,7 +284,10 @@ void ps_weights_free(struct ps_weights *w)
 	if (!w)
 		return;
 	free(w->runs);
-	free(w->w);
+	if (w->map)
+		munmap(w->map, w->maplen);
+	else
+		free(w->w);
 	memset(w, 0, sizeof *w);
 }
 

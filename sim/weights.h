@@ -43,6 +43,8 @@ struct ps_weights {
 	double sens_full;    /* the sensitivity's integral over the whole sphere */
 	double coverage;     /* sens_sum / sens_full: below 1 when the picture misses part */
 	char key[512];       /* equal keys give equal maps */
+	void *map;           /* non-NULL: w lives in this read-only file map (wcache.c) */
+	size_t maplen;
 };
 
 /* Build the map for a sensor (with its reading), rotation in degrees (turns

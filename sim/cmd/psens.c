@@ -1,6 +1,6 @@
 /* psens: the signal a photosensor gives for fisheye pictures of a room.
  *   psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell] [-c] [-j|-o{a|f|d}]
- *         [-n threads] picture...
+ *         [-n threads] [-C cachedir | -N] picture...
  * See psens(1). */
 #include <getopt.h>
 #include <math.h>
@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "batch.h"
+#include "cache.h"
 #include "fisheye.h"
 #include "integrate.h"
 #include "mtx.h"
@@ -17,12 +18,14 @@
 #include "sensor.h"
 #include "spectral.h"
 #include "view.h"
+#include "wcache.h"
 #include "weights.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell]\n"
-	            "             [-f filter] [-c] [-j|-oa|-of|-od] [-n threads] [-q] picture...\n"
+	            "             [-f filter] [-c] [-j|-oa|-of|-od] [-n threads] [-C dir|-N] [-q]\n"
+	            "             picture...\n"
 	            "  -s FILE   sensitivity table (rsensor/SPOT layout), or builtin:cosine\n"
 	            "  -r DEG    turn the sensitivity about the sensor axis (growing azimuth)\n"
 	            "  -R -G -B  colour coefficients (default 0.265074126 0.670114631 0.064811243)\n"
@@ -33,6 +36,9 @@ static void usage(FILE *fp)
 	            "  -oa -of -od  one Radiance matrix (ascii, float, double): one row (the\n"
 	            "            sensor), one column per picture, components r g b\n"
 	            "  -n N      threads reading and integrating pictures (default 2)\n"
+	            "  -C DIR    cache directory for weight maps (default $XDG_CACHE_HOME/psensd\n"
+	            "            or ~/.cache/psensd, as psscene's)\n"
+	            "  -N        no cache\n"
 	            "  -q        no warnings\n");
 }
 
@@ -197,14 +203,16 @@ int main(int argc, char **argv)
 	const char *sensfile = NULL;
 	double rot = 0.0, coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 	int reading = PS_READ_LINEAR, method = PS_W_EXACT, json = 0, quiet = 0, opt, status = 0;
-	int nthreads = PS_BATCH_THREADS_DEFAULT, mtx = 0;
+	int nthreads = PS_BATCH_THREADS_DEFAULT, mtx = 0, nocache = 0, cache_warned = 0;
+	const char *cachedir = NULL;
+	char cachebuf[4096];
 	struct ps_sensor sens;
 	struct ps_err e;
 	const char *const *paths;
 	struct item *items;
 	size_t *idx, n;
 
-	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:n:o:cjqh")) != -1) {
+	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:n:o:C:Ncjqh")) != -1) {
 		switch (opt) {
 		case 's': sensfile = optarg; break;
 		case 'r': if (parse_num("-r", optarg, &rot)) return 2; break;
@@ -243,6 +251,8 @@ int main(int argc, char **argv)
 			}
 			mtx = optarg[0];
 			break;
+		case 'C': cachedir = optarg; break;
+		case 'N': nocache = 1; break;
 		case 'c': method = PS_W_CENTRE; break;
 		case 'j': json = 1; break;
 		case 'q': quiet = 1; break;
@@ -261,6 +271,12 @@ int main(int argc, char **argv)
 	if (ps_sensor_open(&sens, sensfile, &e) != 0 || ps_sensor_set_reading(&sens, reading, &e) != 0) {
 		fprintf(stderr, "psens: %s\n", e.msg);
 		return 1;
+	}
+	if (nocache) {
+		cachedir = NULL;
+	} else if (!cachedir) {
+		ps_cache_default_dir(cachebuf, sizeof cachebuf);
+		cachedir = cachebuf;
 	}
 	paths = (const char *const *)argv + optind;
 	n = (size_t)(argc - optind);
@@ -292,10 +308,25 @@ int main(int argc, char **argv)
 			ps_pic_free(&pic);
 			continue;
 		}
-		if (ps_batch_init(&b, &sens, rot, &view, pic.width, pic.height, method, coef, nthreads,
-		                  &e) != 0) {
-			fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
-			return 1;
+		{
+			struct ps_err warn;
+			int how;
+			if (ps_batch_init_cache(&b, &sens, rot, &view, pic.width, pic.height, method, coef,
+			                        nthreads, cachedir, ps_cache_max_bytes(), &how, &warn,
+			                        &e) != 0) {
+				fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
+				return 1;
+			}
+			/* a cache that cannot be written: one warning, then no cache */
+			if (how == PS_WC_UNWRITABLE) {
+				if (!quiet && !cache_warned)
+					fprintf(stderr, "psens: warning: weights not cached (%s); going on "
+					                "without the cache\n", warn.msg);
+				cache_warned = 1;
+				cachedir = NULL;
+			} else if (how == PS_WC_REBUILT && !quiet) {
+				fprintf(stderr, "psens: warning: %s; weights rebuilt\n", warn.msg);
+			}
 		}
 		idx[m++] = first;
 		for (size_t i = first + 1; i < n; i++)
