@@ -214,11 +214,39 @@ void ps_cache_blob_release(struct ps_cache_blob *b)
 		memset(b, 0, sizeof *b);
 }
 
-/* A corrupt entry: removed (another process may rewrite it) and reported. */
-static int blob_bad(const char *path, struct ps_err *e, const char *what)
+int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const char *name,
+                        struct ps_err *e)
 {
-	unlink(path);
-	return ps_errf(e, PS_EFORMAT, "%s: %s: cache entry removed", path, what);
+	const uint8_t *h = file;
+	uint8_t key[32], sum[SHA256_DIGEST_SIZE];
+	struct sha256_ctx ctx;
+	uint64_t plen;
+	if (!hex_ok(hexkey))
+		return ps_errf(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
+	if (len < PS_CACHE_BLOB_HEADER)
+		return ps_errf(e, PS_EFORMAT, "%s: byte %zu: shorter than its %d-byte header: cache "
+		               "entry removed", name, len, PS_CACHE_BLOB_HEADER);
+	if (memcmp(h, blob_magic, sizeof blob_magic) != 0)
+		return ps_errf(e, PS_EFORMAT, "%s: byte 0: not a cache entry (bad magic): removed", name);
+	from_hex(hexkey, key);
+	if (memcmp(h + 16, key, 32) != 0)
+		return ps_errf(e, PS_EFORMAT, "%s: byte 16: the entry is for another key: removed", name);
+	plen = get_le64(h + 8);
+	if (plen != (uint64_t)(len - PS_CACHE_BLOB_HEADER))
+		return ps_errf(e, PS_EFORMAT, "%s: byte %zu: %s (the header says %llu payload bytes): "
+		               "cache entry removed", name, len,
+		               plen > (uint64_t)(len - PS_CACHE_BLOB_HEADER) ? "truncated" : "overlong",
+		               (unsigned long long)plen);
+	sha256_init(&ctx);
+	sha256_update(&ctx, len - PS_CACHE_BLOB_HEADER, h + PS_CACHE_BLOB_HEADER);
+	sha256_digest(&ctx, sizeof sum, sum);
+	if (memcmp(sum, h + 48, sizeof sum) != 0)
+		return ps_errf(e, PS_EFORMAT, "%s: checksum mismatch: cache entry removed", name);
+	for (int i = 80; i < PS_CACHE_BLOB_HEADER; i++)
+		if (h[i])
+			return ps_errf(e, PS_EFORMAT, "%s: byte %d: reserved header byte not zero: "
+			               "cache entry removed", name, i);
+	return 0;
 }
 
 int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob *b,
@@ -226,10 +254,6 @@ int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob 
 {
 	char path[4096];
 	struct stat st;
-	const uint8_t *h;
-	uint8_t key[32], sum[SHA256_DIGEST_SIZE];
-	struct sha256_ctx ctx;
-	uint64_t len;
 	void *map;
 	int fd;
 	memset(b, 0, sizeof *b);
@@ -246,7 +270,9 @@ int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob 
 	}
 	if (!S_ISREG(st.st_mode) || st.st_size < PS_CACHE_BLOB_HEADER) {
 		close(fd);
-		return blob_bad(path, e, "shorter than its header");
+		unlink(path);
+		return ps_errf(e, PS_EFORMAT, "%s: byte %lld: shorter than its %d-byte header: cache "
+		               "entry removed", path, (long long)st.st_size, PS_CACHE_BLOB_HEADER);
 	}
 	map = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_SHARED, fd, 0);
 	if (map == MAP_FAILED) {
@@ -257,28 +283,15 @@ int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob 
 	/* a hit: the entry was used now (least-recently-used eviction) */
 	futimens(fd, NULL);
 	close(fd);
-	h = map;
-	from_hex(hexkey, key);
-	len = get_le64(h + 8);
-	if (memcmp(h, blob_magic, sizeof blob_magic) != 0 || memcmp(h + 16, key, 32) != 0) {
+	if (ps_cache_blob_check(map, (size_t)st.st_size, hexkey, path, e) != 0) {
 		munmap(map, (size_t)st.st_size);
-		return blob_bad(path, e, "bad magic or key");
-	}
-	if (len != (uint64_t)st.st_size - PS_CACHE_BLOB_HEADER) {
-		munmap(map, (size_t)st.st_size);
-		return blob_bad(path, e, "truncated or overlong");
-	}
-	sha256_init(&ctx);
-	sha256_update(&ctx, (size_t)len, h + PS_CACHE_BLOB_HEADER);
-	sha256_digest(&ctx, sizeof sum, sum);
-	if (memcmp(sum, h + 48, sizeof sum) != 0) {
-		munmap(map, (size_t)st.st_size);
-		return blob_bad(path, e, "checksum mismatch");
+		unlink(path);
+		return -1;
 	}
 	b->map = map;
 	b->maplen = (size_t)st.st_size;
-	b->data = h + PS_CACHE_BLOB_HEADER;
-	b->len = (size_t)len;
+	b->data = (const uint8_t *)map + PS_CACHE_BLOB_HEADER;
+	b->len = (size_t)st.st_size - PS_CACHE_BLOB_HEADER;
 	return 1;
 }
 

@@ -53,6 +53,10 @@ struct ps_cache_blob {
 int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob *b,
                       struct ps_err *e);
 void ps_cache_blob_release(struct ps_cache_blob *b);
+/* The checks a read makes, on a whole entry file in memory: 0 when it is a
+ * sound entry for hexkey, else -1 with e naming name and the byte. */
+int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const char *name,
+                        struct ps_err *e);
 /* Store a payload given in pieces (n of them: ptr[i], len[i]).  -1 (e) when
  * the directory cannot be written; callers go on uncached. */
 int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *const *ptr,
