@@ -7,7 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "file.h"
 #include "picview.h"
+#include "stream.h"
 #include "wcache.h"
 
 int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
@@ -49,6 +51,10 @@ struct job {
 	const char *(*name)(void *ctx, size_t i);
 	void *ctx;
 	struct ps_batch_result *out;
+	const char *const *paths;   /* files: read and integrated row by row */
+	int inner;                  /* threads for one picture's rows */
+	const uint8_t *first;       /* paths[0]'s bytes, read already (or NULL) */
+	size_t first_len;
 	pthread_mutex_t mu;
 	size_t next;        /* under mu */
 	long failed;        /* under mu */
@@ -99,6 +105,60 @@ out:
 	ps_pic_free(&pic);
 }
 
+/* A file: the header first (size and view), then decoding fused with the
+ * integration (sim/stream.h), which gives ps_integrate's numbers exactly. */
+static void one_file(struct job *j, size_t i)
+{
+	const struct ps_batch *b = j->b;
+	struct ps_batch_result *r = &j->out[i];
+	const char *name = j->paths[i];
+	struct ps_filemap m;
+	struct ps_picture head;
+	struct ps_view view;
+	char key[sizeof b->w.key];
+	size_t off;
+	memset(r, 0, sizeof *r);
+	r->status = PS_BATCH_FAILED;
+	/* 4 GiB: more than the largest picture accepted could need */
+	if (i == 0 && j->first) {   /* given: a pipe cannot be read twice */
+		memset(&m, 0, sizeof m);
+		m.data = j->first;
+		m.len = j->first_len;
+	} else if (ps_map_file(name, (size_t)4 << 30, &m, &r->err) != 0) {
+		return;
+	}
+	if (ps_pic_head_mem(&head, m.data, m.len, name, &off, &r->err) != 0) {
+		ps_unmap_file(&m);
+		return;
+	}
+	r->width = head.width;
+	r->height = head.height;
+	if (ps_pic_fisheye_view(&head, name, &view, &r->view_assumed, &r->err) != 0)
+		goto out;
+	if (head.width != b->w.width || head.height != b->w.height) {
+		r->status = PS_BATCH_MISMATCH;
+		ps_errf(&r->err, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are for %d x %d",
+		        name, head.width, head.height, b->w.width, b->w.height);
+		goto out;
+	}
+	ps_weights_key(b->sens, b->rotation, &view, head.width, head.height, b->method, key,
+	               sizeof key);
+	if (strcmp(key, b->w.key) != 0) {
+		char vs[400];
+		r->status = PS_BATCH_MISMATCH;
+		ps_view_format(&view, vs, sizeof vs);
+		ps_errf(&r->err, PS_EINVAL, "%s: its view (%s) is not the batch's", name, vs);
+		goto out;
+	}
+	if (ps_integrate_mem(&b->w, &head, m.data, m.len, off, name, b->coef, j->inner, &r->r,
+	                     &r->err) != 0)
+		goto out;
+	r->status = PS_BATCH_OK;
+out:
+	ps_pic_free(&head);
+	ps_unmap_file(&m);
+}
+
 static void *worker(void *arg)
 {
 	struct job *j = arg;
@@ -109,7 +169,10 @@ static void *worker(void *arg)
 		pthread_mutex_unlock(&j->mu);
 		if (i >= j->n)
 			break;
-		one(j, i);
+		if (j->paths)
+			one_file(j, i);
+		else
+			one(j, i);
 		if (j->out[i].status != PS_BATCH_OK) {
 			pthread_mutex_lock(&j->mu);
 			j->failed++;
@@ -119,18 +182,22 @@ static void *worker(void *arg)
 	return NULL;
 }
 
-long ps_batch_run(const struct ps_batch *b, size_t n,
-                  int (*load)(void *ctx, size_t i, struct ps_picture *pic, struct ps_err *e),
-                  const char *(*name)(void *ctx, size_t i), void *ctx,
-                  struct ps_batch_result *out, struct ps_err *e)
+static long run(const struct ps_batch *b, size_t n,
+                int (*load)(void *ctx, size_t i, struct ps_picture *pic, struct ps_err *e),
+                const char *(*name)(void *ctx, size_t i), void *ctx, const char *const *paths,
+                const uint8_t *first, size_t first_len, struct ps_batch_result *out,
+                struct ps_err *e)
 {
-	struct job j = { .b = b, .n = n, .load = load, .name = name, .ctx = ctx, .out = out };
+	struct job j = { .b = b, .n = n, .load = load, .name = name, .ctx = ctx, .out = out,
+	                 .paths = paths, .inner = 1, .first = first, .first_len = first_len };
 	pthread_t th[PS_BATCH_THREADS_MAX];
 	int nt = b->nthreads > 0 ? b->nthreads : PS_BATCH_THREADS_DEFAULT, started = 0, rc;
 	if (nt > PS_BATCH_THREADS_MAX)
 		nt = PS_BATCH_THREADS_MAX;
-	if ((size_t)nt > n)
+	if ((size_t)nt > n) {   /* fewer pictures than threads: the rest share their rows */
+		j.inner = n ? nt / (int)n : 1;
 		nt = (int)n;
+	}
 	if ((rc = pthread_mutex_init(&j.mu, NULL)) != 0) {
 		errno = rc;
 		return ps_errsys(e, "batch: mutex");
@@ -147,20 +214,23 @@ long ps_batch_run(const struct ps_batch *b, size_t n,
 	return j.failed;
 }
 
-static int load_file(void *ctx, size_t i, struct ps_picture *pic, struct ps_err *e)
+long ps_batch_run(const struct ps_batch *b, size_t n,
+                  int (*load)(void *ctx, size_t i, struct ps_picture *pic, struct ps_err *e),
+                  const char *(*name)(void *ctx, size_t i), void *ctx,
+                  struct ps_batch_result *out, struct ps_err *e)
 {
-	const char *const *paths = ctx;
-	return ps_pic_read(pic, paths[i], e);
-}
-
-static const char *name_file(void *ctx, size_t i)
-{
-	const char *const *paths = ctx;
-	return paths[i];
+	return run(b, n, load, name, ctx, NULL, NULL, 0, out, e);
 }
 
 long ps_batch_run_files(const struct ps_batch *b, const char *const *paths, size_t n,
                         struct ps_batch_result *out, struct ps_err *e)
 {
-	return ps_batch_run(b, n, load_file, name_file, (void *)paths, out, e);
+	return run(b, n, NULL, NULL, NULL, paths, NULL, 0, out, e);
+}
+
+long ps_batch_run_files_first(const struct ps_batch *b, const char *const *paths, size_t n,
+                              const uint8_t *first, size_t first_len,
+                              struct ps_batch_result *out, struct ps_err *e)
+{
+	return run(b, n, NULL, NULL, NULL, paths, first, first_len, out, e);
 }

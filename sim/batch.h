@@ -19,6 +19,7 @@
 #define PS_BATCH_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "err.h"
 #include "integrate.h"
@@ -70,6 +71,12 @@ void ps_batch_free(struct ps_batch *b);
  * the threads could not be started. */
 long ps_batch_run_files(const struct ps_batch *b, const char *const *paths, size_t n,
                         struct ps_batch_result *out, struct ps_err *e);
+
+/* The same with paths[0]'s bytes read already (first, first_len: a pipe
+ * cannot be read twice); they must stay valid until it returns. */
+long ps_batch_run_files_first(const struct ps_batch *b, const char *const *paths, size_t n,
+                              const uint8_t *first, size_t first_len,
+                              struct ps_batch_result *out, struct ps_err *e);
 
 /* The same for pictures the caller makes: load(ctx, i, pic, e) fills pic
  * (0) or fails (-1 with e); it is called from several threads at once. The

@@ -108,6 +108,17 @@ static void select_largest(double *v, size_t n, size_t k)
 	}
 }
 
+double ps_top1_share(double *contrib, size_t n, double response)
+{
+	size_t top = n / 100 ? n / 100 : 1;
+	struct ps_sum s;
+	select_largest(contrib, n, top);
+	ps_sum_init(&s);
+	for (size_t i = 0; i < top; i++)
+		ps_sum_add(&s, contrib[i]);
+	return ps_sum_get(&s) / response;
+}
+
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e)
 {
@@ -170,8 +181,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	/* the brightest 1 % only matters when one pixel already stands out:
 	 * only then a second pass collects every contribution */
 	if (r->response > 0 && ncontrib > 0 && r->brightest_share > 0.001) {
-		size_t top = ncontrib / 100 ? ncontrib / 100 : 1, n = 0;
-		struct ps_sum s;
+		size_t n = 0;
 		contrib = malloc(ncontrib * sizeof *contrib);
 		if (!contrib)
 			return ps_errf(e, PS_ENOMEM, "out of memory");
@@ -191,11 +201,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 				contrib[n++] = b;
 			}
 		}
-		select_largest(contrib, n, top);
-		ps_sum_init(&s);
-		for (size_t i = 0; i < top; i++)
-			ps_sum_add(&s, contrib[i]);
-		r->top1_share = ps_sum_get(&s) / r->response;
+		r->top1_share = ps_top1_share(contrib, n, r->response);
 	}
 	free(contrib);
 	return 0;

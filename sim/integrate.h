@@ -30,6 +30,10 @@ struct ps_response {
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e);
 
+/* The share of response of the largest 1 % of the n contributions (at
+ * least one); contrib is reordered. */
+double ps_top1_share(double *contrib, size_t n, double response);
+
 /* Radiance's standard primaries (CIE x, y of R, G, B and white 0.3333 0.3333). */
 extern const double ps_std_primaries[8];
 /* The 3 x 3 matrix from RGB with the given primaries to CIE XYZ (Y of white = 1). */

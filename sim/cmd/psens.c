@@ -10,6 +10,7 @@
 
 #include "batch.h"
 #include "cache.h"
+#include "file.h"
 #include "fisheye.h"
 #include "integrate.h"
 #include "mtx.h"
@@ -88,31 +89,6 @@ static void warnings(const char *path, double coverage, const struct ps_response
 		        "of the response and the brightest 1 %% of pixels %.1f %%: the result "
 		        "depends on the resolution\n", path, r->brightest_x, r->brightest_row,
 		        100 * r->brightest_share, 100 * r->top1_share);
-}
-
-/* psens's side of a batch: the pictures still to do, and a picture already
- * read (the one that set the batch's view and size) handed over to it. */
-struct run {
-	const char *const *paths;
-	const size_t *idx;        /* batch position -> picture index */
-	struct ps_picture *pre;   /* read already: batch position 0 */
-};
-
-static int run_load(void *ctx, size_t i, struct ps_picture *pic, struct ps_err *e)
-{
-	struct run *r = ctx;
-	if (i == 0 && r->pre) {
-		*pic = *r->pre;
-		memset(r->pre, 0, sizeof *r->pre);
-		return 0;
-	}
-	return ps_pic_read(pic, r->paths[r->idx[i]], e);
-}
-
-static const char *run_name(void *ctx, size_t i)
-{
-	struct run *r = ctx;
-	return r->paths[r->idx[i]];
 }
 
 /* What psens keeps of each picture until it prints them in order. */
@@ -295,17 +271,25 @@ int main(int argc, char **argv)
 		struct ps_picture pic;
 		struct ps_view view;
 		struct ps_batch b;
-		struct run run;
-		size_t m = 0;
+		struct ps_filemap fm;
+		const char **list;
+		size_t m = 0, off;
 		int assumed;
 		if (items[first].done)
 			continue;
 		items[first].done = 1;
-		if (ps_pic_read(&pic, paths[first], &items[first].res.err) != 0 ||
+		/* the first picture's header sets the batch's view and size */
+		if (ps_map_file(paths[first], (size_t)4 << 30, &fm, &items[first].res.err) != 0) {
+			items[first].res.status = PS_BATCH_FAILED;
+			continue;
+		}
+		if (ps_pic_head_mem(&pic, fm.data, fm.len, paths[first], &off,
+		                    &items[first].res.err) != 0 ||
 		    ps_pic_fisheye_view(&pic, paths[first], &view, &assumed,
 		                        &items[first].res.err) != 0) {
 			items[first].res.status = PS_BATCH_FAILED;
 			ps_pic_free(&pic);
+			ps_unmap_file(&fm);
 			continue;
 		}
 		{
@@ -334,13 +318,17 @@ int main(int argc, char **argv)
 			                       (items[i].res.width == pic.width &&
 			                        items[i].res.height == pic.height)))
 				idx[m++] = i;
-		run.paths = paths;
-		run.idx = idx;
-		run.pre = &pic;
 		{
 			struct ps_batch_result *res = malloc(m * sizeof *res);
-			if (!res || ps_batch_run(&b, m, run_load, run_name, &run, res, &e) < 0) {
-				fprintf(stderr, "psens: %s\n", res ? e.msg : "out of memory");
+			list = malloc(m * sizeof *list);
+			if (!res || !list) {
+				fprintf(stderr, "psens: out of memory\n");
+				return 1;
+			}
+			for (size_t k = 0; k < m; k++)
+				list[k] = paths[idx[k]];
+			if (ps_batch_run_files_first(&b, list, m, fm.data, fm.len, res, &e) < 0) {
+				fprintf(stderr, "psens: %s\n", e.msg);
 				return 1;
 			}
 			for (size_t k = 0; k < m; k++) {
@@ -353,6 +341,8 @@ int main(int argc, char **argv)
 				it->view = view;
 			}
 			free(res);
+			free(list);
+			ps_unmap_file(&fm);
 		}
 		ps_pic_free(&pic);
 		ps_batch_free(&b);
