@@ -18,9 +18,11 @@
 #include <unistd.h>
 
 #include "batch.h"
+#include "file.h"
 #include "integrate.h"
 #include "picture.h"
 #include "sensor.h"
+#include "stream.h"
 #include "view.h"
 #include "weights.h"
 
@@ -195,6 +197,25 @@ int main(void)
 		row("4000x4000 integration (library)", r.response / (DECODED_ONE * M_PI) - 1,
 		    1e3 * t_int, 1e3 * t_dec, "goal: no more than decoding");
 		row("4000x4000 weights (library, every core)", NAN, 1e3 * t_w, 0, NULL);
+		/* decoding fused with integration, no picture stored */
+		{
+			struct ps_filemap m;
+			struct ps_picture head;
+			size_t off;
+			if (ps_map_file(p4000, (size_t)1 << 32, &m, &e) != 0 ||
+			    ps_pic_head_mem(&head, m.data, m.len, p4000, &off, &e) != 0)
+				return 1;
+			for (int nt = 1; nt <= 2; nt++) {
+				char name[64];
+				snprintf(name, sizeof name, "4000x4000 fused decode+integration, %d thr", nt);
+				t0 = now();
+				ps_integrate_mem(&w, &head, m.data, m.len, off, p4000, coef, nt, &r, &e);
+				row(name, r.response / (DECODED_ONE * M_PI) - 1, 1e3 * (now() - t0), 0,
+				    "file in memory");
+			}
+			ps_pic_free(&head);
+			ps_unmap_file(&m);
+		}
 		ps_weights_free(&w);
 		ps_pic_free(&pic);
 	}
