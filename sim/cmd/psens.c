@@ -16,6 +16,7 @@
 #include "mtx.h"
 #include "picture.h"
 #include "picview.h"
+#include "rescan.h"
 #include "sensor.h"
 #include "spectral.h"
 #include "view.h"
@@ -99,8 +100,8 @@ struct item {
 	struct ps_view view;
 };
 
-static void print_result(const char *path, const struct item *it, const struct ps_sensor *sens,
-                         int method, int json, int several)
+static void print_result(const char *path, const char *sensname, const struct item *it,
+                         const struct ps_sensor *sens, int method, int json, int several)
 {
 	const struct ps_response *r = &it->res.r;
 	if (json) {
@@ -109,6 +110,10 @@ static void print_result(const char *path, const struct item *it, const struct p
 			snprintf(top1, sizeof top1, "%.6g", r->top1_share);
 		printf("{\"picture\": ");
 		json_string(path);
+		if (sensname) {
+			printf(", \"sensor\": ");
+			json_string(sensname);
+		}
 		printf(", \"solid_angle\": %.10g, \"sensitivity_total\": %.10g, \"response\": %.10g, "
 		       "\"r\": %.10g, \"g\": %.10g, \"b\": %.10g, \"coverage\": %.10g, "
 		       "\"brightest_share\": %.6g, \"top1_share\": %s, \"pixels\": %zu, "
@@ -119,6 +124,8 @@ static void print_result(const char *path, const struct item *it, const struct p
 	} else {
 		if (several)
 			printf("%s: ", path);
+		if (sensname)
+			printf("%s: ", sensname);
 		printf("Total solid angle: %g Total sensitivity: %g Response: %.9g\n", r->solid_angle,
 		       sens->total, r->response);
 	}
@@ -143,11 +150,13 @@ static char *command_line(int argc, char **argv)
 	return cmd;
 }
 
-static int write_matrix(int argc, char **argv, const struct item *items, size_t n, int format)
+/* items[s n + c]: sensor s (a row), picture c (a column). */
+static int write_matrix(int argc, char **argv, const struct item *items, size_t n, int nsens,
+                        int format)
 {
 	struct ps_mtx_header h;
 	struct ps_err e;
-	double *data = malloc(3 * n * sizeof *data);
+	double *data = malloc(3 * n * (size_t)nsens * sizeof *data);
 	char *cmd = command_line(argc, argv);
 	int rc = 0;
 	if (!data || !cmd) {
@@ -157,11 +166,12 @@ static int write_matrix(int argc, char **argv, const struct item *items, size_t 
 		return 1;
 	}
 	for (size_t c = 0; c < n; c++)
-		for (int k = 0; k < 3; k++)
-			data[3 * c + k] = items[c].res.r.rgb[k];
+		for (int r = 0; r < nsens; r++)
+			for (int k = 0; k < 3; k++)
+				data[3 * (c * (size_t)nsens + (size_t)r) + k] = items[(size_t)r * n + c].res.r.rgb[k];
 	memset(&h, 0, sizeof h);
 	h.command = cmd;
-	h.nrows = 1;
+	h.nrows = nsens;
 	h.ncols = (int)n;
 	h.format = format;
 	h.digits = 10;
@@ -174,93 +184,24 @@ static int write_matrix(int argc, char **argv, const struct item *items, size_t 
 	return rc;
 }
 
-int main(int argc, char **argv)
-{
-	const char *sensfile = NULL;
-	double rot = 0.0, coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
-	int reading = PS_READ_LINEAR, method = PS_W_EXACT, json = 0, quiet = 0, opt, status = 0;
-	int nthreads = PS_BATCH_THREADS_DEFAULT, mtx = 0, nocache = 0, cache_warned = 0;
-	const char *cachedir = NULL;
-	char cachebuf[4096];
-	struct ps_sensor sens;
-	struct ps_err e;
-	const char *const *paths;
-	struct item *items;
-	size_t *idx, n;
+/* Options shared by the routes. */
+struct opts {
+	double rot, coef[3];
+	int method, json, quiet, nthreads, mtx, cache_warned;
+	int scan, nrot;           /* -r a:b:s */
+	double rot_a, rot_step;
+	const char *cachedir;
+};
 
-	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:n:o:C:Ncjqh")) != -1) {
-		switch (opt) {
-		case 's': sensfile = optarg; break;
-		case 'r': if (parse_num("-r", optarg, &rot)) return 2; break;
-		case 'R': if (parse_num("-R", optarg, &coef[0])) return 2; break;
-		case 'G': if (parse_num("-G", optarg, &coef[1])) return 2; break;
-		case 'B': if (parse_num("-B", optarg, &coef[2])) return 2; break;
-		case 'f':
-			if (ps_filter_rgb(optarg, coef, &e) != 0) {
-				fprintf(stderr, "psens: %s\n", e.msg);
-				return 1;
-			}
-			break;
-		case 'm':
-			reading = ps_reading_parse(optarg);
-			if (reading < 0) {
-				fprintf(stderr, "psens: -m: '%s' is not linear or cell\n", optarg);
-				return 2;
-			}
-			break;
-		case 'n': {
-			double v;
-			if (parse_num("-n", optarg, &v))
-				return 2;
-			if (v < 1 || v > PS_BATCH_THREADS_MAX || v != floor(v)) {
-				fprintf(stderr, "psens: -n: '%s' threads: give 1 to %d\n", optarg,
-				        PS_BATCH_THREADS_MAX);
-				return 2;
-			}
-			nthreads = (int)v;
-			break;
-		}
-		case 'o':
-			if (!optarg[0] || optarg[1] || !strchr("afd", optarg[0])) {
-				fprintf(stderr, "psens: -o%s: the matrix format is -oa, -of or -od\n", optarg);
-				return 2;
-			}
-			mtx = optarg[0];
-			break;
-		case 'C': cachedir = optarg; break;
-		case 'N': nocache = 1; break;
-		case 'c': method = PS_W_CENTRE; break;
-		case 'j': json = 1; break;
-		case 'q': quiet = 1; break;
-		case 'h': usage(stdout); return 0;
-		default: usage(stderr); return 2;
-		}
-	}
-	if (!sensfile || optind >= argc) {
-		usage(stderr);
-		return 2;
-	}
-	if (mtx && json) {
-		fprintf(stderr, "psens: -j and -o%c: one output at a time\n", mtx);
-		return 2;
-	}
-	if (ps_sensor_open(&sens, sensfile, &e) != 0 || ps_sensor_set_reading(&sens, reading, &e) != 0) {
-		fprintf(stderr, "psens: %s\n", e.msg);
-		return 1;
-	}
-	if (nocache) {
-		cachedir = NULL;
-	} else if (!cachedir) {
-		ps_cache_default_dir(cachebuf, sizeof cachebuf);
-		cachedir = cachebuf;
-	}
-	paths = (const char *const *)argv + optind;
-	n = (size_t)(argc - optind);
-	items = calloc(n, sizeof *items);
-	idx = malloc(n * sizeof *idx);
-	if (!items || !idx) {
+/* The direct route for one sensor: items[i] for paths[i]. */
+static int direct(const struct ps_sensor *sens, struct opts *o, const char *const *paths, size_t n,
+                  struct item *items)
+{
+	struct ps_err e;
+	size_t *idx = malloc(n * sizeof *idx);
+	if (!idx) {
 		fprintf(stderr, "psens: out of memory\n");
-		return 1;
+		return -1;
 	}
 	/* Each round reads the first picture not done, builds the weights for its
 	 * view and size once, and integrates it with every picture left of that
@@ -295,20 +236,20 @@ int main(int argc, char **argv)
 		{
 			struct ps_err warn;
 			int how;
-			if (ps_batch_init_cache(&b, &sens, rot, &view, pic.width, pic.height, method, coef,
-			                        nthreads, cachedir, ps_cache_max_bytes(), &how, &warn,
+			if (ps_batch_init_cache(&b, sens, o->rot, &view, pic.width, pic.height, o->method, o->coef,
+			                        o->nthreads, o->cachedir, ps_cache_max_bytes(), &how, &warn,
 			                        &e) != 0) {
 				fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
-				return 1;
+				goto fail;
 			}
 			/* a cache that cannot be written: one warning, then no cache */
 			if (how == PS_WC_UNWRITABLE) {
-				if (!quiet && !cache_warned)
+				if (!o->quiet && !o->cache_warned)
 					fprintf(stderr, "psens: warning: weights not cached (%s); going on "
 					                "without the cache\n", warn.msg);
-				cache_warned = 1;
-				cachedir = NULL;
-			} else if (how == PS_WC_REBUILT && !quiet) {
+				o->cache_warned = 1;
+				o->cachedir = NULL;
+			} else if (how == PS_WC_REBUILT && !o->quiet) {
 				fprintf(stderr, "psens: warning: %s; weights rebuilt\n", warn.msg);
 			}
 		}
@@ -323,18 +264,18 @@ int main(int argc, char **argv)
 			list = malloc(m * sizeof *list);
 			if (!res || !list) {
 				fprintf(stderr, "psens: out of memory\n");
-				return 1;
+				goto fail;
 			}
 			for (size_t k = 0; k < m; k++)
 				list[k] = paths[idx[k]];
 			if (ps_batch_run_files_first(&b, list, m, fm.data, fm.len, res, &e) < 0) {
 				fprintf(stderr, "psens: %s\n", e.msg);
-				return 1;
+				goto fail;
 			}
 			for (size_t k = 0; k < m; k++) {
 				struct item *it = &items[idx[k]];
 				it->res = res[k];
-				if (res[k].status == PS_BATCH_MISMATCH && !mtx)
+				if (res[k].status == PS_BATCH_MISMATCH && !o->mtx)
 					continue;   /* a later round */
 				it->done = 1;
 				it->coverage = b.w.coverage;
@@ -347,27 +288,278 @@ int main(int argc, char **argv)
 		ps_pic_free(&pic);
 		ps_batch_free(&b);
 	}
+	free(idx);
+	return 0;
+fail:
+	free(idx);
+	return -1;
+}
+
+/* "a:b:s": rotations a, a + s, ... below b (b > a, s > 0, at most 100000). */
+static int parse_scan(const char *arg, struct opts *o)
+{
+	double a, b, st;
+	char *end;
+	a = strtod(arg, &end);
+	if (end == arg || *end != ':')
+		return -1;
+	arg = end + 1;
+	b = strtod(arg, &end);
+	if (end == arg || *end != ':')
+		return -1;
+	arg = end + 1;
+	st = strtod(arg, &end);
+	if (end == arg || *end || !isfinite(a) || !isfinite(b) || !(st > 0) || !(b > a) ||
+	    (b - a) / st > 100000)
+		return -1;
+	o->scan = 1;
+	o->rot_a = a;
+	o->rot_step = st;
+	o->nrot = (int)ceil((b - a) / st - 1e-9);
+	return 0;
+}
+
+/* The rotation scan: each picture projected once (sim/rescan.h), every
+ * sensor evaluated at every rotation from the projection. */
+static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
+                      const char *const *paths, size_t n)
+{
+	struct ps_sensor uni;
+	struct ps_err e;
+	int status = 0;
+	/* cells: 0.25 degrees or finer, a whole number of them per step */
+	double cells = ceil(o->rot_step / 0.25 - 1e-9), dphi = o->rot_step / cells;
+	double *out = malloc((size_t)o->nrot * sizeof *out);
+	if (!out || ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0) {
+		fprintf(stderr, "psens: out of memory\n");
+		free(out);
+		return 1;
+	}
+	if (fabs(360.0 / dphi - round(360.0 / dphi)) > 1e-9) {
+		fprintf(stderr, "psens: -r: a step of %g degrees must divide 360 into whole cells of at "
+		                "most 0.25 degrees\n", o->rot_step);
+		free(out);
+		ps_sensor_free(&uni);
+		return 2;
+	}
 	for (size_t i = 0; i < n; i++) {
-		struct item *it = &items[i];
-		if (it->res.status != PS_BATCH_OK) {
-			fprintf(stderr, "psens: %s\n", it->res.err.msg);
+		struct ps_picture pic;
+		struct ps_view view;
+		struct ps_weights om;
+		struct ps_rescan p;
+		struct ps_err warn;
+		double ext = 0;
+		int assumed, how;
+		if (ps_pic_read(&pic, paths[i], &e) != 0 ||
+		    ps_pic_fisheye_view(&pic, paths[i], &view, &assumed, &e) != 0) {
+			fprintf(stderr, "psens: %s\n", e.msg);
+			ps_pic_free(&pic);
 			status = 1;
 			continue;
 		}
-		if (!quiet && it->res.view_assumed)
+		if (assumed && !o->quiet)
 			fprintf(stderr, "psens: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n",
 			        paths[i]);
-		if (!quiet)
-			warnings(paths[i], it->coverage, &it->res.r, &sens, &it->view);
-		if (!mtx)
-			print_result(paths[i], it, &sens, method, json, n > 1);
+		for (int k = 0; k < nsens; k++)
+			if (ps_sensor_extent(&sens[k]) > ext)
+				ext = ps_sensor_extent(&sens[k]);
+		/* the pixels' solid angles: the uniform sensor's exact weights */
+		if (ps_weights_get(&om, &uni, 0, &view, pic.width, pic.height, PS_W_EXACT, o->cachedir,
+		                   ps_cache_max_bytes(), &how, &warn, &e) != 0 ||
+		    ps_rescan_project(&p, &om, &pic, &view, o->coef, dphi, dphi, o->rot_a,
+		                      ext / (M_PI / 180) + dphi, &e) != 0) {
+			fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
+			ps_weights_free(&om);
+			ps_pic_free(&pic);
+			status = 1;
+			continue;
+		}
+		if (how == PS_WC_UNWRITABLE) {
+			if (!o->quiet && !o->cache_warned)
+				fprintf(stderr, "psens: warning: weights not cached (%s); going on without "
+				                "the cache\n", warn.msg);
+			o->cache_warned = 1;
+			o->cachedir = NULL;
+		}
+		for (int k = 0; k < nsens; k++) {
+			if (ps_rescan_scan(&p, &sens[k], o->rot_a, o->rot_step, o->nrot, out, &e) != 0) {
+				fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
+				status = 1;
+				continue;
+			}
+			for (int r = 0; r < o->nrot; r++) {
+				double rot = o->rot_a + r * o->rot_step;
+				if (o->json) {
+					printf("{\"picture\": ");
+					json_string(paths[i]);
+					printf(", \"sensor\": ");
+					json_string(sens[k].path);
+					printf(", \"rotation\": %.10g, \"response\": %.10g, \"route\": \"rescan\"}\n",
+					       rot, out[r]);
+				} else {
+					if (n > 1)
+						printf("%s: ", paths[i]);
+					if (nsens > 1)
+						printf("%s: ", sens[k].path);
+					printf("Rotation: %g Response: %.9g\n", rot, out[r]);
+				}
+			}
+		}
+		ps_rescan_free(&p);
+		ps_weights_free(&om);
+		ps_pic_free(&pic);
 	}
-	if (mtx && status == 0)
-		status = write_matrix(argc, argv, items, n, mtx);
-	else if (mtx)
+	free(out);
+	ps_sensor_free(&uni);
+	return status;
+}
+
+enum { MAX_SENSORS = 64 };
+
+int main(int argc, char **argv)
+{
+	const char *sensfiles[MAX_SENSORS];
+	int nsens = 0, reading = PS_READ_LINEAR, opt, status = 0, nocache = 0;
+	char cachebuf[4096];
+	struct ps_sensor sens[MAX_SENSORS];
+	struct ps_err e;
+	const char *const *paths;
+	struct item *items;
+	size_t n;
+	struct opts o = { .rot = 0.0, .coef = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B },
+	                  .method = PS_W_EXACT, .nthreads = PS_BATCH_THREADS_DEFAULT };
+
+	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:n:o:C:Ncjqh")) != -1) {
+		switch (opt) {
+		case 's':
+			if (nsens == MAX_SENSORS) {
+				fprintf(stderr, "psens: -s: at most %d sensors\n", MAX_SENSORS);
+				return 2;
+			}
+			sensfiles[nsens++] = optarg;
+			break;
+		case 'r':
+			if (strchr(optarg, ':')) {
+				if (parse_scan(optarg, &o) != 0) {
+					fprintf(stderr, "psens: -r: '%s' is not start:end:step (end above start, "
+					                "step above 0)\n", optarg);
+					return 2;
+				}
+			} else if (parse_num("-r", optarg, &o.rot)) {
+				return 2;
+			}
+			break;
+		case 'R': if (parse_num("-R", optarg, &o.coef[0])) return 2; break;
+		case 'G': if (parse_num("-G", optarg, &o.coef[1])) return 2; break;
+		case 'B': if (parse_num("-B", optarg, &o.coef[2])) return 2; break;
+		case 'f':
+			if (ps_filter_rgb(optarg, o.coef, &e) != 0) {
+				fprintf(stderr, "psens: %s\n", e.msg);
+				return 1;
+			}
+			break;
+		case 'm':
+			reading = ps_reading_parse(optarg);
+			if (reading < 0) {
+				fprintf(stderr, "psens: -m: '%s' is not linear or cell\n", optarg);
+				return 2;
+			}
+			break;
+		case 'n': {
+			double v;
+			if (parse_num("-n", optarg, &v))
+				return 2;
+			if (v < 1 || v > PS_BATCH_THREADS_MAX || v != floor(v)) {
+				fprintf(stderr, "psens: -n: '%s' threads: give 1 to %d\n", optarg,
+				        PS_BATCH_THREADS_MAX);
+				return 2;
+			}
+			o.nthreads = (int)v;
+			break;
+		}
+		case 'o':
+			if (!optarg[0] || optarg[1] || !strchr("afd", optarg[0])) {
+				fprintf(stderr, "psens: -o%s: the matrix format is -oa, -of or -od\n", optarg);
+				return 2;
+			}
+			o.mtx = optarg[0];
+			break;
+		case 'C': o.cachedir = optarg; break;
+		case 'N': nocache = 1; break;
+		case 'c': o.method = PS_W_CENTRE; break;
+		case 'j': o.json = 1; break;
+		case 'q': o.quiet = 1; break;
+		case 'h': usage(stdout); return 0;
+		default: usage(stderr); return 2;
+		}
+	}
+	if (!nsens || optind >= argc) {
+		usage(stderr);
+		return 2;
+	}
+	if (o.mtx && o.json) {
+		fprintf(stderr, "psens: -j and -o%c: one output at a time\n", o.mtx);
+		return 2;
+	}
+	if (o.scan && (o.mtx || o.method == PS_W_CENTRE)) {
+		fprintf(stderr, "psens: a rotation scan (-r start:end:step) prints lines or JSON, with "
+		                "the exact solid angles: not with -o or -c\n");
+		return 2;
+	}
+	for (int k = 0; k < nsens; k++)
+		if (ps_sensor_open(&sens[k], sensfiles[k], &e) != 0 ||
+		    ps_sensor_set_reading(&sens[k], reading, &e) != 0) {
+			fprintf(stderr, "psens: %s\n", e.msg);
+			return 1;
+		}
+	if (nocache) {
+		o.cachedir = NULL;
+	} else if (!o.cachedir) {
+		ps_cache_default_dir(cachebuf, sizeof cachebuf);
+		o.cachedir = cachebuf;
+	}
+	paths = (const char *const *)argv + optind;
+	n = (size_t)(argc - optind);
+	if (o.scan) {
+		status = scan_route(sens, nsens, &o, paths, n);
+		for (int k = 0; k < nsens; k++)
+			ps_sensor_free(&sens[k]);
+		return status;
+	}
+	items = calloc(n * (size_t)nsens, sizeof *items);
+	if (!items) {
+		fprintf(stderr, "psens: out of memory\n");
+		return 1;
+	}
+	/* one sensor after another, each its batches of pictures */
+	for (int k = 0; k < nsens; k++)
+		if (direct(&sens[k], &o, paths, n, items + (size_t)k * n) != 0)
+			return 1;
+	for (size_t i = 0; i < n; i++)
+		for (int k = 0; k < nsens; k++) {
+			struct item *it = &items[(size_t)k * n + i];
+			if (it->res.status != PS_BATCH_OK) {
+				/* a picture that cannot be read says so once, not per sensor */
+				if (k == 0 || strcmp(it->res.err.msg, items[i].res.err.msg) != 0)
+					fprintf(stderr, "psens: %s\n", it->res.err.msg);
+				status = 1;
+				continue;
+			}
+			if (!o.quiet && it->res.view_assumed && k == 0)
+				fprintf(stderr, "psens: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n",
+				        paths[i]);
+			if (!o.quiet)
+				warnings(paths[i], it->coverage, &it->res.r, &sens[k], &it->view);
+			if (!o.mtx)
+				print_result(paths[i], nsens > 1 ? sensfiles[k] : NULL, it, &sens[k], o.method,
+				             o.json, n > 1);
+		}
+	if (o.mtx && status == 0)
+		status = write_matrix(argc, argv, items, n, nsens, o.mtx);
+	else if (o.mtx)
 		fprintf(stderr, "psens: no matrix written: every picture must give a column\n");
 	free(items);
-	free(idx);
-	ps_sensor_free(&sens);
+	for (int k = 0; k < nsens; k++)
+		ps_sensor_free(&sens[k]);
 	return status;
 }
