@@ -107,13 +107,27 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
 		}
 		for (int k = 0; k < n; k++)
 			ps_sum_init(&acc[k]);
+		int *nz = malloc((size_t)np * sizeof *nz);
+		double *ez = malloc((size_t)np * sizeof *ez);
+		if (!nz || !ez) {
+			free(nz);
+			free(ez);
+			free(acc);
+			free(sg);
+			free(rowsum);
+			return ps_errf(e, PS_ENOMEM, "out of memory");
+		}
 		for (int it = 0; it < p->ntheta; it++) {
 			const double *er = p->e + (size_t)it * (size_t)np;
 			double th = (it + 0.5) * p->dtheta;
-			int any = 0;
-			for (int m = 0; m < np && !any; m++)
-				any = er[m] != 0.0;
-			if (!any)
+			int cnt = 0;
+			/* only the cells some pixel fell in (near the pole, few) */
+			for (int m = 0; m < np; m++)
+				if (er[m] != 0.0) {
+					nz[cnt] = m;
+					ez[cnt++] = er[m];
+				}
+			if (!cnt)
 				continue;
 			/* sensitivity at the cell centres of this ring, the sensor at
 			 * rotation rot0: cell m's direction phi0 + (m + 0.5) dphi reads
@@ -127,11 +141,17 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
 				long sh = ((long)k * qs) % np;
 				const double *sk = sg + np - sh;
 				double sum = 0.0;
-				for (int m = 0; m < np; m++)
-					sum += er[m] * sk[m];
+				if (cnt == np)
+					for (int m = 0; m < np; m++)
+						sum += ez[m] * sk[m];
+				else
+					for (int c = 0; c < cnt; c++)
+						sum += ez[c] * sk[nz[c]];
 				ps_sum_add(&acc[k], sum);
 			}
 		}
+		free(nz);
+		free(ez);
 		for (int k = 0; k < n; k++)
 			out[k] = ps_sum_get(&acc[k]);
 		free(acc);

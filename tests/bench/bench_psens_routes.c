@@ -21,6 +21,7 @@
 #include "file.h"
 #include "integrate.h"
 #include "picture.h"
+#include "rescan.h"
 #include "sensor.h"
 #include "stream.h"
 #include "view.h"
@@ -249,27 +250,79 @@ int main(void)
 		free(paths);
 	}
 
-	/* a rotation scan of 512 x 512: without re-evaluation each step builds
-	 * its weights; 10 steps measured, scaled to 360 */
+	/* a rotation scan of 512 x 512 with a sensor that changes with azimuth:
+	 * directly (weights at each step: 10 steps measured, scaled to 360) and
+	 * re-evaluated from one projection (0.25-degree cells) */
 	{
+		static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
+		                            "0 1 1 1 1 1 1 1 1\n"
+		                            "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
+		                            "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"
+		                            "60 0.5 0.3 0.2 0.1 0.2 0.4 0.45 0.5\n"
+		                            "80 0.1 0.05 0.02 0.01 0.03 0.08 0.1 0.1\n"
+		                            "90 0 0 0 0 0 0 0 0\n";
 		struct ps_picture pic;
+		struct ps_sensor s, uni;
+		struct ps_weights om;
+		struct ps_rescan rs;
 		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
-		double t0, worst = 0;
-		if (ps_pic_read(&pic, p512, &e) != 0)
+		double t0, direct[10], scan[360], worst = 0, t_proj, t_scan, t_om;
+		char pw[600];
+		/* a window, so the rotations differ */
+		{
+			double *rgb = malloc(sizeof(double) * 3 * 512 * 512);
+			for (int y = 0; y < 512; y++)
+				for (int x = 0; x < 512; x++)
+					for (int c = 0; c < 3; c++)
+						rgb[3 * ((size_t)y * 512 + x) + c] =
+						    (x > 300 && x < 400 && y > 80 && y < 240) ? 40.0 : 0.5;
+			snprintf(pw, sizeof pw, "%s/w512.hdr", dir);
+			if (ps_pic_write(pw, 512, 512, rgb, VIEW, NULL, &e) != 0)
+				return 1;
+			free(rgb);
+		}
+		if (ps_pic_read(&pic, pw, &e) != 0 ||
+		    ps_sensor_parse(&s, table, sizeof table - 1, "table", &e) != 0 ||
+		    ps_sensor_set_reading(&s, PS_READ_LINEAR, &e) != 0 ||
+		    ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0)
 			return 1;
 		t0 = now();
 		for (int k = 0; k < 10; k++) {
 			struct ps_weights w;
 			struct ps_response r;
-			ps_weights_build(&w, &cosine, k, &v, 512, 512, PS_W_EXACT, &e);
+			ps_weights_build(&w, &s, 36.0 * k, &v, 512, 512, PS_W_EXACT, &e);
 			ps_integrate(&w, &pic, coef, &r, &e);
-			if (fabs(r.response / (DECODED_ONE * M_PI) - 1) > worst)
-				worst = fabs(r.response / (DECODED_ONE * M_PI) - 1);
+			direct[k] = r.response;
 			ps_weights_free(&w);
 		}
-		row("rotation scan 512x512, 360 steps (10 x 36)", worst, 36e3 * (now() - t0), 50,
-		    "weights rebuilt each step");
+		row("rotation scan 512x512 direct, 360 (10 x 36)", 0.0, 36e3 * (now() - t0), 50,
+		    "exact weights at each step: the reference");
+		t0 = now();
+		ps_weights_build(&om, &uni, 0, &v, 512, 512, PS_W_EXACT, &e);
+		t_om = now() - t0;
+		t0 = now();
+		ps_rescan_project(&rs, &om, &pic, &v, coef, 0.25, 0.25, 0, 91, &e);
+		t_proj = now() - t0;
+		t0 = now();
+		ps_rescan_scan(&rs, &s, 0, 1, 360, scan, &e);
+		t_scan = now() - t0;
+		for (int k = 0; k < 10; k++)
+			if (fabs(scan[36 * k] / direct[k] - 1) > worst)
+				worst = fabs(scan[36 * k] / direct[k] - 1);
+		row("rotation scan 512x512 rescan, 360 steps", worst, 1e3 * t_scan, 50,
+		    "after the projection; error: worst of 10 steps");
+		{
+			char note[96];
+			snprintf(note, sizeof note, "once a picture (+ %.0f ms solid angles, cached)",
+			         1e3 * t_om);
+			row("  its projection, 0.25-degree cells", NAN, 1e3 * t_proj, 0, note);
+		}
+		ps_rescan_free(&rs);
+		ps_weights_free(&om);
+		ps_sensor_free(&s);
+		ps_sensor_free(&uni);
 		ps_pic_free(&pic);
+		unlink(pw);
 	}
 	unlink(p4000);
 	unlink(p1000);
