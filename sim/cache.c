@@ -214,8 +214,11 @@ void ps_cache_blob_release(struct ps_cache_blob *b)
 		memset(b, 0, sizeof *b);
 }
 
-int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const char *name,
-                        struct ps_err *e)
+/* drop: file is a shared read-only map of the entry; the pages hashed leave
+ * the resident set as the hash goes (they stay in the page cache), so a
+ * large entry is never resident whole just to be checked. */
+static int blob_check(const void *file, size_t len, const char *hexkey, const char *name,
+                      int drop, struct ps_err *e)
 {
 	const uint8_t *h = file;
 	uint8_t key[32], sum[SHA256_DIGEST_SIZE];
@@ -238,7 +241,21 @@ int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const 
 		               plen > (uint64_t)(len - PS_CACHE_BLOB_HEADER) ? "truncated" : "overlong",
 		               (unsigned long long)plen);
 	sha256_init(&ctx);
-	sha256_update(&ctx, len - PS_CACHE_BLOB_HEADER, h + PS_CACHE_BLOB_HEADER);
+	{
+		const size_t chunk = (size_t)4 << 20;   /* a multiple of any page size */
+		size_t at = 0;
+		while (at < len) {
+			size_t n = len - at < chunk ? len - at : chunk;
+			if (at == 0) {   /* the header is not hashed */
+				sha256_update(&ctx, n - PS_CACHE_BLOB_HEADER, h + PS_CACHE_BLOB_HEADER);
+			} else {
+				sha256_update(&ctx, n, h + at);
+			}
+			if (drop)
+				madvise((void *)(uintptr_t)(h + at), n, MADV_DONTNEED);
+			at += n;
+		}
+	}
 	sha256_digest(&ctx, sizeof sum, sum);
 	if (memcmp(sum, h + 48, sizeof sum) != 0)
 		return ps_errf(e, PS_EFORMAT, "%s: checksum mismatch: cache entry removed", name);
@@ -247,6 +264,12 @@ int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const 
 			return ps_errf(e, PS_EFORMAT, "%s: byte %d: reserved header byte not zero: "
 			               "cache entry removed", name, i);
 	return 0;
+}
+
+int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const char *name,
+                        struct ps_err *e)
+{
+	return blob_check(file, len, hexkey, name, 0, e);
 }
 
 int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob *b,
@@ -283,7 +306,7 @@ int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob 
 	/* a hit: the entry was used now (least-recently-used eviction) */
 	futimens(fd, NULL);
 	close(fd);
-	if (ps_cache_blob_check(map, (size_t)st.st_size, hexkey, path, e) != 0) {
+	if (blob_check(map, (size_t)st.st_size, hexkey, path, 1, e) != 0) {
 		munmap(map, (size_t)st.st_size);
 		unlink(path);
 		return -1;

@@ -4,6 +4,8 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include "sum.h"
 
@@ -32,6 +34,24 @@ struct job {
 	double *contrib;      /* second pass: every contribution, in run order */
 	const size_t *coff;   /* second pass: each run's first contribution */
 };
+
+/* Weights mapped from the cache are read once a row: the pages a row has
+ * used leave this process's resident set (they stay in the page cache, and
+ * a neighbouring row that shares a page faults it back), so a large map is
+ * never resident whole. */
+static void release(const struct ps_weights *w, const struct ps_wrun *run)
+{
+	static long pagesize;
+	uintptr_t a, b, page;
+	if (!w->map || run->n <= 0)
+		return;
+	if (!pagesize)
+		pagesize = sysconf(_SC_PAGESIZE);
+	page = pagesize > 0 ? (uintptr_t)pagesize : 4096;
+	a = (uintptr_t)(w->w + run->off) & ~(page - 1);
+	b = ((uintptr_t)(w->w + run->off + (size_t)run->n) + page - 1) & ~(page - 1);
+	madvise((void *)a, b - a, MADV_DONTNEED);
+}
 
 static int row_sum(void *ctx, int y, const uint8_t *px_row)
 {
@@ -66,6 +86,7 @@ static int row_sum(void *ctx, int y, const uint8_t *px_row)
 			a->bx = run->x0 + i;
 		}
 	}
+	release(j->w, run);
 	return 0;
 }
 

@@ -90,6 +90,7 @@ static struct ps_response direct(const struct ps_batch *b, const char *path)
 	struct ps_picture pic;
 	struct ps_response r;
 	struct ps_err e;
+	memset(&r, 0, sizeof r);
 	if (ps_pic_read(&pic, path, &e) != 0 || ps_integrate(&b->w, &pic, b->coef, &r, &e) != 0)
 		fail_msg("%s", e.msg);
 	ps_pic_free(&pic);

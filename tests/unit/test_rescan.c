@@ -66,6 +66,7 @@ static double exact(const struct ps_sensor *s, double rot, const struct ps_pictu
 	struct ps_weights w;
 	struct ps_response r;
 	struct ps_err e;
+	memset(&r, 0, sizeof r);
 	ps_view_default_fisheye(&v);
 	if (ps_weights_build(&w, s, rot, &v, N, N, PS_W_EXACT, &e) != 0 ||
 	    ps_integrate(&w, pic, coef, &r, &e) != 0)
