@@ -327,8 +327,9 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 	struct ps_sensor uni;
 	struct ps_err e;
 	int status = 0;
-	/* cells: 0.25 degrees or finer, a whole number of them per step */
-	double cells = ceil(o->rot_step / 0.25 - 1e-9), dphi = o->rot_step / cells;
+	/* cells: 0.25 degrees in polar angle, at most 1 degree in azimuth and a
+	 * whole number of them per step (test_rescan: 7e-5 of the exact route) */
+	double cells = ceil(o->rot_step / 1.0 - 1e-9), dphi = o->rot_step / cells;
 	double *out = malloc((size_t)o->nrot * sizeof *out);
 	if (!out || ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0) {
 		fprintf(stderr, "psens: out of memory\n");
@@ -337,7 +338,7 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 	}
 	if (fabs(360.0 / dphi - round(360.0 / dphi)) > 1e-9) {
 		fprintf(stderr, "psens: -r: a step of %g degrees must divide 360 into whole cells of at "
-		                "most 0.25 degrees\n", o->rot_step);
+		                "most 1 degree\n", o->rot_step);
 		free(out);
 		ps_sensor_free(&uni);
 		return 2;
@@ -366,8 +367,8 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 		/* the pixels' solid angles: the uniform sensor's exact weights */
 		if (ps_weights_get(&om, &uni, 0, &view, pic.width, pic.height, PS_W_EXACT, o->cachedir,
 		                   ps_cache_max_bytes(), &how, &warn, &e) != 0 ||
-		    ps_rescan_project(&p, &om, &pic, &view, o->coef, dphi, dphi, o->rot_a,
-		                      ext / (M_PI / 180) + dphi, &e) != 0) {
+		    ps_rescan_project(&p, &om, &pic, &view, o->coef, 0.25, dphi, o->rot_a,
+		                      ext / (M_PI / 180) + 0.25, &e) != 0) {
 			fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 			ps_weights_free(&om);
 			ps_pic_free(&pic);

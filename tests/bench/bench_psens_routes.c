@@ -252,7 +252,7 @@ int main(void)
 
 	/* a rotation scan of 512 x 512 with a sensor that changes with azimuth:
 	 * directly (weights at each step: 10 steps measured, scaled to 360) and
-	 * re-evaluated from one projection (0.25-degree cells) */
+	 * re-evaluated from one projection (0.25 x 1 degree cells, as psens) */
 	{
 		static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
 		                            "0 1 1 1 1 1 1 1 1\n"
@@ -301,7 +301,7 @@ int main(void)
 		ps_weights_build(&om, &uni, 0, &v, 512, 512, PS_W_EXACT, &e);
 		t_om = now() - t0;
 		t0 = now();
-		ps_rescan_project(&rs, &om, &pic, &v, coef, 0.25, 0.25, 0, 91, &e);
+		ps_rescan_project(&rs, &om, &pic, &v, coef, 0.25, 1.0, 0, 91, &e);
 		t_proj = now() - t0;
 		t0 = now();
 		ps_rescan_scan(&rs, &s, 0, 1, 360, scan, &e);
@@ -315,7 +315,7 @@ int main(void)
 			char note[96];
 			snprintf(note, sizeof note, "once a picture (+ %.0f ms solid angles, cached)",
 			         1e3 * t_om);
-			row("  its projection, 0.25-degree cells", NAN, 1e3 * t_proj, 0, note);
+			row("  its projection, 0.25 x 1 degree cells", NAN, 1e3 * t_proj, 0, note);
 		}
 		ps_rescan_free(&rs);
 		ps_weights_free(&om);

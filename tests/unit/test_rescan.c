@@ -1,8 +1,8 @@
 /* Re-evaluation without re-weighting (sim/rescan.h) against the direct
  * exact route (weights built at each rotation): a 256 x 256 picture with a
- * bright window and a sensor whose sensitivity changes with azimuth, 0.25
- * degree cells.  The error bound asserted here is the one README and psens(1)
- * state; the projection loses nothing (its total is the uniform sensor's
+ * bright window and a sensor whose sensitivity changes with azimuth, cells
+ * of 0.25 x 1 degree (what psens -r a:b:s uses for steps of 1 degree).  The
+ * error bound asserted here is the one README and psens(1) state; the projection loses nothing (its total is the uniform sensor's
  * exact response), and a uniform picture gives pi for the cosine at every
  * rotation. */
 #include <setjmp.h>
@@ -85,7 +85,7 @@ static void project(struct ps_rescan *p, const struct ps_picture *pic, double *t
 	assert_int_equal(ps_sensor_builtin(&u, PS_SENS_UNIFORM, &e), 0);
 	ps_view_default_fisheye(&v);
 	assert_int_equal(ps_weights_build(&om, &u, 0, &v, N, N, PS_W_EXACT, &e), 0);
-	if (ps_rescan_project(p, &om, pic, &v, coef, 0.25, 0.25, 0, 180, &e) != 0)
+	if (ps_rescan_project(p, &om, pic, &v, coef, 0.25, 1.0, 0, 180, &e) != 0)
 		fail_msg("%s", e.msg);
 	assert_int_equal(ps_integrate(&om, pic, coef, &r, &e), 0);
 	*total = r.response;
@@ -115,7 +115,7 @@ static void scan_against_exact(void **state)
 		if (err > worst)
 			worst = err;
 	}
-	printf("# rescan 0.25-degree cells, 256 x 256, window: worst error %.2e\n", worst);
+	printf("# rescan 0.25 x 1 degree cells, 256 x 256, window: worst error %.2e\n", worst);
 	assert_true(worst <= BOUND);
 	/* a rotation that is not a whole number of cells is refused */
 	assert_int_equal(ps_rescan_scan(&p, &s, 0.1, 1, 3, out, &e), -1);
