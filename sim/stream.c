@@ -10,6 +10,7 @@
 #include "sum.h"
 
 enum { MAX_THREADS = 16 };
+#define RELEASE_MIN ((size_t)64 << 20)   /* maps from 64 MiB up are released row by row */
 
 /* What one run (one row) gives; merged in run order afterwards. */
 struct acc {
@@ -38,12 +39,13 @@ struct job {
 /* Weights mapped from the cache are read once a row: the pages a row has
  * used leave this process's resident set (they stay in the page cache, and
  * a neighbouring row that shares a page faults it back), so a large map is
- * never resident whole. */
+ * never resident whole.  Maps under RELEASE_MIN stay resident. */
 static void release(const struct ps_weights *w, const struct ps_wrun *run)
 {
 	static long pagesize;
 	uintptr_t a, b, page;
-	if (!w->map || run->n <= 0)
+	/* small maps stay: a batch would fault them in again for every picture */
+	if (!w->map || w->maplen < RELEASE_MIN || run->n <= 0)
 		return;
 	if (!pagesize)
 		pagesize = sysconf(_SC_PAGESIZE);
