@@ -124,6 +124,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 {
 	struct ps_sum tot, ch[3];
 	double k[3][3];   /* radiance channel c of the stored pixel -> weighted RGB */
+	double kc[3];     /* stored channels -> response */
 	double best = -1.0, *contrib = NULL;
 	size_t ncontrib = 0;
 	memset(r, 0, sizeof *r);
@@ -131,6 +132,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
 		               pic->height, w->width, w->height);
 	ps_pic_rgb_matrix(pic, k);
+	ps_coef_k(coef, k, kc);
 	/* Each row is summed in plain double and the rows are added with
 	 * compensation: a row's own rounding is n eps of the row, far below
 	 * what the compensated total keeps across rows (a 1e9 sun next to
@@ -143,21 +145,13 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
 		const double *wt = w->w + run->off;
 		struct ps_sum row;
-		double rc[3] = { 0, 0, 0 };
+		double raws[3] = { 0, 0, 0 }, rc[3];
 		ps_sum_init(&row);
 		for (int i = 0; i < run->n; i++, px += 4) {
-			double raw[3], rgb[3], b, f;
+			double b;
 			if (px[3] == 0)
 				continue;
-			f = ps_rgbe_scale[px[3]] * wt[i];
-			raw[0] = (px[0] + 0.5) * f;
-			raw[1] = (px[1] + 0.5) * f;
-			raw[2] = (px[2] + 0.5) * f;
-			for (int c = 0; c < 3; c++) {
-				rgb[c] = k[c][0] * raw[0] + k[c][1] * raw[1] + k[c][2] * raw[2];
-				rc[c] += rgb[c];
-			}
-			b = coef[0] * rgb[0] + coef[1] * rgb[1] + coef[2] * rgb[2];
+			b = ps_pixel_response(px, wt[i], kc, raws);
 			ps_sum_add(&row, b);
 			ncontrib++;
 			if (b > best) {
@@ -167,6 +161,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 			}
 		}
 		ps_sum_merge(&tot, &row);
+		ps_row_rgb(k, raws, rc);
 		for (int c = 0; c < 3; c++)
 			ps_sum_add(&ch[c], rc[c]);
 	}
@@ -189,16 +184,10 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 			const struct ps_wrun *run = &w->runs[ri];
 			const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
 			for (int i = 0; i < run->n && n < ncontrib; i++, px += 4) {
-				double raw[3], f, b = 0;
+				double raws[3] = { 0, 0, 0 };
 				if (px[3] == 0)
 					continue;
-				f = ps_rgbe_scale[px[3]] * w->w[run->off + (size_t)i];
-				raw[0] = (px[0] + 0.5) * f;
-				raw[1] = (px[1] + 0.5) * f;
-				raw[2] = (px[2] + 0.5) * f;
-				for (int c = 0; c < 3; c++)
-					b += coef[c] * (k[c][0] * raw[0] + k[c][1] * raw[1] + k[c][2] * raw[2]);
-				contrib[n++] = b;
+				contrib[n++] = ps_pixel_response(px, w->w[run->off + (size_t)i], kc, raws);
 			}
 		}
 		r->top1_share = ps_top1_share(contrib, n, r->response);

@@ -28,6 +28,7 @@ struct job {
 	size_t len;
 	const char *name;
 	double k[3][3];
+	double kc[3];         /* coef^T k */
 	const double *coef;
 	const int *row_run;   /* row -> run index, -1: none */
 	const uint8_t *want;  /* row has weights */
@@ -63,24 +64,16 @@ static int row_sum(void *ctx, int y, const uint8_t *px_row)
 	const uint8_t *px = px_row + 4 * (size_t)run->x0;
 	const double *wt = j->w->w + run->off;
 	struct acc *a = &j->acc[ri];
+	double raws[3] = { 0, 0, 0 };
 	ps_sum_init(&a->row);
-	a->rc[0] = a->rc[1] = a->rc[2] = 0;
 	a->best = -1.0;
 	a->bx = 0;
 	a->n = 0;
 	for (int i = 0; i < run->n; i++, px += 4) {
-		double raw[3], rgb[3], b, f;
+		double b;
 		if (px[3] == 0)
 			continue;
-		f = ps_rgbe_scale[px[3]] * wt[i];
-		raw[0] = (px[0] + 0.5) * f;
-		raw[1] = (px[1] + 0.5) * f;
-		raw[2] = (px[2] + 0.5) * f;
-		for (int c = 0; c < 3; c++) {
-			rgb[c] = j->k[c][0] * raw[0] + j->k[c][1] * raw[1] + j->k[c][2] * raw[2];
-			a->rc[c] += rgb[c];
-		}
-		b = j->coef[0] * rgb[0] + j->coef[1] * rgb[1] + j->coef[2] * rgb[2];
+		b = ps_pixel_response(px, wt[i], j->kc, raws);
 		ps_sum_add(&a->row, b);
 		a->n++;
 		if (b > a->best) {
@@ -88,6 +81,7 @@ static int row_sum(void *ctx, int y, const uint8_t *px_row)
 			a->bx = run->x0 + i;
 		}
 	}
+	ps_row_rgb(j->k, raws, a->rc);
 	release(j->w, run);
 	return 0;
 }
@@ -102,16 +96,10 @@ static int row_contrib(void *ctx, int y, const uint8_t *px_row)
 	const uint8_t *px = px_row + 4 * (size_t)run->x0;
 	double *out = j->contrib + j->coff[ri];
 	for (int i = 0; i < run->n; i++, px += 4) {
-		double raw[3], f, b = 0;
+		double raws[3] = { 0, 0, 0 };
 		if (px[3] == 0)
 			continue;
-		f = ps_rgbe_scale[px[3]] * j->w->w[run->off + (size_t)i];
-		raw[0] = (px[0] + 0.5) * f;
-		raw[1] = (px[1] + 0.5) * f;
-		raw[2] = (px[2] + 0.5) * f;
-		for (int c = 0; c < 3; c++)
-			b += j->coef[c] * (j->k[c][0] * raw[0] + j->k[c][1] * raw[1] + j->k[c][2] * raw[2]);
-		*out++ = b;
+		*out++ = ps_pixel_response(px, j->w->w[run->off + (size_t)i], j->kc, raws);
 	}
 	return 0;
 }
@@ -209,6 +197,7 @@ int ps_integrate_mem(const struct ps_weights *w, const struct ps_picture *head,
 	j.name = name;
 	j.coef = coef;
 	ps_pic_rgb_matrix(head, j.k);
+	ps_coef_k(coef, j.k, j.kc);
 	row_run = malloc((size_t)head->height * sizeof *row_run);
 	want = calloc((size_t)head->height, 1);
 	j.acc = malloc((w->nruns ? w->nruns : 1) * sizeof *j.acc);
