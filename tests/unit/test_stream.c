@@ -2,7 +2,8 @@
  * picture and ps_integrate: the same response, channels, brightest pixel and
  * top-1 % share bit for bit, with 1, 2 and 3 threads, for run-length and flat
  * scanlines, a picture with a sun (the second pass), XYZE, and a picture in
- * another orientation (decoded whole); a damaged picture is an error naming
+ * another orientation (decoded whole), with a sensor that sees every row and
+ * with a narrow one whose rows without weights are skipped; a damaged picture is an error naming
  * the file and byte, whatever the threads. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -50,7 +51,19 @@ static uint8_t *make(int w, int h, int sx, int sy, const char *extra, size_t *le
 	return (uint8_t *)buf;
 }
 
+/* A narrow sensor (nothing beyond 30 degrees): most rows have no weights,
+ * and are only checked, not decoded. */
+static const char narrow[] = "degrees 0 90 180 270\n0 1 1 1 1\n20 0.8 0.6 0.7 0.9\n30 0 0 0 0\n";
+
+static void routes_with(const uint8_t *data, size_t len, int expect_standard, int use_narrow);
+
 static void both_routes(const uint8_t *data, size_t len, int expect_standard)
+{
+	routes_with(data, len, expect_standard, 0);
+	routes_with(data, len, expect_standard, 1);
+}
+
+static void routes_with(const uint8_t *data, size_t len, int expect_standard, int use_narrow)
 {
 	struct ps_picture pic, head;
 	struct ps_sensor s;
@@ -59,7 +72,13 @@ static void both_routes(const uint8_t *data, size_t len, int expect_standard)
 	struct ps_response want, got;
 	struct ps_err e;
 	size_t off;
-	assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
+	if (use_narrow) {
+		if (ps_sensor_parse(&s, narrow, sizeof narrow - 1, "narrow", &e) != 0 ||
+		    ps_sensor_set_reading(&s, PS_READ_LINEAR, &e) != 0)
+			fail_msg("%s", e.msg);
+	} else {
+		assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
+	}
 	ps_view_default_fisheye(&v);
 	if (ps_pic_read_mem(&pic, data, len, "mem", &e) != 0 ||
 	    ps_pic_head_mem(&head, data, len, "mem", &off, &e) != 0)
@@ -68,6 +87,8 @@ static void both_routes(const uint8_t *data, size_t len, int expect_standard)
 	assert_null(head.pix);
 	assert_int_equal(ps_weights_build(&w, &s, 25, &v, pic.width, pic.height, PS_W_EXACT, &e), 0);
 	assert_int_equal(ps_integrate(&w, &pic, coef, &want, &e), 0);
+	if (use_narrow)   /* rows without weights exist: they are skipped */
+		assert_true(w.nruns < (size_t)pic.height);
 	for (int nt = 1; nt <= 3; nt++) {
 		if (ps_integrate_mem(&w, &head, data, len, off, "mem", coef, nt, &got, &e) != 0)
 			fail_msg("%s", e.msg);
