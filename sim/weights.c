@@ -338,7 +338,38 @@ struct band {
 	int j0, j1;           /* bottom-based rows [j0, j1) */
 	double *w;
 	int oom;
+	int mirror_x;         /* the map is symmetric in x: the right half copies the left */
 };
+
+/* The exact weight of pixel x between lines vb and vt, alone (its four
+ * edges computed here, none shared): for the few pixels a mirror misses. */
+static double pixel_alone(const struct edge_ctx *c, const double *u, int x, double vb, double vt)
+{
+	struct ps_sum ps;
+	double wt;
+	ps_sum_init(&ps);
+	ps_sum_add(&ps, edge_integral(c, u[x], vb, u[x + 1], vb));
+	ps_sum_add(&ps, edge_integral(c, u[x + 1], vb, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_integral(c, u[x], vt, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_integral(c, u[x], vb, u[x], vt));
+	wt = ps_sum_get(&ps);
+	return wt < 0 && wt > -1e-15 ? 0.0 : wt;
+}
+
+/* Symmetry: a sensor the same at every azimuth (the builtins, or a table
+ * whose rows are constant) on a view not shifted (-vs 0 -vl 0) gives a map
+ * symmetric in x and in y: pixel (x, j) and (W-1-x, j) and (x, H-1-j) have
+ * the same footprint up to reflection, so the same exact weight. */
+static int sensor_symmetric(const struct ps_sensor *s)
+{
+	if (s->kind != PS_SENS_TABLE)
+		return 1;
+	for (int i = 0; i < s->ntheta; i++)
+		for (int j = 1; j < s->nphi; j++)
+			if (s->val[(size_t)i * (size_t)s->nphi + (size_t)j] != s->val[(size_t)i * (size_t)s->nphi])
+				return 0;
+	return 1;
+}
 
 static void *band_run(void *arg)
 {
@@ -361,19 +392,24 @@ static void *band_run(void *arg)
 		int lo = b->lo[j], hi = b->hi[j];
 		if (lo > hi)
 			continue;
+		/* with mirroring, the edges of pixels up to the middle one only */
+		int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
 		if (b->method == PS_W_EXACT) {
-			/* bottom line: reuse what the row below computed, where it did */
+			/* bottom line: reuse what the row below computed, where it did
+			 * (every row here stops at the same xe) */
 			int plo = prev == j - 1 ? b->lo[j - 1] : 1, phi_ = prev == j - 1 ? b->hi[j - 1] : 0;
-			for (int x = lo; x <= hi; x++)
+			if (phi_ > xe)
+				phi_ = xe;
+			for (int x = lo; x <= xe; x++)
 				if (x < plo || x > phi_)
 					hb[x] = edge_integral(c, u[x], vb, u[x + 1], vb);
-			for (int x = lo; x <= hi; x++)
+			for (int x = lo; x <= xe; x++)
 				ht[x] = edge_integral(c, u[x], vt, u[x + 1], vt);
-			for (int x = lo; x <= hi + 1; x++)
+			for (int x = lo; x <= xe + 1; x++)
 				vrow[x] = edge_integral(c, u[x], vb, u[x], vt);
 		}
 		prev = j;
-		for (int x = lo; x <= hi; x++) {
+		for (int x = lo; x <= xe; x++) {
 			double wt;
 			if (b->method == PS_W_EXACT) {
 				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
@@ -395,6 +431,19 @@ static void *band_run(void *arg)
 			}
 			out[x - lo] = wt;
 		}
+		/* the right half: the left half mirrored */
+		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT; x++) {
+			int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
+			out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
+		}
+		/* the centre-point method has no shared edges: the rest directly */
+		for (int x = xe + 1; x <= hi && b->method != PS_W_EXACT; x++) {
+			double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
+			double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
+			out[x - lo] = rho > 1.0 ? 0.0
+			              : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+			                    ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+		}
 	}
 out:
 	free(hline[0]);
@@ -412,7 +461,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	double R, *u = NULL;
-	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0;
+	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop;
 	size_t *off = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
@@ -459,12 +508,17 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 		long n = sysconf(_SC_NPROCESSORS_ONLN);
 		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
 	}
+	/* a symmetric map: the bands do the bottom half, its left half mirrored
+	 * to the right; the top half is the bottom's mirror (below) */
+	sym = method == PS_W_EXACT && v->vs == 0.0 && v->vl == 0.0 && sensor_symmetric(s);
+	jtop = sym ? (height + 1) / 2 : height;
 	{
 		int j = 0;
+		size_t todo = jtop < height ? off[jtop] : w->nw;
 		for (int t = 0; t < nthreads; t++) {
-			size_t want = w->nw * (size_t)(t + 1) / (size_t)nthreads;
-			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0 };
-			while (j < height && (t == nthreads - 1 || off[j] < want))
+			size_t want = todo * (size_t)(t + 1) / (size_t)nthreads;
+			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym };
+			while (j < jtop && (t == nthreads - 1 || off[j] < want))
 				j++;
 			bands[t].j1 = j;
 		}
@@ -484,6 +538,14 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	}
 	if (oom || bands[0].oom)
 		goto oom;
+	for (int j = jtop; j < height; j++) {
+		int jj = height - 1 - j;   /* the mirror row, computed above */
+		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+		for (int x = lo[j]; x <= hi[j]; x++)
+			w->w[off[j] + (size_t)(x - lo[j])] =
+			    x >= lo[jj] && x <= hi[jj] ? w->w[off[jj] + (size_t)(x - lo[jj])]
+			                               : pixel_alone(&c, u, x, vb, vt);
+	}
 	ps_sum_init(&total);
 	for (size_t i = 0; i < w->nw; i++)
 		ps_sum_add(&total, w->w[i]);

@@ -10,7 +10,10 @@
  * is smooth and Gauss-Legendre quadrature is accurate to rounding.  So the
  * result does not depend on where a boundary falls, and a pixel the sensor
  * cannot see costs nothing.  Every edge is shared by two pixels and computed
- * once.
+ * once.  A sensor the same at every azimuth on a view not shifted (-vs 0
+ * -vl 0) gives a map symmetric in x and y: only the lower left quarter is
+ * integrated and the rest mirrored (a quarter of the work; each mirrored
+ * weight is its mirror pixel's, exact to the same rounding).
  *
  * Centre-point method (the paper's psens, kept for comparison): sensitivity
  * at the pixel's centre times the projection's Jacobian there times the
