@@ -339,6 +339,7 @@ struct band {
 	double *w;
 	int oom;
 	int mirror_x;         /* the map is symmetric in x: the right half copies the left */
+	int transpose;        /* and in the diagonal: pixels left of it are copied after */
 };
 
 /* The exact weight of pixel x between lines vb and vt, alone (its four
@@ -376,6 +377,7 @@ static void *band_run(void *arg)
 	struct band *b = arg;
 	const struct edge_ctx *c = b->c;
 	int width = c->f.width, prev = -2;   /* the last row done here; -2: none */
+	int clo = 1, chi = 0;                /* the x range its top edges were computed for */
 	double *hline[2], *vrow;
 	hline[0] = malloc(((size_t)width + 1) * sizeof(double));
 	hline[1] = malloc(((size_t)width + 1) * sizeof(double));
@@ -392,24 +394,24 @@ static void *band_run(void *arg)
 		int lo = b->lo[j], hi = b->hi[j];
 		if (lo > hi)
 			continue;
-		/* with mirroring, the edges of pixels up to the middle one only */
+		/* with mirroring, the edges of pixels up to the middle one only; with
+		 * transposing, from the diagonal on */
 		int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
+		int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
 		if (b->method == PS_W_EXACT) {
-			/* bottom line: reuse what the row below computed, where it did
-			 * (every row here stops at the same xe) */
-			int plo = prev == j - 1 ? b->lo[j - 1] : 1, phi_ = prev == j - 1 ? b->hi[j - 1] : 0;
-			if (phi_ > xe)
-				phi_ = xe;
-			for (int x = lo; x <= xe; x++)
-				if (x < plo || x > phi_)
+			/* bottom line: reuse what the row below computed, where it did */
+			for (int x = xs; x <= xe; x++)
+				if (prev != j - 1 || x < clo || x > chi)
 					hb[x] = edge_integral(c, u[x], vb, u[x + 1], vb);
-			for (int x = lo; x <= xe; x++)
+			for (int x = xs; x <= xe; x++)
 				ht[x] = edge_integral(c, u[x], vt, u[x + 1], vt);
-			for (int x = lo; x <= xe + 1; x++)
+			for (int x = xs; x <= xe + 1; x++)
 				vrow[x] = edge_integral(c, u[x], vb, u[x], vt);
 		}
+		clo = xs;
+		chi = xe;
 		prev = j;
-		for (int x = lo; x <= xe; x++) {
+		for (int x = xs; x <= xe; x++) {
 			double wt;
 			if (b->method == PS_W_EXACT) {
 				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
@@ -431,8 +433,9 @@ static void *band_run(void *arg)
 			}
 			out[x - lo] = wt;
 		}
-		/* the right half: the left half mirrored */
-		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT; x++) {
+		/* the right half: the left half mirrored (after the transposes,
+		 * when there are some: ps_weights_build) */
+		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose; x++) {
 			int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
 			out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
 		}
@@ -461,7 +464,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	double R, *u = NULL;
-	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop;
+	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp;
 	size_t *off = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
@@ -512,12 +515,14 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	 * to the right; the top half is the bottom's mirror (below) */
 	sym = method == PS_W_EXACT && v->vs == 0.0 && v->vl == 0.0 && sensor_symmetric(s);
 	jtop = sym ? (height + 1) / 2 : height;
+	/* square, with the same field across and up: symmetric in the diagonal */
+	transp = sym && width == height && v->vh == v->vv;
 	{
 		int j = 0;
 		size_t todo = jtop < height ? off[jtop] : w->nw;
 		for (int t = 0; t < nthreads; t++) {
 			size_t want = todo * (size_t)(t + 1) / (size_t)nthreads;
-			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym };
+			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym, transp };
 			while (j < jtop && (t == nthreads - 1 || off[j] < want))
 				j++;
 			bands[t].j1 = j;
@@ -538,6 +543,31 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	}
 	if (oom || bands[0].oom)
 		goto oom;
+	if (transp) {
+		int xmid = (width - 1) / 2;
+		/* left of the diagonal: pixel (x, j) is pixel (j, x) transposed */
+		for (int j = 0; j < jtop; j++) {
+			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+			int xe = hi[j] < xmid ? hi[j] : xmid;
+			for (int x = lo[j]; x <= xe && x < j; x++) {
+				int xe_x = hi[x] < xmid ? hi[x] : xmid;   /* row x's computed end */
+				w->w[off[j] + (size_t)(x - lo[j])] =
+				    lo[x] <= hi[x] && j >= lo[x] && j <= xe_x
+				        ? w->w[off[x] + (size_t)(j - lo[x])]
+				        : pixel_alone(&c, u, x, vb, vt);
+			}
+		}
+		/* then the right half of those rows, mirrored */
+		for (int j = 0; j < jtop; j++) {
+			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+			for (int x = xmid + 1; x <= hi[j]; x++) {
+				int xm = width - 1 - x;
+				w->w[off[j] + (size_t)(x - lo[j])] =
+				    xm >= lo[j] ? w->w[off[j] + (size_t)(xm - lo[j])]
+				                : pixel_alone(&c, u, x, vb, vt);
+			}
+		}
+	}
 	for (int j = jtop; j < height; j++) {
 		int jj = height - 1 - j;   /* the mirror row, computed above */
 		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);

@@ -13,7 +13,9 @@
  * once.  A sensor the same at every azimuth on a view not shifted (-vs 0
  * -vl 0) gives a map symmetric in x and y: only the lower left quarter is
  * integrated and the rest mirrored (a quarter of the work; each mirrored
- * weight is its mirror pixel's, exact to the same rounding).
+ * weight is its mirror pixel's, exact to the same rounding); a square
+ * picture with -vh equal to -vv is symmetric in the diagonal too, and only
+ * an eighth is integrated.
  *
  * Centre-point method (the paper's psens, kept for comparison): sensitivity
  * at the pixel's centre times the projection's Jacobian there times the
