@@ -84,7 +84,7 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
 {
 	double q = step_deg * DEG / p->dphi, r0 = (rot0_deg * DEG - p->phi0) / p->dphi;
 	long qs = lround(q), r0s = lround(r0);
-	double *sg, *rowsum;
+	double *sg;
 	int np = p->nphi;
 	if (n <= 0)
 		return 0;
@@ -92,17 +92,14 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
 		return ps_errf(e, PS_EINVAL, "rotations %g + k %g degrees are not whole cells of %g",
 		               rot0_deg, step_deg, p->dphi / DEG);
 	sg = malloc((size_t)np * 2 * sizeof *sg);
-	rowsum = calloc((size_t)n, sizeof *rowsum);
-	if (!sg || !rowsum) {
+	if (!sg) {
 		free(sg);
-		free(rowsum);
 		return ps_errf(e, PS_ENOMEM, "out of memory");
 	}
 	{
 		struct ps_sum *acc = malloc((size_t)n * sizeof *acc);
 		if (!acc) {
 			free(sg);
-			free(rowsum);
 			return ps_errf(e, PS_ENOMEM, "out of memory");
 		}
 		for (int k = 0; k < n; k++)
@@ -114,7 +111,6 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
 			free(ez);
 			free(acc);
 			free(sg);
-			free(rowsum);
 			return ps_errf(e, PS_ENOMEM, "out of memory");
 		}
 		for (int it = 0; it < p->ntheta; it++) {
@@ -157,6 +153,5 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
 		free(acc);
 	}
 	free(sg);
-	free(rowsum);
 	return 0;
 }
