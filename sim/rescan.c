@@ -1,6 +1,7 @@
 #include "rescan.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -79,79 +80,133 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 	return 0;
 }
 
+/* The rings some pixel fell in, each with its occupied cells and the
+ * sensitivity at its cell centres (doubled so no index wraps). */
+struct ring {
+	int cnt;        /* occupied cells */
+	size_t z;       /* their first index in nz[], ez[] */
+	size_t g;       /* its 2 np values in sg[] */
+};
+
+struct scan_job {
+	const struct ring *rings;
+	int nrings, np;
+	const int *nz;
+	const double *ez, *sg;
+	long qs;
+	int k0, k1;
+	double *out;
+};
+
+static void *scan_run(void *arg)
+{
+	const struct scan_job *j = arg;
+	for (int k = j->k0; k < j->k1; k++) {
+		/* rotation rot0 + k step: cell m reads sg[m - k q] */
+		long sh = ((long)k * j->qs) % j->np;
+		struct ps_sum acc;
+		ps_sum_init(&acc);
+		for (int r = 0; r < j->nrings; r++) {
+			const struct ring *g = &j->rings[r];
+			const double *sk = j->sg + g->g + (size_t)(j->np - sh), *ez = j->ez + g->z;
+			const int *nz = j->nz + g->z;
+			double sum = 0.0;
+			if (g->cnt == j->np)
+				for (int m = 0; m < j->np; m++)
+					sum += ez[m] * sk[m];
+			else
+				for (int c = 0; c < g->cnt; c++)
+					sum += ez[c] * sk[nz[c]];
+			ps_sum_add(&acc, sum);
+		}
+		j->out[k] = ps_sum_get(&acc);
+	}
+	return NULL;
+}
+
 int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
                    double step_deg, int n, double *out, struct ps_err *e)
 {
+	return ps_rescan_scan_mt(p, s, rot0_deg, step_deg, n, 1, out, e);
+}
+
+int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
+                      double step_deg, int n, int nthreads, double *out, struct ps_err *e)
+{
+	enum { MAX_THREADS = 16 };
 	double q = step_deg * DEG / p->dphi, r0 = (rot0_deg * DEG - p->phi0) / p->dphi;
 	long qs = lround(q), r0s = lround(r0);
-	double *sg;
-	int np = p->nphi;
+	int np = p->nphi, nrings = 0, nt = nthreads < 1 ? 1 : nthreads > MAX_THREADS ? MAX_THREADS
+	                                                                            : nthreads;
+	size_t ncells = (size_t)p->ntheta * (size_t)np, z = 0;
+	struct ring *rings;
+	int *nz;
+	double *ez, *sg;
+	struct scan_job jobs[MAX_THREADS];
+	pthread_t tid[MAX_THREADS];
+	int started[MAX_THREADS] = { 0 };
 	if (n <= 0)
 		return 0;
 	if (fabs(q - qs) > 1e-9 || fabs(r0 - r0s) > 1e-9)
 		return ps_errf(e, PS_EINVAL, "rotations %g + k %g degrees are not whole cells of %g",
 		               rot0_deg, step_deg, p->dphi / DEG);
-	sg = malloc((size_t)np * 2 * sizeof *sg);
-	if (!sg) {
-		free(sg);
-		return ps_errf(e, PS_ENOMEM, "out of memory");
-	}
-	{
-		struct ps_sum *acc = malloc((size_t)n * sizeof *acc);
-		if (!acc) {
-			free(sg);
-			return ps_errf(e, PS_ENOMEM, "out of memory");
-		}
-		for (int k = 0; k < n; k++)
-			ps_sum_init(&acc[k]);
-		int *nz = malloc((size_t)np * sizeof *nz);
-		double *ez = malloc((size_t)np * sizeof *ez);
-		if (!nz || !ez) {
-			free(nz);
-			free(ez);
-			free(acc);
-			free(sg);
-			return ps_errf(e, PS_ENOMEM, "out of memory");
-		}
+	rings = malloc(((size_t)p->ntheta + 1) * sizeof *rings);
+	nz = malloc((ncells + 1) * sizeof *nz);
+	ez = malloc((ncells + 1) * sizeof *ez);
+	sg = NULL;
+	if (rings && nz && ez) {
 		for (int it = 0; it < p->ntheta; it++) {
 			const double *er = p->e + (size_t)it * (size_t)np;
-			double th = (it + 0.5) * p->dtheta;
-			int cnt = 0;
+			size_t z0 = z;
 			/* only the cells some pixel fell in (near the pole, few) */
 			for (int m = 0; m < np; m++)
 				if (er[m] != 0.0) {
-					nz[cnt] = m;
-					ez[cnt++] = er[m];
+					nz[z] = m;
+					ez[z++] = er[m];
 				}
-			if (!cnt)
-				continue;
-			/* sensitivity at the cell centres of this ring, the sensor at
-			 * rotation rot0: cell m's direction phi0 + (m + 0.5) dphi reads
-			 * S at that minus the rotation; doubled so no index wraps */
-			for (int m = 0; m < np; m++) {
-				double ph = p->phi0 + (m + 0.5) * p->dphi - (double)r0s * p->dphi - p->phi0;
-				sg[m] = sg[m + np] = ps_sensor_value(s, th, ph);
-			}
-			for (int k = 0; k < n; k++) {
-				/* rotation rot0 + k step: cell m reads sg[m - k q] */
-				long sh = ((long)k * qs) % np;
-				const double *sk = sg + np - sh;
-				double sum = 0.0;
-				if (cnt == np)
-					for (int m = 0; m < np; m++)
-						sum += ez[m] * sk[m];
-				else
-					for (int c = 0; c < cnt; c++)
-						sum += ez[c] * sk[nz[c]];
-				ps_sum_add(&acc[k], sum);
-			}
+			if (z > z0)
+				rings[nrings++] = (struct ring){ (int)(z - z0), z0, (size_t)it };
 		}
+		sg = malloc(((size_t)nrings * 2 * (size_t)np + 1) * sizeof *sg);
+	}
+	if (!rings || !nz || !ez || !sg) {
+		free(rings);
 		free(nz);
 		free(ez);
-		for (int k = 0; k < n; k++)
-			out[k] = ps_sum_get(&acc[k]);
-		free(acc);
+		free(sg);
+		return ps_errf(e, PS_ENOMEM, "out of memory for %zu cells", ncells);
 	}
+	for (int r = 0; r < nrings; r++) {
+		/* ring r's sensitivity at its cell centres, the sensor at rotation
+		 * rot0: cell m's direction phi0 + (m + 0.5) dphi reads S at that
+		 * minus the rotation */
+		double th = ((double)rings[r].g + 0.5) * p->dtheta;
+		double *g = sg + (size_t)r * 2 * (size_t)np;
+		for (int m = 0; m < np; m++) {
+			double ph = (m + 0.5) * p->dphi - (double)r0s * p->dphi;
+			g[m] = g[m + np] = ps_sensor_value(s, th, ph);
+		}
+		rings[r].g = (size_t)r * 2 * (size_t)np;
+	}
+	/* the rotations shared among the threads: each one's sum is the same
+	 * whoever computes it */
+	if (nt > n)
+		nt = n;
+	for (int t = 0; t < nt; t++)
+		jobs[t] = (struct scan_job){ rings, nrings, np, nz, ez, sg, qs,
+		                             (int)((long)n * t / nt), (int)((long)n * (t + 1) / nt), out };
+	for (int t = 1; t < nt; t++)
+		started[t] = pthread_create(&tid[t], NULL, scan_run, &jobs[t]) == 0;
+	scan_run(&jobs[0]);
+	for (int t = 1; t < nt; t++) {
+		if (started[t])
+			pthread_join(tid[t], NULL);
+		else
+			scan_run(&jobs[t]);
+	}
+	free(rings);
+	free(nz);
+	free(ez);
 	free(sg);
 	return 0;
 }

@@ -42,5 +42,9 @@ void ps_rescan_free(struct ps_rescan *p);
  * phi0 too (else PS_EINVAL). */
 int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
                    double step_deg, int n, double *out, struct ps_err *e);
+/* The same with the rotations shared among nthreads threads (the numbers
+ * do not depend on how many). */
+int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
+                      double step_deg, int n, int nthreads, double *out, struct ps_err *e);
 
 #endif

@@ -383,7 +383,8 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 			o->cachedir = NULL;
 		}
 		for (int k = 0; k < nsens; k++) {
-			if (ps_rescan_scan(&p, &sens[k], o->rot_a, o->rot_step, o->nrot, out, &e) != 0) {
+			if (ps_rescan_scan_mt(&p, &sens[k], o->rot_a, o->rot_step, o->nrot, o->nthreads, out,
+			                      &e) != 0) {
 				fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 				status = 1;
 				continue;

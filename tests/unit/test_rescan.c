@@ -117,6 +117,12 @@ static void scan_against_exact(void **state)
 	}
 	printf("# rescan 0.25 x 1 degree cells, 256 x 256, window: worst error %.2e\n", worst);
 	assert_true(worst <= BOUND);
+	/* shared among threads, the same numbers bit for bit */
+	for (int nt = 2; nt <= 3; nt++) {
+		double again[360];
+		assert_int_equal(ps_rescan_scan_mt(&p, &s, 0, 1, 360, nt, again, &e), 0);
+		assert_memory_equal(again, out, sizeof out);
+	}
 	/* a rotation that is not a whole number of cells is refused */
 	assert_int_equal(ps_rescan_scan(&p, &s, 0.1, 1, 3, out, &e), -1);
 	ps_rescan_free(&p);
