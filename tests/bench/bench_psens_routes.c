@@ -304,12 +304,12 @@ int main(void)
 		ps_rescan_project(&rs, &om, &pic, &v, coef, 0.25, 1.0, 0, 91, &e);
 		t_proj = now() - t0;
 		t0 = now();
-		ps_rescan_scan(&rs, &s, 0, 1, 360, scan, &e);
+		ps_rescan_scan_mt(&rs, &s, 0, 1, 360, 2, scan, &e);
 		t_scan = now() - t0;
 		for (int k = 0; k < 10; k++)
 			if (fabs(scan[36 * k] / direct[k] - 1) > worst)
 				worst = fabs(scan[36 * k] / direct[k] - 1);
-		row("rotation scan 512x512 rescan, 360 steps", worst, 1e3 * t_scan, 50,
+		row("rotation scan 512x512 rescan, 360, 2 thr", worst, 1e3 * t_scan, 50,
 		    "after the projection; error: worst of 10 steps");
 		{
 			char note[96];
