@@ -29,6 +29,7 @@ struct job {
 	const char *name;
 	double k[3][3];
 	double kc[3];         /* coef^T k */
+	uintptr_t page;       /* the page size */
 	const double *coef;
 	const int *row_run;   /* row -> run index, -1: none */
 	const uint8_t *want;  /* row has weights */
@@ -41,16 +42,12 @@ struct job {
  * used leave this process's resident set (they stay in the page cache, and
  * a neighbouring row that shares a page faults it back), so a large map is
  * never resident whole.  Maps under RELEASE_MIN stay resident. */
-static void release(const struct ps_weights *w, const struct ps_wrun *run)
+static void release(const struct ps_weights *w, const struct ps_wrun *run, uintptr_t page)
 {
-	static long pagesize;
-	uintptr_t a, b, page;
+	uintptr_t a, b;
 	/* small maps stay: a batch would fault them in again for every picture */
 	if (!w->map || w->maplen < RELEASE_MIN || run->n <= 0)
 		return;
-	if (!pagesize)
-		pagesize = sysconf(_SC_PAGESIZE);
-	page = pagesize > 0 ? (uintptr_t)pagesize : 4096;
 	a = (uintptr_t)(w->w + run->off) & ~(page - 1);
 	b = ((uintptr_t)(w->w + run->off + (size_t)run->n) + page - 1) & ~(page - 1);
 	madvise((void *)a, b - a, MADV_DONTNEED);
@@ -82,7 +79,7 @@ static int row_sum(void *ctx, int y, const uint8_t *px_row)
 		}
 	}
 	ps_row_rgb(j->k, raws, a->rc);
-	release(j->w, run);
+	release(j->w, run, j->page);
 	return 0;
 }
 
@@ -198,6 +195,10 @@ int ps_integrate_mem(const struct ps_weights *w, const struct ps_picture *head,
 	j.coef = coef;
 	ps_pic_rgb_matrix(head, j.k);
 	ps_coef_k(coef, j.k, j.kc);
+	{
+		long ps = sysconf(_SC_PAGESIZE);
+		j.page = ps > 0 ? (uintptr_t)ps : 4096;
+	}
 	row_run = malloc((size_t)head->height * sizeof *row_run);
 	want = calloc((size_t)head->height, 1);
 	j.acc = malloc((w->nruns ? w->nruns : 1) * sizeof *j.acc);
