@@ -19,6 +19,7 @@
 #include "conf.h"
 #include "control.h"
 #include "driver.h"
+#include "mqttconf.h"
 
 enum {
 	PSD_MAX_DEVICES = 16,
@@ -87,6 +88,9 @@ struct psd_config {
 	/* [simulate] */
 	char date[16];
 	double start, end, sunrise, sunset, tolerance;
+	int sim_year;             /* [simulate] year = yes: the room plays the results' year */
+	double occ_from, occ_to;  /* [simulate] occupied_from, occupied_to: psensd -Y's hours */
+	int dated_estimate;       /* [psensd] estimate = dated (or sim_year): the dated ratio */
 	struct psd_device_conf dev[PSD_MAX_DEVICES];
 	size_t ndev;
 	struct psd_point_conf pt[PSD_MAX_POINTS];
@@ -95,6 +99,7 @@ struct psd_config {
 	size_t nzone;
 	struct ps_opt optpool[PSD_MAX_OPTS];
 	size_t nopt;
+	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqttconf.h) */
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "errbuf.h"
 #include "pidlock.h"
@@ -44,6 +45,12 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS cal_samples("
 	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
 	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
+	/* 3 -> 4: MQTT (daemon/mqtt.c): the UTC time of each sample, the
+	 * publisher's persisted cursor per site, the zones announced */
+	"ALTER TABLE samples ADD COLUMN utc REAL;"
+	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
+	" PRIMARY KEY(site, zone));",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
@@ -162,7 +169,7 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 	db->lockfd = lockfd;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s, utc) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -296,6 +303,11 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 10, s->ratio);
 	bind_text(db->ins, 11, s->fault);
 	bind_text(db->ins, 12, s->zone);
+	{
+		struct timespec ts;   /* the wall clock at logging: the sample's UTC time for MQTT */
+		clock_gettime(CLOCK_REALTIME, &ts);
+		sqlite3_bind_double(db->ins, 13, (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec);
+	}
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
 		sqlite3_reset(db->ins);
 		return fail(db->h, "insert", err, errlen);
@@ -545,4 +557,175 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 	}
 	sqlite3_finalize(st);
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+/* ---- the report's readers (psensctl report) --------------------------------- */
+
+static int table_exists(struct psd_db *db, const char *table)
+{
+	sqlite3_stmt *st;
+	int yes;
+	if (sqlite3_prepare_v2(db->h, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?", -1, &st,
+	                       NULL) != SQLITE_OK)
+		return -1;
+	sqlite3_bind_text(st, 1, table, -1, SQLITE_STATIC);
+	yes = sqlite3_step(st) == SQLITE_ROW;
+	sqlite3_finalize(st);
+	return yes;
+}
+
+int psd_db_zones(struct psd_db *db, psd_db_name_fn fn, void *user, char *err, size_t errlen)
+{
+	int cal = table_exists(db, "cal_sessions");
+	sqlite3_stmt *st;
+	int rc;
+	if (cal < 0)
+		return fail(db->h, "read", err, errlen);
+	st = query(db, err, errlen, cal ? "SELECT zone FROM samples WHERE zone IS NOT NULL UNION "
+	                                  "SELECT zone FROM cal_sessions ORDER BY 1"
+	                                : "SELECT DISTINCT zone FROM samples WHERE zone IS NOT NULL ORDER BY 1", "");
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		if (col_text(st, 0))
+			fn(user, col_text(st, 0));
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65], char scene_sha256[65])
+{
+	sqlite3_stmt *st;
+	char ignored[128];
+	int found = 0;
+	config_sha256[0] = scene_sha256[0] = 0;
+	if (table_exists(db, "cal_sessions") != 1)
+		return 0;
+	st = query(db, ignored, sizeof ignored, "SELECT config_sha256, scene_sha256 FROM cal_sessions"
+	           " WHERE zone = ? AND config_sha256 IS NOT NULL ORDER BY id DESC LIMIT 1", "t", zone);
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW) {
+		snprintf(config_sha256, 65, "%s", col_text(st, 0) ? col_text(st, 0) : "");
+		snprintf(scene_sha256, 65, "%s", col_text(st, 1) ? col_text(st, 1) : "");
+		found = 1;
+	}
+	sqlite3_finalize(st);
+	return found;
+}
+
+int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
+                      char *err, size_t errlen)
+{
+	sqlite3_stmt *st;
+	char sql[256];
+	int rc, ncol, has_zone = 0, nrows = 0;
+	const char *names[32], *vals[32];
+	rc = table_exists(db, table);
+	if (rc <= 0)
+		return rc < 0 ? fail(db->h, "read", err, errlen) : 0;
+	snprintf(sql, sizeof sql, "SELECT * FROM \"%s\" LIMIT 0", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return fail(db->h, table, err, errlen);
+	for (int i = 0; i < sqlite3_column_count(st); i++)
+		has_zone |= strcmp(sqlite3_column_name(st, i), "zone") == 0;
+	sqlite3_finalize(st);
+	snprintf(sql, sizeof sql, has_zone ? "SELECT * FROM \"%s\" WHERE zone = ? ORDER BY rowid"
+	                                   : "SELECT * FROM \"%s\" ORDER BY rowid", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return fail(db->h, table, err, errlen);
+	if (has_zone)
+		sqlite3_bind_text(st, 1, zone, -1, SQLITE_STATIC);
+	ncol = sqlite3_column_count(st);
+	if (ncol > 32)
+		ncol = 32;
+	for (int i = 0; i < ncol; i++)
+		names[i] = sqlite3_column_name(st, i);
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		for (int i = 0; i < ncol; i++)
+			vals[i] = (const char *)sqlite3_column_text(st, i);
+		fn(user, ncol, names, vals);
+		nrows++;
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? nrows : fail(db->h, "read", err, errlen);
+}
+
+/* ---- the MQTT publisher --------------------------------------------------------- */
+
+int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_sample_row_fn fn, void *user, char *err,
+                         size_t errlen)
+{
+	char sql[320];
+	sqlite3_stmt *st;
+	int rc, n = 0;
+	snprintf(sql, sizeof sql, "SELECT %s, rowid, utc FROM samples WHERE rowid > ? ORDER BY rowid LIMIT ?",
+	         sample_columns);
+	if (!(st = query(db, err, errlen, sql, "ii", after, (long long)limit)))
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_sample s;
+		row_sample(st, &s);
+		fn(user, sqlite3_column_int64(st, 12), col_num(st, 13), &s);
+		n++;
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? n : fail(db->h, "read", err, errlen);
+}
+
+long long psd_db_last_id(struct psd_db *db)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT coalesce(max(rowid), 0) FROM samples", "");
+	long long id = -1;
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW)
+		id = sqlite3_column_int64(st, 0);
+	sqlite3_finalize(st);
+	return id;
+}
+
+long long psd_db_mqtt_cursor(struct psd_db *db, const char *site)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT sample FROM mqtt_cursor WHERE site = ?", "t", site);
+	long long id = -1;
+	int rc;
+	if (!st)
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW)
+		id = sqlite3_column_int64(st, 0);
+	else if (rc == SQLITE_DONE)
+		id = 0;
+	sqlite3_finalize(st);
+	return id;
+}
+
+int psd_db_mqtt_set_cursor(struct psd_db *db, const char *site, long long id, char *err, size_t errlen)
+{
+	return run(db, "INSERT OR REPLACE INTO mqtt_cursor(site, sample) VALUES(?, ?)", err, errlen, "ti", site, id);
+}
+
+int psd_db_mqtt_announced(struct psd_db *db, const char *site, psd_db_name_fn fn, void *user)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT zone FROM mqtt_announced WHERE site = ? ORDER BY zone",
+	                         "t", site);
+	int rc;
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		fn(user, col_text(st, 0));
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : -1;
+}
+
+int psd_db_mqtt_announce(struct psd_db *db, const char *site, const char *zone, int add, char *err, size_t errlen)
+{
+	if (add)
+		return run(db, "INSERT OR IGNORE INTO mqtt_announced(site, zone) VALUES(?, ?)", err, errlen, "tt", site,
+		           zone);
+	return run(db, "DELETE FROM mqtt_announced WHERE site = ? AND zone = ?", err, errlen, "tt", site, zone);
 }

@@ -113,6 +113,10 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	free(old);
 	free(snap);
 	d->reloads++;
+	if (d->mqtt)
+		psd_mqtt_reload(d->mqtt);
+	if (cf->mqtt.enabled != (d->mqtt != NULL))
+		log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
 	log_info("reloaded %s", d->config_path);
 	sd_notify(0, "READY=1");
 	return 0;
