@@ -23,6 +23,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "ctlsock.h"
 #include "db.h"
 #include "report.h"
@@ -36,7 +37,12 @@ static void usage(FILE *fp)
 	            "          release ZONE, ratios, log, reload, ping, help,\n"
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
 	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
-	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n");
+	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n"
+	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET or /run/psensd/psensd.sock)\n"
+	            "  -d FILE     the database, for export and report (default: the one psensd names)\n"
+	            "  -j          replies as JSON lines\n"
+	            "  -w SECONDS  how long to wait for a reply (default 5)\n"
+	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 static const char *default_socket(void)
@@ -387,18 +393,25 @@ int main(int argc, char **argv)
 	size_t used = 0;
 	char *reply;
 	json_object *o, *ok, *err, *dj;
-	while ((opt = getopt(argc, argv, "+s:d:jw:h")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "+s:d:jw:hV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 's': sock = optarg; break;
 		case 'd': dbpath = optarg; break;
 		case 'j': raw = 1; break;
 		case 'w': timeout_ms = (int)(atof(optarg) * 1000); break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psensctl");
 		default: usage(stderr); return 2;
 		}
 	}
 	if (optind >= argc) {
 		usage(stderr);
+		return 2;
+	}
+	/* no option is silently ignored: the database is read by export and report only */
+	if (dbpath && strcmp(argv[optind], "export") != 0 && strcmp(argv[optind], "report") != 0) {
+		fprintf(stderr, "psensctl: -d is for export and report; %s asks psensd (-s)\n", argv[optind]);
 		return 2;
 	}
 	if (timeout_ms <= 0)

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "daemon.h"
 #include "log.h"
 
@@ -72,6 +73,7 @@ static void usage(FILE *fp)
 	            "  -t HH:MM  real time: start the clock at this time of day (default: now)\n"
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
 	            "  -v        more messages\n"
+	            "  -h, --help  this help;  -V, --version  the version\n"
 	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n"
 	            "drivers:\n");
 	for (int i = 0; ps_drivers[i]; i++)
@@ -133,10 +135,11 @@ int main(int argc, char **argv)
 	char *end;
 	static const struct option longopts[] = {
 		{ "list-driver-options", no_argument, NULL, 'L' },
-		{ "help", no_argument, NULL, 'h' },
+		PS_CLI_LONGOPTS,
 		{ NULL, 0, NULL, 0 },
 	};
-	while ((opt = getopt_long(argc, argv, "f:nst:x:vhL", longopts, NULL)) != -1) {
+	int have_t = 0, have_x = 0;
+	while ((opt = getopt_long(argc, argv, "f:nst:x:vhVL", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'L': list_options(); return 0;
 		case 'f': path = optarg; break;
@@ -147,6 +150,7 @@ int main(int argc, char **argv)
 				fprintf(stderr, "psensd: -t %s: not HH:MM\n", optarg);
 				return 2;
 			}
+			have_t = 1;
 			break;
 		case 'x':
 			speed = strtod(optarg, &end);
@@ -154,14 +158,28 @@ int main(int argc, char **argv)
 				fprintf(stderr, "psensd: -x %s: a speed from 0.001 to 1e6\n", optarg);
 				return 2;
 			}
+			have_x = 1;
 			break;
 		case 'v': verbose = PSD_LOG_DEBUG; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psensd");
 		default: usage(stderr); return 2;
 		}
 	}
 	if (optind != argc) {
 		usage(stderr);
+		return 2;
+	}
+	/* no option is silently ignored: -t and -x set the real-time clock,
+	 * which neither -s (the [simulate] day) nor -n (no clock) has */
+	if ((simulate || check) && (have_t || have_x)) {
+		fprintf(stderr, "psensd: %s%s%s apply to the real-time clock, not to %s%s\n", have_t ? "-t" : "",
+		        have_t && have_x ? " and " : "", have_x ? "-x" : "", simulate ? "-s" : "-n",
+		        simulate ? " (the [simulate] section sets the day)" : "");
+		return 2;
+	}
+	if (simulate && check) {
+		fprintf(stderr, "psensd: -n and -s: one or the other\n");
 		return 2;
 	}
 	log_init(1, verbose, "psensd");

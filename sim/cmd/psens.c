@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "fisheye.h"
 #include "integrate.h"
 #include "picture.h"
@@ -26,7 +27,8 @@ static void usage(FILE *fp)
 	            "  -m MODE   reading of the table: linear (default) or cell (rsensor's)\n"
 	            "  -c        the paper's centre-point weights instead of exact ones\n"
 	            "  -j        one JSON object per picture\n"
-	            "  -q        no warnings\n");
+	            "  -q        no warnings\n"
+	            "  -h, --help     this help;  -V, --version  the version\n");
 }
 
 static int parse_num(const char *opt, const char *s, double *out)
@@ -116,7 +118,8 @@ int main(int argc, char **argv)
 	struct ps_err e;
 	int have_w = 0;
 
-	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:cjqh")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "s:r:R:G:B:f:m:cjqhV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 's': sensfile = optarg; break;
 		case 'r': if (parse_num("-r", optarg, &rot)) return 2; break;
@@ -140,6 +143,7 @@ int main(int argc, char **argv)
 		case 'j': json = 1; break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psens");
 		default: usage(stderr); return 2;
 		}
 	}

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "cache.h"
 #include "integrate.h"
 #include "picture.h"
@@ -298,7 +299,8 @@ static void usage(FILE *fp)
 	            "  -C DIR   cache directory (default: the scene's cache key, else\n"
 	            "           $XDG_CACHE_HOME/psensd or ~/.cache/psensd)\n"
 	            "  -N       no cache\n"
-	            "  -q       quiet: no table, no progress\n");
+	            "  -q       quiet: no table, no progress\n"
+	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 int main(int argc, char **argv)
@@ -312,13 +314,15 @@ int main(int argc, char **argv)
 	struct ps_err e;
 
 	memset(&r, 0, sizeof r);
-	while ((opt = getopt(argc, argv, "o:C:Nqh")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "o:C:NqhV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'o': out = optarg; break;
 		case 'C': cache = optarg; break;
 		case 'N': nocache = 1; break;
 		case 'q': r.quiet = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psscene");
 		default: usage(stderr); return 2;
 		}
 	}
