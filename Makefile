@@ -140,7 +140,7 @@ install: all
 	install -d $(DESTDIR)$(SYSUSERSDIR) $(DESTDIR)$(UDEVRULESDIR)
 	install -m 644 systemd/psensd.sysusers $(DESTDIR)$(SYSUSERSDIR)/psensd.conf
 	install -m 644 systemd/60-psensd.rules $(DESTDIR)$(UDEVRULESDIR)/60-psensd.rules
-	install -d $(DESTDIR)$(DATADIR)
+	install -d $(DESTDIR)$(DATADIR) $(DESTDIR)$(STATEDIR)
 	cp -R config/example $(DESTDIR)$(DATADIR)/
 	if [ -d sim/data ]; then cp -R sim/data/. $(DESTDIR)$(DATADIR)/; fi
 
