@@ -173,9 +173,10 @@ int main(int argc, char **argv)
 	/* no option is silently ignored: -t and -x set the real-time clock,
 	 * which neither -s (the [simulate] day) nor -n (no clock) has */
 	if ((simulate || check) && (have_t || have_x)) {
-		fprintf(stderr, "psensd: %s%s%s apply to the real-time clock, not to %s%s\n", have_t ? "-t" : "",
-		        have_t && have_x ? " and " : "", have_x ? "-x" : "", simulate ? "-s" : "-n",
-		        simulate ? " (the [simulate] section sets the day)" : "");
+		fprintf(stderr, "psensd: %s%s%s %s the real-time clock, which %s does not run%s\n",
+		        have_t ? "-t" : "", have_t && have_x ? " and " : "", have_x ? "-x" : "",
+		        have_t && have_x ? "set" : "sets", simulate ? "-s" : "-n",
+		        simulate ? " (its [simulate] section sets the day)" : "");
 		return 2;
 	}
 	if (simulate && check) {

@@ -77,10 +77,10 @@ fi
 if [ -x "$BIN/psensd" ]; then
 	"$BIN/psensd" -f config/psensd.conf -s -x 600 > "$TMP/out" 2> "$TMP/err"; rc=$?
 	check "psensd -s -x 600: exit 2 ($rc): $(cat "$TMP/err")" \
-		sh -c "[ $rc = 2 ] && grep -q -- '-x apply to the real-time clock, not to -s' '$TMP/err' && [ ! -s '$TMP/out' ]"
+		sh -c "[ $rc = 2 ] && grep -q -- '-x sets the real-time clock, which -s does not run' '$TMP/err' && [ ! -s '$TMP/out' ]"
 	"$BIN/psensd" -f config/psensd.conf -n -t 06:00 > "$TMP/out" 2> "$TMP/err"; rc=$?
 	check "psensd -n -t 06:00: exit 2 ($rc): $(cat "$TMP/err")" \
-		sh -c "[ $rc = 2 ] && grep -q -- '-t apply to the real-time clock, not to -n' '$TMP/err'"
+		sh -c "[ $rc = 2 ] && grep -q -- '-t sets the real-time clock, which -n does not run' '$TMP/err'"
 	"$BIN/psensd" -n -s > /dev/null 2> "$TMP/err"; rc=$?
 	check "psensd -n -s: exit 2 ($rc): $(cat "$TMP/err")" sh -c "[ $rc = 2 ] && grep -q 'one or the other' '$TMP/err'"
 fi
