@@ -130,6 +130,7 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	z->started = now;
 	z->last_ok = now;
 	z->volts = z->task_lux = z->last_volts = NAN;
+	z->last.t = NAN;
 	z->same_since = now;
 	z->override_level = NAN;
 	z->override_until = -INFINITY;
@@ -434,11 +435,27 @@ static void drift_step(struct psd_zone *z, double now)
 	}
 }
 
+/* The step's values, all of one moment, for status and watch. */
+static void snapshot(struct psd_zone *z, double now, double level_in)
+{
+	struct ps_truth tr;
+	struct psd_zone_sample *s = &z->last;
+	s->t = now;
+	s->level = level_in;
+	s->volts = z->volts;
+	s->fault = z->in_fault;
+	s->est_task_lux = z->in_fault ? NAN : z->ctl.est_task_lux;
+	s->daylight_v = z->in_fault ? NAN : z->ctl.daylight_volts;
+	s->task_lux = z->task_lux;
+	s->true_task_lux = psd_engine_truth(z, now, &tr) == 0 ? tr.task_lux : NAN;
+	s->commanded = z->level;
+}
+
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
 	char why[256], t[8];
-	double level, t0;
+	double level, t0, level_in = z->level;
 	int rc;
 	z->steps++;
 	if (zc->task >= 0) {
@@ -461,7 +478,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			struct ps_dev *d = dev_of(e, zc->dim[0]);
 			double out;
 			if (d->drv->read(d, &e->pt[zc->dim[0]], now, &out) == 0 && out >= 0 && out <= 1)
-				z->ctl.level = out;
+				z->ctl.level = level_in = out;
 		}
 		if (rc == 0) {
 			struct psd_calsession_ctx c = cal_ctx(e, z, now);
@@ -504,6 +521,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			}
 		}
 	}
+	snapshot(z, now, level_in);
 	log_sample(e, z, now);
 	truth(e, z, now);
 }
