@@ -64,6 +64,8 @@ static json_object *ok_reply(void)
 	return o;
 }
 
+static json_object *cal_json(const struct psd_zone *z, double now);
+
 /* HH:MM:SS of a clock time */
 static void hhmmss(double t, char out[16])
 {
@@ -130,6 +132,8 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	put_num(o, "electric_task_lux", z->ctl.elec_task_lux);
 	json_object_object_add(o, "calibrated_night", z->cal_night_id ? json_object_new_int64(z->cal_night_id) : NULL);
 	json_object_object_add(o, "calibrated_day", z->cal_day_id ? json_object_new_int64(z->cal_day_id) : NULL);
+	/* a session under way, with its progress (psensctl watch shows it) */
+	json_object_object_add(o, "calibration", psd_calsession_running(&z->cal) ? cal_json(z, now) : NULL);
 	return o;
 }
 

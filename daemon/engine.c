@@ -436,7 +436,7 @@ static void drift_step(struct psd_zone *z, double now)
 }
 
 /* The step's values, all of one moment, for status and watch. */
-static void snapshot(struct psd_zone *z, double now, double level_in)
+static void snapshot(struct psd_zone *z, double now, double level_in, int estimated)
 {
 	struct ps_truth tr;
 	struct psd_zone_sample *s = &z->last;
@@ -444,8 +444,10 @@ static void snapshot(struct psd_zone *z, double now, double level_in)
 	s->level = level_in;
 	s->volts = z->volts;
 	s->fault = z->in_fault;
-	s->est_task_lux = z->in_fault ? NAN : z->ctl.est_task_lux;
-	s->daylight_v = z->in_fault ? NAN : z->ctl.daylight_volts;
+	/* a step the control did not run (a calibration session holds the
+	 * lights, a missed reading) has no estimate of its own: not the last one */
+	s->est_task_lux = z->in_fault || !estimated ? NAN : z->ctl.est_task_lux;
+	s->daylight_v = z->in_fault || !estimated ? NAN : z->ctl.daylight_volts;
 	s->task_lux = z->task_lux;
 	s->true_task_lux = psd_engine_truth(z, now, &tr) == 0 ? tr.task_lux : NAN;
 	s->commanded = z->level;
@@ -456,7 +458,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	const struct psd_zone_conf *zc = z->zc;
 	char why[256], t[8];
 	double level, t0, level_in = z->level;
-	int rc;
+	int rc, estimated = 0;   /* the control estimated the task lux from this reading */
 	z->steps++;
 	if (zc->task >= 0) {
 		struct ps_dev *d = dev_of(e, zc->task);
@@ -489,7 +491,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		}
 		if (psd_calsession_level(&z->cal, now, &level))
 			;   /* a calibration session holds the lights */
-		else if (rc == 0)
+		else if (rc == 0 && (estimated = 1))
 			level = psd_control_step(&z->ctl, z->volts, now);
 		else
 			level = z->level;   /* a missed reading: hold until it is stale */
@@ -521,7 +523,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			}
 		}
 	}
-	snapshot(z, now, level_in);
+	snapshot(z, now, level_in, estimated);
 	log_sample(e, z, now);
 	truth(e, z, now);
 }
