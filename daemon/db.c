@@ -41,10 +41,12 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS cal_samples("
 	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
 	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
+	/* 3 -> 4: each sample's Unix time (psensctl export --since/--until) */
+	"ALTER TABLE samples ADD COLUMN utc REAL;",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                     " daylight_lux, condition, ratio, fault, zone";
+                                     " daylight_lux, condition, ratio, fault, zone, utc";
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
@@ -122,7 +124,7 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 		return NULL;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -255,6 +257,7 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 10, s->ratio);
 	bind_text(db->ins, 11, s->fault);
 	bind_text(db->ins, 12, s->zone);
+	bind_num(db->ins, 13, s->utc);
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
 		sqlite3_reset(db->ins);
 		return fail(db->h, "insert", err, errlen);
@@ -281,6 +284,7 @@ static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 	*s = (struct psd_sample){
 		col_num(st, 0), col_num(st, 1), col_num(st, 2), col_num(st, 3), col_num(st, 4), col_num(st, 5),
 		col_num(st, 6), col_num(st, 7), col_text(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
+		col_num(st, 12),
 	};
 }
 
@@ -504,4 +508,35 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 	}
 	sqlite3_finalize(st);
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+int psd_db_select(const char *path, const char *zone, double since, double until, long last,
+                  psd_db_sample_fn fn, void *user, char *err, size_t errlen)
+{
+	struct psd_db *db = psd_db_open_readonly(path, err, errlen);
+	char sql[512];
+	sqlite3_stmt *st;
+	int rc;
+	if (!db)
+		return -1;
+	/* the last ones: the newest `last` rows, given back oldest first */
+	snprintf(sql, sizeof sql,
+	         "SELECT %s FROM (SELECT rowid AS r, * FROM samples"
+	         " WHERE (?1 IS NULL OR zone = ?1 OR zone IS NULL) AND (?2 IS NULL OR utc >= ?2)"
+	         " AND (?3 IS NULL OR utc <= ?3) ORDER BY rowid DESC LIMIT ?4) ORDER BY r",
+	         sample_columns);
+	if (!(st = query(db, err, errlen, sql, "tddi", zone, since, until, last > 0 ? (long long)last : -1LL))) {
+		psd_db_close(db);
+		return -1;
+	}
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_sample s;
+		row_sample(st, &s);
+		fn(user, &s);
+	}
+	if (rc != SQLITE_DONE)
+		fail(db->h, path, err, errlen);
+	sqlite3_finalize(st);
+	psd_db_close(db);
+	return rc == SQLITE_DONE ? 0 : -1;
 }

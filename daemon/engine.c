@@ -169,6 +169,7 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 	memset(e, 0, sizeof *e);
 	e->cf = cf;
 	e->db_batch = db_batch > 0 ? db_batch : 1;
+	e->utc0 = prev ? prev->utc0 : NAN;   /* the daemon sets it after the first open */
 	if (prev)
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
 	if (cf->results) {
@@ -365,7 +366,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : z->ctl.daylight_volts,
 		fault ? NAN : dl,
 		e->have_res ? "daylight_mean" : NULL, z->ctl.daylight_ratio, fault ? z->why : NULL,
-		z->zc->name,
+		z->zc->name, e->utc0 + now,
 	};
 	if (!e->db)
 		return;

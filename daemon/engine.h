@@ -80,6 +80,7 @@ struct psd_engine {
 	double lat_max, lat_sum;  /* reading-to-command latency, wall seconds */
 	unsigned long lat_n;
 	double late_max;          /* worst lateness of a step against its schedule, clock s */
+	double utc0;              /* Unix time of clock 0 (its day's local midnight); NAN: unknown */
 };
 
 /* Open cf's devices and points at time now and prepare the zones (cf is then

@@ -27,20 +27,23 @@
 #include "ctlsock.h"
 #include "db.h"
 #include "report.h"
+#include "sampleout.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psensctl [-s socket] [-j] [-w seconds] command [arguments]\n"
-	            "       psensctl [-s socket | -d database] export --csv\n"
+	            "       psensctl [-s socket | -d database] export [--zone ZONE] [--since T] [--until T]\n"
+	            "                [--format csv|json]   (T: 2026-03-18T12:05[:SS][Z], 2026-03-18 or Unix s)\n"
+	            "       psensctl [-s socket | -d database] log [ZONE] [-n count]\n"
 	            "       psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]\n"
 	            "       psensctl [-s socket] watch [ZONE] [-n count]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
-	            "          release ZONE, ratios, log, reload, ping, help,\n"
+	            "          release ZONE, ratios, reload, ping, help,\n"
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
 	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
 	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n"
 	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET or /run/psensd/psensd.sock)\n"
-	            "  -d FILE     the database, for export and report (default: the one psensd names)\n"
+	            "  -d FILE     the database, for export, report and log (default: the one psensd names)\n"
 	            "  -j          replies as JSON lines\n"
 	            "  -w SECONDS  how long to wait for a reply (default 5)\n"
 	            "  -h, --help  this help;  -V, --version  the version\n");
@@ -386,6 +389,103 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 	return 0;
 }
 
+/* ---- log and export: the sample log, read from the database ------------------------------- */
+
+/* export --zone Z --since T --until T --format csv|json (or the old --csv) */
+static int export_samples(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
+{
+	const char *zone = NULL;
+	double since = NAN, until = NAN;
+	int format = PSD_OUT_CSV, rc;
+	struct psd_sampleout out;
+	char err[512];
+	json_object *o;
+	if (argc == 1 && strcmp(argv[0], "--csv") == 0)
+		return export_csv(sock, dbpath, timeout_ms);
+	for (int i = 0; i < argc; i++) {
+		const char *opt = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
+		if (!val) {
+			fprintf(stderr, "psensctl: export %s: needs a value\n", opt);
+			return 2;
+		}
+		i++;
+		if (strcmp(opt, "--zone") == 0) {
+			zone = val;
+		} else if (strcmp(opt, "--since") == 0 || strcmp(opt, "--until") == 0) {
+			if (psd_time_parse(val, opt[2] == 's' ? &since : &until) != 0) {
+				fprintf(stderr, "psensctl: export %s '%s': not an ISO date-time (2026-03-18T12:05[:SS][Z], "
+				        "2026-03-18) or Unix seconds\n", opt, val);
+				return 2;
+			}
+		} else if (strcmp(opt, "--format") == 0) {
+			if (strcmp(val, "csv") == 0)
+				format = PSD_OUT_CSV;
+			else if (strcmp(val, "json") == 0)
+				format = PSD_OUT_JSON;
+			else {
+				fprintf(stderr, "psensctl: export --format '%s': csv or json\n", val);
+				return 2;
+			}
+		} else {
+			fprintf(stderr, "psensctl: export: '%s' is not --zone, --since, --until or --format\n", opt);
+			return 2;
+		}
+	}
+	if (isfinite(since) && isfinite(until) && since > until) {
+		fprintf(stderr, "psensctl: export: --since is after --until\n");
+		return 2;
+	}
+	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	psd_sampleout_begin(&out, stdout, format);
+	rc = psd_db_select(dbpath, zone, since, until, 0, psd_sampleout_row, &out, err, sizeof err);
+	if (psd_sampleout_end(&out) != 0 && rc == 0) {
+		snprintf(err, sizeof err, "standard output: write error");
+		rc = -1;
+	}
+	if (rc != 0)
+		fprintf(stderr, "psensctl: %s\n", err);
+	json_object_put(o);
+	return rc == 0 ? 0 : 1;
+}
+
+/* log [ZONE] [-n N]: where the log is, then its last N samples (20) */
+static int show_log(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
+{
+	const char *zone = NULL;
+	long last = 20;
+	char err[512], *end;
+	struct psd_sampleout out;
+	json_object *o = NULL;
+	int rc;
+	for (int i = 0; i < argc; i++) {
+		if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
+			last = strtol(argv[++i], &end, 10);
+			if (*end || last < 1) {
+				fprintf(stderr, "psensctl: log -n %s: a count of 1 or more\n", argv[i]);
+				return 2;
+			}
+		} else if (!zone && argv[i][0] != '-') {
+			zone = argv[i];
+		} else {
+			usage(stderr);
+			return 2;
+		}
+	}
+	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	if (o)
+		printf("database %s: %s samples logged by this psensd\n", dbpath, text_of(o, "logged") ?
+		       text_of(o, "logged") : "-");
+	psd_sampleout_begin(&out, stdout, PSD_OUT_TABLE);
+	rc = psd_db_select(dbpath, zone, NAN, NAN, last, psd_sampleout_row, &out, err, sizeof err);
+	psd_sampleout_end(&out);
+	if (rc != 0)
+		fprintf(stderr, "psensctl: %s\n", err);
+	json_object_put(o);
+	return rc == 0 ? 0 : 1;
+}
+
 /* ---- watch: a view of the zones, a block each period ------------------------------------ */
 
 static double num_of(json_object *o, const char *key)
@@ -538,19 +638,17 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	/* no option is silently ignored: the database is read by export and report only */
-	if (dbpath && strcmp(argv[optind], "export") != 0 && strcmp(argv[optind], "report") != 0) {
-		fprintf(stderr, "psensctl: -d is for export and report; %s asks psensd (-s)\n", argv[optind]);
+	if (dbpath && strcmp(argv[optind], "export") != 0 && strcmp(argv[optind], "report") != 0 &&
+	    strcmp(argv[optind], "log") != 0) {
+		fprintf(stderr, "psensctl: -d is for export, report and log; %s asks psensd (-s)\n", argv[optind]);
 		return 2;
 	}
 	if (timeout_ms <= 0)
 		timeout_ms = 5000;
-	if (strcmp(argv[optind], "export") == 0) {
-		if (optind + 2 != argc || strcmp(argv[optind + 1], "--csv") != 0) {
-			usage(stderr);
-			return 2;
-		}
-		return export_csv(sock, dbpath, timeout_ms);
-	}
+	if (strcmp(argv[optind], "export") == 0)
+		return export_samples(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
+	if (strcmp(argv[optind], "log") == 0)
+		return show_log(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "watch") == 0)
 		return watch(sock, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "report") == 0)
