@@ -84,7 +84,7 @@ void psd_sampleout_begin(struct psd_sampleout *o, FILE *fp, int format)
 static void csv_num(FILE *fp, double v)
 {
 	if (isfinite(v))
-		fprintf(fp, "%.10g", v);
+		fprintf(fp, "%.15g", v);
 }
 
 static void csv_text(FILE *fp, const char *t)
@@ -159,7 +159,7 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 		json_text(j, "condition", s->condition);
 		json_num(j, "ratio", s->ratio);
 		json_text(j, "fault", s->fault);
-		json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
+		json_c_set_serialization_double_format("%.15g", JSON_C_OPTION_THREAD);
 		fprintf(o->fp, "%s\n  %s", o->rows ? "," : "",
 		        json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE));
 		json_object_put(j);
