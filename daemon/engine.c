@@ -359,11 +359,12 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	char err[512];
 	int fault = z->in_fault;
-	double dl = z->ctl.daylight_ratio * z->ctl.daylight_volts / z->ctl.sensor_gain;
+	/* the step's own estimate (snapshot): none when the control did not run */
+	double dl = z->ctl.daylight_ratio * z->last.daylight_v / z->ctl.sensor_gain;
 	struct psd_sample s = {
 		now, psd_clock_tod(now), z->volts, z->level,
-		fault ? NAN : z->ctl.est_task_lux, z->task_lux,
-		fault ? NAN : z->ctl.daylight_volts,
+		fault ? NAN : z->last.est_task_lux, z->task_lux,
+		fault ? NAN : z->last.daylight_v,
 		fault ? NAN : dl,
 		e->have_res ? "daylight_mean" : NULL, z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, e->utc0 + now,

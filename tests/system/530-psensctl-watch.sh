@@ -115,6 +115,14 @@ check "log: where the log is and the last 5 samples ($(wc -l < "$TMP/log") lines
 kill $PID; wait $PID 2>/dev/null
 DB="$TMP/state/psensd.db"
 "$BIN/psensctl" -d "$DB" export --zone office --format json > "$TMP/all.json"
+# the log's rows too: a step where the session held the lights logs no
+# estimate, never the last one copied beside a new reading
+stale=$($PY -c "
+import json,sys
+d=json.load(open(sys.argv[1]))
+print(sum(1 for p, q in zip(d, d[1:]) if q['est_task_lux'] is not None and p['est_task_lux'] == q['est_task_lux']
+          and abs(q['sensor_v'] - p['sensor_v']) > 0.01 * p['sensor_v']))" "$TMP/all.json")
+check "the log copies no estimate to a later reading ($stale rows do)" test "$stale" = 0
 check "export --format json is valid JSON (python3 -m json.tool)" sh -c "$PY -m json.tool '$TMP/all.json' > /dev/null"
 n=$($PY -c "import json,sys; print(len(json.load(open(sys.argv[1]))))" "$TMP/all.json")
 rows=$(sqlite3 "$DB" "select count(*) from samples where zone = 'office'" 2>/dev/null || echo "$n")
