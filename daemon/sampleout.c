@@ -14,11 +14,13 @@ int psd_time_parse(const char *s, double *utc)
 	char *end;
 	double v = strtod(s, &end);
 	time_t t;
-	if (end != s && !*end && isfinite(v) && strchr(s, '-') == NULL) {   /* Unix seconds */
+	if (end != s && !*end && strchr(s, '-') == NULL) {   /* Unix seconds, years 1970 to 5138 */
+		if (!(v >= 0 && v <= 1e11))
+			return -1;
 		*utc = v;
 		return 0;
 	}
-	if (sscanf(s, "%4d-%2d-%2d%n", &y, &mo, &d, &n) != 3)
+	if (sscanf(s, "%4d-%2d-%2d%n", &y, &mo, &d, &n) != 3 || y < 1970 || y > 5000)
 		return -1;
 	s += n;
 	if (*s == 'T' || *s == ' ') {
@@ -55,7 +57,7 @@ void psd_time_iso(double utc, char out[32])
 {
 	struct tm tm;
 	time_t t;
-	if (!isfinite(utc)) {
+	if (!(fabs(utc) <= 1e11)) {   /* NAN too */
 		snprintf(out, 32, "-");
 		return;
 	}
