@@ -125,6 +125,10 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	if (z->zc->task >= 0) {
 		json_object_object_add(o, "drift", json_object_new_boolean(z->drift.flagged));
 		put_num(o, "drift_pct", 100 * (exp(z->drift.last_ln) - 1));
+		/* why drift may be false beside a large drift_pct: how long the
+		 * ratio has been out (null: it is not), against the hold */
+		put_num(o, "drift_out_s", z->drift.out_since >= 0 ? now - z->drift.out_since : NAN);
+		put_num(o, "drift_hold_s", z->drift.hold);
 	}
 	put_num(o, "sensor_gain", z->ctl.sensor_gain);
 	put_num(o, "offset", z->ctl.offset);
