@@ -73,6 +73,12 @@ check "status: the sample names its own time and the level it then commanded ($c
 check "status: no moment's values at the zone's top level (sensor_v, est_task_lux beside level)" \
 	$PY -c "import json,sys; z=json.load(open(sys.argv[1]))['zones'][0]; sys.exit(any(k in z for k in ('sensor_v','est_task_lux','task_lux','daylight_v')))" "$TMP/st.json"
 
+check "status: drift false goes with drift_out_s below drift_hold_s (or null)" $PY -c "
+import json,sys
+z=json.load(open(sys.argv[1]))['zones'][0]
+o=z['drift_out_s']
+sys.exit(not (z['drift'] is False and z['drift_hold_s'] > 0 and (o is None or o < z['drift_hold_s'])))" "$TMP/st.json"
+
 # ---- a calibration session: progress, and its steps have no estimate ----
 ctl calibrate office night > /dev/null
 wait_for 10 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status office | grep -q '\"levels_left\":[0-5],'"
