@@ -154,4 +154,14 @@ check "export --since yesterday: exit 2 ($rc), says what a time is" sh -c "[ $rc
 "$BIN/psensctl" -d "$DB" export --csv > "$TMP/old.csv"
 check "export --csv (the old form) still gives the old columns" \
 	test "$(head -n 1 "$TMP/old.csv")" = "t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone"
+
+# ---- drift at night: not judged, so no drift_pct (was the evening's -99.9) ----
+sed 's/^offset = 0.05/offset = 0/; s|^database = .*|database = state/night.db|' "$TMP/p.conf" > "$TMP/night.conf"
+"$BIN/psensd" -f "$TMP/night.conf" -t 17:00 -x 3600 > /dev/null 2> "$TMP/night.err" &
+PID=$!; track_pid $PID
+wait_for 30 sh -c "\"$BIN/psensctl\" -s \"$S\" status office | grep -q '^time: 2[1-3]:'"
+ctl -j status office > "$TMP/night.json"
+kill $PID; wait $PID 2>/dev/null
+check "at night ($($PY -c "import json,sys; d=json.load(open(sys.argv[1])); z=d['zones'][0]; print(d['time'], 'drift_pct', z['drift_pct'], 'drift', z['drift'])" "$TMP/night.json")): drift_pct is null" \
+	$PY -c "import json,sys; z=json.load(open(sys.argv[1]))['zones'][0]; sys.exit(z['drift_pct'] is not None)" "$TMP/night.json"
 done_testing
