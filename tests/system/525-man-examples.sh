@@ -5,8 +5,9 @@
 # absolute paths of `make install` (default PREFIX /usr/local, /etc,
 # /var/lib/psensd) under a DESTDIR staging tree the test installs, so a path
 # that make install does not use fails.  psensctl lines talk to a psensd on
-# the loopback room; psvirt's port is a free one; a server runs 3 s and is
-# stopped; lines needing root are skipped with the reason, never passed.
+# the loopback room; psvirt's port is a free one and its serial line's ptys
+# are in the test's directory; a server runs 3 s and is stopped; lines
+# needing root are skipped with the reason, never passed.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] && [ -x "$BIN/psens" ] || skip_all "not built"
 BINA=$(cd "$BIN" && pwd)
@@ -25,7 +26,7 @@ PORT=$(free_port)
 paths() {
 	sed -e "s|/usr/local/|$ROOT/usr/local/|g; s|/etc/psensd|$ROOT/etc/psensd|g" \
 	    -e "s|/var/lib/psensd|$ROOT/var/lib/psensd|g; s|/usr/share/|$ROOT/usr/share/|g" \
-	    -e "s|1502|$PORT|g"
+	    -e "s|1502|$PORT|g; s|/tmp/vdev|$TMP/vdev|g; s|/tmp/site|$TMP/site|g"
 }
 
 # psensctl's peer: psensd on the loopback room, zone office, at 3600x from 02:00
@@ -103,7 +104,7 @@ while IFS="$tab" read -r kind page text; do
 	SERVER)
 		(cd "$W" && PATH="$BINA:$PATH" exec sh -c "exec $cmd") > "$TMP/srv.out" 2> "$TMP/srv.err" < /dev/null &
 		p=$!; track_pid $p
-		case "$cmd" in psvirt*) wait_for 5 sh -c "grep -q 'on port' '$TMP/srv.out' '$TMP/srv.err'"; bg="$bg $p"
+		case "$cmd" in psvirt*) wait_for 5 sh -c "grep -q 'zones on ' '$TMP/srv.out' '$TMP/srv.err'"; bg="$bg $p"
 			check "$name: $text: serving$(kill -0 $p 2>/dev/null || { printf ': '; tail -n 2 "$TMP/srv.err" | tr '\n' ' '; })" kill -0 $p
 			continue ;;
 		esac
