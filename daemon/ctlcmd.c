@@ -64,7 +64,7 @@ static json_object *ok_reply(void)
 	return o;
 }
 
-static json_object *cal_json(const struct psd_zone *z, double now);
+static void cal_progress(json_object *o, const struct psd_zone *z, double now);
 
 /* HH:MM:SS of a clock time */
 static void hhmmss(double t, char out[16])
@@ -136,8 +136,18 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	put_num(o, "electric_task_lux", z->ctl.elec_task_lux);
 	json_object_object_add(o, "calibrated_night", z->cal_night_id ? json_object_new_int64(z->cal_night_id) : NULL);
 	json_object_object_add(o, "calibrated_day", z->cal_day_id ? json_object_new_int64(z->cal_day_id) : NULL);
-	/* a session under way, with its progress (psensctl watch shows it) */
-	json_object_object_add(o, "calibration", psd_calsession_running(&z->cal) ? cal_json(z, now) : NULL);
+	/* a session under way and its progress (psensctl watch shows it); its
+	 * levels or samples stay in calibrate status: ten zones' day sessions
+	 * would not fit a status reply */
+	if (psd_calsession_running(&z->cal)) {
+		json_object *c = json_object_new_object();
+		put_str(c, "kind", psd_calsession_kind_names[z->cal.kind]);
+		put_str(c, "message", z->cal.msg[0] ? z->cal.msg : NULL);
+		cal_progress(c, z, now);
+		json_object_object_add(o, "calibration", c);
+	} else {
+		json_object_object_add(o, "calibration", NULL);
+	}
 	return o;
 }
 
