@@ -9,8 +9,10 @@
 #include <string.h>
 #include <math.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cmocka.h>
+#include <sqlite3.h>
 
 #include "sampleout.h"
 
@@ -72,12 +74,50 @@ static void iso_out(void **state)
 	zone("UTC0");
 }
 
+static void count_row(void *user, const struct psd_sample *s)
+{
+	(void)s;
+	++*(int *)user;
+}
+
+/* A log from before schema 4, read without migrating it (psensctl opens it
+ * read-only): its samples come out without a time, and a time range
+ * matches none of them, instead of "no such column: utc". */
+static void old_log(void **state)
+{
+	char path[] = "/tmp/psout.XXXXXX", db[64], err[256];
+	sqlite3 *h;
+	int n = 0;
+	(void)state;
+	assert_non_null(mkdtemp(path));
+	snprintf(db, sizeof db, "%s/v3.db", path);
+	assert_int_equal(sqlite3_open(db, &h), SQLITE_OK);
+	assert_int_equal(sqlite3_exec(h, "CREATE TABLE samples(t REAL NOT NULL, tod_s REAL, sensor_v REAL, output REAL,"
+	                                 " est_task_lux REAL, task_lux REAL, daylight_v REAL, daylight_lux REAL,"
+	                                 " condition TEXT, ratio REAL, fault TEXT, zone TEXT);"
+	                                 "INSERT INTO samples(t, tod_s, sensor_v, output, zone) VALUES"
+	                                 " (21600, 21600, 0.5, 0.4, 'office'), (21660, 21660, 0.6, 0.3, 'office');",
+	                                 NULL, NULL, NULL), SQLITE_OK);
+	sqlite3_close(h);
+	assert_int_equal(psd_db_select(db, "office", NAN, NAN, 0, count_row, &n, err, sizeof err), 0);
+	assert_int_equal(n, 2);
+	n = 0;
+	assert_int_equal(psd_db_select(db, "office", 0, NAN, 0, count_row, &n, err, sizeof err), 0);
+	assert_int_equal(n, 0);
+	n = 0;
+	assert_int_equal(psd_db_select(db, NULL, NAN, NAN, 1, count_row, &n, err, sizeof err), 0);
+	assert_int_equal(n, 1);
+	unlink(db);
+	rmdir(path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(iso_and_epoch),
 		cmocka_unit_test(refused),
 		cmocka_unit_test(iso_out),
+		cmocka_unit_test(old_log),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
