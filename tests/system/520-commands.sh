@@ -81,6 +81,10 @@ if [ -x "$BIN/psensd" ]; then
 	"$BIN/psensd" -f config/psensd.conf -n -t 06:00 > "$TMP/out" 2> "$TMP/err"; rc=$?
 	check "psensd -n -t 06:00: exit 2 ($rc): $(cat "$TMP/err")" \
 		sh -c "[ $rc = 2 ] && grep -q -- '-t sets the real-time clock, which -n does not run' '$TMP/err'"
+	"$BIN/psensd" -f config/psensd.conf -P "$TMP/y.png" > /dev/null 2> "$TMP/err"; rc=$?
+	check "psensd -P without -Y: exit 2 ($rc): $(cat "$TMP/err")" sh -c "[ $rc = 2 ] && grep -q 'goes with -Y' '$TMP/err'"
+	"$BIN/psensd" -f config/psensd.conf -Y -x 600 > /dev/null 2> "$TMP/err"; rc=$?
+	check "psensd -Y -x 600: exit 2 ($rc): $(cat "$TMP/err")" sh -c "[ $rc = 2 ] && grep -q -- '-x sets the real-time clock, which -Y does not run' '$TMP/err'"
 	"$BIN/psensd" -n -s > /dev/null 2> "$TMP/err"; rc=$?
 	check "psensd -n -s: exit 2 ($rc): $(cat "$TMP/err")" sh -c "[ $rc = 2 ] && grep -q 'one or the other' '$TMP/err'"
 fi
