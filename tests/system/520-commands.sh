@@ -99,7 +99,7 @@ if command -v man > /dev/null; then
 	MANWIDTH=200 LC_ALL=C.UTF-8 man -l daemon/cmd/psensctl.1 2>/dev/null | grep 'new target' > "$TMP/target"
 	check "psensctl(1): the target's range reads 0 to 1000000 lux: $(cat "$TMP/target")" \
 		grep -q '0 to 1000000 lux' "$TMP/target"
-	MANWIDTH=200 man -l sim/cmd/psens.1 2>/dev/null | grep -A2 -- '^ *-f filter' > "$TMP/f"
+	MANWIDTH=200 man -l sim/cmd/psens.1 2>/dev/null | grep -A2 -- '^ *-f filter' | tr -s ' ' > "$TMP/f"
 	check "psens(1) documents -f" grep -q 'colour filter' "$TMP/f"
 	MANWIDTH=200 man -l sim/cmd/psfilter.1 2>/dev/null | tr -s ' \n' '  ' > "$TMP/pf"
 	check "psfilter(1) and its help agree: percent when a value exceeds 2" \

@@ -13,7 +13,8 @@ PROGRAMS = {'psens', 'mksens', 'psfilter', 'psscene', 'pssky', 'pspng', 'psshare
             'psensd', 'psensctl', 'psvirt', 'mbpoll', 'socat'}
 
 def unroff(line):
-    line = line.replace('\\-', '-').replace('\\e', '\\').replace('\\&', '')
+    line = line.replace('\\\\', '\x00').replace('\\-', '-').replace('\\e', '\\').replace('\\&', '')
+    line = line.replace('\x00', '\\')
     line = line.replace('\\(em', '--').replace('\\(mu', 'x')
     return re.sub(r'\\f[BIRP]', '', line)
 
@@ -66,6 +67,7 @@ def kind(cmd):
 
 for page in sys.argv[1:]:
     for b in blocks(page):
+        b = [l.strip() if l.lstrip().startswith(('$ ', '# ')) else l for l in b]
         prompt = any(l.startswith('$ ') or l.startswith('# ') for l in b)
         if prompt:
             cmds = []
