@@ -45,8 +45,9 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS cal_samples("
 	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
 	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
-	/* 3 -> 4: MQTT (daemon/mqtt.c): the UTC time of each sample, the
-	 * publisher's persisted cursor per site, the zones announced */
+	/* 3 -> 4: MQTT (daemon/mqtt.c) and psensctl export --since/--until: the
+	 * UTC time of each sample, the publisher's persisted cursor per site,
+	 * the zones announced */
 	"ALTER TABLE samples ADD COLUMN utc REAL;"
 	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
 	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
@@ -54,7 +55,26 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                     " daylight_lux, condition, ratio, fault, zone";
+                                     " daylight_lux, condition, ratio, fault, zone, utc";
+/* the same for a log written before schema 4 (opened read-only, it is not
+ * migrated): no utc column, so NULL in its place */
+static const char sample_columns_v3[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
+                                        " daylight_lux, condition, ratio, fault, zone, NULL";
+
+/* The columns a reader selects: the file's (1 when it has utc). */
+static int has_utc(struct psd_db *db)
+{
+	sqlite3_stmt *st;
+	if (sqlite3_prepare_v2(db->h, "SELECT utc FROM samples LIMIT 0", -1, &st, NULL) != SQLITE_OK)
+		return 0;
+	sqlite3_finalize(st);
+	return 1;
+}
+
+static const char *read_columns(struct psd_db *db)
+{
+	return has_utc(db) ? sample_columns : sample_columns_v3;
+}
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
@@ -169,7 +189,7 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 	db->lockfd = lockfd;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s, utc) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -303,8 +323,10 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 10, s->ratio);
 	bind_text(db->ins, 11, s->fault);
 	bind_text(db->ins, 12, s->zone);
-	{
-		struct timespec ts;   /* the wall clock at logging: the sample's UTC time for MQTT */
+	if (isfinite(s->utc)) {
+		bind_num(db->ins, 13, s->utc);   /* the clock's time (engine.c: its day + t) */
+	} else {
+		struct timespec ts;   /* no clock date given: the wall clock at logging */
 		clock_gettime(CLOCK_REALTIME, &ts);
 		sqlite3_bind_double(db->ins, 13, (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec);
 	}
@@ -334,6 +356,7 @@ static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 	*s = (struct psd_sample){
 		col_num(st, 0), col_num(st, 1), col_num(st, 2), col_num(st, 3), col_num(st, 4), col_num(st, 5),
 		col_num(st, 6), col_num(st, 7), col_text(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
+		col_num(st, 12),
 	};
 }
 
@@ -359,7 +382,7 @@ int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn
 	sqlite3_stmt *st;
 	int rc;
 	snprintf(sql, sizeof sql, "SELECT %s FROM samples WHERE zone = ? OR zone IS NULL ORDER BY rowid",
-	         sample_columns);
+	         read_columns(db));
 	if (!(st = query(db, err, errlen, sql, "t", zone)))
 		return -1;
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
@@ -421,7 +444,7 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 	int rc;
 	if (!db)
 		return -1;
-	snprintf(sql, sizeof sql, "SELECT %s FROM samples ORDER BY rowid", sample_columns);
+	snprintf(sql, sizeof sql, "SELECT %s FROM samples ORDER BY rowid", read_columns(db));
 	if (!(st = query(db, err, errlen, sql, ""))) {
 		psd_db_close(db);
 		return -1;
@@ -559,6 +582,38 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
 }
 
+int psd_db_select(const char *path, const char *zone, double since, double until, long last,
+                  psd_db_sample_fn fn, void *user, char *err, size_t errlen)
+{
+	struct psd_db *db = psd_db_open_readonly(path, err, errlen);
+	char sql[512];
+	sqlite3_stmt *st;
+	int rc;
+	if (!db)
+		return -1;
+	/* the last ones: the newest `last` rows, given back oldest first */
+	const char *utc = has_utc(db) ? "utc" : "NULL";   /* an older log: no sample has a time */
+	snprintf(sql, sizeof sql,
+	         "SELECT %s FROM (SELECT rowid AS r, * FROM samples"
+	         " WHERE (?1 IS NULL OR zone = ?1 OR zone IS NULL) AND (?2 IS NULL OR %s >= ?2)"
+	         " AND (?3 IS NULL OR %s <= ?3) ORDER BY rowid DESC LIMIT ?4) ORDER BY r",
+	         read_columns(db), utc, utc);
+	if (!(st = query(db, err, errlen, sql, "tddi", zone, since, until, last > 0 ? (long long)last : -1LL))) {
+		psd_db_close(db);
+		return -1;
+	}
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_sample s;
+		row_sample(st, &s);
+		fn(user, &s);
+	}
+	if (rc != SQLITE_DONE)
+		fail(db->h, path, err, errlen);
+	sqlite3_finalize(st);
+	psd_db_close(db);
+	return rc == SQLITE_DONE ? 0 : -1;
+}
+
 /* ---- the report's readers (psensctl report) --------------------------------- */
 
 static int table_exists(struct psd_db *db, const char *table)
@@ -659,14 +714,14 @@ int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_s
 	char sql[320];
 	sqlite3_stmt *st;
 	int rc, n = 0;
-	snprintf(sql, sizeof sql, "SELECT %s, rowid, utc FROM samples WHERE rowid > ? ORDER BY rowid LIMIT ?",
+	snprintf(sql, sizeof sql, "SELECT %s, rowid FROM samples WHERE rowid > ? ORDER BY rowid LIMIT ?",
 	         sample_columns);
 	if (!(st = query(db, err, errlen, sql, "ii", after, (long long)limit)))
 		return -1;
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
 		struct psd_sample s;
 		row_sample(st, &s);
-		fn(user, sqlite3_column_int64(st, 12), col_num(st, 13), &s);
+		fn(user, sqlite3_column_int64(st, 13), s.utc, &s);
 		n++;
 	}
 	sqlite3_finalize(st);

@@ -12,7 +12,8 @@
  *   cal_samples   every sample of a session, committed as it is taken
  *   mqtt_cursor   per MQTT site, the last sample id the broker acknowledged
  *   mqtt_announced  per MQTT site, the zones announced to Home Assistant
- * Each sample row also has utc, the wall-clock time it was logged. */
+ * Each sample row also has utc: the time its clock showed (the clock's day + t), or
+ * the wall-clock time it was logged when no clock date was given. */
 #ifndef PSD_DB_H
 #define PSD_DB_H
 
@@ -34,6 +35,8 @@ struct psd_sample {
 	double ratio;         /* task lux per unit of sensor response used */
 	const char *fault;    /* NULL or a short text */
 	const char *zone;     /* the zone's name */
+	double utc;           /* Unix time the clock showed (its day's local midnight + t);
+	                         NAN in a log written before schema 4 */
 };
 
 struct psd_db;
@@ -66,6 +69,11 @@ int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn
 /* Write the samples as CSV (header: t,tod_s,sensor_v,output,est_task_lux,
  * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone) to fp. */
 int psd_db_export_csv(const char *path, void *fp, char *err, size_t errlen);
+/* The samples of zone (NULL: every zone) with since <= utc <= until (NAN:
+ * no bound), in log order; only the last `last` when last > 0 (psensctl log
+ * and export).  -1 with a message in err. */
+int psd_db_select(const char *path, const char *zone, double since, double until, long last,
+                  psd_db_sample_fn fn, void *user, char *err, size_t errlen);
 
 /* ---- calibration records --------------------------------------------------- *
  * Written through the sample log's connection: while a batch of samples

@@ -137,6 +137,7 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	z->started = now;
 	z->last_ok = now;
 	z->volts = z->task_lux = z->last_volts = NAN;
+	z->last.t = NAN;
 	z->same_since = now;
 	z->override_level = NAN;
 	z->override_until = -INFINITY;
@@ -181,6 +182,7 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	memset(e, 0, sizeof *e);
 	e->cf = cf;
 	e->db_batch = db_batch > 0 ? db_batch : 1;
+	e->utc0 = prev ? prev->utc0 : NAN;   /* the daemon sets it after the first open */
 	if (prev)
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
 	/* the dated estimate's month: the simulated date's (psensd sets today's
@@ -494,15 +496,16 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	char err[512];
 	int fault = z->in_fault;
-	double dl = z->ctl.daylight_ratio * z->ctl.daylight_volts / z->ctl.sensor_gain;
+	/* the step's own estimate (snapshot): none when the control did not run */
+	double dl = z->ctl.daylight_ratio * z->last.daylight_v / z->ctl.sensor_gain;
 	struct psd_sample s = {
 		now, psd_clock_tod(now), z->volts, z->level,
-		fault ? NAN : z->ctl.est_task_lux, z->task_lux,
-		fault ? NAN : z->ctl.daylight_volts,
+		fault ? NAN : z->last.est_task_lux, z->task_lux,
+		fault ? NAN : z->last.daylight_v,
 		fault ? NAN : dl,
 		!e->have_res ? NULL : e->res.have_year && e->cf->dated_estimate && !z->cal_day_id
 		                          ? "daylight_dated" : "daylight_mean", z->ctl.daylight_ratio, fault ? z->why : NULL,
-		z->zc->name,
+		z->zc->name, e->utc0 + now,
 	};
 	if (!e->db)
 		return;
@@ -572,12 +575,30 @@ static void drift_step(struct psd_zone *z, double now)
 	}
 }
 
+/* The step's values, all of one moment, for status and watch. */
+static void snapshot(struct psd_zone *z, double now, double level_in, int estimated)
+{
+	struct ps_truth tr;
+	struct psd_zone_sample *s = &z->last;
+	s->t = now;
+	s->level = level_in;
+	s->volts = z->volts;
+	s->fault = z->in_fault;
+	/* a step the control did not run (a calibration session holds the
+	 * lights, a missed reading) has no estimate of its own: not the last one */
+	s->est_task_lux = z->in_fault || !estimated ? NAN : z->ctl.est_task_lux;
+	s->daylight_v = z->in_fault || !estimated ? NAN : z->ctl.daylight_volts;
+	s->task_lux = z->task_lux;
+	s->true_task_lux = psd_engine_truth(z, now, &tr) == 0 ? tr.task_lux : NAN;
+	s->commanded = z->level;
+}
+
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
 	char why[256], t[8];
-	double level, t0;
-	int rc;
+	double level, t0, level_in = z->level;
+	int rc, estimated = 0;   /* the control estimated the task lux from this reading */
 	if (prefetch(e, z, now))
 		return;   /* woken when the I/O threads answer */
 	z->steps++;
@@ -599,7 +620,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			 * when the period is short against the ballast's fade */
 			double out;
 			if (pt_read(e, zc->dim[0], now, &out) == 0 && out >= 0 && out <= 1)
-				z->ctl.level = out;
+				z->ctl.level = level_in = out;
 		}
 		if (rc == 0) {
 			struct psd_calsession_ctx c = cal_ctx(e, z, now);
@@ -612,6 +633,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			;   /* a calibration session holds the lights */
 		else if (rc == 0) {
 			dated_ratio(e, z, now);
+			estimated = 1;
 			level = psd_control_step(&z->ctl, z->volts, now);
 		}
 		else
@@ -644,6 +666,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			}
 		}
 	}
+	snapshot(z, now, level_in, estimated);
 	log_sample(e, z, now);
 	truth(e, z, now);
 }

@@ -24,6 +24,20 @@ struct psd_zone_stats {
 	double energy0;           /* the room's energy when the zone started */
 };
 
+/* One control step as it happened, every value of the same moment (what
+ * status and watch show): the reading, the estimate made from it at the
+ * level the lights had, and the level the step then commanded. */
+struct psd_zone_sample {
+	double t;                 /* clock seconds; NAN before the first step */
+	double level;             /* the output while the sensor was read */
+	double volts, daylight_v; /* the reading, its daylight part */
+	double est_task_lux;      /* estimated from this reading (NAN in a fault) */
+	double task_lux;          /* the task meter at this step (NAN: none) */
+	double true_task_lux;     /* the simulated room's truth at t (NAN: a real room) */
+	double commanded;         /* the level this step commanded */
+	int fault;                /* the step ended in a fault */
+};
+
 struct psd_zone {
 	const struct psd_zone_conf *zc;
 	struct psd_control ctl;
@@ -50,6 +64,7 @@ struct psd_zone {
 	struct psd_calfit_drift drift; /* measured against simulated ratio, with a task meter */
 	long long cal_night_id, cal_day_id;   /* the accepted calibrations in force, 0: none */
 	struct psd_zone_stats st;
+	struct psd_zone_sample last;   /* the last step */
 };
 
 struct psd_engine {
@@ -72,6 +87,7 @@ struct psd_engine {
 	double late_max;          /* worst lateness of a step against its schedule, clock s */
 	struct psd_devio *io[PSD_MAX_DEVICES];   /* a device's I/O thread, NULL: called in the loop */
 	char ioerr[256];          /* the message of the last failed point read or write */
+	double utc0;              /* Unix time of clock 0 (its day's local midnight); NAN: unknown */
 };
 
 /* Open cf's devices and points at time now and prepare the zones (cf is then

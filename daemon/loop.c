@@ -16,6 +16,25 @@
 #include "daemon.h"
 #include "log.h"
 
+
+/* Unix time of local midnight of the clock's day: today on a real clock, the
+ * [simulate] date (MM-DD) this year on a simulated one; NAN if unknown. */
+static double utc_of_day(const char *mmdd)
+{
+	time_t now = time(NULL);
+	struct tm tm;
+	int m, dd;
+	if (!localtime_r(&now, &tm))
+		return NAN;
+	if (mmdd && sscanf(mmdd, "%d-%d", &m, &dd) == 2) {
+		tm.tm_mon = m - 1;
+		tm.tm_mday = dd;
+	}
+	tm.tm_hour = tm.tm_min = tm.tm_sec = 0;
+	tm.tm_isdst = -1;
+	now = mktime(&tm);
+	return now == (time_t)-1 ? NAN : (double)now;
+}
 /* The process's signals: one signalfd per process by nature (a signal
  * mask is the process's), so it is the one state kept outside the daemon. */
 static int sigfd = -1;
@@ -126,6 +145,7 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
+	d->engine.utc0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
 	if (d->have_ctl)
 		log_info("control socket %s", d->ctl.path);
 	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "daemon.h"
 #include "annual.h"
 #include "canvas.h"
@@ -180,6 +181,7 @@ static void usage(FILE *fp)
 	            "  -t HH:MM  real time: start the clock at this time of day (default: now)\n"
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
 	            "  -v        more messages\n"
+	            "  -h, --help  this help;  -V, --version  the version\n"
 	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n");
 #ifdef PS_WITH_MQTT
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7)\n");
@@ -246,12 +248,12 @@ int main(int argc, char **argv)
 	char *end;
 	static const struct option longopts[] = {
 		{ "list-driver-options", no_argument, NULL, 'L' },
-		{ "help", no_argument, NULL, 'h' },
+		PS_CLI_LONGOPTS,
 		{ NULL, 0, NULL, 0 },
 	};
 	const char *png = NULL;
-	int year = 0;
-	while ((opt = getopt_long(argc, argv, "f:nst:x:vhLYP:", longopts, NULL)) != -1) {
+	int year = 0, have_t = 0, have_x = 0;
+	while ((opt = getopt_long(argc, argv, "f:nst:x:vhVLYP:", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'L': list_options(); return 0;
 		case 'f': path = optarg; break;
@@ -264,6 +266,7 @@ int main(int argc, char **argv)
 				fprintf(stderr, "psensd: -t %s: not HH:MM\n", optarg);
 				return 2;
 			}
+			have_t = 1;
 			break;
 		case 'x':
 			speed = strtod(optarg, &end);
@@ -271,14 +274,33 @@ int main(int argc, char **argv)
 				fprintf(stderr, "psensd: -x %s: a speed from 0.001 to 1e6\n", optarg);
 				return 2;
 			}
+			have_x = 1;
 			break;
 		case 'v': verbose = PSD_LOG_DEBUG; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psensd");
 		default: usage(stderr); return 2;
 		}
 	}
 	if (optind != argc) {
 		usage(stderr);
+		return 2;
+	}
+	/* no option is silently ignored: -t and -x set the real-time clock,
+	 * which neither -s (the [simulate] day) nor -n (no clock) has */
+	if ((simulate || check) && (have_t || have_x)) {
+		fprintf(stderr, "psensd: %s%s%s %s the real-time clock, which %s does not run%s\n",
+		        have_t ? "-t" : "", have_t && have_x ? " and " : "", have_x ? "-x" : "",
+		        have_t && have_x ? "set" : "sets", year ? "-Y" : simulate ? "-s" : "-n",
+		        year ? " (it runs the results' year)" : simulate ? " (its [simulate] section sets the day)" : "");
+		return 2;
+	}
+	if (simulate && check) {
+		fprintf(stderr, "psensd: -n and %s: one or the other\n", year ? "-Y" : "-s");
+		return 2;
+	}
+	if (png && !year) {
+		fprintf(stderr, "psensd: -P draws the year: it goes with -Y\n");
 		return 2;
 	}
 	log_init(1, verbose, "psensd");

@@ -10,6 +10,7 @@
 
 #include "batch.h"
 #include "cache.h"
+#include "cli.h"
 #include "file.h"
 #include "fisheye.h"
 #include "integrate.h"
@@ -41,7 +42,8 @@ static void usage(FILE *fp)
 	            "  -C DIR    cache directory for weight maps (default $XDG_CACHE_HOME/psensd\n"
 	            "            or ~/.cache/psensd, as psscene's)\n"
 	            "  -N        no cache\n"
-	            "  -q        no warnings\n");
+	            "  -q        no warnings\n"
+	            "  -h, --help     this help;  -V, --version  the version\n");
 }
 
 static int parse_num(const char *opt, const char *s, double *out)
@@ -431,7 +433,8 @@ int main(int argc, char **argv)
 	struct opts o = { .rot = 0.0, .coef = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B },
 	                  .method = PS_W_EXACT, .nthreads = PS_BATCH_THREADS_DEFAULT };
 
-	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:n:o:C:Ncjqh")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "s:r:R:G:B:f:m:n:o:C:NcjqhV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 's':
 			if (nsens == MAX_SENSORS) {
@@ -492,6 +495,7 @@ int main(int argc, char **argv)
 		case 'j': o.json = 1; break;
 		case 'q': o.quiet = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psens");
 		default: usage(stderr); return 2;
 		}
 	}

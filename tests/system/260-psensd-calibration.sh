@@ -155,7 +155,7 @@ check "a zone the database does not know is an error, and no file" sh -c "grep -
 start 10:00
 ctl calibrate office day > /dev/null
 ctl -j status office > "$TMP/st.json"
-tl=$($PY -c "import json,sys; print(json.load(open(sys.argv[1]))['zones'][0]['true_task_lux'])" "$TMP/st.json")
+tl=$($PY -c "import json,sys; print(json.load(open(sys.argv[1]))['zones'][0]['sample']['true_task_lux'])" "$TMP/st.json")
 ctl calibrate office lux "$(awk -v l="$tl" 'BEGIN { print 3 * l }')" > /dev/null
 ctl calibrate office lux "$(awk -v l="$tl" 'BEGIN { print 3 * l }')" > /dev/null
 ctl calibrate office finish > /dev/null

@@ -154,7 +154,7 @@ if [ -x "$BIN/psvirt" ] && command -v mbpoll > /dev/null; then
 		rm -f "$TMP/ready"
 		"$BIN/psvirt" --results "$TMP/state/ofb.results" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready" \
 			--date 03-18 --sunrise 06:00 --sunset 18:30 --start 11:00 --speed 600 \
-			-o gain=0.5 -o noise=0.002 -o task_noise=2 -o seed=7 > /dev/null 2>> "$TMP/psvirt.err" &
+			-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 > /dev/null 2>> "$TMP/psvirt.err" &
 		pv=$!; track_pid $pv
 		wait_for 10 test -s "$TMP/ready"
 	}

@@ -99,7 +99,7 @@ static void from_version_2(void **state)
 {
 	char err[256];
 	struct psd_db *db;
-	struct psd_sample s = { 30000, 30000, 1.2, 0.5, 510, NAN, 0.9, 212, "daylight_mean", 236, NULL, "office" };
+	struct psd_sample s = { 30000, 30000, 1.2, 0.5, 510, NAN, 0.9, 212, "daylight_mean", 236, NULL, "office", NAN };
 	(void)state;
 	exec(v1);
 	exec("ALTER TABLE samples ADD COLUMN zone TEXT; UPDATE meta SET value = '2' WHERE key = 'schema';"

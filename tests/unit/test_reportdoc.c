@@ -39,7 +39,7 @@ static void make_db(void)
 				struct psd_sample s = { t, tod, fault ? 0 : 0.05 + 3 * sun, fault ? 1 : fmax(0.1, 1 - 2 * sun),
 					                fault ? NAN : 500 + 1500 * sun, 505 + 1490 * sun, 3 * sun, 1500 * sun,
 					                "clear", 470, fault ? "sensor reads 0.000 V" : NULL,
-					                z ? "corridor" : "office" };
+					                z ? "corridor" : "office", NAN };
 				assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
 			}
 		}
