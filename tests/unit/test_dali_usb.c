@@ -1,6 +1,6 @@
 /* The DALI USB driver through the driver.h table, with real libusb against the
  * emulated Tridonic interface and its ballasts (tests/emu, libumockdev):
- * the transport's bytes against the worked examples of the hardware notes,
+ * the transport's bytes against the worked examples of doc/hardware.md,
  * finding and claiming the interface, levels on the ballasts, query answers,
  * fades, the physical minimum, the safe level, faults, unplug and replug,
  * the choice between two interfaces and the bus's frame rate. */
@@ -32,7 +32,7 @@ static void tridonic_send_report(void **state)
 {
 	uint8_t out[64], want[64] = { 0 };
 	(void)state;
-	/* hardware notes 1.1: DAPC short 5 level 200 seq 0x2A -> 12 2A 00 03 00 00 0A C8 00... */
+	/* doc/hardware.md section 1: DAPC short 5 level 200 seq 0x2A -> 12 2A 00 03 00 00 0A C8 00... */
 	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 0x2A, 0x0AC8, 0, -1), 64);
 	memcpy(want, (uint8_t[]){ 0x12, 0x2A, 0x00, 0x03, 0x00, 0x00, 0x0A, 0xC8 }, 8);
 	assert_memory_equal(out, want, 64);

@@ -1,6 +1,6 @@
 /* Modbus point decoding and scaling against numbers worked out by hand and
  * against the register examples of real devices' manuals
- * (hardware-facts.md section 3). */
+ * (doc/hardware.md section 3). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
