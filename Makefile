@@ -151,3 +151,9 @@ install: all
 run: deps
 	$(MAKE) all
 	$(BUILD)/bin/psensd -f config/psensd.conf -s
+
+# The golden day (tests/data/golden-day.csv): run the example day again, say
+# how and why it differs from the file, and rewrite it (tests/golden/).
+golden: all
+	BUILD=$(BUILD) BIN=$(BUILD)/bin sh tests/golden/rebuild.sh
+.PHONY: golden
