@@ -410,6 +410,17 @@ static int load(struct psd_config *cf)
 	hhmm(c, s, "sunrise", 6 * 3600.0, &cf->sunrise);
 	hhmm(c, s, "sunset", 18 * 3600.0, &cf->sunset);
 	ps_conf_double(c, s, "tolerance", 0.02, 0, 1, &cf->tolerance);
+	ps_conf_bool(c, s, "year", 0, &cf->sim_year);
+	hhmm(c, s, "occupied_from", 8 * 3600.0, &cf->occ_from);
+	hhmm(c, s, "occupied_to", 18 * 3600.0, &cf->occ_to);
+	if (cf->occ_to <= cf->occ_from)
+		ps_conf_error(c, s ? s->line : 0, "[simulate]: occupied_to must be after occupied_from");
+	{
+		static const char *const estimates[] = { "mean", "dated", NULL };
+		/* default: dated when the room plays the year, else mean */
+		ps_conf_enum(c, ps_conf_section(c, "psensd"), "estimate", estimates, cf->sim_year,
+		             &cf->dated_estimate);
+	}
 	if (cf->end <= cf->start)
 		ps_conf_error(c, s ? s->line : 0, "[simulate]: end must be after start");
 	if (cf->sunset <= cf->sunrise)

@@ -87,6 +87,9 @@ struct psd_config {
 	/* [simulate] */
 	char date[16];
 	double start, end, sunrise, sunset, tolerance;
+	int sim_year;             /* [simulate] year = yes: the room plays the results' year */
+	double occ_from, occ_to;  /* [simulate] occupied_from, occupied_to: psensd -Y's hours */
+	int dated_estimate;       /* [psensd] estimate = dated (or sim_year): the dated ratio */
 	struct psd_device_conf dev[PSD_MAX_DEVICES];
 	size_t ndev;
 	struct psd_point_conf pt[PSD_MAX_POINTS];

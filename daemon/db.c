@@ -505,3 +505,95 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 	sqlite3_finalize(st);
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
 }
+
+/* ---- the report's readers (psensctl report) --------------------------------- */
+
+static int table_exists(struct psd_db *db, const char *table)
+{
+	sqlite3_stmt *st;
+	int yes;
+	if (sqlite3_prepare_v2(db->h, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?", -1, &st,
+	                       NULL) != SQLITE_OK)
+		return -1;
+	sqlite3_bind_text(st, 1, table, -1, SQLITE_STATIC);
+	yes = sqlite3_step(st) == SQLITE_ROW;
+	sqlite3_finalize(st);
+	return yes;
+}
+
+int psd_db_zones(struct psd_db *db, psd_db_name_fn fn, void *user, char *err, size_t errlen)
+{
+	int cal = table_exists(db, "cal_sessions");
+	sqlite3_stmt *st;
+	int rc;
+	if (cal < 0)
+		return fail(db->h, "read", err, errlen);
+	st = query(db, err, errlen, cal ? "SELECT zone FROM samples WHERE zone IS NOT NULL UNION "
+	                                  "SELECT zone FROM cal_sessions ORDER BY 1"
+	                                : "SELECT DISTINCT zone FROM samples WHERE zone IS NOT NULL ORDER BY 1", "");
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		if (col_text(st, 0))
+			fn(user, col_text(st, 0));
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65], char scene_sha256[65])
+{
+	sqlite3_stmt *st;
+	char ignored[128];
+	int found = 0;
+	config_sha256[0] = scene_sha256[0] = 0;
+	if (table_exists(db, "cal_sessions") != 1)
+		return 0;
+	st = query(db, ignored, sizeof ignored, "SELECT config_sha256, scene_sha256 FROM cal_sessions"
+	           " WHERE zone = ? AND config_sha256 IS NOT NULL ORDER BY id DESC LIMIT 1", "t", zone);
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW) {
+		snprintf(config_sha256, 65, "%s", col_text(st, 0) ? col_text(st, 0) : "");
+		snprintf(scene_sha256, 65, "%s", col_text(st, 1) ? col_text(st, 1) : "");
+		found = 1;
+	}
+	sqlite3_finalize(st);
+	return found;
+}
+
+int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
+                      char *err, size_t errlen)
+{
+	sqlite3_stmt *st;
+	char sql[256];
+	int rc, ncol, has_zone = 0, nrows = 0;
+	const char *names[32], *vals[32];
+	rc = table_exists(db, table);
+	if (rc <= 0)
+		return rc < 0 ? fail(db->h, "read", err, errlen) : 0;
+	snprintf(sql, sizeof sql, "SELECT * FROM \"%s\" LIMIT 0", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return fail(db->h, table, err, errlen);
+	for (int i = 0; i < sqlite3_column_count(st); i++)
+		has_zone |= strcmp(sqlite3_column_name(st, i), "zone") == 0;
+	sqlite3_finalize(st);
+	snprintf(sql, sizeof sql, has_zone ? "SELECT * FROM \"%s\" WHERE zone = ? ORDER BY rowid"
+	                                   : "SELECT * FROM \"%s\" ORDER BY rowid", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return fail(db->h, table, err, errlen);
+	if (has_zone)
+		sqlite3_bind_text(st, 1, zone, -1, SQLITE_STATIC);
+	ncol = sqlite3_column_count(st);
+	if (ncol > 32)
+		ncol = 32;
+	for (int i = 0; i < ncol; i++)
+		names[i] = sqlite3_column_name(st, i);
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		for (int i = 0; i < ncol; i++)
+			vals[i] = (const char *)sqlite3_column_text(st, i);
+		fn(user, ncol, names, vals);
+		nrows++;
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? nrows : fail(db->h, "read", err, errlen);
+}

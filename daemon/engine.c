@@ -11,6 +11,7 @@
 #include "errbuf.h"
 #include "log.h"
 #include "roomsetup.h"
+#include "dated.h"
 
 static double wall(void)
 {
@@ -26,9 +27,15 @@ static int command(struct psd_engine *e, struct psd_zone *z, double now, double 
 static int setup_room(struct psd_engine *e, struct ps_dev *d, double now, char *err, size_t n)
 {
 	const struct psd_config *cf = e->cf;
-	struct ps_room_params *room = e->have_res ? psd_roomsetup_new(&e->res, cf->date, cf->sunrise, cf->sunset)
-	                                          : NULL;
+	struct ps_room_params *room = !e->have_res ? NULL
+	                              : cf->sim_year ? psd_roomsetup_new_year(&e->res, cf->date)
+	                                             : psd_roomsetup_new(&e->res, cf->date, cf->sunrise, cf->sunset);
 	int rc;
+	if (!room && cf->sim_year)
+		return psd_errf(err, n, "device %s: [simulate] year = yes needs results with a year and an "
+		                "electric condition (a weather file in the scene: psscene(5)); %s has %s",
+		                d->name, cf->results, e->have_res && e->res.have_year ? "no electric condition"
+		                                                                      : "no year");
 	if (!room)
 		return psd_errf(err, n, "device %s: the %s room needs results with a daylight and an electric "
 		                "condition (%s)", d->name, d->drv->name, cf->results);
@@ -170,6 +177,11 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 	e->db_batch = db_batch > 0 ? db_batch : 1;
 	if (prev)
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
+	/* the dated estimate's month: the simulated date's (psensd sets today's
+	 * on a real-time clock unless the room plays the year) */
+	e->month = psd_dated_month(cf->date);
+	if (prev && !cf->sim_year)
+		e->month = prev->month;
 	if (cf->results) {
 		if (ps_results_read(&e->res, cf->results, &pe) != 0) {
 			psd_errf(err, errlen, "%s", pe.msg);
@@ -353,6 +365,18 @@ static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, 
 	return 0;
 }
 
+/* The dated estimate (dated.h): the month's and hour's expected ratio, unless
+ * a day calibration measured the zone's own. */
+static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	double q;
+	if (!e->have_res || !e->res.have_year || !e->cf->dated_estimate || z->cal_day_id)
+		return;
+	q = psd_dated_ratio(&e->res, e->month, psd_clock_tod(now), NULL);
+	if (q > 0)
+		z->ctl.daylight_ratio = q;
+}
+
 static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	char err[512];
@@ -363,7 +387,8 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : z->ctl.est_task_lux, z->task_lux,
 		fault ? NAN : z->ctl.daylight_volts,
 		fault ? NAN : dl,
-		e->have_res ? "daylight_mean" : NULL, z->ctl.daylight_ratio, fault ? z->why : NULL,
+		!e->have_res ? NULL : e->res.have_year && e->cf->dated_estimate && !z->cal_day_id
+		                          ? "daylight_dated" : "daylight_mean", z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name,
 	};
 	if (!e->db)
@@ -472,8 +497,10 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		}
 		if (psd_calsession_level(&z->cal, now, &level))
 			;   /* a calibration session holds the lights */
-		else if (rc == 0)
+		else if (rc == 0) {
+			dated_ratio(e, z, now);
 			level = psd_control_step(&z->ctl, z->volts, now);
+		}
 		else
 			level = z->level;   /* a missed reading: hold until it is stale */
 		if (psd_calsession_running(&z->cal))

@@ -57,6 +57,7 @@ struct psd_engine {
 	size_t nzone;
 	struct ps_results res;
 	int have_res;
+	int month;                /* the dated estimate's month (dated.h), 1-12 */
 	struct psd_db *db;
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */

@@ -102,17 +102,15 @@ static void run_night(struct fixture *f, int levels)
 
 struct count {
 	int n;
-	const char *states[8];
 	long long ids[8];
-	char buf[8][16];
+	char states[8][16];   /* copies, not pointers: the struct is returned by value */
 };
 
 static void count_session(void *user, const struct psd_db_cal_session *s)
 {
 	struct count *c = user;
 	if (c->n < 8) {
-		snprintf(c->buf[c->n], sizeof c->buf[0], "%s", s->state);
-		c->states[c->n] = c->buf[c->n];
+		snprintf(c->states[c->n], sizeof c->states[0], "%s", s->state);
 		c->ids[c->n] = s->id;
 	}
 	c->n++;
