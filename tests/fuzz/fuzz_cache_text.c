@@ -1,4 +1,4 @@
-/* Fuzz the psscene cache entries' reader (sim/cache.c) from memory: a cache
+/* Fuzz the reader of psscene's text cache entries (sim/cache.c) from memory: a cache
  * directory is a file system anyone may have written to. */
 #include <stddef.h>
 #include <stdint.h>
