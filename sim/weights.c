@@ -1,5 +1,6 @@
 #include "weights.h"
 
+#include <sys/mman.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -283,7 +284,10 @@ void ps_weights_free(struct ps_weights *w)
 	if (!w)
 		return;
 	free(w->runs);
-	free(w->w);
+	if (w->map)
+		munmap(w->map, w->maplen);
+	else
+		free(w->w);
 	memset(w, 0, sizeof *w);
 }
 
@@ -334,13 +338,46 @@ struct band {
 	int j0, j1;           /* bottom-based rows [j0, j1) */
 	double *w;
 	int oom;
+	int mirror_x;         /* the map is symmetric in x: the right half copies the left */
+	int transpose;        /* and in the diagonal: pixels left of it are copied after */
 };
+
+/* The exact weight of pixel x between lines vb and vt, alone (its four
+ * edges computed here, none shared): for the few pixels a mirror misses. */
+static double pixel_alone(const struct edge_ctx *c, const double *u, int x, double vb, double vt)
+{
+	struct ps_sum ps;
+	double wt;
+	ps_sum_init(&ps);
+	ps_sum_add(&ps, edge_integral(c, u[x], vb, u[x + 1], vb));
+	ps_sum_add(&ps, edge_integral(c, u[x + 1], vb, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_integral(c, u[x], vt, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_integral(c, u[x], vb, u[x], vt));
+	wt = ps_sum_get(&ps);
+	return wt < 0 && wt > -1e-15 ? 0.0 : wt;
+}
+
+/* Symmetry: a sensor the same at every azimuth (the builtins, or a table
+ * whose rows are constant) on a view not shifted (-vs 0 -vl 0) gives a map
+ * symmetric in x and in y: pixel (x, j) and (W-1-x, j) and (x, H-1-j) have
+ * the same footprint up to reflection, so the same exact weight. */
+static int sensor_symmetric(const struct ps_sensor *s)
+{
+	if (s->kind != PS_SENS_TABLE)
+		return 1;
+	for (int i = 0; i < s->ntheta; i++)
+		for (int j = 1; j < s->nphi; j++)
+			if (s->val[(size_t)i * (size_t)s->nphi + (size_t)j] != s->val[(size_t)i * (size_t)s->nphi])
+				return 0;
+	return 1;
+}
 
 static void *band_run(void *arg)
 {
 	struct band *b = arg;
 	const struct edge_ctx *c = b->c;
 	int width = c->f.width, prev = -2;   /* the last row done here; -2: none */
+	int clo = 1, chi = 0;                /* the x range its top edges were computed for */
 	double *hline[2], *vrow;
 	hline[0] = malloc(((size_t)width + 1) * sizeof(double));
 	hline[1] = malloc(((size_t)width + 1) * sizeof(double));
@@ -357,19 +394,24 @@ static void *band_run(void *arg)
 		int lo = b->lo[j], hi = b->hi[j];
 		if (lo > hi)
 			continue;
+		/* with mirroring, the edges of pixels up to the middle one only; with
+		 * transposing, from the diagonal on */
+		int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
+		int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
 		if (b->method == PS_W_EXACT) {
 			/* bottom line: reuse what the row below computed, where it did */
-			int plo = prev == j - 1 ? b->lo[j - 1] : 1, phi_ = prev == j - 1 ? b->hi[j - 1] : 0;
-			for (int x = lo; x <= hi; x++)
-				if (x < plo || x > phi_)
+			for (int x = xs; x <= xe; x++)
+				if (prev != j - 1 || x < clo || x > chi)
 					hb[x] = edge_integral(c, u[x], vb, u[x + 1], vb);
-			for (int x = lo; x <= hi; x++)
+			for (int x = xs; x <= xe; x++)
 				ht[x] = edge_integral(c, u[x], vt, u[x + 1], vt);
-			for (int x = lo; x <= hi + 1; x++)
+			for (int x = xs; x <= xe + 1; x++)
 				vrow[x] = edge_integral(c, u[x], vb, u[x], vt);
 		}
+		clo = xs;
+		chi = xe;
 		prev = j;
-		for (int x = lo; x <= hi; x++) {
+		for (int x = xs; x <= xe; x++) {
 			double wt;
 			if (b->method == PS_W_EXACT) {
 				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
@@ -391,6 +433,20 @@ static void *band_run(void *arg)
 			}
 			out[x - lo] = wt;
 		}
+		/* the right half: the left half mirrored (after the transposes,
+		 * when there are some: ps_weights_build) */
+		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose; x++) {
+			int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
+			out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
+		}
+		/* the centre-point method has no shared edges: the rest directly */
+		for (int x = xe + 1; x <= hi && b->method != PS_W_EXACT; x++) {
+			double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
+			double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
+			out[x - lo] = rho > 1.0 ? 0.0
+			              : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+			                    ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+		}
 	}
 out:
 	free(hline[0]);
@@ -408,7 +464,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	double R, *u = NULL;
-	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0;
+	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp;
 	size_t *off = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
@@ -455,12 +511,19 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 		long n = sysconf(_SC_NPROCESSORS_ONLN);
 		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
 	}
+	/* a symmetric map: the bands do the bottom half, its left half mirrored
+	 * to the right; the top half is the bottom's mirror (below) */
+	sym = method == PS_W_EXACT && v->vs == 0.0 && v->vl == 0.0 && sensor_symmetric(s);
+	jtop = sym ? (height + 1) / 2 : height;
+	/* square, with the same field across and up: symmetric in the diagonal */
+	transp = sym && width == height && v->vh == v->vv;
 	{
 		int j = 0;
+		size_t todo = jtop < height ? off[jtop] : w->nw;
 		for (int t = 0; t < nthreads; t++) {
-			size_t want = w->nw * (size_t)(t + 1) / (size_t)nthreads;
-			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0 };
-			while (j < height && (t == nthreads - 1 || off[j] < want))
+			size_t want = todo * (size_t)(t + 1) / (size_t)nthreads;
+			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym, transp };
+			while (j < jtop && (t == nthreads - 1 || off[j] < want))
 				j++;
 			bands[t].j1 = j;
 		}
@@ -480,6 +543,39 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	}
 	if (oom || bands[0].oom)
 		goto oom;
+	if (transp) {
+		int xmid = (width - 1) / 2;
+		/* left of the diagonal: pixel (x, j) is pixel (j, x) transposed */
+		for (int j = 0; j < jtop; j++) {
+			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+			int xe = hi[j] < xmid ? hi[j] : xmid;
+			for (int x = lo[j]; x <= xe && x < j; x++) {
+				int xe_x = hi[x] < xmid ? hi[x] : xmid;   /* row x's computed end */
+				w->w[off[j] + (size_t)(x - lo[j])] =
+				    lo[x] <= hi[x] && j >= lo[x] && j <= xe_x
+				        ? w->w[off[x] + (size_t)(j - lo[x])]
+				        : pixel_alone(&c, u, x, vb, vt);
+			}
+		}
+		/* then the right half of those rows, mirrored */
+		for (int j = 0; j < jtop; j++) {
+			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+			for (int x = xmid + 1; x <= hi[j]; x++) {
+				int xm = width - 1 - x;
+				w->w[off[j] + (size_t)(x - lo[j])] =
+				    xm >= lo[j] ? w->w[off[j] + (size_t)(xm - lo[j])]
+				                : pixel_alone(&c, u, x, vb, vt);
+			}
+		}
+	}
+	for (int j = jtop; j < height; j++) {
+		int jj = height - 1 - j;   /* the mirror row, computed above */
+		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+		for (int x = lo[j]; x <= hi[j]; x++)
+			w->w[off[j] + (size_t)(x - lo[j])] =
+			    x >= lo[jj] && x <= hi[jj] ? w->w[off[jj] + (size_t)(x - lo[jj])]
+			                               : pixel_alone(&c, u, x, vb, vt);
+	}
 	ps_sum_init(&total);
 	for (size_t i = 0; i < w->nw; i++)
 		ps_sum_add(&total, w->w[i]);
