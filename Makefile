@@ -192,3 +192,9 @@ run: deps
 	    { cat $(BUILD)/build.log; echo "make run: the build failed ($(BUILD)/build.log)" >&2; exit 1; }; \
 	fi
 	@$(BUILD)/bin/psensd -f config/psensd.conf -s
+
+# The golden day (tests/data/golden-day.csv): run the example day again, say
+# how and why it differs from the file, and rewrite it (tests/golden/).
+golden: all
+	BUILD=$(BUILD) BIN=$(BUILD)/bin sh tests/golden/rebuild.sh
+.PHONY: golden

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <math.h>
 #include <nettle/sha2.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,33 +65,53 @@ static void entry_path(const char *dir, const char *key, char *out, size_t len)
 	snprintf(out, len, "%s/%.2s/%s", dir, h, h + 2);
 }
 
-int ps_cache_get(const char *dir, const char *key, double *v, int n)
+/* An entry: "psscene-cache 1", the key, then the n numbers. */
+static int entry_parse(FILE *fp, const char *key, double *v, int n)
 {
-	char path[4096], line[256];
-	FILE *fp;
+	char line[256];
 	int got = 0;
-	entry_path(dir, key, path, sizeof path);
-	fp = fopen(path, "r");
-	if (!fp)
-		return 0;
 	/* first line: the key itself, so a hash collision cannot go unnoticed */
-	if (!fgets(line, sizeof line, fp) || strncmp(line, "psscene-cache 1", 15) != 0) {
-		fclose(fp);
+	if (!fgets(line, sizeof line, fp) || strncmp(line, "psscene-cache 1", 15) != 0)
 		return 0;
-	}
 	{
 		char *k = malloc(strlen(key) + 3);
 		if (!k || !fgets(k, (int)strlen(key) + 3, fp) || strncmp(k, key, strlen(key)) != 0) {
 			free(k);
-			fclose(fp);
 			return 0;
 		}
 		free(k);
 	}
 	while (got < n && fscanf(fp, "%lf", &v[got]) == 1)
 		got++;
-	fclose(fp);
 	return got == n;
+}
+
+int ps_cache_get(const char *dir, const char *key, double *v, int n)
+{
+	char path[4096];
+	FILE *fp;
+	int ok;
+	entry_path(dir, key, path, sizeof path);
+	fp = fopen(path, "r");
+	if (!fp)
+		return 0;
+	ok = entry_parse(fp, key, v, n);
+	fclose(fp);
+	return ok;
+}
+
+int ps_cache_parse(const char *text, size_t len, const char *key, double *v, int n)
+{
+	FILE *fp;
+	int ok;
+	if (len == 0)
+		return 0;
+	fp = fmemopen((void *)(uintptr_t)text, len, "r");
+	if (!fp)
+		return 0;
+	ok = entry_parse(fp, key, v, n);
+	fclose(fp);
+	return ok;
 }
 
 static int mkdir_p(const char *dir)

@@ -15,6 +15,8 @@ void ps_hash_string(const char *s, char hex[65]);
 
 /* Look up n doubles under key; 1 found, 0 absent (or unreadable). */
 int ps_cache_get(const char *dir, const char *key, double *v, int n);
+/* The same for an entry's text in memory (len bytes). */
+int ps_cache_parse(const char *text, size_t len, const char *key, double *v, int n);
 /* Store them (atomically: write then rename); -1 on error, which callers may
  * ignore (a cache that cannot be written only costs time). */
 int ps_cache_put(const char *dir, const char *key, const double *v, int n, struct ps_err *e);

@@ -238,14 +238,12 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 	ps_year_tabulate(y);
 }
 
-int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
+/* The results from a loaded file c (freed here). */
+static int results_from_conf(struct ps_results *r, struct ps_conf *cp, const char *path, struct ps_err *e)
 {
-	struct ps_conf c;
+	struct ps_conf c = *cp;
 	struct ps_conf_section *s;
 	long version;
-	memset(r, 0, sizeof *r);
-	if (ps_conf_load(&c, path, e) != 0)
-		return -1;
 	s = ps_conf_section(&c, "psresults");
 	if (!s) {
 		ps_conf_free(&c);
@@ -310,4 +308,22 @@ int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
 	ps_conf_free(&c);
 	ps_results_summarise(r);
 	return 0;
+}
+
+int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
+{
+	struct ps_conf c;
+	memset(r, 0, sizeof *r);
+	if (ps_conf_load(&c, path, e) != 0)
+		return -1;
+	return results_from_conf(r, &c, path, e);
+}
+
+int ps_results_parse(struct ps_results *r, const char *text, const char *name, struct ps_err *e)
+{
+	struct ps_conf c;
+	memset(r, 0, sizeof *r);
+	if (ps_conf_load_string(&c, text, name, e) != 0)
+		return -1;
+	return results_from_conf(r, &c, name, e);
 }

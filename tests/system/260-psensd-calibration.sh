@@ -14,12 +14,7 @@ example_results
 res() { awk -v k="$1" '/^\[/ { s = ($0 == "[summary]") } s && $1 == k { print $3; exit }' "$TMP/state/ofb.results"; }
 ES=$(res electric_sensor_response); EL=$(res electric_task_lux)
 S="$TMP/sock"
-cat > "$TMP/psensd.conf" <<EOF
-[psensd]
-results = state/ofb.results
-database = state/psensd.db
-socket = sock
-period = 60
+{ psensd_section 60; cat <<EOF
 [simulate]
 sunrise = 06:00
 sunset = 18:30
@@ -50,6 +45,7 @@ sensor_gain = 0.5
 cal_window = 300
 drift_hold = 1800
 EOF
+} > "$TMP/psensd.conf"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 start() {  # start HH:MM
 	"$BIN/psensd" -f "$TMP/psensd.conf" -t "$1" -x 600 >> "$TMP/out" 2>> "$TMP/err" &

@@ -76,12 +76,6 @@ finish() {
 	rows=$(sqlite3 "$TMP/state/$DB" 'select count(*) from samples')
 	check "$DB: nothing lost: $rows rows in the database, $n logged before SIGTERM" test "$rows" -ge "${n:-1}"
 }
-# psensd_section PERIOD STALE_AFTER: the [psensd] section every part's config
-# starts with, logging to state/$DB
-psensd_section() {
-	printf '[psensd]\nresults = state/ofb.results\ndatabase = state/%s\nsocket = sock\nperiod = %s\nstale_after = %s\n' \
-		"$DB" "$1" "$2"
-}
 # came_up WHAT PID ERRFILE: psensd answers within 20 s, else one failure
 # naming its last words, and it is stopped (the part's cases are not run)
 came_up() {
@@ -90,10 +84,6 @@ came_up() {
 	kill "$2" 2>/dev/null
 	return 1
 }
-# the emulators run inside the process under test through umockdev's preload
-PRE=libumockdev-preload.so.0
-preload_ok() { ! LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded"; }
-EMU_ASAN="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0"
 
 # ---- loopback: faults are windows of the room's day; the clock starts at 11:00
 DB=loop.db
@@ -251,18 +241,8 @@ task_noise = 2
 [device io]
 driver = gpio
 chip = gpiochip0
-[point light]
-device = io
-role = sensor
-kind = frequency
-line = 3
-gate = 0.4
-factor = 0.001
-max_rate = 2000
-s2 = 4
-s3 = 5
-valid_min = 0.01
-valid_max = 1000
+EOF
+	gpio_light_point; cat <<EOF
 [point meter]
 device = room
 role = task

@@ -54,6 +54,25 @@ static void round_trip_and_summary(void **state)
 	assert_true(back.task_sensor_ratio == 5.0);
 	assert_true(back.rgb[1] == 0.7);
 	ps_results_free(&back);
+	/* the same text from memory reads the same (the fuzz target's way in) */
+	{
+		FILE *fp = fopen(path, "r");
+		char text[8192];
+		size_t n;
+		assert_non_null(fp);
+		n = fread(text, 1, sizeof text - 1, fp);
+		fclose(fp);
+		text[n] = '\0';
+		assert_int_equal(ps_results_parse(&back, text, path, &e), 0);
+		assert_int_equal(back.ncond, 4);
+		assert_true(back.cond[1].ratio == 220.0);
+		assert_true(back.task_sensor_ratio == 5.0);
+		ps_results_free(&back);
+		assert_non_null(strstr(text, "[psresults]"));
+		strstr(text, "[psresults]")[9] = 'z';   /* no [psresults] section: named as the file */
+		assert_int_equal(ps_results_parse(&back, text, "mem.results", &e), -1);
+		assert_non_null(strstr(e.msg, "mem.results"));
+	}
 	unlink(path);
 }
 
