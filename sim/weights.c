@@ -277,6 +277,8 @@ static double bernstein(double x, double y)
 static double atan_small(double x)
 {
 	double x2 = x * x;
+	if (x2 < 1e-6)   /* |x| < 1e-3: to x^7, the rest below 1e-24 of x */
+		return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7))));
 	return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 +
 	       x2 * (-1.0 / 11 + x2 * (1.0 / 13 + x2 * (-1.0 / 15 + x2 * (1.0 / 17)))))))));
 }
@@ -305,7 +307,7 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 {
 	const struct ps_sensor *s = c->s;
 	double tm = 0.5 * (t0 + t1), hl = 0.5 * (t1 - t0), tlo, thi, rmin, rmax, r, am, phim, phin;
-	double sum = 0.0, shift;
+	double sum = 0.0, shift, rho_m;
 	int i, j, n, lo, hi;
 	if (k == 0.0) {   /* on a line through the origin: no azimuth swept */
 		*out = 0.0;
@@ -332,8 +334,14 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 	}
 	if (lo < c->nrho && c->rho_breaks[lo] <= rmax)
 		return 0;
-	/* the order from the error bound: the poles at t = +-i k */
-	r = bernstein(-tm / hl, fabs(k) / hl);
+	/* the order from the error bound: the poles at t = +-i k, at distance
+	 * rho_m / hl half-lengths from the middle; the ellipse through them
+	 * has a semi-major axis at least that, so r at least this */
+	rho_m = sqrt(tm * tm + k * k);
+	{
+		double z = rho_m / hl;
+		r = z + sqrt(z * z - 1.0);
+	}
 	if (c->f.type == PS_VT_HEMI && rmax < 1.0) {
 		/* asin's branch points at rho = 1: t = +-sqrt(1 - k^2) */
 		double b = sqrt(1.0 - k * k), r2;
@@ -362,10 +370,7 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 	am = vertical ? atan2(tm, k) : atan2(k, tm);
 	phim = am - M_PI / 2 - c->rot;
 	phin = phim;
-	{
-		double rho_m = sqrt(tm * tm + k * k);
-		ps_sensor_locate(s, ps_fisheye_theta(&c->f, rho_m), &phin, &i, &j);
-	}
+	ps_sensor_locate(s, ps_fisheye_theta(&c->f, rho_m), &phin, &i, &j);
 	shift = phin - phim;
 	{
 		/* the azimuths at the ends (monotone along the edge): inside the cell */
@@ -382,15 +387,37 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 		const struct gl_rule *g = &c->glf[n];
 		double sgn = vertical ? k : -k;
 		int need_phi = s->kind == PS_SENS_TABLE && s->reading != PS_READ_CELL;
-		for (int q = 0; q < g->n; q++) {
-			double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2), phi = phin;
-			double theta = ps_fisheye_theta(&c->f, rho), a;
-			if (need_phi) {
-				if (alpha_at(vertical, k, tm, am, t, &a))
-					return 0;   /* not reached: the ends bound the nodes */
-				phi = a - M_PI / 2 - c->rot + shift;
+		if (s->kind == PS_SENS_TABLE && i < s->nt) {
+			/* ps_sensor_m_in's patch formula, its coefficients fetched once */
+			const double *kc = s->mcoef + 6 * ((size_t)i * (size_t)s->np + (size_t)j);
+			double inv = 1.0 / (s->pb[j + 1] - s->pb[j]), p0 = s->pb[j];
+			for (int q = 0; q < g->n; q++) {
+				double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2);
+				double theta = ps_fisheye_theta(&c->f, rho), st, ct, ml, m, a;
+				sincos(theta, &st, &ct);
+				ml = kc[0] + kc[2] * st - (kc[1] + kc[2] * theta) * ct;
+				if (need_phi) {
+					double mr = kc[3] + kc[5] * st - (kc[4] + kc[5] * theta) * ct, wphi;
+					if (alpha_at(vertical, k, tm, am, t, &a))
+						return 0;   /* not reached: the ends bound the nodes */
+					wphi = (a - M_PI / 2 - c->rot + shift - p0) * inv;
+					m = (1.0 - wphi) * ml + wphi * mr;
+				} else {
+					m = ml;
+				}
+				sum += g->w[q] * m / r2;
 			}
-			sum += g->w[q] * ps_sensor_m_in(s, i, j, theta, phi) / r2;
+		} else {
+			for (int q = 0; q < g->n; q++) {
+				double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2), phi = phin;
+				double theta = ps_fisheye_theta(&c->f, rho), a;
+				if (need_phi) {
+					if (alpha_at(vertical, k, tm, am, t, &a))
+						return 0;   /* not reached: the ends bound the nodes */
+					phi = a - M_PI / 2 - c->rot + shift;
+				}
+				sum += g->w[q] * ps_sensor_m_in(s, i, j, theta, phi) / r2;
+			}
 		}
 		*out = sgn * hl * sum;
 	}
