@@ -131,11 +131,63 @@ static void cell_pixels_weigh_value_times_solid_angle(void **state)
 	}
 }
 
+/* The weight of pixel (x, row) of a map, 0 where no run holds it. */
+static double weight_at(const struct ps_weights *w, int x, int row)
+{
+	for (size_t r = 0; r < w->nruns; r++)
+		if (w->runs[r].row == row)
+			return x >= w->runs[r].x0 && x < w->runs[r].x0 + w->runs[r].n
+			           ? w->w[w->runs[r].off + (size_t)(x - w->runs[r].x0)]
+			           : 0.0;
+	return 0.0;
+}
+
+/* Additivity, an exact identity: a pixel of an n x n map weighs what its
+ * four quarters in the 2n x 2n map weigh together.  Before the orders came
+ * from an error bound, pieces near a singularity of the edge integrand got
+ * 3 points and single weights erred by up to 4.5e-6 (2.5e-6 of the largest
+ * weight) with the hemispherical projection's cell reading. */
+static void quarters_add_up(void **state)
+{
+	const int n = 150;
+	(void)state;
+	for (int t = 0; t < 2; t++)
+		for (int r = 0; r < 2; r++) {
+			struct ps_sensor s;
+			struct ps_view v;
+			struct ps_weights w1, w2;
+			struct ps_err e;
+			double wmax = 0, worst = 0;
+			load(&s, r ? PS_READ_CELL : PS_READ_LINEAR);
+			ps_view_default_fisheye(&v);
+			v.type = t ? PS_VT_HEMI : PS_VT_ANGULAR;
+			if (ps_weights_build(&w1, &s, 10.0, &v, n, n, PS_W_EXACT, &e) != 0 ||
+			    ps_weights_build(&w2, &s, 10.0, &v, 2 * n, 2 * n, PS_W_EXACT, &e) != 0)
+				fail_msg("%s", e.msg);
+			for (size_t k = 0; k < w1.nw; k++)
+				wmax = fmax(wmax, fabs(w1.w[k]));
+			for (int row = 0; row < n; row++)
+				for (int x = 0; x < n; x++) {
+					double q = weight_at(&w2, 2 * x, 2 * row) + weight_at(&w2, 2 * x + 1, 2 * row) +
+					           weight_at(&w2, 2 * x, 2 * row + 1) +
+					           weight_at(&w2, 2 * x + 1, 2 * row + 1);
+					worst = fmax(worst, fabs(weight_at(&w1, x, row) - q) / wmax);
+				}
+			if (worst > 1e-10)
+				fail_msg("type %d reading %d: a pixel and its quarters differ by %.3g of the "
+				         "largest weight", t, r, worst);
+			ps_weights_free(&w1);
+			ps_weights_free(&w2);
+			ps_sensor_free(&s);
+		}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(totals_are_the_integral),
 		cmocka_unit_test(cell_pixels_weigh_value_times_solid_angle),
+		cmocka_unit_test(quarters_add_up),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
