@@ -15,9 +15,7 @@
 
 /* Gauss-Legendre rules on [-1, 1], computed once per build (no globals). */
 enum { GL_MAXN = 24, GL_RULES = 4 };
-/* Orders by piece length: on a piece of azimuth length L the error of an
- * n-point rule goes as L^(2n); 3 points already reach rounding on the short
- * pieces of large pictures (make bench and the unit tests measure it). */
+/* The orders a piece may get: piece_rule picks one from an error bound. */
 static const int gl_orders[GL_RULES] = { 3, 6, 12, 24 };
 
 struct gl_rule {
@@ -67,6 +65,7 @@ struct edge_ctx {
 	int nrho;
 	int use_phi_breaks;
 	struct gl_rule gl[GL_RULES];
+	struct gl_rule glf[13];  /* glf[n]: n points, for edge_fast */
 };
 
 struct brk {
@@ -99,6 +98,41 @@ static double m_at(const struct edge_ctx *c, double p, double an, double a, int 
 	return ps_sensor_m_in(c->s, i, j, theta, phi);
 }
 
+/* Distance from a to the nearest point of {b + k period}. */
+static double dist_mod(double a, double b, double period)
+{
+	double d = fmod(a - b, period);
+	if (d < 0)
+		d += period;
+	return fmin(d, period - d);
+}
+
+/* The rule for a piece of azimuth length len around am: along the line
+ * the integrand's singularities are real, where cos(alpha - an) = 0 (rho
+ * infinite) and, for the hemispherical projection, where rho = 1 (asin's
+ * branch point, cos(alpha - an) = p).  With x the nearest one's distance
+ * in half-lengths, the Bernstein parameter is r = x + sqrt(x^2 - 1); the
+ * smallest rule whose bound 64 Mx / (15 (r^2 - 1) r^(2n)) (taken at r / 2,
+ * Mx at most 8 times the integrand) is below 1e-19, else the largest. */
+static int piece_rule(const struct edge_ctx *c, double p, double an, double am, double len)
+{
+	double d = dist_mod(am, an + M_PI / 2, M_PI), x, r;
+	if (c->f.type == PS_VT_HEMI && p < 1.0) {
+		double a = acos(p);
+		d = fmin(d, fmin(dist_mod(am, an + a, 2 * M_PI), dist_mod(am, an - a, 2 * M_PI)));
+	}
+	x = d / (0.5 * len);
+	if (x <= 1.0)
+		return GL_RULES - 1;
+	r = 0.5 * (x + sqrt(x * x - 1.0));
+	if (r <= 1.5)
+		return GL_RULES - 1;
+	for (int k = 0; k < GL_RULES; k++)
+		if (8.0 * 64.0 / (15.0 * (r * r - 1.0)) * pow(r, -2.0 * gl_orders[k]) <= 1e-19)
+			return k;
+	return GL_RULES - 1;
+}
+
 /* Integral of M d(alpha) over alpha in [a0, a1] on one smooth piece. */
 static double piece(const struct edge_ctx *c, double p, double an, double a0, double a1,
                     int field0, int field1)
@@ -111,7 +145,7 @@ static double piece(const struct edge_ctx *c, double p, double an, double a0, do
 	if (len <= 0)
 		return 0.0;
 	ps_sensor_locate(c->s, theta, &phin, &i, &j);
-	g = &c->gl[len < 0.005 ? 0 : len < 0.05 ? 1 : len < 0.5 ? 2 : 3];
+	g = &c->gl[piece_rule(c, p, an, am, len)];
 	if (c->f.type == PS_VT_HEMI && rho < 1.0 && (field0 || field1)) {
 		/* theta = asin(rho) has a square-root singularity at the field's edge:
 		 * alpha = edge -/+ len s^2 makes the integrand smooth in s. */
@@ -210,6 +244,200 @@ static double edge_integral(const struct edge_ctx *c, double ax, double ay, doub
 	return dalpha < 0 ? -total : total;
 }
 
+
+/* The fast route for an axis-parallel edge that crosses no break (no
+ * sensitivity circle or ray, not the field's edge): along the line v = k
+ * (horizontal) or u = k (vertical), d(alpha) = -k / rho^2 du or
+ * k / rho^2 dv, so the edge integral is the integral in the plane
+ * coordinate t of M(theta(rho), phi) times that factor, with M the one
+ * cell's closed form: no break search, no trigonometry for the nodes'
+ * azimuths.  The integrand is analytic except where rho^2 = 0 (the
+ * complex points t = +-i k) and, for the hemispherical projection, where
+ * rho = 1 (asin's branch point); Gauss-Legendre with n points on an
+ * interval whose nearest singularity lies on the Bernstein ellipse of
+ * parameter r errs by at most 64 Mx / (15 (r^2 - 1) r^(2n)) (Trefethen,
+ * ATAP, theorem 19.3), Mx the integrand's bound inside the ellipse.  The
+ * order is the smallest with that bound below a small fraction of the integrand's
+ * size (1e-19 here), taking the ellipse of parameter r / 2 (so Mx is within a small
+ * factor of the integrand on the edge; bounded by 8 times it here).
+ * Returns 0 and leaves *out alone when the edge needs the general route. */
+enum { FAST_MAXN = 12 };
+
+/* Bernstein parameter of the point (x, y) for [-1, 1]: the ellipse with
+ * foci -1 and 1 through it has semi-major axis a = (|z - 1| + |z + 1|) / 2
+ * and parameter a + sqrt(a^2 - 1). */
+static double bernstein(double x, double y)
+{
+	double a = 0.5 * (sqrt((x - 1) * (x - 1) + y * y) + sqrt((x + 1) * (x + 1) + y * y));
+	return a + sqrt(fmax(a * a - 1.0, 0.0));
+}
+
+/* atan(x) for |x| <= 0.05 by its series to x^17: the first omitted term
+ * is below 1e-22 of x, so this is atan to rounding, without libm. */
+static double atan_small(double x)
+{
+	double x2 = x * x;
+	if (x2 < 1e-6)   /* |x| < 1e-3: to x^7, the rest below 1e-24 of x */
+		return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7))));
+	return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 +
+	       x2 * (-1.0 / 11 + x2 * (1.0 / 13 + x2 * (-1.0 / 15 + x2 * (1.0 / 17)))))))));
+}
+
+/* The plane azimuth at coordinate t on the edge's line, from the one at tm:
+ * atan2(k, t) - atan2(k, tm) = atan(k (tm - t) / (t tm + k^2)) for a
+ * horizontal line v = k, atan2(t, k) - atan2(tm, k) = atan(k (t - tm) /
+ * (t tm + k^2)) for a vertical u = k (both with the points on the same
+ * side of the origin's perpendicular: t tm + k^2 > 0, which holds on an
+ * edge whose poles are far, r > 1.5 below).  -2: the difference is not
+ * small enough for atan_small (the caller then takes the general route). */
+static int alpha_at(int vertical, double k, double tm, double am, double t, double *a)
+{
+	double den = t * tm + k * k, x;
+	if (den <= 0)
+		return -2;
+	x = (vertical ? k * (t - tm) : k * (tm - t)) / den;
+	if (fabs(x) > 0.05)
+		return -2;
+	*a = am + atan_small(x);
+	return 0;
+}
+
+static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0, double t1,
+                     double *out)
+{
+	const struct ps_sensor *s = c->s;
+	double tm = 0.5 * (t0 + t1), hl = 0.5 * (t1 - t0), tlo, thi, rmin, rmax, r, am, phim, phin;
+	double sum = 0.0, shift, rho_m;
+	int i, j, n, lo, hi;
+	if (k == 0.0) {   /* on a line through the origin: no azimuth swept */
+		*out = 0.0;
+		return 1;
+	}
+	if (hl <= 0)
+		return 0;
+	/* rho's range on the edge */
+	tlo = fmin(fabs(t0), fabs(t1));
+	thi = fmax(fabs(t0), fabs(t1));
+	if (t0 < 0 && t1 > 0)
+		tlo = 0.0;
+	rmin = sqrt(tlo * tlo + k * k);
+	rmax = sqrt(thi * thi + k * k);
+	/* no circle in (rmin, rmax] (a circle at rmin exactly only touches) */
+	lo = 0;
+	hi = c->nrho;
+	while (lo < hi) {
+		int mid = (lo + hi) / 2;
+		if (c->rho_breaks[mid] <= rmin)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	if (lo < c->nrho && c->rho_breaks[lo] <= rmax)
+		return 0;
+	/* the order from the error bound: the poles at t = +-i k, at distance
+	 * rho_m / hl half-lengths from the middle; the ellipse through them
+	 * has a semi-major axis at least that, so r at least this */
+	rho_m = sqrt(tm * tm + k * k);
+	{
+		double z = rho_m / hl;
+		r = z + sqrt(z * z - 1.0);
+	}
+	if (c->f.type == PS_VT_HEMI && rmax < 1.0) {
+		/* asin's branch points at rho = 1: t = +-sqrt(1 - k^2) */
+		double b = sqrt(1.0 - k * k), r2;
+		r2 = bernstein((b - tm) / hl, 0.0);
+		if (r2 < r)
+			r = r2;
+		r2 = bernstein((-b - tm) / hl, 0.0);
+		if (r2 < r)
+			r = r2;
+	}
+	r *= 0.5;
+	if (r <= 1.5)
+		return 0;
+	{
+		double bound = 8.0 * 64.0 / (15.0 * (r * r - 1.0)), q = 1.0 / (r * r);
+		for (n = 1; n <= FAST_MAXN; n++) {
+			bound *= q;
+			if (bound <= 1e-19)
+				break;
+		}
+		if (n > FAST_MAXN)
+			return 0;
+	}
+	/* the cell: from the middle; the edge must not cross a ray, nor (a
+	 * vertical edge left of the origin) atan2's cut */
+	am = vertical ? atan2(tm, k) : atan2(k, tm);
+	phim = am - M_PI / 2 - c->rot;
+	phin = phim;
+	ps_sensor_locate(s, ps_fisheye_theta(&c->f, rho_m), &phin, &i, &j);
+	shift = phin - phim;
+	{
+		/* the azimuths at the ends (monotone along the edge): inside the cell */
+		double a0, a1, p0, p1;
+		if (alpha_at(vertical, k, tm, am, t0, &a0) || alpha_at(vertical, k, tm, am, t1, &a1))
+			return 0;
+		p0 = a0 - M_PI / 2 - c->rot + shift;
+		p1 = a1 - M_PI / 2 - c->rot + shift;
+		if (c->use_phi_breaks &&
+		    (fmin(p0, p1) < s->pb[j] || fmax(p0, p1) > s->pb[j + 1]))
+			return 0;
+	}
+	{
+		const struct gl_rule *g = &c->glf[n];
+		double sgn = vertical ? k : -k;
+		int need_phi = s->kind == PS_SENS_TABLE && s->reading != PS_READ_CELL;
+		if (s->kind == PS_SENS_TABLE && i < s->nt) {
+			/* ps_sensor_m_in's patch formula, its coefficients fetched once */
+			const double *kc = s->mcoef + 6 * ((size_t)i * (size_t)s->np + (size_t)j);
+			double inv = 1.0 / (s->pb[j + 1] - s->pb[j]), p0 = s->pb[j];
+			for (int q = 0; q < g->n; q++) {
+				double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2);
+				double theta = ps_fisheye_theta(&c->f, rho), st, ct, ml, m, a;
+				sincos(theta, &st, &ct);
+				ml = kc[0] + kc[2] * st - (kc[1] + kc[2] * theta) * ct;
+				if (need_phi) {
+					double mr = kc[3] + kc[5] * st - (kc[4] + kc[5] * theta) * ct, wphi;
+					if (alpha_at(vertical, k, tm, am, t, &a))
+						return 0;   /* not reached: the ends bound the nodes */
+					wphi = (a - M_PI / 2 - c->rot + shift - p0) * inv;
+					m = (1.0 - wphi) * ml + wphi * mr;
+				} else {
+					m = ml;
+				}
+				sum += g->w[q] * m / r2;
+			}
+		} else {
+			for (int q = 0; q < g->n; q++) {
+				double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2), phi = phin;
+				double theta = ps_fisheye_theta(&c->f, rho), a;
+				if (need_phi) {
+					if (alpha_at(vertical, k, tm, am, t, &a))
+						return 0;   /* not reached: the ends bound the nodes */
+					phi = a - M_PI / 2 - c->rot + shift;
+				}
+				sum += g->w[q] * ps_sensor_m_in(s, i, j, theta, phi) / r2;
+			}
+		}
+		*out = sgn * hl * sum;
+	}
+	return 1;
+}
+
+/* An axis-parallel edge: the fast route when it can, else the general. */
+static double edge_hv(const struct edge_ctx *c, double ax, double ay, double bx, double by)
+{
+	double out;
+	if (ay == by) {
+		if (ax < bx ? edge_fast(c, 0, ay, ax, bx, &out) : edge_fast(c, 0, ay, bx, ax, &out))
+			return ax < bx ? out : -out;
+	} else if (ax == bx) {
+		if (ay < by ? edge_fast(c, 1, ax, ay, by, &out) : edge_fast(c, 1, ax, by, ay, &out))
+			return ay < by ? out : -out;
+	}
+	return edge_integral(c, ax, ay, bx, by);
+}
+
 static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_deg,
                     const struct ps_view *v, int width, int height, struct ps_err *e)
 {
@@ -219,6 +447,8 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 	ps_fisheye_init(&c->f, v, width, height);
 	for (int k = 0; k < GL_RULES; k++)
 		gl_compute(&c->gl[k], gl_orders[k]);
+	for (int k = 1; k <= 12; k++)
+		gl_compute(&c->glf[k], k);
 	c->rho_breaks = malloc(((size_t)s->nt + 2) * sizeof *c->rho_breaks);
 	c->rho_is_field = malloc(((size_t)s->nt + 2) * sizeof *c->rho_is_field);
 	if (!c->rho_breaks || !c->rho_is_field) {
@@ -349,10 +579,10 @@ static double pixel_alone(const struct edge_ctx *c, const double *u, int x, doub
 	struct ps_sum ps;
 	double wt;
 	ps_sum_init(&ps);
-	ps_sum_add(&ps, edge_integral(c, u[x], vb, u[x + 1], vb));
-	ps_sum_add(&ps, edge_integral(c, u[x + 1], vb, u[x + 1], vt));
-	ps_sum_add(&ps, -edge_integral(c, u[x], vt, u[x + 1], vt));
-	ps_sum_add(&ps, -edge_integral(c, u[x], vb, u[x], vt));
+	ps_sum_add(&ps, edge_hv(c, u[x], vb, u[x + 1], vb));
+	ps_sum_add(&ps, edge_hv(c, u[x + 1], vb, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_hv(c, u[x], vt, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_hv(c, u[x], vb, u[x], vt));
 	wt = ps_sum_get(&ps);
 	return wt < 0 && wt > -1e-15 ? 0.0 : wt;
 }
@@ -402,11 +632,11 @@ static void *band_run(void *arg)
 			/* bottom line: reuse what the row below computed, where it did */
 			for (int x = xs; x <= xe; x++)
 				if (prev != j - 1 || x < clo || x > chi)
-					hb[x] = edge_integral(c, u[x], vb, u[x + 1], vb);
+					hb[x] = edge_hv(c, u[x], vb, u[x + 1], vb);
 			for (int x = xs; x <= xe; x++)
-				ht[x] = edge_integral(c, u[x], vt, u[x + 1], vt);
+				ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
 			for (int x = xs; x <= xe + 1; x++)
-				vrow[x] = edge_integral(c, u[x], vb, u[x], vt);
+				vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
 		}
 		clo = xs;
 		chi = xe;

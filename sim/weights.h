@@ -7,7 +7,11 @@
  * (alpha the plane azimuth, counter-clockwise).  Each boundary edge is a
  * straight segment, split where it crosses a sensitivity cell's circle or
  * ray, the end of the table or the field's edge; on each piece the integrand
- * is smooth and Gauss-Legendre quadrature is accurate to rounding.  So the
+ * is smooth and Gauss-Legendre quadrature is accurate to rounding, its order
+ * chosen per piece from an error bound (the nearest singularity's Bernstein
+ * ellipse).  A pixel edge (axis-parallel) inside one cell is integrated in
+ * its plane coordinate instead, with the cell's closed form of M and no
+ * break search (weights.c, edge_fast).  So the
  * result does not depend on where a boundary falls, and a pixel the sensor
  * cannot see costs nothing.  Every edge is shared by two pixels and computed
  * once.  A sensor the same at every azimuth on a view not shifted (-vs 0
