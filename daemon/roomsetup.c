@@ -54,15 +54,16 @@ int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypo
 	if (hi > lo) {
 		/* dark an hour before the first hour with light and after the last */
 		double first = 3600.0 * r->year.h[lo].hour, last = 3600.0 * r->year.h[hi - 1].hour;
-		day[n++] = (struct ps_room_daypoint){ fmax(0.0, first - 3600.0), 0.0, 0.0 };
+		day[n++] = (struct ps_room_daypoint){ fmax(0.0, first - 3600.0), 0.0, 0.0, 0.0 };
 		for (size_t i = lo; i < hi && n < PSD_DAY_POINTS - 1; i++) {
 			double t = 3600.0 * r->year.h[i].hour;
 			if (t <= day[n - 1].t)
 				continue;   /* an hour at midnight's edge: keep the order strict */
-			day[n++] = (struct ps_room_daypoint){ t, r->year.h[i].sensor, r->year.h[i].task_lux };
+			day[n++] = (struct ps_room_daypoint){ t, r->year.h[i].sensor, r->year.h[i].task_lux,
+			                                          r->year.h[i].horiz_lux };
 		}
 		if (last + 3600.0 > day[n - 1].t && n < PSD_DAY_POINTS)
-			day[n++] = (struct ps_room_daypoint){ fmin(86400.0, last + 3600.0), 0.0, 0.0 };
+			day[n++] = (struct ps_room_daypoint){ fmin(86400.0, last + 3600.0), 0.0, 0.0, 0.0 };
 	}
 	p->daylight = day;
 	p->ndaylight = n;
@@ -118,7 +119,7 @@ int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, d
 		double s = s_lo + w * (s_hi - s_lo), l = l_lo + w * (l_hi - l_lo);
 		for (int k = 0; k < PSD_DAY_POINTS; k++) {
 			double t = k * 900.0, sh = shape(t, sunrise, sunset);
-			day[k] = (struct ps_room_daypoint){ t, s * sh, l * sh };
+			day[k] = (struct ps_room_daypoint){ t, s * sh, l * sh, NAN };
 		}
 	}
 	p->daylight = day;
