@@ -25,7 +25,7 @@ struct run {
 	const struct psd_annual_opt *o;
 	struct psd_annual *a;
 	struct psd_control c;
-	struct ps_sum em[2], e2[2];
+	struct ps_sum em[3], e2[3];
 	int m, doy;
 	double mean_ratio, dated, prev;
 };
@@ -44,7 +44,7 @@ static double law(void *ctx, double t, double volts)
 	return psd_control_step(&u->c, volts, t);
 }
 
-static void seen(void *ctx, double t, double level, double truth, double dl)
+static void seen(void *ctx, double t, double level, double truth, double dl, double roof)
 {
 	struct run *u = ctx;
 	const struct psd_annual_opt *o = u->o;
@@ -85,8 +85,15 @@ static void seen(void *ctx, double t, double level, double truth, double dl)
 	if (dl >= 50) {
 		/* the law's daylight estimate with each ratio */
 		double resp = c->daylight_volts / c->sensor_gain;
-		double est[2] = { u->mean_ratio * resp, (u->dated > 0 ? u->dated : u->mean_ratio) * resp };
-		for (int k = 0; k < 2; k++) {
+		double typical = u->dated > 0 ? u->dated : u->mean_ratio, q = NAN;
+		int cls = psd_dated_rooftop_class(u->r, u->doy, t, roof);
+		double est[3];
+		if (cls >= 0)
+			q = psd_dated_ratio_class(u->r, m + 1, t, cls);
+		est[0] = u->mean_ratio * resp;
+		est[1] = typical * resp;
+		est[2] = (q > 0 ? q : typical) * resp;   /* the live estimate with a rooftop sensor */
+		for (int k = 0; k < 3; k++) {
 			double err = est[k] / dl - 1;
 			ps_sum_add(&u->em[k], err);
 			ps_sum_add(&u->e2[k], err * err);
@@ -110,7 +117,7 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.o = o;
 	u.a = a;
 	u.c = *ctl;
-	for (int k = 0; k < 2; k++) {
+	for (int k = 0; k < 3; k++) {
 		ps_sum_init(&u.em[k]);
 		ps_sum_init(&u.e2[k]);
 	}
@@ -133,7 +140,8 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
 	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
 	a->changes_per_h = a->occ_h > 0 ? a->changes / a->occ_h : NAN;
-	for (int k = 0; k < 2; k++) {
+	a->est_rooftop = r->year.have_site && r->year.n > 0 && !isnan(r->year.h[0].horiz_lux);
+	for (int k = 0; k < 3; k++) {
 		a->est_mean[k] = a->est_n ? 100 * ps_sum_get(&u.em[k]) / a->est_n : NAN;
 		a->est_rms[k] = a->est_n ? 100 * sqrt(ps_sum_get(&u.e2[k]) / a->est_n) : NAN;
 	}

@@ -23,8 +23,12 @@
  *                   (the switch-on at arrival not counted);
  *   estimate error  where the task's true daylight is 50 lx or more, the
  *                   law's daylight estimate (ratio x the reading's daylight
- *                   response) against it: with the one mean ratio and with
- *                   the dated one (dated.h), mean and rms in percent. */
+ *                   response) against it: with the one mean ratio, with
+ *                   the dated one (dated.h) and with the dated one whose sky
+ *                   class a rooftop sensor reading the hour's global
+ *                   horizontal illuminance gives (psd_dated_rooftop_class),
+ *                   mean and rms in percent.  The law itself runs on the
+ *                   typical class. */
 #ifndef PSD_ANNUAL_H
 #define PSD_ANNUAL_H
 
@@ -38,7 +42,11 @@ struct psd_annual_month {
 struct psd_annual {
 	double occ_h, energy_h, ideal_h, below_h, overdim_h, changes;
 	double savings, ideal_savings, effectiveness, changes_per_h;
-	double est_mean[2], est_rms[2];   /* [0] mean ratio, [1] dated; percent */
+	double est_mean[3], est_rms[3];   /* [0] mean ratio, [1] dated (typical class),
+	                                     [2] dated with the class from a rooftop
+	                                     sensor reading the hour; percent */
+	int est_rooftop;                  /* [2] is meaningful: the results carry the
+	                                     hours' global horizontal lux and the site */
 	double est_n;
 	struct psd_annual_month month[12];
 	double steps;                     /* control steps run */

@@ -152,7 +152,7 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,
                       double level0, double (*law)(void *ctx, double t, double volts),
                       void (*seen)(void *ctx, double t, double level, double task_lux,
-                                   double daylight_lux),
+                                   double daylight_lux, double rooftop_lux),
                       void *ctx)
 {
 	struct ps_room_daypoint day[PSD_DAY_POINTS];
@@ -166,14 +166,16 @@ int psd_room_play_day(const struct ps_results *r, int doy, double gain, double p
 		return -1;
 	ps_room_command(room, 0.0, level0);
 	for (int s = 0; s < steps; s++) {
-		double t = s * period, volts, level, dv, dl;
+		double t = s * period, volts, level, dv, dl, g;
 		if (ps_room_sensor(room, t, &volts) != 0)
 			volts = 0;
 		level = law(ctx, t, volts);
 		ps_room_command(room, t, level);
 		ps_room_daylight(room, t, &dv, &dl);
+		if (ps_room_rooftop(room, t, &g) != 0)
+			g = NAN;
 		/* the desk just after the command (an instant ballast has obeyed) */
-		seen(ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl);
+		seen(ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl, g);
 	}
 	ps_room_free(room);
 	return 0;

@@ -38,13 +38,14 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
  * gain volts per unit, no noise, an instant ballast, the lights at level0 at
  * midnight): every period seconds from midnight, law(ctx, t, volts) gives the
  * level to command, then seen(ctx, t, level, true task lux a millisecond
- * after the command, true daylight lux at the task) reports the step.  The room stays inside this file
+ * after the command, true daylight lux at the task, the rooftop's global
+ * horizontal lux or NAN) reports the step.  The room stays inside this file
  * (psensd -Y: annual.c).  -1 when the results have no year or no electric
  * condition, or out of memory. */
 int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,
                       double level0, double (*law)(void *ctx, double t, double volts),
                       void (*seen)(void *ctx, double t, double level, double task_lux,
-                                   double daylight_lux),
+                                   double daylight_lux, double rooftop_lux),
                       void *ctx);
 /* The same from the results' year (psd_room_from_year): [simulate] year = yes. */
 struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);

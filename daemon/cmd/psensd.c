@@ -101,6 +101,9 @@ static int year_report(struct psd_daemon *d, const char *png)
 		       "    dated ratio (month x hour x typical sky class): mean %+.1f %%, rms %.1f %%\n",
 		       a.est_n, e->res.year.mean_ratio, a.est_mean[0], a.est_rms[0], a.est_mean[1],
 		       a.est_rms[1]);
+		if (a.est_rooftop)
+			printf("    dated ratio, sky class from a rooftop sensor: mean %+.1f %%, rms %.1f %%\n",
+			       a.est_mean[2], a.est_rms[2]);
 		printf("  %-5s %9s %9s %9s %9s %9s\n", "month", "occ. h", "energy %", "ideal %",
 		       "below 90%", "overdim h");
 		for (int m = 0; m < 12; m++) {
