@@ -11,7 +11,7 @@
 #include "roomsetup.h"
 #include "sum.h"
 
-#define DAYS 365
+#define DAYS PSD_ANNUAL_MAX_DAYS   /* the pictures' stride */
 #define ROWS 144   /* 10-minute rows */
 
 static double clamp(double x, double lo, double hi)
@@ -105,8 +105,9 @@ static void seen(void *ctx, double t, double level, double truth, double dl, dou
 int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
                    const struct psd_annual_opt *o, struct psd_annual *a)
 {
-	static const int start[13] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334, 365 };
+	static const int mdays[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
 	struct run u;
+	int feb29;
 	struct timespec t0, t1;
 	memset(a, 0, sizeof *a);
 	if (!r->have_year || isnan(r->electric_sensor_response) || o->period <= 0)
@@ -129,13 +130,16 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.c.daylight_ratio = u.mean_ratio;
 	u.c.level = 0.0;
 	u.c.pending_since = -1;
-	for (u.doy = 1; u.doy <= DAYS; u.doy++) {
-		u.m = 0;
-		while (u.m < 11 && u.doy > start[u.m + 1])
-			u.m++;
-		if (psd_room_play_day(r, u.doy, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
-			return -1;
-	}
+	/* every date of the year, February 29 when the weather file has it */
+	feb29 = psd_year_has_feb29(r);
+	u.doy = 0;
+	for (u.m = 0; u.m < 12; u.m++)
+		for (int d = 1; d <= mdays[u.m] + (u.m == 1 && feb29); d++) {
+			u.doy++;
+			if (psd_room_play_day(r, u.m + 1, d, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
+				return -1;
+		}
+	a->days = u.doy;
 	a->savings = a->occ_h > 0 ? 1 - a->energy_h / a->occ_h : NAN;
 	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
 	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
@@ -150,12 +154,12 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	return 0;
 }
 
-int psd_annual_png(const char *path, const float *task_img, const float *level_img,
+int psd_annual_png(const char *path, const float *task_img, const float *level_img, int days,
                    double target, const char *title, char *err, size_t errlen)
 {
 	static const uint8_t white[3] = { 255, 255, 255 };
 	static const double ink[3] = { 0, 0, 0 };
-	const int z = 2, left = 50, top = 34, gap = 40, pw = DAYS * z, ph = ROWS * z, lw = 230;
+	const int z = 2, left = 50, top = 34, gap = 40, pw = days * z, ph = ROWS * z, lw = 230;
 	struct ps_canvas cv;
 	struct ps_err e;
 	struct ps_fcscale sc = { 100 * target, 1, 3 };   /* 0.1 to 100 x target, log */
@@ -164,7 +168,7 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 		return snprintf(err, errlen, "%s", e.msg), -1;
 	ps_canvas_begin(&cv);
 	for (int row = 0; row < ROWS; row++)
-		for (int d = 0; d < DAYS; d++) {
+		for (int d = 0; d < days; d++) {
 			uint8_t rgb[3];
 			int y = ROWS - 1 - row;   /* midnight at the bottom */
 			double v = task_img[row * DAYS + d], f = ps_fcscale_fraction(&sc, v);

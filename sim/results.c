@@ -83,6 +83,8 @@ static void write_year(FILE *fp, const struct ps_results *r)
 	        "steps = %zu\ndark_steps = %zu\nhours = %zu\n", r->weather ? r->weather : "",
 	        r->year_mf, y->patches, y->used, y->steps, y->dark, y->n);
 	put_num(fp, "mean_ratio", y->mean_ratio);
+	if (y->leap)
+		fputs("leap = yes\n", fp);
 	if (y->have_site)
 		fprintf(fp, "latitude = %.17g\nlongitude = %.17g\ntimezone = %.17g\n", y->site.lat,
 		        y->site.lon, y->site.tz);
@@ -205,6 +207,7 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 	y->dark = (size_t)v;
 	ps_conf_int(c, s, "hours", 0, 0, PS_WX_MAX_STEPS, &v);
 	(void)num(c, s, "mean_ratio");   /* recomputed */
+	ps_conf_bool(c, s, "leap", 0, &y->leap);
 	/* the site: optional (files before it have none) */
 	if (ps_conf_kv(s, "latitude") || ps_conf_kv(s, "longitude") || ps_conf_kv(s, "timezone")) {
 		ps_conf_double(c, s, "latitude", 0, -90, 90, &y->site.lat);

@@ -101,6 +101,7 @@ int ps_year_run(const struct ps_dcrow *srow, const double scoef[3], const struct
 	y->steps = w->n;
 	y->site = w->site;
 	y->have_site = 1;
+	y->leap = w->leap;
 	for (size_t i = 0; i < w->n; i++) {
 		struct ps_sky s;
 		struct ps_year_hour *k;

@@ -47,6 +47,7 @@ struct ps_year {
 	double ratio[12][24][PS_SKY_NCLASS];   /* task lux per unit response; NAN when empty */
 	int count[12][24][PS_SKY_NCLASS];
 	double mean_ratio;    /* sum task lux / sum response over the year */
+	int leap;             /* the weather file has February 29 (its hours may all be dark) */
 	int have_site;        /* the weather's site (for the sun of a rooftop reading) */
 	struct ps_site site;
 };

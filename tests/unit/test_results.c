@@ -111,6 +111,7 @@ static void year_round_trip(void **state)
 	r.year.dark = 7;
 	r.year.patches = r.year.used = 146;
 	r.year.have_site = 1;
+	r.year.leap = 1;
 	r.year.site = (struct ps_site){ .lat = 37.7, .lon = -122.2, .tz = -8 };
 	ps_year_tabulate(&r.year);
 	assert_true(r.year.ratio[0][8][PS_SKY_OVERCAST] == 250.0);   /* (400 + 600) / 4 */
@@ -130,6 +131,7 @@ static void year_round_trip(void **state)
 	assert_true(back.year.h[0].horiz_lux == 5000.0 && back.year.h[2].horiz_lux == 98765.5);
 	assert_true(isnan(back.year.h[1].horiz_lux));
 	assert_int_equal(back.year.have_site, 1);
+	assert_int_equal(back.year.leap, 1);
 	assert_true(back.year.site.lat == 37.7 && back.year.site.lon == -122.2 && back.year.site.tz == -8);
 	assert_true(back.year.ratio[0][8][PS_SKY_OVERCAST] == 250.0);
 	assert_true(back.year.mean_ratio == 3000.0 / 14.0);
