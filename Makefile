@@ -6,6 +6,7 @@
 # Every directory may add rules in its own module.mk (included below).
 #
 # Optional drivers: WITH_MODBUS / WITH_USB / WITH_GPIOD = auto | yes | no
+# (and WITH_MQTT, the daemon's MQTT publisher, the same way)
 # (drivers/module.mk).  auto drops a driver whose library pkg-config cannot
 # find; yes makes that an error.
 
@@ -43,6 +44,16 @@ SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
 # the rules that use DRV_SRC.
 include drivers/module.mk
 DAEMON_SRC   := $(wildcard daemon/*.c)
+# MQTT (daemon/mqtt*.c, psensd-mqtt(7)): WITH_MQTT = auto | yes | no, like the
+# drivers.  Without libmosquitto daemon/mqtt_off.c stands in: the [mqtt]
+# section is still judged, and a configured one is refused at start.
+WITH_MQTT ?= auto
+$(eval $(call feature,MQTT,libmosquitto,PS_WITH_MQTT))
+ifeq ($(HAVE_MQTT),yes)
+  DAEMON_SRC := $(filter-out daemon/mqtt_off.c,$(DAEMON_SRC))
+else
+  DAEMON_SRC := $(filter-out daemon/mqtt.c,$(DAEMON_SRC))
+endif
 DAEMON_CMDS  := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
 # psvirt serves the virtual room over Modbus: it needs libmodbus.
 ifneq ($(HAVE_MODBUS),yes)
@@ -65,7 +76,7 @@ drivers: $(LIBPSDRV)
 daemon: $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS))
 
 config-status:
-	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) cc=$(CC) build=$(BUILD) san=$(SAN)"
+	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
 # drivers/, daemon/ and tests/ see everything.
@@ -104,9 +115,9 @@ $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/c
 # client and server modules import it: deps.sh installs no recommends.)
 DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsystemd-dev nettle-dev \
             libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev \
-            libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core
+            libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core libmosquitto-dev
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
-            libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin
+            libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin mosquitto mosquitto-clients openssl
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
 

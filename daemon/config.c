@@ -438,6 +438,9 @@ static int load(struct psd_config *cf)
 	load_points(cf);
 	load_zones(cf);
 	check_sharing(cf);
+	psd_mqttconf_load(&cf->mqtt, c);
+	if (cf->mqtt.enabled && !cf->database)
+		ps_conf_error(c, cf->mqtt.line, "[mqtt] publishes the sample log: set database in [psensd]");
 	ps_conf_check_unused(c);
 	return c->nerrors ? -1 : 0;
 }
@@ -473,6 +476,7 @@ void psd_config_free(struct psd_config *cf)
 	free(cf->scene);
 	free(cf->database);
 	free(cf->socket_path);
+	psd_mqttconf_free(&cf->mqtt);
 	ps_conf_free(&cf->conf);
 	memset(cf, 0, sizeof *cf);
 }

@@ -19,6 +19,7 @@
 #include "conf.h"
 #include "control.h"
 #include "driver.h"
+#include "mqttconf.h"
 
 enum {
 	PSD_MAX_DEVICES = 16,
@@ -99,6 +100,7 @@ struct psd_config {
 	size_t nzone;
 	struct ps_opt optpool[PSD_MAX_OPTS];
 	size_t nopt;
+	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqttconf.h) */
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).

@@ -317,6 +317,22 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	json_object_object_add(o, "reloads", json_object_new_int64((int64_t)d->reloads));
 	json_object_object_add(o, "requests", json_object_new_int64((int64_t)d->ctl.requests));
 	json_object_object_add(o, "rejected", json_object_new_int64((int64_t)d->ctl.rejected));
+	if (d->mqtt) {   /* [mqtt]: the publisher's state (daemon/mqtt.h) */
+		struct psd_mqtt_stats ms;
+		json_object *mq = json_object_new_object();
+		psd_mqtt_stats(d->mqtt, &ms);
+		json_object_object_add(mq, "connected", json_object_new_boolean(ms.connected));
+		json_object_object_add(mq, "cursor", json_object_new_int64(ms.cursor));
+		json_object_object_add(mq, "sent", json_object_new_int64(ms.sent));
+		json_object_object_add(mq, "published", json_object_new_int64((int64_t)ms.published));
+		json_object_object_add(mq, "acked", json_object_new_int64((int64_t)ms.acked));
+		json_object_object_add(mq, "commands", json_object_new_int64((int64_t)ms.commands));
+		json_object_object_add(mq, "refused", json_object_new_int64((int64_t)ms.refused));
+		json_object_object_add(mq, "connects", json_object_new_int64((int64_t)ms.connects));
+		put_num(mq, "turn_max_s", ms.turn_max);
+		put_num(mq, "turn_cpu_max_s", ms.turn_cpu_max);
+		json_object_object_add(o, "mqtt", mq);
+	}
 	for (size_t i = 0; i < e->nzone; i++)
 		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
 			json_object_array_add(zones, zone_json(e, &e->zone[i], now));
@@ -366,13 +382,17 @@ static int number(const char *text, double *out)
 
 void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
 {
-	struct psd_daemon *d = user;
+	(void)c;
+	psd_ctl_request(user, line, reply, len);
+}
+
+void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len)
+{
 	struct psd_engine *e = &d->engine;
 	struct psd_zone *z;
 	char *argv[PSD_CTL_MAX_WORDS], err[512];
 	int argc = psd_ctl_split(line, argv, err, sizeof err);
 	double a, b;
-	(void)c;
 	if (argc < 0) {
 		error_reply(reply, len, "%s", err);
 		return;

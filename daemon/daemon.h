@@ -7,6 +7,7 @@
 #include "clock.h"
 #include "ctlsock.h"
 #include "engine.h"
+#include "mqtt.h"
 
 /* Descriptors one turn of the loop polls: the signals, the control socket's
  * clients and listener, the drivers'. */
@@ -18,6 +19,7 @@ struct psd_daemon {
 	struct psd_clock clock;
 	struct psd_ctlsock ctl;
 	int have_ctl;
+	struct psd_mqtt *mqtt;    /* [mqtt]: the publisher (daemon/mqtt.h), NULL: none */
 	double end;               /* simulated: stop at this time; real: INFINITY */
 	int watchdog_ms;          /* systemd watchdog interval / 2, 0: none */
 	int stop;                 /* 1: SIGTERM/SIGINT seen */
@@ -43,6 +45,9 @@ void psd_daemon_stop(struct psd_daemon *d, const char *why);
 
 /* The control socket's handler (daemon/ctlcmd.c). */
 void psd_ctl_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
+/* One request line, judged and answered (a JSON line in reply): what the
+ * socket's handler and MQTT's set/ topics (daemon/mqtt.c) both call. */
+void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len);
 
 /* Recompute the results with psscene when they are missing or older than
  * the scene (daemon/refresh.c).  -1 after logging why. */

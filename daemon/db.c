@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "errbuf.h"
 
@@ -41,6 +42,12 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS cal_samples("
 	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
 	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
+	/* 3 -> 4: MQTT (daemon/mqtt.c): the UTC time of each sample, the
+	 * publisher's persisted cursor per site, the zones announced */
+	"ALTER TABLE samples ADD COLUMN utc REAL;"
+	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
+	" PRIMARY KEY(site, zone));",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
@@ -122,7 +129,7 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 		return NULL;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s, utc) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -255,6 +262,11 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 10, s->ratio);
 	bind_text(db->ins, 11, s->fault);
 	bind_text(db->ins, 12, s->zone);
+	{
+		struct timespec ts;   /* the wall clock at logging: the sample's UTC time for MQTT */
+		clock_gettime(CLOCK_REALTIME, &ts);
+		sqlite3_bind_double(db->ins, 13, (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec);
+	}
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
 		sqlite3_reset(db->ins);
 		return fail(db->h, "insert", err, errlen);
@@ -596,4 +608,83 @@ int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, ps
 	}
 	sqlite3_finalize(st);
 	return rc == SQLITE_DONE ? nrows : fail(db->h, "read", err, errlen);
+}
+
+/* ---- the MQTT publisher --------------------------------------------------------- */
+
+int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_sample_row_fn fn, void *user, char *err,
+                         size_t errlen)
+{
+	char sql[320];
+	sqlite3_stmt *st;
+	int rc, n = 0;
+	snprintf(sql, sizeof sql, "SELECT %s, rowid, utc FROM samples WHERE rowid > ? ORDER BY rowid LIMIT ?",
+	         sample_columns);
+	if (!(st = query(db, err, errlen, sql, "ii", after, (long long)limit)))
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_sample s;
+		row_sample(st, &s);
+		fn(user, sqlite3_column_int64(st, 12), col_num(st, 13), &s);
+		n++;
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? n : fail(db->h, "read", err, errlen);
+}
+
+long long psd_db_last_id(struct psd_db *db)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT coalesce(max(rowid), 0) FROM samples", "");
+	long long id = -1;
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW)
+		id = sqlite3_column_int64(st, 0);
+	sqlite3_finalize(st);
+	return id;
+}
+
+long long psd_db_mqtt_cursor(struct psd_db *db, const char *site)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT sample FROM mqtt_cursor WHERE site = ?", "t", site);
+	long long id = -1;
+	int rc;
+	if (!st)
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW)
+		id = sqlite3_column_int64(st, 0);
+	else if (rc == SQLITE_DONE)
+		id = 0;
+	sqlite3_finalize(st);
+	return id;
+}
+
+int psd_db_mqtt_set_cursor(struct psd_db *db, const char *site, long long id, char *err, size_t errlen)
+{
+	return run(db, "INSERT OR REPLACE INTO mqtt_cursor(site, sample) VALUES(?, ?)", err, errlen, "ti", site, id);
+}
+
+int psd_db_mqtt_announced(struct psd_db *db, const char *site, psd_db_name_fn fn, void *user)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT zone FROM mqtt_announced WHERE site = ? ORDER BY zone",
+	                         "t", site);
+	int rc;
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		fn(user, col_text(st, 0));
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : -1;
+}
+
+int psd_db_mqtt_announce(struct psd_db *db, const char *site, const char *zone, int add, char *err, size_t errlen)
+{
+	if (add)
+		return run(db, "INSERT OR IGNORE INTO mqtt_announced(site, zone) VALUES(?, ?)", err, errlen, "tt", site,
+		           zone);
+	return run(db, "DELETE FROM mqtt_announced WHERE site = ? AND zone = ?", err, errlen, "tt", site, zone);
 }

@@ -9,14 +9,17 @@
  *   cal_sessions  one row per calibration session: zone, kind, state
  *                 (running, done, aborted, accepted, superseded), start and
  *                 end, the config's and the scene's SHA-256, results (JSON)
- *   cal_samples   every sample of a session, committed as it is taken */
+ *   cal_samples   every sample of a session, committed as it is taken
+ *   mqtt_cursor   per MQTT site, the last sample id the broker acknowledged
+ *   mqtt_announced  per MQTT site, the zones announced to Home Assistant
+ * Each sample row also has utc, the wall-clock time it was logged. */
 #ifndef PSD_DB_H
 #define PSD_DB_H
 
 #include <stddef.h>
 
 /* The schema version this build writes. */
-enum { PSD_DB_SCHEMA = 3 };
+enum { PSD_DB_SCHEMA = 4 };
 
 struct psd_sample {
 	double t;             /* seconds on the daemon's clock */
@@ -119,5 +122,24 @@ int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65
 typedef void (*psd_db_row_fn)(void *user, int ncol, const char *const *names, const char *const *values);
 int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
                       char *err, size_t errlen);
+
+/* ---- the MQTT publisher (daemon/mqtt.c) ----------------------------------- */
+
+/* A sample as the publisher reads it: its row id and the UTC second it was
+ * logged (NAN for a row logged before schema 4). */
+typedef void (*psd_db_sample_row_fn)(void *user, long long id, double utc, const struct psd_sample *s);
+/* Up to limit samples with id > after, in id order; the count, -1 with a
+ * message in err. */
+int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_sample_row_fn fn, void *user, char *err,
+                         size_t errlen);
+/* The highest sample id, 0 for none, -1 on error. */
+long long psd_db_last_id(struct psd_db *db);
+/* The site's cursor: the last sample id acknowledged (0 none), -1 error. */
+long long psd_db_mqtt_cursor(struct psd_db *db, const char *site);
+int psd_db_mqtt_set_cursor(struct psd_db *db, const char *site, long long id, char *err, size_t errlen);
+/* The zones announced for Home Assistant: fn gets each (psd_db_name_fn
+ * above); add or forget one. */
+int psd_db_mqtt_announced(struct psd_db *db, const char *site, psd_db_name_fn fn, void *user);
+int psd_db_mqtt_announce(struct psd_db *db, const char *site, const char *zone, int add, char *err, size_t errlen);
 
 #endif

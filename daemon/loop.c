@@ -69,6 +69,12 @@ void psd_daemon_config_errors(const struct psd_config *cf)
 		log_errx("%s", cf->conf.errors[i]);
 }
 
+/* An MQTT command: the control socket's request function, the same code. */
+static void mqtt_request(void *user, char *line, char *reply, size_t len)
+{
+	psd_ctl_request(user, line, reply, len);
+}
+
 int psd_daemon_start(struct psd_daemon *d, const char *path)
 {
 	struct psd_config *cf = calloc(1, sizeof *cf);
@@ -113,6 +119,16 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		}
 		d->have_ctl = 1;
 		log_info("control socket %s", d->ctl.path);
+	}
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
+		log_errx("%s", err);
+		if (d->have_ctl)
+			psd_ctl_close(&d->ctl);
+		d->have_ctl = 0;
+		psd_engine_close(&d->engine);
+		psd_config_free(cf);
+		free(cf);
+		return -1;
 	}
 	return 0;
 }
@@ -159,6 +175,10 @@ int psd_daemon_reload(struct psd_daemon *d)
 	free(old);
 	free(snap);
 	d->reloads++;
+	if (d->mqtt)
+		psd_mqtt_reload(d->mqtt);
+	if (cf->mqtt.enabled != (d->mqtt != NULL))
+		log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
 	log_info("reloaded %s", d->config_path);
 	sd_notify(0, "READY=1");
 	return 0;
@@ -183,19 +203,27 @@ int psd_daemon_run(struct psd_daemon *d)
 	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
 	while (!d->stop) {
 		double now = psd_clock_now(&d->clock), deadline;
-		int n = 0, nctl, ndev, timeout;
+		int n = 0, nctl, ndev, nmq = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
 		psd_engine_step(&d->engine, now);
+		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
+			psd_mqtt_service(d->mqtt, NULL, now);
 		deadline = psd_engine_deadline(&d->engine);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
 		fds[n++] = (struct pollfd){ sigfd, POLLIN, 0 };
 		nctl = d->have_ctl ? psd_ctl_pollfds(&d->ctl, fds + n, PSD_MAX_POLL - n - PSD_MAX_DEVICES) : 0;
 		n += nctl;
-		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n);
+		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n - 1);
 		timeout = psd_clock_wait_ms(&d->clock, deadline, d->watchdog_ms ? d->watchdog_ms : 60000);
-		if (poll(fds, (nfds_t)(n + ndev), timeout) < 0 && errno != EINTR) {
+		if (d->mqtt) {
+			int w = psd_mqtt_wait_ms(d->mqtt);
+			nmq = psd_mqtt_pollfd(d->mqtt, fds + n + ndev);
+			if (w >= 0 && (timeout < 0 || w < timeout))
+				timeout = w;
+		}
+		if (poll(fds, (nfds_t)(n + ndev + nmq), timeout) < 0 && errno != EINTR) {
 			log_err("poll");
 			break;
 		}
@@ -205,6 +233,8 @@ int psd_daemon_run(struct psd_daemon *d)
 			psd_ctl_service(&d->ctl, fds + 1, nctl);
 		now = psd_clock_now(&d->clock);
 		psd_engine_service(&d->engine, now, fds + 1 + nctl, fd_dev, ndev);
+		if (d->mqtt)
+			psd_mqtt_service(d->mqtt, nmq ? fds + n + ndev : NULL, now);
 		if (d->reload) {
 			d->reload = 0;
 			psd_daemon_reload(d);
@@ -222,6 +252,8 @@ void psd_daemon_stop(struct psd_daemon *d, const char *why)
 {
 	double now = psd_clock_now(&d->clock);
 	sd_notify(0, "STOPPING=1");
+	psd_mqtt_close(d->mqtt);   /* offline, the last acknowledgements, while the log is open */
+	d->mqtt = NULL;
 	if (d->engine.cf) {
 		if (why)
 			psd_engine_safe(&d->engine, now, why);

@@ -185,8 +185,13 @@ static void usage(FILE *fp)
 	            "  -t HH:MM  real time: start the clock at this time of day (default: now)\n"
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
 	            "  -v        more messages\n"
-	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n"
-	            "drivers:\n");
+	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n");
+#ifdef PS_WITH_MQTT
+	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7)\n");
+#else
+	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
+#endif
+	fprintf(fp, "drivers:\n");
 	for (int i = 0; ps_drivers[i]; i++)
 		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
 		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
@@ -285,6 +290,13 @@ int main(int argc, char **argv)
 	if (check) {
 		rc = psd_config_load(&cf, path);
 		psd_daemon_config_errors(&cf);
+#ifndef PS_WITH_MQTT
+		if (rc == 0 && cf.mqtt.enabled) {   /* it would be refused at start */
+			log_errx("%s:%d: [mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)",
+			         path, cf.mqtt.line);
+			rc = -1;
+		}
+#endif
 		if (rc == 0)
 			printf("%s: configuration OK (%zu device(s), %zu point(s), %zu zone(s))\n", path, cf.ndev,
 			       cf.npt, cf.nzone);
