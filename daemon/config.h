@@ -53,6 +53,7 @@ struct psd_zone_conf {
 	char name[48];
 	int sensor;               /* point index */
 	int task;                 /* point index or -1 */
+	int rooftop;              /* point index or -1: the live estimate's sky class */
 	int dim[PSD_MAX_ZONE_OUT], ndim;
 	int relay[PSD_MAX_ZONE_OUT], nrelay;
 	int input[PSD_MAX_ZONE_OUT], ninput;

@@ -138,6 +138,7 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	z->last_ok = now;
 	z->volts = z->task_lux = z->last_volts = NAN;
 	z->last.t = NAN;
+	z->sky_class = -1;
 	z->same_since = now;
 	z->override_level = NAN;
 	z->override_until = -INFINITY;
@@ -188,8 +189,11 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	/* the dated estimate's month: the simulated date's (psensd sets today's
 	 * on a real-time clock unless the room plays the year) */
 	e->month = psd_dated_month(cf->date);
-	if (prev && !cf->sim_year)
+	e->doy = psd_dated_day(cf->date);
+	if (prev && !cf->sim_year) {
 		e->month = prev->month;
+		e->doy = prev->doy;
+	}
 	if (cf->results) {
 		if (ps_results_read(&e->res, cf->results, &pe) != 0) {
 			psd_errf(err, errlen, "%s", pe.msg);
@@ -484,12 +488,42 @@ static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, 
  * a day calibration measured the zone's own. */
 static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 {
-	double q;
+	double q = NAN;
+	z->sky_class = -1;
 	if (!e->have_res || !e->res.have_year || !e->cf->dated_estimate || z->cal_day_id)
 		return;
-	q = psd_dated_ratio(&e->res, e->month, psd_clock_tod(now), NULL);
+	if (z->zc->rooftop >= 0) {
+		/* the sky now from the rooftop sensor, else the typical class */
+		struct ps_dev *d = dev_of(e, z->zc->rooftop);
+		double lux;
+		if (d->drv->read(d, &e->pt[z->zc->rooftop], now, &lux) == 0) {
+			z->rooftop_failed = 0;
+			z->sky_class = psd_dated_rooftop_class(&e->res, e->doy, psd_clock_tod(now), lux);
+			if (z->sky_class >= 0)
+				q = psd_dated_ratio_class(&e->res, e->month, psd_clock_tod(now), z->sky_class);
+			if (!(q > 0))
+				z->sky_class = -1;   /* no hour of that class there: the typical one */
+		} else if (!z->rooftop_failed++) {
+			log_warnx("zone %s: rooftop %s: %s; the typical sky class until it reads", z->zc->name,
+			          e->pt[z->zc->rooftop].name, d->err);
+		}
+	}
+	if (!(q > 0))
+		q = psd_dated_ratio(&e->res, e->month, psd_clock_tod(now), NULL);
 	if (q > 0)
 		z->ctl.daylight_ratio = q;
+}
+
+/* The samples' name of the ratio in force. */
+static const char *ratio_name(const struct psd_engine *e, const struct psd_zone *z)
+{
+	static const char *const rooftop[PS_SKY_NCLASS] = { "daylight_rooftop_clear", "daylight_rooftop_intermediate",
+	                                                     "daylight_rooftop_overcast" };
+	if (!e->have_res)
+		return NULL;
+	if (!(e->res.have_year && e->cf->dated_estimate && !z->cal_day_id))
+		return "daylight_mean";
+	return z->sky_class >= 0 && z->sky_class < PS_SKY_NCLASS ? rooftop[z->sky_class] : "daylight_dated";
 }
 
 static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
@@ -503,8 +537,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : z->last.est_task_lux, z->task_lux,
 		fault ? NAN : z->last.daylight_v,
 		fault ? NAN : dl,
-		!e->have_res ? NULL : e->res.have_year && e->cf->dated_estimate && !z->cal_day_id
-		                          ? "daylight_dated" : "daylight_mean", z->ctl.daylight_ratio, fault ? z->why : NULL,
+		ratio_name(e, z), z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, e->utc0 + now,
 	};
 	if (!e->db)

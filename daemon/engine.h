@@ -63,6 +63,9 @@ struct psd_zone {
 	struct psd_calsession cal;     /* the calibration session (daemon/calsession.c) */
 	struct psd_calfit_drift drift; /* measured against simulated ratio, with a task meter */
 	long long cal_night_id, cal_day_id;   /* the accepted calibrations in force, 0: none */
+	int sky_class;            /* the rooftop sensor's sky class this step, -1: none
+	                             (the typical class is used) */
+	int rooftop_failed;       /* a rooftop read failed (logged once until it reads again) */
 	struct psd_zone_stats st;
 	struct psd_zone_sample last;   /* the last step */
 };
@@ -77,6 +80,7 @@ struct psd_engine {
 	struct ps_results res;
 	int have_res;
 	int month;                /* the dated estimate's month (dated.h), 1-12 */
+	int doy;                  /* and day of the year, for a rooftop sensor's sun */
 	struct psd_db *db;
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */

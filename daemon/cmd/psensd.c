@@ -64,7 +64,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 {
 	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
 	                                   "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
-	static float task[365 * 144], level[365 * 144];
+	static float task[PSD_ANNUAL_MAX_DAYS * 144], level[PSD_ANNUAL_MAX_DAYS * 144];
 	const struct psd_engine *e = &d->engine;
 	if (!e->have_res || !e->res.have_year) {
 		fprintf(stderr, "psensd: -Y needs results with a year: give the scene a weather file "
@@ -90,6 +90,8 @@ static int year_report(struct psd_daemon *d, const char *png)
 		psd_clock_hhmm(o.occ_end, to);
 		printf("  %.0f control steps in %.2f s (%.0f ns a step); occupied %s-%s every day, "
 		       "%.0f h\n", a.steps, a.seconds, 1e9 * a.seconds / a.steps, from, to, a.occ_h);
+		if (a.days != 365)
+			printf("  %d days: the weather file's year has February 29\n", a.days);
 		printf("  lighting energy %.0f full-output hours (%.1f %% of full), savings %.1f %%\n",
 		       a.energy_h, 100 * a.energy_h / a.occ_h, 100 * a.savings);
 		printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
@@ -102,6 +104,9 @@ static int year_report(struct psd_daemon *d, const char *png)
 		       "    dated ratio (month x hour x typical sky class): mean %+.1f %%, rms %.1f %%\n",
 		       a.est_n, e->res.year.mean_ratio, a.est_mean[0], a.est_rms[0], a.est_mean[1],
 		       a.est_rms[1]);
+		if (a.est_rooftop)
+			printf("    dated ratio, sky class from a rooftop sensor: mean %+.1f %%, rms %.1f %%\n",
+			       a.est_mean[2], a.est_rms[2]);
 		printf("  %-5s %9s %9s %9s %9s %9s\n", "month", "occ. h", "energy %", "ideal %",
 		       "below 90%", "overdim h");
 		for (int m = 0; m < 12; m++) {
@@ -118,7 +123,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 			snprintf(title, sizeof title, "%s: zone %s, %s, target %g lx (%s)",
 			         sb ? sb + 1 : e->res.scene ? e->res.scene : "", z->zc->name,
 			         psd_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : e->res.weather);
-			rc = psd_annual_png(png, task, level, ctl.target_lux, title, err, sizeof err);
+			rc = psd_annual_png(png, task, level, a.days, ctl.target_lux, title, err, sizeof err);
 			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
 			if (rc != 0) {
 				fprintf(stderr, "psensd: %s\n", err);
