@@ -5,6 +5,9 @@
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 make -s deps > /dev/null 2>&1 ||
 	skip_all "make run installs missing Debian packages first: not as this user"
+# as a user types it: not as a sub-make of make check, whose MAKELEVEL would
+# make GNU make announce "Entering directory" by itself
+unset MAKELEVEL MAKEFLAGS MFLAGS
 make BUILD="$BUILD" run > "$TMP/out" 2> "$TMP/err"; rc=$?
 check "make run: exit 0 ($rc)" test "$rc" = 0
 check "make run: its first line on standard output is the summary: $(head -n 1 "$TMP/out")" \
