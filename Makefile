@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # psensd: one Makefile for the whole tree.  The layout is the architecture:
 #   sim/      the simulation library (libpsim.a) and its tools in sim/cmd/
 #   drivers/  device drivers behind one method table (libpsdrv.a); no simulation here

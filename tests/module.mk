@@ -1,12 +1,10 @@
+# SPDX-License-Identifier: ISC
 # tests: unit tests (cmocka, one program per tests/unit/test_*.c), system tests
 # (tests/system/NNN-*.sh against the real binaries), libFuzzer targets, benchmarks.
 UNIT_SRC   := $(wildcard tests/unit/test_*.c)
 UNIT_BINS  := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(UNIT_SRC))
 UNIT_HELP  := $(wildcard tests/unit/helpers/*.c)
 SYS_TESTS  := $(sort $(wildcard tests/system/[0-9]*.sh))
-# 006-spdx.sh (every source file's SPDX line) joins once the SPDX lines are in:
-# delete this line then.  Run alone: sh tests/run.sh tests/system/006-spdx.sh
-SYS_TESTS  := $(filter-out tests/system/006-spdx.sh,$(SYS_TESTS))
 BENCH_SRC  := $(wildcard tests/bench/bench_*.c)
 BENCH_BINS := $(patsubst tests/bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
 TEST_LIBS   = $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)

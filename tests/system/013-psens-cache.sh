@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psens's weight cache (the directory psscene uses): a cold run stores the
 # map, a warm run reads it and prints the same numbers; -N runs uncached; a
 # corrupted entry is rebuilt with a warning naming it; a read-only cache

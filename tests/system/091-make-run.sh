@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # make run, the README's command: quiet by default (no build commands before
 # the summary: they go to BUILD/build.log), V=1 shows the commands.
 . "$(dirname "$0")/lib.sh"

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensd -Y over a leap year's weather file plays February 29: the example's
 # year with a dark February 29 inserted (24 hours of 0 0) runs 366 days,
 # 527,040 steps at 60 s, 3660 occupied hours, 290 in February; and the

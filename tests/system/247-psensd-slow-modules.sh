@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The control socket never waits on a device: 10 zones on 3 Modbus modules
 # (psvirt) that answer every request 300, 400 and 500 ms late, psensd at 10x
 # real time.  A client asks `status` on a new connection every 20 ms for 15 s

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Calibration sessions on the loopback room (gain 0.5 V per unit, offset
 # 0.05 V, noise 2 mV, a task meter with 2 lx noise), psensd in real time at
 # 600x: the night session recovers the room's gain, offset and electric task

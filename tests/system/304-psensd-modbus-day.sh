@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The real psensd over Modbus TCP through psvirt: both clocks at 3600x real
 # time from 05:00 (a day in about 14 s), one control step per 15 simulated
 # minutes, the ADAM-6024-style register map of psensd-modbus(5).  Checked
