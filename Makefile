@@ -192,6 +192,9 @@ run: deps
 	    $(MAKE) --no-print-directory all > $(BUILD)/build.log 2>&1 || \
 	    { cat $(BUILD)/build.log; echo "make run: the build failed ($(BUILD)/build.log)" >&2; exit 1; }; \
 	fi
+	@# config/psensd.conf keeps the example's results and log in build/,
+	@# whatever BUILD this make uses
+	@mkdir -p build
 	@$(BUILD)/bin/psensd -f config/psensd.conf -s
 
 # The golden day (tests/data/golden-day.csv): run the example day again, say
