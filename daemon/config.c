@@ -337,6 +337,9 @@ static void load_zones(struct psd_config *cf)
 		ps_conf_double(c, s, "cal_day_interval", 600, 0.001, 86400, &z->cal_day_interval);
 		ps_conf_double(c, s, "cal_min_day_volts", 0.05, 0, 100, &z->cal_min_day_volts);
 		ps_conf_double(c, s, "cal_tolerance", 25, 0, 1000, &z->cal_tolerance);
+		ps_conf_double(c, s, "cal_dark_margin", 0.2, 0, 100, &z->cal_dark_margin);
+		ps_conf_bool(c, s, "cal_night_sun", 1, &z->cal_night_sun);
+		ps_conf_double(c, s, "cal_sun_share", 0.05, 0, 1, &z->cal_sun_share);
 		ps_conf_double(c, s, "drift_margin", 0.25, 0.001, 10, &z->drift_margin);
 		ps_conf_double(c, s, "drift_hold", 3600, 0, 86400 * 30, &z->drift_hold);
 		cf->nzone++;

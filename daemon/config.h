@@ -73,6 +73,12 @@ struct psd_zone_conf {
 	double cal_day_interval;  /* s between them */
 	double cal_min_day_volts; /* less daylight signal: not a day sample */
 	double cal_tolerance;     /* % error against the design still a pass */
+	double cal_dark_margin;   /* night: daylight above the electric-only expectation, as a
+	                             fraction of the full-output electric signal, that refuses
+	                             or aborts a night session */
+	int cal_night_sun;        /* night: refuse while the simulation's sun is up */
+	double cal_sun_share;     /* day: a brightest patch above this share of the simulated
+	                             response is the sun in the sensor's view (a warning) */
 	double drift_margin;      /* |ln(measured/simulated)| */
 	double drift_hold;        /* s */
 	int line;

@@ -71,7 +71,8 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struct psd_zone *z, double now)
 {
 	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, e->have_res ? &e->res : NULL, e->db,
-	                                     e->cf->conf.path, now };
+	                                     e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
+	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level };
 }
 
 /* Do what a session asked: a step now, accepted constants in force. */
