@@ -146,6 +146,8 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 		if (sd->drv->truth(z->sim, now, &t) == 0)
 			z->st.energy0 = t.energy;
 	}
+	z->st.energy_last = z->st.energy0;
+	z->st.since = now;
 	z->st.worst_lux = INFINITY;
 	if (prev) {
 		for (size_t i = 0; i < prev->nzone; i++) {
@@ -158,6 +160,16 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 			z->next = o->next;
 			if (z->ctl.target_lux == o->zc->ctl.target_lux)
 				z->ctl.target_lux = o->ctl.target_lux;   /* a target set at run time survives */
+			/* the statistics run on over the reload: the reopened room
+			 * counts its energy afresh, so what the old one used up to
+			 * the zone's last step is carried (issue 17: the summary's
+			 * numerator restarted at the reload, its denominator did not) */
+			if (z->sim && o->sim) {
+				double e0 = z->st.energy0;
+				z->st = o->st;
+				z->st.energy_prior = psd_zone_energy(&o->st, o->st.energy_last);
+				z->st.energy0 = z->st.energy_last = e0;
+			}
 		}
 	}
 }
@@ -383,6 +395,11 @@ int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t)
 	return z->sim && z->sim->drv->truth(z->sim, now, t) == 0 ? 0 : -1;
 }
 
+double psd_zone_energy(const struct psd_zone_stats *s, double energy_now)
+{
+	return s->energy_prior + (energy_now - s->energy0);
+}
+
 static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	struct ps_truth tr;
@@ -390,6 +407,8 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 	struct psd_zone_stats *s = &z->st;
 	if (!z->sim)
 		return;
+	if (psd_engine_truth(z, now, &tr) == 0)
+		s->energy_last = tr.energy;
 	if (!z->in_fault && !isnan(z->ctl.est_task_lux) && psd_engine_truth(z, now, &tr) == 0) {
 		t = tr.task_lux;
 		if (t > 0) {
@@ -471,8 +490,12 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			psd_calsession_feed(&z->cal, &c, z->volts, z->task_lux, z->level, &ask);
 			cal_act(z, &ask);
 		}
-		if (psd_calsession_level(&z->cal, now, &level))
-			;   /* a calibration session holds the lights */
+		if (psd_calsession_level(&z->cal, now, &level)) {
+			/* a calibration session holds the lights; the estimate
+			 * still follows the room (issue 17: it froze) */
+			if (rc == 0)
+				psd_control_estimate(&z->ctl, z->volts);
+		}
 		else if (rc == 0)
 			level = psd_control_step(&z->ctl, z->volts, now);
 		else

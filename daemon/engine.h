@@ -20,8 +20,14 @@
 struct psd_zone_stats {
 	double samples, below, worst_lux, fault_steps;
 	double err_sum, err2_sum, err_max, err_n;
-	double energy0;           /* the room's energy when the zone started */
+	double energy0;           /* the room's energy when this engine started the zone */
+	double energy_last;       /* the room's energy at the zone's last step */
+	double energy_prior;      /* energy used under the engines a reload replaced */
+	double since;             /* when the statistics began (kept across reloads) */
 };
+/* The energy a zone used since its statistics began (full-output seconds),
+ * given the room's energy now. */
+double psd_zone_energy(const struct psd_zone_stats *s, double energy_now);
 
 struct psd_zone {
 	const struct psd_zone_conf *zc;

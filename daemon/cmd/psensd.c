@@ -24,11 +24,12 @@ static void summary(struct psd_daemon *d, double start, double end)
 	for (size_t i = 0; i < e->nzone; i++) {
 		const struct psd_zone *z = &e->zone[i];
 		const struct psd_zone_stats *s = &z->st;
-		double hours = (end - start) / 3600.0, used;
+		double hours = (end - (s->since > start ? s->since : start)) / 3600.0, used;
 		struct ps_truth t;
 		if (s->samples == 0 || psd_engine_truth(z, end, &t) != 0)
 			continue;
-		used = (t.energy - s->energy0) / 3600.0;
+		/* numerator and denominator over the same span, across reloads */
+		used = psd_zone_energy(s, t.energy) / 3600.0;
 		printf("psensd: %s %s %s-%s on the %s room (%s), zone %s every %g s, %s control, "
 		       "target %g lx\n", d->clock.simulated ? "simulated" : "ran", cf->date, t0, t1, z->sim->drv->name,
 		       e->res.scene, z->zc->name, z->zc->period, psd_algorithm_names[z->ctl.algorithm],
