@@ -20,6 +20,21 @@ const double psd_calsession_levels[PSD_CAL_NLEVELS] = { 1.0, 0.75, 0.5, 0.25, 0.
 const char *const psd_calsession_kind_names[] = { "none", "night", "day", NULL };
 const char *const psd_calsession_state_names[] = { "idle", "running", "done", "aborted", "accepted", NULL };
 
+/* The date and time of now for log lines ("YYYY-MM-DD HH:MM"). */
+static const char *stamp(const struct psd_calsession_ctx *c, char out[24])
+{
+	psd_clock_stamp(c->epoch0, c->now, out, 24);
+	return out;
+}
+
+/* A session's event in the database (a record: a failure is only logged). */
+static void event(const struct psd_calsession_ctx *c, const char *kind, const char *text)
+{
+	char err[512];
+	if (c->db && psd_db_event(c->db, c->now, c->zone, kind, text, err, sizeof err) != 0)
+		log_warnx("%s", err);
+}
+
 int psd_calsession_running(const struct psd_calsession *s)
 {
 	return s->state == PSD_CAL_RUNNING;
@@ -120,7 +135,7 @@ static void sun_in_view(struct psd_calsession *s, const struct psd_calsession_ct
 	         "%s: its brightest patch gives %.0f %% of the response, above cal_sun_share %g); the ratio "
 	         "will swing with the sun and the clouds: prefer a time without it", t, best->label,
 	         100 * best->brightest_share, c->zc->cal_sun_share);
-	log_warnx("zone %s: day calibration: %s", c->zone, s->sun_warning);
+	log_warnx("zone %s: %s: day calibration: %s", c->zone, stamp(c, (char[24]){ 0 }), s->sun_warning);
 }
 
 int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, double level,
@@ -155,7 +170,13 @@ int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_c
 	snprintf(s->msg, sizeof s->msg, "%s", kind == PSD_CAL_NIGHT ? "settling at 100 %" :
 	         c->zc->task >= 0 ? "sampling the task meter" : "waiting for typed lux (calibrate ZONE lux N)");
 	ask->step_now = 1;
-	log_info("zone %s: %s calibration session %lld started", c->zone, psd_calsession_kind_names[kind], s->id);
+	{
+		char ts[24], text[96];
+		log_info("zone %s: %s: %s calibration session %lld started", c->zone, stamp(c, ts),
+		         psd_calsession_kind_names[kind], s->id);
+		snprintf(text, sizeof text, "%s session %lld", psd_calsession_kind_names[kind], s->id);
+		event(c, "calibration started", text);
+	}
 	if (kind == PSD_CAL_DAY)
 		sun_in_view(s, c, psd_clock_tod(c->now));
 	return 0;
@@ -172,7 +193,11 @@ int psd_calsession_abort(struct psd_calsession *s, const struct psd_calsession_c
 	snprintf(s->msg, sizeof s->msg, "aborted: %s", why);
 	if (c->db && psd_db_cal_end(c->db, s->id, "aborted", c->now, NULL, why, err, sizeof err) != 0)
 		log_warnx("%s", err);
-	log_warnx("zone %s: calibration session %lld aborted: %s", c->zone, s->id, why);
+	{
+		char ts[24];
+		log_warnx("zone %s: %s: calibration session %lld aborted: %s", c->zone, stamp(c, ts), s->id, why);
+		event(c, "calibration aborted", why);
+	}
 	ask->step_now = 1;
 	return 0;
 }
@@ -278,10 +303,14 @@ static int finish(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 		                   "accept to use it anyway" : "; accept to use it");
 	if (s->kind == PSD_CAL_DAY && s->sun_warning[0])
 		snprintf(s->msg + strlen(s->msg), sizeof s->msg - strlen(s->msg), " (sun in the sensor's view)");
-	if (outside)
-		log_warnx("zone %s: calibration session %lld %s", c->zone, s->id, s->msg);
-	else
-		log_info("zone %s: calibration session %lld %s", c->zone, s->id, s->msg);
+	{
+		char ts[24];
+		if (outside)
+			log_warnx("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
+		else
+			log_info("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
+		event(c, "calibration done", s->msg);
+	}
 	ask->step_now = 1;
 	return 0;
 }
@@ -448,7 +477,8 @@ static void feed_night(struct psd_calsession *s, const struct psd_calsession_ctx
 		psd_calsession_abort(s, c, err, ask);
 		return;
 	}
-	log_info("zone %s: night level %.0f %%: %.5f V (se %.5f) after %.0f s", c->zone, 100 * at, mean, se,
+	log_info("zone %s: %s: night level %.0f %%: %.5f V (se %.5f) after %.0f s", c->zone, stamp(c, (char[24]){ 0 }),
+	         100 * at, mean, se,
 	         now - s->step_started);
 	s->npt++;
 	if (++s->step == PSD_CAL_NLEVELS) {
@@ -537,7 +567,8 @@ void psd_calsession_resume(struct psd_calsession *s, const struct psd_calsession
 	psd_db_cal_samples(c->db, id, resume_sample, &r);
 	settle_reset(s, c);
 	snprintf(s->msg, sizeof s->msg, "resumed with %d level(s), %d sample(s)", s->npt, s->nds);
-	log_info("zone %s: %s calibration session %lld resumed (%d level(s), %d sample(s) kept)", c->zone, kind, id,
+	log_info("zone %s: %s: %s calibration session %lld resumed (%d level(s), %d sample(s) kept)", c->zone,
+	         stamp(c, (char[24]){ 0 }), kind, id,
 	         s->npt, s->nds);
 	if (s->kind == PSD_CAL_NIGHT && s->step >= PSD_CAL_NLEVELS)
 		finish_or_abort(s, c, ask);

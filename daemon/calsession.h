@@ -59,6 +59,7 @@ struct psd_calsession_ctx {
 	/* the zone's last good reading and its output then (have_reading 0: none) */
 	int have_reading;
 	double volts, level;
+	double epoch0;                       /* UTC of clock time 0 (NAN: not known): log lines' dates */
 };
 
 /* Constants an accepted calibration gives the zone's control; NAN (or not

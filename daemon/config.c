@@ -408,6 +408,9 @@ static int load(struct psd_config *cf)
 	snprintf(cf->date, sizeof cf->date, "%s", ps_conf_str(c, s, "date", "03-18"));
 	if (psd_day_of_year(cf->date) < 0)
 		ps_conf_error(c, s ? line_of(s, "date") : 0, "date: '%s' is not MM-DD", cf->date);
+	ps_conf_int(c, s, "year", 0, 0, 9999, &cf->year);
+	if (cf->year != 0 && cf->year < 1970)
+		ps_conf_error(c, s ? line_of(s, "year") : 0, "year: %ld is before 1970", cf->year);
 	hhmm(c, s, "start", 6 * 3600.0, &cf->start);
 	hhmm(c, s, "end", 20 * 3600.0, &cf->end);
 	hhmm(c, s, "sunrise", 6 * 3600.0, &cf->sunrise);

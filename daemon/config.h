@@ -92,6 +92,7 @@ struct psd_config {
 	long max_clients;
 	/* [simulate] */
 	char date[16];
+	long year;                /* the year of a run on a set clock (0: the current year) */
 	double start, end, sunrise, sunset, tolerance;
 	struct psd_device_conf dev[PSD_MAX_DEVICES];
 	size_t ndev;

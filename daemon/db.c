@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "errbuf.h"
 
@@ -17,6 +18,7 @@ struct psd_db {
 	int pending;          /* samples in the open transaction */
 	int batch;
 	unsigned long committed;
+	double epoch0;        /* UTC of clock time 0 (NAN: rows carry no date) */
 };
 
 /* ---- the schema -------------------------------------------------------------
@@ -41,10 +43,24 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS cal_samples("
 	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
 	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
+	/* 3 -> 4: dates (issue 17): UTC and the local date and time of every
+	 * sample, session and session sample, and an event log.  Older rows
+	 * keep NULL there: the day they were logged on was never recorded. */
+	"ALTER TABLE samples ADD COLUMN utc REAL;"
+	"ALTER TABLE samples ADD COLUMN local TEXT;"
+	"CREATE INDEX IF NOT EXISTS samples_utc ON samples(utc);"
+	"ALTER TABLE cal_sessions ADD COLUMN started_utc REAL;"
+	"ALTER TABLE cal_sessions ADD COLUMN started_local TEXT;"
+	"ALTER TABLE cal_sessions ADD COLUMN ended_utc REAL;"
+	"ALTER TABLE cal_sessions ADD COLUMN ended_local TEXT;"
+	"ALTER TABLE cal_samples ADD COLUMN utc REAL;"
+	"ALTER TABLE cal_samples ADD COLUMN local TEXT;"
+	"CREATE TABLE IF NOT EXISTS events("
+	" t REAL, utc REAL, local TEXT, zone TEXT, kind TEXT NOT NULL, text TEXT);",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                     " daylight_lux, condition, ratio, fault, zone";
+                                     " daylight_lux, condition, ratio, fault, zone, utc, local";
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
@@ -111,6 +127,7 @@ static struct psd_db *open_db(const char *path, int flags, char *err, size_t err
 	}
 	sqlite3_busy_timeout(db->h, 2000);   /* a reader or the writer may hold it briefly */
 	db->batch = DB_BATCH;
+	db->epoch0 = NAN;
 	return db;
 }
 
@@ -122,7 +139,7 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 		return NULL;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -227,6 +244,60 @@ static sqlite3_stmt *query(struct psd_db *db, char *err, size_t errlen, const ch
 	return st;
 }
 
+/* ---- dates ------------------------------------------------------------------ */
+
+void psd_db_set_epoch(struct psd_db *db, double epoch0)
+{
+	db->epoch0 = epoch0;
+}
+
+void psd_db_local(double utc, char *out, size_t n)
+{
+	time_t tt;
+	struct tm tm;
+	out[0] = 0;
+	if (!isfinite(utc) || n < 20)
+		return;
+	tt = (time_t)floor(utc);
+	if (localtime_r(&tt, &tm))
+		strftime(out, n, "%Y-%m-%d %H:%M:%S", &tm);
+}
+
+/* The UTC and local text of clock time t for this database. */
+static double utc_of(const struct psd_db *db, double t, char local[32])
+{
+	double u = isfinite(db->epoch0) && isfinite(t) ? db->epoch0 + t : NAN;
+	psd_db_local(u, local, 32);
+	return u;
+}
+
+static const char *or_null(const char *s)
+{
+	return s && *s ? s : NULL;
+}
+
+double psd_db_last_utc(struct psd_db *db)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT max(utc) FROM samples", "");
+	double v = NAN;
+	if (!st)
+		return NAN;
+	if (sqlite3_step(st) == SQLITE_ROW)
+		v = col_num(st, 0);
+	sqlite3_finalize(st);
+	return v;
+}
+
+int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind, const char *text, char *err,
+                 size_t errlen)
+{
+	char local[32];
+	double u = utc_of(db, t, local);
+	return run(db, "INSERT INTO events(t, utc, local, zone, kind, text) VALUES(?, ?, ?, ?, ?, ?)", err, errlen,
+	           "ddtttt", t, u, or_null(local), zone, kind, text);
+}
+
 /* ---- the sample log -------------------------------------------------------- */
 
 void psd_db_set_batch(struct psd_db *db, int batch)
@@ -255,6 +326,14 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 10, s->ratio);
 	bind_text(db->ins, 11, s->fault);
 	bind_text(db->ins, 12, s->zone);
+	{
+		char local[32];
+		double u = isfinite(s->utc) ? s->utc : utc_of(db, s->t, local);
+		if (isfinite(s->utc))
+			psd_db_local(u, local, sizeof local);
+		bind_num(db->ins, 13, u);
+		bind_text(db->ins, 14, or_null(local));
+	}
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
 		sqlite3_reset(db->ins);
 		return fail(db->h, "insert", err, errlen);
@@ -281,6 +360,7 @@ static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 	*s = (struct psd_sample){
 		col_num(st, 0), col_num(st, 1), col_num(st, 2), col_num(st, 3), col_num(st, 4), col_num(st, 5),
 		col_num(st, 6), col_num(st, 7), col_text(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
+		col_num(st, 12), col_text(st, 13),
 	};
 }
 
@@ -357,6 +437,10 @@ static void csv_row(void *user, const struct psd_sample *s)
 	csv_text(fp, s->fault);
 	fputc(',', fp);
 	csv_text(fp, s->zone);
+	fputc(',', fp);
+	csv_num(fp, s->utc);
+	fputc(',', fp);
+	csv_text(fp, s->local);
 	fputc('\n', fp);
 }
 
@@ -373,7 +457,8 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 		psd_db_close(db);
 		return -1;
 	}
-	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone\n",
+	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone,"
+	      "utc,local\n",
 	      (FILE *)out);
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
 		struct psd_sample s;
@@ -397,9 +482,11 @@ static int cal_fail(struct psd_db *db, const char *what, char *err, size_t errle
 long long psd_db_cal_begin(struct psd_db *db, const char *zone, const char *kind, double started,
                            const char *config_sha256, const char *scene_sha256, char *err, size_t errlen)
 {
-	if (run(db, "INSERT INTO cal_sessions(zone, kind, state, started, config_sha256, scene_sha256)"
-	            " VALUES(?, ?, 'running', ?, ?, ?)", err, errlen, "ttdtt", zone, kind, started, config_sha256,
-	        scene_sha256) != 0)
+	char local[32];
+	double u = utc_of(db, started, local);
+	if (run(db, "INSERT INTO cal_sessions(zone, kind, state, started, config_sha256, scene_sha256, started_utc,"
+	            " started_local) VALUES(?, ?, 'running', ?, ?, ?, ?, ?)", err, errlen, "ttdttdt", zone, kind,
+	        started, config_sha256, scene_sha256, u, or_null(local)) != 0)
 		return cal_fail(db, "begin", err, errlen);
 	return (long long)sqlite3_last_insert_rowid(db->h);
 }
@@ -407,9 +494,11 @@ long long psd_db_cal_begin(struct psd_db *db, const char *zone, const char *kind
 int psd_db_cal_sample(struct psd_db *db, long long id, int seq, double t, double level, double volts,
                       double volts_se, double lux, const char *source, char *err, size_t errlen)
 {
-	if (run(db, "INSERT OR REPLACE INTO cal_samples(session, seq, t, level, volts, volts_se, lux, source)"
-	            " VALUES(?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "iidddddt", id, (long long)seq, t, level, volts,
-	        volts_se, lux, source) != 0)
+	char local[32];
+	double u = utc_of(db, t, local);
+	if (run(db, "INSERT OR REPLACE INTO cal_samples(session, seq, t, level, volts, volts_se, lux, source, utc,"
+	            " local) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "iidddddtdt", id, (long long)seq, t,
+	        level, volts, volts_se, lux, source, u, or_null(local)) != 0)
 		return cal_fail(db, "sample", err, errlen);
 	return 0;
 }
@@ -417,8 +506,11 @@ int psd_db_cal_sample(struct psd_db *db, long long id, int seq, double t, double
 int psd_db_cal_end(struct psd_db *db, long long id, const char *state, double ended, const char *results,
                    const char *note, char *err, size_t errlen)
 {
-	if (run(db, "UPDATE cal_sessions SET state = ?, ended = ?, results = ?, note = ? WHERE id = ?", err, errlen,
-	        "tdtti", state, ended, results, note, id) != 0)
+	char local[32];
+	double u = utc_of(db, ended, local);
+	if (run(db, "UPDATE cal_sessions SET state = ?, ended = ?, results = ?, note = ?, ended_utc = ?,"
+	            " ended_local = ? WHERE id = ?", err, errlen, "tdttdti", state, ended, results, note, u,
+	        or_null(local), id) != 0)
 		return cal_fail(db, "end", err, errlen);
 	return 0;
 }
@@ -490,7 +582,8 @@ char *psd_db_cal_accepted(struct psd_db *db, const char *zone, const char *kind,
 int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_fn fn, void *user, char *err,
                         size_t errlen)
 {
-	sqlite3_stmt *st = query(db, err, errlen, "SELECT id, zone, kind, state, started, ended, results, note"
+	sqlite3_stmt *st = query(db, err, errlen, "SELECT id, zone, kind, state, started, ended, results, note,"
+	                         " started_utc, ended_utc, started_local, ended_local"
 	                         " FROM cal_sessions WHERE zone = ? ORDER BY id", "t", zone);
 	int rc;
 	if (!st)
@@ -499,6 +592,7 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 		struct psd_db_cal_session s = {
 			sqlite3_column_int64(st, 0), col_text(st, 1), col_text(st, 2), col_text(st, 3),
 			col_num(st, 4), col_num(st, 5), col_text(st, 6), col_text(st, 7),
+			col_num(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
 		};
 		fn(user, &s);
 	}

@@ -9,14 +9,19 @@
  *   cal_sessions  one row per calibration session: zone, kind, state
  *                 (running, done, aborted, accepted, superseded), start and
  *                 end, the config's and the scene's SHA-256, results (JSON)
- *   cal_samples   every sample of a session, committed as it is taken */
+ *   cal_samples   every sample of a session, committed as it is taken
+ *   events        faults, their end, sessions, starts and reloads (schema 4)
+ *
+ * Since schema 4 every row also stores its UTC (epoch seconds) and its
+ * local date and time; t stays the daemon's clock (seconds from the local
+ * midnight of the run's first day). */
 #ifndef PSD_DB_H
 #define PSD_DB_H
 
 #include <stddef.h>
 
 /* The schema version this build writes. */
-enum { PSD_DB_SCHEMA = 3 };
+enum { PSD_DB_SCHEMA = 4 };
 
 struct psd_sample {
 	double t;             /* seconds on the daemon's clock */
@@ -31,6 +36,12 @@ struct psd_sample {
 	double ratio;         /* task lux per unit of sensor response used */
 	const char *fault;    /* NULL or a short text */
 	const char *zone;     /* the zone's name */
+	/* schema 4: when, as UTC (epoch seconds) and as the local date and
+	 * time for display ("YYYY-MM-DD HH:MM:SS"); NAN and NULL for a row
+	 * logged before schema 4 (its date was never recorded).  Written from
+	 * t and the epoch the database was given (psd_db_set_epoch). */
+	double utc;
+	const char *local;
 };
 
 struct psd_db;
@@ -43,6 +54,19 @@ struct psd_db *psd_db_open_readonly(const char *path, char *err, size_t errlen);
 void psd_db_close(struct psd_db *db);
 /* The schema version of the open file (meta 'schema'), -1 on error. */
 int psd_db_schema(struct psd_db *db);
+/* UTC (epoch seconds) of the daemon's clock time 0, the local midnight of
+ * the run's first day: every row written from now on stores utc = epoch0
+ * + t and the local date and time of it (NAN, the default: neither). */
+void psd_db_set_epoch(struct psd_db *db, double epoch0);
+/* The latest UTC on record in the sample log (NAN: none). */
+double psd_db_last_utc(struct psd_db *db);
+/* An event (a fault, its end, a session, a start or a reload) at clock
+ * time t, for a zone (NULL: the daemon), in the events table. */
+int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind, const char *text, char *err,
+                 size_t errlen);
+/* The local "YYYY-MM-DD HH:MM:SS" of a UTC time (out at least 20 bytes);
+ * "" when utc is not finite. */
+void psd_db_local(double utc, char *out, size_t n);
 
 /* ---- the sample log -------------------------------------------------------- */
 
@@ -61,7 +85,7 @@ long long psd_db_zone_count(struct psd_db *db, const char *zone, char *err, size
 int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn, void *user, char *err,
                         size_t errlen);
 /* Write the samples as CSV (header: t,tod_s,sensor_v,output,est_task_lux,
- * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone) to fp. */
+ * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone,utc,local) to fp. */
 int psd_db_export_csv(const char *path, void *fp, char *err, size_t errlen);
 
 /* ---- calibration records --------------------------------------------------- *
@@ -100,6 +124,8 @@ struct psd_db_cal_session {
 	double started, ended;    /* NAN when not recorded */
 	const char *results;      /* JSON or NULL */
 	const char *note;         /* NULL or why it was aborted */
+	double started_utc, ended_utc;            /* schema 4; NAN when not recorded */
+	const char *started_local, *ended_local;  /* "YYYY-MM-DD HH:MM:SS" or NULL */
 };
 typedef void (*psd_db_cal_session_fn)(void *user, const struct psd_db_cal_session *s);
 /* A zone's sessions in the order they were started. */

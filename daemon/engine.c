@@ -72,7 +72,7 @@ static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struc
 {
 	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, e->have_res ? &e->res : NULL, e->db,
 	                                     e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
-	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level };
+	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level, e->epoch0 };
 }
 
 /* Do what a session asked: a step now, accepted constants in force. */
@@ -180,6 +180,7 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 	struct ps_err pe;
 	memset(e, 0, sizeof *e);
 	e->cf = cf;
+	e->epoch0 = prev ? prev->epoch0 : NAN;
 	e->db_batch = db_batch > 0 ? db_batch : 1;
 	if (prev)
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
@@ -194,8 +195,10 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		goto bad;
 	if (cf->database && !(e->db = psd_db_open(cf->database, err, errlen)))
 		goto bad;
-	if (e->db)
+	if (e->db) {
 		psd_db_set_batch(e->db, e->db_batch);
+		psd_db_set_epoch(e->db, e->epoch0);
+	}
 	for (size_t i = 0; i < cf->nzone; i++) {
 		zone_init(e, &e->zone[i], &cf->zone[i], now, prev);
 		if ((cf->zone[i].ctl.algorithm == PSD_ALG_SETPOINT ||
@@ -239,6 +242,26 @@ struct psd_config *psd_engine_close(struct psd_engine *e)
 	return cf;
 }
 
+void psd_engine_set_epoch(struct psd_engine *e, double epoch0)
+{
+	e->epoch0 = epoch0;
+	if (e->db)
+		psd_db_set_epoch(e->db, epoch0);
+}
+
+void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n)
+{
+	psd_clock_stamp(e->epoch0, t, out, n);
+}
+
+/* An event in the database's events table (a record: a failure is logged once). */
+static void event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text)
+{
+	char err[512];
+	if (e->db && psd_db_event(e->db, now, zone, kind, text, err, sizeof err) != 0 && e->log_errors++ == 0)
+		log_warnx("%s: %s", e->cf->database, err);
+}
+
 static struct ps_dev *dev_of(struct psd_engine *e, int point)
 {
 	return &e->dev[e->cf->pt[point].device];
@@ -272,11 +295,13 @@ static int command(struct psd_engine *e, struct psd_zone *z, double now, double 
 
 static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, const char *why)
 {
-	char t[8], err[256];
-	psd_clock_hhmm(now, t);
-	if (!z->in_fault)
+	char t[24], err[256];
+	psd_engine_stamp(e, now, t, sizeof t);
+	if (!z->in_fault) {
 		log_warnx("zone %s: %s fault: %s: lights to the safe level %.0f %%", z->zc->name, t, why,
 		          100 * z->zc->safe_level);
+		event(e, now, z->zc->name, "fault", why);
+	}
 	else if (strcmp(z->why, why) != 0)
 		log_debug("zone %s: %s fault now: %s", z->zc->name, t, why);
 	z->in_fault = 1;
@@ -377,7 +402,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : z->ctl.daylight_volts,
 		fault ? NAN : dl,
 		e->have_res ? "daylight_mean" : NULL, z->ctl.daylight_ratio, fault ? z->why : NULL,
-		z->zc->name,
+		z->zc->name, NAN, NULL,   /* utc from the database's epoch */
 	};
 	if (!e->db)
 		return;
@@ -432,7 +457,7 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 }
 
 /* Drift of the measured ratio, per good step with a task meter. */
-static void drift_step(struct psd_zone *z, double now)
+static void drift_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	double gain_e, vd, ed;
 	int r;
@@ -443,8 +468,8 @@ static void drift_step(struct psd_zone *z, double now)
 	ed = z->task_lux - z->ctl.elec_task_lux * z->ctl.level;
 	r = psd_calfit_drift_update(&z->drift, now, vd, ed, z->ctl.daylight_ratio / z->ctl.sensor_gain);
 	if (r > 0) {
-		char t[8];
-		psd_clock_hhmm(now, t);
+		char t[24];
+		psd_engine_stamp(e, now, t, sizeof t);
 		log_warnx("zone %s: %s drift: the measured task/sensor ratio is %.0f %% off the simulated one for "
 		          "%.0f s (sensor obstructed, dirty or moved, or the room changed?)", z->zc->name, t,
 		          100 * (exp(z->drift.last_ln) - 1), now - z->drift.out_since);
@@ -457,7 +482,7 @@ static void drift_step(struct psd_zone *z, double now)
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
-	char why[256], t[8];
+	char why[256], t[24];
 	double level, t0;
 	int rc;
 	z->steps++;
@@ -486,7 +511,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		if (rc == 0) {
 			struct psd_calsession_ctx c = cal_ctx(e, z, now);
 			struct psd_calsession_ask ask;
-			drift_step(z, now);
+			drift_step(e, z, now);
 			psd_calsession_feed(&z->cal, &c, z->volts, z->task_lux, z->level, &ask);
 			cal_act(z, &ask);
 		}
@@ -514,8 +539,9 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			enter_fault(e, z, now, why);
 		} else {
 			if (z->in_fault) {
-				psd_clock_hhmm(now, t);
+				psd_engine_stamp(e, now, t, sizeof t);
 				log_info("zone %s: %s fault cleared: control resumes", zc->name, t);
+				event(e, now, zc->name, "fault cleared", z->why);
 				z->in_fault = 0;
 				z->why[0] = 0;
 			}
@@ -748,9 +774,15 @@ int psd_engine_cal_accept(struct psd_engine *e, struct psd_zone *z, double now, 
 	if (psd_calsession_accept(&z->cal, &c, &ask, err, n) != 0)
 		return -1;
 	cal_act(z, &ask);
-	log_info("zone %s: calibration session %lld accepted (sensor gain %.5g V per unit, offset %.4g V, "
-	         "daylight ratio %.5g, electric task lux %.5g)", z->zc->name, z->cal.id, z->ctl.sensor_gain,
-	         z->ctl.offset, z->ctl.daylight_ratio, z->ctl.elec_task_lux);
+	{
+		char t[24], text[64];
+		psd_engine_stamp(e, now, t, sizeof t);
+		snprintf(text, sizeof text, "session %lld", z->cal.id);
+		event(e, now, z->zc->name, "calibration accepted", text);
+		log_info("zone %s: %s: calibration session %lld accepted (sensor gain %.5g V per unit, offset %.4g V, "
+		         "daylight ratio %.5g, electric task lux %.5g)", z->zc->name, t, z->cal.id, z->ctl.sensor_gain,
+		         z->ctl.offset, z->ctl.daylight_ratio, z->ctl.elec_task_lux);
+	}
 	return 0;
 }
 

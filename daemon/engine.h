@@ -71,6 +71,7 @@ struct psd_engine {
 	double lat_max, lat_sum;  /* reading-to-command latency, wall seconds */
 	unsigned long lat_n;
 	double late_max;          /* worst lateness of a step against its schedule, clock s */
+	double epoch0;            /* UTC of clock time 0 (NAN: not known): dates in the log */
 };
 
 /* Open cf's devices and points at time now and prepare the zones (cf is then
@@ -79,6 +80,12 @@ struct psd_engine {
  * the engine is then closed and cf is still the caller's. */
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen);
+/* The UTC of clock time 0 (the local midnight of the run's first day):
+ * every row the engine logs from now on carries its date, and its log
+ * lines the date and time. */
+void psd_engine_set_epoch(struct psd_engine *e, double epoch0);
+/* Local "YYYY-MM-DD HH:MM" of clock time t ("HH:MM" with no epoch). */
+void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n);
 /* Run every zone whose step is due at now. */
 void psd_engine_step(struct psd_engine *e, double now);
 /* The next time something is due: a zone's step or a driver's deadline. */

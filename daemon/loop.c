@@ -69,6 +69,31 @@ void psd_daemon_config_errors(const struct psd_config *cf)
 		log_errx("%s", cf->conf.errors[i]);
 }
 
+/* The run's date: a set date the database already holds moves to the next
+ * day it does not (a second simulated run appends a day, never overdraws
+ * the first); then every row and log line carries it. */
+static void date_run(struct psd_daemon *d, double now)
+{
+	double last = d->engine.db ? psd_db_last_utc(d->engine.db) : NAN;
+	char was[24], is[24];
+	if (d->advance_date && isfinite(d->clock.epoch0) && isfinite(last) && last >= d->clock.epoch0 + now) {
+		psd_clock_stamp(d->clock.epoch0, now, was, sizeof was);
+		while (last >= d->clock.epoch0 + now) {
+			/* the next local midnight: a day and a half on, back to 00:00 */
+			time_t t = (time_t)(d->clock.epoch0 + 36 * 3600.0);
+			struct tm tm;
+			localtime_r(&t, &tm);
+			if (psd_clock_midnight(tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, &d->clock.epoch0) != 0)
+				break;
+		}
+		psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
+		log_info("the database holds samples up to that date already: this run starts %s, not %s", is, was);
+	}
+	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
+	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
+	log_info("the run starts %s (local time)", is);
+}
+
 int psd_daemon_start(struct psd_daemon *d, const char *path)
 {
 	struct psd_config *cf = calloc(1, sizeof *cf);
@@ -100,6 +125,7 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
+	date_run(d, now);
 	/* the socket: always in real time; in a simulated day only when configured */
 	if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctl_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,

@@ -31,7 +31,7 @@ check "integrity check" test "$(sqlite3 "$TMP/state/psensd.db" 'pragma integrity
 check "WAL journal" test "$(sqlite3 "$TMP/state/psensd.db" 'pragma journal_mode')" = wal
 "$BIN/psensctl" -d "$TMP/state/psensd.db" export --csv > "$TMP/log.csv"
 check "export: header and 840 rows" test "$(wc -l < "$TMP/log.csv")" = 841
-check "export header" test "$(head -n 1 "$TMP/log.csv")" = "t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone"
+check "export header" test "$(head -n 1 "$TMP/log.csv")" = "t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone,utc,local"
 check "the 20 fault samples carry their reason and full output" \
 	test "$(grep -c ',1,.*outside 0.01 to 9.9 V' "$TMP/log.csv")" = 20
 "$BIN/psensctl" -d "$TMP/nonexistent.db" export --csv > /dev/null 2> "$TMP/ctl.err"

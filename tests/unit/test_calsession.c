@@ -84,7 +84,7 @@ static void fixture_init(struct fixture *f, struct psd_db *db, int task)
 static const struct psd_calsession_ctx *ctx(struct fixture *f)
 {
 	f->c = (struct psd_calsession_ctx){ f->zc.name, &f->zc, &f->ctl, &f->res, f->db, NULL, f->now, "03-18",
-		                             6 * 3600.0, 18.5 * 3600.0, f->have_reading, f->volts, f->level };
+		                             6 * 3600.0, 18.5 * 3600.0, f->have_reading, f->volts, f->level, NAN };
 	return &f->c;
 }
 
