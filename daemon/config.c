@@ -1,4 +1,5 @@
 #include "config.h"
+#include "confcheck.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -372,7 +373,7 @@ static void check_sharing(struct psd_config *cf)
 	}
 }
 
-static int load(struct psd_config *cf)
+static int load(struct psd_config *cf, int files)
 {
 	struct ps_conf *c = &cf->conf;
 	struct ps_conf_section *s = ps_conf_section(c, "psensd");
@@ -424,6 +425,9 @@ static int load(struct psd_config *cf)
 	load_points(cf);
 	load_zones(cf);
 	check_sharing(cf);
+	psd_config_check_ranges(cf);
+	if (files)
+		psd_config_check_files(cf);
 	ps_conf_check_unused(c);
 	return c->nerrors ? -1 : 0;
 }
@@ -439,7 +443,7 @@ int psd_config_load(struct psd_config *cf, const char *path)
 			cf->conf.nerrors = 1;
 		return -1;
 	}
-	return load(cf);
+	return load(cf, 1);
 }
 
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path)
@@ -450,7 +454,7 @@ int psd_config_load_string(struct psd_config *cf, const char *text, const char *
 		ps_conf_error(&cf->conf, 0, "%s", e.msg);
 		return -1;
 	}
-	return load(cf);
+	return load(cf, 0);
 }
 
 void psd_config_free(struct psd_config *cf)
@@ -459,6 +463,8 @@ void psd_config_free(struct psd_config *cf)
 	free(cf->scene);
 	free(cf->database);
 	free(cf->socket_path);
+	for (size_t i = 0; i < cf->npath; i++)
+		free(cf->path[i]);
 	ps_conf_free(&cf->conf);
 	memset(cf, 0, sizeof *cf);
 }

@@ -102,13 +102,16 @@ struct psd_config {
 	size_t nzone;
 	struct ps_opt optpool[PSD_MAX_OPTS];
 	size_t nopt;
+	char *path[PSD_MAX_DEVICES];   /* driver file options resolved against the file's directory */
+	size_t npath;
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).
  * Returns 0, or -1 with every error in cf->conf.errors (and a read failure
  * as its only error).  psd_config_free() is needed either way. */
 int psd_config_load(struct psd_config *cf, const char *path);
-/* The same from text (tests and fuzzing); path only names it in messages. */
+/* The same from text (tests and fuzzing); path only names it in messages,
+ * and the files the text names are not opened (daemon/confcheck.h). */
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path);
 void psd_config_free(struct psd_config *cf);
 
