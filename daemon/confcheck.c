@@ -6,6 +6,7 @@
 #include "confcheck.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -43,32 +44,31 @@ static void check_ranges(struct psd_config *cf)
 		              "lights would stay at the safe level", cf->sensor_min, cf->sensor_max);
 }
 
-static void check_scene_results(struct psd_config *cf)
+/* A scene and its results, named at lines ls and lr of the file. */
+static void check_pair(struct ps_conf *c, const char *scene, const char *results, int ls, int lr)
 {
-	struct ps_conf *c = &cf->conf;
-	struct ps_conf_section *s = ps_conf_section(c, "psensd");
 	struct stat ss, rs;
 	struct ps_err e;
 	int have_scene = 0, stale;
-	if (cf->scene) {
+	if (scene) {
 		struct ps_scene sc;
-		if (stat(cf->scene, &ss) != 0) {
-			ps_conf_error(c, key_line(s, "scene"), "scene: %s: %s", cf->scene, strerror(errno));
+		if (stat(scene, &ss) != 0) {
+			ps_conf_error(c, ls, "scene: %s: %s", scene, strerror(errno));
 		} else {
 			memset(&sc, 0, sizeof sc);
-			if (ps_scene_read(&sc, cf->scene, &e) != 0)
-				each_line(c, key_line(s, "scene"), "scene", e.msg);
+			if (ps_scene_read(&sc, scene, &e) != 0)
+				each_line(c, ls, "scene", e.msg);
 			else
 				have_scene = 1;
 			ps_scene_free(&sc);
 		}
 	}
-	if (!cf->results)
+	if (!results)
 		return;
-	if (stat(cf->results, &rs) != 0) {
-		if (!have_scene)
-			ps_conf_error(c, key_line(s, "results"), "results: %s: %s%s", cf->results, strerror(errno),
-			              cf->scene ? "" : " (and no scene = to compute them from)");
+	if (stat(results, &rs) != 0) {
+		if (!have_scene && !scene)
+			ps_conf_error(c, lr, "results: %s: %s (and no scene = to compute them from)", results,
+			              strerror(errno));
 		return;   /* psensd runs psscene on the scene at start */
 	}
 	/* results older than the scene are recomputed at start: judged then */
@@ -76,9 +76,26 @@ static void check_scene_results(struct psd_config *cf)
 	if (!stale) {
 		struct ps_results r;
 		memset(&r, 0, sizeof r);
-		if (ps_results_read(&r, cf->results, &e) != 0)
-			each_line(c, key_line(s, "results"), "results", e.msg);
+		if (ps_results_read(&r, results, &e) != 0)
+			each_line(c, lr, "results", e.msg);
 		ps_results_free(&r);
+	}
+}
+
+static void check_scene_results(struct psd_config *cf)
+{
+	struct ps_conf *c = &cf->conf;
+	struct ps_conf_section *s = ps_conf_section(c, "psensd");
+	check_pair(c, cf->scene, cf->results, key_line(s, "scene"), key_line(s, "results"));
+	for (size_t i = 0; i < cf->nzone; i++) {
+		const struct psd_zone_conf *zc = &cf->zone[i];
+		char sec[64];
+		struct ps_conf_section *zs;
+		if (!zc->scene && !zc->results)
+			continue;
+		snprintf(sec, sizeof sec, "zone %s", zc->name);
+		zs = ps_conf_section(c, sec);
+		check_pair(c, zc->scene, zc->results, key_line(zs, "scene"), key_line(zs, "results"));
 	}
 }
 

@@ -89,6 +89,16 @@ int psd_config_point(const struct psd_config *cf, const char *name)
 	return find_name(name, cf->pt, cf->npt, sizeof cf->pt[0]);
 }
 
+const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc)
+{
+	return zc->scene ? zc->scene : zc->results ? NULL : cf->scene;
+}
+
+const char *psd_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc)
+{
+	return zc->results ? zc->results : cf->results;
+}
+
 int psd_config_zone(const struct psd_config *cf, const char *name)
 {
 	return find_name(name, cf->zone, cf->nzone, sizeof cf->zone[0]);
@@ -343,6 +353,19 @@ static void load_zones(struct psd_config *cf)
 		ps_conf_double(c, s, "cal_sun_share", 0.05, 0, 1, &z->cal_sun_share);
 		ps_conf_double(c, s, "drift_margin", 0.25, 0.001, 10, &z->drift_margin);
 		ps_conf_double(c, s, "drift_hold", 3600, 0, 86400 * 30, &z->drift_hold);
+		z->scene = ps_conf_path(c, s, "scene");
+		z->results = ps_conf_path(c, s, "results");
+		if (z->scene && !z->results && cf->results) {
+			/* beside [psensd]'s results, named after the scene */
+			const char *base = strrchr(z->scene, '/'), *rs = strrchr(cf->results, '/');
+			size_t nb, nd = rs ? (size_t)(rs - cf->results + 1) : 0;
+			base = base ? base + 1 : z->scene;
+			nb = strlen(base);
+			if (nb > 6 && strcmp(base + nb - 6, ".scene") == 0)
+				nb -= 6;
+			if ((z->results = malloc(nd + nb + 9)))
+				snprintf(z->results, nd + nb + 9, "%.*s%.*s.results", (int)nd, cf->results, (int)nb, base);
+		}
 		cf->nzone++;
 	}
 	if (cf->nzone == 0)
@@ -465,6 +488,10 @@ void psd_config_free(struct psd_config *cf)
 	free(cf->socket_path);
 	for (size_t i = 0; i < cf->npath; i++)
 		free(cf->path[i]);
+	for (size_t i = 0; i < cf->nzone; i++) {
+		free(cf->zone[i].scene);
+		free(cf->zone[i].results);
+	}
 	ps_conf_free(&cf->conf);
 	memset(cf, 0, sizeof *cf);
 }

@@ -81,6 +81,8 @@ struct psd_zone_conf {
 	                             response is the sun in the sensor's view (a warning) */
 	double drift_margin;      /* |ln(measured/simulated)| */
 	double drift_hold;        /* s */
+	/* the zone's own simulation (NULL: [psensd]'s); see psd_zone_results() */
+	char *scene, *results;
 	int line;
 };
 
@@ -114,6 +116,12 @@ int psd_config_load(struct psd_config *cf, const char *path);
  * and the files the text names are not opened (daemon/confcheck.h). */
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path);
 void psd_config_free(struct psd_config *cf);
+
+/* The scene and results a zone runs on: its own, else [psensd]'s.  A zone
+ * that names a scene but no results gets them beside [psensd]'s results,
+ * named after the scene (ofb-cone.scene: ofb-cone.results). */
+const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc);
+const char *psd_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc);
 
 /* Index of a device, point or zone by name, -1 if none. */
 int psd_config_point(const struct psd_config *cf, const char *name);

@@ -57,6 +57,12 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"ALTER TABLE cal_samples ADD COLUMN local TEXT;"
 	"CREATE TABLE IF NOT EXISTS events("
 	" t REAL, utc REAL, local TEXT, zone TEXT, kind TEXT NOT NULL, text TEXT);",
+	/* 4 -> 5: acceptance (issue 17): the zones' design constants and the
+	 * results of the acceptance tests */
+	"CREATE TABLE IF NOT EXISTS zone_consts(zone TEXT PRIMARY KEY, utc REAL, target_lux REAL,"
+	" elec_task_lux REAL, delay REAL);"
+	"CREATE TABLE IF NOT EXISTS accept_tests(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, utc REAL, local TEXT,"
+	" test TEXT NOT NULL, verdict TEXT NOT NULL, value REAL, limit_value REAL, samples INTEGER, measured TEXT);",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
@@ -296,6 +302,64 @@ int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind
 	double u = utc_of(db, t, local);
 	return run(db, "INSERT INTO events(t, utc, local, zone, kind, text) VALUES(?, ?, ?, ?, ?, ?)", err, errlen,
 	           "ddtttt", t, u, or_null(local), zone, kind, text);
+}
+
+/* ---- acceptance -------------------------------------------------------------- */
+
+int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lux, double elec_task_lux,
+                           double delay, char *err, size_t errlen)
+{
+	struct timespec now;
+	clock_gettime(CLOCK_REALTIME, &now);
+	return run(db, "INSERT OR REPLACE INTO zone_consts VALUES(?, ?, ?, ?, ?)", err, errlen, "tdddd", zone,
+	           (double)now.tv_sec, target_lux, elec_task_lux, delay);
+}
+
+int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
+                           double *delay)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT target_lux, elec_task_lux, delay FROM zone_consts"
+	                         " WHERE zone = ?", "t", zone);
+	int rc;
+	if (!st)
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW) {
+		*target_lux = col_num(st, 0);
+		*elec_task_lux = col_num(st, 1);
+		*delay = col_num(st, 2);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_ROW ? 0 : rc == SQLITE_DONE ? 1 : -1;
+}
+
+int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const char *test, const char *verdict,
+                      double value, double limit, long samples, const char *measured, char *err, size_t errlen)
+{
+	char local[32];
+	psd_db_local(utc, local, sizeof local);
+	return run(db, "INSERT INTO accept_tests(zone, utc, local, test, verdict, value, limit_value, samples, measured)"
+	           " VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "tdtttddit", zone, utc, or_null(local), test,
+	           verdict, value, limit, (long long)samples, measured);
+}
+
+int psd_db_accept_results(struct psd_db *db, const char *zone, psd_db_accept_fn fn, void *user, char *err,
+                          size_t errlen)
+{
+	sqlite3_stmt *st = query(db, err, errlen, "SELECT zone, local, test, verdict, measured, utc, value, limit_value,"
+	                         " samples FROM accept_tests WHERE zone = ? ORDER BY id", "t", zone);
+	int rc;
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_db_accept a = { col_text(st, 0), col_text(st, 1), col_text(st, 2), col_text(st, 3),
+		                           col_text(st, 4), col_num(st, 5), col_num(st, 6), col_num(st, 7),
+		                           (long)sqlite3_column_int64(st, 8) };
+		fn(user, &a);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
 }
 
 /* ---- the sample log -------------------------------------------------------- */

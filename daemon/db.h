@@ -21,7 +21,7 @@
 #include <stddef.h>
 
 /* The schema version this build writes. */
-enum { PSD_DB_SCHEMA = 4 };
+enum { PSD_DB_SCHEMA = 5 };
 
 struct psd_sample {
 	double t;             /* seconds on the daemon's clock */
@@ -67,6 +67,28 @@ int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind
 /* The local "YYYY-MM-DD HH:MM:SS" of a UTC time (out at least 20 bytes);
  * "" when utc is not finite. */
 void psd_db_local(double utc, char *out, size_t n);
+
+/* ---- acceptance (schema 5, daemon/accept.h) -------------------------------- */
+
+/* The zone's design constants in force (psensd writes them at start and when
+ * the target changes): what the acceptance tests judge against. */
+int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lux, double elec_task_lux,
+                           double delay, char *err, size_t errlen);
+/* 0 found, 1 none, -1 error. */
+int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
+                           double *delay);
+/* One acceptance test's result, dated now (UTC). */
+int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const char *test, const char *verdict,
+                      double value, double limit, long samples, const char *measured, char *err, size_t errlen);
+/* A zone's acceptance results, oldest first (strings valid during the callback). */
+struct psd_db_accept {
+	const char *zone, *local, *test, *verdict, *measured;
+	double utc, value, limit;
+	long samples;
+};
+typedef void (*psd_db_accept_fn)(void *user, const struct psd_db_accept *a);
+int psd_db_accept_results(struct psd_db *db, const char *zone, psd_db_accept_fn fn, void *user, char *err,
+                          size_t errlen);
 
 /* ---- the sample log -------------------------------------------------------- */
 

@@ -22,16 +22,38 @@ static double wall(void)
 static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value);
 static int command(struct psd_engine *e, struct psd_zone *z, double now, double level, char *why, size_t n);
 
+/* Zone i's results: its own, else [psensd]'s (NULL: none). */
+static const struct ps_results *zone_res(const struct psd_engine *e, size_t i)
+{
+	return e->have_zres[i] ? &e->zres[i] : e->have_res ? &e->res : NULL;
+}
+
+/* The results a device's room plays: those of the first zone whose sensor
+ * is on the device, else [psensd]'s; *path names them for messages. */
+static const struct ps_results *device_res(const struct psd_engine *e, const struct ps_dev *d, const char **path)
+{
+	const struct psd_config *cf = e->cf;
+	int di = (int)(d - e->dev);
+	for (size_t i = 0; i < cf->nzone; i++)
+		if (cf->pt[cf->zone[i].sensor].device == di) {
+			*path = psd_zone_results(cf, &cf->zone[i]);
+			return zone_res(e, i);
+		}
+	*path = cf->results;
+	return e->have_res ? &e->res : NULL;
+}
+
 /* A simulated device's room, built from the results (daemon/roomsetup.c). */
 static int setup_room(struct psd_engine *e, struct ps_dev *d, double now, char *err, size_t n)
 {
 	const struct psd_config *cf = e->cf;
-	struct ps_room_params *room = e->have_res ? psd_roomsetup_new(&e->res, cf->date, cf->sunrise, cf->sunset)
-	                                          : NULL;
+	const char *path = NULL;
+	const struct ps_results *res = device_res(e, d, &path);
+	struct ps_room_params *room = res ? psd_roomsetup_new(res, cf->date, cf->sunrise, cf->sunset) : NULL;
 	int rc;
 	if (!room)
 		return psd_errf(err, n, "device %s: the %s room needs results with a daylight and an electric "
-		                "condition (%s)", d->name, d->drv->name, cf->results);
+		                "condition (%s)", d->name, d->drv->name, path);
 	rc = d->drv->setup(d, room, now);
 	psd_roomsetup_free(room);
 	return rc == 0 ? 0 : psd_errf(err, n, "device %s: %s", d->name, d->err);
@@ -70,7 +92,7 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 /* What a calibration session may see of its zone (calsession.h). */
 static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struct psd_zone *z, double now)
 {
-	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, e->have_res ? &e->res : NULL, e->db,
+	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, z->res, e->db,
 	                                     e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
 	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level, e->epoch0 };
 }
@@ -119,10 +141,11 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	memset(z, 0, sizeof *z);
 	z->zc = zc;
 	z->ctl = zc->ctl;
-	if (e->have_res) {
-		z->ctl.daylight_ratio = e->res.daylight_ratio_mean;
-		z->ctl.elec_sensor = e->res.electric_sensor_response;
-		z->ctl.elec_task_lux = e->res.electric_task_lux;
+	z->res = zone_res(e, (size_t)(zc - e->cf->zone));
+	if (z->res) {
+		z->ctl.daylight_ratio = z->res->daylight_ratio_mean;
+		z->ctl.elec_sensor = z->res->electric_sensor_response;
+		z->ctl.elec_task_lux = z->res->electric_task_lux;
 	}
 	z->ctl.level = 1.0;
 	z->ctl.pending_since = -1;
@@ -174,6 +197,15 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	}
 }
 
+/* The zone's design constants for the acceptance tests (daemon/accept.h). */
+static void record_consts(struct psd_engine *e, const struct psd_zone *z)
+{
+	char err[512];
+	if (e->db && psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux, z->ctl.delay,
+	                                    err, sizeof err) != 0 && e->log_errors++ == 0)
+		log_warnx("%s: %s", e->cf->database, err);
+}
+
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen)
 {
@@ -191,6 +223,17 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		}
 		e->have_res = 1;
 	}
+	/* zones with their own simulation */
+	for (size_t i = 0; i < cf->nzone; i++) {
+		const char *r = psd_zone_results(cf, &cf->zone[i]);
+		if (!r || (cf->results && strcmp(r, cf->results) == 0))
+			continue;
+		if (ps_results_read(&e->zres[i], r, &pe) != 0) {
+			psd_errf(err, errlen, "zone %s: %s", cf->zone[i].name, pe.msg);
+			goto bad;
+		}
+		e->have_zres[i] = 1;
+	}
 	if (open_devices(e, now, err, errlen) != 0)
 		goto bad;
 	if (cf->database && !(e->db = psd_db_open(cf->database, err, errlen)))
@@ -205,7 +248,8 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		     cf->zone[i].ctl.algorithm == PSD_ALG_CLOSED_PROPORTIONAL) &&
 		    !(e->zone[i].ctl.daylight_ratio > 0 && e->zone[i].ctl.elec_task_lux > 0)) {
 			psd_errf(err, errlen, "zone %s: %s control needs the simulated daylight and electric ratios (%s)",
-			     cf->zone[i].name, psd_algorithm_names[cf->zone[i].ctl.algorithm], cf->results);
+			     cf->zone[i].name, psd_algorithm_names[cf->zone[i].ctl.algorithm],
+			     psd_zone_results(cf, &cf->zone[i]));
 			goto bad;
 		}
 	}
@@ -215,6 +259,8 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		               cf->zone[i].cal_min_day_volts);
 	for (size_t i = 0; i < e->nzone; i++)
 		cal_load(e, &e->zone[i], now);
+	for (size_t i = 0; i < e->nzone; i++)
+		record_consts(e, &e->zone[i]);
 	/* the outputs start where the control believes they are (full output,
 	 * or the level before a reload) */
 	for (size_t i = 0; i < e->nzone; i++) {
@@ -238,6 +284,9 @@ struct psd_config *psd_engine_close(struct psd_engine *e)
 			e->dev[i].drv->close(&e->dev[i]);
 	if (e->have_res)
 		ps_results_free(&e->res);
+	for (size_t i = 0; i < PSD_MAX_ZONES; i++)
+		if (e->have_zres[i])
+			ps_results_free(&e->zres[i]);
 	memset(e, 0, sizeof *e);
 	return cf;
 }
@@ -401,7 +450,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : z->ctl.est_task_lux, z->task_lux,
 		fault ? NAN : z->ctl.daylight_volts,
 		fault ? NAN : dl,
-		e->have_res ? "daylight_mean" : NULL, z->ctl.daylight_ratio, fault ? z->why : NULL,
+		z->res ? "daylight_mean" : NULL, z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, NAN, NULL,   /* utc from the database's epoch */
 	};
 	if (!e->db)
@@ -774,6 +823,7 @@ int psd_engine_cal_accept(struct psd_engine *e, struct psd_zone *z, double now, 
 	if (psd_calsession_accept(&z->cal, &c, &ask, err, n) != 0)
 		return -1;
 	cal_act(z, &ask);
+	record_consts(e, z);
 	{
 		char t[24], text[64];
 		psd_engine_stamp(e, now, t, sizeof t);

@@ -48,6 +48,8 @@ struct psd_zone {
 	double verify_at;         /* when the dim points should show `level` */
 	unsigned long steps, fault_steps;
 	struct ps_dev *sim;       /* the sensor's device when it is simulated (has a truth hook) */
+	const struct ps_results *res;  /* the zone's simulation: its own results or the engine's
+	                                  (NULL: none) */
 	struct psd_calsession cal;     /* the calibration session (daemon/calsession.c) */
 	struct psd_calfit_drift drift; /* measured against simulated ratio, with a task meter */
 	long long cal_night_id, cal_day_id;   /* the accepted calibrations in force, 0: none */
@@ -61,8 +63,10 @@ struct psd_engine {
 	struct ps_point pt[PSD_MAX_POINTS];
 	struct psd_zone zone[PSD_MAX_ZONES];
 	size_t nzone;
-	struct ps_results res;
+	struct ps_results res;    /* [psensd]'s results */
 	int have_res;
+	struct ps_results zres[PSD_MAX_ZONES];   /* zone i's own results (zone results = / scene =) */
+	int have_zres[PSD_MAX_ZONES];
 	struct psd_db *db;
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */

@@ -34,10 +34,11 @@ static void summary(struct psd_daemon *d, double start, double end)
 		used = psd_zone_energy(s, t.energy) / 3600.0;
 		printf("psensd: %s %s to %s (%s; the room's day %s) on the %s room (%s), zone %s every %g s, "
 		       "%s control, target %g lx\n", d->clock.simulated ? "simulated" : "ran", t0, t1, span, cf->date,
-		       z->sim->drv->name, e->res.scene, z->zc->name, z->zc->period,
+		       z->sim->drv->name, z->res ? z->res->scene : "-", z->zc->name, z->zc->period,
 		       psd_algorithm_names[z->ctl.algorithm], z->ctl.target_lux);
-		printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
-		       e->res.daylight_ratio_mean, e->res.electric_ratio, e->res.task_sensor_ratio);
+		if (z->res)
+			printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
+			       z->res->daylight_ratio_mean, z->res->electric_ratio, z->res->task_sensor_ratio);
 		if (hours >= 1)
 			printf("  energy: %.1f %% of full output (%.2f of %.2f full-output hours)\n", 100 * used / hours,
 			       used, hours);
