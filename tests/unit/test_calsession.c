@@ -108,8 +108,8 @@ static void run_night(struct fixture *f, int levels)
 
 struct count {
 	int n;
-	char states[8][16];       /* copies: the struct is returned by value */
 	long long ids[8];
+	char states[8][16];   /* copies, not pointers: the struct is returned by value */
 };
 
 static void count_session(void *user, const struct psd_db_cal_session *s)
