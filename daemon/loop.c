@@ -92,6 +92,12 @@ static void date_run(struct psd_daemon *d, double now)
 	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
 	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
 	log_info("the run starts %s (local time)", is);
+	if (d->engine.db) {
+		char err[512], text[300];
+		snprintf(text, sizeof text, "%s on a %s clock", d->config_path, d->clock.simulated ? "simulated" : "real-time");
+		if (psd_db_event(d->engine.db, now, NULL, "start", text, err, sizeof err) != 0)
+			log_warnx("%s", err);
+	}
 }
 
 int psd_daemon_start(struct psd_daemon *d, const char *path)
@@ -186,6 +192,11 @@ int psd_daemon_reload(struct psd_daemon *d)
 	free(snap);
 	d->reloads++;
 	log_info("reloaded %s", d->config_path);
+	if (d->engine.db) {
+		char dberr[512];
+		if (psd_db_event(d->engine.db, now, NULL, "reload", d->config_path, dberr, sizeof dberr) != 0)
+			log_warnx("%s", dberr);
+	}
 	sd_notify(0, "READY=1");
 	return 0;
 keep:
