@@ -72,4 +72,16 @@ q() { sqlite3 "$TMP/site/build/z.db" "$1"; }
 check "each zone's log carries its ratio" \
 	test "$(q "select count(distinct zone) from samples where abs(ratio - $want_h) < 0.01")" = 1
 check "and it is the hall's" test "$(q "select distinct zone from samples where abs(ratio - $want_h) < 0.01")" = hall
+# the socket's ratios request names the zone's own simulation
+sed -e 's|^period = 300|period = 300\nsocket = sock|' "$TMP/site/z.conf" > "$TMP/site/zs.conf"
+"$BIN/psensd" -f "$TMP/site/zs.conf" -t 10:00 -x 60 > /dev/null 2>&1 &
+PID=$!; track_pid $PID
+wait_for 10 sh -c "\"$BIN/psensctl\" -s '$TMP/site/sock' ping > /dev/null"
+"$BIN/psensctl" -s "$TMP/site/sock" ratios hall > "$TMP/rh.out" 2>&1
+"$BIN/psensctl" -s "$TMP/site/sock" ratios > "$TMP/r.out" 2>&1
+"$BIN/psensctl" -s "$TMP/site/sock" ratios nosuch > /dev/null 2> "$TMP/rn.err"
+kill -TERM $PID; wait $PID
+check "ratios hall: the cone scene's results" grep -q "results: .*build/ofb-cone.results" "$TMP/rh.out"
+check "ratios: [psensd]'s" grep -q "results: .*build/ofb.results" "$TMP/r.out"
+check "ratios nosuch: an error ($(cat "$TMP/rn.err"))" grep -q "no zone 'nosuch'" "$TMP/rn.err"
 done_testing
