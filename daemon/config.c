@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "roomsetup.h"
 
@@ -87,6 +88,19 @@ static int find_name(const char *name, const void *base, size_t n, size_t stride
 int psd_config_point(const struct psd_config *cf, const char *name)
 {
 	return find_name(name, cf->pt, cf->npt, sizeof cf->pt[0]);
+}
+
+int psd_timezone_valid(const char *tz)
+{
+	char path[512];
+	struct stat st;
+	if (!*tz || strstr(tz, "..") || tz[0] == '/')
+		return 0;
+	snprintf(path, sizeof path, "/usr/share/zoneinfo/%s", tz);
+	if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
+		return 1;
+	/* a POSIX rule: a name of three letters or more, then an offset */
+	return strlen(tz) >= 4 && strpbrk(tz, "0123456789") != NULL && strspn(tz, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") >= 3;
 }
 
 const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc)
@@ -418,6 +432,10 @@ static int load(struct psd_config *cf, int files)
 	ps_conf_double(c, s, "stuck_after", 0, 0, 86400 * 7, &cf->stuck_after);
 	ps_conf_int(c, s, "max_clients", 32, 1, 1024, &maxc);
 	cf->max_clients = maxc;
+	cf->timezone = ps_conf_str(c, s, "timezone", NULL);
+	if (cf->timezone && !psd_timezone_valid(cf->timezone))
+		ps_conf_error(c, line_of(s, "timezone"), "timezone: '%s' is neither a zone in /usr/share/zoneinfo nor a "
+		              "POSIX rule such as CET-1CEST,M3.5.0,M10.5.0/3", cf->timezone);
 	cf->socket_mode = 0660;
 	if ((mode = (char *)ps_conf_str(c, s, "socket_mode", NULL))) {
 		char *end;

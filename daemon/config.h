@@ -89,6 +89,7 @@ struct psd_zone_conf {
 struct psd_config {
 	struct ps_conf conf;      /* owns every string the options point into */
 	char *results, *scene, *database, *socket_path;
+	const char *timezone;     /* the site's time zone (TZ: a zoneinfo name or a POSIX rule), NULL: the process's */
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;
 	long max_clients;
@@ -122,6 +123,9 @@ void psd_config_free(struct psd_config *cf);
  * named after the scene (ofb-cone.scene: ofb-cone.results). */
 const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc);
 const char *psd_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc);
+
+/* 1 when tz names a zone in /usr/share/zoneinfo or is a POSIX TZ rule. */
+int psd_timezone_valid(const char *tz);
 
 /* Index of a device, point or zone by name, -1 if none. */
 int psd_config_point(const struct psd_config *cf, const char *name);

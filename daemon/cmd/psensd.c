@@ -204,6 +204,13 @@ int main(int argc, char **argv)
 		psd_config_free(&cf);
 		return rc == 0 ? 0 : 1;
 	}
+	/* the site's time zone: every local date and time is the site's */
+	if (psd_config_load(&cf, path) == 0 && cf.timezone) {
+		setenv("TZ", cf.timezone, 1);
+		tzset();
+	}
+	psd_config_free(&cf);
+	memset(&cf, 0, sizeof cf);
 	/* the clock's origin: the [simulate] start, -t, or now */
 	if (simulate) {
 		if (psd_config_load(&cf, path) != 0) {

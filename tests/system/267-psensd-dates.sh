@@ -62,4 +62,17 @@ check "over midnight: $(head -n 1 "$TMP/outm" | cut -c1-70)" \
 	grep -q "^psensd: ran 2026-03-18 23:30 to 2026-03-19 0[01]:[0-9][0-9] ([0-9]* h [0-9]* min\|[0-9]* min" "$TMP/outm"
 check "the samples after midnight are dated the next day" \
 	test "$(sqlite3 "$TMP/state/m.db" "select count(*) from samples where t >= 86400 and substr(local, 1, 10) != '2026-03-19'")" = 0
+# the site's time zone: [psensd] timezone (a POSIX rule here: no tzdata
+# needed), whatever the process's TZ (UTC above)
+sed -e 's|^database = .*|database = state/tz.db\ntimezone = CET-1CEST,M3.5.0,M10.5.0/3|' "$TMP/day.conf" > "$TMP/tz.conf"
+"$BIN/psensd" -f "$TMP/tz.conf" -s > "$TMP/outz" 2> "$TMP/errz"
+check "timezone: the run is dated in the site's zone ($(head -n 1 "$TMP/outz" | cut -c1-60))" \
+	grep -q "^psensd: simulated 2026-03-18 06:00 to 2026-03-18 20:00" "$TMP/outz"
+check "its clock 0 is the site's midnight, 2026-03-17 23:00 UTC" \
+	test "$(sqlite3 "$TMP/state/tz.db" "select count(*) from samples where utc - t != 1773788400")" = 0
+check "and the local text is the site's" \
+	test "$(sqlite3 "$TMP/state/tz.db" "select local from samples order by t limit 1")" = "2026-03-18 06:00:00"
+printf '[psensd]\nresults = r\ntimezone = Nowhere/Atlantis\n[device x]\ndriver = loopback\n[zone z]\ndevice = x\n' > "$TMP/badtz.conf"
+check "an unknown zone is refused at its line: $("$BIN/psensd" -n -f "$TMP/badtz.conf" 2>&1 | grep timezone)" \
+	sh -c "\"$BIN/psensd\" -n -f '$TMP/badtz.conf' 2>&1 | grep -q 'badtz.conf:3: timezone: .Nowhere/Atlantis. is neither'"
 done_testing
