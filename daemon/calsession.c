@@ -63,6 +63,7 @@ static void begin(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 	s->interval = c->zc->cal_day_interval;
 	s->want_samples = (int)c->zc->cal_day_samples;
 	s->next_sample = c->now;
+	s->last_input = c->now;
 	settle_reset(s, c);
 }
 
@@ -363,6 +364,7 @@ int psd_calsession_typed_lux(struct psd_calsession *s, const struct psd_calsessi
 	if (record(s, c, level, volts, NAN, lux, "typed", err, n) != 0)
 		return -1;
 	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
+	s->last_input = c->now;
 	snprintf(s->msg, sizeof s->msg, "%d typed sample(s); finish when done", s->nds);
 	return 0;
 }
@@ -413,8 +415,18 @@ static void feed_day(struct psd_calsession *s, const struct psd_calsession_ctx *
                      double level, struct psd_calsession_ask *ask)
 {
 	char err[512];
+	/* a day session does not wait forever: no sample (typed or from the
+	 * meter) for cal_timeout ends it, with what it waited for */
+	if (c->now - s->last_input > s->settle_timeout) {
+		snprintf(err, sizeof err, "no %s for %.0f s (cal_timeout)%s", c->zc->task >= 0 ? "task meter reading" :
+		         "typed lux", c->now - s->last_input, c->zc->task >= 0 ? "" :
+		         ": this zone has no task meter, so a day session needs `calibrate ZONE lux N` from a hand-held meter");
+		psd_calsession_abort(s, c, err, ask);
+		return;
+	}
 	if (c->zc->task < 0 || !isfinite(lux) || c->now < s->next_sample)
 		return;
+	s->last_input = c->now;
 	if (record(s, c, level, volts, NAN, lux, "meter", err, sizeof err) != 0) {
 		psd_calsession_abort(s, c, err, ask);
 		return;

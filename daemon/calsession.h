@@ -100,6 +100,7 @@ struct psd_calsession {
 	/* day */
 	double hold_level;
 	double interval, next_sample;
+	double last_input;        /* when the last day sample came (or the session began) */
 	int want_samples;
 	struct psd_calfit_sample ds[PSD_CAL_MAX_DAY];
 	int nds;

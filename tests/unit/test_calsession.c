@@ -443,6 +443,33 @@ static void day_warns_of_sun_in_view(void **state)
 	psd_db_close(db);
 }
 
+/* A day session without a task meter waits for typed lux, but not
+ * forever: after cal_timeout with none it is aborted and says why; a typed
+ * reading restarts the wait. */
+static void day_without_input_ends(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 0);
+	f.now = 10 * 3600.0;
+	f.zc.cal_timeout = 30 * PERIOD;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, 0.3, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 20; i++)
+		step(&f, 1.0, &ask);
+	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), 800, 1.2, 0.3, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 30; i++)
+		step(&f, 1.0, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_RUNNING);   /* 30 periods since the typed one: not yet over */
+	step(&f, 1.0, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_ABORTED);
+	assert_non_null(strstr(f.s.msg, "no typed lux for 1860 s (cal_timeout): this zone has no task meter"));
+	psd_db_close(db);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -454,6 +481,7 @@ int main(void)
 		cmocka_unit_test(night_refused_in_daylight),
 		cmocka_unit_test(night_aborted_at_sunrise),
 		cmocka_unit_test(day_warns_of_sun_in_view),
+		cmocka_unit_test(day_without_input_ends),
 	};
 	log_init(1, PSD_LOG_WARN, "test_calsession");
 	return cmocka_run_group_tests(tests, NULL, NULL);
