@@ -106,7 +106,7 @@ DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsyst
             libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev \
             libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
-            libclang-rt-14-dev systemd pngcheck
+            libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
 

@@ -450,14 +450,25 @@ static int load(struct psd_config *cf, int files)
 	snprintf(cf->date, sizeof cf->date, "%s", ps_conf_str(c, s, "date", "03-18"));
 	if (psd_day_of_year(cf->date) < 0)
 		ps_conf_error(c, s ? line_of(s, "date") : 0, "date: '%s' is not MM-DD", cf->date);
-	ps_conf_int(c, s, "year", 0, 0, 9999, &cf->year);
-	if (cf->year != 0 && cf->year < 1970)
-		ps_conf_error(c, s ? line_of(s, "year") : 0, "year: %ld is before 1970", cf->year);
+	ps_conf_int(c, s, "run_year", 0, 0, 9999, &cf->run_year);
+	if (cf->run_year != 0 && cf->run_year < 1970)
+		ps_conf_error(c, s ? line_of(s, "run_year") : 0, "run_year: %ld is before 1970", cf->run_year);
 	hhmm(c, s, "start", 6 * 3600.0, &cf->start);
 	hhmm(c, s, "end", 20 * 3600.0, &cf->end);
 	hhmm(c, s, "sunrise", 6 * 3600.0, &cf->sunrise);
 	hhmm(c, s, "sunset", 18 * 3600.0, &cf->sunset);
 	ps_conf_double(c, s, "tolerance", 0.02, 0, 1, &cf->tolerance);
+	ps_conf_bool(c, s, "year", 0, &cf->sim_year);
+	hhmm(c, s, "occupied_from", 8 * 3600.0, &cf->occ_from);
+	hhmm(c, s, "occupied_to", 18 * 3600.0, &cf->occ_to);
+	if (cf->occ_to <= cf->occ_from)
+		ps_conf_error(c, s ? s->line : 0, "[simulate]: occupied_to must be after occupied_from");
+	{
+		static const char *const estimates[] = { "mean", "dated", NULL };
+		/* default: dated when the room plays the year, else mean */
+		ps_conf_enum(c, ps_conf_section(c, "psensd"), "estimate", estimates, cf->sim_year,
+		             &cf->dated_estimate);
+	}
 	if (cf->end <= cf->start)
 		ps_conf_error(c, s ? s->line : 0, "[simulate]: end must be after start");
 	if (cf->sunset <= cf->sunrise)
@@ -473,7 +484,19 @@ static int load(struct psd_config *cf, int files)
 	return c->nerrors ? -1 : 0;
 }
 
+static int load_file(struct psd_config *cf, const char *path, int files);
+
 int psd_config_load(struct psd_config *cf, const char *path)
+{
+	return load_file(cf, path, 1);
+}
+
+int psd_config_load_keys(struct psd_config *cf, const char *path)
+{
+	return load_file(cf, path, 0);
+}
+
+static int load_file(struct psd_config *cf, const char *path, int files)
 {
 	struct ps_err e;
 	memset(cf, 0, sizeof *cf);
@@ -484,7 +507,7 @@ int psd_config_load(struct psd_config *cf, const char *path)
 			cf->conf.nerrors = 1;
 		return -1;
 	}
-	return load(cf, 1);
+	return load(cf, files);
 }
 
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path)

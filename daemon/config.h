@@ -95,8 +95,11 @@ struct psd_config {
 	long max_clients;
 	/* [simulate] */
 	char date[16];
-	long year;                /* the year of a run on a set clock (0: the current year) */
+	long run_year;            /* the year a run on a set clock is dated (0: the current year) */
 	double start, end, sunrise, sunset, tolerance;
+	int sim_year;             /* [simulate] year = yes: the room plays the results' year */
+	double occ_from, occ_to;  /* [simulate] occupied_from, occupied_to: psensd -Y's hours */
+	int dated_estimate;       /* [psensd] estimate = dated (or sim_year): the dated ratio */
 	struct psd_device_conf dev[PSD_MAX_DEVICES];
 	size_t ndev;
 	struct psd_point_conf pt[PSD_MAX_POINTS];
@@ -113,6 +116,9 @@ struct psd_config {
  * Returns 0, or -1 with every error in cf->conf.errors (and a read failure
  * as its only error).  psd_config_free() is needed either way. */
 int psd_config_load(struct psd_config *cf, const char *path);
+/* The same without opening the files it names (scene, results, replays):
+ * for readers of the configuration that do not run it (psensctl report). */
+int psd_config_load_keys(struct psd_config *cf, const char *path);
 /* The same from text (tests and fuzzing); path only names it in messages,
  * and the files the text names are not opened (daemon/confcheck.h). */
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path);

@@ -61,12 +61,17 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	 * results of the acceptance tests */
 	"CREATE TABLE IF NOT EXISTS zone_consts(zone TEXT PRIMARY KEY, utc REAL, target_lux REAL,"
 	" elec_task_lux REAL, delay REAL);"
-	"CREATE TABLE IF NOT EXISTS accept_tests(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, utc REAL, local TEXT,"
-	" test TEXT NOT NULL, verdict TEXT NOT NULL, value REAL, limit_value REAL, samples INTEGER, measured TEXT);",
+	"CREATE TABLE IF NOT EXISTS acceptance_tests(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, local TEXT,"
+	" test TEXT NOT NULL, verdict TEXT NOT NULL, value REAL, limit_value REAL, samples INTEGER, measured TEXT,"
+	" utc REAL);",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
                                      " daylight_lux, condition, ratio, fault, zone, utc, local";
+/* What the readers select: a file opened read-only is not migrated, and one
+ * from before schema 4 has no dates (NULL then). */
+static const char sample_columns_undated[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
+                                             " daylight_lux, condition, ratio, fault, zone, NULL, NULL";
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
@@ -339,7 +344,7 @@ int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const cha
 {
 	char local[32];
 	psd_db_local(utc, local, sizeof local);
-	return run(db, "INSERT INTO accept_tests(zone, utc, local, test, verdict, value, limit_value, samples, measured)"
+	return run(db, "INSERT INTO acceptance_tests(zone, utc, local, test, verdict, value, limit_value, samples, measured)"
 	           " VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "tdtttddit", zone, utc, or_null(local), test,
 	           verdict, value, limit, (long long)samples, measured);
 }
@@ -348,7 +353,7 @@ int psd_db_accept_results(struct psd_db *db, const char *zone, psd_db_accept_fn 
                           size_t errlen)
 {
 	sqlite3_stmt *st = query(db, err, errlen, "SELECT zone, local, test, verdict, measured, utc, value, limit_value,"
-	                         " samples FROM accept_tests WHERE zone = ? ORDER BY id", "t", zone);
+	                         " samples FROM acceptance_tests WHERE zone = ? ORDER BY id", "t", zone);
 	int rc;
 	if (!st)
 		return -1;
@@ -419,6 +424,26 @@ int psd_db_commit(struct psd_db *db, char *err, size_t errlen)
 	return 0;
 }
 
+/* 1 when table has column (a read-only file may predate it). */
+static int has_column(struct psd_db *db, const char *table, const char *column)
+{
+	sqlite3_stmt *st;
+	char sql[128];
+	int yes = 0;
+	snprintf(sql, sizeof sql, "SELECT * FROM \"%s\" LIMIT 0", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return 0;
+	for (int i = 0; i < sqlite3_column_count(st); i++)
+		yes |= strcmp(sqlite3_column_name(st, i), column) == 0;
+	sqlite3_finalize(st);
+	return yes;
+}
+
+static const char *sample_select(struct psd_db *db)
+{
+	return has_column(db, "samples", "utc") ? sample_columns : sample_columns_undated;
+}
+
 static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 {
 	*s = (struct psd_sample){
@@ -450,7 +475,7 @@ int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn
 	sqlite3_stmt *st;
 	int rc;
 	snprintf(sql, sizeof sql, "SELECT %s FROM samples WHERE zone = ? OR zone IS NULL ORDER BY rowid",
-	         sample_columns);
+	         sample_select(db));
 	if (!(st = query(db, err, errlen, sql, "t", zone)))
 		return -1;
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
@@ -516,7 +541,7 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 	int rc;
 	if (!db)
 		return -1;
-	snprintf(sql, sizeof sql, "SELECT %s FROM samples ORDER BY rowid", sample_columns);
+	snprintf(sql, sizeof sql, "SELECT %s FROM samples ORDER BY rowid", sample_select(db));
 	if (!(st = query(db, err, errlen, sql, ""))) {
 		psd_db_close(db);
 		return -1;
@@ -646,9 +671,13 @@ char *psd_db_cal_accepted(struct psd_db *db, const char *zone, const char *kind,
 int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_fn fn, void *user, char *err,
                         size_t errlen)
 {
-	sqlite3_stmt *st = query(db, err, errlen, "SELECT id, zone, kind, state, started, ended, results, note,"
-	                         " started_utc, ended_utc, started_local, ended_local"
-	                         " FROM cal_sessions WHERE zone = ? ORDER BY id", "t", zone);
+	int dated = has_column(db, "cal_sessions", "started_utc");
+	sqlite3_stmt *st = query(db, err, errlen, dated
+	                         ? "SELECT id, zone, kind, state, started, ended, results, note,"
+	                           " started_utc, ended_utc, started_local, ended_local"
+	                           " FROM cal_sessions WHERE zone = ? ORDER BY id"
+	                         : "SELECT id, zone, kind, state, started, ended, results, note, NULL, NULL, NULL, NULL"
+	                           " FROM cal_sessions WHERE zone = ? ORDER BY id", "t", zone);
 	int rc;
 	if (!st)
 		return -1;
@@ -662,4 +691,96 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 	}
 	sqlite3_finalize(st);
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+/* ---- the report's readers (psensctl report) --------------------------------- */
+
+static int table_exists(struct psd_db *db, const char *table)
+{
+	sqlite3_stmt *st;
+	int yes;
+	if (sqlite3_prepare_v2(db->h, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?", -1, &st,
+	                       NULL) != SQLITE_OK)
+		return -1;
+	sqlite3_bind_text(st, 1, table, -1, SQLITE_STATIC);
+	yes = sqlite3_step(st) == SQLITE_ROW;
+	sqlite3_finalize(st);
+	return yes;
+}
+
+int psd_db_zones(struct psd_db *db, psd_db_name_fn fn, void *user, char *err, size_t errlen)
+{
+	int cal = table_exists(db, "cal_sessions");
+	sqlite3_stmt *st;
+	int rc;
+	if (cal < 0)
+		return fail(db->h, "read", err, errlen);
+	st = query(db, err, errlen, cal ? "SELECT zone FROM samples WHERE zone IS NOT NULL UNION "
+	                                  "SELECT zone FROM cal_sessions ORDER BY 1"
+	                                : "SELECT DISTINCT zone FROM samples WHERE zone IS NOT NULL ORDER BY 1", "");
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		if (col_text(st, 0))
+			fn(user, col_text(st, 0));
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65], char scene_sha256[65])
+{
+	sqlite3_stmt *st;
+	char ignored[128];
+	int found = 0;
+	config_sha256[0] = scene_sha256[0] = 0;
+	if (table_exists(db, "cal_sessions") != 1)
+		return 0;
+	st = query(db, ignored, sizeof ignored, "SELECT config_sha256, scene_sha256 FROM cal_sessions"
+	           " WHERE zone = ? AND config_sha256 IS NOT NULL ORDER BY id DESC LIMIT 1", "t", zone);
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW) {
+		snprintf(config_sha256, 65, "%s", col_text(st, 0) ? col_text(st, 0) : "");
+		snprintf(scene_sha256, 65, "%s", col_text(st, 1) ? col_text(st, 1) : "");
+		found = 1;
+	}
+	sqlite3_finalize(st);
+	return found;
+}
+
+int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
+                      char *err, size_t errlen)
+{
+	sqlite3_stmt *st;
+	char sql[256];
+	int rc, ncol, has_zone = 0, nrows = 0;
+	const char *names[32], *vals[32];
+	rc = table_exists(db, table);
+	if (rc <= 0)
+		return rc < 0 ? fail(db->h, "read", err, errlen) : 0;
+	snprintf(sql, sizeof sql, "SELECT * FROM \"%s\" LIMIT 0", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return fail(db->h, table, err, errlen);
+	for (int i = 0; i < sqlite3_column_count(st); i++)
+		has_zone |= strcmp(sqlite3_column_name(st, i), "zone") == 0;
+	sqlite3_finalize(st);
+	snprintf(sql, sizeof sql, has_zone ? "SELECT * FROM \"%s\" WHERE zone = ? ORDER BY rowid"
+	                                   : "SELECT * FROM \"%s\" ORDER BY rowid", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return fail(db->h, table, err, errlen);
+	if (has_zone)
+		sqlite3_bind_text(st, 1, zone, -1, SQLITE_STATIC);
+	ncol = sqlite3_column_count(st);
+	if (ncol > 32)
+		ncol = 32;
+	for (int i = 0; i < ncol; i++)
+		names[i] = sqlite3_column_name(st, i);
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		for (int i = 0; i < ncol; i++)
+			vals[i] = (const char *)sqlite3_column_text(st, i);
+		fn(user, ncol, names, vals);
+		nrows++;
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? nrows : fail(db->h, "read", err, errlen);
 }

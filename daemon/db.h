@@ -154,4 +154,18 @@ typedef void (*psd_db_cal_session_fn)(void *user, const struct psd_db_cal_sessio
 int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_fn fn, void *user, char *err,
                         size_t errlen);
 
+/* ---- the report's readers ------------------------------------------------------ */
+/* Every zone named by a sample or a calibration session, sorted. */
+typedef void (*psd_db_name_fn)(void *user, const char *name);
+int psd_db_zones(struct psd_db *db, psd_db_name_fn fn, void *user, char *err, size_t errlen);
+/* The config's and the scene's SHA-256 of the zone's latest session: 1 when
+ * found, 0 when none (both ""), -1 on a read error. */
+int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65], char scene_sha256[65]);
+/* Every row of a table (the zone's rows when it has a zone column) as text
+ * (NULL for NULL): the number of rows, 0 when the table does not exist, -1
+ * with a message. */
+typedef void (*psd_db_row_fn)(void *user, int ncol, const char *const *names, const char *const *values);
+int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
+                      char *err, size_t errlen);
+
 #endif

@@ -11,6 +11,7 @@
 #include "errbuf.h"
 #include "log.h"
 #include "roomsetup.h"
+#include "dated.h"
 
 static double wall(void)
 {
@@ -49,8 +50,14 @@ static int setup_room(struct psd_engine *e, struct ps_dev *d, double now, char *
 	const struct psd_config *cf = e->cf;
 	const char *path = NULL;
 	const struct ps_results *res = device_res(e, d, &path);
-	struct ps_room_params *room = res ? psd_roomsetup_new(res, cf->date, cf->sunrise, cf->sunset) : NULL;
+	struct ps_room_params *room = !res ? NULL
+	                              : cf->sim_year ? psd_roomsetup_new_year(res, cf->date)
+	                                             : psd_roomsetup_new(res, cf->date, cf->sunrise, cf->sunset);
 	int rc;
+	if (!room && cf->sim_year)
+		return psd_errf(err, n, "device %s: [simulate] year = yes needs results with a year and an "
+		                "electric condition (a weather file in the scene: psscene(5)); %s has %s",
+		                d->name, path, res && res->have_year ? "no electric condition" : "no year");
 	if (!room)
 		return psd_errf(err, n, "device %s: the %s room needs results with a daylight and an electric "
 		                "condition (%s)", d->name, d->drv->name, path);
@@ -216,6 +223,11 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 	e->db_batch = db_batch > 0 ? db_batch : 1;
 	if (prev)
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
+	/* the dated estimate's month: the simulated date's (psensd sets today's
+	 * on a real-time clock unless the room plays the year) */
+	e->month = psd_dated_month(cf->date);
+	if (prev && !cf->sim_year)
+		e->month = prev->month;
 	if (cf->results) {
 		if (ps_results_read(&e->res, cf->results, &pe) != 0) {
 			psd_errf(err, errlen, "%s", pe.msg);
@@ -440,6 +452,18 @@ static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, 
 	return 0;
 }
 
+/* The dated estimate (dated.h): the month's and hour's expected ratio, unless
+ * a day calibration measured the zone's own. */
+static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	double q;
+	if (!z->res || !z->res->have_year || !e->cf->dated_estimate || z->cal_day_id)
+		return;
+	q = psd_dated_ratio(z->res, e->month, psd_clock_tod(now), NULL);
+	if (q > 0)
+		z->ctl.daylight_ratio = q;
+}
+
 static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	char err[512];
@@ -450,7 +474,8 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : z->ctl.est_task_lux, z->task_lux,
 		fault ? NAN : z->ctl.daylight_volts,
 		fault ? NAN : dl,
-		z->res ? "daylight_mean" : NULL, z->ctl.daylight_ratio, fault ? z->why : NULL,
+		!z->res ? NULL : z->res->have_year && e->cf->dated_estimate && !z->cal_day_id
+		                   ? "daylight_dated" : "daylight_mean", z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, NAN, NULL,   /* utc from the database's epoch */
 	};
 	if (!e->db)
@@ -569,9 +594,10 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			 * still follows the room (issue 17: it froze) */
 			if (rc == 0)
 				psd_control_estimate(&z->ctl, z->volts);
-		}
-		else if (rc == 0)
+		} else if (rc == 0) {
+			dated_ratio(e, z, now);
 			level = psd_control_step(&z->ctl, z->volts, now);
+		}
 		else
 			level = z->level;   /* a missed reading: hold until it is stale */
 		if (psd_calsession_running(&z->cal))

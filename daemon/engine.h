@@ -67,6 +67,7 @@ struct psd_engine {
 	int have_res;
 	struct ps_results zres[PSD_MAX_ZONES];   /* zone i's own results (zone results = / scene =) */
 	int have_zres[PSD_MAX_ZONES];
+	int month;                /* the dated estimate's month (dated.h), 1-12 */
 	struct psd_db *db;
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */

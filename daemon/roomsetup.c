@@ -24,9 +24,57 @@ static double shape(double t, double sunrise, double sunset)
 	return sin(M_PI * (t - sunrise) / (sunset - sunrise));
 }
 
+/* month and day of day-of-year doy (non-leap) */
+static void month_day(int doy, int *m, int *d)
+{
+	static const int start[13] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334, 365 };
+	int k = 0;
+	while (k < 11 && doy > start[k + 1])
+		k++;
+	*m = k + 1;
+	*d = doy - start[k];
+}
+
+int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
+                       struct ps_room_params *p)
+{
+	size_t lo = 0, hi, n = 0;
+	int m, d;
+	memset(p, 0, sizeof *p);
+	if (!r->have_year || isnan(r->electric_sensor_response) || doy < 1 || doy > 366)
+		return -1;
+	month_day(doy > 365 ? 365 : doy, &m, &d);
+	/* the hours are in file order: find the date's run */
+	while (lo < r->year.n && (r->year.h[lo].month < m ||
+	                          (r->year.h[lo].month == m && r->year.h[lo].day < d)))
+		lo++;
+	hi = lo;
+	while (hi < r->year.n && r->year.h[hi].month == m && r->year.h[hi].day == d)
+		hi++;
+	if (hi > lo) {
+		/* dark an hour before the first hour with light and after the last */
+		double first = 3600.0 * r->year.h[lo].hour, last = 3600.0 * r->year.h[hi - 1].hour;
+		day[n++] = (struct ps_room_daypoint){ fmax(0.0, first - 3600.0), 0.0, 0.0 };
+		for (size_t i = lo; i < hi && n < PSD_DAY_POINTS - 1; i++) {
+			double t = 3600.0 * r->year.h[i].hour;
+			if (t <= day[n - 1].t)
+				continue;   /* an hour at midnight's edge: keep the order strict */
+			day[n++] = (struct ps_room_daypoint){ t, r->year.h[i].sensor, r->year.h[i].task_lux };
+		}
+		if (last + 3600.0 > day[n - 1].t && n < PSD_DAY_POINTS)
+			day[n++] = (struct ps_room_daypoint){ fmin(86400.0, last + 3600.0), 0.0, 0.0 };
+	}
+	p->daylight = day;
+	p->ndaylight = n;
+	p->elec_sensor = r->electric_sensor_response;
+	p->elec_task_lux = r->electric_task_lux;
+	return 0;
+}
+
 int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p)
 {
+
 	/* daylight at full sun-up shape (shape = 1) for the chosen day: nearest
 	 * conditions in day of year on either side, linear between them */
 	double best_lo = -1e9, best_hi = 1e9, s_lo = 0, s_hi = 0, l_lo = 0, l_hi = 0;
@@ -94,6 +142,49 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 	if (doy < 0 || !(rs = malloc(sizeof *rs)))
 		return NULL;
 	if (psd_room_from_results(r, doy, sunrise, sunset, rs->day, &rs->p) != 0) {
+		free(rs);
+		return NULL;
+	}
+	return &rs->p;
+}
+
+int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,
+                      double level0, double (*law)(void *ctx, double t, double volts),
+                      void (*seen)(void *ctx, double t, double level, double task_lux,
+                                   double daylight_lux),
+                      void *ctx)
+{
+	struct ps_room_daypoint day[PSD_DAY_POINTS];
+	struct ps_room_params p;
+	struct ps_room *room;
+	int steps = (int)floor(86400.0 / period + 0.5);
+	if (period <= 0 || psd_room_from_year(r, doy, day, &p) != 0)
+		return -1;
+	p.gain = gain;
+	if (!(room = ps_room_new(&p, 0.0)))
+		return -1;
+	ps_room_command(room, 0.0, level0);
+	for (int s = 0; s < steps; s++) {
+		double t = s * period, volts, level, dv, dl;
+		if (ps_room_sensor(room, t, &volts) != 0)
+			volts = 0;
+		level = law(ctx, t, volts);
+		ps_room_command(room, t, level);
+		ps_room_daylight(room, t, &dv, &dl);
+		/* the desk just after the command (an instant ballast has obeyed) */
+		seen(ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl);
+	}
+	ps_room_free(room);
+	return 0;
+}
+
+struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date)
+{
+	struct roomsetup *rs;
+	int doy = psd_day_of_year(date);
+	if (doy < 0 || !(rs = malloc(sizeof *rs)))
+		return NULL;
+	if (psd_room_from_year(r, doy, rs->day, &rs->p) != 0) {
 		free(rs);
 		return NULL;
 	}

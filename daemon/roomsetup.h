@@ -21,11 +21,33 @@ enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
  * Returns -1 when the results have no electric or no daylight condition. */
 int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p);
+/* A day of the results' year (day of year doy, non-leap numbering): one
+ * point per hour with light at the hour's middle as the weather file gives
+ * it (standard time), the room interpolating linearly between them, and
+ * zero an hour before the first and an hour after the last (a day without
+ * light: no points, dark all day).  -1 when the results carry no year or no
+ * electric condition. */
+int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
+                       struct ps_room_params *p);
 /* The same, allocated with its day of daylight (free with
  * psd_roomsetup_free) for the date "MM-DD"; NULL when the results have no
  * electric or no daylight condition, or the date is malformed. */
 struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char *date, double sunrise,
                                          double sunset);
+/* Play day doy of the results' year on a room (psd_room_from_year; sensor
+ * gain volts per unit, no noise, an instant ballast, the lights at level0 at
+ * midnight): every period seconds from midnight, law(ctx, t, volts) gives the
+ * level to command, then seen(ctx, t, level, true task lux a millisecond
+ * after the command, true daylight lux at the task) reports the step.  The room stays inside this file
+ * (psensd -Y: annual.c).  -1 when the results have no year or no electric
+ * condition, or out of memory. */
+int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,
+                      double level0, double (*law)(void *ctx, double t, double volts),
+                      void (*seen)(void *ctx, double t, double level, double task_lux,
+                                   double daylight_lux),
+                      void *ctx);
+/* The same from the results' year (psd_room_from_year): [simulate] year = yes. */
+struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);
 void psd_roomsetup_free(struct ps_room_params *p);
 /* Day of year of "MM-DD" (non-leap year); -1 if malformed. */
 int psd_day_of_year(const char *mmdd);

@@ -57,8 +57,11 @@ struct psd_virtroom *psd_virtroom_new(const struct psd_virtday *day, const struc
 		psd_virtroom_free(r);
 		return NULL;
 	}
-	if (!(rp = psd_roomsetup_new(day->res, day->date, day->sunrise, day->sunset))) {
-		snprintf(err, n, "the results need a computed daylight and an electric condition");
+	if (!(rp = day->year ? psd_roomsetup_new_year(day->res, day->date)
+	                     : psd_roomsetup_new(day->res, day->date, day->sunrise, day->sunset))) {
+		snprintf(err, n, day->year ? "[simulate] year = yes: the results need a year and an "
+		                             "electric condition"
+		                           : "the results need a computed daylight and an electric condition");
 		psd_virtroom_free(r);
 		return NULL;
 	}

@@ -23,6 +23,7 @@ struct psd_virtday {
 	const struct ps_results *res;
 	const char *date;              /* "MM-DD" */
 	double sunrise, sunset;        /* seconds since midnight */
+	int year;                      /* 1: the date from the results' year ([simulate] year) */
 };
 
 /* What the room does with a request now (its drop and late faults). */

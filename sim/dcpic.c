@@ -90,7 +90,7 @@ int ps_dcpic_picture(const int *map, int width, int height, int patch, struct ps
 }
 
 /* path_fmt with its one %d, %Nd or %0Nd replaced by p */
-static int patch_path(const char *fmt, int p, char *out, size_t size, struct ps_err *e)
+int ps_dcpic_path(const char *fmt, int p, char *out, size_t size, struct ps_err *e)
 {
 	const char *c = strchr(fmt, '%'), *q;
 	int zero = 0, width = 0;
@@ -129,7 +129,7 @@ int ps_dcpic_write(const char *path_fmt, const struct ps_patches *P, const int *
 			double v = map[i] == p ? 1.0 : 0.0;
 			rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = v;
 		}
-		if (patch_path(path_fmt, p, path, sizeof path, e) != 0) {
+		if (ps_dcpic_path(path_fmt, p, path, sizeof path, e) != 0) {
 			free(rgb);
 			return -1;
 		}

@@ -41,6 +41,9 @@ int ps_dcpic_picture(const int *map, int width, int height, int patch, struct ps
  * rfluxmtx). */
 int ps_dcpic_write(const char *path_fmt, const struct ps_patches *P, const int *map, int width,
                    int height, const char *view, struct ps_err *e);
+/* The file of patch p: path_fmt's one %d, %Nd or %0Nd replaced by p (an
+ * error names the pattern when it has none or more than one). */
+int ps_dcpic_path(const char *path_fmt, int p, char *out, size_t size, struct ps_err *e);
 /* Coefficient of every patch (P->n values) for a weight map of the same
  * size: psens's response to each patch's picture with colour coefficients
  * coef (their sum is the response to a grey patch of radiance 1). */

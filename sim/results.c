@@ -20,6 +20,8 @@ void ps_results_free(struct ps_results *r)
 		free(r->cond[i].date);
 	}
 	free(r->cond);
+	free(r->weather);
+	ps_year_free(&r->year);
 	free(r->scene);
 	free(r->scene_hash);
 	free(r->sensitivity);
@@ -74,6 +76,35 @@ static void put_num(FILE *fp, const char *key, double v)
 		fprintf(fp, "%s = %.17g\n", key, v);
 }
 
+static void write_year(FILE *fp, const struct ps_results *r)
+{
+	const struct ps_year *y = &r->year;
+	fprintf(fp, "\n[year]\nweather = %s\nmf = %d\npatches = %d\npatches_used = %d\n"
+	        "steps = %zu\ndark_steps = %zu\nhours = %zu\n", r->weather ? r->weather : "",
+	        r->year_mf, y->patches, y->used, y->steps, y->dark, y->n);
+	put_num(fp, "mean_ratio", y->mean_ratio);
+	fprintf(fp, "\n; month day hour(standard time) sensor_response task_lux sky_class epsilon\n"
+	            "[year_hours]\n");
+	for (size_t i = 0; i < y->n; i++) {
+		const struct ps_year_hour *k = &y->h[i];
+		fprintf(fp, "h%zu = %d %d %.17g %.17g %.17g %d %.17g\n", i + 1, k->month, k->day, k->hour,
+		        k->sensor, k->task_lux, k->sky_class, k->epsilon);
+	}
+	fprintf(fp, "\n; task lux per unit of sensor response by month and hour (0 to 23,\n"
+	            "; standard time) and sky class; derived from [year_hours], recomputed by readers\n"
+	            "[ratio_table]\n");
+	for (int c = 0; c < PS_SKY_NCLASS; c++)
+		for (int m = 0; m < 12; m++) {
+			fprintf(fp, "%s_%02d =", ps_year_class_name(c), m + 1);
+			for (int h = 0; h < 24; h++)
+				if (isnan(y->ratio[m][h][c]))
+					fprintf(fp, " nan");
+				else
+					fprintf(fp, " %.6g", y->ratio[m][h][c]);
+			fputc('\n', fp);
+		}
+}
+
 int ps_results_write(const struct ps_results *r, const char *path, struct ps_err *e)
 {
 	char tmp[4096];
@@ -113,6 +144,8 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	put_num(fp, "electric_sensor_response", r->electric_sensor_response);
 	put_num(fp, "electric_task_lux", r->electric_task_lux);
 	put_num(fp, "task_sensor_ratio", r->task_sensor_ratio);
+	if (r->have_year)
+		write_year(fp, r);
 	if (fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) {
 		int rc = ps_errsys(e, "%s: write error", tmp);
 		fclose(fp);
@@ -146,6 +179,65 @@ static double num(struct ps_conf *c, struct ps_conf_section *s, const char *key)
 	return v;
 }
 
+static void read_year(struct ps_conf *c, struct ps_results *r)
+{
+	struct ps_conf_section *s = ps_conf_section(c, "year"), *hs, *t;
+	struct ps_year *y = &r->year;
+	long v;
+	r->have_year = 1;
+	r->weather = strdup(ps_conf_str(c, s, "weather", ""));
+	ps_conf_int(c, s, "mf", 1, 1, 64, &v);
+	r->year_mf = (int)v;
+	ps_conf_int(c, s, "patches", 0, 0, 1000000, &v);
+	y->patches = (int)v;
+	ps_conf_int(c, s, "patches_used", 0, 0, 1000000, &v);
+	y->used = (int)v;
+	ps_conf_int(c, s, "steps", 0, 0, PS_WX_MAX_STEPS, &v);
+	y->steps = (size_t)v;
+	ps_conf_int(c, s, "dark_steps", 0, 0, PS_WX_MAX_STEPS, &v);
+	y->dark = (size_t)v;
+	ps_conf_int(c, s, "hours", 0, 0, PS_WX_MAX_STEPS, &v);
+	(void)num(c, s, "mean_ratio");   /* recomputed */
+	hs = ps_conf_section(c, "year_hours");
+	if ((size_t)v && (!hs || hs->nkv != (size_t)v)) {
+		ps_conf_error(c, s->line, "[year] says hours = %ld, [year_hours] has %zu", v,
+		              hs ? hs->nkv : (size_t)0);
+		return;
+	}
+	y->h = v ? calloc((size_t)v, sizeof *y->h) : NULL;
+	if (v && !y->h) {
+		ps_conf_error(c, s->line, "out of memory for %ld hours", v);
+		return;
+	}
+	for (size_t i = 0; hs && i < hs->nkv && i < (size_t)v; i++) {
+		struct ps_conf_kv *kv = &hs->kv[i];
+		struct ps_year_hour *k = &y->h[i];
+		char want[32];
+		int n = 0;
+		kv->used = 1;
+		snprintf(want, sizeof want, "h%zu", i + 1);
+		if (strcmp(kv->key, want) != 0) {
+			ps_conf_error(c, kv->line, "'%s' where %s was due", kv->key, want);
+			return;
+		}
+		if (sscanf(kv->value, "%d %d %lf %lf %lf %d %lf %n", &k->month, &k->day, &k->hour,
+		           &k->sensor, &k->task_lux, &k->sky_class, &k->epsilon, &n) != 7 ||
+		    kv->value[n] != '\0' || k->month < 1 || k->month > 12 || k->day < 1 || k->day > 31 ||
+		    !(k->hour >= 0 && k->hour <= 24) || !(k->sensor >= 0 && k->sensor < 1e30) ||
+		    !(k->task_lux >= 0 && k->task_lux < 1e30) || k->sky_class < 0 ||
+		    k->sky_class >= PS_SKY_NCLASS || !(k->epsilon >= 0 && k->epsilon < 1e6)) {
+			ps_conf_error(c, kv->line, "%s: '%s' is not month day hour sensor task_lux "
+			              "class epsilon", kv->key, kv->value);
+			return;
+		}
+	}
+	y->n = (size_t)v;
+	if ((t = ps_conf_section(c, "ratio_table")))
+		for (size_t j = 0; j < t->nkv; j++)
+			t->kv[j].used = 1;   /* derived: recomputed, not trusted */
+	ps_year_tabulate(y);
+}
+
 int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
 {
 	struct ps_conf c;
@@ -160,10 +252,10 @@ int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
 		return ps_errf(e, PS_EFORMAT, "%s: not a psscene results file (no [psresults])", path);
 	}
 	ps_conf_int(&c, s, "version", 0, 0, 1000000, &version);
-	if (version != PS_RESULTS_VERSION) {
+	if (version < 1 || version > PS_RESULTS_VERSION) {
 		int line = ps_conf_kv(s, "version") ? ps_conf_kv(s, "version")->line : s->line;
 		ps_conf_free(&c);
-		return ps_errf(e, PS_EUNSUPPORTED, "%s:%d: results version %ld, this psensd reads %d: "
+		return ps_errf(e, PS_EUNSUPPORTED, "%s:%d: results version %ld, this psensd reads 1 to %d: "
 		               "run psscene again", path, line, version, PS_RESULTS_VERSION);
 	}
 	r->version = (int)version;
@@ -206,6 +298,8 @@ int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
 		for (size_t j = 0; j < sum->nkv; j++)
 			sum->kv[j].used = 1;
 	}
+	if (version >= 2 && ps_conf_section(&c, "year"))
+		read_year(&c, r);
 	ps_conf_check_unused(&c);
 	if (c.nerrors) {
 		ps_errf(e, PS_EFORMAT, "%s%s", c.errors[0], c.nerrors > 1 ? " (and more)" : "");

@@ -7,8 +7,11 @@
 #include <stddef.h>
 
 #include "err.h"
+#include "year.h"
 
-#define PS_RESULTS_VERSION 1
+/* 2: adds the year ([year], [year_hours], [ratio_table]); version 1 files
+ * are still read (no year). */
+#define PS_RESULTS_VERSION 2
 
 struct ps_result_cond {
 	char *label;
@@ -38,6 +41,12 @@ struct ps_results {
 	double electric_ratio;          /* task lux per unit response, lights at full output */
 	double electric_sensor_response, electric_task_lux;
 	double task_sensor_ratio;       /* electric_ratio / daylight_ratio_mean (the paper's Table 1) */
+	/* the year through the daylight coefficients (version 2; have = 0 when
+	 * the scene has none) */
+	int have_year;
+	char *weather;                  /* the weather file */
+	int year_mf;
+	struct ps_year year;            /* hours; the table recomputed by the reader */
 };
 
 /* Fill the summaries from the computed conditions. */

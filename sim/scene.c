@@ -28,6 +28,9 @@ void ps_scene_free(struct ps_scene *s)
 		free(s->var[i].sensor_pic);
 		free(s->var[i].task_pic);
 	}
+	free(s->dc.sensor_pattern);
+	free(s->dc.task_pattern);
+	free(s->dc.weather);
 	free(s->var);
 	free(s->cond);
 	free(s->ref);
@@ -161,6 +164,46 @@ static int add_reference(struct ps_scene *s, struct ps_conf *c, struct ps_conf_s
 	return r->label ? 0 : -1;
 }
 
+static void read_dcview(struct ps_conf *c, struct ps_conf_section *sec, const char *key,
+                        struct ps_view *v)
+{
+	struct ps_conf_kv *kv = ps_conf_kv(sec, key);
+	struct ps_err e;
+	char where[600];
+	ps_view_default(v);
+	ps_conf_required(c, sec, key);
+	if (!kv)
+		return;
+	snprintf(where, sizeof where, "%s", key);
+	if (ps_view_parse(v, kv->value, where, &e) != 0 ||
+	    ps_view_check_fisheye(v, where, &e) != 0)
+		ps_conf_error(c, kv->line, "%s", e.msg);
+}
+
+static void read_dc(struct ps_scene *s, struct ps_conf *c, struct ps_conf_section *sec)
+{
+	static const double ground[3] = { 0.2, 0.2, 0.2 };
+	long mf;
+	struct ps_dcspec *d = &s->dc;
+	d->have = 1;
+	d->line = sec->line;
+	ps_conf_int(c, sec, "mf", 0, 0, 64, &mf);
+	d->mf = (int)mf;
+	ps_conf_required(c, sec, "sensor_pictures");
+	ps_conf_required(c, sec, "task_pictures");
+	d->sensor_pattern = ps_conf_path(c, sec, "sensor_pictures");
+	d->task_pattern = ps_conf_path(c, sec, "task_pictures");
+	read_dcview(c, sec, "sensor_view", &d->sensor_view);
+	read_dcview(c, sec, "task_view", &d->task_view);
+	d->weather = ps_conf_path(c, sec, "weather");
+	ps_conf_bool(c, sec, "weather_illuminance", 0, &d->weather_illum);
+	read_vec(c, sec, "ground_reflectance", ground, d->ground, NULL);
+	for (int k = 0; k < 3; k++)
+		if (d->ground[k] < 0 || d->ground[k] > 1)
+			ps_conf_error(c, ps_conf_kv(sec, "ground_reflectance")->line,
+			              "ground_reflectance: %g is not 0 to 1", d->ground[k]);
+}
+
 int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)
 {
 	static const double down[3] = { 0, 0, -1 }, upward[3] = { 0, 0, 1 };
@@ -203,6 +246,8 @@ int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)
 	s->render_options = dup_or_null(ps_conf_str(&c, sec, "render_options", NULL));
 	sec = ps_conf_section(&c, "task");
 	read_place(&c, sec, &s->task_at, upward);
+	if ((sec = ps_conf_section(&c, "daylight_coefficients")))
+		read_dc(s, &c, sec);
 	for (size_t i = 0; i < c.nsec; i++) {
 		const char *label;
 		if ((label = ps_conf_section_is(&c.sec[i], "condition"))) {
@@ -219,8 +264,8 @@ int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)
 				goto oom;
 		}
 	}
-	if (s->ncond == 0)
-		ps_conf_error(&c, 0, "no [condition NAME] sections");
+	if (s->ncond == 0 && !s->dc.have)
+		ps_conf_error(&c, 0, "no [condition NAME] sections (nor [daylight_coefficients])");
 	for (size_t i = 0; i < s->ncond; i++)
 		for (size_t j = 0; j < i; j++)
 			if (strcmp(s->cond[i].label, s->cond[j].label) == 0)

@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include "err.h"
+#include "view.h"
 
 enum ps_cond_kind { PS_COND_DAYLIGHT = 0, PS_COND_ELECTRIC = 1 };
 
@@ -42,6 +43,19 @@ struct ps_reference {
 	double electric_task_lux, electric_sensor_lux;   /* NAN when absent */
 };
 
+/* [daylight_coefficients]: the coefficient picture sets of the two views and
+ * the weather whose year psscene runs through them. */
+struct ps_dcspec {
+	int have;
+	int mf;                  /* 0: from the pictures' count */
+	char *sensor_pattern, *task_pattern;   /* resolved printf patterns */
+	struct ps_view sensor_view, task_view;
+	char *weather;           /* resolved .wea or .epw, or NULL */
+	int weather_illum;       /* take an .epw's illuminances */
+	double ground[3];        /* ground reflectance for the year's skies */
+	int line;
+};
+
 struct ps_scene {
 	char *path, *name;
 	char *sensitivity;       /* resolved path or builtin:... */
@@ -59,6 +73,7 @@ struct ps_scene {
 	size_t nref;
 	struct ps_variant *var;
 	size_t nvar;
+	struct ps_dcspec dc;
 };
 
 /* Read a scene file.  Every error (file:line) is reported, all in one pass:

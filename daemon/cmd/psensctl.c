@@ -7,7 +7,8 @@
  *            dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|
  *                 identify SHORT [SECONDS]|verify ZONE|status|abort
  *   psensctl [-s socket | -d database] export --csv
- *   psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]
+ *   psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]
+ *            [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]
  *   psensctl [-s socket | -d database] accept-test ZONE [--since YYYY-MM-DD] [--samples N]
  *
  * Replies are JSON lines; -j prints them as they come, otherwise they are
@@ -22,11 +23,14 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/un.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "ctlsock.h"
 #include "db.h"
-#include "report.h"
+#include "canvas.h"
+#include "config.h"
+#include "reportdoc.h"
 #include "accept.h"
 #include "clock.h"
 
@@ -34,7 +38,9 @@ static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psensctl [-s socket] [-j] [-w seconds] command [arguments]\n"
 	            "       psensctl [-s socket | -d database] export --csv\n"
-	            "       psensctl [-s socket | -d database] report ZONE [-o file.svg] [-t percent]\n"
+	            "       psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]\n"
+	            "                [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]\n"
+	            "                [--boxes FILE]\n"
 	            "       psensctl [-s socket | -d database] accept-test ZONE [--since YYYY-MM-DD] [--samples N]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
 	            "          release ZONE, ratios, log, reload, ping, help,\n"
@@ -418,52 +424,122 @@ static int accept_test(const char *sock, const char *dbpath, int timeout_ms, int
 	return failed ? 1 : tested == PSD_ACCEPT_NTESTS ? 0 : 3;
 }
 
+/* report [ZONE] [-o FILE] [--format pdf|png|svg] [-t PERCENT] [-c CONFIG]
+ * [--site TEXT] [--page N]: the commissioning record (daemon/reportdoc.c). */
 static int report(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
 {
-	const char *out = NULL, *zone = NULL;
-	double tol = 25;
-	char err[512], *end;
+	struct psd_report_opts ro = { .tolerance_pct = 25, .format = -1 };
+	struct psd_report_out res = { 0 };
+	struct psd_config *cf = NULL;
+	const char *out = NULL, *boxes = NULL;
+	char err[1024], *end, *cfgpath = NULL;
 	json_object *o;
-	FILE *fp = stdout;
-	int verdict, rc;
+	int rc = 0;
 	for (int i = 0; i < argc; i++) {
-		if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+		const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+		if (strcmp(a, "-o") == 0 && v)
 			out = argv[++i];
-		else if (strcmp(argv[i], "-t") == 0 && i + 1 < argc) {
-			tol = strtod(argv[++i], &end);
-			if (*end || !(tol >= 0)) {
+		else if (strcmp(a, "-t") == 0 && v) {
+			ro.tolerance_pct = strtod(argv[++i], &end);
+			if (*end || !(ro.tolerance_pct >= 0)) {
 				fprintf(stderr, "psensctl: report -t %s: a percentage\n", argv[i]);
 				return 2;
 			}
-		} else if (!zone && argv[i][0] != '-')
-			zone = argv[i];
+		} else if ((strcmp(a, "-f") == 0 || strcmp(a, "--format") == 0) && v) {
+			char name[8];
+			snprintf(name, sizeof name, "x.%s", argv[++i]);
+			if ((ro.format = psd_report_format_of(name)) < 0) {
+				fprintf(stderr, "psensctl: report --format %s: one of pdf, png, svg\n", argv[i]);
+				return 2;
+			}
+		} else if (strcmp(a, "-c") == 0 && v)
+			ro.config_path = argv[++i];
+		else if (strcmp(a, "--site") == 0 && v)
+			ro.site = argv[++i];
+		else if (strcmp(a, "--boxes") == 0 && v)
+			boxes = argv[++i];
+		else if (strcmp(a, "--page") == 0 && v) {
+			long p = strtol(argv[++i], &end, 10);
+			if (*end || p < 1 || p > 1000) {
+				fprintf(stderr, "psensctl: report --page %s: a page number from 1\n", argv[i]);
+				return 2;
+			}
+			ro.page = (int)p;
+		} else if (!ro.zone && a[0] != '-')
+			ro.zone = a;
 		else {
 			usage(stderr);
 			return 2;
 		}
 	}
-	if (!zone) {
-		usage(stderr);
+	if (ro.format < 0 && out && (ro.format = psd_report_format_of(out)) < 0) {
+		fprintf(stderr, "psensctl: report -o %s: name a .pdf, .png or .svg file, or give --format\n", out);
 		return 2;
 	}
-	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
-		return 1;
-	if (out && !(fp = fopen(out, "w"))) {
-		fprintf(stderr, "psensctl: %s: %s\n", out, strerror(errno));
-		json_object_put(o);
-		return 1;
+	if (ro.format < 0)
+		ro.format = PSD_REPORT_PDF;
+	if (!out && isatty(STDOUT_FILENO)) {
+		fprintf(stderr, "psensctl: report: give -o FILE (the report is not text)\n");
+		return 2;
 	}
-	rc = psd_report_svg(dbpath, zone, tol, fp, &verdict, err, sizeof err);
-	if (out && fclose(fp) != 0)
-		rc = -1;
+	if (!(ro.dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	/* asking psensd: its own configuration, when it is a path readable here */
+	if (!ro.config_path && !dbpath) {
+		char *reply = ask(sock, "status", timeout_ms);
+		json_object *st = reply ? json_tokener_parse(reply) : NULL, *c;
+		if (st && json_object_object_get_ex(st, "config", &c) && json_object_is_type(c, json_type_string) &&
+		    json_object_get_string(c)[0] == '/' && access(json_object_get_string(c), R_OK) == 0)
+			ro.config_path = cfgpath = strdup(json_object_get_string(c));
+		json_object_put(st);
+		free(reply);
+	}
+	if (ro.config_path) {
+		if (!(cf = calloc(1, sizeof *cf))) {
+			fprintf(stderr, "psensctl: out of memory\n");
+			rc = 1;
+			goto done;
+		}
+		if (psd_config_load_keys(cf, ro.config_path) != 0) {
+			for (size_t k = 0; k < cf->conf.nerrors; k++)
+				fprintf(stderr, "psensctl: %s\n", cf->conf.errors[k]);
+			if (!cf->conf.nerrors)
+				fprintf(stderr, "psensctl: %s: cannot be read\n", ro.config_path);
+			rc = 1;
+			goto done;
+		}
+		ro.cf = cf;
+	}
+	ro.written = time(NULL);
+	if (psd_report_write(&ro, out, &res, err, sizeof err) != 0) {
+		fprintf(stderr, "psensctl: report: %s\n", err);
+		rc = 1;
+	} else {
+		if (boxes) {
+			/* every text's box: page x0 y0 x1 y1 text (points, y down) */
+			FILE *bf = fopen(boxes, "w");
+			for (size_t i = 0; bf && i < res.boxes.n; i++)
+				fprintf(bf, "%d %.2f %.2f %.2f %.2f %s\n", res.boxes.box[i].page, res.boxes.box[i].x0,
+				        res.boxes.box[i].y0, res.boxes.box[i].x1, res.boxes.box[i].y1, res.boxes.box[i].text);
+			if (!bf || fclose(bf) != 0) {
+				fprintf(stderr, "psensctl: %s: %s\n", boxes, strerror(errno));
+				rc = 1;
+			}
+		}
+		for (int i = 0; out && i < res.nzones; i++)
+			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict > 0 ? "PASS" :
+			       res.zone[i].verdict < 0 ? "FAIL" : "not calibrated");
+	}
+	psd_report_out_free(&res);
+	/* cairo's and fontconfig's font caches: nothing left for leak checkers */
+	ps_canvas_shutdown();
+done:
 	json_object_put(o);
-	if (rc != 0) {
-		fprintf(stderr, "psensctl: %s\n", rc ? err : "write error");
-		return 1;
-	}
-	if (out)
-		printf("%s: zone %s: %s\n", out, zone, verdict > 0 ? "PASS" : verdict < 0 ? "FAIL" : "not calibrated");
-	return 0;
+	if (cf)
+		psd_config_free(cf);
+	free(cf);
+	free(cfgpath);
+	return rc;
 }
 
 int main(int argc, char **argv)

@@ -13,6 +13,9 @@
 #include <time.h>
 
 #include "daemon.h"
+#include "annual.h"
+#include "canvas.h"
+#include "dated.h"
 #include "log.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
@@ -63,7 +66,7 @@ static double config_date(const struct psd_config *cf)
 {
 	int m, day;
 	double epoch;
-	long year = cf->year;
+	long year = cf->run_year;
 	if (year == 0) {
 		time_t now = time(NULL);
 		struct tm tm;
@@ -73,6 +76,109 @@ static double config_date(const struct psd_config *cf)
 	if (sscanf(cf->date, "%d-%d", &m, &day) != 2 || psd_clock_midnight((int)year, m, day, &epoch) != 0)
 		return NAN;
 	return epoch;
+}
+
+/* -Y: the whole year of the results for every zone, its figures, the
+ * algorithms side by side, and the year drawn (annual.h). */
+static int year_report(struct psd_daemon *d, const char *png)
+{
+	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
+	                                   "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
+	static float task[365 * 144], level[365 * 144];
+	const struct psd_engine *e = &d->engine;
+	if (!e->have_res || !e->res.have_year) {
+		fprintf(stderr, "psensd: -Y needs results with a year: give the scene a weather file "
+		        "(psscene(5), [daylight_coefficients] weather =)\n");
+		return 1;
+	}
+	for (size_t i = 0; i < e->nzone; i++) {
+		const struct psd_zone *z = &e->zone[i];
+		struct psd_annual_opt o = { z->zc->period, e->cf->occ_from, e->cf->occ_to, 1, task, level };
+		char from[8], to[8];
+		struct psd_annual a, b;
+		struct psd_control ctl = z->ctl;
+		if (psd_annual_run(&e->res, &ctl, &o, &a) != 0) {
+			fprintf(stderr, "psensd: zone %s: the year cannot run (no electric condition?)\n",
+			        z->zc->name);
+			return 1;
+		}
+		printf("psensd: the year of %s, zone %s, %s control (dated estimate) every %g s, "
+		       "target %g lx\n",
+		       e->res.weather, z->zc->name, psd_algorithm_names[ctl.algorithm], o.period,
+		       ctl.target_lux);
+		psd_clock_hhmm(o.occ_start, from);
+		psd_clock_hhmm(o.occ_end, to);
+		printf("  %.0f control steps in %.2f s (%.0f ns a step); occupied %s-%s every day, "
+		       "%.0f h\n", a.steps, a.seconds, 1e9 * a.seconds / a.steps, from, to, a.occ_h);
+		printf("  lighting energy %.0f full-output hours (%.1f %% of full), savings %.1f %%\n",
+		       a.energy_h, 100 * a.energy_h / a.occ_h, 100 * a.savings);
+		printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
+		       "effectiveness %.1f %%\n", 100 * a.ideal_savings, 100 * a.effectiveness);
+		printf("  occupied hours below 90 %% of target: %.1f h (%.2f %%); over-dimmed %.1f h; "
+		       "%.2f dimming changes an hour\n", a.below_h, 100 * a.below_h / a.occ_h,
+		       a.overdim_h, a.changes_per_h);
+		printf("  daylight estimate against the task's true daylight (%.0f steps with 50 lx or more):\n"
+		       "    one mean ratio (%.1f): mean %+.1f %%, rms %.1f %%\n"
+		       "    dated ratio (month x hour x typical sky class): mean %+.1f %%, rms %.1f %%\n",
+		       a.est_n, e->res.year.mean_ratio, a.est_mean[0], a.est_rms[0], a.est_mean[1],
+		       a.est_rms[1]);
+		printf("  %-5s %9s %9s %9s %9s %9s\n", "month", "occ. h", "energy %", "ideal %",
+		       "below 90%", "overdim h");
+		for (int m = 0; m < 12; m++) {
+			const struct psd_annual_month *k = &a.month[m];
+			printf("  %-5s %9.0f %9.1f %9.1f %9.1f %9.1f\n", mon[m], k->occ_h,
+			       100 * k->energy_h / k->occ_h, 100 * k->ideal_h / k->occ_h, k->below_h,
+			       k->overdim_h);
+		}
+		if (png && i == 0) {
+			char err[512], title[256];
+			int rc;
+			const char *sb = e->res.scene ? strrchr(e->res.scene, '/') : NULL;
+			const char *wb = strrchr(e->res.weather, '/');
+			snprintf(title, sizeof title, "%s: zone %s, %s, target %g lx (%s)",
+			         sb ? sb + 1 : e->res.scene ? e->res.scene : "", z->zc->name,
+			         psd_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : e->res.weather);
+			rc = psd_annual_png(png, task, level, ctl.target_lux, title, err, sizeof err);
+			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
+			if (rc != 0) {
+				fprintf(stderr, "psensd: %s\n", err);
+				return 1;
+			}
+			printf("  the year drawn: %s\n", png);
+		}
+		/* the laws side by side, each with the zone's constants */
+		printf("  the control laws over the year (the zone's constants; switching thresholds\n"
+		       "  from the model where the zone sets none):\n");
+		printf("  %-32s %9s %9s %9s %9s %9s %9s\n", "algorithm (dated ratio)", "energy %", "savings %",
+		       "effect. %", "below90 h", "overdim h", "changes/h");
+		for (int row = 0; row < PSD_ALG_COUNT + 2; row++) {
+			/* the five laws with the dated ratio, then the two that use a
+			 * ratio again with the one mean ratio */
+			int alg = row < PSD_ALG_COUNT ? row
+			          : row == PSD_ALG_COUNT ? PSD_ALG_SETPOINT : PSD_ALG_CLOSED_PROPORTIONAL;
+			struct psd_control c = z->ctl;
+			struct psd_annual_opt q = o;
+			char name[48];
+			c.algorithm = alg;
+			q.task_img = q.level_img = NULL;
+			q.dated = row < PSD_ALG_COUNT;
+			if (alg == PSD_ALG_SWITCHING && c.s_off >= 1e9) {
+				double full = c.sensor_gain * c.elec_sensor;
+				double need = c.sensor_gain * c.target_lux / e->res.year.mean_ratio;
+				c.s_on = need;
+				c.s_off = full + need;
+			}
+			if (psd_annual_run(&e->res, &c, &q, &b) != 0)
+				continue;
+			snprintf(name, sizeof name, "%s%s", psd_algorithm_names[alg],
+			         row < PSD_ALG_COUNT ? "" : ", mean ratio");
+			printf("  %-32s %9.1f %9.1f %9.1f %9.1f %9.1f %9.2f\n", name,
+			       100 * b.energy_h / b.occ_h, 100 * b.savings, 100 * b.effectiveness, b.below_h,
+			       b.overdim_h, b.changes_per_h);
+		}
+	}
+	fflush(stdout);
+	return 0;
 }
 
 static int parse_hhmm(const char *s, double *out)
@@ -86,13 +192,15 @@ static int parse_hhmm(const char *s, double *out)
 
 static void usage(FILE *fp)
 {
-	fprintf(fp, "usage: psensd [-f config] [-n | -s] [-t HH:MM] [-d YYYY-MM-DD] [-x speed] [-v] | -L\n"
+	fprintf(fp, "usage: psensd [-f config] [-n | -s | -Y [-P png]] [-t HH:MM] [-d YYYY-MM-DD] [-x speed] [-v] | -L\n"
 	            "  -f FILE   configuration (default /etc/psensd/psensd.conf)\n"
 	            "  -n        check the configuration and exit\n"
 	            "  -s        run the [simulate] day on a simulated clock and print a summary\n"
+	            "  -Y        run the results' whole year for every zone and print its figures\n"
+	            "  -P FILE   with -Y: draw the year (first zone) as a PNG\n"
 	            "  -t HH:MM  real time: start the clock at this time of day (default: now)\n"
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
-	            "  -d DATE   the date of a run with -s or -t (default: [simulate] date and year)\n"
+	            "  -d DATE   the date of a run with -s or -t (default: [simulate] date and run_year)\n"
 	            "  -v        more messages\n"
 	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n"
 	            "drivers:\n");
@@ -159,12 +267,16 @@ int main(int argc, char **argv)
 		{ "help", no_argument, NULL, 'h' },
 		{ NULL, 0, NULL, 0 },
 	};
-	while ((opt = getopt_long(argc, argv, "f:nst:x:d:vhL", longopts, NULL)) != -1) {
+	const char *png = NULL;
+	int year = 0;
+	while ((opt = getopt_long(argc, argv, "f:nst:x:d:vhLYP:", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'L': list_options(); return 0;
 		case 'f': path = optarg; break;
 		case 'n': check = 1; break;
 		case 's': simulate = 1; break;
+		case 'Y': year = simulate = 1; break;
+		case 'P': png = optarg; break;
 		case 't':
 			if (parse_hhmm(optarg, &start) != 0) {
 				fprintf(stderr, "psensd: -t %s: not HH:MM\n", optarg);
@@ -249,6 +361,13 @@ int main(int argc, char **argv)
 	if (psd_daemon_start(&d, path) != 0) {
 		psd_daemon_stop(&d, NULL);   /* what it did open (the signalfd) */
 		return 1;
+	}
+	if (!simulate && !d.engine.cf->sim_year)
+		d.engine.month = psd_dated_month(NULL);   /* the dated estimate: today's month */
+	if (year) {
+		rc = year_report(&d, png);
+		psd_daemon_stop(&d, NULL);
+		return rc;
 	}
 	log_info("controlling %zu zone(s) from %s on a %s clock", d.engine.nzone, path,
 	         simulate ? "simulated" : "real-time");

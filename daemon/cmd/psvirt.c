@@ -356,6 +356,7 @@ static int build_rooms(struct virt *v, struct args *a)
 	const char *results = a->results, *conf_path = a->conf ? a->conf : "";
 	char date[16] = "03-18";
 	double rise = 6 * 3600.0, set = 18 * 3600.0;
+	int year = 0;   /* [simulate] year = yes: the room plays the date of the results' year */
 	int rc = -1, have_res = 0;
 	const struct ps_opts *zone_conf[PSD_VIRT_MAX_ZONES] = { NULL };
 	v->start = 6 * 3600.0;
@@ -393,6 +394,7 @@ static int build_rooms(struct virt *v, struct args *a)
 		snprintf(date, sizeof date, "%s", cf->date);
 		rise = cf->sunrise;
 		set = cf->sunset;
+		year = cf->sim_year;
 		v->start = cf->start;
 	}
 	if (a->date)
@@ -411,7 +413,7 @@ static int build_rooms(struct virt *v, struct args *a)
 		goto out;
 	}
 	have_res = 1;
-	day = (struct psd_virtday){ &res, date, rise, set };
+	day = (struct psd_virtday){ &res, date, rise, set, year };
 	for (int z = 0; z < v->nzone; z++) {
 		struct ps_opt merged[2 * MAX_OPTS + 1];
 		int src[MAX_OPTS];

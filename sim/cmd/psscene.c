@@ -10,9 +10,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "cache.h"
+#include "dcset.h"
 #include "integrate.h"
 #include "picture.h"
 #include "render.h"
@@ -20,7 +22,10 @@
 #include "scene.h"
 #include "sensor.h"
 #include "spectral.h"
+#include "sum.h"
 #include "view.h"
+#include "weather.h"
+#include "year.h"
 #include "weights.h"
 
 #define LUX_PER_WM2 179.0
@@ -291,6 +296,128 @@ static int print_variants(struct run *r, const struct ps_scene *sc, const struct
 	return 0;
 }
 
+/* The daylight-coefficient rows of both views (the scene's
+ * [daylight_coefficients]): the sensor's with its sensitivity, rotation and
+ * colour coefficients, the task's with a cosine. */
+static int dc_rows(struct run *r, struct ps_dcrow *srow, struct ps_dcrow *trow, struct ps_err *e)
+{
+	const struct ps_dcspec *d = &r->sc->dc;
+	if (ps_dcset_row(d->sensor_pattern, &d->sensor_view, d->mf, &r->sensor, r->sc->rotation, srow,
+	                 e) != 0)
+		return -1;
+	if (ps_dcset_row(d->task_pattern, &d->task_view, d->mf, &r->cosine, 0.0, trow, e) != 0) {
+		ps_dcrow_free(srow);
+		return -1;
+	}
+	if (srow->n != trow->n) {
+		ps_errf(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
+		        "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
+		        trow->mf);
+		ps_dcrow_free(srow);
+		ps_dcrow_free(trow);
+		return -1;
+	}
+	if (!r->quiet && srow->coverage < 1 - 1e-9)
+		fprintf(stderr, "psscene: warning: %s holds %.2f %% of the sensitivity\n",
+		        d->sensor_pattern, 100 * srow->coverage);
+	return 0;
+}
+
+static void print_dc(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+                     double seconds)
+{
+	static const double grey[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+	double *one = malloc((size_t)srow->n * 3 * sizeof *one), s, t;
+	int zero = 0;
+	if (!one)
+		return;
+	for (int i = 0; i < 3 * srow->n; i++)
+		one[i] = 1.0;
+	for (int p = 0; p < srow->n; p++)
+		zero += srow->c[3 * p] == 0 && srow->c[3 * p + 1] == 0 && srow->c[3 * p + 2] == 0 &&
+		        trow->c[3 * p] == 0 && trow->c[3 * p + 1] == 0 && trow->c[3 * p + 2] == 0;
+	s = ps_dcrow_apply(srow, r->rgb, one);
+	t = ps_dcrow_apply(trow, grey, one);
+	printf("\ndaylight coefficients: MF %d, %d patches of %d x %d (sensor) and %d x %d (task), "
+	       "%d zero in both views; %.2f s\n", srow->mf, srow->n, srow->width, srow->height,
+	       trow->width, trow->height, zero, seconds);
+	printf("  uniform sky and ground of radiance 1: sensor response %.6g, task %.6g W/m2 "
+	       "(%.1f lx), ratio %.2f\n", s, t, LUX_PER_WM2 * t, s > 0 ? LUX_PER_WM2 * t / s : NAN);
+	free(one);
+}
+
+static double seconds_since(const struct timespec *t0)
+{
+	struct timespec t1;
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+	return (double)(t1.tv_sec - t0->tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0->tv_nsec);
+}
+
+/* The year of the scene's weather file through the two rows. */
+static int run_year(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+                    struct ps_results *res, double *secs, struct ps_err *e)
+{
+	const struct ps_dcspec *d = &r->sc->dc;
+	struct ps_weather w;
+	struct ps_skyopt o;
+	struct timespec t0;
+	int rc;
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	if (ps_weather_read(&w, d->weather, d->weather_illum ? PS_WX_EPW_ILLUM : 0, e) != 0)
+		return -1;
+	ps_skyopt_default(&o);
+	memcpy(o.ground, d->ground, sizeof o.ground);
+	rc = ps_year_run(srow, r->rgb, trow, &w, &o, &res->year, e);
+	ps_weather_free(&w);
+	if (rc != 0)
+		return -1;
+	res->have_year = 1;
+	res->weather = strdup(d->weather);
+	res->year_mf = srow->mf;
+	*secs = seconds_since(&t0);
+	return res->weather ? 0 : ps_errf(e, PS_ENOMEM, "out of memory");
+}
+
+static void print_year(const struct ps_results *res, double secs)
+{
+	const struct ps_year *y = &res->year;
+	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
+	                                   "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
+	printf("\nyear: %s\n  %zu steps, %zu with light, %zu dark skipped; %d of %d patches used; "
+	       "%.3f s\n", res->weather, y->steps, y->n, y->dark, y->used, y->patches, secs);
+	printf("  daylight ratio over the year %.2f (sum task lux / sum response)\n", y->mean_ratio);
+	printf("  %-5s %6s %10s %10s %9s %9s %9s\n", "month", "hours", "task lx", "sensor",
+	       "clear", "interm.", "overcast");
+	for (int m = 0; m < 12; m++) {
+		struct ps_sum ts, ss;
+		double cls[PS_SKY_NCLASS];
+		int n = 0;
+		ps_sum_init(&ts);
+		ps_sum_init(&ss);
+		for (size_t i = 0; i < y->n; i++)
+			if (y->h[i].month == m + 1) {
+				ps_sum_add(&ts, y->h[i].task_lux);
+				ps_sum_add(&ss, y->h[i].sensor);
+				n++;
+			}
+		for (int c = 0; c < PS_SKY_NCLASS; c++) {
+			struct ps_sum a, b;
+			ps_sum_init(&a);
+			ps_sum_init(&b);
+			for (size_t i = 0; i < y->n; i++)
+				if (y->h[i].month == m + 1 && y->h[i].sky_class == c) {
+					ps_sum_add(&a, y->h[i].task_lux);
+					ps_sum_add(&b, y->h[i].sensor);
+				}
+			cls[c] = ps_sum_get(&b) > 0 ? ps_sum_get(&a) / ps_sum_get(&b) : NAN;
+		}
+		printf("  %-5s %6d %10.0f %10.3f %9.2f %9.2f %9.2f\n", mon[m], n,
+		       n ? ps_sum_get(&ts) / n : 0.0, n ? ps_sum_get(&ss) / n : 0.0, cls[0], cls[1], cls[2]);
+	}
+	printf("  (mean task lux and sensor response over the month's hours with light; the\n"
+	       "  daylight ratio by sky class; the results file has it by hour as well)\n");
+}
+
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psscene [-o results] [-C cachedir | -N] [-q] scene\n"
@@ -310,8 +437,13 @@ int main(int argc, char **argv)
 	struct ps_results res;
 	struct run r;
 	struct ps_err e;
+	struct ps_dcrow srow, trow;
+	int have_dc = 0;
+	double dc_seconds = 0, year_seconds = 0;
 
 	memset(&r, 0, sizeof r);
+	memset(&srow, 0, sizeof srow);
+	memset(&trow, 0, sizeof trow);
 	while ((opt = getopt(argc, argv, "o:C:Nqh")) != -1) {
 		switch (opt) {
 		case 'o': out = optarg; break;
@@ -425,6 +557,22 @@ int main(int argc, char **argv)
 		rc->task_lux = LUX_PER_WM2 * tv[0];
 		rc->ratio = sv[0] > 0 ? rc->task_lux / sv[0] : NAN;
 	}
+	if (status == 0 && sc.dc.have) {
+		struct timespec t0, t1;
+		clock_gettime(CLOCK_MONOTONIC, &t0);
+		if (dc_rows(&r, &srow, &trow, &e) != 0) {
+			fprintf(stderr, "psscene: %s\n", e.msg);
+			status = 1;
+		} else {
+			have_dc = 1;
+			clock_gettime(CLOCK_MONOTONIC, &t1);
+			dc_seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+			if (sc.dc.weather && run_year(&r, &srow, &trow, &res, &year_seconds, &e) != 0) {
+				fprintf(stderr, "psscene: %s\n", e.msg);
+				status = 1;
+			}
+		}
+	}
 	if (status == 0) {
 		char all[8192];
 		ps_results_summarise(&res);
@@ -442,6 +590,10 @@ int main(int argc, char **argv)
 		} else if (!r.quiet) {
 			print_table(&sc, &res, r.sensor.kind == PS_SENS_COSINE ||
 			                           (strstr(sc.sensitivity, "cosine") != NULL));
+			if (have_dc)
+				print_dc(&r, &srow, &trow, dc_seconds);
+			if (res.have_year)
+				print_year(&res, year_seconds);
 			if (print_variants(&r, &sc, &res, &e) != 0) {
 				fprintf(stderr, "psscene: %s\n", e.msg);
 				status = 1;
@@ -453,6 +605,8 @@ int main(int argc, char **argv)
 		}
 	}
 	ps_results_free(&res);
+	ps_dcrow_free(&srow);
+	ps_dcrow_free(&trow);
 	ps_weights_free(&r.w);
 	ps_sensor_free(&r.sensor);
 	ps_sensor_free(&r.cosine);

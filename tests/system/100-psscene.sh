@@ -27,7 +27,7 @@ check "first run computes all 8" grep -q "8 integrations: 8 computed, 0 reused" 
 check "second run reuses all 8" grep -q "8 integrations: 0 computed, 8 reused" "$TMP/out2"
 # change one input: only what depends on it is recomputed
 mkdir -p "$TMP/scene/ofb"
-cp -R config/example/ofb/img config/example/ofb/sensors "$TMP/scene/ofb/"
+cp -R config/example/ofb/img config/example/ofb/sensors config/example/ofb/dc config/example/ofb/weather "$TMP/scene/ofb/"
 cp config/example/ofb.scene "$TMP/scene/"
 "$BIN/psscene" -C "$TMP/cache" -o "$TMP/s.results" "$TMP/scene/ofb.scene" > /dev/null 2>&1
 cp config/example/ofb/img/day_0416_task_256.hdr "$TMP/scene/ofb/img/day_0318_task_256.hdr"

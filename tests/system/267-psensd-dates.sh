@@ -1,6 +1,6 @@
 #!/bin/sh
 # Issue 17, finding 4: dates.  Two simulated days of the example room into
-# one database: the first is dated 03-18 of [simulate] year, the second,
+# one database: the first is dated 03-18 of [simulate] run_year, the second,
 # finding that date on record, the next day (no overdraw); every sample,
 # event and session row carries UTC and the local date and time; the
 # summary shows dates and the duration; -d sets the date; a run over
@@ -18,7 +18,7 @@ database = state/d.db
 period = 300
 [simulate]
 date = 03-18
-year = 2026
+run_year = 2026
 start = 06:00
 end = 20:00
 [device room]

@@ -18,7 +18,7 @@ results = state/ofb.results
 database = state/a.db
 period = 300
 [simulate]
-year = 2026
+run_year = 2026
 start = 05:00
 end = 20:00
 [device good]
@@ -76,6 +76,6 @@ check "the zone with the unknown offset is NOT ACCEPTED (exit $rc)" sh -c "test 
 check "its estimate fails verification" grep -q "verification   FAIL" "$TMP/bad.out"
 check "and in the dark the task falls short" grep -q "low daylight   FAIL" "$TMP/bad.out"
 check "the results are stored (8 rows, dated)" \
-	test "$(sqlite3 "$TMP/state/a.db" "select count(*) from accept_tests where local is not null")" = 8
+	test "$(sqlite3 "$TMP/state/a.db" "select count(*) from acceptance_tests where local is not null")" = 8
 check "a zone not on record is an error" sh -c "! \"$BIN/psensctl\" -d '$TMP/state/a.db' accept-test nosuch 2> /dev/null"
 done_testing

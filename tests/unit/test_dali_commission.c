@@ -693,7 +693,7 @@ static void unplug_fails_the_job_and_the_driver_recovers(void **state)
 	assert_true(run_until(f, job_ended, 3));
 	assert_int_equal(job(f)->state, PS_DALI_COMMISSION_FAILED);
 	print_message("# %s\n", job(f)->msg);
-	assert_non_null(strstr(job(f)->msg, "DALI USB interface: interface gone"));
+	assert_non_null(strstr(job(f)->msg, "DALI USB interface: interface unplugged"));
 	assert_int_equal(request(f, "scan"), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);

@@ -67,10 +67,10 @@ static void other_versions_and_garbage(void **state)
 	(void)state;
 	close(fd);
 	fp = fopen(path, "w");
-	fputs("[psresults]\nversion = 2\n", fp);
+	fputs("[psresults]\nversion = 3\n", fp);
 	fclose(fp);
 	assert_int_equal(ps_results_read(&r, path, &e), -1);
-	assert_non_null(strstr(e.msg, ":2: results version 2, this psensd reads 1"));
+	assert_non_null(strstr(e.msg, ":2: results version 3, this psensd reads 1 to 2"));
 	fp = fopen(path, "w");
 	fputs("[psresults]\nversion = 1\nrgb = 1 1 1\nrotation = 0\n[condition a]\nkind = daylight\n"
 	      "tod_s = x\n", fp);
@@ -84,11 +84,82 @@ static void other_versions_and_garbage(void **state)
 	unlink(path);
 }
 
+/* version 2 carries the year; version 1 files (no year) still read */
+static void year_round_trip(void **state)
+{
+	struct ps_results r, back;
+	struct ps_err e;
+	struct ps_year_hour h[3] = {
+		{ 1, 1, 8.5, 2.0, 400.0, PS_SKY_OVERCAST, 1.1 },
+		{ 1, 2, 8.5, 2.0, 600.0, PS_SKY_OVERCAST, 1.2 },
+		{ 7, 4, 12.5, 10.0, 2000.0, PS_SKY_CLEAR, 6.0 },
+	};
+	char path[] = "/tmp/psresXXXXXX";
+	int fd = mkstemp(path);
+	FILE *fp;
+	(void)state;
+	close(fd);
+	memset(&r, 0, sizeof r);
+	r.scene = "x.scene";
+	r.reading = "linear";
+	r.have_year = 1;
+	r.weather = "w.wea";
+	r.year_mf = 1;
+	r.year.h = h;
+	r.year.n = 3;
+	r.year.steps = 10;
+	r.year.dark = 7;
+	r.year.patches = r.year.used = 146;
+	ps_year_tabulate(&r.year);
+	assert_true(r.year.ratio[0][8][PS_SKY_OVERCAST] == 250.0);   /* (400 + 600) / 4 */
+	assert_true(r.year.ratio[6][12][PS_SKY_CLEAR] == 200.0);
+	assert_true(isnan(r.year.ratio[6][12][PS_SKY_OVERCAST]));
+	assert_true(r.year.mean_ratio == 3000.0 / 14.0);
+	ps_results_summarise(&r);
+	assert_int_equal(ps_results_write(&r, path, &e), 0);
+	assert_int_equal(ps_results_read(&back, path, &e), 0);
+	assert_int_equal(back.version, 2);
+	assert_int_equal(back.have_year, 1);
+	assert_string_equal(back.weather, "w.wea");
+	assert_int_equal(back.year.n, 3);
+	assert_int_equal(back.year.dark, 7);
+	assert_true(back.year.h[2].task_lux == 2000.0 && back.year.h[2].hour == 12.5);
+	assert_true(back.year.ratio[0][8][PS_SKY_OVERCAST] == 250.0);
+	assert_true(back.year.mean_ratio == 3000.0 / 14.0);
+	ps_results_free(&back);
+	/* a bad hour: file:line */
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 2\nrgb = 1 1 1\nrotation = 0\n[year]\nhours = 2\n"
+	      "mean_ratio = 1\n[year_hours]\nh1 = 1 1 8.5 2 400 2 1.1\nh2 = 13 1 8.5 2 400 2 1.1\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), -1);
+	assert_non_null(strstr(e.msg, ":10: h2: '13 1 8.5 2 400 2 1.1' is not month day hour"));
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 2\nrgb = 1 1 1\nrotation = 0\n[year]\nhours = 3\n"
+	      "mean_ratio = 1\n[year_hours]\nh1 = 1 1 8.5 2 400 2 1.1\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), -1);
+	assert_non_null(strstr(e.msg, ":5: [year] says hours = 3, [year_hours] has 1"));
+	/* version 1: no year */
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 1\nrgb = 1 1 1\nrotation = 0\n[condition a]\nkind = daylight\n"
+	      "tod_s = 1\nsensor_response = 1\ntask_irradiance = 1\ntask_lux = 179\nratio = 179\n"
+	      "brightest_share = 0\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), 0);
+	assert_int_equal(back.version, 1);
+	assert_int_equal(back.have_year, 0);
+	assert_true(back.daylight_ratio_mean == 179.0);
+	ps_results_free(&back);
+	unlink(path);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(round_trip_and_summary),
 		cmocka_unit_test(other_versions_and_garbage),
+		cmocka_unit_test(year_round_trip),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

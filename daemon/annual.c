@@ -1,0 +1,218 @@
+#include "annual.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "canvas.h"
+#include "dated.h"
+#include "falsecolor.h"
+#include "roomsetup.h"
+#include "sum.h"
+
+#define DAYS 365
+#define ROWS 144   /* 10-minute rows */
+
+static double clamp(double x, double lo, double hi)
+{
+	return x < lo ? lo : x > hi ? hi : x;
+}
+
+/* one run's state, for the room's callbacks */
+struct run {
+	const struct ps_results *r;
+	const struct psd_annual_opt *o;
+	struct psd_annual *a;
+	struct psd_control c;
+	struct ps_sum em[2], e2[2];
+	int m, doy;
+	double mean_ratio, dated, prev;
+};
+
+static double law(void *ctx, double t, double volts)
+{
+	struct run *u = ctx;
+	u->prev = u->c.level;
+	if (!(t >= u->o->occ_start && t < u->o->occ_end)) {
+		u->c.level = 0;   /* nobody there: the lights off, as a vacancy sensor does */
+		u->c.pending_dir = 0;
+		return 0;
+	}
+	u->dated = psd_dated_ratio(u->r, u->m + 1, t, NULL);
+	u->c.daylight_ratio = u->o->dated && u->dated > 0 ? u->dated : u->mean_ratio;
+	return psd_control_step(&u->c, volts, t);
+}
+
+static void seen(void *ctx, double t, double level, double truth, double dl)
+{
+	struct run *u = ctx;
+	const struct psd_annual_opt *o = u->o;
+	struct psd_annual *a = u->a;
+	struct psd_control *c = &u->c;
+	int m = u->m;
+	a->steps++;
+	if (o->task_img) {
+		int row = (int)(t / 600.0);
+		if (row < ROWS && fmod(t, 600.0) < o->period) {
+			o->task_img[row * DAYS + u->doy - 1] = (float)truth;
+			o->level_img[row * DAYS + u->doy - 1] = (float)level;
+		}
+	}
+	if (!(t >= o->occ_start && t < o->occ_end))
+		return;
+	{
+		double h = o->period / 3600.0;
+		double ideal = clamp((c->target_lux - dl) / c->elec_task_lux, c->min_level, 1.0);
+		a->occ_h += h;
+		a->energy_h += level * h;
+		a->ideal_h += ideal * h;
+		a->month[m].occ_h += h;
+		a->month[m].energy_h += level * h;
+		a->month[m].ideal_h += ideal * h;
+		if (truth < 0.9 * c->target_lux) {
+			a->below_h += h;
+			a->month[m].below_h += h;
+		}
+		if (level < ideal - 0.01 && truth < c->target_lux) {
+			a->overdim_h += h;
+			a->month[m].overdim_h += h;
+		}
+		/* the switch-on at arrival is not a dimming change */
+		if (fabs(level - u->prev) > 0.005 && t - o->period >= o->occ_start)
+			a->changes++;
+	}
+	if (dl >= 50) {
+		/* the law's daylight estimate with each ratio */
+		double resp = c->daylight_volts / c->sensor_gain;
+		double est[2] = { u->mean_ratio * resp, (u->dated > 0 ? u->dated : u->mean_ratio) * resp };
+		for (int k = 0; k < 2; k++) {
+			double err = est[k] / dl - 1;
+			ps_sum_add(&u->em[k], err);
+			ps_sum_add(&u->e2[k], err * err);
+		}
+		a->est_n++;
+	}
+}
+
+int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
+                   const struct psd_annual_opt *o, struct psd_annual *a)
+{
+	static const int start[13] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334, 365 };
+	struct run u;
+	struct timespec t0, t1;
+	memset(a, 0, sizeof *a);
+	if (!r->have_year || isnan(r->electric_sensor_response) || o->period <= 0)
+		return -1;
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	memset(&u, 0, sizeof u);
+	u.r = r;
+	u.o = o;
+	u.a = a;
+	u.c = *ctl;
+	for (int k = 0; k < 2; k++) {
+		ps_sum_init(&u.em[k]);
+		ps_sum_init(&u.e2[k]);
+	}
+	u.c.elec_sensor = r->electric_sensor_response;
+	u.c.elec_task_lux = r->electric_task_lux;
+	/* a year without light has no ratio: any will do, there is no daylight */
+	u.mean_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio
+	               : ctl->daylight_ratio > 0 ? ctl->daylight_ratio : 1.0;
+	u.c.daylight_ratio = u.mean_ratio;
+	u.c.level = 0.0;
+	u.c.pending_since = -1;
+	for (u.doy = 1; u.doy <= DAYS; u.doy++) {
+		u.m = 0;
+		while (u.m < 11 && u.doy > start[u.m + 1])
+			u.m++;
+		if (psd_room_play_day(r, u.doy, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
+			return -1;
+	}
+	a->savings = a->occ_h > 0 ? 1 - a->energy_h / a->occ_h : NAN;
+	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
+	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
+	a->changes_per_h = a->occ_h > 0 ? a->changes / a->occ_h : NAN;
+	for (int k = 0; k < 2; k++) {
+		a->est_mean[k] = a->est_n ? 100 * ps_sum_get(&u.em[k]) / a->est_n : NAN;
+		a->est_rms[k] = a->est_n ? 100 * sqrt(ps_sum_get(&u.e2[k]) / a->est_n) : NAN;
+	}
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+	a->seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+	return 0;
+}
+
+int psd_annual_png(const char *path, const float *task_img, const float *level_img,
+                   double target, const char *title, char *err, size_t errlen)
+{
+	static const uint8_t white[3] = { 255, 255, 255 };
+	static const double ink[3] = { 0, 0, 0 };
+	const int z = 2, left = 50, top = 34, gap = 40, pw = DAYS * z, ph = ROWS * z, lw = 230;
+	struct ps_canvas cv;
+	struct ps_err e;
+	struct ps_fcscale sc = { 100 * target, 1, 3 };   /* 0.1 to 100 x target, log */
+	int W = left + pw + lw, H = top + 2 * ph + gap + 30;
+	if (ps_canvas_init(&cv, W, H, white, &e) != 0)
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	ps_canvas_begin(&cv);
+	for (int row = 0; row < ROWS; row++)
+		for (int d = 0; d < DAYS; d++) {
+			uint8_t rgb[3];
+			int y = ROWS - 1 - row;   /* midnight at the bottom */
+			double v = task_img[row * DAYS + d], f = ps_fcscale_fraction(&sc, v);
+			ps_falsecolor_rgb8(clamp(f, 0, 1), rgb);
+			ps_canvas_set(&cv, left + d * z, top + y * z, z, rgb);
+			v = clamp(level_img[row * DAYS + d], 0, 1);
+			rgb[0] = rgb[1] = rgb[2] = (uint8_t)(40 + 215 * v);
+			ps_canvas_set(&cv, left + d * z, top + ph + gap + y * z, z, rgb);
+		}
+	ps_canvas_end(&cv);
+	ps_canvas_label(&cv, left, 14, 13, -1, ink, 0, title);
+	{
+		char buf[96];
+		ps_canvas_label(&cv, left + pw + 8, top + 10, 11, -1, ink, 0, "true task lux (log scale)");
+		ps_canvas_label(&cv, left + pw + 8, top + ph + gap + 10, 11, -1, ink, 0,
+		                "light output (off when unoccupied)");
+		ps_canvas_begin(&cv);
+		for (int k = 0; k <= 3; k++) {
+			uint8_t rgb[3];
+			ps_falsecolor_rgb8(k / 3.0, rgb);
+			uint8_t grey[3], frame[3] = { 0, 0, 0 };
+			for (int yy = -1; yy < 13; yy++)
+				for (int xx = -1; xx < 17; xx++) {
+					int edge = yy < 0 || yy > 11 || xx < 0 || xx > 15;
+					grey[0] = grey[1] = grey[2] = (uint8_t)(40 + 215 * (k / 3.0));
+					ps_canvas_set(&cv, left + pw + 8 + xx, top + 24 + 18 * k + yy, 1, edge ? frame : rgb);
+					ps_canvas_set(&cv, left + pw + 8 + xx, top + ph + gap + 24 + 18 * k + yy, 1,
+					              edge ? frame : grey);
+				}
+		}
+		ps_canvas_end(&cv);
+		for (int k = 0; k <= 3; k++) {
+			snprintf(buf, sizeof buf, "%.0f lx%s", 0.1 * target * pow(10, k), k == 3 ? " and over" : "");
+			ps_canvas_label(&cv, left + pw + 30, top + 30 + 18 * k, 11, -1, ink, 0, buf);
+			snprintf(buf, sizeof buf, "%.2f", k / 3.0);
+			ps_canvas_label(&cv, left + pw + 30, top + ph + gap + 30 + 18 * k, 11, -1, ink, 0, buf);
+		}
+		for (int hr = 0; hr <= 24; hr += 6) {
+			snprintf(buf, sizeof buf, "%02d:00", hr);
+			ps_canvas_label(&cv, left - 4, top + ph - hr * 6 * z, 10, 1, ink, 0, buf);
+			ps_canvas_label(&cv, left - 4, top + ph + gap + ph - hr * 6 * z, 10, 1, ink, 0, buf);
+		}
+		for (int mo = 0; mo < 12; mo++) {
+			static const char *const mn[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
+			                                  "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
+			static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
+			ps_canvas_label(&cv, left + (start[mo] + 15) * z, top + 2 * ph + gap + 12, 10, 0, ink,
+			                0, mn[mo]);
+		}
+		ps_canvas_label(&cv, left, top + ph + gap / 2, 12, -1, ink, 0,
+		                "hour of day (standard time) against day of the year");
+	}
+	if (ps_canvas_save_png(&cv, path, &e) != 0) {
+		ps_canvas_free(&cv);
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	}
+	ps_canvas_free(&cv);
+	return 0;
+}

@@ -1,0 +1,1345 @@
+#include "reportdoc.h"
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <errno.h>
+#include <json-c/json.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cache.h"
+#include "chart.h"
+#include "db.h"
+#include "errbuf.h"
+#include "results.h"
+
+/* A4 in points; PNG pages at 1.5 px per point (108 dpi). */
+#define PAGE_W 595.28
+#define PAGE_H 841.89
+#define MARGIN 40.0
+#define PNG_SCALE 1.5
+#define FONT "DejaVu Sans"
+#define FOOT_Y (PAGE_H - 22)
+
+enum { MAXPTS = 1200, MAXSESS = 200, MAXACC = 60, MAXCOL = 10, MAXPAGES = 64 };
+
+static const double BLACK[3] = { 0, 0, 0 }, GREY[3] = { 0.35, 0.35, 0.35 }, BLUE[3] = { 0.12, 0.31, 0.61 },
+                    GREEN[3] = { 0.17, 0.48, 0.17 }, ORANGE[3] = { 0.88, 0.48, 0 }, RED[3] = { 0.75, 0.22, 0.17 },
+                    PURPLE[3] = { 0.45, 0.2, 0.6 };
+
+/* ---- one zone's data ----------------------------------------------------- */
+
+struct session {
+	long long id;
+	char kind[16], state[16], result[200], design[64];
+	double started, ended;
+	int judged, pass;
+};
+
+struct zone {
+	char name[48];
+	int ci;                          /* index in the config, -1 when none */
+	/* plotted points, thinned evenly */
+	double *t, *v, *lux, *est, *out, *energy;
+	unsigned char *fault;
+	int n;
+	/* over every sample */
+	long long total, seen;
+	double tmin, tmax, vmax, luxmax, energy_h, fault_s, prev_t;
+	double utc0;              /* UTC of clock 0 of the first dated run (NAN: none yet) */
+	double esum, ecomp;              /* energy, Neumaier */
+	double err2, err2c;              /* squared estimate error, Neumaier */
+	long long nerr, nmeas;            /* estimate errors; task meter readings */
+	struct session sess[MAXSESS];
+	int nsess, checks, fails, verdict;
+	char config_sha[65], scene_sha[65];
+	/* acceptance tests: a table when the database has one */
+	char acc_head[MAXCOL][24];
+	char acc[MAXACC][MAXCOL][40];
+	int nacc, nacccol;
+};
+
+static void neumaier(double *sum, double *c, double x)
+{
+	double t = *sum + x;
+	if (fabs(*sum) >= fabs(x))
+		*c += (*sum - t) + x;
+	else
+		*c += (x - t) + *sum;
+	*sum = t;
+}
+
+/* A record's time on the report's axis: its clock time, or, for rows that
+ * carry their UTC (schema 4), the seconds since clock 0 of the first dated
+ * run, so that runs on later days follow it instead of drawing over it. */
+static double rec_t(struct zone *z, double t, double utc)
+{
+	if (!isfinite(utc))
+		return t;
+	if (!isfinite(z->utc0))
+		z->utc0 = utc - t;
+	return utc - z->utc0;
+}
+
+static void add_sample(void *user, const struct psd_sample *row)
+{
+	struct zone *z = user;
+	struct psd_sample sample = *row, *s = &sample;
+	long long step = z->total / MAXPTS + 1;
+	double dt;
+	sample.t = rec_t(z, row->t, row->utc);
+	dt = z->seen > 0 ? s->t - z->prev_t : 0;
+	/* energy: output times time (a gap longer than an hour is not counted) */
+	if (dt > 0 && dt <= 3600 && isfinite(s->output))
+		neumaier(&z->esum, &z->ecomp, s->output * dt / 3600);
+	if (dt > 0 && dt <= 3600 && s->fault)
+		z->fault_s += dt;
+	if (isfinite(s->est_task_lux) && isfinite(s->task_lux) && s->task_lux >= 50) {
+		double e = (s->est_task_lux - s->task_lux) / s->task_lux;
+		neumaier(&z->err2, &z->err2c, e * e);
+		z->nerr++;
+	}
+	z->nmeas += isfinite(s->task_lux);
+	z->prev_t = s->t;
+	if (s->t < z->tmin)
+		z->tmin = s->t;
+	if (s->t > z->tmax)
+		z->tmax = s->t;
+	if (z->seen++ % step == 0 && z->n < MAXPTS) {
+		int i = z->n++;
+		z->t[i] = s->t;
+		z->v[i] = s->sensor_v;
+		z->lux[i] = s->task_lux;
+		z->est[i] = s->est_task_lux;
+		z->out[i] = isfinite(s->output) ? 100 * s->output : NAN;
+		z->energy[i] = z->esum + z->ecomp;
+		z->fault[i] = s->fault != NULL;
+		if (isfinite(s->sensor_v) && s->sensor_v > z->vmax)
+			z->vmax = s->sensor_v;
+		if (isfinite(s->task_lux) && s->task_lux > z->luxmax)
+			z->luxmax = s->task_lux;
+		if (isfinite(s->est_task_lux) && s->est_task_lux > z->luxmax)
+			z->luxmax = s->est_task_lux;
+	}
+}
+
+static double jnum(json_object *o, const char *k)
+{
+	json_object *v;
+	return o && json_object_object_get_ex(o, k, &v) && v ? json_object_get_double(v) : NAN;
+}
+
+struct sess_ctx {
+	struct zone *z;
+	double tol;
+};
+
+static void add_session(void *user, const struct psd_db_cal_session *row)
+{
+	struct sess_ctx *c = user;
+	struct zone *z = c->z;
+	struct session *s;
+	json_object *o, *cond;
+	double e = NAN;
+	if (z->nsess >= MAXSESS)
+		return;
+	s = &z->sess[z->nsess++];
+	memset(s, 0, sizeof *s);
+	s->id = row->id;
+	snprintf(s->kind, sizeof s->kind, "%s", row->kind ? row->kind : "?");
+	snprintf(s->state, sizeof s->state, "%s", row->state ? row->state : "?");
+	s->started = rec_t(c->z, row->started, row->started_utc);
+	s->ended = rec_t(c->z, row->ended, row->ended_utc);
+	o = row->results ? json_tokener_parse(row->results) : NULL;
+	if (o && strcmp(s->kind, "night") == 0) {
+		e = jnum(o, "electric_lux_error_pct");
+		snprintf(s->result, sizeof s->result, "offset %.4f V, %.4f V at full (se %.4f), R\xc2\xb2 %.6f, "
+		         "worst residual %.2f %%", jnum(o, "offset"), jnum(o, "gain"), jnum(o, "gain_se"), jnum(o, "r2"),
+		         jnum(o, "max_resid_pct"));
+		if (isfinite(e))
+			snprintf(s->design, sizeof s->design, "electric lux %+.1f %%", e);
+	} else if (o) {
+		e = jnum(o, "error_pct");
+		snprintf(s->result, sizeof s->result, "%.2f lux/V (se %.2f, n %.0f) vs simulated %.2f (%s)",
+		         jnum(o, "ratio"), jnum(o, "ratio_se"), jnum(o, "samples"), jnum(o, "sim_ratio"),
+		         json_object_object_get_ex(o, "condition", &cond) ? json_object_get_string(cond) : "?");
+		if (isfinite(e))
+			snprintf(s->design, sizeof s->design, "ratio %+.1f %%", e);
+	} else if (row->note) {
+		snprintf(s->result, sizeof s->result, "%s", row->note);
+	}
+	if (isfinite(e)) {
+		s->judged = 1;
+		s->pass = fabs(e) <= c->tol;
+		snprintf(s->design + strlen(s->design), sizeof s->design - strlen(s->design), s->pass ? ": pass" : ": FAIL");
+		if (strcmp(s->state, "accepted") == 0 || strcmp(s->state, "done") == 0) {
+			z->checks++;
+			z->fails += !s->pass;
+		}
+	}
+	json_object_put(o);
+}
+
+static void add_acceptance(void *user, int ncol, const char *const *names, const char *const *vals)
+{
+	struct zone *z = user;
+	int k = 0;
+	if (z->nacc >= MAXACC)
+		return;
+	for (int i = 0; i < ncol && k < MAXCOL; i++) {
+		if (strcmp(names[i], "zone") == 0 || strcmp(names[i], "id") == 0)
+			continue;
+		if (z->nacc == 0)
+			snprintf(z->acc_head[k], sizeof z->acc_head[k], "%s", names[i]);
+		snprintf(z->acc[z->nacc][k], sizeof z->acc[0][0], "%s", vals[i] ? vals[i] : "");
+		k++;
+	}
+	z->nacccol = k;
+	z->nacc++;
+}
+
+static int zone_alloc(struct zone *z)
+{
+	double *p = calloc((size_t)MAXPTS * 6, sizeof *p);
+	z->fault = calloc(MAXPTS, 1);
+	if (!p || !z->fault) {
+		free(p);
+		free(z->fault);
+		return -1;
+	}
+	z->t = p;
+	z->v = p + MAXPTS;
+	z->lux = p + 2 * MAXPTS;
+	z->est = p + 3 * MAXPTS;
+	z->out = p + 4 * MAXPTS;
+	z->energy = p + 5 * MAXPTS;
+	return 0;
+}
+
+static void zone_free(struct zone *z)
+{
+	free(z->t);
+	free(z->fault);
+	z->t = NULL;
+	z->fault = NULL;
+}
+
+static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, size_t n)
+{
+	struct sess_ctx c = { z, tol };
+	static const char *const acc_tables[] = { "acceptance_tests", "acceptance" };
+	char ignored[256];
+	z->tmin = INFINITY;
+	z->utc0 = NAN;
+	z->tmax = -INFINITY;
+	if ((z->total = psd_db_zone_count(db, z->name, err, n)) < 0)
+		return -1;
+	if (psd_db_zone_samples(db, z->name, add_sample, z, err, n) != 0)
+		return -1;
+	z->energy_h = z->esum + z->ecomp;
+	/* an older database has no sessions table: then none are shown */
+	psd_db_cal_sessions(db, z->name, add_session, &c, ignored, sizeof ignored);
+	psd_db_cal_hashes(db, z->name, z->config_sha, z->scene_sha);
+	for (size_t i = 0; i < sizeof acc_tables / sizeof acc_tables[0] && !z->nacc; i++)
+		psd_db_table_rows(db, acc_tables[i], z->name, add_acceptance, z, ignored, sizeof ignored);
+	z->verdict = z->checks == 0 ? 0 : z->fails ? -1 : 1;
+	return 0;
+}
+
+/* ---- the document ---------------------------------------------------------- */
+
+struct doc {
+	const struct psd_report_opts *o;
+	struct zone *zones;
+	int nzones;
+	char config_sha[65];
+	char scene_sha[65];              /* from the configuration's results file */
+	cairo_t *cr;                     /* the current page */
+	int page, pages;                 /* pages: from the first pass, for "page n of N" */
+	struct psd_textboxes *boxes;
+	cairo_surface_t *rec[MAXPAGES];  /* every page, recorded */
+	int nrec;
+	int failed;
+	int mono;                        /* text in DejaVu Sans Mono (hashes) */
+	/* SVG: pages first..last drawn straight onto this surface (cairo 1.16's
+	 * SVG surface leaks a recording surface painted onto it) */
+	cairo_surface_t *direct;
+	int first, last;
+	double gap;
+};
+
+static void set_rgb(cairo_t *cr, const double c[3])
+{
+	cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+}
+
+static void font(struct doc *d, double size, int bold)
+{
+	cairo_select_font_face(d->cr, d->mono ? FONT " Mono" : FONT, CAIRO_FONT_SLANT_NORMAL,
+	                       bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+	cairo_set_font_size(d->cr, size);
+}
+
+static double width_of(struct doc *d, const char *s)
+{
+	cairo_text_extents_t te;
+	cairo_text_extents(d->cr, s, &te);
+	return te.x_advance;
+}
+
+static void record(struct doc *d, double x0, double y0, double x1, double y1, const char *s)
+{
+	if (psd_textboxes_add(d->boxes, d->page, x0, y0, x1, y1, s) != 0)
+		d->failed = 1;
+}
+
+/* Text with its baseline at y: align -1 left of x, 0 centred, 1 right.  Its
+ * width is returned. */
+static double text(struct doc *d, double x, double y, double size, int bold, int align, const double rgb[3],
+                   const char *s)
+{
+	cairo_font_extents_t fe;
+	double w;
+	font(d, size, bold);
+	cairo_font_extents(d->cr, &fe);
+	w = width_of(d, s);
+	x -= align < 0 ? 0 : align == 0 ? w / 2 : w;
+	set_rgb(d->cr, rgb);
+	cairo_move_to(d->cr, x, y);
+	cairo_show_text(d->cr, s);
+	record(d, x, y - fe.ascent, x + w, y + fe.descent, s);
+	return w;
+}
+
+/* Text made to fit maxw: smaller type down to min, then cut with an
+ * ellipsis.  Left aligned. */
+static double text_fit(struct doc *d, double x, double y, double maxw, double size, double min, int bold,
+                       const double rgb[3], const char *s)
+{
+	char buf[512];
+	size_t len;
+	for (; size > min; size -= 0.25) {
+		font(d, size, bold);
+		if (width_of(d, s) <= maxw)
+			return text(d, x, y, size, bold, -1, rgb, s);
+	}
+	font(d, min, bold);
+	snprintf(buf, sizeof buf, "%s", s);
+	len = strlen(buf);
+	while (len > 0) {
+		/* cut at a character boundary, then add the ellipsis */
+		do
+			len--;
+		while (len > 0 && ((unsigned char)buf[len] & 0xc0) == 0x80);
+		snprintf(buf + len, sizeof buf - len, "\xe2\x80\xa6");
+		if (width_of(d, buf) <= maxw)
+			break;
+		buf[len] = 0;
+	}
+	return text(d, x, y, min, bold, -1, rgb, buf);
+}
+
+/* Words wrapped to maxw from baseline y; the baseline after the last line. */
+static double paragraph(struct doc *d, double x, double y, double maxw, double size, double lead,
+                        const double rgb[3], const char *s)
+{
+	char line[640] = "", word[128];
+	font(d, size, 0);
+	while (*s) {
+		size_t k = strcspn(s, " ");
+		char trial[800];
+		size_t len;
+		snprintf(word, sizeof word, "%.*s", (int)(k < sizeof word - 1 ? k : sizeof word - 1), s);
+		s += k;
+		s += strspn(s, " ");
+		snprintf(trial, sizeof trial, "%s%s%s", line, *line ? " " : "", word);
+		font(d, size, 0);
+		if (*line && width_of(d, trial) > maxw) {
+			text(d, x, y, size, 0, -1, rgb, line);
+			y += lead;
+			snprintf(line, sizeof line, "%s", word);
+		} else {
+			len = strlen(trial) < sizeof line - 1 ? strlen(trial) : sizeof line - 1;
+			memcpy(line, trial, len);
+			line[len] = 0;
+		}
+	}
+	if (*line) {
+		text(d, x, y, size, 0, -1, rgb, line);
+		y += lead;
+	}
+	return y;
+}
+
+/* Text turned a quarter to the left, centred on (x, y): a y axis title. */
+static void text_up(struct doc *d, double x, double y, double size, const double rgb[3], const char *s)
+{
+	cairo_font_extents_t fe;
+	double w;
+	font(d, size, 0);
+	cairo_font_extents(d->cr, &fe);
+	w = width_of(d, s);
+	cairo_save(d->cr);
+	set_rgb(d->cr, rgb);
+	cairo_move_to(d->cr, x, y + w / 2);
+	cairo_rotate(d->cr, -M_PI / 2);
+	cairo_show_text(d->cr, s);
+	cairo_restore(d->cr);
+	record(d, x - fe.ascent, y - w / 2, x + fe.descent, y + w / 2, s);
+}
+
+static void hline(struct doc *d, double x0, double x1, double y, double lw, const double rgb[3])
+{
+	set_rgb(d->cr, rgb);
+	cairo_set_line_width(d->cr, lw);
+	cairo_move_to(d->cr, x0, y);
+	cairo_line_to(d->cr, x1, y);
+	cairo_stroke(d->cr);
+}
+
+static const char *verdict_word(int v)
+{
+	return v > 0 ? "PASS" : v < 0 ? "FAIL" : "NOT CALIBRATED";
+}
+
+static const double *verdict_rgb(int v)
+{
+	return v > 0 ? GREEN : v < 0 ? RED : GREY;
+}
+
+static void begin_page(struct doc *d)
+{
+	cairo_rectangle_t ext = { 0, 0, PAGE_W, PAGE_H };
+	if (d->nrec >= MAXPAGES) {
+		d->failed = 1;
+		d->cr = NULL;
+		return;
+	}
+	d->rec[d->nrec] = cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, &ext);
+	d->nrec++;
+	d->page++;
+	if (d->direct && d->page - 1 >= d->first && d->page - 1 <= d->last) {
+		d->cr = cairo_create(d->direct);
+		cairo_translate(d->cr, 0, (d->page - 1 - d->first) * (PAGE_H + d->gap));
+		cairo_rectangle(d->cr, 0, 0, PAGE_W, PAGE_H);
+		cairo_clip(d->cr);
+	} else {
+		d->cr = cairo_create(d->rec[d->nrec - 1]);
+	}
+	cairo_set_source_rgb(d->cr, 1, 1, 1);
+	cairo_paint(d->cr);
+}
+
+static void end_page(struct doc *d, const char *what)
+{
+	char foot[200];
+	const char *site = d->o->site ? d->o->site : "site not named";
+	snprintf(foot, sizeof foot, "psensd commissioning record \xc2\xb7 %s \xc2\xb7 %s", site, what);
+	hline(d, MARGIN, PAGE_W - MARGIN, FOOT_Y - 10, 0.4, GREY);
+	text_fit(d, MARGIN, FOOT_Y, PAGE_W - 2 * MARGIN - 80, 7, 5.5, 0, GREY, foot);
+	if (d->pages > 0)
+		snprintf(foot, sizeof foot, "page %d of %d", d->page, d->pages);
+	else
+		snprintf(foot, sizeof foot, "page %d", d->page);
+	text(d, PAGE_W - MARGIN, FOOT_Y, 7, 0, 1, GREY, foot);
+	if (cairo_status(d->cr) != CAIRO_STATUS_SUCCESS)
+		d->failed = 1;
+	cairo_destroy(d->cr);
+	d->cr = NULL;
+}
+
+/* "day 1 06:00" for a time on psensd's clock (seconds from local midnight of
+ * its first day). */
+static void when(double t, char *buf, size_t n)
+{
+	char hm[16];
+	if (!isfinite(t)) {
+		snprintf(buf, n, "-");
+		return;
+	}
+	psd_tick_time_label(t, hm, sizeof hm);
+	snprintf(buf, n, "day %d %s", (int)floor(t / 86400) + 1, hm);
+}
+
+static const struct psd_zone_conf *zconf(const struct doc *d, const struct zone *z)
+{
+	return d->o->cf && z->ci >= 0 ? &d->o->cf->zone[z->ci] : NULL;
+}
+
+static void sensor_text(const struct doc *d, const struct zone *z, char *buf, size_t n, int compact)
+{
+	const struct psd_zone_conf *zc = zconf(d, z);
+	if (zc && zc->sensor >= 0) {
+		const struct psd_point_conf *p = &d->o->cf->pt[zc->sensor];
+		const struct psd_device_conf *dev = &d->o->cf->dev[p->device];
+		if (compact)
+			snprintf(buf, n, "%s (%s)", p->name, dev->drv ? dev->drv->name : "?");
+		else
+			snprintf(buf, n, "point %s, device %s (%s)", p->name, dev->name, dev->drv ? dev->drv->name : "?");
+	} else {
+		snprintf(buf, n, "(no configuration given)");
+	}
+}
+
+static int overall(const struct doc *d)
+{
+	int fail = 0, pass = 0;
+	for (int i = 0; i < d->nzones; i++) {
+		fail |= d->zones[i].verdict < 0;
+		pass += d->zones[i].verdict > 0;
+	}
+	return fail ? -1 : pass == d->nzones && pass > 0 ? 1 : 0;
+}
+
+/* ---- the cover --------------------------------------------------------------- */
+
+struct chart {
+	double x0, y0, x1, y1;           /* the plot area */
+	double tlo, thi, ylo, yhi;
+};
+
+struct legend {
+	const char *label;
+	const double *rgb;
+	int kind;                        /* 0 line, 1 dashed line, 2 shade */
+	double alpha;
+};
+
+
+
+static void frame(struct doc *d, const struct chart *c, const struct zone *z, const char *title, const char *ytitle,
+                  const struct legend *lg, int nlg, int xtitle);
+static void line(struct doc *d, const struct chart *c, const struct zone *z, const double *y, const double rgb[3],
+                 double lw, int dashed);
+
+static void overview(struct doc *d, double top, double bottom, double tmin, double tmax)
+{
+	static const double *const pal[] = { PURPLE, GREEN, ORANGE, BLUE, RED, BLACK };
+	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, bottom, tmin, tmax > tmin ? tmax : tmin + 3600, 0,
+		           100 };
+	struct legend lg[PSD_MAX_ZONES] = { { 0 } };
+	int n = d->nzones < 6 ? d->nzones : 6;
+	for (int i = 0; i < n; i++)
+		lg[i] = (struct legend){ d->zones[i].name, pal[i], 0, 1 };
+	frame(d, &c, NULL, "Light output, every zone", "light output (%)", lg, n, 1);
+	for (int i = 0; i < n; i++)
+		line(d, &c, &d->zones[i], d->zones[i].out, pal[i], 1.1, 0);
+}
+
+static double keyval(struct doc *d, double y, const char *key, const char *val, int mono)
+{
+	text(d, MARGIN, y, 8.5, 1, -1, BLACK, key);
+	d->mono = mono && strspn(val, "0123456789abcdef") >= 16;   /* a hash, not a remark */
+	text_fit(d, MARGIN + 120, y, PAGE_W - 2 * MARGIN - 120, 8.5, 6, 0, BLACK, val);
+	d->mono = 0;
+	return y + 13;
+}
+
+static void cover(struct doc *d)
+{
+	const struct psd_report_opts *o = d->o;
+	char buf[512], a[64], b[64], wr[64];
+	double y = MARGIN + 22, tmin = INFINITY, tmax = -INFINITY;
+	int v = overall(d), checks = 0, fails = 0;
+	struct tm tm;
+	static const double cols[] = { 0, 55, 180, 220, 260, 355, 393, 438 };
+	static const char *const head[] = { "zone", "sensor", "target", "samples", "recorded", "faults",
+	                                    "energy", "verdict" };
+	begin_page(d);
+	if (!d->cr)
+		return;
+	text(d, MARGIN, y, 20, 1, -1, BLACK, "Commissioning record");
+	y += 18;
+	text(d, MARGIN, y, 10.5, 0, -1, GREY, "Daylight-linked lighting control (psensd): sensor calibration and performance");
+	y += 26;
+	for (int i = 0; i < d->nzones; i++) {
+		tmin = fmin(tmin, d->zones[i].tmin);
+		tmax = fmax(tmax, d->zones[i].tmax);
+		checks += d->zones[i].checks;
+		fails += d->zones[i].fails;
+	}
+	y = keyval(d, y, "Site", o->site ? o->site : "(not named: psensctl report --site)", 0);
+	buf[0] = 0;
+	for (int i = 0; i < d->nzones; i++)
+		snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "%s%s", i ? ", " : "", d->zones[i].name);
+	y = keyval(d, y, "Zones", buf, 0);
+	y = keyval(d, y, "Configuration", o->config_path ? o->config_path : "(not given: psensctl report -c FILE)", 0);
+	if (d->config_sha[0])
+		y = keyval(d, y, "Configuration SHA-256", d->config_sha, 1);
+	else if (d->nzones && d->zones[0].config_sha[0]) {
+		snprintf(buf, sizeof buf, "%s (at the last calibration)", d->zones[0].config_sha);
+		y = keyval(d, y, "Configuration SHA-256", buf, 1);
+	} else
+		y = keyval(d, y, "Configuration SHA-256", "(unknown)", 0);
+	y = keyval(d, y, "Scene", o->cf && o->cf->scene ? o->cf->scene : o->cf && o->cf->results ? o->cf->results :
+	           "(see the configuration)", 0);
+	y = keyval(d, y, "Scene SHA-256", d->scene_sha[0] ? d->scene_sha : d->nzones && d->zones[0].scene_sha[0] ?
+	           d->zones[0].scene_sha : "(unknown: no results file read, no calibration recorded it)", 1);
+	y = keyval(d, y, "Database", o->dbpath, 0);
+	when(tmin, a, sizeof a);
+	when(tmax, b, sizeof b);
+	if (isfinite(tmin))
+		snprintf(buf, sizeof buf, "%s to %s (%.1f h)%s%s", a, b, (tmax - tmin) / 3600,
+		         o->cf && o->cf->date[0] ? ", simulated date " : "", o->cf && o->cf->date[0] ? o->cf->date : "");
+	else
+		snprintf(buf, sizeof buf, "no samples");
+	y = keyval(d, y, "Records", buf, 0);
+	gmtime_r(&o->written, &tm);
+	strftime(wr, sizeof wr, "%Y-%m-%d %H:%M UTC", &tm);
+	y = keyval(d, y, "Report written", wr, 0);
+	y += 14;
+	/* the zones */
+	text(d, MARGIN, y, 12, 1, -1, BLACK, "Zones");
+	y += 16;
+	for (int c = 0; c < 8; c++)
+		text(d, MARGIN + cols[c], y, 7.5, 1, -1, BLACK, head[c]);
+	hline(d, MARGIN, PAGE_W - MARGIN, y + 3, 0.5, BLACK);
+	y += 13;
+	for (int i = 0; i < d->nzones; i++) {
+		struct zone *z = &d->zones[i];
+		const struct psd_zone_conf *zc = zconf(d, z);
+		double colw;
+		for (int c = 0; c < 8; c++) {
+			colw = (c < 7 ? cols[c + 1] : PAGE_W - 2 * MARGIN) - cols[c] - 6;
+			switch (c) {
+			case 0: snprintf(buf, sizeof buf, "%s", z->name); break;
+			case 1: sensor_text(d, z, buf, sizeof buf, 1); break;
+			case 2:
+				if (zc)
+					snprintf(buf, sizeof buf, "%.0f lx", zc->ctl.target_lux);
+				else
+					snprintf(buf, sizeof buf, "-");
+				break;
+			case 3: snprintf(buf, sizeof buf, "%lld", z->total); break;
+			case 4:
+				when(z->tmin, a, sizeof a);
+				when(z->tmax, b, sizeof b);
+				snprintf(buf, sizeof buf, "%s to %s", a, b + (strncmp(a, b, 5) == 0 ? 6 : 0));
+				break;
+			case 5: snprintf(buf, sizeof buf, "%.0f min", z->fault_s / 60); break;
+			case 6: snprintf(buf, sizeof buf, "%.2f flh", z->energy_h); break;
+			default: snprintf(buf, sizeof buf, "%s", verdict_word(z->verdict)); break;
+			}
+			text_fit(d, MARGIN + cols[c], y, colw, 7.5, 5.5, c == 7, c == 7 ? verdict_rgb(z->verdict) : BLACK,
+			         buf);
+		}
+		y += 12;
+	}
+	y += 4;
+	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 7, 9, GREY,
+	              "target: the task illuminance the zone holds; recorded: first and last sample (day 1 is the "
+	              "day psensd started); faults: time at the safe level; energy: lighting energy in full-load "
+	              "hours (hours at full output; power taken as proportional to the output).");
+	y += 16;
+	/* the verdict, then its reason on its own line */
+	text(d, MARGIN, y + 12, 26, 1, -1, verdict_rgb(v), v == 0 && checks ? "INCOMPLETE" : verdict_word(v));
+	y += 30;
+	snprintf(buf, sizeof buf, "%d of %d calibration results within %g %% of the design prediction (the "
+	         "simulated ratios), over %d zone%s.", checks - fails, checks, o->tolerance_pct, d->nzones,
+	         d->nzones == 1 ? "" : "s");
+	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 9, 12, BLACK, buf);
+	y += 6;
+	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 8, 11, GREY,
+	              "A night session fits the sensor's offset and its response to the electric light at each "
+	              "dimming level, and compares the electric task illuminance with the design; a day session "
+	              "measures the ratio of task illuminance to the sensor's daylight signal against the simulated "
+	              "ratio. A zone passes when every completed or accepted session is within the tolerance; a zone "
+	              "with no such session is not calibrated. The pages that follow show, per zone, the recorded "
+	              "signals with faults and calibration sessions shaded, and the sessions themselves.");
+	/* every zone's light output over the record: fills the page to the sign-off */
+	if (FOOT_Y - 172 - 40 - (y + 30) >= 80 && isfinite(tmin))
+		overview(d, y + 30, FOOT_Y - 172 - 44, tmin, tmax);
+	/* the sign-off, at the foot of the page */
+	y = FOOT_Y - 172;
+	hline(d, MARGIN, PAGE_W - MARGIN, y - 16, 0.8, BLACK);
+	text(d, MARGIN, y, 12, 1, -1, BLACK, "Sign-off");
+	y += 15;
+	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 8, 11, BLACK,
+	              "We have reviewed this record and accept the calibration and the functional performance of "
+	              "the zones listed above, subject to the verdicts shown.");
+	y += 10;
+	for (int c = 0; c < 2; c++) {
+		double x = MARGIN + c * (PAGE_W - 2 * MARGIN) / 2, yy = y;
+		static const char *const who[] = { "Commissioning agent", "Building owner or representative" };
+		static const char *const lines[] = { "Name", "Signature", "Date" };
+		text(d, x, yy, 9, 1, -1, BLACK, who[c]);
+		yy += 26;
+		for (int k = 0; k < 3; k++, yy += 28) {
+			text(d, x, yy, 8, 0, -1, GREY, lines[k]);
+			hline(d, x + 52, x + (PAGE_W - 2 * MARGIN) / 2 - 18, yy + 1, 0.6, BLACK);
+		}
+	}
+	end_page(d, "cover");
+}
+
+/* ---- a zone's charts --------------------------------------------------------- */
+
+static double cx(const struct chart *c, double t)
+{
+	return c->x0 + (c->thi > c->tlo ? (t - c->tlo) / (c->thi - c->tlo) : 0.5) * (c->x1 - c->x0);
+}
+
+static double cy(const struct chart *c, double v)
+{
+	return c->y1 - (c->yhi > c->ylo ? (v - c->ylo) / (c->yhi - c->ylo) : 0) * (c->y1 - c->y0);
+}
+
+static void line(struct doc *d, const struct chart *c, const struct zone *z, const double *y, const double rgb[3],
+                 double lw, int dashed)
+{
+	int open = 0;
+	/* a gap much longer than the points' spacing (psensd not running) is
+	 * left blank, not bridged by a straight line */
+	double gap = z->n > 1 ? fmax(1800, 5 * (z->tmax - z->tmin) / (z->n - 1)) : INFINITY;
+	cairo_save(d->cr);
+	cairo_rectangle(d->cr, c->x0, c->y0, c->x1 - c->x0, c->y1 - c->y0);
+	cairo_clip(d->cr);
+	for (int i = 0; i < z->n; i++) {
+		/* a gap (NaN) or time going back (a second run appended) breaks the line */
+		if (!isfinite(y[i]) || (i > 0 && (z->t[i] < z->t[i - 1] || z->t[i] - z->t[i - 1] > gap))) {
+			open = 0;
+			if (!isfinite(y[i]))
+				continue;
+		}
+		if (open)
+			cairo_line_to(d->cr, cx(c, z->t[i]), cy(c, y[i]));
+		else
+			cairo_move_to(d->cr, cx(c, z->t[i]), cy(c, y[i]));
+		open = 1;
+	}
+	set_rgb(d->cr, rgb);
+	cairo_set_line_width(d->cr, lw);
+	if (dashed) {
+		static const double dash[] = { 4, 2.5 };
+		cairo_set_dash(d->cr, dash, 2, 0);
+	}
+	cairo_set_line_join(d->cr, CAIRO_LINE_JOIN_ROUND);
+	cairo_stroke(d->cr);
+	cairo_restore(d->cr);
+}
+
+/* The chart's frame, shading, ticks, axis titles and legend; xtitle only
+ * under the last chart. */
+static void frame(struct doc *d, const struct chart *c, const struct zone *z, const char *title, const char *ytitle,
+                  const struct legend *lg, int nlg, int xtitle)
+{
+	struct psd_ticks tt, yt;
+	char lab[32];
+	double x, lw, avail, size = 7;
+	/* shading: faults (red), calibration sessions (blue) */
+	if (!z)
+		goto unshaded;
+	cairo_save(d->cr);
+	cairo_rectangle(d->cr, c->x0, c->y0, c->x1 - c->x0, c->y1 - c->y0);
+	cairo_clip(d->cr);
+	for (int i = 0; i < z->n; i++)
+		if (z->fault[i]) {
+			double a = cx(c, z->t[i]), b = i + 1 < z->n && z->t[i + 1] > z->t[i] ? cx(c, z->t[i + 1]) : a + 1;
+			cairo_rectangle(d->cr, a, c->y0, fmax(b - a, 0.8), c->y1 - c->y0);
+		}
+	cairo_set_source_rgba(d->cr, RED[0], RED[1], RED[2], 0.22);
+	cairo_fill(d->cr);
+	for (int i = 0; i < z->nsess; i++) {
+		double a = z->sess[i].started, b = isfinite(z->sess[i].ended) ? z->sess[i].ended : z->tmax;
+		if (!isfinite(a))
+			continue;
+		cairo_rectangle(d->cr, cx(c, a), c->y0, fmax(cx(c, b) - cx(c, a), 1.2), c->y1 - c->y0);
+	}
+	cairo_set_source_rgba(d->cr, BLUE[0], BLUE[1], BLUE[2], 0.16);
+	cairo_fill(d->cr);
+	cairo_restore(d->cr);
+unshaded:
+	/* grid and y ticks */
+	if (psd_ticks_num(c->ylo, c->yhi, 6, &yt) == 0)
+		for (int i = 0; i < yt.n; i++) {
+			double y = cy(c, yt.v[i]);
+			hline(d, c->x0, c->x1, y, 0.3, (const double[3]){ 0.85, 0.85, 0.85 });
+			psd_tick_num_label(&yt, yt.v[i], lab, sizeof lab);
+			text(d, c->x0 - 3, y + 2.5, 6.5, 0, 1, BLACK, lab);
+		}
+	/* time ticks */
+	if (psd_ticks_time(c->tlo, c->thi, (int)((c->x1 - c->x0) / 45), &tt) == 0)
+		for (int i = 0; i < tt.n; i++) {
+			x = cx(c, tt.v[i]);
+			set_rgb(d->cr, GREY);
+			cairo_set_line_width(d->cr, 0.5);
+			cairo_move_to(d->cr, x, c->y1);
+			cairo_line_to(d->cr, x, c->y1 + 3);
+			cairo_stroke(d->cr);
+			psd_tick_time_label(tt.v[i], lab, sizeof lab);
+			text(d, x, c->y1 + 12, 6.5, 0, 0, BLACK, lab);
+		}
+	/* day boundaries */
+	for (double day = ceil(c->tlo / 86400) * 86400; day <= c->thi; day += 86400) {
+		if (day <= c->tlo)
+			continue;
+		x = cx(c, day);
+		cairo_save(d->cr);
+		set_rgb(d->cr, BLACK);
+		cairo_set_line_width(d->cr, 0.8);
+		cairo_set_dash(d->cr, (const double[2]){ 2, 2 }, 2, 0);
+		cairo_move_to(d->cr, x, c->y0);
+		cairo_line_to(d->cr, x, c->y1);
+		cairo_stroke(d->cr);
+		cairo_restore(d->cr);
+		snprintf(lab, sizeof lab, "day %d", (int)(day / 86400) + 1);
+		text(d, x + 2, c->y0 + 7, 6, 0, -1, BLACK, lab);
+	}
+	/* the frame */
+	cairo_set_line_width(d->cr, 0.6);
+	set_rgb(d->cr, GREY);
+	cairo_rectangle(d->cr, c->x0, c->y0, c->x1 - c->x0, c->y1 - c->y0);
+	cairo_stroke(d->cr);
+	text_up(d, MARGIN + 6, (c->y0 + c->y1) / 2, 7, BLACK, ytitle);
+	if (xtitle)
+		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, "local time of day (hh:mm); day 1 is the "
+		     "day psensd started");
+	/* title and legend above the plot */
+	lw = text(d, c->x0, c->y0 - 4, 8.5, 1, -1, BLACK, title);
+	x = c->x0 + lw + 12;
+	avail = c->x1 - x;
+	for (;;) {
+		double need = 0;
+		font(d, size, 0);
+		for (int i = 0; i < nlg; i++)
+			need += 16 + width_of(d, lg[i].label) + 8;
+		if (need <= avail || size <= 5)
+			break;
+		size -= 0.25;
+	}
+	for (int i = 0; i < nlg; i++) {
+		double ly = c->y0 - 6.5;
+		if (lg[i].kind == 2) {
+			cairo_rectangle(d->cr, x, ly - 3, 12, 6);
+			cairo_set_source_rgba(d->cr, lg[i].rgb[0], lg[i].rgb[1], lg[i].rgb[2], lg[i].alpha);
+			cairo_fill(d->cr);
+		} else {
+			cairo_save(d->cr);
+			if (lg[i].kind == 1)
+				cairo_set_dash(d->cr, (const double[2]){ 3, 2 }, 2, 0);
+			hline(d, x, x + 12, ly, 1.4, lg[i].rgb);
+			cairo_restore(d->cr);
+		}
+		x += 16;
+		x += text_fit(d, x, c->y0 - 4, fmax(c->x1 - x, 10), size, 5, 0, BLACK, lg[i].label) + 8;
+	}
+}
+
+static void charts(struct doc *d, const struct zone *z, double top, double bottom)
+{
+	const struct psd_zone_conf *zc = zconf(d, z);
+	double target = zc ? zc->ctl.target_lux : NAN;
+	double gap = 30, h = (bottom - top - 3 * gap - 12) / 4;
+	double tlo = z->tmin, thi = z->tmax > z->tmin ? z->tmax : z->tmin + 3600;
+	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, top + h, tlo, thi, 0, 1 };
+	double *tl = NULL;
+	const struct legend fault = { "fault (safe level)", RED, 2, 0.22 }, cal = { "calibration", BLUE, 2, 0.16 };
+	/* sensor volts */
+	c.ylo = 0;
+	c.yhi = z->vmax > 0 ? z->vmax : 1;
+	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
+	{
+		struct legend lg[3] = { { "sensor signal", BLUE, 0, 1 } };
+		int k = 1;
+		if (z->fault_s > 0)
+			lg[k++] = fault;
+		if (z->nsess)
+			lg[k++] = cal;
+		frame(d, &c, z, "Sensor", "sensor signal (V)", lg, k, 0);
+	}
+	line(d, &c, z, z->v, BLUE, 1.1, 0);
+	/* task lux */
+	c.y0 += h + gap;
+	c.y1 += h + gap;
+	c.ylo = 0;
+	c.yhi = fmax(z->luxmax, isfinite(target) ? target * 1.1 : 0);
+	if (!(c.yhi > 0))
+		c.yhi = 100;
+	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
+	{
+		struct legend lg[5] = { { "estimated", ORANGE, 1, 1 } };
+		int k = 1;
+		if (z->nmeas)
+			lg[k++] = (struct legend){ "measured", GREEN, 0, 1 };
+		if (isfinite(target))
+			lg[k++] = (struct legend){ "target", RED, 1, 1 };
+		if (z->fault_s > 0)
+			lg[k++] = fault;
+		if (z->nsess)
+			lg[k++] = cal;
+		frame(d, &c, z, "Task illuminance", "task illuminance (lx)", lg, k, 0);
+	}
+	line(d, &c, z, z->lux, GREEN, 1.1, 0);
+	line(d, &c, z, z->est, ORANGE, 1.1, 1);
+	if (isfinite(target) && (tl = malloc((size_t)z->n * sizeof *tl))) {
+		for (int i = 0; i < z->n; i++)
+			tl[i] = target;
+		line(d, &c, z, tl, RED, 0.9, 1);
+		free(tl);
+	}
+	/* dimming level */
+	c.y0 += h + gap;
+	c.y1 += h + gap;
+	c.ylo = 0;
+	c.yhi = 100;
+	{
+		struct legend lg[3] = { { "light output", PURPLE, 0, 1 } };
+		int k = 1;
+		if (z->fault_s > 0)
+			lg[k++] = fault;
+		if (z->nsess)
+			lg[k++] = cal;
+		frame(d, &c, z, "Dimming level", "light output (%)", lg, k, 0);
+	}
+	line(d, &c, z, z->out, PURPLE, 1.1, 0);
+	/* energy */
+	c.y0 += h + gap;
+	c.y1 += h + gap;
+	c.ylo = 0;
+	c.yhi = z->energy_h > 0 ? z->energy_h : 1;
+	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
+	{
+		char lab[96];
+		snprintf(lab, sizeof lab, "lighting energy to date, %.2f full-load h in all", z->energy_h);
+		const struct legend lg[] = { { lab, BLACK, 0, 1 } };
+		frame(d, &c, z, "Energy", "energy (full-load h)", lg, 1, 1);
+	}
+	line(d, &c, z, z->energy, BLACK, 1.1, 0);
+}
+
+/* ---- tables ------------------------------------------------------------------ */
+
+enum { ROW_H = 11 };
+
+static double table_head(struct doc *d, double y, const char *title, const double *cols, const char *const *head,
+                         int ncol)
+{
+	text(d, MARGIN, y, 10, 1, -1, BLACK, title);
+	y += 14;
+	for (int c = 0; c < ncol; c++) {
+		double w = (c + 1 < ncol ? cols[c + 1] : PAGE_W - 2 * MARGIN) - cols[c] - 4;
+		text_fit(d, MARGIN + cols[c], y, w, 7, 5, 1, BLACK, head[c]);
+	}
+	hline(d, MARGIN, PAGE_W - MARGIN, y + 3, 0.5, BLACK);
+	return y + ROW_H + 1;
+}
+
+static const double SCOLS[] = { 0, 18, 46, 98, 152, 206, 420 };
+
+/* A session's result in at most two lines of the result column: 1 or 2. */
+static int result_lines(struct doc *d, const char *s, char *l1, char *l2, size_t n)
+{
+	double maxw = SCOLS[6] - SCOLS[5] - 4;
+	snprintf(l1, n, "%s", s);
+	l2[0] = 0;
+	font(d, 7, 0);
+	if (width_of(d, l1) <= maxw)
+		return 1;
+	/* the longest first line that fits, broken after a space */
+	for (size_t k = strlen(l1); k > 0; k--)
+		if (s[k] == ' ') {
+			l1[k] = 0;
+			if (width_of(d, l1) <= maxw) {
+				snprintf(l2, n, "%s", s + k + 1);
+				return 2;
+			}
+		}
+	snprintf(l1, n, "%s", s);
+	return 1;
+}
+
+static double session_row(struct doc *d, double y, const struct session *s)
+{
+	char buf[64], a[32], l1[200], l2[200];
+	int lines = result_lines(d, s->result[0] ? s->result : "-", l1, l2, sizeof l1);
+	const char *cells[7];
+	snprintf(buf, sizeof buf, "%lld", s->id);
+	cells[0] = buf;
+	cells[1] = s->kind;
+	cells[2] = s->state;
+	when(s->started, a, sizeof a);
+	cells[3] = a;
+	for (int c = 0; c < 4; c++)
+		text_fit(d, MARGIN + SCOLS[c], y, SCOLS[c + 1] - SCOLS[c] - 4, 7, 5, 0, BLACK, cells[c]);
+	when(s->ended, a, sizeof a);
+	text_fit(d, MARGIN + SCOLS[4], y, SCOLS[5] - SCOLS[4] - 4, 7, 5, 0, BLACK, a);
+	text_fit(d, MARGIN + SCOLS[5], y, SCOLS[6] - SCOLS[5] - 4, 7, 5, 0, BLACK, l1);
+	if (lines > 1)
+		text_fit(d, MARGIN + SCOLS[5] + 6, y + ROW_H - 1.5, SCOLS[6] - SCOLS[5] - 10, 7, 5, 0, BLACK, l2);
+	text_fit(d, MARGIN + SCOLS[6], y, PAGE_W - 2 * MARGIN - SCOLS[6], 7, 5, s->judged && !s->pass,
+	         !s->judged ? GREY : s->pass ? GREEN : RED, s->design[0] ? s->design : "not judged");
+	return y + lines * ROW_H - (lines > 1 ? 1.5 : 0);
+}
+
+static double acc_row(struct doc *d, double y, const struct zone *z, int r)
+{
+	double w = (PAGE_W - 2 * MARGIN) / (z->nacccol ? z->nacccol : 1);
+	for (int c = 0; c < z->nacccol; c++)
+		text_fit(d, MARGIN + c * w, y, w - 4, 7, 4.5, 0, BLACK, z->acc[r][c]);
+	return y + ROW_H;
+}
+
+static void zone_pages(struct doc *d, const struct zone *z)
+{
+	static const char *const shead[] = { "#", "kind", "state", "started", "ended", "result",
+	                                      "against the design" };
+	char buf[400], sensor[160], a[32], b[32], what[80];
+	const struct psd_zone_conf *zc = zconf(d, z);
+	double y, bottom = FOOT_Y - 16, charts_min = 4 * 92 + 3 * 30 + 12;
+	int row = 0, acc = 0, nlines = 0;
+	double tables_h, top = MARGIN + 52, room = bottom - top - charts_min - 24;
+	char l1[200], l2[200];
+	snprintf(what, sizeof what, "zone %s", z->name);
+	begin_page(d);
+	if (!d->cr)
+		return;
+	for (int i = 0; i < z->nsess; i++)
+		nlines += result_lines(d, z->sess[i].result[0] ? z->sess[i].result : "-", l1, l2, sizeof l1);
+	tables_h = 12 + 26 + (nlines ? nlines : 1) * ROW_H + (z->nacc ? 36 + z->nacc * ROW_H : 0);
+	snprintf(buf, sizeof buf, "Zone %s", z->name);
+	text_fit(d, MARGIN, MARGIN + 14, PAGE_W - 2 * MARGIN - 170, 16, 9, 1, BLACK, buf);
+	text(d, PAGE_W - MARGIN, MARGIN + 14, 16, 1, 1, verdict_rgb(z->verdict), verdict_word(z->verdict));
+	sensor_text(d, z, sensor, sizeof sensor, 0);
+	when(z->tmin, a, sizeof a);
+	when(z->tmax, b, sizeof b);
+	if (zc)
+		snprintf(buf, sizeof buf, "sensor %s; target %.0f lx; %lld samples, %s to %s", sensor, zc->ctl.target_lux,
+		         z->total, a, b);
+	else
+		snprintf(buf, sizeof buf, "%lld samples, %s to %s", z->total, a, b);
+	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
+	if (z->nerr)
+		snprintf(buf, sizeof buf, "estimate against the task meter (50 lx and more): rms %.1f %% over %lld samples; %d of %d "
+		         "calibration results within %g %%; faults %.0f min; energy %.2f full-load h", 100 *
+		         sqrt((z->err2 + z->err2c) / z->nerr), z->nerr, z->checks - z->fails, z->checks,
+		         d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
+	else
+		snprintf(buf, sizeof buf, "no task meter readings; %d of %d calibration results within %g %%; "
+		         "faults %.0f min; energy %.2f full-load h", z->checks - z->fails, z->checks, d->o->tolerance_pct,
+		         z->fault_s / 60, z->energy_h);
+	text_fit(d, MARGIN, MARGIN + 40, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
+	/* the tables take what they need from the bottom (up to what leaves the
+	 * charts their least height); the charts fill the rest */
+	if (tables_h > room)
+		tables_h = room;
+	if (z->n)
+		charts(d, z, top + 10, bottom - tables_h - 10);
+	else
+		text(d, MARGIN, top + 30, 12, 0, -1, GREY, "no samples for this zone");
+	y = bottom - tables_h + 12;
+	for (;;) {
+		if (row < z->nsess || (row == 0 && !z->nsess)) {
+			y = table_head(d, y, row ? "Calibration sessions (continued)" : "Calibration sessions", SCOLS, shead, 7);
+			if (!z->nsess) {
+				text(d, MARGIN, y, 7, 0, -1, GREY, "no calibration session recorded");
+				y += ROW_H;
+			}
+			for (; row < z->nsess; row++) {
+				int lines = result_lines(d, z->sess[row].result[0] ? z->sess[row].result : "-", l1, l2,
+				                         sizeof l1);
+				if (y + (lines - 1) * ROW_H > bottom)
+					break;
+				y = session_row(d, y, &z->sess[row]);
+			}
+		}
+		if (row >= z->nsess && z->nacc && acc < z->nacc && y + 40 <= bottom) {
+			double cols[MAXCOL];
+			const char *head[MAXCOL];
+			for (int c = 0; c < z->nacccol; c++) {
+				cols[c] = c * (PAGE_W - 2 * MARGIN) / z->nacccol;
+				head[c] = z->acc_head[c];
+			}
+			y = table_head(d, y + 10, acc ? "Acceptance tests (continued)" : "Acceptance tests", cols, head,
+			               z->nacccol);
+			for (; acc < z->nacc && y <= bottom; acc++)
+				y = acc_row(d, y, z, acc);
+		}
+		if (row >= z->nsess && acc >= z->nacc)
+			break;
+		end_page(d, what);
+		begin_page(d);
+		if (!d->cr)
+			return;
+		y = MARGIN + 14;
+	}
+	end_page(d, what);
+}
+
+/* ---- zones, output ------------------------------------------------------------ */
+
+struct names {
+	char name[PSD_MAX_ZONES * 4][48];
+	int n;
+};
+
+static void add_name(void *user, const char *name)
+{
+	struct names *nm = user;
+	if (nm->n < (int)(sizeof nm->name / sizeof nm->name[0]))
+		snprintf(nm->name[nm->n++], sizeof nm->name[0], "%s", name);
+}
+
+int psd_report_format_of(const char *path)
+{
+	const char *dot = path ? strrchr(path, '.') : NULL;
+	if (!dot)
+		return -1;
+	return strcasecmp(dot, ".pdf") == 0 ? PSD_REPORT_PDF : strcasecmp(dot, ".png") == 0 ? PSD_REPORT_PNG :
+	       strcasecmp(dot, ".svg") == 0 ? PSD_REPORT_SVG : -1;
+}
+
+/* Which zones: the one asked for (an error naming the zones there are when
+ * the database does not know it), or every zone. */
+static int pick_zones(const struct psd_report_opts *o, struct psd_db *db, struct doc *d, char *err, size_t n)
+{
+	static struct names nm;
+	char list[512] = "";
+	nm.n = 0;
+	if (psd_db_zones(db, add_name, &nm, err, n) != 0)
+		return -1;
+	/* zones of the configuration with nothing recorded yet still appear */
+	if (o->cf)
+		for (size_t i = 0; i < o->cf->nzone; i++) {
+			int have = 0;
+			for (int k = 0; k < nm.n; k++)
+				have |= strcmp(nm.name[k], o->cf->zone[i].name) == 0;
+			if (!have)
+				add_name(&nm, o->cf->zone[i].name);
+		}
+	for (int k = 0; k < nm.n; k++)
+		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", k ? ", " : "", nm.name[k]);
+	if (o->zone) {
+		int found = 0;
+		for (int k = 0; k < nm.n; k++)
+			found |= strcmp(nm.name[k], o->zone) == 0;
+		/* a log written before samples named their zone: its samples are
+		 * every zone's (psd_db_zone_samples), so any name is taken */
+		if (!found && nm.n == 0 && psd_db_zone_count(db, "", err, n) > 0)
+			found = 1;
+		if (!found)
+			return psd_errf(err, n, "%s: no zone '%s' (zones: %s)", o->dbpath, o->zone,
+			                nm.n ? list : "none recorded");
+		nm.n = 1;
+		snprintf(nm.name[0], sizeof nm.name[0], "%s", o->zone);
+	}
+	if (nm.n <= 0)
+		return psd_errf(err, n, "%s: no zone recorded (%s)", o->dbpath, psd_db_zone_count(db, "", err, n) > 0 ?
+		                "its samples name none: give the zone" : "no samples, no sessions");
+	if (nm.n > PSD_MAX_ZONES)
+		nm.n = PSD_MAX_ZONES;
+	d->zones = calloc((size_t)nm.n, sizeof *d->zones);
+	if (!d->zones)
+		return psd_errf(err, n, "out of memory");
+	for (int k = 0; k < nm.n; k++) {
+		struct zone *z = &d->zones[d->nzones++];
+		snprintf(z->name, sizeof z->name, "%s", nm.name[k]);
+		z->ci = o->cf ? psd_config_zone(o->cf, z->name) : -1;
+		if (zone_alloc(z) != 0)
+			return psd_errf(err, n, "out of memory");
+	}
+	return 0;
+}
+
+static void layout(struct doc *d)
+{
+	d->page = 0;
+	cover(d);
+	for (int i = 0; i < d->nzones && !d->failed; i++)
+		zone_pages(d, &d->zones[i]);
+}
+
+static void drop_pages(struct doc *d)
+{
+	for (int i = 0; i < d->nrec; i++)
+		cairo_surface_destroy(d->rec[i]);
+	d->nrec = 0;
+}
+
+static cairo_status_t to_file(void *closure, const unsigned char *data, unsigned int len)
+{
+	return fwrite(data, 1, len, closure) == len ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
+}
+
+static int emit(struct doc *d, FILE *fp, char *err, size_t n)
+{
+	const struct psd_report_opts *o = d->o;
+	cairo_surface_t *s;
+	cairo_t *cr;
+	cairo_status_t st;
+	int first = 0, last = d->nrec - 1;
+	double scale = o->format == PSD_REPORT_PNG ? PNG_SCALE : 1, gap = 12;
+	if (o->format != PSD_REPORT_PDF && o->page > 0) {
+		if (o->page > d->nrec)
+			return psd_errf(err, n, "page %d: the report has %d pages", o->page, d->nrec);
+		first = last = o->page - 1;
+	}
+	if (o->format == PSD_REPORT_PDF) {
+		s = cairo_pdf_surface_create_for_stream(to_file, fp, PAGE_W, PAGE_H);
+		cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE, "psensd commissioning record");
+		cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "psensctl report");
+		if (o->site)
+			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_SUBJECT, o->site);
+		{
+			char iso[32];
+			struct tm tm;
+			gmtime_r(&o->written, &tm);
+			strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm);
+			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATE_DATE, iso);
+		}
+	} else {
+		int pages = last - first + 1;
+		double w = PAGE_W * scale, h = (PAGE_H * pages + gap * (pages - 1)) * scale;
+		s = o->format == PSD_REPORT_PNG ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)ceil(w), (int)ceil(h))
+		                                : cairo_svg_surface_create_for_stream(to_file, fp, w, h);
+	}
+	cr = cairo_create(s);
+	if (o->format != PSD_REPORT_PDF) {
+		cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+		cairo_paint(cr);
+	}
+	if (o->format == PSD_REPORT_SVG) {
+		/* drawn again, straight onto the SVG surface (same layout, same boxes) */
+		drop_pages(d);
+		psd_textboxes_free(d->boxes);
+		d->direct = s;
+		d->first = first;
+		d->last = last;
+		d->gap = gap;
+		layout(d);
+		d->direct = NULL;
+		first = 0;
+		last = -1;
+	}
+	for (int i = first; i <= last; i++) {
+		cairo_save(cr);
+		if (o->format != PSD_REPORT_PDF) {
+			cairo_scale(cr, scale, scale);
+			cairo_translate(cr, 0, (i - first) * (PAGE_H + gap));
+		}
+		cairo_set_source_surface(cr, d->rec[i], 0, 0);
+		cairo_paint(cr);
+		cairo_restore(cr);
+		if (o->format == PSD_REPORT_PDF)
+			cairo_show_page(cr);
+	}
+	st = cairo_status(cr);
+	cairo_destroy(cr);
+	if (st == CAIRO_STATUS_SUCCESS && o->format == PSD_REPORT_PNG)
+		st = cairo_surface_write_to_png_stream(s, to_file, fp);
+	cairo_surface_finish(s);
+	if (st == CAIRO_STATUS_SUCCESS)
+		st = cairo_surface_status(s);
+	cairo_surface_destroy(s);
+	if (st != CAIRO_STATUS_SUCCESS || ferror(fp))
+		return psd_errf(err, n, "writing the report: %s", ferror(fp) ? strerror(errno) : cairo_status_to_string(st));
+	return 0;
+}
+
+int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_report_out *r, char *err, size_t n)
+{
+	struct psd_db *db;
+	struct doc d = { 0 };
+	int rc = -1;
+	memset(r, 0, sizeof *r);
+	d.o = o;
+	d.boxes = &r->boxes;
+	if (!(db = psd_db_open_readonly(o->dbpath, err, n)))
+		return -1;
+	if (pick_zones(o, db, &d, err, n) != 0)
+		goto out;
+	for (int i = 0; i < d.nzones; i++)
+		if (load_zone(db, &d.zones[i], o->tolerance_pct, err, n) != 0)
+			goto out;
+	if (o->config_path) {
+		struct ps_err pe = { 0 };
+		if (ps_hash_file(o->config_path, d.config_sha, &pe) != 0)
+			d.config_sha[0] = 0;   /* the cover then says it is unknown */
+	}
+	if (o->cf && o->cf->results) {
+		/* the scene and every input it names, as psscene hashed them */
+		struct ps_results res = { 0 };
+		struct ps_err pe = { 0 };
+		if (ps_results_read(&res, o->cf->results, &pe) == 0 && res.scene_hash)
+			snprintf(d.scene_sha, sizeof d.scene_sha, "%s", res.scene_hash);
+		ps_results_free(&res);
+	}
+	/* twice: the first pass counts the pages for "page n of N" */
+	layout(&d);
+	d.pages = d.nrec;
+	drop_pages(&d);
+	psd_textboxes_free(&r->boxes);
+	d.failed = 0;
+	layout(&d);
+	if (d.failed) {
+		psd_errf(err, n, "drawing the report failed (more than %d pages, or out of memory)", MAXPAGES);
+		goto out;
+	}
+	if (emit(&d, fp, err, n) != 0)
+		goto out;
+	r->pages = d.nrec;
+	r->verdict = overall(&d);
+	r->nzones = d.nzones;
+	for (int i = 0; i < d.nzones; i++) {
+		snprintf(r->zone[i].name, sizeof r->zone[i].name, "%s", d.zones[i].name);
+		r->zone[i].verdict = d.zones[i].verdict;
+	}
+	rc = 0;
+out:
+	drop_pages(&d);
+	for (int i = 0; i < d.nzones; i++)
+		zone_free(&d.zones[i]);
+	free(d.zones);
+	psd_db_close(db);
+	return rc;
+}
+
+int psd_report_write(const struct psd_report_opts *o, const char *path, struct psd_report_out *r, char *err,
+                     size_t n)
+{
+	char tmp[4096];
+	const char *slash;
+	int fd, rc;
+	FILE *fp;
+	memset(r, 0, sizeof *r);   /* freeable whatever fails */
+	if (!path)
+		return psd_report_render(o, stdout, r, err, n) == 0 && fflush(stdout) == 0 ? 0 : -1;
+	slash = strrchr(path, '/');
+	if (slash)
+		snprintf(tmp, sizeof tmp, "%.*s/.%s.XXXXXX", (int)(slash - path), path, slash + 1);
+	else
+		snprintf(tmp, sizeof tmp, ".%s.XXXXXX", path);
+	if ((fd = mkstemp(tmp)) < 0)
+		return psd_errf(err, n, "%s: %s", path, strerror(errno));   /* its directory */
+	if (!(fp = fdopen(fd, "wb"))) {
+		psd_errf(err, n, "%s: %s", tmp, strerror(errno));
+		close(fd);
+		unlink(tmp);
+		return -1;
+	}
+	rc = psd_report_render(o, fp, r, err, n);
+	if (rc == 0 && (fflush(fp) != 0 || fsync(fileno(fp)) != 0))
+		rc = psd_errf(err, n, "%s: %s", path, strerror(errno));
+	if (fclose(fp) != 0 && rc == 0)
+		rc = psd_errf(err, n, "%s: %s", path, strerror(errno));
+	/* the report reads as it would have been created by fopen: 0666 less the umask */
+	if (rc == 0) {
+		mode_t um = umask(0);
+		umask(um);
+		if (chmod(tmp, 0666 & ~um) != 0 || rename(tmp, path) != 0)
+			rc = psd_errf(err, n, "%s: %s", path, strerror(errno));
+	}
+	if (rc != 0)
+		unlink(tmp);
+	return rc;
+}
+
+void psd_report_out_free(struct psd_report_out *r)
+{
+	psd_textboxes_free(&r->boxes);
+}

@@ -1,0 +1,138 @@
+/* The year through daylight-coefficient rows: run time of the precompute
+ * (weights and coefficients) and of the year (8760 skies through the rows)
+ * against MF, for an upward cosine sensor under an open sky (exact
+ * coefficient pictures, ps_dcpic, 128 x 128) and the example office's
+ * rfluxmtx pictures (MF 1, read from disk), with the example's year
+ * (config/example/ofb/weather/sf-synthetic.wea: synthetic, see its
+ * README).  Goal (issue 19): the year's series for one zone at MF 4 in at
+ * most 1 s once the coefficients are integrated.  The sensor and task rows
+ * share the sky vectors, so a second view costs only its dot products. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "dcpic.h"
+#include "dcset.h"
+#include "integrate.h"
+#include "patches.h"
+#include "sensor.h"
+#include "sky.h"
+#include "view.h"
+#include "weather.h"
+#include "weights.h"
+#include "year.h"
+
+#define RES 128
+
+static double now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static const double V[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+
+static int top_path(char *buf, size_t n, const char *rel)
+{
+	const char *top = getenv("TOP");
+	return snprintf(buf, n, "%s/%s", top ? top : ".", rel) < (int)n ? 0 : -1;
+}
+
+int main(void)
+{
+	static const int mfs[] = { 1, 2, 4, 6 };
+	struct ps_weather w;
+	struct ps_sensor cos;
+	struct ps_view v;
+	struct ps_skyopt o;
+	struct ps_err e;
+	char path[4096];
+	top_path(path, sizeof path, "config/example/ofb/weather/sf-synthetic.wea");
+	if (ps_weather_read(&w, path, 0, &e) != 0 || ps_sensor_builtin(&cos, PS_SENS_COSINE, &e) != 0) {
+		fprintf(stderr, "bench_year: %s\n", e.msg);
+		return 1;
+	}
+	ps_view_default(&v);
+	ps_view_parse(&v, "-vta -vp 0 0 0 -vd 0 0 1 -vu 0 1 0 -vh 180 -vv 180", "bench", &e);
+	ps_skyopt_default(&o);
+	printf("the year (%zu steps of %s) through coefficient rows, upward cosine, open sky,\n"
+	       "exact pictures %d x %d (ms; year = both rows, every hour with light)\n", w.n, path,
+	       RES, RES);
+	printf("%4s %8s %10s %12s %10s %10s %12s %14s\n", "MF", "patches", "weights", "coefficients",
+	       "year", "per hour", "mean ratio", "task lx-hours");
+	for (size_t k = 0; k < sizeof mfs / sizeof *mfs; k++) {
+		struct ps_patches P;
+		struct ps_weights wt;
+		struct ps_dcrow row;
+		struct ps_year y;
+		int *map = malloc(RES * RES * sizeof *map);
+		double *c, t0, t1, t2, t3;
+		struct { double s; } sum = { 0 };
+		static const double red[3] = { 1, 0, 0 };
+		ps_patches_init(&P, mfs[k], &e);
+		t0 = now();
+		ps_weights_build(&wt, &cos, 0.0, &v, RES, RES, PS_W_EXACT, &e);
+		t1 = now();
+		ps_dcpic_map(&P, &v, RES, RES, map, &e);
+		c = malloc((size_t)P.n * sizeof *c);
+		ps_dcpic_coefficients(&wt, map, P.n, red, c, &e);
+		memset(&row, 0, sizeof row);
+		row.mf = mfs[k];
+		row.n = P.n;
+		row.c = malloc((size_t)P.n * 3 * sizeof *row.c);
+		for (int p = 0; p < P.n; p++)
+			row.c[3 * p] = row.c[3 * p + 1] = row.c[3 * p + 2] = c[p];
+		t2 = now();
+		if (ps_year_run(&row, V, &row, &w, &o, &y, &e) != 0) {
+			fprintf(stderr, "bench_year: %s\n", e.msg);
+			return 1;
+		}
+		t3 = now();
+		for (size_t i = 0; i < y.n; i++)
+			sum.s += y.h[i].task_lux;
+		printf("%4d %8d %10.1f %12.1f %10.1f %10.4f %12.2f %14.4g\n", mfs[k], P.n,
+		       1e3 * (t1 - t0), 1e3 * (t2 - t1), 1e3 * (t3 - t2), 1e3 * (t3 - t2) / (double)y.n,
+		       y.mean_ratio, sum.s);
+		ps_year_free(&y);
+		ps_dcrow_free(&row);
+		free(c);
+		free(map);
+		ps_weights_free(&wt);
+		ps_patches_free(&P);
+	}
+	{
+		struct ps_dcrow s, t;
+		struct ps_year y;
+		struct ps_view sv, tv;
+		char sp[4096], tp[4096];
+		double t0, t1, t2;
+		top_path(sp, sizeof sp, "config/example/ofb/dc/sensor/dc_%03d.hdr");
+		top_path(tp, sizeof tp, "config/example/ofb/dc/task/dc_%03d.hdr");
+		ps_view_default(&sv);
+		ps_view_default(&tv);
+		ps_view_parse(&sv, "-vta -vp 1.85 2.285 2.2 -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", "b", &e);
+		ps_view_parse(&tv, "-vta -vp 1.85 2.285 0.762 -vd 0 0 1 -vu 0 1 0 -vh 180 -vv 180", "b", &e);
+		t0 = now();
+		if (ps_dcset_row(sp, &sv, 1, &cos, 0.0, &s, &e) != 0 ||
+		    ps_dcset_row(tp, &tv, 1, &cos, 0.0, &t, &e) != 0) {
+			fprintf(stderr, "bench_year: %s\n", e.msg);
+			return 1;
+		}
+		t1 = now();
+		ps_year_run(&s, V, &t, &w, &o, &y, &e);
+		t2 = now();
+		printf("\nthe example office (rfluxmtx pictures, MF 1, 2 x 146 of 64 x 64 read from disk):\n"
+		       "  precompute (read, weights once per view, integrate) %.1f ms; the year %.1f ms "
+		       "(%zu hours with light, %.2f us an hour)\n",
+		       1e3 * (t1 - t0), 1e3 * (t2 - t1), y.n, 1e6 * (t2 - t1) / (double)y.n);
+		ps_year_free(&y);
+		ps_dcrow_free(&s);
+		ps_dcrow_free(&t);
+	}
+	ps_sensor_free(&cos);
+	ps_weather_free(&w);
+	return 0;
+}

@@ -1,0 +1,55 @@
+#!/bin/sh
+# psensd over the example's year: -Y runs every zone's law against the room
+# playing each day of the results' year and prints the annual figures, the
+# laws side by side and (with -P) the year as a PNG; results without a year
+# are refused clearly; a simulated day of the year ([simulate] year = yes)
+# logs the dated estimate.
+. "$(dirname "$0")/lib.sh"
+[ -x "$BIN/psensd" ] || skip_all "psensd not built"
+example_results
+sed "s|^results = .*|results = $TMP/state/ofb.results|; s|^database = .*|database = $TMP/state/psensd.db|; s|^scene = .*|scene = $TMP/example/ofb.scene|" \
+	config/psensd.conf > "$TMP/psensd.conf"
+"$BIN/psensd" -f "$TMP/psensd.conf" -Y -P "$TMP/year.png" > "$TMP/out" 2> "$TMP/err"
+check "-Y runs" test $? = 0
+check "a year at 60 s is 525,600 steps" grep -q "525600 control steps" "$TMP/out"
+check "3650 occupied hours" grep -q "occupied 08:00-18:00 every day, 3650 h" "$TMP/out"
+for what in "lighting energy" "ideal photocell (DAYSIM" "below 90 % of target" "dimming changes an hour" \
+	"one mean ratio" "dated ratio (month x hour x typical sky class)"; do
+	check "prints: $what" grep -qF "$what" "$TMP/out"
+done
+check "a monthly table of 12 months" test "$(grep -cE '^  (Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec) ' "$TMP/out")" = 12
+for alg in setpoint closed-proportional open-proportional integral-reset switching; do
+	check "the laws compared: $alg" grep -qE "^  $alg +[0-9.]+ " "$TMP/out"
+done
+check "the year drawn as a PNG" sh -c "head -c 8 '$TMP/year.png' | od -An -c | grep -q 'P   N   G'"
+# the dated estimate beats the one mean ratio over the example's year
+rms() { sed -n "s/.*$1.*rms \([0-9.]*\) %.*/\1/p" "$TMP/out" | head -n 1; }
+m=$(rms "one mean ratio"); d=$(rms "dated ratio")
+check "dated estimate rms $d % below the mean ratio's $m %" awk -v m="$m" -v d="$d" 'BEGIN { exit !(d < m) }'
+# the occupied hours from [simulate]
+sed 's/^\[simulate\]/[simulate]\noccupied_from = 09:00\noccupied_to = 17:00/' "$TMP/psensd.conf" > "$TMP/occ.conf"
+"$BIN/psensd" -f "$TMP/occ.conf" -Y > "$TMP/occ.out" 2>&1
+check "occupied_from and occupied_to: 2920 h" grep -q "occupied 09:00-17:00 every day, 2920 h" "$TMP/occ.out"
+# results without a year: refused, naming what is missing
+sed '/^weather = /d' "$TMP/example/ofb.scene" > "$TMP/example/noyear.scene"
+"$BIN/psscene" -q -N -o "$TMP/state/noyear.results" "$TMP/example/noyear.scene"
+sed "s|^results = .*|results = $TMP/state/noyear.results|; s|^scene = .*|scene = $TMP/example/noyear.scene|" \
+	"$TMP/psensd.conf" > "$TMP/noyear.conf"
+"$BIN/psensd" -f "$TMP/noyear.conf" -Y > /dev/null 2> "$TMP/err2"
+check "-Y without a year fails" test $? -ne 0
+check "and says a weather file is needed" grep -q "needs results with a year" "$TMP/err2"
+sed 's/^\[simulate\]/[simulate]\nyear = yes/' "$TMP/noyear.conf" > "$TMP/noyear-day.conf"
+"$BIN/psensd" -f "$TMP/noyear-day.conf" -s > /dev/null 2> "$TMP/err3"
+check "a day of the year without a year fails" test $? -ne 0
+check "and names what is missing" grep -q "year = yes needs results with a year" "$TMP/err3"
+# a simulated day of the year logs the dated ratio
+sed 's/^\[simulate\]/[simulate]\nyear = yes/' "$TMP/psensd.conf" > "$TMP/day.conf"
+"$BIN/psensd" -f "$TMP/day.conf" -s > "$TMP/day.out" 2> "$TMP/day.err"
+check "a simulated day of the year runs" test $? = 0
+check "its samples name the dated ratio" sh -c "sqlite3 '$TMP/state/psensd.db' \"select count(*) from samples where condition = 'daylight_dated'\" | grep -qv '^0$'"
+# estimate = mean holds even when the room plays the year
+sed 's/^\[psensd\]/[psensd]\nestimate = mean/' "$TMP/day.conf" > "$TMP/mean.conf"
+rm -f "$TMP/state/psensd.db"*
+"$BIN/psensd" -f "$TMP/mean.conf" -s > /dev/null 2>&1
+check "estimate = mean: the samples name the mean ratio" sh -c "sqlite3 '$TMP/state/psensd.db' \"select count(*) from samples where condition = 'daylight_dated'\" | grep -q '^0$' && sqlite3 '$TMP/state/psensd.db' \"select count(*) from samples where condition = 'daylight_mean'\" | grep -qv '^0$'"
+done_testing
