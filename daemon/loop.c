@@ -123,8 +123,11 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
+	/* the clock now, not when start-up began: in real time loading and
+	 * checking the files took clock time, with the lights at full output */
 	if (psd_refresh_results(cf, d->self) != 0 ||
-	    psd_engine_open(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, err, sizeof err) != 0) {
+	    psd_engine_open(&d->engine, cf, now = psd_clock_now(&d->clock), d->clock.simulated ? 500 : 1, NULL, err,
+	                    sizeof err) != 0) {
 		if (d->engine.cf == NULL && err[0])
 			log_errx("%s", err);
 		psd_config_free(cf);
