@@ -6,6 +6,7 @@
 # Every directory may add rules in its own module.mk (included below).
 #
 # Optional drivers: WITH_MODBUS / WITH_USB / WITH_GPIOD = auto | yes | no
+# (and WITH_MQTT, the daemon's MQTT publisher, the same way)
 # (drivers/module.mk).  auto drops a driver whose library pkg-config cannot
 # find; yes makes that an error.
 
@@ -43,6 +44,16 @@ SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
 # the rules that use DRV_SRC.
 include drivers/module.mk
 DAEMON_SRC   := $(wildcard daemon/*.c)
+# MQTT (daemon/mqtt*.c, psensd-mqtt(7)): WITH_MQTT = auto | yes | no, like the
+# drivers.  Without libmosquitto daemon/mqtt_off.c stands in: the [mqtt]
+# section is still judged, and a configured one is refused at start.
+WITH_MQTT ?= auto
+$(eval $(call feature,MQTT,libmosquitto,PS_WITH_MQTT))
+ifeq ($(HAVE_MQTT),yes)
+  DAEMON_SRC := $(filter-out daemon/mqtt_off.c,$(DAEMON_SRC))
+else
+  DAEMON_SRC := $(filter-out daemon/mqtt.c,$(DAEMON_SRC))
+endif
 DAEMON_CMDS  := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
 # psvirt serves the virtual room over Modbus: it needs libmodbus.
 ifneq ($(HAVE_MODBUS),yes)
@@ -57,7 +68,7 @@ LIBPSD    = $(BUILD)/lib/libpsd.a
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
-.PHONY: all check bench fuzz install clean deps run sim drivers daemon config-status tests fuzz-bins
+.PHONY: all check bench fuzz install uninstall clean deps run sim drivers daemon config-status tests fuzz-bins
 all: $(PROGRAMS)
 
 sim: $(addprefix $(BUILD)/bin/,$(SIM_CMDS))
@@ -65,7 +76,7 @@ drivers: $(LIBPSDRV)
 daemon: $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS))
 
 config-status:
-	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) cc=$(CC) build=$(BUILD) san=$(SAN)"
+	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
 # drivers/, daemon/ and tests/ see everything.
@@ -104,9 +115,9 @@ $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/c
 # client and server modules import it: deps.sh installs no recommends.)
 DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsystemd-dev nettle-dev \
             libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev \
-            libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core
+            libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core libmosquitto-dev
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
-            libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin
+            libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin mosquitto mosquitto-clients openssl
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
 
@@ -132,22 +143,58 @@ install: all
 	# the example configuration, pointed at the installed example scene
 	for f in config/*.conf; do [ -f "$$f" ] || continue; \
 	    [ -f $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/} ] || \
-	    sed 's|^scene = example/|scene = $(DATADIR)/example/|; s|^results = .*|results = $(STATEDIR)/ofb.results|; s|^database = .*|database = $(STATEDIR)/psensd.db|' \
-	        $$f > $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/}; done
+	    $(INSTALLED_CONF) $$f > $(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/}; done
 	if [ -f systemd/psensd.service ]; then install -d $(DESTDIR)$(UNITDIR); \
 	    sed 's|@SBINDIR@|$(PREFIX)/sbin|g; s|@SYSCONFDIR@|$(SYSCONFDIR)|g' systemd/psensd.service \
 	    > $(DESTDIR)$(UNITDIR)/psensd.service; chmod 644 $(DESTDIR)$(UNITDIR)/psensd.service; fi
 	install -d $(DESTDIR)$(SYSUSERSDIR) $(DESTDIR)$(UDEVRULESDIR)
 	install -m 644 systemd/psensd.sysusers $(DESTDIR)$(SYSUSERSDIR)/psensd.conf
 	install -m 644 systemd/60-psensd.rules $(DESTDIR)$(UDEVRULESDIR)/60-psensd.rules
-	install -d $(DESTDIR)$(DATADIR)
+	install -d $(DESTDIR)$(DATADIR) $(DESTDIR)$(STATEDIR)
 	cp -R config/example $(DESTDIR)$(DATADIR)/
 	if [ -d sim/data ]; then cp -R sim/data/. $(DESTDIR)$(DATADIR)/; fi
+
+# make uninstall: removes what make install put there (same PREFIX, DESTDIR
+# and directories): the programs, the man pages, the unit, sysusers and udev
+# files, the example and data under DATADIR, the configuration when it is
+# still the one install wrote (an edited one is kept, and said so), and the
+# psensd directories it made when they are left empty.
+INSTALLED_CONF = sed 's|^scene = example/|scene = $(DATADIR)/example/|; s|^results = .*|results = $(STATEDIR)/ofb.results|; s|^database = .*|database = $(STATEDIR)/psensd.db|'
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(SIM_CMDS) $(filter-out psensd,$(DAEMON_CMDS))) $(DESTDIR)$(PREFIX)/sbin/psensd
+	for m in $(MAN_PAGES); do s=$${m##*.}; rm -f $(DESTDIR)$(MANDIR)/man$$s/$${m##*/}; done
+	for f in config/*.conf; do [ -f "$$f" ] || continue; i=$(DESTDIR)$(SYSCONFDIR)/psensd/$${f##*/}; \
+	    [ -f "$$i" ] || continue; \
+	    if $(INSTALLED_CONF) $$f | cmp -s - "$$i"; then rm -f "$$i"; \
+	    else echo "uninstall: $$i was edited: kept"; fi; done
+	-rmdir $(DESTDIR)$(SYSCONFDIR)/psensd 2>/dev/null
+	rm -f $(DESTDIR)$(UNITDIR)/psensd.service $(DESTDIR)$(SYSUSERSDIR)/psensd.conf \
+	    $(DESTDIR)$(UDEVRULESDIR)/60-psensd.rules
+	(cd config && find example -type f) | while read -r f; do rm -f "$(DESTDIR)$(DATADIR)/$$f"; done
+	if [ -d sim/data ]; then (cd sim/data && find . -type f) | while read -r f; do \
+	    rm -f "$(DESTDIR)$(DATADIR)/$$f"; done; fi
+	-[ -d $(DESTDIR)$(DATADIR) ] && find $(DESTDIR)$(DATADIR) -depth -type d -empty -delete
+	-rmdir $(DESTDIR)$(STATEDIR) 2>/dev/null
 
 # ---- the README's main command ----------------------------------------------
 # psensd on the loopback room with the example scene, for a simulated day:
 # precomputes the scene's ratios (psscene) when they are stale, then prints
-# the day's summary.
+# the day's summary.  Quiet: the build's commands go to $(BUILD)/build.log
+# (shown when the build fails); V=1 shows them and the commands run.
+V ?= 0
 run: deps
-	$(MAKE) all
-	$(BUILD)/bin/psensd -f config/psensd.conf -s
+	@if [ "$(V)" = 1 ]; then \
+	    echo "$(MAKE) all"; $(MAKE) --no-print-directory all || exit 1; \
+	    echo "$(BUILD)/bin/psensd -f config/psensd.conf -s"; \
+	else \
+	    mkdir -p $(BUILD); \
+	    $(MAKE) --no-print-directory all > $(BUILD)/build.log 2>&1 || \
+	    { cat $(BUILD)/build.log; echo "make run: the build failed ($(BUILD)/build.log)" >&2; exit 1; }; \
+	fi
+	@$(BUILD)/bin/psensd -f config/psensd.conf -s
+
+# The golden day (tests/data/golden-day.csv): run the example day again, say
+# how and why it differs from the file, and rewrite it (tests/golden/).
+golden: all
+	BUILD=$(BUILD) BIN=$(BUILD)/bin sh tests/golden/rebuild.sh
+.PHONY: golden

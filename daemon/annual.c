@@ -11,7 +11,7 @@
 #include "roomsetup.h"
 #include "sum.h"
 
-#define DAYS 365
+#define DAYS PSD_ANNUAL_MAX_DAYS   /* the pictures' stride */
 #define ROWS 144   /* 10-minute rows */
 
 static double clamp(double x, double lo, double hi)
@@ -25,7 +25,7 @@ struct run {
 	const struct psd_annual_opt *o;
 	struct psd_annual *a;
 	struct psd_control c;
-	struct ps_sum em[2], e2[2];
+	struct ps_sum em[3], e2[3];
 	int m, doy;
 	double mean_ratio, dated, prev;
 };
@@ -44,7 +44,7 @@ static double law(void *ctx, double t, double volts)
 	return psd_control_step(&u->c, volts, t);
 }
 
-static void seen(void *ctx, double t, double level, double truth, double dl)
+static void seen(void *ctx, double t, double level, double truth, double dl, double roof)
 {
 	struct run *u = ctx;
 	const struct psd_annual_opt *o = u->o;
@@ -85,8 +85,15 @@ static void seen(void *ctx, double t, double level, double truth, double dl)
 	if (dl >= 50) {
 		/* the law's daylight estimate with each ratio */
 		double resp = c->daylight_volts / c->sensor_gain;
-		double est[2] = { u->mean_ratio * resp, (u->dated > 0 ? u->dated : u->mean_ratio) * resp };
-		for (int k = 0; k < 2; k++) {
+		double typical = u->dated > 0 ? u->dated : u->mean_ratio, q = NAN;
+		int cls = psd_dated_rooftop_class(u->r, u->doy, t, roof);
+		double est[3];
+		if (cls >= 0)
+			q = psd_dated_ratio_class(u->r, m + 1, t, cls);
+		est[0] = u->mean_ratio * resp;
+		est[1] = typical * resp;
+		est[2] = (q > 0 ? q : typical) * resp;   /* the live estimate with a rooftop sensor */
+		for (int k = 0; k < 3; k++) {
 			double err = est[k] / dl - 1;
 			ps_sum_add(&u->em[k], err);
 			ps_sum_add(&u->e2[k], err * err);
@@ -98,8 +105,9 @@ static void seen(void *ctx, double t, double level, double truth, double dl)
 int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
                    const struct psd_annual_opt *o, struct psd_annual *a)
 {
-	static const int start[13] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334, 365 };
+	static const int mdays[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
 	struct run u;
+	int feb29;
 	struct timespec t0, t1;
 	memset(a, 0, sizeof *a);
 	if (!r->have_year || isnan(r->electric_sensor_response) || o->period <= 0)
@@ -110,7 +118,7 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.o = o;
 	u.a = a;
 	u.c = *ctl;
-	for (int k = 0; k < 2; k++) {
+	for (int k = 0; k < 3; k++) {
 		ps_sum_init(&u.em[k]);
 		ps_sum_init(&u.e2[k]);
 	}
@@ -122,18 +130,22 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.c.daylight_ratio = u.mean_ratio;
 	u.c.level = 0.0;
 	u.c.pending_since = -1;
-	for (u.doy = 1; u.doy <= DAYS; u.doy++) {
-		u.m = 0;
-		while (u.m < 11 && u.doy > start[u.m + 1])
-			u.m++;
-		if (psd_room_play_day(r, u.doy, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
-			return -1;
-	}
+	/* every date of the year, February 29 when the weather file has it */
+	feb29 = psd_year_has_feb29(r);
+	u.doy = 0;
+	for (u.m = 0; u.m < 12; u.m++)
+		for (int d = 1; d <= mdays[u.m] + (u.m == 1 && feb29); d++) {
+			u.doy++;
+			if (psd_room_play_day(r, u.m + 1, d, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
+				return -1;
+		}
+	a->days = u.doy;
 	a->savings = a->occ_h > 0 ? 1 - a->energy_h / a->occ_h : NAN;
 	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
 	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
 	a->changes_per_h = a->occ_h > 0 ? a->changes / a->occ_h : NAN;
-	for (int k = 0; k < 2; k++) {
+	a->est_rooftop = r->year.have_site && r->year.n > 0 && !isnan(r->year.h[0].horiz_lux);
+	for (int k = 0; k < 3; k++) {
 		a->est_mean[k] = a->est_n ? 100 * ps_sum_get(&u.em[k]) / a->est_n : NAN;
 		a->est_rms[k] = a->est_n ? 100 * sqrt(ps_sum_get(&u.e2[k]) / a->est_n) : NAN;
 	}
@@ -142,12 +154,12 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	return 0;
 }
 
-int psd_annual_png(const char *path, const float *task_img, const float *level_img,
+int psd_annual_png(const char *path, const float *task_img, const float *level_img, int days,
                    double target, const char *title, char *err, size_t errlen)
 {
 	static const uint8_t white[3] = { 255, 255, 255 };
 	static const double ink[3] = { 0, 0, 0 };
-	const int z = 2, left = 50, top = 34, gap = 40, pw = DAYS * z, ph = ROWS * z, lw = 230;
+	const int z = 2, left = 50, top = 34, gap = 40, pw = days * z, ph = ROWS * z, lw = 230;
 	struct ps_canvas cv;
 	struct ps_err e;
 	struct ps_fcscale sc = { 100 * target, 1, 3 };   /* 0.1 to 100 x target, log */
@@ -156,7 +168,7 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 		return snprintf(err, errlen, "%s", e.msg), -1;
 	ps_canvas_begin(&cv);
 	for (int row = 0; row < ROWS; row++)
-		for (int d = 0; d < DAYS; d++) {
+		for (int d = 0; d < days; d++) {
 			uint8_t rgb[3];
 			int y = ROWS - 1 - row;   /* midnight at the bottom */
 			double v = task_img[row * DAYS + d], f = ps_fcscale_fraction(&sc, v);

@@ -5,8 +5,8 @@
  * year's 525,600 steps at 60 s take seconds).  Sensor noise is off and the
  * ballast follows commands at once.  The lights are off outside the
  * occupied hours (as a vacancy sensor leaves them) and the law runs inside
- * them, from off at arrival.  365 days in non-leap numbering: a
- * leap year's February 29 is not played.
+ * them, from off at arrival.  Every date of the weather file's year:
+ * 366 days when it has February 29 (a leap year), else 365.
  *
  * Figures over the occupied hours (occ_start to occ_end every day, standard
  * time):
@@ -23,13 +23,19 @@
  *                   (the switch-on at arrival not counted);
  *   estimate error  where the task's true daylight is 50 lx or more, the
  *                   law's daylight estimate (ratio x the reading's daylight
- *                   response) against it: with the one mean ratio and with
- *                   the dated one (dated.h), mean and rms in percent. */
+ *                   response) against it: with the one mean ratio, with
+ *                   the dated one (dated.h) and with the dated one whose sky
+ *                   class a rooftop sensor reading the hour's global
+ *                   horizontal illuminance gives (psd_dated_rooftop_class),
+ *                   mean and rms in percent.  The law itself runs on the
+ *                   typical class. */
 #ifndef PSD_ANNUAL_H
 #define PSD_ANNUAL_H
 
 #include "control.h"
 #include "results.h"
+
+#define PSD_ANNUAL_MAX_DAYS 366
 
 struct psd_annual_month {
 	double occ_h, energy_h, ideal_h, below_h, overdim_h;
@@ -38,10 +44,15 @@ struct psd_annual_month {
 struct psd_annual {
 	double occ_h, energy_h, ideal_h, below_h, overdim_h, changes;
 	double savings, ideal_savings, effectiveness, changes_per_h;
-	double est_mean[2], est_rms[2];   /* [0] mean ratio, [1] dated; percent */
+	double est_mean[3], est_rms[3];   /* [0] mean ratio, [1] dated (typical class),
+	                                     [2] dated with the class from a rooftop
+	                                     sensor reading the hour; percent */
+	int est_rooftop;                  /* [2] is meaningful: the results carry the
+	                                     hours' global horizontal lux and the site */
 	double est_n;
 	struct psd_annual_month month[12];
 	double steps;                     /* control steps run */
+	int days;                         /* days played: 365, or 366 with February 29 */
 	double seconds;                   /* wall time */
 };
 
@@ -49,7 +60,8 @@ struct psd_annual_opt {
 	double period;           /* control period, s */
 	double occ_start, occ_end;   /* occupied hours, s after midnight */
 	int dated;               /* the law uses the dated ratio */
-	/* the year as pictures, 365 x 144 (10-minute rows), or NULL */
+	/* the year as pictures, PSD_ANNUAL_MAX_DAYS x 144 (10-minute rows; day
+	 * d of the year, from 1, in column d - 1), or NULL */
 	float *task_img, *level_img;
 };
 
@@ -58,9 +70,9 @@ struct psd_annual_opt {
 int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
                    const struct psd_annual_opt *o, struct psd_annual *a);
 
-/* Draw the year (hour of day up, day of year across: task lux and light
- * output) into a PNG. */
-int psd_annual_png(const char *path, const float *task_img, const float *level_img,
+/* Draw the year's first `days` days (hour of day up, day of year across:
+ * task lux and light output) into a PNG, 2 pixels a day. */
+int psd_annual_png(const char *path, const float *task_img, const float *level_img, int days,
                    double target, const char *title, char *err, size_t errlen);
 
 #endif

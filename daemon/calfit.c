@@ -239,6 +239,7 @@ int psd_calfit_drift_update(struct psd_calfit_drift *d, double now, double day_v
 	shown = fmax(day_volts, lux_as_volts);
 	if (!(shown >= d->min_day_volts)) {
 		d->out_since = -1;
+		d->last_ln = NAN;   /* not judged: no drift figure for this sample */
 		return 0;
 	}
 	/* a part at or below zero (noise, a covered sensor) is a ratio off by

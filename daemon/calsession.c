@@ -49,7 +49,7 @@ static void settle_reset(struct psd_calsession *s, const struct psd_calsession_c
 	s->commanded = -1;
 }
 
-/* The session's constants from the zone's configuration. */
+/* A new session: its state, and its constants from the zone's configuration. */
 static void begin(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, long long id,
                   double started, double level)
 {

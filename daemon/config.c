@@ -32,6 +32,13 @@ static int line_of(struct ps_conf_section *s, const char *key)
 	return kv ? kv->line : s->line;
 }
 
+/* Points that read lux (a task meter, a rooftop sensor): valid 0 to 200 klx
+ * by default, not the sensor's volts. */
+static int lux_role(int role)
+{
+	return role == PS_ROLE_TASK_LUX || role == PS_ROLE_ROOFTOP;
+}
+
 /* Copy every key of s not in `own` (NULL-terminated) into the option pool. */
 static void driver_opts(struct psd_config *cf, struct ps_conf_section *s, const char *const *own,
                         struct ps_opts *o)
@@ -202,14 +209,14 @@ static void load_points(struct psd_config *cf)
 		v = ps_conf_str(c, s, "role", NULL);
 		p->role = v ? ps_role_parse(v) : -1;
 		if (!v)
-			ps_conf_error(c, s->line, "[point %s] needs 'role' (sensor, task, dim, relay, input)", p->name);
+			ps_conf_error(c, s->line, "[point %s] needs 'role' (sensor, task, dim, relay, input, rooftop)", p->name);
 		else if (p->role < 0)
-			ps_conf_error(c, line_of(s, "role"), "role: '%s' is not sensor, task, dim, relay or input", v);
+			ps_conf_error(c, line_of(s, "role"), "role: '%s' is not sensor, task, dim, relay, input or rooftop", v);
 		ps_conf_enum(c, s, "action", psd_action_names, PSD_ACT_NONE, &p->action);
 		if (p->action != PSD_ACT_NONE && p->role != PS_ROLE_INPUT)
 			ps_conf_error(c, line_of(s, "action"), "action: only an input point has an action");
-		ps_conf_double(c, s, "valid_min", p->role == PS_ROLE_TASK_LUX ? 0 : cf->sensor_min, -1e9, 1e9, &p->min);
-		ps_conf_double(c, s, "valid_max", p->role == PS_ROLE_TASK_LUX ? 2e5 : cf->sensor_max, -1e9, 1e9, &p->max);
+		ps_conf_double(c, s, "valid_min", lux_role(p->role) ? 0 : cf->sensor_min, -1e9, 1e9, &p->min);
+		ps_conf_double(c, s, "valid_max", lux_role(p->role) ? 2e5 : cf->sensor_max, -1e9, 1e9, &p->max);
 		if (p->min >= p->max)
 			ps_conf_error(c, s->line, "[point %s]: valid_min must be below valid_max", p->name);
 		driver_opts(cf, s, point_keys, &p->opts);
@@ -242,8 +249,8 @@ static int implicit_point(struct psd_config *cf, int dev, int role, int line)
 	memcpy(p->name, name, strlen(name) + 1);
 	p->device = dev;
 	p->role = role;
-	p->min = role == PS_ROLE_TASK_LUX ? 0 : cf->sensor_min;
-	p->max = role == PS_ROLE_TASK_LUX ? 2e5 : cf->sensor_max;
+	p->min = lux_role(role) ? 0 : cf->sensor_min;
+	p->max = lux_role(role) ? 2e5 : cf->sensor_max;
 	p->opts.file = cf->conf.path;
 	p->line = line;
 	return (int)cf->npt++;
@@ -339,6 +346,8 @@ static void load_zones(struct psd_config *cf)
 			ps_conf_error(c, s->line, "[zone %s] needs 'sensor' (a point with role sensor) or 'device'",
 			              z->name);
 		point_list(cf, s, "task", PS_ROLE_TASK_LUX, &z->task, 1);
+		z->rooftop = -1;
+		point_list(cf, s, "rooftop", PS_ROLE_ROOFTOP, &z->rooftop, 1);
 		n = point_list(cf, s, "dim", PS_ROLE_DIM, z->dim + z->ndim, PSD_MAX_ZONE_OUT - z->ndim);
 		z->ndim += n;
 		z->nrelay = point_list(cf, s, "relay", PS_ROLE_RELAY, z->relay, PSD_MAX_ZONE_OUT);
@@ -477,6 +486,9 @@ static int load(struct psd_config *cf, int files)
 	load_points(cf);
 	load_zones(cf);
 	check_sharing(cf);
+	psd_mqttconf_load(&cf->mqtt, c);
+	if (cf->mqtt.enabled && !cf->database)
+		ps_conf_error(c, cf->mqtt.line, "[mqtt] publishes the sample log: set database in [psensd]");
 	psd_config_check_ranges(cf);
 	if (files)
 		psd_config_check_files(cf);
@@ -533,6 +545,7 @@ void psd_config_free(struct psd_config *cf)
 		free(cf->zone[i].scene);
 		free(cf->zone[i].results);
 	}
+	psd_mqttconf_free(&cf->mqtt);
 	ps_conf_free(&cf->conf);
 	memset(cf, 0, sizeof *cf);
 }

@@ -19,6 +19,7 @@
 #include "conf.h"
 #include "control.h"
 #include "driver.h"
+#include "mqttconf.h"
 
 enum {
 	PSD_MAX_DEVICES = 16,
@@ -52,6 +53,7 @@ struct psd_zone_conf {
 	char name[48];
 	int sensor;               /* point index */
 	int task;                 /* point index or -1 */
+	int rooftop;              /* point index or -1: the live estimate's sky class */
 	int dim[PSD_MAX_ZONE_OUT], ndim;
 	int relay[PSD_MAX_ZONE_OUT], nrelay;
 	int input[PSD_MAX_ZONE_OUT], ninput;
@@ -110,6 +112,7 @@ struct psd_config {
 	size_t nopt;
 	char *path[PSD_MAX_DEVICES];   /* driver file options resolved against the file's directory */
 	size_t npath;
+	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqttconf.h) */
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).

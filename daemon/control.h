@@ -1,6 +1,6 @@
 /* Control laws: pure functions of a reading and their state, so each is
  * tested alone (psensd.conf(5) documents the constants).  Notation (the
- * literature's, hardware-facts section 4): u the light output (0..1), S the
+ * literature's; doc/control.md): u the light output (0..1), S the
  * sensor's volts, S_E the night signal at full output, E_E the electric task
  * lux at full output, r_D the daylight volts per task lux. */
 #ifndef PSD_CONTROL_H

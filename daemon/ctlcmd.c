@@ -64,19 +64,48 @@ static json_object *ok_reply(void)
 	return o;
 }
 
+static void cal_progress(json_object *o, const struct psd_zone *z, double now);
+
+/* HH:MM:SS of a clock time */
+static void hhmmss(double t, char out[16])
+{
+	long s = (long)floor(psd_clock_tod(t) + 0.5) % 86400;
+	snprintf(out, 16, "%02ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+}
+
+/* The zone's last step: every value of one moment (engine.h, psd_zone_sample). */
+static json_object *sample_json(const struct psd_zone *z)
+{
+	const struct psd_zone_sample *s = &z->last;
+	json_object *o = json_object_new_object();
+	char t[16];
+	if (!isfinite(s->t)) {
+		json_object_put(o);
+		return NULL;
+	}
+	hhmmss(s->t, t);
+	put_num(o, "t", s->t);
+	put_str(o, "time", t);
+	put_num(o, "level", s->level);
+	put_num(o, "sensor_v", s->volts);
+	put_num(o, "daylight_v", s->daylight_v);
+	put_num(o, "est_task_lux", s->est_task_lux);
+	put_num(o, "task_lux", s->task_lux);
+	put_num(o, "true_task_lux", s->true_task_lux);
+	put_num(o, "commanded", s->commanded);
+	json_object_object_add(o, "fault", json_object_new_boolean(s->fault));
+	return o;
+}
+
 static json_object *zone_json(const struct psd_engine *e, const struct psd_zone *z, double now)
 {
 	json_object *o = json_object_new_object();
 	const struct psd_config *cf = e->cf;
-	struct ps_truth truth;
 	put_str(o, "name", z->zc->name);
 	put_str(o, "algorithm", psd_algorithm_names[z->ctl.algorithm]);
 	put_num(o, "target_lux", z->ctl.target_lux);
 	put_num(o, "level", z->level);
-	put_num(o, "sensor_v", z->volts);
-	put_num(o, "est_task_lux", z->in_fault ? NAN : z->ctl.est_task_lux);
-	put_num(o, "task_lux", z->task_lux);
-	put_num(o, "daylight_v", z->ctl.daylight_volts);
+	json_object_object_add(o, "sample", sample_json(z));
 	put_str(o, "sensor", cf->pt[z->zc->sensor].name);
 	put_str(o, "fault", z->in_fault ? z->why : NULL);
 	put_num(o, "safe_level", z->zc->safe_level);
@@ -93,11 +122,13 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 		json_object_object_add(o, "occupied", json_object_new_boolean(z->occupancy));
 	json_object_object_add(o, "steps", json_object_new_int64((int64_t)z->steps));
 	json_object_object_add(o, "fault_steps", json_object_new_int64((int64_t)z->fault_steps));
-	if (psd_engine_truth(z, now, &truth) == 0)
-		put_num(o, "true_task_lux", truth.task_lux);
 	if (z->zc->task >= 0) {
 		json_object_object_add(o, "drift", json_object_new_boolean(z->drift.flagged));
 		put_num(o, "drift_pct", 100 * (exp(z->drift.last_ln) - 1));
+		/* why drift may be false beside a large drift_pct: how long the
+		 * ratio has been out (null: it is not), against the hold */
+		put_num(o, "drift_out_s", z->drift.out_since >= 0 ? now - z->drift.out_since : NAN);
+		put_num(o, "drift_hold_s", z->drift.hold);
 	}
 	put_num(o, "sensor_gain", z->ctl.sensor_gain);
 	put_num(o, "offset", z->ctl.offset);
@@ -105,10 +136,48 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	put_num(o, "electric_task_lux", z->ctl.elec_task_lux);
 	json_object_object_add(o, "calibrated_night", z->cal_night_id ? json_object_new_int64(z->cal_night_id) : NULL);
 	json_object_object_add(o, "calibrated_day", z->cal_day_id ? json_object_new_int64(z->cal_day_id) : NULL);
+	/* a session under way and its progress (psensctl watch shows it); its
+	 * levels or samples stay in calibrate status: ten zones' day sessions
+	 * would not fit a status reply */
+	if (psd_calsession_running(&z->cal)) {
+		json_object *c = json_object_new_object();
+		put_str(c, "kind", psd_calsession_kind_names[z->cal.kind]);
+		put_str(c, "message", z->cal.msg[0] ? z->cal.msg : NULL);
+		cal_progress(c, z, now);
+		json_object_object_add(o, "calibration", c);
+	} else {
+		json_object_object_add(o, "calibration", NULL);
+	}
 	return o;
 }
 
-static json_object *cal_json(const struct psd_zone *z)
+/* A running session's progress: what is left and, at the pace so far (or
+ * the configured window and interval before the first point), how long. */
+static void cal_progress(json_object *o, const struct psd_zone *z, double now)
+{
+	const struct psd_calsession *c = &z->cal;
+	double remaining = NAN;
+	int left;
+	if (c->state != PSD_CAL_RUNNING) {
+		json_object_object_add(o, "remaining_s", NULL);
+		return;
+	}
+	put_num(o, "elapsed_s", now - c->started);
+	if (c->kind == PSD_CAL_NIGHT) {
+		left = PSD_CAL_NLEVELS - c->npt;
+		json_object_object_add(o, "levels_left", json_object_new_int(left));
+		remaining = c->npt > 0 ? (now - c->started) / c->npt * left : left * z->zc->cal_window;
+	} else {
+		left = c->want_samples - c->nds;
+		if (left < 0)
+			left = 0;
+		json_object_object_add(o, "samples_left", json_object_new_int(left));
+		remaining = left > 0 ? fmax(0, c->next_sample - now) + (left - 1) * c->interval : 0;
+	}
+	put_num(o, "remaining_s", remaining);
+}
+
+static json_object *cal_json(const struct psd_zone *z, double now)
 {
 	const struct psd_calsession *c = &z->cal;
 	json_object *o = json_object_new_object(), *pts = json_object_new_array();
@@ -117,6 +186,7 @@ static json_object *cal_json(const struct psd_zone *z)
 	put_str(o, "state", psd_calsession_state_names[c->state]);
 	json_object_object_add(o, "session", c->id ? json_object_new_int64(c->id) : NULL);
 	put_str(o, "message", c->msg[0] ? c->msg : NULL);
+	cal_progress(o, z, now);
 	if (c->kind == PSD_CAL_NIGHT) {
 		for (int i = 0; i < c->npt; i++) {
 			json_object *p = json_object_new_object();
@@ -213,7 +283,7 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, char *reply, 
 	}
 	{
 		json_object *o = ok_reply();
-		json_object_object_add(o, "calibration", cal_json(z));
+		json_object_object_add(o, "calibration", cal_json(z, psd_clock_now(&d->clock)));
 		finish(o, reply, len);
 	}
 }
@@ -317,6 +387,29 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	json_object_object_add(o, "reloads", json_object_new_int64((int64_t)d->reloads));
 	json_object_object_add(o, "requests", json_object_new_int64((int64_t)d->ctl.requests));
 	json_object_object_add(o, "rejected", json_object_new_int64((int64_t)d->ctl.rejected));
+	{   /* each I/O thread (devio.h): seconds in its current transaction, 0 idle */
+		json_object *io = json_object_new_object();
+		for (size_t i = 0; e->cf && i < e->cf->ndev; i++)
+			if (e->io[i])
+				put_num(io, e->dev[i].name, psd_devio_busy(e->io[i]));
+		json_object_object_add(o, "io_busy_s", io);
+	}
+	if (d->mqtt) {   /* [mqtt]: the publisher's state (daemon/mqtt.h) */
+		struct psd_mqtt_stats ms;
+		json_object *mq = json_object_new_object();
+		psd_mqtt_stats(d->mqtt, &ms);
+		json_object_object_add(mq, "connected", json_object_new_boolean(ms.connected));
+		json_object_object_add(mq, "cursor", json_object_new_int64(ms.cursor));
+		json_object_object_add(mq, "sent", json_object_new_int64(ms.sent));
+		json_object_object_add(mq, "published", json_object_new_int64((int64_t)ms.published));
+		json_object_object_add(mq, "acked", json_object_new_int64((int64_t)ms.acked));
+		json_object_object_add(mq, "commands", json_object_new_int64((int64_t)ms.commands));
+		json_object_object_add(mq, "refused", json_object_new_int64((int64_t)ms.refused));
+		json_object_object_add(mq, "connects", json_object_new_int64((int64_t)ms.connects));
+		put_num(mq, "turn_max_s", ms.turn_max);
+		put_num(mq, "turn_cpu_max_s", ms.turn_cpu_max);
+		json_object_object_add(o, "mqtt", mq);
+	}
 	for (size_t i = 0; i < e->nzone; i++)
 		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
 			json_object_array_add(zones, zone_json(e, &e->zone[i], now));
@@ -375,15 +468,50 @@ static int number(const char *text, double *out)
 	return *text && !*end && errno == 0 && isfinite(*out) ? 0 : -1;
 }
 
+/* reload: now, and the outcome in the reply: ok, or ok false with the
+ * reasons (each file:line) and the running configuration kept. */
+static void reload(struct psd_daemon *d, char *reply, size_t len)
+{
+	struct psd_reload_why *w = malloc(sizeof *w);   /* 6 kB: not on the handler's stack */
+	json_object *o, *arr;
+	char msg[512];
+	if (!w) {
+		error_reply(reply, len, "reload: out of memory");
+		return;
+	}
+	if (psd_daemon_reload_why(d, w) == 0) {
+		o = ok_reply();
+		put_str(o, "reloaded", d->config_path);
+		finish(o, reply, len);
+		free(w);
+		return;
+	}
+	o = json_object_new_object();
+	arr = json_object_new_array();
+	json_object_object_add(o, "ok", json_object_new_boolean(0));
+	snprintf(msg, sizeof msg, "%s: reload refused (%d error(s)): the running configuration stays",
+	         d->config_path, w->n);
+	put_str(o, "error", msg);
+	for (int i = 0; i < w->n; i++)
+		json_object_array_add(arr, json_object_new_string(w->line[i]));
+	json_object_object_add(o, "reasons", arr);
+	finish(o, reply, len);
+	free(w);
+}
+
 void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
 {
-	struct psd_daemon *d = user;
+	(void)c;
+	psd_ctl_request(user, line, reply, len);
+}
+
+void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len)
+{
 	struct psd_engine *e = &d->engine;
 	struct psd_zone *z;
 	char *argv[PSD_CTL_MAX_WORDS], err[512];
 	int argc = psd_ctl_split(line, argv, err, sizeof err);
 	double a, b;
-	(void)c;
 	if (argc < 0) {
 		error_reply(reply, len, "%s", err);
 		return;
@@ -439,8 +567,7 @@ void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char
 	} else if (strcmp(argv[0], "dali") == 0) {
 		dali(d, argc, argv, reply, len);
 	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
-		d->reload = 1;   /* after this request, like SIGHUP */
-		finish(ok_reply(), reply, len);
+		reload(d, reply, len);
 	} else {
 		char shown[64];
 		snprintf(shown, sizeof shown, "%s", argv[0]);

@@ -15,6 +15,7 @@
 
 #include "errbuf.h"
 #include "log.h"
+#include "pidlock.h"
 
 static double wall(void)
 {
@@ -47,13 +48,38 @@ int psd_ctl_split(char *line, char **argv, char *err, size_t errlen)
 	return n;
 }
 
+/* A socket file that answers a connect is someone's live socket: -1 with
+ * its server's pid in err.  0 when nobody listens (ECONNREFUSED). */
+static int live_peer(const struct sockaddr_un *sa, char *err, size_t errlen)
+{
+	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0), rc;
+	struct ucred cr = { 0, 0, 0 };
+	socklen_t len = sizeof cr;
+	if (fd < 0)
+		return psd_errf(err, errlen, "%s: %s", sa->sun_path, strerror(errno));
+	rc = connect(fd, (const struct sockaddr *)sa, sizeof *sa);
+	if (rc != 0 && errno != EAGAIN && errno != EINPROGRESS) {
+		close(fd);
+		return 0;   /* refused: dead */
+	}
+	/* accepted, or a full backlog (EAGAIN): someone listens */
+	if (rc == 0 && getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cr, &len) == 0 && cr.pid > 0)
+		psd_errf(err, errlen, "%s is in use: pid %ld serves it: not started", sa->sun_path, (long)cr.pid);
+	else
+		psd_errf(err, errlen, "%s is in use: a process serves it: not started", sa->sun_path);
+	close(fd);
+	return -1;
+}
+
 int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
                  void *user, char *err, size_t errlen)
 {
 	struct sockaddr_un sa = { .sun_family = AF_UNIX };
 	struct stat st;
+	int inuse = 0;
 	memset(s, 0, sizeof *s);
 	s->lfd = -1;
+	s->lockfd = -1;
 	if (strlen(path) >= sizeof sa.sun_path)
 		return psd_errf(err, errlen, "%s: a socket path is at most %zu bytes", path,
 		                sizeof sa.sun_path - 1);
@@ -65,13 +91,34 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 	s->user = user;
 	snprintf(s->path, sizeof s->path, "%s", path);
 	snprintf(sa.sun_path, sizeof sa.sun_path, "%s", path);
-	/* a socket left by a killed daemon is replaced; anything else is not ours */
+	/* one daemon per socket: the lock first, then a socket no lock
+	 * guards (another program's, or an older daemon's) must not answer */
+	{
+		char lock[sizeof s->path + 8];
+		pid_t holder;
+		snprintf(lock, sizeof lock, "%s.lock", path);
+		if ((s->lockfd = psd_pidlock_take(lock, &holder)) < 0) {
+			inuse = errno == EWOULDBLOCK;
+			if (errno == EWOULDBLOCK && holder > 0)
+				psd_errf(err, errlen, "%s is in use by psensd pid %ld (it holds %s): not started", path,
+				         (long)holder, lock);
+			else if (errno == EWOULDBLOCK)
+				psd_errf(err, errlen, "%s is in use: another process holds %s: not started", path, lock);
+			else
+				psd_errf(err, errlen, "%s: %s", lock, strerror(errno));
+			goto bad;
+		}
+	}
 	if (lstat(path, &st) == 0) {
 		if (!S_ISSOCK(st.st_mode)) {
 			psd_errf(err, errlen, "%s exists and is not a socket", path);
 			goto bad;
 		}
-		unlink(path);
+		if (live_peer(&sa, err, errlen) != 0) {
+			inuse = 1;
+			goto bad;
+		}
+		unlink(path);   /* left by a killed daemon: nobody answers it */
 	}
 	/* The backlog is the kernel's maximum: a crowd of clients connecting
 	 * between two turns of the poll loop queues rather than being refused
@@ -87,10 +134,13 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 bad:
 	if (s->lfd >= 0)
 		close(s->lfd);
+	psd_pidlock_release(s->lockfd);
+	s->lockfd = -1;
 	free(s->cl);
 	s->cl = NULL;
 	s->lfd = -1;
 	s->path[0] = 0;
+	errno = inuse ? EADDRINUSE : EINVAL;
 	return -1;
 }
 
@@ -275,8 +325,18 @@ void psd_ctl_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds)
 			drop(s, i);
 			i--;
 		}
-	if (nfds > 0 && (fds[0].revents & POLLIN))
+	if (nfds > 0 && (fds[0].revents & POLLIN)) {
+		int first = s->ncl;
 		accept_all(s);
+		/* a new client's request is usually there already: read it in
+		 * this turn rather than the next (a read with nothing is EAGAIN) */
+		for (int i = first; i < s->ncl; i++)
+			if (read_client(s, &s->cl[i]) != 0 || write_client(&s->cl[i]) != 0 ||
+			    (s->cl[i].closing && s->cl[i].nout == 0)) {
+				drop(s, i);
+				i--;
+			}
+	}
 }
 
 void psd_ctl_close(struct psd_ctlsock *s)
@@ -290,4 +350,6 @@ void psd_ctl_close(struct psd_ctlsock *s)
 		unlink(s->path);
 	}
 	s->lfd = -1;
+	psd_pidlock_release(s->lockfd);   /* after the unlink: the next daemon finds no socket */
+	s->lockfd = -1;
 }

@@ -34,6 +34,7 @@ typedef void (*psd_ctl_handler)(void *user, const struct psd_ctl_client *c, char
 
 struct psd_ctlsock {
 	int lfd;
+	int lockfd;           /* the flock on path.lock (daemon/pidlock.h), -1 none */
 	char path[108];
 	struct psd_ctl_client *cl;
 	int ncl, max;
@@ -42,8 +43,12 @@ struct psd_ctlsock {
 	void *user;
 };
 
-/* Create the socket at path (an old socket file there is replaced) with the
- * permission bits mode.  -1 with a message in err. */
+/* Create the socket at path with the permission bits mode, holding the
+ * lock path.lock (with our pid) while it is open.  A socket that another
+ * process holds the lock of, or that answers a connect, is live and is
+ * refused, naming the pid; a dead one (left by a killed daemon) is
+ * replaced.  -1 with a message in err and errno EADDRINUSE when the
+ * socket is in use. */
 int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
                  void *user, char *err, size_t errlen);
 /* Descriptors to poll; returns the count written (at most max). */

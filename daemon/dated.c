@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <time.h>
 
+#include "skyclass.h"
+
 double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int *cls)
 {
 	const struct ps_year *y = &r->year;
@@ -23,6 +25,46 @@ double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int 
 	if (cls)
 		*cls = best;
 	return y->ratio[month - 1][h][best];
+}
+
+static int hour_of(double tod_s)
+{
+	int h = (int)floor(fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0);
+	return h > 23 ? 23 : h;
+}
+
+double psd_dated_ratio_class(const struct ps_results *r, int month, double tod_s, int cls)
+{
+	int h;
+	if (!r->have_year || month < 1 || month > 12 || !isfinite(tod_s) || cls < 0 || cls >= PS_SKY_NCLASS)
+		return NAN;
+	h = hour_of(tod_s);
+	return r->year.count[month - 1][h][cls] > 0 ? r->year.ratio[month - 1][h][cls] : NAN;
+}
+
+int psd_dated_rooftop_class(const struct ps_results *r, int doy, double tod_s, double lux)
+{
+	if (!r->have_year || !r->year.have_site || !isfinite(tod_s))
+		return -1;
+	return ps_skyclass_from_global(&r->year.site, doy, fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0,
+	                               lux, NULL, NULL);
+}
+
+int psd_dated_day(const char *mmdd)
+{
+	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
+	int m, d, n = 0;
+	if (!mmdd || !*mmdd) {
+		time_t t = time(NULL);
+		struct tm tm;
+		if (!localtime_r(&t, &tm))
+			return 0;
+		m = tm.tm_mon + 1;
+		d = tm.tm_mday;
+	} else if (sscanf(mmdd, "%d-%d%n", &m, &d, &n) != 2 || mmdd[n] || m < 1 || m > 12 || d < 1 || d > 31) {
+		return 0;
+	}
+	return start[m - 1] + d > 365 ? 365 : start[m - 1] + d;
 }
 
 int psd_dated_month(const char *mmdd)

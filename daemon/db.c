@@ -1,5 +1,6 @@
 #include "db.h"
 
+#include <errno.h>
 #include <math.h>
 #include <sqlite3.h>
 #include <stdarg.h>
@@ -9,6 +10,7 @@
 #include <time.h>
 
 #include "errbuf.h"
+#include "pidlock.h"
 
 enum { DB_BATCH = 60 };
 
@@ -19,6 +21,7 @@ struct psd_db {
 	int batch;
 	unsigned long committed;
 	double epoch0;        /* UTC of clock time 0 (NAN: rows carry no date) */
+	int lockfd;           /* the writer's flock on path.lock (daemon/pidlock.h), -1 none */
 };
 
 /* ---- the schema -------------------------------------------------------------
@@ -43,9 +46,20 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS cal_samples("
 	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
 	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
-	/* 3 -> 4: dates (issue 17): UTC and the local date and time of every
-	 * sample, session and session sample, and an event log.  Older rows
-	 * keep NULL there: the day they were logged on was never recorded. */
+	/* 3 -> 4: MQTT (daemon/mqtt.c) and psensctl export --since/--until: the
+	 * UTC time of each sample, the publisher's persisted cursor per site,
+	 * the zones announced */
+	"ALTER TABLE samples ADD COLUMN utc REAL;"
+	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
+	" PRIMARY KEY(site, zone));",
+	/* 4 -> 5: dates (issue 17): the local date and time of every sample,
+	 * UTC and local of every session and session sample, and an event log.
+	 * Older rows keep NULL there: the day they were logged on was never
+	 * recorded.  Every ADD COLUMN is skipped when the column is there
+	 * already (migrate(): a file from a development build had it), and
+	 * samples.utc / the MQTT tables are made here too if such a file
+	 * skipped 3 -> 4. */
 	"ALTER TABLE samples ADD COLUMN utc REAL;"
 	"ALTER TABLE samples ADD COLUMN local TEXT;"
 	"CREATE INDEX IF NOT EXISTS samples_utc ON samples(utc);"
@@ -56,8 +70,11 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"ALTER TABLE cal_samples ADD COLUMN utc REAL;"
 	"ALTER TABLE cal_samples ADD COLUMN local TEXT;"
 	"CREATE TABLE IF NOT EXISTS events("
-	" t REAL, utc REAL, local TEXT, zone TEXT, kind TEXT NOT NULL, text TEXT);",
-	/* 4 -> 5: acceptance (issue 17): the zones' design constants and the
+	" t REAL, utc REAL, local TEXT, zone TEXT, kind TEXT NOT NULL, text TEXT);"
+	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
+	" PRIMARY KEY(site, zone));",
+	/* 5 -> 6: acceptance (issue 17): the zones' design constants and the
 	 * results of the acceptance tests */
 	"CREATE TABLE IF NOT EXISTS zone_consts(zone TEXT PRIMARY KEY, utc REAL, target_lux REAL,"
 	" elec_task_lux REAL, delay REAL);"
@@ -68,10 +85,29 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
                                      " daylight_lux, condition, ratio, fault, zone, utc, local";
-/* What the readers select: a file opened read-only is not migrated, and one
- * from before schema 4 has no dates (NULL then). */
-static const char sample_columns_undated[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                             " daylight_lux, condition, ratio, fault, zone, NULL, NULL";
+/* What the readers select: a file opened read-only is not migrated; one
+ * from schema 4 has utc but no local text, one from before has neither
+ * (NULL then). */
+static const char sample_columns_v4[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
+                                        " daylight_lux, condition, ratio, fault, zone, utc, NULL";
+static const char sample_columns_v3[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
+                                        " daylight_lux, condition, ratio, fault, zone, NULL, NULL";
+
+static int has_column(struct psd_db *db, const char *table, const char *column);
+
+/* 1 when the file's samples have utc */
+static int has_utc(struct psd_db *db)
+{
+	return has_column(db, "samples", "utc");
+}
+
+/* The columns a reader selects, by the file's schema. */
+static const char *read_columns(struct psd_db *db)
+{
+	if (has_column(db, "samples", "local"))
+		return sample_columns;
+	return has_utc(db) ? sample_columns_v4 : sample_columns_v3;
+}
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
@@ -87,6 +123,43 @@ int psd_db_schema(struct psd_db *db)
 	v = sqlite3_step(st) == SQLITE_ROW ? sqlite3_column_int(st, 0) : 0;
 	sqlite3_finalize(st);
 	return v;
+}
+
+/* Run one step's statements in turn.  An ADD COLUMN whose column is there
+ * already is skipped: a file may have it from an earlier step or build. */
+static int run_step(sqlite3 *h, const char *sql, char **msg)
+{
+	while (sql && *sql) {
+		sqlite3_stmt *st;
+		const char *tail = NULL;
+		int rc;
+		if (sqlite3_prepare_v2(h, sql, -1, &st, &tail) != SQLITE_OK) {
+			const char *e = sqlite3_errmsg(h);
+			if (strncmp(e, "duplicate column name", 21) != 0) {
+				*msg = sqlite3_mprintf("%s", e);
+				return SQLITE_ERROR;
+			}
+			sql = tail && tail != sql ? tail : strchr(sql, ';');   /* skip it */
+			if (sql && *sql == ';')
+				sql++;
+			continue;
+		}
+		if (!st) {   /* white space or a comment */
+			sql = tail;
+			continue;
+		}
+		rc = sqlite3_step(st);
+		sqlite3_finalize(st);
+		if (rc != SQLITE_DONE && rc != SQLITE_ROW) {
+			const char *e = sqlite3_errmsg(h);
+			if (strncmp(e, "duplicate column name", 21) != 0) {
+				*msg = sqlite3_mprintf("%s", e);
+				return rc;
+			}
+		}
+		sql = tail;
+	}
+	return SQLITE_OK;
 }
 
 static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen)
@@ -107,7 +180,7 @@ static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen
 		snprintf(set, sizeof set, "INSERT OR REPLACE INTO meta VALUES('schema', '%d');", v + 1);
 		if (sqlite3_exec(db->h, "BEGIN IMMEDIATE", NULL, NULL, &msg) != SQLITE_OK)
 			goto bad;
-		if (sqlite3_exec(db->h, steps[v], NULL, NULL, &msg) != SQLITE_OK ||
+		if (run_step(db->h, steps[v], &msg) != SQLITE_OK ||
 		    sqlite3_exec(db->h, set, NULL, NULL, &msg) != SQLITE_OK ||
 		    sqlite3_exec(db->h, "COMMIT", NULL, NULL, &msg) != SQLITE_OK) {
 			sqlite3_exec(db->h, "ROLLBACK", NULL, NULL, NULL);
@@ -139,15 +212,52 @@ static struct psd_db *open_db(const char *path, int flags, char *err, size_t err
 	sqlite3_busy_timeout(db->h, 2000);   /* a reader or the writer may hold it briefly */
 	db->batch = DB_BATCH;
 	db->epoch0 = NAN;
+	db->lockfd = -1;
 	return db;
+}
+
+/* One writer per database: two daemons appending to one log would
+ * interleave two clocks for the same zone.  The lock is a flock on a file
+ * beside the database, not SQLite's locking_mode=EXCLUSIVE, which would
+ * also shut out the readers (psensctl log, psreport, sqlite3) that must
+ * read the log while the daemon writes it. */
+/* The lock's descriptor; -1 for a private database (nothing to share);
+ * -2 with a message in err when it is taken or cannot be made. */
+static int lock_writer(const char *path, char *err, size_t errlen)
+{
+	char lock[4096];
+	pid_t holder;
+	int fd;
+	if (!*path || strcmp(path, ":memory:") == 0)
+		return -1;
+	if ((size_t)snprintf(lock, sizeof lock, "%s.lock", path) >= sizeof lock) {
+		psd_errf(err, errlen, "%s: path too long", path);
+		return -2;
+	}
+	if ((fd = psd_pidlock_take(lock, &holder)) >= 0)
+		return fd;
+	if (errno == EWOULDBLOCK && holder > 0)
+		psd_errf(err, errlen, "%s is in use by psensd pid %ld (it holds %s): one daemon per database", path,
+		         (long)holder, lock);
+	else if (errno == EWOULDBLOCK)
+		psd_errf(err, errlen, "%s is in use: another process holds %s: one daemon per database", path, lock);
+	else
+		psd_errf(err, errlen, "%s: %s", lock, strerror(errno));
+	return -2;
 }
 
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 {
-	struct psd_db *db = open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, err, errlen);
+	int lockfd = lock_writer(path, err, errlen);
+	struct psd_db *db;
 	char sql[256];
-	if (!db)
+	if (lockfd == -2)
 		return NULL;
+	if (!(db = open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, err, errlen))) {
+		psd_pidlock_release(lockfd);
+		return NULL;
+	}
+	db->lockfd = lockfd;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
 	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
@@ -175,6 +285,7 @@ void psd_db_close(struct psd_db *db)
 		psd_db_commit(db, err, sizeof err);
 	sqlite3_finalize(db->ins);
 	sqlite3_close(db->h);
+	psd_pidlock_release(db->lockfd);   /* after the last write */
 	free(db);
 }
 
@@ -398,9 +509,13 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	{
 		char local[32];
 		double u = isfinite(s->utc) ? s->utc : utc_of(db, s->t, local);
-		if (isfinite(s->utc))
-			psd_db_local(u, local, sizeof local);
-		bind_num(db->ins, 13, u);
+		if (!isfinite(u)) {   /* no clock date given: the wall clock at logging */
+			struct timespec ts;
+			clock_gettime(CLOCK_REALTIME, &ts);
+			u = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+		}
+		psd_db_local(u, local, sizeof local);
+		bind_num(db->ins, 13, u);   /* the clock's time (engine.c: its day + t) */
 		bind_text(db->ins, 14, or_null(local));
 	}
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
@@ -439,10 +554,6 @@ static int has_column(struct psd_db *db, const char *table, const char *column)
 	return yes;
 }
 
-static const char *sample_select(struct psd_db *db)
-{
-	return has_column(db, "samples", "utc") ? sample_columns : sample_columns_undated;
-}
 
 static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 {
@@ -475,7 +586,7 @@ int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn
 	sqlite3_stmt *st;
 	int rc;
 	snprintf(sql, sizeof sql, "SELECT %s FROM samples WHERE zone = ? OR zone IS NULL ORDER BY rowid",
-	         sample_select(db));
+	         read_columns(db));
 	if (!(st = query(db, err, errlen, sql, "t", zone)))
 		return -1;
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
@@ -541,7 +652,7 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 	int rc;
 	if (!db)
 		return -1;
-	snprintf(sql, sizeof sql, "SELECT %s FROM samples ORDER BY rowid", sample_select(db));
+	snprintf(sql, sizeof sql, "SELECT %s FROM samples ORDER BY rowid", read_columns(db));
 	if (!(st = query(db, err, errlen, sql, ""))) {
 		psd_db_close(db);
 		return -1;
@@ -693,6 +804,38 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
 }
 
+int psd_db_select(const char *path, const char *zone, double since, double until, long last,
+                  psd_db_sample_fn fn, void *user, char *err, size_t errlen)
+{
+	struct psd_db *db = psd_db_open_readonly(path, err, errlen);
+	char sql[512];
+	sqlite3_stmt *st;
+	int rc;
+	if (!db)
+		return -1;
+	/* the last ones: the newest `last` rows, given back oldest first */
+	const char *utc = has_utc(db) ? "utc" : "NULL";   /* an older log: no sample has a time */
+	snprintf(sql, sizeof sql,
+	         "SELECT %s FROM (SELECT rowid AS r, * FROM samples"
+	         " WHERE (?1 IS NULL OR zone = ?1 OR zone IS NULL) AND (?2 IS NULL OR %s >= ?2)"
+	         " AND (?3 IS NULL OR %s <= ?3) ORDER BY rowid DESC LIMIT ?4) ORDER BY r",
+	         read_columns(db), utc, utc);
+	if (!(st = query(db, err, errlen, sql, "tddi", zone, since, until, last > 0 ? (long long)last : -1LL))) {
+		psd_db_close(db);
+		return -1;
+	}
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_sample s;
+		row_sample(st, &s);
+		fn(user, &s);
+	}
+	if (rc != SQLITE_DONE)
+		fail(db->h, path, err, errlen);
+	sqlite3_finalize(st);
+	psd_db_close(db);
+	return rc == SQLITE_DONE ? 0 : -1;
+}
+
 /* ---- the report's readers (psensctl report) --------------------------------- */
 
 static int table_exists(struct psd_db *db, const char *table)
@@ -783,4 +926,83 @@ int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, ps
 	}
 	sqlite3_finalize(st);
 	return rc == SQLITE_DONE ? nrows : fail(db->h, "read", err, errlen);
+}
+
+/* ---- the MQTT publisher --------------------------------------------------------- */
+
+int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_sample_row_fn fn, void *user, char *err,
+                         size_t errlen)
+{
+	char sql[320];
+	sqlite3_stmt *st;
+	int rc, n = 0;
+	snprintf(sql, sizeof sql, "SELECT %s, rowid FROM samples WHERE rowid > ? ORDER BY rowid LIMIT ?",
+	         sample_columns);
+	if (!(st = query(db, err, errlen, sql, "ii", after, (long long)limit)))
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_sample s;
+		row_sample(st, &s);
+		fn(user, sqlite3_column_int64(st, 14), s.utc, &s);
+		n++;
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? n : fail(db->h, "read", err, errlen);
+}
+
+long long psd_db_last_id(struct psd_db *db)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT coalesce(max(rowid), 0) FROM samples", "");
+	long long id = -1;
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW)
+		id = sqlite3_column_int64(st, 0);
+	sqlite3_finalize(st);
+	return id;
+}
+
+long long psd_db_mqtt_cursor(struct psd_db *db, const char *site)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT sample FROM mqtt_cursor WHERE site = ?", "t", site);
+	long long id = -1;
+	int rc;
+	if (!st)
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW)
+		id = sqlite3_column_int64(st, 0);
+	else if (rc == SQLITE_DONE)
+		id = 0;
+	sqlite3_finalize(st);
+	return id;
+}
+
+int psd_db_mqtt_set_cursor(struct psd_db *db, const char *site, long long id, char *err, size_t errlen)
+{
+	return run(db, "INSERT OR REPLACE INTO mqtt_cursor(site, sample) VALUES(?, ?)", err, errlen, "ti", site, id);
+}
+
+int psd_db_mqtt_announced(struct psd_db *db, const char *site, psd_db_name_fn fn, void *user)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT zone FROM mqtt_announced WHERE site = ? ORDER BY zone",
+	                         "t", site);
+	int rc;
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		fn(user, col_text(st, 0));
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : -1;
+}
+
+int psd_db_mqtt_announce(struct psd_db *db, const char *site, const char *zone, int add, char *err, size_t errlen)
+{
+	if (add)
+		return run(db, "INSERT OR IGNORE INTO mqtt_announced(site, zone) VALUES(?, ?)", err, errlen, "tt", site,
+		           zone);
+	return run(db, "DELETE FROM mqtt_announced WHERE site = ? AND zone = ?", err, errlen, "tt", site, zone);
 }

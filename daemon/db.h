@@ -10,18 +10,24 @@
  *                 (running, done, aborted, accepted, superseded), start and
  *                 end, the config's and the scene's SHA-256, results (JSON)
  *   cal_samples   every sample of a session, committed as it is taken
- *   events        faults, their end, sessions, starts and reloads (schema 4)
+ *   events        faults, their end, sessions, starts and reloads (schema 5)
+ *   mqtt_cursor   per MQTT site, the last sample id the broker acknowledged
+ *   mqtt_announced  per MQTT site, the zones announced to Home Assistant
+ *   zone_consts, acceptance_tests  (schema 6) psensctl accept-test
  *
- * Since schema 4 every row also stores its UTC (epoch seconds) and its
- * local date and time; t stays the daemon's clock (seconds from the local
- * midnight of the run's first day). */
+ * Each sample row has utc (schema 4): the time its clock showed (the
+ * clock's day + t), or the wall-clock time it was logged when no clock
+ * date was given; since schema 5 also its local date and time, and
+ * sessions, session samples and events carry UTC and local too.  t stays
+ * the daemon's clock (seconds from the local midnight of the run's first
+ * day). */
 #ifndef PSD_DB_H
 #define PSD_DB_H
 
 #include <stddef.h>
 
 /* The schema version this build writes. */
-enum { PSD_DB_SCHEMA = 5 };
+enum { PSD_DB_SCHEMA = 6 };
 
 struct psd_sample {
 	double t;             /* seconds on the daemon's clock */
@@ -36,10 +42,11 @@ struct psd_sample {
 	double ratio;         /* task lux per unit of sensor response used */
 	const char *fault;    /* NULL or a short text */
 	const char *zone;     /* the zone's name */
-	/* schema 4: when, as UTC (epoch seconds) and as the local date and
-	 * time for display ("YYYY-MM-DD HH:MM:SS"); NAN and NULL for a row
-	 * logged before schema 4 (its date was never recorded).  Written from
-	 * t and the epoch the database was given (psd_db_set_epoch). */
+	/* when, as UTC (epoch seconds; schema 4: the clock's day's local
+	 * midnight + t) and as the local date and time for display
+	 * ("YYYY-MM-DD HH:MM:SS", schema 5); NAN and NULL in a row logged
+	 * before.  psd_db_add takes utc when finite, else the epoch the
+	 * database was given (psd_db_set_epoch) + t, else the wall clock. */
 	double utc;
 	const char *local;
 };
@@ -109,6 +116,11 @@ int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn
 /* Write the samples as CSV (header: t,tod_s,sensor_v,output,est_task_lux,
  * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone,utc,local) to fp. */
 int psd_db_export_csv(const char *path, void *fp, char *err, size_t errlen);
+/* The samples of zone (NULL: every zone) with since <= utc <= until (NAN:
+ * no bound), in log order; only the last `last` when last > 0 (psensctl log
+ * and export).  -1 with a message in err. */
+int psd_db_select(const char *path, const char *zone, double since, double until, long last,
+                  psd_db_sample_fn fn, void *user, char *err, size_t errlen);
 
 /* ---- calibration records --------------------------------------------------- *
  * Written through the sample log's connection: while a batch of samples
@@ -167,5 +179,24 @@ int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65
 typedef void (*psd_db_row_fn)(void *user, int ncol, const char *const *names, const char *const *values);
 int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
                       char *err, size_t errlen);
+
+/* ---- the MQTT publisher (daemon/mqtt.c) ----------------------------------- */
+
+/* A sample as the publisher reads it: its row id and the UTC second it was
+ * logged (NAN for a row logged before schema 4). */
+typedef void (*psd_db_sample_row_fn)(void *user, long long id, double utc, const struct psd_sample *s);
+/* Up to limit samples with id > after, in id order; the count, -1 with a
+ * message in err. */
+int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_sample_row_fn fn, void *user, char *err,
+                         size_t errlen);
+/* The highest sample id, 0 for none, -1 on error. */
+long long psd_db_last_id(struct psd_db *db);
+/* The site's cursor: the last sample id acknowledged (0 none), -1 error. */
+long long psd_db_mqtt_cursor(struct psd_db *db, const char *site);
+int psd_db_mqtt_set_cursor(struct psd_db *db, const char *site, long long id, char *err, size_t errlen);
+/* The zones announced for Home Assistant: fn gets each (psd_db_name_fn
+ * above); add or forget one. */
+int psd_db_mqtt_announced(struct psd_db *db, const char *site, psd_db_name_fn fn, void *user);
+int psd_db_mqtt_announce(struct psd_db *db, const char *site, const char *zone, int add, char *err, size_t errlen);
 
 #endif

@@ -101,7 +101,7 @@ static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struc
 {
 	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, z->res, e->db,
 	                                     e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
-	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level, e->epoch0 };
+	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level, e->utc0 };
 }
 
 /* Do what a session asked: a step now, accepted constants in force. */
@@ -161,6 +161,8 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	z->started = now;
 	z->last_ok = now;
 	z->volts = z->task_lux = z->last_volts = NAN;
+	z->last.t = NAN;
+	z->sky_class = -1;
 	z->same_since = now;
 	z->override_level = NAN;
 	z->override_until = -INFINITY;
@@ -216,18 +218,27 @@ static void record_consts(struct psd_engine *e, const struct psd_zone *z)
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen)
 {
+	return psd_engine_open_io(e, cf, now, db_batch, prev, NULL, err, errlen);
+}
+
+int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
+                       const struct psd_engine *prev, const struct psd_clock *clock, char *err, size_t errlen)
+{
 	struct ps_err pe;
 	memset(e, 0, sizeof *e);
 	e->cf = cf;
-	e->epoch0 = prev ? prev->epoch0 : NAN;
 	e->db_batch = db_batch > 0 ? db_batch : 1;
+	e->utc0 = prev ? prev->utc0 : NAN;   /* the daemon sets it after the first open */
 	if (prev)
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
 	/* the dated estimate's month: the simulated date's (psensd sets today's
 	 * on a real-time clock unless the room plays the year) */
 	e->month = psd_dated_month(cf->date);
-	if (prev && !cf->sim_year)
+	e->doy = psd_dated_day(cf->date);
+	if (prev && !cf->sim_year) {
 		e->month = prev->month;
+		e->doy = prev->doy;
+	}
 	if (cf->results) {
 		if (ps_results_read(&e->res, cf->results, &pe) != 0) {
 			psd_errf(err, errlen, "%s", pe.msg);
@@ -252,7 +263,7 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		goto bad;
 	if (e->db) {
 		psd_db_set_batch(e->db, e->db_batch);
-		psd_db_set_epoch(e->db, e->epoch0);
+		psd_db_set_epoch(e->db, e->utc0);
 	}
 	for (size_t i = 0; i < cf->nzone; i++) {
 		zone_init(e, &e->zone[i], &cf->zone[i], now, prev);
@@ -273,6 +284,10 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 		cal_load(e, &e->zone[i], now);
 	for (size_t i = 0; i < e->nzone; i++)
 		record_consts(e, &e->zone[i]);
+	/* the I/O threads before the first commands: a slow module must not
+	 * hold the loop at start or at a reload either */
+	if (clock && !clock->simulated)
+		psd_engine_start_io(e, clock);
 	/* the outputs start where the control believes they are (full output,
 	 * or the level before a reload) */
 	for (size_t i = 0; i < e->nzone; i++) {
@@ -289,6 +304,7 @@ bad:
 struct psd_config *psd_engine_close(struct psd_engine *e)
 {
 	struct psd_config *cf = e->cf;
+	psd_engine_stop_io(e);
 	psd_db_close(e->db);
 	e->db = NULL;
 	for (size_t i = 0; cf && i < cf->ndev; i++)
@@ -305,14 +321,14 @@ struct psd_config *psd_engine_close(struct psd_engine *e)
 
 void psd_engine_set_epoch(struct psd_engine *e, double epoch0)
 {
-	e->epoch0 = epoch0;
+	e->utc0 = epoch0;   /* the one clock date: samples.utc and every dated row */
 	if (e->db)
 		psd_db_set_epoch(e->db, epoch0);
 }
 
 void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n)
 {
-	psd_clock_stamp(e->epoch0, t, out, n);
+	psd_clock_stamp(e->utc0, t, out, n);
 }
 
 /* An event in the database's events table (a record: a failure is logged once). */
@@ -328,25 +344,129 @@ static struct ps_dev *dev_of(struct psd_engine *e, int point)
 	return &e->dev[e->cf->pt[point].device];
 }
 
+static struct psd_devio *io_of(struct psd_engine *e, int point)
+{
+	return e->io[e->cf->pt[point].device];
+}
+
+/* A point's read or write, through its device's I/O thread when it has one;
+ * on failure errno is the driver's and e->ioerr its message. */
+static int pt_read(struct psd_engine *e, int p, double now, double *v)
+{
+	struct ps_dev *d = dev_of(e, p);
+	struct psd_devio *io = io_of(e, p);
+	int rc, er;
+	if (io)
+		return psd_devio_take(io, (size_t)p, now, v, e->ioerr, sizeof e->ioerr);
+	rc = d->drv->read(d, &e->pt[p], now, v);
+	er = errno;
+	if (rc)
+		snprintf(e->ioerr, sizeof e->ioerr, "%s", d->err);
+	errno = er;
+	return rc;
+}
+
+static int pt_write(struct psd_engine *e, int p, double now, double v)
+{
+	struct ps_dev *d = dev_of(e, p);
+	struct psd_devio *io = io_of(e, p);
+	int rc, er;
+	if (io)
+		return psd_devio_write(io, (size_t)p, now, v, e->ioerr, sizeof e->ioerr);
+	rc = d->drv->write(d, &e->pt[p], now, v);
+	er = errno;
+	if (rc)
+		snprintf(e->ioerr, sizeof e->ioerr, "%s", d->err);
+	errno = er;
+	return rc;
+}
+
+void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock)
+{
+	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
+		if (e->io[i] || !e->dev_open[i] || !psd_devio_wanted(e->dev[i].drv))
+			continue;
+		if (!(e->io[i] = psd_devio_start(&e->dev[i], e->pt, e->cf->npt, clock)))
+			log_warnx("device %s: no I/O thread (%s): its I/O runs in the event loop", e->dev[i].name,
+			          strerror(errno));
+	}
+}
+
+void psd_engine_stop_io(struct psd_engine *e)
+{
+	for (size_t i = 0; i < PSD_MAX_DEVICES; i++) {
+		psd_devio_stop(e->io[i]);
+		e->io[i] = NULL;
+	}
+	for (size_t i = 0; i < e->nzone; i++)
+		e->zone[i].waiting = 0;
+}
+
+/* Before a step, the zone's reads on devices with an I/O thread are asked
+ * for; the step runs when they are all answered (the thread wakes the
+ * loop) or, for those still out, at its next scheduled step as missed
+ * replies (a slow device is a queue: an answer late in the period is still
+ * fresher than none).
+ * 1: not yet. */
+static int prefetch(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	const struct psd_zone_conf *zc = z->zc;
+	int pts[2 + PSD_MAX_ZONE_OUT], n = 0, pending = 0;
+	if (zc->task >= 0)
+		pts[n++] = zc->task;
+	pts[n++] = zc->sensor;
+	if (zc->verify_tolerance > 0 && now >= z->verify_at)
+		for (int i = 0; i < zc->ndim; i++)
+			pts[n++] = zc->dim[i];
+	else if (zc->readback && zc->ndim > 0)
+		pts[n++] = zc->dim[0];
+	for (int i = 0; i < n; i++) {
+		struct psd_devio *io = io_of(e, pts[i]);
+		if (!io)
+			continue;
+		if (!z->waiting) {   /* a new step: a fresh read (an answer left over is dropped) */
+			double junk;
+			char err[8];
+			if (psd_devio_ask(io, (size_t)pts[i], now) == 0)
+				psd_devio_take(io, (size_t)pts[i], now, &junk, err, sizeof err);
+			psd_devio_ask(io, (size_t)pts[i], now);
+			pending = 1;
+		} else if (psd_devio_ask(io, (size_t)pts[i], now) != 0) {
+			pending = 1;
+		}
+	}
+	if (!pending) {
+		z->waiting = 0;
+		return 0;
+	}
+	if (!z->waiting) {
+		z->waiting = 1;
+		z->wait_since = now;
+		return 1;
+	}
+	if (now - z->wait_since < zc->period * 0.95)
+		return 1;
+	z->waiting = 0;   /* what is still out counts as no reply */
+	return 0;
+}
+
 /* Command every output of the zone; returns -1 (with why) when one fails. */
 static int command(struct psd_engine *e, struct psd_zone *z, double now, double level, char *why, size_t n)
 {
 	const struct psd_zone_conf *zc = z->zc;
 	int rc = 0;
 	for (int i = 0; i < zc->ndim; i++) {
-		struct ps_dev *d = dev_of(e, zc->dim[i]);
-		if (d->drv->write(d, &e->pt[zc->dim[i]], now, level) != 0 && rc == 0) {
-			snprintf(why, n, "%s", d->err);
+		if (pt_write(e, zc->dim[i], now, level) != 0 && rc == 0) {
+			snprintf(why, n, "%s", e->ioerr);
 			rc = -1;
 		}
 	}
 	/* relay k of n closes above k/n: n relays are the steps of a stepped
 	 * system, one relay switches a dimmed circuit off at level 0 */
 	for (int i = 0; i < zc->nrelay; i++) {
-		struct ps_dev *d = dev_of(e, zc->relay[i]);
 		double on = level > (double)i / zc->nrelay + 1e-9;
-		if (d->drv->write(d, &e->pt[zc->relay[i]], now, on) != 0 && rc == 0) {
-			snprintf(why, n, "%s", d->err);
+		if (pt_write(e, zc->relay[i], now, on) != 0 && rc == 0) {
+			snprintf(why, n, "%s", e->ioerr);
 			rc = -1;
 		}
 	}
@@ -393,24 +513,23 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 {
 	const struct psd_zone_conf *zc = z->zc;
 	const struct psd_point_conf *pc = &e->cf->pt[zc->sensor];
-	struct ps_dev *d = dev_of(e, zc->sensor);
 	double v = NAN;
-	if (d->drv->read(d, &e->pt[zc->sensor], now, &v) != 0) {
+	if (pt_read(e, zc->sensor, now, &v) != 0) {
 		z->volts = NAN;
 		/* a lost device or a wrong value is a fault at once; a missed or
 		 * garbled reply only once the last good reading is stale (driver.h) */
 		int at_once = ps_dev_fault_at_once(errno);
 		if (at_once || now - z->last_ok >= zc->stale_after) {
 			if (at_once)
-				snprintf(why, n, "%s", d->err);
+				snprintf(why, n, "%s", e->ioerr);
 			else {
 				char since[8];
 				psd_clock_hhmm(z->last_ok, since);
-				snprintf(why, n, "no reading since %s (%s)", since, d->err);
+				snprintf(why, n, "no reading since %s (%.200s)", since, e->ioerr);
 			}
 			return -1;
 		}
-		log_debug("zone %s: %s (holding the level)", zc->name, d->err);
+		log_debug("zone %s: %s (holding the level)", zc->name, e->ioerr);
 		return 1;
 	}
 	z->volts = v;
@@ -436,10 +555,9 @@ static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, 
 	if (zc->verify_tolerance <= 0 || now < z->verify_at)
 		return 0;
 	for (int i = 0; i < zc->ndim; i++) {
-		struct ps_dev *d = dev_of(e, zc->dim[i]);
 		double got;
-		if (d->drv->read(d, &e->pt[zc->dim[i]], now, &got) != 0) {
-			snprintf(why, n, "%s: cannot read the output back: %s", e->pt[zc->dim[i]].name, d->err);
+		if (pt_read(e, zc->dim[i], now, &got) != 0) {
+			snprintf(why, n, "%s: cannot read the output back: %.180s", e->pt[zc->dim[i]].name, e->ioerr);
 			return -1;
 		}
 		if (fabs(got - z->level) > zc->verify_tolerance &&
@@ -456,27 +574,57 @@ static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, 
  * a day calibration measured the zone's own. */
 static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 {
-	double q;
+	double q = NAN;
+	z->sky_class = -1;
 	if (!z->res || !z->res->have_year || !e->cf->dated_estimate || z->cal_day_id)
 		return;
-	q = psd_dated_ratio(z->res, e->month, psd_clock_tod(now), NULL);
+	if (z->zc->rooftop >= 0) {
+		/* the sky now from the rooftop sensor, else the typical class */
+		struct ps_dev *d = dev_of(e, z->zc->rooftop);
+		double lux;
+		if (d->drv->read(d, &e->pt[z->zc->rooftop], now, &lux) == 0) {
+			z->rooftop_failed = 0;
+			z->sky_class = psd_dated_rooftop_class(z->res, e->doy, psd_clock_tod(now), lux);
+			if (z->sky_class >= 0)
+				q = psd_dated_ratio_class(z->res, e->month, psd_clock_tod(now), z->sky_class);
+			if (!(q > 0))
+				z->sky_class = -1;   /* no hour of that class there: the typical one */
+		} else if (!z->rooftop_failed++) {
+			log_warnx("zone %s: rooftop %s: %s; the typical sky class until it reads", z->zc->name,
+			          e->pt[z->zc->rooftop].name, d->err);
+		}
+	}
+	if (!(q > 0))
+		q = psd_dated_ratio(z->res, e->month, psd_clock_tod(now), NULL);
 	if (q > 0)
 		z->ctl.daylight_ratio = q;
+}
+
+/* The samples' name of the ratio in force. */
+static const char *ratio_name(const struct psd_engine *e, const struct psd_zone *z)
+{
+	static const char *const rooftop[PS_SKY_NCLASS] = { "daylight_rooftop_clear", "daylight_rooftop_intermediate",
+	                                                     "daylight_rooftop_overcast" };
+	if (!z->res)
+		return NULL;
+	if (!(z->res->have_year && e->cf->dated_estimate && !z->cal_day_id))
+		return "daylight_mean";
+	return z->sky_class >= 0 && z->sky_class < PS_SKY_NCLASS ? rooftop[z->sky_class] : "daylight_dated";
 }
 
 static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	char err[512];
 	int fault = z->in_fault;
-	double dl = z->ctl.daylight_ratio * z->ctl.daylight_volts / z->ctl.sensor_gain;
+	/* the step's own estimate (snapshot): none when the control did not run */
+	double dl = z->ctl.daylight_ratio * z->last.daylight_v / z->ctl.sensor_gain;
 	struct psd_sample s = {
 		now, psd_clock_tod(now), z->volts, z->level,
-		fault ? NAN : z->ctl.est_task_lux, z->task_lux,
-		fault ? NAN : z->ctl.daylight_volts,
+		fault ? NAN : z->last.est_task_lux, z->task_lux,
+		fault ? NAN : z->last.daylight_v,
 		fault ? NAN : dl,
-		!z->res ? NULL : z->res->have_year && e->cf->dated_estimate && !z->cal_day_id
-		                   ? "daylight_dated" : "daylight_mean", z->ctl.daylight_ratio, fault ? z->why : NULL,
-		z->zc->name, NAN, NULL,   /* utc from the database's epoch */
+		ratio_name(e, z), z->ctl.daylight_ratio, fault ? z->why : NULL,
+		z->zc->name, e->utc0 + now, NULL,   /* utc: the clock's; local from it (db.c) */
 	};
 	if (!e->db)
 		return;
@@ -553,16 +701,35 @@ static void drift_step(struct psd_engine *e, struct psd_zone *z, double now)
 	}
 }
 
+/* The step's values, all of one moment, for status and watch. */
+static void snapshot(struct psd_zone *z, double now, double level_in, int estimated)
+{
+	struct ps_truth tr;
+	struct psd_zone_sample *s = &z->last;
+	s->t = now;
+	s->level = level_in;
+	s->volts = z->volts;
+	s->fault = z->in_fault;
+	/* a step the control did not run (a calibration session holds the
+	 * lights, a missed reading) has no estimate of its own: not the last one */
+	s->est_task_lux = z->in_fault || !estimated ? NAN : z->ctl.est_task_lux;
+	s->daylight_v = z->in_fault || !estimated ? NAN : z->ctl.daylight_volts;
+	s->task_lux = z->task_lux;
+	s->true_task_lux = psd_engine_truth(z, now, &tr) == 0 ? tr.task_lux : NAN;
+	s->commanded = z->level;
+}
+
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
 	char why[256], t[24];
-	double level, t0;
-	int rc;
+	double level, t0, level_in = z->level;
+	int rc, estimated = 0;   /* the control estimated the task lux from this reading */
+	if (prefetch(e, z, now))
+		return;   /* woken when the I/O threads answer */
 	z->steps++;
 	if (zc->task >= 0) {
-		struct ps_dev *d = dev_of(e, zc->task);
-		if (d->drv->read(d, &e->pt[zc->task], now, &z->task_lux) != 0)
+		if (pt_read(e, zc->task, now, &z->task_lux) != 0)
 			z->task_lux = NAN;   /* a meter is a record, not the control */
 	} else {
 		z->task_lux = NAN;
@@ -577,10 +744,9 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		if (rc == 0 && zc->readback && zc->ndim > 0) {
 			/* the lamps' actual output, not the last command: it matters
 			 * when the period is short against the ballast's fade */
-			struct ps_dev *d = dev_of(e, zc->dim[0]);
 			double out;
-			if (d->drv->read(d, &e->pt[zc->dim[0]], now, &out) == 0 && out >= 0 && out <= 1)
-				z->ctl.level = out;
+			if (pt_read(e, zc->dim[0], now, &out) == 0 && out >= 0 && out <= 1)
+				z->ctl.level = level_in = out;
 		}
 		if (rc == 0) {
 			struct psd_calsession_ctx c = cal_ctx(e, z, now);
@@ -592,10 +758,13 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		if (psd_calsession_level(&z->cal, now, &level)) {
 			/* a calibration session holds the lights; the estimate
 			 * still follows the room (issue 17: it froze) */
-			if (rc == 0)
+			if (rc == 0) {
 				psd_control_estimate(&z->ctl, z->volts);
+				estimated = 1;
+			}
 		} else if (rc == 0) {
 			dated_ratio(e, z, now);
+			estimated = 1;
 			level = psd_control_step(&z->ctl, z->volts, now);
 		}
 		else
@@ -629,6 +798,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			}
 		}
 	}
+	snapshot(z, now, level_in, estimated);
 	log_sample(e, z, now);
 	truth(e, z, now);
 }
@@ -666,7 +836,21 @@ double psd_engine_deadline(const struct psd_engine *e)
 	}
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		const struct ps_dev *d = &e->dev[i];
-		if (d->drv->deadline) {
+		if (d->drv->deadline && !e->io[i]) {   /* an I/O thread keeps its device's deadlines */
+			double dl = d->drv->deadline((struct ps_dev *)d);
+			if (dl < t)
+				t = dl;
+		}
+	}
+	return t;
+}
+
+double psd_engine_io_deadline(const struct psd_engine *e)
+{
+	double t = INFINITY;
+	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
+		const struct ps_dev *d = &e->dev[i];
+		if (d->drv->fd && d->drv->deadline && !e->io[i]) {
 			double dl = d->drv->deadline((struct ps_dev *)d);
 			if (dl < t)
 				t = dl;
@@ -680,7 +864,7 @@ int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, in
 	int n = 0;
 	for (size_t i = 0; e->cf && i < e->cf->ndev && n < max; i++) {
 		struct ps_dev *d = &e->dev[i];
-		int fd = d->drv->fd ? d->drv->fd(d) : -1;
+		int fd = e->io[i] ? psd_devio_fd(e->io[i]) : d->drv->fd ? d->drv->fd(d) : -1;
 		if (fd < 0)
 			continue;
 		fds[n] = (struct pollfd){ fd, POLLIN, 0 };
@@ -694,6 +878,17 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		struct ps_dev *d = &e->dev[i];
 		int due = 0;
+		if (e->io[i]) {   /* its thread answered: events, and the zones waiting on it */
+			for (int k = 0; k < nfds; k++)
+				due |= fd_dev[k] == (int)i && (fds[k].revents & POLLIN);
+			if (!due)
+				continue;
+			psd_devio_drain(e->io[i]);
+			for (size_t z = 0; z < e->nzone; z++)
+				if (e->zone[z].waiting)
+					e->zone[z].asap = 1;
+			continue;
+		}
 		if (!d->drv->service)
 			continue;
 		for (int k = 0; k < nfds; k++)
@@ -705,14 +900,17 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 	}
 }
 
-void psd_engine_safe(struct psd_engine *e, double now, const char *why)
+int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 {
 	char err[256];
+	int failed = 0;
+	psd_engine_stop_io(e);   /* the last commands wait for their outcome */
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
-		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0)
+		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {
 			log_errx("zone %s: cannot reach the safe level: %s", z->zc->name, err);
-		else
+			failed++;
+		} else
 			log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
 			         100 * z->zc->safe_level);
 	}
@@ -722,6 +920,7 @@ void psd_engine_safe(struct psd_engine *e, double now, const char *why)
 			log_warnx("%s: %s", e->cf->database, dberr);
 		e->logged = e->logged_base + psd_db_committed(e->db);
 	}
+	return failed;
 }
 
 /* Inputs: occupancy sensors and buttons (override, calibration step). */

@@ -13,6 +13,7 @@
 #include "config.h"
 #include "control.h"
 #include "db.h"
+#include "devio.h"
 #include "driver.h"
 #include "results.h"
 
@@ -29,11 +30,28 @@ struct psd_zone_stats {
  * given the room's energy now. */
 double psd_zone_energy(const struct psd_zone_stats *s, double energy_now);
 
+/* One control step as it happened, every value of the same moment (what
+ * status and watch show): the reading, the estimate made from it at the
+ * level the lights had, and the level the step then commanded. */
+struct psd_zone_sample {
+	double t;                 /* clock seconds; NAN before the first step */
+	double level;             /* the output while the sensor was read */
+	double volts, daylight_v; /* the reading, its daylight part */
+	double est_task_lux;      /* estimated from this reading (NAN in a fault) */
+	double task_lux;          /* the task meter at this step (NAN: none) */
+	double true_task_lux;     /* the simulated room's truth at t (NAN: a real room) */
+	double commanded;         /* the level this step commanded */
+	int fault;                /* the step ended in a fault */
+};
+
 struct psd_zone {
 	const struct psd_zone_conf *zc;
 	struct psd_control ctl;
 	double next;              /* time of the next control step */
 	int asap;                 /* an event wants a step now, off the schedule */
+	int waiting;              /* its reads are asked of I/O threads (devio.h): the step
+	                             completes when they answer or at the next step */
+	double wait_since;
 	double started;
 	int in_fault;             /* at the safe level */
 	char why[256];            /* the fault, when in_fault */
@@ -53,7 +71,11 @@ struct psd_zone {
 	struct psd_calsession cal;     /* the calibration session (daemon/calsession.c) */
 	struct psd_calfit_drift drift; /* measured against simulated ratio, with a task meter */
 	long long cal_night_id, cal_day_id;   /* the accepted calibrations in force, 0: none */
+	int sky_class;            /* the rooftop sensor's sky class this step, -1: none
+	                             (the typical class is used) */
+	int rooftop_failed;       /* a rooftop read failed (logged once until it reads again) */
 	struct psd_zone_stats st;
+	struct psd_zone_sample last;   /* the last step */
 };
 
 struct psd_engine {
@@ -68,6 +90,7 @@ struct psd_engine {
 	struct ps_results zres[PSD_MAX_ZONES];   /* zone i's own results (zone results = / scene =) */
 	int have_zres[PSD_MAX_ZONES];
 	int month;                /* the dated estimate's month (dated.h), 1-12 */
+	int doy;                  /* and day of the year, for a rooftop sensor's sun */
 	struct psd_db *db;
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */
@@ -76,7 +99,9 @@ struct psd_engine {
 	double lat_max, lat_sum;  /* reading-to-command latency, wall seconds */
 	unsigned long lat_n;
 	double late_max;          /* worst lateness of a step against its schedule, clock s */
-	double epoch0;            /* UTC of clock time 0 (NAN: not known): dates in the log */
+	struct psd_devio *io[PSD_MAX_DEVICES];   /* a device's I/O thread, NULL: called in the loop */
+	char ioerr[256];          /* the message of the last failed point read or write */
+	double utc0;              /* Unix time of clock 0 (its day's local midnight); NAN: unknown; dates in the log */
 };
 
 /* Open cf's devices and points at time now and prepare the zones (cf is then
@@ -91,6 +116,17 @@ int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int
 void psd_engine_set_epoch(struct psd_engine *e, double epoch0);
 /* Local "YYYY-MM-DD HH:MM" of clock time t ("HH:MM" with no epoch). */
 void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n);
+/* The same, and in real time (clock not simulated, not NULL) the I/O
+ * threads (psd_engine_start_io) started before the first commands. */
+int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
+                       const struct psd_engine *prev, const struct psd_clock *clock, char *err, size_t errlen);
+/* Real time: give each device with blocking I/O (psd_devio_wanted) its
+ * I/O thread, which reads clock (a copy).  Until then, and in a simulated
+ * day, the loop calls the drivers itself.  A thread that cannot start
+ * leaves its device called in the loop (logged). */
+void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock);
+/* Stop and join every I/O thread: the drivers are called in the loop again. */
+void psd_engine_stop_io(struct psd_engine *e);
 /* Run every zone whose step is due at now. */
 void psd_engine_step(struct psd_engine *e, double now);
 /* The next time something is due: a zone's step or a driver's deadline. */
@@ -101,8 +137,13 @@ int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, in
 /* Let drivers whose fd fired or whose deadline passed do their work. */
 void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *fds,
                         const int *fd_dev, int nfds);
-/* Every output to its zone's safe level (shutdown). */
-void psd_engine_safe(struct psd_engine *e, double now, const char *why);
+/* Every output to its zone's safe level (shutdown).  Returns the count of
+ * zones that could not reach it (each logged at LOG_ERR). */
+int psd_engine_safe(struct psd_engine *e, double now, const char *why);
+/* The earliest deadline of the devices that run step-wise on their own
+ * descriptor (a driver with an fd method: DALI USB, GPIO): INFINITY when
+ * all of them are idle, e.g. every frame asked for is on the bus. */
+double psd_engine_io_deadline(const struct psd_engine *e);
 /* Commit the log and close every device.  Returns the config to free (or NULL). */
 struct psd_config *psd_engine_close(struct psd_engine *e);
 

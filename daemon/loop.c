@@ -16,6 +16,25 @@
 #include "daemon.h"
 #include "log.h"
 
+
+/* Unix time of local midnight of the clock's day: today on a real clock, the
+ * [simulate] date (MM-DD) this year on a simulated one; NAN if unknown. */
+static double utc_of_day(const char *mmdd)
+{
+	time_t now = time(NULL);
+	struct tm tm;
+	int m, dd;
+	if (!localtime_r(&now, &tm))
+		return NAN;
+	if (mmdd && sscanf(mmdd, "%d-%d", &m, &dd) == 2) {
+		tm.tm_mon = m - 1;
+		tm.tm_mday = dd;
+	}
+	tm.tm_hour = tm.tm_min = tm.tm_sec = 0;
+	tm.tm_isdst = -1;
+	now = mktime(&tm);
+	return now == (time_t)-1 ? NAN : (double)now;
+}
 /* The process's signals: one signalfd per process by nature (a signal
  * mask is the process's), so it is the one state kept outside the daemon. */
 static int sigfd = -1;
@@ -100,6 +119,12 @@ static void date_run(struct psd_daemon *d, double now)
 	}
 }
 
+/* An MQTT command: the control socket's request function, the same code. */
+static void mqtt_request(void *user, char *line, char *reply, size_t len)
+{
+	psd_ctl_request(user, line, reply, len);
+}
+
 int psd_daemon_start(struct psd_daemon *d, const char *path)
 {
 	struct psd_config *cf = calloc(1, sizeof *cf);
@@ -123,93 +148,56 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
-	/* the clock now, not when start-up began: in real time loading and
-	 * checking the files took clock time, with the lights at full output */
-	if (psd_refresh_results(cf, d->self) != 0 ||
-	    psd_engine_open(&d->engine, cf, now = psd_clock_now(&d->clock), d->clock.simulated ? 500 : 1, NULL, err,
-	                    sizeof err) != 0) {
-		if (d->engine.cf == NULL && err[0])
-			log_errx("%s", err);
-		psd_config_free(cf);
-		free(cf);
-		return -1;
-	}
-	date_run(d, now);
-	/* the socket: always in real time; in a simulated day only when configured */
+	/* the socket first (in real time; in a simulated day only when
+	 * configured): a second daemon on the same socket is refused before it
+	 * opens a device or commands a light */
 	if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctl_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
 		                 (int)cf->max_clients, psd_ctl_handle, d, err, sizeof err) != 0) {
-			log_errx("control socket %s (set socket = in [psensd], or run under systemd "
-			          "with RuntimeDirectory=)", err);
-			psd_engine_close(&d->engine);
+			if (errno == EADDRINUSE)
+				log_errx("control socket %s", err);
+			else
+				log_errx("control socket %s (set socket = in [psensd], or run under systemd "
+				          "with RuntimeDirectory=)", err);
 			psd_config_free(cf);
 			free(cf);
 			return -1;
 		}
 		d->have_ctl = 1;
-		log_info("control socket %s", d->ctl.path);
 	}
-	return 0;
-}
-
-int psd_daemon_reload(struct psd_daemon *d)
-{
-	struct psd_config *cf = calloc(1, sizeof *cf), *old;
-	struct psd_engine *snap = malloc(sizeof *snap);
-	char err[1024];
-	double now = psd_clock_now(&d->clock);
-	int batch = d->engine.db_batch;
-	sd_notify(0, "RELOADING=1");
-	if (!cf || !snap) {
-		log_err("reload");
-		goto keep;
-	}
-	if (psd_config_load(cf, d->config_path) != 0) {
-		psd_daemon_config_errors(cf);
-		log_errx("reload: %s has errors: the running configuration stays", d->config_path);
-		goto keep;
-	}
-	if (psd_refresh_results(cf, d->self) != 0) {
-		log_errx("reload: no results for the new configuration: the running configuration stays");
-		goto keep;
-	}
-	/* devices can be opened once (a claimed USB interface, a GPIO line):
-	 * close the running ones, try the new, and reopen the old on failure */
-	*snap = d->engine;
-	old = psd_engine_close(&d->engine);
-	if (psd_engine_open(&d->engine, cf, now, batch, snap, err, sizeof err) != 0) {
-		log_errx("reload: %s: the running configuration stays", err);
-		if (psd_engine_open(&d->engine, old, now, batch, snap, err, sizeof err) != 0) {
-			log_errx("reload: cannot reopen the running configuration either: %s", err);
-			d->stop = SIGTERM;
-		}
+	/* the clock now, not when start-up began: in real time loading and
+	 * checking the files took clock time, with the lights at full output */
+	if (psd_refresh_results(cf, d->self) != 0 ||
+	    psd_engine_open_io(&d->engine, cf, now = psd_clock_now(&d->clock), d->clock.simulated ? 500 : 1, NULL, &d->clock, err, sizeof err) != 0) {
+		if (d->engine.cf == NULL && err[0])
+			log_errx("%s", err);
+		if (d->have_ctl)
+			psd_ctl_close(&d->ctl);
+		d->have_ctl = 0;
 		psd_config_free(cf);
 		free(cf);
-		free(snap);
-		d->reload_failures++;
-		sd_notify(0, "READY=1");
 		return -1;
 	}
-	psd_config_free(old);
-	free(old);
-	free(snap);
-	d->reloads++;
-	log_info("reloaded %s", d->config_path);
-	if (d->engine.db) {
-		char dberr[512];
-		if (psd_db_event(d->engine.db, now, NULL, "reload", d->config_path, dberr, sizeof dberr) != 0)
-			log_warnx("%s", dberr);
-	}
-	sd_notify(0, "READY=1");
-	return 0;
-keep:
-	if (cf)
+	/* one date for the clock: -d, [simulate] date or run_year, today in
+	 * real time (psensd.c sets clock.epoch0); else the [simulate] date this
+	 * year.  date_run moves it past the days the log holds and gives it
+	 * to the engine (samples.utc = utc0 + t, and every dated row) */
+	if (!isfinite(d->clock.epoch0))
+		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
+	date_run(d, now);
+	if (d->have_ctl)
+		log_info("control socket %s", d->ctl.path);
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
+		log_errx("%s", err);
+		if (d->have_ctl)
+			psd_ctl_close(&d->ctl);
+		d->have_ctl = 0;
+		psd_engine_close(&d->engine);
 		psd_config_free(cf);
-	free(cf);
-	free(snap);
-	d->reload_failures++;
-	sd_notify(0, "READY=1");
-	return -1;
+		free(cf);
+		return -1;
+	}
+	return 0;
 }
 
 int psd_daemon_run(struct psd_daemon *d)
@@ -223,19 +211,27 @@ int psd_daemon_run(struct psd_daemon *d)
 	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
 	while (!d->stop) {
 		double now = psd_clock_now(&d->clock), deadline;
-		int n = 0, nctl, ndev, timeout;
+		int n = 0, nctl, ndev, nmq = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
 		psd_engine_step(&d->engine, now);
+		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
+			psd_mqtt_service(d->mqtt, NULL, now);
 		deadline = psd_engine_deadline(&d->engine);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
 		fds[n++] = (struct pollfd){ sigfd, POLLIN, 0 };
 		nctl = d->have_ctl ? psd_ctl_pollfds(&d->ctl, fds + n, PSD_MAX_POLL - n - PSD_MAX_DEVICES) : 0;
 		n += nctl;
-		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n);
+		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n - 1);
 		timeout = psd_clock_wait_ms(&d->clock, deadline, d->watchdog_ms ? d->watchdog_ms : 60000);
-		if (poll(fds, (nfds_t)(n + ndev), timeout) < 0 && errno != EINTR) {
+		if (d->mqtt) {
+			int w = psd_mqtt_wait_ms(d->mqtt);
+			nmq = psd_mqtt_pollfd(d->mqtt, fds + n + ndev);
+			if (w >= 0 && (timeout < 0 || w < timeout))
+				timeout = w;
+		}
+		if (poll(fds, (nfds_t)(n + ndev + nmq), timeout) < 0 && errno != EINTR) {
 			log_err("poll");
 			break;
 		}
@@ -245,6 +241,8 @@ int psd_daemon_run(struct psd_daemon *d)
 			psd_ctl_service(&d->ctl, fds + 1, nctl);
 		now = psd_clock_now(&d->clock);
 		psd_engine_service(&d->engine, now, fds + 1 + nctl, fd_dev, ndev);
+		if (d->mqtt)
+			psd_mqtt_service(d->mqtt, nmq ? fds + n + ndev : NULL, now);
 		if (d->reload) {
 			d->reload = 0;
 			psd_daemon_reload(d);
@@ -258,13 +256,34 @@ int psd_daemon_run(struct psd_daemon *d)
 	return 0;
 }
 
+int psd_daemon_safe(struct psd_daemon *d, const char *why)
+{
+	int unsafe = psd_engine_safe(&d->engine, psd_clock_now(&d->clock), why);
+	double until = mono() + PSD_SETTLE_MS / 1000.0;
+	if (d->clock.simulated)
+		return unsafe;
+	for (;;) {
+		double dl = psd_engine_io_deadline(&d->engine), left = until - mono();
+		int n, timeout;
+		if (!isfinite(dl) || left <= 0)
+			break;
+		n = psd_engine_pollfds(&d->engine, d->fds, d->fd_dev, PSD_MAX_POLL);
+		timeout = psd_clock_wait_ms(&d->clock, dl, (int)(left * 1000) + 1);
+		if (poll(d->fds, (nfds_t)n, timeout) < 0 && errno != EINTR)
+			break;
+		psd_engine_service(&d->engine, psd_clock_now(&d->clock), d->fds, d->fd_dev, n);
+	}
+	return unsafe;
+}
+
 void psd_daemon_stop(struct psd_daemon *d, const char *why)
 {
-	double now = psd_clock_now(&d->clock);
 	sd_notify(0, "STOPPING=1");
+	psd_mqtt_close(d->mqtt);   /* offline, the last acknowledgements, while the log is open */
+	d->mqtt = NULL;
 	if (d->engine.cf) {
 		if (why)
-			psd_engine_safe(&d->engine, now, why);
+			psd_daemon_safe(d, why);
 		{
 			struct psd_config *cf = psd_engine_close(&d->engine);
 			psd_config_free(cf);

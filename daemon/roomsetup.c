@@ -35,15 +35,37 @@ static void month_day(int doy, int *m, int *d)
 	*d = doy - start[k];
 }
 
+int psd_year_has_feb29(const struct ps_results *r)
+{
+	if (r->have_year && r->year.leap)
+		return 1;   /* the weather file said so, even if the 29th is dark */
+	for (size_t i = 0; r->have_year && i < r->year.n; i++)
+		if (r->year.h[i].month == 2 && r->year.h[i].day == 29)
+			return 1;
+		else if (r->year.h[i].month > 2)
+			break;   /* file order */
+	return 0;
+}
+
 int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
                        struct ps_room_params *p)
 {
-	size_t lo = 0, hi, n = 0;
 	int m, d;
-	memset(p, 0, sizeof *p);
-	if (!r->have_year || isnan(r->electric_sensor_response) || doy < 1 || doy > 366)
+	if (doy < 1 || doy > 366) {
+		memset(p, 0, sizeof *p);
 		return -1;
+	}
 	month_day(doy > 365 ? 365 : doy, &m, &d);
+	return psd_room_from_date(r, m, d, day, p);
+}
+
+int psd_room_from_date(const struct ps_results *r, int m, int d, struct ps_room_daypoint *day,
+                       struct ps_room_params *p)
+{
+	size_t lo = 0, hi, n = 0;
+	memset(p, 0, sizeof *p);
+	if (!r->have_year || isnan(r->electric_sensor_response) || m < 1 || m > 12 || d < 1 || d > 31)
+		return -1;
 	/* the hours are in file order: find the date's run */
 	while (lo < r->year.n && (r->year.h[lo].month < m ||
 	                          (r->year.h[lo].month == m && r->year.h[lo].day < d)))
@@ -54,15 +76,16 @@ int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypo
 	if (hi > lo) {
 		/* dark an hour before the first hour with light and after the last */
 		double first = 3600.0 * r->year.h[lo].hour, last = 3600.0 * r->year.h[hi - 1].hour;
-		day[n++] = (struct ps_room_daypoint){ fmax(0.0, first - 3600.0), 0.0, 0.0 };
+		day[n++] = (struct ps_room_daypoint){ fmax(0.0, first - 3600.0), 0.0, 0.0, 0.0 };
 		for (size_t i = lo; i < hi && n < PSD_DAY_POINTS - 1; i++) {
 			double t = 3600.0 * r->year.h[i].hour;
 			if (t <= day[n - 1].t)
 				continue;   /* an hour at midnight's edge: keep the order strict */
-			day[n++] = (struct ps_room_daypoint){ t, r->year.h[i].sensor, r->year.h[i].task_lux };
+			day[n++] = (struct ps_room_daypoint){ t, r->year.h[i].sensor, r->year.h[i].task_lux,
+			                                          r->year.h[i].horiz_lux };
 		}
 		if (last + 3600.0 > day[n - 1].t && n < PSD_DAY_POINTS)
-			day[n++] = (struct ps_room_daypoint){ fmin(86400.0, last + 3600.0), 0.0, 0.0 };
+			day[n++] = (struct ps_room_daypoint){ fmin(86400.0, last + 3600.0), 0.0, 0.0, 0.0 };
 	}
 	p->daylight = day;
 	p->ndaylight = n;
@@ -118,7 +141,7 @@ int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, d
 		double s = s_lo + w * (s_hi - s_lo), l = l_lo + w * (l_hi - l_lo);
 		for (int k = 0; k < PSD_DAY_POINTS; k++) {
 			double t = k * 900.0, sh = shape(t, sunrise, sunset);
-			day[k] = (struct ps_room_daypoint){ t, s * sh, l * sh };
+			day[k] = (struct ps_room_daypoint){ t, s * sh, l * sh, NAN };
 		}
 	}
 	p->daylight = day;
@@ -148,31 +171,33 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 	return &rs->p;
 }
 
-int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,
+int psd_room_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
                       double level0, double (*law)(void *ctx, double t, double volts),
                       void (*seen)(void *ctx, double t, double level, double task_lux,
-                                   double daylight_lux),
+                                   double daylight_lux, double rooftop_lux),
                       void *ctx)
 {
 	struct ps_room_daypoint day[PSD_DAY_POINTS];
 	struct ps_room_params p;
 	struct ps_room *room;
 	int steps = (int)floor(86400.0 / period + 0.5);
-	if (period <= 0 || psd_room_from_year(r, doy, day, &p) != 0)
+	if (period <= 0 || psd_room_from_date(r, month, mday, day, &p) != 0)
 		return -1;
 	p.gain = gain;
 	if (!(room = ps_room_new(&p, 0.0)))
 		return -1;
 	ps_room_command(room, 0.0, level0);
 	for (int s = 0; s < steps; s++) {
-		double t = s * period, volts, level, dv, dl;
+		double t = s * period, volts, level, dv, dl, g;
 		if (ps_room_sensor(room, t, &volts) != 0)
 			volts = 0;
 		level = law(ctx, t, volts);
 		ps_room_command(room, t, level);
 		ps_room_daylight(room, t, &dv, &dl);
+		if (ps_room_rooftop(room, t, &g) != 0)
+			g = NAN;
 		/* the desk just after the command (an instant ballast has obeyed) */
-		seen(ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl);
+		seen(ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl, g);
 	}
 	ps_room_free(room);
 	return 0;
@@ -181,10 +206,13 @@ int psd_room_play_day(const struct ps_results *r, int doy, double gain, double p
 struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date)
 {
 	struct roomsetup *rs;
-	int doy = psd_day_of_year(date);
-	if (doy < 0 || !(rs = malloc(sizeof *rs)))
+	int m = 0, d = 0;
+	if (psd_day_of_year(date) < 0 || sscanf(date, "%d-%d", &m, &d) != 2 || !(rs = malloc(sizeof *rs)))
 		return NULL;
-	if (psd_room_from_year(r, doy, rs->day, &rs->p) != 0) {
+	/* February 29 of a year without one: the 28th */
+	if (m == 2 && d == 29 && !psd_year_has_feb29(r))
+		d = 28;
+	if (psd_room_from_date(r, m, d, rs->day, &rs->p) != 0) {
 		free(rs);
 		return NULL;
 	}

@@ -34,19 +34,27 @@ int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypo
  * electric or no daylight condition, or the date is malformed. */
 struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char *date, double sunrise,
                                          double sunset);
-/* Play day doy of the results' year on a room (psd_room_from_year; sensor
+/* The same for a calendar date (month 1-12, day 1-31): February 29 of a
+ * leap year's file plays its own hours. */
+int psd_room_from_date(const struct ps_results *r, int month, int mday, struct ps_room_daypoint *day,
+                       struct ps_room_params *p);
+/* 1 when the results' year has February 29 (a leap year's weather file). */
+int psd_year_has_feb29(const struct ps_results *r);
+/* Play the date month/mday of the results' year on a room (psd_room_from_date; sensor
  * gain volts per unit, no noise, an instant ballast, the lights at level0 at
  * midnight): every period seconds from midnight, law(ctx, t, volts) gives the
  * level to command, then seen(ctx, t, level, true task lux a millisecond
- * after the command, true daylight lux at the task) reports the step.  The room stays inside this file
+ * after the command, true daylight lux at the task, the rooftop's global
+ * horizontal lux or NAN) reports the step.  The room stays inside this file
  * (psensd -Y: annual.c).  -1 when the results have no year or no electric
  * condition, or out of memory. */
-int psd_room_play_day(const struct ps_results *r, int doy, double gain, double period,
+int psd_room_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
                       double level0, double (*law)(void *ctx, double t, double volts),
                       void (*seen)(void *ctx, double t, double level, double task_lux,
-                                   double daylight_lux),
+                                   double daylight_lux, double rooftop_lux),
                       void *ctx);
-/* The same from the results' year (psd_room_from_year): [simulate] year = yes. */
+/* The same from the results' year (psd_room_from_date): [simulate] year =
+ * yes; 02-29 plays February 28 when the year has no 29th. */
 struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);
 void psd_roomsetup_free(struct ps_room_params *p);
 /* Day of year of "MM-DD" (non-leap year); -1 if malformed. */

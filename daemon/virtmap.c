@@ -28,7 +28,8 @@ static int zone_of(const struct psd_virtmap *m, unsigned addr)
 		z = (int)(addr % 10);
 	else if (addr >= PSD_VIRT_METER && addr < PSD_VIRT_METER + 10 * PSD_VIRT_MAX_ZONES)
 		z = (int)(addr - PSD_VIRT_METER) / 10;
-	else if (addr >= PSD_VIRT_OUTPUT0 && addr <= PSD_VIRT_TRUTH0 + 1)
+	else if ((addr >= PSD_VIRT_OUTPUT0 && addr <= PSD_VIRT_TRUTH0 + 1) ||
+	         (addr >= PSD_VIRT_ROOFTOP && addr < PSD_VIRT_ROOFTOP + 4))
 		z = 0;
 	else if (addr >= PSD_VIRT_ZONE && addr < PSD_VIRT_ZONE + 10 * PSD_VIRT_MAX_ZONES)
 		z = (int)(addr - PSD_VIRT_ZONE) / 10;
@@ -57,6 +58,10 @@ static void refresh_zone(struct psd_virtmap *m, int k, double now)
 	zone[0] = (uint16_t)lround(psd_virtroom_output(r, now) * 10000);
 	put_f32(zone + 1, psd_virtroom_truth(r, now), 0);
 	if (k == 0) {
+		/* one sky over the site: zone 0's room plays it */
+		double g = psd_virtroom_rooftop(r, now);
+		put_u32(hr + PSD_VIRT_ROOFTOP, g);
+		put_f32(hr + PSD_VIRT_ROOFTOP + 2, g, 0);
 		hr[PSD_VIRT_OUTPUT0] = zone[0];
 		hr[PSD_VIRT_TRUTH0] = zone[1];
 		hr[PSD_VIRT_TRUTH0 + 1] = zone[2];

@@ -10,6 +10,8 @@
  *   300 + 10k  the zone's light output x 10000; +1 true task lux f32 ABCD
  *   200        the room's time of day, u32 seconds
  *   202, 203   zone 0's light output and true task lux (its 300 and 301)
+ *   210        the site's rooftop global horizontal lux (zone 0's room: the
+ *              hour of the year it plays, 0 without a year), u32; 212 f32 ABCD
  *   900-903    the fault registers (psvirt.c gives them their meaning)
  *
  * Holding registers 0-999 (the rest is plain memory), input registers 0-29
@@ -37,6 +39,7 @@ enum {
 	PSD_VIRT_TOD = 200,
 	PSD_VIRT_OUTPUT0 = 202,
 	PSD_VIRT_TRUTH0 = 203,
+	PSD_VIRT_ROOFTOP = 210,        /* the site's rooftop lux: u32 210-211, f32 212-213 */
 	PSD_VIRT_ZONE = 300,           /* + 10 zone */
 	PSD_VIRT_FAULT = 900,          /* the fault registers 900 to 903 */
 	PSD_VIRT_FAULT_LAST = 903,

@@ -14,7 +14,7 @@
 
 struct psd_virtroom {
 	struct ps_dev dev;
-	struct ps_point sensor, task, dim;
+	struct ps_point sensor, task, dim, rooftop;
 };
 
 /* A loopback device, opened with these options; -1 with the reason in err. */
@@ -68,8 +68,10 @@ struct psd_virtroom *psd_virtroom_new(const struct psd_virtday *day, const struc
 	r->sensor = (struct ps_point){ "sensor", PS_ROLE_SENSOR, NULL };
 	r->task = (struct ps_point){ "task", PS_ROLE_TASK_LUX, NULL };
 	r->dim = (struct ps_point){ "dim", PS_ROLE_DIM, NULL };
+	r->rooftop = (struct ps_point){ "rooftop", PS_ROLE_ROOFTOP, NULL };
 	if (r->dev.drv->setup(&r->dev, rp, start) != 0 || r->dev.drv->add_point(&r->dev, &r->sensor, NULL) != 0 ||
-	    r->dev.drv->add_point(&r->dev, &r->task, NULL) != 0 || r->dev.drv->add_point(&r->dev, &r->dim, NULL) != 0) {
+	    r->dev.drv->add_point(&r->dev, &r->task, NULL) != 0 || r->dev.drv->add_point(&r->dev, &r->dim, NULL) != 0 ||
+	    r->dev.drv->add_point(&r->dev, &r->rooftop, NULL) != 0) {
 		snprintf(err, n, "%s", r->dev.err);
 		psd_roomsetup_free(rp);
 		psd_virtroom_free(r);
@@ -121,6 +123,12 @@ double psd_virtroom_task(struct psd_virtroom *r, double now)
 	double lux = 0;
 	r->dev.drv->read(&r->dev, &r->task, now, &lux);
 	return lux;
+}
+
+double psd_virtroom_rooftop(struct psd_virtroom *r, double now)
+{
+	double lux;
+	return r->dev.drv->read(&r->dev, &r->rooftop, now, &lux) == 0 ? lux : 0.0;
 }
 
 void psd_virtroom_command(struct psd_virtroom *r, double now, double level)

@@ -54,6 +54,9 @@ void psd_virtroom_command(struct psd_virtroom *r, double now, double level);
  * and the integral of the output since the start (fraction x seconds). */
 double psd_virtroom_output(struct psd_virtroom *r, double now);
 double psd_virtroom_truth(struct psd_virtroom *r, double now);
+/* The rooftop's global horizontal lux of the hour the room plays ([simulate]
+ * year = yes), 0 when its day carries none (the clear-sky profile). */
+double psd_virtroom_rooftop(struct psd_virtroom *r, double now);
 double psd_virtroom_energy(struct psd_virtroom *r, double now);
 /* Seconds since midnight on the room's clock. */
 double psd_virtroom_tod(double now);

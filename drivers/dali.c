@@ -1,6 +1,6 @@
 /* The DALI layer: frames, commands and the logarithmic dimming curve
- * (see dali.h; the facts are in IEC 62386-102 as restated in the team's
- * hardware notes, section 2). */
+ * (see dali.h; the facts are IEC 62386-102's as doc/hardware.md section 2
+ * restates them). */
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>

@@ -5,7 +5,7 @@
  * (c->wait_until) or has ended; result() files the transaction's outcome
  * under the pc that asked for it and moves the pc on.  The facts (frames,
  * the send-twice rule, INITIALISE's window, RANDOMISE's 100 ms) are those
- * of IEC 62386-102 as the team's hardware notes restate them. */
+ * of IEC 62386-102 as doc/hardware.md section 2 restates them. */
 #include <json-c/json.h>
 #include <math.h>
 #include <stdarg.h>

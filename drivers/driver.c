@@ -7,7 +7,7 @@
 
 #include "driver.h"
 
-static const char *const role_names[PS_ROLE_COUNT] = { "sensor", "task", "dim", "relay", "input" };
+static const char *const role_names[PS_ROLE_COUNT] = { "sensor", "task", "dim", "relay", "input", "rooftop" };
 
 const char *ps_role_name(int role)
 {

@@ -151,6 +151,7 @@ static int lb_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 	switch (pt->role) {
 	case PS_ROLE_SENSOR:
 	case PS_ROLE_TASK_LUX:
+	case PS_ROLE_ROOFTOP:
 		return 0;
 	case PS_ROLE_DIM:
 		lb->ndim++;
@@ -243,6 +244,12 @@ static int lb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 	}
 	if (pt->role == PS_ROLE_TASK_LUX)
 		return ps_room_task(lb->room, now, value);
+	if (pt->role == PS_ROLE_ROOFTOP) {
+		if (ps_room_rooftop(lb->room, now, value) != 0)
+			return ps_dev_fail(dev, ENODATA, "loopback %s: the room's day has no rooftop reading "
+			                   "(a day of the year has one: [simulate] year = yes)", dev->name);
+		return 0;
+	}
 	if (pt->role == PS_ROLE_RELAY) {
 		*value = *(int *)pt->priv;
 		return 0;

@@ -94,7 +94,8 @@ static int table_fits(int role, int table)
 {
 	switch (role) {
 	case PS_ROLE_SENSOR:
-	case PS_ROLE_TASK_LUX: return table == PS_MB_INPUT_REGISTER || table == PS_MB_HOLDING_REGISTER;
+	case PS_ROLE_TASK_LUX:
+	case PS_ROLE_ROOFTOP: return table == PS_MB_INPUT_REGISTER || table == PS_MB_HOLDING_REGISTER;
 	case PS_ROLE_DIM: return table == PS_MB_HOLDING_REGISTER;
 	case PS_ROLE_RELAY: return table == PS_MB_HOLDING_REGISTER || table == PS_MB_COIL;
 	case PS_ROLE_INPUT: return table == PS_MB_COIL || table == PS_MB_DISCRETE_INPUT;

@@ -148,7 +148,7 @@ int ps_replay_parse(const char *text, size_t len, const char *name, double gain,
 				*out = grown;
 				cap = ncap;
 			}
-			(*out)[(*n)++] = (struct ps_room_daypoint){ tod, dv / gain, dl };
+			(*out)[(*n)++] = (struct ps_room_daypoint){ tod, dv / gain, dl, NAN };
 		}
 	}
 	if (*n < 2) {

@@ -92,11 +92,13 @@ int ps_room_fault(const struct ps_room *r, double now)
 	return PS_ROOM_FAULT_NONE;
 }
 
-void ps_room_daylight(const struct ps_room *r, double now, double *volts, double *lux)
+/* The day's three numbers at now, linear between its points (zero outside). */
+static void day_at(const struct ps_room *r, double now, double *s, double *l, double *g)
 {
-	double tod = ps_room_tod(now), s = 0, l = 0;
+	double tod = ps_room_tod(now);
 	const struct ps_room_daypoint *d = r->day;
 	size_t n = r->p.ndaylight;
+	*s = *l = *g = 0;
 	if (n && tod >= d[0].t && tod <= d[n - 1].t) {
 		/* the last point at or before tod (binary search: replays hold a
 		 * point per logged period) */
@@ -111,15 +113,35 @@ void ps_room_daylight(const struct ps_room *r, double now, double *volts, double
 		i = lo;
 		if (i + 1 < n && d[i + 1].t > d[i].t) {
 			double w = (tod - d[i].t) / (d[i + 1].t - d[i].t);
-			s = d[i].sensor + w * (d[i + 1].sensor - d[i].sensor);
-			l = d[i].task_lux + w * (d[i + 1].task_lux - d[i].task_lux);
+			*s = d[i].sensor + w * (d[i + 1].sensor - d[i].sensor);
+			*l = d[i].task_lux + w * (d[i + 1].task_lux - d[i].task_lux);
+			*g = d[i].rooftop_lux + w * (d[i + 1].rooftop_lux - d[i].rooftop_lux);
 		} else {
-			s = d[i].sensor;
-			l = d[i].task_lux;
+			*s = d[i].sensor;
+			*l = d[i].task_lux;
+			*g = d[i].rooftop_lux;
 		}
-	}
+	} else if (n && isnan(d[0].rooftop_lux))
+		*g = NAN;
+}
+
+void ps_room_daylight(const struct ps_room *r, double now, double *volts, double *lux)
+{
+	double s, g;
+	day_at(r, now, &s, lux, &g);
 	*volts = r->p.gain * s;
-	*lux = l;
+}
+
+int ps_room_rooftop(struct ps_room *r, double now, double *lux)
+{
+	double s, l, g;
+	day_at(r, now, &s, &l, &g);
+	if (isnan(g) || r->p.ndaylight == 0) {
+		errno = ENODATA;
+		return -1;
+	}
+	*lux = g < 0 ? 0 : g;
+	return 0;
 }
 
 void ps_room_command(struct ps_room *r, double now, double level)

@@ -20,6 +20,8 @@ struct ps_room_daypoint {
 	double t;             /* seconds since local midnight */
 	double sensor;        /* sensor response to daylight (response units, x gain = volts) */
 	double task_lux;      /* task illuminance from daylight, lux */
+	double rooftop_lux;   /* global horizontal illuminance outdoors (what a rooftop
+	                         sensor reads), lux; NAN when the day carries none */
 };
 
 struct ps_ballast_params {
@@ -76,6 +78,9 @@ void ps_room_command(struct ps_room *r, double now, double level);
 int ps_room_sensor(struct ps_room *r, double now, double *volts);
 /* The task meter's lux, with noise. */
 int ps_room_task(struct ps_room *r, double now, double *lux);
+/* The rooftop sensor's global horizontal lux (no noise); -1 with errno
+ * ENODATA when the day carries no rooftop reading. */
+int ps_room_rooftop(struct ps_room *r, double now, double *lux);
 /* Light output (fraction of full) now. */
 double ps_room_output(struct ps_room *r, double now);
 /* Task lux without noise or faults: the truth a summary compares with.

@@ -1,6 +1,6 @@
 /* The Tridonic / Lunatone DALI USB interface (USB 17b5:0020) as a byte codec.
  * The protocol is reverse-engineered (daliserver, python-dali, dali_mon agree;
- * the team's hardware notes, section 1.1).  64-byte reports both ways.
+ * doc/hardware.md section 1).  64-byte reports both ways.
  *
  * Host -> device SEND:  12 seq flags 03 00 00 addr data dtr0 0...
  *   flags 0x20: the interface sends the frame twice (config commands)

@@ -15,8 +15,62 @@ void ps_hash_string(const char *s, char hex[65]);
 
 /* Look up n doubles under key; 1 found, 0 absent (or unreadable). */
 int ps_cache_get(const char *dir, const char *key, double *v, int n);
+/* The same for an entry's text in memory (len bytes). */
+int ps_cache_parse(const char *text, size_t len, const char *key, double *v, int n);
 /* Store them (atomically: write then rename); -1 on error, which callers may
  * ignore (a cache that cannot be written only costs time). */
 int ps_cache_put(const char *dir, const char *key, const double *v, int n, struct ps_err *e);
+
+/* ---- binary entries: memory-mapped, checksummed, bounded ------------------
+ *
+ * A blob is a payload of bytes under a 64-hex key (a SHA-256 of whatever
+ * identifies it), kept as DIR/blobs/kk/<62 hex> (kk: the key's first two
+ * digits):
+ *   bytes 0-7     "PSCBLOB1"
+ *   bytes 8-15    payload length, little-endian
+ *   bytes 16-47   the key (32 bytes)
+ *   bytes 48-79   SHA-256 of the payload
+ *   bytes 80-127  zero
+ *   bytes 128-    the payload (page-aligned in the map: 8-byte aligned)
+ * Written to a temporary file in the same directory and renamed into place,
+ * so a reader sees a whole entry or none, whatever other processes do; a
+ * reader keeps its map even if the entry is evicted meanwhile.  A read
+ * checks the size, the magic, the key and the checksum: an entry that fails
+ * is removed and reported, never used.  Each hit sets the entry's
+ * modification time (the least recently used go first); after a write,
+ * entries are evicted oldest first (under an flock on DIR/blobs/.lock) until
+ * they hold at most max_bytes (the entry just written stays). */
+#define PS_CACHE_BLOB_HEADER 128
+#define PS_CACHE_MAX_DEFAULT ((size_t)2 << 30)   /* 2 GiB */
+
+struct ps_cache_blob {
+	const void *data;   /* the payload (read-only) */
+	size_t len;
+	void *map;          /* the whole mapped file */
+	size_t maplen;
+};
+
+/* 1: found and verified (release it); 0: absent; -1: present but corrupt or
+ * unreadable (e says which, naming the file; a corrupt entry is removed). */
+int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob *b,
+                      struct ps_err *e);
+void ps_cache_blob_release(struct ps_cache_blob *b);
+/* The checks a read makes, on a whole entry file in memory: 0 when it is a
+ * sound entry for hexkey, else -1 with e naming name and the byte. */
+int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const char *name,
+                        struct ps_err *e);
+/* Store a payload given in pieces (n of them: ptr[i], len[i]).  -1 (e) when
+ * the directory cannot be written; callers go on uncached. */
+int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *const *ptr,
+                      const size_t *len, size_t max_bytes, struct ps_err *e);
+/* Evict oldest-used entries until at most max_bytes remain, keeping keep
+ * (may be NULL); returns the number removed (-1 when the lock fails). */
+long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep);
+/* The cache directory psscene and psens share: $XDG_CACHE_HOME/psensd,
+ * else $HOME/.cache/psensd (/tmp/.cache/psensd without a HOME). */
+void ps_cache_default_dir(char *buf, size_t len);
+/* Bytes allowed (PSENSD_CACHE_MAX, with an optional K, M or G suffix; else
+ * PS_CACHE_MAX_DEFAULT). */
+size_t ps_cache_max_bytes(void);
 
 #endif

@@ -97,17 +97,17 @@ static char *read_line(char *buf, int size, void *stream)
 	size_t n = 0;
 	int too_long = 0;
 	if (r->text) {
-		if (r->text[r->pos] == '\0')
+		/* the line with its newline, copied whole (as much as fits) */
+		const char *p = r->text + r->pos, *nl;
+		size_t len;
+		if (*p == '\0')
 			return NULL;
-		while (r->text[r->pos] != '\0') {
-			char ch = r->text[r->pos++];
-			if (n + 1 < (size_t)size)
-				buf[n++] = ch;
-			else
-				too_long = 1;
-			if (ch == '\n')
-				break;
-		}
+		nl = strchr(p, '\n');
+		len = nl ? (size_t)(nl - p) + 1 : strlen(p);
+		r->pos += len;
+		n = len < (size_t)size ? len : (size_t)size - 1;
+		too_long = len > n;
+		memcpy(buf, p, n);
 		buf[n] = '\0';
 	} else {
 		int ch;

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "batch.h"
 #include "dcpic.h"
 #include "integrate.h"
 #include "patches.h"
@@ -66,53 +67,103 @@ int ps_dcset_count(const char *pattern, int mf, int *n, int *mf_out, struct ps_e
 	return 0;
 }
 
+/* What the batch's loader needs: the set's pattern and view (its pictures
+ * carry none: the view given is written into each as it is read), and
+ * patch 0, read already for the size. */
+struct dc_load {
+	const char *pattern;
+	char view[400];
+	struct ps_picture first;
+	int have_first;
+	char (*names)[4096];
+};
+
+static int dc_load_pic(void *ctx, size_t i, struct ps_picture *pic, struct ps_err *e)
+{
+	struct dc_load *l = ctx;
+	char *view = strdup(l->view);
+	if (!view)
+		return ps_errf(e, PS_ENOMEM, "%s: out of memory", l->names[i]);
+	if (i == 0 && l->have_first) {
+		/* patch 0's picture goes to the one thread that asks for it */
+		*pic = l->first;
+		l->have_first = 0;
+	} else if (ps_pic_read(pic, l->names[i], e) != 0) {
+		free(view);
+		return -1;
+	}
+	free(pic->view);
+	pic->view = view;
+	return 0;
+}
+
+static const char *dc_name(void *ctx, size_t i)
+{
+	return ((struct dc_load *)ctx)->names[i];
+}
+
 int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const struct ps_sensor *s,
                  double rotation, struct ps_dcrow *row, struct ps_err *e)
 {
 	static const double none[3] = { 1, 1, 1 };
-	struct ps_weights w;
-	int n, m, have_w = 0, rc = 0;
-	char path[4096], first[4096];
+	struct dc_load l;
+	struct ps_batch b;
+	struct ps_batch_result *res = NULL;
+	int n, m, rc = 0;
 	memset(row, 0, sizeof *row);
-	memset(&w, 0, sizeof w);
+	memset(&l, 0, sizeof l);
 	if (ps_view_check_fisheye(v, pattern, e) != 0 || ps_dcset_count(pattern, mf, &n, &m, e) != 0)
 		return -1;
 	row->c = calloc((size_t)n * 3, sizeof *row->c);
-	if (!row->c)
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory for %d coefficients", pattern, n);
+	l.names = calloc((size_t)n, sizeof *l.names);
+	res = calloc((size_t)n, sizeof *res);
+	if (!row->c || !l.names || !res) {
+		free(l.names);
+		free(res);
+		ps_dcrow_free(row);
+		return ps_errf(e, PS_ENOMEM, "%s: out of memory for %d pictures", pattern, n);
+	}
 	row->n = n;
 	row->mf = m;
-	for (int p = 0; p < n && rc == 0; p++) {
-		struct ps_picture pic;
-		struct ps_response r;
-		ps_dcpic_path(pattern, p, path, sizeof path, e);
-		if (ps_pic_read(&pic, path, e) != 0) {
-			rc = -1;
-			break;
-		}
-		if (p == 0) {
-			snprintf(first, sizeof first, "%s", path);
-			rc = ps_weights_build(&w, s, rotation, v, pic.width, pic.height, PS_W_EXACT, e);
-			have_w = rc == 0;
-			row->width = pic.width;
-			row->height = pic.height;
-			row->coverage = have_w ? w.coverage : 0;
-		} else if (pic.width != row->width || pic.height != row->height) {
-			rc = ps_errf(e, PS_EFORMAT, "%s: patch %d is %d x %d, patch 0 (%s) is %d x %d: one "
-			             "set, one size", path, p, pic.width, pic.height, first, row->width,
-			             row->height);
-		}
-		if (rc == 0 && (rc = ps_integrate(&w, &pic, none, &r, e)) == 0)
-			memcpy(row->c + 3 * p, r.rgb, 3 * sizeof *row->c);
-		else if (rc != 0 && e->msg[0] && !strstr(e->msg, path)) {
-			char msg[sizeof e->msg];
-			snprintf(msg, sizeof msg, "%s", e->msg);
-			ps_errf(e, e->code, "%s (patch %d): %s", path, p, msg);
-		}
-		ps_pic_free(&pic);
+	l.pattern = pattern;
+	ps_view_format(v, l.view, sizeof l.view);
+	for (int p = 0; p < n; p++)
+		ps_dcpic_path(pattern, p, l.names[p], sizeof l.names[p], e);
+	if (ps_pic_read(&l.first, l.names[0], e) != 0) {
+		rc = -1;
+		goto out;
 	}
-	if (have_w)
-		ps_weights_free(&w);
+	l.have_first = 1;
+	row->width = l.first.width;
+	row->height = l.first.height;
+	/* the weights once, the pictures read and integrated in parallel */
+	if (ps_batch_init(&b, s, rotation, v, row->width, row->height, PS_W_EXACT, none, 0, e) != 0) {
+		rc = -1;
+		goto out;
+	}
+	row->coverage = b.w.coverage;
+	if (ps_batch_run(&b, (size_t)n, dc_load_pic, dc_name, &l, res, e) < 0)
+		rc = -1;
+	for (int p = 0; p < n && rc == 0; p++) {
+		const struct ps_batch_result *r = &res[p];
+		if (r->status == PS_BATCH_OK) {
+			memcpy(row->c + 3 * p, r->r.rgb, 3 * sizeof *row->c);
+		} else if (r->width > 0 && (r->width != row->width || r->height != row->height)) {
+			rc = ps_errf(e, PS_EFORMAT, "%s: patch %d is %d x %d, patch 0 (%s) is %d x %d: "
+			             "one set, one size", l.names[p], p, r->width, r->height, l.names[0],
+			             row->width, row->height);
+		} else if (!strstr(r->err.msg, l.names[p])) {
+			rc = ps_errf(e, r->err.code, "%s (patch %d): %s", l.names[p], p, r->err.msg);
+		} else {
+			rc = ps_errf(e, r->err.code, "%s (patch %d)", r->err.msg, p);
+		}
+	}
+	ps_batch_free(&b);
+out:
+	if (l.have_first)
+		ps_pic_free(&l.first);
+	free(l.names);
+	free(res);
 	if (rc != 0)
 		ps_dcrow_free(row);
 	return rc;

@@ -15,9 +15,10 @@
  * coef[c] x row[3p + c] x sky[3p + c] (ps_dcrow_apply): in W/m2 for a cosine
  * sensor, the irradiance at the view's point.
  *
- * The pictures are read and integrated one after the other with the one
- * weight map (the parallel batches of the performance work had not landed
- * when this was written: a set of 146 64 x 64 pictures takes 0.04 s). */
+ * The weights are built once and the pictures read and integrated in
+ * parallel through sim/batch.h (each picture's numbers are the one-picture
+ * route's, bit for bit; the set's view is written into each picture as it
+ * is read, since the files carry none). */
 #ifndef PS_DCSET_H
 #define PS_DCSET_H
 

@@ -1,7 +1,12 @@
 #include "file.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, struct ps_err *e)
 {
@@ -51,4 +56,58 @@ int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, stru
 	*data = buf;
 	*len = n;
 	return 0;
+}
+
+int ps_map_file(const char *path, size_t max, struct ps_filemap *m, struct ps_err *e)
+{
+	struct stat st;
+	int fd;
+	memset(m, 0, sizeof *m);
+	fd = open(path, O_RDONLY | O_CLOEXEC);
+	if (fd < 0)
+		return ps_errsys(e, "%s", path);
+	/* a regular file is read in one piece of its size (not mapped: a file
+	 * cut short by another process meanwhile must not end in SIGBUS) */
+	if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+		size_t want = (size_t)st.st_size, got = 0;
+		if ((uint64_t)st.st_size > max) {
+			close(fd);
+			return ps_errf(e, PS_ERANGE, "%s: larger than %zu bytes", path, max);
+		}
+		m->buf = malloc(want + 1);
+		if (!m->buf) {
+			close(fd);
+			return ps_errf(e, PS_ENOMEM, "%s: out of memory for %zu bytes", path, want);
+		}
+		while (got < want) {
+			ssize_t k = read(fd, m->buf + got, want - got);
+			if (k < 0 && errno == EINTR)
+				continue;
+			if (k < 0) {
+				int rc = ps_errsys(e, "%s: read error", path);
+				close(fd);
+				ps_unmap_file(m);
+				return rc;
+			}
+			if (k == 0)
+				break;   /* shorter than it was: what is there */
+			got += (size_t)k;
+		}
+		close(fd);
+		m->buf[got] = '\0';
+		m->data = m->buf;
+		m->len = got;
+		return 0;
+	}
+	close(fd);
+	if (ps_read_file(path, max, &m->buf, &m->len, e) != 0)
+		return -1;
+	m->data = m->buf;
+	return 0;
+}
+
+void ps_unmap_file(struct ps_filemap *m)
+{
+	free(m->buf);
+	memset(m, 0, sizeof *m);
 }

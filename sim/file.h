@@ -11,4 +11,15 @@
  * Files larger than max bytes are refused. */
 int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, struct ps_err *e);
 
+/* A whole input file in memory: a regular file read in one piece of its
+ * size (no growing buffer), anything else (a pipe) as ps_read_file does.
+ * Release it with ps_unmap_file. */
+struct ps_filemap {
+	const uint8_t *data;
+	size_t len;
+	uint8_t *buf;   /* owned */
+};
+int ps_map_file(const char *path, size_t max, struct ps_filemap *m, struct ps_err *e);
+void ps_unmap_file(struct ps_filemap *m);
+
 #endif

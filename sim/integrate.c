@@ -45,6 +45,38 @@ void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
 			m[i][k] = p[i][k] * sc[k];
 }
 
+void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3])
+{
+	double to_xyz[3][3], from_xyz[3][3], m[3][3];
+	ps_rgb_to_xyz_matrix(ps_std_primaries, to_xyz);
+	invert3(to_xyz, from_xyz);
+	if (pic->format == PS_PIC_XYZE) {
+		/* XYZE holds luminance-based values (Y in cd/m2 once EXPOSURE is
+		 * divided out): Radiance's ra_xyze writes EXPOSURE=1/179 on the
+		 * unchanged XYZ of a radiance picture.  Back to radiance: / 179. */
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = from_xyz[i][c] / PS_WHTEFFICACY;
+	} else if (pic->has_primaries) {
+		/* RGB in the picture's own primaries -> XYZ -> standard RGB */
+		double own[3][3];
+		ps_rgb_to_xyz_matrix(pic->primaries, own);
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = from_xyz[i][0] * own[0][c] + from_xyz[i][1] * own[1][c] +
+				          from_xyz[i][2] * own[2][c];
+	} else {
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = i == c;
+	}
+	/* EXPOSURE and COLORCORR act on the stored channels, before any change
+	 * of colour space (Radiance divides them out of the pixel as read) */
+	for (int i = 0; i < 3; i++)
+		for (int c = 0; c < 3; c++)
+			k[i][c] = m[i][c] / pic->exposure[c];
+}
+
 /* Rearrange v so that its k largest values come first (quickselect, O(n)). */
 static void select_largest(double *v, size_t n, size_t k)
 {
@@ -76,30 +108,31 @@ static void select_largest(double *v, size_t n, size_t k)
 	}
 }
 
+double ps_top1_share(double *contrib, size_t n, double response)
+{
+	size_t top = n / 100 ? n / 100 : 1;
+	struct ps_sum s;
+	select_largest(contrib, n, top);
+	ps_sum_init(&s);
+	for (size_t i = 0; i < top; i++)
+		ps_sum_add(&s, contrib[i]);
+	return ps_sum_get(&s) / response;
+}
+
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e)
 {
 	struct ps_sum tot, ch[3];
 	double k[3][3];   /* radiance channel c of the stored pixel -> weighted RGB */
+	double kc[3];     /* stored channels -> response */
 	double best = -1.0, *contrib = NULL;
 	size_t ncontrib = 0;
 	memset(r, 0, sizeof *r);
 	if (pic->width != w->width || pic->height != w->height)
 		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
 		               pic->height, w->width, w->height);
-	/* exposure and colour space folded into one matrix, applied per pixel */
-	if (pic->format == PS_PIC_XYZE) {
-		double m[3][3], minv[3][3];
-		ps_rgb_to_xyz_matrix(ps_std_primaries, m);
-		invert3(m, minv);
-		for (int i = 0; i < 3; i++)
-			for (int c = 0; c < 3; c++)
-				k[i][c] = minv[i][c] / pic->exposure[c];
-	} else {
-		for (int i = 0; i < 3; i++)
-			for (int c = 0; c < 3; c++)
-				k[i][c] = i == c ? 1.0 / pic->exposure[c] : 0.0;
-	}
+	ps_pic_rgb_matrix(pic, k);
+	ps_coef_k(coef, k, kc);
 	/* Each row is summed in plain double and the rows are added with
 	 * compensation: a row's own rounding is n eps of the row, far below
 	 * what the compensated total keeps across rows (a 1e9 sun next to
@@ -112,21 +145,13 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
 		const double *wt = w->w + run->off;
 		struct ps_sum row;
-		double rc[3] = { 0, 0, 0 };
+		double raws[3] = { 0, 0, 0 }, rc[3];
 		ps_sum_init(&row);
 		for (int i = 0; i < run->n; i++, px += 4) {
-			double raw[3], rgb[3], b, f;
+			double b;
 			if (px[3] == 0)
 				continue;
-			f = ps_rgbe_scale[px[3]] * wt[i];
-			raw[0] = (px[0] + 0.5) * f;
-			raw[1] = (px[1] + 0.5) * f;
-			raw[2] = (px[2] + 0.5) * f;
-			for (int c = 0; c < 3; c++) {
-				rgb[c] = k[c][0] * raw[0] + k[c][1] * raw[1] + k[c][2] * raw[2];
-				rc[c] += rgb[c];
-			}
-			b = coef[0] * rgb[0] + coef[1] * rgb[1] + coef[2] * rgb[2];
+			b = ps_pixel_response(px, wt[i], kc, raws);
 			ps_sum_add(&row, b);
 			ncontrib++;
 			if (b > best) {
@@ -136,6 +161,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 			}
 		}
 		ps_sum_merge(&tot, &row);
+		ps_row_rgb(k, raws, rc);
 		for (int c = 0; c < 3; c++)
 			ps_sum_add(&ch[c], rc[c]);
 	}
@@ -150,8 +176,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	/* the brightest 1 % only matters when one pixel already stands out:
 	 * only then a second pass collects every contribution */
 	if (r->response > 0 && ncontrib > 0 && r->brightest_share > 0.001) {
-		size_t top = ncontrib / 100 ? ncontrib / 100 : 1, n = 0;
-		struct ps_sum s;
+		size_t n = 0;
 		contrib = malloc(ncontrib * sizeof *contrib);
 		if (!contrib)
 			return ps_errf(e, PS_ENOMEM, "out of memory");
@@ -159,23 +184,13 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 			const struct ps_wrun *run = &w->runs[ri];
 			const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
 			for (int i = 0; i < run->n && n < ncontrib; i++, px += 4) {
-				double raw[3], f, b = 0;
+				double raws[3] = { 0, 0, 0 };
 				if (px[3] == 0)
 					continue;
-				f = ps_rgbe_scale[px[3]] * w->w[run->off + (size_t)i];
-				raw[0] = (px[0] + 0.5) * f;
-				raw[1] = (px[1] + 0.5) * f;
-				raw[2] = (px[2] + 0.5) * f;
-				for (int c = 0; c < 3; c++)
-					b += coef[c] * (k[c][0] * raw[0] + k[c][1] * raw[1] + k[c][2] * raw[2]);
-				contrib[n++] = b;
+				contrib[n++] = ps_pixel_response(px, w->w[run->off + (size_t)i], kc, raws);
 			}
 		}
-		select_largest(contrib, n, top);
-		ps_sum_init(&s);
-		for (size_t i = 0; i < top; i++)
-			ps_sum_add(&s, contrib[i]);
-		r->top1_share = ps_sum_get(&s) / r->response;
+		r->top1_share = ps_top1_share(contrib, n, r->response);
 	}
 	free(contrib);
 	return 0;

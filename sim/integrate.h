@@ -24,14 +24,61 @@ struct ps_response {
 	size_t npixels;        /* pixels with non-zero weight */
 };
 
-/* Apply a weight map to a picture of the same size.  XYZE pictures are
- * converted to Radiance RGB first. */
+/* Apply a weight map to a picture of the same size.  XYZE pictures and
+ * RGBE pictures with their own PRIMARIES= are converted to Radiance RGB
+ * radiance first (see ps_pic_rgb_matrix). */
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e);
+
+/* The pixel loop that ps_integrate and ps_integrate_mem share, so both give
+ * the same numbers bit for bit.  kc = coef^T k (k from ps_pic_rgb_matrix):
+ * one pixel's response is kc . raw, raw the stored channels decoded and
+ * times the weight; a row's channel sums are k times the row's raw sums
+ * (ps_row_rgb), which is linear, so no per-pixel matrix is needed. */
+static inline double ps_pixel_response(const uint8_t *px, double wt, const double kc[3],
+                                       double raw_sum[3])
+{
+	double f = ps_rgbe_scale[px[3]] * wt;
+	double r0 = (px[0] + 0.5) * f, r1 = (px[1] + 0.5) * f, r2 = (px[2] + 0.5) * f;
+	raw_sum[0] += r0;
+	raw_sum[1] += r1;
+	raw_sum[2] += r2;
+	return kc[0] * r0 + kc[1] * r1 + kc[2] * r2;
+}
+
+static inline void ps_coef_k(const double coef[3], const double k[3][3], double kc[3])
+{
+	for (int i = 0; i < 3; i++)
+		kc[i] = coef[0] * k[0][i] + coef[1] * k[1][i] + coef[2] * k[2][i];
+}
+
+static inline void ps_row_rgb(const double k[3][3], const double raw_sum[3], double rgb[3])
+{
+	for (int c = 0; c < 3; c++)
+		rgb[c] = k[c][0] * raw_sum[0] + k[c][1] * raw_sum[1] + k[c][2] * raw_sum[2];
+}
+
+/* The share of response of the largest 1 % of the n contributions (at
+ * least one); contrib is reordered. */
+double ps_top1_share(double *contrib, size_t n, double response);
 
 /* Radiance's standard primaries (CIE x, y of R, G, B and white 0.3333 0.3333). */
 extern const double ps_std_primaries[8];
 /* The 3 x 3 matrix from RGB with the given primaries to CIE XYZ (Y of white = 1). */
 void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3]);
+
+/* Radiance's luminous efficacy of its equal-energy white, lm/W (WHTEFFICACY). */
+#define PS_WHTEFFICACY 179.0
+
+/* The matrix k from a pixel's decoded stored channels ((m + 0.5) 2^(e-136),
+ * EXPOSURE not yet divided out) to standard-primaries RGB radiance,
+ * W/(sr m2): rgb[i] = sum_c k[i][c] stored[c].
+ *  - EXPOSURE= and COLORCORR= are divided out per stored channel;
+ *  - XYZE: XYZ -> RGB of the standard primaries, then / 179 (XYZE values are
+ *    luminance-based: Y in cd/m2, as Radiance's ra_xyze writes them);
+ *  - RGBE with PRIMARIES=: own RGB -> XYZ -> standard RGB, which keeps the
+ *    luminance (the default coefficients give the same Y); an XYZE
+ *    picture's PRIMARIES= line is ignored (XYZ has no primaries). */
+void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3]);
 
 #endif

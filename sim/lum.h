@@ -9,7 +9,9 @@
  * coefficients (what psfilter gives for an ideal V(lambda) filter).
  *
  * A picture with a PRIMARIES= line gets the Y row of its own primaries; an
- * XYZE picture's Y is luminance / 179 as stored, and its colour is shown in
+ * XYZE picture's Y is luminance in cd/m2 as stored (EXPOSURE divided out;
+ * Radiance's ra_xyze writes EXPOSURE=1/179 on the unchanged XYZ), so its
+ * radiance is XYZ / 179, and its colour is shown in
  * the standard primaries.  RGB pictures are shown as stored, as Radiance's
  * ra_* converters do (white is R = G = B). */
 #ifndef PS_LUM_H

@@ -44,7 +44,8 @@ int ps_mtx_write(FILE *fp, const char *path, const struct ps_mtx_header *h, int 
 			for (int k = 0; k < 3; k++)
 				v[k] = data_double ? dd[at + k] : (double)df[at + k];
 			if (h->format == PS_MTX_ASCII) {
-				fprintf(fp, "%.3g %.3g %.3g\n", v[0], v[1], v[2]);
+				int d = h->digits > 0 ? h->digits : 3;
+				fprintf(fp, "%.*g %.*g %.*g\n", d, v[0], d, v[1], d, v[2]);
 			} else if (h->format == PS_MTX_FLOAT) {
 				float f[3] = { (float)v[0], (float)v[1], (float)v[2] };
 				fwrite(f, sizeof f[0], 3, fp);

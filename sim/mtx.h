@@ -11,7 +11,7 @@
  *   FORMAT=ascii|float|double
  *   <empty line>
  * then, row by row (a sky patch), column by column (a time step), the three
- * components: ascii "%.3g %.3g %.3g" a line with an empty line after each
+ * components: ascii "%.3g %.3g %.3g" (or more digits) a line with an empty line after each
  * row when there is more than one column; float or double in the machine's
  * byte order, no separators. */
 #ifndef PS_MTX_H
@@ -30,6 +30,7 @@ struct ps_mtx_header {
 	int nrows, ncols;
 	int naveraged;           /* > 0: write NAVERAGED= */
 	int format;              /* enum ps_mtx_format */
+	int digits;              /* ascii: significant digits (0: 3, as gendaymtx) */
 };
 
 /* "ascii", "float", "double". */

@@ -423,11 +423,14 @@ static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long scanl
 				return ps_errf(c->e, PS_EFORMAT,
 				               "%s: byte %zu: repeat of %lu pixels overruns scanline %ld (%ld left)",
 				               c->name, c->pos, count, scanline, len - j);
-			for (unsigned long k = 0; k < count; k++, j++)
-				memcpy(sl + 4 * j, sl + 4 * (j - 1), 4);
+			if (sl)
+				for (unsigned long k = 0; k < count; k++)
+					memcpy(sl + 4 * (j + (long)k), sl + 4 * (j - 1), 4);
+			j += (long)count;
 			shift += 8;
 		} else {
-			memcpy(sl + 4 * j, p, 4);
+			if (sl)
+				memcpy(sl + 4 * j, p, 4);
 			j++;
 			shift = 0;
 		}
@@ -437,7 +440,7 @@ static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long scanl
 }
 
 /* One scanline of len pixels into sl (len * 4 bytes), in whichever encoding
- * the file used for it. */
+ * the file used for it; sl NULL only checks it and moves past it. */
 static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 {
 	const uint8_t *p;
@@ -454,7 +457,7 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 		               c->name, c->pos, scanline, (long)p[2] << 8 | p[3], len);
 	c->pos += 4;
 	for (int comp = 0; comp < 4; comp++) {
-		uint8_t *o = sl + comp;
+		uint8_t *o = sl ? sl + comp : NULL;
 		long j = 0;
 		while (j < len) {
 			unsigned code;
@@ -471,8 +474,9 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 				if (c->len - c->pos < 2)
 					return truncated(c, "a run", scanline);
 				v = c->data[c->pos + 1];
-				for (unsigned k = 0; k < code; k++)
-					o[4 * (j + (long)k)] = v;
+				if (o)
+					for (unsigned k = 0; k < code; k++)
+						o[4 * (j + (long)k)] = v;
 				j += code;
 				c->pos += 2;
 			} else {
@@ -487,8 +491,9 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 					               c->name, c->pos, code, scanline);
 				if (c->len - c->pos - 1 < code)
 					return truncated(c, "literal data", scanline);
-				for (unsigned k = 0; k < code; k++)
-					o[4 * (j + (long)k)] = q[k];
+				if (o)
+					for (unsigned k = 0; k < code; k++)
+						o[4 * (j + (long)k)] = q[k];
 				j += code;
 				c->pos += 1 + code;
 			}
@@ -512,13 +517,27 @@ static size_t standard_index(const struct ps_picture *pic, int orient, long slow
 	return (size_t)(pic->height - 1 - yc) * (size_t)pic->width + (size_t)xc;
 }
 
+/* Refuse sizes no file of this length can hold before allocating.  The
+ * densest encoding Radiance writes is a new-style scanline of 127-pixel
+ * runs, under 16 pixels a byte; PIC_MAX_RATIO leaves room for old-style
+ * repeats while keeping a hostile file from asking for more than a few
+ * hundred times its own size. */
+static int check_size(struct cursor *c, long slow, long fast)
+{
+	size_t npix = (size_t)slow * (size_t)fast, left = c->len - c->pos;
+	if (npix > PIC_MAX_PIXELS || npix / PIC_MAX_RATIO > left)
+		return ps_errf(c->e, PS_ERANGE, "%s: byte %zu: %ld x %ld pixels cannot be in the %zu "
+		               "bytes left", c->name, c->pos, slow, fast, left);
+	return 0;
+}
+
 int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
                     struct ps_err *e)
 {
 	struct cursor c = { data, len, 0, name ? name : "(picture)", e };
 	long slow = 0, fast = 0;
 	int orient = 0;
-	size_t npix, left;
+	size_t npix;
 	uint8_t *sl = NULL;
 	memset(pic, 0, sizeof *pic);
 	pic->exposure[0] = pic->exposure[1] = pic->exposure[2] = 1.0;
@@ -527,18 +546,9 @@ int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 		return ps_errf(e, PS_EINVAL, "%s: no data", c.name);
 	if (read_header(pic, &c) != 0 || read_resolution(&c, &orient, &slow, &fast) != 0)
 		goto fail;
-	npix = (size_t)slow * (size_t)fast;
-	left = c.len - c.pos;
-	/* Refuse sizes no file of this length can hold before allocating.  The
-	 * densest encoding Radiance writes is a new-style scanline of 127-pixel
-	 * runs, under 16 pixels a byte; PIC_MAX_RATIO leaves room for old-style
-	 * repeats while keeping a hostile file from asking for more than a few
-	 * hundred times its own size. */
-	if (npix > PIC_MAX_PIXELS || npix / PIC_MAX_RATIO > left) {
-		ps_errf(e, PS_ERANGE, "%s: byte %zu: %ld x %ld pixels cannot be in the %zu bytes left",
-		        c.name, c.pos, slow, fast, left);
+	if (check_size(&c, slow, fast) != 0)
 		goto fail;
-	}
+	npix = (size_t)slow * (size_t)fast;
 	pic->orientation = orient;
 	if (orient & ORIENT_YMAJOR) {
 		pic->height = (int)slow;
@@ -585,6 +595,82 @@ int ps_pic_read(struct ps_picture *pic, const char *path, struct ps_err *e)
 		return -1;
 	rc = ps_pic_read_mem(pic, buf, len, path, e);
 	free(buf);
+	return rc;
+}
+
+/* ---- row by row ------------------------------------------------------------ */
+
+int ps_pic_head_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
+                    size_t *data_off, struct ps_err *e)
+{
+	struct cursor c = { data, len, 0, name ? name : "(picture)", e };
+	long slow = 0, fast = 0;
+	int orient = 0;
+	memset(pic, 0, sizeof *pic);
+	pic->exposure[0] = pic->exposure[1] = pic->exposure[2] = 1.0;
+	pic->pixaspect = 1.0;
+	if (!data && len)
+		return ps_errf(e, PS_EINVAL, "%s: no data", c.name);
+	if (read_header(pic, &c) != 0 || read_resolution(&c, &orient, &slow, &fast) != 0 ||
+	    check_size(&c, slow, fast) != 0) {
+		ps_pic_free(pic);
+		return -1;
+	}
+	pic->orientation = orient;
+	if (orient & ORIENT_YMAJOR) {
+		pic->height = (int)slow;
+		pic->width = (int)fast;
+	} else {
+		pic->width = (int)slow;
+		pic->height = (int)fast;
+	}
+	*data_off = c.pos;
+	return 0;
+}
+
+int ps_pic_is_standard(const struct ps_picture *pic)
+{
+	return pic->orientation == ORIENT_STANDARD;
+}
+
+int ps_pic_scanline_starts(const struct ps_picture *pic, const uint8_t *data, size_t len,
+                           const char *name, size_t off, size_t *starts, struct ps_err *e)
+{
+	struct cursor c = { data, len, off, name ? name : "(picture)", e };
+	if (pic->orientation != ORIENT_STANDARD)
+		return ps_errf(e, PS_EUNSUPPORTED, "%s: scanlines are not rows (orientation)", c.name);
+	for (long s = 0; s < pic->height; s++) {
+		starts[s] = c.pos;
+		if (read_scanline(&c, NULL, pic->width, s) != 0)
+			return -1;
+	}
+	return 0;
+}
+
+int ps_pic_scan_rows(const struct ps_picture *pic, const uint8_t *data, size_t len,
+                     const char *name, size_t off, int y0, int y1, const uint8_t *want,
+                     int (*row)(void *ctx, int y, const uint8_t *rgbe), void *ctx,
+                     struct ps_err *e)
+{
+	struct cursor c = { data, len, off, name ? name : "(picture)", e };
+	uint8_t *sl;
+	int rc = 0;
+	if (pic->orientation != ORIENT_STANDARD)
+		return ps_errf(e, PS_EUNSUPPORTED, "%s: scanlines are not rows (orientation)", c.name);
+	sl = malloc((size_t)pic->width * 4);
+	if (!sl)
+		return ps_errf(e, PS_ENOMEM, "%s: out of memory", c.name);
+	for (int y = y0; y < y1; y++) {
+		int use = !want || want[y];
+		/* a row nobody wants is checked and passed, not decoded */
+		if (read_scanline(&c, use ? sl : NULL, pic->width, y) != 0) {
+			rc = -1;
+			break;
+		}
+		if (use && (rc = row(ctx, y, sl)) != 0)
+			break;
+	}
+	free(sl);
 	return rc;
 }
 

@@ -41,6 +41,27 @@ int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len,
                     const char *name, struct ps_err *e);
 void ps_pic_free(struct ps_picture *pic);
 
+/* ---- row by row, without keeping the pixels ----
+ * ps_pic_head_mem reads the header and resolution (pic->pix stays NULL;
+ * free pic with ps_pic_free) and says where the scanlines start.  For a
+ * picture in standard orientation (ps_pic_is_standard: -Y H +X W, scanline s
+ * is row s), ps_pic_scanline_starts finds where each of the height
+ * scanlines starts in one pass that checks them without decoding pixels,
+ * and ps_pic_scan_rows decodes rows y0..y1-1 from off (a scanline start)
+ * one at a time into a buffer of width RGBE pixels and calls row(ctx, y,
+ * pixels); want (may be NULL: all) names the rows to decode, the others are
+ * only checked.  A row callback's non-zero return stops the scan and is
+ * returned.  Errors name the file and byte as ps_pic_read_mem's do. */
+int ps_pic_head_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
+                    size_t *data_off, struct ps_err *e);
+int ps_pic_is_standard(const struct ps_picture *pic);
+int ps_pic_scanline_starts(const struct ps_picture *pic, const uint8_t *data, size_t len,
+                           const char *name, size_t off, size_t *starts, struct ps_err *e);
+int ps_pic_scan_rows(const struct ps_picture *pic, const uint8_t *data, size_t len,
+                     const char *name, size_t off, int y0, int y1, const uint8_t *want,
+                     int (*row)(void *ctx, int y, const uint8_t *rgbe), void *ctx,
+                     struct ps_err *e);
+
 /* Radiance of pixel (x, y) in standard orientation, in the picture's own
  * colour space (RGB or XYZ), exposure divided out. */
 void ps_pic_get(const struct ps_picture *pic, int x, int y, double out[3]);

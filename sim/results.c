@@ -83,12 +83,21 @@ static void write_year(FILE *fp, const struct ps_results *r)
 	        "steps = %zu\ndark_steps = %zu\nhours = %zu\n", r->weather ? r->weather : "",
 	        r->year_mf, y->patches, y->used, y->steps, y->dark, y->n);
 	put_num(fp, "mean_ratio", y->mean_ratio);
-	fprintf(fp, "\n; month day hour(standard time) sensor_response task_lux sky_class epsilon\n"
-	            "[year_hours]\n");
+	if (y->leap)
+		fputs("leap = yes\n", fp);
+	if (y->have_site)
+		fprintf(fp, "latitude = %.17g\nlongitude = %.17g\ntimezone = %.17g\n", y->site.lat,
+		        y->site.lon, y->site.tz);
+	fprintf(fp, "\n; month day hour(standard time) sensor_response task_lux sky_class epsilon "
+	            "horizontal_lux\n[year_hours]\n");
 	for (size_t i = 0; i < y->n; i++) {
 		const struct ps_year_hour *k = &y->h[i];
-		fprintf(fp, "h%zu = %d %d %.17g %.17g %.17g %d %.17g\n", i + 1, k->month, k->day, k->hour,
+		fprintf(fp, "h%zu = %d %d %.17g %.17g %.17g %d %.17g", i + 1, k->month, k->day, k->hour,
 		        k->sensor, k->task_lux, k->sky_class, k->epsilon);
+		if (isnan(k->horiz_lux))
+			fputc('\n', fp);
+		else
+			fprintf(fp, " %.17g\n", k->horiz_lux);
 	}
 	fprintf(fp, "\n; task lux per unit of sensor response by month and hour (0 to 23,\n"
 	            "; standard time) and sky class; derived from [year_hours], recomputed by readers\n"
@@ -198,6 +207,15 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 	y->dark = (size_t)v;
 	ps_conf_int(c, s, "hours", 0, 0, PS_WX_MAX_STEPS, &v);
 	(void)num(c, s, "mean_ratio");   /* recomputed */
+	ps_conf_bool(c, s, "leap", 0, &y->leap);
+	/* the site: optional (files before it have none) */
+	if (ps_conf_kv(s, "latitude") || ps_conf_kv(s, "longitude") || ps_conf_kv(s, "timezone")) {
+		ps_conf_double(c, s, "latitude", 0, -90, 90, &y->site.lat);
+		ps_conf_double(c, s, "longitude", 0, -180, 180, &y->site.lon);
+		ps_conf_double(c, s, "timezone", 0, -14, 14, &y->site.tz);
+		y->have_site = ps_conf_required(c, s, "latitude") == 0 && ps_conf_required(c, s, "longitude") == 0 &&
+		               ps_conf_required(c, s, "timezone") == 0;
+	}
 	hs = ps_conf_section(c, "year_hours");
 	if ((size_t)v && (!hs || hs->nkv != (size_t)v)) {
 		ps_conf_error(c, s->line, "[year] says hours = %ld, [year_hours] has %zu", v,
@@ -213,21 +231,29 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 		struct ps_conf_kv *kv = &hs->kv[i];
 		struct ps_year_hour *k = &y->h[i];
 		char want[32];
-		int n = 0;
+		int n = 0, n7 = 0;
 		kv->used = 1;
 		snprintf(want, sizeof want, "h%zu", i + 1);
 		if (strcmp(kv->key, want) != 0) {
 			ps_conf_error(c, kv->line, "'%s' where %s was due", kv->key, want);
 			return;
 		}
+		k->horiz_lux = NAN;
 		if (sscanf(kv->value, "%d %d %lf %lf %lf %d %lf %n", &k->month, &k->day, &k->hour,
-		           &k->sensor, &k->task_lux, &k->sky_class, &k->epsilon, &n) != 7 ||
+		           &k->sensor, &k->task_lux, &k->sky_class, &k->epsilon, &n7) == 7 && kv->value[n7] &&
+		    (sscanf(kv->value + n7, "%lf %n", &k->horiz_lux, &n) != 1 ||
+		     !(k->horiz_lux >= 0 && k->horiz_lux < 1e30)))
+			n = -1;   /* an eighth field that is no illuminance */
+		else
+			n += n7;
+		if (n < 0 || sscanf(kv->value, "%d %d %lf %lf %lf %d %lf", &k->month, &k->day, &k->hour,
+		                    &k->sensor, &k->task_lux, &k->sky_class, &k->epsilon) != 7 ||
 		    kv->value[n] != '\0' || k->month < 1 || k->month > 12 || k->day < 1 || k->day > 31 ||
 		    !(k->hour >= 0 && k->hour <= 24) || !(k->sensor >= 0 && k->sensor < 1e30) ||
 		    !(k->task_lux >= 0 && k->task_lux < 1e30) || k->sky_class < 0 ||
 		    k->sky_class >= PS_SKY_NCLASS || !(k->epsilon >= 0 && k->epsilon < 1e6)) {
 			ps_conf_error(c, kv->line, "%s: '%s' is not month day hour sensor task_lux "
-			              "class epsilon", kv->key, kv->value);
+			              "class epsilon [horizontal_lux]", kv->key, kv->value);
 			return;
 		}
 	}
@@ -238,14 +264,12 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 	ps_year_tabulate(y);
 }
 
-int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
+/* The results from a loaded file c (freed here). */
+static int results_from_conf(struct ps_results *r, struct ps_conf *cp, const char *path, struct ps_err *e)
 {
-	struct ps_conf c;
+	struct ps_conf c = *cp;
 	struct ps_conf_section *s;
 	long version;
-	memset(r, 0, sizeof *r);
-	if (ps_conf_load(&c, path, e) != 0)
-		return -1;
 	s = ps_conf_section(&c, "psresults");
 	if (!s) {
 		ps_conf_free(&c);
@@ -310,4 +334,22 @@ int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
 	ps_conf_free(&c);
 	ps_results_summarise(r);
 	return 0;
+}
+
+int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e)
+{
+	struct ps_conf c;
+	memset(r, 0, sizeof *r);
+	if (ps_conf_load(&c, path, e) != 0)
+		return -1;
+	return results_from_conf(r, &c, path, e);
+}
+
+int ps_results_parse(struct ps_results *r, const char *text, const char *name, struct ps_err *e)
+{
+	struct ps_conf c;
+	memset(r, 0, sizeof *r);
+	if (ps_conf_load_string(&c, text, name, e) != 0)
+		return -1;
+	return results_from_conf(r, &c, name, e);
 }

@@ -54,6 +54,8 @@ void ps_results_summarise(struct ps_results *r);
 int ps_results_write(const struct ps_results *r, const char *path, struct ps_err *e);
 /* Read a results file; errors name file:line; a newer version is refused. */
 int ps_results_read(struct ps_results *r, const char *path, struct ps_err *e);
+/* The same from a NUL-terminated string (name stands for the file in messages). */
+int ps_results_parse(struct ps_results *r, const char *text, const char *name, struct ps_err *e);
 void ps_results_free(struct ps_results *r);
 
 #endif

@@ -204,16 +204,14 @@ static void read_dc(struct ps_scene *s, struct ps_conf *c, struct ps_conf_sectio
 			              "ground_reflectance: %g is not 0 to 1", d->ground[k]);
 }
 
-int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)
+/* The scene from a loaded file c (freed here). */
+static int scene_from_conf(struct ps_scene *s, struct ps_conf *cp, const char *path, struct ps_err *e)
 {
 	static const double down[3] = { 0, 0, -1 }, upward[3] = { 0, 0, 1 };
-	struct ps_conf c;
+	struct ps_conf c = *cp;
 	struct ps_conf_section *sec;
 	const char *v;
 	long res;
-	memset(s, 0, sizeof *s);
-	if (ps_conf_load(&c, path, e) != 0)
-		return -1;
 	s->path = strdup(path);
 	sec = ps_conf_section(&c, "scene");
 	s->name = dup_or_null(ps_conf_str(&c, sec, "name", "scene"));
@@ -296,4 +294,22 @@ oom:
 	ps_conf_free(&c);
 	ps_scene_free(s);
 	return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
+}
+
+int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)
+{
+	struct ps_conf c;
+	memset(s, 0, sizeof *s);
+	if (ps_conf_load(&c, path, e) != 0)
+		return -1;
+	return scene_from_conf(s, &c, path, e);
+}
+
+int ps_scene_parse(struct ps_scene *s, const char *text, const char *name, struct ps_err *e)
+{
+	struct ps_conf c;
+	memset(s, 0, sizeof *s);
+	if (ps_conf_load_string(&c, text, name, e) != 0)
+		return -1;
+	return scene_from_conf(s, &c, name, e);
 }

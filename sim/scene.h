@@ -79,6 +79,9 @@ struct ps_scene {
 /* Read a scene file.  Every error (file:line) is reported, all in one pass:
  * the messages are joined with newlines in e->msg. */
 int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e);
+/* The same from a NUL-terminated string; name stands for the file in
+ * messages, and relative paths in it are relative to name's directory. */
+int ps_scene_parse(struct ps_scene *s, const char *text, const char *name, struct ps_err *e);
 void ps_scene_free(struct ps_scene *s);
 
 #endif

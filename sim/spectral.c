@@ -27,7 +27,7 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
                     int percent, struct ps_err *e)
 {
 	const char *p = text, *end = text + len;
-	int lineno = 0, cap = 0, line_of_max = 0;
+	int lineno = 0, cap = 0;
 	double vmax = 0.0;
 	memset(f, 0, sizeof *f);
 	f->path = strdup(name);
@@ -112,10 +112,8 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
 		}
 		f->nm[f->n] = wl;
 		f->value[f->n++] = v;
-		if (v > vmax) {
+		if (v > vmax)
 			vmax = v;
-			line_of_max = lineno;
-		}
 	}
 	if (f->n < 2) {
 		ps_errf(e, PS_EFORMAT, "%s:%d: a filter needs at least two points (has %d)", name, lineno, f->n);
@@ -133,7 +131,6 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
 	/* A transmittance in fractions stays below 1, but a relative spectral
 	 * response may pass it a little (x-bar peaks at 1.06): only a maximum
 	 * above 2 reads as percent, unless the caller says. */
-	(void)line_of_max;
 	f->percent = percent == PS_FILTER_PERCENT_AUTO ? vmax > 2.0 : percent;
 	if (f->percent)
 		for (int i = 0; i < f->n; i++)

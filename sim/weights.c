@@ -1,5 +1,6 @@
 #include "weights.h"
 
+#include <sys/mman.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -14,9 +15,7 @@
 
 /* Gauss-Legendre rules on [-1, 1], computed once per build (no globals). */
 enum { GL_MAXN = 24, GL_RULES = 4 };
-/* Orders by piece length: on a piece of azimuth length L the error of an
- * n-point rule goes as L^(2n); 3 points already reach rounding on the short
- * pieces of large pictures (make bench and the unit tests measure it). */
+/* The orders a piece may get: piece_rule picks one from an error bound. */
 static const int gl_orders[GL_RULES] = { 3, 6, 12, 24 };
 
 struct gl_rule {
@@ -66,6 +65,7 @@ struct edge_ctx {
 	int nrho;
 	int use_phi_breaks;
 	struct gl_rule gl[GL_RULES];
+	struct gl_rule glf[13];  /* glf[n]: n points, for edge_fast */
 };
 
 struct brk {
@@ -98,6 +98,41 @@ static double m_at(const struct edge_ctx *c, double p, double an, double a, int 
 	return ps_sensor_m_in(c->s, i, j, theta, phi);
 }
 
+/* Distance from a to the nearest point of {b + k period}. */
+static double dist_mod(double a, double b, double period)
+{
+	double d = fmod(a - b, period);
+	if (d < 0)
+		d += period;
+	return fmin(d, period - d);
+}
+
+/* The rule for a piece of azimuth length len around am: along the line
+ * the integrand's singularities are real, where cos(alpha - an) = 0 (rho
+ * infinite) and, for the hemispherical projection, where rho = 1 (asin's
+ * branch point, cos(alpha - an) = p).  With x the nearest one's distance
+ * in half-lengths, the Bernstein parameter is r = x + sqrt(x^2 - 1); the
+ * smallest rule whose bound 64 Mx / (15 (r^2 - 1) r^(2n)) (taken at r / 2,
+ * Mx at most 8 times the integrand) is below 1e-19, else the largest. */
+static int piece_rule(const struct edge_ctx *c, double p, double an, double am, double len)
+{
+	double d = dist_mod(am, an + M_PI / 2, M_PI), x, r;
+	if (c->f.type == PS_VT_HEMI && p < 1.0) {
+		double a = acos(p);
+		d = fmin(d, fmin(dist_mod(am, an + a, 2 * M_PI), dist_mod(am, an - a, 2 * M_PI)));
+	}
+	x = d / (0.5 * len);
+	if (x <= 1.0)
+		return GL_RULES - 1;
+	r = 0.5 * (x + sqrt(x * x - 1.0));
+	if (r <= 1.5)
+		return GL_RULES - 1;
+	for (int k = 0; k < GL_RULES; k++)
+		if (8.0 * 64.0 / (15.0 * (r * r - 1.0)) * pow(r, -2.0 * gl_orders[k]) <= 1e-19)
+			return k;
+	return GL_RULES - 1;
+}
+
 /* Integral of M d(alpha) over alpha in [a0, a1] on one smooth piece. */
 static double piece(const struct edge_ctx *c, double p, double an, double a0, double a1,
                     int field0, int field1)
@@ -110,7 +145,7 @@ static double piece(const struct edge_ctx *c, double p, double an, double a0, do
 	if (len <= 0)
 		return 0.0;
 	ps_sensor_locate(c->s, theta, &phin, &i, &j);
-	g = &c->gl[len < 0.005 ? 0 : len < 0.05 ? 1 : len < 0.5 ? 2 : 3];
+	g = &c->gl[piece_rule(c, p, an, am, len)];
 	if (c->f.type == PS_VT_HEMI && rho < 1.0 && (field0 || field1)) {
 		/* theta = asin(rho) has a square-root singularity at the field's edge:
 		 * alpha = edge -/+ len s^2 makes the integrand smooth in s. */
@@ -209,6 +244,200 @@ static double edge_integral(const struct edge_ctx *c, double ax, double ay, doub
 	return dalpha < 0 ? -total : total;
 }
 
+
+/* The fast route for an axis-parallel edge that crosses no break (no
+ * sensitivity circle or ray, not the field's edge): along the line v = k
+ * (horizontal) or u = k (vertical), d(alpha) = -k / rho^2 du or
+ * k / rho^2 dv, so the edge integral is the integral in the plane
+ * coordinate t of M(theta(rho), phi) times that factor, with M the one
+ * cell's closed form: no break search, no trigonometry for the nodes'
+ * azimuths.  The integrand is analytic except where rho^2 = 0 (the
+ * complex points t = +-i k) and, for the hemispherical projection, where
+ * rho = 1 (asin's branch point); Gauss-Legendre with n points on an
+ * interval whose nearest singularity lies on the Bernstein ellipse of
+ * parameter r errs by at most 64 Mx / (15 (r^2 - 1) r^(2n)) (Trefethen,
+ * ATAP, theorem 19.3), Mx the integrand's bound inside the ellipse.  The
+ * order is the smallest with that bound below a small fraction of the integrand's
+ * size (1e-19 here), taking the ellipse of parameter r / 2 (so Mx is within a small
+ * factor of the integrand on the edge; bounded by 8 times it here).
+ * Returns 0 and leaves *out alone when the edge needs the general route. */
+enum { FAST_MAXN = 12 };
+
+/* Bernstein parameter of the point (x, y) for [-1, 1]: the ellipse with
+ * foci -1 and 1 through it has semi-major axis a = (|z - 1| + |z + 1|) / 2
+ * and parameter a + sqrt(a^2 - 1). */
+static double bernstein(double x, double y)
+{
+	double a = 0.5 * (sqrt((x - 1) * (x - 1) + y * y) + sqrt((x + 1) * (x + 1) + y * y));
+	return a + sqrt(fmax(a * a - 1.0, 0.0));
+}
+
+/* atan(x) for |x| <= 0.05 by its series to x^17: the first omitted term
+ * is below 1e-22 of x, so this is atan to rounding, without libm. */
+static double atan_small(double x)
+{
+	double x2 = x * x;
+	if (x2 < 1e-6)   /* |x| < 1e-3: to x^7, the rest below 1e-24 of x */
+		return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7))));
+	return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 +
+	       x2 * (-1.0 / 11 + x2 * (1.0 / 13 + x2 * (-1.0 / 15 + x2 * (1.0 / 17)))))))));
+}
+
+/* The plane azimuth at coordinate t on the edge's line, from the one at tm:
+ * atan2(k, t) - atan2(k, tm) = atan(k (tm - t) / (t tm + k^2)) for a
+ * horizontal line v = k, atan2(t, k) - atan2(tm, k) = atan(k (t - tm) /
+ * (t tm + k^2)) for a vertical u = k (both with the points on the same
+ * side of the origin's perpendicular: t tm + k^2 > 0, which holds on an
+ * edge whose poles are far, r > 1.5 below).  -2: the difference is not
+ * small enough for atan_small (the caller then takes the general route). */
+static int alpha_at(int vertical, double k, double tm, double am, double t, double *a)
+{
+	double den = t * tm + k * k, x;
+	if (den <= 0)
+		return -2;
+	x = (vertical ? k * (t - tm) : k * (tm - t)) / den;
+	if (fabs(x) > 0.05)
+		return -2;
+	*a = am + atan_small(x);
+	return 0;
+}
+
+static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0, double t1,
+                     double *out)
+{
+	const struct ps_sensor *s = c->s;
+	double tm = 0.5 * (t0 + t1), hl = 0.5 * (t1 - t0), tlo, thi, rmin, rmax, r, am, phim, phin;
+	double sum = 0.0, shift, rho_m;
+	int i, j, n, lo, hi;
+	if (k == 0.0) {   /* on a line through the origin: no azimuth swept */
+		*out = 0.0;
+		return 1;
+	}
+	if (hl <= 0)
+		return 0;
+	/* rho's range on the edge */
+	tlo = fmin(fabs(t0), fabs(t1));
+	thi = fmax(fabs(t0), fabs(t1));
+	if (t0 < 0 && t1 > 0)
+		tlo = 0.0;
+	rmin = sqrt(tlo * tlo + k * k);
+	rmax = sqrt(thi * thi + k * k);
+	/* no circle in (rmin, rmax] (a circle at rmin exactly only touches) */
+	lo = 0;
+	hi = c->nrho;
+	while (lo < hi) {
+		int mid = (lo + hi) / 2;
+		if (c->rho_breaks[mid] <= rmin)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	if (lo < c->nrho && c->rho_breaks[lo] <= rmax)
+		return 0;
+	/* the order from the error bound: the poles at t = +-i k, at distance
+	 * rho_m / hl half-lengths from the middle; the ellipse through them
+	 * has a semi-major axis at least that, so r at least this */
+	rho_m = sqrt(tm * tm + k * k);
+	{
+		double z = rho_m / hl;
+		r = z + sqrt(z * z - 1.0);
+	}
+	if (c->f.type == PS_VT_HEMI && rmax < 1.0) {
+		/* asin's branch points at rho = 1: t = +-sqrt(1 - k^2) */
+		double b = sqrt(1.0 - k * k), r2;
+		r2 = bernstein((b - tm) / hl, 0.0);
+		if (r2 < r)
+			r = r2;
+		r2 = bernstein((-b - tm) / hl, 0.0);
+		if (r2 < r)
+			r = r2;
+	}
+	r *= 0.5;
+	if (r <= 1.5)
+		return 0;
+	{
+		double bound = 8.0 * 64.0 / (15.0 * (r * r - 1.0)), q = 1.0 / (r * r);
+		for (n = 1; n <= FAST_MAXN; n++) {
+			bound *= q;
+			if (bound <= 1e-19)
+				break;
+		}
+		if (n > FAST_MAXN)
+			return 0;
+	}
+	/* the cell: from the middle; the edge must not cross a ray, nor (a
+	 * vertical edge left of the origin) atan2's cut */
+	am = vertical ? atan2(tm, k) : atan2(k, tm);
+	phim = am - M_PI / 2 - c->rot;
+	phin = phim;
+	ps_sensor_locate(s, ps_fisheye_theta(&c->f, rho_m), &phin, &i, &j);
+	shift = phin - phim;
+	{
+		/* the azimuths at the ends (monotone along the edge): inside the cell */
+		double a0, a1, p0, p1;
+		if (alpha_at(vertical, k, tm, am, t0, &a0) || alpha_at(vertical, k, tm, am, t1, &a1))
+			return 0;
+		p0 = a0 - M_PI / 2 - c->rot + shift;
+		p1 = a1 - M_PI / 2 - c->rot + shift;
+		if (c->use_phi_breaks &&
+		    (fmin(p0, p1) < s->pb[j] || fmax(p0, p1) > s->pb[j + 1]))
+			return 0;
+	}
+	{
+		const struct gl_rule *g = &c->glf[n];
+		double sgn = vertical ? k : -k;
+		int need_phi = s->kind == PS_SENS_TABLE && s->reading != PS_READ_CELL;
+		if (s->kind == PS_SENS_TABLE && i < s->nt) {
+			/* ps_sensor_m_in's patch formula, its coefficients fetched once */
+			const double *kc = s->mcoef + 6 * ((size_t)i * (size_t)s->np + (size_t)j);
+			double inv = 1.0 / (s->pb[j + 1] - s->pb[j]), p0 = s->pb[j];
+			for (int q = 0; q < g->n; q++) {
+				double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2);
+				double theta = ps_fisheye_theta(&c->f, rho), st, ct, ml, m, a;
+				sincos(theta, &st, &ct);
+				ml = kc[0] + kc[2] * st - (kc[1] + kc[2] * theta) * ct;
+				if (need_phi) {
+					double mr = kc[3] + kc[5] * st - (kc[4] + kc[5] * theta) * ct, wphi;
+					if (alpha_at(vertical, k, tm, am, t, &a))
+						return 0;   /* not reached: the ends bound the nodes */
+					wphi = (a - M_PI / 2 - c->rot + shift - p0) * inv;
+					m = (1.0 - wphi) * ml + wphi * mr;
+				} else {
+					m = ml;
+				}
+				sum += g->w[q] * m / r2;
+			}
+		} else {
+			for (int q = 0; q < g->n; q++) {
+				double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2), phi = phin;
+				double theta = ps_fisheye_theta(&c->f, rho), a;
+				if (need_phi) {
+					if (alpha_at(vertical, k, tm, am, t, &a))
+						return 0;   /* not reached: the ends bound the nodes */
+					phi = a - M_PI / 2 - c->rot + shift;
+				}
+				sum += g->w[q] * ps_sensor_m_in(s, i, j, theta, phi) / r2;
+			}
+		}
+		*out = sgn * hl * sum;
+	}
+	return 1;
+}
+
+/* An axis-parallel edge: the fast route when it can, else the general. */
+static double edge_hv(const struct edge_ctx *c, double ax, double ay, double bx, double by)
+{
+	double out;
+	if (ay == by) {
+		if (ax < bx ? edge_fast(c, 0, ay, ax, bx, &out) : edge_fast(c, 0, ay, bx, ax, &out))
+			return ax < bx ? out : -out;
+	} else if (ax == bx) {
+		if (ay < by ? edge_fast(c, 1, ax, ay, by, &out) : edge_fast(c, 1, ax, by, ay, &out))
+			return ay < by ? out : -out;
+	}
+	return edge_integral(c, ax, ay, bx, by);
+}
+
 static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_deg,
                     const struct ps_view *v, int width, int height, struct ps_err *e)
 {
@@ -218,6 +447,8 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 	ps_fisheye_init(&c->f, v, width, height);
 	for (int k = 0; k < GL_RULES; k++)
 		gl_compute(&c->gl[k], gl_orders[k]);
+	for (int k = 1; k <= 12; k++)
+		gl_compute(&c->glf[k], k);
 	c->rho_breaks = malloc(((size_t)s->nt + 2) * sizeof *c->rho_breaks);
 	c->rho_is_field = malloc(((size_t)s->nt + 2) * sizeof *c->rho_is_field);
 	if (!c->rho_breaks || !c->rho_is_field) {
@@ -283,7 +514,10 @@ void ps_weights_free(struct ps_weights *w)
 	if (!w)
 		return;
 	free(w->runs);
-	free(w->w);
+	if (w->map)
+		munmap(w->map, w->maplen);
+	else
+		free(w->w);
 	memset(w, 0, sizeof *w);
 }
 
@@ -334,13 +568,46 @@ struct band {
 	int j0, j1;           /* bottom-based rows [j0, j1) */
 	double *w;
 	int oom;
+	int mirror_x;         /* the map is symmetric in x: the right half copies the left */
+	int transpose;        /* and in the diagonal: pixels left of it are copied after */
 };
+
+/* The exact weight of pixel x between lines vb and vt, alone (its four
+ * edges computed here, none shared): for the few pixels a mirror misses. */
+static double pixel_alone(const struct edge_ctx *c, const double *u, int x, double vb, double vt)
+{
+	struct ps_sum ps;
+	double wt;
+	ps_sum_init(&ps);
+	ps_sum_add(&ps, edge_hv(c, u[x], vb, u[x + 1], vb));
+	ps_sum_add(&ps, edge_hv(c, u[x + 1], vb, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_hv(c, u[x], vt, u[x + 1], vt));
+	ps_sum_add(&ps, -edge_hv(c, u[x], vb, u[x], vt));
+	wt = ps_sum_get(&ps);
+	return wt < 0 && wt > -1e-15 ? 0.0 : wt;
+}
+
+/* Symmetry: a sensor the same at every azimuth (the builtins, or a table
+ * whose rows are constant) on a view not shifted (-vs 0 -vl 0) gives a map
+ * symmetric in x and in y: pixel (x, j) and (W-1-x, j) and (x, H-1-j) have
+ * the same footprint up to reflection, so the same exact weight. */
+static int sensor_symmetric(const struct ps_sensor *s)
+{
+	if (s->kind != PS_SENS_TABLE)
+		return 1;
+	for (int i = 0; i < s->ntheta; i++)
+		for (int j = 1; j < s->nphi; j++)
+			if (s->val[(size_t)i * (size_t)s->nphi + (size_t)j] != s->val[(size_t)i * (size_t)s->nphi])
+				return 0;
+	return 1;
+}
 
 static void *band_run(void *arg)
 {
 	struct band *b = arg;
 	const struct edge_ctx *c = b->c;
 	int width = c->f.width, prev = -2;   /* the last row done here; -2: none */
+	int clo = 1, chi = 0;                /* the x range its top edges were computed for */
 	double *hline[2], *vrow;
 	hline[0] = malloc(((size_t)width + 1) * sizeof(double));
 	hline[1] = malloc(((size_t)width + 1) * sizeof(double));
@@ -357,19 +624,24 @@ static void *band_run(void *arg)
 		int lo = b->lo[j], hi = b->hi[j];
 		if (lo > hi)
 			continue;
+		/* with mirroring, the edges of pixels up to the middle one only; with
+		 * transposing, from the diagonal on */
+		int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
+		int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
 		if (b->method == PS_W_EXACT) {
 			/* bottom line: reuse what the row below computed, where it did */
-			int plo = prev == j - 1 ? b->lo[j - 1] : 1, phi_ = prev == j - 1 ? b->hi[j - 1] : 0;
-			for (int x = lo; x <= hi; x++)
-				if (x < plo || x > phi_)
-					hb[x] = edge_integral(c, u[x], vb, u[x + 1], vb);
-			for (int x = lo; x <= hi; x++)
-				ht[x] = edge_integral(c, u[x], vt, u[x + 1], vt);
-			for (int x = lo; x <= hi + 1; x++)
-				vrow[x] = edge_integral(c, u[x], vb, u[x], vt);
+			for (int x = xs; x <= xe; x++)
+				if (prev != j - 1 || x < clo || x > chi)
+					hb[x] = edge_hv(c, u[x], vb, u[x + 1], vb);
+			for (int x = xs; x <= xe; x++)
+				ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
+			for (int x = xs; x <= xe + 1; x++)
+				vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
 		}
+		clo = xs;
+		chi = xe;
 		prev = j;
-		for (int x = lo; x <= hi; x++) {
+		for (int x = xs; x <= xe; x++) {
 			double wt;
 			if (b->method == PS_W_EXACT) {
 				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
@@ -391,6 +663,20 @@ static void *band_run(void *arg)
 			}
 			out[x - lo] = wt;
 		}
+		/* the right half: the left half mirrored (after the transposes,
+		 * when there are some: ps_weights_build) */
+		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose; x++) {
+			int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
+			out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
+		}
+		/* the centre-point method has no shared edges: the rest directly */
+		for (int x = xe + 1; x <= hi && b->method != PS_W_EXACT; x++) {
+			double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
+			double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
+			out[x - lo] = rho > 1.0 ? 0.0
+			              : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+			                    ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+		}
 	}
 out:
 	free(hline[0]);
@@ -408,7 +694,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	double R, *u = NULL;
-	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0;
+	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp;
 	size_t *off = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
@@ -455,12 +741,19 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 		long n = sysconf(_SC_NPROCESSORS_ONLN);
 		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
 	}
+	/* a symmetric map: the bands do the bottom half, its left half mirrored
+	 * to the right; the top half is the bottom's mirror (below) */
+	sym = method == PS_W_EXACT && v->vs == 0.0 && v->vl == 0.0 && sensor_symmetric(s);
+	jtop = sym ? (height + 1) / 2 : height;
+	/* square, with the same field across and up: symmetric in the diagonal */
+	transp = sym && width == height && v->vh == v->vv;
 	{
 		int j = 0;
+		size_t todo = jtop < height ? off[jtop] : w->nw;
 		for (int t = 0; t < nthreads; t++) {
-			size_t want = w->nw * (size_t)(t + 1) / (size_t)nthreads;
-			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0 };
-			while (j < height && (t == nthreads - 1 || off[j] < want))
+			size_t want = todo * (size_t)(t + 1) / (size_t)nthreads;
+			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym, transp };
+			while (j < jtop && (t == nthreads - 1 || off[j] < want))
 				j++;
 			bands[t].j1 = j;
 		}
@@ -480,6 +773,39 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	}
 	if (oom || bands[0].oom)
 		goto oom;
+	if (transp) {
+		int xmid = (width - 1) / 2;
+		/* left of the diagonal: pixel (x, j) is pixel (j, x) transposed */
+		for (int j = 0; j < jtop; j++) {
+			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+			int xe = hi[j] < xmid ? hi[j] : xmid;
+			for (int x = lo[j]; x <= xe && x < j; x++) {
+				int xe_x = hi[x] < xmid ? hi[x] : xmid;   /* row x's computed end */
+				w->w[off[j] + (size_t)(x - lo[j])] =
+				    lo[x] <= hi[x] && j >= lo[x] && j <= xe_x
+				        ? w->w[off[x] + (size_t)(j - lo[x])]
+				        : pixel_alone(&c, u, x, vb, vt);
+			}
+		}
+		/* then the right half of those rows, mirrored */
+		for (int j = 0; j < jtop; j++) {
+			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+			for (int x = xmid + 1; x <= hi[j]; x++) {
+				int xm = width - 1 - x;
+				w->w[off[j] + (size_t)(x - lo[j])] =
+				    xm >= lo[j] ? w->w[off[j] + (size_t)(xm - lo[j])]
+				                : pixel_alone(&c, u, x, vb, vt);
+			}
+		}
+	}
+	for (int j = jtop; j < height; j++) {
+		int jj = height - 1 - j;   /* the mirror row, computed above */
+		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
+		for (int x = lo[j]; x <= hi[j]; x++)
+			w->w[off[j] + (size_t)(x - lo[j])] =
+			    x >= lo[jj] && x <= hi[jj] ? w->w[off[jj] + (size_t)(x - lo[jj])]
+			                               : pixel_alone(&c, u, x, vb, vt);
+	}
 	ps_sum_init(&total);
 	for (size_t i = 0; i < w->nw; i++)
 		ps_sum_add(&total, w->w[i]);

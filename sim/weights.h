@@ -7,10 +7,19 @@
  * (alpha the plane azimuth, counter-clockwise).  Each boundary edge is a
  * straight segment, split where it crosses a sensitivity cell's circle or
  * ray, the end of the table or the field's edge; on each piece the integrand
- * is smooth and Gauss-Legendre quadrature is accurate to rounding.  So the
+ * is smooth and Gauss-Legendre quadrature is accurate to rounding, its order
+ * chosen per piece from an error bound (the nearest singularity's Bernstein
+ * ellipse).  A pixel edge (axis-parallel) inside one cell is integrated in
+ * its plane coordinate instead, with the cell's closed form of M and no
+ * break search (weights.c, edge_fast).  So the
  * result does not depend on where a boundary falls, and a pixel the sensor
  * cannot see costs nothing.  Every edge is shared by two pixels and computed
- * once.
+ * once.  A sensor the same at every azimuth on a view not shifted (-vs 0
+ * -vl 0) gives a map symmetric in x and y: only the lower left quarter is
+ * integrated and the rest mirrored (a quarter of the work; each mirrored
+ * weight is its mirror pixel's, exact to the same rounding); a square
+ * picture with -vh equal to -vv is symmetric in the diagonal too, and only
+ * an eighth is integrated.
  *
  * Centre-point method (the paper's psens, kept for comparison): sensitivity
  * at the pixel's centre times the projection's Jacobian there times the
@@ -43,6 +52,8 @@ struct ps_weights {
 	double sens_full;    /* the sensitivity's integral over the whole sphere */
 	double coverage;     /* sens_sum / sens_full: below 1 when the picture misses part */
 	char key[512];       /* equal keys give equal maps */
+	void *map;           /* non-NULL: w lives in this read-only file map (wcache.c) */
+	size_t maplen;
 };
 
 /* Build the map for a sensor (with its reading), rotation in degrees (turns

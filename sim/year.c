@@ -99,6 +99,9 @@ int ps_year_run(const struct ps_dcrow *srow, const double scoef[3], const struct
 	y->patches = P.n;
 	y->used = nlist;
 	y->steps = w->n;
+	y->site = w->site;
+	y->have_site = 1;
+	y->leap = w->leap;
 	for (size_t i = 0; i < w->n; i++) {
 		struct ps_sky s;
 		struct ps_year_hour *k;
@@ -122,6 +125,7 @@ int ps_year_run(const struct ps_dcrow *srow, const double scoef[3], const struct
 		k->task_lux = PS_YEAR_LUX_PER_WM2 * ps_dcrow_apply_list(trow, vl, sky, list, nlist);
 		k->epsilon = s.model.epsilon;
 		k->sky_class = ps_year_class(s.model.epsilon);
+		k->horiz_lux = s.model.dif_lux + (s.sun_alt > 0 ? s.model.dir_lux * sin(s.sun_alt) : 0.0);
 	}
 	free(sky);
 	free(list);

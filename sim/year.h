@@ -33,6 +33,9 @@ struct ps_year_hour {
 	double task_lux;      /* 179 x task irradiance (W/m2) */
 	int sky_class;        /* enum ps_skyclass */
 	double epsilon;       /* Perez clearness of the hour */
+	double horiz_lux;     /* global horizontal illuminance (Perez 1990 efficacy):
+	                         what a rooftop sensor reads; NAN when a results
+	                         file older than the column gives none */
 };
 
 struct ps_year {
@@ -44,6 +47,9 @@ struct ps_year {
 	double ratio[12][24][PS_SKY_NCLASS];   /* task lux per unit response; NAN when empty */
 	int count[12][24][PS_SKY_NCLASS];
 	double mean_ratio;    /* sum task lux / sum response over the year */
+	int leap;             /* the weather file has February 29 (its hours may all be dark) */
+	int have_site;        /* the weather's site (for the sun of a rooftop reading) */
+	struct ps_site site;
 };
 
 /* Sky class of a clearness. */

@@ -26,6 +26,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "ctlsock.h"
 #include "db.h"
 #include "canvas.h"
@@ -33,20 +34,29 @@
 #include "reportdoc.h"
 #include "accept.h"
 #include "clock.h"
+#include "sampleout.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psensctl [-s socket] [-j] [-w seconds] command [arguments]\n"
-	            "       psensctl [-s socket | -d database] export --csv\n"
+	            "       psensctl [-s socket | -d database] export [--zone ZONE] [--since T] [--until T]\n"
+	            "                [--format csv|json]   (T: 2026-03-18T12:05[:SS][Z], 2026-03-18 or Unix s)\n"
+	            "       psensctl [-s socket | -d database] log [ZONE] [-n count]\n"
 	            "       psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]\n"
 	            "                [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]\n"
 	            "                [--boxes FILE]\n"
 	            "       psensctl [-s socket | -d database] accept-test ZONE [--since YYYY-MM-DD] [--samples N]\n"
+	            "       psensctl [-s socket] watch [ZONE] [-n count]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
-	            "          release ZONE, ratios, log, reload, ping, help,\n"
+	            "          release ZONE, ratios, reload, ping, help,\n"
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
 	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
-	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n");
+	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n"
+	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET or /run/psensd/psensd.sock)\n"
+	            "  -d FILE     the database, for export, report, log and accept-test (default: the one psensd names)\n"
+	            "  -j          replies as JSON lines\n"
+	            "  -w SECONDS  how long to wait for a reply (default 5)\n"
+	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 static const char *default_socket(void)
@@ -542,6 +552,230 @@ done:
 	return rc;
 }
 
+/* ---- log and export: the sample log, read from the database ------------------------------- */
+
+/* export --zone Z --since T --until T --format csv|json (or the old --csv) */
+static int export_samples(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
+{
+	const char *zone = NULL;
+	double since = NAN, until = NAN;
+	int format = PSD_OUT_CSV, rc;
+	struct psd_sampleout out;
+	char err[512];
+	json_object *o;
+	if (argc == 1 && strcmp(argv[0], "--csv") == 0)
+		return export_csv(sock, dbpath, timeout_ms);
+	for (int i = 0; i < argc; i++) {
+		const char *opt = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
+		if (!val) {
+			fprintf(stderr, "psensctl: export %s: needs a value\n", opt);
+			return 2;
+		}
+		i++;
+		if (strcmp(opt, "--zone") == 0) {
+			zone = val;
+		} else if (strcmp(opt, "--since") == 0 || strcmp(opt, "--until") == 0) {
+			if (psd_time_parse(val, opt[2] == 's' ? &since : &until) != 0) {
+				fprintf(stderr, "psensctl: export %s '%s': not an ISO date-time (2026-03-18T12:05[:SS][Z], "
+				        "2026-03-18) or Unix seconds\n", opt, val);
+				return 2;
+			}
+		} else if (strcmp(opt, "--format") == 0) {
+			if (strcmp(val, "csv") == 0)
+				format = PSD_OUT_CSV;
+			else if (strcmp(val, "json") == 0)
+				format = PSD_OUT_JSON;
+			else {
+				fprintf(stderr, "psensctl: export --format '%s': csv or json\n", val);
+				return 2;
+			}
+		} else {
+			fprintf(stderr, "psensctl: export: '%s' is not --zone, --since, --until or --format\n", opt);
+			return 2;
+		}
+	}
+	if (isfinite(since) && isfinite(until) && since > until) {
+		fprintf(stderr, "psensctl: export: --since is after --until\n");
+		return 2;
+	}
+	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	psd_sampleout_begin(&out, stdout, format);
+	rc = psd_db_select(dbpath, zone, since, until, 0, psd_sampleout_row, &out, err, sizeof err);
+	if (psd_sampleout_end(&out) != 0 && rc == 0) {
+		snprintf(err, sizeof err, "standard output: write error");
+		rc = -1;
+	}
+	if (rc != 0)
+		fprintf(stderr, "psensctl: %s\n", err);
+	json_object_put(o);
+	return rc == 0 ? 0 : 1;
+}
+
+/* log [ZONE] [-n N]: where the log is, then its last N samples (20) */
+static int show_log(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
+{
+	const char *zone = NULL;
+	long last = 20;
+	char err[512], *end;
+	struct psd_sampleout out;
+	json_object *o = NULL;
+	int rc;
+	for (int i = 0; i < argc; i++) {
+		if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
+			last = strtol(argv[++i], &end, 10);
+			if (*end || last < 1) {
+				fprintf(stderr, "psensctl: log -n %s: a count of 1 or more\n", argv[i]);
+				return 2;
+			}
+		} else if (!zone && argv[i][0] != '-') {
+			zone = argv[i];
+		} else {
+			usage(stderr);
+			return 2;
+		}
+	}
+	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	if (o)
+		printf("database %s: %s samples logged by this psensd\n", dbpath, text_of(o, "logged") ?
+		       text_of(o, "logged") : "-");
+	psd_sampleout_begin(&out, stdout, PSD_OUT_TABLE);
+	rc = psd_db_select(dbpath, zone, NAN, NAN, last, psd_sampleout_row, &out, err, sizeof err);
+	psd_sampleout_end(&out);
+	if (rc != 0)
+		fprintf(stderr, "psensctl: %s\n", err);
+	json_object_put(o);
+	return rc == 0 ? 0 : 1;
+}
+
+/* ---- watch: a view of the zones, a block each period ------------------------------------ */
+
+static double num_of(json_object *o, const char *key)
+{
+	json_object *v = member(o, key);
+	return v && json_object_get_type(v) != json_type_null ? json_object_get_double(v) : NAN;
+}
+
+/* "512" or "-" for a value not known */
+static const char *fmt(char *buf, size_t n, int prec, double v)
+{
+	if (isfinite(v) && prec < 0)
+		snprintf(buf, n, "%g", v);
+	else if (isfinite(v))
+		snprintf(buf, n, "%.*f", prec, v);
+	else
+		snprintf(buf, n, "-");
+	return buf;
+}
+
+static void duration(char *buf, size_t n, double s)
+{
+	if (!isfinite(s))
+		snprintf(buf, n, "-");
+	else if (s >= 3600)
+		snprintf(buf, n, "%.0f h %02.0f min", floor(s / 3600), floor(fmod(s, 3600) / 60));
+	else if (s >= 60)
+		snprintf(buf, n, "%.0f min %02.0f s", floor(s / 60), floor(fmod(s, 60)));
+	else
+		snprintf(buf, n, "%.0f s", s);
+}
+
+static void watch_zone(json_object *z)
+{
+	json_object *s = member(z, "sample"), *cal = member(z, "calibration"), *ov = member(z, "override");
+	const char *fault = text_of(z, "fault");
+	char a[32], b[32], c[32], d[32], e[32], f[32];
+	printf("%s: %s control, target %s lx, output now %s %%%s\n", text_of(z, "name"), text_of(z, "algorithm"),
+	       fmt(a, sizeof a, -1, num_of(z, "target_lux")), fmt(b, sizeof b, 1, 100 * num_of(z, "level")),
+	       ov && json_object_get_type(ov) == json_type_object ? " (override)" : "");
+	if (!s || json_object_get_type(s) != json_type_object) {
+		printf("  no sample yet\n");
+	} else {
+		printf("  sample %s: level %s %% -> %s %%, sensor %s V (daylight %s V)\n", text_of(s, "time"),
+		       fmt(a, sizeof a, 1, 100 * num_of(s, "level")),
+		       fmt(b, sizeof b, 1, 100 * num_of(s, "commanded")), fmt(c, sizeof c, 4, num_of(s, "sensor_v")),
+		       fmt(d, sizeof d, 4, num_of(s, "daylight_v")));
+		printf("  task lux: estimated %s, measured %s, simulated truth %s\n",
+		       fmt(e, sizeof e, 1, num_of(s, "est_task_lux")), fmt(f, sizeof f, 1, num_of(s, "task_lux")),
+		       fmt(a, sizeof a, 1, num_of(s, "true_task_lux")));
+	}
+	printf("  fault: %s\n", fault ? fault : "none");
+	if (member(z, "drift"))
+		printf("  drift: %s (measured ratio %s %% off the simulated one)\n",
+		       json_object_get_boolean(member(z, "drift")) ? "FLAGGED" : "no",
+		       fmt(a, sizeof a, 1, num_of(z, "drift_pct")));
+	if (cal && json_object_get_type(cal) == json_type_object) {
+		json_object *left = member(cal, "levels_left") ? member(cal, "levels_left") : member(cal, "samples_left");
+		duration(b, sizeof b, num_of(cal, "remaining_s"));
+		printf("  calibration: %s session running, %d %s left, about %s to go\n", text_of(cal, "kind"),
+		       left ? json_object_get_int(left) : 0, member(cal, "levels_left") ? "levels" : "samples", b);
+	}
+}
+
+/* Ask for status every 200 ms and show it when a zone has a new sample:
+ * one block per period whatever the clock's speed.  A terminal is cleared
+ * and redrawn; anything else gets the blocks one after another. */
+static int watch(const char *sock, int timeout_ms, int argc, char **argv)
+{
+	const char *zone = NULL;
+	long count = -1, shown = 0;
+	double last = NAN;
+	int tty = isatty(STDOUT_FILENO);
+	char req[256], *end;
+	for (int i = 0; i < argc; i++) {
+		if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
+			count = strtol(argv[++i], &end, 10);
+			if (*end || count < 1) {
+				fprintf(stderr, "psensctl: watch -n %s: a count of 1 or more\n", argv[i]);
+				return 2;
+			}
+		} else if (!zone && argv[i][0] != '-') {
+			zone = argv[i];
+		} else {
+			usage(stderr);
+			return 2;
+		}
+	}
+	snprintf(req, sizeof req, "status%s%s", zone ? " " : "", zone ? zone : "");
+	while (count < 0 || shown < count) {
+		char *reply = ask(sock, req, timeout_ms);
+		json_object *o = reply ? json_tokener_parse(reply) : NULL, *zones = member(o, "zones");
+		double newest = -INFINITY;
+		if (!reply)
+			return 1;
+		if (!o || !json_object_get_boolean(member(o, "ok")) || !zones) {
+			fprintf(stderr, "psensctl: %s\n", o && text_of(o, "error") ? text_of(o, "error") : reply);
+			json_object_put(o);
+			free(reply);
+			return 1;
+		}
+		for (size_t i = 0; i < json_object_array_length(zones); i++) {
+			double t = num_of(member(json_object_array_get_idx(zones, i), "sample"), "t");
+			if (t > newest)
+				newest = t;
+		}
+		if (!(newest == last)) {
+			if (tty)
+				fputs("\033[H\033[2J", stdout);
+			printf("psensd %s clock %s (pid %s), %s samples logged\n", text_of(o, "clock"), text_of(o, "time"),
+			       text_of(o, "pid"), text_of(o, "logged"));
+			for (size_t i = 0; i < json_object_array_length(zones); i++)
+				watch_zone(json_object_array_get_idx(zones, i));
+			if (!tty)
+				putchar('\n');
+			fflush(stdout);
+			last = newest;
+			shown++;
+		}
+		json_object_put(o);
+		free(reply);
+		if (count < 0 || shown < count)
+			poll(NULL, 0, 200);
+	}
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	const char *sock = default_socket(), *dbpath = NULL;
@@ -550,13 +784,15 @@ int main(int argc, char **argv)
 	size_t used = 0;
 	char *reply;
 	json_object *o, *ok, *err, *dj;
-	while ((opt = getopt(argc, argv, "+s:d:jw:h")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "+s:d:jw:hV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 's': sock = optarg; break;
 		case 'd': dbpath = optarg; break;
 		case 'j': raw = 1; break;
 		case 'w': timeout_ms = (int)(atof(optarg) * 1000); break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psensctl");
 		default: usage(stderr); return 2;
 		}
 	}
@@ -564,15 +800,21 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return 2;
 	}
+	/* no option is silently ignored: the database is read by export and report only */
+	if (dbpath && strcmp(argv[optind], "export") != 0 && strcmp(argv[optind], "report") != 0 &&
+	    strcmp(argv[optind], "log") != 0 && strcmp(argv[optind], "accept-test") != 0) {
+		fprintf(stderr, "psensctl: -d is for export, report, log and accept-test; %s asks psensd (-s)\n",
+		        argv[optind]);
+		return 2;
+	}
 	if (timeout_ms <= 0)
 		timeout_ms = 5000;
-	if (strcmp(argv[optind], "export") == 0) {
-		if (optind + 2 != argc || strcmp(argv[optind + 1], "--csv") != 0) {
-			usage(stderr);
-			return 2;
-		}
-		return export_csv(sock, dbpath, timeout_ms);
-	}
+	if (strcmp(argv[optind], "export") == 0)
+		return export_samples(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
+	if (strcmp(argv[optind], "log") == 0)
+		return show_log(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
+	if (strcmp(argv[optind], "watch") == 0)
+		return watch(sock, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "report") == 0)
 		return report(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "accept-test") == 0)
@@ -610,6 +852,9 @@ int main(int argc, char **argv)
 	if (!o || !json_object_object_get_ex(o, "ok", &ok) || !json_object_get_boolean(ok)) {
 		if (o && json_object_object_get_ex(o, "error", &err))
 			fprintf(stderr, "psensctl: %s\n", json_object_get_string(err));
+		if (o && json_object_object_get_ex(o, "reasons", &err) && json_object_is_type(err, json_type_array))
+			for (size_t i = 0; i < json_object_array_length(err); i++)
+				fprintf(stderr, "  %s\n", json_object_get_string(json_object_array_get_idx(err, i)));
 		json_object_put(o);
 		return 1;
 	}

@@ -12,6 +12,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "cli.h"
 #include "daemon.h"
 #include "annual.h"
 #include "canvas.h"
@@ -84,7 +85,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 {
 	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
 	                                   "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
-	static float task[365 * 144], level[365 * 144];
+	static float task[PSD_ANNUAL_MAX_DAYS * 144], level[PSD_ANNUAL_MAX_DAYS * 144];
 	const struct psd_engine *e = &d->engine;
 	if (!e->have_res || !e->res.have_year) {
 		fprintf(stderr, "psensd: -Y needs results with a year: give the scene a weather file "
@@ -110,6 +111,8 @@ static int year_report(struct psd_daemon *d, const char *png)
 		psd_clock_hhmm(o.occ_end, to);
 		printf("  %.0f control steps in %.2f s (%.0f ns a step); occupied %s-%s every day, "
 		       "%.0f h\n", a.steps, a.seconds, 1e9 * a.seconds / a.steps, from, to, a.occ_h);
+		if (a.days != 365)
+			printf("  %d days: the weather file's year has February 29\n", a.days);
 		printf("  lighting energy %.0f full-output hours (%.1f %% of full), savings %.1f %%\n",
 		       a.energy_h, 100 * a.energy_h / a.occ_h, 100 * a.savings);
 		printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
@@ -122,6 +125,9 @@ static int year_report(struct psd_daemon *d, const char *png)
 		       "    dated ratio (month x hour x typical sky class): mean %+.1f %%, rms %.1f %%\n",
 		       a.est_n, e->res.year.mean_ratio, a.est_mean[0], a.est_rms[0], a.est_mean[1],
 		       a.est_rms[1]);
+		if (a.est_rooftop)
+			printf("    dated ratio, sky class from a rooftop sensor: mean %+.1f %%, rms %.1f %%\n",
+			       a.est_mean[2], a.est_rms[2]);
 		printf("  %-5s %9s %9s %9s %9s %9s\n", "month", "occ. h", "energy %", "ideal %",
 		       "below 90%", "overdim h");
 		for (int m = 0; m < 12; m++) {
@@ -138,7 +144,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 			snprintf(title, sizeof title, "%s: zone %s, %s, target %g lx (%s)",
 			         sb ? sb + 1 : e->res.scene ? e->res.scene : "", z->zc->name,
 			         psd_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : e->res.weather);
-			rc = psd_annual_png(png, task, level, ctl.target_lux, title, err, sizeof err);
+			rc = psd_annual_png(png, task, level, a.days, ctl.target_lux, title, err, sizeof err);
 			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
 			if (rc != 0) {
 				fprintf(stderr, "psensd: %s\n", err);
@@ -202,8 +208,14 @@ static void usage(FILE *fp)
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
 	            "  -d DATE   the date of a run with -s or -t (default: [simulate] date and run_year)\n"
 	            "  -v        more messages\n"
-	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n"
-	            "drivers:\n");
+	            "  -h, --help  this help;  -V, --version  the version\n"
+	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n");
+#ifdef PS_WITH_MQTT
+	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7)\n");
+#else
+	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
+#endif
+	fprintf(fp, "drivers:\n");
 	for (int i = 0; ps_drivers[i]; i++)
 		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
 		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
@@ -256,7 +268,7 @@ static void list_options(void)
 int main(int argc, char **argv)
 {
 	const char *path = "/etc/psensd/psensd.conf";
-	int check = 0, simulate = 0, verbose = PSD_LOG_INFO, opt, rc = 0;
+	int check = 0, simulate = 0, verbose = PSD_LOG_INFO, opt, rc = 0, unsafe;
 	double start = NAN, speed = 1, epoch0 = NAN;
 	const char *date = NULL;
 	static struct psd_daemon d;
@@ -264,12 +276,12 @@ int main(int argc, char **argv)
 	char *end;
 	static const struct option longopts[] = {
 		{ "list-driver-options", no_argument, NULL, 'L' },
-		{ "help", no_argument, NULL, 'h' },
+		PS_CLI_LONGOPTS,
 		{ NULL, 0, NULL, 0 },
 	};
 	const char *png = NULL;
-	int year = 0;
-	while ((opt = getopt_long(argc, argv, "f:nst:x:d:vhLYP:", longopts, NULL)) != -1) {
+	int year = 0, have_t = 0, have_x = 0;
+	while ((opt = getopt_long(argc, argv, "f:nst:x:d:vhVLYP:", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'L': list_options(); return 0;
 		case 'f': path = optarg; break;
@@ -282,6 +294,7 @@ int main(int argc, char **argv)
 				fprintf(stderr, "psensd: -t %s: not HH:MM\n", optarg);
 				return 2;
 			}
+			have_t = 1;
 			break;
 		case 'x':
 			speed = strtod(optarg, &end);
@@ -289,6 +302,7 @@ int main(int argc, char **argv)
 				fprintf(stderr, "psensd: -x %s: a speed from 0.001 to 1e6\n", optarg);
 				return 2;
 			}
+			have_x = 1;
 			break;
 		case 'd':
 			if (psd_clock_parse_date(optarg, &epoch0) != 0) {
@@ -299,6 +313,7 @@ int main(int argc, char **argv)
 			break;
 		case 'v': verbose = PSD_LOG_DEBUG; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psensd");
 		default: usage(stderr); return 2;
 		}
 	}
@@ -306,10 +321,34 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return 2;
 	}
+	/* no option is silently ignored: -t and -x set the real-time clock,
+	 * which neither -s (the [simulate] day) nor -n (no clock) has */
+	if ((simulate || check) && (have_t || have_x)) {
+		fprintf(stderr, "psensd: %s%s%s %s the real-time clock, which %s does not run%s\n",
+		        have_t ? "-t" : "", have_t && have_x ? " and " : "", have_x ? "-x" : "",
+		        have_t && have_x ? "set" : "sets", year ? "-Y" : simulate ? "-s" : "-n",
+		        year ? " (it runs the results' year)" : simulate ? " (its [simulate] section sets the day)" : "");
+		return 2;
+	}
+	if (simulate && check) {
+		fprintf(stderr, "psensd: -n and %s: one or the other\n", year ? "-Y" : "-s");
+		return 2;
+	}
+	if (png && !year) {
+		fprintf(stderr, "psensd: -P draws the year: it goes with -Y\n");
+		return 2;
+	}
 	log_init(1, verbose, "psensd");
 	if (check) {
 		rc = psd_config_load(&cf, path);
 		psd_daemon_config_errors(&cf);
+#ifndef PS_WITH_MQTT
+		if (rc == 0 && cf.mqtt.enabled) {   /* it would be refused at start */
+			log_errx("%s:%d: [mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)",
+			         path, cf.mqtt.line);
+			rc = -1;
+		}
+#endif
 		if (rc == 0)
 			printf("%s: configuration OK (%zu device(s), %zu point(s), %zu zone(s))\n", path, cf.ndev,
 			       cf.npt, cf.nzone);
@@ -375,8 +414,14 @@ int main(int argc, char **argv)
 	if (d.stop)
 		log_info("%s: stopping", strsignal(d.stop));
 	/* the safe level first (it commits the log), then the summary */
-	psd_engine_safe(&d.engine, psd_clock_now(&d.clock), d.stop ? strsignal(d.stop) : "end of the simulated day");
+	unsafe = psd_daemon_safe(&d, d.stop ? strsignal(d.stop) : "end of the simulated day");
 	summary(&d, start, psd_clock_now(&d.clock));
 	psd_daemon_stop(&d, NULL);
+	/* a shutdown that leaves lights where nobody can see them is a failure:
+	 * said at LOG_ERR, and the exit status says it to systemd and scripts */
+	if (unsafe) {
+		log_errx("stopped with %d zone(s) not at the safe level: check the outputs", unsafe);
+		rc = 1;
+	}
 	return rc;
 }

@@ -29,6 +29,7 @@
 
 #include <modbus.h>
 
+#include "cli.h"
 #include "config.h"
 #include "daemon.h"
 #include "log.h"
@@ -196,13 +197,15 @@ static void usage(FILE *fp)
 	fprintf(fp,
 	        "usage: psvirt [-f psensd.conf] [--results FILE] [--date MM-DD] [--sunrise HH:MM]\n"
 	        "              [--sunset HH:MM] [--start HH:MM] [--speed F] [--zones N]\n"
-	        "              [-o [ZONE:]KEY=VALUE]...\n"
+	        "              [-D [ZONE:]KEY=VALUE]...\n"
 	        "              (--tcp ADDR:PORT | --rtu DEVICE [--baud N] [--parity none|even|odd]\n"
 	        "              [--stop-bits 1|2]) [--unit N] [--ready-file FILE]\n"
 	        "              [--idle-timeout S] [--max-clients N] [-v]\n"
 	        "              [--fault late|exception|garbage|disconnect] [--fault-count N] [--late-ms N]\n"
 	        "The virtual room of each zone as one Modbus 0-10 V I/O module with a lux meter\n"
-	        "per zone; see psvirt(1).\n");
+	        "per zone; see psvirt(1).\n"
+	        "  -D [ZONE:]KEY=VALUE  a room option (-o, its old spelling, goes in the next release)\n"
+	        "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 struct args {
@@ -218,13 +221,13 @@ struct args {
 static int parse_args(struct args *a, int argc, char **argv)
 {
 	static const struct option lo[] = {
-		{ "results", 1, NULL, 'r' }, { "date", 1, NULL, 'D' }, { "sunrise", 1, NULL, 'R' },
+		{ "results", 1, NULL, 'r' }, { "date", 1, NULL, 'Y' }, { "sunrise", 1, NULL, 'R' },
 		{ "sunset", 1, NULL, 'S' }, { "start", 1, NULL, 's' }, { "speed", 1, NULL, 'x' },
 		{ "tcp", 1, NULL, 't' }, { "rtu", 1, NULL, 'u' }, { "baud", 1, NULL, 'b' },
 		{ "parity", 1, NULL, 'p' }, { "stop-bits", 1, NULL, 'B' }, { "unit", 1, NULL, 'U' },
 		{ "ready-file", 1, NULL, 'y' }, { "fault", 1, NULL, 'F' }, { "fault-count", 1, NULL, 'C' },
 		{ "late-ms", 1, NULL, 'L' }, { "zones", 1, NULL, 'z' }, { "idle-timeout", 1, NULL, 'I' },
-		{ "max-clients", 1, NULL, 'M' }, { "help", 0, NULL, 'h' }, { NULL, 0, NULL, 0 }
+		{ "max-clients", 1, NULL, 'M' }, PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 }
 	};
 	int c;
 	memset(a, 0, sizeof *a);
@@ -236,12 +239,12 @@ static int parse_args(struct args *a, int argc, char **argv)
 	a->parity = "none";
 	a->idle_timeout = 300;
 	a->max_clients = 32;
-	while ((c = getopt_long(argc, argv, "f:o:hv", lo, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, "f:D:o:hVv", lo, NULL)) != -1) {
 		char *end = NULL;
 		switch (c) {
 		case 'f': a->conf = optarg; break;
 		case 'r': a->results = optarg; break;
-		case 'D': a->date = optarg; break;
+		case 'Y': a->date = optarg; break;
 		case 'R': a->sunrise = optarg; break;
 		case 'S': a->sunset = optarg; break;
 		case 's': a->start = optarg; break;
@@ -267,10 +270,13 @@ static int parse_args(struct args *a, int argc, char **argv)
 				return -1;
 			}
 			break;
-		case 'o': {
+		case 'o':   /* the old spelling of -D */
+			ps_cli_deprecated("psvirt", "-o KEY=VALUE", "-D KEY=VALUE (-o is an output file elsewhere)");
+			/* fall through */
+		case 'D': {
 			char *eq = strchr(optarg, '=');
 			if (!eq || eq == optarg || a->nopts >= MAX_OPTS) {
-				fprintf(stderr, "psvirt: -o: '%s' is not [ZONE:]KEY=VALUE\n", optarg);
+				fprintf(stderr, "psvirt: -D: '%s' is not [ZONE:]KEY=VALUE\n", optarg);
 				return -1;
 			}
 			*eq = 0;
@@ -278,6 +284,7 @@ static int parse_args(struct args *a, int argc, char **argv)
 			break;
 		}
 		case 'h': usage(stdout); exit(0);
+		case 'V': exit(ps_cli_version("psvirt"));
 		default: return -1;
 		}
 		if (end && *end) {
@@ -318,7 +325,7 @@ static int opt_zone(const struct virt *v, const char *raw, const char **key)
 	for (int z = 0; z < v->nzone; z++)
 		if ((size_t)(colon - raw) == strlen(v->zone[z]) && strncmp(raw, v->zone[z], (size_t)(colon - raw)) == 0)
 			return z;
-	fprintf(stderr, "psvirt: -o %s: no zone '%.*s' (%d zone(s): 0 to %d or their names)\n", raw,
+	fprintf(stderr, "psvirt: -D %s: no zone '%.*s' (%d zone(s): 0 to %d or their names)\n", raw,
 	        (int)(colon - raw), raw, v->nzone, v->nzone - 1);
 	return -2;
 }
@@ -418,7 +425,7 @@ static int build_rooms(struct virt *v, struct args *a)
 		struct ps_opt merged[2 * MAX_OPTS + 1];
 		int src[MAX_OPTS];
 		size_t n, nconf = zone_conf[z] ? zone_conf[z]->n : 0;
-		struct ps_opts cmd = { merged, 0, "psvirt -o" }, all = { merged, 0, "psvirt -o" };
+		struct ps_opts cmd = { merged, 0, "psvirt -D" }, all = { merged, 0, "psvirt -D" };
 		char err[512], seed[32], *end = NULL;
 		const char *s;
 		if (zone_cmdline_opts(v, a, z, merged + 1, &n, src) != 0)
@@ -489,7 +496,7 @@ static int build_rooms(struct virt *v, struct args *a)
 		for (size_t j = 0; j < a->nopts && !known; j++)
 			known = a->opts[j].used && (opt_zone(v, a->opts[j].key, &other), strcmp(key, other) == 0);
 		if (!known) {
-			fprintf(stderr, "psvirt: -o %s: not a loopback room option (see psensd.conf(5))\n", key);
+			fprintf(stderr, "psvirt: -D %s: not a loopback room option (see psensd.conf(5))\n", key);
 			goto out;
 		}
 	}

@@ -3,7 +3,7 @@
  * a PNG with its marks (azimuth 0 = the picture's up, the sensor's rotation,
  * polar-angle rings, contours and a legend), or its contours over a render
  * of the room from the sensor (the paper's Figure 5).
- *   mksens [-r resolution] [-o rotation] [-m linear|cell] sensfile > picture
+ *   mksens [-S resolution] [--rotation deg] [-m linear|cell] sensfile > picture
  *   mksens [...] --output sensor.png sensfile
  *   mksens [...] --overlay room.hdr --output fig5.png sensfile
  * Each pixel holds the sensitivity averaged over its footprint (its exact
@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "binout.h"
 #include "canvas.h"
 #include "contour.h"
@@ -47,13 +48,13 @@ struct opts {
 static void usage(FILE *fp)
 {
 	fprintf(fp,
-	        "usage: mksens [-r resolution] [-o rotation] [-m linear|cell] sensfile > picture.hdr\n"
-	        "       mksens [options] --output sensor.png sensfile\n"
-	        "       mksens [options] --overlay room.hdr --output overlay.png sensfile\n"
-	        "  -r, --resolution N  pixels on a side (default 256, at most 8192)\n"
-	        "  -o, --rotation DEG  turn the sensitivity towards growing azimuth, as psens -r\n"
+	        "usage: mksens [-S resolution] [--rotation deg] [-m linear|cell] sensfile > picture.hdr\n"
+	        "       mksens [options] -o sensor.png sensfile\n"
+	        "       mksens [options] --overlay room.hdr -o overlay.png sensfile\n"
+	        "  -S, --resolution N  pixels on a side (default 256, at most 8192)\n"
+	        "      --rotation DEG  turn the sensitivity towards growing azimuth (as psens -r)\n"
 	        "  -m, --reading MODE  linear (default) or cell, as psens -m\n"
-	        "      --output FILE   write FILE (PNG when it ends in .png) instead of\n"
+	        "  -o, --output FILE   write FILE (PNG when it ends in .png) instead of\n"
 	        "                      standard output (never a terminal)\n"
 	        "      --format F      hdr (Radiance, the default) or png\n"
 	        "      --overlay PIC   the sensitivity's contours over PIC, a fisheye render\n"
@@ -64,7 +65,8 @@ static void usage(FILE *fp)
 	        "      --tone CURVE    --overlay: linear, gamma, srgb or reinhard (default)\n"
 	        "      --zoom N        PNG: each pixel as N x N (default: the smallest making\n"
 	        "                      the picture 512 pixels or more, at most 4)\n"
-	        "  -h, --help          this help;  -V, --version  the version\n");
+	        "  -h, --help          this help;  -V, --version  the version\n"
+	        "  (old spellings, for this release: -r N for -S N, -o DEG for --rotation DEG)\n");
 }
 
 static int parse_levels(const char *s, struct opts *o)
@@ -86,12 +88,12 @@ static int parse_levels(const char *s, struct opts *o)
 static int parse_args(int argc, char **argv, struct opts *o)
 {
 	static const struct option longopts[] = {
-		{ "resolution", required_argument, NULL, 'r' }, { "rotation", required_argument, NULL, 'o' },
-		{ "reading", required_argument, NULL, 'm' },    { "output", required_argument, NULL, 'O' },
+		{ "resolution", required_argument, NULL, 'S' }, { "rotation", required_argument, NULL, 'a' },
+		{ "reading", required_argument, NULL, 'm' },    { "output", required_argument, NULL, 'o' },
 		{ "format", required_argument, NULL, 'f' },     { "overlay", required_argument, NULL, 'v' },
 		{ "levels", required_argument, NULL, 'L' },     { "exposure", required_argument, NULL, 'e' },
 		{ "tone", required_argument, NULL, 't' },       { "zoom", required_argument, NULL, 'z' },
-		{ "help", no_argument, NULL, 'h' },             { "version", no_argument, NULL, 'V' },
+		             PS_CLI_LONGOPTS,
 		{ NULL, 0, NULL, 0 }
 	};
 	int opt, format = -1, rc;
@@ -101,19 +103,29 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	o->reading = PS_READ_LINEAR;
 	o->tone = PS_TONE_REINHARD;
 	parse_levels("10,25,50,75,90", o);
-	while ((opt = getopt_long(argc, argv, "r:o:m:hV", longopts, NULL)) != -1) {
+	while ((opt = getopt_long(argc, argv, "S:r:o:m:hV", longopts, NULL)) != -1) {
 		switch (opt) {
-		case 'r':
+		case 'r':   /* the old spelling: -r becomes the rotation in the next release */
+			ps_cli_deprecated("mksens", "-r as the resolution", "-S (-r will be the rotation, as psens -r)");
+			/* fall through */
+		case 'S':
 			o->res = strtol(optarg, &end, 10);
 			if (end == optarg || *end || o->res < 1 || o->res > 8192) {
-				fprintf(stderr, "mksens: -r: '%s' is not a resolution from 1 to 8192\n", optarg);
+				fprintf(stderr, "mksens: -S: '%s' is not a resolution from 1 to 8192\n", optarg);
 				return 2;
 			}
 			break;
-		case 'o':
+		case 'o':   /* the output file; a number is the old rotation */
+			if (!ps_cli_is_number(optarg)) {
+				o->out = optarg;
+				break;
+			}
+			ps_cli_deprecated("mksens", "-o as the rotation", "--rotation (-o is the output file)");
+			/* fall through */
+		case 'a':
 			o->rot = strtod(optarg, &end);
 			if (end == optarg || *end || !isfinite(o->rot)) {
-				fprintf(stderr, "mksens: -o: '%s' is not an angle\n", optarg);
+				fprintf(stderr, "mksens: --rotation: '%s' is not an angle\n", optarg);
 				return 2;
 			}
 			break;
@@ -124,7 +136,6 @@ static int parse_args(int argc, char **argv, struct opts *o)
 				return 2;
 			}
 			break;
-		case 'O': o->out = optarg; break;
 		case 'f':
 			format = strcmp(optarg, "png") == 0 ? 1 : strcmp(optarg, "hdr") == 0 ? 0 : -2;
 			if (format == -2) {
@@ -166,7 +177,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			}
 			break;
 		case 'h': usage(stdout); return 0;
-		case 'V': printf("mksens (psensd) %s\n", PS_VERSION); return 0;
+		case 'V': return ps_cli_version("mksens");
 		default: usage(stderr); return 2;
 		}
 	}
@@ -252,7 +263,7 @@ static int write_hdr(const struct opts *o, const double *val, double vh, struct 
 	for (size_t k = 0; k < n; k++)
 		rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = val[k];
 	snprintf(view, sizeof view, "-vta -vp 0 0 0 -vd 0 0 -1 -vu 0 1 0 -vh %g -vv %g", vh, vh);
-	snprintf(extra, sizeof extra, "mksens -r %ld -o %g -m %s %s\n", o->res, o->rot,
+	snprintf(extra, sizeof extra, "mksens -S %ld --rotation %g -m %s %s\n", o->res, o->rot,
 	         ps_reading_name(o->reading), o->sensfile);
 	if (o->out && !(fp = fopen(o->out, "wb"))) {
 		free(rgb);
@@ -399,7 +410,7 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	}
 	{
 		char cmd[700];
-		snprintf(cmd, sizeof cmd, "mksens -r %ld -o %g -m %s%s%s %s", o->res, o->rot,
+		snprintf(cmd, sizeof cmd, "mksens -S %ld --rotation %g -m %s%s%s %s", o->res, o->rot,
 		         ps_reading_name(o->reading), o->overlay ? " --overlay " : "",
 		         o->overlay ? o->overlay : "", o->sensfile);
 		ps_canvas_text_chunk(&c, "Software", "mksens (psensd) " PS_VERSION);

@@ -1,5 +1,6 @@
 /* psens: the signal a photosensor gives for fisheye pictures of a room.
- *   psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell] [-c] [-j] picture...
+ *   psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell] [-c] [-j|-o{a|f|d}]
+ *         [-n threads] [-C cachedir | -N] picture...
  * See psens(1). */
 #include <getopt.h>
 #include <math.h>
@@ -7,18 +8,27 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "batch.h"
+#include "cache.h"
+#include "cli.h"
+#include "file.h"
 #include "fisheye.h"
 #include "integrate.h"
+#include "mtx.h"
 #include "picture.h"
+#include "picview.h"
+#include "rescan.h"
 #include "sensor.h"
 #include "spectral.h"
 #include "view.h"
+#include "wcache.h"
 #include "weights.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell]\n"
-	            "             [-f filter] [-c] [-j] [-q] picture...\n"
+	            "             [-f filter] [-c] [-j|-oa|-of|-od] [-n threads] [-C dir|-N] [-q]\n"
+	            "             picture...\n"
 	            "  -s FILE   sensitivity table (rsensor/SPOT layout), or builtin:cosine\n"
 	            "  -r DEG    turn the sensitivity about the sensor axis (growing azimuth)\n"
 	            "  -R -G -B  colour coefficients (default 0.265074126 0.670114631 0.064811243)\n"
@@ -26,7 +36,14 @@ static void usage(FILE *fp)
 	            "  -m MODE   reading of the table: linear (default) or cell (rsensor's)\n"
 	            "  -c        the paper's centre-point weights instead of exact ones\n"
 	            "  -j        one JSON object per picture\n"
-	            "  -q        no warnings\n");
+	            "  -oa -of -od  one Radiance matrix (ascii, float, double): one row (the\n"
+	            "            sensor), one column per picture, components r g b\n"
+	            "  -n N      threads reading and integrating pictures (default 2)\n"
+	            "  -C DIR    cache directory for weight maps (default $XDG_CACHE_HOME/psensd\n"
+	            "            or ~/.cache/psensd, as psscene's)\n"
+	            "  -N        no cache\n"
+	            "  -q        no warnings\n"
+	            "  -h, --help     this help;  -V, --version  the version\n");
 }
 
 static int parse_num(const char *opt, const char *s, double *out)
@@ -54,42 +71,13 @@ static void json_string(const char *s)
 	putchar('"');
 }
 
-/* Read a picture and its view; 0 on success, message printed otherwise. */
-static int load(const char *path, struct ps_picture *pic, struct ps_view *view, int quiet)
-{
-	struct ps_err e;
-	char where[600];
-	if (ps_pic_read(pic, path, &e) != 0) {
-		fprintf(stderr, "psens: %s\n", e.msg);
-		return -1;
-	}
-	snprintf(where, sizeof where, "%s: VIEW", path);
-	if (!pic->view) {
-		ps_view_default_fisheye(view);
-		if (!quiet)
-			fprintf(stderr, "psens: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n", path);
-	} else {
-		/* VIEW= options apply on top of Radiance's default view */
-		ps_view_default(view);
-		if (ps_view_parse(view, pic->view, where, &e) != 0)
-			goto fail;
-	}
-	if (ps_view_check_fisheye(view, where, &e) != 0)
-		goto fail;
-	return 0;
-fail:
-	fprintf(stderr, "psens: %s\n", e.msg);
-	ps_pic_free(pic);
-	return -1;
-}
-
-static void warnings(const char *path, const struct ps_weights *w, const struct ps_response *r,
+static void warnings(const char *path, double coverage, const struct ps_response *r,
                      const struct ps_sensor *sens, const struct ps_view *view)
 {
-	if (w->coverage < 1.0 - 1e-9) {
+	if (coverage < 1.0 - 1e-9) {
 		double ext = ps_sensor_extent(sens);
 		fprintf(stderr, "psens: warning: %s covers %.2f %% of the sensitivity; ", path,
-		        100 * w->coverage);
+		        100 * coverage);
 		if (view->type == PS_VT_HEMI && ext > M_PI / 2 + 1e-12)
 			fprintf(stderr, "it reaches past 90 degrees: render -vta -vh %.0f -vv %.0f\n",
 			        ceil(ps_fisheye_vh_for(PS_VT_ANGULAR, ext)),
@@ -106,25 +94,371 @@ static void warnings(const char *path, const struct ps_weights *w, const struct 
 		        100 * r->brightest_share, 100 * r->top1_share);
 }
 
+/* What psens keeps of each picture until it prints them in order. */
+struct item {
+	int done;
+	struct ps_batch_result res;
+	double coverage;
+	struct ps_view view;
+};
+
+static void print_result(const char *path, const char *sensname, const struct item *it,
+                         const struct ps_sensor *sens, int method, int json, int several)
+{
+	const struct ps_response *r = &it->res.r;
+	if (json) {
+		char top1[32] = "null";
+		if (!isnan(r->top1_share))
+			snprintf(top1, sizeof top1, "%.6g", r->top1_share);
+		printf("{\"picture\": ");
+		json_string(path);
+		if (sensname) {
+			printf(", \"sensor\": ");
+			json_string(sensname);
+		}
+		printf(", \"solid_angle\": %.10g, \"sensitivity_total\": %.10g, \"response\": %.10g, "
+		       "\"r\": %.10g, \"g\": %.10g, \"b\": %.10g, \"coverage\": %.10g, "
+		       "\"brightest_share\": %.6g, \"top1_share\": %s, \"pixels\": %zu, "
+		       "\"width\": %d, \"height\": %d, \"method\": \"%s\", \"reading\": \"%s\"}\n",
+		       r->solid_angle, sens->total, r->response, r->rgb[0], r->rgb[1], r->rgb[2],
+		       it->coverage, r->brightest_share, top1, r->npixels, it->res.width, it->res.height,
+		       method == PS_W_CENTRE ? "centre" : "exact", ps_reading_name(sens->reading));
+	} else {
+		if (several)
+			printf("%s: ", path);
+		if (sensname)
+			printf("%s: ", sensname);
+		printf("Total solid angle: %g Total sensitivity: %g Response: %.9g\n", r->solid_angle,
+		       sens->total, r->response);
+	}
+}
+
+/* The command line, for the matrix header. */
+static char *command_line(int argc, char **argv)
+{
+	size_t len = 1;
+	char *cmd;
+	for (int k = 0; k < argc; k++)
+		len += strlen(argv[k]) + 1;
+	cmd = malloc(len);
+	if (!cmd)
+		return NULL;
+	cmd[0] = '\0';
+	for (int k = 0; k < argc; k++) {
+		if (k)
+			strcat(cmd, " ");
+		strcat(cmd, k ? argv[k] : "psens");
+	}
+	return cmd;
+}
+
+/* items[s n + c]: sensor s (a row), picture c (a column). */
+static int write_matrix(int argc, char **argv, const struct item *items, size_t n, int nsens,
+                        int format)
+{
+	struct ps_mtx_header h;
+	struct ps_err e;
+	double *data = malloc(3 * n * (size_t)nsens * sizeof *data);
+	char *cmd = command_line(argc, argv);
+	int rc = 0;
+	if (!data || !cmd) {
+		fprintf(stderr, "psens: out of memory\n");
+		free(data);
+		free(cmd);
+		return 1;
+	}
+	for (size_t c = 0; c < n; c++)
+		for (int r = 0; r < nsens; r++)
+			for (int k = 0; k < 3; k++)
+				data[3 * (c * (size_t)nsens + (size_t)r) + k] = items[(size_t)r * n + c].res.r.rgb[k];
+	memset(&h, 0, sizeof h);
+	h.command = cmd;
+	h.nrows = nsens;
+	h.ncols = (int)n;
+	h.format = format;
+	h.digits = 10;
+	if (ps_mtx_write(stdout, "(stdout)", &h, 1, data, 1, &e) != 0) {
+		fprintf(stderr, "psens: %s\n", e.msg);
+		rc = 1;
+	}
+	free(data);
+	free(cmd);
+	return rc;
+}
+
+/* Options shared by the routes. */
+struct opts {
+	double rot, coef[3];
+	int method, json, quiet, nthreads, mtx, cache_warned;
+	int scan, nrot;           /* -r a:b:s */
+	double rot_a, rot_step;
+	const char *cachedir;
+};
+
+/* The direct route for one sensor: items[i] for paths[i]. */
+static int direct(const struct ps_sensor *sens, struct opts *o, const char *const *paths, size_t n,
+                  struct item *items)
+{
+	struct ps_err e;
+	size_t *idx = malloc(n * sizeof *idx);
+	if (!idx) {
+		fprintf(stderr, "psens: out of memory\n");
+		return -1;
+	}
+	/* Each round reads the first picture not done, builds the weights for its
+	 * view and size once, and integrates it with every picture left of that
+	 * size in parallel; a picture of another view or size waits for a later
+	 * round (with a matrix, where every column must share one map, it is an
+	 * error naming the file). */
+	for (size_t first = 0; first < n; first++) {
+		struct ps_picture pic;
+		struct ps_view view;
+		struct ps_batch b;
+		struct ps_filemap fm;
+		const char **list;
+		size_t m = 0, off;
+		int assumed;
+		if (items[first].done)
+			continue;
+		items[first].done = 1;
+		/* the first picture's header sets the batch's view and size */
+		if (ps_map_file(paths[first], (size_t)4 << 30, &fm, &items[first].res.err) != 0) {
+			items[first].res.status = PS_BATCH_FAILED;
+			continue;
+		}
+		if (ps_pic_head_mem(&pic, fm.data, fm.len, paths[first], &off,
+		                    &items[first].res.err) != 0 ||
+		    ps_pic_fisheye_view(&pic, paths[first], &view, &assumed,
+		                        &items[first].res.err) != 0) {
+			items[first].res.status = PS_BATCH_FAILED;
+			ps_pic_free(&pic);
+			ps_unmap_file(&fm);
+			continue;
+		}
+		{
+			struct ps_err warn;
+			int how;
+			if (ps_batch_init_cache(&b, sens, o->rot, &view, pic.width, pic.height, o->method, o->coef,
+			                        o->nthreads, o->cachedir, ps_cache_max_bytes(), &how, &warn,
+			                        &e) != 0) {
+				fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
+				goto fail;
+			}
+			/* a cache that cannot be written: one warning, then no cache */
+			if (how == PS_WC_UNWRITABLE) {
+				if (!o->quiet && !o->cache_warned)
+					fprintf(stderr, "psens: warning: weights not cached (%s); going on "
+					                "without the cache\n", warn.msg);
+				o->cache_warned = 1;
+				o->cachedir = NULL;
+			} else if (how == PS_WC_REBUILT && !o->quiet) {
+				fprintf(stderr, "psens: warning: %s; weights rebuilt\n", warn.msg);
+			}
+		}
+		idx[m++] = first;
+		for (size_t i = first + 1; i < n; i++)
+			if (!items[i].done && (items[i].res.width == 0 ||
+			                       (items[i].res.width == pic.width &&
+			                        items[i].res.height == pic.height)))
+				idx[m++] = i;
+		{
+			struct ps_batch_result *res = malloc(m * sizeof *res);
+			list = malloc(m * sizeof *list);
+			if (!res || !list) {
+				fprintf(stderr, "psens: out of memory\n");
+				goto fail;
+			}
+			for (size_t k = 0; k < m; k++)
+				list[k] = paths[idx[k]];
+			if (ps_batch_run_files_first(&b, list, m, fm.data, fm.len, res, &e) < 0) {
+				fprintf(stderr, "psens: %s\n", e.msg);
+				goto fail;
+			}
+			for (size_t k = 0; k < m; k++) {
+				struct item *it = &items[idx[k]];
+				it->res = res[k];
+				if (res[k].status == PS_BATCH_MISMATCH && !o->mtx)
+					continue;   /* a later round */
+				it->done = 1;
+				it->coverage = b.w.coverage;
+				it->view = view;
+			}
+			free(res);
+			free(list);
+			ps_unmap_file(&fm);
+		}
+		ps_pic_free(&pic);
+		ps_batch_free(&b);
+	}
+	free(idx);
+	return 0;
+fail:
+	free(idx);
+	return -1;
+}
+
+/* "a:b:s": rotations a, a + s, ... below b (b > a, s > 0, at most 100000). */
+static int parse_scan(const char *arg, struct opts *o)
+{
+	double a, b, st;
+	char *end;
+	a = strtod(arg, &end);
+	if (end == arg || *end != ':')
+		return -1;
+	arg = end + 1;
+	b = strtod(arg, &end);
+	if (end == arg || *end != ':')
+		return -1;
+	arg = end + 1;
+	st = strtod(arg, &end);
+	if (end == arg || *end || !isfinite(a) || !isfinite(b) || !(st > 0) || !(b > a) ||
+	    (b - a) / st > 100000)
+		return -1;
+	o->scan = 1;
+	o->rot_a = a;
+	o->rot_step = st;
+	o->nrot = (int)ceil((b - a) / st - 1e-9);
+	return 0;
+}
+
+/* The rotation scan: each picture projected once (sim/rescan.h), every
+ * sensor evaluated at every rotation from the projection. */
+static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
+                      const char *const *paths, size_t n)
+{
+	struct ps_sensor uni;
+	struct ps_err e;
+	int status = 0;
+	/* cells: 0.25 degrees in polar angle, at most 1 degree in azimuth and a
+	 * whole number of them per step (test_rescan: 7e-5 of the exact route) */
+	double cells = ceil(o->rot_step / 1.0 - 1e-9), dphi = o->rot_step / cells;
+	double *out = malloc((size_t)o->nrot * sizeof *out);
+	if (!out || ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0) {
+		fprintf(stderr, "psens: out of memory\n");
+		free(out);
+		return 1;
+	}
+	if (fabs(360.0 / dphi - round(360.0 / dphi)) > 1e-9) {
+		fprintf(stderr, "psens: -r: a step of %g degrees must divide 360 into whole cells of at "
+		                "most 1 degree\n", o->rot_step);
+		free(out);
+		ps_sensor_free(&uni);
+		return 2;
+	}
+	for (size_t i = 0; i < n; i++) {
+		struct ps_picture pic;
+		struct ps_view view;
+		struct ps_weights om;
+		struct ps_rescan p;
+		struct ps_err warn;
+		double ext = 0;
+		int assumed, how;
+		if (ps_pic_read(&pic, paths[i], &e) != 0 ||
+		    ps_pic_fisheye_view(&pic, paths[i], &view, &assumed, &e) != 0) {
+			fprintf(stderr, "psens: %s\n", e.msg);
+			ps_pic_free(&pic);
+			status = 1;
+			continue;
+		}
+		if (assumed && !o->quiet)
+			fprintf(stderr, "psens: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n",
+			        paths[i]);
+		for (int k = 0; k < nsens; k++)
+			if (ps_sensor_extent(&sens[k]) > ext)
+				ext = ps_sensor_extent(&sens[k]);
+		/* the pixels' solid angles: the uniform sensor's exact weights */
+		if (ps_weights_get(&om, &uni, 0, &view, pic.width, pic.height, PS_W_EXACT, o->cachedir,
+		                   ps_cache_max_bytes(), &how, &warn, &e) != 0 ||
+		    ps_rescan_project(&p, &om, &pic, &view, o->coef, 0.25, dphi, o->rot_a,
+		                      ext / (M_PI / 180) + 0.25, &e) != 0) {
+			fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
+			ps_weights_free(&om);
+			ps_pic_free(&pic);
+			status = 1;
+			continue;
+		}
+		if (how == PS_WC_UNWRITABLE) {
+			if (!o->quiet && !o->cache_warned)
+				fprintf(stderr, "psens: warning: weights not cached (%s); going on without "
+				                "the cache\n", warn.msg);
+			o->cache_warned = 1;
+			o->cachedir = NULL;
+		}
+		for (int k = 0; k < nsens; k++) {
+			if (ps_rescan_scan_mt(&p, &sens[k], o->rot_a, o->rot_step, o->nrot, o->nthreads, out,
+			                      &e) != 0) {
+				fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
+				status = 1;
+				continue;
+			}
+			for (int r = 0; r < o->nrot; r++) {
+				double rot = o->rot_a + r * o->rot_step;
+				if (o->json) {
+					printf("{\"picture\": ");
+					json_string(paths[i]);
+					printf(", \"sensor\": ");
+					json_string(sens[k].path);
+					printf(", \"rotation\": %.10g, \"response\": %.10g, \"route\": \"rescan\"}\n",
+					       rot, out[r]);
+				} else {
+					if (n > 1)
+						printf("%s: ", paths[i]);
+					if (nsens > 1)
+						printf("%s: ", sens[k].path);
+					printf("Rotation: %g Response: %.9g\n", rot, out[r]);
+				}
+			}
+		}
+		ps_rescan_free(&p);
+		ps_weights_free(&om);
+		ps_pic_free(&pic);
+	}
+	free(out);
+	ps_sensor_free(&uni);
+	return status;
+}
+
+enum { MAX_SENSORS = 64 };
+
 int main(int argc, char **argv)
 {
-	const char *sensfile = NULL;
-	double rot = 0.0, coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
-	int reading = PS_READ_LINEAR, method = PS_W_EXACT, json = 0, quiet = 0, opt, status = 0;
-	struct ps_sensor sens;
-	struct ps_weights w;
+	const char *sensfiles[MAX_SENSORS];
+	int nsens = 0, reading = PS_READ_LINEAR, opt, status = 0, nocache = 0;
+	char cachebuf[4096];
+	struct ps_sensor sens[MAX_SENSORS];
 	struct ps_err e;
-	int have_w = 0;
+	const char *const *paths;
+	struct item *items;
+	size_t n;
+	struct opts o = { .rot = 0.0, .coef = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B },
+	                  .method = PS_W_EXACT, .nthreads = PS_BATCH_THREADS_DEFAULT };
 
-	while ((opt = getopt(argc, argv, "s:r:R:G:B:f:m:cjqh")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "s:r:R:G:B:f:m:n:o:C:NcjqhV", longopts, NULL)) != -1) {
 		switch (opt) {
-		case 's': sensfile = optarg; break;
-		case 'r': if (parse_num("-r", optarg, &rot)) return 2; break;
-		case 'R': if (parse_num("-R", optarg, &coef[0])) return 2; break;
-		case 'G': if (parse_num("-G", optarg, &coef[1])) return 2; break;
-		case 'B': if (parse_num("-B", optarg, &coef[2])) return 2; break;
+		case 's':
+			if (nsens == MAX_SENSORS) {
+				fprintf(stderr, "psens: -s: at most %d sensors\n", MAX_SENSORS);
+				return 2;
+			}
+			sensfiles[nsens++] = optarg;
+			break;
+		case 'r':
+			if (strchr(optarg, ':')) {
+				if (parse_scan(optarg, &o) != 0) {
+					fprintf(stderr, "psens: -r: '%s' is not start:end:step (end above start, "
+					                "step above 0)\n", optarg);
+					return 2;
+				}
+			} else if (parse_num("-r", optarg, &o.rot)) {
+				return 2;
+			}
+			break;
+		case 'R': if (parse_num("-R", optarg, &o.coef[0])) return 2; break;
+		case 'G': if (parse_num("-G", optarg, &o.coef[1])) return 2; break;
+		case 'B': if (parse_num("-B", optarg, &o.coef[2])) return 2; break;
 		case 'f':
-			if (ps_filter_rgb(optarg, coef, &e) != 0) {
+			if (ps_filter_rgb(optarg, o.coef, &e) != 0) {
 				fprintf(stderr, "psens: %s\n", e.msg);
 				return 1;
 			}
@@ -136,68 +470,102 @@ int main(int argc, char **argv)
 				return 2;
 			}
 			break;
-		case 'c': method = PS_W_CENTRE; break;
-		case 'j': json = 1; break;
-		case 'q': quiet = 1; break;
+		case 'n': {
+			double v;
+			if (parse_num("-n", optarg, &v))
+				return 2;
+			if (v < 1 || v > PS_BATCH_THREADS_MAX || v != floor(v)) {
+				fprintf(stderr, "psens: -n: '%s' threads: give 1 to %d\n", optarg,
+				        PS_BATCH_THREADS_MAX);
+				return 2;
+			}
+			o.nthreads = (int)v;
+			break;
+		}
+		case 'o':
+			if (!optarg[0] || optarg[1] || !strchr("afd", optarg[0])) {
+				fprintf(stderr, "psens: -o%s: the matrix format is -oa, -of or -od\n", optarg);
+				return 2;
+			}
+			o.mtx = optarg[0];
+			break;
+		case 'C': o.cachedir = optarg; break;
+		case 'N': nocache = 1; break;
+		case 'c': o.method = PS_W_CENTRE; break;
+		case 'j': o.json = 1; break;
+		case 'q': o.quiet = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psens");
 		default: usage(stderr); return 2;
 		}
 	}
-	if (!sensfile || optind >= argc) {
+	if (!nsens || optind >= argc) {
 		usage(stderr);
 		return 2;
 	}
-	if (ps_sensor_open(&sens, sensfile, &e) != 0 || ps_sensor_set_reading(&sens, reading, &e) != 0) {
-		fprintf(stderr, "psens: %s\n", e.msg);
+	if (o.mtx && o.json) {
+		fprintf(stderr, "psens: -j and -o%c: one output at a time\n", o.mtx);
+		return 2;
+	}
+	if (o.scan && (o.mtx || o.method == PS_W_CENTRE)) {
+		fprintf(stderr, "psens: a rotation scan (-r start:end:step) prints lines or JSON, with "
+		                "the exact solid angles: not with -o or -c\n");
+		return 2;
+	}
+	for (int k = 0; k < nsens; k++)
+		if (ps_sensor_open(&sens[k], sensfiles[k], &e) != 0 ||
+		    ps_sensor_set_reading(&sens[k], reading, &e) != 0) {
+			fprintf(stderr, "psens: %s\n", e.msg);
+			return 1;
+		}
+	if (nocache) {
+		o.cachedir = NULL;
+	} else if (!o.cachedir) {
+		ps_cache_default_dir(cachebuf, sizeof cachebuf);
+		o.cachedir = cachebuf;
+	}
+	paths = (const char *const *)argv + optind;
+	n = (size_t)(argc - optind);
+	if (o.scan) {
+		status = scan_route(sens, nsens, &o, paths, n);
+		for (int k = 0; k < nsens; k++)
+			ps_sensor_free(&sens[k]);
+		return status;
+	}
+	items = calloc(n * (size_t)nsens, sizeof *items);
+	if (!items) {
+		fprintf(stderr, "psens: out of memory\n");
 		return 1;
 	}
-	memset(&w, 0, sizeof w);
-	for (int a = optind; a < argc; a++) {
-		const char *path = argv[a];
-		struct ps_picture pic;
-		struct ps_view view;
-		struct ps_response r;
-		char key[512];
-		if (load(path, &pic, &view, quiet) != 0) {
-			status = 1;
-			continue;
+	/* one sensor after another, each its batches of pictures */
+	for (int k = 0; k < nsens; k++)
+		if (direct(&sens[k], &o, paths, n, items + (size_t)k * n) != 0)
+			return 1;
+	for (size_t i = 0; i < n; i++)
+		for (int k = 0; k < nsens; k++) {
+			struct item *it = &items[(size_t)k * n + i];
+			if (it->res.status != PS_BATCH_OK) {
+				/* a picture that cannot be read says so once, not per sensor */
+				if (k == 0 || strcmp(it->res.err.msg, items[i].res.err.msg) != 0)
+					fprintf(stderr, "psens: %s\n", it->res.err.msg);
+				status = 1;
+				continue;
+			}
+			if (!o.quiet && it->res.view_assumed && k == 0)
+				fprintf(stderr, "psens: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n",
+				        paths[i]);
+			if (!o.quiet)
+				warnings(paths[i], it->coverage, &it->res.r, &sens[k], &it->view);
+			if (!o.mtx)
+				print_result(paths[i], nsens > 1 ? sensfiles[k] : NULL, it, &sens[k], o.method,
+				             o.json, n > 1);
 		}
-		/* one weight map per (sensor, rotation, view, size), reused */
-		ps_weights_key(&sens, rot, &view, pic.width, pic.height, method, key, sizeof key);
-		if (!have_w || strcmp(key, w.key) != 0) {
-			ps_weights_free(&w);
-			have_w = ps_weights_build(&w, &sens, rot, &view, pic.width, pic.height, method, &e) == 0;
-		}
-		if (!have_w || ps_integrate(&w, &pic, coef, &r, &e) != 0) {
-			fprintf(stderr, "psens: %s: %s\n", path, e.msg);
-			ps_pic_free(&pic);
-			status = 1;
-			continue;
-		}
-		if (!quiet)
-			warnings(path, &w, &r, &sens, &view);
-		if (json) {
-			char top1[32] = "null";
-			if (!isnan(r.top1_share))
-				snprintf(top1, sizeof top1, "%.6g", r.top1_share);
-			printf("{\"picture\": ");
-			json_string(path);
-			printf(", \"solid_angle\": %.10g, \"sensitivity_total\": %.10g, \"response\": %.10g, "
-			       "\"r\": %.10g, \"g\": %.10g, \"b\": %.10g, \"coverage\": %.10g, "
-			       "\"brightest_share\": %.6g, \"top1_share\": %s, \"pixels\": %zu, "
-			       "\"width\": %d, \"height\": %d, \"method\": \"%s\", \"reading\": \"%s\"}\n",
-			       r.solid_angle, sens.total, r.response, r.rgb[0], r.rgb[1], r.rgb[2], w.coverage,
-			       r.brightest_share, top1, r.npixels, pic.width, pic.height,
-			       method == PS_W_CENTRE ? "centre" : "exact", ps_reading_name(sens.reading));
-		} else {
-			if (argc - optind > 1)
-				printf("%s: ", path);
-			printf("Total solid angle: %g Total sensitivity: %g Response: %.9g\n", r.solid_angle,
-			       sens.total, r.response);
-		}
-		ps_pic_free(&pic);
-	}
-	ps_weights_free(&w);
-	ps_sensor_free(&sens);
+	if (o.mtx && status == 0)
+		status = write_matrix(argc, argv, items, n, nsens, o.mtx);
+	else if (o.mtx)
+		fprintf(stderr, "psens: no matrix written: every picture must give a column\n");
+	free(items);
+	for (int k = 0; k < nsens; k++)
+		ps_sensor_free(&sens[k]);
 	return status;
 }

@@ -6,14 +6,16 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cli.h"
 #include "spectral.h"
 
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psfilter [-c illuminant] [-p | -P] [-j] filter\n"
 	            "  -c NAME  calibration illuminant (default A)\n"
-	            "  -p / -P  values are percent / fractions (default: percent if any exceeds 1)\n"
-	            "  -j       JSON\n");
+	            "  -p / -P  values are percent / fractions (default: percent if any exceeds 2)\n"
+	            "  -j       JSON\n"
+	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 int main(int argc, char **argv)
@@ -23,13 +25,15 @@ int main(int argc, char **argv)
 	struct ps_filter f;
 	struct ps_filter_report r;
 	struct ps_err e;
-	while ((opt = getopt(argc, argv, "c:pPjh")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "c:pPjhV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'c': cal = optarg; break;
 		case 'p': percent = PS_FILTER_PERCENT; break;
 		case 'P': percent = PS_FILTER_FRACTION; break;
 		case 'j': json = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psfilter");
 		default: usage(stderr); return 2;
 		}
 	}

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "binout.h"
 #include "canvas.h"
 #include "falsecolor.h"
@@ -34,7 +35,8 @@ static void usage(FILE *fp)
 	        "  -s, --scale MAX     top of the false-colour scale, cd/m2 (default: the\n"
 	        "                      largest luminance rounded up to 1, 1.5, 2, 2.5, 3, 4, 5,\n"
 	        "                      6 or 8 x 10^k)\n"
-	        "  -l, --log           logarithmic scale (--decades N below MAX, default 3)\n"
+	        "  -l, --log           logarithmic scale\n"
+	        "      --decades N     -l: the scale spans N decades below MAX (default 3)\n"
 	        "  -z, --zoom N        each picture pixel as N x N (default 1)\n"
 	        "  -q, --quiet         no summary on standard error\n"
 	        "  -h, --help          this help;  -V, --version  the version\n");
@@ -59,8 +61,8 @@ int main(int argc, char **argv)
 		{ "white", required_argument, NULL, 'W' },   { "falsecolor", no_argument, NULL, 'F' },
 		{ "scale", required_argument, NULL, 's' },   { "log", no_argument, NULL, 'l' },
 		{ "decades", required_argument, NULL, 'D' }, { "zoom", required_argument, NULL, 'z' },
-		{ "quiet", no_argument, NULL, 'q' },         { "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, 'V' },       { NULL, 0, NULL, 0 }
+		{ "quiet", no_argument, NULL, 'q' },         
+		PS_CLI_LONGOPTS,       { NULL, 0, NULL, 0 }
 	};
 	const char *out = NULL, *path;
 	double exposure = 0, gamma = 2.2, white = 0, scale_max = 0, d;
@@ -113,7 +115,7 @@ int main(int argc, char **argv)
 			break;
 		case 'q': quiet = 1; break;
 		case 'h': usage(stdout); return 0;
-		case 'V': printf("pspng (psensd) %s\n", PS_VERSION); return 0;
+		case 'V': return ps_cli_version("pspng");
 		default: usage(stderr); return 2;
 		}
 	}

@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "cache.h"
 #include "dcset.h"
 #include "integrate.h"
@@ -425,7 +426,8 @@ static void usage(FILE *fp)
 	            "  -C DIR   cache directory (default: the scene's cache key, else\n"
 	            "           $XDG_CACHE_HOME/psensd or ~/.cache/psensd)\n"
 	            "  -N       no cache\n"
-	            "  -q       quiet: no table, no progress\n");
+	            "  -q       quiet: no table, no progress\n"
+	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 int main(int argc, char **argv)
@@ -444,13 +446,15 @@ int main(int argc, char **argv)
 	memset(&r, 0, sizeof r);
 	memset(&srow, 0, sizeof srow);
 	memset(&trow, 0, sizeof trow);
-	while ((opt = getopt(argc, argv, "o:C:Nqh")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "o:C:NqhV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'o': out = optarg; break;
 		case 'C': cache = optarg; break;
 		case 'N': nocache = 1; break;
 		case 'q': r.quiet = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psscene");
 		default: usage(stderr); return 2;
 		}
 	}

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "binout.h"
 #include "canvas.h"
 #include "falsecolor.h"
@@ -92,8 +93,8 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		{ "view", required_argument, NULL, 'v' },     { "samples", required_argument, NULL, 'S' },
 		{ "output", required_argument, NULL, 'o' },   { "hdr", required_argument, NULL, 'H' },
 		{ "top", required_argument, NULL, 'T' },      { "zoom", required_argument, NULL, 'z' },
-		{ "quiet", no_argument, NULL, 'q' },          { "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, 'V' },        { NULL, 0, NULL, 0 }
+		{ "quiet", no_argument, NULL, 'q' },          
+		PS_CLI_LONGOPTS,        { NULL, 0, NULL, 0 }
 	};
 	int opt;
 	struct ps_err e;
@@ -145,7 +146,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		case 'z': if (parse_int("-z", optarg, 1, 16, &o->zoom)) return 2; break;
 		case 'q': o->quiet = 1; break;
 		case 'h': usage(stdout); return 0;
-		case 'V': printf("psshare (psensd) %s\n", PS_VERSION); return 0;
+		case 'V': return ps_cli_version("psshare");
 		default: usage(stderr); return 2;
 		}
 	}

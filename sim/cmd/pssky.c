@@ -1,7 +1,7 @@
 /* pssky: a sky matrix from a weather file, as Radiance's gendaymtx makes it:
  * the Perez all-weather sky on the Tregenza / Reinhart patches and the
  * ground, one column per time step, in Radiance's matrix format.
- *   pssky [-v][-h][-A][-d|-s][-u][-r deg][-m N][-g r g b][-c r g b]
+ *   pssky [-v][-H][-A][-d|-s][-u][-r deg][-m N][-g r g b][-c r g b]
  *         [-5 size][-o{a|f|d}][-O{0|1}][-e][-E] [weather.wea|weather.epw]
  * Reads standard input without a file.  Everything is computed before the
  * first byte is written: a bad input line gives file:line and no output.
@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "file.h"
 #include "mtx.h"
 #include "patches.h"
@@ -23,8 +24,10 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp, "usage: pssky [-v][-h][-A][-d|-s][-u][-r deg][-m N][-g r g b][-c r g b]"
-	            "[-5 size][-o{a|f|d}][-O{0|1}][-e][-E] [weather.wea|weather.epw]\n");
+	fprintf(fp, "usage: pssky [-v][-H][-A][-d|-s][-u][-r deg][-m N][-g r g b][-c r g b]"
+	            "[-5 size][-o{a|f|d}][-O{0|1}][-e][-E] [weather.wea|weather.epw]\n"
+	            "  gendaymtx's options (see pssky(1)); -H is gendaymtx's -h (no header)\n"
+	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 /* A number argument, or exit 2 naming the option. */
@@ -111,6 +114,12 @@ int main(int argc, char **argv)
 	ps_skyopt_default(&o);
 	for (i = 1; i < argc && argv[i][0] == '-' && argv[i][1]; i++) {
 		const char *a = argv[i];
+		if (strcmp(a, "--help") == 0 || (strcmp(a, "-h") == 0 && argc == 2)) {
+			usage(stdout);
+			return 0;
+		}
+		if (strcmp(a, "--version") == 0 || strcmp(a, "-V") == 0)
+			return ps_cli_version("pssky");
 		switch (a[1]) {
 		case 'g':
 			if (a[2])
@@ -176,7 +185,13 @@ int main(int argc, char **argv)
 				goto bad;
 			o.output = a[2] == '1' ? PS_SKY_SOLAR : PS_SKY_VISIBLE;
 			break;
-		case 'h':
+		case 'h':   /* gendaymtx's no-header: -H from this release */
+			if (a[2])
+				goto bad;
+			ps_cli_deprecated("pssky", "-h as gendaymtx's no-header", "-H (-h alone is the help)");
+			header = 0;
+			break;
+		case 'H':
 			if (a[2])
 				goto bad;
 			header = 0;

@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
+
 #include "sun.h"
 
 #define DEG (M_PI / 180.0)
@@ -52,7 +54,11 @@ static void usage(FILE *fp)
 	fprintf(fp, "usage: pssynwea [-n place] [-a lat] [-o lon] [-z tz] [-e elev] [-s seed] [-C]\n"
 	            "  a synthetic year (not measured weather) as a .wea on stdout;\n"
 	            "  default site San Francisco (37.62 N, 122.40 W, UTC-8, 2 m), seed 1;\n"
-	            "  -C every day clear\n");
+	            "  -n PLACE  the site's name          -a DEG  latitude (north +)\n"
+	            "  -o DEG    longitude (east +; Radiance's letters, not an output file)\n"
+	            "  -z HOURS  time zone (UTC+)         -e M    elevation\n"
+	            "  -s N      the random seed          -C      every day clear\n"
+	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
 int main(int argc, char **argv)
@@ -67,10 +73,11 @@ int main(int argc, char **argv)
 	struct ps_site site = { "San_Francisco_CA_synthetic", 37.62, -122.40, -8.0, 2.0 };
 	unsigned long long seed = 1;
 	int all_clear = 0, opt, state = CLEAR, doy = 0;
-	while ((opt = getopt(argc, argv, "n:a:o:z:e:s:Ch")) != -1) {
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	while ((opt = getopt_long(argc, argv, "n:a:o:z:e:s:ChV", longopts, NULL)) != -1) {
 		char *end = NULL;
 		double v = 0;
-		if (opt != 'n' && opt != 'C' && opt != 'h' && opt != '?') {
+		if (opt != 'n' && opt != 'C' && opt != 'h' && opt != 'V' && opt != '?') {
 			v = strtod(optarg, &end);
 			if (end == optarg || *end || !isfinite(v)) {
 				fprintf(stderr, "pssynwea: -%c: '%s' is not a number\n", opt, optarg);
@@ -86,6 +93,7 @@ int main(int argc, char **argv)
 		case 's': seed = (unsigned long long)v; break;
 		case 'C': all_clear = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("pssynwea");
 		default: usage(stderr); return 2;
 		}
 	}

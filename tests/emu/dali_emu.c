@@ -1,5 +1,5 @@
 /* psemu: the emulated DALI USB interface and its ballasts (see dali_emu.h).
- * The byte layouts are written here from the hardware notes' tables, not
+ * The byte layouts are written here from the tables of doc/hardware.md, not
  * taken from the driver's codec, so the emulator checks the driver instead of
  * agreeing with it. */
 #include <math.h>
@@ -19,7 +19,7 @@
 #define INIT_WINDOW 900.0       /* INITIALISE: 15 minutes */
 #define RANDOM_READY 0.1        /* RANDOMISE: the new address within 100 ms */
 #define NO_RANDOM 0xFFFFFFu     /* random address after reset */
-/* bus timing (hardware notes section 2): 1200 bit/s, bit 833.3 us */
+/* bus timing (doc/hardware.md section 2): 1200 bit/s, bit 833.3 us */
 #define BIT (1.0 / 1200)
 #define T_FORWARD (19 * BIT)    /* start bit, 16 bits, 2 stop bits: 15.83 ms */
 #define T_BACKWARD (11 * BIT)   /* start bit, 8 bits, 2 stop bits: 9.17 ms */
@@ -594,7 +594,7 @@ struct psemu *psemu_new(char *err, size_t errlen)
 	struct psemu *e;
 	const char *pre = getenv("LD_PRELOAD");
 	/* umockdev_in_mock_environment() caches its first answer: look at the
-	 * environment instead (emulation.md pitfall 2) */
+	 * environment instead (doc/emulation.md pitfall 2) */
 	if (!pre || !strstr(pre, "libumockdev-preload")) {
 		snprintf(err, errlen, "libumockdev-preload.so.0 is not preloaded");
 		return NULL;

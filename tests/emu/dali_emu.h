@@ -1,7 +1,7 @@
 /* psemu: an emulated Tridonic/Lunatone DALI USB interface (17b5:0020) with
  * DALI ballasts on its bus, behind real libusb through libumockdev (vusb.h).
  *
- * The interface model answers SEND reports as the hardware notes describe
+ * The interface model answers SEND reports as doc/hardware.md section 1 describes
  * (echo 0x73, then 0x71 no answer / 0x72 answer / 0x77 bus status), performs
  * send-twice and the DTR0 prefix itself, and puts each frame on the bus.
  * The ballast model (IEC 62386-102): short address, groups, actual level with

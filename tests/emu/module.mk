@@ -3,7 +3,7 @@
 # there; the tests that need it skip otherwise.
 #   libpsemu.a         the emulator: vusb.c (usbfs on umockdev) + dali_emu.c (interface, ballasts)
 #   tests/psemu-run    a parent that hosts the emulator and runs a program, whose
-#                      real libusb reaches it from the child (emulation.md 2.4)
+#                      real libusb reaches it from the child (doc/emulation.md 2.4)
 #   tests/dali-client  a small program driving the dali_usb driver, for system tests
 UMOCK_FOUND := $(shell $(PKG) --exists umockdev-1.0 && echo yes)
 ifeq ($(HAVE_USB)$(UMOCK_FOUND),yesyes)

@@ -1,6 +1,6 @@
 /* psemu-run: host emulated DALI USB interfaces in this process and run a
  * program as a child, whose real libusb reaches them through umockdev
- * (emulation.md 2.4).  Run with libumockdev-preload.so.0 preloaded:
+ * (doc/emulation.md 2.4).  Run with libumockdev-preload.so.0 preloaded:
  *
  *   LD_PRELOAD=libumockdev-preload.so.0 psemu-run [-i PORT:SERIAL:N [-b SPEC]...]...
  *       [-c FIFO] [-s STATEFILE] [-u FILE] [-t SECONDS] -- PROGRAM ARGS...
@@ -64,7 +64,7 @@ static int fault_kind(const char *s)
 static gpointer control(gpointer path)
 {
 	/* O_RDWR: a read-only open of a FIFO would block inside the preload
-	 * while it holds umockdev's lock (emulation.md pitfall 5) */
+	 * while it holds umockdev's lock (doc/emulation.md pitfall 5) */
 	int fd = open(path, O_RDWR | O_CLOEXEC);
 	FILE *fp = fd >= 0 ? fdopen(fd, "r") : NULL;
 	char line[256], err[256], kind[32];

@@ -1,6 +1,6 @@
 /* An LD_PRELOAD fixture that hosts the emulated GPIO chip (vgpio.c) inside
  * an unmodified program, psensd in the system tests: line descriptors are
- * only valid in the process that made them (emulation.md 3.2).
+ * only valid in the process that made them (doc/emulation.md 3.2).
  *
  *   LD_PRELOAD=libumockdev-preload.so.0:libvgpio_fixture.so
  *   VGPIO_TARGET=psensd     host the chip only in this program (LD_PRELOAD is inherited)
@@ -50,7 +50,7 @@ static void write_state(void)
 static gpointer control(gpointer path)
 {
 	/* O_RDWR: a read-only open of a FIFO blocks inside the preload's open()
-	 * while it holds umockdev's path lock (emulation.md pitfall) */
+	 * while it holds umockdev's path lock (doc/emulation.md pitfall 5) */
 	int fd = open(path, O_RDWR | O_CLOEXEC);
 	FILE *f = fd >= 0 ? fdopen(fd, "r") : NULL;
 	char line[160];

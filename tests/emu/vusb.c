@@ -82,7 +82,7 @@ static size_t string_desc(struct vusb *d, unsigned idx, uint8_t *out)
 
 /* The node is a FIFO shared with libusb's fd.  usbfs signals "URB completed"
  * with POLLOUT; keeping the one-page pipe full while nothing is reapable
- * makes libusb's poll() sleep instead of spinning (emulation.md 2.3).
+ * makes libusb's poll() sleep instead of spinning (doc/emulation.md 2.2).
  * Caller holds the lock. */
 static void gate_update_locked(struct vusb *d)
 {
@@ -559,7 +559,7 @@ struct vusb *vusb_new(UMockdevTestbed *tb, const struct vusb_desc *desc, vusb_ou
 		return NULL;
 	}
 	g_free(text);
-	/* the node file becomes a FIFO: the gate of emulation.md 2.3 */
+	/* the node file becomes a FIFO: the gate of doc/emulation.md 2.2 */
 	root = umockdev_testbed_get_root_dir(d->tb);
 	node = g_build_filename(root, d->devnode, NULL);
 	if (unlink(node) != 0 || mkfifo(node, 0666) != 0 ||

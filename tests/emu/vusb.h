@@ -1,5 +1,6 @@
 /* vusb: an emulated USB device node for real libusb-1.0, on libumockdev.
- * Adapted from the team's research recipe (research/emulation-src/vusb.c):
+ * How it works is doc/emulation.md section 2 (an approach first tried in a
+ * throw-away prototype before this project):
  * libusb's usbfs ioctls on /dev/bus/usb/BBB/DDD are served by a handler in
  * umockdev's worker thread of THIS process; in a child process started from
  * here they arrive over umockdev's socket.  The process (and its children)

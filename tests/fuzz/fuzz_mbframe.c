@@ -31,7 +31,7 @@ static void make_rooms(void)
 	static struct ps_opt o[] = { { "gain", "0.5", 1, 0 }, { "noise", "0.002", 2, 0 },
 	                             { "faults", "open 11:00-12:00, drop 13:00-14:00, late 14:00-15:00", 3, 0 } };
 	struct ps_opts opts = { o, 3, "fuzz" };
-	struct psd_virtday day = { &res, "03-18", 6 * 3600.0, 18.5 * 3600.0 };
+	struct psd_virtday day = { .res = &res, .date = "03-18", .sunrise = 6 * 3600.0, .sunset = 18.5 * 3600.0 };
 	char err[256];
 	cond[0] = (struct ps_result_cond){ "day", PS_COND_DAYLIGHT, "03-18", 43200, 1, 5.07, 6.69, 1197.6, 236.2, 0 };
 	cond[1] = (struct ps_result_cond){ "elec", PS_COND_ELECTRIC, "", -1, 1, 1.094, 7.07, 1265.4, 1156.7, 0 };

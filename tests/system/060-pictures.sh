@@ -83,15 +83,15 @@ fi
 # ---- mksens: the Radiance picture (unchanged), its PNG, the overlay ----
 # each pixel is the sensitivity averaged over its footprint over the peak: psens
 # with the uniform sensor integrates it to the cosine's integral over its peak, pi
-out=$("$BIN/mksens" -r 256 "$SEN" | "$BIN/psens" -q -s builtin:uniform /dev/stdin)
+out=$("$BIN/mksens" -S 256 "$SEN" | "$BIN/psens" -q -s builtin:uniform /dev/stdin)
 got=$(printf '%s\n' "$out" | sed 's/.*Response: //')
 check "mksens picture integrates to pi within 0.1 % ($got)" \
 	awk -v g="$got" 'BEGIN { d = (g - 3.14159265) / 3.14159265; if (d < 0) d = -d; exit !(d < 1e-3) }'
 "$BIN/mksens" --resolution 64 --rotation 30 --reading cell "$SEN" > "$TMP/long.hdr"
-"$BIN/mksens" -r 64 -o 30 -m cell "$SEN" > "$TMP/short.hdr"
+"$BIN/mksens" -S 64 --rotation 30 -m cell "$SEN" > "$TMP/short.hdr"
 check "mksens long options give the short ones' picture" cmp -s "$TMP/long.hdr" "$TMP/short.hdr"
-check "mksens header keeps its old command line" grep -q "^mksens -r 64 -o 30 -m cell " "$TMP/short.hdr"
-"$BIN/mksens" -r 200 -o 30 --output "$TMP/s.png" "$SEN"
+check "mksens header keeps its command line" grep -q "^mksens -S 64 --rotation 30 -m cell " "$TMP/short.hdr"
+"$BIN/mksens" -S 200 --rotation 30 -o "$TMP/s.png" "$SEN"
 pngok "$TMP/s.png"
 # 200 px at zoom 3 (the smallest making 512 px or more), text of 13 px:
 # margins of 3 x 13 px, 2 below for the caption, the legend strip 8.5 x 13 + 8

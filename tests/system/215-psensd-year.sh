@@ -26,6 +26,9 @@ check "the year drawn as a PNG" sh -c "head -c 8 '$TMP/year.png' | od -An -c | g
 rms() { sed -n "s/.*$1.*rms \([0-9.]*\) %.*/\1/p" "$TMP/out" | head -n 1; }
 m=$(rms "one mean ratio"); d=$(rms "dated ratio")
 check "dated estimate rms $d % below the mean ratio's $m %" awk -v m="$m" -v d="$d" 'BEGIN { exit !(d < m) }'
+# and the sky class from a rooftop reading beats the typical class
+g=$(rms "sky class from a rooftop sensor")
+check "rooftop class estimate rms $g % below the typical class's $d %" awk -v g="$g" -v d="$d" 'BEGIN { exit !(g != "" && g < d) }'
 # the occupied hours from [simulate]
 sed 's/^\[simulate\]/[simulate]\noccupied_from = 09:00\noccupied_to = 17:00/' "$TMP/psensd.conf" > "$TMP/occ.conf"
 "$BIN/psensd" -f "$TMP/occ.conf" -Y > "$TMP/occ.out" 2>&1

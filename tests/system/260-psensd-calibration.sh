@@ -14,12 +14,7 @@ example_results
 res() { awk -v k="$1" '/^\[/ { s = ($0 == "[summary]") } s && $1 == k { print $3; exit }' "$TMP/state/ofb.results"; }
 ES=$(res electric_sensor_response); EL=$(res electric_task_lux)
 S="$TMP/sock"
-cat > "$TMP/psensd.conf" <<EOF
-[psensd]
-results = state/ofb.results
-database = state/psensd.db
-socket = sock
-period = 60
+{ psensd_section 60; cat <<EOF
 [simulate]
 sunrise = 06:00
 sunset = 18:30
@@ -50,6 +45,7 @@ sensor_gain = 0.5
 cal_window = 300
 drift_hold = 1800
 EOF
+} > "$TMP/psensd.conf"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 start() {  # start HH:MM
 	"$BIN/psensd" -f "$TMP/psensd.conf" -t "$1" -x 600 >> "$TMP/out" 2>> "$TMP/err" &
@@ -155,7 +151,7 @@ check "a zone the database does not know is an error, and no file" sh -c "grep -
 start 10:00
 ctl calibrate office day > /dev/null
 ctl -j status office > "$TMP/st.json"
-tl=$($PY -c "import json,sys; print(json.load(open(sys.argv[1]))['zones'][0]['true_task_lux'])" "$TMP/st.json")
+tl=$($PY -c "import json,sys; print(json.load(open(sys.argv[1]))['zones'][0]['sample']['true_task_lux'])" "$TMP/st.json")
 ctl calibrate office lux "$(awk -v l="$tl" 'BEGIN { print 3 * l }')" > /dev/null
 ctl calibrate office lux "$(awk -v l="$tl" 'BEGIN { print 3 * l }')" > /dev/null
 ctl calibrate office finish > /dev/null

@@ -15,7 +15,7 @@ check "the results have an electric condition ($S, $L lx)" test -n "$S" -a -n "$
 port=$(free_port)
 # 02:00 on real time: no daylight; instant ballast, sensor gain 0.5 V per unit
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready" \
-	--start 02:00 -o gain=0.5 -o lag_tau=0 -o min_level=0.1 > "$TMP/psvirt.out" 2> "$TMP/psvirt.err" &
+	--start 02:00 -D gain=0.5 -D lag_tau=0 -D min_level=0.1 > "$TMP/psvirt.out" 2> "$TMP/psvirt.err" &
 pv=$!
 track_pid $pv
 check "psvirt ready" wait_for 10 test -s "$TMP/ready"
@@ -88,7 +88,7 @@ check "then the clock reads [simulate] start 06:00 ($tod s)" awk -v t="$tod" 'BE
 kill "$pv2"
 "$BIN/psvirt" --tcp 127.0.0.1:1 > /dev/null 2> "$TMP/e1"
 check "no results: a clear error: $(cat "$TMP/e1")" grep -q "no results" "$TMP/e1"
-"$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 -o gian=2 > /dev/null 2> "$TMP/e2"
+"$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 -D gian=2 > /dev/null 2> "$TMP/e2"
 check "a misspelt room option is named: $(cat "$TMP/e2")" grep -q "gian: not a loopback room option" "$TMP/e2"
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 --fault slow > /dev/null 2> "$TMP/e3"
 check "an unknown fault is named" grep -q "'slow' is not late, exception, garbage or disconnect" "$TMP/e3"

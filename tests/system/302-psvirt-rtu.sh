@@ -18,7 +18,7 @@ sp=$!
 track_pid $sp
 check "socat made the pty pair" wait_for 10 sh -c "test -e '$TMP/vdev' && test -e '$TMP/site'"
 "$BIN/psvirt" --results "$TMP/ofb.results" --rtu "$TMP/vdev" --baud 19200 --unit 7 \
-	--ready-file "$TMP/ready" --start 02:00 -o gain=0.5 -o lag_tau=0 > /dev/null 2> "$TMP/psvirt.err" &
+	--ready-file "$TMP/ready" --start 02:00 -D gain=0.5 -D lag_tau=0 > /dev/null 2> "$TMP/psvirt.err" &
 pv=$!
 track_pid $pv
 check "psvirt on the serial line" wait_for 10 test -s "$TMP/ready"

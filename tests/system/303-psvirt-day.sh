@@ -18,7 +18,7 @@ L=$(summary electric_task_lux)
 port=$(free_port)
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready" \
 	--date 03-18 --sunrise 06:00 --sunset 18:30 --start 05:00 --speed 3600 \
-	-o gain=0.5 -o noise=0.002 -o task_noise=2 -o seed=7 -o fade_rate=0 -o lag_tau=0 -o min_level=0.1 \
+	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 -D fade_rate=0 -D lag_tau=0 -D min_level=0.1 \
 	-o "faults=open 12:00-12:30" > "$TMP/psvirt.out" 2> "$TMP/psvirt.err" &
 pv=$!
 track_pid $pv

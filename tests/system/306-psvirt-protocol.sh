@@ -14,7 +14,7 @@ need mbpoll
 make_results
 port=$(free_port)
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready" \
-	--start 02:00 -o gain=0.5 > "$TMP/psvirt.out" 2> "$TMP/psvirt.err" &
+	--start 02:00 -D gain=0.5 > "$TMP/psvirt.out" 2> "$TMP/psvirt.err" &
 pv=$!
 track_pid $pv
 check "psvirt ready" wait_for 10 test -s "$TMP/ready"

@@ -21,8 +21,8 @@ counts() { awk -v g="$1" -v s="$S" 'BEGIN { printf "%d", g * s / 10 * 65535 + 0.
 # 2's open circuit
 port=$(free_port)
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready" \
-	--zones 3 --start 02:00 -o gain=0.5 -o lag_tau=0 -o 1:gain=0.4 \
-	-o "2:faults=open 02:00-03:00" > "$TMP/psvirt.out" 2> "$TMP/psvirt.err" &
+	--zones 3 --start 02:00 -D gain=0.5 -D lag_tau=0 -D 1:gain=0.4 \
+	-D "2:faults=open 02:00-03:00" > "$TMP/psvirt.out" 2> "$TMP/psvirt.err" &
 pv=$!; track_pid $pv
 check "psvirt --zones 3 ready" wait_for 10 test -s "$TMP/ready"
 check "it names the zones and their registers: $(head -n 1 "$TMP/psvirt.out")" \
@@ -57,7 +57,7 @@ check "and says what each zone used: $(tail -n 3 "$TMP/psvirt.out" | tr '\n' ' '
 # a zone's own drop and late faults touch that zone's registers only
 port=$(free_port)
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready3" \
-	--zones 3 --start 02:00 --late-ms 300 -o "1:faults=drop 02:00-03:00" -o "2:faults=late 02:00-03:00" \
+	--zones 3 --start 02:00 --late-ms 300 -D "1:faults=drop 02:00-03:00" -D "2:faults=late 02:00-03:00" \
 	> /dev/null 2> "$TMP/psvirt3.err" &
 pv=$!; track_pid $pv
 check "psvirt with zone 1 dropping and zone 2 late ready" wait_for 10 test -s "$TMP/ready3"
@@ -73,7 +73,7 @@ check "zone 2's AI2 answers after the late delay, 300 ms: $got" \
 got=$(py u32 200)
 check "the time of day belongs to no zone and answers at once ($got s)" test "$got" -ge 7200 -a "$got" -lt 10800
 kill "$pv"; wait "$pv"
-"$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 --zones 2 -o 2:gain=1 > /dev/null 2> "$TMP/e1"
+"$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 --zones 2 -D 2:gain=1 > /dev/null 2> "$TMP/e1"
 check "an -o for a zone that does not exist: $(cat "$TMP/e1")" grep -q "no zone '2'" "$TMP/e1"
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 --zones 11 > /dev/null 2> "$TMP/e2"
 check "at most 10 zones: $(cat "$TMP/e2")" grep -q "zones 1 to 10" "$TMP/e2"
@@ -88,8 +88,8 @@ check "psensd -n accepts the example as shipped: $("$BIN/psensd" -f "$TOP/config
 	"$BIN/psensd" -f "$TOP/config/example/site.conf" -n
 # the options of the example's own dry-run line
 "$BIN/psvirt" -f "$TMP/site.conf" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready2" --start 04:00 --speed 3600 \
-	-o gain=0.5 -o noise=0.002 -o task_noise=2 -o min_level=0.1 -o east:gain=0.4 \
-	-o "south:faults=open 12:00-12:20" -o fade_rate=0 -o lag_tau=0 > "$TMP/site.out" 2> "$TMP/site.err" &
+	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D min_level=0.1 -D east:gain=0.4 \
+	-D "south:faults=open 12:00-12:20" -D fade_rate=0 -D lag_tau=0 > "$TMP/site.out" 2> "$TMP/site.err" &
 pv=$!; track_pid $pv
 check "psvirt -f site.conf ready" wait_for 10 test -s "$TMP/ready2"
 check "its zones are the configuration's: $(head -n 1 "$TMP/site.out")" grep -q "0 north .*1 east .*2 south" "$TMP/site.out"

@@ -8,10 +8,8 @@
 RUN=$BUILD/tests/psemu-run
 CLIENT=$BUILD/tests/dali-client
 [ -x "$RUN" ] && [ -x "$CLIENT" ] || skip_all "the DALI emulator is not built (needs libusb-1.0 and umockdev)"
-PRE=libumockdev-preload.so.0
-LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded" && skip_all "$PRE is not installed (umockdev)"
-# under ASan the runtime wants to come first too (emulation.md pitfall 13)
-emu() { LD_PRELOAD=$PRE ASAN_OPTIONS="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0" "$RUN" "$@"; }
+need_preload
+emu() { LD_PRELOAD=$PRE ASAN_OPTIONS="$EMU_ASAN" "$RUN" "$@"; }
 
 # 1. a level and its answer, across processes; all four ballasts on broadcast
 emu -i 1:A1:4 -- "$CLIENT" -- point 0 dim broadcast set 0 0.5 idle 3 get 0 > "$TMP/1.out" 2>&1

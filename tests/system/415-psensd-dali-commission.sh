@@ -13,18 +13,12 @@ RUN=$BUILD/tests/psemu-run
 CLIENT=$BUILD/tests/dali-client
 [ -x "$RUN" ] && [ -x "$CLIENT" ] || skip_all "the DALI emulator is not built (needs libusb-1.0 and umockdev)"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
-PRE=libumockdev-preload.so.0
-LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded" && skip_all "$PRE is not installed (umockdev)"
+need_preload
 example_results
 S="$TMP/sock"
 {
+	psensd_section 0.5 5
 	cat <<EOF
-[psensd]
-results = state/ofb.results
-database = state/psensd.db
-socket = sock
-period = 0.5
-stale_after = 5
 [device dali]
 driver = dali_usb
 EOF
@@ -59,7 +53,7 @@ field() { awk -v s="$1" -v k="$2" '$4 == s { for (i = 1; i < NF; i++) if ($i == 
 slot_of() { awk -v a="$1" '{ for (i = 1; i < NF; i++) if ($i == "short" && $(i + 1) == a) print $4 }' "$TMP/emu.state"; }
 arc() { awk -v u="$1" 'BEGIN { n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n > 254) n = 254; print n }'; }
 
-LD_PRELOAD=$PRE ASAN_OPTIONS="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0" \
+LD_PRELOAD=$PRE ASAN_OPTIONS="$EMU_ASAN" \
 	"$RUN" -c "$TMP/ctl" -s "$TMP/emu.state" -u "$TMP/udir" -t 150 -i 1:A1:6 \
 	-b 0:reply=6.0 -b 1:reply=7.0 \
 	-b 2:short=none,draw=0x2A0000,reply=8.0 \
@@ -127,7 +121,7 @@ ipid=$!
 sleep 0.5
 ctl dali dali scan > "$TMP/busy" 2>&1
 check "a second job is refused while one runs" grep -q "identify is running" "$TMP/busy"
-UMOCKDEV_DIR=$(cat "$TMP/udir") LD_PRELOAD=$PRE ASAN_OPTIONS="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0" \
+UMOCKDEV_DIR=$(cat "$TMP/udir") LD_PRELOAD=$PRE ASAN_OPTIONS="$EMU_ASAN" \
 	"$CLIENT" -- point 0 dim 3 set 0 0.5 > "$TMP/second" 2>&1
 check "a second program cannot claim the interface: $(grep -o 'cannot claim.*' "$TMP/second" | head -n 1)" \
 	grep -q "cannot claim it: Resource busy" "$TMP/second"

@@ -13,31 +13,15 @@
 SO=$TOP/$BUILD/tests/libvgpio_fixture.so
 [ -f "$SO" ] || skip_all "the GPIO emulator is not built (needs libgpiod and umockdev)"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
-PRE=libumockdev-preload.so.0
-LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded" && skip_all "$PRE is not installed (umockdev)"
+need_preload
 example_results
 S="$TMP/sock"
-cat > "$TMP/psensd.conf" <<EOF
-[psensd]
-results = state/ofb.results
-database = state/psensd.db
-socket = sock
-period = 0.5
+{ psensd_section 0.5; cat <<EOF
 [device io]
 driver = gpio
 chip = gpiochip0
-[point light]
-device = io
-role = sensor
-kind = frequency
-line = 3
-gate = 0.4
-factor = 0.001
-max_rate = 2000
-s2 = 4
-s3 = 5
-valid_min = 0.01
-valid_max = 1000
+EOF
+gpio_light_point; cat <<EOF
 [point step1]
 device = io
 role = relay
@@ -65,13 +49,14 @@ delay = 1
 steps = 2
 override_time = 2
 EOF
+} > "$TMP/psensd.conf"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 st() { ctl -j status; }
 lv() { awk -v l="$1" '$2 == l { print $4 }' "$TMP/vgpio.state"; }
 held() { awk '{ h += $6 } END { print h + 0 }' "$TMP/vgpio.state"; }
 cmd() { echo "$*" > "$TMP/ctl"; }
 LD_PRELOAD=$PRE:$SO VGPIO_TARGET=psensd VGPIO_INIT=6=1 VGPIO_CTL="$TMP/ctl" VGPIO_STATE="$TMP/vgpio.state" \
-	ASAN_OPTIONS="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0" \
+	ASAN_OPTIONS="$EMU_ASAN" \
 	"$BIN/psensd" -f "$TMP/psensd.conf" > "$TMP/out" 2> "$TMP/err" &
 pid=$!; track_pid $pid
 wait_for 10 sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"

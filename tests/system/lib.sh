@@ -51,3 +51,40 @@ example_results() {
 	cp -R config/example/ofb config/example/ofb.scene "$TMP/example/"
 	"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
 }
+
+# psensd_section PERIOD [STALE_AFTER]: the usual [psensd] section, for a
+# configuration in $TMP run from $TMP: the results of example_results, the
+# database state/${DB:-psensd.db}, the socket "sock"
+psensd_section() {
+	printf '[psensd]\nresults = state/ofb.results\ndatabase = state/%s\nsocket = sock\nperiod = %s\n' \
+		"${DB:-psensd.db}" "$1"
+	[ $# -lt 2 ] || printf 'stale_after = %s\n' "$2"
+}
+
+# The emulators (tests/emu, doc/emulation.md) run through umockdev's preload.
+# PRE: the preload library; EMU_ASAN: ASAN_OPTIONS that let the preload come
+# before a sanitizer's runtime (doc/emulation.md pitfall 10).
+PRE=libumockdev-preload.so.0
+EMU_ASAN="${ASAN_OPTIONS:-}${ASAN_OPTIONS:+:}verify_asan_link_order=0"
+# preload_ok: the preload can be loaded; need_preload: skip the file if not
+preload_ok() { ! LD_PRELOAD=$PRE true 2>&1 | grep -q "cannot be preloaded"; }
+need_preload() { preload_ok || skip_all "$PRE is not installed (umockdev)"; }
+
+# gpio_light_point: a TSL230R on gpiochip line 3 of device "io", its divider
+# pins on lines 4 and 5, 1 kHz reading 1.0 (the emulated chip's sensor)
+gpio_light_point() {
+	cat <<'EOP'
+[point light]
+device = io
+role = sensor
+kind = frequency
+line = 3
+gate = 0.4
+factor = 0.001
+max_rate = 2000
+s2 = 4
+s3 = 5
+valid_min = 0.01
+valid_max = 1000
+EOP
+}

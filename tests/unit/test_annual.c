@@ -65,7 +65,7 @@ static void constant_daylight(void **state)
 	for (int m = 1; m <= 12; m++)
 		for (int d = 1; d <= md[m - 1]; d++)
 			for (int h = 0; h < 24; h++)
-				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, 1.0, 250.0, 1, 2.0 };
+				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, 1.0, 250.0, 1, 2.0, NAN };
 	r.year.n = n;
 	ps_year_tabulate(&r.year);
 	assert_true(r.year.mean_ratio == 250.0);

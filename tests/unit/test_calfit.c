@@ -187,6 +187,20 @@ static void drift_covered_sensor(void **state)
 	assert_true(d.last_ln > log(999) && d.last_ln < log(1001));
 }
 
+/* An evening's judged sample, then the dark: the dark sample is not judged,
+ * so no drift figure is left from the evening (status showed -99.9 % all
+ * night beside drift: false). */
+static void drift_dark_not_judged(void **state)
+{
+	struct psd_calfit_drift d;
+	(void)state;
+	psd_calfit_drift_init(&d, 0.25, 1800, 0.05);
+	psd_calfit_drift_update(&d, 0, 0.2, 0.1, 472.4);   /* dusk: judged, far off */
+	assert_true(isfinite(d.last_ln) && d.last_ln < -5);
+	psd_calfit_drift_update(&d, 60, 0.001, 0.0, 472.4);   /* night: too dark */
+	assert_true(isnan(d.last_ln));
+}
+
 /* Night with an unknown sensor offset at the judging threshold: the
  * daylight part of the signal flickers across it on noise, the task sees
  * none.  Each judged sample is out, but the dark ones between them end the
@@ -219,6 +233,7 @@ int main(void)
 		cmocka_unit_test(drift_timing),
 		cmocka_unit_test(drift_covered_sensor),
 		cmocka_unit_test(drift_night_offset),
+		cmocka_unit_test(drift_dark_not_judged),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,7 +1,7 @@
 /* Control laws against their analytic steady states on a plant
  *   S = g (e_s u + d),   E = R_d d + E_E u
  * (g sensor volts per unit, d the daylight response, R_d the daylight task
- * lux per unit), with the formulas of the literature (hardware-facts s. 4). */
+ * lux per unit), with the formulas of the literature (doc/control.md). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

@@ -89,6 +89,27 @@ static void every_error_in_one_pass(void **state)
 	psd_config_free(&cf);
 }
 
+/* A bad or missing role is one error: the zones that name the point, and
+ * the driver's keys that depend on the role, say nothing more ("role ?"). */
+static void one_bad_role_one_error(void **state)
+{
+	(void)state;
+	const char *text = "[psensd]\nresults = r\n"
+	                   "[device io]\ndriver = loopback\n"
+	                   "[point s]\ndevice = io\nrole = sensr\nvalid_min = 0.05\n"   /* 5..8 */
+	                   "[point d]\ndevice = io\nrole = dim\n"
+	                   "[point t]\ndevice = io\n"                                    /* 12 */
+	                   "[zone z]\nsensor = s\ndim = d\ntask = t\n";
+	assert_int_equal(psd_config_load_string(&cf, text, "role.conf"), -1);
+	for (size_t i = 0; i < cf.conf.nerrors; i++)
+		print_message("# %s\n", cf.conf.errors[i]);
+	assert_true(has_error("role.conf:7: role: 'sensr' is not"));
+	assert_true(has_error("role.conf:12: [point t] needs 'role'"));
+	assert_int_equal(cf.conf.nerrors, 2);
+	assert_false(has_error("?"));
+	psd_config_free(&cf);
+}
+
 static void shared_outputs_and_names(void **state)
 {
 	(void)state;
@@ -115,6 +136,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(points_and_zones),
 		cmocka_unit_test(every_error_in_one_pass),
+		cmocka_unit_test(one_bad_role_one_error),
 		cmocka_unit_test(shared_outputs_and_names),
 		cmocka_unit_test(missing_file),
 	};

@@ -1,7 +1,7 @@
 /* The DALI layer (drivers/dali.c): the logarithmic curve against the formula
  * of IEC 62386-102 and the published table, its round trip at every level,
  * nearest-level rounding against a brute-force search, frames against the
- * worked examples of the hardware notes, address parsing and fade times. */
+ * worked examples of doc/hardware.md, address parsing and fade times. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

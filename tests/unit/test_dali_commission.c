@@ -26,6 +26,7 @@
 #include "dali_usb.h"
 #include "driver.h"
 #include "helpers/dali_preload.h"
+#include "helpers/test_opts.h"
 
 static double fade_clock;   /* the ballasts' clock (fades, INITIALISE's window) */
 static double skew;         /* seconds added to the driver's clock: both jump together */
@@ -46,8 +47,7 @@ static double now_s(void)
 struct fx {
 	struct psemu *emu;
 	struct ps_dev dev;
-	struct ps_opt o[8];
-	struct ps_opts opts;
+	struct ps_test_opts o;
 	struct ps_point pt[4];
 	struct ps_opt po[4];
 	struct ps_opts popts[4];
@@ -102,20 +102,16 @@ static int teardown(void **state)
 static void open_dev(struct fx *f, ...)
 {
 	va_list ap;
-	const char *k;
+	const struct ps_opts *opts;
 	memset(&f->dev, 0, sizeof f->dev);
 	f->dev.drv = ps_driver_find("dali_usb");
 	assert_non_null(f->dev.drv);
 	assert_non_null(f->dev.drv->command);
 	snprintf(f->dev.name, sizeof f->dev.name, "dali");
-	f->opts = (struct ps_opts){ f->o, 0, "test.conf" };
 	va_start(ap, f);
-	while ((k = va_arg(ap, const char *)) && f->opts.n < 8) {
-		f->o[f->opts.n] = (struct ps_opt){ k, va_arg(ap, const char *), 10 + (int)f->opts.n, 0 };
-		f->opts.n++;
-	}
+	opts = ps_test_vopts(&f->o, "test.conf", 10, ap);
 	va_end(ap);
-	if (f->dev.drv->open(&f->dev, &f->opts) != 0)
+	if (f->dev.drv->open(&f->dev, opts) != 0)
 		fail_msg("open: %s", f->dev.err);
 	f->open = 1;
 }

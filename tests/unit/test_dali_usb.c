@@ -1,6 +1,6 @@
 /* The DALI USB driver through the driver.h table, with real libusb against the
  * emulated Tridonic interface and its ballasts (tests/emu, libumockdev):
- * the transport's bytes against the worked examples of the hardware notes,
+ * the transport's bytes against the worked examples of doc/hardware.md,
  * finding and claiming the interface, levels on the ballasts, query answers,
  * fades, the physical minimum, the safe level, faults, unplug and replug,
  * the choice between two interfaces and the bus's frame rate. */
@@ -22,6 +22,7 @@
 #include "dali.h"
 #include "dali_emu.h"
 #include "helpers/dali_preload.h"
+#include "helpers/test_opts.h"
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
@@ -32,7 +33,7 @@ static void tridonic_send_report(void **state)
 {
 	uint8_t out[64], want[64] = { 0 };
 	(void)state;
-	/* hardware notes 1.1: DAPC short 5 level 200 seq 0x2A -> 12 2A 00 03 00 00 0A C8 00... */
+	/* doc/hardware.md section 1: DAPC short 5 level 200 seq 0x2A -> 12 2A 00 03 00 00 0A C8 00... */
 	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 0x2A, 0x0AC8, 0, -1), 64);
 	memcpy(want, (uint8_t[]){ 0x12, 0x2A, 0x00, 0x03, 0x00, 0x00, 0x0A, 0xC8 }, 8);
 	assert_memory_equal(out, want, 64);
@@ -113,8 +114,7 @@ static double now_s(void)
 struct fx {
 	struct psemu *emu;
 	struct ps_dev dev;
-	struct ps_opt o[8];
-	struct ps_opts opts;
+	struct ps_test_opts o;
 	struct ps_point pt[4];
 	struct ps_opt po[4];
 	struct ps_opts popts[4];
@@ -161,20 +161,16 @@ static int teardown(void **state)
 static int open_dev(struct fx *f, ...)
 {
 	va_list ap;
-	const char *k;
+	const struct ps_opts *opts;
 	memset(&f->dev, 0, sizeof f->dev);
 	f->dev.drv = ps_driver_find("dali_usb");
 	assert_non_null(f->dev.drv);
 	assert_true(f->dev.drv->compiled_in);
 	snprintf(f->dev.name, sizeof f->dev.name, "dali");
-	f->opts = (struct ps_opts){ f->o, 0, "test.conf" };
 	va_start(ap, f);
-	while ((k = va_arg(ap, const char *)) && f->opts.n < 8) {
-		f->o[f->opts.n] = (struct ps_opt){ k, va_arg(ap, const char *), 10 + (int)f->opts.n, 0 };
-		f->opts.n++;
-	}
+	opts = ps_test_vopts(&f->o, "test.conf", 10, ap);
 	va_end(ap);
-	if (f->dev.drv->open(&f->dev, &f->opts) != 0) {
+	if (f->dev.drv->open(&f->dev, opts) != 0) {
 		int e = errno;
 		f->dev.drv->close(&f->dev);
 		errno = e;

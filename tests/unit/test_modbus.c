@@ -26,6 +26,7 @@
 #include <modbus.h>
 
 #include "driver.h"
+#include "helpers/test_opts.h"
 
 extern const struct ps_driver ps_driver_modbus;
 
@@ -134,25 +135,14 @@ static int teardown(void **state)
 	return 0;
 }
 
-/* Options from "key=value" strings. */
+/* Options from "key=value" strings, from line 1 of site.conf. */
 struct optset {
-	struct ps_opt v[24];
-	char buf[24][64];
-	struct ps_opts o;
+	struct ps_test_opts t;
 };
 
 static const struct ps_opts *opts(struct optset *s, const char *const *kv)
 {
-	size_t n = 0;
-	for (; kv[n]; n++) {
-		char *eq;
-		snprintf(s->buf[n], sizeof s->buf[n], "%s", kv[n]);
-		eq = strchr(s->buf[n], '=');
-		*eq = 0;
-		s->v[n] = (struct ps_opt){ s->buf[n], eq + 1, (int)n + 1, 0 };
-	}
-	s->o = (struct ps_opts){ s->v, n, "site.conf" };
-	return &s->o;
+	return ps_test_opts(&s->t, "site.conf", 1, kv);
 }
 
 static void open_dev(struct ps_dev *dev, const char *extra1, const char *extra2)

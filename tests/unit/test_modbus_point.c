@@ -1,6 +1,6 @@
 /* Modbus point decoding and scaling against numbers worked out by hand and
  * against the register examples of real devices' manuals
- * (hardware-facts.md section 3). */
+ * (doc/hardware.md section 3). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,25 +15,16 @@
 #include "driver.h"
 #include "modbus_point.h"
 
-/* Options from "key=value" strings, each on its own line number. */
+#include "helpers/test_opts.h"
+
+/* Options from "key=value" strings, from line 10 of site.conf. */
 struct optset {
-	struct ps_opt v[24];
-	char buf[24][64];
-	struct ps_opts o;
+	struct ps_test_opts t;
 };
 
 static const struct ps_opts *opts(struct optset *s, const char *const *kv)
 {
-	size_t n = 0;
-	for (; kv[n]; n++) {
-		char *eq;
-		snprintf(s->buf[n], sizeof s->buf[n], "%s", kv[n]);
-		eq = strchr(s->buf[n], '=');
-		*eq = 0;
-		s->v[n] = (struct ps_opt){ s->buf[n], eq + 1, (int)n + 10, 0 };
-	}
-	s->o = (struct ps_opts){ s->v, n, "site.conf" };
-	return &s->o;
+	return ps_test_opts(&s->t, "site.conf", 10, kv);
 }
 
 static struct ps_mb_point parsed(int role, const char *const *kv)

@@ -145,7 +145,9 @@ static void luminance_coefficients(void **state)
 
 static void luminance_xyze(void **state)
 {
-	/* XYZE: Y is stored; luminance is 179 Y whatever X and Z are */
+	/* XYZE: Y is stored luminance in cd/m2 (Radiance's XYZE is luminance-
+	 * based: ra_xyze writes EXPOSURE=1/179 on unchanged XYZ), whatever X
+	 * and Z are; the radiance-based Y is Y / 179 */
 	const char head[] = "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n";
 	uint8_t buf[sizeof head - 1 + 4];
 	struct ps_picture pic;
@@ -161,7 +163,7 @@ static void luminance_xyze(void **state)
 	assert_int_equal(ps_pic_read_mem(&pic, buf, sizeof buf, "xyz", &e), 0);
 	ps_lum_init(&l, &pic);
 	ps_lum_rgb(&l, &pic, 0, 0, rgb);
-	assert_true(fabs(ps_lum_y(&l, rgb) - GREY) < 1e-12);
+	assert_true(fabs(PS_LUM_EFFICACY * ps_lum_y(&l, rgb) - GREY) < 1e-12);
 	ps_pic_free(&pic);
 }
 

@@ -54,6 +54,25 @@ static void round_trip_and_summary(void **state)
 	assert_true(back.task_sensor_ratio == 5.0);
 	assert_true(back.rgb[1] == 0.7);
 	ps_results_free(&back);
+	/* the same text from memory reads the same (the fuzz target's way in) */
+	{
+		FILE *fp = fopen(path, "r");
+		char text[8192];
+		size_t n;
+		assert_non_null(fp);
+		n = fread(text, 1, sizeof text - 1, fp);
+		fclose(fp);
+		text[n] = '\0';
+		assert_int_equal(ps_results_parse(&back, text, path, &e), 0);
+		assert_int_equal(back.ncond, 4);
+		assert_true(back.cond[1].ratio == 220.0);
+		assert_true(back.task_sensor_ratio == 5.0);
+		ps_results_free(&back);
+		assert_non_null(strstr(text, "[psresults]"));
+		strstr(text, "[psresults]")[9] = 'z';   /* no [psresults] section: named as the file */
+		assert_int_equal(ps_results_parse(&back, text, "mem.results", &e), -1);
+		assert_non_null(strstr(e.msg, "mem.results"));
+	}
 	unlink(path);
 }
 
@@ -90,9 +109,9 @@ static void year_round_trip(void **state)
 	struct ps_results r, back;
 	struct ps_err e;
 	struct ps_year_hour h[3] = {
-		{ 1, 1, 8.5, 2.0, 400.0, PS_SKY_OVERCAST, 1.1 },
-		{ 1, 2, 8.5, 2.0, 600.0, PS_SKY_OVERCAST, 1.2 },
-		{ 7, 4, 12.5, 10.0, 2000.0, PS_SKY_CLEAR, 6.0 },
+		{ 1, 1, 8.5, 2.0, 400.0, PS_SKY_OVERCAST, 1.1, 5000.0 },
+		{ 1, 2, 8.5, 2.0, 600.0, PS_SKY_OVERCAST, 1.2, NAN },   /* a file before the column */
+		{ 7, 4, 12.5, 10.0, 2000.0, PS_SKY_CLEAR, 6.0, 98765.5 },
 	};
 	char path[] = "/tmp/psresXXXXXX";
 	int fd = mkstemp(path);
@@ -110,6 +129,9 @@ static void year_round_trip(void **state)
 	r.year.steps = 10;
 	r.year.dark = 7;
 	r.year.patches = r.year.used = 146;
+	r.year.have_site = 1;
+	r.year.leap = 1;
+	r.year.site = (struct ps_site){ .lat = 37.7, .lon = -122.2, .tz = -8 };
 	ps_year_tabulate(&r.year);
 	assert_true(r.year.ratio[0][8][PS_SKY_OVERCAST] == 250.0);   /* (400 + 600) / 4 */
 	assert_true(r.year.ratio[6][12][PS_SKY_CLEAR] == 200.0);
@@ -124,6 +146,12 @@ static void year_round_trip(void **state)
 	assert_int_equal(back.year.n, 3);
 	assert_int_equal(back.year.dark, 7);
 	assert_true(back.year.h[2].task_lux == 2000.0 && back.year.h[2].hour == 12.5);
+	/* the rooftop column and the site */
+	assert_true(back.year.h[0].horiz_lux == 5000.0 && back.year.h[2].horiz_lux == 98765.5);
+	assert_true(isnan(back.year.h[1].horiz_lux));
+	assert_int_equal(back.year.have_site, 1);
+	assert_int_equal(back.year.leap, 1);
+	assert_true(back.year.site.lat == 37.7 && back.year.site.lon == -122.2 && back.year.site.tz == -8);
 	assert_true(back.year.ratio[0][8][PS_SKY_OVERCAST] == 250.0);
 	assert_true(back.year.mean_ratio == 3000.0 / 14.0);
 	ps_results_free(&back);
@@ -140,6 +168,19 @@ static void year_round_trip(void **state)
 	fclose(fp);
 	assert_int_equal(ps_results_read(&back, path, &e), -1);
 	assert_non_null(strstr(e.msg, ":5: [year] says hours = 3, [year_hours] has 1"));
+	/* an eighth field that is no illuminance, and a ninth */
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 2\nrgb = 1 1 1\nrotation = 0\n[year]\nhours = 2\n"
+	      "mean_ratio = 1\n[year_hours]\nh1 = 1 1 8.5 2 400 2 1.1 -5\nh2 = 1 1 9.5 2 400 2 1.1 7 8\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), -1);
+	assert_non_null(strstr(e.msg, ":9: h1: '1 1 8.5 2 400 2 1.1 -5' is not month day hour"));
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 2\nrgb = 1 1 1\nrotation = 0\n[year]\nhours = 1\n"
+	      "mean_ratio = 1\n[year_hours]\nh1 = 1 1 9.5 2 400 2 1.1 7 8\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), -1);
+	assert_non_null(strstr(e.msg, ":9: h1: '1 1 9.5 2 400 2 1.1 7 8' is not month day hour"));
 	/* version 1: no year */
 	fp = fopen(path, "w");
 	fputs("[psresults]\nversion = 1\nrgb = 1 1 1\nrotation = 0\n[condition a]\nkind = daylight\n"

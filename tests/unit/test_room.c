@@ -14,7 +14,7 @@
 
 static void daylight_is_interpolated_linearly(void **state)
 {
-	struct ps_room_daypoint day[4] = { { 0, 0, 0 }, { 3600, 1, 100 }, { 7200, 3, 300 }, { 10800, 3, 300 } };
+	struct ps_room_daypoint day[4] = { { 0, 0, 0, NAN }, { 3600, 1, 100, NAN }, { 7200, 3, 300, NAN }, { 10800, 3, 300, NAN } };
 	struct ps_room_params p = { 0 };
 	struct ps_room *r;
 	double v, l;

@@ -7,6 +7,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <errno.h>
 #include <math.h>
 #include <string.h>
 #include <cmocka.h>
@@ -17,11 +18,11 @@
 static void plays_the_date(void **state)
 {
 	struct ps_year_hour h[] = {
-		{ 3, 17, 12.5, 9.0, 900.0, 0, 5 },
-		{ 3, 18, 7.5, 1.0, 100.0, 2, 1 },
-		{ 3, 18, 8.5, 3.0, 500.0, 2, 1 },
-		{ 3, 18, 9.5, 2.0, 300.0, 1, 2 },
-		{ 3, 19, 12.5, 7.0, 700.0, 0, 5 },
+		{ 3, 17, 12.5, 9.0, 900.0, 0, 5, 90000.0 },
+		{ 3, 18, 7.5, 1.0, 100.0, 2, 1, 2000.0 },
+		{ 3, 18, 8.5, 3.0, 500.0, 2, 1, 10000.0 },
+		{ 3, 18, 9.5, 2.0, 300.0, 1, 2, 6000.0 },
+		{ 3, 19, 12.5, 7.0, 700.0, 0, 5, 70000.0 },
 	};
 	struct ps_results r;
 	struct ps_room_daypoint day[PSD_DAY_POINTS];
@@ -49,10 +50,32 @@ static void plays_the_date(void **state)
 	/* 07:00: halfway up from the dark point */
 	ps_room_daylight(room, 7 * 3600.0, &v, &l);
 	assert_true(fabs(l - 50.0) < 1e-9);
+	/* the rooftop reads the hours' global horizontal lux, linear between */
+	assert_int_equal(ps_room_rooftop(room, 8 * 3600.0, &l), 0);
+	assert_true(fabs(l - 6000.0) < 1e-9);
+	assert_int_equal(ps_room_rooftop(room, 7 * 3600.0, &l), 0);
+	assert_true(fabs(l - 1000.0) < 1e-9);
+	assert_int_equal(ps_room_rooftop(room, 3 * 3600.0, &l), 0);
+	assert_true(l == 0.0);
 	/* the next day's noon is not this day's */
 	ps_room_daylight(room, 12.5 * 3600.0, &v, &l);
 	assert_true(l == 0.0 && v == 0.0);
 	ps_room_free(room);
+	/* the clear-sky profile carries no rooftop reading: ENODATA */
+	{
+		struct ps_room_daypoint d2[PSD_DAY_POINTS];
+		struct ps_room_params p2;
+		r.ncond = 0;
+		assert_int_equal(psd_room_from_year(&r, psd_day_of_year("03-18"), d2, &p2), 0);
+		for (size_t k = 0; k < p2.ndaylight; k++)
+			d2[k].rooftop_lux = NAN;
+		room = ps_room_new(&p2, 0.0);
+		assert_non_null(room);
+		errno = 0;
+		assert_int_equal(ps_room_rooftop(room, 8 * 3600.0, &l), -1);
+		assert_int_equal(errno, ENODATA);
+		ps_room_free(room);
+	}
 	/* a date without hours: dark all day */
 	assert_int_equal(psd_room_from_year(&r, psd_day_of_year("06-01"), day, &p), 0);
 	assert_int_equal(p.ndaylight, 0);

@@ -33,7 +33,7 @@ void ps_test_need_umockdev(char **argv)
 		exit(77);
 	}
 	/* the preload must come first; under ASan the runtime wants to be first
-	 * too, which its link-order check would refuse (emulation.md pitfall 13) */
+	 * too, which its link-order check would refuse (doc/emulation.md pitfall 10) */
 	snprintf(buf, sizeof buf, "%s%s%s", PRELOAD, pre && *pre ? ":" : "", pre ? pre : "");
 	setenv("LD_PRELOAD", buf, 1);
 	pre = getenv("ASAN_OPTIONS");

@@ -1,0 +1,186 @@
+/* The sample log as CSV, JSON or a table: see sampleout.h. */
+#include "sampleout.h"
+
+#include <json-c/json.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+int psd_time_parse(const char *s, double *utc)
+{
+	struct tm tm;
+	int y, mo, d, h = 0, mi = 0, sec = 0, n = 0;
+	char *end;
+	double v = strtod(s, &end);
+	time_t t;
+	if (end != s && !*end && strchr(s, '-') == NULL) {   /* Unix seconds, years 1970 to 5138 */
+		if (!(v >= 0 && v <= 1e11))
+			return -1;
+		*utc = v;
+		return 0;
+	}
+	if (sscanf(s, "%4d-%2d-%2d%n", &y, &mo, &d, &n) != 3 || y < 1970 || y > 5000)
+		return -1;
+	s += n;
+	if (*s == 'T' || *s == ' ') {
+		n = 0;
+		if (sscanf(s + 1, "%2d:%2d%n", &h, &mi, &n) != 2)
+			return -1;
+		s += 1 + n;
+		if (*s == ':') {
+			n = 0;
+			if (sscanf(s + 1, "%2d%n", &sec, &n) != 1)
+				return -1;
+			s += 1 + n;
+		}
+	}
+	if ((*s && strcmp(s, "Z") != 0) || mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 || sec > 60 ||
+	    h < 0 || mi < 0 || sec < 0)
+		return -1;
+	memset(&tm, 0, sizeof tm);
+	tm.tm_year = y - 1900;
+	tm.tm_mon = mo - 1;
+	tm.tm_mday = d;
+	tm.tm_hour = h;
+	tm.tm_min = mi;
+	tm.tm_sec = sec;
+	tm.tm_isdst = -1;
+	t = *s == 'Z' ? timegm(&tm) : mktime(&tm);
+	if (t == (time_t)-1)
+		return -1;
+	*utc = (double)t;
+	return 0;
+}
+
+void psd_time_iso(double utc, char out[32])
+{
+	struct tm tm;
+	time_t t;
+	if (!(fabs(utc) <= 1e11)) {   /* NAN too */
+		snprintf(out, 32, "-");
+		return;
+	}
+	t = (time_t)floor(utc + 0.5);
+	if (!localtime_r(&t, &tm) || strftime(out, 32, "%Y-%m-%dT%H:%M:%S", &tm) == 0)
+		snprintf(out, 32, "-");
+}
+
+static const char csv_header[] = "zone,time,utc,t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,"
+                                 "daylight_lux,condition,ratio,fault";
+
+void psd_sampleout_begin(struct psd_sampleout *o, FILE *fp, int format)
+{
+	o->fp = fp;
+	o->format = format;
+	o->rows = 0;
+	if (format == PSD_OUT_CSV)
+		fprintf(fp, "%s\n", csv_header);
+	else if (format == PSD_OUT_JSON)
+		fputs("[", fp);
+	else
+		fprintf(fp, "%-19s %-10s %7s %9s %9s %9s  %s\n", "time", "zone", "output", "sensor_v", "est_lux",
+		        "task_lux", "fault");
+}
+
+static void csv_num(FILE *fp, double v)
+{
+	if (isfinite(v))
+		fprintf(fp, "%.15g", v);
+}
+
+static void csv_text(FILE *fp, const char *t)
+{
+	if (!t)
+		return;
+	if (!strpbrk(t, ",\"\n\r")) {
+		fputs(t, fp);
+		return;
+	}
+	fputc('"', fp);
+	for (; *t; t++) {
+		if (*t == '"')
+			fputc('"', fp);
+		fputc(*t, fp);
+	}
+	fputc('"', fp);
+}
+
+static void json_num(json_object *o, const char *key, double v)
+{
+	json_object_object_add(o, key, isfinite(v) ? json_object_new_double(v) : NULL);
+}
+
+static void json_text(json_object *o, const char *key, const char *v)
+{
+	json_object_object_add(o, key, v ? json_object_new_string(v) : NULL);
+}
+
+static const char *cell(char *buf, size_t n, int prec, double v)
+{
+	if (isfinite(v))
+		snprintf(buf, n, "%.*f", prec, v);
+	else
+		snprintf(buf, n, "-");
+	return buf;
+}
+
+void psd_sampleout_row(void *user, const struct psd_sample *s)
+{
+	struct psd_sampleout *o = user;
+	char iso[32], a[32], b[32], c[32], d[32];
+	const double num[] = { s->utc, s->t, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux,
+	                       s->daylight_v, s->daylight_lux };
+	psd_time_iso(s->utc, iso);
+	if (o->format == PSD_OUT_CSV) {
+		csv_text(o->fp, s->zone);
+		fprintf(o->fp, ",%s,", isfinite(s->utc) ? iso : "");
+		for (size_t i = 0; i < sizeof num / sizeof num[0]; i++) {
+			csv_num(o->fp, num[i]);
+			fputc(',', o->fp);
+		}
+		csv_text(o->fp, s->condition);
+		fputc(',', o->fp);
+		csv_num(o->fp, s->ratio);
+		fputc(',', o->fp);
+		csv_text(o->fp, s->fault);
+		fputc('\n', o->fp);
+	} else if (o->format == PSD_OUT_JSON) {
+		json_object *j = json_object_new_object();
+		json_text(j, "zone", s->zone);
+		json_text(j, "time", isfinite(s->utc) ? iso : NULL);
+		json_num(j, "utc", s->utc);
+		json_num(j, "t", s->t);
+		json_num(j, "tod_s", s->tod_s);
+		json_num(j, "sensor_v", s->sensor_v);
+		json_num(j, "output", s->output);
+		json_num(j, "est_task_lux", s->est_task_lux);
+		json_num(j, "task_lux", s->task_lux);
+		json_num(j, "daylight_v", s->daylight_v);
+		json_num(j, "daylight_lux", s->daylight_lux);
+		json_text(j, "condition", s->condition);
+		json_num(j, "ratio", s->ratio);
+		json_text(j, "fault", s->fault);
+		json_c_set_serialization_double_format("%.15g", JSON_C_OPTION_THREAD);
+		fprintf(o->fp, "%s\n  %s", o->rows ? "," : "",
+		        json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE));
+		json_object_put(j);
+	} else {
+		if (!isfinite(s->utc)) {   /* a log from before schema 4: the clock's time of day */
+			long t = (long)floor(s->tod_s + 0.5);
+			snprintf(iso, sizeof iso, "%02ld:%02ld:%02ld", t / 3600 % 24, t / 60 % 60, t % 60);
+		}
+		fprintf(o->fp, "%-19s %-10s %6s%% %9s %9s %9s  %s\n", iso, s->zone ? s->zone : "-",
+		        cell(a, sizeof a, 1, 100 * s->output), cell(b, sizeof b, 4, s->sensor_v),
+		        cell(c, sizeof c, 1, s->est_task_lux), cell(d, sizeof d, 1, s->task_lux),
+		        s->fault ? s->fault : "");
+	}
+	o->rows++;
+}
+
+int psd_sampleout_end(struct psd_sampleout *o)
+{
+	if (o->format == PSD_OUT_JSON)
+		fputs(o->rows ? "\n]\n" : "]\n", o->fp);
+	return fflush(o->fp) == 0 && !ferror(o->fp) ? 0 : -1;
+}

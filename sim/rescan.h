@@ -1,0 +1,50 @@
+/* Re-evaluation without re-weighting: a picture projected once onto a fine
+ * (theta, phi) grid, then a sensor at any of many rotations (or several
+ * sensors) evaluated in one pass over the grid's cells each.
+ *
+ * Each pixel's exact solid angle (the weights of a uniform sensor) times
+ * its (coefficients . RGB) radiance goes into the cell holding the pixel's
+ * centre direction; a sensor then gives sum over cells of that energy times
+ * its sensitivity at the cell's centre, turned by the rotation.  Rotations
+ * that are whole numbers of cells in phi reuse one table of the sensitivity
+ * at the cell centres, so a scan of n rotations costs n passes over the
+ * cells.  This is an approximation of the exact route (ps_weights_build at
+ * each rotation): the pixel is taken at its centre and the centre at its
+ * cell's; tests/unit/test_rescan.c and make bench state its error. */
+#ifndef PS_RESCAN_H
+#define PS_RESCAN_H
+
+#include "err.h"
+#include "picture.h"
+#include "sensor.h"
+#include "view.h"
+#include "weights.h"
+
+struct ps_rescan {
+	int ntheta, nphi;     /* cells: theta from 0 in dtheta steps, phi from phi0 in dphi */
+	double dtheta, dphi;  /* radians */
+	double phi0;          /* radians: where cell 0 starts (sensor azimuth) */
+	double *e;            /* ntheta x nphi: radiance x solid angle, W/m2 (coef applied) */
+	double total;         /* the sum of e (the picture's integral over its field) */
+};
+
+/* Project pic (its view v) with omega, the weight map of the uniform sensor
+ * (builtin:uniform) for the same view and size: cells of dtheta_deg x
+ * dphi_deg starting at phi0_deg, up to polar angle theta_max_deg. */
+int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
+                      const struct ps_picture *pic, const struct ps_view *v,
+                      const double coef[3], double dtheta_deg, double dphi_deg,
+                      double phi0_deg, double theta_max_deg, struct ps_err *e);
+void ps_rescan_free(struct ps_rescan *p);
+
+/* The responses of sensor s at rotations rot0 + k step (degrees), k = 0 ..
+ * n-1, into out[k]; step must be a whole number of cells (dphi) and rot0 -
+ * phi0 too (else PS_EINVAL). */
+int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
+                   double step_deg, int n, double *out, struct ps_err *e);
+/* The same with the rotations shared among nthreads threads (the numbers
+ * do not depend on how many). */
+int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
+                      double step_deg, int n, int nthreads, double *out, struct ps_err *e);
+
+#endif

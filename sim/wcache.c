@@ -1,0 +1,211 @@
+/* Weight maps in the cache: payload
+ *   u32 PS_WEIGHTS_ALGO_VERSION, i32 width, i32 height, i32 method,
+ *   u64 nruns, u64 nw, f64 solid_angle, sens_sum, sens_full, coverage,
+ *   nruns x (i32 row, i32 x0, i32 n, i32 0),
+ *   nw x f64 weights
+ * in the machine's byte order (a cache is one machine's; the key holds the
+ * layout's version).  The weights start 8-byte aligned in the map. */
+#include "wcache.h"
+
+#include <math.h>
+#include <nettle/sha2.h>
+#include <stdio.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cache.h"
+
+enum { FIXED = 64, RUN = 16 };
+
+static void hash_doubles(struct sha256_ctx *c, const double *v, size_t n)
+{
+	sha256_update(c, n * sizeof *v, (const uint8_t *)v);
+}
+
+static void hash_int(struct sha256_ctx *c, long long v)
+{
+	sha256_update(c, sizeof v, (const uint8_t *)&v);
+}
+
+void ps_weights_cache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
+                          int width, int height, int method, char hex[65])
+{
+	static const char digits[] = "0123456789abcdef";
+	struct sha256_ctx c;
+	uint8_t d[SHA256_DIGEST_SIZE];
+	double view[4] = { v->vh, v->vv, v->vs, v->vl };
+	sha256_init(&c);
+	sha256_update(&c, 16, (const uint8_t *)"psens-weights\n\0\0");
+	hash_int(&c, PS_WEIGHTS_ALGO_VERSION);
+	hash_int(&c, (long long)sizeof(double));
+	hash_int(&c, s->kind);
+	hash_int(&c, s->ntheta);
+	hash_int(&c, s->nphi);
+	if (s->ntheta > 0 && s->theta)
+		hash_doubles(&c, s->theta, (size_t)s->ntheta);
+	if (s->nphi > 0 && s->phi)
+		hash_doubles(&c, s->phi, (size_t)s->nphi);
+	if (s->ntheta > 0 && s->nphi > 0 && s->val)
+		hash_doubles(&c, s->val, (size_t)s->ntheta * (size_t)s->nphi);
+	hash_int(&c, s->reading);
+	hash_doubles(&c, &rotation_deg, 1);
+	hash_int(&c, v->type);
+	hash_doubles(&c, view, 4);
+	hash_int(&c, width);
+	hash_int(&c, height);
+	hash_int(&c, method);
+	sha256_digest(&c, sizeof d, d);
+	for (int i = 0; i < 32; i++) {
+		hex[2 * i] = digits[d[i] >> 4];
+		hex[2 * i + 1] = digits[d[i] & 15];
+	}
+	hex[64] = '\0';
+}
+
+int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, int width,
+                            int height, int method, const char *name, struct ps_err *e)
+{
+	const uint8_t *p = data;
+	uint32_t version;
+	int32_t hw, hh, hm;
+	uint64_t nruns, nw, sum = 0;
+	double f[4];
+	memset(w, 0, sizeof *w);
+	if (len < FIXED)
+		return ps_errf(e, PS_EFORMAT, "%s: %zu bytes, shorter than a weight map's header", name,
+		               len);
+	memcpy(&version, p, 4);
+	memcpy(&hw, p + 4, 4);
+	memcpy(&hh, p + 8, 4);
+	memcpy(&hm, p + 12, 4);
+	memcpy(&nruns, p + 16, 8);
+	memcpy(&nw, p + 24, 8);
+	memcpy(f, p + 32, sizeof f);
+	if (version != PS_WEIGHTS_ALGO_VERSION || hw != width || hh != height || hm != method)
+		return ps_errf(e, PS_EFORMAT, "%s: a map of another version, size or method", name);
+	/* every run is a piece of one row: no more runs than rows, no more
+	 * weights than pixels; then the length must be exact */
+	if (nruns > (uint64_t)height || nw > (uint64_t)width * (uint64_t)height ||
+	    len != FIXED + nruns * RUN + nw * sizeof(double))
+		return ps_errf(e, PS_EFORMAT, "%s: %llu runs and %llu weights do not fit %zu bytes",
+		               name, (unsigned long long)nruns, (unsigned long long)nw, len);
+	for (int i = 0; i < 4; i++)
+		if (!isfinite(f[i]))
+			return ps_errf(e, PS_EFORMAT, "%s: a total is not finite", name);
+	w->runs = malloc((nruns ? nruns : 1) * sizeof *w->runs);
+	if (!w->runs)
+		return ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
+	for (uint64_t i = 0; i < nruns; i++) {
+		int32_t r[4];
+		memcpy(r, p + FIXED + i * RUN, sizeof r);
+		if (r[0] < 0 || r[0] >= height || r[1] < 0 || r[2] <= 0 || r[2] > width - r[1] ||
+		    r[3] != 0) {
+			free(w->runs);
+			w->runs = NULL;
+			return ps_errf(e, PS_EFORMAT, "%s: run %llu (row %d, x %d, %d pixels) is outside "
+			               "%d x %d", name, (unsigned long long)i, r[0], r[1], r[2], width,
+			               height);
+		}
+		w->runs[i] = (struct ps_wrun){ r[0], r[1], r[2], (size_t)sum };
+		sum += (uint64_t)r[2];
+	}
+	if (sum != nw) {
+		free(w->runs);
+		w->runs = NULL;
+		return ps_errf(e, PS_EFORMAT, "%s: the runs hold %llu pixels, the map %llu weights", name,
+		               (unsigned long long)sum, (unsigned long long)nw);
+	}
+	w->width = width;
+	w->height = height;
+	w->method = method;
+	w->nruns = (size_t)nruns;
+	w->nw = (size_t)nw;
+	w->w = (double *)(uintptr_t)(p + FIXED + nruns * RUN);
+	w->solid_angle = f[0];
+	w->sens_sum = f[1];
+	w->sens_full = f[2];
+	w->coverage = f[3];
+	return 0;
+}
+
+static int store(const struct ps_weights *w, const char *dir, const char *hex, size_t max_bytes,
+                 struct ps_err *e)
+{
+	uint8_t fixed[FIXED];
+	uint8_t *runs = malloc((w->nruns ? w->nruns : 1) * RUN);
+	uint32_t version = PS_WEIGHTS_ALGO_VERSION;
+	int32_t hw = w->width, hh = w->height, hm = w->method;
+	uint64_t nruns = w->nruns, nw = w->nw;
+	double f[4] = { w->solid_angle, w->sens_sum, w->sens_full, w->coverage };
+	const void *ptr[3];
+	size_t len[3];
+	int rc;
+	if (!runs)
+		return ps_errf(e, PS_ENOMEM, "out of memory");
+	memset(fixed, 0, sizeof fixed);
+	memcpy(fixed, &version, 4);
+	memcpy(fixed + 4, &hw, 4);
+	memcpy(fixed + 8, &hh, 4);
+	memcpy(fixed + 12, &hm, 4);
+	memcpy(fixed + 16, &nruns, 8);
+	memcpy(fixed + 24, &nw, 8);
+	memcpy(fixed + 32, f, sizeof f);
+	for (size_t i = 0; i < w->nruns; i++) {
+		int32_t r[4] = { w->runs[i].row, w->runs[i].x0, w->runs[i].n, 0 };
+		memcpy(runs + i * RUN, r, sizeof r);
+	}
+	ptr[0] = fixed;
+	len[0] = FIXED;
+	ptr[1] = runs;
+	len[1] = w->nruns * RUN;
+	ptr[2] = w->w;
+	len[2] = w->nw * sizeof(double);
+	rc = ps_cache_blob_put(dir, hex, 3, ptr, len, max_bytes, e);
+	free(runs);
+	return rc;
+}
+
+int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                   const struct ps_view *v, int width, int height, int method, const char *dir,
+                   size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+{
+	char hex[65];
+	struct ps_cache_blob b;
+	struct ps_err ce;
+	int got, rebuilt = 0;
+	*how = PS_WC_BUILT;
+	if (!dir)
+		return ps_weights_build(w, s, rotation_deg, v, width, height, method, e);
+	ps_weights_cache_key(s, rotation_deg, v, width, height, method, hex);
+	got = ps_cache_blob_get(dir, hex, &b, &ce);
+	if (got == 1) {
+		char name[4200];
+		snprintf(name, sizeof name, "%s/blobs/%.2s/%s", dir, hex, hex + 2);
+		if (ps_weights_from_payload(w, b.data, b.len, width, height, method, name, &ce) == 0) {
+			w->map = b.map;
+			w->maplen = b.maplen;
+			ps_weights_key(s, rotation_deg, v, width, height, method, w->key, sizeof w->key);
+			*how = PS_WC_HIT;
+			return 0;
+		}
+		/* checksummed yet inconsistent: not trusted, rebuilt over it */
+		ps_cache_blob_release(&b);
+		got = -1;
+	}
+	if (got < 0) {
+		rebuilt = 1;
+		if (warn)
+			*warn = ce;
+	}
+	if (ps_weights_build(w, s, rotation_deg, v, width, height, method, e) != 0)
+		return -1;
+	if (store(w, dir, hex, max_bytes, &ce) != 0) {
+		*how = PS_WC_UNWRITABLE;
+		if (warn)
+			*warn = ce;
+		return 0;
+	}
+	*how = rebuilt ? PS_WC_REBUILT : PS_WC_STORED;
+	return 0;
+}

@@ -1,0 +1,46 @@
+/* Weight maps kept in the cache directory psscene uses (sim/cache.c's
+ * binary entries): a map is found again by its content - the sensor's
+ * table (not its file name), the reading, the rotation, the view's type,
+ * -vh -vv -vs -vl, the size, the method and the version of the weights'
+ * algorithm - memory-mapped and checksummed.  An entry that fails its
+ * checks is removed and the map rebuilt; a cache that cannot be written
+ * only costs time. */
+#ifndef PS_WCACHE_H
+#define PS_WCACHE_H
+
+#include "err.h"
+#include "sensor.h"
+#include "view.h"
+#include "weights.h"
+
+/* Bump when ps_weights_build's numbers change: older entries are then never
+ * found again (and age out). */
+#define PS_WEIGHTS_ALGO_VERSION 3   /* 2: symmetric maps mirrored; 3: and transposed */
+
+/* The content key (64 hex digits). */
+void ps_weights_cache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
+                          int width, int height, int method, char hex[65]);
+
+enum ps_wcache_how {
+	PS_WC_BUILT = 0,       /* no cache given: built */
+	PS_WC_HIT = 1,         /* read from the cache */
+	PS_WC_STORED = 2,      /* built and stored */
+	PS_WC_UNWRITABLE = 3,  /* built; the cache could not be written (warn says why) */
+	PS_WC_REBUILT = 4,     /* an entry failed its checks (warn says which): rebuilt, stored */
+};
+
+/* ps_weights_build through the cache dir (NULL: no cache).  *how says what
+ * happened; warn (may be NULL) gets the message for PS_WC_UNWRITABLE and
+ * PS_WC_REBUILT.  max_bytes bounds the cache (0: unbounded).  Errors are
+ * ps_weights_build's. */
+int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                   const struct ps_view *v, int width, int height, int method, const char *dir,
+                   size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
+
+/* Parse a cache payload into w (runs copied, weights left in place:
+ * data must outlive w, or be owned by it through w->map).  -1 with e when
+ * the payload is not a consistent map of width x height (never trusted). */
+int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, int width,
+                            int height, int method, const char *name, struct ps_err *e);
+
+#endif

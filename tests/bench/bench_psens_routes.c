@@ -1,0 +1,340 @@
+/* psens's routes against the goals of issue 18: error and wall time for
+ * one-shot runs of the psens binary (cold and warm weight cache), the
+ * library's decoding against its integration, batches of many pictures
+ * after the weights, a rotation scan, and the peak memory of a 4000 x 4000
+ * run (getrusage of the child, ru_maxrss).  Every picture is uniform, so
+ * the error is against the analytic answer (cosine sensor: pi times the
+ * decoded radiance).  Times are wall clock on whatever else the machine is
+ * doing: one run each, no repetition.  No goal is asserted; the table says
+ * which are met. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "batch.h"
+#include "file.h"
+#include "integrate.h"
+#include "picture.h"
+#include "rescan.h"
+#include "sensor.h"
+#include "stream.h"
+#include "view.h"
+#include "weights.h"
+
+#define VIEW "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180"
+#define DECODED_ONE 1.00390625   /* RGBE's 1 as Radiance decodes it */
+
+static double now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void row(const char *route, double err, double ms, double goal_ms, const char *note)
+{
+	char g[32] = "-", e[32] = "-";
+	if (goal_ms > 0)
+		snprintf(g, sizeof g, "%.0f", goal_ms);
+	if (!isnan(err))
+		snprintf(e, sizeof e, "%.2e", err);
+	printf("%-46s %10s %10.1f %8s %5s  %s\n", route, e, ms, g,
+	       goal_ms > 0 ? (ms <= goal_ms ? "yes" : "no") : "", note ? note : "");
+}
+
+static int uniform(const char *path, int n, double value)
+{
+	double *rgb = malloc(sizeof(double) * 3 * (size_t)n * n);
+	struct ps_err e;
+	int rc;
+	if (!rgb)
+		return -1;
+	for (size_t i = 0; i < (size_t)n * n * 3; i++)
+		rgb[i] = value;
+	rc = ps_pic_write(path, n, n, rgb, VIEW, NULL, &e);
+	free(rgb);
+	return rc;
+}
+
+/* Run psens once; wall time, its response, and its peak resident size. */
+static int run_psens(const char *bin, const char *cache, const char *pic, double *ms,
+                     double *resp, long *maxrss_kb)
+{
+	char out[] = "/tmp/psbench-outXXXXXX";
+	int fd = mkstemp(out), status;
+	struct rusage ru;
+	double t0 = now();
+	pid_t pid = fork();
+	if (pid == 0) {
+		dup2(fd, 1);
+		if (cache)
+			execl(bin, "psens", "-q", "-C", cache, "-s", "builtin:cosine", pic, (char *)NULL);
+		else
+			execl(bin, "psens", "-q", "-N", "-s", "builtin:cosine", pic, (char *)NULL);
+		_exit(127);
+	}
+	if (pid < 0 || wait4(pid, &status, 0, &ru) != pid || !WIFEXITED(status) ||
+	    WEXITSTATUS(status) != 0) {
+		close(fd);
+		unlink(out);
+		return -1;
+	}
+	*ms = 1e3 * (now() - t0);
+	*maxrss_kb = ru.ru_maxrss;
+	{
+		char buf[256] = "";
+		FILE *fp = fdopen(fd, "r");
+		rewind(fp);
+		if (!fgets(buf, sizeof buf, fp) || !strstr(buf, "Response: "))
+			*resp = NAN;
+		else
+			*resp = strtod(strstr(buf, "Response: ") + 10, NULL);
+		fclose(fp);
+	}
+	unlink(out);
+	return 0;
+}
+
+static double batch_ms(const struct ps_batch *b, const char *const *paths, size_t n,
+                       double value0, double *maxerr)
+{
+	struct ps_batch_result *res = malloc(n * sizeof *res);
+	struct ps_err e;
+	double t0 = now(), t;
+	long bad = ps_batch_run_files(b, paths, n, res, &e);
+	t = now() - t0;
+	*maxerr = 0;
+	for (size_t i = 0; i < n; i++) {
+		/* picture i holds value0 (1 + i / 64) before encoding: compare with
+		 * what the file decodes to */
+		uint8_t px[4];
+		double rgb[3], want;
+		double v = value0 * (1 + (double)i / 64);
+		ps_rgbe_encode((double[3]){ v, v, v }, px);
+		ps_rgbe_decode(px, rgb);
+		want = rgb[0] * M_PI;
+		if (res[i].status != PS_BATCH_OK)
+			*maxerr = INFINITY;
+		else if (fabs(res[i].r.response / want - 1) > *maxerr)
+			*maxerr = fabs(res[i].r.response / want - 1);
+	}
+	free(res);
+	return bad ? NAN : 1e3 * t;
+}
+
+int main(void)
+{
+	const char *build = getenv("BUILD") ? getenv("BUILD") : "build";
+	char bin[512], dir[] = "/tmp/psbench-routesXXXXXX", p4000[600], p1000[600], p512[600];
+	char cache[600];
+	struct ps_sensor cosine;
+	struct ps_view v;
+	struct ps_err e;
+	double ms, resp, err;
+	long rss;
+	snprintf(bin, sizeof bin, "%s/bin/psens", build);
+	if (!mkdtemp(dir) || ps_sensor_builtin(&cosine, PS_SENS_COSINE, &e) != 0) {
+		fprintf(stderr, "bench_psens_routes: cannot start\n");
+		return 1;
+	}
+	ps_view_default_fisheye(&v);
+	snprintf(p4000, sizeof p4000, "%s/u4000.hdr", dir);
+	snprintf(p1000, sizeof p1000, "%s/u1000.hdr", dir);
+	snprintf(p512, sizeof p512, "%s/u512.hdr", dir);
+	snprintf(cache, sizeof cache, "%s/cache", dir);
+	if (uniform(p4000, 4000, 1.0) || uniform(p1000, 1000, 1.0) || uniform(p512, 512, 1.0)) {
+		fprintf(stderr, "bench_psens_routes: cannot write pictures\n");
+		return 1;
+	}
+	printf("psens routes against issue 18's goals: uniform pictures, cosine sensor, exact\n"
+	       "weights, error against pi x the decoded radiance; wall ms, one run each on a\n"
+	       "shared 2-core machine\n");
+	printf("%-46s %10s %10s %8s %5s  %s\n", "route", "error", "ms", "goal ms", "met", "note");
+
+	/* one-shot runs of the binary */
+	if (run_psens(bin, cache, p4000, &ms, &resp, &rss) == 0) {
+		row("psens 4000x4000, cold cache", resp / (DECODED_ONE * M_PI) - 1, ms, 350,
+		    "weights built and stored");
+		{
+			char note[64];
+			snprintf(note, sizeof note, "ru_maxrss of the cold run: %.0f MB", rss / 1024.0);
+			row("  peak memory 4000x4000 (goal < 100 MB)", NAN, 0, 0, note);
+		}
+	}
+	if (run_psens(bin, cache, p4000, &ms, &resp, &rss) == 0) {
+		char note[64];
+		snprintf(note, sizeof note, "weights mapped; ru_maxrss %.0f MB", rss / 1024.0);
+		row("psens 4000x4000, warm cache", resp / (DECODED_ONE * M_PI) - 1, ms, 150, note);
+	}
+	if (run_psens(bin, NULL, p4000, &ms, &resp, &rss) == 0)
+		row("psens 4000x4000, no cache (-N)", resp / (DECODED_ONE * M_PI) - 1, ms, 0, NULL);
+	if (run_psens(bin, cache, p1000, &ms, &resp, &rss) == 0)
+		row("psens 1000x1000, cold cache", resp / (DECODED_ONE * M_PI) - 1, ms, 25, NULL);
+
+	/* decoding against integration, in the library, 4000 x 4000 */
+	{
+		struct ps_picture pic;
+		struct ps_weights w;
+		struct ps_response r;
+		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+		double t0, t_dec, t_int, t_w;
+		t0 = now();
+		if (ps_pic_read(&pic, p4000, &e) != 0)
+			return 1;
+		t_dec = now() - t0;
+		t0 = now();
+		ps_weights_build(&w, &cosine, 0, &v, 4000, 4000, PS_W_EXACT, &e);
+		t_w = now() - t0;
+		t0 = now();
+		ps_integrate(&w, &pic, coef, &r, &e);
+		t_int = now() - t0;
+		row("4000x4000 read + decode (library)", NAN, 1e3 * t_dec, 0, NULL);
+		row("4000x4000 integration (library)", r.response / (DECODED_ONE * M_PI) - 1,
+		    1e3 * t_int, 1e3 * t_dec, "goal: no more than decoding");
+		row("4000x4000 weights (library, every core)", NAN, 1e3 * t_w, 0, NULL);
+		/* decoding fused with integration, no picture stored */
+		{
+			struct ps_filemap m;
+			struct ps_picture head;
+			size_t off;
+			if (ps_map_file(p4000, (size_t)1 << 32, &m, &e) != 0 ||
+			    ps_pic_head_mem(&head, m.data, m.len, p4000, &off, &e) != 0)
+				return 1;
+			for (int nt = 1; nt <= 2; nt++) {
+				char name[64];
+				snprintf(name, sizeof name, "4000x4000 fused decode+integration, %d thr", nt);
+				t0 = now();
+				ps_integrate_mem(&w, &head, m.data, m.len, off, p4000, coef, nt, &r, &e);
+				row(name, r.response / (DECODED_ONE * M_PI) - 1, 1e3 * (now() - t0), 0,
+				    "file in memory");
+			}
+			ps_pic_free(&head);
+			ps_unmap_file(&m);
+		}
+		ps_weights_free(&w);
+		ps_pic_free(&pic);
+	}
+
+	/* batches after the weights: 146 and 2306 pictures of 128 x 128 */
+	{
+		static const size_t counts[] = { 146, 2306 };
+		const size_t nmax = 2306;
+		char **paths = calloc(nmax, sizeof *paths);
+		struct ps_batch b;
+		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+		for (size_t i = 0; i < nmax; i++) {
+			paths[i] = malloc(600);
+			snprintf(paths[i], 600, "%s/b%04zu.hdr", dir, i);
+			if (uniform(paths[i], 128, 1 + (double)i / 64) != 0)
+				return 1;
+		}
+		if (ps_batch_init(&b, &cosine, 0, &v, 128, 128, PS_W_EXACT, coef, 2, &e) != 0)
+			return 1;
+		for (size_t k = 0; k < 2; k++) {
+			char name[64];
+			snprintf(name, sizeof name, "%zu pictures 128x128 after weights, 2 thr", counts[k]);
+			ms = batch_ms(&b, (const char *const *)paths, counts[k], 1.0, &err);
+			row(name, err, ms, k == 0 ? 50 : 500, "read + decode + integrate");
+		}
+		ps_batch_free(&b);
+		for (size_t i = 0; i < nmax; i++) {
+			unlink(paths[i]);
+			free(paths[i]);
+		}
+		free(paths);
+	}
+
+	/* a rotation scan of 512 x 512 with a sensor that changes with azimuth:
+	 * directly (weights at each step: 10 steps measured, scaled to 360) and
+	 * re-evaluated from one projection (0.25 x 1 degree cells, as psens) */
+	{
+		static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
+		                            "0 1 1 1 1 1 1 1 1\n"
+		                            "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
+		                            "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"
+		                            "60 0.5 0.3 0.2 0.1 0.2 0.4 0.45 0.5\n"
+		                            "80 0.1 0.05 0.02 0.01 0.03 0.08 0.1 0.1\n"
+		                            "90 0 0 0 0 0 0 0 0\n";
+		struct ps_picture pic;
+		struct ps_sensor s, uni;
+		struct ps_weights om;
+		struct ps_rescan rs;
+		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+		double t0, direct[10], scan[360], worst = 0, t_proj, t_scan, t_om;
+		char pw[600];
+		/* a window, so the rotations differ */
+		{
+			double *rgb = malloc(sizeof(double) * 3 * 512 * 512);
+			for (int y = 0; y < 512; y++)
+				for (int x = 0; x < 512; x++)
+					for (int c = 0; c < 3; c++)
+						rgb[3 * ((size_t)y * 512 + x) + c] =
+						    (x > 300 && x < 400 && y > 80 && y < 240) ? 40.0 : 0.5;
+			snprintf(pw, sizeof pw, "%s/w512.hdr", dir);
+			if (ps_pic_write(pw, 512, 512, rgb, VIEW, NULL, &e) != 0)
+				return 1;
+			free(rgb);
+		}
+		if (ps_pic_read(&pic, pw, &e) != 0 ||
+		    ps_sensor_parse(&s, table, sizeof table - 1, "table", &e) != 0 ||
+		    ps_sensor_set_reading(&s, PS_READ_LINEAR, &e) != 0 ||
+		    ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0)
+			return 1;
+		t0 = now();
+		for (int k = 0; k < 10; k++) {
+			struct ps_weights w;
+			struct ps_response r;
+			ps_weights_build(&w, &s, 36.0 * k, &v, 512, 512, PS_W_EXACT, &e);
+			ps_integrate(&w, &pic, coef, &r, &e);
+			direct[k] = r.response;
+			ps_weights_free(&w);
+		}
+		row("rotation scan 512x512 direct, 360 (10 x 36)", 0.0, 36e3 * (now() - t0), 50,
+		    "exact weights at each step: the reference");
+		t0 = now();
+		ps_weights_build(&om, &uni, 0, &v, 512, 512, PS_W_EXACT, &e);
+		t_om = now() - t0;
+		t0 = now();
+		ps_rescan_project(&rs, &om, &pic, &v, coef, 0.25, 1.0, 0, 91, &e);
+		t_proj = now() - t0;
+		t0 = now();
+		ps_rescan_scan_mt(&rs, &s, 0, 1, 360, 2, scan, &e);
+		t_scan = now() - t0;
+		for (int k = 0; k < 10; k++)
+			if (fabs(scan[36 * k] / direct[k] - 1) > worst)
+				worst = fabs(scan[36 * k] / direct[k] - 1);
+		row("rotation scan 512x512 rescan, 360, 2 thr", worst, 1e3 * t_scan, 50,
+		    "after the projection; error: worst of 10 steps");
+		{
+			char note[96];
+			snprintf(note, sizeof note, "once a picture (+ %.0f ms solid angles, cached)",
+			         1e3 * t_om);
+			row("  its projection, 0.25 x 1 degree cells", NAN, 1e3 * t_proj, 0, note);
+		}
+		ps_rescan_free(&rs);
+		ps_weights_free(&om);
+		ps_sensor_free(&s);
+		ps_sensor_free(&uni);
+		ps_pic_free(&pic);
+		unlink(pw);
+	}
+	unlink(p4000);
+	unlink(p1000);
+	unlink(p512);
+	{
+		char cmd[700];
+		snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+		if (system(cmd) != 0)
+			fprintf(stderr, "bench_psens_routes: %s left behind\n", dir);
+	}
+	ps_sensor_free(&cosine);
+	printf("issue 18's figures for Radiance's pipeline (pcomb | pvalue | total), same kind of\n"
+	       "machine: 6.9 s CPU at 4000x4000, 0.60 s at 1000x1000\n");
+	return 0;
+}

@@ -1,0 +1,284 @@
+/* The colour side of a picture's header, against analytic answers: a
+ * FORMAT=32-bit_rle_xyze picture holds luminance-based XYZ (Y in cd/m2 once
+ * EXPOSURE is divided out; Radiance's ra_xyze writes EXPOSURE=1/179 on the
+ * unchanged XYZ of a radiance picture), so psens must convert XYZ to the
+ * standard primaries' RGB and divide by 179 (WHTEFFICACY); COLORCORR= acts
+ * on the stored channels like a per-channel EXPOSURE=; PRIMARIES= on an RGBE
+ * picture names the primaries its RGB is in (luminance is kept), and means
+ * nothing on an XYZE picture.
+ *
+ * Every picture is written here, byte by byte, as a uniform picture: its
+ * response is then (coefficients . RGB radiance) x (sum of the weights)
+ * exactly, with the RGB radiance computed from the decoded stored bytes. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <cmocka.h>
+
+#include "integrate.h"
+#include "lum.h"
+#include "picture.h"
+#include "sensor.h"
+#include "view.h"
+#include "weights.h"
+
+enum { N = 24 };
+
+static const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+
+static double relerr(double got, double want)
+{
+	return fabs(got - want) / fabs(want);
+}
+
+static void invert3(const double a[3][3], double out[3][3])
+{
+	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+	             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			/* cofactor of a[j][i] */
+			int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+			out[i][j] = (a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]) / det;
+		}
+}
+
+/* Weights for a cosine sensor on a 180-degree angular fisheye of N x N. */
+static void cosine_weights(struct ps_weights *w)
+{
+	struct ps_sensor s;
+	struct ps_view v;
+	struct ps_err e;
+	assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
+	ps_view_default_fisheye(&v);
+	if (ps_weights_build(w, &s, 0, &v, N, N, PS_W_EXACT, &e) != 0)
+		fail_msg("%s", e.msg);
+	ps_sensor_free(&s);
+	/* the cosine's integral over the hemisphere */
+	assert_true(relerr(w->sens_sum, M_PI) < 1e-9);
+}
+
+/* A uniform N x N picture of one stored pixel, flat (old-style) scanlines,
+ * with the given FORMAT= and extra header lines. */
+static void uniform(struct ps_picture *pic, const char *format, const char *extra,
+                    const uint8_t px[4])
+{
+	char head[512];
+	size_t hn, len;
+	uint8_t *buf;
+	struct ps_err e;
+	hn = (size_t)snprintf(head, sizeof head, "#?RADIANCE\n%sFORMAT=%s\n\n-Y %d +X %d\n",
+	                      extra ? extra : "", format, N, N);
+	len = hn + 4 * (size_t)N * N;
+	buf = malloc(len);
+	assert_non_null(buf);
+	memcpy(buf, head, hn);
+	for (int i = 0; i < N * N; i++)
+		memcpy(buf + hn + 4 * i, px, 4);
+	/* a mantissa triple 1 1 1 would read as an old-style repeat */
+	assert_false(px[0] == 1 && px[1] == 1 && px[2] == 1);
+	/* nor may 2 2 start a new-style scanline */
+	assert_false(px[0] == 2 && px[1] == 2);
+	if (ps_pic_read_mem(pic, buf, len, format, &e) != 0)
+		fail_msg("%s", e.msg);
+	free(buf);
+}
+
+static double response_of(const struct ps_weights *w, const struct ps_picture *pic)
+{
+	struct ps_response r;
+	struct ps_err e;
+	if (ps_integrate(w, pic, coef, &r, &e) != 0)
+		fail_msg("%s", e.msg);
+	return r.response;
+}
+
+static double dot(const double a[3], const double b[3])
+{
+	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* RGB radiance -> luminance-based XYZ as ra_xyze stores it, and its twin:
+ * the same radiance in RGBE.  The XYZE response is checked exactly against
+ * its own decoded bytes, and against the twin within the two encodings'
+ * quantisation (each stored channel is within half a mantissa step,
+ * 0.5 x 2^(e-136), of the value encoded), which the test bounds from the
+ * bytes.  Before the fix the XYZE picture read 179 times too bright. */
+static void xyze_is_luminance_based(void **state)
+{
+	static const double rgbs[][3] = { { 0.3, 0.5, 0.2 }, { 1.0, 1.0, 1.0 }, { 12.5, 3.25, 0.75 },
+	                                  { 0.25, 0.3, 0.9 } };
+	struct ps_weights w;
+	double m[3][3], minv[3][3];
+	(void)state;
+	cosine_weights(&w);
+	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	invert3(m, minv);
+	for (size_t t = 0; t < sizeof rgbs / sizeof rgbs[0]; t++) {
+		const double *rgb = rgbs[t];
+		double xyz[3], xyz_q[3], rgb_q[3], back[3], want, got, twin, bound = 0;
+		uint8_t pxyz[4], prgb[4];
+		struct ps_picture pic;
+		for (int i = 0; i < 3; i++)
+			xyz[i] = 179.0 * dot(m[i], rgb);
+		ps_rgbe_encode(xyz, pxyz);
+		ps_rgbe_encode(rgb, prgb);
+		ps_rgbe_decode(pxyz, xyz_q);
+		ps_rgbe_decode(prgb, rgb_q);
+		/* exact: standard RGB of the stored XYZ, / 179 */
+		for (int i = 0; i < 3; i++)
+			back[i] = dot(minv[i], xyz_q) / 179.0;
+		want = dot(coef, back) * w.sens_sum;
+		uniform(&pic, "32-bit_rle_xyze", NULL, pxyz);
+		got = response_of(&w, &pic);
+		ps_pic_free(&pic);
+		assert_true(relerr(got, want) <= 1e-12);
+		/* the RGBE twin */
+		uniform(&pic, "32-bit_rle_rgbe", NULL, prgb);
+		twin = response_of(&w, &pic);
+		ps_pic_free(&pic);
+		assert_true(relerr(twin, dot(coef, rgb_q) * w.sens_sum) <= 1e-12);
+		for (int c = 0; c < 3; c++) {
+			double stepx = 0.5 * ldexp(1, pxyz[3] - 136), stepr = 0.5 * ldexp(1, prgb[3] - 136);
+			double cy = 0;   /* coefficient of stored channel c in the response */
+			for (int i = 0; i < 3; i++)
+				cy += coef[i] * minv[i][c];
+			bound += fabs(cy) / 179.0 * stepx + coef[c] * stepr;
+		}
+		bound *= w.sens_sum;
+		assert_true(fabs(got - twin) <= bound + 1e-6 * twin);
+		/* and the quantisation is small: under 3 % (RGBE keeps 8 bits
+		 * of the largest channel; the others lose more) */
+		assert_true(bound < 0.03 * twin);
+	}
+	ps_weights_free(&w);
+}
+
+/* The issue's case: ra_xyze writes the unchanged XYZ with EXPOSURE=1/179;
+ * that reads as the radiance picture it came from. */
+static void xyze_with_ra_xyze_exposure(void **state)
+{
+	struct ps_weights w;
+	struct ps_picture pic;
+	double m[3][3], minv[3][3], xyz_q[3], back[3], rgb[3] = { 0.4, 0.45, 0.3 }, xyz[3];
+	char head[80];
+	uint8_t px[4];
+	(void)state;
+	cosine_weights(&w);
+	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	invert3(m, minv);
+	for (int i = 0; i < 3; i++)
+		xyz[i] = dot(m[i], rgb);
+	ps_rgbe_encode(xyz, px);
+	ps_rgbe_decode(px, xyz_q);
+	snprintf(head, sizeof head, "EXPOSURE=%.17g\n", 1.0 / 179.0);
+	uniform(&pic, "32-bit_rle_xyze", head, px);
+	for (int i = 0; i < 3; i++)
+		back[i] = dot(minv[i], xyz_q);   /* x 179 (1 / EXPOSURE) / 179 */
+	assert_true(relerr(response_of(&w, &pic), dot(coef, back) * w.sens_sum) <= 1e-12);
+	ps_pic_free(&pic);
+	ps_weights_free(&w);
+}
+
+/* COLORCORR= divides the stored channels, before any change of colour
+ * space, in RGBE and XYZE alike. */
+static void colorcorr_divides_stored_channels(void **state)
+{
+	struct ps_weights w;
+	struct ps_picture pic;
+	const uint8_t px[4] = { 90, 200, 150, 129 };
+	const double corr[3] = { 0.5, 2.0, 1.25 };
+	double m[3][3], minv[3][3], st[3], back[3], rgb[3];
+	char head[128];
+	(void)state;
+	cosine_weights(&w);
+	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	invert3(m, minv);
+	ps_rgbe_decode(px, st);
+	for (int c = 0; c < 3; c++)
+		st[c] /= corr[c] * 3.0;   /* COLORCORR and EXPOSURE=3 */
+	snprintf(head, sizeof head, "COLORCORR= %g %g %g\nEXPOSURE=3\n", corr[0], corr[1], corr[2]);
+	uniform(&pic, "32-bit_rle_rgbe", head, px);
+	assert_true(relerr(response_of(&w, &pic), dot(coef, st) * w.sens_sum) <= 1e-12);
+	ps_pic_free(&pic);
+	uniform(&pic, "32-bit_rle_xyze", head, px);
+	for (int i = 0; i < 3; i++)
+		back[i] = dot(minv[i], st) / 179.0;
+	assert_true(relerr(response_of(&w, &pic), dot(coef, back) * w.sens_sum) <= 1e-12);
+	/* lum.c (pspng, psshare) reads the same luminance: Y in cd/m2 is the
+	 * stored Y once COLORCORR and EXPOSURE are divided out */
+	{
+		struct ps_lum l;
+		ps_lum_init(&l, &pic);
+		ps_lum_rgb(&l, &pic, 3, 5, rgb);
+		assert_true(relerr(PS_LUM_EFFICACY * ps_lum_y(&l, rgb), st[1]) <= 1e-12);
+	}
+	ps_pic_free(&pic);
+	ps_weights_free(&w);
+}
+
+/* PRIMARIES= on RGBE: the default coefficients measure luminance, so the
+ * response is the Y of the picture's own primaries; the standard primaries
+ * written out change nothing; on XYZE the line is ignored. */
+static void primaries_keep_luminance(void **state)
+{
+	static const double srgb[8] = { 0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290 };
+	struct ps_weights w;
+	struct ps_picture pic;
+	const uint8_t px[4] = { 30, 220, 100, 127 };
+	double own[3][3], m[3][3], minv[3][3], st[3], xyz[3], std[3], plain, withstd;
+	char head[160];
+	(void)state;
+	cosine_weights(&w);
+	ps_rgbe_decode(px, st);
+	ps_rgb_to_xyz_matrix(srgb, own);
+	snprintf(head, sizeof head, "PRIMARIES= %g %g %g %g %g %g %g %g\n", srgb[0], srgb[1], srgb[2],
+	         srgb[3], srgb[4], srgb[5], srgb[6], srgb[7]);
+	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	invert3(m, minv);
+	for (int i = 0; i < 3; i++)
+		xyz[i] = dot(own[i], st);
+	for (int i = 0; i < 3; i++)
+		std[i] = dot(minv[i], xyz);
+	uniform(&pic, "32-bit_rle_rgbe", head, px);
+	assert_true(relerr(response_of(&w, &pic), dot(coef, std) * w.sens_sum) <= 1e-12);
+	/* which is the luminance of the own primaries, to the 9 digits the
+	 * default coefficients have */
+	assert_true(relerr(response_of(&w, &pic), xyz[1] * w.sens_sum) <= 1e-8);
+	/* and it differs from reading the bytes as standard RGB */
+	assert_true(relerr(response_of(&w, &pic), dot(coef, st) * w.sens_sum) > 1e-3);
+	ps_pic_free(&pic);
+	uniform(&pic, "32-bit_rle_rgbe", NULL, px);
+	plain = response_of(&w, &pic);
+	ps_pic_free(&pic);
+	uniform(&pic, "32-bit_rle_rgbe", "PRIMARIES= 0.640 0.330 0.290 0.600 0.150 0.060 0.3333 0.3333\n",
+	        px);
+	withstd = response_of(&w, &pic);
+	ps_pic_free(&pic);
+	assert_true(relerr(withstd, plain) <= 1e-12);
+	/* XYZE: PRIMARIES= means nothing */
+	uniform(&pic, "32-bit_rle_xyze", NULL, px);
+	plain = response_of(&w, &pic);
+	ps_pic_free(&pic);
+	uniform(&pic, "32-bit_rle_xyze", head, px);
+	assert_true(response_of(&w, &pic) == plain);
+	ps_pic_free(&pic);
+	ps_weights_free(&w);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(xyze_is_luminance_based),
+		cmocka_unit_test(xyze_with_ra_xyze_exposure),
+		cmocka_unit_test(colorcorr_divides_stored_channels),
+		cmocka_unit_test(primaries_keep_luminance),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
