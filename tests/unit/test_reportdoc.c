@@ -31,6 +31,9 @@ static void make_db(void)
 	struct psd_db *db = psd_db_open(dbpath, err, sizeof err);
 	long long id;
 	assert_non_null(db);
+	/* dated as psensd dates them (clock 0 = 2026-03-18 00:00 UTC): a row
+	 * with no date would be stamped with the wall clock (db.h) */
+	psd_db_set_epoch(db, 1773792000.0);
 	for (int day = 0; day < 2; day++)
 		for (double tod = 6 * 3600; tod < 20 * 3600; tod += 60) {
 			double t = day * 86400 + tod, sun = fmax(0, sin(M_PI * (tod - 6 * 3600) / (13 * 3600)));
