@@ -63,9 +63,12 @@ int psd_refresh_results(const struct psd_config *cf, const char *self)
 		return -1;
 	for (size_t i = 0; i < cf->nzone; i++) {
 		const char *r = psd_zone_results(cf, &cf->zone[i]);
-		int seen = r && cf->results && strcmp(r, cf->results) == 0;
-		for (size_t k = 0; k < i && !seen; k++)
-			seen = strcmp(r, psd_zone_results(cf, &cf->zone[k])) == 0;
+		/* none to make (no results), or made already for [psensd] or a zone before */
+		int seen = !r || (cf->results && strcmp(r, cf->results) == 0);
+		for (size_t k = 0; k < i && !seen; k++) {
+			const char *rk = psd_zone_results(cf, &cf->zone[k]);
+			seen = rk && strcmp(r, rk) == 0;
+		}
 		if (!seen && refresh_one(psd_zone_scene(cf, &cf->zone[i]), r, self) != 0)
 			return -1;
 	}

@@ -188,6 +188,46 @@ static void from_version_3(void **state)
 }
 
 /* A file from a newer psensd is not touched. */
+/* What version 4 wrote (MQTT: samples.utc, the cursor and the zones
+ * announced), and a development file of 4 that had the dates of 5
+ * already (samples.local): both come forward, an existing column kept,
+ * every row and the MQTT cursor with them. */
+static void from_version_4(void **state)
+{
+	static const char *const extra[2] = { "", "ALTER TABLE samples ADD COLUMN local TEXT;"
+	                                          "ALTER TABLE cal_samples ADD COLUMN utc REAL;" };
+	char err[256];
+	(void)state;
+	for (int k = 0; k < 2; k++) {
+		struct psd_db *db;
+		teardown(NULL);
+		exec(v1);
+		exec("ALTER TABLE samples ADD COLUMN zone TEXT;"
+		     "CREATE TABLE cal_sessions(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, kind TEXT NOT NULL,"
+		     " state TEXT NOT NULL, started REAL, ended REAL, config_sha256 TEXT, scene_sha256 TEXT,"
+		     " results TEXT, note TEXT);"
+		     "CREATE TABLE cal_samples(session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL,"
+		     " t REAL, level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));"
+		     "ALTER TABLE samples ADD COLUMN utc REAL;"
+		     "CREATE TABLE mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+		     "CREATE TABLE mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL, PRIMARY KEY(site, zone));"
+		     "INSERT INTO mqtt_cursor VALUES('b1', 2);"
+		     "UPDATE samples SET utc = 1773792000 + t;"
+		     "UPDATE meta SET value = '4' WHERE key = 'schema';");
+		exec(extra[k]);
+		db = psd_db_open(path, err, sizeof err);
+		if (!db)
+			fail_msg("%s", err);
+		assert_int_equal(psd_db_schema(db), PSD_DB_SCHEMA);
+		assert_int_equal(psd_db_mqtt_cursor(db, "b1"), 2);
+		assert_true(psd_db_last_utc(db) == 1773792000.0 + 21660);
+		psd_db_close(db);
+		assert_int_equal(scalar("SELECT count(*) FROM samples WHERE utc IS NOT NULL AND local IS NULL"), 2);
+		assert_int_equal(scalar("SELECT count(*) FROM events"), 0);
+		assert_int_equal(scalar("SELECT count(*) FROM acceptance_tests"), 0);
+	}
+}
+
 static void newer_refused(void **state)
 {
 	char err[256];
@@ -224,6 +264,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(from_version_1, setup, teardown),
 		cmocka_unit_test_setup_teardown(from_version_2, setup, teardown),
 		cmocka_unit_test_setup_teardown(from_version_3, setup, teardown),
+		cmocka_unit_test_setup_teardown(from_version_4, setup, teardown),
 		cmocka_unit_test_setup_teardown(newer_refused, setup, teardown),
 		cmocka_unit_test_setup_teardown(new_file, setup, teardown),
 	};
