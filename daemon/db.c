@@ -637,10 +637,6 @@ static void csv_row(void *user, const struct psd_sample *s)
 	csv_text(fp, s->fault);
 	fputc(',', fp);
 	csv_text(fp, s->zone);
-	fputc(',', fp);
-	csv_num(fp, s->utc);
-	fputc(',', fp);
-	csv_text(fp, s->local);
 	fputc('\n', fp);
 }
 
@@ -657,8 +653,8 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 		psd_db_close(db);
 		return -1;
 	}
-	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone,"
-	      "utc,local\n",
+	/* the old form, kept as it was (psensctl export has the dates) */
+	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone\n",
 	      (FILE *)out);
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
 		struct psd_sample s;

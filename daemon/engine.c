@@ -756,11 +756,13 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			cal_act(z, &ask);
 		}
 		if (psd_calsession_level(&z->cal, now, &level)) {
-			/* a calibration session holds the lights; the estimate
-			 * still follows the room (issue 17: it froze) */
+			/* a calibration session holds the lights; in a day
+			 * session the estimate still follows the room (issue 17:
+			 * it froze); a night session's steps, measuring the
+			 * constants the estimate uses, have none */
 			if (rc == 0) {
 				psd_control_estimate(&z->ctl, z->volts);
-				estimated = 1;
+				estimated = z->cal.kind != PSD_CAL_NIGHT;
 			}
 		} else if (rc == 0) {
 			dated_ratio(e, z, now);
