@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # psensd: one Makefile for the whole tree.  The layout is the architecture:
 #   sim/      the simulation library (libpsim.a) and its tools in sim/cmd/
 #   drivers/  device drivers behind one method table (libpsdrv.a); no simulation here
@@ -191,6 +192,9 @@ run: deps
 	    $(MAKE) --no-print-directory all > $(BUILD)/build.log 2>&1 || \
 	    { cat $(BUILD)/build.log; echo "make run: the build failed ($(BUILD)/build.log)" >&2; exit 1; }; \
 	fi
+	@# config/psensd.conf keeps the example's results and log in build/,
+	@# whatever BUILD this make uses
+	@mkdir -p build
 	@$(BUILD)/bin/psensd -f config/psensd.conf -s
 
 # The golden day (tests/data/golden-day.csv): run the example day again, say

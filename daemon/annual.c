@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "annual.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A year of control: one zone's control law run against the loopback room
  * playing every day of the results' year (roomsetup.h, psd_room_from_year),
  * at the control period, directly (no devices, no database, no event loop:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "calfit.h"
 
 #include <math.h>

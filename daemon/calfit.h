@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Calibration arithmetic: pure functions, each tested against analytic
  * answers (tests/unit/test_calfit.c).
  *

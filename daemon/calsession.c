@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Calibration sessions (see calsession.h). */
 #include "calsession.h"
 

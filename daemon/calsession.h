@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* On-site calibration sessions, one per zone, driven by the zone's control
  * steps.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The daemon's clock: one type for real time and for a simulated day, so the
  * tests run a day in seconds through the same event loop and control code.
  *

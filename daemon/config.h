@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psensd.conf: the daemon's whole configuration, read and checked in one
  * pass (every error as file:line), so that `psensd -n` and SIGHUP can judge
  * a file before anything is changed.  See psensd.conf(5).

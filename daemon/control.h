@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Control laws: pure functions of a reading and their state, so each is
  * tested alone (psensd.conf(5) documents the constants).  Notation (the
  * literature's; doc/control.md): u the light output (0..1), S the

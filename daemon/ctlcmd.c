@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The control socket's commands: one request line in, one JSON line out.
  * Every reply has "ok"; a failed one has "error" too.  psensctl(1) lists
  * the commands; `help` does as well. */

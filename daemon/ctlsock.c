@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "ctlsock.h"
 
 #include <errno.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The control socket: a Unix stream socket, one request per line, one reply
  * line per request (JSON; psensctl(1) and socat(1) both speak it).
  *

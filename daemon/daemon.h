@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psensd's state as a whole: the engine (devices, zones, log), the clock,
  * the control socket, and what the event loop needs to reload and stop.
  * One value, no globals: tests build and tear down as many as they like. */

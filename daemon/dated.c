@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "dated.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The dated daylight ratio: when the scene's results carry a year (psscene
  * with a weather file), the expected task lux per unit of daylight sensor
  * response for this month and hour of day under the sky condition the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The database: one SQLite file (WAL) holding the sample log and the
  * calibration records, readable while psensd writes it.  This module owns
  * the whole schema, every statement and the migrations: the version is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "devio.h"
 
 #include <errno.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* One I/O thread per blocking device: the event loop never waits on a
  * device.  A Modbus transaction blocks (libmodbus has no non-blocking
  * call) for up to timeout x (retries + 1), and a connect as long again;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The running control: the configuration's devices opened, their points
  * attached, and per zone the control state, its faults and its statistics.
  * It does no waiting and reads no clock: the event loop (daemon/loop.c)

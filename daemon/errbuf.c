@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "errbuf.h"
 
 #include <stdarg.h>

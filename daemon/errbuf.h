@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The daemon's one way to report a failure to its caller: a message in the
  * caller's buffer and -1.  (sim/ returns struct ps_err; drivers/ set errno
  * and dev->err through ps_dev_fail.) */

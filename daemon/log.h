@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The daemon's one logging module (OpenBSD shape): stderr in the
  * foreground, syslog otherwise; errno is preserved.
  *

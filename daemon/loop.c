@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The event loop: one poll() over the signals, the control socket and the
  * drivers' descriptors, with the timeout set by the next deadline.  A
  * simulated clock jumps to that deadline instead of waiting, so a day runs

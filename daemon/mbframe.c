@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Modbus TCP and RTU framing for a server (see mbframe.h). */
 #include "mbframe.h"
 

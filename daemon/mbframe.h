@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Modbus framing for a server: requests found in a connection's bytes and
  * replies built around a PDU (mbpdu.h), for Modbus TCP (the MBAP header)
  * and Modbus RTU (address, PDU, CRC-16, frames ended by a silence).  No I/O

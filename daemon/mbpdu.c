@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Modbus request PDUs answered from a register map (see mbpdu.h). */
 #include "mbpdu.h"
 

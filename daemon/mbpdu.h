@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The server side of the Modbus application protocol: one request PDU in,
  * one reply PDU out, from a register map given as callbacks.  No framing and
  * no I/O (mbframe.h frames it for TCP and RTU), so a server can answer many

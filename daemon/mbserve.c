@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A non-blocking Modbus TCP and RTU server loop (see mbserve.h). */
 #include "mbserve.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A Modbus server that never blocks: a TCP listener and its clients, or one
  * serial line, in one poll loop, each connection with its own buffers,
  * framing (mbframe.h) and deadlines, so no client can delay another.

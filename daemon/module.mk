@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # daemon/: test tools that join the drivers and the daemon's control law.
 # mbdrive (tests/system/peers/mbdrive.c) runs the Modbus driver from the
 # command line for the 3xx system tests and the Modbus benchmark.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* MQTT (psensd-mqtt(7)): psensd's samples, events and availability
  * published to a broker, commands taken from it, Home Assistant discovery.
  *

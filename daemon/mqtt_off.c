@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* MQTT in a build without libmosquitto (WITH_MQTT=no, or auto without it):
  * the [mqtt] section is still read and judged, and a file that has one is
  * refused at start rather than run without its telemetry. */

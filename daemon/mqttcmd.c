@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "mqttcmd.h"
 
 #include <json-c/json.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* MQTT command payloads (psensd-mqtt(7)): a message on
  * psensd/<site>/<zone>/set/<verb> becomes the control-socket request that
  * does the same (psensctl(1)), so that it is judged by the very code that

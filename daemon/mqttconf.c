@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "mqttconf.h"
 
 #include <errno.h>

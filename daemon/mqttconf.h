@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The [mqtt] section of psensd.conf (psensd.conf(5), psensd-mqtt(7)): where
  * the broker is, who psensd is there, and how fast a backlog may go.  Read
  * and judged with the rest of the file (every error as file:line), so that

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "mqttmsg.h"
 
 #include <json-c/json.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* What psensd publishes over MQTT, as text (psensd-mqtt(7)): a zone's state
  * from a logged sample, and the Home Assistant discovery messages.  No
  * broker here: daemon/mqtt.c sends what these build. */

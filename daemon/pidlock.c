@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "pidlock.h"
 
 #include <errno.h>

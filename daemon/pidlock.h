@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* An exclusive lock with its holder's pid: a file next to what it guards
  * (the control socket, the database), locked with flock(2) for as long as
  * the daemon runs.  The kernel drops the lock when the process ends, even

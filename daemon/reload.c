@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A reload (SIGHUP, psensctl reload): the new configuration replaces the
  * running one only when it loads and its devices open; otherwise the
  * running one stays and the reasons are logged and, for the control

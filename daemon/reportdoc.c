@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "reportdoc.h"
 
 #include <cairo-pdf.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The commissioning record (psensctl report): a document drawn with cairo
  * from the database (and, when given, the configuration): a cover with the
  * site, zones, sensors, scene, the configuration's SHA-256, dates, verdicts

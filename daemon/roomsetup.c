@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "roomsetup.h"
 
 #include <math.h>

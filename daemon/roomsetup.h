@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* From the scene's precomputed results to a simulated room's parameters
  * (drivers/room.h), which the daemon hands to a simulated device through
  * the driver table's setup hook.  The one daemon file that builds a room

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sample log as CSV, JSON or a table: see sampleout.h. */
 #include "sampleout.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sample log for people and programs: time arguments (ISO 8601 local or
  * UTC date-time, or Unix seconds), and rows as CSV, JSON or a table
  * (psensctl log and export). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "textbox.h"
 
 #include <errno.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The report's text boxes: every text the document draws records the box
  * it covers (page, left, top, right, bottom in points), so a test can check
  * that no two texts on a page overlap and that pages are filled. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psvirt's register map over the zones' rooms (see virtmap.h). */
 #include "virtmap.h"
 

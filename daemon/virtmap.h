@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psvirt's register map (psvirt(1), REGISTER MAP): the rooms of up to ten
  * zones on one ADAM-6024-style 0-10 V module with a lux meter per zone.
  * Zone k (0 to 9) is channel k:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* One zone's virtual room for psvirt (see virtroom.h): a loopback device
  * opened through the driver registry, as psensd opens it, with a sensor, a
  * task meter and a dim point, given its room by roomsetup.c through the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* One zone's virtual room for psvirt: the loopback room psensd -s runs,
  * opened through the driver registry and built from the scene's results as
  * psensd builds it (roomsetup.h, the table's setup hook), with the loopback

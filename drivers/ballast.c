@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "ballast.h"
 
 #include <math.h>

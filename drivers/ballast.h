@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A dimming ballast and its lamp: commands pass through a fade-rate limit and
  * a minimum level, and the light output follows with a first-order lag
  * dy/dt = (f - y) / tau.  Between events the fade target f is linear in time,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The DALI layer: frames, commands and the logarithmic dimming curve
  * (see dali.h; the facts are IEC 62386-102's as doc/hardware.md section 2
  * restates them). */

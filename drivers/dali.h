@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The DALI layer (IEC 62386-101/102): addresses, 16-bit forward frames, the
  * commands a dimming daemon needs, and the standard logarithmic dimming
  * curve.  Pure functions: no USB, no clock, no state.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* DALI commissioning jobs as step machines (see dali_commission.h).
  *
  * Each job is a program counter (pc) and a few registers.  run() does what

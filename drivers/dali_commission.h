@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* DALI commissioning (IEC 62386-102) as step-wise jobs: a bus scan, the
  * random-address search that gives ballasts short addresses, group
  * membership, identifying a ballast by flashing it, and checking that a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A USB-to-DALI interface as the DALI USB driver sees it: its USB identity and
  * endpoints, and how a DALI forward frame becomes an OUT report and an IN
  * report becomes an event.  The transports are pure byte codecs; the USB I/O,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0.
  * See psensd-dali_usb(7) for the options.
  *

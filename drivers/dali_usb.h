@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The DALI USB driver's extras beyond the driver.h table: counters for tests,
  * benchmarks and psensctl.  The driver itself is ps_driver_dali_usb. */
 #ifndef PS_DALI_USB_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* What every driver shares besides its options: role names, the one way to
  * fail (dev->err and errno), and what a failure means to the daemon. */
 #include <errno.h>

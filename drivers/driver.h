@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The driver interface: one small table of methods per driver, one file per
  * driver, all registered in drivers/registry.c.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The file driver: each point is a small text file holding one number.  A
  * sensor or a task meter reads the number someone (a person, a script,
  * another program) wrote there; a dim or relay output writes its level

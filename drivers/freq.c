@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "freq.h"
 
 #include <string.h>

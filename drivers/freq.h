@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Frequency from edge timestamps over a gate, for light-to-frequency
  * sensors (TSL230R kind) read through GPIO edge events.  Pure: no I/O, so
  * the arithmetic and the overrun rule are unit-tested alone.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The GPIO driver (libgpiod 1.6, the kernel's v1 character-device
  * interface): relays, buttons and occupancy inputs, and light-to-frequency
  * sensors of the TSL230R kind.  See psensd-gpio(7).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The loopback driver: the virtual room (room.h) behind the driver table.
  * Its keys are in lb_options below (psensd.conf(5) and psensd -L list
  * them); the obstruct fault makes the sensor see half its daylight, drift

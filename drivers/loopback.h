@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The loopback driver: the virtual room (room.h) behind the driver table, so
  * psensd runs and is tested with no hardware. */
 #ifndef PS_LOOPBACK_H

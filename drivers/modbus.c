@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The Modbus driver (libmodbus): analog input and output modules and task lux
  * meters over Modbus TCP or RTU.  psensd-modbus(5) documents every option.
  *

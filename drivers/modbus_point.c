@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Modbus point options, register decoding and scaling (modbus_point.h). */
 #include <errno.h>
 #include <float.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Modbus points: where a value lives on a module and how its registers become
  * volts or lux (and a light output becomes registers).  Pure functions, no
  * I/O, so every decoding and scaling rule is unit-tested without a network.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # drivers/: which drivers this build compiles.  Included by the Makefile
 # before its rules (it sets DRV_SRC, CFLAGS_ALL and LIBS_OPT).
 #

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Driver options through their tables (opts.h). */
 #include "opts.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Driver options.  A configuration section hands a driver its keys as a
  * struct ps_opts (key, value, file and line); each driver declares the keys
  * it takes in one table of struct ps_opt_spec (key, type, default, range,

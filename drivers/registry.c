@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Every driver this build knows.  A driver whose library was not found at
  * build time stays in the table and fails with "not compiled in" (its keys
  * are then not judged: a stub has no option table).  drivers/module.mk

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Replay files: a day of daylight read back from the CSV that
  * `psensctl export --csv` writes, so the loopback room can replay a real
  * site's day.  Columns are found by name in the header line; the replay

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The virtual room (see room.h). */
 #include <errno.h>
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The virtual room: a stateful model of one daylit zone, used by the loopback
  * driver and by psvirt.  It knows numbers, not the simulation: the daemon fills
  * struct ps_room_params from the scene's precomputed results.

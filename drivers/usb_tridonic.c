@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The Tridonic / Lunatone DALI USB interface (USB 17b5:0020) as a byte codec.
  * The protocol is reverse-engineered (daliserver, python-dali, dali_mon agree;
  * doc/hardware.md section 1).  64-byte reports both ways.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Batches of pictures on one weight map: a pool of pthreads takes picture
  * indices from a shared counter; each writes only its own results. */
 #include "batch.h"

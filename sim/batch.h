@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Batches: one weight map (one sensor, reading, rotation, view, size,
  * method) applied to many pictures, read and integrated in parallel.
  *

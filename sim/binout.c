@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "binout.h"
 
 #include <unistd.h>

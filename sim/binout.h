@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Binary output (pictures) and terminals: a tool that would write a picture
  * to standard output refuses when that is a terminal, and says how to get
  * the picture instead. */

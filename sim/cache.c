@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "cache.h"
 
 #include <ctype.h>

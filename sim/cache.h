@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Content-keyed cache of integration results: the key is a SHA-256 (nettle)
  * of every input's bytes and every option, so a rerun recomputes exactly what
  * changed.  One small text file per entry under the cache directory. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A picture to look at: an 8-bit RGB raster (a cairo image surface) that the
  * tools fill pixel by pixel, draw marks and text on with cairo, and write as
  * PNG with libpng (with the colour encoding stated in the file and text

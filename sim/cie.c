@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "cie.h"
 
 #include <stdio.h>

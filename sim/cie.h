@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The CIE tables psensd ships (sim/data/cie, CC BY-SA 4.0): colour-matching
  * functions, V(lambda) and the illuminants, compiled in as data. */
 #ifndef PS_CIE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The command line every program shares: see cli.h. */
 #include "cli.h"
 

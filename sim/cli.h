@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* What every program's command line shares (sim tools and daemon programs
  * alike; daemon/ may include sim/ headers):
  *   -h, --help     usage on standard output, exit 0

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* INI configuration files (the scene file and psensd.conf) read with inih,
  * with every error located as file:line and all of them reported in one pass.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "contour.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Contour lines of a sampled field (marching squares), drawn on a canvas.
  *
  * The field is nx x ny samples, row-major, row 0 at the top; a NaN sample

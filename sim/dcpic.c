@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "dcpic.h"
 
 #include <math.h>

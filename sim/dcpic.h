@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Daylight-coefficient pictures of an unobstructed sky, made exactly: for a
  * fisheye view, one picture per sky patch (ground included) with radiance 1
  * where a pixel's centre ray falls in that patch and 0 elsewhere.  That is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "dcset.h"
 
 #include <stdio.h>

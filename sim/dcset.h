@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A daylight-coefficient picture set: one fisheye per sky patch (ground
  * included), as Radiance's rfluxmtx / rcontrib write them with
  * -o dc_%03d.hdr, and its coefficient row for a sensor.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "epw.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* EnergyPlus .epw weather files (EnergyPlus Auxiliary Programs, "EnergyPlus
  * Weather File (EPW) Data Dictionary"): eight header lines
  *   LOCATION,city,state,country,source,WMO,latitude,longitude,time zone,elevation

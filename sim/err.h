@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Errors of the simulation library: a project code with one strerror, and a
  * message that names the file and the line or byte offset.  The library never
  * prints; the tools print ps_err.msg. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "falsecolor.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* False colour: a value on a linear or logarithmic scale to a colour of a
  * blue-to-red palette (Radiance falsecolor's order: dark blue low, red at the
  * top), white above the scale, and the legend strip that names the colours'

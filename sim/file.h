@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Reading a whole input file into memory, with a size limit. */
 #ifndef PS_FILE_H
 #define PS_FILE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "fisheye.h"
 
 #include <math.h>

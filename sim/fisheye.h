@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fisheye projections as Radiance's viewray() defines them, in "plane"
  * coordinates (u, v) scaled so that the field's edge is at rho = 1:
  *   angular (-vta):       u = (fx - 0.5 + vs) vh/180,      theta = pi rho

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Turn the CIE tables (sim/data/cie/*.txt: "# " header lines, then
 # "wavelength value [value value]" rows on a uniform grid) into C arrays, so
 # the programs need no data path at run time.  The text files stay the source

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "integrate.h"
 
 #include <math.h>

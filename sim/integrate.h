@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The response of a sensor to a picture: sum over pixels of
  * (R r + G g + B b) x pixel weight, in double with compensated sums. */
 #ifndef PS_INTEGRATE_H

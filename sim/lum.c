@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "lum.h"
 
 #include "integrate.h"

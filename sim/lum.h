@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A Radiance picture's pixels as Radiance RGB and as luminance.
  *
  * Radiance's convention: a pixel holds radiance in W/(sr m2) per channel, and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Where a fisheye picture sits on a canvas, and the marks that say how to
  * read it: polar-angle rings (30, 60, 90 ... degrees from the view
  * direction), azimuth ticks every 30 degrees labelled at 0 (the picture's up),

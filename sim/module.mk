@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # sim/: the CIE tables are compiled into libpsim from sim/data/cie/*.txt.
 CIE_TXT := $(wildcard sim/data/cie/*.txt)
 $(BUILD)/gen/cie_tables.c: $(CIE_TXT) sim/gen-cie.sh

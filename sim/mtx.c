@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "mtx.h"
 
 #include <stdint.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance's matrix files as gendaymtx writes them (read by dctimestep,
  * rmtxop):
  *   #?RADIANCE

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "patches.h"
 
 #include <math.h>

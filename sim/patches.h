@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sky subdivisions of Tregenza (MF 1: 145 patches) and Reinhart (MF n:
  * each Tregenza patch cut n x n, the zenith cap kept whole), plus the
  * ground, numbered as Radiance's gendaymtx, reinhartb.cal and rfluxmtx

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "perez.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The Perez all-weather sky for one time step:
  *   Perez, Seals, Michalsky 1993, "All-weather model for sky luminance
  *   distribution - preliminary configuration and validation", Solar Energy

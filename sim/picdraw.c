@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "picdraw.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A Radiance picture's pixels on a canvas: tone mapped, or in false colour
  * of luminance.  Each picture pixel becomes a zoom x zoom block with its
  * top-left corner at (ox + zoom x, oy + zoom row), standard orientation. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance picture reading and writing.
  *
  * The whole file is read into memory and decoded in one pass into 4-byte

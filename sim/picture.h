@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance pictures (.hdr, .pic): reading and writing.
  *
  * A picture is kept as the 4-byte RGBE (or XYZE) pixels the file stores, in

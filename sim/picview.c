@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "picview.h"
 
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The fisheye view of a picture, as psens takes it: its VIEW= lines (and
  * rpict command lines) on top of Radiance's default view, or -vta -vh 180
  * -vv 180 when it has none; checked to be a fisheye psens integrates. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "quad.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Adaptive quadrature: Gauss-Kronrod 7-15 on each interval, the interval
  * with the largest error estimate halved until the estimates sum below the
  * tolerance.  The error stated is the sum over intervals of |K15 - G7|,

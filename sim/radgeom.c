@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "radgeom.h"
 
 #include <errno.h>

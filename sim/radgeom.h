@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The geometry of a Radiance scene description, enough to say which surface
  * a ray from a viewpoint meets first (the regions psshare names).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "regions.h"
 
 #include <ctype.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Which part of the scene each pixel of a fisheye view sees: the regions a
  * sensor's signal is split into.
  *

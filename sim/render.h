@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Rendering missing pictures with Radiance's rpict, for users who have it:
  * the smallest view that holds the sensitivity, run with an argument vector
  * (never a shell), its output written to the picture file. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "rescan.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Re-evaluation without re-weighting: a picture projected once onto a fine
  * (theta, phi) grid, then a sensor at any of many rotations (or several
  * sensors) evaluated in one pass over the grid's cells each.

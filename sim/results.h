@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The results of a scene precompute: per condition the sensor response, the
  * task illuminance and their ratio, and the summaries psensd runs on.  Written
  * by psscene, read by psensd; a versioned INI file (psscene(5)). */

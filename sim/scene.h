@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A scene: the sensor, the task point and the conditions whose renders give
  * the simulated task-sensor ratios (the scene file, psscene(5)). */
 #ifndef PS_SCENE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Photosensor angular sensitivity: the rsensor / SPOT table layout, its two
  * readings, and the built-in ideal sensors.
  *

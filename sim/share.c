@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "share.h"
 
 #include <stdlib.h>

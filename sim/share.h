@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Where a sensor's signal comes from: each pixel's share of the response
  * (its exact weight x the colour coefficients . its radiance, over the sum
  * of these, which is what ps_integrate gives), and the shares of regions.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "sky.h"
 
 #include <math.h>

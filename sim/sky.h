@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sky of one time step as Radiance's gendaymtx makes it (the Perez
  * all-weather model of perez.h, its sun spread over the nearest patches,
  * the ground), as a vector of patch radiances for any subdivision, and as a

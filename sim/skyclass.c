@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "skyclass.h"
 
 #include <math.h>

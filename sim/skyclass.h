@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sky class of an hour from one measured number: the global horizontal
  * illuminance a rooftop sensor reads, at a site, date and standard time.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "spectral.h"
 
 #include <errno.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Colour-correction filters: from a filter's spectral response to the R, G, B
  * coefficients psens takes, and how far the sensor strays from true
  * illuminance under each CIE illuminant.

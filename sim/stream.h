@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Integration fused with decoding: a picture in memory is decoded row by
  * row into one scanline buffer and each row integrated at once, so its
  * pixels are never stored; rows the weights do not reach are checked but

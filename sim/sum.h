@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Compensated (Neumaier) summation: every accumulation in the simulation goes
  * through this, so that a 1e9 sun next to 1e-2 walls loses nothing. */
 #ifndef PS_SUM_H

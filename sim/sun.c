@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "sun.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sun's position from the date, the standard time and the site, with the
  * approximate formulas of the IES Lighting Handbook that Radiance's gensky
  * and gendaymtx use (declination and equation of time as sines of the day of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "tonemap.h"
 
 #include <math.h>

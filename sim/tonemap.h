@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Tone mapping: a Radiance picture's radiances to 8-bit display values.
  *
  * Exposure multiplies radiance (W/(sr m2)) before the curve, so a value of 1

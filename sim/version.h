@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The project's version, printed by the tools' -V/--version. */
 #ifndef PS_VERSION_H
 #define PS_VERSION_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance view options (-vt? -vp -vd -vu -vh -vv -vs -vl -vo -va) and the
  * fisheye projections psens integrates over. */
 #ifndef PS_VIEW_H

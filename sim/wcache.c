@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Weight maps in the cache: payload
  *   u32 PS_WEIGHTS_ALGO_VERSION, i32 width, i32 height, i32 method,
  *   u64 nruns, u64 nw, f64 solid_angle, sens_sum, sens_full, coverage,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Weight maps kept in the cache directory psscene uses (sim/cache.c's
  * binary entries): a map is found again by its content - the sensor's
  * table (not its file name), the reading, the rotation, the view's type,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "wea.h"
 
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance / DAYSIM .wea weather files:
  *   place <name>                     (any text; city_country by convention)
  *   latitude <degrees north>

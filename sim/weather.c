@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "weather.h"
 
 #include <errno.h>

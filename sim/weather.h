@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A weather series: the hours of a Radiance .wea or an EnergyPlus .epw file,
  * each with its date, standard time, direct and diffuse values, the dew point
  * the sky model uses and the sun's position.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "weights.h"
 
 #include <sys/mman.h>

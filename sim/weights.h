@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Pixel weights: for each pixel of a fisheye picture, the integral of the
  * sensor's sensitivity over the pixel's footprint on the sphere.
  *

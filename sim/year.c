@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 #include "year.h"
 
 #include <math.h>

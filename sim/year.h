@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A year of a weather file through daylight-coefficient rows: for every
  * hour with light (dark hours are skipped: direct + diffuse <= 1e-4, as the
  * sky model makes them), the sky vector of that hour (sky.h, gendaymtx's

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Install the Debian packages named on the command line that are missing.
 # As root it runs apt-get; otherwise it prints the command to run and fails.
 missing=""

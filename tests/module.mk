@@ -1,12 +1,10 @@
+# SPDX-License-Identifier: ISC
 # tests: unit tests (cmocka, one program per tests/unit/test_*.c), system tests
 # (tests/system/NNN-*.sh against the real binaries), libFuzzer targets, benchmarks.
 UNIT_SRC   := $(wildcard tests/unit/test_*.c)
 UNIT_BINS  := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(UNIT_SRC))
 UNIT_HELP  := $(wildcard tests/unit/helpers/*.c)
 SYS_TESTS  := $(sort $(wildcard tests/system/[0-9]*.sh))
-# 006-spdx.sh (every source file's SPDX line) joins once the SPDX lines are in:
-# delete this line then.  Run alone: sh tests/run.sh tests/system/006-spdx.sh
-SYS_TESTS  := $(filter-out tests/system/006-spdx.sh,$(SYS_TESTS))
 BENCH_SRC  := $(wildcard tests/bench/bench_*.c)
 BENCH_BINS := $(patsubst tests/bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
 TEST_LIBS   = $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
@@ -25,7 +23,9 @@ tests: all $(UNIT_BINS) $(TEST_EXTRA)
 # everything, then runs every unit and system test; ends with "N passed, N failed".
 check: deps
 	$(MAKE) tests
-	BUILD=$(BUILD) BIN=$(BUILD)/bin TOP=$(CURDIR) sh tests/run.sh $(UNIT_BINS) $(SYS_TESTS)
+	@# '+': some tests run make themselves (091 runs make run): they share
+	@# this make's jobserver instead of warning that it is unavailable
+	+BUILD=$(BUILD) BIN=$(BUILD)/bin TOP=$(CURDIR) sh tests/run.sh $(UNIT_BINS) $(SYS_TESTS)
 
 bench: all $(BENCH_BINS)
 	@for b in $(BENCH_BINS); do echo "== $$b"; BUILD=$(BUILD) $$b || exit 1; done

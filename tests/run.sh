@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Run every test program and script given on the command line, read their TAP
 # output (cmocka with CMOCKA_MESSAGE_OUTPUT=TAP, system scripts through
 # tests/system/lib.sh) and end with one line: "check: N passed, N failed, N skipped".

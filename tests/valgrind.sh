@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The daemon's system tests once under valgrind: psensd and psensctl are
 # replaced (through $BIN) by wrappers that run the real binaries under
 # memcheck with --track-fds, each process logging to its own file.  Then

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psensctl: talk to psensd over its control socket, and export its log.
  *
  *   psensctl [-s socket] [-j] status [ZONE] | target ZONE LUX |

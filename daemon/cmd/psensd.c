@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psensd: the photosensor commissioning daemon.  It loads the scene's
  * precomputed ratios (rerunning psscene when they are stale), reads the
  * photosensors, commands the ballasts, logs every sample, and takes commands

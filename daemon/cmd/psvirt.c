@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psvirt: the loopback virtual room served as a Modbus device, so psensd's
  * real Modbus driver runs the whole control loop with no hardware; one room
  * per zone for a whole site.

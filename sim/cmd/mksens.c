@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* mksens: a sensor's angular sensitivity as an angular-fisheye Radiance
  * picture (whiter = more sensitive), to see how the sensor is oriented; or as
  * a PNG with its marks (azimuth 0 = the picture's up, the sensor's rotation,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psens: the signal a photosensor gives for fisheye pictures of a room.
  *   psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell] [-c] [-j|-o{a|f|d}]
  *         [-n threads] [-C cachedir | -N] picture...

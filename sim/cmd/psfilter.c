@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psfilter: a photosensor's colour filter as psens's R, G, B coefficients, and
  * how far its reading strays from true illuminance under the CIE illuminants.
  *   psfilter [-c illuminant] [-p | -P] [-j] FILTER

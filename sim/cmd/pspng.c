@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* pspng: a Radiance picture as a PNG to look at: exposure, a tone curve, or
  * false colour of luminance with a legend in cd/m2.
  *   pspng [-o out.png] [-e EXP|auto] [-t linear|gamma|srgb|reinhard] [-g G]

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psscene: precompute a space's simulated task-sensor ratios from fisheye
  * renders at the sensor and at the task, for each daylight and electric
  * condition of a scene file; write the results file psensd runs on.

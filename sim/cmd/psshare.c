@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psshare: where a photosensor's signal comes from.  Each pixel's share of
  * the response of a fisheye render, a PNG of it, and the shares of the
  * scene's surfaces (from its Radiance geometry) or of angular sectors.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* pssky: a sky matrix from a weather file, as Radiance's gendaymtx makes it:
  * the Perez all-weather sky on the Tregenza / Reinhart patches and the
  * ground, one column per time step, in Radiance's matrix format.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* pssynwea: a synthetic typical year as a Radiance .wea file (hourly direct
  * normal and diffuse horizontal irradiance), for when no measured typical
  * year may be shipped.  NOT measured weather: a clear-sky model times a

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The control socket's latency while the devices are slow: 10 zones on 3
 # psvirt Modbus modules answering every request 300, 400 and 500 ms late
 # (tests/system/247-psensd-slow-modules.sh, here for 30 s), `status` on a new

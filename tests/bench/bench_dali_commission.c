@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* DALI commissioning at the real bus rate: the emulated Tridonic interface
  * (tests/emu) with its bus timing on holds every report back until its
  * frames would have ended at 1200 bit/s (15.8 ms a forward frame, the

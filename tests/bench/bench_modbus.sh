@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Modbus TCP on loopback against psvirt: the driver's round trip (median, 99th
 # percentile) and the highest poll rate it sustains without missing its
 # deadline, beside mbpoll doing the same reads (its own floor is a 10 ms poll

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensd's MQTT publisher against a real mosquitto on 127.0.0.1: the
 # catch-up of a day of backlog from 100 zones at a 60 s period (144000
 # samples written into the log before psensd starts, as after a broker

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance picture decoding throughput, sizes 64 to 4096.
  * Each picture is an analytic fisheye-like scene (a smooth sky gradient,
  * flat walls that run-length encode well, and a bright disc), written with

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psens: error against run time, for the paper's centre-point weights and
  * the exact ones, at picture sizes 64 to 4096.
  *   error:     relative error of an ideal cosine sensor (exact answer pi) and

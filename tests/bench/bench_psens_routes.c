@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psens's routes against the goals of issue 18: error and wall time for
  * one-shot runs of the psens binary (cold and warm weight cache), the
  * library's decoding against its integration, batches of many pictures

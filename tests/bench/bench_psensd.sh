@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensd in real time on the loopback room (period 1 s, 0.1 s and 0.01 s;
 # one zone, the SQLite log committing every sample): CPU time per wall
 # second, peak memory (VmHWM), the latency from a reading to the command it

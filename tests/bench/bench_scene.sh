@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Scene precompute: the example scene cold (empty cache) and warm, and the
 # error against run time of the validation office's renders (bounces and
 # resolution against the converged reference).

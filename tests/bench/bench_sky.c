@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sky: the daylight-coefficient route against the continuous Perez sky,
  * its error against MF and its run time (issue 19, section 4).
  *

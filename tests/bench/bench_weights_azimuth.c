@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Exact weights of a sensor that changes with azimuth (no symmetry to
  * mirror): wall time of ps_weights_build on every core, cold (nothing
  * cached), and the error of the map's total against the sensitivity's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The year through daylight-coefficient rows: run time of the precompute
  * (weights and coefficients) and of the year (8760 skies through the rows)
  * against MF, for an upward cosine sensor under an open sky (exact

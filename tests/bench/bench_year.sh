@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # A year of control (psensd -Y, issue 19): the example office's results
 # year (synthetic weather: config/example/ofb/weather/README.md), every zone,
 # the set-point law and the four others, at control periods of 60 and 10 s:

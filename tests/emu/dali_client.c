@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* dali-client: drive the dali_usb driver through its driver.h table, for the
  * system tests (a process apart from the emulator, as psensd will be).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psemu: the emulated DALI USB interface and its ballasts (see dali_emu.h).
  * The byte layouts are written here from the tables of doc/hardware.md, not
  * taken from the driver's codec, so the emulator checks the driver instead of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psemu: an emulated Tridonic/Lunatone DALI USB interface (17b5:0020) with
  * DALI ballasts on its bus, behind real libusb through libumockdev (vusb.h).
  *

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # tests/emu: the emulated DALI USB interface (libumockdev + real libusb) for the
 # DALI driver's tests.  Built only when the driver is (libusb) and umockdev is
 # there; the tests that need it skip otherwise.

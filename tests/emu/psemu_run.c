@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psemu-run: host emulated DALI USB interfaces in this process and run a
  * program as a child, whose real libusb reaches them through umockdev
  * (doc/emulation.md 2.4).  Run with libumockdev-preload.so.0 preloaded:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The emulated GPIO chip (see vgpio.h).  How it fits umockdev: the chip
  * node and a pool of extra nodes are emulated; a line request answers with a
  * new descriptor the handler opens on a pool node *through the preload*, so

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* An emulated GPIO chip for tests (the kernel's v1 character-device
  * interface, as libgpiod 1.6 uses it), served by umockdev inside the process
  * under test.  It keeps the kernel's limits: each event line buffers 16

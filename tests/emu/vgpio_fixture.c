@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* An LD_PRELOAD fixture that hosts the emulated GPIO chip (vgpio.c) inside
  * an unmodified program, psensd in the system tests: line descriptors are
  * only valid in the process that made them (doc/emulation.md 3.2).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* vusb: see vusb.h.  Only what libusb-1.0 (1.0.26) needs for a HID-class
  * device with one interrupt IN and one interrupt OUT endpoint. */
 #include <errno.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* vusb: an emulated USB device node for real libusb-1.0, on libumockdev.
  * How it works is doc/emulation.md section 2 (an approach first tried in a
  * throw-away prototype before this project):

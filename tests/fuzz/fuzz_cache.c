@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the weight cache's readers: a whole entry file (sim/cache.c's
  * header checks: size, magic, key, checksum) and a weight-map payload
  * (sim/wcache.c), which is parsed directly too since the fuzzer rarely

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the reader of psscene's text cache entries (sim/cache.c) from memory: a cache
  * directory is a file system anyone may have written to. */
 #include <stddef.h>

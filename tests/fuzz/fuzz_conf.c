@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the INI reader behind psensd.conf and scene files. */
 #include <stddef.h>
 #include <stdint.h>

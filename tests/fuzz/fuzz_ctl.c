@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the control socket's requests through the real handler, against a
  * running engine on a loopback room (results written at start-up).
  * Invariants: every reply is one line of JSON with "ok" (json-c parses it

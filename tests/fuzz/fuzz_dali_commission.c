@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the DALI commissioning jobs (drivers/dali_commission.c) with any
  * bus: the first bytes choose a job and its parameters, the rest are the
  * outcomes of its transactions (no answer, an answer and its value, a

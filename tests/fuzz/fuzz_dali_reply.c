@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz what comes back from a DALI USB interface: the transport's report
  * decoder on reports of any length and content, and the DALI layer's frame
  * describer and address parser on the same bytes.  Checks the decoder's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the drivers' option tables as psensd -n and the drivers' open use
  * them: the first byte picks a driver and a role (or the device section),
  * the rest is "key=value" lines.  Invariants: every error names a line of

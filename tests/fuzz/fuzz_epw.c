@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the .epw reader from memory, and the sky of every step it accepts. */
 #include <stddef.h>
 #include <stdint.h>

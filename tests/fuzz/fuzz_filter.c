@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the colour-filter reader, and the analysis of what it accepts.
  *
  * The analysis integrates the filter against the CIE tables on their 1 nm

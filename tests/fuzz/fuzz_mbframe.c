@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the Modbus server psvirt runs on: the bytes a client sends, framed
  * as Modbus TCP or RTU (daemon/mbframe.c) and answered by the PDU handler
  * (daemon/mbpdu.c) from psvirt's register map over three zones' rooms

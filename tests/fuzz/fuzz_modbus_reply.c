@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the decoding of register replies as the Modbus driver sees them: the
  * first bytes choose a point's options (as text, through the real option
  * parser), the rest are the registers a module sent.  Every decoded value

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the Radiance picture reader, and the view in its header; and the
  * row-by-row reader (header alone, scanline starts, rows decoded or only
  * checked), which must accept exactly what the whole reader accepts. */

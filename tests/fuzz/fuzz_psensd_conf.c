@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz psensd.conf as the daemon reads it: devices, points, zones and the
  * driver keys they hand on.  Invariant: a file either loads with no error,
  * or fails with at least one "file:line" or "file:" message. */

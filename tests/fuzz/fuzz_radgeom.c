@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the Radiance geometry reader (polygons, !genbox | xform) and trace a
  * few rays through whatever it read. */
 #include <stddef.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the replay-file reader (the CSV psensctl exports). */
 #include <stddef.h>
 #include <stdint.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the results-file reader (psscene's output, psensd's input) from
  * memory: the conditions, the summaries it recomputes, the year's hours. */
 #include <stddef.h>

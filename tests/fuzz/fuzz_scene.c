@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the scene-file reader from memory (ps_scene_read shares everything
  * but the fopen); the results reader has its own target, fuzz_results. */
 #include <stddef.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the sensitivity-file reader and both readings of what it accepts. */
 #include <stddef.h>
 #include <stdint.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz psensctl export's time arguments (daemon/sampleout.c): ISO 8601
  * date-times and Unix seconds; a parsed time formats back without harm. */
 #include <stddef.h>

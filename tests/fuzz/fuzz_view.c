@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the view-option parser. */
 #include <stddef.h>
 #include <stdint.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Fuzz the weather reader as psensd and pssky call it: ps_weather_parse
  * tells .wea from .epw by the first line, with either flag. */
 #include <stddef.h>

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Run each libFuzzer binary given for at most SECONDS seconds, on its seed
 # corpus (tests/fuzz/seeds/<name>/) plus a working corpus in $CORPUS/<name>.
 # With RUNS (a number of executions, 0: none) a target stops when it has run

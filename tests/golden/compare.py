@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """Compare an exported day (psensctl export --csv) with the golden one.
 
   compare.py GOLDEN NEW          exit 1 when a column is outside its tolerance

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The example day as the golden file records it: config/psensd.conf run on
 # a simulated clock (psensd -s) in DIR, its samples exported with psensctl.
 #   sh tests/golden/day.sh DIR    writes DIR/day.csv and DIR/day.summary

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # make golden: run the example day again, say how it differs from the golden
 # one (per column against the tolerances of compare.py, the summary lines,
 # and the commits since the golden day was last written that touch the code

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """A crowd on psensd's control socket for the soak: N connections at once for
 SECONDS, each asking status, ping or a bad line in turn; one in ten
 reconnects after its reply (so connections come and go all the time).

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The soak (make soak, not part of make check): psensd in real time at 600x
 # for SOAK_SECONDS (600: ten minutes, about four days of room time) with
 #  - a loopback zone with its room's faults (open, drop, stuck windows),

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The daemon's structure, checked on the built objects and the sources:
 # no two daemon files use each other's symbols (directly or round a longer
 # cycle), the calibration side does not include the engine, and daemon/

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Every source file says its licence in an SPDX line: "SPDX-License-Identifier:
 # ISC" in its first 5 lines (C and headers, shell, Python, Makefile and
 # module.mk files).  The data directories that keep their own licences

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psens on the validation office renders against the reference numbers of
 # their README (Radiance-computed cosine sums, an independent peer): the
 # response of the ideal cosine sensor is the irradiance in W/m2, to 0.01 %.

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psfilter and psens -f: an ideal V(lambda) filter (the CIE table itself) gives
 # psens's defaults to 6 digits, and psens -f agrees with -R -G -B.
 . "$(dirname "$0")/lib.sh"

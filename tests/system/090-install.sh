@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # make install into a staging directory: programs, man pages, configuration
 # pointed at the installed example, the CIE data; the installed tools run.
 . "$(dirname "$0")/lib.sh"

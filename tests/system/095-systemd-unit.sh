@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The installed unit: Type=notify with a watchdog, state and runtime
 # directories, and a sandbox whose exposure (systemd-analyze security
 # --offline=true) is at most 2.0.  The exposure is printed for CI's log.

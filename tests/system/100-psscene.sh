@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psscene on the example scene against the fixtures' Radiance reference
 # integrals (0.1 %), the cache, missing and optional pictures, and rendering
 # with a stand-in rpict that records its argument vector.

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psscene with daylight-coefficient picture sets: the example office's set
 # integrates (uniform-sky sums from the fixture README), and a bad set (a
 # missing patch, mixed sizes, a count no MF has) fails naming the file or

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # pssky against Radiance's own gendaymtx test (every printed value), its
 # output formats and options (-of -od -h -d -s -A -u -m -5 -O1), the same
 # weather as an .epw, standard input, and bad input: file:line on stderr and

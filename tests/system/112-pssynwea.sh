@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # pssynwea: the shipped example year is its output (reproducible), the
 # year reads as a weather file (pssky), every hour once, no light at night,
 # and bad options are refused.

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensd on the loopback room over a simulated day: the real binary, a
 # configuration in a temporary directory, results recomputed by psscene when
 # stale, the set-point control's summary against what it must be, and a

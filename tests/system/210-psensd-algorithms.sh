@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Every control algorithm over the example day on the loopback room: the
 # ones that use both calibrations hold the target, integral reset
 # under-lights (the sensor sees relatively more daylight than the desk, as

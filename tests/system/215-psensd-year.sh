@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensd over the example's year: -Y runs every zone's law against the room
 # playing each day of the results' year and prints the annual figures, the
 # laws side by side and (with -P) the year as a PNG; results without a year

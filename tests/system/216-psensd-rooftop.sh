@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The live estimate's sky class from a rooftop sensor: the loopback room
 # plays a date of the example's year ([simulate] year = yes) and serves the
 # hour's global horizontal illuminance on a point with role rooftop; the

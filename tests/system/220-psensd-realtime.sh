@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensd in real time (sped up 600 times) on the loopback room: readiness and
 # the watchdog through a notification socket, the control socket with good
 # and bad requests (socat and a raw client as peers), SIGHUP with a good and

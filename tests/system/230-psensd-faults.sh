@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Every fault the loopback room can inject, over a simulated day: psensd
 # names it, drives the lights to the safe level, logs it with each sample,
 # and resumes when it clears.  Then two zones at once: a dimmed one and a

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Load: 100 control-socket clients connected at once, 20 status requests
 # each, and a burst of 1000 bad requests, five times over, while psensd controls at 10 Hz in
 # real time.  Every good request is answered, every bad one refused, and the

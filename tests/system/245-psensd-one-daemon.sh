@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # One daemon per control socket and per database.  A second psensd on a
 # running one's socket is refused, naming the first one's pid, and leaves
 # the socket alone (the first still answers, with its own pid); a socket a

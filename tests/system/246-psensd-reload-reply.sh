@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # `psensctl reload` carries the outcome: ok for a good configuration; for a
 # refused one ok false with every reason as file:line (asked through a raw
 # socket and through psensctl, which exits 1 and prints the reasons), the

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The control socket never waits on a device: 10 zones on 3 Modbus modules
 # (psvirt) that answer every request 300, 400 and 500 ms late, psensd at 10x
 # real time.  A client asks `status` on a new connection every 20 ms for 15 s
@@ -65,8 +66,16 @@ check "the median latency is under 1 s ($4 ms)" awk -v m="${4:-nan}" 'BEGIN { ex
 wait $wd
 read wdn wdgap < "$TMP/wd.out"
 diag "watchdog: $wdn notifications in $SECS s, the largest gap $wdgap ms (every 50 ms asked)"
-check "the watchdog is fed all along: no gap of 1 s ($wdgap ms)" \
-	awk -v g="${wdgap:-nan}" -v n="${wdn:-0}" 'BEGIN { exit !(n > 10 && g + 0 < 1000 && g == g + 0) }'
+# The largest gap is the reload's: it waits for the transaction under way
+# (up to 500 ms here).  Under AddressSanitizer that wait and the reopening
+# take about three times as long, so the 1 s bound is judged on a plain
+# build only (make check runs one; CI runs both).
+if grep -q __asan_init "$BIN/psensd" 2>/dev/null; then
+	skip "the watchdog's 1 s bound under AddressSanitizer (largest gap $wdgap ms)"
+else
+	check "the watchdog is fed all along: no gap of 1 s ($wdgap ms)" \
+		awk -v g="${wdgap:-nan}" -v n="${wdn:-0}" 'BEGIN { exit !(n > 10 && g + 0 < 1000 && g == g + 0) }'
+fi
 "$BIN/psensctl" -s "$TMP/sock" -j status > "$TMP/st.json"
 check "control runs on every zone: stepped, in no fault, off full output; an I/O thread per module" $PY -c '
 import json, sys

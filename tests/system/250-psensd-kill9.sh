@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Durability: psensd killed with SIGKILL at random points of a day (real
 # time at 3600x, a step every 1/60 s of wall time), 50 times.  Before each
 # kill the test asks psensd how many samples it has acknowledged (status

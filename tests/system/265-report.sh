@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensctl report: the commissioning record of a real simulated day (psensd
 # -s on the example configuration) as a document: PDF read back by
 # pdftotext (poppler), PNG checked by pngcheck, SVG by xmllint; no two

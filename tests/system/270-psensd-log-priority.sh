@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Log priorities: under systemd psensd's stderr is the journal (JOURNAL_STREAM
 # names its device and inode), and each line carries sd-daemon(3)'s "<N>"
 # prefix, so `journalctl -p err` finds a refused configuration or lights that

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Driver keys are judged with the configuration, not when a device opens:
 # psensd -n (and so SIGHUP) names every misspelt key and every bad value of
 # every driver with its file and line, all in one pass, by the drivers'

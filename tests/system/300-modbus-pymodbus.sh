@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psensd's Modbus driver (through mbdrive) against a pymodbus server emulating
 # an ADAM-6024-style I/O module with a lux meter; writes checked with mbpoll,
 # a second peer; the server killed and restarted: ENODEV, then back.

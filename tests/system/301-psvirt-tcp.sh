@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psvirt over Modbus TCP against clients we did not write (mbpoll, pymodbus):
 # the night room's registers against the scene's results, a dim command
 # through AO0, the fault registers and options, and the driver's view of

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Modbus RTU (19200 8N1: pyserial cannot set parity on a pty) through a socat
 # pseudo-terminal pair: psvirt on one end, mbpoll,
 # a pymodbus serial client, raw frames and the driver on the other; a garbled

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # A simulated day through psvirt: psensd's set-point control law (mbdrive
 # control) on the real Modbus driver over TCP, psvirt running the room at
 # 3600x real time (05:00 to about 19:00 in 14 s), one step per 15 simulated

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psvirt serves every client independently (psvirt(1), CLIENTS): while one
 # client sends requests that get exceptions (function 0x2B every 50 ms, a
 # read of count 0 every 50 ms) or sends a request one byte every 0.4 s,

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psvirt answers like a good Modbus TCP device (psvirt(1), PROTOCOL): every
 # function it does not serve (07, 08, 11, 2B, a user code) gets exception 1
 # and the connection stays open; a bad count exception 3; an address outside

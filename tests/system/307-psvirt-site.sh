@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psvirt for a whole site (psvirt(1), ZONES): one room per zone in one
 # register map, configured from the command line (--zones, -o ZONE:KEY=VALUE)
 # or from a psensd configuration (-f), and the shipped three-zone example

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # psvirt playing the year ([simulate] year = yes): the registers a site's
 # tools read (mbpoll, the Modbus peer) follow the hourly series psscene wrote
 # into the results, on two dates (an overcast 5 July and 12 January) at an

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # A rooftop lux meter over Modbus: psvirt plays the overcast 5 July of the
 # example's year ([simulate] year = yes) and serves the hour's global
 # horizontal illuminance at holding registers 210-211 (u32); the real

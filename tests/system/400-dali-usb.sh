@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The DALI USB driver in its own process against the emulated Tridonic
 # interface hosted by psemu-run (tests/emu): real libusb in the child reaches
 # the emulator through umockdev.  Levels and query answers across processes,

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The real psensd dimming emulated DALI ballasts: psensd runs as the child of
 # psemu-run (tests/emu), its real libusb reaching the emulated Tridonic
 # interface with two ballasts through umockdev.  One zone, its sensor on the

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Commissioning a DALI site through the real psensd and psensctl: psensd runs
 # as the child of psemu-run (tests/emu), whose emulated Tridonic interface
 # has six ballasts: two with short addresses 0 and 1, four without, two of

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The real psensd with the gpio driver on an emulated gpiochip (libgpiod's
 # real code; the emulator is preloaded into psensd: tests/emu/vgpio_fixture.c).
 # A TSL230R light-to-frequency sensor with its divider pins, two relays (one

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The skeleton driver (drivers/file.c) under the real psensd: a sensor
 # reading written to a file, the level written to another, every sample in
 # the database as psensd read and commanded it; a missing file is a fault

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The driver man pages list exactly the keys the drivers' option tables
 # declare (psensd -L prints the tables): a key added to a table and not to
 # its page, or documented and gone from the table, fails here.

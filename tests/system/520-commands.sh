@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Commands that agree: every program (sim/cmd/*.c, daemon/cmd/*.c) takes
 # -h/--help (usage on standard output, exit 0) and -V/--version (the version
 # of sim/version.h); its --help and its man page name the same options

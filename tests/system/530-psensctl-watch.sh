@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # The live view and the log, on the loopback room (gain 0.5 V per unit,
 # offset 0.05 V) with psensd in real time at 600x:
 #  - status: every value of "sample" belongs to one step (the level the

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Three psensd instances (sites s1, s2, s3) publish to one mosquitto started
 # here on a random 127.0.0.1 port with its own config file; a subscriber
 # (mosquitto_sub, QoS 1, a persistent session) records every state message.

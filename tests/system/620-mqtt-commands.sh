@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # MQTT commands against a real mosquitto: set/override, set/target and the
 # calibration verbs go through the control socket's own code (the error
 # texts are compared with psensctl's for the same requests); malformed,

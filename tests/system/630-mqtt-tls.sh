@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # MQTT over TLS against a real mosquitto: a CA, a server certificate for
 # 127.0.0.1 and a client certificate made here with openssl; the broker
 # requires the client certificate and a user and password (mosquitto_passwd).

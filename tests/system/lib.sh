@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # Shared helpers for system tests: TAP output, temporary directories,
 # waiting for readiness, stopping by PID.  Source it first:  . "$(dirname "$0")/lib.sh"
 set -u

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 # Every EXAMPLE(S) line of a man page, classified for 525-man-examples.sh.
 #   manex.py PAGE...   prints one line a command: KIND<TAB>PAGE<TAB>TEXT
 # KIND is RUN (run it; exit 0), BG (a server started with &: run in the

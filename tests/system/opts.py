@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 # The options a program's --help names against those its man page names in
 # SYNOPSIS and in the OPTIONS headings (the lines after .TP); a parenthesis
 # in the help (old spellings, other programs' options) does not count.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* A year of control (daemon/annual.c) against analytic answers:
  *   - a year of night: the set-point law holds target / electric task lux
  *     every occupied hour: energy exactly 50 % with 500 lx of 1000;

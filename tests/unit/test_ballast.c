@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The ballast and lamp model against its analytic solution, at time
  * constants from a microsecond to eleven days and steps from a millisecond to
  * three hours: exact, monotone and inside [0, 1] at any step. */

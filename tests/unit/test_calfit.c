@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Calibration arithmetic against analytic answers: a first-order settling
  * with seeded noise, exact and noisy lines, exact daylight ratios, and the
  * drift detector's timing. */

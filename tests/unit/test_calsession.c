@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Calibration sessions against an in-memory SQLite database (and a file for
  * the crash): readings made from known constants must give those constants
  * back exactly, every sample must be on record, and the session must say

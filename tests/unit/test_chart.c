@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The report's axes: round ticks for numbers (1, 2, 5 x 10^n) and times of
  * day (whole quarter hours, half hours, hours), checked against the ticks
  * a person would write by hand. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The colour side of a picture's header, against analytic answers: a
  * FORMAT=32-bit_rle_xyze picture holds luminance-based XYZ (Y in cd/m2 once
  * EXPOSURE is divided out; Radiance's ra_xyze writes EXPOSURE=1/179 on the

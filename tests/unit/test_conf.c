@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The INI configuration reader: located errors, all of them in one pass. */
 #include <setjmp.h>
 #include <stdarg.h>

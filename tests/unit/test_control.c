@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Control laws against their analytic steady states on a plant
  *   S = g (e_s u + d),   E = R_d d + E_E u
  * (g sensor volts per unit, d the daylight response, R_d the daylight task

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The control protocol's word splitter and the daemon's clock. */
 #include <setjmp.h>
 #include <stdarg.h>

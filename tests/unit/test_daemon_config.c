@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psensd.conf: devices, points and zones; every error with its line, all in
  * one pass; the zone shorthand; outputs shared by two zones refused. */
 #include <setjmp.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The DALI layer (drivers/dali.c): the logarithmic curve against the formula
  * of IEC 62386-102 and the published table, its round trip at every level,
  * nearest-level rounding against a brute-force search, frames against the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* DALI commissioning (drivers/dali_commission.c) through the dali_usb
  * driver's command method, with real libusb against the emulated Tridonic
  * interface and its ballasts (tests/emu): the bus scan, the random-address

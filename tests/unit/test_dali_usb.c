@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The DALI USB driver through the driver.h table, with real libusb against the
  * emulated Tridonic interface and its ballasts (tests/emu, libumockdev):
  * the transport's bytes against the worked examples of doc/hardware.md,

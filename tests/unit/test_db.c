@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The database's schema and its migrations: files written by earlier
  * psensd versions (made here with the statements those versions ran) are
  * brought forward in place with every row kept; a newer file is refused. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Daylight-coefficient picture sets (sim/dcset):
  *   - exact pictures of an open sky (ps_dcpic_write) seen by an upward
  *     cosine: the row sums to pi (the cosine's hemisphere) to rounding;

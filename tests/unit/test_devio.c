@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The I/O thread of a blocking device (daemon/devio.c), against a fake
  * driver whose reads and writes block like a slow Modbus module: the
  * caller never waits, results come back through the eventfd, queued writes

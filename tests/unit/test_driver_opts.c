@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The drivers' option tables and the skeleton driver through them: every
  * table's defaults pass its own checks, a section's errors come with their
  * lines, the readers give the defaults, and the file driver (drivers/file.c)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Frequency from edge timestamps, the overrun rule and the TSL230R divider
  * choice, against exact answers. */
 #include <setjmp.h>

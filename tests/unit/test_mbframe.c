@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Modbus TCP and RTU framing (daemon/mbframe.c): the MBAP header of Modbus
  * Messaging on TCP/IP v1.0b (3.1.3) and the RTU frame of Modbus over Serial
  * Line v1.02 (2.5.1), against their examples: the CRC of 02 07 is 0x1241

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The Modbus driver against a libmodbus server on 127.0.0.1 in a thread:
  * register values, exceptions, silence, garbage, a lost connection and the
  * reconnect backoff on the caller's clock, polled points and input events.

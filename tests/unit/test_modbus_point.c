@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Modbus point decoding and scaling against numbers worked out by hand and
  * against the register examples of real devices' manuals
  * (doc/hardware.md section 3). */

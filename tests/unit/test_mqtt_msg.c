@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* MQTT's pieces that need no broker: the [mqtt] section (every error with
  * its file:line), the state JSON of a logged sample, the Home Assistant
  * discovery messages, and the database's cursor and announced zones. */

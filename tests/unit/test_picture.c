@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance pictures: decoding exactly as Radiance does, every orientation and
  * scanline encoding, and hostile input.  Pictures are built here byte by
  * byte, so the expectations come from the format's definition, not from the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Radiance pictures, part two: every orientation in every scanline encoding,
  * the encoder's choice of encoding by width, RGBE rounding against its
  * analytic definition, header details, hostile sizes and a real rpict render.

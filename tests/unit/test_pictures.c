@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Pictures to look at: luminance, exposure, the tone curves, false colour
  * and its legend, contours, and the PNG files (read back with libpng's own
  * reader, not through the project's writer).

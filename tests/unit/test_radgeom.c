@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The Radiance geometry reader, the ray caster and the region labeller,
  * against analytic answers: the solid angle of each wall of a box room
  * (Van Oosterom and Strackee's formula for a triangle's solid angle), the

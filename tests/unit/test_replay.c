@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Replay files: columns by name in any order, fault rows skipped, located
  * errors. */
 #include <setjmp.h>

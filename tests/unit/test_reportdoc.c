@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The commissioning record as a document: its text boxes never overlap and
  * its pages are filled, on a database like the example's (two simulated
  * days of a zone with a fault, night and day sessions with the longest

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Re-evaluation without re-weighting (sim/rescan.h) against the direct
  * exact route (weights built at each rotation): a 256 x 256 picture with a
  * bright window and a sensor whose sensitivity changes with azimuth, cells

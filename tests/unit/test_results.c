@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The results file psensd reads: what psscene writes reads back, summaries
  * follow from the conditions, and other versions are refused. */
 #include <setjmp.h>

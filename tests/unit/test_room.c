@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The virtual room: daylight interpolation, fault windows (also across
  * midnight), and the sensor's faults. */
 #include <setjmp.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The loopback room playing a date of the results' year (daemon/roomsetup.c,
  * psd_room_from_year): the hours of that date at their middles, linear
  * between them, dark an hour before the first and after the last; a date

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* psensctl export's time arguments (daemon/sampleout.c) against epochs
  * computed apart (Python's calendar.timegm), in UTC and in a zone an hour
  * east (a POSIX TZ string: no time zone database needed). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Sensitivity files and view options: what they accept, and a located error
  * for everything else. */
 #include <setjmp.h>

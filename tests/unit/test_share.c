@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Where the signal comes from: each pixel's share of the response sums to 1
  * and matches ps_integrate; and under a uniform sky of radiance the shares
  * of a box room's surfaces seen by an ideal cosine sensor are their

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sky against Radiance and against analytic answers:
  *   - all 24,528 values of Radiance's own gendaymtx test (tests/data/gendaymtx);
  *   - the sun patches the reference implies are the ones computed here;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The sky class of a rooftop reading (sim/skyclass.c) against analytic
  * answers:
  *   - Erbs's diffuse fraction at its knots (1 - 0.09 kt up to 0.22, 0.165

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Colour filters to R,G,B coefficients, f1' and reading errors, against
  * answers this test computes itself from the CIE tables (plain loops, its own
  * 3 x 3 inverse), and bad filter files. */

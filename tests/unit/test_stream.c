@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Decoding fused with integration (sim/stream.h) against decoding the whole
  * picture and ps_integrate: the same response, channels, brightest pixel and
  * top-1 % share bit for bit, with 1, 2 and 3 threads, for run-length and flat

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The weight cache (sim/cache.c blobs, sim/wcache.c): a stored map comes
  * back bit for bit; the key is the content (the same table under another
  * file name hits, another rotation misses); a truncated entry, a flipped

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Weather files: .wea and .epw read to the same series; every bad input of
  * the issue (missing or extra fields, NaN, negative irradiance, times out of
  * order, a header that names no site, bad dates) gives file:line and leaves

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Exact pixel weights against analytic integrals: the paper's cosine check
  * at every size, cut-off and azimuthal sensitivities whose edges cross
  * pixels, 180- and 360-degree angular and hemispherical fisheyes, rotations,

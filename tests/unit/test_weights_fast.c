@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The exact weights' fast route (an axis-parallel edge inside one cell:
  * Gauss-Legendre in the plane coordinate, its order from an error bound)
  * against analytic answers, for a sensor that changes with azimuth (no

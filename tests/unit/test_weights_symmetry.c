@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Mirrored weight maps (a sensor the same at every azimuth on a view not
  * shifted: only a quarter integrated) against the same map integrated
  * everywhere: a table of constant rows, and its twin with one value moved by

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* The year through daylight-coefficient rows (sim/year), against analytic
  * answers:
  *   - one picture set for both views (sensor = task, V(lambda)): every hour's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: ISC
 # Shared by the 3xx Modbus tests (sourced after lib.sh): the tools they need,
 # and a psensd-modbus(5) device and points for mbdrive.
 MBDRIVE=$BUILD/tests/mbdrive

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """Control-socket latency from a client's side, as psensctl sees it: a new
 connection per request (connect, send, read the reply line), one after the
 other for SECONDS, a pause of INTERVAL s between.

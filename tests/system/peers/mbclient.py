@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """A Modbus client (pymodbus) reading psvirt the way a site's tools would.
 
   mbclient.py tcp HOST PORT COMMAND...      mbclient.py rtu DEVICE COMMAND...

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* mbdrive: the Modbus driver from the command line, for system tests and the
  * benchmark.  It reads [device NAME] and [point NAME] sections (the point's
  * device, role and driver keys, as in psensd-modbus(5)) and runs one command:

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """Raw Modbus TCP peer (python3 socket) for what no library client sends:
 malformed MBAP frames, unsupported functions, a byte at a time, crowds.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """A Modbus TCP server (pymodbus) emulating an ADAM-6024-style 0-10 V I/O
 module with a lux meter, for testing psensd's Modbus driver against a peer
 we did not write.

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """Compare what an MQTT subscriber received (mosquitto_sub -v lines:
 "topic payload") with the sample logs of the psensd instances that
 published it.  Usage: mqttcheck.py SUBLOG SITE=DB[:UPTO]...

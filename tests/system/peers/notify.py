@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """A stand-in for systemd's notification socket: bind a datagram socket at
 argv[1] and append every message psensd's sd_notify() sends to argv[2]."""
 import socket, sys

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: ISC
 """A PNG reader and a Radiance RGBE reader/writer of our own (zlib and struct
 only), the peer the picture tests check the project's files against.
 

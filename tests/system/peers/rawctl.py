@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """Raw control-socket client for tests: send bytes, print the reply lines.
   rawctl.py SOCKET send TEXT          one request (\\n added), print the reply
   rawctl.py SOCKET bytes N            N bytes of 'x' with no newline: print the reply

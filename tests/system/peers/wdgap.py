@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: ISC
 """systemd's notification socket, timing the watchdog: bind a datagram
 socket at SOCKET, for SECONDS after the first WATCHDOG=1 note when each
 arrives, then print: count, and the largest gap between two in ms.

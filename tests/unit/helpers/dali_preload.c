@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* See dali_preload.h. */
 #include <stdio.h>
 #include <stdlib.h>

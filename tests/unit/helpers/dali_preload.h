@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* For the DALI USB tests: make sure libumockdev-preload.so.0 is loaded, by
  * re-executing the test under LD_PRELOAD (tests/run.sh runs programs
  * directly); exit 77 with the reason when it cannot be. */

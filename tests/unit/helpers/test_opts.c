@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Driver options for unit tests (test_opts.h). */
 #include <setjmp.h>
 #include <stdarg.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Driver options for unit tests, as the configuration reader would hand them
  * to a driver (drivers/opts.h): from "key=value" strings or from key, value
  * pairs, each on its own line of a named file, so that errors naming
