@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Acceptance tests from the sample log (see accept.h). */
 #include "accept.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Acceptance of a zone, from its sample log (a task meter needed): how well
  * the constants in force estimate the measured task lux over a verification
  * window, and functional tests of the kind building codes require of

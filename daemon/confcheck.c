@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* What psensd -n, a start and a reload judge beyond each key alone: ranges
  * that involve two keys, and the files the configuration names (the scene,
  * the results, a loopback room's replay), each opened and parsed as the

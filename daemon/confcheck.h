@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Checks of a loaded configuration beyond single keys (daemon/confcheck.c):
  * two-key ranges and the files it names, every error added to
  * cf->conf.errors with its line.  psd_config_load runs them. */

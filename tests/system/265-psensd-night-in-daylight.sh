@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Issue 17, finding 1: a night calibration in daylight.  The shipped example
 # (config/psensd.conf: the loopback room, no task meter) in real time from
 # 11:00 at 600x: `psensctl calibrate office night` is refused with the

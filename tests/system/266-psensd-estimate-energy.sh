@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Issue 17, findings 2 and 3, on the loopback room in real time at 600x.
 # 2: while a day session holds the lights, the logged estimate follows the
 #    room (it froze at the value before the session): every logged

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Issue 17, verdicts: psensctl accept-test on a simulated day of the
 # loopback room with a task meter.  A zone whose constants match its room is
 # ACCEPTED: the estimate against the meter over the day (rms and worst, the

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: ISC
 # Issue 17, finding 8: the README's calibration walk-through, run as the
 # README gives it.  The commands are taken from README.md itself (section
 # "A calibration session": every line of a code block that begins with

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: ISC */
 /* Acceptance tests (daemon/accept.h) on logs made to known numbers: every
  * figure checked against the analytic answer, every verdict both ways. */
 #include <setjmp.h>
