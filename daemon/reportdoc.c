@@ -53,6 +53,7 @@ struct zone {
 	/* over every sample */
 	long long total, seen;
 	double tmin, tmax, vmax, luxmax, energy_h, fault_s, prev_t;
+	double utc0;              /* UTC of clock 0 of the first dated run (NAN: none yet) */
 	double esum, ecomp;              /* energy, Neumaier */
 	double err2, err2c;              /* squared estimate error, Neumaier */
 	long long nerr, nmeas;            /* estimate errors; task meter readings */
@@ -75,11 +76,26 @@ static void neumaier(double *sum, double *c, double x)
 	*sum = t;
 }
 
-static void add_sample(void *user, const struct psd_sample *s)
+/* A record's time on the report's axis: its clock time, or, for rows that
+ * carry their UTC (schema 4), the seconds since clock 0 of the first dated
+ * run, so that runs on later days follow it instead of drawing over it. */
+static double rec_t(struct zone *z, double t, double utc)
+{
+	if (!isfinite(utc))
+		return t;
+	if (!isfinite(z->utc0))
+		z->utc0 = utc - t;
+	return utc - z->utc0;
+}
+
+static void add_sample(void *user, const struct psd_sample *row)
 {
 	struct zone *z = user;
+	struct psd_sample sample = *row, *s = &sample;
 	long long step = z->total / MAXPTS + 1;
-	double dt = z->seen > 0 ? s->t - z->prev_t : 0;
+	double dt;
+	sample.t = rec_t(z, row->t, row->utc);
+	dt = z->seen > 0 ? s->t - z->prev_t : 0;
 	/* energy: output times time (a gap longer than an hour is not counted) */
 	if (dt > 0 && dt <= 3600 && isfinite(s->output))
 		neumaier(&z->esum, &z->ecomp, s->output * dt / 3600);
@@ -139,8 +155,8 @@ static void add_session(void *user, const struct psd_db_cal_session *row)
 	s->id = row->id;
 	snprintf(s->kind, sizeof s->kind, "%s", row->kind ? row->kind : "?");
 	snprintf(s->state, sizeof s->state, "%s", row->state ? row->state : "?");
-	s->started = row->started;
-	s->ended = row->ended;
+	s->started = rec_t(c->z, row->started, row->started_utc);
+	s->ended = rec_t(c->z, row->ended, row->ended_utc);
 	o = row->results ? json_tokener_parse(row->results) : NULL;
 	if (o && strcmp(s->kind, "night") == 0) {
 		e = jnum(o, "electric_lux_error_pct");
@@ -221,6 +237,7 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 	static const char *const acc_tables[] = { "acceptance_tests", "acceptance" };
 	char ignored[256];
 	z->tmin = INFINITY;
+	z->utc0 = NAN;
 	z->tmax = -INFINITY;
 	if ((z->total = psd_db_zone_count(db, z->name, err, n)) < 0)
 		return -1;

@@ -32,6 +32,9 @@ static void make_db(void)
 	struct psd_db *db = psd_db_open(dbpath, err, sizeof err);
 	long long id;
 	assert_non_null(db);
+	/* dated as psensd dates them (clock 0 = 2026-03-18 00:00 UTC): a row
+	 * with no date would be stamped with the wall clock (db.h) */
+	psd_db_set_epoch(db, 1773792000.0);
 	for (int day = 0; day < 2; day++)
 		for (double tod = 6 * 3600; tod < 20 * 3600; tod += 60) {
 			double t = day * 86400 + tod, sun = fmax(0, sin(M_PI * (tod - 6 * 3600) / (13 * 3600)));
@@ -40,7 +43,7 @@ static void make_db(void)
 				struct psd_sample s = { t, tod, fault ? 0 : 0.05 + 3 * sun, fault ? 1 : fmax(0.1, 1 - 2 * sun),
 					                fault ? NAN : 500 + 1500 * sun, 505 + 1490 * sun, 3 * sun, 1500 * sun,
 					                "clear", 470, fault ? "sensor reads 0.000 V" : NULL,
-					                z ? "corridor" : "office", NAN };
+					                z ? "corridor" : "office", NAN, NULL };
 				assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
 			}
 		}
@@ -68,9 +71,8 @@ static void make_db(void)
 	{
 		sqlite3 *h;
 		assert_int_equal(sqlite3_open(dbpath, &h), SQLITE_OK);
-		assert_int_equal(sqlite3_exec(h, "CREATE TABLE acceptance_tests(id INTEGER PRIMARY KEY, zone TEXT, "
-		                                 "test TEXT, measured TEXT, verdict TEXT);"
-		                                 "INSERT INTO acceptance_tests(zone, test, measured, verdict) VALUES"
+		/* the table is psensd's own since schema 5 (psensctl accept-test) */
+		assert_int_equal(sqlite3_exec(h, "INSERT INTO acceptance_tests(zone, test, measured, verdict) VALUES"
 		                                 "('office', 'daylight 150 % of design', 'lights at 10 % power', 'PASS'),"
 		                                 "('corridor', 'little daylight', 'task 96 % of target', 'PASS');",
 		                              NULL, NULL, NULL), SQLITE_OK);
@@ -255,7 +257,7 @@ static void with_config(void **state)
 	assert_non_null(fp);
 	fputs(conf, fp);
 	fclose(fp);
-	if (psd_config_load(cf, cpath) != 0)
+	if (psd_config_load_keys(cf, cpath) != 0)
 		fail_msg("%s", cf->conf.nerrors ? cf->conf.errors[0] : "config");
 	{
 		struct psd_report_opts o = { .dbpath = dbpath, .zone = "office", .config_path = cpath, .cf = cf,
