@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "db.h"
@@ -16,8 +17,17 @@ void psd_accept_defaults(struct psd_accept_params *p)
 	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05 };
 }
 
+/* The spans a calibration session held the zone's lights (UTC when the
+ * session recorded it, else the daemon's clock). */
+struct held {
+	double (*span)[2];
+	int utc;                  /* the spans are UTC (else clock seconds) */
+	size_t n, cap;
+};
+
 struct scan {
 	const struct psd_accept_params *p;
+	struct held held;
 	/* verification */
 	struct ps_sum e2;
 	long n;
@@ -38,16 +48,56 @@ struct scan {
 	long swings, fast;
 };
 
+static void add_session(void *user, const struct psd_db_cal_session *s)
+{
+	struct held *h = user;
+	double a = h->utc ? s->started_utc : s->started, b = h->utc ? s->ended_utc : s->ended;
+	if (isnan(a))
+		return;
+	if (isnan(b))
+		b = INFINITY;   /* still running (or killed): held since it started */
+	if (h->n == h->cap) {
+		size_t cap = h->cap ? 2 * h->cap : 8;
+		void *q = realloc(h->span, cap * sizeof *h->span);
+		if (!q)
+			return;   /* out of memory: this session is judged as controlled time */
+		h->span = q;
+		h->cap = cap;
+	}
+	h->span[h->n][0] = a;
+	h->span[h->n][1] = b;
+	h->n++;
+}
+
+static int is_held(const struct held *h, const struct psd_sample *s)
+{
+	double t = h->utc ? s->utc : s->t;
+	for (size_t i = 0; i < h->n; i++)
+		if (t >= h->span[i][0] && t <= h->span[i][1])
+			return 1;
+	return 0;
+}
+
 static void scan_sample(void *user, const struct psd_sample *s)
 {
 	struct scan *c = user;
 	const struct psd_accept_params *p = c->p;
 	double dl, prev;
+	int held;
 	if (isfinite(p->since_utc) && !(s->utc >= p->since_utc))
 		return;
 	if (s->fault || !isfinite(s->output)) {
 		c->prev_output = NAN;   /* at the safe level: the next sample has no known level */
 		return;
+	}
+	/* a calibration session held the lights: its samples say nothing of
+	 * the control (full daylight, low daylight, cycling), but the estimate
+	 * must follow the room then too (verification) */
+	held = is_held(&c->held, s);
+	if (held) {
+		c->last_level = NAN;   /* the control starts again from wherever the session left it */
+		c->last_dir = 0;
+		goto verify;
 	}
 	/* cycling: swings of the commanded output */
 	if (isnan(c->last_level)) {
@@ -67,6 +117,7 @@ static void scan_sample(void *user, const struct psd_sample *s)
 		c->last_dir = dir;
 		c->last_level = s->output;
 	}
+verify:
 	/* a sample's readings were taken with the lights at the previous step's
 	 * output; its output is the control's answer to them */
 	prev = c->prev_output;
@@ -84,6 +135,8 @@ static void scan_sample(void *user, const struct psd_sample *s)
 		}
 		c->band[dl < 0.5 ? 0 : dl < 1.5 ? 1 : 2]++;
 	}
+	if (held)
+		return;
 	if (dl >= 1.5) {
 		c->nfull++;
 		if (s->output > c->full_max)
@@ -109,8 +162,14 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	c.full_max = -INFINITY;
 	c.low_min = INFINITY;
 	c.min_gap = INFINITY;
-	if (psd_db_zone_samples(db, zone, scan_sample, &c, err, errlen) != 0)
+	/* sessions in UTC when the log is (schema 5 on), else on the clock */
+	c.held.utc = isfinite(p->since_utc) || psd_db_schema(db) >= 5;
+	if (psd_db_cal_sessions(db, zone, add_session, &c.held, err, errlen) != 0 ||
+	    psd_db_zone_samples(db, zone, scan_sample, &c, err, errlen) != 0) {
+		free(c.held.span);
 		return -1;
+	}
+	free(c.held.span);
 	memset(out, 0, PSD_ACCEPT_NTESTS * sizeof *out);
 	bands = (c.band[0] > 0) + (c.band[1] > 0) + (c.band[2] > 0);
 

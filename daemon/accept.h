@@ -22,8 +22,11 @@
  * Daylight at the task is what the meter measures less the electric light:
  * task_lux - elec_task_lux x output, at the output of the step before (the
  * one the lights were at when the sample's readings were taken; the
- * sample's own output is the control's answer to them).  A test with no sample in its range is
- * NOT TESTED, never a pass.  Each result says what it measured. */
+ * sample's own output is the control's answer to them).  While a
+ * calibration session held the lights (its span in cal_sessions) the
+ * samples count for the verification only: the functional tests judge the
+ * control, and cycling starts again after the session.  A test with no
+ * sample in its range is NOT TESTED, never a pass.  Each result says what it measured. */
 #ifndef PSD_ACCEPT_H
 #define PSD_ACCEPT_H
 

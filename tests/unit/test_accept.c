@@ -134,12 +134,50 @@ static void not_tested(void **state)
 	psd_db_close(db);
 }
 
+/* The functional tests judge the control, not a calibration session that
+ * held the lights: a day session at 50 % in full daylight (and the jumps
+ * into and out of it) is left out of full daylight and cycling, and its
+ * samples still count for the verification (the estimate follows the
+ * room during a session).  The session runs from 600 to 1200 s. */
+static void sessions_left_out(void **state)
+{
+	char err[256];
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	long long id;
+	(void)state;
+	assert_non_null(db);
+	psd_db_set_epoch(db, 0);
+	add(db, 0, 0.1, 1100, 1100);            /* first: no step before */
+	add(db, 60, 0.1, 1100, 1100);           /* 1000 lx daylight, 200 %, at 10 % */
+	id = psd_db_cal_begin(db, "office", "day", 600, NULL, NULL, err, sizeof err);
+	assert_true(id > 0);
+	add(db, 660, 0.5, 1100, 1100);          /* held at 50 %: answered to 10 % */
+	add(db, 720, 0.5, 1500, 1500);          /* 1000 lx + 500: held at 50 % */
+	add(db, 780, 0.5, 1500, 1500);
+	assert_int_equal(psd_db_cal_end(db, id, "done", 1200, NULL, NULL, err, sizeof err), 0);
+	add(db, 1260, 0.1, 1500, 1500);         /* the control again: down to 10 % */
+	add(db, 1320, 0.1, 1100, 1100);
+	psd_db_commit(db, err, sizeof err);
+	params(&p);
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[0].samples, 6);      /* every sample after the first */
+	assert_int_equal(r[1].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[1].samples, 3);      /* 60, 1260 (the answer to readings taken at 50 %), 1320 */
+	assert_near(r[1].value, 10, 1e-9);
+	assert_int_equal(r[3].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[3].samples, 0);      /* up into the session and down out of it: no reversal */
+	psd_db_close(db);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(passes),
 		cmocka_unit_test(fails),
 		cmocka_unit_test(not_tested),
+		cmocka_unit_test(sessions_left_out),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
