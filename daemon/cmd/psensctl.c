@@ -538,7 +538,8 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 			}
 		}
 		for (int i = 0; out && i < res.nzones; i++)
-			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict > 0 ? "PASS" :
+			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict == 1 ? "PASS" :
+			       res.zone[i].verdict == 2 ? "calibrated, not acceptance-tested (psensctl accept-test)" :
 			       res.zone[i].verdict < 0 ? "FAIL" : "not calibrated");
 	}
 	psd_report_out_free(&res);
