@@ -337,6 +337,58 @@ static void unnamed_samples(void **state)
 	}
 }
 
+/* PASS needs the acceptance tests: a zone calibrated within the tolerance
+ * with no accept-test run is NOT TESTED (2); its run passing every test
+ * makes it PASS (1); a later run with one test failed makes it FAIL (-1),
+ * though the calibration still agrees with the design. */
+static void pass_needs_acceptance(void **state)
+{
+	char err[512], out[160], path[128];
+	struct psd_report_opts o = { .dbpath = path, .tolerance_pct = 25, .format = PSD_REPORT_SVG,
+		                     .written = 1790000000 };
+	struct psd_report_out r;
+	struct psd_db *db;
+	long long id;
+	static const char *const tests[] = { "verification", "full daylight", "low daylight", "cycling" };
+	(void)state;
+	snprintf(path, sizeof path, "%s/accept.db", dir);
+	snprintf(out, sizeof out, "%s/accept.svg", dir);
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	psd_db_set_epoch(db, 1773792000.0);
+	for (double t = 6 * 3600; t < 8 * 3600; t += 600) {
+		struct psd_sample s = { t, t, 1, 0.5, 600, 600, 0.5, 100, "clear", 470, NULL, "hall", NAN, NULL };
+		assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+	}
+	id = psd_db_cal_begin(db, "hall", "day", 7 * 3600, "a1", "b2", err, sizeof err);
+	assert_int_equal(psd_db_cal_end(db, id, "done", 7.5 * 3600, "{\"ratio\":470,\"ratio_se\":1,\"samples\":5,"
+	                                "\"sim_ratio\":471,\"condition\":\"clear\",\"error_pct\":-0.2}", NULL, err,
+	                                sizeof err), 0);
+	assert_int_equal(psd_db_cal_accept(db, id, err, sizeof err), 0);
+	psd_db_commit(db, err, sizeof err);
+	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	assert_int_equal(r.zone[0].verdict, 2);
+	assert_int_equal(r.verdict, 0);
+	psd_report_out_free(&r);
+	for (int k = 0; k < 4; k++)
+		assert_int_equal(psd_db_accept_add(db, "hall", 1790000000, tests[k], "PASS", 1, 10, 40, "measured", err,
+		                                   sizeof err), 0);
+	psd_db_commit(db, err, sizeof err);
+	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	assert_int_equal(r.zone[0].verdict, 1);
+	assert_int_equal(r.verdict, 1);
+	psd_report_out_free(&r);
+	for (int k = 0; k < 4; k++)
+		assert_int_equal(psd_db_accept_add(db, "hall", 1790003600, tests[k], k == 1 ? "FAIL" : "PASS", 1, 10, 40,
+		                                   "measured", err, sizeof err), 0);
+	psd_db_commit(db, err, sizeof err);
+	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	assert_int_equal(r.zone[0].verdict, -1);
+	assert_int_equal(r.verdict, -1);
+	psd_report_out_free(&r);
+	psd_db_close(db);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -345,6 +397,7 @@ int main(void)
 		cmocka_unit_test(with_config),
 		cmocka_unit_test(misspelled_zone),
 		cmocka_unit_test(unnamed_samples),
+		cmocka_unit_test(pass_needs_acceptance),
 	};
 	int rc = cmocka_run_group_tests(tests, setup, teardown);
 	ps_canvas_shutdown();   /* cairo's and fontconfig's caches, for leak checkers */
