@@ -89,3 +89,17 @@ valid_min = 0.01
 valid_max = 1000
 EOP
 }
+
+# room_lag READY_MS START_S SPEED ERRFILE: how many seconds of room time
+# psensd's clock runs behind psvirt's, psvirt's clock having started at
+# START_S (seconds from midnight) when its ready file appeared (READY_MS,
+# ms since the epoch), psensd's read from its "the run starts ... HH:MM"
+# line in ERRFILE, seen now.  A slow start (a sanitizer build, a loaded
+# machine) leaves psensd's clock up to an hour behind at 3600x; tests
+# judging psvirt's windows (a fault at 12:00) shift them by this.
+room_lag() {
+	_now=$(( $(date +%s%N) / 1000000 ))
+	_hm=$(sed -n 's/.*the run starts [0-9-]* \([0-9][0-9]:[0-9][0-9]\).*/\1/p' "$4" | head -n 1)
+	awk -v now="$_now" -v r="$1" -v s="$2" -v x="$3" -v hm="$_hm" \
+		'BEGIN { split(hm, a, ":"); printf "%d", s + x * (now - r) / 1000 - (a[1] * 3600 + a[2] * 60 + 30) }'
+}
