@@ -366,6 +366,18 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 		if (n > FAST_MAXN)
 			return 0;
 	}
+	if (s->kind != PS_SENS_TABLE) {
+		/* a builtin: M depends on theta alone, one cell, no azimuth needed
+		 * (the same nodes and sum as below, without the cell search) */
+		const struct gl_rule *g = &c->glf[n];
+		for (int q = 0; q < g->n; q++) {
+			double t = tm + hl * g->x[q], r2 = t * t + k * k;
+			sum += g->w[q] * ps_sensor_m_in(s, 0, 0, ps_fisheye_theta(&c->f, sqrt(r2)), 0.0) /
+			       r2;
+		}
+		*out = (vertical ? k : -k) * hl * sum;
+		return 1;
+	}
 	/* the cell: from the middle; the edge must not cross a ray, nor (a
 	 * vertical edge left of the origin) atan2's cut */
 	am = vertical ? atan2(tm, k) : atan2(k, tm);
