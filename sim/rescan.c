@@ -60,7 +60,7 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 				continue;
 			sc = ps_rgbe_scale[px[3]];
 			b = ((px[0] + 0.5) * kc[0] + (px[1] + 0.5) * kc[1] + (px[2] + 0.5) * kc[2]) * sc *
-			    omega->w[run->off + (size_t)i];
+			    ps_wrun_at(omega, run, i);
 			it = (int)(th / p->dtheta);
 			if (it >= p->ntheta)
 				continue;

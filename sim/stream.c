@@ -50,7 +50,7 @@ static void release(const struct ps_weights *w, const struct ps_wrun *run, uintp
 	if (!w->map || w->maplen < RELEASE_MIN || run->n <= 0)
 		return;
 	a = (uintptr_t)(w->w + run->off) & ~(page - 1);
-	b = ((uintptr_t)(w->w + run->off + (size_t)run->n) + page - 1) & ~(page - 1);
+	b = ((uintptr_t)(w->w + run->off + (size_t)ps_wrun_stored(w, run)) + page - 1) & ~(page - 1);
 	madvise((void *)a, b - a, MADV_DONTNEED);
 }
 
@@ -67,11 +67,14 @@ static int row_sum(void *ctx, int y, const uint8_t *px_row)
 	a->best = -1.0;
 	a->bx = 0;
 	a->n = 0;
+	/* a compact map's run is a palindrome: its right half reads the left
+	 * backwards (mirror, 0 for a full map) */
+	int mirror = j->w->mirror, half = mirror ? (run->n + 1) / 2 : run->n;
 	for (int i = 0; i < run->n; i++, px += 4) {
 		double b;
 		if (px[3] == 0)
 			continue;
-		b = ps_pixel_response(px, wt[i], j->kc, raws);
+		b = ps_pixel_response(px, i < half ? wt[i] : wt[run->n - 1 - i], j->kc, raws);
 		ps_sum_add(&a->row, b);
 		a->n++;
 		if (b > a->best) {
@@ -97,7 +100,7 @@ static int row_contrib(void *ctx, int y, const uint8_t *px_row)
 		double raws[3] = { 0, 0, 0 };
 		if (px[3] == 0)
 			continue;
-		*out++ = ps_pixel_response(px, j->w->w[run->off + (size_t)i], j->kc, raws);
+		*out++ = ps_pixel_response(px, ps_wrun_at(j->w, run, i), j->kc, raws);
 	}
 	return 0;
 }
@@ -126,7 +129,7 @@ static int scan(struct job *j, int (*fn)(void *, int, const uint8_t *), int nt,
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	int started[MAX_THREADS] = { 0 }, h = j->head->height, y = 0, rc = 0;
-	size_t total = j->w->nw, done = 0;
+	size_t total = j->w->npix, done = 0;
 	if (nt <= 1 || !starts) {
 		struct band b = { j, fn, 0, h, off, { 0 }, 0 };
 		band_run(&b);

@@ -16,7 +16,8 @@
 
 /* Bump when ps_weights_build's numbers change: older entries are then never
  * found again (and age out). */
-#define PS_WEIGHTS_ALGO_VERSION 3   /* 2: symmetric maps mirrored; 3: and transposed */
+#define PS_WEIGHTS_ALGO_VERSION 4   /* 2: symmetric maps mirrored; 3: and transposed;
+                                      * 4: compact symmetric maps */
 
 /* The content key (64 hex digits). */
 void ps_weights_cache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,

@@ -534,7 +534,7 @@ void ps_weights_free(struct ps_weights *w)
 	memset(w, 0, sizeof *w);
 }
 
-static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n)
+static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n, size_t off)
 {
 	if (w->nruns == *cap) {
 		size_t ncap = *cap ? *cap * 2 : 256;
@@ -544,7 +544,7 @@ static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n)
 		w->runs = nr;
 		*cap = ncap;
 	}
-	w->runs[w->nruns++] = (struct ps_wrun){ row, x0, n, w->nw };
+	w->runs[w->nruns++] = (struct ps_wrun){ row, x0, n, off };
 	return 0;
 }
 
@@ -583,6 +583,7 @@ struct band {
 	int oom;
 	int mirror_x;         /* the map is symmetric in x: the right half copies the left */
 	int transpose;        /* and in the diagonal: pixels left of it are copied after */
+	int compact;          /* only the left half is stored (a compact map) */
 };
 
 /* The exact weight of pixel x between lines vb and vt, alone (its four
@@ -678,7 +679,8 @@ static void *band_run(void *arg)
 		}
 		/* the right half: the left half mirrored (after the transposes,
 		 * when there are some: ps_weights_build) */
-		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose; x++) {
+		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose && !b->compact;
+		     x++) {
 			int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
 			out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
 		}
@@ -702,13 +704,32 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
                      const struct ps_view *v, int width, int height, int method,
                      struct ps_err *e)
 {
+	return ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, 0, e);
+}
+
+/* The rows' work in a band: pixels whose edges the row computes. */
+static size_t row_work(int j, int lo, int hi, int width, int mirror_x, int transpose)
+{
+	int xe, xs;
+	if (lo > hi)
+		return 0;
+	xe = mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
+	xs = transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
+	return xe >= xs ? (size_t)(xe - xs + 1) : 0;
+}
+
+int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method, int flags,
+                        struct ps_err *e)
+{
 	enum { MAX_THREADS = 8 };
 	struct edge_ctx c;
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	double R, *u = NULL;
-	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp;
-	size_t *off = NULL, cap_runs = 0;
+	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp, compact;
+	int *runof = NULL;
+	size_t *off = NULL, *work = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
 	if (width <= 0 || height <= 0)
@@ -731,42 +752,83 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	lo = malloc((size_t)height * sizeof *lo);
 	hi = malloc((size_t)height * sizeof *hi);
 	off = malloc((size_t)height * sizeof *off);
+	work = malloc(((size_t)height + 1) * sizeof *work);
+	runof = malloc((size_t)height * sizeof *runof);
 	u = malloc(((size_t)width + 1) * sizeof *u);
-	if (!lo || !hi || !off || !u)
+	if (!lo || !hi || !off || !u || !work || !runof)
 		goto oom;
 	for (int x = 0; x <= width; x++)
 		u[x] = ps_fisheye_u(&c.f, x);
-	/* the layout: one run per row the sensor sees, bottom row first */
-	for (int j = 0; j < height; j++) {
-		row_range(&c.f, j, R, &lo[j], &hi[j]);
-		off[j] = w->nw;
-		if (lo[j] > hi[j])
-			continue;
-		if (push_run(w, &cap_runs, height - 1 - j, lo[j], hi[j] - lo[j] + 1) != 0)
-			goto oom;
-		w->nw += (size_t)(hi[j] - lo[j] + 1);
-	}
-	w->w = malloc((w->nw ? w->nw : 1) * sizeof *w->w);
-	if (!w->w)
-		goto oom;
-	/* bands of about equal pixel counts, one per core for large maps */
-	if (w->nw > 65536) {
-		long n = sysconf(_SC_NPROCESSORS_ONLN);
-		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
-	}
 	/* a symmetric map: the bands do the bottom half, its left half mirrored
 	 * to the right; the top half is the bottom's mirror (below) */
 	sym = method == PS_W_EXACT && v->vs == 0.0 && v->vl == 0.0 && sensor_symmetric(s);
 	jtop = sym ? (height + 1) / 2 : height;
 	/* square, with the same field across and up: symmetric in the diagonal */
 	transp = sym && width == height && v->vh == v->vv;
+	compact = sym && (flags & PS_WB_COMPACT);
+	for (int j = 0; j < height; j++)
+		row_range(&c.f, j, R, &lo[j], &hi[j]);
+	if (compact) {
+		/* the ranges made symmetric in x and y (a pixel more is a weight
+		 * of 0 or one the sensor barely sees, computed as any other) */
+		for (int j = 0; j < jtop; j++) {
+			int jj = height - 1 - j, l = width;
+			if (lo[j] <= hi[j])
+				l = lo[j] < width - 1 - hi[j] ? lo[j] : width - 1 - hi[j];
+			if (lo[jj] <= hi[jj]) {
+				if (lo[jj] < l)
+					l = lo[jj];
+				if (width - 1 - hi[jj] < l)
+					l = width - 1 - hi[jj];
+			}
+			if (l == width)
+				continue;   /* both empty */
+			lo[j] = lo[jj] = l;
+			hi[j] = hi[jj] = width - 1 - l;
+		}
+	}
+	/* the layout: one run per row the sensor sees, bottom row first; a
+	 * compact map stores the left half of the bottom half's rows */
+	for (int j = 0; j < height; j++) {
+		size_t n;
+		off[j] = w->nw;
+		runof[j] = -1;
+		if (lo[j] > hi[j])
+			continue;
+		n = (size_t)(hi[j] - lo[j] + 1);
+		if (compact && j >= jtop) {
+			if (push_run(w, &cap_runs, height - 1 - j, lo[j], (int)n, off[height - 1 - j]) != 0)
+				goto oom;
+			continue;
+		}
+		runof[j] = (int)w->nruns;
+		if (push_run(w, &cap_runs, height - 1 - j, lo[j], (int)n, w->nw) != 0)
+			goto oom;
+		w->nw += compact ? (n + 1) / 2 : n;
+	}
+	w->mirror = compact;
+	for (size_t i = 0; i < w->nruns; i++)
+		w->npix += (size_t)w->runs[i].n;
+	w->w = malloc((w->nw ? w->nw : 1) * sizeof *w->w);
+	if (!w->w)
+		goto oom;
+	/* bands of about equal work (the pixels whose edges each row computes),
+	 * one per core when there is enough of it */
+	work[0] = 0;
+	for (int j = 0; j < jtop; j++)
+		work[j + 1] = work[j] + row_work(j, lo[j], hi[j], width, sym, transp);
+	if (work[jtop] > 8192) {
+		long n = sysconf(_SC_NPROCESSORS_ONLN);
+		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+	}
 	{
 		int j = 0;
-		size_t todo = jtop < height ? off[jtop] : w->nw;
+		size_t todo = work[jtop];
 		for (int t = 0; t < nthreads; t++) {
 			size_t want = todo * (size_t)(t + 1) / (size_t)nthreads;
-			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym, transp };
-			while (j < jtop && (t == nthreads - 1 || off[j] < want))
+			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym, transp,
+			                          compact };
+			while (j < jtop && (t == nthreads - 1 || work[j] < want))
 				j++;
 			bands[t].j1 = j;
 		}
@@ -801,7 +863,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			}
 		}
 		/* then the right half of those rows, mirrored */
-		for (int j = 0; j < jtop; j++) {
+		for (int j = 0; j < jtop && !compact; j++) {
 			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
 			for (int x = xmid + 1; x <= hi[j]; x++) {
 				int xm = width - 1 - x;
@@ -811,7 +873,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			}
 		}
 	}
-	for (int j = jtop; j < height; j++) {
+	for (int j = jtop; j < height && !compact; j++) {
 		int jj = height - 1 - j;   /* the mirror row, computed above */
 		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
 		for (int x = lo[j]; x <= hi[j]; x++)
@@ -820,8 +882,19 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			                               : pixel_alone(&c, u, x, vb, vt);
 	}
 	ps_sum_init(&total);
-	for (size_t i = 0; i < w->nw; i++)
-		ps_sum_add(&total, w->w[i]);
+	if (compact) {
+		/* each stored weight stands for its mirrors: times 2 (x) and 2 (y),
+		 * exact in binary, except on the middle column or row */
+		for (int j = 0; j < jtop; j++) {
+			double fr = height - 1 - j != j ? 2.0 : 1.0;
+			for (int x = lo[j]; x <= hi[j] && x <= width - 1 - x && runof[j] >= 0; x++)
+				ps_sum_add(&total, fr * (x != width - 1 - x ? 2.0 : 1.0) *
+				                       w->w[off[j] + (size_t)(x - lo[j])]);
+		}
+	} else {
+		for (size_t i = 0; i < w->nw; i++)
+			ps_sum_add(&total, w->w[i]);
+	}
 	w->sens_sum = ps_sum_get(&total);
 	w->sens_full = ps_sensor_integral(s);
 	w->coverage = w->sens_full > 0 ? w->sens_sum / w->sens_full : 0.0;
@@ -843,6 +916,8 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	free(lo);
 	free(hi);
 	free(off);
+	free(work);
+	free(runof);
 	free(u);
 	ctx_free(&c);
 	return 0;
@@ -850,6 +925,8 @@ oom:
 	free(lo);
 	free(hi);
 	free(off);
+	free(work);
+	free(runof);
 	free(u);
 	ctx_free(&c);
 	ps_weights_free(w);
