@@ -62,26 +62,32 @@ static int row_sum(void *ctx, int y, const uint8_t *px_row)
 	const uint8_t *px = px_row + 4 * (size_t)run->x0;
 	const double *wt = j->w->w + run->off;
 	struct acc *a = &j->acc[ri];
-	double raws[3] = { 0, 0, 0 };
-	ps_sum_init(&a->row);
-	a->best = -1.0;
-	a->bx = 0;
-	a->n = 0;
+	double raws[3] = { 0, 0, 0 }, best = -1.0, kc[3] = { j->kc[0], j->kc[1], j->kc[2] };
+	/* the row's sum, count and brightest in locals: px (bytes) may alias
+	 * anything, so through a they would go to memory at every pixel */
+	struct ps_sum row;
+	size_t n = 0;
+	int bx = 0, len = run->n;
 	/* a compact map's run is a palindrome: its right half reads the left
 	 * backwards (mirror, 0 for a full map) */
-	int mirror = j->w->mirror, half = mirror ? (run->n + 1) / 2 : run->n;
-	for (int i = 0; i < run->n; i++, px += 4) {
+	int half = j->w->mirror ? (len + 1) / 2 : len;
+	ps_sum_init(&row);
+	for (int i = 0; i < len; i++, px += 4) {
 		double b;
 		if (px[3] == 0)
 			continue;
-		b = ps_pixel_response(px, i < half ? wt[i] : wt[run->n - 1 - i], j->kc, raws);
-		ps_sum_add(&a->row, b);
-		a->n++;
-		if (b > a->best) {
-			a->best = b;
-			a->bx = run->x0 + i;
+		b = ps_pixel_response(px, i < half ? wt[i] : wt[len - 1 - i], kc, raws);
+		ps_sum_add(&row, b);
+		n++;
+		if (b > best) {
+			best = b;
+			bx = run->x0 + i;
 		}
 	}
+	a->row = row;
+	a->n = n;
+	a->best = best;
+	a->bx = bx;
 	ps_row_rgb(j->k, raws, a->rc);
 	release(j->w, run, j->page);
 	return 0;

@@ -584,7 +584,13 @@ struct band {
 	int mirror_x;         /* the map is symmetric in x: the right half copies the left */
 	int transpose;        /* and in the diagonal: pixels left of it are copied after */
 	int compact;          /* only the left half is stored (a compact map) */
+	int *next;            /* non-NULL: rows [j0, j1) are taken CHUNK at a time from *next */
 };
+
+/* Rows a band takes at a time when the bands share the rows: a chunk's
+ * first bottom line is computed again (the same numbers), 1/CHUNK more
+ * horizontal edges for an even load whatever the rows cost. */
+enum { CHUNK = 16 };
 
 /* The exact weight of pixel x between lines vb and vt, alone (its four
  * edges computed here, none shared): for the few pixels a mirror misses. */
@@ -631,66 +637,75 @@ static void *band_run(void *arg)
 		goto out;
 	}
 	/* lines j (bottom) and j+1 (top) bound row j */
-	for (int j = b->j0; j < b->j1; j++) {
-		double vb = ps_fisheye_v(&c->f, j), vt = ps_fisheye_v(&c->f, j + 1);
-		double *hb = hline[j & 1], *ht = hline[(j + 1) & 1], *out = b->w + b->off[j];
-		const double *u = b->u;
-		int lo = b->lo[j], hi = b->hi[j];
-		if (lo > hi)
-			continue;
-		/* with mirroring, the edges of pixels up to the middle one only; with
-		 * transposing, from the diagonal on */
-		int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
-		int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
-		if (b->method == PS_W_EXACT) {
-			/* bottom line: reuse what the row below computed, where it did */
-			for (int x = xs; x <= xe; x++)
-				if (prev != j - 1 || x < clo || x > chi)
-					hb[x] = edge_hv(c, u[x], vb, u[x + 1], vb);
-			for (int x = xs; x <= xe; x++)
-				ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
-			for (int x = xs; x <= xe + 1; x++)
-				vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
+	for (int jlo = b->j0, jhi = b->j1; jlo < b->j1; jlo = jhi) {
+		if (b->next) {
+			jlo = __atomic_fetch_add(b->next, CHUNK, __ATOMIC_RELAXED);
+			if (jlo >= b->j1)
+				break;
+			jhi = jlo + CHUNK < b->j1 ? jlo + CHUNK : b->j1;
+			prev = -2;
 		}
-		clo = xs;
-		chi = xe;
-		prev = j;
-		for (int x = xs; x <= xe; x++) {
-			double wt;
+		for (int j = jlo; j < jhi; j++) {
+			double vb = ps_fisheye_v(&c->f, j), vt = ps_fisheye_v(&c->f, j + 1);
+			double *hb = hline[j & 1], *ht = hline[(j + 1) & 1], *out = b->w + b->off[j];
+			const double *u = b->u;
+			int lo = b->lo[j], hi = b->hi[j];
+			if (lo > hi)
+				continue;
+			/* with mirroring, the edges of pixels up to the middle one only; with
+			 * transposing, from the diagonal on */
+			int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
+			int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
 			if (b->method == PS_W_EXACT) {
-				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
-				struct ps_sum ps;
-				ps_sum_init(&ps);
-				ps_sum_add(&ps, hb[x]);
-				ps_sum_add(&ps, vrow[x + 1]);
-				ps_sum_add(&ps, -ht[x]);
-				ps_sum_add(&ps, -vrow[x]);
-				wt = ps_sum_get(&ps);
-				if (wt < 0 && wt > -1e-15)
-					wt = 0.0;   /* rounding on a pixel the sensor barely sees */
-			} else {
+				/* bottom line: reuse what the row below computed, where it did */
+				for (int x = xs; x <= xe; x++)
+					if (prev != j - 1 || x < clo || x > chi)
+						hb[x] = edge_hv(c, u[x], vb, u[x + 1], vb);
+				for (int x = xs; x <= xe; x++)
+					ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
+				for (int x = xs; x <= xe + 1; x++)
+					vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
+			}
+			clo = xs;
+			chi = xe;
+			prev = j;
+			for (int x = xs; x <= xe; x++) {
+				double wt;
+				if (b->method == PS_W_EXACT) {
+					/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
+					struct ps_sum ps;
+					ps_sum_init(&ps);
+					ps_sum_add(&ps, hb[x]);
+					ps_sum_add(&ps, vrow[x + 1]);
+					ps_sum_add(&ps, -ht[x]);
+					ps_sum_add(&ps, -vrow[x]);
+					wt = ps_sum_get(&ps);
+					if (wt < 0 && wt > -1e-15)
+						wt = 0.0;   /* rounding on a pixel the sensor barely sees */
+				} else {
+					double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
+					double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
+					wt = rho > 1.0 ? 0.0
+					     : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+					           ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+				}
+				out[x - lo] = wt;
+			}
+			/* the right half: the left half mirrored (after the transposes,
+			 * when there are some: ps_weights_build) */
+			for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose && !b->compact;
+			     x++) {
+				int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
+				out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
+			}
+			/* the centre-point method has no shared edges: the rest directly */
+			for (int x = xe + 1; x <= hi && b->method != PS_W_EXACT; x++) {
 				double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
 				double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
-				wt = rho > 1.0 ? 0.0
-				     : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
-				           ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+				out[x - lo] = rho > 1.0 ? 0.0
+				              : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+				                    ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
 			}
-			out[x - lo] = wt;
-		}
-		/* the right half: the left half mirrored (after the transposes,
-		 * when there are some: ps_weights_build) */
-		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose && !b->compact;
-		     x++) {
-			int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
-			out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
-		}
-		/* the centre-point method has no shared edges: the rest directly */
-		for (int x = xe + 1; x <= hi && b->method != PS_W_EXACT; x++) {
-			double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
-			double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
-			out[x - lo] = rho > 1.0 ? 0.0
-			              : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
-			                    ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
 		}
 	}
 out:
@@ -728,7 +743,7 @@ int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double 
 	pthread_t tid[MAX_THREADS];
 	double R, *u = NULL;
 	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp, compact;
-	int *runof = NULL;
+	int *runof = NULL, next_row = 0;
 	size_t *off = NULL, *work = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
@@ -821,18 +836,11 @@ int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double 
 		long n = sysconf(_SC_NPROCESSORS_ONLN);
 		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
 	}
-	{
-		int j = 0;
-		size_t todo = work[jtop];
-		for (int t = 0; t < nthreads; t++) {
-			size_t want = todo * (size_t)(t + 1) / (size_t)nthreads;
-			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym, transp,
-			                          compact };
-			while (j < jtop && (t == nthreads - 1 || work[j] < want))
-				j++;
-			bands[t].j1 = j;
-		}
-	}
+	/* the threads take CHUNK rows at a time from a shared counter: the
+	 * rows' costs vary (more nodes near the centre, breaks) */
+	for (int t = 0; t < nthreads; t++)
+		bands[t] = (struct band){ &c, s, method, u, lo, hi, off, 0, jtop, w->w, 0, sym, transp,
+		                          compact, nthreads > 1 ? &next_row : NULL };
 	for (int t = 1; t < nthreads; t++)
 		if (pthread_create(&tid[t], NULL, band_run, &bands[t]) != 0)
 			bands[t].oom = -1;   /* run it here instead */
