@@ -63,6 +63,8 @@ struct edge_ctx {
 	double rot;              /* radians */
 	double *rho_breaks;      /* sorted plane radii where the integrand has a kink or jump */
 	int *rho_is_field;       /* 1 for the field's edge (hemisphere: square-root singularity) */
+	double *rho2_breaks;     /* their squares (edge_fast compares squared radii) */
+	double z2_min[13];       /* edge_fast: z^2 from which n points meet the bound */
 	int nrho;
 	int use_phi_breaks;
 	struct gl_rule gl[GL_RULES];
@@ -321,24 +323,38 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 	thi = fmax(fabs(t0), fabs(t1));
 	if (t0 < 0 && t1 > 0)
 		tlo = 0.0;
-	rmin = sqrt(tlo * tlo + k * k);
-	rmax = sqrt(thi * thi + k * k);
+	/* squared radii: no square root for the tests below */
+	rmin = tlo * tlo + k * k;
+	rmax = thi * thi + k * k;
 	/* no circle in (rmin, rmax] (a circle at rmin exactly only touches) */
 	lo = 0;
 	hi = c->nrho;
 	while (lo < hi) {
 		int mid = (lo + hi) / 2;
-		if (c->rho_breaks[mid] <= rmin)
+		if (c->rho2_breaks[mid] <= rmin)
 			lo = mid + 1;
 		else
 			hi = mid;
 	}
-	if (lo < c->nrho && c->rho_breaks[lo] <= rmax)
+	if (lo < c->nrho && c->rho2_breaks[lo] <= rmax)
 		return 0;
 	/* the order from the error bound: the poles at t = +-i k, at distance
 	 * rho_m / hl half-lengths from the middle; the ellipse through them
 	 * has a semi-major axis at least that, so r at least this */
+	if (c->f.type != PS_VT_HEMI || rmax >= 1.0) {
+		/* the poles alone: the smallest n whose threshold z^2 = (rho_m /
+		 * hl)^2 reaches (z2_min, ctx_init: the same bound, no root) */
+		double rm2 = tm * tm + k * k, h2 = hl * hl;
+		for (n = 1; n <= FAST_MAXN; n++)
+			if (rm2 >= c->z2_min[n] * h2)
+				break;
+		if (n > FAST_MAXN)
+			return 0;
+		rho_m = sqrt(rm2);
+		goto order_done;
+	}
 	rho_m = sqrt(tm * tm + k * k);
+	rmax = sqrt(rmax);
 	{
 		double z = rho_m / hl;
 		r = z + sqrt(z * z - 1.0);
@@ -366,6 +382,7 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 		if (n > FAST_MAXN)
 			return 0;
 	}
+order_done:
 	if (s->kind != PS_SENS_TABLE) {
 		/* a builtin: M depends on theta alone, one cell, no azimuth needed
 		 * (the same nodes and sum as below, without the cell search) */
@@ -451,6 +468,43 @@ static double edge_hv(const struct edge_ctx *c, double ax, double ay, double bx,
 	return edge_integral(c, ax, ay, bx, by);
 }
 
+/* edge_fast's orders without roots: with the poles at z = rho_m / hl
+ * half-lengths, r = (z + sqrt(z^2 - 1)) / 2 (the ellipse at half their
+ * parameter) and n points are enough when r > 1.5 and
+ * 8 x 64 / (15 (r^2 - 1)) r^(-2n) <= 1e-19.  Both grow with z: z2_min[n]
+ * is the square of the z where they start to hold, from the r found by
+ * bisection (its upper end) and z = r + 1 / (4 r), made a little larger
+ * (never a smaller order than the bound asks). */
+static double fast_bound(double r, int n)
+{
+	return 8.0 * 64.0 / (15.0 * (r * r - 1.0)) * pow(r, -2.0 * n);
+}
+
+static void order_thresholds(struct edge_ctx *c)
+{
+	for (int n = 1; n <= FAST_MAXN; n++) {
+		double a = 1.5, b = 1e12, z;
+		if (fast_bound(b, n) > 1e-19) {
+			c->z2_min[n] = INFINITY;
+			continue;
+		}
+		if (fast_bound(a, n) <= 1e-19)
+			b = a;
+		for (int it = 0; it < 200 && b - a > 1e-13 * b; it++) {
+			double m = 0.5 * (a + b);
+			if (fast_bound(m, n) <= 1e-19)
+				b = m;
+			else
+				a = m;
+		}
+		b *= 1.0 + 1e-12;
+		if (b <= 1.5)
+			b = 1.5 * (1.0 + 1e-12);
+		z = b + 1.0 / (4.0 * b);
+		c->z2_min[n] = z * z * (1.0 + 1e-12);
+	}
+}
+
 static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_deg,
                     const struct ps_view *v, int width, int height, struct ps_err *e)
 {
@@ -463,9 +517,11 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 	for (int k = 1; k <= 12; k++)
 		gl_compute(&c->glf[k], k);
 	c->rho_breaks = malloc(((size_t)s->nt + 2) * sizeof *c->rho_breaks);
+	c->rho2_breaks = malloc(((size_t)s->nt + 2) * sizeof *c->rho2_breaks);
 	c->rho_is_field = malloc(((size_t)s->nt + 2) * sizeof *c->rho_is_field);
-	if (!c->rho_breaks || !c->rho_is_field) {
+	if (!c->rho_breaks || !c->rho_is_field || !c->rho2_breaks) {
 		free(c->rho_breaks);
+		free(c->rho2_breaks);
 		free(c->rho_is_field);
 		return ps_errf(e, PS_ENOMEM, "out of memory");
 	}
@@ -483,6 +539,9 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 		c->rho_breaks[c->nrho] = 1.0;
 		c->rho_is_field[c->nrho++] = 1;
 	}
+	for (int i = 0; i < c->nrho; i++)
+		c->rho2_breaks[i] = c->rho_breaks[i] * c->rho_breaks[i];
+	order_thresholds(c);
 	c->use_phi_breaks = s->kind == PS_SENS_TABLE;
 	return 0;
 }
@@ -490,6 +549,7 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 static void ctx_free(struct edge_ctx *c)
 {
 	free(c->rho_breaks);
+	free(c->rho2_breaks);
 	free(c->rho_is_field);
 }
 
