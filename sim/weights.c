@@ -775,6 +775,52 @@ out:
 	return NULL;
 }
 
+/* A compact map's second phase, rows shared among the threads CHUNK at a
+ * time: left of the diagonal each row copies the transposed pixels (pixel
+ * (x, j) is (j, x), computed in the first phase; a row's reads are one
+ * double from each earlier row, and a chunk's rows read neighbouring ones,
+ * so the lines stay in the cache), then sums its stored weights, each
+ * times its mirrors (2 in x except the middle column). */
+struct fill {
+	const struct edge_ctx *c;
+	const double *u;
+	const int *lo, *hi;
+	const size_t *off;
+	double *w;
+	int jtop, transpose, *next;
+	struct ps_sum *rowsum;   /* per row of [0, jtop) */
+};
+
+static void *fill_run(void *arg)
+{
+	struct fill *f = arg;
+	const struct edge_ctx *c = f->c;
+	int width = c->f.width, xmid = (width - 1) / 2;
+	for (;;) {
+		int j0 = __atomic_fetch_add(f->next, CHUNK, __ATOMIC_RELAXED);
+		if (j0 >= f->jtop)
+			break;
+		for (int j = j0; j < j0 + CHUNK && j < f->jtop; j++) {
+			double vb = ps_fisheye_v(&c->f, j), vt = ps_fisheye_v(&c->f, j + 1);
+			int xe = f->hi[j] < xmid ? f->hi[j] : xmid;
+			double *row = f->w + f->off[j];
+			ps_sum_init(&f->rowsum[j]);
+			if (f->lo[j] > f->hi[j])
+				continue;
+			for (int x = f->lo[j]; f->transpose && x <= xe && x < j; x++) {
+				int xe_x = f->hi[x] < xmid ? f->hi[x] : xmid;   /* row x's computed end */
+				row[x - f->lo[j]] = f->lo[x] <= f->hi[x] && j >= f->lo[x] && j <= xe_x
+				                        ? f->w[f->off[x] + (size_t)(j - f->lo[x])]
+				                        : pixel_alone(c, f->u, x, vb, vt);
+			}
+			for (int x = f->lo[j]; x <= xe; x++)
+				ps_sum_add(&f->rowsum[j],
+				           (x != width - 1 - x ? 2.0 : 1.0) * row[x - f->lo[j]]);
+		}
+	}
+	return NULL;
+}
+
 int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                      const struct ps_view *v, int width, int height, int method,
                      struct ps_err *e)
@@ -916,7 +962,32 @@ int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double 
 	}
 	if (oom || bands[0].oom)
 		goto oom;
-	if (transp) {
+	if (compact) {
+		/* the transposes and the rows' sums, on every core */
+		struct fill f = { &c, u, lo, hi, off, w->w, jtop, transp, &next_row, NULL };
+		pthread_t ft[MAX_THREADS];
+		int fstarted = 0;
+		f.rowsum = malloc(((size_t)jtop + 1) * sizeof *f.rowsum);
+		if (!f.rowsum)
+			goto oom;
+		next_row = 0;
+		for (int t = 1; t < nthreads; t++)
+			if (pthread_create(&ft[t], NULL, fill_run, &f) == 0)
+				fstarted |= 1 << t;
+		fill_run(&f);
+		for (int t = 1; t < nthreads; t++)
+			if (fstarted & (1 << t))
+				pthread_join(ft[t], NULL);
+		/* rows in order: each stands for its mirror row too (times 2,
+		 * exact), except the middle one */
+		ps_sum_init(&total);
+		for (int j = 0; j < jtop; j++) {
+			double fr = height - 1 - j != j ? 2.0 : 1.0;
+			ps_sum_add(&total, fr * f.rowsum[j].s);
+			ps_sum_add(&total, fr * f.rowsum[j].c);
+		}
+		free(f.rowsum);
+	} else if (transp) {
 		int xmid = (width - 1) / 2;
 		/* left of the diagonal: pixel (x, j) is pixel (j, x) transposed */
 		for (int j = 0; j < jtop; j++) {
@@ -949,17 +1020,8 @@ int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double 
 			    x >= lo[jj] && x <= hi[jj] ? w->w[off[jj] + (size_t)(x - lo[jj])]
 			                               : pixel_alone(&c, u, x, vb, vt);
 	}
-	ps_sum_init(&total);
-	if (compact) {
-		/* each stored weight stands for its mirrors: times 2 (x) and 2 (y),
-		 * exact in binary, except on the middle column or row */
-		for (int j = 0; j < jtop; j++) {
-			double fr = height - 1 - j != j ? 2.0 : 1.0;
-			for (int x = lo[j]; x <= hi[j] && x <= width - 1 - x && runof[j] >= 0; x++)
-				ps_sum_add(&total, fr * (x != width - 1 - x ? 2.0 : 1.0) *
-				                       w->w[off[j] + (size_t)(x - lo[j])]);
-		}
-	} else {
+	if (!compact) {
+		ps_sum_init(&total);
 		for (size_t i = 0; i < w->nw; i++)
 			ps_sum_add(&total, w->w[i]);
 	}
