@@ -21,6 +21,21 @@ const double psd_calsession_levels[PSD_CAL_NLEVELS] = { 1.0, 0.75, 0.5, 0.25, 0.
 const char *const psd_calsession_kind_names[] = { "none", "night", "day", NULL };
 const char *const psd_calsession_state_names[] = { "idle", "running", "done", "aborted", "accepted", NULL };
 
+/* The date and time of now for log lines ("YYYY-MM-DD HH:MM"). */
+static const char *stamp(const struct psd_calsession_ctx *c, char out[24])
+{
+	psd_clock_stamp(c->epoch0, c->now, out, 24);
+	return out;
+}
+
+/* A session's event in the database (a record: a failure is only logged). */
+static void event(const struct psd_calsession_ctx *c, const char *kind, const char *text)
+{
+	char err[512];
+	if (c->db && psd_db_event(c->db, c->now, c->zone, kind, text, err, sizeof err) != 0)
+		log_warnx("%s", err);
+}
+
 int psd_calsession_running(const struct psd_calsession *s)
 {
 	return s->state == PSD_CAL_RUNNING;
@@ -49,7 +64,80 @@ static void begin(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 	s->interval = c->zc->cal_day_interval;
 	s->want_samples = (int)c->zc->cal_day_samples;
 	s->next_sample = c->now;
+	s->last_input = c->now;
 	settle_reset(s, c);
+}
+
+/* The full-output electric signal the simulation expects (volts); NAN when
+ * the model has no electric condition. */
+static double elec_volts(const struct psd_calsession_ctx *c)
+{
+	double g = c->ctl->sensor_gain * c->ctl->elec_sensor;
+	return g > 0 ? g : NAN;
+}
+
+/* 1 when the simulation's sun is up at clock time t (and the zone checks it). */
+static int sun_up(const struct psd_calsession_ctx *c, double t)
+{
+	double tod = psd_clock_tod(t);
+	return c->zc->cal_night_sun && c->sunset > c->sunrise && tod > c->sunrise && tod < c->sunset;
+}
+
+static int sun_refusal(const struct psd_calsession_ctx *c, const char *what, char *err, size_t n)
+{
+	char t[8], r[8], st[8];
+	psd_clock_hhmm(c->now, t);
+	psd_clock_hhmm(c->sunrise, r);
+	psd_clock_hhmm(c->sunset, st);
+	return psd_errf(err, n, "zone %s: %s at %s: the simulation's sun is up on %s (sunrise %s, sunset %s), and "
+	                "daylight on the sensor would be taken for its offset; run it after %s or before %s "
+	                "(cal_night_sun = no for a room no daylight reaches)", c->zone, what, t,
+	                c->date && *c->date ? c->date : "the simulated day", r, st, st, r);
+}
+
+/* Daylight (or any light but the zone's) in a reading: -1 with the reason
+ * when it exceeds what the offset in force and the electric light at level
+ * `at` give by more than cal_dark_margin of the full-output signal (gain:
+ * that signal, volts).  `commanded` is the output the zone was told; at the
+ * start of a session the lamps may still be fading from an earlier level,
+ * so there `at` is full output, the most the lights can give. */
+static int dark_check(const struct psd_calsession_ctx *c, const char *what, double volts, double at,
+                      double commanded, double gain, char *err, size_t n)
+{
+	double want = c->ctl->offset + gain * at, margin = c->zc->cal_dark_margin * gain;
+	if (!(gain > 0) || !isfinite(volts) || volts - want <= margin)
+		return 0;
+	return psd_errf(err, n, "zone %s: %s: the sensor reads %.4f V with the lights at %.0f %%, %.4f V above "
+	                "the %.4f V the offset (%.4f V) and the electric light at %.0f %% give, more than "
+	                "cal_dark_margin %g of the full-output signal (%.4f V): daylight or another light "
+	                "reaches the sensor, and a night calibration would take it for the offset", c->zone, what,
+	                volts, 100 * commanded, volts - want, want, c->ctl->offset, 100 * at, c->zc->cal_dark_margin,
+	                margin);
+}
+
+/* The nearest simulated daylight condition's brightest patch: the sun in
+ * the sensor's view when it carries more than cal_sun_share of the
+ * response.  Warns (and notes it in the message) once. */
+static void sun_in_view(struct psd_calsession *s, const struct psd_calsession_ctx *c, double tod)
+{
+	const struct ps_result_cond *best = NULL;
+	double d = INFINITY;
+	char t[8];
+	for (size_t i = 0; c->res && i < c->res->ncond; i++) {
+		const struct ps_result_cond *rc = &c->res->cond[i];
+		if (rc->computed && rc->tod_s >= 0 && fabs(rc->tod_s - tod) < d) {
+			d = fabs(rc->tod_s - tod);
+			best = rc;
+		}
+	}
+	if (!best || !(c->zc->cal_sun_share > 0) || !(best->brightest_share > c->zc->cal_sun_share))
+		return;
+	psd_clock_hhmm(tod, t);
+	snprintf(s->sun_warning, sizeof s->sun_warning, "the sun falls in the sensor's view near %s (simulated "
+	         "%s: its brightest patch gives %.0f %% of the response, above cal_sun_share %g); the ratio "
+	         "will swing with the sun and the clouds: prefer a time without it", t, best->label,
+	         100 * best->brightest_share, c->zc->cal_sun_share);
+	log_warnx("zone %s: %s: day calibration: %s", c->zone, stamp(c, (char[24]){ 0 }), s->sun_warning);
 }
 
 int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, double level,
@@ -68,6 +156,12 @@ int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_c
 		return psd_errf(err, n, "no calibration of kind %d", kind);
 	if (kind == PSD_CAL_DAY && !(level >= 0 && level <= 1))
 		return psd_errf(err, n, "level %g is outside 0 to 1", level);
+	/* a night session in daylight would fit daylight as the offset */
+	if (kind == PSD_CAL_NIGHT && sun_up(c, c->now))
+		return sun_refusal(c, "no night session", err, n);
+	if (kind == PSD_CAL_NIGHT && c->have_reading &&
+	    dark_check(c, "no night session", c->volts, 1.0, c->level, elec_volts(c), err, n) != 0)
+		return -1;
 	if (!c->config_path || ps_hash_file(c->config_path, cfg, &pe) != 0)
 		cfg[0] = 0;
 	snprintf(scene, sizeof scene, "%s", c->res && c->res->scene_hash ? c->res->scene_hash : "");
@@ -78,7 +172,15 @@ int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_c
 	snprintf(s->msg, sizeof s->msg, "%s", kind == PSD_CAL_NIGHT ? "settling at 100 %" :
 	         c->zc->task >= 0 ? "sampling the task meter" : "waiting for typed lux (calibrate ZONE lux N)");
 	ask->step_now = 1;
-	log_info("zone %s: %s calibration session %lld started", c->zone, psd_calsession_kind_names[kind], s->id);
+	{
+		char ts[24], text[96];
+		log_info("zone %s: %s: %s calibration session %lld started", c->zone, stamp(c, ts),
+		         psd_calsession_kind_names[kind], s->id);
+		snprintf(text, sizeof text, "%s session %lld", psd_calsession_kind_names[kind], s->id);
+		event(c, "calibration started", text);
+	}
+	if (kind == PSD_CAL_DAY)
+		sun_in_view(s, c, psd_clock_tod(c->now));
 	return 0;
 }
 
@@ -93,7 +195,11 @@ int psd_calsession_abort(struct psd_calsession *s, const struct psd_calsession_c
 	snprintf(s->msg, sizeof s->msg, "aborted: %s", why);
 	if (c->db && psd_db_cal_end(c->db, s->id, "aborted", c->now, NULL, why, err, sizeof err) != 0)
 		log_warnx("%s", err);
-	log_warnx("zone %s: calibration session %lld aborted: %s", c->zone, s->id, why);
+	{
+		char ts[24];
+		log_warnx("zone %s: %s: calibration session %lld aborted: %s", c->zone, stamp(c, ts), s->id, why);
+		event(c, "calibration aborted", why);
+	}
 	ask->step_now = 1;
 	return 0;
 }
@@ -152,6 +258,8 @@ static char *results_json(const struct psd_calsession *s, const struct psd_calse
 		NUM("sensor_gain", c->ctl->sensor_gain);
 		NUM("daylight_ratio", f->ratio * c->ctl->sensor_gain);
 		NUM("offset", c->ctl->offset);
+		if (s->sun_warning[0])
+			json_object_object_add(o, "sun_warning", json_object_new_string(s->sun_warning));
 	}
 #undef NUM
 	out = strdup(json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN));
@@ -173,6 +281,8 @@ static int finish(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 		                   c->zc->cal_min_day_volts, &s->day, err, n) != 0)
 			return -1;
 		nearest_condition(s, c, s->day.mean_tod);
+		if (!s->sun_warning[0])
+			sun_in_view(s, c, s->day.mean_tod);
 		s->error_pct = psd_calfit_error_pct(s->sim_ratio, s->day.ratio);
 		outside = !(fabs(s->error_pct) <= c->zc->cal_tolerance);
 	}
@@ -193,10 +303,16 @@ static int finish(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 		         c->zc->cal_tolerance,
 		         outside ? " (the sensor moved or covered, the wrong filter, or a scene unlike the room?); "
 		                   "accept to use it anyway" : "; accept to use it");
-	if (outside)
-		log_warnx("zone %s: calibration session %lld %s", c->zone, s->id, s->msg);
-	else
-		log_info("zone %s: calibration session %lld %s", c->zone, s->id, s->msg);
+	if (s->kind == PSD_CAL_DAY && s->sun_warning[0])
+		snprintf(s->msg + strlen(s->msg), sizeof s->msg - strlen(s->msg), " (sun in the sensor's view)");
+	{
+		char ts[24];
+		if (outside)
+			log_warnx("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
+		else
+			log_info("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
+		event(c, "calibration done", s->msg);
+	}
 	ask->step_now = 1;
 	return 0;
 }
@@ -249,6 +365,7 @@ int psd_calsession_typed_lux(struct psd_calsession *s, const struct psd_calsessi
 	if (record(s, c, level, volts, NAN, lux, "typed", err, n) != 0)
 		return -1;
 	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
+	s->last_input = c->now;
 	snprintf(s->msg, sizeof s->msg, "%d typed sample(s); finish when done", s->nds);
 	return 0;
 }
@@ -299,8 +416,18 @@ static void feed_day(struct psd_calsession *s, const struct psd_calsession_ctx *
                      double level, struct psd_calsession_ask *ask)
 {
 	char err[512];
+	/* a day session does not wait forever: no sample (typed or from the
+	 * meter) for cal_timeout ends it, with what it waited for */
+	if (c->now - s->last_input > s->settle_timeout) {
+		snprintf(err, sizeof err, "no %s for %.0f s (cal_timeout)%s", c->zc->task >= 0 ? "task meter reading" :
+		         "typed lux", c->now - s->last_input, c->zc->task >= 0 ? "" :
+		         ": this zone has no task meter, so a day session needs `calibrate ZONE lux N` from a hand-held meter");
+		psd_calsession_abort(s, c, err, ask);
+		return;
+	}
 	if (c->zc->task < 0 || !isfinite(lux) || c->now < s->next_sample)
 		return;
+	s->last_input = c->now;
 	if (record(s, c, level, volts, NAN, lux, "meter", err, sizeof err) != 0) {
 		psd_calsession_abort(s, c, err, ask);
 		return;
@@ -329,6 +456,11 @@ static void feed_night(struct psd_calsession *s, const struct psd_calsession_ctx
 {
 	char err[512];
 	double mean, se, now = c->now, at = psd_calsession_levels[s->step];
+	if (sun_up(c, now)) {
+		sun_refusal(c, "night session aborted", err, sizeof err);
+		psd_calsession_abort(s, c, err, ask);
+		return;
+	}
 	if (isfinite(lux)) {
 		if (s->nlux == PSD_CALFIT_SETTLE_MAX) {
 			memmove(s->lux_t, s->lux_t + 1, (PSD_CALFIT_SETTLE_MAX - 1) * sizeof s->lux_t[0]);
@@ -343,12 +475,23 @@ static void feed_night(struct psd_calsession *s, const struct psd_calsession_ctx
 			psd_calsession_abort(s, c, "the sensor did not settle (cal_timeout)", ask);
 		return;
 	}
+	/* the lights at their lowest: what is left is the offset, or daylight */
+	if (at == psd_calsession_levels[PSD_CAL_NLEVELS - 1]) {
+		double g = elec_volts(c);
+		if (!(g > 0) && s->npt > 0)
+			g = (s->pt[0].volts - mean) / s->pt[0].level;   /* the session's own full-output signal */
+		if (dark_check(c, "daylight in the night session", mean, at, at, g, err, sizeof err) != 0) {
+			psd_calsession_abort(s, c, err, ask);
+			return;
+		}
+	}
 	s->pt[s->npt] = (struct psd_calfit_level){ at, mean, se, settled_lux(s, now) };
 	if (record(s, c, at, mean, se, s->pt[s->npt].lux, "settled", err, sizeof err) != 0) {
 		psd_calsession_abort(s, c, err, ask);
 		return;
 	}
-	log_info("zone %s: night level %.0f %%: %.5f V (se %.5f) after %.0f s", c->zone, 100 * at, mean, se,
+	log_info("zone %s: %s: night level %.0f %%: %.5f V (se %.5f) after %.0f s", c->zone, stamp(c, (char[24]){ 0 }),
+	         100 * at, mean, se,
 	         now - s->step_started);
 	s->npt++;
 	if (++s->step == PSD_CAL_NLEVELS) {
@@ -437,7 +580,8 @@ void psd_calsession_resume(struct psd_calsession *s, const struct psd_calsession
 	psd_db_cal_samples(c->db, id, resume_sample, &r);
 	settle_reset(s, c);
 	snprintf(s->msg, sizeof s->msg, "resumed with %d level(s), %d sample(s)", s->npt, s->nds);
-	log_info("zone %s: %s calibration session %lld resumed (%d level(s), %d sample(s) kept)", c->zone, kind, id,
+	log_info("zone %s: %s: %s calibration session %lld resumed (%d level(s), %d sample(s) kept)", c->zone,
+	         stamp(c, (char[24]){ 0 }), kind, id,
 	         s->npt, s->nds);
 	if (s->kind == PSD_CAL_NIGHT && s->step >= PSD_CAL_NLEVELS)
 		finish_or_abort(s, c, ask);

@@ -53,6 +53,14 @@ struct psd_calsession_ctx {
 	struct psd_db *db;                   /* the records; NULL: sessions are refused */
 	const char *config_path;             /* hashed into each session's record */
 	double now;                          /* seconds on the daemon's clock */
+	/* the simulation's sun ([simulate]): up between sunrise and sunset
+	 * (seconds since midnight; sunset <= sunrise: unknown) on date */
+	const char *date;
+	double sunrise, sunset;
+	/* the zone's last good reading and its output then (have_reading 0: none) */
+	int have_reading;
+	double volts, level;
+	double epoch0;                       /* UTC of clock time 0 (NAN: not known): log lines' dates */
 };
 
 /* Constants an accepted calibration gives the zone's control; NAN (or not
@@ -93,6 +101,7 @@ struct psd_calsession {
 	/* day */
 	double hold_level;
 	double interval, next_sample;
+	double last_input;        /* when the last day sample came (or the session began) */
 	int want_samples;
 	struct psd_calfit_sample ds[PSD_CAL_MAX_DAY];
 	int nds;
@@ -103,6 +112,7 @@ struct psd_calsession {
 	char sim_condition[64];
 	double error_pct;         /* 100 (simulated - measured) / measured */
 	char msg[384];            /* why it ended, or what it waits for */
+	char sun_warning[320];    /* day: the sun in the sensor's view ("" none) */
 };
 
 /* Each call fills *ask (cleared first).  Those returning int give -1 with a

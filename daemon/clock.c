@@ -10,6 +10,7 @@ void psd_clock_real(struct psd_clock *c, double origin, double speed)
 	c->origin = origin;
 	c->speed = speed > 0 ? speed : 1;
 	c->now = origin;
+	c->epoch0 = NAN;
 	clock_gettime(CLOCK_MONOTONIC, &c->mono0);
 }
 
@@ -20,6 +21,7 @@ void psd_clock_simulated(struct psd_clock *c, double origin)
 	c->speed = 1;
 	c->now = origin;
 	c->mono0.tv_sec = c->mono0.tv_nsec = 0;
+	c->epoch0 = NAN;
 }
 
 double psd_clock_now(struct psd_clock *c)
@@ -71,4 +73,58 @@ void psd_clock_hhmm(double t, char out[8])
 {
 	int m = (int)floor(psd_clock_tod(t) / 60 + 1e-9);
 	snprintf(out, 8, "%02d:%02d", (m / 60) % 24, m % 60);
+}
+
+int psd_clock_midnight(int year, int month, int day, double *epoch)
+{
+	struct tm tm = { 0 };
+	time_t t;
+	if (year < 1970 || year > 9999 || month < 1 || month > 12 || day < 1 || day > 31)
+		return -1;
+	tm.tm_year = year - 1900;
+	tm.tm_mon = month - 1;
+	tm.tm_mday = day;
+	tm.tm_isdst = -1;
+	t = mktime(&tm);
+	/* mktime normalises 02-30 to 03-02: that is no date */
+	if (t == (time_t)-1 || tm.tm_mday != day || tm.tm_mon != month - 1)
+		return -1;
+	*epoch = (double)t;
+	return 0;
+}
+
+int psd_clock_parse_date(const char *s, double *epoch)
+{
+	int y, m, d, n = 0;
+	if (!s || sscanf(s, "%4d-%2d-%2d%n", &y, &m, &d, &n) != 3 || s[n])
+		return -1;
+	return psd_clock_midnight(y, m, d, epoch);
+}
+
+void psd_clock_stamp(double epoch0, double t, char *out, size_t n)
+{
+	time_t tt;
+	struct tm tm;
+	if (!isfinite(epoch0) || !isfinite(t)) {
+		char hm[8];
+		psd_clock_hhmm(t, hm);
+		snprintf(out, n, "%s", hm);
+		return;
+	}
+	tt = (time_t)floor(epoch0 + t + 1e-6);
+	if (!localtime_r(&tt, &tm) || strftime(out, n, "%Y-%m-%d %H:%M", &tm) == 0)
+		snprintf(out, n, "?");
+}
+
+void psd_clock_duration(double s, char *out, size_t n)
+{
+	long m = lround(s / 60);
+	if (!(s >= 0) || !isfinite(s))
+		snprintf(out, n, "?");
+	else if (s < 60)
+		snprintf(out, n, "%.0f s", s);
+	else if (m < 60)
+		snprintf(out, n, "%ld min", m);
+	else
+		snprintf(out, n, "%ld h %ld min", m / 60, m % 60);
 }

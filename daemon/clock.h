@@ -9,6 +9,7 @@
 #ifndef PSD_CLOCK_H
 #define PSD_CLOCK_H
 
+#include <stddef.h>
 #include <time.h>
 
 struct psd_clock {
@@ -17,6 +18,8 @@ struct psd_clock {
 	double speed;             /* real: clock seconds per wall second */
 	struct timespec mono0;    /* real: CLOCK_MONOTONIC at start */
 	double now;               /* simulated: the current time */
+	double epoch0;            /* UTC (epoch seconds) of clock time 0: the local
+	                             midnight of the run's first day (NAN: not known) */
 };
 
 void psd_clock_real(struct psd_clock *c, double origin, double speed);
@@ -33,5 +36,14 @@ double psd_clock_local_tod(void);
 double psd_clock_tod(double t);
 /* "HH:MM" of a clock time t. */
 void psd_clock_hhmm(double t, char out[8]);
+/* UTC of the local midnight that starts a date; -1 when it is no date. */
+int psd_clock_midnight(int year, int month, int day, double *epoch);
+/* Parse "YYYY-MM-DD" into its midnight (psd_clock_midnight); -1 if not one. */
+int psd_clock_parse_date(const char *s, double *epoch);
+/* The local "YYYY-MM-DD HH:MM" of clock time t on a clock whose time 0 is
+ * epoch0 ("HH:MM" when epoch0 is NAN); out at least 20 bytes. */
+void psd_clock_stamp(double epoch0, double t, char *out, size_t n);
+/* A duration in seconds as "3 h 58 min" (or "12 min", "45 s"). */
+void psd_clock_duration(double s, char *out, size_t n);
 
 #endif

@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: ISC */
 #include "config.h"
+#include "confcheck.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "roomsetup.h"
 
@@ -94,6 +96,29 @@ static int find_name(const char *name, const void *base, size_t n, size_t stride
 int psd_config_point(const struct psd_config *cf, const char *name)
 {
 	return find_name(name, cf->pt, cf->npt, sizeof cf->pt[0]);
+}
+
+int psd_timezone_valid(const char *tz)
+{
+	char path[512];
+	struct stat st;
+	if (!*tz || strstr(tz, "..") || tz[0] == '/')
+		return 0;
+	snprintf(path, sizeof path, "/usr/share/zoneinfo/%s", tz);
+	if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
+		return 1;
+	/* a POSIX rule: a name of three letters or more, then an offset */
+	return strlen(tz) >= 4 && strpbrk(tz, "0123456789") != NULL && strspn(tz, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") >= 3;
+}
+
+const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc)
+{
+	return zc->scene ? zc->scene : zc->results ? NULL : cf->scene;
+}
+
+const char *psd_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc)
+{
+	return zc->results ? zc->results : cf->results;
 }
 
 int psd_config_zone(const struct psd_config *cf, const char *name)
@@ -347,8 +372,24 @@ static void load_zones(struct psd_config *cf)
 		ps_conf_double(c, s, "cal_day_interval", 600, 0.001, 86400, &z->cal_day_interval);
 		ps_conf_double(c, s, "cal_min_day_volts", 0.05, 0, 100, &z->cal_min_day_volts);
 		ps_conf_double(c, s, "cal_tolerance", 25, 0, 1000, &z->cal_tolerance);
+		ps_conf_double(c, s, "cal_dark_margin", 0.2, 0, 100, &z->cal_dark_margin);
+		ps_conf_bool(c, s, "cal_night_sun", 1, &z->cal_night_sun);
+		ps_conf_double(c, s, "cal_sun_share", 0.05, 0, 1, &z->cal_sun_share);
 		ps_conf_double(c, s, "drift_margin", 0.25, 0.001, 10, &z->drift_margin);
 		ps_conf_double(c, s, "drift_hold", 3600, 0, 86400 * 30, &z->drift_hold);
+		z->scene = ps_conf_path(c, s, "scene");
+		z->results = ps_conf_path(c, s, "results");
+		if (z->scene && !z->results && cf->results) {
+			/* beside [psensd]'s results, named after the scene */
+			const char *base = strrchr(z->scene, '/'), *rs = strrchr(cf->results, '/');
+			size_t nb, nd = rs ? (size_t)(rs - cf->results + 1) : 0;
+			base = base ? base + 1 : z->scene;
+			nb = strlen(base);
+			if (nb > 6 && strcmp(base + nb - 6, ".scene") == 0)
+				nb -= 6;
+			if ((z->results = malloc(nd + nb + 9)))
+				snprintf(z->results, nd + nb + 9, "%.*s%.*s.results", (int)nd, cf->results, (int)nb, base);
+		}
 		cf->nzone++;
 	}
 	if (cf->nzone == 0)
@@ -379,7 +420,7 @@ static void check_sharing(struct psd_config *cf)
 	}
 }
 
-static int load(struct psd_config *cf)
+static int load(struct psd_config *cf, int files)
 {
 	struct ps_conf *c = &cf->conf;
 	struct ps_conf_section *s = ps_conf_section(c, "psensd");
@@ -401,6 +442,10 @@ static int load(struct psd_config *cf)
 	ps_conf_double(c, s, "stuck_after", 0, 0, 86400 * 7, &cf->stuck_after);
 	ps_conf_int(c, s, "max_clients", 32, 1, 1024, &maxc);
 	cf->max_clients = maxc;
+	cf->timezone = ps_conf_str(c, s, "timezone", NULL);
+	if (cf->timezone && !psd_timezone_valid(cf->timezone))
+		ps_conf_error(c, line_of(s, "timezone"), "timezone: '%s' is neither a zone in /usr/share/zoneinfo nor a "
+		              "POSIX rule such as CET-1CEST,M3.5.0,M10.5.0/3", cf->timezone);
 	cf->socket_mode = 0660;
 	if ((mode = (char *)ps_conf_str(c, s, "socket_mode", NULL))) {
 		char *end;
@@ -415,6 +460,9 @@ static int load(struct psd_config *cf)
 	snprintf(cf->date, sizeof cf->date, "%s", ps_conf_str(c, s, "date", "03-18"));
 	if (psd_day_of_year(cf->date) < 0)
 		ps_conf_error(c, s ? line_of(s, "date") : 0, "date: '%s' is not MM-DD", cf->date);
+	ps_conf_int(c, s, "run_year", 0, 0, 9999, &cf->run_year);
+	if (cf->run_year != 0 && cf->run_year < 1970)
+		ps_conf_error(c, s ? line_of(s, "run_year") : 0, "run_year: %ld is before 1970", cf->run_year);
 	hhmm(c, s, "start", 6 * 3600.0, &cf->start);
 	hhmm(c, s, "end", 20 * 3600.0, &cf->end);
 	hhmm(c, s, "sunrise", 6 * 3600.0, &cf->sunrise);
@@ -442,11 +490,26 @@ static int load(struct psd_config *cf)
 	psd_mqttconf_load(&cf->mqtt, c);
 	if (cf->mqtt.enabled && !cf->database)
 		ps_conf_error(c, cf->mqtt.line, "[mqtt] publishes the sample log: set database in [psensd]");
+	psd_config_check_ranges(cf);
+	if (files)
+		psd_config_check_files(cf);
 	ps_conf_check_unused(c);
 	return c->nerrors ? -1 : 0;
 }
 
+static int load_file(struct psd_config *cf, const char *path, int files);
+
 int psd_config_load(struct psd_config *cf, const char *path)
+{
+	return load_file(cf, path, 1);
+}
+
+int psd_config_load_keys(struct psd_config *cf, const char *path)
+{
+	return load_file(cf, path, 0);
+}
+
+static int load_file(struct psd_config *cf, const char *path, int files)
 {
 	struct ps_err e;
 	memset(cf, 0, sizeof *cf);
@@ -457,7 +520,7 @@ int psd_config_load(struct psd_config *cf, const char *path)
 			cf->conf.nerrors = 1;
 		return -1;
 	}
-	return load(cf);
+	return load(cf, files);
 }
 
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path)
@@ -468,7 +531,7 @@ int psd_config_load_string(struct psd_config *cf, const char *text, const char *
 		ps_conf_error(&cf->conf, 0, "%s", e.msg);
 		return -1;
 	}
-	return load(cf);
+	return load(cf, 0);
 }
 
 void psd_config_free(struct psd_config *cf)
@@ -477,6 +540,12 @@ void psd_config_free(struct psd_config *cf)
 	free(cf->scene);
 	free(cf->database);
 	free(cf->socket_path);
+	for (size_t i = 0; i < cf->npath; i++)
+		free(cf->path[i]);
+	for (size_t i = 0; i < cf->nzone; i++) {
+		free(cf->zone[i].scene);
+		free(cf->zone[i].results);
+	}
 	psd_mqttconf_free(&cf->mqtt);
 	ps_conf_free(&cf->conf);
 	memset(cf, 0, sizeof *cf);

@@ -76,19 +76,29 @@ struct psd_zone_conf {
 	double cal_day_interval;  /* s between them */
 	double cal_min_day_volts; /* less daylight signal: not a day sample */
 	double cal_tolerance;     /* % error against the design still a pass */
+	double cal_dark_margin;   /* night: daylight above the electric-only expectation, as a
+	                             fraction of the full-output electric signal, that refuses
+	                             or aborts a night session */
+	int cal_night_sun;        /* night: refuse while the simulation's sun is up */
+	double cal_sun_share;     /* day: a brightest patch above this share of the simulated
+	                             response is the sun in the sensor's view (a warning) */
 	double drift_margin;      /* |ln(measured/simulated)| */
 	double drift_hold;        /* s */
+	/* the zone's own simulation (NULL: [psensd]'s); see psd_zone_results() */
+	char *scene, *results;
 	int line;
 };
 
 struct psd_config {
 	struct ps_conf conf;      /* owns every string the options point into */
 	char *results, *scene, *database, *socket_path;
+	const char *timezone;     /* the site's time zone (TZ: a zoneinfo name or a POSIX rule), NULL: the process's */
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;
 	long max_clients;
 	/* [simulate] */
 	char date[16];
+	long run_year;            /* the year a run on a set clock is dated (0: the current year) */
 	double start, end, sunrise, sunset, tolerance;
 	int sim_year;             /* [simulate] year = yes: the room plays the results' year */
 	double occ_from, occ_to;  /* [simulate] occupied_from, occupied_to: psensd -Y's hours */
@@ -101,6 +111,8 @@ struct psd_config {
 	size_t nzone;
 	struct ps_opt optpool[PSD_MAX_OPTS];
 	size_t nopt;
+	char *path[PSD_MAX_DEVICES];   /* driver file options resolved against the file's directory */
+	size_t npath;
 	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqttconf.h) */
 };
 
@@ -108,9 +120,22 @@ struct psd_config {
  * Returns 0, or -1 with every error in cf->conf.errors (and a read failure
  * as its only error).  psd_config_free() is needed either way. */
 int psd_config_load(struct psd_config *cf, const char *path);
-/* The same from text (tests and fuzzing); path only names it in messages. */
+/* The same without opening the files it names (scene, results, replays):
+ * for readers of the configuration that do not run it (psensctl report). */
+int psd_config_load_keys(struct psd_config *cf, const char *path);
+/* The same from text (tests and fuzzing); path only names it in messages,
+ * and the files the text names are not opened (daemon/confcheck.h). */
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path);
 void psd_config_free(struct psd_config *cf);
+
+/* The scene and results a zone runs on: its own, else [psensd]'s.  A zone
+ * that names a scene but no results gets them beside [psensd]'s results,
+ * named after the scene (ofb-cone.scene: ofb-cone.results). */
+const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc);
+const char *psd_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc);
+
+/* 1 when tz names a zone in /usr/share/zoneinfo or is a POSIX TZ rule. */
+int psd_timezone_valid(const char *tz);
 
 /* Index of a device, point or zone by name, -1 if none. */
 int psd_config_point(const struct psd_config *cf, const char *name);

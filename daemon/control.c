@@ -34,18 +34,24 @@ static double switching(struct psd_control *c, double volts, double now)
 	return clamp(level, 0.0, 1.0);
 }
 
+void psd_control_estimate(struct psd_control *c, double volts)
+{
+	/* the daylight part of the signal: what the offset and the lights do
+	 * not explain */
+	double day = (volts - c->offset) / c->sensor_gain - c->level * c->elec_sensor;
+	if (day < 0)
+		day = 0;
+	c->daylight_volts = day * c->sensor_gain;
+	c->est_task_lux = c->daylight_ratio * day + c->elec_task_lux * c->level;
+}
+
 double psd_control_step(struct psd_control *c, double volts, double now)
 {
 	double want, se = c->sensor_gain * c->elec_sensor;   /* S_E: volts at night, full output */
 	double rd = c->sensor_gain / c->daylight_ratio;      /* r_D: daylight volts per task lux */
 	double raw = volts;
+	psd_control_estimate(c, volts);
 	volts -= c->offset;   /* the dark signal, once a night calibration measured it */
-	/* the daylight part of the signal: what the lights do not explain */
-	double day = volts / c->sensor_gain - c->level * c->elec_sensor;
-	if (day < 0)
-		day = 0;
-	c->daylight_volts = day * c->sensor_gain;
-	c->est_task_lux = c->daylight_ratio * day + c->elec_task_lux * c->level;
 	switch (c->algorithm) {
 	case PSD_ALG_CLOSED_PROPORTIONAL:
 		want = (c->target_lux - volts / rd) / (c->elec_task_lux - se / rd);
@@ -67,7 +73,7 @@ double psd_control_step(struct psd_control *c, double volts, double now)
 	case PSD_ALG_SETPOINT:
 	default:
 		/* the level that brings the estimated task lux to the target */
-		want = (c->target_lux - c->daylight_ratio * day) / c->elec_task_lux;
+		want = (c->target_lux - c->daylight_ratio * c->daylight_volts / c->sensor_gain) / c->elec_task_lux;
 		break;
 	}
 	want = clamp(want, c->min_level, 1.0);

@@ -45,6 +45,11 @@ struct psd_control {
 	int pending_dir;         /* switching: -1 down, +1 up, 0 none */
 };
 
+/* The estimate alone from a reading (volts), the lights being at c->level:
+ * daylight_volts and est_task_lux, which psd_control_step also sets.  For
+ * the steps where something else holds the lights (a calibration session),
+ * so that the logged estimate follows the room. */
+void psd_control_estimate(struct psd_control *c, double volts);
 /* Next level from a reading (volts) at time now (seconds), the lights being
  * at c->level since the last step. */
 double psd_control_step(struct psd_control *c, double volts, double now);

@@ -17,7 +17,7 @@
 
 static const char help_text[] =
 	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | release ZONE | "
-	"ratios | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort | "
+	"ratios [ZONE] | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort | "
 	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
 
 static void put_num(json_object *o, const char *key, double v)
@@ -418,17 +418,28 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	finish(o, reply, len);
 }
 
-static void ratios(struct psd_daemon *d, char *reply, size_t len)
+/* ratios [ZONE]: [psensd]'s results, or the zone's own simulation. */
+static void ratios(struct psd_daemon *d, const char *zone, char *reply, size_t len)
 {
-	const struct ps_results *r = &d->engine.res;
+	const struct ps_results *r = d->engine.have_res ? &d->engine.res : NULL;
+	const char *path = d->engine.cf->results;
 	json_object *o, *conds;
-	if (!d->engine.have_res) {
+	if (zone) {
+		struct psd_zone *z = psd_engine_zone(&d->engine, zone);
+		if (!z) {
+			error_reply(reply, len, "no zone '%s'", zone);
+			return;
+		}
+		r = z->res;
+		path = psd_zone_results(d->engine.cf, z->zc);
+	}
+	if (!r) {
 		error_reply(reply, len, "no results loaded");
 		return;
 	}
 	o = ok_reply();
 	conds = json_object_new_array();
-	put_str(o, "results", d->engine.cf->results);
+	put_str(o, "results", path);
 	put_str(o, "scene", r->scene);
 	put_str(o, "scene_sha256", r->scene_hash);
 	put_num(o, "daylight_ratio_mean", r->daylight_ratio_mean);
@@ -520,8 +531,8 @@ void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len)
 		finish(o, reply, len);
 	} else if (strcmp(argv[0], "status") == 0) {
 		status(d, argc, argv, reply, len);
-	} else if (strcmp(argv[0], "ratios") == 0 && argc == 1) {
-		ratios(d, reply, len);
+	} else if (strcmp(argv[0], "ratios") == 0 && argc <= 2) {
+		ratios(d, argc == 2 ? argv[1] : NULL, reply, len);
 	} else if (strcmp(argv[0], "log") == 0 && argc == 1) {
 		json_object *o = ok_reply();
 		put_str(o, "database", e->cf->database);

@@ -22,6 +22,9 @@ struct psd_daemon {
 	int have_ctl;
 	struct psd_mqtt *mqtt;    /* [mqtt]: the publisher (daemon/mqtt.h), NULL: none */
 	double end;               /* simulated: stop at this time; real: INFINITY */
+	int advance_date;         /* the date is the configuration's (a set clock): when the
+	                             database already holds it, the run is dated the next
+	                             free day (clock.epoch0 moves), so runs never overdraw */
 	int watchdog_ms;          /* systemd watchdog interval / 2, 0: none */
 	int stop;                 /* 1: SIGTERM/SIGINT seen */
 	int reload;               /* 1: SIGHUP seen */

@@ -21,6 +21,7 @@ struct psd_db {
 	int pending;          /* samples in the open transaction */
 	int batch;
 	unsigned long committed;
+	double epoch0;        /* UTC of clock time 0 (NAN: rows carry no date) */
 	int lockfd;           /* the writer's flock on path.lock (daemon/pidlock.h), -1 none */
 };
 
@@ -53,28 +54,60 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
 	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
 	" PRIMARY KEY(site, zone));",
+	/* 4 -> 5: dates (issue 17): the local date and time of every sample,
+	 * UTC and local of every session and session sample, and an event log.
+	 * Older rows keep NULL there: the day they were logged on was never
+	 * recorded.  Every ADD COLUMN is skipped when the column is there
+	 * already (migrate(): a file from a development build had it), and
+	 * samples.utc / the MQTT tables are made here too if such a file
+	 * skipped 3 -> 4. */
+	"ALTER TABLE samples ADD COLUMN utc REAL;"
+	"ALTER TABLE samples ADD COLUMN local TEXT;"
+	"CREATE INDEX IF NOT EXISTS samples_utc ON samples(utc);"
+	"ALTER TABLE cal_sessions ADD COLUMN started_utc REAL;"
+	"ALTER TABLE cal_sessions ADD COLUMN started_local TEXT;"
+	"ALTER TABLE cal_sessions ADD COLUMN ended_utc REAL;"
+	"ALTER TABLE cal_sessions ADD COLUMN ended_local TEXT;"
+	"ALTER TABLE cal_samples ADD COLUMN utc REAL;"
+	"ALTER TABLE cal_samples ADD COLUMN local TEXT;"
+	"CREATE TABLE IF NOT EXISTS events("
+	" t REAL, utc REAL, local TEXT, zone TEXT, kind TEXT NOT NULL, text TEXT);"
+	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
+	" PRIMARY KEY(site, zone));",
+	/* 5 -> 6: acceptance (issue 17): the zones' design constants and the
+	 * results of the acceptance tests */
+	"CREATE TABLE IF NOT EXISTS zone_consts(zone TEXT PRIMARY KEY, utc REAL, target_lux REAL,"
+	" elec_task_lux REAL, delay REAL);"
+	"CREATE TABLE IF NOT EXISTS acceptance_tests(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, local TEXT,"
+	" test TEXT NOT NULL, verdict TEXT NOT NULL, value REAL, limit_value REAL, samples INTEGER, measured TEXT,"
+	" utc REAL);",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                     " daylight_lux, condition, ratio, fault, zone, utc";
-/* the same for a log written before schema 4 (opened read-only, it is not
- * migrated): no utc column, so NULL in its place */
+                                     " daylight_lux, condition, ratio, fault, zone, utc, local";
+/* What the readers select: a file opened read-only is not migrated; one
+ * from schema 4 has utc but no local text, one from before has neither
+ * (NULL then). */
+static const char sample_columns_v4[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
+                                        " daylight_lux, condition, ratio, fault, zone, utc, NULL";
 static const char sample_columns_v3[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                        " daylight_lux, condition, ratio, fault, zone, NULL";
+                                        " daylight_lux, condition, ratio, fault, zone, NULL, NULL";
 
-/* The columns a reader selects: the file's (1 when it has utc). */
+static int has_column(struct psd_db *db, const char *table, const char *column);
+
+/* 1 when the file's samples have utc */
 static int has_utc(struct psd_db *db)
 {
-	sqlite3_stmt *st;
-	if (sqlite3_prepare_v2(db->h, "SELECT utc FROM samples LIMIT 0", -1, &st, NULL) != SQLITE_OK)
-		return 0;
-	sqlite3_finalize(st);
-	return 1;
+	return has_column(db, "samples", "utc");
 }
 
+/* The columns a reader selects, by the file's schema. */
 static const char *read_columns(struct psd_db *db)
 {
-	return has_utc(db) ? sample_columns : sample_columns_v3;
+	if (has_column(db, "samples", "local"))
+		return sample_columns;
+	return has_utc(db) ? sample_columns_v4 : sample_columns_v3;
 }
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
@@ -91,6 +124,43 @@ int psd_db_schema(struct psd_db *db)
 	v = sqlite3_step(st) == SQLITE_ROW ? sqlite3_column_int(st, 0) : 0;
 	sqlite3_finalize(st);
 	return v;
+}
+
+/* Run one step's statements in turn.  An ADD COLUMN whose column is there
+ * already is skipped: a file may have it from an earlier step or build. */
+static int run_step(sqlite3 *h, const char *sql, char **msg)
+{
+	while (sql && *sql) {
+		sqlite3_stmt *st;
+		const char *tail = NULL;
+		int rc;
+		if (sqlite3_prepare_v2(h, sql, -1, &st, &tail) != SQLITE_OK) {
+			const char *e = sqlite3_errmsg(h);
+			if (strncmp(e, "duplicate column name", 21) != 0) {
+				*msg = sqlite3_mprintf("%s", e);
+				return SQLITE_ERROR;
+			}
+			sql = tail && tail != sql ? tail : strchr(sql, ';');   /* skip it */
+			if (sql && *sql == ';')
+				sql++;
+			continue;
+		}
+		if (!st) {   /* white space or a comment */
+			sql = tail;
+			continue;
+		}
+		rc = sqlite3_step(st);
+		sqlite3_finalize(st);
+		if (rc != SQLITE_DONE && rc != SQLITE_ROW) {
+			const char *e = sqlite3_errmsg(h);
+			if (strncmp(e, "duplicate column name", 21) != 0) {
+				*msg = sqlite3_mprintf("%s", e);
+				return rc;
+			}
+		}
+		sql = tail;
+	}
+	return SQLITE_OK;
 }
 
 static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen)
@@ -111,7 +181,7 @@ static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen
 		snprintf(set, sizeof set, "INSERT OR REPLACE INTO meta VALUES('schema', '%d');", v + 1);
 		if (sqlite3_exec(db->h, "BEGIN IMMEDIATE", NULL, NULL, &msg) != SQLITE_OK)
 			goto bad;
-		if (sqlite3_exec(db->h, steps[v], NULL, NULL, &msg) != SQLITE_OK ||
+		if (run_step(db->h, steps[v], &msg) != SQLITE_OK ||
 		    sqlite3_exec(db->h, set, NULL, NULL, &msg) != SQLITE_OK ||
 		    sqlite3_exec(db->h, "COMMIT", NULL, NULL, &msg) != SQLITE_OK) {
 			sqlite3_exec(db->h, "ROLLBACK", NULL, NULL, NULL);
@@ -142,6 +212,7 @@ static struct psd_db *open_db(const char *path, int flags, char *err, size_t err
 	}
 	sqlite3_busy_timeout(db->h, 2000);   /* a reader or the writer may hold it briefly */
 	db->batch = DB_BATCH;
+	db->epoch0 = NAN;
 	db->lockfd = -1;
 	return db;
 }
@@ -190,7 +261,7 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 	db->lockfd = lockfd;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -296,6 +367,118 @@ static sqlite3_stmt *query(struct psd_db *db, char *err, size_t errlen, const ch
 	return st;
 }
 
+/* ---- dates ------------------------------------------------------------------ */
+
+void psd_db_set_epoch(struct psd_db *db, double epoch0)
+{
+	db->epoch0 = epoch0;
+}
+
+void psd_db_local(double utc, char *out, size_t n)
+{
+	time_t tt;
+	struct tm tm;
+	out[0] = 0;
+	if (!isfinite(utc) || n < 20)
+		return;
+	tt = (time_t)floor(utc);
+	if (localtime_r(&tt, &tm))
+		strftime(out, n, "%Y-%m-%d %H:%M:%S", &tm);
+}
+
+/* The UTC and local text of clock time t for this database. */
+static double utc_of(const struct psd_db *db, double t, char local[32])
+{
+	double u = isfinite(db->epoch0) && isfinite(t) ? db->epoch0 + t : NAN;
+	psd_db_local(u, local, 32);
+	return u;
+}
+
+static const char *or_null(const char *s)
+{
+	return s && *s ? s : NULL;
+}
+
+double psd_db_last_utc(struct psd_db *db)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT max(utc) FROM samples", "");
+	double v = NAN;
+	if (!st)
+		return NAN;
+	if (sqlite3_step(st) == SQLITE_ROW)
+		v = col_num(st, 0);
+	sqlite3_finalize(st);
+	return v;
+}
+
+int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind, const char *text, char *err,
+                 size_t errlen)
+{
+	char local[32];
+	double u = utc_of(db, t, local);
+	return run(db, "INSERT INTO events(t, utc, local, zone, kind, text) VALUES(?, ?, ?, ?, ?, ?)", err, errlen,
+	           "ddtttt", t, u, or_null(local), zone, kind, text);
+}
+
+/* ---- acceptance -------------------------------------------------------------- */
+
+int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lux, double elec_task_lux,
+                           double delay, char *err, size_t errlen)
+{
+	struct timespec now;
+	clock_gettime(CLOCK_REALTIME, &now);
+	return run(db, "INSERT OR REPLACE INTO zone_consts VALUES(?, ?, ?, ?, ?)", err, errlen, "tdddd", zone,
+	           (double)now.tv_sec, target_lux, elec_task_lux, delay);
+}
+
+int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
+                           double *delay)
+{
+	char err[256];
+	sqlite3_stmt *st = query(db, err, sizeof err, "SELECT target_lux, elec_task_lux, delay FROM zone_consts"
+	                         " WHERE zone = ?", "t", zone);
+	int rc;
+	if (!st)
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW) {
+		*target_lux = col_num(st, 0);
+		*elec_task_lux = col_num(st, 1);
+		*delay = col_num(st, 2);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_ROW ? 0 : rc == SQLITE_DONE ? 1 : -1;
+}
+
+int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const char *test, const char *verdict,
+                      double value, double limit, long samples, const char *measured, char *err, size_t errlen)
+{
+	char local[32];
+	psd_db_local(utc, local, sizeof local);
+	return run(db, "INSERT INTO acceptance_tests(zone, utc, local, test, verdict, value, limit_value, samples, measured)"
+	           " VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "tdtttddit", zone, utc, or_null(local), test,
+	           verdict, value, limit, (long long)samples, measured);
+}
+
+int psd_db_accept_results(struct psd_db *db, const char *zone, psd_db_accept_fn fn, void *user, char *err,
+                          size_t errlen)
+{
+	sqlite3_stmt *st = query(db, err, errlen, "SELECT zone, local, test, verdict, measured, utc, value, limit_value,"
+	                         " samples FROM acceptance_tests WHERE zone = ? ORDER BY id", "t", zone);
+	int rc;
+	if (!st)
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+		struct psd_db_accept a = { col_text(st, 0), col_text(st, 1), col_text(st, 2), col_text(st, 3),
+		                           col_text(st, 4), col_num(st, 5), col_num(st, 6), col_num(st, 7),
+		                           (long)sqlite3_column_int64(st, 8) };
+		fn(user, &a);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
 /* ---- the sample log -------------------------------------------------------- */
 
 void psd_db_set_batch(struct psd_db *db, int batch)
@@ -324,12 +507,17 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 10, s->ratio);
 	bind_text(db->ins, 11, s->fault);
 	bind_text(db->ins, 12, s->zone);
-	if (isfinite(s->utc)) {
-		bind_num(db->ins, 13, s->utc);   /* the clock's time (engine.c: its day + t) */
-	} else {
-		struct timespec ts;   /* no clock date given: the wall clock at logging */
-		clock_gettime(CLOCK_REALTIME, &ts);
-		sqlite3_bind_double(db->ins, 13, (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec);
+	{
+		char local[32];
+		double u = isfinite(s->utc) ? s->utc : utc_of(db, s->t, local);
+		if (!isfinite(u)) {   /* no clock date given: the wall clock at logging */
+			struct timespec ts;
+			clock_gettime(CLOCK_REALTIME, &ts);
+			u = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+		}
+		psd_db_local(u, local, sizeof local);
+		bind_num(db->ins, 13, u);   /* the clock's time (engine.c: its day + t) */
+		bind_text(db->ins, 14, or_null(local));
 	}
 	if (sqlite3_step(db->ins) != SQLITE_DONE) {
 		sqlite3_reset(db->ins);
@@ -352,12 +540,28 @@ int psd_db_commit(struct psd_db *db, char *err, size_t errlen)
 	return 0;
 }
 
+/* 1 when table has column (a read-only file may predate it). */
+static int has_column(struct psd_db *db, const char *table, const char *column)
+{
+	sqlite3_stmt *st;
+	char sql[128];
+	int yes = 0;
+	snprintf(sql, sizeof sql, "SELECT * FROM \"%s\" LIMIT 0", table);
+	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
+		return 0;
+	for (int i = 0; i < sqlite3_column_count(st); i++)
+		yes |= strcmp(sqlite3_column_name(st, i), column) == 0;
+	sqlite3_finalize(st);
+	return yes;
+}
+
+
 static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 {
 	*s = (struct psd_sample){
 		col_num(st, 0), col_num(st, 1), col_num(st, 2), col_num(st, 3), col_num(st, 4), col_num(st, 5),
 		col_num(st, 6), col_num(st, 7), col_text(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
-		col_num(st, 12),
+		col_num(st, 12), col_text(st, 13),
 	};
 }
 
@@ -450,6 +654,7 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 		psd_db_close(db);
 		return -1;
 	}
+	/* the old form, kept as it was (psensctl export has the dates) */
 	fputs("t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone\n",
 	      (FILE *)out);
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
@@ -474,9 +679,11 @@ static int cal_fail(struct psd_db *db, const char *what, char *err, size_t errle
 long long psd_db_cal_begin(struct psd_db *db, const char *zone, const char *kind, double started,
                            const char *config_sha256, const char *scene_sha256, char *err, size_t errlen)
 {
-	if (run(db, "INSERT INTO cal_sessions(zone, kind, state, started, config_sha256, scene_sha256)"
-	            " VALUES(?, ?, 'running', ?, ?, ?)", err, errlen, "ttdtt", zone, kind, started, config_sha256,
-	        scene_sha256) != 0)
+	char local[32];
+	double u = utc_of(db, started, local);
+	if (run(db, "INSERT INTO cal_sessions(zone, kind, state, started, config_sha256, scene_sha256, started_utc,"
+	            " started_local) VALUES(?, ?, 'running', ?, ?, ?, ?, ?)", err, errlen, "ttdttdt", zone, kind,
+	        started, config_sha256, scene_sha256, u, or_null(local)) != 0)
 		return cal_fail(db, "begin", err, errlen);
 	return (long long)sqlite3_last_insert_rowid(db->h);
 }
@@ -484,9 +691,11 @@ long long psd_db_cal_begin(struct psd_db *db, const char *zone, const char *kind
 int psd_db_cal_sample(struct psd_db *db, long long id, int seq, double t, double level, double volts,
                       double volts_se, double lux, const char *source, char *err, size_t errlen)
 {
-	if (run(db, "INSERT OR REPLACE INTO cal_samples(session, seq, t, level, volts, volts_se, lux, source)"
-	            " VALUES(?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "iidddddt", id, (long long)seq, t, level, volts,
-	        volts_se, lux, source) != 0)
+	char local[32];
+	double u = utc_of(db, t, local);
+	if (run(db, "INSERT OR REPLACE INTO cal_samples(session, seq, t, level, volts, volts_se, lux, source, utc,"
+	            " local) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "iidddddtdt", id, (long long)seq, t,
+	        level, volts, volts_se, lux, source, u, or_null(local)) != 0)
 		return cal_fail(db, "sample", err, errlen);
 	return 0;
 }
@@ -494,8 +703,11 @@ int psd_db_cal_sample(struct psd_db *db, long long id, int seq, double t, double
 int psd_db_cal_end(struct psd_db *db, long long id, const char *state, double ended, const char *results,
                    const char *note, char *err, size_t errlen)
 {
-	if (run(db, "UPDATE cal_sessions SET state = ?, ended = ?, results = ?, note = ? WHERE id = ?", err, errlen,
-	        "tdtti", state, ended, results, note, id) != 0)
+	char local[32];
+	double u = utc_of(db, ended, local);
+	if (run(db, "UPDATE cal_sessions SET state = ?, ended = ?, results = ?, note = ?, ended_utc = ?,"
+	            " ended_local = ? WHERE id = ?", err, errlen, "tdttdti", state, ended, results, note, u,
+	        or_null(local), id) != 0)
 		return cal_fail(db, "end", err, errlen);
 	return 0;
 }
@@ -567,8 +779,13 @@ char *psd_db_cal_accepted(struct psd_db *db, const char *zone, const char *kind,
 int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_fn fn, void *user, char *err,
                         size_t errlen)
 {
-	sqlite3_stmt *st = query(db, err, errlen, "SELECT id, zone, kind, state, started, ended, results, note"
-	                         " FROM cal_sessions WHERE zone = ? ORDER BY id", "t", zone);
+	int dated = has_column(db, "cal_sessions", "started_utc");
+	sqlite3_stmt *st = query(db, err, errlen, dated
+	                         ? "SELECT id, zone, kind, state, started, ended, results, note,"
+	                           " started_utc, ended_utc, started_local, ended_local"
+	                           " FROM cal_sessions WHERE zone = ? ORDER BY id"
+	                         : "SELECT id, zone, kind, state, started, ended, results, note, NULL, NULL, NULL, NULL"
+	                           " FROM cal_sessions WHERE zone = ? ORDER BY id", "t", zone);
 	int rc;
 	if (!st)
 		return -1;
@@ -576,6 +793,7 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 		struct psd_db_cal_session s = {
 			sqlite3_column_int64(st, 0), col_text(st, 1), col_text(st, 2), col_text(st, 3),
 			col_num(st, 4), col_num(st, 5), col_text(st, 6), col_text(st, 7),
+			col_num(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
 		};
 		fn(user, &s);
 	}
@@ -722,7 +940,7 @@ int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_s
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
 		struct psd_sample s;
 		row_sample(st, &s);
-		fn(user, sqlite3_column_int64(st, 13), s.utc, &s);
+		fn(user, sqlite3_column_int64(st, 14), s.utc, &s);
 		n++;
 	}
 	sqlite3_finalize(st);

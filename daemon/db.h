@@ -11,17 +11,24 @@
  *                 (running, done, aborted, accepted, superseded), start and
  *                 end, the config's and the scene's SHA-256, results (JSON)
  *   cal_samples   every sample of a session, committed as it is taken
+ *   events        faults, their end, sessions, starts and reloads (schema 5)
  *   mqtt_cursor   per MQTT site, the last sample id the broker acknowledged
  *   mqtt_announced  per MQTT site, the zones announced to Home Assistant
- * Each sample row also has utc: the time its clock showed (the clock's day + t), or
- * the wall-clock time it was logged when no clock date was given. */
+ *   zone_consts, acceptance_tests  (schema 6) psensctl accept-test
+ *
+ * Each sample row has utc (schema 4): the time its clock showed (the
+ * clock's day + t), or the wall-clock time it was logged when no clock
+ * date was given; since schema 5 also its local date and time, and
+ * sessions, session samples and events carry UTC and local too.  t stays
+ * the daemon's clock (seconds from the local midnight of the run's first
+ * day). */
 #ifndef PSD_DB_H
 #define PSD_DB_H
 
 #include <stddef.h>
 
 /* The schema version this build writes. */
-enum { PSD_DB_SCHEMA = 4 };
+enum { PSD_DB_SCHEMA = 6 };
 
 struct psd_sample {
 	double t;             /* seconds on the daemon's clock */
@@ -36,8 +43,13 @@ struct psd_sample {
 	double ratio;         /* task lux per unit of sensor response used */
 	const char *fault;    /* NULL or a short text */
 	const char *zone;     /* the zone's name */
-	double utc;           /* Unix time the clock showed (its day's local midnight + t);
-	                         NAN in a log written before schema 4 */
+	/* when, as UTC (epoch seconds; schema 4: the clock's day's local
+	 * midnight + t) and as the local date and time for display
+	 * ("YYYY-MM-DD HH:MM:SS", schema 5); NAN and NULL in a row logged
+	 * before.  psd_db_add takes utc when finite, else the epoch the
+	 * database was given (psd_db_set_epoch) + t, else the wall clock. */
+	double utc;
+	const char *local;
 };
 
 struct psd_db;
@@ -50,6 +62,41 @@ struct psd_db *psd_db_open_readonly(const char *path, char *err, size_t errlen);
 void psd_db_close(struct psd_db *db);
 /* The schema version of the open file (meta 'schema'), -1 on error. */
 int psd_db_schema(struct psd_db *db);
+/* UTC (epoch seconds) of the daemon's clock time 0, the local midnight of
+ * the run's first day: every row written from now on stores utc = epoch0
+ * + t and the local date and time of it (NAN, the default: neither). */
+void psd_db_set_epoch(struct psd_db *db, double epoch0);
+/* The latest UTC on record in the sample log (NAN: none). */
+double psd_db_last_utc(struct psd_db *db);
+/* An event (a fault, its end, a session, a start or a reload) at clock
+ * time t, for a zone (NULL: the daemon), in the events table. */
+int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind, const char *text, char *err,
+                 size_t errlen);
+/* The local "YYYY-MM-DD HH:MM:SS" of a UTC time (out at least 20 bytes);
+ * "" when utc is not finite. */
+void psd_db_local(double utc, char *out, size_t n);
+
+/* ---- acceptance (schema 5, daemon/accept.h) -------------------------------- */
+
+/* The zone's design constants in force (psensd writes them at start and when
+ * the target changes): what the acceptance tests judge against. */
+int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lux, double elec_task_lux,
+                           double delay, char *err, size_t errlen);
+/* 0 found, 1 none, -1 error. */
+int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
+                           double *delay);
+/* One acceptance test's result, dated now (UTC). */
+int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const char *test, const char *verdict,
+                      double value, double limit, long samples, const char *measured, char *err, size_t errlen);
+/* A zone's acceptance results, oldest first (strings valid during the callback). */
+struct psd_db_accept {
+	const char *zone, *local, *test, *verdict, *measured;
+	double utc, value, limit;
+	long samples;
+};
+typedef void (*psd_db_accept_fn)(void *user, const struct psd_db_accept *a);
+int psd_db_accept_results(struct psd_db *db, const char *zone, psd_db_accept_fn fn, void *user, char *err,
+                          size_t errlen);
 
 /* ---- the sample log -------------------------------------------------------- */
 
@@ -68,7 +115,7 @@ long long psd_db_zone_count(struct psd_db *db, const char *zone, char *err, size
 int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn, void *user, char *err,
                         size_t errlen);
 /* Write the samples as CSV (header: t,tod_s,sensor_v,output,est_task_lux,
- * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone) to fp. */
+ * task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone,utc,local) to fp. */
 int psd_db_export_csv(const char *path, void *fp, char *err, size_t errlen);
 /* The samples of zone (NULL: every zone) with since <= utc <= until (NAN:
  * no bound), in log order; only the last `last` when last > 0 (psensctl log
@@ -112,6 +159,8 @@ struct psd_db_cal_session {
 	double started, ended;    /* NAN when not recorded */
 	const char *results;      /* JSON or NULL */
 	const char *note;         /* NULL or why it was aborted */
+	double started_utc, ended_utc;            /* schema 4; NAN when not recorded */
+	const char *started_local, *ended_local;  /* "YYYY-MM-DD HH:MM:SS" or NULL */
 };
 typedef void (*psd_db_cal_session_fn)(void *user, const struct psd_db_cal_session *s);
 /* A zone's sessions in the order they were started. */

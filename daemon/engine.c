@@ -24,22 +24,44 @@ static double wall(void)
 static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value);
 static int command(struct psd_engine *e, struct psd_zone *z, double now, double level, char *why, size_t n);
 
+/* Zone i's results: its own, else [psensd]'s (NULL: none). */
+static const struct ps_results *zone_res(const struct psd_engine *e, size_t i)
+{
+	return e->have_zres[i] ? &e->zres[i] : e->have_res ? &e->res : NULL;
+}
+
+/* The results a device's room plays: those of the first zone whose sensor
+ * is on the device, else [psensd]'s; *path names them for messages. */
+static const struct ps_results *device_res(const struct psd_engine *e, const struct ps_dev *d, const char **path)
+{
+	const struct psd_config *cf = e->cf;
+	int di = (int)(d - e->dev);
+	for (size_t i = 0; i < cf->nzone; i++)
+		if (cf->pt[cf->zone[i].sensor].device == di) {
+			*path = psd_zone_results(cf, &cf->zone[i]);
+			return zone_res(e, i);
+		}
+	*path = cf->results;
+	return e->have_res ? &e->res : NULL;
+}
+
 /* A simulated device's room, built from the results (daemon/roomsetup.c). */
 static int setup_room(struct psd_engine *e, struct ps_dev *d, double now, char *err, size_t n)
 {
 	const struct psd_config *cf = e->cf;
-	struct ps_room_params *room = !e->have_res ? NULL
-	                              : cf->sim_year ? psd_roomsetup_new_year(&e->res, cf->date)
-	                                             : psd_roomsetup_new(&e->res, cf->date, cf->sunrise, cf->sunset);
+	const char *path = NULL;
+	const struct ps_results *res = device_res(e, d, &path);
+	struct ps_room_params *room = !res ? NULL
+	                              : cf->sim_year ? psd_roomsetup_new_year(res, cf->date)
+	                                             : psd_roomsetup_new(res, cf->date, cf->sunrise, cf->sunset);
 	int rc;
 	if (!room && cf->sim_year)
 		return psd_errf(err, n, "device %s: [simulate] year = yes needs results with a year and an "
 		                "electric condition (a weather file in the scene: psscene(5)); %s has %s",
-		                d->name, cf->results, e->have_res && e->res.have_year ? "no electric condition"
-		                                                                      : "no year");
+		                d->name, path, res && res->have_year ? "no electric condition" : "no year");
 	if (!room)
 		return psd_errf(err, n, "device %s: the %s room needs results with a daylight and an electric "
-		                "condition (%s)", d->name, d->drv->name, cf->results);
+		                "condition (%s)", d->name, d->drv->name, path);
 	rc = d->drv->setup(d, room, now);
 	psd_roomsetup_free(room);
 	return rc == 0 ? 0 : psd_errf(err, n, "device %s: %s", d->name, d->err);
@@ -78,8 +100,9 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 /* What a calibration session may see of its zone (calsession.h). */
 static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struct psd_zone *z, double now)
 {
-	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, e->have_res ? &e->res : NULL, e->db,
-	                                     e->cf->conf.path, now };
+	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, z->res, e->db,
+	                                     e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
+	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level, e->utc0 };
 }
 
 /* Do what a session asked: a step now, accepted constants in force. */
@@ -126,10 +149,11 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	memset(z, 0, sizeof *z);
 	z->zc = zc;
 	z->ctl = zc->ctl;
-	if (e->have_res) {
-		z->ctl.daylight_ratio = e->res.daylight_ratio_mean;
-		z->ctl.elec_sensor = e->res.electric_sensor_response;
-		z->ctl.elec_task_lux = e->res.electric_task_lux;
+	z->res = zone_res(e, (size_t)(zc - e->cf->zone));
+	if (z->res) {
+		z->ctl.daylight_ratio = z->res->daylight_ratio_mean;
+		z->ctl.elec_sensor = z->res->electric_sensor_response;
+		z->ctl.elec_task_lux = z->res->electric_task_lux;
 	}
 	z->ctl.level = 1.0;
 	z->ctl.pending_since = -1;
@@ -155,6 +179,8 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 		if (sd->drv->truth(z->sim, now, &t) == 0)
 			z->st.energy0 = t.energy;
 	}
+	z->st.energy_last = z->st.energy0;
+	z->st.since = now;
 	z->st.worst_lux = INFINITY;
 	if (prev) {
 		for (size_t i = 0; i < prev->nzone; i++) {
@@ -167,8 +193,27 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 			z->next = o->next;
 			if (z->ctl.target_lux == o->zc->ctl.target_lux)
 				z->ctl.target_lux = o->ctl.target_lux;   /* a target set at run time survives */
+			/* the statistics run on over the reload: the reopened room
+			 * counts its energy afresh, so what the old one used up to
+			 * the zone's last step is carried (issue 17: the summary's
+			 * numerator restarted at the reload, its denominator did not) */
+			if (z->sim && o->sim) {
+				double e0 = z->st.energy0;
+				z->st = o->st;
+				z->st.energy_prior = psd_zone_energy(&o->st, o->st.energy_last);
+				z->st.energy0 = z->st.energy_last = e0;
+			}
 		}
 	}
+}
+
+/* The zone's design constants for the acceptance tests (daemon/accept.h). */
+static void record_consts(struct psd_engine *e, const struct psd_zone *z)
+{
+	char err[512];
+	if (e->db && psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux, z->ctl.delay,
+	                                    err, sizeof err) != 0 && e->log_errors++ == 0)
+		log_warnx("%s: %s", e->cf->database, err);
 }
 
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
@@ -202,19 +247,33 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 		}
 		e->have_res = 1;
 	}
+	/* zones with their own simulation */
+	for (size_t i = 0; i < cf->nzone; i++) {
+		const char *r = psd_zone_results(cf, &cf->zone[i]);
+		if (!r || (cf->results && strcmp(r, cf->results) == 0))
+			continue;
+		if (ps_results_read(&e->zres[i], r, &pe) != 0) {
+			psd_errf(err, errlen, "zone %s: %s", cf->zone[i].name, pe.msg);
+			goto bad;
+		}
+		e->have_zres[i] = 1;
+	}
 	if (open_devices(e, now, err, errlen) != 0)
 		goto bad;
 	if (cf->database && !(e->db = psd_db_open(cf->database, err, errlen)))
 		goto bad;
-	if (e->db)
+	if (e->db) {
 		psd_db_set_batch(e->db, e->db_batch);
+		psd_db_set_epoch(e->db, e->utc0);
+	}
 	for (size_t i = 0; i < cf->nzone; i++) {
 		zone_init(e, &e->zone[i], &cf->zone[i], now, prev);
 		if ((cf->zone[i].ctl.algorithm == PSD_ALG_SETPOINT ||
 		     cf->zone[i].ctl.algorithm == PSD_ALG_CLOSED_PROPORTIONAL) &&
 		    !(e->zone[i].ctl.daylight_ratio > 0 && e->zone[i].ctl.elec_task_lux > 0)) {
 			psd_errf(err, errlen, "zone %s: %s control needs the simulated daylight and electric ratios (%s)",
-			     cf->zone[i].name, psd_algorithm_names[cf->zone[i].ctl.algorithm], cf->results);
+			     cf->zone[i].name, psd_algorithm_names[cf->zone[i].ctl.algorithm],
+			     psd_zone_results(cf, &cf->zone[i]));
 			goto bad;
 		}
 	}
@@ -224,6 +283,8 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 		               cf->zone[i].cal_min_day_volts);
 	for (size_t i = 0; i < e->nzone; i++)
 		cal_load(e, &e->zone[i], now);
+	for (size_t i = 0; i < e->nzone; i++)
+		record_consts(e, &e->zone[i]);
 	/* the I/O threads before the first commands: a slow module must not
 	 * hold the loop at start or at a reload either */
 	if (clock && !clock->simulated)
@@ -252,8 +313,31 @@ struct psd_config *psd_engine_close(struct psd_engine *e)
 			e->dev[i].drv->close(&e->dev[i]);
 	if (e->have_res)
 		ps_results_free(&e->res);
+	for (size_t i = 0; i < PSD_MAX_ZONES; i++)
+		if (e->have_zres[i])
+			ps_results_free(&e->zres[i]);
 	memset(e, 0, sizeof *e);
 	return cf;
+}
+
+void psd_engine_set_epoch(struct psd_engine *e, double epoch0)
+{
+	e->utc0 = epoch0;   /* the one clock date: samples.utc and every dated row */
+	if (e->db)
+		psd_db_set_epoch(e->db, epoch0);
+}
+
+void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n)
+{
+	psd_clock_stamp(e->utc0, t, out, n);
+}
+
+/* An event in the database's events table (a record: a failure is logged once). */
+static void event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text)
+{
+	char err[512];
+	if (e->db && psd_db_event(e->db, now, zone, kind, text, err, sizeof err) != 0 && e->log_errors++ == 0)
+		log_warnx("%s: %s", e->cf->database, err);
 }
 
 static struct ps_dev *dev_of(struct psd_engine *e, int point)
@@ -393,11 +477,13 @@ static int command(struct psd_engine *e, struct psd_zone *z, double now, double 
 
 static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, const char *why)
 {
-	char t[8], err[256];
-	psd_clock_hhmm(now, t);
-	if (!z->in_fault)
+	char t[24], err[256];
+	psd_engine_stamp(e, now, t, sizeof t);
+	if (!z->in_fault) {
 		log_warnx("zone %s: %s fault: %s: lights to the safe level %.0f %%", z->zc->name, t, why,
 		          100 * z->zc->safe_level);
+		event(e, now, z->zc->name, "fault", why);
+	}
 	else if (strcmp(z->why, why) != 0)
 		log_debug("zone %s: %s fault now: %s", z->zc->name, t, why);
 	z->in_fault = 1;
@@ -491,7 +577,7 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	double q = NAN;
 	z->sky_class = -1;
-	if (!e->have_res || !e->res.have_year || !e->cf->dated_estimate || z->cal_day_id)
+	if (!z->res || !z->res->have_year || !e->cf->dated_estimate || z->cal_day_id)
 		return;
 	if (z->zc->rooftop >= 0) {
 		/* the sky now from the rooftop sensor, else the typical class */
@@ -499,9 +585,9 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 		double lux;
 		if (d->drv->read(d, &e->pt[z->zc->rooftop], now, &lux) == 0) {
 			z->rooftop_failed = 0;
-			z->sky_class = psd_dated_rooftop_class(&e->res, e->doy, psd_clock_tod(now), lux);
+			z->sky_class = psd_dated_rooftop_class(z->res, e->doy, psd_clock_tod(now), lux);
 			if (z->sky_class >= 0)
-				q = psd_dated_ratio_class(&e->res, e->month, psd_clock_tod(now), z->sky_class);
+				q = psd_dated_ratio_class(z->res, e->month, psd_clock_tod(now), z->sky_class);
 			if (!(q > 0))
 				z->sky_class = -1;   /* no hour of that class there: the typical one */
 		} else if (!z->rooftop_failed++) {
@@ -510,7 +596,7 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 		}
 	}
 	if (!(q > 0))
-		q = psd_dated_ratio(&e->res, e->month, psd_clock_tod(now), NULL);
+		q = psd_dated_ratio(z->res, e->month, psd_clock_tod(now), NULL);
 	if (q > 0)
 		z->ctl.daylight_ratio = q;
 }
@@ -520,9 +606,9 @@ static const char *ratio_name(const struct psd_engine *e, const struct psd_zone 
 {
 	static const char *const rooftop[PS_SKY_NCLASS] = { "daylight_rooftop_clear", "daylight_rooftop_intermediate",
 	                                                     "daylight_rooftop_overcast" };
-	if (!e->have_res)
+	if (!z->res)
 		return NULL;
-	if (!(e->res.have_year && e->cf->dated_estimate && !z->cal_day_id))
+	if (!(z->res->have_year && e->cf->dated_estimate && !z->cal_day_id))
 		return "daylight_mean";
 	return z->sky_class >= 0 && z->sky_class < PS_SKY_NCLASS ? rooftop[z->sky_class] : "daylight_dated";
 }
@@ -539,7 +625,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : z->last.daylight_v,
 		fault ? NAN : dl,
 		ratio_name(e, z), z->ctl.daylight_ratio, fault ? z->why : NULL,
-		z->zc->name, e->utc0 + now,
+		z->zc->name, e->utc0 + now, NULL,   /* utc: the clock's; local from it (db.c) */
 	};
 	if (!e->db)
 		return;
@@ -557,6 +643,11 @@ int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t)
 	return z->sim && z->sim->drv->truth(z->sim, now, t) == 0 ? 0 : -1;
 }
 
+double psd_zone_energy(const struct psd_zone_stats *s, double energy_now)
+{
+	return s->energy_prior + (energy_now - s->energy0);
+}
+
 static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	struct ps_truth tr;
@@ -564,6 +655,8 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 	struct psd_zone_stats *s = &z->st;
 	if (!z->sim)
 		return;
+	if (psd_engine_truth(z, now, &tr) == 0)
+		s->energy_last = tr.energy;
 	if (!z->in_fault && !isnan(z->ctl.est_task_lux) && psd_engine_truth(z, now, &tr) == 0) {
 		t = tr.task_lux;
 		if (t > 0) {
@@ -587,7 +680,7 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 }
 
 /* Drift of the measured ratio, per good step with a task meter. */
-static void drift_step(struct psd_zone *z, double now)
+static void drift_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	double gain_e, vd, ed;
 	int r;
@@ -598,8 +691,8 @@ static void drift_step(struct psd_zone *z, double now)
 	ed = z->task_lux - z->ctl.elec_task_lux * z->ctl.level;
 	r = psd_calfit_drift_update(&z->drift, now, vd, ed, z->ctl.daylight_ratio / z->ctl.sensor_gain);
 	if (r > 0) {
-		char t[8];
-		psd_clock_hhmm(now, t);
+		char t[24];
+		psd_engine_stamp(e, now, t, sizeof t);
 		log_warnx("zone %s: %s drift: the measured task/sensor ratio is %.0f %% off the simulated one for "
 		          "%.0f s (sensor obstructed, dirty or moved, or the room changed?)", z->zc->name, t,
 		          100 * (exp(z->drift.last_ln) - 1), now - z->drift.out_since);
@@ -630,7 +723,7 @@ static void snapshot(struct psd_zone *z, double now, double level_in, int estima
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
-	char why[256], t[8];
+	char why[256], t[24];
 	double level, t0, level_in = z->level;
 	int rc, estimated = 0;   /* the control estimated the task lux from this reading */
 	if (prefetch(e, z, now))
@@ -659,13 +752,20 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		if (rc == 0) {
 			struct psd_calsession_ctx c = cal_ctx(e, z, now);
 			struct psd_calsession_ask ask;
-			drift_step(z, now);
+			drift_step(e, z, now);
 			psd_calsession_feed(&z->cal, &c, z->volts, z->task_lux, z->level, &ask);
 			cal_act(z, &ask);
 		}
-		if (psd_calsession_level(&z->cal, now, &level))
-			;   /* a calibration session holds the lights */
-		else if (rc == 0) {
+		if (psd_calsession_level(&z->cal, now, &level)) {
+			/* a calibration session holds the lights; in a day
+			 * session the estimate still follows the room (issue 17:
+			 * it froze); a night session's steps, measuring the
+			 * constants the estimate uses, have none */
+			if (rc == 0) {
+				psd_control_estimate(&z->ctl, z->volts);
+				estimated = z->cal.kind != PSD_CAL_NIGHT;
+			}
+		} else if (rc == 0) {
 			dated_ratio(e, z, now);
 			estimated = 1;
 			level = psd_control_step(&z->ctl, z->volts, now);
@@ -686,8 +786,9 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			enter_fault(e, z, now, why);
 		} else {
 			if (z->in_fault) {
-				psd_clock_hhmm(now, t);
+				psd_engine_stamp(e, now, t, sizeof t);
 				log_info("zone %s: %s fault cleared: control resumes", zc->name, t);
+				event(e, now, zc->name, "fault cleared", z->why);
 				z->in_fault = 0;
 				z->why[0] = 0;
 			}
@@ -950,9 +1051,16 @@ int psd_engine_cal_accept(struct psd_engine *e, struct psd_zone *z, double now, 
 	if (psd_calsession_accept(&z->cal, &c, &ask, err, n) != 0)
 		return -1;
 	cal_act(z, &ask);
-	log_info("zone %s: calibration session %lld accepted (sensor gain %.5g V per unit, offset %.4g V, "
-	         "daylight ratio %.5g, electric task lux %.5g)", z->zc->name, z->cal.id, z->ctl.sensor_gain,
-	         z->ctl.offset, z->ctl.daylight_ratio, z->ctl.elec_task_lux);
+	record_consts(e, z);
+	{
+		char t[24], text[64];
+		psd_engine_stamp(e, now, t, sizeof t);
+		snprintf(text, sizeof text, "session %lld", z->cal.id);
+		event(e, now, z->zc->name, "calibration accepted", text);
+		log_info("zone %s: %s: calibration session %lld accepted (sensor gain %.5g V per unit, offset %.4g V, "
+		         "daylight ratio %.5g, electric task lux %.5g)", z->zc->name, t, z->cal.id, z->ctl.sensor_gain,
+		         z->ctl.offset, z->ctl.daylight_ratio, z->ctl.elec_task_lux);
+	}
 	return 0;
 }
 

@@ -22,8 +22,14 @@
 struct psd_zone_stats {
 	double samples, below, worst_lux, fault_steps;
 	double err_sum, err2_sum, err_max, err_n;
-	double energy0;           /* the room's energy when the zone started */
+	double energy0;           /* the room's energy when this engine started the zone */
+	double energy_last;       /* the room's energy at the zone's last step */
+	double energy_prior;      /* energy used under the engines a reload replaced */
+	double since;             /* when the statistics began (kept across reloads) */
 };
+/* The energy a zone used since its statistics began (full-output seconds),
+ * given the room's energy now. */
+double psd_zone_energy(const struct psd_zone_stats *s, double energy_now);
 
 /* One control step as it happened, every value of the same moment (what
  * status and watch show): the reading, the estimate made from it at the
@@ -61,6 +67,8 @@ struct psd_zone {
 	double verify_at;         /* when the dim points should show `level` */
 	unsigned long steps, fault_steps;
 	struct ps_dev *sim;       /* the sensor's device when it is simulated (has a truth hook) */
+	const struct ps_results *res;  /* the zone's simulation: its own results or the engine's
+	                                  (NULL: none) */
 	struct psd_calsession cal;     /* the calibration session (daemon/calsession.c) */
 	struct psd_calfit_drift drift; /* measured against simulated ratio, with a task meter */
 	long long cal_night_id, cal_day_id;   /* the accepted calibrations in force, 0: none */
@@ -78,8 +86,10 @@ struct psd_engine {
 	struct ps_point pt[PSD_MAX_POINTS];
 	struct psd_zone zone[PSD_MAX_ZONES];
 	size_t nzone;
-	struct ps_results res;
+	struct ps_results res;    /* [psensd]'s results */
 	int have_res;
+	struct ps_results zres[PSD_MAX_ZONES];   /* zone i's own results (zone results = / scene =) */
+	int have_zres[PSD_MAX_ZONES];
 	int month;                /* the dated estimate's month (dated.h), 1-12 */
 	int doy;                  /* and day of the year, for a rooftop sensor's sun */
 	struct psd_db *db;
@@ -92,7 +102,7 @@ struct psd_engine {
 	double late_max;          /* worst lateness of a step against its schedule, clock s */
 	struct psd_devio *io[PSD_MAX_DEVICES];   /* a device's I/O thread, NULL: called in the loop */
 	char ioerr[256];          /* the message of the last failed point read or write */
-	double utc0;              /* Unix time of clock 0 (its day's local midnight); NAN: unknown */
+	double utc0;              /* Unix time of clock 0 (its day's local midnight); NAN: unknown; dates in the log */
 };
 
 /* Open cf's devices and points at time now and prepare the zones (cf is then
@@ -101,6 +111,12 @@ struct psd_engine {
  * the engine is then closed and cf is still the caller's. */
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen);
+/* The UTC of clock time 0 (the local midnight of the run's first day):
+ * every row the engine logs from now on carries its date, and its log
+ * lines the date and time. */
+void psd_engine_set_epoch(struct psd_engine *e, double epoch0);
+/* Local "YYYY-MM-DD HH:MM" of clock time t ("HH:MM" with no epoch). */
+void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n);
 /* The same, and in real time (clock not simulated, not NULL) the I/O
  * threads (psd_engine_start_io) started before the first commands. */
 int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,

@@ -89,6 +89,37 @@ void psd_daemon_config_errors(const struct psd_config *cf)
 		log_errx("%s", cf->conf.errors[i]);
 }
 
+/* The run's date: a set date the database already holds moves to the next
+ * day it does not (a second simulated run appends a day, never overdraws
+ * the first); then every row and log line carries it. */
+static void date_run(struct psd_daemon *d, double now)
+{
+	double last = d->engine.db ? psd_db_last_utc(d->engine.db) : NAN;
+	char was[24], is[24];
+	if (d->advance_date && isfinite(d->clock.epoch0) && isfinite(last) && last >= d->clock.epoch0 + now) {
+		psd_clock_stamp(d->clock.epoch0, now, was, sizeof was);
+		while (last >= d->clock.epoch0 + now) {
+			/* the next local midnight: a day and a half on, back to 00:00 */
+			time_t t = (time_t)(d->clock.epoch0 + 36 * 3600.0);
+			struct tm tm;
+			localtime_r(&t, &tm);
+			if (psd_clock_midnight(tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, &d->clock.epoch0) != 0)
+				break;
+		}
+		psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
+		log_info("the database holds samples up to that date already: this run starts %s, not %s", is, was);
+	}
+	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
+	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
+	log_info("the run starts %s (local time)", is);
+	if (d->engine.db) {
+		char err[512], text[300];
+		snprintf(text, sizeof text, "%s on a %s clock", d->config_path, d->clock.simulated ? "simulated" : "real-time");
+		if (psd_db_event(d->engine.db, now, NULL, "start", text, err, sizeof err) != 0)
+			log_warnx("%s", err);
+	}
+}
+
 /* An MQTT command: the control socket's request function, the same code. */
 static void mqtt_request(void *user, char *line, char *reply, size_t len)
 {
@@ -135,8 +166,10 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		}
 		d->have_ctl = 1;
 	}
+	/* the clock now, not when start-up began: in real time loading and
+	 * checking the files took clock time, with the lights at full output */
 	if (psd_refresh_results(cf, d->self) != 0 ||
-	    psd_engine_open_io(&d->engine, cf, now, d->clock.simulated ? 500 : 1, NULL, &d->clock, err, sizeof err) != 0) {
+	    psd_engine_open_io(&d->engine, cf, now = psd_clock_now(&d->clock), d->clock.simulated ? 500 : 1, NULL, &d->clock, err, sizeof err) != 0) {
 		if (d->engine.cf == NULL && err[0])
 			log_errx("%s", err);
 		if (d->have_ctl)
@@ -146,7 +179,13 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
-	d->engine.utc0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
+	/* one date for the clock: -d, [simulate] date or run_year, today in
+	 * real time (psensd.c sets clock.epoch0); else the [simulate] date this
+	 * year.  date_run moves it past the days the log holds and gives it
+	 * to the engine (samples.utc = utc0 + t, and every dated row) */
+	if (!isfinite(d->clock.epoch0))
+		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
+	date_run(d, now);
 	if (d->have_ctl)
 		log_info("control socket %s", d->ctl.path);
 	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {

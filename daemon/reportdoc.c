@@ -40,6 +40,7 @@ struct session {
 	long long id;
 	char kind[16], state[16], result[200], design[64];
 	double started, ended;
+	char local0[20], local1[20];      /* local stamps (schema 5), "" when not recorded */
 	int judged, pass;
 };
 
@@ -53,16 +54,23 @@ struct zone {
 	/* over every sample */
 	long long total, seen;
 	double tmin, tmax, vmax, luxmax, energy_h, fault_s, prev_t;
+	double utc0;              /* UTC of clock 0 of the first dated run (NAN: none yet) */
+	char local0[20], local1[20];     /* local date and time of the first and last sample ("" undated) */
 	double esum, ecomp;              /* energy, Neumaier */
 	double err2, err2c;              /* squared estimate error, Neumaier */
 	long long nerr, nmeas;            /* estimate errors; task meter readings */
 	struct session sess[MAXSESS];
 	int nsess, checks, fails, verdict;
 	char config_sha[65], scene_sha[65];
-	/* acceptance tests: a table when the database has one */
-	char acc_head[MAXCOL][24];
-	char acc[MAXACC][MAXCOL][40];
-	int nacc, nacccol;
+	/* the latest psensctl accept-test run, one row a test */
+	struct {
+		char local[20], test[40], verdict[16], measured[320];
+	} acc[MAXACC];
+	int nacc, nruns;
+	int scene_k;                     /* its scene in doc.scene[] */
+	/* the latest psensctl accept-test run: its tests by verdict */
+	double acc_utc;
+	int acc_pass, acc_fail, acc_untested;
 };
 
 static void neumaier(double *sum, double *c, double x)
@@ -75,11 +83,31 @@ static void neumaier(double *sum, double *c, double x)
 	*sum = t;
 }
 
-static void add_sample(void *user, const struct psd_sample *s)
+/* A record's time on the report's axis: its clock time, or, for rows that
+ * carry their UTC (schema 4), the seconds since clock 0 of the first dated
+ * run, so that runs on later days follow it instead of drawing over it. */
+static double rec_t(struct zone *z, double t, double utc)
+{
+	if (!isfinite(utc))
+		return t;
+	if (!isfinite(z->utc0))
+		z->utc0 = utc - t;
+	return utc - z->utc0;
+}
+
+static void add_sample(void *user, const struct psd_sample *row)
 {
 	struct zone *z = user;
+	struct psd_sample sample = *row, *s = &sample;
 	long long step = z->total / MAXPTS + 1;
-	double dt = z->seen > 0 ? s->t - z->prev_t : 0;
+	double dt;
+	sample.t = rec_t(z, row->t, row->utc);
+	if (row->local && strlen(row->local) >= 16) {
+		if (!z->local0[0])
+			snprintf(z->local0, sizeof z->local0, "%.19s", row->local);
+		snprintf(z->local1, sizeof z->local1, "%.19s", row->local);
+	}
+	dt = z->seen > 0 ? s->t - z->prev_t : 0;
 	/* energy: output times time (a gap longer than an hour is not counted) */
 	if (dt > 0 && dt <= 3600 && isfinite(s->output))
 		neumaier(&z->esum, &z->ecomp, s->output * dt / 3600);
@@ -139,8 +167,10 @@ static void add_session(void *user, const struct psd_db_cal_session *row)
 	s->id = row->id;
 	snprintf(s->kind, sizeof s->kind, "%s", row->kind ? row->kind : "?");
 	snprintf(s->state, sizeof s->state, "%s", row->state ? row->state : "?");
-	s->started = row->started;
-	s->ended = row->ended;
+	s->started = rec_t(c->z, row->started, row->started_utc);
+	snprintf(s->local0, sizeof s->local0, "%.16s", row->started_local ? row->started_local : "");
+	snprintf(s->local1, sizeof s->local1, "%.16s", row->ended_local ? row->ended_local : "");
+	s->ended = rec_t(c->z, row->ended, row->ended_utc);
 	o = row->results ? json_tokener_parse(row->results) : NULL;
 	if (o && strcmp(s->kind, "night") == 0) {
 		e = jnum(o, "electric_lux_error_pct");
@@ -171,22 +201,31 @@ static void add_session(void *user, const struct psd_db_cal_session *row)
 	json_object_put(o);
 }
 
-static void add_acceptance(void *user, int ncol, const char *const *names, const char *const *vals)
+/* psensctl accept-test stores one row per test, dated alike (a run's rows
+ * within a second); rows come oldest first, so the last run is what stays. */
+static void add_accept_run(void *user, const struct psd_db_accept *a)
 {
 	struct zone *z = user;
-	int k = 0;
-	if (z->nacc >= MAXACC)
-		return;
-	for (int i = 0; i < ncol && k < MAXCOL; i++) {
-		if (strcmp(names[i], "zone") == 0 || strcmp(names[i], "id") == 0)
-			continue;
-		if (z->nacc == 0)
-			snprintf(z->acc_head[k], sizeof z->acc_head[k], "%s", names[i]);
-		snprintf(z->acc[z->nacc][k], sizeof z->acc[0][0], "%s", vals[i] ? vals[i] : "");
-		k++;
+	double u = isfinite(a->utc) ? a->utc : 0;
+	if (z->acc_pass + z->acc_fail + z->acc_untested == 0 || u > z->acc_utc + 1) {
+		z->acc_pass = z->acc_fail = z->acc_untested = 0;
+		z->acc_utc = u;
+		z->nacc = 0;
+		z->nruns++;
 	}
-	z->nacccol = k;
-	z->nacc++;
+	if (z->nacc < MAXACC) {
+		snprintf(z->acc[z->nacc].local, sizeof z->acc[0].local, "%.16s", a->local ? a->local : "");
+		snprintf(z->acc[z->nacc].test, sizeof z->acc[0].test, "%s", a->test ? a->test : "?");
+		snprintf(z->acc[z->nacc].verdict, sizeof z->acc[0].verdict, "%s", a->verdict ? a->verdict : "?");
+		snprintf(z->acc[z->nacc].measured, sizeof z->acc[0].measured, "%s", a->measured ? a->measured : "");
+		z->nacc++;
+	}
+	if (a->verdict && strcmp(a->verdict, "PASS") == 0)
+		z->acc_pass++;
+	else if (a->verdict && strcmp(a->verdict, "FAIL") == 0)
+		z->acc_fail++;
+	else
+		z->acc_untested++;
 }
 
 static int zone_alloc(struct zone *z)
@@ -218,9 +257,9 @@ static void zone_free(struct zone *z)
 static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, size_t n)
 {
 	struct sess_ctx c = { z, tol };
-	static const char *const acc_tables[] = { "acceptance_tests", "acceptance" };
 	char ignored[256];
 	z->tmin = INFINITY;
+	z->utc0 = NAN;
 	z->tmax = -INFINITY;
 	if ((z->total = psd_db_zone_count(db, z->name, err, n)) < 0)
 		return -1;
@@ -230,9 +269,16 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 	/* an older database has no sessions table: then none are shown */
 	psd_db_cal_sessions(db, z->name, add_session, &c, ignored, sizeof ignored);
 	psd_db_cal_hashes(db, z->name, z->config_sha, z->scene_sha);
-	for (size_t i = 0; i < sizeof acc_tables / sizeof acc_tables[0] && !z->nacc; i++)
-		psd_db_table_rows(db, acc_tables[i], z->name, add_acceptance, z, ignored, sizeof ignored);
-	z->verdict = z->checks == 0 ? 0 : z->fails ? -1 : 1;
+	psd_db_accept_results(db, z->name, add_accept_run, z, ignored, sizeof ignored);
+	/* calibrated within the tolerance is not yet a zone that works: PASS
+	 * needs the acceptance tests too (psensctl accept-test), all run and
+	 * passed; a failed calibration or test fails the zone */
+	if (z->fails || z->acc_fail)
+		z->verdict = -1;
+	else if (z->checks == 0)
+		z->verdict = 0;
+	else
+		z->verdict = z->acc_pass > 0 && z->acc_untested == 0 ? 1 : 2;
 	return 0;
 }
 
@@ -244,6 +290,17 @@ struct doc {
 	int nzones;
 	char config_sha[65];
 	char scene_sha[65];              /* from the configuration's results file */
+	/* every zone's samples dated (schema 5): times shown as local dates;
+	 * the first zone's first date is its axis's day floor(t0 / 86400) */
+	int dated;
+	int y0, m0, d0;
+	double t0;
+	/* the scenes the zones run on (psd_zone_scene), when there are several */
+	struct {
+		const char *path;
+		char sha[65];
+	} scene[PSD_MAX_ZONES];
+	int nscenes;
 	cairo_t *cr;                     /* the current page */
 	int page, pages;                 /* pages: from the first pass, for "page n of N" */
 	struct psd_textboxes *boxes;
@@ -389,12 +446,12 @@ static void hline(struct doc *d, double x0, double x1, double y, double lw, cons
 
 static const char *verdict_word(int v)
 {
-	return v > 0 ? "PASS" : v < 0 ? "FAIL" : "NOT CALIBRATED";
+	return v == 1 ? "PASS" : v == 2 ? "NOT TESTED" : v < 0 ? "FAIL" : "NOT CALIBRATED";
 }
 
 static const double *verdict_rgb(int v)
 {
-	return v > 0 ? GREEN : v < 0 ? RED : GREY;
+	return v == 1 ? GREEN : v < 0 ? RED : GREY;
 }
 
 static void begin_page(struct doc *d)
@@ -451,6 +508,36 @@ static void when(double t, char *buf, size_t n)
 	snprintf(buf, n, "day %d %s", (int)floor(t / 86400) + 1, hm);
 }
 
+/* The local date of the axis's day containing t (dated records), as
+ * YYYY-MM-DD, else "day N". */
+static void day_label(const struct doc *d, double t, char *buf, size_t n)
+{
+	struct tm tm = { 0 };
+	time_t u;
+	if (!d->dated) {
+		snprintf(buf, n, "day %d", (int)floor(t / 86400) + 1);
+		return;
+	}
+	tm.tm_year = d->y0 - 1900;
+	tm.tm_mon = d->m0 - 1;
+	tm.tm_mday = d->d0 + (int)(floor(t / 86400) - floor(d->t0 / 86400));
+	tm.tm_hour = 12;
+	u = timegm(&tm);   /* normalises the day of the month */
+	gmtime_r(&u, &tm);
+	strftime(buf, n, "%Y-%m-%d", &tm);
+}
+
+/* A zone's first or last sample for the tables: "2026-03-18 06:01" from
+ * its local stamp, else on psensd's clock. */
+static void when_z(const struct zone *z, int last, char *buf, size_t n)
+{
+	const char *l = last ? z->local1 : z->local0;
+	if (l[0])
+		snprintf(buf, n, "%.16s", l);
+	else
+		when(last ? z->tmax : z->tmin, buf, n);
+}
+
 static const struct psd_zone_conf *zconf(const struct doc *d, const struct zone *z)
 {
 	return d->o->cf && z->ci >= 0 ? &d->o->cf->zone[z->ci] : NULL;
@@ -476,7 +563,7 @@ static int overall(const struct doc *d)
 	int fail = 0, pass = 0;
 	for (int i = 0; i < d->nzones; i++) {
 		fail |= d->zones[i].verdict < 0;
-		pass += d->zones[i].verdict > 0;
+		pass += d->zones[i].verdict == 1;
 	}
 	return fail ? -1 : pass == d->nzones && pass > 0 ? 1 : 0;
 }
@@ -530,7 +617,7 @@ static void cover(struct doc *d)
 	const struct psd_report_opts *o = d->o;
 	char buf[512], a[64], b[64], wr[64];
 	double y = MARGIN + 22, tmin = INFINITY, tmax = -INFINITY;
-	int v = overall(d), checks = 0, fails = 0;
+	int v = overall(d), checks = 0, fails = 0, tested = 0, accepted = 0;
 	struct tm tm;
 	static const double cols[] = { 0, 55, 180, 220, 260, 355, 393, 438 };
 	static const char *const head[] = { "zone", "sensor", "target", "samples", "recorded", "faults",
@@ -561,16 +648,44 @@ static void cover(struct doc *d)
 		y = keyval(d, y, "Configuration SHA-256", buf, 1);
 	} else
 		y = keyval(d, y, "Configuration SHA-256", "(unknown)", 0);
-	y = keyval(d, y, "Scene", o->cf && o->cf->scene ? o->cf->scene : o->cf && o->cf->results ? o->cf->results :
-	           "(see the configuration)", 0);
-	y = keyval(d, y, "Scene SHA-256", d->scene_sha[0] ? d->scene_sha : d->nzones && d->zones[0].scene_sha[0] ?
-	           d->zones[0].scene_sha : "(unknown: no results file read, no calibration recorded it)", 1);
+	if (d->nscenes > 1) {
+		/* zones on their own simulations: each scene, its zones, its hash */
+		for (int k = 0; k < d->nscenes; k++) {
+			snprintf(buf, sizeof buf, "%s (", d->scene[k].path);
+			for (int i = 0; i < d->nzones; i++)
+				if (d->zones[i].scene_k == k)
+					snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "%s%s",
+					         buf[strlen(buf) - 1] == '(' ? "zone " : ", ", d->zones[i].name);
+			snprintf(buf + strlen(buf), sizeof buf - strlen(buf), ")");
+			y = keyval(d, y, "Scene", buf, 0);
+			y = keyval(d, y, "Scene SHA-256", d->scene[k].sha[0] ? d->scene[k].sha : "(unknown: results not read)",
+			           1);
+		}
+	} else {
+		y = keyval(d, y, "Scene", o->cf && o->cf->scene ? o->cf->scene : o->cf && o->cf->results ?
+		           o->cf->results : "(see the configuration)", 0);
+		y = keyval(d, y, "Scene SHA-256", d->scene_sha[0] ? d->scene_sha : d->nzones && d->zones[0].scene_sha[0] ?
+		           d->zones[0].scene_sha : "(unknown: no results file read, no calibration recorded it)", 1);
+	}
 	y = keyval(d, y, "Database", o->dbpath, 0);
 	when(tmin, a, sizeof a);
 	when(tmax, b, sizeof b);
+	if (d->dated) {
+		/* ISO stamps: the smallest first and the largest last */
+		const char *f = NULL, *l = NULL;
+		for (int i = 0; i < d->nzones; i++) {
+			if (!f || strcmp(d->zones[i].local0, f) < 0)
+				f = d->zones[i].local0;
+			if (!l || strcmp(d->zones[i].local1, l) > 0)
+				l = d->zones[i].local1;
+		}
+		snprintf(a, sizeof a, "%.16s", f);
+		snprintf(b, sizeof b, "%.16s", l);
+	}
 	if (isfinite(tmin))
-		snprintf(buf, sizeof buf, "%s to %s (%.1f h)%s%s", a, b, (tmax - tmin) / 3600,
-		         o->cf && o->cf->date[0] ? ", simulated date " : "", o->cf && o->cf->date[0] ? o->cf->date : "");
+		snprintf(buf, sizeof buf, "%s to %s (%.1f h%s)%s%s", a, b, (tmax - tmin) / 3600,
+		         d->dated ? ", local time" : "", o->cf && o->cf->date[0] ? ", the room's day " : "",
+		         o->cf && o->cf->date[0] ? o->cf->date : "");
 	else
 		snprintf(buf, sizeof buf, "no samples");
 	y = keyval(d, y, "Records", buf, 0);
@@ -602,9 +717,12 @@ static void cover(struct doc *d)
 				break;
 			case 3: snprintf(buf, sizeof buf, "%lld", z->total); break;
 			case 4:
-				when(z->tmin, a, sizeof a);
-				when(z->tmax, b, sizeof b);
-				snprintf(buf, sizeof buf, "%s to %s", a, b + (strncmp(a, b, 5) == 0 ? 6 : 0));
+				when_z(z, 0, a, sizeof a);
+				when_z(z, 1, b, sizeof b);
+				if (z->local0[0]) /* 03-18 06:01 to 20:58 */
+					snprintf(buf, sizeof buf, "%s to %s", a + 5, b + (strncmp(a, b, 10) == 0 ? 11 : 5));
+				else
+					snprintf(buf, sizeof buf, "%s to %s", a, b + (strncmp(a, b, 5) == 0 ? 6 : 0));
 				break;
 			case 5: snprintf(buf, sizeof buf, "%.0f min", z->fault_s / 60); break;
 			case 6: snprintf(buf, sizeof buf, "%.2f flh", z->energy_h); break;
@@ -617,6 +735,9 @@ static void cover(struct doc *d)
 	}
 	y += 4;
 	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 7, 9, GREY,
+	              d->dated ? "target: the task illuminance the zone holds; recorded: first and last sample (local "
+	              "date and time); faults: time at the safe level; energy: lighting energy in full-load hours "
+	              "(hours at full output; power taken as proportional to the output)." :
 	              "target: the task illuminance the zone holds; recorded: first and last sample (day 1 is the "
 	              "day psensd started); faults: time at the safe level; energy: lighting energy in full-load "
 	              "hours (hours at full output; power taken as proportional to the output).");
@@ -624,20 +745,25 @@ static void cover(struct doc *d)
 	/* the verdict, then its reason on its own line */
 	text(d, MARGIN, y + 12, 26, 1, -1, verdict_rgb(v), v == 0 && checks ? "INCOMPLETE" : verdict_word(v));
 	y += 30;
+	for (int i = 0; i < d->nzones; i++) {
+		accepted += d->zones[i].acc_pass > 0 && !d->zones[i].acc_fail && !d->zones[i].acc_untested;
+		tested += d->zones[i].acc_pass + d->zones[i].acc_fail + d->zones[i].acc_untested > 0;
+	}
 	snprintf(buf, sizeof buf, "%d of %d calibration results within %g %% of the design prediction (the "
-	         "simulated ratios), over %d zone%s.", checks - fails, checks, o->tolerance_pct, d->nzones,
-	         d->nzones == 1 ? "" : "s");
+	         "simulated ratios); %d of %d zone%s acceptance-tested, %d accepted.", checks - fails, checks,
+	         o->tolerance_pct, tested, d->nzones, d->nzones == 1 ? "" : "s", accepted);
 	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 9, 12, BLACK, buf);
 	y += 6;
 	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 8, 11, GREY,
-	              "A night session fits the sensor's offset and its response to the electric light at each "
-	              "dimming level, and compares the electric task illuminance with the design; a day session "
+	              "A night session fits the sensor's offset and its response to the electric light; a day session "
 	              "measures the ratio of task illuminance to the sensor's daylight signal against the simulated "
-	              "ratio. A zone passes when every completed or accepted session is within the tolerance; a zone "
-	              "with no such session is not calibrated. The pages that follow show, per zone, the recorded "
-	              "signals with faults and calibration sessions shaded, and the sessions themselves.");
+	              "ratio. The acceptance tests (psensctl accept-test) judge the zone from its log: the estimate "
+	              "against the task meter over a verification window, and the functional tests of California "
+	              "Title 24 NA7.6.1 and IECC C408.3. PASS: every session within the tolerance and the last "
+	              "acceptance run passed every test; NOT TESTED: calibrated, not acceptance-tested. The pages "
+	              "that follow show each zone's signals with faults and sessions shaded, and its sessions.");
 	/* every zone's light output over the record: fills the page to the sign-off */
-	if (FOOT_Y - 172 - 40 - (y + 30) >= 80 && isfinite(tmin))
+	if (FOOT_Y - 172 - 44 - (y + 30) >= 60 && isfinite(tmin))
 		overview(d, y + 30, FOOT_Y - 172 - 44, tmin, tmax);
 	/* the sign-off, at the foot of the page */
 	y = FOOT_Y - 172;
@@ -772,7 +898,7 @@ unshaded:
 		cairo_line_to(d->cr, x, c->y1);
 		cairo_stroke(d->cr);
 		cairo_restore(d->cr);
-		snprintf(lab, sizeof lab, "day %d", (int)(day / 86400) + 1);
+		day_label(d, day, lab, sizeof lab);
 		text(d, x + 2, c->y0 + 7, 6, 0, -1, BLACK, lab);
 	}
 	/* the frame */
@@ -782,8 +908,9 @@ unshaded:
 	cairo_stroke(d->cr);
 	text_up(d, MARGIN + 6, (c->y0 + c->y1) / 2, 7, BLACK, ytitle);
 	if (xtitle)
-		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, "local time of day (hh:mm); day 1 is the "
-		     "day psensd started");
+		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, d->dated ? "local time of day (hh:mm); "
+		     "a dashed line is midnight, with the new date" : "local time of day (hh:mm); day 1 is the day psensd "
+		     "started");
 	/* title and legend above the plot */
 	lw = text(d, c->x0, c->y0 - 4, 8.5, 1, -1, BLACK, title);
 	x = c->x0 + lw + 12;
@@ -947,11 +1074,17 @@ static double session_row(struct doc *d, double y, const struct session *s)
 	cells[0] = buf;
 	cells[1] = s->kind;
 	cells[2] = s->state;
-	when(s->started, a, sizeof a);
+	if (s->local0[0])
+		snprintf(a, sizeof a, "%s", s->local0 + 5);   /* 03-18 09:58 */
+	else
+		when(s->started, a, sizeof a);
 	cells[3] = a;
 	for (int c = 0; c < 4; c++)
 		text_fit(d, MARGIN + SCOLS[c], y, SCOLS[c + 1] - SCOLS[c] - 4, 7, 5, 0, BLACK, cells[c]);
-	when(s->ended, a, sizeof a);
+	if (s->local1[0])
+		snprintf(a, sizeof a, "%s", s->local1 + 5);
+	else
+		when(s->ended, a, sizeof a);
 	text_fit(d, MARGIN + SCOLS[4], y, SCOLS[5] - SCOLS[4] - 4, 7, 5, 0, BLACK, a);
 	text_fit(d, MARGIN + SCOLS[5], y, SCOLS[6] - SCOLS[5] - 4, 7, 5, 0, BLACK, l1);
 	if (lines > 1)
@@ -961,12 +1094,20 @@ static double session_row(struct doc *d, double y, const struct session *s)
 	return y + lines * ROW_H - (lines > 1 ? 1.5 : 0);
 }
 
+/* One test of the acceptance run: its name, its verdict, and what it
+ * measured wrapped over the rest of the line (up to four lines). */
+enum { ACOL_VERDICT = 80, ACOL_MEASURED = 140 };
+
 static double acc_row(struct doc *d, double y, const struct zone *z, int r)
 {
-	double w = (PAGE_W - 2 * MARGIN) / (z->nacccol ? z->nacccol : 1);
-	for (int c = 0; c < z->nacccol; c++)
-		text_fit(d, MARGIN + c * w, y, w - 4, 7, 4.5, 0, BLACK, z->acc[r][c]);
-	return y + ROW_H;
+	const char *v = z->acc[r].verdict;
+	const double *rgb = strcmp(v, "PASS") == 0 ? GREEN : strcmp(v, "FAIL") == 0 ? RED : GREY;
+	double end;
+	text_fit(d, MARGIN, y, ACOL_VERDICT - 4, 7, 5, 0, BLACK, z->acc[r].test);
+	text_fit(d, MARGIN + ACOL_VERDICT, y, ACOL_MEASURED - ACOL_VERDICT - 4, 7, 5, 1, rgb, v);
+	end = paragraph(d, MARGIN + ACOL_MEASURED, y, PAGE_W - 2 * MARGIN - ACOL_MEASURED, 6.5, 8.5, BLACK,
+	                z->acc[r].measured[0] ? z->acc[r].measured : "-");
+	return fmax(y + ROW_H, end + 2.5);
 }
 
 static void zone_pages(struct doc *d, const struct zone *z)
@@ -985,13 +1126,13 @@ static void zone_pages(struct doc *d, const struct zone *z)
 		return;
 	for (int i = 0; i < z->nsess; i++)
 		nlines += result_lines(d, z->sess[i].result[0] ? z->sess[i].result : "-", l1, l2, sizeof l1);
-	tables_h = 12 + 26 + (nlines ? nlines : 1) * ROW_H + (z->nacc ? 36 + z->nacc * ROW_H : 0);
+	tables_h = 12 + 26 + (nlines ? nlines : 1) * ROW_H + (z->nacc ? 36 + z->nacc * 4 * 8.5 : 0);
 	snprintf(buf, sizeof buf, "Zone %s", z->name);
 	text_fit(d, MARGIN, MARGIN + 14, PAGE_W - 2 * MARGIN - 170, 16, 9, 1, BLACK, buf);
 	text(d, PAGE_W - MARGIN, MARGIN + 14, 16, 1, 1, verdict_rgb(z->verdict), verdict_word(z->verdict));
 	sensor_text(d, z, sensor, sizeof sensor, 0);
-	when(z->tmin, a, sizeof a);
-	when(z->tmax, b, sizeof b);
+	when_z(z, 0, a, sizeof a);
+	when_z(z, 1, b, sizeof b);
 	if (zc)
 		snprintf(buf, sizeof buf, "sensor %s; target %.0f lx; %lld samples, %s to %s", sensor, zc->ctl.target_lux,
 		         z->total, a, b);
@@ -1033,15 +1174,14 @@ static void zone_pages(struct doc *d, const struct zone *z)
 			}
 		}
 		if (row >= z->nsess && z->nacc && acc < z->nacc && y + 40 <= bottom) {
-			double cols[MAXCOL];
-			const char *head[MAXCOL];
-			for (int c = 0; c < z->nacccol; c++) {
-				cols[c] = c * (PAGE_W - 2 * MARGIN) / z->nacccol;
-				head[c] = z->acc_head[c];
-			}
-			y = table_head(d, y + 10, acc ? "Acceptance tests (continued)" : "Acceptance tests", cols, head,
-			               z->nacccol);
-			for (; acc < z->nacc && y <= bottom; acc++)
+			static const double acols[] = { 0, ACOL_VERDICT, ACOL_MEASURED };
+			static const char *const ahead[] = { "test", "verdict", "what it measured" };
+			char title[160];
+			snprintf(title, sizeof title, "Acceptance tests%s%s%s%s", acc ? " (continued)" : "",
+			         z->acc[0].local[0] ? ", run " : "", z->acc[0].local,
+			         z->nruns > 1 ? " (the last run; earlier runs are in the database)" : "");
+			y = table_head(d, y + 10, title, acols, ahead, 3);
+			for (; acc < z->nacc && y + 4 * 8.5 <= bottom; acc++)
 				y = acc_row(d, y, z, acc);
 		}
 		if (row >= z->nsess && acc >= z->nacc)
@@ -1240,10 +1380,37 @@ int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_repo
 	for (int i = 0; i < d.nzones; i++)
 		if (load_zone(db, &d.zones[i], o->tolerance_pct, err, n) != 0)
 			goto out;
+	d.dated = d.nzones > 0;
+	for (int i = 0; i < d.nzones; i++)
+		d.dated &= d.zones[i].local0[0] != 0 || d.zones[i].total == 0;
+	for (int i = 0; d.dated && i < d.nzones; i++)
+		if (d.zones[i].local0[0] && sscanf(d.zones[i].local0, "%d-%d-%d", &d.y0, &d.m0, &d.d0) == 3) {
+			d.t0 = d.zones[i].tmin;
+			break;
+		}
 	if (o->config_path) {
 		struct ps_err pe = { 0 };
 		if (ps_hash_file(o->config_path, d.config_sha, &pe) != 0)
 			d.config_sha[0] = 0;   /* the cover then says it is unknown */
+	}
+	for (int i = 0; o->cf && i < d.nzones; i++) {
+		const struct psd_zone_conf *zc = zconf(&d, &d.zones[i]);
+		const char *sc = zc ? psd_zone_scene(o->cf, zc) : NULL;
+		int k = 0;
+		if (!sc)
+			continue;
+		while (k < d.nscenes && strcmp(d.scene[k].path, sc) != 0)
+			k++;
+		if (k == d.nscenes) {
+			struct ps_results res = { 0 };
+			struct ps_err pe = { 0 };
+			d.scene[k].path = sc;
+			if (ps_results_read(&res, psd_zone_results(o->cf, zc), &pe) == 0 && res.scene_hash)
+				snprintf(d.scene[k].sha, sizeof d.scene[k].sha, "%s", res.scene_hash);
+			ps_results_free(&res);
+			d.nscenes++;
+		}
+		d.zones[i].scene_k = k;
 	}
 	if (o->cf && o->cf->results) {
 		/* the scene and every input it names, as psscene hashed them */

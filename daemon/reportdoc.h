@@ -37,6 +37,8 @@ struct psd_report_out {
 	int nzones;
 	struct {
 		char name[48];
+		/* 1 PASS (calibrated and acceptance-tested), -1 FAIL, 0 not
+		 * calibrated, 2 calibrated but not (fully) acceptance-tested */
 		int verdict;
 	} zone[PSD_MAX_ZONES];
 	int pages;

@@ -11,7 +11,7 @@
  * then is the Y row psens's default 0.265074126 0.670114631 0.064811243. */
 const double ps_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 0.3333, 0.3333 };
 
-static void invert3(double a[3][3], double out[3][3])
+void ps_mat3_invert(const double a[3][3], double out[3][3])
 {
 	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
 	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
@@ -38,7 +38,7 @@ void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
 		p[1][k] = 1.0;
 		p[2][k] = (1 - x - y) / y;
 	}
-	invert3(p, inv);
+	ps_mat3_invert((const double(*)[3])p, inv);
 	for (int k = 0; k < 3; k++)
 		sc[k] = inv[k][0] * wx + inv[k][1] * 1.0 + inv[k][2] * wz;
 	for (int i = 0; i < 3; i++)
@@ -50,7 +50,7 @@ void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3])
 {
 	double to_xyz[3][3], from_xyz[3][3], m[3][3];
 	ps_rgb_to_xyz_matrix(ps_std_primaries, to_xyz);
-	invert3(to_xyz, from_xyz);
+	ps_mat3_invert((const double(*)[3])to_xyz, from_xyz);
 	if (pic->format == PS_PIC_XYZE) {
 		/* XYZE holds luminance-based values (Y in cd/m2 once EXPOSURE is
 		 * divided out): Radiance's ra_xyze writes EXPOSURE=1/179 on the

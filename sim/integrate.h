@@ -67,6 +67,9 @@ double ps_top1_share(double *contrib, size_t n, double response);
 extern const double ps_std_primaries[8];
 /* The 3 x 3 matrix from RGB with the given primaries to CIE XYZ (Y of white = 1). */
 void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3]);
+/* The inverse of a 3 x 3 matrix by its adjugate (the matrices here are
+ * colour primaries, far from singular). */
+void ps_mat3_invert(const double a[3][3], double out[3][3]);
 
 /* Radiance's luminous efficacy of its equal-energy white, lm/W (WHTEFFICACY). */
 #define PS_WHTEFFICACY 179.0

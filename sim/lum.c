@@ -3,22 +3,6 @@
 
 #include "integrate.h"
 
-static void invert3(const double a[3][3], double out[3][3])
-{
-	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-	             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-	out[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) / det;
-	out[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
-	out[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
-	out[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) / det;
-	out[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
-	out[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
-	out[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) / det;
-	out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
-	out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
-}
-
 void ps_lum_init(struct ps_lum *l, const struct ps_picture *pic)
 {
 	double m[3][3];
@@ -26,7 +10,7 @@ void ps_lum_init(struct ps_lum *l, const struct ps_picture *pic)
 		/* luminance-based XYZ (Y in cd/m2): / 179 back to radiance,
 		 * as ps_pic_rgb_matrix does for psens */
 		ps_rgb_to_xyz_matrix(ps_std_primaries, m);
-		invert3(m, l->to_rgb);
+		ps_mat3_invert((const double(*)[3])m, l->to_rgb);
 		for (int i = 0; i < 3; i++)
 			for (int k = 0; k < 3; k++)
 				l->to_rgb[i][k] /= PS_LUM_EFFICACY;

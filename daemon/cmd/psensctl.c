@@ -10,6 +10,7 @@
  *   psensctl [-s socket | -d database] export --csv
  *   psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]
  *            [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]
+ *   psensctl [-s socket | -d database] accept-test ZONE [--since YYYY-MM-DD] [--samples N]
  *
  * Replies are JSON lines; -j prints them as they come, otherwise they are
  * shown for a person.  See psensctl(1). */
@@ -32,6 +33,8 @@
 #include "canvas.h"
 #include "config.h"
 #include "reportdoc.h"
+#include "accept.h"
+#include "clock.h"
 #include "sampleout.h"
 
 static void usage(FILE *fp)
@@ -43,6 +46,7 @@ static void usage(FILE *fp)
 	            "       psensctl [-s socket | -d database] report [ZONE] [-o file.pdf|.png|.svg]\n"
 	            "                [--format pdf|png|svg] [-t percent] [-c config] [--site TEXT] [--page N]\n"
 	            "                [--boxes FILE]\n"
+	            "       psensctl [-s socket | -d database] accept-test ZONE [--since YYYY-MM-DD] [--samples N]\n"
 	            "       psensctl [-s socket] watch [ZONE] [-n count]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
 	            "          release ZONE, ratios, reload, ping, help,\n"
@@ -50,7 +54,7 @@ static void usage(FILE *fp)
 	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
 	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n"
 	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET or /run/psensd/psensd.sock)\n"
-	            "  -d FILE     the database, for export, report and log (default: the one psensd names)\n"
+	            "  -d FILE     the database, for export, report, log and accept-test (default: the one psensd names)\n"
 	            "  -j          replies as JSON lines\n"
 	            "  -w SECONDS  how long to wait for a reply (default 5)\n"
 	            "  -h, --help  this help;  -V, --version  the version\n");
@@ -348,6 +352,89 @@ static int export_csv(const char *sock, const char *dbpath, int timeout_ms)
 	return rc == 0 && fflush(stdout) == 0 ? 0 : 1;
 }
 
+/* accept-test ZONE: the acceptance tests (daemon/accept.h) on the zone's
+ * log, printed and stored.  0 when none fails. */
+static int accept_test(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
+{
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	struct psd_db *db;
+	struct timespec now;
+	const char *zone = NULL;
+	char err[512], *end;
+	json_object *o;
+	int failed = 0, tested = 0, found;
+	double target, elec, delay;
+	psd_accept_defaults(&p);
+	for (int i = 0; i < argc; i++) {
+		if (strcmp(argv[i], "--since") == 0 && i + 1 < argc) {
+			if (psd_clock_parse_date(argv[++i], &p.since_utc) != 0) {
+				fprintf(stderr, "psensctl: accept-test --since %s: not a date YYYY-MM-DD\n", argv[i]);
+				return 2;
+			}
+		} else if (strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
+			p.min_samples = strtol(argv[++i], &end, 10);
+			if (*end || p.min_samples < 1) {
+				fprintf(stderr, "psensctl: accept-test --samples %s: a count from 1\n", argv[i]);
+				return 2;
+			}
+		} else if (!zone && argv[i][0] != '-') {
+			zone = argv[i];
+		} else {
+			usage(stderr);
+			return 2;
+		}
+	}
+	if (!zone) {
+		usage(stderr);
+		return 2;
+	}
+	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
+		return 1;
+	if (!(db = psd_db_open(dbpath, err, sizeof err))) {
+		fprintf(stderr, "psensctl: %s\n", err);
+		json_object_put(o);
+		return 1;
+	}
+	found = psd_db_zone_consts_get(db, zone, &target, &elec, &delay);
+	if (found != 0 || psd_db_zone_count(db, zone, err, sizeof err) <= 0) {
+		fprintf(stderr, "psensctl: %s: no zone '%s' on record%s\n", dbpath, zone,
+		        found != 0 ? " (psensd records a zone's design constants when it starts)" : "");
+		psd_db_close(db);
+		json_object_put(o);
+		return 1;
+	}
+	p.target_lux = target;
+	p.elec_task_lux = elec;
+	p.delay = delay;
+	if (psd_accept_run(db, zone, &p, r, err, sizeof err) != 0) {
+		fprintf(stderr, "psensctl: %s\n", err);
+		psd_db_close(db);
+		json_object_put(o);
+		return 1;
+	}
+	clock_gettime(CLOCK_REALTIME, &now);
+	printf("acceptance of zone %s (target %g lx, electric %.1f lx at full output, delay %g s):\n", zone, target,
+	       elec, delay);
+	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
+		const char *v = psd_accept_verdict_names[r[i].verdict + 1];
+		printf("  %-14s %-10s %s\n", r[i].test, v, r[i].measured);
+		failed += r[i].verdict == PSD_ACCEPT_FAIL;
+		tested += r[i].verdict != PSD_ACCEPT_NOT_TESTED;
+		if (psd_db_accept_add(db, zone, (double)now.tv_sec, r[i].test, v, r[i].value, r[i].limit, r[i].samples,
+		                      r[i].measured, err, sizeof err) != 0) {
+			fprintf(stderr, "psensctl: %s\n", err);
+			failed++;
+		}
+	}
+	printf("zone %s: %s (%d of %d tests run, %d failed)\n", zone,
+	       failed ? "NOT ACCEPTED" : tested == PSD_ACCEPT_NTESTS ? "ACCEPTED" : "INCOMPLETE", tested,
+	       PSD_ACCEPT_NTESTS, failed);
+	psd_db_close(db);
+	json_object_put(o);
+	return failed ? 1 : tested == PSD_ACCEPT_NTESTS ? 0 : 3;
+}
+
 /* report [ZONE] [-o FILE] [--format pdf|png|svg] [-t PERCENT] [-c CONFIG]
  * [--site TEXT] [--page N]: the commissioning record (daemon/reportdoc.c). */
 static int report(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
@@ -424,7 +511,7 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 			rc = 1;
 			goto done;
 		}
-		if (psd_config_load(cf, ro.config_path) != 0) {
+		if (psd_config_load_keys(cf, ro.config_path) != 0) {
 			for (size_t k = 0; k < cf->conf.nerrors; k++)
 				fprintf(stderr, "psensctl: %s\n", cf->conf.errors[k]);
 			if (!cf->conf.nerrors)
@@ -451,7 +538,8 @@ static int report(const char *sock, const char *dbpath, int timeout_ms, int argc
 			}
 		}
 		for (int i = 0; out && i < res.nzones; i++)
-			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict > 0 ? "PASS" :
+			printf("%s: zone %s: %s\n", out, res.zone[i].name, res.zone[i].verdict == 1 ? "PASS" :
+			       res.zone[i].verdict == 2 ? "calibrated, not acceptance-tested (psensctl accept-test)" :
 			       res.zone[i].verdict < 0 ? "FAIL" : "not calibrated");
 	}
 	psd_report_out_free(&res);
@@ -716,8 +804,9 @@ int main(int argc, char **argv)
 	}
 	/* no option is silently ignored: the database is read by export and report only */
 	if (dbpath && strcmp(argv[optind], "export") != 0 && strcmp(argv[optind], "report") != 0 &&
-	    strcmp(argv[optind], "log") != 0) {
-		fprintf(stderr, "psensctl: -d is for export, report and log; %s asks psensd (-s)\n", argv[optind]);
+	    strcmp(argv[optind], "log") != 0 && strcmp(argv[optind], "accept-test") != 0) {
+		fprintf(stderr, "psensctl: -d is for export, report, log and accept-test; %s asks psensd (-s)\n",
+		        argv[optind]);
 		return 2;
 	}
 	if (timeout_ms <= 0)
@@ -730,6 +819,8 @@ int main(int argc, char **argv)
 		return watch(sock, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "report") == 0)
 		return report(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
+	if (strcmp(argv[optind], "accept-test") == 0)
+		return accept_test(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	for (int i = optind; i < argc; i++) {
 		int n = snprintf(request + used, sizeof request - used, "%s%s", i > optind ? " " : "", argv[i]);
 		if (n < 0 || (size_t)n >= sizeof request - used) {

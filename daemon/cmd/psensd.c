@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cli.h"
 #include "daemon.h"
@@ -23,23 +24,26 @@ static void summary(struct psd_daemon *d, double start, double end)
 {
 	const struct psd_engine *e = &d->engine;
 	const struct psd_config *cf = e->cf;
-	char t0[8], t1[8];
-	psd_clock_hhmm(start, t0);
-	psd_clock_hhmm(end, t1);
+	char t0[24], t1[24], span[32];
+	psd_engine_stamp(e, start, t0, sizeof t0);
+	psd_engine_stamp(e, end, t1, sizeof t1);
+	psd_clock_duration(end - start, span, sizeof span);
 	for (size_t i = 0; i < e->nzone; i++) {
 		const struct psd_zone *z = &e->zone[i];
 		const struct psd_zone_stats *s = &z->st;
-		double hours = (end - start) / 3600.0, used;
+		double hours = (end - (s->since > start ? s->since : start)) / 3600.0, used;
 		struct ps_truth t;
 		if (s->samples == 0 || psd_engine_truth(z, end, &t) != 0)
 			continue;
-		used = (t.energy - s->energy0) / 3600.0;
-		printf("psensd: %s %s %s-%s on the %s room (%s), zone %s every %g s, %s control, "
-		       "target %g lx\n", d->clock.simulated ? "simulated" : "ran", cf->date, t0, t1, z->sim->drv->name,
-		       e->res.scene, z->zc->name, z->zc->period, psd_algorithm_names[z->ctl.algorithm],
-		       z->ctl.target_lux);
-		printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
-		       e->res.daylight_ratio_mean, e->res.electric_ratio, e->res.task_sensor_ratio);
+		/* numerator and denominator over the same span, across reloads */
+		used = psd_zone_energy(s, t.energy) / 3600.0;
+		printf("psensd: %s %s to %s (%s; the room's day %s) on the %s room (%s), zone %s every %g s, "
+		       "%s control, target %g lx\n", d->clock.simulated ? "simulated" : "ran", t0, t1, span, cf->date,
+		       z->sim->drv->name, z->res ? z->res->scene : "-", z->zc->name, z->zc->period,
+		       psd_algorithm_names[z->ctl.algorithm], z->ctl.target_lux);
+		if (z->res)
+			printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
+			       z->res->daylight_ratio_mean, z->res->electric_ratio, z->res->task_sensor_ratio);
 		if (hours >= 1)
 			printf("  energy: %.1f %% of full output (%.2f of %.2f full-output hours)\n", 100 * used / hours,
 			       used, hours);
@@ -57,6 +61,23 @@ static void summary(struct psd_daemon *d, double start, double end)
 			       1e6 * e->lat_sum / (double)e->lat_n, 1e6 * e->lat_max, e->logged);
 	}
 	fflush(stdout);
+}
+
+/* The local midnight of the [simulate] date in its year (or this year). */
+static double config_date(const struct psd_config *cf)
+{
+	int m, day;
+	double epoch;
+	long year = cf->run_year;
+	if (year == 0) {
+		time_t now = time(NULL);
+		struct tm tm;
+		localtime_r(&now, &tm);
+		year = tm.tm_year + 1900;
+	}
+	if (sscanf(cf->date, "%d-%d", &m, &day) != 2 || psd_clock_midnight((int)year, m, day, &epoch) != 0)
+		return NAN;
+	return epoch;
 }
 
 /* -Y: the whole year of the results for every zone, its figures, the
@@ -178,7 +199,7 @@ static int parse_hhmm(const char *s, double *out)
 
 static void usage(FILE *fp)
 {
-	fprintf(fp, "usage: psensd [-f config] [-n | -s | -Y [-P png]] [-t HH:MM] [-x speed] [-v] | -L\n"
+	fprintf(fp, "usage: psensd [-f config] [-n | -s | -Y [-P png]] [-t HH:MM] [-d YYYY-MM-DD] [-x speed] [-v] | -L\n"
 	            "  -f FILE   configuration (default /etc/psensd/psensd.conf)\n"
 	            "  -n        check the configuration and exit\n"
 	            "  -s        run the [simulate] day on a simulated clock and print a summary\n"
@@ -186,6 +207,7 @@ static void usage(FILE *fp)
 	            "  -P FILE   with -Y: draw the year (first zone) as a PNG\n"
 	            "  -t HH:MM  real time: start the clock at this time of day (default: now)\n"
 	            "  -x SPEED  real time: run the clock SPEED times faster (tests, demonstrations)\n"
+	            "  -d DATE   the date of a run with -s or -t (default: [simulate] date and run_year)\n"
 	            "  -v        more messages\n"
 	            "  -h, --help  this help;  -V, --version  the version\n"
 	            "  -L, --list-driver-options  every driver's keys, defaults and ranges\n");
@@ -248,7 +270,8 @@ int main(int argc, char **argv)
 {
 	const char *path = "/etc/psensd/psensd.conf";
 	int check = 0, simulate = 0, verbose = PSD_LOG_INFO, opt, rc = 0, unsafe;
-	double start = NAN, speed = 1;
+	double start = NAN, speed = 1, epoch0 = NAN;
+	const char *date = NULL;
 	static struct psd_daemon d;
 	static struct psd_config cf;
 	char *end;
@@ -259,7 +282,7 @@ int main(int argc, char **argv)
 	};
 	const char *png = NULL;
 	int year = 0, have_t = 0, have_x = 0;
-	while ((opt = getopt_long(argc, argv, "f:nst:x:vhVLYP:", longopts, NULL)) != -1) {
+	while ((opt = getopt_long(argc, argv, "f:nst:x:d:vhVLYP:", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'L': list_options(); return 0;
 		case 'f': path = optarg; break;
@@ -281,6 +304,13 @@ int main(int argc, char **argv)
 				return 2;
 			}
 			have_x = 1;
+			break;
+		case 'd':
+			if (psd_clock_parse_date(optarg, &epoch0) != 0) {
+				fprintf(stderr, "psensd: -d %s: not a date YYYY-MM-DD\n", optarg);
+				return 2;
+			}
+			date = optarg;
 			break;
 		case 'v': verbose = PSD_LOG_DEBUG; break;
 		case 'h': usage(stdout); return 0;
@@ -326,6 +356,13 @@ int main(int argc, char **argv)
 		psd_config_free(&cf);
 		return rc == 0 ? 0 : 1;
 	}
+	/* the site's time zone: every local date and time is the site's */
+	if (psd_config_load(&cf, path) == 0 && cf.timezone) {
+		setenv("TZ", cf.timezone, 1);
+		tzset();
+	}
+	psd_config_free(&cf);
+	memset(&cf, 0, sizeof cf);
 	/* the clock's origin: the [simulate] start, -t, or now */
 	if (simulate) {
 		if (psd_config_load(&cf, path) != 0) {
@@ -335,11 +372,30 @@ int main(int argc, char **argv)
 		}
 		psd_clock_simulated(&d.clock, cf.start);
 		d.end = cf.end;
+		if (!date)
+			epoch0 = config_date(&cf);
 		psd_config_free(&cf);
 	} else {
 		psd_clock_real(&d.clock, isnan(start) ? psd_clock_local_tod() : start, speed);
 		d.end = INFINITY;
+		if (!isnan(start) && !date) {
+			/* a set clock: the configuration's date (its errors come at start) */
+			if (psd_config_load(&cf, path) == 0)
+				epoch0 = config_date(&cf);
+			psd_config_free(&cf);
+			memset(&cf, 0, sizeof cf);
+		} else if (isnan(start)) {
+			/* the wall clock: today */
+			struct timespec rt;
+			clock_gettime(CLOCK_REALTIME, &rt);
+			epoch0 = (double)rt.tv_sec + 1e-9 * (double)rt.tv_nsec - psd_clock_now(&d.clock);
+			if (date)
+				log_warnx("-d %s: ignored without -s or -t: the run is dated by the wall clock", date);
+		}
 	}
+	d.clock.epoch0 = epoch0;
+	/* a date taken from the configuration moves on past days on record */
+	d.advance_date = (simulate || !isnan(start)) && !date;
 	d.self = argv[0];
 	start = psd_clock_now(&d.clock);
 	if (psd_daemon_start(&d, path) != 0) {

@@ -32,6 +32,7 @@
 
 #include "cli.h"
 #include "config.h"
+#include "daemon.h"
 #include "log.h"
 #include "mbpdu.h"
 #include "mbserve.h"
@@ -210,6 +211,7 @@ static void usage(FILE *fp)
 
 struct args {
 	const char *conf, *results, *date, *sunrise, *sunset, *start, *tcp, *rtu, *ready, *parity;
+	const char *self;         /* argv[0]: psscene is looked for beside it */
 	double speed, idle_timeout;
 	long unit, baud, stop_bits, fault_count, late_ms, zones, max_clients;
 	int fault, verbose;
@@ -394,6 +396,9 @@ static int build_rooms(struct virt *v, struct args *a)
 		}
 		if (!results)
 			results = cf->results;
+		/* zones with their own scene: their results made as psensd makes them */
+		if (!a->results && psd_refresh_results(cf, a->self ? a->self : "psvirt") != 0)
+			goto out;
 		snprintf(date, sizeof date, "%s", cf->date);
 		rise = cf->sunrise;
 		set = cf->sunset;
@@ -454,9 +459,27 @@ static int build_rooms(struct virt *v, struct args *a)
 			all.v = merged;
 			all.n++;
 		}
-		if (!(v->room[z] = psd_virtroom_new(&day, &all, v->start, err, sizeof err))) {
-			fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
-			goto out;
+		{
+			/* a zone with its own simulation (scene = or results = in its
+			 * [zone]) plays its own room */
+			struct ps_results zr;
+			struct psd_virtday zday = day;
+			const char *zp = cf && !a->results ? psd_zone_results(cf, &cf->zone[z]) : NULL;
+			int own = zp && strcmp(zp, results) != 0;
+			if (own) {
+				if (ps_results_read(&zr, zp, &e) != 0) {
+					fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], e.msg);
+					goto out;
+				}
+				zday.res = &zr;
+			}
+			v->room[z] = psd_virtroom_new(&zday, &all, v->start, err, sizeof err);
+			if (own)
+				ps_results_free(&zr);
+			if (!v->room[z]) {
+				fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+				goto out;
+			}
 		}
 		for (size_t i = all.n - nconf; i < all.n; i++)
 			if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
@@ -545,6 +568,7 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	log_init(1, a.verbose || getenv("PSVIRT_DEBUG") ? PSD_LOG_DEBUG : PSD_LOG_WARN, "psvirt");
+	a.self = argv[0];
 	if (build_rooms(&v, &a) != 0) {
 		free_rooms(&v);
 		return 1;

@@ -12,12 +12,12 @@ make -s deps > /dev/null 2>&1 ||
 make --no-print-directory BUILD="$BUILD" run > "$TMP/out" 2> "$TMP/err"; rc=$?
 check "make run: exit 0 ($rc)" test "$rc" = 0
 check "make run: its first line on standard output is the summary: $(head -n 1 "$TMP/out")" \
-	grep -q '^psensd: simulated 03-18 06:00-20:00 on the loopback room' "$TMP/out"
+	grep -Eq '^psensd: simulated [0-9]{4}-03-[0-9]{2} 06:00 to [0-9-]+ 20:00 [(]14 h 0 min; the room.s day 03-18[)] on the loopback room' "$TMP/out"
 check "make run: no command shown ($(grep -c 'psensd -f\|^make\|^cc ' "$TMP/out" "$TMP/err" | tr '\n' ' '))" \
 	sh -c "! grep -q 'psensd -f\|^make\|^cc \|Entering directory' '$TMP/out' '$TMP/err'"
 check "make run: the build's output is kept in $BUILD/build.log" test -f "$BUILD/build.log"
 make --no-print-directory BUILD="$BUILD" run V=1 > "$TMP/vout" 2> "$TMP/verr"; rc=$?
 check "make run V=1: exit 0 ($rc), shows the build and the command run" \
 	sh -c "[ $rc = 0 ] && grep -q '^make all' '$TMP/vout' && grep -q '^$BUILD/bin/psensd -f config/psensd.conf -s' '$TMP/vout'"
-check "make run V=1: the summary still printed" grep -q '^psensd: simulated 03-18' "$TMP/vout"
+check "make run V=1: the summary still printed" grep -q '^psensd: simulated [0-9-]* 06:00 to' "$TMP/vout"
 done_testing

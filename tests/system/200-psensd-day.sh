@@ -33,7 +33,11 @@ check "integrity check" test "$(sqlite3 "$TMP/state/psensd.db" 'pragma integrity
 check "WAL journal" test "$(sqlite3 "$TMP/state/psensd.db" 'pragma journal_mode')" = wal
 "$BIN/psensctl" -d "$TMP/state/psensd.db" export --csv > "$TMP/log.csv"
 check "export: header and 840 rows" test "$(wc -l < "$TMP/log.csv")" = 841
-check "export header" test "$(head -n 1 "$TMP/log.csv")" = "t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone"
+check "export --csv header (the old form)" test "$(head -n 1 "$TMP/log.csv")" = "t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,daylight_lux,condition,ratio,fault,zone"
+# the dates: psensctl export (its time and utc), and the local column in the database
+"$BIN/psensctl" -d "$TMP/state/psensd.db" export > "$TMP/dated.csv"
+check "export: every sample dated (time and utc)" test "$(awk -F, 'NR > 1 && $2 ~ /^20[0-9][0-9]-[01][0-9]-[0-3][0-9]T/ && $3 > 0' "$TMP/dated.csv" | wc -l)" = 840
+check "every sample has its local date and time" test "$(sqlite3 "$TMP/state/psensd.db" "select count(*) from samples where local = strftime('%Y-%m-%d %H:%M:%S', utc, 'unixepoch', 'localtime')")" = 840
 check "the 20 fault samples carry their reason and full output" \
 	test "$(grep -c ',1,.*outside 0.01 to 9.9 V' "$TMP/log.csv")" = 20
 # every sample against the golden day, column by column within the

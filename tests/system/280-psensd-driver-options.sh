@@ -8,6 +8,9 @@
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 "$BIN/psensd" -h | grep -q "modbus .*(not compiled in)" && skip_all "the modbus driver is not compiled in"
+# the files the configurations name exist (psensd -n opens them, issue 17)
+example_results
+cp "$TMP/state/ofb.results" "$TMP/ofb.results"
 cat > "$TMP/bad.conf" <<'EOF'
 [psensd]
 results = ofb.results

@@ -92,7 +92,7 @@ fi
 if [ -x "$BIN/psensctl" ]; then
 	"$BIN/psensctl" -s "$TMP/none.sock" -d "$TMP/x.db" status > /dev/null 2> "$TMP/err"; rc=$?
 	check "psensctl -d db status: exit 2 ($rc): $(cat "$TMP/err")" \
-		sh -c "[ $rc = 2 ] && grep -q -- '-d is for export, report and log' '$TMP/err'"
+		sh -c "[ $rc = 2 ] && grep -q -- '-d is for export, report, log and accept-test' '$TMP/err'"
 fi
 
 # ---- the man pages as a reader sees them ---------------------------------------------

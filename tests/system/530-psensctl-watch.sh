@@ -44,6 +44,11 @@ dim = lamp
 task = meter
 sensor_gain = 0.5
 cal_window = 300
+# its night sessions run at 11:00, the sun up: cal_night_sun = no and a wide
+# cal_dark_margin let them
+# (psensd refuses a night session in daylight otherwise, issue 17)
+cal_night_sun = no
+cal_dark_margin = 100
 CONF
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 "$BIN/psensd" -f "$TMP/p.conf" -t 11:00 -x 600 > "$TMP/out" 2> "$TMP/err" &

@@ -41,6 +41,8 @@ struct fixture {
 	struct psd_calsession s;
 	struct psd_calsession_ctx c;
 	double now;
+	int have_reading;         /* the zone's last reading, for a start */
+	double volts, level;
 };
 
 static void fixture_init(struct fixture *f, struct psd_db *db, int task)
@@ -58,6 +60,9 @@ static void fixture_init(struct fixture *f, struct psd_db *db, int task)
 	f->zc.cal_day_interval = 600;
 	f->zc.cal_min_day_volts = 0.05;
 	f->zc.cal_tolerance = 25;
+	f->zc.cal_dark_margin = 0.2;
+	f->zc.cal_night_sun = 1;
+	f->zc.cal_sun_share = 0.05;
 	/* the simulation: 1.094 units at full output, a daylight condition at
 	 * 15:00 of 236.25 lux per unit */
 	f->ctl.sensor_gain = 0.5;
@@ -79,7 +84,8 @@ static void fixture_init(struct fixture *f, struct psd_db *db, int task)
 
 static const struct psd_calsession_ctx *ctx(struct fixture *f)
 {
-	f->c = (struct psd_calsession_ctx){ f->zc.name, &f->zc, &f->ctl, &f->res, f->db, NULL, f->now };
+	f->c = (struct psd_calsession_ctx){ f->zc.name, &f->zc, &f->ctl, &f->res, f->db, NULL, f->now, "03-18",
+		                             6 * 3600.0, 18.5 * 3600.0, f->have_reading, f->volts, f->level, NAN };
 	return &f->c;
 }
 
@@ -343,6 +349,128 @@ static void accept_supersedes(void **state)
 	psd_db_close(db);
 }
 
+/* Issue 17, finding 1: a night session in daylight.  At 11:00 the
+ * simulation's sun is up: refused, nothing recorded.  In a room the check
+ * of the sun is off for, a reading 3 V above the electric light refuses it
+ * too; started without a reading, the settled reading with the lights off
+ * (3 V of daylight over the 0.05 V offset) aborts it with the reason. */
+static void night_refused_in_daylight(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 1);
+	f.now = 11 * 3600.0;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "no night session at 11:00: the simulation's sun is up on 03-18 (sunrise 06:00, "
+	                            "sunset 18:30)"));
+	assert_int_equal(f.s.state, PSD_CAL_IDLE);
+	assert_int_equal(sessions(db).n, 0);
+	/* the reading: 0.05 + 0.547 x 0.4 + 3 V against at most 0.05 + 0.547 V
+	 * (the lamps may still be fading down); the margin 0.2 x 0.547 V */
+	f.zc.cal_night_sun = 0;
+	f.have_reading = 1;
+	f.level = 0.4;
+	f.volts = OFFSET + GAIN_E * 0.4 + 3.0;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), -1);
+	assert_non_null(strstr(err, "the sensor reads 3.2688 V with the lights at 40 %, 2.6718 V above the 0.5970 V "
+	                            "the offset (0.0500 V) and the electric light at 100 % give"));
+	assert_int_equal(sessions(db).n, 0);
+	/* just inside the margin it starts */
+	f.volts = OFFSET + GAIN_E + 0.19 * GAIN_E;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	psd_calsession_abort(&f.s, ctx(&f), "test", &ask);
+	/* no reading yet: the session runs, and the lights-off level aborts it */
+	f.have_reading = 0;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 1000 && psd_calsession_running(&f.s); i++)
+		step(&f, 3.0, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_ABORTED);
+	assert_int_equal(f.s.npt, PSD_CAL_NLEVELS - 1);
+	assert_non_null(strstr(f.s.msg, "daylight in the night session: the sensor reads 3.0500 V with the lights at 0 %, "
+	                                "3.0000 V above the 0.0500 V the offset (0.0500 V) and the electric light at 0 % give"));
+	assert_string_equal(sessions(db).states[1], "aborted");
+	psd_db_close(db);
+}
+
+/* A night session begun before sunrise is aborted when the simulation's
+ * sun rises, with the time in the reason. */
+static void night_aborted_at_sunrise(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 0);
+	f.now = 5 * 3600.0 + 50 * 60;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 1000 && psd_calsession_running(&f.s); i++)
+		step(&f, 0, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_ABORTED);
+	assert_true(f.now > 6 * 3600.0 && f.now <= 6 * 3600.0 + PERIOD);
+	assert_non_null(strstr(f.s.msg, "night session aborted at 06:01: the simulation's sun is up"));
+	psd_db_close(db);
+}
+
+/* A day session warns when the simulated condition's brightest patch (the
+ * sun) carries more than cal_sun_share of the response, and not otherwise. */
+static void day_warns_of_sun_in_view(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 1);
+	f.now = 14 * 3600.0;
+	f.cond[0].brightest_share = 0.0002;   /* the example scene's: sky only */
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, 0.3, &ask, err, sizeof err), 0);
+	assert_string_equal(f.s.sun_warning, "");
+	psd_calsession_abort(&f.s, ctx(&f), "test", &ask);
+	f.cond[0].brightest_share = 0.3;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, 0.3, &ask, err, sizeof err), 0);
+	assert_non_null(strstr(f.s.sun_warning, "the sun falls in the sensor's view near 14:00 (simulated day_0318: its "
+	                                        "brightest patch gives 30 % of the response"));
+	for (int i = 0; i < 200 && psd_calsession_running(&f.s); i++)
+		step(&f, 1.0, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_DONE);
+	assert_non_null(strstr(f.s.msg, "(sun in the sensor's view)"));
+	psd_db_close(db);
+}
+
+/* A day session without a task meter waits for typed lux, but not
+ * forever: after cal_timeout with none it is aborted and says why; a typed
+ * reading restarts the wait. */
+static void day_without_input_ends(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask;
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 0);
+	f.now = 10 * 3600.0;
+	f.zc.cal_timeout = 30 * PERIOD;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, 0.3, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 20; i++)
+		step(&f, 1.0, &ask);
+	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), 800, 1.2, 0.3, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 30; i++)
+		step(&f, 1.0, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_RUNNING);   /* 30 periods since the typed one: not yet over */
+	step(&f, 1.0, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_ABORTED);
+	assert_non_null(strstr(f.s.msg, "no typed lux for 1860 s (cal_timeout): this zone has no task meter"));
+	psd_db_close(db);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -351,6 +479,10 @@ int main(void)
 		cmocka_unit_test(abort_on_fault),
 		cmocka_unit_test(resume_after_crash),
 		cmocka_unit_test(accept_supersedes),
+		cmocka_unit_test(night_refused_in_daylight),
+		cmocka_unit_test(night_aborted_at_sunrise),
+		cmocka_unit_test(day_warns_of_sun_in_view),
+		cmocka_unit_test(day_without_input_ends),
 	};
 	log_init(1, PSD_LOG_WARN, "test_calsession");
 	return cmocka_run_group_tests(tests, NULL, NULL);

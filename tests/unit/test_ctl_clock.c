@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <cmocka.h>
@@ -72,6 +73,43 @@ static void real_clock_speed(void **state)
 	assert_true(psd_clock_now(&c) < 2000.0);
 }
 
+/* Dates (issue 17): a date's local midnight, stamps and durations, in a
+ * fixed zone with daylight saving time (TZ set here, for this process). */
+static void dates_and_stamps(void **state)
+{
+	double e, e2;
+	char out[32];
+	(void)state;
+	setenv("TZ", "CET-1CEST,M3.5.0,M10.5.0/3", 1);   /* POSIX rule: no tzdata needed */
+	tzset();
+	assert_int_equal(psd_clock_midnight(2026, 3, 18, &e), 0);
+	assert_true(e == 1773788400.0);   /* 2026-03-17 23:00 UTC: CET is UTC+1 */
+	assert_int_equal(psd_clock_parse_date("2026-03-18", &e2), 0);
+	assert_true(e2 == e);
+	assert_int_equal(psd_clock_parse_date("2026-02-30", &e2), -1);
+	assert_int_equal(psd_clock_parse_date("03-18", &e2), -1);
+	assert_int_equal(psd_clock_parse_date("2026-03-18x", &e2), -1);
+	psd_clock_stamp(e, 21 * 3600.0 + 5 * 60, out, sizeof out);
+	assert_string_equal(out, "2026-03-18 21:05");
+	/* 28 hours on: the next day, not 01:00 of the same one */
+	psd_clock_stamp(e, 28 * 3600.0 + 58 * 60, out, sizeof out);
+	assert_string_equal(out, "2026-03-19 04:58");
+	psd_clock_stamp(NAN, 6 * 3600.0, out, sizeof out);
+	assert_string_equal(out, "06:00");
+	/* the night of the change to summer time is 23 hours long */
+	assert_int_equal(psd_clock_midnight(2026, 3, 29, &e), 0);
+	assert_int_equal(psd_clock_midnight(2026, 3, 30, &e2), 0);
+	assert_true(e2 - e == 23 * 3600.0);
+	psd_clock_duration(3 * 3600.0 + 58 * 60, out, sizeof out);
+	assert_string_equal(out, "3 h 58 min");
+	psd_clock_duration(12 * 60, out, sizeof out);
+	assert_string_equal(out, "12 min");
+	psd_clock_duration(45, out, sizeof out);
+	assert_string_equal(out, "45 s");
+	unsetenv("TZ");
+	tzset();
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -79,6 +117,7 @@ int main(void)
 		cmocka_unit_test(split_refuses),
 		cmocka_unit_test(simulated_clock_jumps),
 		cmocka_unit_test(real_clock_speed),
+		cmocka_unit_test(dates_and_stamps),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -100,7 +100,8 @@ static void from_version_2(void **state)
 {
 	char err[256];
 	struct psd_db *db;
-	struct psd_sample s = { 30000, 30000, 1.2, 0.5, 510, NAN, 0.9, 212, "daylight_mean", 236, NULL, "office", NAN };
+	struct psd_sample s = { 30000, 30000, 1.2, 0.5, 510, NAN, 0.9, 212, "daylight_mean", 236, NULL, "office",
+	                        NAN, NULL };
 	(void)state;
 	exec(v1);
 	exec("ALTER TABLE samples ADD COLUMN zone TEXT; UPDATE meta SET value = '2' WHERE key = 'schema';"
@@ -133,7 +134,101 @@ static void from_version_2(void **state)
 	assert_int_equal(scalar("SELECT count(*) FROM cal_samples WHERE session = 7"), 1);
 }
 
+/* What version 3 wrote (issue 17: no dates): samples of two zones, a
+ * session and its samples.  Version 4 keeps every row and value, leaves
+ * the dates of old rows unknown (NULL, never made up), and dates what is
+ * logged after it: UTC = the epoch of clock 0 + t, and the local text. */
+static void from_version_3(void **state)
+{
+	char err[256];
+	struct psd_db *db;
+	struct psd_sample s = { 36000, 36000, 1.0, 0.4, 505, 498, 0.8, 200, "daylight_mean", 236, NULL, "office",
+	                        NAN, NULL };
+	const double epoch0 = 1773792000;   /* 2026-03-18 00:00 UTC */
+	(void)state;
+	exec(v1);
+	exec("ALTER TABLE samples ADD COLUMN zone TEXT; UPDATE meta SET value = '3' WHERE key = 'schema';"
+	     "UPDATE samples SET zone = 'office';"
+	     "INSERT INTO samples VALUES(21600, 21600, 0.6, 1, 610, 600, 0.1, 47, 'daylight_mean', 236, NULL, 'hall');"
+	     "CREATE TABLE cal_sessions(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, kind TEXT NOT NULL,"
+	     " state TEXT NOT NULL, started REAL, ended REAL, config_sha256 TEXT, scene_sha256 TEXT, results TEXT,"
+	     " note TEXT);"
+	     "CREATE TABLE cal_samples(session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL,"
+	     " t REAL, level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));"
+	     "INSERT INTO cal_sessions VALUES(3, 'office', 'night', 'accepted', 75600, 77000, 'a', 'b',"
+	     " '{\"offset\":0.05}', NULL);"
+	     "INSERT INTO cal_samples VALUES(3, 0, 75900, 1, 0.597, 0.0005, NULL, 'settled');"
+	     "INSERT INTO cal_samples VALUES(3, 1, 76200, 0.75, 0.458, 0.0006, NULL, 'settled');");
+	assert_int_equal(scalar("SELECT count(*) FROM samples"), 3);
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	assert_int_equal(psd_db_schema(db), PSD_DB_SCHEMA);
+	assert_true(PSD_DB_SCHEMA >= 4);
+	assert_true(isnan(psd_db_last_utc(db)));   /* old rows: no date on record */
+	psd_db_set_epoch(db, epoch0);
+	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+	assert_int_equal(psd_db_commit(db, err, sizeof err), 0);
+	assert_int_equal(psd_db_event(db, 43200, "office", "fault", "sensor reads 0.000 V", err, sizeof err), 0);
+	assert_true(psd_db_last_utc(db) == epoch0 + 36000);
+	psd_db_close(db);
+	/* every old row and value kept */
+	assert_int_equal(scalar("SELECT count(*) FROM samples"), 4);
+	assert_int_equal(scalar("SELECT count(*) FROM samples WHERE utc IS NULL AND local IS NULL"), 3);
+	assert_int_equal(scalar("SELECT count(*) FROM samples WHERE zone = 'office' AND fault = 'open' AND t = 21660"), 1);
+	assert_int_equal(scalar("SELECT count(*) FROM samples WHERE zone = 'hall' AND est_task_lux = 610"), 1);
+	assert_int_equal(scalar("SELECT count(*) FROM cal_sessions WHERE id = 3 AND state = 'accepted' AND"
+	                        " started = 75600 AND started_utc IS NULL"), 1);
+	assert_int_equal(scalar("SELECT count(*) FROM cal_samples WHERE session = 3 AND utc IS NULL"), 2);
+	assert_int_equal(scalar("SELECT sum(volts * 1000) FROM cal_samples"), 597 + 458);
+	/* the new row: its UTC, and its local text is that UTC's local time */
+	assert_int_equal(scalar("SELECT utc FROM samples WHERE t = 36000"), 1773792000 + 36000);
+	assert_int_equal(scalar("SELECT local = strftime('%Y-%m-%d %H:%M:%S', utc, 'unixepoch', 'localtime')"
+	                        " FROM samples WHERE t = 36000"), 1);
+	assert_int_equal(scalar("SELECT count(*) FROM events WHERE kind = 'fault' AND utc = 1773792000 + 43200"), 1);
+	assert_int_equal(scalar("SELECT value FROM meta WHERE key = 'schema'"), PSD_DB_SCHEMA);
+}
+
 /* A file from a newer psensd is not touched. */
+/* What version 4 wrote (MQTT: samples.utc, the cursor and the zones
+ * announced), and a development file of 4 that had the dates of 5
+ * already (samples.local): both come forward, an existing column kept,
+ * every row and the MQTT cursor with them. */
+static void from_version_4(void **state)
+{
+	static const char *const extra[2] = { "", "ALTER TABLE samples ADD COLUMN local TEXT;"
+	                                          "ALTER TABLE cal_samples ADD COLUMN utc REAL;" };
+	char err[256];
+	(void)state;
+	for (int k = 0; k < 2; k++) {
+		struct psd_db *db;
+		teardown(NULL);
+		exec(v1);
+		exec("ALTER TABLE samples ADD COLUMN zone TEXT;"
+		     "CREATE TABLE cal_sessions(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, kind TEXT NOT NULL,"
+		     " state TEXT NOT NULL, started REAL, ended REAL, config_sha256 TEXT, scene_sha256 TEXT,"
+		     " results TEXT, note TEXT);"
+		     "CREATE TABLE cal_samples(session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL,"
+		     " t REAL, level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));"
+		     "ALTER TABLE samples ADD COLUMN utc REAL;"
+		     "CREATE TABLE mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+		     "CREATE TABLE mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL, PRIMARY KEY(site, zone));"
+		     "INSERT INTO mqtt_cursor VALUES('b1', 2);"
+		     "UPDATE samples SET utc = 1773792000 + t;"
+		     "UPDATE meta SET value = '4' WHERE key = 'schema';");
+		exec(extra[k]);
+		db = psd_db_open(path, err, sizeof err);
+		if (!db)
+			fail_msg("%s", err);
+		assert_int_equal(psd_db_schema(db), PSD_DB_SCHEMA);
+		assert_int_equal(psd_db_mqtt_cursor(db, "b1"), 2);
+		assert_true(psd_db_last_utc(db) == 1773792000.0 + 21660);
+		psd_db_close(db);
+		assert_int_equal(scalar("SELECT count(*) FROM samples WHERE utc IS NOT NULL AND local IS NULL"), 2);
+		assert_int_equal(scalar("SELECT count(*) FROM events"), 0);
+		assert_int_equal(scalar("SELECT count(*) FROM acceptance_tests"), 0);
+	}
+}
+
 static void newer_refused(void **state)
 {
 	char err[256];
@@ -169,6 +264,8 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(from_version_1, setup, teardown),
 		cmocka_unit_test_setup_teardown(from_version_2, setup, teardown),
+		cmocka_unit_test_setup_teardown(from_version_3, setup, teardown),
+		cmocka_unit_test_setup_teardown(from_version_4, setup, teardown),
 		cmocka_unit_test_setup_teardown(newer_refused, setup, teardown),
 		cmocka_unit_test_setup_teardown(new_file, setup, teardown),
 	};

@@ -32,6 +32,9 @@ static void make_db(void)
 	struct psd_db *db = psd_db_open(dbpath, err, sizeof err);
 	long long id;
 	assert_non_null(db);
+	/* dated as psensd dates them (clock 0 = 2026-03-18 00:00 UTC): a row
+	 * with no date would be stamped with the wall clock (db.h) */
+	psd_db_set_epoch(db, 1773792000.0);
 	for (int day = 0; day < 2; day++)
 		for (double tod = 6 * 3600; tod < 20 * 3600; tod += 60) {
 			double t = day * 86400 + tod, sun = fmax(0, sin(M_PI * (tod - 6 * 3600) / (13 * 3600)));
@@ -40,7 +43,7 @@ static void make_db(void)
 				struct psd_sample s = { t, tod, fault ? 0 : 0.05 + 3 * sun, fault ? 1 : fmax(0.1, 1 - 2 * sun),
 					                fault ? NAN : 500 + 1500 * sun, 505 + 1490 * sun, 3 * sun, 1500 * sun,
 					                "clear", 470, fault ? "sensor reads 0.000 V" : NULL,
-					                z ? "corridor" : "office", NAN };
+					                z ? "corridor" : "office", NAN, NULL };
 				assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
 			}
 		}
@@ -68,9 +71,8 @@ static void make_db(void)
 	{
 		sqlite3 *h;
 		assert_int_equal(sqlite3_open(dbpath, &h), SQLITE_OK);
-		assert_int_equal(sqlite3_exec(h, "CREATE TABLE acceptance_tests(id INTEGER PRIMARY KEY, zone TEXT, "
-		                                 "test TEXT, measured TEXT, verdict TEXT);"
-		                                 "INSERT INTO acceptance_tests(zone, test, measured, verdict) VALUES"
+		/* the table is psensd's own since schema 5 (psensctl accept-test) */
+		assert_int_equal(sqlite3_exec(h, "INSERT INTO acceptance_tests(zone, test, measured, verdict) VALUES"
 		                                 "('office', 'daylight 150 % of design', 'lights at 10 % power', 'PASS'),"
 		                                 "('corridor', 'little daylight', 'task 96 % of target', 'PASS');",
 		                              NULL, NULL, NULL), SQLITE_OK);
@@ -194,11 +196,16 @@ static void no_overlap_pages_filled(void **state)
 		if (!(bottom > 0.85 * 841.89))
 			fail_msg("page %d: content ends at %.0f of 842 pt", p, bottom);
 	}
-	/* day 2 marked on the zone pages' charts (four charts each) and the cover's */
+	/* the second day's midnight marked with its date (the samples are
+	 * dated) on the zone pages' charts (four charts each) and the cover's */
 	{
-		int days = 0;
-		for (size_t k = 0; k < r.boxes.n; k++)
-			days += strcmp(r.boxes.box[k].text, "day 2") == 0;
+		int days = 0, y, m, dd, k0;
+		for (size_t k = 0; k < r.boxes.n; k++) {
+			const char *t = r.boxes.box[k].text;
+			k0 = 0;
+			days += strlen(t) == 10 && sscanf(t, "%4d-%2d-%2d%n", &y, &m, &dd, &k0) == 3 && k0 == 10;
+			assert_null(strstr(t, "day 2"));
+		}
 		assert_int_equal(days, 1 + 4 + 4);
 	}
 	/* the acceptance tests: each zone's row on its own page (corridor is page 2) */
@@ -255,7 +262,7 @@ static void with_config(void **state)
 	assert_non_null(fp);
 	fputs(conf, fp);
 	fclose(fp);
-	if (psd_config_load(cf, cpath) != 0)
+	if (psd_config_load_keys(cf, cpath) != 0)
 		fail_msg("%s", cf->conf.nerrors ? cf->conf.errors[0] : "config");
 	{
 		struct psd_report_opts o = { .dbpath = dbpath, .zone = "office", .config_path = cpath, .cf = cf,
@@ -267,7 +274,7 @@ static void with_config(void **state)
 		const char *t = r.boxes.box[k].text;
 		target += strcmp(t, "target") == 0 && r.boxes.box[k].page == 2;   /* the legend, not the cover's column */
 		sensor += strstr(t, "room.sensor") != NULL;
-		date += strstr(t, "simulated date 03-18") != NULL;
+		date += strstr(t, "the room's day 03-18") != NULL;
 		sha += strlen(t) >= 47 && strspn(t, "0123456789abcdef") >= 47;
 	}
 	assert_int_equal(target, 1);
@@ -330,6 +337,58 @@ static void unnamed_samples(void **state)
 	}
 }
 
+/* PASS needs the acceptance tests: a zone calibrated within the tolerance
+ * with no accept-test run is NOT TESTED (2); its run passing every test
+ * makes it PASS (1); a later run with one test failed makes it FAIL (-1),
+ * though the calibration still agrees with the design. */
+static void pass_needs_acceptance(void **state)
+{
+	char err[512], out[160], path[128];
+	struct psd_report_opts o = { .dbpath = path, .tolerance_pct = 25, .format = PSD_REPORT_SVG,
+		                     .written = 1790000000 };
+	struct psd_report_out r;
+	struct psd_db *db;
+	long long id;
+	static const char *const tests[] = { "verification", "full daylight", "low daylight", "cycling" };
+	(void)state;
+	snprintf(path, sizeof path, "%s/accept.db", dir);
+	snprintf(out, sizeof out, "%s/accept.svg", dir);
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	psd_db_set_epoch(db, 1773792000.0);
+	for (double t = 6 * 3600; t < 8 * 3600; t += 600) {
+		struct psd_sample s = { t, t, 1, 0.5, 600, 600, 0.5, 100, "clear", 470, NULL, "hall", NAN, NULL };
+		assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+	}
+	id = psd_db_cal_begin(db, "hall", "day", 7 * 3600, "a1", "b2", err, sizeof err);
+	assert_int_equal(psd_db_cal_end(db, id, "done", 7.5 * 3600, "{\"ratio\":470,\"ratio_se\":1,\"samples\":5,"
+	                                "\"sim_ratio\":471,\"condition\":\"clear\",\"error_pct\":-0.2}", NULL, err,
+	                                sizeof err), 0);
+	assert_int_equal(psd_db_cal_accept(db, id, err, sizeof err), 0);
+	psd_db_commit(db, err, sizeof err);
+	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	assert_int_equal(r.zone[0].verdict, 2);
+	assert_int_equal(r.verdict, 0);
+	psd_report_out_free(&r);
+	for (int k = 0; k < 4; k++)
+		assert_int_equal(psd_db_accept_add(db, "hall", 1790000000, tests[k], "PASS", 1, 10, 40, "measured", err,
+		                                   sizeof err), 0);
+	psd_db_commit(db, err, sizeof err);
+	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	assert_int_equal(r.zone[0].verdict, 1);
+	assert_int_equal(r.verdict, 1);
+	psd_report_out_free(&r);
+	for (int k = 0; k < 4; k++)
+		assert_int_equal(psd_db_accept_add(db, "hall", 1790003600, tests[k], k == 1 ? "FAIL" : "PASS", 1, 10, 40,
+		                                   "measured", err, sizeof err), 0);
+	psd_db_commit(db, err, sizeof err);
+	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
+	assert_int_equal(r.zone[0].verdict, -1);
+	assert_int_equal(r.verdict, -1);
+	psd_report_out_free(&r);
+	psd_db_close(db);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -338,6 +397,7 @@ int main(void)
 		cmocka_unit_test(with_config),
 		cmocka_unit_test(misspelled_zone),
 		cmocka_unit_test(unnamed_samples),
+		cmocka_unit_test(pass_needs_acceptance),
 	};
 	int rc = cmocka_run_group_tests(tests, setup, teardown);
 	ps_canvas_shutdown();   /* cairo's and fontconfig's caches, for leak checkers */

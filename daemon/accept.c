@@ -1,0 +1,241 @@
+/* SPDX-License-Identifier: ISC */
+/* Acceptance tests from the sample log (see accept.h). */
+#include "accept.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "db.h"
+#include "sum.h"
+
+const char *const psd_accept_verdict_names[] = { "NOT TESTED", "FAIL", "PASS" };
+
+void psd_accept_defaults(struct psd_accept_params *p)
+{
+	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05 };
+}
+
+/* The spans a calibration session held the zone's lights (UTC when the
+ * session recorded it, else the daemon's clock). */
+struct held {
+	double (*span)[2];
+	int utc;                  /* the spans are UTC (else clock seconds) */
+	size_t n, cap;
+};
+
+struct scan {
+	const struct psd_accept_params *p;
+	struct held held;
+	/* verification */
+	struct ps_sum e2;
+	long n;
+	double worst, worst_at;
+	long band[3];
+	/* full daylight */
+	long nfull;
+	double full_max;
+	/* low daylight */
+	long nlow;
+	double low_min;
+	/* the output the lights were at when a sample's readings were taken:
+	 * the one commanded at the step before (NAN: none yet) */
+	double prev_output;
+	/* cycling */
+	double last_level, last_swing_t, min_gap;
+	int last_dir;
+	long swings, fast;
+};
+
+static void add_session(void *user, const struct psd_db_cal_session *s)
+{
+	struct held *h = user;
+	double a = h->utc ? s->started_utc : s->started, b = h->utc ? s->ended_utc : s->ended;
+	if (isnan(a))
+		return;
+	if (isnan(b))
+		b = INFINITY;   /* still running (or killed): held since it started */
+	if (h->n == h->cap) {
+		size_t cap = h->cap ? 2 * h->cap : 8;
+		void *q = realloc(h->span, cap * sizeof *h->span);
+		if (!q)
+			return;   /* out of memory: this session is judged as controlled time */
+		h->span = q;
+		h->cap = cap;
+	}
+	h->span[h->n][0] = a;
+	h->span[h->n][1] = b;
+	h->n++;
+}
+
+static int is_held(const struct held *h, const struct psd_sample *s)
+{
+	double t = h->utc ? s->utc : s->t;
+	for (size_t i = 0; i < h->n; i++)
+		if (t >= h->span[i][0] && t <= h->span[i][1])
+			return 1;
+	return 0;
+}
+
+static void scan_sample(void *user, const struct psd_sample *s)
+{
+	struct scan *c = user;
+	const struct psd_accept_params *p = c->p;
+	double dl, prev;
+	int held;
+	if (isfinite(p->since_utc) && !(s->utc >= p->since_utc))
+		return;
+	if (s->fault || !isfinite(s->output)) {
+		c->prev_output = NAN;   /* at the safe level: the next sample has no known level */
+		return;
+	}
+	/* a calibration session held the lights: its samples say nothing of
+	 * the control (full daylight, low daylight, cycling), but the estimate
+	 * must follow the room then too (verification) */
+	held = is_held(&c->held, s);
+	if (held) {
+		c->last_level = NAN;   /* the control starts again from wherever the session left it */
+		c->last_dir = 0;
+		goto verify;
+	}
+	/* cycling: swings of the commanded output */
+	if (isnan(c->last_level)) {
+		c->last_level = s->output;
+	} else if (fabs(s->output - c->last_level) > p->swing) {
+		int dir = s->output > c->last_level ? 1 : -1;
+		if (c->last_dir != 0 && dir != c->last_dir) {
+			double gap = s->t - c->last_swing_t;
+			c->swings++;
+			if (gap < c->min_gap)
+				c->min_gap = gap;
+			if (gap < p->delay)
+				c->fast++;
+		}
+		if (dir != c->last_dir)
+			c->last_swing_t = s->t;
+		c->last_dir = dir;
+		c->last_level = s->output;
+	}
+verify:
+	/* a sample's readings were taken with the lights at the previous step's
+	 * output; its output is the control's answer to them */
+	prev = c->prev_output;
+	c->prev_output = s->output;
+	if (isnan(prev) || !(s->task_lux > 0) || !isfinite(p->elec_task_lux) || !(p->target_lux > 0))
+		return;
+	dl = (s->task_lux - p->elec_task_lux * prev) / p->target_lux;
+	if (isfinite(s->est_task_lux)) {
+		double e = (s->est_task_lux - s->task_lux) / s->task_lux;
+		ps_sum_add(&c->e2, e * e);
+		c->n++;
+		if (fabs(e) > c->worst) {
+			c->worst = fabs(e);
+			c->worst_at = s->tod_s;
+		}
+		c->band[dl < 0.5 ? 0 : dl < 1.5 ? 1 : 2]++;
+	}
+	if (held)
+		return;
+	if (dl >= 1.5) {
+		c->nfull++;
+		if (s->output > c->full_max)
+			c->full_max = s->output;
+	} else if (dl < 0.1) {
+		c->nlow++;
+		if (s->task_lux < c->low_min)
+			c->low_min = s->task_lux;
+	}
+}
+
+int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_params *p,
+                   struct psd_accept_result out[PSD_ACCEPT_NTESTS], char *err, size_t errlen)
+{
+	struct scan c;
+	struct psd_accept_result *r;
+	int bands;
+	memset(&c, 0, sizeof c);
+	c.p = p;
+	ps_sum_init(&c.e2);
+	c.last_level = NAN;
+	c.prev_output = NAN;
+	c.full_max = -INFINITY;
+	c.low_min = INFINITY;
+	c.min_gap = INFINITY;
+	/* sessions in UTC when the log is (schema 5 on), else on the clock */
+	c.held.utc = isfinite(p->since_utc) || psd_db_schema(db) >= 5;
+	if (psd_db_cal_sessions(db, zone, add_session, &c.held, err, errlen) != 0 ||
+	    psd_db_zone_samples(db, zone, scan_sample, &c, err, errlen) != 0) {
+		free(c.held.span);
+		return -1;
+	}
+	free(c.held.span);
+	memset(out, 0, PSD_ACCEPT_NTESTS * sizeof *out);
+	bands = (c.band[0] > 0) + (c.band[1] > 0) + (c.band[2] > 0);
+
+	r = &out[0];
+	r->test = "verification";
+	r->samples = c.n;
+	r->value = c.n ? 100 * sqrt(ps_sum_get(&c.e2) / (double)c.n) : NAN;
+	r->limit = p->rms_max;
+	if (c.n == 0) {
+		r->verdict = PSD_ACCEPT_NOT_TESTED;
+		snprintf(r->measured, sizeof r->measured, "no sample with a task meter reading and an estimate");
+	} else {
+		int ok = c.n >= p->min_samples && bands >= 2 && r->value <= p->rms_max && 100 * c.worst <= p->worst_max;
+		r->verdict = ok ? PSD_ACCEPT_PASS : PSD_ACCEPT_FAIL;
+		snprintf(r->measured, sizeof r->measured, "estimate against the meter over %ld samples (at least %ld): "
+		         "rms %.2f %% (at most %g %%), worst %.2f %% at %02d:%02d (at most %g %%); daylight at the "
+		         "task below 50 %% of the target in %ld, 50-150 %% in %ld, 150 %% and more in %ld (two bands "
+		         "at least)", c.n, p->min_samples, r->value, p->rms_max, 100 * c.worst,
+		         (int)(c.worst_at / 3600) % 24, (int)fmod(c.worst_at / 60, 60), p->worst_max, c.band[0],
+		         c.band[1], c.band[2]);
+	}
+
+	r = &out[1];
+	r->test = "full daylight";
+	r->samples = c.nfull;
+	r->limit = 35;
+	r->value = c.nfull ? 100 * c.full_max : NAN;
+	if (!c.nfull) {
+		r->verdict = PSD_ACCEPT_NOT_TESTED;
+		snprintf(r->measured, sizeof r->measured, "no sample with daylight at the task at 150 %% of the "
+		         "target (%g lx) or more", 1.5 * p->target_lux);
+	} else {
+		r->verdict = r->value <= 35 + 1e-9 ? PSD_ACCEPT_PASS : PSD_ACCEPT_FAIL;
+		snprintf(r->measured, sizeof r->measured, "with daylight at the task at 150 %% of %g lx or more "
+		         "(%ld samples) the light output was at most %.1f %% (at most 35 %%)", p->target_lux, c.nfull,
+		         r->value);
+	}
+
+	r = &out[2];
+	r->test = "low daylight";
+	r->samples = c.nlow;
+	r->limit = 90;
+	r->value = c.nlow ? 100 * c.low_min / p->target_lux : NAN;
+	if (!c.nlow) {
+		r->verdict = PSD_ACCEPT_NOT_TESTED;
+		snprintf(r->measured, sizeof r->measured, "no sample with daylight at the task below 10 %% of the "
+		         "target");
+	} else {
+		r->verdict = r->value >= 90 - 1e-9 ? PSD_ACCEPT_PASS : PSD_ACCEPT_FAIL;
+		snprintf(r->measured, sizeof r->measured, "with daylight below 10 %% of the target (%ld samples) "
+		         "the task was at least %.0f lx, %.1f %% of %g lx (at least 90 %%)", c.nlow, c.low_min,
+		         r->value, p->target_lux);
+	}
+
+	r = &out[3];
+	r->test = "cycling";
+	r->samples = c.swings;
+	r->limit = p->delay;
+	r->value = c.swings ? c.min_gap : NAN;
+	r->verdict = c.fast ? PSD_ACCEPT_FAIL : PSD_ACCEPT_PASS;
+	if (c.swings)
+		snprintf(r->measured, sizeof r->measured, "%ld reversals of the output by more than %.0f %%, the "
+		         "closest %.0f s apart, %ld within the %g s delay", c.swings, 100 * p->swing, c.min_gap,
+		         c.fast, p->delay);
+	else
+		snprintf(r->measured, sizeof r->measured, "no reversal of the output by more than %.0f %%",
+		         100 * p->swing);
+	return 0;
+}

@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: ISC */
+/* Acceptance of a zone, from its sample log (a task meter needed): how well
+ * the constants in force estimate the measured task lux over a verification
+ * window, and functional tests of the kind building codes require of
+ * daylight controls (California Title 24 NA7.6.1, IECC C408.3):
+ *
+ *   verification   the estimate against the meter over the window's good
+ *                  samples: rms and worst relative error, the number of
+ *                  samples and the daylight levels they span (daylight at
+ *                  the task over the target, in bands below 50 %, 50-150 %
+ *                  and 150 % and more); PASS when there are at least
+ *                  min_samples, at least two bands, rms <= rms_max and worst
+ *                  <= worst_max.
+ *   full daylight  with daylight at the task at 150 % of the target or
+ *                  more, the light output is at most 35 % (power).
+ *   low daylight   with daylight below 10 % of the target, the task stays
+ *                  at 90 % of the target or more.
+ *   cycling        swings of the output (changes of more than swing of full
+ *                  output, each against the last one's direction) never
+ *                  closer together than the configured delay.
+ *
+ * Daylight at the task is what the meter measures less the electric light:
+ * task_lux - elec_task_lux x output, at the output of the step before (the
+ * one the lights were at when the sample's readings were taken; the
+ * sample's own output is the control's answer to them).  While a
+ * calibration session held the lights (its span in cal_sessions) the
+ * samples count for the verification only: the functional tests judge the
+ * control, and cycling starts again after the session.  A test with no
+ * sample in its range is NOT TESTED, never a pass.  Each result says what it measured. */
+#ifndef PSD_ACCEPT_H
+#define PSD_ACCEPT_H
+
+#include <stddef.h>
+
+struct psd_db;
+
+enum { PSD_ACCEPT_NTESTS = 4 };
+enum psd_accept_verdict { PSD_ACCEPT_NOT_TESTED = -1, PSD_ACCEPT_FAIL = 0, PSD_ACCEPT_PASS = 1 };
+
+struct psd_accept_params {
+	double target_lux;        /* the zone's design task illuminance */
+	double elec_task_lux;     /* task lux at full electric output */
+	double delay;             /* s: the fastest cycling allowed */
+	double since_utc;         /* the window: samples from this UTC on (NAN: all) */
+	double rms_max, worst_max;/* verification limits, % (10, 25) */
+	long min_samples;         /* verification: at least this many (30) */
+	double swing;             /* cycling: a change this large (fraction of full output, 0.05) */
+};
+
+struct psd_accept_result {
+	const char *test;         /* "verification", "full daylight", "low daylight", "cycling" */
+	int verdict;              /* enum psd_accept_verdict */
+	double value, limit;      /* the measured figure and its limit */
+	long samples;             /* samples judged */
+	char measured[320];       /* what was measured, in words */
+};
+
+/* Defaults for what the caller does not set. */
+void psd_accept_defaults(struct psd_accept_params *p);
+/* Run every test on zone's samples in db.  -1 with a message in err. */
+int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_params *p,
+                   struct psd_accept_result out[PSD_ACCEPT_NTESTS], char *err, size_t errlen);
+extern const char *const psd_accept_verdict_names[];   /* indexed by verdict + 1 */
+
+#endif

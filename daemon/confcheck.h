@@ -1,0 +1,17 @@
+/* SPDX-License-Identifier: ISC */
+/* Checks of a loaded configuration beyond single keys (daemon/confcheck.c):
+ * two-key ranges and the files it names, every error added to
+ * cf->conf.errors with its line.  psd_config_load runs them. */
+#ifndef PSD_CONFCHECK_H
+#define PSD_CONFCHECK_H
+
+#include "config.h"
+
+/* Ranges that involve two keys. */
+void psd_config_check_ranges(struct psd_config *cf);
+/* The scene, the results and replays: present and parsed (a driver's
+ * replay is resolved against the file's directory).  Only for a file:
+ * psd_config_load_string leaves them unopened. */
+void psd_config_check_files(struct psd_config *cf);
+
+#endif

@@ -1,0 +1,59 @@
+#!/bin/sh
+# SPDX-License-Identifier: ISC
+# Issue 17, finding 8: the README's calibration walk-through, run as the
+# README gives it.  The commands are taken from README.md itself (section
+# "A calibration session": every line of a code block that begins with
+# "$ build/bin/", "$ export ", "$ until " or "$ kill "), in order, as one
+# script, in a copy of the tree's config/example with build/bin the
+# binaries under test: the shipped config/example/calibration.conf must
+# carry them through (a socket the user can write, a task meter, the
+# offset), the night and the day sessions must finish, and the results must
+# be the README's: the offset near the room's 0.05 V, the day ratio within
+# the tolerance, the report written.
+. "$(dirname "$0")/lib.sh"
+[ -x "$BIN/psensd" ] || skip_all "psensd not built"
+BINABS=$(cd "$BIN" && pwd)
+TOPDIR=$(pwd)
+mkdir -p "$TMP/top/config" "$TMP/top/build"
+cp -R config/example "$TMP/top/config/"
+ln -s "$BINABS" "$TMP/top/build/bin"
+awk '/^## A calibration session/ { s = 1; next } /^## / { s = 0 }
+     s && /^```/ { b = !b; next }
+     s && b && /^\$ (build\/bin\/|export |until |kill )/ { sub(/^\$ /, ""); print }' README.md > "$TMP/walk.sh"
+diag "the walk-through's commands:"
+while IFS= read -r l; do diag "  $l"; done < "$TMP/walk.sh"
+check "the README gives the commands ($(wc -l < "$TMP/walk.sh") lines)" test "$(wc -l < "$TMP/walk.sh")" -ge 10
+check "they start psensd on the shipped example" grep -q "^build/bin/psensd -f config/example/calibration.conf" "$TMP/walk.sh"
+TMPDIR_PF="$TMP/pf"
+mkdir -p "$TMPDIR_PF/sim/data/cie"
+cp sim/data/cie/cie_photopic_V_1nm.txt "$TMPDIR_PF/sim/data/cie/"
+cd "$TMP/top"
+# a bounded run: every command must succeed (set -e), sessions must end
+# (its own process group: whatever it leaves running is stopped with it)
+setsid sh -c 'set -e; . "$1"' sh "$TMP/walk.sh" > "$TMP/out" 2> "$TMP/err" &
+W=$!
+i=0; while kill -0 $W 2>/dev/null && [ $i -lt 1200 ]; do sleep 0.1; i=$((i + 1)); done
+if kill -0 $W 2>/dev/null; then rc=timeout; else wait $W; rc=$?; fi
+kill -TERM -- -$W 2>/dev/null
+cd "$TOPDIR"
+diag "$(cat "$TMP/out")"
+diag "$(grep -v '^psensd: zone office: .*night level' "$TMP/err" | head -30)"
+check "every command succeeded, within 120 s (exit $rc)" test "$rc" = 0
+off=$(sed -n 's/^  message: done: offset \([0-9.]*\) V.*/\1/p' "$TMP/out" | head -n 1)
+check "the night session's offset $off V is the room's 0.05 V (within 3 mV)" \
+	awk -v o="$off" 'BEGIN { d = o - 0.05; if (d < 0) d = -d; exit !(o != "" && d <= 0.003) }'
+check "the day session is within the tolerance: $(grep -o 'message: done: [0-9.]* lux per volt.*tolerance' "$TMP/out")" \
+	grep -q "message: done: [0-9.]* lux per volt .* within the 25 % tolerance" "$TMP/out"
+check "both accepted" test "$(grep -c 'calibration session [0-9]* accepted' "$TMP/err")" = 2
+check "the report is written" test -s "$TMP/top/office.svg"
+check "the socket was the user's, in build/" grep -q "control socket config/example/../../build/cal.sock" "$TMP/err"
+# the psfilter example names a file it makes from one the project ships:
+# its two commands, taken from the README, give the README's first line
+awk '/^\*\*psfilter\*\*/ { s = 1 } s && /^```/ { if (b) exit; b = 1; next }
+     s && b && /^\$ / { sub(/^\$ /, ""); print }' README.md > "$TMP/pf.sh"
+want=$(awk '/^\*\*psfilter\*\*/ { s = 1 } s && /^```/ { if (b) exit; b = 1; next }
+     s && b && !/^\$ / { print; exit }' README.md)
+check "the psfilter example's commands: $(tr '\n' ';' < "$TMP/pf.sh")" grep -q "^psfilter v20.txt" "$TMP/pf.sh"
+got=$(cd "$TOPDIR" && PATH="$BINABS:$PATH" sh -c 'cd "$1" && sh "$2"' sh "$TMPDIR_PF" "$TMP/pf.sh" 2>&1 | head -n 1)
+check "run as given they print the README's '$want' ($got)" test "$got" = "$want"
+done_testing

@@ -1,0 +1,183 @@
+/* SPDX-License-Identifier: ISC */
+/* Acceptance tests (daemon/accept.h) on logs made to known numbers: every
+ * figure checked against the analytic answer, every verdict both ways. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "accept.h"
+#include "db.h"
+
+#define assert_near(a, b, tol) assert_true(fabs((double)(a) - (double)(b)) <= (tol))
+
+/* target 500 lx, electric 1000 lx at full output */
+#define TARGET 500.0
+#define ELEC 1000.0
+
+static void add(struct psd_db *db, double t, double output, double task, double est)
+{
+	char err[256];
+	struct psd_sample s = { t, t, 1.0, output, est, task, 0, 0, "daylight_mean", 236, NULL, "office", NAN, NULL };
+	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+}
+
+static void params(struct psd_accept_params *p)
+{
+	psd_accept_defaults(p);
+	p->target_lux = TARGET;
+	p->elec_task_lux = ELEC;
+	p->delay = 300;
+	p->min_samples = 4;
+}
+
+/* A zone that passes: the estimate 2 % high throughout; a sample's
+ * daylight is its meter less the electric light at the step before's
+ * output.  Dark (daylight 0) at 50 %, 500 lx; bright (1000 lx, 200 %) at
+ * 10 %; mid (300 lx, 60 %) at 60 %; one swing down and one up 600 s apart. */
+static void passes(void **state)
+{
+	char err[256];
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	(void)state;
+	assert_non_null(db);
+	add(db, 0, 0.5, 500, 510);              /* the first: no step before */
+	add(db, 60, 0.5, 500, 510);             /* dark */
+	add(db, 120, 0.5, 500, 510);
+	add(db, 600, 0.1, 1500, 1530);          /* 1000 lx + 1000 x 0.5: 200 %, answered with 10 % */
+	add(db, 660, 0.1, 1100, 1122);
+	add(db, 720, 0.1, 1100, 1122);
+	add(db, 1200, 0.6, 400, 408);           /* 300 lx + 1000 x 0.1: 60 %, answered with 60 % */
+	add(db, 1260, 0.6, 900, 918);
+	psd_db_commit(db, err, sizeof err);
+	params(&p);
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_string_equal(r[0].test, "verification");
+	assert_int_equal(r[0].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[0].samples, 7);
+	assert_near(r[0].value, 2.0, 1e-9);
+	assert_non_null(strstr(r[0].measured, "below 50 % of the target in 2, 50-150 % in 2, 150 % and more in 3"));
+	assert_int_equal(r[1].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[1].samples, 3);
+	assert_near(r[1].value, 10, 1e-9);
+	assert_int_equal(r[2].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[2].samples, 2);
+	assert_near(r[2].value, 100, 1e-9);
+	/* 0.5 -> 0.1 at 600 s, 0.1 -> 0.6 at 1200 s: one reversal, 600 s apart */
+	assert_int_equal(r[3].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[3].samples, 1);
+	assert_near(r[3].value, 600, 1e-9);
+	psd_db_close(db);
+}
+
+/* A zone that fails each test: the estimate 30 % off once, the lights at
+ * 40 % in full daylight (the issue's wrong night calibration held them at
+ * 40 %), 440 lx in the dark (88 %), swings 60 s apart. */
+static void fails(void **state)
+{
+	char err[256];
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	(void)state;
+	assert_non_null(db);
+	add(db, 0, 0.5, 440, 500);              /* dark, 88 % (a weak lamp); estimate +13.6 % */
+	add(db, 60, 0.4, 1400, 1400);           /* daylight 1000 lx at 40 % */
+	add(db, 120, 0.5, 440, 440);
+	add(db, 180, 0.4, 1400, 1820);          /* +30 % */
+	psd_db_commit(db, err, sizeof err);
+	params(&p);
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[0].verdict, PSD_ACCEPT_FAIL);
+	assert_non_null(strstr(r[0].measured, "worst 30.00 %"));
+	assert_int_equal(r[0].samples, 3);   /* the first has no step before */
+	assert_near(r[0].value, 100 * sqrt(pow(0.3, 2) / 3), 1e-9);
+	assert_int_equal(r[1].verdict, PSD_ACCEPT_FAIL);
+	assert_near(r[1].value, 40, 1e-9);
+	assert_non_null(strstr(r[1].measured, "at most 40.0 % (at most 35 %)"));
+	assert_int_equal(r[2].verdict, PSD_ACCEPT_FAIL);
+	assert_near(r[2].value, 88, 1e-9);
+	assert_int_equal(r[3].verdict, PSD_ACCEPT_FAIL);
+	assert_near(r[3].value, 60, 1e-9);
+	assert_int_equal(r[3].samples, 2);
+	psd_db_close(db);
+}
+
+/* No sample in a test's range: NOT TESTED, never a pass; a window after
+ * every sample judges none. */
+static void not_tested(void **state)
+{
+	char err[256];
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	(void)state;
+	assert_non_null(db);
+	add(db, 0, 0.6, 900, 900);              /* 60 % daylight only */
+	add(db, 60, 0.6, 900, 900);
+	psd_db_commit(db, err, sizeof err);
+	params(&p);
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[0].verdict, PSD_ACCEPT_FAIL);   /* one sample judged, one band */
+	assert_int_equal(r[0].samples, 1);
+	assert_int_equal(r[1].verdict, PSD_ACCEPT_NOT_TESTED);
+	assert_int_equal(r[2].verdict, PSD_ACCEPT_NOT_TESTED);
+	p.since_utc = 1e12;
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[0].verdict, PSD_ACCEPT_NOT_TESTED);
+	psd_db_close(db);
+}
+
+/* The functional tests judge the control, not a calibration session that
+ * held the lights: a day session at 50 % in full daylight (and the jumps
+ * into and out of it) is left out of full daylight and cycling, and its
+ * samples still count for the verification (the estimate follows the
+ * room during a session).  The session runs from 600 to 1200 s. */
+static void sessions_left_out(void **state)
+{
+	char err[256];
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	long long id;
+	(void)state;
+	assert_non_null(db);
+	psd_db_set_epoch(db, 0);
+	add(db, 0, 0.1, 1100, 1100);            /* first: no step before */
+	add(db, 60, 0.1, 1100, 1100);           /* 1000 lx daylight, 200 %, at 10 % */
+	id = psd_db_cal_begin(db, "office", "day", 600, NULL, NULL, err, sizeof err);
+	assert_true(id > 0);
+	add(db, 660, 0.5, 1100, 1100);          /* held at 50 %: answered to 10 % */
+	add(db, 720, 0.5, 1500, 1500);          /* 1000 lx + 500: held at 50 % */
+	add(db, 780, 0.5, 1500, 1500);
+	assert_int_equal(psd_db_cal_end(db, id, "done", 1200, NULL, NULL, err, sizeof err), 0);
+	add(db, 1260, 0.1, 1500, 1500);         /* the control again: down to 10 % */
+	add(db, 1320, 0.1, 1100, 1100);
+	psd_db_commit(db, err, sizeof err);
+	params(&p);
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[0].samples, 6);      /* every sample after the first */
+	assert_int_equal(r[1].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[1].samples, 3);      /* 60, 1260 (the answer to readings taken at 50 %), 1320 */
+	assert_near(r[1].value, 10, 1e-9);
+	assert_int_equal(r[3].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[3].samples, 0);      /* up into the session and down out of it: no reversal */
+	psd_db_close(db);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(passes),
+		cmocka_unit_test(fails),
+		cmocka_unit_test(not_tested),
+		cmocka_unit_test(sessions_left_out),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
