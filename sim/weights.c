@@ -389,7 +389,7 @@ order_done:
 		const struct gl_rule *g = &c->glf[n];
 		for (int q = 0; q < g->n; q++) {
 			double t = tm + hl * g->x[q], r2 = t * t + k * k;
-			sum += g->w[q] * ps_sensor_m_in(s, 0, 0, ps_fisheye_theta(&c->f, sqrt(r2)), 0.0) /
+			sum += g->w[q] * ps_sensor_m_builtin(s->kind, ps_fisheye_theta(&c->f, sqrt(r2))) /
 			       r2;
 		}
 		*out = (vertical ? k : -k) * hl * sum;
