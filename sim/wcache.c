@@ -14,6 +14,7 @@
 
 #include <math.h>
 #include <nettle/sha2.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -219,9 +220,65 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 	return rc;
 }
 
+struct ps_wstore {
+	pthread_t tid;
+	const struct ps_weights *w;
+	char *dir;
+	char hex[65];
+	size_t max_bytes;
+	int rebuilt, rc;
+	struct ps_err warn;   /* the rebuild's reason, then the store's error */
+};
+
+static void *store_run(void *arg)
+{
+	struct ps_wstore *p = arg;
+	struct ps_err ce;
+	p->rc = store(p->w, p->dir, p->hex, p->max_bytes, &ce);
+	if (p->rc != 0)
+		p->warn = ce;
+	return NULL;
+}
+
+void ps_weights_store_finish(struct ps_wstore *p, int *how, struct ps_err *warn)
+{
+	if (!p)
+		return;
+	pthread_join(p->tid, NULL);
+	if (how)
+		*how = p->rc != 0 ? PS_WC_UNWRITABLE : p->rebuilt ? PS_WC_REBUILT : PS_WC_STORED;
+	if (warn && (p->rc != 0 || p->rebuilt))
+		*warn = p->warn;
+	free(p->dir);
+	free(p);
+}
+
+static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+               const struct ps_view *v, int width, int height, int method, const char *dir,
+               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wstore **pending,
+               struct ps_err *e);
+
 int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                    const struct ps_view *v, int width, int height, int method, const char *dir,
                    size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+{
+	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, NULL, e);
+}
+
+int ps_weights_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                         const struct ps_view *v, int width, int height, int method,
+                         const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
+                         struct ps_wstore **pending, struct ps_err *e)
+{
+	*pending = NULL;
+	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, pending,
+	           e);
+}
+
+static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+               const struct ps_view *v, int width, int height, int method, const char *dir,
+               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wstore **pending,
+               struct ps_err *e)
 {
 	char hex[65];
 	struct ps_cache_blob b;
@@ -254,6 +311,25 @@ int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotat
 	}
 	if (ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, PS_WB_COMPACT, e) != 0)
 		return -1;
+	if (pending) {
+		/* stored by a thread; a thread that cannot start: stored here */
+		struct ps_wstore *p = calloc(1, sizeof *p);
+		if (p && (p->dir = strdup(dir)) != NULL) {
+			p->w = w;
+			memcpy(p->hex, hex, sizeof p->hex);
+			p->max_bytes = max_bytes;
+			p->rebuilt = rebuilt;
+			if (rebuilt && warn)
+				p->warn = *warn;
+			if (pthread_create(&p->tid, NULL, store_run, p) == 0) {
+				*pending = p;
+				*how = rebuilt ? PS_WC_REBUILT : PS_WC_STORED;
+				return 0;
+			}
+			free(p->dir);
+		}
+		free(p);
+	}
 	if (store(w, dir, hex, max_bytes, &ce) != 0) {
 		*how = PS_WC_UNWRITABLE;
 		if (warn)
