@@ -614,29 +614,39 @@ static int export_samples(const char *sock, const char *dbpath, int timeout_ms, 
 	return rc == 0 ? 0 : 1;
 }
 
+/* The arguments [ZONE] [-n N] of log and watch: 0, or -1 with the
+ * message given (the caller exits 2). */
+static int zone_count_args(const char *cmd, int argc, char **argv, const char **zone, long *count)
+{
+	char *end;
+	for (int i = 0; i < argc; i++) {
+		if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
+			*count = strtol(argv[++i], &end, 10);
+			if (*end || *count < 1) {
+				fprintf(stderr, "psensctl: %s -n %s: a count of 1 or more\n", cmd, argv[i]);
+				return -1;
+			}
+		} else if (!*zone && argv[i][0] != '-') {
+			*zone = argv[i];
+		} else {
+			usage(stderr);
+			return -1;
+		}
+	}
+	return 0;
+}
+
 /* log [ZONE] [-n N]: where the log is, then its last N samples (20) */
 static int show_log(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
 {
 	const char *zone = NULL;
 	long last = 20;
-	char err[512], *end;
+	char err[512];
 	struct psd_sampleout out;
 	json_object *o = NULL;
 	int rc;
-	for (int i = 0; i < argc; i++) {
-		if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
-			last = strtol(argv[++i], &end, 10);
-			if (*end || last < 1) {
-				fprintf(stderr, "psensctl: log -n %s: a count of 1 or more\n", argv[i]);
-				return 2;
-			}
-		} else if (!zone && argv[i][0] != '-') {
-			zone = argv[i];
-		} else {
-			usage(stderr);
-			return 2;
-		}
-	}
+	if (zone_count_args("log", argc, argv, &zone, &last) != 0)
+		return 2;
 	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
 		return 1;
 	if (o)
@@ -724,21 +734,9 @@ static int watch(const char *sock, int timeout_ms, int argc, char **argv)
 	long count = -1, shown = 0;
 	double last = NAN;
 	int tty = isatty(STDOUT_FILENO);
-	char req[256], *end;
-	for (int i = 0; i < argc; i++) {
-		if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
-			count = strtol(argv[++i], &end, 10);
-			if (*end || count < 1) {
-				fprintf(stderr, "psensctl: watch -n %s: a count of 1 or more\n", argv[i]);
-				return 2;
-			}
-		} else if (!zone && argv[i][0] != '-') {
-			zone = argv[i];
-		} else {
-			usage(stderr);
-			return 2;
-		}
-	}
+	char req[256];
+	if (zone_count_args("watch", argc, argv, &zone, &count) != 0)
+		return 2;
 	snprintf(req, sizeof req, "status%s%s", zone ? " " : "", zone ? zone : "");
 	while (count < 0 || shown < count) {
 		char *reply = ask(sock, req, timeout_ms);
