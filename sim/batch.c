@@ -22,10 +22,10 @@ int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation
 	                           NULL, 0, &how, NULL, e);
 }
 
-int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                        const struct ps_view *v, int width, int height, int method,
-                        const double coef[3], int nthreads, const char *cachedir,
-                        size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+static int init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
+                const struct ps_view *v, int width, int height, int method, const double coef[3],
+                int nthreads, const char *cachedir, size_t max_bytes, int *how,
+                struct ps_err *warn, int async, struct ps_err *e)
 {
 	memset(b, 0, sizeof *b);
 	if (nthreads > PS_BATCH_THREADS_MAX)
@@ -35,12 +35,40 @@ int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double ro
 	b->method = method;
 	memcpy(b->coef, coef, sizeof b->coef);
 	b->nthreads = nthreads > 0 ? nthreads : PS_BATCH_THREADS_DEFAULT;
+	if (async)
+		return ps_weights_get_async(&b->w, s, rotation_deg, v, width, height, method, cachedir,
+		                            max_bytes, how, warn, &b->pending, e);
 	return ps_weights_get(&b->w, s, rotation_deg, v, width, height, method, cachedir, max_bytes,
 	                      how, warn, e);
 }
 
+int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method,
+                        const double coef[3], int nthreads, const char *cachedir,
+                        size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+{
+	return init(b, s, rotation_deg, v, width, height, method, coef, nthreads, cachedir,
+	            max_bytes, how, warn, 0, e);
+}
+
+int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
+                              const struct ps_view *v, int width, int height, int method,
+                              const double coef[3], int nthreads, const char *cachedir,
+                              size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+{
+	return init(b, s, rotation_deg, v, width, height, method, coef, nthreads, cachedir,
+	            max_bytes, how, warn, 1, e);
+}
+
+void ps_batch_finish_store(struct ps_batch *b, int *how, struct ps_err *warn)
+{
+	ps_weights_store_finish(b->pending, how, warn);
+	b->pending = NULL;
+}
+
 void ps_batch_free(struct ps_batch *b)
 {
+	ps_batch_finish_store(b, NULL, NULL);
 	ps_weights_free(&b->w);
 	memset(b, 0, sizeof *b);
 }

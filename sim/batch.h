@@ -32,6 +32,8 @@
 #define PS_BATCH_THREADS_DEFAULT 2
 #define PS_BATCH_THREADS_MAX 256
 
+struct ps_wstore;   /* sim/wcache.h */
+
 struct ps_batch {
 	struct ps_weights w;           /* the batch's weights (read-only once built) */
 	const struct ps_sensor *sens;
@@ -39,6 +41,7 @@ struct ps_batch {
 	int method;                    /* enum ps_wmethod */
 	double coef[3];
 	int nthreads;
+	struct ps_wstore *pending;     /* the weights' cache store under way, or NULL */
 };
 
 enum ps_batch_status {
@@ -65,6 +68,15 @@ int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double ro
                         const struct ps_view *v, int width, int height, int method,
                         const double coef[3], int nthreads, const char *cachedir,
                         size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
+/* The same with the weights stored in the cache while the pictures are
+ * integrated (sim/wcache.h, ps_weights_get_async): *how is provisional
+ * until ps_batch_finish_store gives the final one (and warn). */
+int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
+                              const struct ps_view *v, int width, int height, int method,
+                              const double coef[3], int nthreads, const char *cachedir,
+                              size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
+void ps_batch_finish_store(struct ps_batch *b, int *how, struct ps_err *warn);
+/* Frees the weights (waiting for a store under way first). */
 void ps_batch_free(struct ps_batch *b);
 
 /* Read and integrate n picture files; out[i] for paths[i].  Returns the

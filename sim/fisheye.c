@@ -31,13 +31,6 @@ double ps_fisheye_v(const struct ps_fisheye *f, double j)
 	return f->v0 + (j / f->height) * f->sv;
 }
 
-double ps_fisheye_theta(const struct ps_fisheye *f, double rho)
-{
-	if (rho >= 1.0)
-		return f->theta_field;
-	return f->type == PS_VT_HEMI ? asin(rho) : M_PI * rho;
-}
-
 double ps_fisheye_rho(const struct ps_fisheye *f, double theta)
 {
 	if (theta >= f->theta_field)

@@ -11,6 +11,8 @@
 #ifndef PS_FISHEYE_H
 #define PS_FISHEYE_H
 
+#include <math.h>
+
 #include "view.h"
 
 struct ps_fisheye {
@@ -26,7 +28,13 @@ void ps_fisheye_init(struct ps_fisheye *f, const struct ps_view *v, int width, i
 double ps_fisheye_u(const struct ps_fisheye *f, double x);
 double ps_fisheye_v(const struct ps_fisheye *f, double j);
 /* Polar angle of plane radius rho, clamped at the field's edge. */
-double ps_fisheye_theta(const struct ps_fisheye *f, double rho);
+static inline double ps_fisheye_theta(const struct ps_fisheye *f, double rho)
+{
+	/* inline: the exact weights take it at every quadrature node */
+	if (rho >= 1.0)
+		return f->theta_field;
+	return f->type == PS_VT_HEMI ? asin(rho) : M_PI * rho;
+}
 /* Plane radius of polar angle theta (theta beyond the field gives 1). */
 double ps_fisheye_rho(const struct ps_fisheye *f, double theta);
 /* Solid angle per plane area at radius rho (0 outside the field). */

@@ -152,7 +152,8 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 			double b;
 			if (px[3] == 0)
 				continue;
-			b = ps_pixel_response(px, wt[i], kc, raws);
+			b = ps_pixel_response(px, w->mirror && 2 * i >= run->n ? wt[run->n - 1 - i] : wt[i],
+			                      kc, raws);
 			ps_sum_add(&row, b);
 			ncontrib++;
 			if (b > best) {
@@ -188,7 +189,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 				double raws[3] = { 0, 0, 0 };
 				if (px[3] == 0)
 					continue;
-				contrib[n++] = ps_pixel_response(px, w->w[run->off + (size_t)i], kc, raws);
+				contrib[n++] = ps_pixel_response(px, ps_wrun_at(w, run, i), kc, raws);
 			}
 		}
 		r->top1_share = ps_top1_share(contrib, n, r->response);

@@ -50,26 +50,47 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 	ps_pic_rgb_matrix(pic, k);
 	for (int c = 0; c < 3; c++)
 		kc[c] = coef[0] * k[0][c] + coef[1] * k[1][c] + coef[2] * k[2][c];
-	for (size_t ri = 0; ri < omega->nruns; ri++) {
-		const struct ps_wrun *run = &omega->runs[ri];
-		for (int i = 0; i < run->n; i++) {
-			int x = run->x0 + i, it, m;
-			const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)x);
-			double th, ph, b, sc;
-			if (px[3] == 0 || ps_fisheye_pixel_dir(&f, x, run->row, &th, &ph) != 0)
-				continue;
-			sc = ps_rgbe_scale[px[3]];
-			b = ((px[0] + 0.5) * kc[0] + (px[1] + 0.5) * kc[1] + (px[2] + 0.5) * kc[2]) * sc *
-			    omega->w[run->off + (size_t)i];
-			it = (int)(th / p->dtheta);
-			if (it >= p->ntheta)
-				continue;
-			m = (int)floor((ph - p->phi0) / p->dphi);
-			m %= p->nphi;
-			if (m < 0)
-				m += p->nphi;
-			p->e[(size_t)it * (size_t)p->nphi + (size_t)m] += b;
+	{
+		/* pixel centres' plane coordinates once; rho by sqrt (hypot's
+		 * care for overflow is not needed within the unit square) */
+		double *uc = malloc(((size_t)pic->width + 1) * sizeof *uc), inv = 1.0 / p->dphi;
+		if (!uc) {
+			ps_rescan_free(p);
+			return ps_errf(e, PS_ENOMEM, "out of memory");
 		}
+		for (int x = 0; x < pic->width; x++)
+			uc[x] = ps_fisheye_u(&f, x + 0.5);
+		for (size_t ri = 0; ri < omega->nruns; ri++) {
+			const struct ps_wrun *run = &omega->runs[ri];
+			const uint8_t *row = pic->pix + 4 * (size_t)run->row * (size_t)pic->width;
+			double vc = ps_fisheye_v(&f, pic->height - run->row - 0.5);
+			for (int i = 0; i < run->n; i++) {
+				int x = run->x0 + i, it, m;
+				const uint8_t *px = row + 4 * (size_t)x;
+				double th, ph, b, sc, rho;
+				if (px[3] == 0)
+					continue;
+				rho = sqrt(uc[x] * uc[x] + vc * vc);
+				if (rho > 1.0)
+					continue;
+				th = ps_fisheye_theta(&f, rho);
+				it = (int)(th / p->dtheta);
+				if (it >= p->ntheta)
+					continue;
+				ph = atan2(vc, uc[x]) - M_PI / 2;
+				sc = ps_rgbe_scale[px[3]];
+				b = ((px[0] + 0.5) * kc[0] + (px[1] + 0.5) * kc[1] + (px[2] + 0.5) * kc[2]) * sc *
+				    ps_wrun_at(omega, run, i);
+				/* phi - phi0 is within a few turns: no integer division */
+				m = (int)floor((ph - p->phi0) * inv);
+				while (m >= p->nphi)
+					m -= p->nphi;
+				while (m < 0)
+					m += p->nphi;
+				p->e[(size_t)it * (size_t)p->nphi + (size_t)m] += b;
+			}
+		}
+		free(uc);
 	}
 	{
 		struct ps_sum s;
@@ -151,43 +172,88 @@ int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, doub
 	if (fabs(q - qs) > 1e-9 || fabs(r0 - r0s) > 1e-9)
 		return ps_errf(e, PS_EINVAL, "rotations %g + k %g degrees are not whole cells of %g",
 		               rot0_deg, step_deg, p->dphi / DEG);
-	rings = malloc(((size_t)p->ntheta + 1) * sizeof *rings);
-	nz = malloc((ncells + 1) * sizeof *nz);
-	ez = malloc((ncells + 1) * sizeof *ez);
-	sg = NULL;
-	if (rings && nz && ez) {
+	/* The rings collapse onto a few rows: within one patch of the table the
+	 * sensitivity is affine in theta at every azimuth (bilinear reading, or
+	 * constant for rsensor's), so S(theta_r, phi) = (1 - a) S(theta_A, phi) +
+	 * a S(theta_B, phi) with theta_A, theta_B two polar angles inside the
+	 * patch and a = (theta_r - theta_A) / (theta_B - theta_A); ring r's
+	 * energies go to the patch's two rows with weights 1 - a and a.  A
+	 * builtin is the same at every azimuth: one row of S(theta_r) e_r
+	 * against a sensitivity of 1.  The sums are those of the rings, in
+	 * another order: 2 nt rows instead of hundreds of rings. */
+	{
+		int table = s->kind == PS_SENS_TABLE, nrow = table ? 2 * s->nt : 1;
+		double *re = calloc((size_t)nrow * (size_t)np + 1, sizeof *re);
+		int *used = calloc((size_t)nrow + 1, sizeof *used);
+		rings = malloc(((size_t)nrow + 1) * sizeof *rings);
+		nz = malloc((ncells + 1) * sizeof *nz);
+		ez = malloc((ncells + 1) * sizeof *ez);
+		sg = malloc(((size_t)nrow * 2 * (size_t)np + 1) * sizeof *sg);
+		if (!re || !used || !rings || !nz || !ez || !sg) {
+			free(re);
+			free(used);
+			free(rings);
+			free(nz);
+			free(ez);
+			free(sg);
+			return ps_errf(e, PS_ENOMEM, "out of memory for %zu cells", ncells);
+		}
 		for (int it = 0; it < p->ntheta; it++) {
 			const double *er = p->e + (size_t)it * (size_t)np;
+			double th = (it + 0.5) * p->dtheta, ph = 0.0, wa, wb;
+			int i = 0, j, row;
+			if (table) {
+				double ta, tb;
+				ps_sensor_locate(s, th, &ph, &i, &j);
+				if (i >= s->nt)
+					continue;   /* beyond the table: no sensitivity */
+				ta = s->tb[i] + 0.25 * (s->tb[i + 1] - s->tb[i]);
+				tb = s->tb[i] + 0.75 * (s->tb[i + 1] - s->tb[i]);
+				wb = (th - ta) / (tb - ta);
+				wa = 1.0 - wb;
+				row = 2 * i;
+			} else {
+				wa = ps_sensor_value(s, th, 0.0);
+				wb = 0.0;
+				row = 0;
+			}
+			for (int m = 0; m < np; m++) {
+				re[(size_t)row * (size_t)np + (size_t)m] += wa * er[m];
+				if (table)
+					re[(size_t)(row + 1) * (size_t)np + (size_t)m] += wb * er[m];
+			}
+			used[row] = 1;
+			if (table)
+				used[row + 1] = 1;
+		}
+		for (int r = 0; r < nrow; r++) {
+			double *g;
 			size_t z0 = z;
-			/* only the cells some pixel fell in (near the pole, few) */
-			for (int m = 0; m < np; m++)
-				if (er[m] != 0.0) {
-					nz[z] = m;
-					ez[z++] = er[m];
+			if (!used[r])
+				continue;
+			for (int m = 0; m < np; m++) {
+				nz[z] = m;
+				ez[z++] = re[(size_t)r * (size_t)np + (size_t)m];
+			}
+			/* the row's sensitivity at the cell centres, the sensor at
+			 * rotation rot0: cell m's direction phi0 + (m + 0.5) dphi reads
+			 * S at that minus the rotation */
+			g = sg + (size_t)nrings * 2 * (size_t)np;
+			for (int m = 0; m < np; m++) {
+				double ph = (m + 0.5) * p->dphi - (double)r0s * p->dphi, th;
+				int i = r / 2;
+				if (!table)
+					g[m] = g[m + np] = 1.0;
+				else {
+					th = s->tb[i] + (r % 2 ? 0.75 : 0.25) * (s->tb[i + 1] - s->tb[i]);
+					g[m] = g[m + np] = ps_sensor_value(s, th, ph);
 				}
-			if (z > z0)
-				rings[nrings++] = (struct ring){ (int)(z - z0), z0, (size_t)it };
+			}
+			rings[nrings] = (struct ring){ np, z0, (size_t)nrings * 2 * (size_t)np };
+			nrings++;
 		}
-		sg = malloc(((size_t)nrings * 2 * (size_t)np + 1) * sizeof *sg);
-	}
-	if (!rings || !nz || !ez || !sg) {
-		free(rings);
-		free(nz);
-		free(ez);
-		free(sg);
-		return ps_errf(e, PS_ENOMEM, "out of memory for %zu cells", ncells);
-	}
-	for (int r = 0; r < nrings; r++) {
-		/* ring r's sensitivity at its cell centres, the sensor at rotation
-		 * rot0: cell m's direction phi0 + (m + 0.5) dphi reads S at that
-		 * minus the rotation */
-		double th = ((double)rings[r].g + 0.5) * p->dtheta;
-		double *g = sg + (size_t)r * 2 * (size_t)np;
-		for (int m = 0; m < np; m++) {
-			double ph = (m + 0.5) * p->dphi - (double)r0s * p->dphi;
-			g[m] = g[m + np] = ps_sensor_value(s, th, ph);
-		}
-		rings[r].g = (size_t)r * 2 * (size_t)np;
+		free(re);
+		free(used);
 	}
 	/* the rotations shared among the threads: each one's sum is the same
 	 * whoever computes it */

@@ -462,12 +462,9 @@ double ps_sensor_m_in(const struct ps_sensor *s, int i, int j, double theta, dou
 	double w, ml, mr;
 	const double *cu;
 	switch (s->kind) {
-	case PS_SENS_COSINE: {
-		double st = theta >= M_PI / 2 ? 1.0 : sin(theta);
-		return 0.5 * st * st;
-	}
+	case PS_SENS_COSINE:
 	case PS_SENS_UNIFORM:
-		return theta >= M_PI ? 2.0 : 1.0 - cos(theta);
+		return ps_sensor_m_builtin(s->kind, theta);
 	default:
 		break;
 	}

@@ -25,6 +25,7 @@
 #ifndef PS_SENSOR_H
 #define PS_SENSOR_H
 
+#include <math.h>
 #include <stddef.h>
 
 #include "err.h"
@@ -79,6 +80,16 @@ double ps_sensor_m(const struct ps_sensor *s, double theta, double phi);
 /* Same with the patch indices already known (theta within patch i, phi
  * within patch j, phi in [pb[0], pb[0] + 2 pi)); i == nt means beyond the end. */
 double ps_sensor_m_in(const struct ps_sensor *s, int i, int j, double theta, double phi);
+/* M of a builtin (kind PS_SENS_COSINE or PS_SENS_UNIFORM), which depends on
+ * theta alone; inline: the exact weights take it at every node. */
+static inline double ps_sensor_m_builtin(int kind, double theta)
+{
+	if (kind == PS_SENS_COSINE) {
+		double st = theta >= M_PI / 2 ? 1.0 : sin(theta);
+		return 0.5 * st * st;
+	}
+	return theta >= M_PI ? 2.0 : 1.0 - cos(theta);
+}
 /* Patch indices for a direction; phi is reduced into [pb[0], pb[0] + 2 pi). */
 void ps_sensor_locate(const struct ps_sensor *s, double theta, double *phi, int *i, int *j);
 /* Integral of S over the whole sphere (exact for the reading). */

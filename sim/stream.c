@@ -22,8 +22,18 @@ struct acc {
 	size_t n;
 };
 
-struct job {
+/* One weight map's part of a job (several maps share one decoding). */
+struct one {
 	const struct ps_weights *w;
+	int *row_run;         /* row -> run index, -1: none */
+	struct acc *acc;      /* per run */
+	double *contrib;      /* second pass (NULL: not for this map): every contribution */
+	size_t *coff;         /* second pass: each run's first contribution */
+};
+
+struct job {
+	struct one *m;
+	int nm;
 	const struct ps_picture *head;
 	const uint8_t *data;
 	size_t len;
@@ -31,12 +41,7 @@ struct job {
 	double k[3][3];
 	double kc[3];         /* coef^T k */
 	uintptr_t page;       /* the page size */
-	const double *coef;
-	const int *row_run;   /* row -> run index, -1: none */
-	const uint8_t *want;  /* row has weights */
-	struct acc *acc;      /* per run */
-	double *contrib;      /* second pass: every contribution, in run order */
-	const size_t *coff;   /* second pass: each run's first contribution */
+	const uint8_t *want;  /* row has weights in some map */
 };
 
 /* Weights mapped from the cache are read once a row: the pages a row has
@@ -50,37 +55,52 @@ static void release(const struct ps_weights *w, const struct ps_wrun *run, uintp
 	if (!w->map || w->maplen < RELEASE_MIN || run->n <= 0)
 		return;
 	a = (uintptr_t)(w->w + run->off) & ~(page - 1);
-	b = ((uintptr_t)(w->w + run->off + (size_t)run->n) + page - 1) & ~(page - 1);
+	b = ((uintptr_t)(w->w + run->off + (size_t)ps_wrun_stored(w, run)) + page - 1) & ~(page - 1);
 	madvise((void *)a, b - a, MADV_DONTNEED);
+}
+
+static void row_sum_one(const struct job *j, const struct one *o, int ri, const uint8_t *px_row)
+{
+	const struct ps_wrun *run = &o->w->runs[ri];
+	const uint8_t *px = px_row + 4 * (size_t)run->x0;
+	const double *wt = o->w->w + run->off;
+	struct acc *a = &o->acc[ri];
+	double raws[3] = { 0, 0, 0 }, best = -1.0, kc[3] = { j->kc[0], j->kc[1], j->kc[2] };
+	/* the row's sum, count and brightest in locals: px (bytes) may alias
+	 * anything, so through a they would go to memory at every pixel */
+	struct ps_sum row;
+	size_t n = 0;
+	int bx = 0, len = run->n;
+	/* a compact map's run is a palindrome: its right half reads the left
+	 * backwards (mirror, 0 for a full map) */
+	int half = o->w->mirror ? (len + 1) / 2 : len;
+	ps_sum_init(&row);
+	for (int i = 0; i < len; i++, px += 4) {
+		double b;
+		if (px[3] == 0)
+			continue;
+		b = ps_pixel_response(px, i < half ? wt[i] : wt[len - 1 - i], kc, raws);
+		ps_sum_add(&row, b);
+		n++;
+		if (b > best) {
+			best = b;
+			bx = run->x0 + i;
+		}
+	}
+	a->row = row;
+	a->n = n;
+	a->best = best;
+	a->bx = bx;
+	ps_row_rgb(j->k, raws, a->rc);
+	release(o->w, run, j->page);
 }
 
 static int row_sum(void *ctx, int y, const uint8_t *px_row)
 {
-	struct job *j = ctx;
-	int ri = j->row_run[y];
-	const struct ps_wrun *run = &j->w->runs[ri];
-	const uint8_t *px = px_row + 4 * (size_t)run->x0;
-	const double *wt = j->w->w + run->off;
-	struct acc *a = &j->acc[ri];
-	double raws[3] = { 0, 0, 0 };
-	ps_sum_init(&a->row);
-	a->best = -1.0;
-	a->bx = 0;
-	a->n = 0;
-	for (int i = 0; i < run->n; i++, px += 4) {
-		double b;
-		if (px[3] == 0)
-			continue;
-		b = ps_pixel_response(px, wt[i], j->kc, raws);
-		ps_sum_add(&a->row, b);
-		a->n++;
-		if (b > a->best) {
-			a->best = b;
-			a->bx = run->x0 + i;
-		}
-	}
-	ps_row_rgb(j->k, raws, a->rc);
-	release(j->w, run, j->page);
+	const struct job *j = ctx;
+	for (int k = 0; k < j->nm; k++)
+		if (j->m[k].row_run[y] >= 0)
+			row_sum_one(j, &j->m[k], j->m[k].row_run[y], px_row);
 	return 0;
 }
 
@@ -88,16 +108,24 @@ static int row_sum(void *ctx, int y, const uint8_t *px_row)
  * pass, in its order). */
 static int row_contrib(void *ctx, int y, const uint8_t *px_row)
 {
-	struct job *j = ctx;
-	int ri = j->row_run[y];
-	const struct ps_wrun *run = &j->w->runs[ri];
-	const uint8_t *px = px_row + 4 * (size_t)run->x0;
-	double *out = j->contrib + j->coff[ri];
-	for (int i = 0; i < run->n; i++, px += 4) {
-		double raws[3] = { 0, 0, 0 };
-		if (px[3] == 0)
+	const struct job *j = ctx;
+	for (int k = 0; k < j->nm; k++) {
+		const struct one *o = &j->m[k];
+		int ri = o->row_run[y];
+		const struct ps_wrun *run;
+		const uint8_t *px;
+		double *out;
+		if (ri < 0 || !o->contrib)
 			continue;
-		*out++ = ps_pixel_response(px, j->w->w[run->off + (size_t)i], j->kc, raws);
+		run = &o->w->runs[ri];
+		px = px_row + 4 * (size_t)run->x0;
+		out = o->contrib + o->coff[ri];
+		for (int i = 0; i < run->n; i++, px += 4) {
+			double raws[3] = { 0, 0, 0 };
+			if (px[3] == 0)
+				continue;
+			*out++ = ps_pixel_response(px, ps_wrun_at(o->w, run, i), j->kc, raws);
+		}
 	}
 	return 0;
 }
@@ -126,7 +154,9 @@ static int scan(struct job *j, int (*fn)(void *, int, const uint8_t *), int nt,
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	int started[MAX_THREADS] = { 0 }, h = j->head->height, y = 0, rc = 0;
-	size_t total = j->w->nw, done = 0;
+	size_t total = 0, done = 0;
+	for (int k = 0; k < j->nm; k++)
+		total += j->m[k].w->npix;
 	if (nt <= 1 || !starts) {
 		struct band b = { j, fn, 0, h, off, { 0 }, 0 };
 		band_run(&b);
@@ -138,8 +168,9 @@ static int scan(struct job *j, int (*fn)(void *, int, const uint8_t *), int nt,
 		size_t want = total * (size_t)(t + 1) / (size_t)nt;
 		bands[t] = (struct band){ j, fn, y, y, starts[y < h ? y : h - 1], { 0 }, 0 };
 		while (y < h && (t == nt - 1 || done < want)) {
-			if (j->row_run[y] >= 0)
-				done += (size_t)j->w->runs[j->row_run[y]].n;
+			for (int k = 0; k < j->nm; k++)
+				if (j->m[k].row_run[y] >= 0)
+					done += (size_t)j->m[k].w->runs[j->m[k].row_run[y]].n;
 			y++;
 		}
 		bands[t].y1 = y;
@@ -163,118 +194,166 @@ static int scan(struct job *j, int (*fn)(void *, int, const uint8_t *), int nt,
 	return rc;
 }
 
+/* Map k's totals from its runs' accumulators (in run order, as
+ * ps_integrate merges its rows). */
+static void totals(const struct one *o, struct ps_response *r, size_t *ncontrib, double *best)
+{
+	struct ps_sum tot, ch[3];
+	const struct ps_weights *w = o->w;
+	ps_sum_init(&tot);
+	for (int c = 0; c < 3; c++)
+		ps_sum_init(&ch[c]);
+	*best = -1.0;
+	*ncontrib = 0;
+	for (size_t ri = 0; ri < w->nruns; ri++) {
+		struct acc *a = &o->acc[ri];
+		ps_sum_merge(&tot, &a->row);
+		for (int c = 0; c < 3; c++)
+			ps_sum_add(&ch[c], a->rc[c]);
+		if (a->n && a->best > *best) {
+			*best = a->best;
+			r->brightest_x = a->bx;
+			r->brightest_row = w->runs[ri].row;
+		}
+		*ncontrib += a->n;
+	}
+	r->response = ps_sum_get(&tot);
+	for (int c = 0; c < 3; c++)
+		r->rgb[c] = ps_sum_get(&ch[c]);
+	r->solid_angle = w->solid_angle;
+	r->npixels = *ncontrib;
+	r->top1_share = NAN;
+	if (r->response > 0 && *ncontrib > 0)
+		r->brightest_share = *best / r->response;
+}
+
 int ps_integrate_mem(const struct ps_weights *w, const struct ps_picture *head,
                      const uint8_t *data, size_t len, size_t off, const char *name,
                      const double coef[3], int nthreads, struct ps_response *r,
                      struct ps_err *e)
 {
+	return ps_integrate_mem_multi(&w, 1, head, data, len, off, name, coef, nthreads, r, e);
+}
+
+int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
+                           const struct ps_picture *head, const uint8_t *data, size_t len,
+                           size_t off, const char *name, const double coef[3], int nthreads,
+                           struct ps_response *rs, struct ps_err *e)
+{
 	struct job j;
-	int *row_run = NULL, rc = -1, nt = nthreads < 1 ? 1 : nthreads > MAX_THREADS ? MAX_THREADS
-	                                                                             : nthreads;
+	int rc = -1, second = 0, nt = nthreads < 1 ? 1 : nthreads > MAX_THREADS ? MAX_THREADS
+	                                                                        : nthreads;
 	uint8_t *want = NULL;
-	size_t *starts = NULL, *coff = NULL, ncontrib = 0;
-	struct ps_sum tot, ch[3];
-	double best = -1.0;
-	memset(r, 0, sizeof *r);
-	if (head->width != w->width || head->height != w->height)
-		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d",
-		               head->width, head->height, w->width, w->height);
+	size_t *starts = NULL;
+	size_t *ncontrib = NULL;
+	double *best = NULL;
+	for (int k = 0; k < nmaps; k++) {
+		memset(&rs[k], 0, sizeof rs[k]);
+		if (head->width != ws[k]->width || head->height != ws[k]->height)
+			return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d",
+			               head->width, head->height, ws[k]->width, ws[k]->height);
+	}
 	if (!ps_pic_is_standard(head)) {   /* rows are not scanlines: decode it whole */
 		struct ps_picture pic;
 		if (ps_pic_read_mem(&pic, data, len, name, e) != 0)
 			return -1;
-		rc = ps_integrate(w, &pic, coef, r, e);
+		rc = 0;
+		for (int k = 0; k < nmaps && rc == 0; k++)
+			rc = ps_integrate(ws[k], &pic, coef, &rs[k], e);
 		ps_pic_free(&pic);
 		return rc;
 	}
 	memset(&j, 0, sizeof j);
-	j.w = w;
 	j.head = head;
 	j.data = data;
 	j.len = len;
 	j.name = name;
-	j.coef = coef;
+	j.nm = nmaps;
 	ps_pic_rgb_matrix(head, j.k);
 	ps_coef_k(coef, j.k, j.kc);
 	{
 		long ps = sysconf(_SC_PAGESIZE);
 		j.page = ps > 0 ? (uintptr_t)ps : 4096;
 	}
-	row_run = malloc((size_t)head->height * sizeof *row_run);
+	j.m = calloc((size_t)nmaps + 1, sizeof *j.m);
 	want = calloc((size_t)head->height, 1);
-	j.acc = malloc((w->nruns ? w->nruns : 1) * sizeof *j.acc);
+	ncontrib = calloc((size_t)nmaps + 1, sizeof *ncontrib);
+	best = calloc((size_t)nmaps + 1, sizeof *best);
 	if (nt > 1)
 		starts = malloc((size_t)head->height * sizeof *starts);
-	if (!row_run || !want || !j.acc || (nt > 1 && !starts)) {
+	if (!j.m || !want || !ncontrib || !best || (nt > 1 && !starts)) {
 		ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
 		goto out;
 	}
-	for (int y = 0; y < head->height; y++)
-		row_run[y] = -1;
-	for (size_t ri = 0; ri < w->nruns; ri++) {
-		if (row_run[w->runs[ri].row] >= 0) {   /* one run a row is what the maps are */
-			ps_errf(e, PS_EINVAL, "%s: two weight runs on row %d", name, w->runs[ri].row);
+	for (int k = 0; k < nmaps; k++) {
+		struct one *o = &j.m[k];
+		const struct ps_weights *w = ws[k];
+		o->w = w;
+		o->row_run = malloc((size_t)head->height * sizeof *o->row_run);
+		o->acc = malloc((w->nruns ? w->nruns : 1) * sizeof *o->acc);
+		if (!o->row_run || !o->acc) {
+			ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
 			goto out;
 		}
-		row_run[w->runs[ri].row] = (int)ri;
-		want[w->runs[ri].row] = 1;
-		memset(&j.acc[ri], 0, sizeof j.acc[ri]);
-		ps_sum_init(&j.acc[ri].row);
+		for (int y = 0; y < head->height; y++)
+			o->row_run[y] = -1;
+		for (size_t ri = 0; ri < w->nruns; ri++) {
+			if (o->row_run[w->runs[ri].row] >= 0) {   /* one run a row is what the maps are */
+				ps_errf(e, PS_EINVAL, "%s: two weight runs on row %d", name, w->runs[ri].row);
+				goto out;
+			}
+			o->row_run[w->runs[ri].row] = (int)ri;
+			want[w->runs[ri].row] = 1;
+			memset(&o->acc[ri], 0, sizeof o->acc[ri]);
+			ps_sum_init(&o->acc[ri].row);
+		}
 	}
-	j.row_run = row_run;
 	j.want = want;
 	/* one pass for the scanline starts, then the bands in parallel */
 	if (nt > 1 && ps_pic_scanline_starts(head, data, len, name, off, starts, e) != 0)
 		goto out;
 	if (scan(&j, row_sum, nt, starts, off, e) != 0)
 		goto out;
-	ps_sum_init(&tot);
-	for (int c = 0; c < 3; c++)
-		ps_sum_init(&ch[c]);
-	for (size_t ri = 0; ri < w->nruns; ri++) {
-		struct acc *a = &j.acc[ri];
-		ps_sum_merge(&tot, &a->row);
-		for (int c = 0; c < 3; c++)
-			ps_sum_add(&ch[c], a->rc[c]);
-		if (a->n && a->best > best) {
-			best = a->best;
-			r->brightest_x = a->bx;
-			r->brightest_row = w->runs[ri].row;
+	/* the brightest 1 % only matters when one pixel already stands out:
+	 * only then a second pass collects every contribution */
+	for (int k = 0; k < nmaps; k++) {
+		struct one *o = &j.m[k];
+		struct ps_response *r = &rs[k];
+		totals(o, r, &ncontrib[k], &best[k]);
+		if (r->response > 0 && ncontrib[k] > 0 && r->brightest_share > 0.001) {
+			size_t at = 0;
+			o->coff = malloc((o->w->nruns ? o->w->nruns : 1) * sizeof *o->coff);
+			o->contrib = malloc(ncontrib[k] * sizeof *o->contrib);
+			if (!o->coff || !o->contrib) {
+				ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
+				goto out;
+			}
+			for (size_t ri = 0; ri < o->w->nruns; ri++) {
+				o->coff[ri] = at;
+				at += o->acc[ri].n;
+			}
+			second = 1;
 		}
-		ncontrib += a->n;
 	}
-	r->response = ps_sum_get(&tot);
-	for (int c = 0; c < 3; c++)
-		r->rgb[c] = ps_sum_get(&ch[c]);
-	r->solid_angle = w->solid_angle;
-	r->npixels = ncontrib;
-	r->top1_share = NAN;
-	if (r->response > 0 && ncontrib > 0)
-		r->brightest_share = best / r->response;
-	if (r->response > 0 && ncontrib > 0 && r->brightest_share > 0.001) {
-		size_t at = 0;
-		coff = malloc((w->nruns ? w->nruns : 1) * sizeof *coff);
-		j.contrib = malloc(ncontrib * sizeof *j.contrib);
-		if (!coff || !j.contrib) {
-			ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
-			goto out;
-		}
-		for (size_t ri = 0; ri < w->nruns; ri++) {
-			coff[ri] = at;
-			at += j.acc[ri].n;
-		}
-		j.coff = coff;
+	if (second) {
 		if (scan(&j, row_contrib, nt, starts, off, e) != 0)
 			goto out;
-		r->top1_share = ps_top1_share(j.contrib, ncontrib, r->response);
+		for (int k = 0; k < nmaps; k++)
+			if (j.m[k].contrib)
+				rs[k].top1_share = ps_top1_share(j.m[k].contrib, ncontrib[k], rs[k].response);
 	}
 	rc = 0;
 out:
-	free(row_run);
+	for (int k = 0; j.m && k < nmaps; k++) {
+		free(j.m[k].row_run);
+		free(j.m[k].acc);
+		free(j.m[k].contrib);
+		free(j.m[k].coff);
+	}
+	free(j.m);
 	free(want);
-	free(j.acc);
 	free(starts);
-	free(coff);
-	free(j.contrib);
+	free(ncontrib);
+	free(best);
 	return rc;
 }

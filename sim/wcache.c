@@ -2,14 +2,19 @@
 /* Weight maps in the cache: payload
  *   u32 PS_WEIGHTS_ALGO_VERSION, i32 width, i32 height, i32 method,
  *   u64 nruns, u64 nw, f64 solid_angle, sens_sum, sens_full, coverage,
- *   nruns x (i32 row, i32 x0, i32 n, i32 0),
+ *   nruns x (i32 row, i32 x0, i32 n, i32 share),
  *   nw x f64 weights
+ * share is 0 in a full map (each run's n weights follow the last run's);
+ * in a compact map (weights.h) -1 for a run with its own (n + 1) / 2
+ * weights (next in order), k >= 1 for one with the weights of run k - 1,
+ * an earlier run of its own with the same x0 and n.
  * in the machine's byte order (a cache is one machine's; the key holds the
  * layout's version).  The weights start 8-byte aligned in the map. */
 #include "wcache.h"
 
 #include <math.h>
 #include <nettle/sha2.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -100,16 +105,34 @@ int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, 
 	for (uint64_t i = 0; i < nruns; i++) {
 		int32_t r[4];
 		memcpy(r, p + FIXED + i * RUN, sizeof r);
+		if (i == 0)
+			w->mirror = r[3] != 0;
 		if (r[0] < 0 || r[0] >= height || r[1] < 0 || r[2] <= 0 || r[2] > width - r[1] ||
-		    r[3] != 0) {
+		    (r[3] != 0) != w->mirror || r[3] < -1 || (r[3] > 0 && (uint64_t)r[3] > i)) {
 			free(w->runs);
 			w->runs = NULL;
-			return ps_errf(e, PS_EFORMAT, "%s: run %llu (row %d, x %d, %d pixels) is outside "
-			               "%d x %d", name, (unsigned long long)i, r[0], r[1], r[2], width,
-			               height);
+			return ps_errf(e, PS_EFORMAT, "%s: run %llu (row %d, x %d, %d pixels, share %d) is "
+			               "outside %d x %d", name, (unsigned long long)i, r[0], r[1], r[2], r[3],
+			               width, height);
 		}
-		w->runs[i] = (struct ps_wrun){ r[0], r[1], r[2], (size_t)sum };
-		sum += (uint64_t)r[2];
+		if (r[3] > 0) {
+			/* the weights of an earlier run of its own, of the same pixels */
+			const struct ps_wrun *o = &w->runs[r[3] - 1];
+			int32_t k;
+			memcpy(&k, p + FIXED + (uint64_t)(r[3] - 1) * RUN + 12, 4);
+			if (k != -1 || o->x0 != r[1] || o->n != r[2]) {
+				free(w->runs);
+				w->runs = NULL;
+				return ps_errf(e, PS_EFORMAT, "%s: run %llu shares the weights of run %d, "
+				               "not one of its own of %d pixels from x %d", name,
+				               (unsigned long long)i, r[3] - 1, r[2], r[1]);
+			}
+			w->runs[i] = (struct ps_wrun){ r[0], r[1], r[2], o->off };
+		} else {
+			w->runs[i] = (struct ps_wrun){ r[0], r[1], r[2], (size_t)sum };
+			sum += (uint64_t)(w->mirror ? (r[2] + 1) / 2 : r[2]);
+		}
+		w->npix += (size_t)r[2];
 	}
 	if (sum != nw) {
 		free(w->runs);
@@ -152,9 +175,39 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 	memcpy(fixed + 16, &nruns, 8);
 	memcpy(fixed + 24, &nw, 8);
 	memcpy(fixed + 32, f, sizeof f);
-	for (size_t i = 0; i < w->nruns; i++) {
-		int32_t r[4] = { w->runs[i].row, w->runs[i].x0, w->runs[i].n, 0 };
-		memcpy(runs + i * RUN, r, sizeof r);
+	{
+		size_t next = 0, nown = 0;
+		for (size_t i = 0; i < w->nruns; i++) {
+			int32_t r[4] = { w->runs[i].row, w->runs[i].x0, w->runs[i].n, 0 };
+			if (w->mirror && w->runs[i].off == next) {
+				r[3] = -1;
+				next += (size_t)ps_wrun_stored(w, &w->runs[i]);
+				nown++;
+			} else if (w->mirror) {
+				/* the earlier run of its own it shares: those come first,
+				 * in the order of their weights (ps_weights_build_ex); any
+				 * other order is searched in full */
+				size_t a = 0, b = nown, k = i;
+				while (a < b) {
+					size_t m = (a + b) / 2;
+					if (w->runs[m].off < w->runs[i].off)
+						a = m + 1;
+					else
+						b = m;
+				}
+				if (a < i && w->runs[a].off == w->runs[i].off && w->runs[a].n == w->runs[i].n)
+					k = a;
+				for (size_t q = 0; q < i && k == i; q++)
+					if (w->runs[q].off == w->runs[i].off && w->runs[q].n == w->runs[i].n)
+						k = q;
+				if (k == i) {
+					free(runs);
+					return ps_errf(e, PS_EINVAL, "run %zu shares no earlier run's weights", i);
+				}
+				r[3] = (int32_t)(k + 1);
+			}
+			memcpy(runs + i * RUN, r, sizeof r);
+		}
 	}
 	ptr[0] = fixed;
 	len[0] = FIXED;
@@ -167,9 +220,65 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 	return rc;
 }
 
+struct ps_wstore {
+	pthread_t tid;
+	const struct ps_weights *w;
+	char *dir;
+	char hex[65];
+	size_t max_bytes;
+	int rebuilt, rc;
+	struct ps_err warn;   /* the rebuild's reason, then the store's error */
+};
+
+static void *store_run(void *arg)
+{
+	struct ps_wstore *p = arg;
+	struct ps_err ce;
+	p->rc = store(p->w, p->dir, p->hex, p->max_bytes, &ce);
+	if (p->rc != 0)
+		p->warn = ce;
+	return NULL;
+}
+
+void ps_weights_store_finish(struct ps_wstore *p, int *how, struct ps_err *warn)
+{
+	if (!p)
+		return;
+	pthread_join(p->tid, NULL);
+	if (how)
+		*how = p->rc != 0 ? PS_WC_UNWRITABLE : p->rebuilt ? PS_WC_REBUILT : PS_WC_STORED;
+	if (warn && (p->rc != 0 || p->rebuilt))
+		*warn = p->warn;
+	free(p->dir);
+	free(p);
+}
+
+static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+               const struct ps_view *v, int width, int height, int method, const char *dir,
+               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wstore **pending,
+               struct ps_err *e);
+
 int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                    const struct ps_view *v, int width, int height, int method, const char *dir,
                    size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+{
+	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, NULL, e);
+}
+
+int ps_weights_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                         const struct ps_view *v, int width, int height, int method,
+                         const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
+                         struct ps_wstore **pending, struct ps_err *e)
+{
+	*pending = NULL;
+	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, pending,
+	           e);
+}
+
+static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+               const struct ps_view *v, int width, int height, int method, const char *dir,
+               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wstore **pending,
+               struct ps_err *e)
 {
 	char hex[65];
 	struct ps_cache_blob b;
@@ -177,7 +286,8 @@ int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotat
 	int got, rebuilt = 0;
 	*how = PS_WC_BUILT;
 	if (!dir)
-		return ps_weights_build(w, s, rotation_deg, v, width, height, method, e);
+		return ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, PS_WB_COMPACT,
+		                           e);
 	ps_weights_cache_key(s, rotation_deg, v, width, height, method, hex);
 	got = ps_cache_blob_get(dir, hex, &b, &ce);
 	if (got == 1) {
@@ -199,8 +309,27 @@ int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotat
 		if (warn)
 			*warn = ce;
 	}
-	if (ps_weights_build(w, s, rotation_deg, v, width, height, method, e) != 0)
+	if (ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, PS_WB_COMPACT, e) != 0)
 		return -1;
+	if (pending) {
+		/* stored by a thread; a thread that cannot start: stored here */
+		struct ps_wstore *p = calloc(1, sizeof *p);
+		if (p && (p->dir = strdup(dir)) != NULL) {
+			p->w = w;
+			memcpy(p->hex, hex, sizeof p->hex);
+			p->max_bytes = max_bytes;
+			p->rebuilt = rebuilt;
+			if (rebuilt && warn)
+				p->warn = *warn;
+			if (pthread_create(&p->tid, NULL, store_run, p) == 0) {
+				*pending = p;
+				*how = rebuilt ? PS_WC_REBUILT : PS_WC_STORED;
+				return 0;
+			}
+			free(p->dir);
+		}
+		free(p);
+	}
 	if (store(w, dir, hex, max_bytes, &ce) != 0) {
 		*how = PS_WC_UNWRITABLE;
 		if (warn)

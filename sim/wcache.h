@@ -16,7 +16,8 @@
 
 /* Bump when ps_weights_build's numbers change: older entries are then never
  * found again (and age out). */
-#define PS_WEIGHTS_ALGO_VERSION 3   /* 2: symmetric maps mirrored; 3: and transposed */
+#define PS_WEIGHTS_ALGO_VERSION 4   /* 2: symmetric maps mirrored; 3: and transposed;
+                                      * 4: compact symmetric maps */
 
 /* The content key (64 hex digits). */
 void ps_weights_cache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
@@ -37,6 +38,21 @@ enum ps_wcache_how {
 int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                    const struct ps_view *v, int width, int height, int method, const char *dir,
                    size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
+
+/* The same, with a map built for the cache stored by a thread while the
+ * caller goes on (the store costs a checksum and a write of the map: off
+ * the critical path, the integration runs meanwhile; the entry is written
+ * and renamed as by ps_weights_get, so it stays whole or absent).  When a
+ * store is under way *pending is set (else NULL) and *how says
+ * PS_WC_STORED or PS_WC_REBUILT provisionally; ps_weights_store_finish
+ * waits for it and gives the final *how and warn.  Call it before w is
+ * freed. */
+struct ps_wstore;
+int ps_weights_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                         const struct ps_view *v, int width, int height, int method,
+                         const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
+                         struct ps_wstore **pending, struct ps_err *e);
+void ps_weights_store_finish(struct ps_wstore *p, int *how, struct ps_err *warn);
 
 /* Parse a cache payload into w (runs copied, weights left in place:
  * data must outlive w, or be owned by it through w->map).  -1 with e when

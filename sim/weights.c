@@ -63,6 +63,8 @@ struct edge_ctx {
 	double rot;              /* radians */
 	double *rho_breaks;      /* sorted plane radii where the integrand has a kink or jump */
 	int *rho_is_field;       /* 1 for the field's edge (hemisphere: square-root singularity) */
+	double *rho2_breaks;     /* their squares (edge_fast compares squared radii) */
+	double z2_min[13];       /* edge_fast: z^2 from which n points meet the bound */
 	int nrho;
 	int use_phi_breaks;
 	struct gl_rule gl[GL_RULES];
@@ -321,24 +323,38 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 	thi = fmax(fabs(t0), fabs(t1));
 	if (t0 < 0 && t1 > 0)
 		tlo = 0.0;
-	rmin = sqrt(tlo * tlo + k * k);
-	rmax = sqrt(thi * thi + k * k);
+	/* squared radii: no square root for the tests below */
+	rmin = tlo * tlo + k * k;
+	rmax = thi * thi + k * k;
 	/* no circle in (rmin, rmax] (a circle at rmin exactly only touches) */
 	lo = 0;
 	hi = c->nrho;
 	while (lo < hi) {
 		int mid = (lo + hi) / 2;
-		if (c->rho_breaks[mid] <= rmin)
+		if (c->rho2_breaks[mid] <= rmin)
 			lo = mid + 1;
 		else
 			hi = mid;
 	}
-	if (lo < c->nrho && c->rho_breaks[lo] <= rmax)
+	if (lo < c->nrho && c->rho2_breaks[lo] <= rmax)
 		return 0;
 	/* the order from the error bound: the poles at t = +-i k, at distance
 	 * rho_m / hl half-lengths from the middle; the ellipse through them
 	 * has a semi-major axis at least that, so r at least this */
+	if (c->f.type != PS_VT_HEMI || rmax >= 1.0) {
+		/* the poles alone: the smallest n whose threshold z^2 = (rho_m /
+		 * hl)^2 reaches (z2_min, ctx_init: the same bound, no root) */
+		double rm2 = tm * tm + k * k, h2 = hl * hl;
+		for (n = 1; n <= FAST_MAXN; n++)
+			if (rm2 >= c->z2_min[n] * h2)
+				break;
+		if (n > FAST_MAXN)
+			return 0;
+		rho_m = sqrt(rm2);
+		goto order_done;
+	}
 	rho_m = sqrt(tm * tm + k * k);
+	rmax = sqrt(rmax);
 	{
 		double z = rho_m / hl;
 		r = z + sqrt(z * z - 1.0);
@@ -365,6 +381,19 @@ static int edge_fast(const struct edge_ctx *c, int vertical, double k, double t0
 		}
 		if (n > FAST_MAXN)
 			return 0;
+	}
+order_done:
+	if (s->kind != PS_SENS_TABLE) {
+		/* a builtin: M depends on theta alone, one cell, no azimuth needed
+		 * (the same nodes and sum as below, without the cell search) */
+		const struct gl_rule *g = &c->glf[n];
+		for (int q = 0; q < g->n; q++) {
+			double t = tm + hl * g->x[q], r2 = t * t + k * k;
+			sum += g->w[q] * ps_sensor_m_builtin(s->kind, ps_fisheye_theta(&c->f, sqrt(r2))) /
+			       r2;
+		}
+		*out = (vertical ? k : -k) * hl * sum;
+		return 1;
 	}
 	/* the cell: from the middle; the edge must not cross a ray, nor (a
 	 * vertical edge left of the origin) atan2's cut */
@@ -439,6 +468,43 @@ static double edge_hv(const struct edge_ctx *c, double ax, double ay, double bx,
 	return edge_integral(c, ax, ay, bx, by);
 }
 
+/* edge_fast's orders without roots: with the poles at z = rho_m / hl
+ * half-lengths, r = (z + sqrt(z^2 - 1)) / 2 (the ellipse at half their
+ * parameter) and n points are enough when r > 1.5 and
+ * 8 x 64 / (15 (r^2 - 1)) r^(-2n) <= 1e-19.  Both grow with z: z2_min[n]
+ * is the square of the z where they start to hold, from the r found by
+ * bisection (its upper end) and z = r + 1 / (4 r), made a little larger
+ * (never a smaller order than the bound asks). */
+static double fast_bound(double r, int n)
+{
+	return 8.0 * 64.0 / (15.0 * (r * r - 1.0)) * pow(r, -2.0 * n);
+}
+
+static void order_thresholds(struct edge_ctx *c)
+{
+	for (int n = 1; n <= FAST_MAXN; n++) {
+		double a = 1.5, b = 1e12, z;
+		if (fast_bound(b, n) > 1e-19) {
+			c->z2_min[n] = INFINITY;
+			continue;
+		}
+		if (fast_bound(a, n) <= 1e-19)
+			b = a;
+		for (int it = 0; it < 200 && b - a > 1e-13 * b; it++) {
+			double m = 0.5 * (a + b);
+			if (fast_bound(m, n) <= 1e-19)
+				b = m;
+			else
+				a = m;
+		}
+		b *= 1.0 + 1e-12;
+		if (b <= 1.5)
+			b = 1.5 * (1.0 + 1e-12);
+		z = b + 1.0 / (4.0 * b);
+		c->z2_min[n] = z * z * (1.0 + 1e-12);
+	}
+}
+
 static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_deg,
                     const struct ps_view *v, int width, int height, struct ps_err *e)
 {
@@ -451,9 +517,11 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 	for (int k = 1; k <= 12; k++)
 		gl_compute(&c->glf[k], k);
 	c->rho_breaks = malloc(((size_t)s->nt + 2) * sizeof *c->rho_breaks);
+	c->rho2_breaks = malloc(((size_t)s->nt + 2) * sizeof *c->rho2_breaks);
 	c->rho_is_field = malloc(((size_t)s->nt + 2) * sizeof *c->rho_is_field);
-	if (!c->rho_breaks || !c->rho_is_field) {
+	if (!c->rho_breaks || !c->rho_is_field || !c->rho2_breaks) {
 		free(c->rho_breaks);
+		free(c->rho2_breaks);
 		free(c->rho_is_field);
 		return ps_errf(e, PS_ENOMEM, "out of memory");
 	}
@@ -471,6 +539,9 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 		c->rho_breaks[c->nrho] = 1.0;
 		c->rho_is_field[c->nrho++] = 1;
 	}
+	for (int i = 0; i < c->nrho; i++)
+		c->rho2_breaks[i] = c->rho_breaks[i] * c->rho_breaks[i];
+	order_thresholds(c);
 	c->use_phi_breaks = s->kind == PS_SENS_TABLE;
 	return 0;
 }
@@ -478,6 +549,7 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 static void ctx_free(struct edge_ctx *c)
 {
 	free(c->rho_breaks);
+	free(c->rho2_breaks);
 	free(c->rho_is_field);
 }
 
@@ -522,7 +594,7 @@ void ps_weights_free(struct ps_weights *w)
 	memset(w, 0, sizeof *w);
 }
 
-static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n)
+static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n, size_t off)
 {
 	if (w->nruns == *cap) {
 		size_t ncap = *cap ? *cap * 2 : 256;
@@ -532,7 +604,7 @@ static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n)
 		w->runs = nr;
 		*cap = ncap;
 	}
-	w->runs[w->nruns++] = (struct ps_wrun){ row, x0, n, w->nw };
+	w->runs[w->nruns++] = (struct ps_wrun){ row, x0, n, off };
 	return 0;
 }
 
@@ -571,7 +643,14 @@ struct band {
 	int oom;
 	int mirror_x;         /* the map is symmetric in x: the right half copies the left */
 	int transpose;        /* and in the diagonal: pixels left of it are copied after */
+	int compact;          /* only the left half is stored (a compact map) */
+	int *next;            /* non-NULL: rows [j0, j1) are taken CHUNK at a time from *next */
 };
+
+/* Rows a band takes at a time when the bands share the rows: a chunk's
+ * first bottom line is computed again (the same numbers), 1/CHUNK more
+ * horizontal edges for an even load whatever the rows cost. */
+enum { CHUNK = 16 };
 
 /* The exact weight of pixel x between lines vb and vt, alone (its four
  * edges computed here, none shared): for the few pixels a mirror misses. */
@@ -618,65 +697,75 @@ static void *band_run(void *arg)
 		goto out;
 	}
 	/* lines j (bottom) and j+1 (top) bound row j */
-	for (int j = b->j0; j < b->j1; j++) {
-		double vb = ps_fisheye_v(&c->f, j), vt = ps_fisheye_v(&c->f, j + 1);
-		double *hb = hline[j & 1], *ht = hline[(j + 1) & 1], *out = b->w + b->off[j];
-		const double *u = b->u;
-		int lo = b->lo[j], hi = b->hi[j];
-		if (lo > hi)
-			continue;
-		/* with mirroring, the edges of pixels up to the middle one only; with
-		 * transposing, from the diagonal on */
-		int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
-		int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
-		if (b->method == PS_W_EXACT) {
-			/* bottom line: reuse what the row below computed, where it did */
-			for (int x = xs; x <= xe; x++)
-				if (prev != j - 1 || x < clo || x > chi)
-					hb[x] = edge_hv(c, u[x], vb, u[x + 1], vb);
-			for (int x = xs; x <= xe; x++)
-				ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
-			for (int x = xs; x <= xe + 1; x++)
-				vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
+	for (int jlo = b->j0, jhi = b->j1; jlo < b->j1; jlo = jhi) {
+		if (b->next) {
+			jlo = __atomic_fetch_add(b->next, CHUNK, __ATOMIC_RELAXED);
+			if (jlo >= b->j1)
+				break;
+			jhi = jlo + CHUNK < b->j1 ? jlo + CHUNK : b->j1;
+			prev = -2;
 		}
-		clo = xs;
-		chi = xe;
-		prev = j;
-		for (int x = xs; x <= xe; x++) {
-			double wt;
+		for (int j = jlo; j < jhi; j++) {
+			double vb = ps_fisheye_v(&c->f, j), vt = ps_fisheye_v(&c->f, j + 1);
+			double *hb = hline[j & 1], *ht = hline[(j + 1) & 1], *out = b->w + b->off[j];
+			const double *u = b->u;
+			int lo = b->lo[j], hi = b->hi[j];
+			if (lo > hi)
+				continue;
+			/* with mirroring, the edges of pixels up to the middle one only; with
+			 * transposing, from the diagonal on */
+			int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
+			int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
 			if (b->method == PS_W_EXACT) {
-				/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
-				struct ps_sum ps;
-				ps_sum_init(&ps);
-				ps_sum_add(&ps, hb[x]);
-				ps_sum_add(&ps, vrow[x + 1]);
-				ps_sum_add(&ps, -ht[x]);
-				ps_sum_add(&ps, -vrow[x]);
-				wt = ps_sum_get(&ps);
-				if (wt < 0 && wt > -1e-15)
-					wt = 0.0;   /* rounding on a pixel the sensor barely sees */
-			} else {
+				/* bottom line: reuse what the row below computed, where it did */
+				for (int x = xs; x <= xe; x++)
+					if (prev != j - 1 || x < clo || x > chi)
+						hb[x] = edge_hv(c, u[x], vb, u[x + 1], vb);
+				for (int x = xs; x <= xe; x++)
+					ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
+				for (int x = xs; x <= xe + 1; x++)
+					vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
+			}
+			clo = xs;
+			chi = xe;
+			prev = j;
+			for (int x = xs; x <= xe; x++) {
+				double wt;
+				if (b->method == PS_W_EXACT) {
+					/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
+					struct ps_sum ps;
+					ps_sum_init(&ps);
+					ps_sum_add(&ps, hb[x]);
+					ps_sum_add(&ps, vrow[x + 1]);
+					ps_sum_add(&ps, -ht[x]);
+					ps_sum_add(&ps, -vrow[x]);
+					wt = ps_sum_get(&ps);
+					if (wt < 0 && wt > -1e-15)
+						wt = 0.0;   /* rounding on a pixel the sensor barely sees */
+				} else {
+					double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
+					double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
+					wt = rho > 1.0 ? 0.0
+					     : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+					           ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+				}
+				out[x - lo] = wt;
+			}
+			/* the right half: the left half mirrored (after the transposes,
+			 * when there are some: ps_weights_build) */
+			for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose && !b->compact;
+			     x++) {
+				int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
+				out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
+			}
+			/* the centre-point method has no shared edges: the rest directly */
+			for (int x = xe + 1; x <= hi && b->method != PS_W_EXACT; x++) {
 				double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
 				double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
-				wt = rho > 1.0 ? 0.0
-				     : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
-				           ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
+				out[x - lo] = rho > 1.0 ? 0.0
+				              : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
+				                    ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
 			}
-			out[x - lo] = wt;
-		}
-		/* the right half: the left half mirrored (after the transposes,
-		 * when there are some: ps_weights_build) */
-		for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose; x++) {
-			int xm = width - 1 - x;   /* the mirror pixel, left of the middle */
-			out[x - lo] = xm >= lo ? out[xm - lo] : pixel_alone(c, u, x, vb, vt);
-		}
-		/* the centre-point method has no shared edges: the rest directly */
-		for (int x = xe + 1; x <= hi && b->method != PS_W_EXACT; x++) {
-			double uc = 0.5 * (u[x] + u[x + 1]), vc = 0.5 * (vb + vt);
-			double rho = hypot(uc, vc), th = ps_fisheye_theta(&c->f, rho);
-			out[x - lo] = rho > 1.0 ? 0.0
-			              : ps_sensor_value(b->s, th, atan2(vc, uc) - M_PI / 2 - c->rot) *
-			                    ps_fisheye_jacobian(&c->f, rho) * (u[x + 1] - u[x]) * (vt - vb);
 		}
 	}
 out:
@@ -686,17 +775,82 @@ out:
 	return NULL;
 }
 
+/* A compact map's second phase, rows shared among the threads CHUNK at a
+ * time: left of the diagonal each row copies the transposed pixels (pixel
+ * (x, j) is (j, x), computed in the first phase; a row's reads are one
+ * double from each earlier row, and a chunk's rows read neighbouring ones,
+ * so the lines stay in the cache), then sums its stored weights, each
+ * times its mirrors (2 in x except the middle column). */
+struct fill {
+	const struct edge_ctx *c;
+	const double *u;
+	const int *lo, *hi;
+	const size_t *off;
+	double *w;
+	int jtop, transpose, *next;
+	struct ps_sum *rowsum;   /* per row of [0, jtop) */
+};
+
+static void *fill_run(void *arg)
+{
+	struct fill *f = arg;
+	const struct edge_ctx *c = f->c;
+	int width = c->f.width, xmid = (width - 1) / 2;
+	for (;;) {
+		int j0 = __atomic_fetch_add(f->next, CHUNK, __ATOMIC_RELAXED);
+		if (j0 >= f->jtop)
+			break;
+		for (int j = j0; j < j0 + CHUNK && j < f->jtop; j++) {
+			double vb = ps_fisheye_v(&c->f, j), vt = ps_fisheye_v(&c->f, j + 1);
+			int xe = f->hi[j] < xmid ? f->hi[j] : xmid;
+			double *row = f->w + f->off[j];
+			ps_sum_init(&f->rowsum[j]);
+			if (f->lo[j] > f->hi[j])
+				continue;
+			for (int x = f->lo[j]; f->transpose && x <= xe && x < j; x++) {
+				int xe_x = f->hi[x] < xmid ? f->hi[x] : xmid;   /* row x's computed end */
+				row[x - f->lo[j]] = f->lo[x] <= f->hi[x] && j >= f->lo[x] && j <= xe_x
+				                        ? f->w[f->off[x] + (size_t)(j - f->lo[x])]
+				                        : pixel_alone(c, f->u, x, vb, vt);
+			}
+			for (int x = f->lo[j]; x <= xe; x++)
+				ps_sum_add(&f->rowsum[j],
+				           (x != width - 1 - x ? 2.0 : 1.0) * row[x - f->lo[j]]);
+		}
+	}
+	return NULL;
+}
+
 int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                      const struct ps_view *v, int width, int height, int method,
                      struct ps_err *e)
+{
+	return ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, 0, e);
+}
+
+/* The rows' work in a band: pixels whose edges the row computes. */
+static size_t row_work(int j, int lo, int hi, int width, int mirror_x, int transpose)
+{
+	int xe, xs;
+	if (lo > hi)
+		return 0;
+	xe = mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
+	xs = transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
+	return xe >= xs ? (size_t)(xe - xs + 1) : 0;
+}
+
+int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method, int flags,
+                        struct ps_err *e)
 {
 	enum { MAX_THREADS = 8 };
 	struct edge_ctx c;
 	struct band bands[MAX_THREADS];
 	pthread_t tid[MAX_THREADS];
 	double R, *u = NULL;
-	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp;
-	size_t *off = NULL, cap_runs = 0;
+	int *lo = NULL, *hi = NULL, nthreads = 1, started = 0, oom = 0, sym, jtop, transp, compact;
+	int *runof = NULL, next_row = 0;
+	size_t *off = NULL, *work = NULL, cap_runs = 0;
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
 	if (width <= 0 || height <= 0)
@@ -719,46 +873,80 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	lo = malloc((size_t)height * sizeof *lo);
 	hi = malloc((size_t)height * sizeof *hi);
 	off = malloc((size_t)height * sizeof *off);
+	work = malloc(((size_t)height + 1) * sizeof *work);
+	runof = malloc((size_t)height * sizeof *runof);
 	u = malloc(((size_t)width + 1) * sizeof *u);
-	if (!lo || !hi || !off || !u)
+	if (!lo || !hi || !off || !u || !work || !runof)
 		goto oom;
 	for (int x = 0; x <= width; x++)
 		u[x] = ps_fisheye_u(&c.f, x);
-	/* the layout: one run per row the sensor sees, bottom row first */
-	for (int j = 0; j < height; j++) {
-		row_range(&c.f, j, R, &lo[j], &hi[j]);
-		off[j] = w->nw;
-		if (lo[j] > hi[j])
-			continue;
-		if (push_run(w, &cap_runs, height - 1 - j, lo[j], hi[j] - lo[j] + 1) != 0)
-			goto oom;
-		w->nw += (size_t)(hi[j] - lo[j] + 1);
-	}
-	w->w = malloc((w->nw ? w->nw : 1) * sizeof *w->w);
-	if (!w->w)
-		goto oom;
-	/* bands of about equal pixel counts, one per core for large maps */
-	if (w->nw > 65536) {
-		long n = sysconf(_SC_NPROCESSORS_ONLN);
-		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
-	}
 	/* a symmetric map: the bands do the bottom half, its left half mirrored
 	 * to the right; the top half is the bottom's mirror (below) */
 	sym = method == PS_W_EXACT && v->vs == 0.0 && v->vl == 0.0 && sensor_symmetric(s);
 	jtop = sym ? (height + 1) / 2 : height;
 	/* square, with the same field across and up: symmetric in the diagonal */
 	transp = sym && width == height && v->vh == v->vv;
-	{
-		int j = 0;
-		size_t todo = jtop < height ? off[jtop] : w->nw;
-		for (int t = 0; t < nthreads; t++) {
-			size_t want = todo * (size_t)(t + 1) / (size_t)nthreads;
-			bands[t] = (struct band){ &c, s, method, u, lo, hi, off, j, j, w->w, 0, sym, transp };
-			while (j < jtop && (t == nthreads - 1 || off[j] < want))
-				j++;
-			bands[t].j1 = j;
+	compact = sym && (flags & PS_WB_COMPACT);
+	for (int j = 0; j < height; j++)
+		row_range(&c.f, j, R, &lo[j], &hi[j]);
+	if (compact) {
+		/* the ranges made symmetric in x and y (a pixel more is a weight
+		 * of 0 or one the sensor barely sees, computed as any other) */
+		for (int j = 0; j < jtop; j++) {
+			int jj = height - 1 - j, l = width;
+			if (lo[j] <= hi[j])
+				l = lo[j] < width - 1 - hi[j] ? lo[j] : width - 1 - hi[j];
+			if (lo[jj] <= hi[jj]) {
+				if (lo[jj] < l)
+					l = lo[jj];
+				if (width - 1 - hi[jj] < l)
+					l = width - 1 - hi[jj];
+			}
+			if (l == width)
+				continue;   /* both empty */
+			lo[j] = lo[jj] = l;
+			hi[j] = hi[jj] = width - 1 - l;
 		}
 	}
+	/* the layout: one run per row the sensor sees, bottom row first; a
+	 * compact map stores the left half of the bottom half's rows */
+	for (int j = 0; j < height; j++) {
+		size_t n;
+		off[j] = w->nw;
+		runof[j] = -1;
+		if (lo[j] > hi[j])
+			continue;
+		n = (size_t)(hi[j] - lo[j] + 1);
+		if (compact && j >= jtop) {
+			if (push_run(w, &cap_runs, height - 1 - j, lo[j], (int)n, off[height - 1 - j]) != 0)
+				goto oom;
+			continue;
+		}
+		runof[j] = (int)w->nruns;
+		if (push_run(w, &cap_runs, height - 1 - j, lo[j], (int)n, w->nw) != 0)
+			goto oom;
+		w->nw += compact ? (n + 1) / 2 : n;
+	}
+	w->mirror = compact;
+	for (size_t i = 0; i < w->nruns; i++)
+		w->npix += (size_t)w->runs[i].n;
+	w->w = malloc((w->nw ? w->nw : 1) * sizeof *w->w);
+	if (!w->w)
+		goto oom;
+	/* bands of about equal work (the pixels whose edges each row computes),
+	 * one per core when there is enough of it */
+	work[0] = 0;
+	for (int j = 0; j < jtop; j++)
+		work[j + 1] = work[j] + row_work(j, lo[j], hi[j], width, sym, transp);
+	if (work[jtop] > 8192) {
+		long n = sysconf(_SC_NPROCESSORS_ONLN);
+		nthreads = n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+	}
+	/* the threads take CHUNK rows at a time from a shared counter: the
+	 * rows' costs vary (more nodes near the centre, breaks) */
+	for (int t = 0; t < nthreads; t++)
+		bands[t] = (struct band){ &c, s, method, u, lo, hi, off, 0, jtop, w->w, 0, sym, transp,
+		                          compact, nthreads > 1 ? &next_row : NULL };
 	for (int t = 1; t < nthreads; t++)
 		if (pthread_create(&tid[t], NULL, band_run, &bands[t]) != 0)
 			bands[t].oom = -1;   /* run it here instead */
@@ -774,7 +962,32 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	}
 	if (oom || bands[0].oom)
 		goto oom;
-	if (transp) {
+	if (compact) {
+		/* the transposes and the rows' sums, on every core */
+		struct fill f = { &c, u, lo, hi, off, w->w, jtop, transp, &next_row, NULL };
+		pthread_t ft[MAX_THREADS];
+		int fstarted = 0;
+		f.rowsum = malloc(((size_t)jtop + 1) * sizeof *f.rowsum);
+		if (!f.rowsum)
+			goto oom;
+		next_row = 0;
+		for (int t = 1; t < nthreads; t++)
+			if (pthread_create(&ft[t], NULL, fill_run, &f) == 0)
+				fstarted |= 1 << t;
+		fill_run(&f);
+		for (int t = 1; t < nthreads; t++)
+			if (fstarted & (1 << t))
+				pthread_join(ft[t], NULL);
+		/* rows in order: each stands for its mirror row too (times 2,
+		 * exact), except the middle one */
+		ps_sum_init(&total);
+		for (int j = 0; j < jtop; j++) {
+			double fr = height - 1 - j != j ? 2.0 : 1.0;
+			ps_sum_add(&total, fr * f.rowsum[j].s);
+			ps_sum_add(&total, fr * f.rowsum[j].c);
+		}
+		free(f.rowsum);
+	} else if (transp) {
 		int xmid = (width - 1) / 2;
 		/* left of the diagonal: pixel (x, j) is pixel (j, x) transposed */
 		for (int j = 0; j < jtop; j++) {
@@ -789,7 +1002,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			}
 		}
 		/* then the right half of those rows, mirrored */
-		for (int j = 0; j < jtop; j++) {
+		for (int j = 0; j < jtop && !compact; j++) {
 			double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
 			for (int x = xmid + 1; x <= hi[j]; x++) {
 				int xm = width - 1 - x;
@@ -799,7 +1012,7 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			}
 		}
 	}
-	for (int j = jtop; j < height; j++) {
+	for (int j = jtop; j < height && !compact; j++) {
 		int jj = height - 1 - j;   /* the mirror row, computed above */
 		double vb = ps_fisheye_v(&c.f, j), vt = ps_fisheye_v(&c.f, j + 1);
 		for (int x = lo[j]; x <= hi[j]; x++)
@@ -807,9 +1020,11 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			    x >= lo[jj] && x <= hi[jj] ? w->w[off[jj] + (size_t)(x - lo[jj])]
 			                               : pixel_alone(&c, u, x, vb, vt);
 	}
-	ps_sum_init(&total);
-	for (size_t i = 0; i < w->nw; i++)
-		ps_sum_add(&total, w->w[i]);
+	if (!compact) {
+		ps_sum_init(&total);
+		for (size_t i = 0; i < w->nw; i++)
+			ps_sum_add(&total, w->w[i]);
+	}
 	w->sens_sum = ps_sum_get(&total);
 	w->sens_full = ps_sensor_integral(s);
 	w->coverage = w->sens_full > 0 ? w->sens_sum / w->sens_full : 0.0;
@@ -831,6 +1046,8 @@ int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 	free(lo);
 	free(hi);
 	free(off);
+	free(work);
+	free(runof);
 	free(u);
 	ctx_free(&c);
 	return 0;
@@ -838,6 +1055,8 @@ oom:
 	free(lo);
 	free(hi);
 	free(off);
+	free(work);
+	free(runof);
 	free(u);
 	ctx_free(&c);
 	ps_weights_free(w);

@@ -47,7 +47,9 @@ struct ps_weights {
 	struct ps_wrun *runs;
 	size_t nruns;
 	double *w;           /* weights of the runs' pixels, steradian x sensitivity */
-	size_t nw;
+	size_t nw;           /* weights stored in w */
+	size_t npix;         /* pixels the runs cover (nw, or about 4 nw when mirrored) */
+	int mirror;          /* 1: a compact symmetric map (below) */
 	double solid_angle;  /* total solid angle of the picture's pixels in the field, sr */
 	double sens_sum;     /* sum of all weights */
 	double sens_full;    /* the sensitivity's integral over the whole sphere */
@@ -57,11 +59,41 @@ struct ps_weights {
 	size_t maplen;
 };
 
+/* A compact symmetric map (mirror = 1, from ps_weights_build_ex with
+ * PS_WB_COMPACT when the map is symmetric in x and y): every run is a
+ * palindrome, its pixels i and n-1-i have the same weight and only its
+ * first (n+1)/2 weights are stored at off; the runs of rows r and
+ * height-1-r are equal and share their weights.  A 4000 x 4000 map then
+ * holds a quarter of the weights (25 MB instead of 100).  Read a weight
+ * with ps_wrun_at or ps_wrun_index, never w[off + i]. */
+static inline size_t ps_wrun_index(const struct ps_weights *w, const struct ps_wrun *r, int i)
+{
+	return r->off + (size_t)(w->mirror && 2 * i >= r->n ? r->n - 1 - i : i);
+}
+
+static inline double ps_wrun_at(const struct ps_weights *w, const struct ps_wrun *r, int i)
+{
+	return w->w[ps_wrun_index(w, r, i)];
+}
+
+/* The number of weights a run has stored. */
+static inline int ps_wrun_stored(const struct ps_weights *w, const struct ps_wrun *r)
+{
+	return w->mirror ? (r->n + 1) / 2 : r->n;
+}
+
+enum { PS_WB_COMPACT = 1 };
+
 /* Build the map for a sensor (with its reading), rotation in degrees (turns
  * the sensitivity towards growing azimuth), a fisheye view and a size. */
 int ps_weights_build(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                      const struct ps_view *v, int width, int height, int method,
                      struct ps_err *e);
+/* The same with flags: PS_WB_COMPACT gives a compact map when the map is
+ * symmetric (same weights, a quarter of the memory), else a full one. */
+int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method, int flags,
+                        struct ps_err *e);
 void ps_weights_free(struct ps_weights *w);
 /* The key ps_weights_build would give. */
 void ps_weights_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,

@@ -239,7 +239,7 @@ static double *sensitivity_picture(const struct ps_sensor *s, double rot, const 
 		for (int i = 0; i < r->n; i++) {
 			size_t at = (size_t)r->row * (size_t)res + (size_t)(r->x0 + i);
 			if (omega[at] > 0) {
-				double x = w.w[r->off + (size_t)i] / omega[at] / s->max_value;
+				double x = ps_wrun_at(&w, r, i) / omega[at] / s->max_value;
 				val[at] = x > 0 ? x : 0.0;
 			}
 		}

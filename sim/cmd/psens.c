@@ -21,6 +21,7 @@
 #include "rescan.h"
 #include "sensor.h"
 #include "spectral.h"
+#include "stream.h"
 #include "view.h"
 #include "wcache.h"
 #include "weights.h"
@@ -196,6 +197,20 @@ struct opts {
 	const char *cachedir;
 };
 
+/* A cache outcome's warning, once for an unwritable cache. */
+static void cache_warning(struct opts *o, int how, const struct ps_err *warn)
+{
+	if (how == PS_WC_UNWRITABLE) {
+		if (!o->quiet && !o->cache_warned)
+			fprintf(stderr, "psens: warning: weights not cached (%s); going on without the "
+			                "cache\n", warn->msg);
+		o->cache_warned = 1;
+		o->cachedir = NULL;
+	} else if (how == PS_WC_REBUILT && !o->quiet) {
+		fprintf(stderr, "psens: warning: %s; weights rebuilt\n", warn->msg);
+	}
+}
+
 /* The direct route for one sensor: items[i] for paths[i]. */
 static int direct(const struct ps_sensor *sens, struct opts *o, const char *const *paths, size_t n,
                   struct item *items)
@@ -218,7 +233,8 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 		struct ps_filemap fm;
 		const char **list;
 		size_t m = 0, off;
-		int assumed;
+		int assumed, how;
+		struct ps_err warn;
 		if (items[first].done)
 			continue;
 		items[first].done = 1;
@@ -236,25 +252,12 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			ps_unmap_file(&fm);
 			continue;
 		}
-		{
-			struct ps_err warn;
-			int how;
-			if (ps_batch_init_cache(&b, sens, o->rot, &view, pic.width, pic.height, o->method, o->coef,
-			                        o->nthreads, o->cachedir, ps_cache_max_bytes(), &how, &warn,
-			                        &e) != 0) {
-				fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
-				goto fail;
-			}
-			/* a cache that cannot be written: one warning, then no cache */
-			if (how == PS_WC_UNWRITABLE) {
-				if (!o->quiet && !o->cache_warned)
-					fprintf(stderr, "psens: warning: weights not cached (%s); going on "
-					                "without the cache\n", warn.msg);
-				o->cache_warned = 1;
-				o->cachedir = NULL;
-			} else if (how == PS_WC_REBUILT && !o->quiet) {
-				fprintf(stderr, "psens: warning: %s; weights rebuilt\n", warn.msg);
-			}
+		/* the weights, stored in the cache while the pictures are integrated */
+		if (ps_batch_init_cache_async(&b, sens, o->rot, &view, pic.width, pic.height, o->method,
+		                              o->coef, o->nthreads, o->cachedir, ps_cache_max_bytes(),
+		                              &how, &warn, &e) != 0) {
+			fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
+			goto fail;
 		}
 		idx[m++] = first;
 		for (size_t i = first + 1; i < n; i++)
@@ -267,14 +270,20 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			list = malloc(m * sizeof *list);
 			if (!res || !list) {
 				fprintf(stderr, "psens: out of memory\n");
+				ps_batch_free(&b);
 				goto fail;
 			}
 			for (size_t k = 0; k < m; k++)
 				list[k] = paths[idx[k]];
 			if (ps_batch_run_files_first(&b, list, m, fm.data, fm.len, res, &e) < 0) {
 				fprintf(stderr, "psens: %s\n", e.msg);
+				ps_batch_free(&b);
 				goto fail;
 			}
+			/* the store's outcome: a cache that cannot be written gives one
+			 * warning, then no cache */
+			ps_batch_finish_store(&b, &how, &warn);
+			cache_warning(o, how, &warn);
 			for (size_t k = 0; k < m; k++) {
 				struct item *it = &items[idx[k]];
 				it->res = res[k];
@@ -296,6 +305,131 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 fail:
 	free(idx);
 	return -1;
+}
+
+/* Several sensors: each picture is decoded once and integrated against
+ * every sensor's weights at once (sim/stream.h), its rows shared among the
+ * threads; the maps are kept while the pictures' view and size stay the
+ * same.  items[k n + i]: sensor k, picture i, as direct() gives them. */
+static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
+                        const char *const *paths, size_t n, struct item *items)
+{
+	struct ps_weights *w = calloc((size_t)nsens, sizeof *w);
+	const struct ps_weights **ws = calloc((size_t)nsens, sizeof *ws);
+	struct ps_response *rs = calloc((size_t)nsens, sizeof *rs);
+	struct ps_wstore **pend = calloc((size_t)nsens, sizeof *pend);
+	struct ps_view cur;
+	int have = 0, cw = 0, ch = 0, rc = 0;
+	if (!w || !ws || !rs || !pend) {
+		fprintf(stderr, "psens: out of memory\n");
+		free(w);
+		free(ws);
+		free(rs);
+		free(pend);
+		return -1;
+	}
+	memset(&cur, 0, sizeof cur);
+	for (size_t i = 0; i < n && rc == 0; i++) {
+		struct ps_filemap fm;
+		struct ps_picture head;
+		struct ps_view view;
+		struct ps_err pe;
+		size_t off;
+		int assumed = 0, width = 0, height = 0, status = PS_BATCH_FAILED;
+		memset(&pe, 0, sizeof pe);
+		memset(&view, 0, sizeof view);
+		if (ps_map_file(paths[i], (size_t)4 << 30, &fm, &pe) != 0)
+			goto give;
+		if (ps_pic_head_mem(&head, fm.data, fm.len, paths[i], &off, &pe) != 0) {
+			ps_unmap_file(&fm);
+			goto give;
+		}
+		width = head.width;
+		height = head.height;
+		if (ps_pic_fisheye_view(&head, paths[i], &view, &assumed, &pe) != 0)
+			goto done;
+		if (have && (width != cw || height != ch || view.type != cur.type || view.vh != cur.vh ||
+		             view.vv != cur.vv || view.vs != cur.vs || view.vl != cur.vl)) {
+			if (o->mtx) {   /* every column must share the first picture's maps */
+				char vs[400];
+				status = PS_BATCH_MISMATCH;
+				ps_view_format(&view, vs, sizeof vs);
+				if (width != cw || height != ch)
+					ps_errf(&pe, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are "
+					        "for %d x %d", paths[i], width, height, cw, ch);
+				else
+					ps_errf(&pe, PS_EINVAL, "%s: its view (%s) is not the batch's", paths[i], vs);
+				goto done;
+			}
+			for (int k = 0; k < nsens; k++)
+				ps_weights_free(&w[k]);
+			have = 0;
+		}
+		if (!have) {
+			for (int k = 0; k < nsens; k++) {
+				struct ps_err warn, e;
+				int how;
+				/* stored in the cache while the picture is integrated */
+				if (ps_weights_get_async(&w[k], &sens[k], o->rot, &view, width, height,
+				                         o->method, o->cachedir, ps_cache_max_bytes(), &how,
+				                         &warn, &pend[k], &e) != 0) {
+					fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
+					for (int q = 0; q < k; q++) {
+						ps_weights_store_finish(pend[q], NULL, NULL);
+						pend[q] = NULL;
+						ps_weights_free(&w[q]);
+					}
+					rc = -1;
+					goto done;
+				}
+				if (!pend[k])
+					cache_warning(o, how, &warn);
+				ws[k] = &w[k];
+			}
+			have = 1;
+			cw = width;
+			ch = height;
+			cur = view;
+		}
+		if (ps_integrate_mem_multi(ws, nsens, &head, fm.data, fm.len, off, paths[i], o->coef,
+		                           o->nthreads, rs, &pe) == 0)
+			status = PS_BATCH_OK;
+		for (int k = 0; k < nsens; k++)
+			if (pend[k]) {   /* the stores' outcomes */
+				struct ps_err warn;
+				int how;
+				ps_weights_store_finish(pend[k], &how, &warn);
+				pend[k] = NULL;
+				cache_warning(o, how, &warn);
+			}
+done:
+		ps_pic_free(&head);
+		ps_unmap_file(&fm);
+give:
+		for (int k = 0; k < nsens; k++) {
+			struct item *it = &items[(size_t)k * n + i];
+			it->done = 1;
+			it->res.status = status;
+			it->res.width = width;
+			it->res.height = height;
+			it->res.view_assumed = assumed;
+			if (status == PS_BATCH_OK) {
+				it->res.r = rs[k];
+				it->coverage = w[k].coverage;
+				it->view = view;
+			} else {
+				it->res.err = pe;
+			}
+		}
+	}
+	if (have)
+		for (int k = 0; k < nsens; k++)
+			ps_weights_free(&w[k]);
+	free(w);
+	free(ws);
+	free(rs);
+	free(pend);
+	return rc;
 }
 
 /* "a:b:s": rotations a, a + s, ... below b (b > a, s > 0, at most 100000). */
@@ -538,10 +672,11 @@ int main(int argc, char **argv)
 		fprintf(stderr, "psens: out of memory\n");
 		return 1;
 	}
-	/* one sensor after another, each its batches of pictures */
-	for (int k = 0; k < nsens; k++)
-		if (direct(&sens[k], &o, paths, n, items + (size_t)k * n) != 0)
-			return 1;
+	/* one sensor: batches of pictures in parallel; several: each picture
+	 * decoded once for all of them */
+	if (nsens == 1 ? direct(&sens[0], &o, paths, n, items) != 0
+	               : direct_multi(sens, nsens, &o, paths, n, items) != 0)
+		return 1;
 	for (size_t i = 0; i < n; i++)
 		for (int k = 0; k < nsens; k++) {
 			struct item *it = &items[(size_t)k * n + i];

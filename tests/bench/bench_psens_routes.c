@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "batch.h"
+#include "cache.h"
 #include "file.h"
 #include "integrate.h"
 #include "picture.h"
@@ -26,6 +27,7 @@
 #include "sensor.h"
 #include "stream.h"
 #include "view.h"
+#include "wcache.h"
 #include "weights.h"
 
 #define VIEW "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180"
@@ -102,6 +104,50 @@ static int run_psens(const char *bin, const char *cache, const char *pic, double
 	return 0;
 }
 
+/* Run psens with these arguments (after "psens"); wall ms, peak RSS and up
+ * to nmax responses in the order printed; the number found, -1 on failure. */
+static int run_args(const char *bin, char *const *args, double *ms, long *maxrss_kb,
+                    double *resp, int nmax)
+{
+	char out[] = "/tmp/psbench-outXXXXXX", *argv[32];
+	int fd = mkstemp(out), status, n = 0, na = 0;
+	struct rusage ru;
+	double t0;
+	pid_t pid;
+	argv[na++] = "psens";
+	while (args[na - 1] && na < 31) {
+		argv[na] = args[na - 1];
+		na++;
+	}
+	argv[na] = NULL;
+	t0 = now();
+	pid = fork();
+	if (pid == 0) {
+		dup2(fd, 1);
+		execv(bin, argv);
+		_exit(127);
+	}
+	if (pid < 0 || wait4(pid, &status, 0, &ru) != pid || !WIFEXITED(status) ||
+	    WEXITSTATUS(status) != 0) {
+		close(fd);
+		unlink(out);
+		return -1;
+	}
+	*ms = 1e3 * (now() - t0);
+	*maxrss_kb = ru.ru_maxrss;
+	{
+		char buf[512];
+		FILE *fp = fdopen(fd, "r");
+		rewind(fp);
+		while (n < nmax && fgets(buf, sizeof buf, fp))
+			if (strstr(buf, "Response: "))
+				resp[n++] = strtod(strstr(buf, "Response: ") + 10, NULL);
+		fclose(fp);
+	}
+	unlink(out);
+	return n;
+}
+
 static double batch_ms(const struct ps_batch *b, const char *const *paths, size_t n,
                        double value0, double *maxerr)
 {
@@ -133,7 +179,7 @@ int main(void)
 {
 	const char *build = getenv("BUILD") ? getenv("BUILD") : "build";
 	char bin[512], dir[] = "/tmp/psbench-routesXXXXXX", p4000[600], p1000[600], p512[600];
-	char cache[600];
+	char cache[600], pt[600];
 	struct ps_sensor cosine;
 	struct ps_view v;
 	struct ps_err e;
@@ -177,6 +223,160 @@ int main(void)
 		row("psens 4000x4000, no cache (-N)", resp / (DECODED_ONE * M_PI) - 1, ms, 0, NULL);
 	if (run_psens(bin, cache, p1000, &ms, &resp, &rss) == 0)
 		row("psens 1000x1000, cold cache", resp / (DECODED_ONE * M_PI) - 1, ms, 25, NULL);
+	if (run_psens(bin, cache, p1000, &ms, &resp, &rss) == 0)
+		row("psens 1000x1000, warm cache", resp / (DECODED_ONE * M_PI) - 1, ms, 0, NULL);
+
+	/* a picture that does not run-length encode (62 MB): the error against
+	 * the whole picture decoded and integrated with the full map */
+	{
+		char c2[600];
+		struct ps_picture pic;
+		struct ps_weights w;
+		struct ps_response r;
+		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+		double *rgb = malloc(sizeof(double) * 3 * 4000 * 4000);
+		snprintf(pt, sizeof pt, "%s/t4000.hdr", dir);
+		snprintf(c2, sizeof c2, "%s/cache-t", dir);
+		for (size_t i = 0; rgb && i < (size_t)4000 * 4000; i++)
+			for (int c = 0; c < 3; c++)
+				rgb[3 * i + c] = 0.5 + 0.37 * (double)((i * 7 + (size_t)c * 3) % 11);
+		if (!rgb || ps_pic_write(pt, 4000, 4000, rgb, VIEW, NULL, &e) != 0 ||
+		    ps_pic_read(&pic, pt, &e) != 0 ||
+		    ps_weights_build(&w, &cosine, 0, &v, 4000, 4000, PS_W_EXACT, &e) != 0 ||
+		    ps_integrate(&w, &pic, coef, &r, &e) != 0) {
+			fprintf(stderr, "bench_psens_routes: textured picture\n");
+			return 1;
+		}
+		free(rgb);
+		ps_weights_free(&w);
+		ps_pic_free(&pic);
+		for (int k = 0; k < 2; k++) {
+			char *args[] = { "-q", "-C", c2, "-s", "builtin:cosine", pt, NULL };
+			double rr;
+			if (run_args(bin, args, &ms, &rss, &rr, 1) == 1) {
+				char note[96];
+				snprintf(note, sizeof note, "62 MB picture, no runs; ru_maxrss %.0f MB; error: "
+				         "against whole-picture route", rss / 1024.0);
+				row(k ? "psens 4000x4000 textured, warm cache" :
+				        "psens 4000x4000 textured, cold cache",
+				    rr / r.response - 1, ms, k ? 150 : 350, note);
+			}
+		}
+	}
+
+	/* several sensors in one run, each picture decoded once, against one run
+	 * per sensor: the cosine and a table that changes with azimuth (its
+	 * full map: 2 s to build, so the cache is filled first), on the
+	 * textured 4000 x 4000 (its decoding costs); error: each response
+	 * against the whole-picture route's */
+	{
+		static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
+		                            "0 1 1 1 1 1 1 1 1\n"
+		                            "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
+		                            "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"
+		                            "60 0.5 0.3 0.2 0.1 0.2 0.4 0.45 0.5\n"
+		                            "80 0.1 0.05 0.02 0.01 0.03 0.08 0.1 0.1\n"
+		                            "90 0 0 0 0 0 0 0 0\n";
+		char ts[600];
+		struct ps_sensor tab;
+		FILE *fp;
+		double r2[2], r1, ms1, ms2, want[2], worst = 0;
+		snprintf(ts, sizeof ts, "%s/az.sen", dir);
+		fp = fopen(ts, "w");
+		if (!fp || fputs(table, fp) == EOF || fclose(fp) != 0 ||
+		    ps_sensor_parse(&tab, table, sizeof table - 1, "az", &e) != 0 ||
+		    ps_sensor_set_reading(&tab, PS_READ_LINEAR, &e) != 0)
+			return 1;
+		{
+			struct ps_picture pic;
+			struct ps_weights w;
+			struct ps_response r;
+			const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+			if (ps_pic_read(&pic, pt, &e) != 0)
+				return 1;
+			for (int k = 0; k < 2; k++) {
+				if (ps_weights_build(&w, k ? &tab : &cosine, 0, &v, 4000, 4000, PS_W_EXACT,
+				                     &e) != 0 || ps_integrate(&w, &pic, coef, &r, &e) != 0)
+					return 1;
+				want[k] = r.response;
+				ps_weights_free(&w);
+			}
+			ps_pic_free(&pic);
+		}
+		{
+			char c3[600];
+			snprintf(c3, sizeof c3, "%s/cache-s", dir);
+			char *a1[] = { "-q", "-C", c3, "-s", "builtin:cosine", pt, NULL };
+			char *a2[] = { "-q", "-C", c3, "-s", ts, pt, NULL };
+			char *ab[] = { "-q", "-C", c3, "-s", "builtin:cosine", "-s", ts, pt, NULL };
+			if (run_args(bin, ab, &ms, &rss, r2, 2) != 2)   /* fills the cache */
+				return 1;
+			if (run_args(bin, a1, &ms1, &rss, &r1, 1) == 1 &&
+			    run_args(bin, a2, &ms2, &rss, &r2[1], 1) == 1) {
+				worst = fmax(fabs(r1 / want[0] - 1), fabs(r2[1] / want[1] - 1));
+				row("2 sensors 4000x4000 textured, a run each", worst, ms1 + ms2, 0,
+				    "cosine + azimuthal table, warm: 2 decodings");
+			}
+			if (run_args(bin, ab, &ms, &rss, r2, 2) == 2) {
+				char note[96];
+				worst = fmax(fabs(r2[0] / want[0] - 1), fabs(r2[1] / want[1] - 1));
+				snprintf(note, sizeof note, "warm, one decoding; ru_maxrss %.0f MB",
+				         rss / 1024.0);
+				row("2 sensors 4000x4000 textured, one run", worst, ms, 0, note);
+			}
+		}
+		ps_sensor_free(&tab);
+		unlink(ts);
+		unlink(pt);
+	}
+
+	/* where a cold one-shot run's time goes, in the library (2 threads) */
+	for (int k = 0; k < 2; k++) {
+		int n = k ? 1000 : 4000;
+		const char *pp = k ? p1000 : p4000;
+		char cd[600], name[80];
+		struct ps_weights w;
+		struct ps_picture pic;
+		struct ps_response r;
+		struct ps_filemap m;
+		struct ps_err warn;
+		size_t off;
+		int how;
+		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+		double t0, t_b, t_bs, t_i, t_d;
+		snprintf(cd, sizeof cd, "%s/cache-phase%d", dir, n);
+		t0 = now();
+		if (ps_weights_build_ex(&w, &cosine, 0, &v, n, n, PS_W_EXACT, PS_WB_COMPACT, &e) != 0)
+			return 1;
+		t_b = now() - t0;
+		ps_weights_free(&w);
+		t0 = now();
+		if (ps_weights_get(&w, &cosine, 0, &v, n, n, PS_W_EXACT, cd, 0, &how, &warn, &e) != 0)
+			return 1;
+		t_bs = now() - t0;
+		if (ps_map_file(pp, (size_t)1 << 32, &m, &e) != 0 ||
+		    ps_pic_head_mem(&pic, m.data, m.len, pp, &off, &e) != 0)
+			return 1;
+		t0 = now();
+		ps_integrate_mem(&w, &pic, m.data, m.len, off, pp, coef, 2, &r, &e);
+		t_i = now() - t0;
+		ps_pic_free(&pic);
+		ps_unmap_file(&m);
+		t0 = now();
+		if (ps_pic_read(&pic, pp, &e) != 0)
+			return 1;
+		t_d = now() - t0;
+		ps_pic_free(&pic);
+		snprintf(name, sizeof name, "  %d cold: compact weights (every core)", n);
+		row(name, NAN, 1e3 * t_b, 0, NULL);
+		snprintf(name, sizeof name, "  %d cold: storing them (checksum, write)", n);
+		row(name, NAN, 1e3 * (t_bs - t_b), 0, "build + store less build");
+		snprintf(name, sizeof name, "  %d cold: decode+integrate, 2 thr", n);
+		row(name, r.response / (DECODED_ONE * M_PI) - 1, 1e3 * t_i, 0, NULL);
+		snprintf(name, sizeof name, "  %d read + decode alone (library)", n);
+		row(name, NAN, 1e3 * t_d, 0, "whole picture, 1 thread");
+		ps_weights_free(&w);
+	}
 
 	/* decoding against integration, in the library, 4000 x 4000 */
 	{

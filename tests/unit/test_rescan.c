@@ -150,10 +150,66 @@ static void uniform_cosine_is_pi(void **state)
 	ps_pic_free(&pic);
 }
 
+/* The scan's definition, cell by cell: sum over every cell of its energy
+ * times the sensitivity at its centre turned by the rotation (what the scan
+ * computes with the rings collapsed onto the table's rows). */
+static double by_definition(const struct ps_rescan *p, const struct ps_sensor *s, int rot)
+{
+	double sum = 0.0, comp = 0.0;
+	for (int it = 0; it < p->ntheta; it++)
+		for (int m = 0; m < p->nphi; m++) {
+			/* the cell m - rot (whole cells of 1 degree) taken into [0, nphi)
+			 * as the scan does, so a centre on a boundary of rsensor's
+			 * cells reads the same side */
+			int mr = ((m - rot) % p->nphi + p->nphi) % p->nphi;
+			double ph = (mr + 0.5) * p->dphi, t, x;
+			x = p->e[(size_t)it * (size_t)p->nphi + (size_t)m] *
+			    ps_sensor_value(s, (it + 0.5) * p->dtheta, ph);
+			t = sum + x;   /* Neumaier */
+			comp += fabs(sum) >= fabs(x) ? (sum - t) + x : (x - t) + sum;
+			sum = t;
+		}
+	return sum + comp;
+}
+
+static void scan_equals_its_definition(void **state)
+{
+	static const int readings[] = { PS_READ_LINEAR, PS_READ_CELL };
+	static const int rots[] = { 0, 1, 44, 90, 181, 359 };
+	struct ps_picture pic;
+	struct ps_rescan p;
+	struct ps_err e;
+	double out[360], total;
+	(void)state;
+	picture(&pic, 1);
+	project(&p, &pic, &total);
+	for (size_t k = 0; k < 3; k++) {
+		struct ps_sensor s;
+		if (k < 2) {
+			if (ps_sensor_parse(&s, table, sizeof table - 1, "table", &e) != 0 ||
+			    ps_sensor_set_reading(&s, readings[k], &e) != 0)
+				fail_msg("%s", e.msg);
+		} else {
+			assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
+		}
+		assert_int_equal(ps_rescan_scan(&p, &s, 0, 1, 360, out, &e), 0);
+		for (size_t r = 0; r < sizeof rots / sizeof rots[0]; r++) {
+			double want = by_definition(&p, &s, rots[r]);
+			if (fabs(out[rots[r]] / want - 1) > 1e-12)
+				fail_msg("sensor %zu, rotation %d: scan %.17g, definition %.17g", k, rots[r],
+				         out[rots[r]], want);
+		}
+		ps_sensor_free(&s);
+	}
+	ps_rescan_free(&p);
+	ps_pic_free(&pic);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(scan_against_exact),
+		cmocka_unit_test(scan_equals_its_definition),
 		cmocka_unit_test(uniform_cosine_is_pi),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -164,6 +164,69 @@ static void other_orientation(void **state)
 	both_routes(buf, sizeof buf, 0);
 }
 
+/* Several maps with one decoding (ps_integrate_mem_multi): each map's
+ * numbers are ps_integrate's alone bit for bit - a full map, a compact one
+ * and a narrow table turned by 25 degrees, whose rows differ - with and
+ * without a sun (the second pass), at 1 to 3 threads. */
+static void several_maps_one_decoding(void **state)
+{
+	static const int suns[][2] = { { -1, 0 }, { 40, 20 } };
+	struct ps_sensor cos, nar;
+	struct ps_view v;
+	struct ps_err e;
+	(void)state;
+	assert_int_equal(ps_sensor_builtin(&cos, PS_SENS_COSINE, &e), 0);
+	if (ps_sensor_parse(&nar, narrow, sizeof narrow - 1, "narrow", &e) != 0 ||
+	    ps_sensor_set_reading(&nar, PS_READ_LINEAR, &e) != 0)
+		fail_msg("%s", e.msg);
+	ps_view_default_fisheye(&v);
+	for (size_t k = 0; k < 2; k++) {
+		struct ps_picture pic, head;
+		struct ps_weights w[3];
+		const struct ps_weights *ws[3] = { &w[0], &w[1], &w[2] };
+		struct ps_response want[3], got[3];
+		size_t len, off;
+		uint8_t *d = make(64, 64, suns[k][0], suns[k][1], NULL, &len);
+		if (ps_pic_read_mem(&pic, d, len, "mem", &e) != 0 ||
+		    ps_pic_head_mem(&head, d, len, "mem", &off, &e) != 0)
+			fail_msg("%s", e.msg);
+		assert_int_equal(ps_weights_build(&w[0], &cos, 0, &v, 64, 64, PS_W_EXACT, &e), 0);
+		assert_int_equal(ps_weights_build_ex(&w[1], &cos, 0, &v, 64, 64, PS_W_EXACT,
+		                                     PS_WB_COMPACT, &e), 0);
+		assert_int_equal(ps_weights_build(&w[2], &nar, 25, &v, 64, 64, PS_W_EXACT, &e), 0);
+		assert_int_equal(w[1].mirror, 1);
+		for (int m = 0; m < 3; m++)
+			assert_int_equal(ps_integrate(&w[m], &pic, coef, &want[m], &e), 0);
+		if (k == 1)   /* the sun: the second pass runs */
+			assert_false(isnan(want[0].top1_share));
+		for (int nt = 1; nt <= 3; nt++) {
+			if (ps_integrate_mem_multi(ws, 3, &head, d, len, off, "mem", coef, nt, got, &e) != 0)
+				fail_msg("%s", e.msg);
+			for (int m = 0; m < 3; m++) {
+				assert_true(got[m].response == want[m].response);
+				for (int c = 0; c < 3; c++)
+					assert_true(got[m].rgb[c] == want[m].rgb[c]);
+				assert_true(got[m].brightest_share == want[m].brightest_share);
+				assert_int_equal(got[m].brightest_x, want[m].brightest_x);
+				assert_int_equal(got[m].brightest_row, want[m].brightest_row);
+				if (isnan(want[m].top1_share))
+					assert_true(isnan(got[m].top1_share));
+				else
+					assert_true(got[m].top1_share == want[m].top1_share);
+			}
+		}
+		/* the compact map and the full one: the same sensor, the same answer */
+		assert_true(fabs(got[1].response / got[0].response - 1) <= 1e-14);
+		for (int m = 0; m < 3; m++)
+			ps_weights_free(&w[m]);
+		ps_pic_free(&pic);
+		ps_pic_free(&head);
+		free(d);
+	}
+	ps_sensor_free(&cos);
+	ps_sensor_free(&nar);
+}
+
 static void damage_is_named(void **state)
 {
 	size_t len;
@@ -201,6 +264,7 @@ int main(void)
 		cmocka_unit_test(flat_pictures),
 		cmocka_unit_test(xyze_picture),
 		cmocka_unit_test(other_orientation),
+		cmocka_unit_test(several_maps_one_decoding),
 		cmocka_unit_test(damage_is_named),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

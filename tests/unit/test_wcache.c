@@ -389,6 +389,61 @@ static void concurrent_processes_share_it(void **state)
 	ps_sensor_free(&s);
 }
 
+/* The store by a thread (ps_weights_get_async): the map is usable at
+ * once, the entry is there after ps_weights_store_finish and gives the same
+ * map on the next run; a cache that cannot be written says so at the
+ * finish, and the map stays good. */
+static void stored_by_a_thread(void **state)
+{
+	struct ps_sensor s;
+	struct ps_weights ref, w, again;
+	struct ps_view v;
+	struct ps_err warn, e;
+	struct ps_wstore *pending;
+	char c[128], path[512], plain[128];
+	int how = -1;
+	FILE *fp;
+	(void)state;
+	snprintf(c, sizeof c, "%s/async", dir);
+	sensor(&s, "a.sen");
+	built(&ref, &s, 25);
+	ps_view_default_fisheye(&v);
+	memset(&warn, 0, sizeof warn);
+	assert_int_equal(ps_weights_get_async(&w, &s, 25, &v, N, N, PS_W_EXACT, c, 0, &how, &warn,
+	                                      &pending, &e), 0);
+	assert_non_null(pending);
+	assert_int_equal(how, PS_WC_STORED);
+	same_map(&w, &ref);   /* usable while the store goes on */
+	how = -1;
+	ps_weights_store_finish(pending, &how, &warn);
+	assert_int_equal(how, PS_WC_STORED);
+	entry(&s, 25, c, path, sizeof path);
+	assert_int_equal(access(path, F_OK), 0);
+	ps_weights_free(&w);
+	/* the next run finds it: no store under way */
+	assert_int_equal(ps_weights_get_async(&again, &s, 25, &v, N, N, PS_W_EXACT, c, 0, &how,
+	                                      &warn, &pending, &e), 0);
+	assert_null(pending);
+	assert_int_equal(how, PS_WC_HIT);
+	same_map(&again, &ref);
+	ps_weights_free(&again);
+	/* unwritable: told at the finish */
+	snprintf(plain, sizeof plain, "%s/plainfile-async", dir);
+	fp = fopen(plain, "w");
+	assert_non_null(fp);
+	fclose(fp);
+	assert_int_equal(ps_weights_get_async(&w, &s, 25, &v, N, N, PS_W_EXACT, plain, 0, &how,
+	                                      &warn, &pending, &e), 0);
+	if (pending)
+		ps_weights_store_finish(pending, &how, &warn);
+	assert_int_equal(how, PS_WC_UNWRITABLE);
+	assert_true(warn.msg[0] != '\0');
+	same_map(&w, &ref);
+	ps_weights_free(&w);
+	ps_weights_free(&ref);
+	ps_sensor_free(&s);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -399,6 +454,7 @@ int main(void)
 		cmocka_unit_test(unwritable_cache_works_uncached),
 		cmocka_unit_test(least_recently_used_go_first),
 		cmocka_unit_test(concurrent_processes_share_it),
+		cmocka_unit_test(stored_by_a_thread),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }
