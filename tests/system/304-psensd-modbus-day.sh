@@ -25,8 +25,6 @@ virt() {  # virt START: psvirt from START, room time at 3600x
 }
 # from 03:00: at 3600x a second of start-up is an hour of room time, and
 # the night check needs samples well before psvirt's sunrise (06:00)
-virt 03:00
-check "psvirt ready" test -s "$TMP/ready"
 { cat <<EOC
 [psensd]
 results = $TMP/ofb.results
@@ -48,12 +46,16 @@ min_level = 0.1
 EOC
 } > "$TMP/day.conf"
 check "psensd -n accepts the Modbus configuration" sh -c "\"$BIN/psensd\" -f '$TMP/day.conf' -n > /dev/null"
-"$BIN/psensd" -f "$TMP/day.conf" -t 03:00 -x 3600 > "$TMP/psensd.out" 2> "$TMP/psensd.err" &
+# psvirt only now, psensd right after it: their clocks start together
+virt 03:00
+check "psvirt ready" test -s "$TMP/ready"
+v=$(virt_now "$ready_ms" 10800 3600)
+"$BIN/psensd" -f "$TMP/day.conf" -t "$(hhmm "$v")" -x 3600 > "$TMP/psensd.out" 2> "$TMP/psensd.err" &
 pd=$!; track_pid $pd
+wait_for 20 "$BIN/psensctl" -s "$TMP/sock" ping > /dev/null
+lag=$(clock_lag "$ready_ms" 10800 3600 "$TMP/sock")
 # psvirt's 12:00 is psensd's 12:00 - lag
-wait_for 20 grep -q "the run starts" "$TMP/psensd.err"
-lag=$(room_lag "$ready_ms" 10800 3600 "$TMP/psensd.err")
-diag "psensd's clock runs $lag s of room time behind psvirt's"
+diag "psensd starts at $(hhmm "$v"), psvirt's clock $lag s of room time ahead"
 q() { sqlite3 "$TMP/day.db" "$1" 2>/dev/null; }
 # 15:00 room time (12 s): stop psvirt, a lost device; start it again 2 s later
 wait_for 40 sh -c "[ \"\$(sqlite3 '$TMP/day.db' 'select max(tod_s) from samples' 2>/dev/null | cut -d. -f1)\" -ge 54000 ]"

@@ -90,16 +90,27 @@ valid_max = 1000
 EOP
 }
 
-# room_lag READY_MS START_S SPEED ERRFILE: how many seconds of room time
-# psensd's clock runs behind psvirt's, psvirt's clock having started at
-# START_S (seconds from midnight) when its ready file appeared (READY_MS,
-# ms since the epoch), psensd's read from its "the run starts ... HH:MM"
-# line in ERRFILE, seen now.  A slow start (a sanitizer build, a loaded
-# machine) leaves psensd's clock up to an hour behind at 3600x; tests
-# judging psvirt's windows (a fault at 12:00) shift them by this.
-room_lag() {
+# virt_now READY_MS START_S SPEED: psvirt's room time now (seconds from
+# midnight), its clock having started at START_S when its ready file
+# appeared (READY_MS, ms since the epoch; psvirt starts its clock just
+# before it writes the file).  Tests start psensd with -t at this time
+# ("$(hhmm "$v")"): at 3600x a sanitizer build's slow start would otherwise
+# leave psensd's clock up to an hour behind psvirt's, its sun elsewhere.
+# psensd then runs behind by v mod 60 s and its own start-up (at 3600x,
+# under a sanitizer, up to half an hour): clock_lag measures it.
+virt_now() {
 	_now=$(( $(date +%s%N) / 1000000 ))
-	_hm=$(sed -n 's/.*the run starts [0-9-]* \([0-9][0-9]:[0-9][0-9]\).*/\1/p' "$4" | head -n 1)
-	awk -v now="$_now" -v r="$1" -v s="$2" -v x="$3" -v hm="$_hm" \
-		'BEGIN { split(hm, a, ":"); printf "%d", s + x * (now - r) / 1000 - (a[1] * 3600 + a[2] * 60 + 30) }'
+	awk -v now="$_now" -v r="$1" -v s="$2" -v x="$3" 'BEGIN { printf "%d", s + x * (now - r) / 1000 }'
+}
+hhmm() { printf "%02d:%02d" $(($1 / 3600)) $(($1 % 3600 / 60)); }
+
+# clock_lag READY_MS START_S SPEED SOCKET: how many seconds of room time
+# psvirt's clock (as for virt_now) is ahead of psensd's, psensd's read from
+# its control socket (status "now") and psvirt's computed right after the
+# reply: a few ms of shell, a minute or so of room time at 3600x.
+clock_lag() {
+	_j=$("$BIN/psensctl" -s "$4" -j status 2>/dev/null)
+	_v=$(virt_now "$1" "$2" "$3")
+	_p=$(printf '%s\n' "$_j" | sed -n 's/.*"now": *\([0-9.e+-]*\).*/\1/p' | head -n 1)
+	awk -v v="$_v" -v p="$_p" 'BEGIN { if (p == "") exit 1; printf "%d", v - p }'
 }
