@@ -67,11 +67,13 @@ struct zone {
 		char local[20], test[40], verdict[16], measured[320];
 	} acc[MAXACC];
 	int nacc, nruns;
+	double acc_utc;                  /* when the last run was stored */
+	int acc_state;                   /* enum accept_state of the last run */
 	int scene_k;                     /* its scene in doc.scene[] */
-	/* the latest psensctl accept-test run: its tests by verdict */
-	double acc_utc;
-	int acc_pass, acc_fail, acc_untested;
 };
+
+/* A zone's last acceptance run, as the verdict and the cover read it. */
+enum accept_state { ACC_NONE, ACC_INCOMPLETE, ACC_FAILED, ACC_PASSED };
 
 static void neumaier(double *sum, double *c, double x)
 {
@@ -207,8 +209,7 @@ static void add_accept_run(void *user, const struct psd_db_accept *a)
 {
 	struct zone *z = user;
 	double u = isfinite(a->utc) ? a->utc : 0;
-	if (z->acc_pass + z->acc_fail + z->acc_untested == 0 || u > z->acc_utc + 1) {
-		z->acc_pass = z->acc_fail = z->acc_untested = 0;
+	if (z->nruns == 0 || u > z->acc_utc + 1) {
 		z->acc_utc = u;
 		z->nacc = 0;
 		z->nruns++;
@@ -220,12 +221,22 @@ static void add_accept_run(void *user, const struct psd_db_accept *a)
 		snprintf(z->acc[z->nacc].measured, sizeof z->acc[0].measured, "%s", a->measured ? a->measured : "");
 		z->nacc++;
 	}
-	if (a->verdict && strcmp(a->verdict, "PASS") == 0)
-		z->acc_pass++;
-	else if (a->verdict && strcmp(a->verdict, "FAIL") == 0)
-		z->acc_fail++;
-	else
-		z->acc_untested++;
+}
+
+/* The last run's state from its rows: failed when a test failed, passed
+ * when every test ran and passed, incomplete otherwise. */
+static int accept_state(const struct zone *z)
+{
+	int pass = 0, fail = 0, other = 0;
+	for (int i = 0; i < z->nacc; i++) {
+		if (strcmp(z->acc[i].verdict, "PASS") == 0)
+			pass++;
+		else if (strcmp(z->acc[i].verdict, "FAIL") == 0)
+			fail++;
+		else
+			other++;
+	}
+	return z->nacc == 0 ? ACC_NONE : fail ? ACC_FAILED : pass && !other ? ACC_PASSED : ACC_INCOMPLETE;
 }
 
 static int zone_alloc(struct zone *z)
@@ -273,12 +284,13 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 	/* calibrated within the tolerance is not yet a zone that works: PASS
 	 * needs the acceptance tests too (psensctl accept-test), all run and
 	 * passed; a failed calibration or test fails the zone */
-	if (z->fails || z->acc_fail)
+	z->acc_state = accept_state(z);
+	if (z->fails || z->acc_state == ACC_FAILED)
 		z->verdict = -1;
 	else if (z->checks == 0)
 		z->verdict = 0;
 	else
-		z->verdict = z->acc_pass > 0 && z->acc_untested == 0 ? 1 : 2;
+		z->verdict = z->acc_state == ACC_PASSED ? 1 : 2;
 	return 0;
 }
 
@@ -289,15 +301,15 @@ struct doc {
 	struct zone *zones;
 	int nzones;
 	char config_sha[65];
-	char scene_sha[65];              /* from the configuration's results file */
 	/* every zone's samples dated (schema 5): times shown as local dates;
 	 * the first zone's first date is its axis's day floor(t0 / 86400) */
 	int dated;
 	int y0, m0, d0;
 	double t0;
-	/* the scenes the zones run on (psd_zone_scene), when there are several */
+	/* the simulations the zones run on: the scene shown (its results file
+	 * when it names none), the results read, the scene's SHA-256 */
 	struct {
-		const char *path;
+		const char *path, *results;
 		char sha[65];
 	} scene[PSD_MAX_ZONES];
 	int nscenes;
@@ -662,9 +674,9 @@ static void cover(struct doc *d)
 			           1);
 		}
 	} else {
-		y = keyval(d, y, "Scene", o->cf && o->cf->scene ? o->cf->scene : o->cf && o->cf->results ?
-		           o->cf->results : "(see the configuration)", 0);
-		y = keyval(d, y, "Scene SHA-256", d->scene_sha[0] ? d->scene_sha : d->nzones && d->zones[0].scene_sha[0] ?
+		const char *sha = d->nscenes && d->scene[0].sha[0] ? d->scene[0].sha : NULL;
+		y = keyval(d, y, "Scene", d->nscenes ? d->scene[0].path : "(see the configuration)", 0);
+		y = keyval(d, y, "Scene SHA-256", sha ? sha : d->nzones && d->zones[0].scene_sha[0] ?
 		           d->zones[0].scene_sha : "(unknown: no results file read, no calibration recorded it)", 1);
 	}
 	y = keyval(d, y, "Database", o->dbpath, 0);
@@ -746,8 +758,8 @@ static void cover(struct doc *d)
 	text(d, MARGIN, y + 12, 26, 1, -1, verdict_rgb(v), v == 0 && checks ? "INCOMPLETE" : verdict_word(v));
 	y += 30;
 	for (int i = 0; i < d->nzones; i++) {
-		accepted += d->zones[i].acc_pass > 0 && !d->zones[i].acc_fail && !d->zones[i].acc_untested;
-		tested += d->zones[i].acc_pass + d->zones[i].acc_fail + d->zones[i].acc_untested > 0;
+		accepted += d->zones[i].acc_state == ACC_PASSED;
+		tested += d->zones[i].acc_state != ACC_NONE;
 	}
 	snprintf(buf, sizeof buf, "%d of %d calibration results within %g %% of the design prediction (the "
 	         "simulated ratios); %d of %d zone%s acceptance-tested, %d accepted.", checks - fails, checks,
@@ -1393,32 +1405,29 @@ int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_repo
 		if (ps_hash_file(o->config_path, d.config_sha, &pe) != 0)
 			d.config_sha[0] = 0;   /* the cover then says it is unknown */
 	}
+	/* each simulation the zones run on, read once: its scene (or, with no
+	 * scene named, its results file) and the SHA-256 psscene gave the scene
+	 * and every input it names */
 	for (int i = 0; o->cf && i < d.nzones; i++) {
 		const struct psd_zone_conf *zc = zconf(&d, &d.zones[i]);
-		const char *sc = zc ? psd_zone_scene(o->cf, zc) : NULL;
+		const char *res_path = zc ? psd_zone_results(o->cf, zc) : NULL;
 		int k = 0;
-		if (!sc)
+		if (!res_path)
 			continue;
-		while (k < d.nscenes && strcmp(d.scene[k].path, sc) != 0)
+		while (k < d.nscenes && strcmp(d.scene[k].results, res_path) != 0)
 			k++;
 		if (k == d.nscenes) {
 			struct ps_results res = { 0 };
 			struct ps_err pe = { 0 };
-			d.scene[k].path = sc;
-			if (ps_results_read(&res, psd_zone_results(o->cf, zc), &pe) == 0 && res.scene_hash)
+			const char *sc = psd_zone_scene(o->cf, zc);
+			d.scene[k].results = res_path;
+			d.scene[k].path = sc ? sc : res_path;
+			if (ps_results_read(&res, res_path, &pe) == 0 && res.scene_hash)
 				snprintf(d.scene[k].sha, sizeof d.scene[k].sha, "%s", res.scene_hash);
 			ps_results_free(&res);
 			d.nscenes++;
 		}
 		d.zones[i].scene_k = k;
-	}
-	if (o->cf && o->cf->results) {
-		/* the scene and every input it names, as psscene hashed them */
-		struct ps_results res = { 0 };
-		struct ps_err pe = { 0 };
-		if (ps_results_read(&res, o->cf->results, &pe) == 0 && res.scene_hash)
-			snprintf(d.scene_sha, sizeof d.scene_sha, "%s", res.scene_hash);
-		ps_results_free(&res);
 	}
 	/* twice: the first pass counts the pages for "page n of N" */
 	layout(&d);
