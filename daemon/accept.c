@@ -17,12 +17,13 @@ void psd_accept_defaults(struct psd_accept_params *p)
 	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05 };
 }
 
-/* The spans a calibration session held the zone's lights (UTC when the
- * session recorded it, else the daemon's clock). */
+/* The spans calibration sessions held the zone's lights, each in UTC
+ * (NAN when the session was logged before schema 5) and on the daemon's
+ * clock; a sample is compared in UTC when both carry it. */
 struct held {
-	double (*span)[2];
-	int utc;                  /* the spans are UTC (else clock seconds) */
+	double (*span)[4];        /* UTC from, to; clock from, to */
 	size_t n, cap;
+	int failed;               /* out of memory: the run fails, no verdict */
 };
 
 struct scan {
@@ -51,31 +52,59 @@ struct scan {
 static void add_session(void *user, const struct psd_db_cal_session *s)
 {
 	struct held *h = user;
-	double a = h->utc ? s->started_utc : s->started, b = h->utc ? s->ended_utc : s->ended;
-	if (isnan(a))
-		return;
-	if (isnan(b))
-		b = INFINITY;   /* still running (or killed): held since it started */
+	double *sp;
 	if (h->n == h->cap) {
 		size_t cap = h->cap ? 2 * h->cap : 8;
 		void *q = realloc(h->span, cap * sizeof *h->span);
-		if (!q)
-			return;   /* out of memory: this session is judged as controlled time */
+		if (!q) {
+			h->failed = 1;
+			return;
+		}
 		h->span = q;
 		h->cap = cap;
 	}
-	h->span[h->n][0] = a;
-	h->span[h->n][1] = b;
-	h->n++;
+	/* a session still running (or killed) has held the lights since it started */
+	sp = h->span[h->n++];
+	sp[0] = s->started_utc;
+	sp[1] = isfinite(s->started_utc) && isnan(s->ended_utc) ? INFINITY : s->ended_utc;
+	sp[2] = s->started;
+	sp[3] = isfinite(s->started) && isnan(s->ended) ? INFINITY : s->ended;
 }
 
 static int is_held(const struct held *h, const struct psd_sample *s)
 {
-	double t = h->utc ? s->utc : s->t;
-	for (size_t i = 0; i < h->n; i++)
-		if (t >= h->span[i][0] && t <= h->span[i][1])
+	for (size_t i = 0; i < h->n; i++) {
+		int utc = isfinite(s->utc) && isfinite(h->span[i][0]);
+		double t = utc ? s->utc : s->t;
+		const double *sp = h->span[i] + (utc ? 0 : 2);
+		if (t >= sp[0] && t <= sp[1])
 			return 1;
+	}
 	return 0;
+}
+
+/* cycling: swings of the commanded output, each against the last one's
+ * direction, and how far apart */
+static void track_cycling(struct scan *c, const struct psd_sample *s)
+{
+	const struct psd_accept_params *p = c->p;
+	if (isnan(c->last_level)) {
+		c->last_level = s->output;
+	} else if (fabs(s->output - c->last_level) > p->swing) {
+		int dir = s->output > c->last_level ? 1 : -1;
+		if (c->last_dir != 0 && dir != c->last_dir) {
+			double gap = s->t - c->last_swing_t;
+			c->swings++;
+			if (gap < c->min_gap)
+				c->min_gap = gap;
+			if (gap < p->delay)
+				c->fast++;
+		}
+		if (dir != c->last_dir)
+			c->last_swing_t = s->t;
+		c->last_dir = dir;
+		c->last_level = s->output;
+	}
 }
 
 static void scan_sample(void *user, const struct psd_sample *s)
@@ -97,27 +126,9 @@ static void scan_sample(void *user, const struct psd_sample *s)
 	if (held) {
 		c->last_level = NAN;   /* the control starts again from wherever the session left it */
 		c->last_dir = 0;
-		goto verify;
+	} else {
+		track_cycling(c, s);
 	}
-	/* cycling: swings of the commanded output */
-	if (isnan(c->last_level)) {
-		c->last_level = s->output;
-	} else if (fabs(s->output - c->last_level) > p->swing) {
-		int dir = s->output > c->last_level ? 1 : -1;
-		if (c->last_dir != 0 && dir != c->last_dir) {
-			double gap = s->t - c->last_swing_t;
-			c->swings++;
-			if (gap < c->min_gap)
-				c->min_gap = gap;
-			if (gap < p->delay)
-				c->fast++;
-		}
-		if (dir != c->last_dir)
-			c->last_swing_t = s->t;
-		c->last_dir = dir;
-		c->last_level = s->output;
-	}
-verify:
 	/* a sample's readings were taken with the lights at the previous step's
 	 * output; its output is the control's answer to them */
 	prev = c->prev_output;
@@ -162,10 +173,16 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	c.full_max = -INFINITY;
 	c.low_min = INFINITY;
 	c.min_gap = INFINITY;
-	/* sessions in UTC when the log is (schema 5 on), else on the clock */
-	c.held.utc = isfinite(p->since_utc) || psd_db_schema(db) >= 5;
-	if (psd_db_cal_sessions(db, zone, add_session, &c.held, err, errlen) != 0 ||
-	    psd_db_zone_samples(db, zone, scan_sample, &c, err, errlen) != 0) {
+	if (psd_db_cal_sessions(db, zone, add_session, &c.held, err, errlen) != 0) {
+		free(c.held.span);
+		return -1;
+	}
+	if (c.held.failed) {
+		free(c.held.span);
+		snprintf(err, errlen, "zone %s: the calibration sessions: out of memory", zone);
+		return -1;
+	}
+	if (psd_db_zone_samples(db, zone, scan_sample, &c, err, errlen) != 0) {
 		free(c.held.span);
 		return -1;
 	}
