@@ -147,39 +147,20 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		const double *wt = w->w + run->off;
 		struct ps_sum row;
 		double raws[3] = { 0, 0, 0 }, rc[3];
-		/* a mirrored run stores its first half: the second half reads it
-		 * backwards (two loops, no test per pixel) */
-		int half = w->mirror ? (run->n + 1) / 2 : run->n, bi = -1;
-		double rbest = best;
 		ps_sum_init(&row);
-		for (int i = 0; i < half; i++, px += 4) {
+		for (int i = 0; i < run->n; i++, px += 4) {
 			double b;
 			if (px[3] == 0)
 				continue;
-			b = ps_pixel_response(px, wt[i], kc, raws);
+			b = ps_pixel_response(px, w->mirror && 2 * i >= run->n ? wt[run->n - 1 - i] : wt[i],
+			                      kc, raws);
 			ps_sum_add(&row, b);
 			ncontrib++;
-			if (b > rbest) {
-				rbest = b;
-				bi = i;
+			if (b > best) {
+				best = b;
+				r->brightest_x = run->x0 + i;
+				r->brightest_row = run->row;
 			}
-		}
-		for (int i = half; i < run->n; i++, px += 4) {
-			double b;
-			if (px[3] == 0)
-				continue;
-			b = ps_pixel_response(px, wt[run->n - 1 - i], kc, raws);
-			ps_sum_add(&row, b);
-			ncontrib++;
-			if (b > rbest) {
-				rbest = b;
-				bi = i;
-			}
-		}
-		if (bi >= 0) {
-			best = rbest;
-			r->brightest_x = run->x0 + bi;
-			r->brightest_row = run->row;
 		}
 		ps_sum_merge(&tot, &row);
 		ps_row_rgb(k, raws, rc);

@@ -75,25 +75,11 @@ static void row_sum_one(const struct job *j, const struct one *o, int ri, const 
 	 * backwards (mirror, 0 for a full map) */
 	int half = o->w->mirror ? (len + 1) / 2 : len;
 	ps_sum_init(&row);
-	/* two loops, the second reading the weights backwards: no test per
-	 * pixel of which half it is in */
-	for (int i = 0; i < half; i++, px += 4) {
+	for (int i = 0; i < len; i++, px += 4) {
 		double b;
 		if (px[3] == 0)
 			continue;
-		b = ps_pixel_response(px, wt[i], kc, raws);
-		ps_sum_add(&row, b);
-		n++;
-		if (b > best) {
-			best = b;
-			bx = run->x0 + i;
-		}
-	}
-	for (int i = half; i < len; i++, px += 4) {
-		double b;
-		if (px[3] == 0)
-			continue;
-		b = ps_pixel_response(px, wt[len - 1 - i], kc, raws);
+		b = ps_pixel_response(px, i < half ? wt[i] : wt[len - 1 - i], kc, raws);
 		ps_sum_add(&row, b);
 		n++;
 		if (b > best) {

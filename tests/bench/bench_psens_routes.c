@@ -422,9 +422,10 @@ int main(void)
 			char path[600];
 			const char *what = tex ? "textured" : "uniform";
 			double t_scan, t_fused1 = NAN;
-			snprintf(path, sizeof path, "%s", tex ? "" : p4000);
 			if (tex)
 				snprintf(path, sizeof path, "%s/t4000.hdr", dir);
+			else
+				snprintf(path, sizeof path, "%s", p4000);
 			if (ps_map_file(path, (size_t)1 << 32, &m, &e) != 0 ||
 			    ps_pic_head_mem(&head, m.data, m.len, path, &off, &e) != 0)
 				return 1;
