@@ -52,7 +52,9 @@ start() {
 }
 for s in s1 s2 s3; do start $s; done
 count() { grep -c "^psensd/$1/" "$TMP/sub.log"; }
-wait_for 10 sh -c "[ \$(grep -c '^psensd/s3/office/state' '$TMP/sub.log') -ge 10 ]"
+# each instance starts on its own (a sanitizer build takes a second or so):
+# wait for all three, not only the last started
+wait_for 20 sh -c "[ \$(grep -c '^psensd/s3/office/state' '$TMP/sub.log') -ge 10 ] && [ \$(grep -c '^psensd/s1/' '$TMP/sub.log') -gt 5 ] && [ \$(grep -c '^psensd/s2/' '$TMP/sub.log') -gt 5 ]"
 check "all three sites publish (s1 $(count s1), s2 $(count s2), s3 $(count s3) messages)" \
 	sh -c "[ $(count s1) -gt 5 ] && [ $(count s2) -gt 5 ] && [ $(count s3) -gt 5 ]"
 
