@@ -73,17 +73,19 @@ sleep 0.5
 kill -9 "$PID_s2"; wait "$PID_s2" 2>/dev/null
 wait_for 10 sh -c "grep -q '^psensd/s2/status offline' '$TMP/sub.log'"
 check "the Last Will: psensd/s2/status offline after SIGKILL" grep -q '^psensd/s2/status offline' "$TMP/sub.log"
+# what s2's first run had logged (committed) when it died: its backlog
+m0=$(sqlite3 "$TMP/s2/psensd.db" "SELECT max(rowid) FROM samples")
 start s2
-sleep 3
-# s2 has caught up when its cursor is within a second of samples (10) of its log's last
+# s2 has caught up when its cursor (acknowledged by the broker) passed that
+# backlog.  Not "within N samples of the log's last": the log commits in
+# batches and the window holds messages in flight, so that gap is timing.
 caught_up() {
-	c=$("$BIN/psensctl" -s "$TMP/s2/sock" -j status | /usr/bin/python3 -c 'import json,sys; print(json.load(sys.stdin)["mqtt"]["cursor"])')
-	m=$(sqlite3 "$TMP/s2/psensd.db" "SELECT max(rowid) FROM samples")
-	[ $((m - c)) -le 10 ]
+	c=$("$BIN/psensctl" -s "$TMP/s2/sock" -j status 2>/dev/null | /usr/bin/python3 -c 'import json,sys; print(json.load(sys.stdin)["mqtt"]["cursor"])' 2>/dev/null)
+	[ -n "$c" ] && [ "$c" -ge "$m0" ]
 }
 wait_for 30 caught_up
-caught_up; diag "s2: cursor $c, last sample $m"
-check "s2 caught up after its restart" caught_up
+caught_up; diag "s2: cursor $c, backlog of the killed run up to sample $m0"
+check "s2 caught up after its restart (its cursor passed the killed run's last sample)" caught_up
 check "s2 back online" sh -c "tail -n 1000 '$TMP/sub.log' | grep -q '^psensd/s2/status online'"
 for s in s1 s2 s3; do eval "kill \$PID_$s"; done
 for s in s1 s2 s3; do eval "wait \$PID_$s" 2>/dev/null; done

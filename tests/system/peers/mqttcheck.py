@@ -6,8 +6,10 @@ published it.  Usage: mqttcheck.py SUBLOG SITE=DB[:UPTO]...
 
 For each site: every sample id of the database (the rows with a zone, up to
 UPTO when given) must have arrived on psensd/<site>/<zone>/state with that
-zone; the first arrivals must be in id order; duplicates (the same id again)
-are counted, not refused.  A sample not received whose id is beyond the
+zone and say what the log's row of that id says (its room time t and sensor
+reading: a message the log does not hold, say one published before the row
+was committed and lost in a crash, is a phantom); the first arrivals must be
+in id order; duplicates (the same id again) are counted, not refused.  A sample not received whose id is beyond the
 site's persisted cursor (mqtt_cursor) is pending, not lost: psensd stopped
 before the broker acknowledged it and sends it at its next start; it is
 reported, and fails the check only with --no-pending.  Prints one line per
@@ -34,7 +36,7 @@ for line in open(sub, encoding="utf-8", errors="replace"):
     if m.get("zone") != parts[2] or m.get("site") != parts[1]:
         print("zone or site of message %s does not match its topic %s" % (m.get("id"), topic))
         sys.exit(1)
-    got.setdefault(parts[1], []).append((m["id"], parts[2]))
+    got.setdefault(parts[1], []).append((m["id"], parts[2], m.get("t"), m.get("sensor_v")))
 
 bad = 0
 for pair in pairs:
@@ -45,14 +47,27 @@ for pair in pairs:
         upto = int(upto)
     con = sqlite3.connect(db)
     rows = con.execute(
-        "SELECT rowid, zone FROM samples WHERE zone IS NOT NULL AND rowid <= ? ORDER BY rowid",
+        "SELECT rowid, zone, t, sensor_v FROM samples WHERE zone IS NOT NULL AND rowid <= ? ORDER BY rowid",
         (upto if upto is not None else 1 << 62,)).fetchall()
     cur = con.execute("SELECT sample FROM mqtt_cursor WHERE site = ?", (site,)).fetchone()
     cursor = cur[0] if cur else 0
     want = {r[0]: r[1] for r in rows}
+    logged = {r[0]: (r[2], r[3]) for r in rows}
     seq = got.get(site, [])
-    first, seen, dups, wrong = [], set(), 0, 0
-    for i, zone in seq:
+    first, seen, dups, wrong, phantom = [], set(), 0, 0, []
+
+    def same(a, b):
+        if a is None or b is None:
+            return a is None and b is None
+        return abs(a - b) <= 1e-9 * max(1.0, abs(b))
+
+    for i, zone, t, v in seq:
+        # every message, duplicates too, must be the logged row of its id
+        # (ids beyond UPTO are the second run's and are checked without it)
+        if upto is None or i <= upto:
+            row = con.execute("SELECT t, sensor_v FROM samples WHERE rowid = ?", (i,)).fetchone()
+            if row is None or not same(t, row[0]) or not same(v, row[1]):
+                phantom.append(i)
         if i in seen:
             dups += 1
             continue
@@ -65,9 +80,11 @@ for pair in pairs:
     pending = [i for i in unseen if not strict and i > cursor]
     disorder = sum(1 for a, b in zip(first, first[1:]) if b <= a)
     print("site %s: %d samples logged, %d messages received, %d duplicates, %d missing, "
-          "%d pending after the cursor (%d), %d out of order, %d with the wrong zone%s" % (
+          "%d pending after the cursor (%d), %d out of order, %d with the wrong zone, "
+          "%d not as logged%s%s" % (
               site, len(want), len(seq), dups, len(missing), len(pending), cursor, disorder, wrong,
-              " (first missing: %s)" % missing[:5] if missing else ""))
-    if missing or disorder or wrong or not want:
+              len(phantom), " (first missing: %s)" % missing[:5] if missing else "",
+              " (first not as logged: %s)" % phantom[:5] if phantom else ""))
+    if missing or disorder or wrong or phantom or not want:
         bad = 1
 sys.exit(bad)
