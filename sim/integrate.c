@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rowsum.h"
 #include "sum.h"
 
 /* White is 0.3333, 0.3333 exactly as Radiance's color.h has it (not 1/3): only
@@ -134,36 +135,26 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		               pic->height, w->width, w->height);
 	ps_pic_rgb_matrix(pic, k);
 	ps_coef_k(coef, k, kc);
-	/* Each row is summed in plain double and the rows are added with
-	 * compensation: a row's own rounding is n eps of the row, far below
-	 * what the compensated total keeps across rows (a 1e9 sun next to
-	 * 1e-2 walls keeps the walls to 1e-12; see test_weights). */
+	/* Each run is summed with compensation in four lanes (rowsum.h) and
+	 * the runs are added with compensation: a 1e9 sun next to 1e-2 walls
+	 * keeps the walls to 1e-12 (test_weights). */
 	ps_sum_init(&tot);
 	for (int c = 0; c < 3; c++)
 		ps_sum_init(&ch[c]);
 	for (size_t ri = 0; ri < w->nruns; ri++) {
 		const struct ps_wrun *run = &w->runs[ri];
 		const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
-		const double *wt = w->w + run->off;
-		struct ps_sum row;
-		double raws[3] = { 0, 0, 0 }, rc[3];
-		ps_sum_init(&row);
-		for (int i = 0; i < run->n; i++, px += 4) {
-			double b;
-			if (px[3] == 0)
-				continue;
-			b = ps_pixel_response(px, w->mirror && 2 * i >= run->n ? wt[run->n - 1 - i] : wt[i],
-			                      kc, raws);
-			ps_sum_add(&row, b);
-			ncontrib++;
-			if (b > best) {
-				best = b;
-				r->brightest_x = run->x0 + i;
-				r->brightest_row = run->row;
-			}
+		struct ps_rowsum row;
+		double rc[3];
+		ps_rowsum(px, w->w + run->off, run->n, w->mirror, kc, &row);
+		ncontrib += row.n;
+		if (row.n && row.best > best) {
+			best = row.best;
+			r->brightest_x = run->x0 + (row.best_i >= 0 ? row.best_i : 0);
+			r->brightest_row = run->row;
 		}
-		ps_sum_merge(&tot, &row);
-		ps_row_rgb(k, raws, rc);
+		ps_sum_merge(&tot, &row.sum);
+		ps_row_rgb(k, row.raw, rc);
 		for (int c = 0; c < 3; c++)
 			ps_sum_add(&ch[c], rc[c]);
 	}

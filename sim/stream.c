@@ -8,6 +8,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include "rowsum.h"
 #include "sum.h"
 
 enum { MAX_THREADS = 16 };
@@ -62,36 +63,14 @@ static void release(const struct ps_weights *w, const struct ps_wrun *run, uintp
 static void row_sum_one(const struct job *j, const struct one *o, int ri, const uint8_t *px_row)
 {
 	const struct ps_wrun *run = &o->w->runs[ri];
-	const uint8_t *px = px_row + 4 * (size_t)run->x0;
-	const double *wt = o->w->w + run->off;
 	struct acc *a = &o->acc[ri];
-	double raws[3] = { 0, 0, 0 }, best = -1.0, kc[3] = { j->kc[0], j->kc[1], j->kc[2] };
-	/* the row's sum, count and brightest in locals: px (bytes) may alias
-	 * anything, so through a they would go to memory at every pixel */
-	struct ps_sum row;
-	size_t n = 0;
-	int bx = 0, len = run->n;
-	/* a compact map's run is a palindrome: its right half reads the left
-	 * backwards (mirror, 0 for a full map) */
-	int half = o->w->mirror ? (len + 1) / 2 : len;
-	ps_sum_init(&row);
-	for (int i = 0; i < len; i++, px += 4) {
-		double b;
-		if (px[3] == 0)
-			continue;
-		b = ps_pixel_response(px, i < half ? wt[i] : wt[len - 1 - i], kc, raws);
-		ps_sum_add(&row, b);
-		n++;
-		if (b > best) {
-			best = b;
-			bx = run->x0 + i;
-		}
-	}
-	a->row = row;
-	a->n = n;
-	a->best = best;
-	a->bx = bx;
-	ps_row_rgb(j->k, raws, a->rc);
+	struct ps_rowsum rs;
+	ps_rowsum(px_row + 4 * (size_t)run->x0, o->w->w + run->off, run->n, o->w->mirror, j->kc, &rs);
+	a->row = rs.sum;
+	a->n = rs.n;
+	a->best = rs.best;
+	a->bx = run->x0 + (rs.best_i >= 0 ? rs.best_i : 0);
+	ps_row_rgb(j->k, rs.raw, a->rc);
 	release(o->w, run, j->page);
 }
 

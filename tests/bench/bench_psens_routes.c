@@ -24,6 +24,7 @@
 #include "integrate.h"
 #include "picture.h"
 #include "rescan.h"
+#include "rowsum.h"
 #include "sensor.h"
 #include "stream.h"
 #include "view.h"
@@ -422,6 +423,9 @@ int main(void)
 			char path[600];
 			const char *what = tex ? "textured" : "uniform";
 			double t_scan, t_fused1 = NAN;
+			char kernel_note[96];
+			snprintf(kernel_note, sizeof kernel_note, "file in memory; best of 5; %s run kernel",
+			         ps_rowsum_name(ps_rowsum_best()));
 			if (tex)
 				snprintf(path, sizeof path, "%s/t4000.hdr", dir);
 			else
@@ -429,19 +433,32 @@ int main(void)
 			if (ps_map_file(path, (size_t)1 << 32, &m, &e) != 0 ||
 			    ps_pic_head_mem(&head, m.data, m.len, path, &off, &e) != 0)
 				return 1;
-			t0 = now();
-			if (ps_pic_scan_rows(&head, m.data, m.len, path, off, 0, 4000, NULL, no_row, NULL, &e) != 0)
-				return 1;
-			t_scan = now() - t0;
+			/* the goal compares two times: each the best of five runs, so
+			 * that another process's burst does not decide it */
+			t_scan = INFINITY;
+			for (int k = 0; k < 5; k++) {
+				double t;
+				t0 = now();
+				if (ps_pic_scan_rows(&head, m.data, m.len, path, off, 0, 4000, NULL, no_row, NULL, &e) != 0)
+					return 1;
+				if ((t = now() - t0) < t_scan)
+					t_scan = t;
+			}
 			snprintf(name, sizeof name, "4000x4000 %s: decode alone, 1 thr", what);
-			row(name, NAN, 1e3 * t_scan, 0, "file in memory, rows not kept");
+			row(name, NAN, 1e3 * t_scan, 0, "file in memory, rows not kept; best of 5");
 			for (int nt = 1; nt <= 2; nt++) {
 				double t;
 				snprintf(name, sizeof name, "4000x4000 %s: decode+integrate, %d thr", what, nt);
-				t0 = now();
-				ps_integrate_mem(&w, &head, m.data, m.len, off, path, coef, nt, &r, &e);
-				t = now() - t0;
-				row(name, tex ? NAN : r.response / (DECODED_ONE * M_PI) - 1, 1e3 * t, 0, "file in memory");
+				t = INFINITY;
+				for (int k = 0; k < 5; k++) {
+					double tk;
+					t0 = now();
+					ps_integrate_mem(&w, &head, m.data, m.len, off, path, coef, nt, &r, &e);
+					if ((tk = now() - t0) < t)
+						t = tk;
+				}
+				row(name, tex ? NAN : r.response / (DECODED_ONE * M_PI) - 1, 1e3 * t, 0,
+				    nt == 1 ? kernel_note : "file in memory; best of 5");
 				if (nt == 1)
 					t_fused1 = t;
 			}
