@@ -396,22 +396,33 @@ int main(void)
 		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 		double t0, t_dec, t_int, t_w;
 		char name[96];
-		t0 = now();
-		if (ps_pic_read(&pic, p4000, &e) != 0)
-			return 1;
-		t_dec = now() - t0;
+		/* issue 18's own split: reading and decoding the picture, then
+		 * integrating the stored picture; each the best of three */
+		t_dec = t_int = INFINITY;
+		for (int k = 0; k < 3; k++) {
+			double t;
+			if (k)
+				ps_pic_free(&pic);
+			t0 = now();
+			if (ps_pic_read(&pic, p4000, &e) != 0)
+				return 1;
+			if ((t = now() - t0) < t_dec)
+				t_dec = t;
+		}
 		t0 = now();
 		ps_weights_build(&w, &cosine, 0, &v, 4000, 4000, PS_W_EXACT, &e);
 		t_w = now() - t0;
-		t0 = now();
-		ps_integrate(&w, &pic, coef, &r, &e);
-		t_int = now() - t0;
-		row("4000x4000 read + decode (library)", NAN, 1e3 * t_dec, 0, NULL);
-		/* a pass of its own over a stored 64 MB picture: memory-bound,
-		 * about as long as decoding; psens integrates inside decoding
-		 * (below), where the goal is judged */
-		row("4000x4000 integration, own pass (library)", r.response / (DECODED_ONE * M_PI) - 1,
-		    1e3 * t_int, 0, "over the stored picture");
+		for (int k = 0; k < 3; k++) {
+			double t;
+			t0 = now();
+			ps_integrate(&w, &pic, coef, &r, &e);
+			if ((t = now() - t0) < t_int)
+				t_int = t;
+		}
+		row("4000x4000 read + decode (library)", NAN, 1e3 * t_dec, 0, "best of 3");
+		snprintf(name, sizeof name, "4000x4000 integration, own pass (library)");
+		row(name, r.response / (DECODED_ONE * M_PI) - 1, 1e3 * t_int, 1e3 * t_dec,
+		    "over the stored picture, best of 3; goal: no more than reading + decoding it");
 		row("4000x4000 weights (library, every core)", NAN, 1e3 * t_w, 0, NULL);
 		/* decoding fused with integration, no picture stored: the uniform
 		 * picture (long runs: its decoding is cheap) and the textured one
