@@ -146,11 +146,11 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
 		struct ps_rowsum row;
 		double rc[3];
-		ps_rowsum(px, w->w + run->off, run->n, w->mirror, kc, &row);
+		ps_rowsum(px, w, run, kc, &row);
 		ncontrib += row.n;
-		if (row.n && row.best > best) {
+		if (row.n && row.best > best) {   /* a lit pixel: best_i >= 0 */
 			best = row.best;
-			r->brightest_x = run->x0 + (row.best_i >= 0 ? row.best_i : 0);
+			r->brightest_x = run->x0 + row.best_i;
 			r->brightest_row = run->row;
 		}
 		ps_sum_merge(&tot, &row.sum);

@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "sum.h"
+#include "weights.h"
 
 struct ps_rowsum {
 	struct ps_sum sum;   /* the run's response: sum over pixels of kc . raw */
@@ -29,10 +30,10 @@ struct ps_rowsum {
 	size_t n;            /* pixels with a non-zero exponent */
 };
 
-/* px: the run's len pixels (4 bytes each); wt: its weights, or for a
- * mirrored (compact) map the first (len + 1) / 2 of them, the rest read
- * backwards; kc: stored channels to response (ps_coef_k). */
-void ps_rowsum(const uint8_t *px, const double *wt, int len, int mirror, const double kc[3],
+/* px: the pixels under run (its n, 4 bytes each) of map w, a full or a
+ * compact one (its weights as ps_wrun_at reads them); kc: stored channels
+ * to response (ps_coef_k). */
+void ps_rowsum(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run, const double kc[3],
                struct ps_rowsum *out);
 
 /* The kernels; ps_rowsum runs the best this processor has.  Tests and the
@@ -41,7 +42,7 @@ enum ps_rowsum_kernel { PS_ROWSUM_C, PS_ROWSUM_SSE2, PS_ROWSUM_AVX2 };
 int ps_rowsum_have(enum ps_rowsum_kernel k);
 enum ps_rowsum_kernel ps_rowsum_best(void);
 const char *ps_rowsum_name(enum ps_rowsum_kernel k);
-void ps_rowsum_with(enum ps_rowsum_kernel k, const uint8_t *px, const double *wt, int len, int mirror,
-                    const double kc[3], struct ps_rowsum *out);
+void ps_rowsum_with(enum ps_rowsum_kernel k, const uint8_t *px, const struct ps_weights *w,
+                    const struct ps_wrun *run, const double kc[3], struct ps_rowsum *out);
 
 #endif

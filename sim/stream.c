@@ -65,11 +65,11 @@ static void row_sum_one(const struct job *j, const struct one *o, int ri, const 
 	const struct ps_wrun *run = &o->w->runs[ri];
 	struct acc *a = &o->acc[ri];
 	struct ps_rowsum rs;
-	ps_rowsum(px_row + 4 * (size_t)run->x0, o->w->w + run->off, run->n, o->w->mirror, j->kc, &rs);
+	ps_rowsum(px_row + 4 * (size_t)run->x0, o->w, run, j->kc, &rs);
 	a->row = rs.sum;
 	a->n = rs.n;
 	a->best = rs.best;
-	a->bx = run->x0 + (rs.best_i >= 0 ? rs.best_i : 0);
+	a->bx = run->x0 + rs.best_i;   /* read only when n > 0 (totals), then best_i >= 0 */
 	ps_row_rgb(j->k, rs.raw, a->rc);
 	release(o->w, run, j->page);
 }
