@@ -65,7 +65,7 @@ for pair in pairs:
         # every message, duplicates too, must be the logged row of its id
         # (ids beyond UPTO are the second run's and are checked without it)
         if upto is None or i <= upto:
-            row = con.execute("SELECT t, sensor_v FROM samples WHERE rowid = ?", (i,)).fetchone()
+            row = logged.get(i)
             if row is None or not same(t, row[0]) or not same(v, row[1]):
                 phantom.append(i)
         if i in seen:
