@@ -420,8 +420,7 @@ int main(void)
 				t_int = t;
 		}
 		row("4000x4000 read + decode (library)", NAN, 1e3 * t_dec, 0, "best of 3");
-		snprintf(name, sizeof name, "4000x4000 integration, own pass (library)");
-		row(name, r.response / (DECODED_ONE * M_PI) - 1, 1e3 * t_int, 1e3 * t_dec,
+		row("4000x4000 integration, own pass (library)", r.response / (DECODED_ONE * M_PI) - 1, 1e3 * t_int, 1e3 * t_dec,
 		    "over the stored picture, best of 3; goal: no more than reading + decoding it");
 		row("4000x4000 weights (library, every core)", NAN, 1e3 * t_w, 0, NULL);
 		/* decoding fused with integration, no picture stored: the uniform
