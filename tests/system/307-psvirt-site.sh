@@ -88,7 +88,10 @@ sed -e "s|^results = .*|results = $TMP/ofb.results|" -e "s|^database = .*|databa
 check "psensd -n accepts the example as shipped: $("$BIN/psensd" -f "$TOP/config/example/site.conf" -n 2>&1)" \
 	"$BIN/psensd" -f "$TOP/config/example/site.conf" -n
 # the options of the example's own dry-run line
-"$BIN/psvirt" -f "$TMP/site.conf" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready2" --start 03:00 --speed 3600 \
+# from 01:00: four and a half room hours (4.5 s) before sunrise, so that a
+# sanitized psensd, whose start-up costs up to two room hours, still has
+# samples of the night to judge
+"$BIN/psvirt" -f "$TMP/site.conf" --tcp "127.0.0.1:$port" --ready-file "$TMP/ready2" --start 01:00 --speed 3600 \
 	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D min_level=0.1 -D east:gain=0.4 \
 	-D "south:faults=open 12:00-12:20" -D fade_rate=0 -D lag_tau=0 > "$TMP/site.out" 2> "$TMP/site.err" &
 pv=$!; track_pid $pv
@@ -103,11 +106,11 @@ pd=$!; track_pid $pd
 # psensd's start-up leaves its clock behind psvirt's (a sanitizer build
 # by most of an hour at 3600x): the night is judged on psvirt's clock
 wait_for 20 "$BIN/psensctl" -s "$TMP/sock" ping > /dev/null
-lag=$(clock_lag "$ready_ms" 10800 3600 "$TMP/sock")
+lag=$(clock_lag "$ready_ms" 3600 3600 "$TMP/sock")
 diag "psvirt's clock $lag s of room time ahead of psensd's"
 q() { sqlite3 "$TMP/site.db" "$1" 2>/dev/null; }
-# to 16:00 room time (12 s)
-wait_for 20 sh -c "[ \"\$(sqlite3 '$TMP/site.db' 'select max(tod_s) from samples' 2>/dev/null | cut -d. -f1)\" -ge 57600 ]"
+# to 16:00 room time (15 s)
+wait_for 30 sh -c "[ \"\$(sqlite3 '$TMP/site.db' 'select max(tod_s) from samples' 2>/dev/null | cut -d. -f1)\" -ge 57600 ]"
 kill -TERM $pd; wait $pd
 kill "$pv"; wait "$pv"
 diag "$(grep -e fault -e cleared "$TMP/psensd.err")"
