@@ -272,9 +272,41 @@ bad:
 	return NULL;
 }
 
+/* A reader is not migrated, so it checks what it was given: SQLite opens
+ * any file lazily, and its first query's words ("file is not a database",
+ * "no such table: samples") would name neither the file nor what it
+ * should have been. */
 struct psd_db *psd_db_open_readonly(const char *path, char *err, size_t errlen)
 {
-	return open_db(path, SQLITE_OPEN_READONLY, err, errlen);
+	struct psd_db *db = open_db(path, SQLITE_OPEN_READONLY, err, errlen);
+	int v;
+	if (!db)
+		return NULL;
+	if ((v = psd_db_schema(db)) < 0)
+		fail(db->h, path, err, errlen);
+	else if (v > PSD_DB_SCHEMA)
+		psd_errf(err, errlen, "%s: schema version %d is newer than this psensd's (%d)", path, v,
+		         PSD_DB_SCHEMA);
+	else if (!has_column(db, "samples", "t"))
+		psd_errf(err, errlen, "%s: not a psensd database (no samples table)", path);
+	else if (!has_column(db, "samples", "zone"))
+		psd_errf(err, errlen, "%s: schema version %d, from before zones: psensd brings it forward "
+		         "when it next opens it", path, v);
+	else
+		return db;
+	psd_db_close(db);
+	return NULL;
+}
+
+struct psd_db *psd_db_open_existing(const char *path, char *err, size_t errlen)
+{
+	/* checked first as a reader would, so that neither a lock file nor a
+	 * schema is ever made beside or inside a file that is not psensd's */
+	struct psd_db *db = psd_db_open_readonly(path, err, errlen);
+	if (!db)
+		return NULL;
+	psd_db_close(db);
+	return psd_db_open(path, err, errlen);
 }
 
 void psd_db_close(struct psd_db *db)
@@ -797,6 +829,21 @@ int psd_db_cal_sessions(struct psd_db *db, const char *zone, psd_db_cal_session_
 		};
 		fn(user, &s);
 	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
+}
+
+int psd_db_run_starts(struct psd_db *db, void (*fn)(void *user, double utc), void *user, char *err, size_t errlen)
+{
+	sqlite3_stmt *st;
+	int rc;
+	if (!has_column(db, "events", "utc"))
+		return 0;   /* a file from before schema 5 recorded no start */
+	if (!(st = query(db, err, errlen, "SELECT utc FROM events WHERE kind = 'start' AND utc IS NOT NULL"
+	                 " ORDER BY utc", "")))
+		return -1;
+	while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+		fn(user, sqlite3_column_double(st, 0));
 	sqlite3_finalize(st);
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
 }

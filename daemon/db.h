@@ -57,8 +57,14 @@ struct psd_db;
 /* Open for writing (creating or migrating the schema); ":memory:" for a
  * private in-memory database.  NULL with a message in err. */
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen);
-/* Open an existing database read-only (psensctl export and report). */
+/* Open an existing database read-only (psensctl export and report); a
+ * file that is not psensd's, or newer than this psensd, is an error naming
+ * it. */
 struct psd_db *psd_db_open_readonly(const char *path, char *err, size_t errlen);
+/* Open an existing psensd database for writing (psensctl -d accept-test):
+ * never creates a file, and refuses one that is not psensd's before
+ * touching it; the writer's lock as psd_db_open. */
+struct psd_db *psd_db_open_existing(const char *path, char *err, size_t errlen);
 void psd_db_close(struct psd_db *db);
 /* The schema version of the open file (meta 'schema'), -1 on error. */
 int psd_db_schema(struct psd_db *db);
@@ -72,6 +78,8 @@ double psd_db_last_utc(struct psd_db *db);
  * time t, for a zone (NULL: the daemon), in the events table. */
 int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind, const char *text, char *err,
                  size_t errlen);
+/* The UTC of every start of psensd on record, oldest first. */
+int psd_db_run_starts(struct psd_db *db, void (*fn)(void *user, double utc), void *user, char *err, size_t errlen);
 /* The local "YYYY-MM-DD HH:MM:SS" of a UTC time (out at least 20 bytes);
  * "" when utc is not finite. */
 void psd_db_local(double utc, char *out, size_t n);

@@ -239,6 +239,39 @@ static void newer_refused(void **state)
 	assert_int_equal(scalar("SELECT value FROM meta WHERE key = 'schema'"), 99);
 }
 
+/* A reader (psensctl report, export, log, accept-test) given a file that is
+ * not a psensd log names the file and says what it is not, before SQLite's
+ * words alone ("no such table: samples") reach the user; the file is left
+ * as it was. */
+static void reader_names_the_file(void **state)
+{
+	char err[256];
+	FILE *fp;
+	(void)state;
+	assert_non_null(fp = fopen(path, "w"));
+	fputs("zone,time\nnot a database\n", fp);
+	fclose(fp);
+	assert_null(psd_db_open_readonly(path, err, sizeof err));
+	assert_non_null(strstr(err, path));
+	assert_non_null(strstr(err, "not a database"));
+	assert_int_equal(psd_db_export_csv(path, stdout, err, sizeof err), -1);
+	assert_non_null(strstr(err, path));
+	unlink(path);
+
+	exec("CREATE TABLE foo(a);");
+	assert_null(psd_db_open_readonly(path, err, sizeof err));
+	assert_non_null(strstr(err, path));
+	assert_non_null(strstr(err, "not a psensd database"));
+	assert_int_equal(scalar("SELECT count(*) FROM sqlite_master"), 1);
+	unlink(path);
+
+	exec("CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT); INSERT INTO meta VALUES('schema', '99');"
+	     "CREATE TABLE samples(t REAL);");
+	assert_null(psd_db_open_readonly(path, err, sizeof err));
+	assert_non_null(strstr(err, path));
+	assert_non_null(strstr(err, "schema version 99 is newer than this psensd's"));
+}
+
 /* A new file is made at the current version; opening it again changes
  * nothing. */
 static void new_file(void **state)
@@ -268,6 +301,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(from_version_4, setup, teardown),
 		cmocka_unit_test_setup_teardown(newer_refused, setup, teardown),
 		cmocka_unit_test_setup_teardown(new_file, setup, teardown),
+		cmocka_unit_test_setup_teardown(reader_names_the_file, setup, teardown),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
