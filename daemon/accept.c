@@ -26,13 +26,24 @@ struct held {
 	int failed;               /* out of memory: the run fails, no verdict */
 };
 
+/* The UTC of each start of psensd: a new run's lights start from its own
+ * initial level, so no step crosses one. */
+struct starts {
+	double *utc;
+	size_t n, cap, next;
+	int failed;
+};
+
 struct scan {
 	const struct psd_accept_params *p;
 	struct held held;
+	struct starts starts;
+	double last_t;            /* the previous sample's clock time (NAN: none) */
 	/* verification */
 	struct ps_sum e2;
 	long n;
 	double worst, worst_at;
+	char worst_local[17];     /* "YYYY-MM-DD HH:MM" of the worst, "" when not dated */
 	long band[3];
 	/* full daylight */
 	long nfull;
@@ -83,8 +94,39 @@ static int is_held(const struct held *h, const struct psd_sample *s)
 	return 0;
 }
 
+static void add_start(void *user, double utc)
+{
+	struct starts *st = user;
+	if (st->n == st->cap) {
+		size_t cap = st->cap ? 2 * st->cap : 8;
+		void *q = realloc(st->utc, cap * sizeof *st->utc);
+		if (!q) {
+			st->failed = 1;
+			return;
+		}
+		st->utc = q;
+		st->cap = cap;
+	}
+	st->utc[st->n++] = utc;
+}
+
+/* 1 when s is the first sample of a run after another: a start on record
+ * since the previous sample, or (rows logged before dates) the clock gone
+ * back. */
+static int new_run(struct scan *c, const struct psd_sample *s)
+{
+	int fresh = isfinite(c->last_t) && s->t < c->last_t;
+	while (isfinite(s->utc) && c->starts.next < c->starts.n && s->utc >= c->starts.utc[c->starts.next]) {
+		c->starts.next++;
+		fresh = 1;
+	}
+	c->last_t = s->t;
+	return fresh;
+}
+
 /* cycling: swings of the commanded output, each against the last one's
- * direction, and how far apart */
+ * direction, and how far apart on the run's clock (it runs on over
+ * midnight; no swing crosses a run, new_run) */
 static void track_cycling(struct scan *c, const struct psd_sample *s)
 {
 	const struct psd_accept_params *p = c->p;
@@ -113,6 +155,11 @@ static void scan_sample(void *user, const struct psd_sample *s)
 	const struct psd_accept_params *p = c->p;
 	double dl, prev;
 	int held;
+	if (new_run(c, s)) {
+		c->prev_output = NAN;  /* the lights' level before a run's first sample is not known */
+		c->last_level = NAN;   /* nor is its first level an answer to the last run's */
+		c->last_dir = 0;
+	}
 	if (isfinite(p->since_utc) && !(s->utc >= p->since_utc))
 		return;
 	if (s->fault || !isfinite(s->output)) {
@@ -143,6 +190,7 @@ static void scan_sample(void *user, const struct psd_sample *s)
 		if (fabs(e) > c->worst) {
 			c->worst = fabs(e);
 			c->worst_at = s->tod_s;
+			snprintf(c->worst_local, sizeof c->worst_local, "%s", s->local ? s->local : "");
 		}
 		c->band[dl < 0.5 ? 0 : dl < 1.5 ? 1 : 2]++;
 	}
@@ -182,11 +230,21 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 		snprintf(err, errlen, "zone %s: the calibration sessions: out of memory", zone);
 		return -1;
 	}
+	c.last_t = NAN;
+	if (psd_db_run_starts(db, add_start, &c.starts, err, errlen) != 0 || c.starts.failed) {
+		if (c.starts.failed)
+			snprintf(err, errlen, "zone %s: the starts on record: out of memory", zone);
+		free(c.held.span);
+		free(c.starts.utc);
+		return -1;
+	}
 	if (psd_db_zone_samples(db, zone, scan_sample, &c, err, errlen) != 0) {
 		free(c.held.span);
+		free(c.starts.utc);
 		return -1;
 	}
 	free(c.held.span);
+	free(c.starts.utc);
 	memset(out, 0, PSD_ACCEPT_NTESTS * sizeof *out);
 	bands = (c.band[0] > 0) + (c.band[1] > 0) + (c.band[2] > 0);
 
@@ -201,12 +259,18 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	} else {
 		int ok = c.n >= p->min_samples && bands >= 2 && r->value <= p->rms_max && 100 * c.worst <= p->worst_max;
 		r->verdict = ok ? PSD_ACCEPT_PASS : PSD_ACCEPT_FAIL;
+		char when[20];
+		/* a record spans days: the worst sample's date with its time */
+		if (strlen(c.worst_local) == 16)
+			snprintf(when, sizeof when, "%s", c.worst_local);
+		else
+			snprintf(when, sizeof when, "%02d:%02d", (int)(c.worst_at / 3600) % 24,
+			         (int)fmod(c.worst_at / 60, 60));
 		snprintf(r->measured, sizeof r->measured, "estimate against the meter over %ld samples (at least %ld): "
-		         "rms %.2f %% (at most %g %%), worst %.2f %% at %02d:%02d (at most %g %%); daylight at the "
+		         "rms %.2f %% (at most %g %%), worst %.2f %% at %s (at most %g %%); daylight at the "
 		         "task below 50 %% of the target in %ld, 50-150 %% in %ld, 150 %% and more in %ld (two bands "
-		         "at least)", c.n, p->min_samples, r->value, p->rms_max, 100 * c.worst,
-		         (int)(c.worst_at / 3600) % 24, (int)fmod(c.worst_at / 60, 60), p->worst_max, c.band[0],
-		         c.band[1], c.band[2]);
+		         "at least)", c.n, p->min_samples, r->value, p->rms_max, 100 * c.worst, when, p->worst_max,
+		         c.band[0], c.band[1], c.band[2]);
 	}
 
 	r = &out[1];
@@ -248,11 +312,44 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	r->value = c.swings ? c.min_gap : NAN;
 	r->verdict = c.fast ? PSD_ACCEPT_FAIL : PSD_ACCEPT_PASS;
 	if (c.swings)
-		snprintf(r->measured, sizeof r->measured, "%ld reversals of the output by more than %.0f %%, the "
-		         "closest %.0f s apart, %ld within the %g s delay", c.swings, 100 * p->swing, c.min_gap,
-		         c.fast, p->delay);
+		snprintf(r->measured, sizeof r->measured, "%ld reversal%s of the output by more than %.0f %%, the "
+		         "closest %.0f s apart, %ld within the %g s delay", c.swings, c.swings == 1 ? "" : "s",
+		         100 * p->swing, c.min_gap, c.fast, p->delay);
 	else
 		snprintf(r->measured, sizeof r->measured, "no reversal of the output by more than %.0f %%",
 		         100 * p->swing);
+	return 0;
+}
+
+const char *psd_accept_overall(const struct psd_accept_summary *sum)
+{
+	return sum->failed ? "NOT ACCEPTED" : sum->tested == PSD_ACCEPT_NTESTS ? "ACCEPTED" : "INCOMPLETE";
+}
+
+int psd_accept_zone(struct psd_db *db, const char *zone, struct psd_accept_params *p, double utc,
+                    struct psd_accept_result out[PSD_ACCEPT_NTESTS], struct psd_accept_summary *sum, char *err,
+                    size_t errlen)
+{
+	char why[256];
+	int found = psd_db_zone_consts_get(db, zone, &p->target_lux, &p->elec_task_lux, &p->delay);
+	memset(sum, 0, sizeof *sum);
+	memset(out, 0, PSD_ACCEPT_NTESTS * sizeof *out);
+	if (found != 0 || psd_db_zone_count(db, zone, why, sizeof why) <= 0) {
+		snprintf(err, errlen, "no zone '%s' on record%s", zone,
+		         found != 0 ? " (psensd records a zone's design constants when it starts)" : "");
+		return -1;
+	}
+	if (psd_accept_run(db, zone, p, out, err, errlen) != 0)
+		return -1;
+	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
+		sum->failed += out[i].verdict == PSD_ACCEPT_FAIL;
+		sum->tested += out[i].verdict != PSD_ACCEPT_NOT_TESTED;
+	}
+	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++)
+		if (psd_db_accept_add(db, zone, utc, out[i].test, psd_accept_verdict_names[out[i].verdict + 1],
+		                      out[i].value, out[i].limit, out[i].samples, out[i].measured, err, errlen) != 0) {
+			sum->unstored = 1;
+			return -1;
+		}
 	return 0;
 }

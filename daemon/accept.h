@@ -62,4 +62,21 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
                    struct psd_accept_result out[PSD_ACCEPT_NTESTS], char *err, size_t errlen);
 extern const char *const psd_accept_verdict_names[];   /* indexed by verdict + 1 */
 
+/* The outcome of a whole run. */
+struct psd_accept_summary {
+	int tested, failed;       /* tests run (not NOT TESTED), and failed */
+	int unstored;             /* the results are in out but could not be stored */
+};
+/* The acceptance of a zone as psensctl -d and psensd's control socket run
+ * it: the zone's design constants from db (psensd records them when it
+ * starts) into p, every test, and each result stored as run at utc (epoch
+ * s).  -1 with a message in err: the zone is not on record, the log could
+ * not be read, or (sum->unstored) the results could not be stored. */
+int psd_accept_zone(struct psd_db *db, const char *zone, struct psd_accept_params *p, double utc,
+                    struct psd_accept_result out[PSD_ACCEPT_NTESTS], struct psd_accept_summary *sum, char *err,
+                    size_t errlen);
+/* "ACCEPTED" (every test run, none failed), "NOT ACCEPTED" (one failed) or
+ * "INCOMPLETE" (one not run). */
+const char *psd_accept_overall(const struct psd_accept_summary *sum);
+
 #endif

@@ -171,6 +171,54 @@ static void sessions_left_out(void **state)
 	psd_db_close(db);
 }
 
+/* Two runs of psensd on one log: a new run starts its lights from its
+ * own initial level and its clock from its own day, so the step from the
+ * last sample of one run to the first of the next is neither the
+ * control's cycling nor a sample whose lights' level is known.  Run A
+ * ends at 10 % at 19:27 on day 0; run B starts on a later day at 10:00
+ * (its clock t lower than A's) at full output and dims to 10 %. */
+static void runs_apart(void **state)
+{
+	char err[256];
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	(void)state;
+	assert_non_null(db);
+	psd_db_set_epoch(db, 0);
+	assert_int_equal(psd_db_event(db, 69000, NULL, "start", "run A", err, sizeof err), 0);
+	add(db, 70000, 0.5, 500, 500);          /* first of run A */
+	add(db, 70060, 0.1, 1500, 1500);        /* down */
+	add(db, 70120, 0.1, 1100, 1100);
+	psd_db_set_epoch(db, 200000);
+	assert_int_equal(psd_db_event(db, 36000, NULL, "start", "run B", err, sizeof err), 0);
+	add(db, 36000, 1.0, 1100, 1100);        /* first of run B: up, but not an answer to anything */
+	add(db, 36060, 0.1, 2000, 2000);        /* down */
+	add(db, 36120, 0.1, 1100, 1100);
+	psd_db_commit(db, err, sizeof err);
+	params(&p);
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[0].samples, 4);      /* 70060, 70120, 36060, 36120 */
+	assert_int_equal(r[3].verdict, PSD_ACCEPT_PASS);
+	assert_int_equal(r[3].samples, 0);      /* no reversal inside either run */
+	assert_non_null(strstr(r[3].measured, "no reversal"));
+
+	/* rows from before dates (no utc, no events): the clock going back
+	 * is the only sign of a new run, and it is enough */
+	psd_db_close(db);
+	db = psd_db_open(":memory:", err, sizeof err);
+	assert_non_null(db);
+	add(db, 70000, 0.5, 500, 500);
+	add(db, 70060, 0.1, 1500, 1500);
+	add(db, 36000, 1.0, 1100, 1100);
+	add(db, 36060, 0.1, 2000, 2000);
+	psd_db_commit(db, err, sizeof err);
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[0].samples, 2);
+	assert_int_equal(r[3].samples, 0);
+	psd_db_close(db);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -178,6 +226,7 @@ int main(void)
 		cmocka_unit_test(fails),
 		cmocka_unit_test(not_tested),
 		cmocka_unit_test(sessions_left_out),
+		cmocka_unit_test(runs_apart),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
