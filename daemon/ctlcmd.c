@@ -4,20 +4,25 @@
  * the commands; `help` does as well. */
 #include <errno.h>
 #include <json-c/json.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
+#include "accept.h"
 #include "daemon.h"
+#include "db.h"
 #include "errbuf.h"
 #include "log.h"
 
 static const char help_text[] =
 	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | release ZONE | "
 	"ratios [ZONE] | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort | "
+	"accept-test ZONE [--since YYYY-MM-DD] [--samples N] | "
 	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
 
 static void put_num(json_object *o, const char *key, double v)
@@ -29,6 +34,21 @@ static void put_num(json_object *o, const char *key, double v)
 static void put_str(json_object *o, const char *key, const char *v)
 {
 	json_object_object_add(o, key, v ? json_object_new_string(v) : NULL);
+}
+
+/* A path psensd names to a client, absolute: a relative one (from a
+ * relative -f) is relative to psensd's directory, not the client's. */
+static void put_path(json_object *o, const char *key, const char *path)
+{
+	char abs[PATH_MAX], cwd[PATH_MAX];
+	if (!path || path[0] == '/')
+		put_str(o, key, path);
+	else if (realpath(path, abs))
+		put_str(o, key, abs);
+	else if (getcwd(cwd, sizeof cwd) && (size_t)snprintf(abs, sizeof abs, "%s/%s", cwd, path) < sizeof abs)
+		put_str(o, key, abs);
+	else
+		put_str(o, key, path);
 }
 
 static void finish(json_object *o, char *reply, size_t len)
@@ -380,7 +400,7 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	put_str(o, "time", t);
 	put_str(o, "clock", d->clock.simulated ? "simulated" : "real");
 	json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
-	put_str(o, "config", d->config_path);
+	put_path(o, "config", d->config_path);
 	json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
 	put_num(o, "latency_max_s", e->lat_n ? e->lat_max : NAN);
 	put_num(o, "latency_mean_s", e->lat_n ? e->lat_sum / (double)e->lat_n : NAN);
@@ -482,7 +502,7 @@ static void reload(struct psd_daemon *d, char *reply, size_t len)
 	}
 	if (psd_daemon_reload_why(d, w) == 0) {
 		o = ok_reply();
-		put_str(o, "reloaded", d->config_path);
+		put_path(o, "reloaded", d->config_path);
 		finish(o, reply, len);
 		free(w);
 		return;
@@ -498,6 +518,84 @@ static void reload(struct psd_daemon *d, char *reply, size_t len)
 	json_object_object_add(o, "reasons", arr);
 	finish(o, reply, len);
 	free(w);
+}
+
+static const char accept_usage[] = "usage: accept-test ZONE [--since YYYY-MM-DD] [--samples N]";
+
+/* accept-test: the zone's acceptance tests (accept.h) on psensd's own log,
+ * stored and committed at once so that a report (another reader) sees
+ * them.  psensd runs them because it is the log's one writer: its open
+ * batch holds the newest samples, and psensctl -d could not write beside
+ * it. */
+static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+{
+	struct psd_engine *e = &d->engine;
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	struct psd_accept_summary sum;
+	struct timespec now;
+	json_object *o, *a, *tests;
+	char err[512], stamp[24], *end;
+	psd_accept_defaults(&p);
+	if (argc < 2) {
+		error_reply(reply, len, "%s", accept_usage);
+		return;
+	}
+	for (int i = 2; i < argc; i++) {
+		if (strcmp(argv[i], "--since") == 0 && i + 1 < argc) {
+			if (psd_clock_parse_date(argv[++i], &p.since_utc) != 0) {
+				error_reply(reply, len, "accept-test --since %s: not a date YYYY-MM-DD", argv[i]);
+				return;
+			}
+		} else if (strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
+			p.min_samples = strtol(argv[++i], &end, 10);
+			if (*end || p.min_samples < 1) {
+				error_reply(reply, len, "accept-test --samples %s: a count from 1", argv[i]);
+				return;
+			}
+		} else {
+			error_reply(reply, len, "%s", accept_usage);
+			return;
+		}
+	}
+	if (!zone_arg(d, argv[1], reply, len))
+		return;
+	if (!e->db) {
+		error_reply(reply, len, "psensd keeps no database: the acceptance tests judge its log");
+		return;
+	}
+	clock_gettime(CLOCK_REALTIME, &now);
+	if (psd_accept_zone(e->db, argv[1], &p, (double)now.tv_sec, r, &sum, err, sizeof err) != 0 ||
+	    psd_db_commit(e->db, err, sizeof err) != 0) {
+		error_reply(reply, len, "accept-test %s: %s", argv[1], err);
+		return;
+	}
+	psd_engine_stamp(e, psd_clock_now(&d->clock), stamp, sizeof stamp);
+	log_info("zone %s: %s: acceptance tests: %s (%d of %d run, %d failed)", argv[1], stamp,
+	         psd_accept_overall(&sum), sum.tested, PSD_ACCEPT_NTESTS, sum.failed);
+	o = ok_reply();
+	a = json_object_new_object();
+	put_str(a, "zone", argv[1]);
+	put_num(a, "target_lux", p.target_lux);
+	put_num(a, "elec_task_lux", p.elec_task_lux);
+	put_num(a, "delay", p.delay);
+	tests = json_object_new_array();
+	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
+		json_object *t = json_object_new_object();
+		put_str(t, "test", r[i].test);
+		put_str(t, "verdict", psd_accept_verdict_names[r[i].verdict + 1]);
+		put_num(t, "value", r[i].value);
+		put_num(t, "limit", r[i].limit);
+		json_object_object_add(t, "samples", json_object_new_int64(r[i].samples));
+		put_str(t, "measured", r[i].measured);
+		json_object_array_add(tests, t);
+	}
+	json_object_object_add(a, "tests", tests);
+	put_str(a, "verdict", psd_accept_overall(&sum));
+	json_object_object_add(a, "tested", json_object_new_int(sum.tested));
+	json_object_object_add(a, "failed", json_object_new_int(sum.failed));
+	json_object_object_add(o, "accept", a);
+	finish(o, reply, len);
 }
 
 void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
@@ -535,7 +633,7 @@ void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len)
 		ratios(d, argc == 2 ? argv[1] : NULL, reply, len);
 	} else if (strcmp(argv[0], "log") == 0 && argc == 1) {
 		json_object *o = ok_reply();
-		put_str(o, "database", e->cf->database);
+		put_path(o, "database", e->cf->database);
 		json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
 		finish(o, reply, len);
 	} else if (strcmp(argv[0], "target") == 0) {
@@ -563,6 +661,8 @@ void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len)
 			psd_engine_release(z);
 			finish(ok_reply(), reply, len);
 		}
+	} else if (strcmp(argv[0], "accept-test") == 0) {
+		accept_test(d, argc, argv, reply, len);
 	} else if (strcmp(argv[0], "calibrate") == 0) {
 		calibrate(d, argc, argv, reply, len);
 	} else if (strcmp(argv[0], "dali") == 0) {

@@ -353,29 +353,82 @@ static int export_csv(const char *sock, const char *dbpath, int timeout_ms)
 }
 
 /* accept-test ZONE: the acceptance tests (daemon/accept.h) on the zone's
- * log, printed and stored.  0 when none fails. */
-static int accept_test(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
+ * log, printed and stored.  Without -d psensd runs them on its own log
+ * (it is the database's one writer, and its open batch holds the newest
+ * samples); with -d psensctl runs them on a file no psensd holds. */
+static void accept_print(const char *zone, const struct psd_accept_params *p,
+                         const struct psd_accept_result r[PSD_ACCEPT_NTESTS], const struct psd_accept_summary *sum)
+{
+	printf("acceptance of zone %s (target %g lx, electric %.1f lx at full output, delay %g s):\n", zone,
+	       p->target_lux, p->elec_task_lux, p->delay);
+	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++)
+		printf("  %-14s %-10s %s\n", r[i].test, psd_accept_verdict_names[r[i].verdict + 1], r[i].measured);
+	printf("zone %s: %s (%d of %d tests run, %d failed)\n", zone, psd_accept_overall(sum), sum->tested,
+	       PSD_ACCEPT_NTESTS, sum->failed);
+}
+
+static int accept_exit(const struct psd_accept_summary *sum)
+{
+	return sum->failed ? 1 : sum->tested == PSD_ACCEPT_NTESTS ? 0 : 3;
+}
+
+static double num_or_nan(json_object *o, const char *key)
+{
+	json_object *v = member(o, key);
+	return v && json_object_get_type(v) != json_type_null ? json_object_get_double(v) : NAN;
+}
+
+/* psensd's reply (ctlcmd.c, accept_reply) back into the results */
+static int accept_from_reply(json_object *a, struct psd_accept_params *p, struct psd_accept_result r[],
+                             struct psd_accept_summary *sum)
+{
+	json_object *tests = member(a, "tests");
+	if (!tests || json_object_get_type(tests) != json_type_array ||
+	    json_object_array_length(tests) != PSD_ACCEPT_NTESTS)
+		return -1;
+	p->target_lux = num_or_nan(a, "target_lux");
+	p->elec_task_lux = num_or_nan(a, "elec_task_lux");
+	p->delay = num_or_nan(a, "delay");
+	memset(sum, 0, sizeof *sum);
+	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
+		json_object *t = json_object_array_get_idx(tests, i);
+		const char *v = text_of(t, "verdict"), *m = text_of(t, "measured");
+		r[i].test = text_of(t, "test");
+		r[i].verdict = -2;
+		for (int k = 0; k < 3 && v; k++)
+			if (strcmp(v, psd_accept_verdict_names[k]) == 0)
+				r[i].verdict = k - 1;
+		if (!r[i].test || r[i].verdict == -2)
+			return -1;
+		snprintf(r[i].measured, sizeof r[i].measured, "%s", m ? m : "");
+		sum->failed += r[i].verdict == PSD_ACCEPT_FAIL;
+		sum->tested += r[i].verdict != PSD_ACCEPT_NOT_TESTED;
+	}
+	return 0;
+}
+
+static int accept_test(const char *sock, const char *dbpath, int raw, int timeout_ms, int argc, char **argv)
 {
 	struct psd_accept_params p;
 	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	struct psd_accept_summary sum;
 	struct psd_db *db;
 	struct timespec now;
-	const char *zone = NULL;
+	const char *zone = NULL, *since = NULL, *samples = NULL;
 	char err[512], *end;
-	json_object *o;
-	int failed = 0, tested = 0, found;
-	double target, elec, delay;
 	psd_accept_defaults(&p);
 	for (int i = 0; i < argc; i++) {
 		if (strcmp(argv[i], "--since") == 0 && i + 1 < argc) {
-			if (psd_clock_parse_date(argv[++i], &p.since_utc) != 0) {
-				fprintf(stderr, "psensctl: accept-test --since %s: not a date YYYY-MM-DD\n", argv[i]);
+			since = argv[++i];
+			if (psd_clock_parse_date(since, &p.since_utc) != 0) {
+				fprintf(stderr, "psensctl: accept-test --since %s: not a date YYYY-MM-DD\n", since);
 				return 2;
 			}
 		} else if (strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
-			p.min_samples = strtol(argv[++i], &end, 10);
+			samples = argv[++i];
+			p.min_samples = strtol(samples, &end, 10);
 			if (*end || p.min_samples < 1) {
-				fprintf(stderr, "psensctl: accept-test --samples %s: a count from 1\n", argv[i]);
+				fprintf(stderr, "psensctl: accept-test --samples %s: a count from 1\n", samples);
 				return 2;
 			}
 		} else if (!zone && argv[i][0] != '-') {
@@ -389,50 +442,58 @@ static int accept_test(const char *sock, const char *dbpath, int timeout_ms, int
 		usage(stderr);
 		return 2;
 	}
-	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
-		return 1;
-	if (!(db = psd_db_open(dbpath, err, sizeof err))) {
-		fprintf(stderr, "psensctl: %s\n", err);
+	if (!dbpath) {
+		char request[PSD_CTL_MAX_LINE];
+		char *reply;
+		json_object *o, *a;
+		int n = snprintf(request, sizeof request, "accept-test %s%s%s%s%s", zone, since ? " --since " : "",
+		                 since ? since : "", samples ? " --samples " : "", samples ? samples : "");
+		if (n < 0 || (size_t)n >= sizeof request) {
+			fprintf(stderr, "psensctl: request longer than %zu bytes\n", sizeof request - 1);
+			return 2;
+		}
+		if (!(reply = ask(sock, request, timeout_ms)))
+			return 1;
+		o = json_tokener_parse(reply);
+		if (raw)
+			puts(reply);
+		if (!o || !json_object_get_boolean(member(o, "ok"))) {
+			if (!raw)
+				fprintf(stderr, "psensctl: %s\n", o ? text_of(o, "error") : reply);
+			json_object_put(o);
+			free(reply);
+			return 1;
+		}
+		a = member(o, "accept");
+		if (accept_from_reply(a, &p, r, &sum) != 0) {
+			fprintf(stderr, "psensctl: accept-test: a reply psensctl cannot read: %s\n", reply);
+			json_object_put(o);
+			free(reply);
+			return 1;
+		}
+		if (!raw)
+			accept_print(zone, &p, r, &sum);
 		json_object_put(o);
-		return 1;
+		free(reply);
+		return accept_exit(&sum);
 	}
-	found = psd_db_zone_consts_get(db, zone, &target, &elec, &delay);
-	if (found != 0 || psd_db_zone_count(db, zone, err, sizeof err) <= 0) {
-		fprintf(stderr, "psensctl: %s: no zone '%s' on record%s\n", dbpath, zone,
-		        found != 0 ? " (psensd records a zone's design constants when it starts)" : "");
-		psd_db_close(db);
-		json_object_put(o);
-		return 1;
-	}
-	p.target_lux = target;
-	p.elec_task_lux = elec;
-	p.delay = delay;
-	if (psd_accept_run(db, zone, &p, r, err, sizeof err) != 0) {
-		fprintf(stderr, "psensctl: %s\n", err);
-		psd_db_close(db);
-		json_object_put(o);
+	if (!(db = psd_db_open_existing(dbpath, err, sizeof err))) {
+		/* psensd holds it: its socket is the way in */
+		fprintf(stderr, "psensctl: %s%s\n", err,
+		        strstr(err, "in use by psensd") ? "; without -d, psensctl asks psensd to run the tests" : "");
 		return 1;
 	}
 	clock_gettime(CLOCK_REALTIME, &now);
-	printf("acceptance of zone %s (target %g lx, electric %.1f lx at full output, delay %g s):\n", zone, target,
-	       elec, delay);
-	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
-		const char *v = psd_accept_verdict_names[r[i].verdict + 1];
-		printf("  %-14s %-10s %s\n", r[i].test, v, r[i].measured);
-		failed += r[i].verdict == PSD_ACCEPT_FAIL;
-		tested += r[i].verdict != PSD_ACCEPT_NOT_TESTED;
-		if (psd_db_accept_add(db, zone, (double)now.tv_sec, r[i].test, v, r[i].value, r[i].limit, r[i].samples,
-		                      r[i].measured, err, sizeof err) != 0) {
-			fprintf(stderr, "psensctl: %s\n", err);
-			failed++;
-		}
+	if (psd_accept_zone(db, zone, &p, (double)now.tv_sec, r, &sum, err, sizeof err) != 0) {
+		if (sum.unstored)
+			accept_print(zone, &p, r, &sum);
+		fprintf(stderr, "psensctl: %s: %s\n", dbpath, err);
+		psd_db_close(db);
+		return 1;
 	}
-	printf("zone %s: %s (%d of %d tests run, %d failed)\n", zone,
-	       failed ? "NOT ACCEPTED" : tested == PSD_ACCEPT_NTESTS ? "ACCEPTED" : "INCOMPLETE", tested,
-	       PSD_ACCEPT_NTESTS, failed);
 	psd_db_close(db);
-	json_object_put(o);
-	return failed ? 1 : tested == PSD_ACCEPT_NTESTS ? 0 : 3;
+	accept_print(zone, &p, r, &sum);
+	return accept_exit(&sum);
 }
 
 /* report [ZONE] [-o FILE] [--format pdf|png|svg] [-t PERCENT] [-c CONFIG]
@@ -818,7 +879,7 @@ int main(int argc, char **argv)
 	if (strcmp(argv[optind], "report") == 0)
 		return report(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "accept-test") == 0)
-		return accept_test(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
+		return accept_test(sock, dbpath, raw, timeout_ms, argc - optind - 1, argv + optind + 1);
 	for (int i = optind; i < argc; i++) {
 		int n = snprintf(request + used, sizeof request - used, "%s%s", i > optind ? " " : "", argv[i]);
 		if (n < 0 || (size_t)n >= sizeof request - used) {
