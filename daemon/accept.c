@@ -60,20 +60,29 @@ struct scan {
 	long swings, fast;
 };
 
+/* arr (n elements of size, room for *cap) with room for one more,
+ * doubling; NULL when out of memory, arr as it was. */
+static void *grow(void *arr, size_t n, size_t *cap, size_t size)
+{
+	size_t c = *cap ? 2 * *cap : 8;
+	void *q;
+	if (n < *cap)
+		return arr;
+	if ((q = realloc(arr, c * size)))
+		*cap = c;
+	return q;
+}
+
 static void add_session(void *user, const struct psd_db_cal_session *s)
 {
 	struct held *h = user;
 	double *sp;
-	if (h->n == h->cap) {
-		size_t cap = h->cap ? 2 * h->cap : 8;
-		void *q = realloc(h->span, cap * sizeof *h->span);
-		if (!q) {
-			h->failed = 1;
-			return;
-		}
-		h->span = q;
-		h->cap = cap;
+	void *q = grow(h->span, h->n, &h->cap, sizeof *h->span);
+	if (!q) {
+		h->failed = 1;
+		return;
 	}
+	h->span = q;
 	/* a session still running (or killed) has held the lights since it started */
 	sp = h->span[h->n++];
 	sp[0] = s->started_utc;
@@ -97,16 +106,12 @@ static int is_held(const struct held *h, const struct psd_sample *s)
 static void add_start(void *user, double utc)
 {
 	struct starts *st = user;
-	if (st->n == st->cap) {
-		size_t cap = st->cap ? 2 * st->cap : 8;
-		void *q = realloc(st->utc, cap * sizeof *st->utc);
-		if (!q) {
-			st->failed = 1;
-			return;
-		}
-		st->utc = q;
-		st->cap = cap;
+	void *q = grow(st->utc, st->n, &st->cap, sizeof *st->utc);
+	if (!q) {
+		st->failed = 1;
+		return;
 	}
+	st->utc = q;
 	st->utc[st->n++] = utc;
 }
 
