@@ -126,6 +126,22 @@ __attribute__((constructor)) static void fixture_init(void)
 	sigfillset(&all);
 	pthread_sigmask(SIG_BLOCK, &all, &old);
 	fixture_start(ctl, init, lines);
+	/* ... and the program's main thread keeps the signals it reads from
+	 * its signalfd (HUP, INT, TERM) blocked from here on, not only from
+	 * its own sigprocmask in main.  umockdev 0.17 (Debian 12) keeps the
+	 * mask it saves around every trapped call (open, fopen, rename,
+	 * statfs, ...) in one global, before taking its lock: two threads in
+	 * trapped calls at once can each leave with the other's mask
+	 * (umockdev issue 252, fixed upstream in July 2024).  Our state
+	 * thread writes a file every 50 ms; if the main thread was in a
+	 * trapped call with its start-up mask, empty, the state thread could
+	 * leave with that empty mask and later take the test's SIGHUP and die
+	 * of it (420: exit 129 at the reload, 2 runs in 8).  With these three
+	 * blocked in every thread from the start, any mask a thread is left
+	 * with still blocks them. */
+	sigaddset(&old, SIGHUP);
+	sigaddset(&old, SIGINT);
+	sigaddset(&old, SIGTERM);
 	pthread_sigmask(SIG_SETMASK, &old, NULL);
 }
 
