@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "clock.h"
 #include "db.h"
 #include "sum.h"
 
@@ -326,6 +327,36 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	return 0;
 }
 
+int psd_accept_option(struct psd_accept_params *p, const char *opt, const char *val, char *err, size_t errlen)
+{
+	char *end;
+	if (strcmp(opt, "--since") == 0) {
+		if (psd_clock_parse_date(val, &p->since_utc) != 0) {
+			snprintf(err, errlen, "accept-test --since %s: not a date YYYY-MM-DD", val);
+			return -1;
+		}
+		return 1;
+	}
+	if (strcmp(opt, "--samples") == 0) {
+		p->min_samples = strtol(val, &end, 10);
+		if (*end || p->min_samples < 1) {
+			snprintf(err, errlen, "accept-test --samples %s: a count from 1", val);
+			return -1;
+		}
+		return 1;
+	}
+	return 0;
+}
+
+void psd_accept_summarize(const struct psd_accept_result r[PSD_ACCEPT_NTESTS], struct psd_accept_summary *sum)
+{
+	memset(sum, 0, sizeof *sum);
+	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
+		sum->failed += r[i].verdict == PSD_ACCEPT_FAIL;
+		sum->tested += r[i].verdict != PSD_ACCEPT_NOT_TESTED;
+	}
+}
+
 const char *psd_accept_overall(const struct psd_accept_summary *sum)
 {
 	return sum->failed ? "NOT ACCEPTED" : sum->tested == PSD_ACCEPT_NTESTS ? "ACCEPTED" : "INCOMPLETE";
@@ -346,10 +377,7 @@ int psd_accept_zone(struct psd_db *db, const char *zone, struct psd_accept_param
 	}
 	if (psd_accept_run(db, zone, p, out, err, errlen) != 0)
 		return -1;
-	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
-		sum->failed += out[i].verdict == PSD_ACCEPT_FAIL;
-		sum->tested += out[i].verdict != PSD_ACCEPT_NOT_TESTED;
-	}
+	psd_accept_summarize(out, sum);
 	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++)
 		if (psd_db_accept_add(db, zone, utc, out[i].test, psd_accept_verdict_names[out[i].verdict + 1],
 		                      out[i].value, out[i].limit, out[i].samples, out[i].measured, err, errlen) != 0) {

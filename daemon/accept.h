@@ -75,6 +75,12 @@ struct psd_accept_summary {
 int psd_accept_zone(struct psd_db *db, const char *zone, struct psd_accept_params *p, double utc,
                     struct psd_accept_result out[PSD_ACCEPT_NTESTS], struct psd_accept_summary *sum, char *err,
                     size_t errlen);
+/* One option of accept-test (psensctl's and the control socket's): 1 when
+ * opt is --since DATE or --samples N and val is good (p set), 0 when opt
+ * is neither, -1 with a message in err when val is bad. */
+int psd_accept_option(struct psd_accept_params *p, const char *opt, const char *val, char *err, size_t errlen);
+/* The tests run and failed of a run's results. */
+void psd_accept_summarize(const struct psd_accept_result r[PSD_ACCEPT_NTESTS], struct psd_accept_summary *sum);
 /* "ACCEPTED" (every test run, none failed), "NOT ACCEPTED" (one failed) or
  * "INCOMPLETE" (one not run). */
 const char *psd_accept_overall(const struct psd_accept_summary *sum);

@@ -535,26 +535,16 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	struct psd_accept_summary sum;
 	struct timespec now;
 	json_object *o, *a, *tests;
-	char err[512], stamp[24], *end;
+	char err[512], stamp[24];
 	psd_accept_defaults(&p);
 	if (argc < 2) {
 		error_reply(reply, len, "%s", accept_usage);
 		return;
 	}
-	for (int i = 2; i < argc; i++) {
-		if (strcmp(argv[i], "--since") == 0 && i + 1 < argc) {
-			if (psd_clock_parse_date(argv[++i], &p.since_utc) != 0) {
-				error_reply(reply, len, "accept-test --since %s: not a date YYYY-MM-DD", argv[i]);
-				return;
-			}
-		} else if (strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
-			p.min_samples = strtol(argv[++i], &end, 10);
-			if (*end || p.min_samples < 1) {
-				error_reply(reply, len, "accept-test --samples %s: a count from 1", argv[i]);
-				return;
-			}
-		} else {
-			error_reply(reply, len, "%s", accept_usage);
+	for (int i = 2; i < argc; i += 2) {
+		int rc = i + 1 < argc ? psd_accept_option(&p, argv[i], argv[i + 1], err, sizeof err) : 0;
+		if (rc <= 0) {
+			error_reply(reply, len, "%s", rc < 0 ? err : accept_usage);
 			return;
 		}
 	}

@@ -389,7 +389,6 @@ static int accept_from_reply(json_object *a, struct psd_accept_params *p, struct
 	p->target_lux = num_or_nan(a, "target_lux");
 	p->elec_task_lux = num_or_nan(a, "elec_task_lux");
 	p->delay = num_or_nan(a, "delay");
-	memset(sum, 0, sizeof *sum);
 	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
 		json_object *t = json_object_array_get_idx(tests, i);
 		const char *v = text_of(t, "verdict"), *m = text_of(t, "measured");
@@ -401,9 +400,8 @@ static int accept_from_reply(json_object *a, struct psd_accept_params *p, struct
 		if (!r[i].test || r[i].verdict == -2)
 			return -1;
 		snprintf(r[i].measured, sizeof r[i].measured, "%s", m ? m : "");
-		sum->failed += r[i].verdict == PSD_ACCEPT_FAIL;
-		sum->tested += r[i].verdict != PSD_ACCEPT_NOT_TESTED;
 	}
+	psd_accept_summarize(r, sum);
 	return 0;
 }
 
@@ -415,22 +413,20 @@ static int accept_test(const char *sock, const char *dbpath, int raw, int timeou
 	struct psd_db *db;
 	struct timespec now;
 	const char *zone = NULL, *since = NULL, *samples = NULL;
-	char err[512], *end;
+	char err[512];
 	psd_accept_defaults(&p);
 	for (int i = 0; i < argc; i++) {
-		if (strcmp(argv[i], "--since") == 0 && i + 1 < argc) {
-			since = argv[++i];
-			if (psd_clock_parse_date(since, &p.since_utc) != 0) {
-				fprintf(stderr, "psensctl: accept-test --since %s: not a date YYYY-MM-DD\n", since);
-				return 2;
-			}
-		} else if (strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
-			samples = argv[++i];
-			p.min_samples = strtol(samples, &end, 10);
-			if (*end || p.min_samples < 1) {
-				fprintf(stderr, "psensctl: accept-test --samples %s: a count from 1\n", samples);
-				return 2;
-			}
+		int rc = i + 1 < argc ? psd_accept_option(&p, argv[i], argv[i + 1], err, sizeof err) : 0;
+		if (rc < 0) {
+			fprintf(stderr, "psensctl: %s\n", err);
+			return 2;
+		} else if (rc > 0) {
+			/* kept to pass on to psensd as given */
+			if (strcmp(argv[i], "--since") == 0)
+				since = argv[i + 1];
+			else
+				samples = argv[i + 1];
+			i++;
 		} else if (!zone && argv[i][0] != '-') {
 			zone = argv[i];
 		} else {
