@@ -2,7 +2,10 @@
 # psensd: one Makefile for the whole tree.  The layout is the architecture:
 #   sim/      the simulation library (libpsim.a) and its tools in sim/cmd/
 #   drivers/  device drivers behind one method table (libpsdrv.a); no simulation here
-#   daemon/   psensd, psensctl and psvirt: joins sim/ and drivers/
+#   daemon/   psensd's core (libpsd.a) and its programs psensd, psensctl in
+#             daemon/cmd/: joins sim/ and drivers/; one room per front end:
+#             daemon/mqtt/ (libpsdmqtt.a), daemon/report/ (libpsdreport.a),
+#             daemon/psvirt/ (psvirt and its Modbus server, libpsvirt.a)
 #   tests/    unit (cmocka), system (shell, real binaries), fuzz (libFuzzer), bench
 # Every directory may add rules in its own module.mk (included below).
 #
@@ -45,20 +48,25 @@ SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
 # the rules that use DRV_SRC.
 include drivers/module.mk
 DAEMON_SRC   := $(wildcard daemon/*.c)
-# MQTT (daemon/mqtt*.c, psensd-mqtt(7)): WITH_MQTT = auto | yes | no, like the
-# drivers.  Without libmosquitto daemon/mqtt_off.c stands in: the [mqtt]
+# MQTT (daemon/mqtt/, psensd-mqtt(7)): WITH_MQTT = auto | yes | no, like the
+# drivers.  Without libmosquitto daemon/mqtt/mqtt_off.c stands in: the [mqtt]
 # section is still judged, and a configured one is refused at start.
 WITH_MQTT ?= auto
 $(eval $(call feature,MQTT,libmosquitto,PS_WITH_MQTT))
+MQTT_SRC     := $(wildcard daemon/mqtt/*.c)
 ifeq ($(HAVE_MQTT),yes)
-  DAEMON_SRC := $(filter-out daemon/mqtt_off.c,$(DAEMON_SRC))
+  MQTT_SRC := $(filter-out daemon/mqtt/mqtt_off.c,$(MQTT_SRC))
 else
-  DAEMON_SRC := $(filter-out daemon/mqtt.c,$(DAEMON_SRC))
+  MQTT_SRC := $(filter-out daemon/mqtt/mqtt.c,$(MQTT_SRC))
 endif
-DAEMON_CMDS  := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
+REPORT_SRC   := $(wildcard daemon/report/*.c)
+# psvirt's room: its main (psvirt.c) and the library of its Modbus server
+PSVIRT_SRC   := $(filter-out daemon/psvirt/psvirt.c,$(wildcard daemon/psvirt/*.c))
+CORE_CMDS    := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
+DAEMON_CMDS  := $(CORE_CMDS)
 # psvirt serves the virtual room over Modbus: it needs libmodbus.
-ifneq ($(HAVE_MODBUS),yes)
-  DAEMON_CMDS := $(filter-out psvirt,$(DAEMON_CMDS))
+ifeq ($(HAVE_MODBUS),yes)
+  DAEMON_CMDS += psvirt
 endif
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
@@ -66,6 +74,12 @@ obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 LIBPSIM   = $(BUILD)/lib/libpsim.a
 LIBPSDRV  = $(BUILD)/lib/libpsdrv.a
 LIBPSD    = $(BUILD)/lib/libpsd.a
+LIBPSDMQTT   = $(BUILD)/lib/libpsdmqtt.a
+LIBPSDREPORT = $(BUILD)/lib/libpsdreport.a
+LIBPSVIRT    = $(BUILD)/lib/libpsvirt.a
+# the daemon's core with the MQTT room: config.c judges [mqtt]
+# (daemon/mqtt/mqttconf.c) and loop.c runs the client, which drives the engine
+LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
@@ -80,10 +94,18 @@ config-status:
 	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
-# drivers/, daemon/ and tests/ see everything.
-INC = -Isim -Idrivers -Idaemon
+# drivers/; the daemon's core sees sim/, drivers/, itself and MQTT's public
+# header (daemon/mqtt/mqtt.h: tests/system/005 keeps the rest of the room
+# out of the core); a room sees the core and itself; the programs in
+# daemon/cmd/ and tests/ see everything.
+INC_CORE = -Isim -Idrivers -Idaemon -Idaemon/mqtt
+INC = $(INC_CORE) -Idaemon/report -Idaemon/psvirt
 $(BUILD)/obj/sim/%.o: INC = -Isim
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
+$(BUILD)/obj/daemon/%.o: INC = $(INC_CORE)
+$(BUILD)/obj/daemon/report/%.o: INC = $(INC_CORE) -Idaemon/report
+$(BUILD)/obj/daemon/psvirt/%.o: INC = $(INC_CORE) -Idaemon/psvirt
+$(BUILD)/obj/daemon/cmd/%.o: INC = $(INC_CORE) -Idaemon/report -Idaemon/psvirt
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) $(INC) $(CFLAGS) -MMD -MP -c -o $@ $<
@@ -97,15 +119,35 @@ $(LIBPSDRV): $(call obj,$(DRV_SRC))
 $(LIBPSD): $(call obj,$(DAEMON_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
+$(LIBPSDMQTT): $(call obj,$(MQTT_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+$(LIBPSDREPORT): $(call obj,$(REPORT_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+$(LIBPSVIRT): $(call obj,$(PSVIRT_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+# Link $@ from the objects and archives among its prerequisites.  The
+# archives are one group: the core and the MQTT room use each other.
+LINK = $(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $(filter-out %.a,$^) \
+       -Wl,--start-group $(filter %.a,$^) -Wl,--end-group $(LIBS)
 
 # sim tools link only the simulation library: sim/ knows nothing of devices.
 $(addprefix $(BUILD)/bin/,$(SIM_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/sim/cmd/%.o $(LIBPSIM)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
 
-$(addprefix $(BUILD)/bin/,$(DAEMON_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/cmd/%.o $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+# psensd: the core (with MQTT); psensctl: the core and the record; psvirt:
+# its room and the core.
+$(addprefix $(BUILD)/bin/,$(CORE_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/cmd/%.o $(LIBPSD_CORE)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+	$(LINK)
+$(BUILD)/bin/psensctl: $(LIBPSDREPORT)
+$(BUILD)/bin/psvirt: $(BUILD)/obj/daemon/psvirt/psvirt.o $(LIBPSVIRT) $(LIBPSD_CORE)
+	@mkdir -p $(dir $@)
+	$(LINK)
 
 -include $(filter-out drivers/module.mk,$(wildcard */module.mk))
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
@@ -133,7 +175,7 @@ UDEVRULESDIR ?= /usr/lib/udev/rules.d
 DATADIR    ?= $(PREFIX)/share/psensd
 MANDIR     ?= $(PREFIX)/share/man
 STATEDIR   ?= /var/lib/psensd
-MAN_PAGES  := $(wildcard sim/cmd/*.[1-8] daemon/cmd/*.[1-8] drivers/*.[1-8] config/*.[1-8])
+MAN_PAGES  := $(wildcard sim/cmd/*.[1-8] daemon/*/*.[1-8] drivers/*.[1-8] config/*.[1-8])
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/sbin
 	install -m 755 $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(filter-out psensd,$(DAEMON_CMDS))) $(DESTDIR)$(PREFIX)/bin/

@@ -20,7 +20,7 @@
 #include "conf.h"
 #include "control.h"
 #include "driver.h"
-#include "mqttconf.h"
+#include "mqtt.h"
 
 enum {
 	PSD_MAX_DEVICES = 16,
@@ -113,7 +113,7 @@ struct psd_config {
 	size_t nopt;
 	char *path[PSD_MAX_DEVICES];   /* driver file options resolved against the file's directory */
 	size_t npath;
-	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqttconf.h) */
+	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqtt/mqttconf.h, through mqtt.h) */
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).

@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "accept.h"
-#include "daemon.h"
+#include "loop.h"
 #include "db.h"
 #include "errbuf.h"
 #include "log.h"
@@ -415,7 +415,7 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 				put_num(io, e->dev[i].name, psd_devio_busy(e->io[i]));
 		json_object_object_add(o, "io_busy_s", io);
 	}
-	if (d->mqtt) {   /* [mqtt]: the publisher's state (daemon/mqtt.h) */
+	if (d->mqtt) {   /* [mqtt]: the publisher's state (daemon/mqtt/mqtt.h) */
 		struct psd_mqtt_stats ms;
 		json_object *mq = json_object_new_object();
 		psd_mqtt_stats(d->mqtt, &ms);

@@ -47,7 +47,7 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS cal_samples("
 	" session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL, t REAL,"
 	" level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, PRIMARY KEY(session, seq));",
-	/* 3 -> 4: MQTT (daemon/mqtt.c) and psensctl export --since/--until: the
+	/* 3 -> 4: MQTT (daemon/mqtt/mqtt.c) and psensctl export --since/--until: the
 	 * UTC time of each sample, the publisher's persisted cursor per site,
 	 * the zones announced */
 	"ALTER TABLE samples ADD COLUMN utc REAL;"

@@ -189,7 +189,7 @@ typedef void (*psd_db_row_fn)(void *user, int ncol, const char *const *names, co
 int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
                       char *err, size_t errlen);
 
-/* ---- the MQTT publisher (daemon/mqtt.c) ----------------------------------- */
+/* ---- the MQTT publisher (daemon/mqtt/mqtt.c) ----------------------------- */
 
 /* A sample as the publisher reads it: its row id and the UTC second it was
  * logged (NAN for a row logged before schema 4). */

@@ -2,8 +2,8 @@
 /* psensd's state as a whole: the engine (devices, zones, log), the clock,
  * the control socket, and what the event loop needs to reload and stop.
  * One value, no globals: tests build and tear down as many as they like. */
-#ifndef PSD_DAEMON_H
-#define PSD_DAEMON_H
+#ifndef PSD_LOOP_H
+#define PSD_LOOP_H
 
 #include "clock.h"
 #include "ctlsock.h"
@@ -20,7 +20,7 @@ struct psd_daemon {
 	struct psd_clock clock;
 	struct psd_ctlsock ctl;
 	int have_ctl;
-	struct psd_mqtt *mqtt;    /* [mqtt]: the publisher (daemon/mqtt.h), NULL: none */
+	struct psd_mqtt *mqtt;    /* [mqtt]: the publisher (daemon/mqtt/mqtt.h), NULL: none */
 	double end;               /* simulated: stop at this time; real: INFINITY */
 	int advance_date;         /* the date is the configuration's (a set clock): when the
 	                             database already holds it, the run is dated the next
@@ -65,7 +65,7 @@ void psd_daemon_stop(struct psd_daemon *d, const char *why);
 /* The control socket's handler (daemon/ctlcmd.c). */
 void psd_ctl_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
 /* One request line, judged and answered (a JSON line in reply): what the
- * socket's handler and MQTT's set/ topics (daemon/mqtt.c) both call. */
+ * socket's handler and MQTT's set/ topics (daemon/mqtt/mqtt.c) both call. */
 void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len);
 
 /* Recompute the results with psscene when they are missing or older than

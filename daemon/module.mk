@@ -4,9 +4,9 @@
 # command line for the 3xx system tests and the Modbus benchmark.
 ifeq ($(HAVE_MODBUS),yes)
 MBDRIVE = $(BUILD)/tests/mbdrive
-$(MBDRIVE): $(BUILD)/obj/tests/system/peers/mbdrive.o $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+$(MBDRIVE): $(BUILD)/obj/tests/system/peers/mbdrive.o $(LIBPSD_CORE)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+	$(LINK)
 TEST_EXTRA += $(MBDRIVE)
 bench: $(MBDRIVE)
 endif

@@ -7,7 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "daemon.h"
+#include "loop.h"
 #include "log.h"
 
 extern char **environ;

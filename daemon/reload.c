@@ -11,7 +11,7 @@
 #include <string.h>
 #include <systemd/sd-daemon.h>
 
-#include "daemon.h"
+#include "loop.h"
 #include "log.h"
 
 /* A reason a reload was refused: logged at LOG_ERR and, when the caller

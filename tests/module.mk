@@ -7,15 +7,20 @@ UNIT_HELP  := $(wildcard tests/unit/helpers/*.c)
 SYS_TESTS  := $(sort $(wildcard tests/system/[0-9]*.sh))
 BENCH_SRC  := $(wildcard tests/bench/bench_*.c)
 BENCH_BINS := $(patsubst tests/bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
-TEST_LIBS   = $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+TEST_LIBS   = $(LIBPSD_CORE)
+# the tests of a room link its library too
+ROOM_TESTS_REPORT = $(BUILD)/tests/test_report $(BUILD)/tests/test_chart
+ROOM_TESTS_PSVIRT = $(BUILD)/tests/test_mbframe $(BUILD)/tests/test_mbpdu
 
 $(UNIT_BINS): $(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(call obj,$(UNIT_HELP)) $(TEST_LIBS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS) -lcmocka
+	$(LINK) -lcmocka
+$(ROOM_TESTS_REPORT): $(LIBPSDREPORT)
+$(ROOM_TESTS_PSVIRT): $(LIBPSVIRT)
 
 $(BENCH_BINS): $(BUILD)/bench/%: $(BUILD)/obj/tests/bench/%.o $(TEST_LIBS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+	$(LINK)
 
 tests: all $(UNIT_BINS) $(TEST_EXTRA)
 
@@ -62,7 +67,9 @@ FUZZ_BINS = $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_SRC))
 fuzz-bins: $(FUZZ_BINS)
 $(FUZZ_BINS): $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(TEST_LIBS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) -fsanitize=fuzzer,address,undefined -o $@ $^ $(LIBS)
+	$(CC) $(CFLAGS_ALL) -fsanitize=fuzzer,address,undefined -o $@ $(filter-out %.a,$^) \
+	    -Wl,--start-group $(filter %.a,$^) -Wl,--end-group $(LIBS)
+$(BUILD)/fuzz/fuzz_mbframe: $(LIBPSVIRT)
 -include tests/emu/module.mk
 
 # The daemon's system tests once under valgrind (memcheck, leaks, descriptors

@@ -32,7 +32,7 @@
 #include "db.h"
 #include "canvas.h"
 #include "config.h"
-#include "reportdoc.h"
+#include "report.h"
 #include "accept.h"
 #include "clock.h"
 #include "sampleout.h"
@@ -493,7 +493,7 @@ static int accept_test(const char *sock, const char *dbpath, int raw, int timeou
 }
 
 /* report [ZONE] [-o FILE] [--format pdf|png|svg] [-t PERCENT] [-c CONFIG]
- * [--site TEXT] [--page N]: the commissioning record (daemon/reportdoc.c). */
+ * [--site TEXT] [--page N]: the commissioning record (daemon/report/report.c). */
 static int report(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
 {
 	struct psd_report_opts ro = { .tolerance_pct = 25, .format = -1 };

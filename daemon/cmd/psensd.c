@@ -14,7 +14,7 @@
 #include <time.h>
 
 #include "cli.h"
-#include "daemon.h"
+#include "loop.h"
 #include "annual.h"
 #include "canvas.h"
 #include "dated.h"

@@ -15,15 +15,18 @@
  * ever waits on the broker; commands run in the same thread as socket
  * requests, through the same function (psd_ctl_request), with no hand-off.
  * (Resolving the host name is the one blocking call: give an address or a
- * name in /etc/hosts.)  Built only WITH_MQTT; daemon/mqtt_off.c otherwise. */
+ * name in /etc/hosts.)  Built only WITH_MQTT; daemon/mqtt/mqtt_off.c otherwise. */
 #ifndef PSD_MQTT_H
 #define PSD_MQTT_H
 
 #include <poll.h>
 #include <stddef.h>
 
+/* The room's public face is this header: the [mqtt] section the core's
+ * configuration holds and judges comes with it. */
+#include "mqttconf.h"
+
 struct psd_engine;
-struct psd_mqtt_conf;
 struct psd_mqtt;
 
 /* A control request: what psd_ctl_request does. */

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
 /* What psensd publishes over MQTT, as text (psensd-mqtt(7)): a zone's state
  * from a logged sample, and the Home Assistant discovery messages.  No
- * broker here: daemon/mqtt.c sends what these build. */
+ * broker here: daemon/mqtt/mqtt.c sends what these build. */
 #ifndef PSD_MQTTMSG_H
 #define PSD_MQTTMSG_H
 

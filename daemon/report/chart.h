@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
 /* Axes for the report's charts: round ticks (1, 2 or 5 x 10^n for numbers;
  * 5, 10, 15, 30 minutes or 1, 2, 3, 6, 12, 24 hours for times of day) and
- * their labels.  Pure arithmetic, no drawing: daemon/reportdoc.c draws. */
+ * their labels.  Pure arithmetic, no drawing: daemon/report/report.c draws. */
 #ifndef PSD_CHART_H
 #define PSD_CHART_H
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-#include "reportdoc.h"
+#include "report.h"
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>

@@ -8,8 +8,8 @@
  * of the calibration sessions and of acceptance tests when the database has
  * them.  PDF (A4 pages), PNG or SVG (the pages one under the other).
  * Every text drawn records its box (textbox.h). */
-#ifndef PSD_REPORTDOC_H
-#define PSD_REPORTDOC_H
+#ifndef PSD_REPORT_H
+#define PSD_REPORT_H
 
 #include <stddef.h>
 #include <stdio.h>

@@ -35,7 +35,7 @@ $(BUILD)/tests/psemu-run: $(BUILD)/obj/tests/emu/psemu_run.o $(LIBPSEMU)
 
 $(BUILD)/tests/dali-client: $(BUILD)/obj/tests/emu/dali_client.o $(TEST_LIBS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_ALL) $(LDFLAGS) -o $@ $^ $(LIBS)
+	$(LINK)
 
 tests: $(BUILD)/tests/psemu-run $(BUILD)/tests/dali-client
 endif

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: ISC */
 /* Fuzz the Modbus server psvirt runs on: the bytes a client sends, framed
- * as Modbus TCP or RTU (daemon/mbframe.c) and answered by the PDU handler
- * (daemon/mbpdu.c) from psvirt's register map over three zones' rooms
- * (daemon/virtmap.c, virtroom.c).  The first byte chooses the framing, the
+ * as Modbus TCP or RTU (daemon/psvirt/mbframe.c) and answered by the PDU handler
+ * (daemon/psvirt/mbpdu.c) from psvirt's register map over three zones' rooms
+ * (daemon/psvirt/virtmap.c, virtroom.c).  The first byte chooses the framing, the
  * line's silence and the rooms' time of day; the rest is the stream.
  * Invariants: every frame found lies inside the input and has the length
  * its header says; every reply is 2 to 253 bytes and answers the request's

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Fuzz MQTT command payloads (daemon/mqttcmd.c).  The first byte picks the
+/* Fuzz MQTT command payloads (daemon/mqtt/mqttcmd.c).  The first byte picks the
  * verb, the second the zone name, the rest is the payload.  Invariants: the
  * parser answers 0 or -1 with a terminated message; an accepted payload
  * gives one request line of printable words that the control socket's

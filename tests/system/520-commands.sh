@@ -1,15 +1,15 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Commands that agree: every program (sim/cmd/*.c, daemon/cmd/*.c) takes
-# -h/--help (usage on standard output, exit 0) and -V/--version (the version
-# of sim/version.h); its --help and its man page name the same options
-# (tests/system/opts.py); the old spellings still work, with a warning; no
-# option is silently ignored.
+# Commands that agree: every program (sim/cmd/*.c, daemon/cmd/*.c,
+# daemon/psvirt/psvirt.c) takes -h/--help (usage on standard output, exit 0)
+# and -V/--version (the version of sim/version.h); its --help and its man
+# page name the same options (tests/system/opts.py); the old spellings still
+# work, with a warning; no option is silently ignored.
 . "$(dirname "$0")/lib.sh"
 version=$(sed -n 's/^#define PS_VERSION "\(.*\)"$/\1/p' sim/version.h)
 [ -n "$version" ] || skip_all "no PS_VERSION in sim/version.h"
 
-for src in sim/cmd/*.c daemon/cmd/*.c; do
+for src in sim/cmd/*.c daemon/cmd/*.c daemon/psvirt/psvirt.c; do
 	p=$(basename "$src" .c)
 	if [ ! -x "$BIN/$p" ]; then
 		skip "$p not built"

@@ -70,7 +70,7 @@ start_daemon() {
 	wait_for 10 "$BIN/psensctl" ping > /dev/null
 }
 
-python3 tests/system/manex.py $(ls sim/cmd/*.[1-8] daemon/cmd/*.[1-8] drivers/*.[1-8] config/*.[1-8]) > "$TMP/list"
+python3 tests/system/manex.py $(ls sim/cmd/*.[1-8] daemon/*/*.[1-8] drivers/*.[1-8] config/*.[1-8]) > "$TMP/list"
 check "the man pages hold examples ($(grep -vc '^END' "$TMP/list") lines)" test "$(grep -vc '^END' "$TMP/list")" -gt 20
 bg=""
 tab=$(printf '\t')

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Modbus TCP and RTU framing (daemon/mbframe.c): the MBAP header of Modbus
+/* Modbus TCP and RTU framing (daemon/psvirt/mbframe.c): the MBAP header of Modbus
  * Messaging on TCP/IP v1.0b (3.1.3) and the RTU frame of Modbus over Serial
  * Line v1.02 (2.5.1), against their examples: the CRC of 02 07 is 0x1241
  * (appendix B), the read of 10 registers from unit 1 ends C5 CD. */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The Modbus server's PDUs (daemon/mbpdu.c) against the request and reply
+/* The Modbus server's PDUs (daemon/psvirt/mbpdu.c) against the request and reply
  * examples of the Modbus Application Protocol Specification v1.1b3 (the
  * example tables of sections 6.1 to 6.17) and its exception rules (7). */
 #include <setjmp.h>

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* MQTT command payloads (daemon/mqttcmd.c): each set/<verb> payload becomes
+/* MQTT command payloads (daemon/mqtt/mqttcmd.c): each set/<verb> payload becomes
  * the control-socket request that does the same, or is refused with a
  * reason; nothing a payload holds reaches the request line unchecked. */
 #include <setjmp.h>

@@ -21,7 +21,7 @@
 
 #include "canvas.h"
 #include "db.h"
-#include "reportdoc.h"
+#include "report.h"
 #include "textbox.h"
 
 static char dir[64], dbpath[96];
