@@ -15,6 +15,8 @@
 
 #include "accept.h"
 #include "loop.h"
+#include "ctlcmd.h"
+#include "reload.h"
 #include "db.h"
 #include "errbuf.h"
 #include "log.h"

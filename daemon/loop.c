@@ -15,6 +15,9 @@
 #include <unistd.h>
 
 #include "loop.h"
+#include "ctlcmd.h"
+#include "refresh.h"
+#include "reload.h"
 #include "log.h"
 
 

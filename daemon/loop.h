@@ -39,17 +39,6 @@ struct psd_daemon {
 int psd_daemon_start(struct psd_daemon *d, const char *path);
 /* The event loop until d->stop or the simulated end; returns 0. */
 int psd_daemon_run(struct psd_daemon *d);
-/* SIGHUP's work: a new config replaces the running one only when it loads
- * and opens; otherwise the old one keeps running.  0 when replaced. */
-int psd_daemon_reload(struct psd_daemon *d);
-/* The same, with the reasons of a refusal (each "file:line: why" when the
- * configuration names one) in w, for the control socket's reload. */
-enum { PSD_RELOAD_WHY_MAX = 16, PSD_RELOAD_WHY_LEN = 400 };
-struct psd_reload_why {
-	int n;
-	char line[PSD_RELOAD_WHY_MAX][PSD_RELOAD_WHY_LEN];
-};
-int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w);
 /* Log a refused configuration's errors, each at LOG_ERR. */
 void psd_daemon_config_errors(const struct psd_config *cf);
 /* Shutdown: every zone to its safe level, then (real time) the devices
@@ -61,15 +50,5 @@ enum { PSD_SETTLE_MS = 1000 };
 int psd_daemon_safe(struct psd_daemon *d, const char *why);
 /* Safe level (unless why is NULL: already done), close everything. */
 void psd_daemon_stop(struct psd_daemon *d, const char *why);
-
-/* The control socket's handler (daemon/ctlcmd.c). */
-void psd_ctl_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
-/* One request line, judged and answered (a JSON line in reply): what the
- * socket's handler and MQTT's set/ topics (daemon/mqtt/mqtt.c) both call. */
-void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len);
-
-/* Recompute the results with psscene when they are missing or older than
- * the scene (daemon/refresh.c).  -1 after logging why. */
-int psd_refresh_results(const struct psd_config *cf, const char *self);
 
 #endif

@@ -7,7 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "loop.h"
+#include "refresh.h"
+#include "config.h"
 #include "log.h"
 
 extern char **environ;

@@ -12,6 +12,8 @@
 #include <systemd/sd-daemon.h>
 
 #include "loop.h"
+#include "refresh.h"
+#include "reload.h"
 #include "log.h"
 
 /* A reason a reload was refused: logged at LOG_ERR and, when the caller

@@ -32,7 +32,7 @@
 
 #include "cli.h"
 #include "config.h"
-#include "loop.h"
+#include "refresh.h"
 #include "log.h"
 #include "mbpdu.h"
 #include "mbserve.h"

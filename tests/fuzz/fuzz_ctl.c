@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "loop.h"
+#include "ctlcmd.h"
 #include "log.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -1,0 +1,18 @@
+/* SPDX-License-Identifier: ISC */
+/* The control socket's commands (daemon/ctlcmd.c): one request line judged
+ * and answered as one JSON line, for the socket and for MQTT alike. */
+#ifndef PSD_CTLCMD_H
+#define PSD_CTLCMD_H
+
+#include <stddef.h>
+
+struct psd_daemon;
+struct psd_ctl_client;
+
+/* The control socket's handler (daemon/ctlcmd.c). */
+void psd_ctl_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
+/* One request line, judged and answered (a JSON line in reply): what the
+ * socket's handler and MQTT's set/ topics (daemon/mqtt/mqtt.c) both call. */
+void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len);
+
+#endif
