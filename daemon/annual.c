@@ -132,12 +132,12 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.c.level = 0.0;
 	u.c.pending_since = -1;
 	/* every date of the year, February 29 when the weather file has it */
-	feb29 = psd_year_has_feb29(r);
+	feb29 = psd_roomsetup_has_feb29(r);
 	u.doy = 0;
 	for (u.m = 0; u.m < 12; u.m++)
 		for (int d = 1; d <= mdays[u.m] + (u.m == 1 && feb29); d++) {
 			u.doy++;
-			if (psd_room_play_day(r, u.m + 1, d, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
+			if (psd_roomsetup_play_day(r, u.m + 1, d, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
 				return -1;
 		}
 	a->days = u.doy;

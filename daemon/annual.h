@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 /* A year of control: one zone's control law run against the loopback room
- * playing every day of the results' year (roomsetup.h, psd_room_from_year),
+ * playing every day of the results' year (roomsetup.h, psd_roomsetup_from_year),
  * at the control period, directly (no devices, no database, no event loop:
  * the room model and the law are the same ones the daemon runs, so the
  * year's 525,600 steps at 60 s take seconds).  Sensor noise is off and the

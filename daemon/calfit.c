@@ -83,15 +83,15 @@ int psd_calfit_night(const struct psd_calfit_level *p, size_t n, struct psd_calf
 	memset(f, 0, sizeof *f);
 	f->lux_gain = f->lux_gain_se = f->lux_offset = NAN;
 	if (n < 3)
-		return psd_errf(err, errlen, "a night fit needs at least 3 levels (have %zu)", n);
+		return psd_errbuf(err, errlen, "a night fit needs at least 3 levels (have %zu)", n);
 	for (size_t i = 0; i < n; i++) {
 		if (!isfinite(p[i].level) || !isfinite(p[i].volts))
-			return psd_errf(err, errlen, "level %zu is not a number", i + 1);
+			return psd_errbuf(err, errlen, "level %zu is not a number", i + 1);
 		levels += i == 0 || p[i].level != p[0].level;
 		nlux += isfinite(p[i].lux);
 	}
 	if (levels < 2)
-		return psd_errf(err, errlen, "every point is at one level: the gain is undetermined");
+		return psd_errbuf(err, errlen, "every point is at one level: the gain is undetermined");
 	/* weights 1/se^2, with a floor so an exactly repeated reading (se 0)
 	 * does not take all the weight */
 	ps_sum_init(&sw);
@@ -192,7 +192,7 @@ int psd_calfit_day(const struct psd_calfit_sample *s, size_t n, double offset, d
 		m++;
 	}
 	if (m < 2)
-		return psd_errf(err, errlen, "%g of %zu samples have daylight above %g V: at least 2 are needed", m,
+		return psd_errbuf(err, errlen, "%g of %zu samples have daylight above %g V: at least 2 are needed", m,
 		                n, min_day_volts);
 	mean = ps_sum_get(&sr) / m;
 	ps_sum_init(&srr);

@@ -33,7 +33,7 @@ static void event(const struct psd_calsession_ctx *c, const char *kind, const ch
 {
 	char err[512];
 	if (c->db && psd_db_event(c->db, c->now, c->zone, kind, text, err, sizeof err) != 0)
-		log_warnx("%s", err);
+		psd_log_warnx("%s", err);
 }
 
 int psd_calsession_running(const struct psd_calsession *s)
@@ -89,7 +89,7 @@ static int sun_refusal(const struct psd_calsession_ctx *c, const char *what, cha
 	psd_clock_hhmm(c->now, t);
 	psd_clock_hhmm(c->sunrise, r);
 	psd_clock_hhmm(c->sunset, st);
-	return psd_errf(err, n, "zone %s: %s at %s: the simulation's sun is up on %s (sunrise %s, sunset %s), and "
+	return psd_errbuf(err, n, "zone %s: %s at %s: the simulation's sun is up on %s (sunrise %s, sunset %s), and "
 	                "daylight on the sensor would be taken for its offset; run it after %s or before %s "
 	                "(cal_night_sun = no for a room no daylight reaches)", c->zone, what, t,
 	                c->date && *c->date ? c->date : "the simulated day", r, st, st, r);
@@ -107,7 +107,7 @@ static int dark_check(const struct psd_calsession_ctx *c, const char *what, doub
 	double want = c->ctl->offset + gain * at, margin = c->zc->cal_dark_margin * gain;
 	if (!(gain > 0) || !isfinite(volts) || volts - want <= margin)
 		return 0;
-	return psd_errf(err, n, "zone %s: %s: the sensor reads %.4f V with the lights at %.0f %%, %.4f V above "
+	return psd_errbuf(err, n, "zone %s: %s: the sensor reads %.4f V with the lights at %.0f %%, %.4f V above "
 	                "the %.4f V the offset (%.4f V) and the electric light at %.0f %% give, more than "
 	                "cal_dark_margin %g of the full-output signal (%.4f V): daylight or another light "
 	                "reaches the sensor, and a night calibration would take it for the offset", c->zone, what,
@@ -137,7 +137,7 @@ static void sun_in_view(struct psd_calsession *s, const struct psd_calsession_ct
 	         "%s: its brightest patch gives %.0f %% of the response, above cal_sun_share %g); the ratio "
 	         "will swing with the sun and the clouds: prefer a time without it", t, best->label,
 	         100 * best->brightest_share, c->zc->cal_sun_share);
-	log_warnx("zone %s: %s: day calibration: %s", c->zone, stamp(c, (char[24]){ 0 }), s->sun_warning);
+	psd_log_warnx("zone %s: %s: day calibration: %s", c->zone, stamp(c, (char[24]){ 0 }), s->sun_warning);
 }
 
 int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, double level,
@@ -148,14 +148,14 @@ int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_c
 	long long id;
 	memset(ask, 0, sizeof *ask);
 	if (!c->db)
-		return psd_errf(err, n, "calibration sessions are recorded in the database: set database = in [psensd]");
+		return psd_errbuf(err, n, "calibration sessions are recorded in the database: set database = in [psensd]");
 	if (s->state == PSD_CAL_RUNNING)
-		return psd_errf(err, n, "zone %s: a %s session is running (abort it first)", c->zone,
+		return psd_errbuf(err, n, "zone %s: a %s session is running (abort it first)", c->zone,
 		                psd_calsession_kind_names[s->kind]);
 	if (kind != PSD_CAL_NIGHT && kind != PSD_CAL_DAY)
-		return psd_errf(err, n, "no calibration of kind %d", kind);
+		return psd_errbuf(err, n, "no calibration of kind %d", kind);
 	if (kind == PSD_CAL_DAY && !(level >= 0 && level <= 1))
-		return psd_errf(err, n, "level %g is outside 0 to 1", level);
+		return psd_errbuf(err, n, "level %g is outside 0 to 1", level);
 	/* a night session in daylight would fit daylight as the offset */
 	if (kind == PSD_CAL_NIGHT && sun_up(c, c->now))
 		return sun_refusal(c, "no night session", err, n);
@@ -174,7 +174,7 @@ int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_c
 	ask->step_now = 1;
 	{
 		char ts[24], text[96];
-		log_info("zone %s: %s: %s calibration session %lld started", c->zone, stamp(c, ts),
+		psd_log_info("zone %s: %s: %s calibration session %lld started", c->zone, stamp(c, ts),
 		         psd_calsession_kind_names[kind], s->id);
 		snprintf(text, sizeof text, "%s session %lld", psd_calsession_kind_names[kind], s->id);
 		event(c, "calibration started", text);
@@ -194,10 +194,10 @@ int psd_calsession_abort(struct psd_calsession *s, const struct psd_calsession_c
 	s->state = PSD_CAL_ABORTED;
 	snprintf(s->msg, sizeof s->msg, "aborted: %s", why);
 	if (c->db && psd_db_cal_end(c->db, s->id, "aborted", c->now, NULL, why, err, sizeof err) != 0)
-		log_warnx("%s", err);
+		psd_log_warnx("%s", err);
 	{
 		char ts[24];
-		log_warnx("zone %s: %s: calibration session %lld aborted: %s", c->zone, stamp(c, ts), s->id, why);
+		psd_log_warnx("zone %s: %s: calibration session %lld aborted: %s", c->zone, stamp(c, ts), s->id, why);
 		event(c, "calibration aborted", why);
 	}
 	ask->step_now = 1;
@@ -287,7 +287,7 @@ static int finish(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 		outside = !(fabs(s->error_pct) <= c->zc->cal_tolerance);
 	}
 	if (!(json = results_json(s, c)))
-		return psd_errf(err, n, "out of memory");
+		return psd_errbuf(err, n, "out of memory");
 	rc = psd_db_cal_end(c->db, s->id, "done", c->now, json, NULL, err, n);
 	free(json);
 	if (rc != 0)
@@ -308,9 +308,9 @@ static int finish(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 	{
 		char ts[24];
 		if (outside)
-			log_warnx("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
+			psd_log_warnx("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
 		else
-			log_info("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
+			psd_log_info("zone %s: %s: calibration session %lld %s", c->zone, stamp(c, ts), s->id, s->msg);
 		event(c, "calibration done", s->msg);
 	}
 	ask->step_now = 1;
@@ -330,7 +330,7 @@ static void finish_or_abort(struct psd_calsession *s, const struct psd_calsessio
 static int running_day(const struct psd_calsession *s, const struct psd_calsession_ctx *c, char *err, size_t n)
 {
 	if (s->state != PSD_CAL_RUNNING || s->kind != PSD_CAL_DAY)
-		return psd_errf(err, n, "zone %s has no running day session", c->zone);
+		return psd_errbuf(err, n, "zone %s has no running day session", c->zone);
 	return 0;
 }
 
@@ -357,11 +357,11 @@ int psd_calsession_typed_lux(struct psd_calsession *s, const struct psd_calsessi
 	if (running_day(s, c, err, n) != 0)
 		return -1;
 	if (!(lux >= 0 && lux < 2e5))
-		return psd_errf(err, n, "%g lux is outside 0 to 200000", lux);
+		return psd_errbuf(err, n, "%g lux is outside 0 to 200000", lux);
 	if (!isfinite(volts))
-		return psd_errf(err, n, "zone %s has no good reading to pair with it", c->zone);
+		return psd_errbuf(err, n, "zone %s has no good reading to pair with it", c->zone);
 	if (s->nds >= PSD_CAL_MAX_DAY)
-		return psd_errf(err, n, "%d samples already: finish the session", PSD_CAL_MAX_DAY);
+		return psd_errbuf(err, n, "%d samples already: finish the session", PSD_CAL_MAX_DAY);
 	if (record(s, c, level, volts, NAN, lux, "typed", err, n) != 0)
 		return -1;
 	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
@@ -390,7 +390,7 @@ int psd_calsession_accept(struct psd_calsession *s, const struct psd_calsession_
 {
 	memset(ask, 0, sizeof *ask);
 	if (s->state != PSD_CAL_DONE)
-		return psd_errf(err, n, "zone %s has no finished session to accept (%s)", c->zone,
+		return psd_errbuf(err, n, "zone %s has no finished session to accept (%s)", c->zone,
 		                psd_calsession_state_names[s->state]);
 	if (psd_db_cal_accept(c->db, s->id, err, n) != 0)
 		return -1;
@@ -490,7 +490,7 @@ static void feed_night(struct psd_calsession *s, const struct psd_calsession_ctx
 		psd_calsession_abort(s, c, err, ask);
 		return;
 	}
-	log_info("zone %s: %s: night level %.0f %%: %.5f V (se %.5f) after %.0f s", c->zone, stamp(c, (char[24]){ 0 }),
+	psd_log_info("zone %s: %s: night level %.0f %%: %.5f V (se %.5f) after %.0f s", c->zone, stamp(c, (char[24]){ 0 }),
 	         100 * at, mean, se,
 	         now - s->step_started);
 	s->npt++;
@@ -580,7 +580,7 @@ void psd_calsession_resume(struct psd_calsession *s, const struct psd_calsession
 	psd_db_cal_samples(c->db, id, resume_sample, &r);
 	settle_reset(s, c);
 	snprintf(s->msg, sizeof s->msg, "resumed with %d level(s), %d sample(s)", s->npt, s->nds);
-	log_info("zone %s: %s: %s calibration session %lld resumed (%d level(s), %d sample(s) kept)", c->zone,
+	psd_log_info("zone %s: %s: %s calibration session %lld resumed (%d level(s), %d sample(s) kept)", c->zone,
 	         stamp(c, (char[24]){ 0 }), kind, id,
 	         s->npt, s->nds);
 	if (s->kind == PSD_CAL_NIGHT && s->step >= PSD_CAL_NLEVELS)

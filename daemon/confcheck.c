@@ -135,12 +135,12 @@ static void check_replays(struct psd_config *cf)
 	}
 }
 
-void psd_config_check_ranges(struct psd_config *cf)
+void psd_confcheck_ranges(struct psd_config *cf)
 {
 	check_ranges(cf);
 }
 
-void psd_config_check_files(struct psd_config *cf)
+void psd_confcheck_files(struct psd_config *cf)
 {
 	check_scene_results(cf);
 	check_replays(cf);

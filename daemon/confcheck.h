@@ -8,10 +8,10 @@
 #include "config.h"
 
 /* Ranges that involve two keys. */
-void psd_config_check_ranges(struct psd_config *cf);
+void psd_confcheck_ranges(struct psd_config *cf);
 /* The scene, the results and replays: present and parsed (a driver's
  * replay is resolved against the file's directory).  Only for a file:
  * psd_config_load_string leaves them unopened. */
-void psd_config_check_files(struct psd_config *cf);
+void psd_confcheck_files(struct psd_config *cf);
 
 #endif

@@ -9,7 +9,7 @@
 
 #include "roomsetup.h"
 
-const char *const psd_action_names[] = { "none", "occupancy", "override", "calibrate", NULL };
+const char *const psd_config_action_names[] = { "none", "occupancy", "override", "calibrate", NULL };
 
 static int hhmm(struct ps_conf *c, struct ps_conf_section *s, const char *key, double def, double *out)
 {
@@ -98,7 +98,7 @@ int psd_config_point(const struct psd_config *cf, const char *name)
 	return find_name(name, cf->pt, cf->npt, sizeof cf->pt[0]);
 }
 
-int psd_timezone_valid(const char *tz)
+int psd_config_timezone_valid(const char *tz)
 {
 	char path[512];
 	struct stat st;
@@ -111,12 +111,12 @@ int psd_timezone_valid(const char *tz)
 	return strlen(tz) >= 4 && strpbrk(tz, "0123456789") != NULL && strspn(tz, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") >= 3;
 }
 
-const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc)
+const char *psd_config_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc)
 {
 	return zc->scene ? zc->scene : zc->results ? NULL : cf->scene;
 }
 
-const char *psd_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc)
+const char *psd_config_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc)
 {
 	return zc->results ? zc->results : cf->results;
 }
@@ -213,7 +213,7 @@ static void load_points(struct psd_config *cf)
 			ps_conf_error(c, s->line, "[point %s] needs 'role' (sensor, task, dim, relay, input, rooftop)", p->name);
 		else if (p->role < 0)
 			ps_conf_error(c, line_of(s, "role"), "role: '%s' is not sensor, task, dim, relay, input or rooftop", v);
-		ps_conf_enum(c, s, "action", psd_action_names, PSD_ACT_NONE, &p->action);
+		ps_conf_enum(c, s, "action", psd_config_action_names, PSD_ACT_NONE, &p->action);
 		if (p->action != PSD_ACT_NONE && p->role != PS_ROLE_INPUT)
 			ps_conf_error(c, line_of(s, "action"), "action: only an input point has an action");
 		ps_conf_double(c, s, "valid_min", lux_role(p->role) ? 0 : cf->sensor_min, -1e9, 1e9, &p->min);
@@ -290,7 +290,7 @@ static void load_control(struct ps_conf *c, struct ps_conf_section *s, struct ps
 {
 	long steps;
 	memset(k, 0, sizeof *k);
-	ps_conf_enum(c, s, "algorithm", psd_algorithm_names, PSD_ALG_SETPOINT, &k->algorithm);
+	ps_conf_enum(c, s, "algorithm", psd_control_algorithm_names, PSD_ALG_SETPOINT, &k->algorithm);
 	ps_conf_double(c, s, "target_lux", 500, 0, 1e6, &k->target_lux);
 	ps_conf_double(c, s, "min_level", 0.1, 0, 1, &k->min_level);
 	ps_conf_double(c, s, "max_step", 0, 0, 1, &k->max_step);
@@ -443,7 +443,7 @@ static int load(struct psd_config *cf, int files)
 	ps_conf_int(c, s, "max_clients", 32, 1, 1024, &maxc);
 	cf->max_clients = maxc;
 	cf->timezone = ps_conf_str(c, s, "timezone", NULL);
-	if (cf->timezone && !psd_timezone_valid(cf->timezone))
+	if (cf->timezone && !psd_config_timezone_valid(cf->timezone))
 		ps_conf_error(c, line_of(s, "timezone"), "timezone: '%s' is neither a zone in /usr/share/zoneinfo nor a "
 		              "POSIX rule such as CET-1CEST,M3.5.0,M10.5.0/3", cf->timezone);
 	cf->socket_mode = 0660;
@@ -458,7 +458,7 @@ static int load(struct psd_config *cf, int files)
 	}
 	s = ps_conf_section(c, "simulate");
 	snprintf(cf->date, sizeof cf->date, "%s", ps_conf_str(c, s, "date", "03-18"));
-	if (psd_day_of_year(cf->date) < 0)
+	if (psd_roomsetup_day_of_year(cf->date) < 0)
 		ps_conf_error(c, s ? line_of(s, "date") : 0, "date: '%s' is not MM-DD", cf->date);
 	ps_conf_int(c, s, "run_year", 0, 0, 9999, &cf->run_year);
 	if (cf->run_year != 0 && cf->run_year < 1970)
@@ -490,9 +490,9 @@ static int load(struct psd_config *cf, int files)
 	psd_mqttconf_load(&cf->mqtt, c);
 	if (cf->mqtt.enabled && !cf->database)
 		ps_conf_error(c, cf->mqtt.line, "[mqtt] publishes the sample log: set database in [psensd]");
-	psd_config_check_ranges(cf);
+	psd_confcheck_ranges(cf);
 	if (files)
-		psd_config_check_files(cf);
+		psd_confcheck_files(cf);
 	ps_conf_check_unused(c);
 	return c->nerrors ? -1 : 0;
 }

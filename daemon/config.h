@@ -31,7 +31,7 @@ enum {
 };
 
 enum psd_action { PSD_ACT_NONE = 0, PSD_ACT_OCCUPANCY, PSD_ACT_OVERRIDE, PSD_ACT_CALIBRATE };
-extern const char *const psd_action_names[];
+extern const char *const psd_config_action_names[];
 
 struct psd_device_conf {
 	char name[48];
@@ -84,7 +84,7 @@ struct psd_zone_conf {
 	                             response is the sun in the sensor's view (a warning) */
 	double drift_margin;      /* |ln(measured/simulated)| */
 	double drift_hold;        /* s */
-	/* the zone's own simulation (NULL: [psensd]'s); see psd_zone_results() */
+	/* the zone's own simulation (NULL: [psensd]'s); see psd_config_zone_results() */
 	char *scene, *results;
 	int line;
 };
@@ -131,11 +131,11 @@ void psd_config_free(struct psd_config *cf);
 /* The scene and results a zone runs on: its own, else [psensd]'s.  A zone
  * that names a scene but no results gets them beside [psensd]'s results,
  * named after the scene (ofb-cone.scene: ofb-cone.results). */
-const char *psd_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc);
-const char *psd_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc);
+const char *psd_config_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc);
+const char *psd_config_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc);
 
 /* 1 when tz names a zone in /usr/share/zoneinfo or is a POSIX TZ rule. */
-int psd_timezone_valid(const char *tz);
+int psd_config_timezone_valid(const char *tz);
 
 /* Index of a device, point or zone by name, -1 if none. */
 int psd_config_point(const struct psd_config *cf, const char *name);

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stddef.h>
 
-const char *const psd_algorithm_names[] = { "setpoint", "closed-proportional", "open-proportional",
+const char *const psd_control_algorithm_names[] = { "setpoint", "closed-proportional", "open-proportional",
                                             "integral-reset", "switching", NULL };
 
 static double clamp(double x, double lo, double hi)

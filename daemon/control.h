@@ -16,7 +16,7 @@ enum psd_algorithm {
 	PSD_ALG_COUNT
 };
 
-extern const char *const psd_algorithm_names[];   /* config names, NULL-terminated */
+extern const char *const psd_control_algorithm_names[];   /* config names, NULL-terminated */
 
 struct psd_control {
 	int algorithm;

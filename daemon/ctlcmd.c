@@ -73,7 +73,7 @@ static void error_reply(char *reply, size_t len, const char *fmt, ...)
 	va_list ap;
 	json_object *o = json_object_new_object();
 	va_start(ap, fmt);
-	psd_verrf(msg, sizeof msg, fmt, ap);
+	psd_errbuf_va(msg, sizeof msg, fmt, ap);
 	va_end(ap);
 	json_object_object_add(o, "ok", json_object_new_boolean(0));
 	put_str(o, "error", msg);
@@ -125,7 +125,7 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	json_object *o = json_object_new_object();
 	const struct psd_config *cf = e->cf;
 	put_str(o, "name", z->zc->name);
-	put_str(o, "algorithm", psd_algorithm_names[z->ctl.algorithm]);
+	put_str(o, "algorithm", psd_control_algorithm_names[z->ctl.algorithm]);
 	put_num(o, "target_lux", z->ctl.target_lux);
 	put_num(o, "level", z->level);
 	json_object_object_add(o, "sample", sample_json(z));
@@ -376,7 +376,7 @@ static void dali(struct psd_daemon *d, int argc, char **argv, char *reply, size_
 		size_t k = 0;
 		for (int i = 2; i < argc && k < sizeof words; i++)
 			k += (size_t)snprintf(words + k, sizeof words - k, "%s%s", i > 2 ? " " : "", argv[i]);
-		log_info("device %s: dali %s", argv[1], words);
+		psd_log_info("device %s: dali %s", argv[1], words);
 	}
 	o = ok_reply();
 	json_object_object_add(o, "dali", res);
@@ -453,7 +453,7 @@ static void ratios(struct psd_daemon *d, const char *zone, char *reply, size_t l
 			return;
 		}
 		r = z->res;
-		path = psd_zone_results(d->engine.cf, z->zc);
+		path = psd_config_zone_results(d->engine.cf, z->zc);
 	}
 	if (!r) {
 		error_reply(reply, len, "no results loaded");
@@ -502,7 +502,7 @@ static void reload(struct psd_daemon *d, char *reply, size_t len)
 		error_reply(reply, len, "reload: out of memory");
 		return;
 	}
-	if (psd_daemon_reload_why(d, w) == 0) {
+	if (psd_reload_explain(d, w) == 0) {
 		o = ok_reply();
 		put_path(o, "reloaded", d->config_path);
 		finish(o, reply, len);
@@ -563,7 +563,7 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 		return;
 	}
 	psd_engine_stamp(e, psd_clock_now(&d->clock), stamp, sizeof stamp);
-	log_info("zone %s: %s: acceptance tests: %s (%d of %d run, %d failed)", argv[1], stamp,
+	psd_log_info("zone %s: %s: acceptance tests: %s (%d of %d run, %d failed)", argv[1], stamp,
 	         psd_accept_overall(&sum), sum.tested, PSD_ACCEPT_NTESTS, sum.failed);
 	o = ok_reply();
 	a = json_object_new_object();
@@ -590,18 +590,18 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	finish(o, reply, len);
 }
 
-void psd_ctl_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
+void psd_ctlcmd_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
 {
 	(void)c;
-	psd_ctl_request(user, line, reply, len);
+	psd_ctlcmd_request(user, line, reply, len);
 }
 
-void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len)
+void psd_ctlcmd_request(struct psd_daemon *d, char *line, char *reply, size_t len)
 {
 	struct psd_engine *e = &d->engine;
 	struct psd_zone *z;
 	char *argv[PSD_CTL_MAX_WORDS], err[512];
-	int argc = psd_ctl_split(line, argv, err, sizeof err);
+	int argc = psd_ctlsock_split(line, argv, err, sizeof err);
 	double a, b;
 	if (argc < 0) {
 		error_reply(reply, len, "%s", err);

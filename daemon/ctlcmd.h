@@ -10,9 +10,9 @@ struct psd_daemon;
 struct psd_ctl_client;
 
 /* The control socket's handler (daemon/ctlcmd.c). */
-void psd_ctl_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
+void psd_ctlcmd_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
 /* One request line, judged and answered (a JSON line in reply): what the
  * socket's handler and MQTT's set/ topics (daemon/mqtt/mqtt.c) both call. */
-void psd_ctl_request(struct psd_daemon *d, char *line, char *reply, size_t len);
+void psd_ctlcmd_request(struct psd_daemon *d, char *line, char *reply, size_t len);
 
 #endif

@@ -25,13 +25,13 @@ static double wall(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-int psd_ctl_split(char *line, char **argv, char *err, size_t errlen)
+int psd_ctlsock_split(char *line, char **argv, char *err, size_t errlen)
 {
 	int n = 0;
 	char *p = line;
 	for (char *q = line; *q; q++)
 		if (((unsigned char)*q < 0x20 && *q != '\t') || (unsigned char)*q == 0x7f)
-			return psd_errf(err, errlen, "control character 0x%02x at byte %d", (unsigned char)*q,
+			return psd_errbuf(err, errlen, "control character 0x%02x at byte %d", (unsigned char)*q,
 			                (int)(q - line));
 	for (;;) {
 		while (*p == ' ' || *p == '\t')
@@ -39,7 +39,7 @@ int psd_ctl_split(char *line, char **argv, char *err, size_t errlen)
 		if (!*p)
 			break;
 		if (n == PSD_CTL_MAX_WORDS)
-			return psd_errf(err, errlen, "more than %d words", PSD_CTL_MAX_WORDS);
+			return psd_errbuf(err, errlen, "more than %d words", PSD_CTL_MAX_WORDS);
 		argv[n++] = p;
 		while (*p && *p != ' ' && *p != '\t')
 			p++;
@@ -57,7 +57,7 @@ static int live_peer(const struct sockaddr_un *sa, char *err, size_t errlen)
 	struct ucred cr = { 0, 0, 0 };
 	socklen_t len = sizeof cr;
 	if (fd < 0)
-		return psd_errf(err, errlen, "%s: %s", sa->sun_path, strerror(errno));
+		return psd_errbuf(err, errlen, "%s: %s", sa->sun_path, strerror(errno));
 	rc = connect(fd, (const struct sockaddr *)sa, sizeof *sa);
 	if (rc != 0 && errno != EAGAIN && errno != EINPROGRESS) {
 		close(fd);
@@ -65,14 +65,14 @@ static int live_peer(const struct sockaddr_un *sa, char *err, size_t errlen)
 	}
 	/* accepted, or a full backlog (EAGAIN): someone listens */
 	if (rc == 0 && getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cr, &len) == 0 && cr.pid > 0)
-		psd_errf(err, errlen, "%s is in use: pid %ld serves it: not started", sa->sun_path, (long)cr.pid);
+		psd_errbuf(err, errlen, "%s is in use: pid %ld serves it: not started", sa->sun_path, (long)cr.pid);
 	else
-		psd_errf(err, errlen, "%s is in use: a process serves it: not started", sa->sun_path);
+		psd_errbuf(err, errlen, "%s is in use: a process serves it: not started", sa->sun_path);
 	close(fd);
 	return -1;
 }
 
-int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
+int psd_ctlsock_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
                  void *user, char *err, size_t errlen)
 {
 	struct sockaddr_un sa = { .sun_family = AF_UNIX };
@@ -82,11 +82,11 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 	s->lfd = -1;
 	s->lockfd = -1;
 	if (strlen(path) >= sizeof sa.sun_path)
-		return psd_errf(err, errlen, "%s: a socket path is at most %zu bytes", path,
+		return psd_errbuf(err, errlen, "%s: a socket path is at most %zu bytes", path,
 		                sizeof sa.sun_path - 1);
 	s->cl = calloc((size_t)max_clients, sizeof *s->cl);
 	if (!s->cl)
-		return psd_errf(err, errlen, "%s: out of memory", path);
+		return psd_errbuf(err, errlen, "%s: out of memory", path);
 	s->max = max_clients;
 	s->handler = h;
 	s->user = user;
@@ -101,18 +101,18 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 		if ((s->lockfd = psd_pidlock_take(lock, &holder)) < 0) {
 			inuse = errno == EWOULDBLOCK;
 			if (errno == EWOULDBLOCK && holder > 0)
-				psd_errf(err, errlen, "%s is in use by psensd pid %ld (it holds %s): not started", path,
+				psd_errbuf(err, errlen, "%s is in use by psensd pid %ld (it holds %s): not started", path,
 				         (long)holder, lock);
 			else if (errno == EWOULDBLOCK)
-				psd_errf(err, errlen, "%s is in use: another process holds %s: not started", path, lock);
+				psd_errbuf(err, errlen, "%s is in use: another process holds %s: not started", path, lock);
 			else
-				psd_errf(err, errlen, "%s: %s", lock, strerror(errno));
+				psd_errbuf(err, errlen, "%s: %s", lock, strerror(errno));
 			goto bad;
 		}
 	}
 	if (lstat(path, &st) == 0) {
 		if (!S_ISSOCK(st.st_mode)) {
-			psd_errf(err, errlen, "%s exists and is not a socket", path);
+			psd_errbuf(err, errlen, "%s exists and is not a socket", path);
 			goto bad;
 		}
 		if (live_peer(&sa, err, errlen) != 0) {
@@ -128,7 +128,7 @@ int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clie
 	s->lfd = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
 	if (s->lfd < 0 || bind(s->lfd, (struct sockaddr *)&sa, sizeof sa) != 0 ||
 	    chmod(path, (mode_t)mode) != 0 || listen(s->lfd, SOMAXCONN) != 0) {
-		psd_errf(err, errlen, "%s: %s", path, strerror(errno));
+		psd_errbuf(err, errlen, "%s: %s", path, strerror(errno));
 		goto bad;
 	}
 	return 0;
@@ -145,7 +145,7 @@ bad:
 	return -1;
 }
 
-int psd_ctl_pollfds(const struct psd_ctlsock *s, struct pollfd *fds, int max)
+int psd_ctlsock_pollfds(const struct psd_ctlsock *s, struct pollfd *fds, int max)
 {
 	int n = 0;
 	if (s->lfd < 0 || max < 1)
@@ -216,7 +216,7 @@ static void accept_all(struct psd_ctlsock *s)
 		if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cr, &len) != 0 || !peer_allowed(cr.uid, cr.gid)) {
 			static const char no[] = "{\"ok\":false,\"error\":\"permission denied\"}\n";
 			s->rejected++;
-			log_warnx("control socket: refused uid %d pid %d (not in the daemon's group)", (int)cr.uid,
+			psd_log_warnx("control socket: refused uid %d pid %d (not in the daemon's group)", (int)cr.uid,
 			          (int)cr.pid);
 			(void)!write(fd, no, sizeof no - 1);
 			close(fd);
@@ -294,7 +294,7 @@ static int write_client(struct psd_ctl_client *c)
 	return 0;
 }
 
-void psd_ctl_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds)
+void psd_ctlsock_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds)
 {
 	double now = wall();
 	if (s->lfd < 0)
@@ -340,7 +340,7 @@ void psd_ctl_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds)
 	}
 }
 
-void psd_ctl_close(struct psd_ctlsock *s)
+void psd_ctlsock_close(struct psd_ctlsock *s)
 {
 	while (s->ncl)
 		drop(s, s->ncl - 1);

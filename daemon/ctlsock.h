@@ -50,19 +50,19 @@ struct psd_ctlsock {
  * refused, naming the pid; a dead one (left by a killed daemon) is
  * replaced.  -1 with a message in err and errno EADDRINUSE when the
  * socket is in use. */
-int psd_ctl_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
+int psd_ctlsock_open(struct psd_ctlsock *s, const char *path, int mode, int max_clients, psd_ctl_handler h,
                  void *user, char *err, size_t errlen);
 /* Descriptors to poll; returns the count written (at most max). */
-int psd_ctl_pollfds(const struct psd_ctlsock *s, struct pollfd *fds, int max);
-/* Serve what poll() found on the descriptors psd_ctl_pollfds gave. */
-void psd_ctl_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds);
+int psd_ctlsock_pollfds(const struct psd_ctlsock *s, struct pollfd *fds, int max);
+/* Serve what poll() found on the descriptors psd_ctlsock_pollfds gave. */
+void psd_ctlsock_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds);
 /* Close every connection and the socket, and remove the file. */
-void psd_ctl_close(struct psd_ctlsock *s);
+void psd_ctlsock_close(struct psd_ctlsock *s);
 
 /* Split a request into words (spaces and tabs); words are at most
  * PSD_CTL_MAX_WORDS.  Returns the count, or -1 with a message in err for
  * control characters or too many words. */
 enum { PSD_CTL_MAX_WORDS = 8 };
-int psd_ctl_split(char *line, char **argv, char *err, size_t errlen);
+int psd_ctlsock_split(char *line, char **argv, char *err, size_t errlen);
 
 #endif

@@ -112,7 +112,7 @@ static const char *read_columns(struct psd_db *db)
 
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
-	return psd_errf(err, errlen, "%s: %s", what, h ? sqlite3_errmsg(h) : "out of memory");
+	return psd_errbuf(err, errlen, "%s: %s", what, h ? sqlite3_errmsg(h) : "out of memory");
 }
 
 int psd_db_schema(struct psd_db *db)
@@ -174,7 +174,7 @@ static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen
 	if ((v = psd_db_schema(db)) < 0)
 		return fail(db->h, path, err, errlen);
 	if (v > PSD_DB_SCHEMA)
-		return psd_errf(err, errlen, "%s: schema version %d is newer than this psensd's (%d)", path, v,
+		return psd_errbuf(err, errlen, "%s: schema version %d is newer than this psensd's (%d)", path, v,
 		                PSD_DB_SCHEMA);
 	for (; v < PSD_DB_SCHEMA; v++) {
 		char set[96];
@@ -185,14 +185,14 @@ static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen
 		    sqlite3_exec(db->h, set, NULL, NULL, &msg) != SQLITE_OK ||
 		    sqlite3_exec(db->h, "COMMIT", NULL, NULL, &msg) != SQLITE_OK) {
 			sqlite3_exec(db->h, "ROLLBACK", NULL, NULL, NULL);
-			psd_errf(err, errlen, "%s: schema %d to %d: %s", path, v, v + 1, msg ? msg : "failed");
+			psd_errbuf(err, errlen, "%s: schema %d to %d: %s", path, v, v + 1, msg ? msg : "failed");
 			sqlite3_free(msg);
 			return -1;
 		}
 	}
 	return 0;
 bad:
-	psd_errf(err, errlen, "%s: %s", path, msg ? msg : sqlite3_errmsg(db->h));
+	psd_errbuf(err, errlen, "%s: %s", path, msg ? msg : sqlite3_errmsg(db->h));
 	sqlite3_free(msg);
 	return -1;
 }
@@ -201,7 +201,7 @@ static struct psd_db *open_db(const char *path, int flags, char *err, size_t err
 {
 	struct psd_db *db = calloc(1, sizeof *db);
 	if (!db) {
-		psd_errf(err, errlen, "%s: out of memory", path);
+		psd_errbuf(err, errlen, "%s: out of memory", path);
 		return NULL;
 	}
 	if (sqlite3_open_v2(path, &db->h, flags, NULL) != SQLITE_OK) {
@@ -232,18 +232,18 @@ static int lock_writer(const char *path, char *err, size_t errlen)
 	if (!*path || strcmp(path, ":memory:") == 0)
 		return -1;
 	if ((size_t)snprintf(lock, sizeof lock, "%s.lock", path) >= sizeof lock) {
-		psd_errf(err, errlen, "%s: path too long", path);
+		psd_errbuf(err, errlen, "%s: path too long", path);
 		return -2;
 	}
 	if ((fd = psd_pidlock_take(lock, &holder)) >= 0)
 		return fd;
 	if (errno == EWOULDBLOCK && holder > 0)
-		psd_errf(err, errlen, "%s is in use by psensd pid %ld (it holds %s): one daemon per database", path,
+		psd_errbuf(err, errlen, "%s is in use by psensd pid %ld (it holds %s): one daemon per database", path,
 		         (long)holder, lock);
 	else if (errno == EWOULDBLOCK)
-		psd_errf(err, errlen, "%s is in use: another process holds %s: one daemon per database", path, lock);
+		psd_errbuf(err, errlen, "%s is in use: another process holds %s: one daemon per database", path, lock);
 	else
-		psd_errf(err, errlen, "%s: %s", lock, strerror(errno));
+		psd_errbuf(err, errlen, "%s: %s", lock, strerror(errno));
 	return -2;
 }
 
@@ -285,12 +285,12 @@ struct psd_db *psd_db_open_readonly(const char *path, char *err, size_t errlen)
 	if ((v = psd_db_schema(db)) < 0)
 		fail(db->h, path, err, errlen);
 	else if (v > PSD_DB_SCHEMA)
-		psd_errf(err, errlen, "%s: schema version %d is newer than this psensd's (%d)", path, v,
+		psd_errbuf(err, errlen, "%s: schema version %d is newer than this psensd's (%d)", path, v,
 		         PSD_DB_SCHEMA);
 	else if (!has_column(db, "samples", "t"))
-		psd_errf(err, errlen, "%s: not a psensd database (no samples table)", path);
+		psd_errbuf(err, errlen, "%s: not a psensd database (no samples table)", path);
 	else if (!has_column(db, "samples", "zone"))
-		psd_errf(err, errlen, "%s: schema version %d, from before zones: psensd brings it forward "
+		psd_errbuf(err, errlen, "%s: schema version %d, from before zones: psensd brings it forward "
 		         "when it next opens it", path, v);
 	else
 		return db;
@@ -705,7 +705,7 @@ int psd_db_export_csv(const char *path, void *out, char *err, size_t errlen)
 
 static int cal_fail(struct psd_db *db, const char *what, char *err, size_t errlen)
 {
-	return psd_errf(err, errlen, "calibration log: %s: %s", what, sqlite3_errmsg(db->h));
+	return psd_errbuf(err, errlen, "calibration log: %s: %s", what, sqlite3_errmsg(db->h));
 }
 
 long long psd_db_cal_begin(struct psd_db *db, const char *zone, const char *kind, double started,

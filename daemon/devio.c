@@ -151,7 +151,7 @@ static void *worker(void *arg)
 			snprintf(msg, sizeof msg, "%s", rc ? dev->err : "");
 			pthread_mutex_lock(&io->mu);
 			if (rc)
-				log_debug("device %s: %s", dev->name, msg);
+				psd_log_debug("device %s: %s", dev->name, msg);
 		} else {
 			dl = dev->drv->deadline ? dev->drv->deadline(dev) : INFINITY;
 			wait_until(io, dl, now);
@@ -246,7 +246,7 @@ void psd_devio_drain(struct psd_devio *io)
 	io->ev_lost = 0;
 	pthread_mutex_unlock(&io->mu);
 	if (lost)
-		log_warnx("device %s: %lu input event(s) lost (more than %d between two turns)", io->dev->name, lost,
+		psd_log_warnx("device %s: %lu input event(s) lost (more than %d between two turns)", io->dev->name, lost,
 		          DEVIO_MAX_EVENTS);
 	for (int i = 0; i < nev && io->saved_fn; i++)
 		io->saved_fn(io->saved_user, io->dev, ev[i].pt, ev[i].now, ev[i].value);

@@ -38,7 +38,7 @@ static const struct ps_results *device_res(const struct psd_engine *e, const str
 	int di = (int)(d - e->dev);
 	for (size_t i = 0; i < cf->nzone; i++)
 		if (cf->pt[cf->zone[i].sensor].device == di) {
-			*path = psd_zone_results(cf, &cf->zone[i]);
+			*path = psd_config_zone_results(cf, &cf->zone[i]);
 			return zone_res(e, i);
 		}
 	*path = cf->results;
@@ -56,15 +56,15 @@ static int setup_room(struct psd_engine *e, struct ps_dev *d, double now, char *
 	                                             : psd_roomsetup_new(res, cf->date, cf->sunrise, cf->sunset);
 	int rc;
 	if (!room && cf->sim_year)
-		return psd_errf(err, n, "device %s: [simulate] year = yes needs results with a year and an "
+		return psd_errbuf(err, n, "device %s: [simulate] year = yes needs results with a year and an "
 		                "electric condition (a weather file in the scene: psscene(5)); %s has %s",
 		                d->name, path, res && res->have_year ? "no electric condition" : "no year");
 	if (!room)
-		return psd_errf(err, n, "device %s: the %s room needs results with a daylight and an electric "
+		return psd_errbuf(err, n, "device %s: the %s room needs results with a daylight and an electric "
 		                "condition (%s)", d->name, d->drv->name, path);
 	rc = d->drv->setup(d, room, now);
 	psd_roomsetup_free(room);
-	return rc == 0 ? 0 : psd_errf(err, n, "device %s: %s", d->name, d->err);
+	return rc == 0 ? 0 : psd_errbuf(err, n, "device %s: %s", d->name, d->err);
 }
 
 static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
@@ -80,7 +80,7 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 		e->dev_open[i] = 1;
 		/* the keys were judged by the configuration's check (the driver's table) */
 		if (d->drv->open(d, &cf->dev[i].opts) != 0)
-			return psd_errf(err, n, "device %s: %s", d->name, d->err);
+			return psd_errbuf(err, n, "device %s: %s", d->name, d->err);
 		if (d->drv->setup && setup_room(e, d, now, err, n) != 0)
 			return -1;
 	}
@@ -92,7 +92,7 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 		snprintf(p->name, sizeof p->name, "%s", pc->name);
 		p->role = pc->role;
 		if (d->drv->add_point(d, p, &pc->opts) != 0)
-			return psd_errf(err, n, "point %s: %s", p->name, d->err);
+			return psd_errbuf(err, n, "point %s: %s", p->name, d->err);
 	}
 	return 0;
 }
@@ -135,7 +135,7 @@ static void cal_load(struct psd_engine *e, struct psd_zone *z, double now)
 	psd_calsession_accepted(&c, &ask);
 	cal_act(z, &ask);
 	if (z->cal_night_id || z->cal_day_id)
-		log_info("zone %s: calibrated (night session %lld, day session %lld): sensor gain %.5g, offset "
+		psd_log_info("zone %s: calibrated (night session %lld, day session %lld): sensor gain %.5g, offset "
 		         "%.4g V, daylight ratio %.5g", z->zc->name, z->cal_night_id, z->cal_day_id, z->ctl.sensor_gain,
 		         z->ctl.offset, z->ctl.daylight_ratio);
 	psd_calsession_resume(&z->cal, &c, z->level, &ask);
@@ -200,7 +200,7 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 			if (z->sim && o->sim) {
 				double e0 = z->st.energy0;
 				z->st = o->st;
-				z->st.energy_prior = psd_zone_energy(&o->st, o->st.energy_last);
+				z->st.energy_prior = psd_engine_zone_energy(&o->st, o->st.energy_last);
 				z->st.energy0 = z->st.energy_last = e0;
 			}
 		}
@@ -213,7 +213,7 @@ static void record_consts(struct psd_engine *e, const struct psd_zone *z)
 	char err[512];
 	if (e->db && psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux, z->ctl.delay,
 	                                    err, sizeof err) != 0 && e->log_errors++ == 0)
-		log_warnx("%s: %s", e->cf->database, err);
+		psd_log_warnx("%s: %s", e->cf->database, err);
 }
 
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
@@ -242,18 +242,18 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	}
 	if (cf->results) {
 		if (ps_results_read(&e->res, cf->results, &pe) != 0) {
-			psd_errf(err, errlen, "%s", pe.msg);
+			psd_errbuf(err, errlen, "%s", pe.msg);
 			goto bad;
 		}
 		e->have_res = 1;
 	}
 	/* zones with their own simulation */
 	for (size_t i = 0; i < cf->nzone; i++) {
-		const char *r = psd_zone_results(cf, &cf->zone[i]);
+		const char *r = psd_config_zone_results(cf, &cf->zone[i]);
 		if (!r || (cf->results && strcmp(r, cf->results) == 0))
 			continue;
 		if (ps_results_read(&e->zres[i], r, &pe) != 0) {
-			psd_errf(err, errlen, "zone %s: %s", cf->zone[i].name, pe.msg);
+			psd_errbuf(err, errlen, "zone %s: %s", cf->zone[i].name, pe.msg);
 			goto bad;
 		}
 		e->have_zres[i] = 1;
@@ -271,9 +271,9 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 		if ((cf->zone[i].ctl.algorithm == PSD_ALG_SETPOINT ||
 		     cf->zone[i].ctl.algorithm == PSD_ALG_CLOSED_PROPORTIONAL) &&
 		    !(e->zone[i].ctl.daylight_ratio > 0 && e->zone[i].ctl.elec_task_lux > 0)) {
-			psd_errf(err, errlen, "zone %s: %s control needs the simulated daylight and electric ratios (%s)",
-			     cf->zone[i].name, psd_algorithm_names[cf->zone[i].ctl.algorithm],
-			     psd_zone_results(cf, &cf->zone[i]));
+			psd_errbuf(err, errlen, "zone %s: %s control needs the simulated daylight and electric ratios (%s)",
+			     cf->zone[i].name, psd_control_algorithm_names[cf->zone[i].ctl.algorithm],
+			     psd_config_zone_results(cf, &cf->zone[i]));
 			goto bad;
 		}
 	}
@@ -294,7 +294,7 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	for (size_t i = 0; i < e->nzone; i++) {
 		char why[256];
 		if (command(e, &e->zone[i], now, e->zone[i].level, why, sizeof why) != 0)
-			log_warnx("zone %s: %s", e->zone[i].zc->name, why);
+			psd_log_warnx("zone %s: %s", e->zone[i].zc->name, why);
 	}
 	return 0;
 bad:
@@ -337,7 +337,7 @@ static void event(struct psd_engine *e, double now, const char *zone, const char
 {
 	char err[512];
 	if (e->db && psd_db_event(e->db, now, zone, kind, text, err, sizeof err) != 0 && e->log_errors++ == 0)
-		log_warnx("%s: %s", e->cf->database, err);
+		psd_log_warnx("%s: %s", e->cf->database, err);
 }
 
 static struct ps_dev *dev_of(struct psd_engine *e, int point)
@@ -388,7 +388,7 @@ void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock)
 		if (e->io[i] || !e->dev_open[i] || !psd_devio_wanted(e->dev[i].drv))
 			continue;
 		if (!(e->io[i] = psd_devio_start(&e->dev[i], e->pt, e->cf->npt, clock)))
-			log_warnx("device %s: no I/O thread (%s): its I/O runs in the event loop", e->dev[i].name,
+			psd_log_warnx("device %s: no I/O thread (%s): its I/O runs in the event loop", e->dev[i].name,
 			          strerror(errno));
 	}
 }
@@ -480,12 +480,12 @@ static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, co
 	char t[24], err[256];
 	psd_engine_stamp(e, now, t, sizeof t);
 	if (!z->in_fault) {
-		log_warnx("zone %s: %s fault: %s: lights to the safe level %.0f %%", z->zc->name, t, why,
+		psd_log_warnx("zone %s: %s fault: %s: lights to the safe level %.0f %%", z->zc->name, t, why,
 		          100 * z->zc->safe_level);
 		event(e, now, z->zc->name, "fault", why);
 	}
 	else if (strcmp(z->why, why) != 0)
-		log_debug("zone %s: %s fault now: %s", z->zc->name, t, why);
+		psd_log_debug("zone %s: %s fault now: %s", z->zc->name, t, why);
 	z->in_fault = 1;
 	snprintf(z->why, sizeof z->why, "%s", why);
 	if (psd_calsession_running(&z->cal)) {
@@ -498,7 +498,7 @@ static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, co
 	 * person: said once, until the safe level is reached */
 	if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {
 		if (!z->unsafe)
-			log_errx("zone %s: %s cannot reach the safe level: %s", z->zc->name, t, err);
+			psd_log_errx("zone %s: %s cannot reach the safe level: %s", z->zc->name, t, err);
 		z->unsafe = 1;
 	} else {
 		z->unsafe = 0;
@@ -530,7 +530,7 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 			}
 			return -1;
 		}
-		log_debug("zone %s: %s (holding the level)", zc->name, e->ioerr);
+		psd_log_debug("zone %s: %s (holding the level)", zc->name, e->ioerr);
 		return 1;
 	}
 	z->volts = v;
@@ -591,7 +591,7 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 			if (!(q > 0))
 				z->sky_class = -1;   /* no hour of that class there: the typical one */
 		} else if (!z->rooftop_failed++) {
-			log_warnx("zone %s: rooftop %s: %s; the typical sky class until it reads", z->zc->name,
+			psd_log_warnx("zone %s: rooftop %s: %s; the typical sky class until it reads", z->zc->name,
 			          e->pt[z->zc->rooftop].name, d->err);
 		}
 	}
@@ -632,7 +632,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 	if (psd_db_add(e->db, &s, err, sizeof err) != 0) {
 		/* the log is a record, not the control: say so and go on */
 		if (e->log_errors++ == 0)
-			log_warnx("%s: %s", e->cf->database, err);
+			psd_log_warnx("%s: %s", e->cf->database, err);
 		return;
 	}
 	e->logged = e->logged_base + psd_db_committed(e->db);
@@ -643,7 +643,7 @@ int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t)
 	return z->sim && z->sim->drv->truth(z->sim, now, t) == 0 ? 0 : -1;
 }
 
-double psd_zone_energy(const struct psd_zone_stats *s, double energy_now)
+double psd_engine_zone_energy(const struct psd_zone_stats *s, double energy_now)
 {
 	return s->energy_prior + (energy_now - s->energy0);
 }
@@ -693,11 +693,11 @@ static void drift_step(struct psd_engine *e, struct psd_zone *z, double now)
 	if (r > 0) {
 		char t[24];
 		psd_engine_stamp(e, now, t, sizeof t);
-		log_warnx("zone %s: %s drift: the measured task/sensor ratio is %.0f %% off the simulated one for "
+		psd_log_warnx("zone %s: %s drift: the measured task/sensor ratio is %.0f %% off the simulated one for "
 		          "%.0f s (sensor obstructed, dirty or moved, or the room changed?)", z->zc->name, t,
 		          100 * (exp(z->drift.last_ln) - 1), now - z->drift.out_since);
 	} else if (r < 0) {
-		log_info("zone %s: drift cleared: the measured ratio is back within %.0f %%", z->zc->name,
+		psd_log_info("zone %s: drift cleared: the measured ratio is back within %.0f %%", z->zc->name,
 		         100 * (exp(z->zc->drift_margin / 2) - 1));
 	}
 }
@@ -787,7 +787,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		} else {
 			if (z->in_fault) {
 				psd_engine_stamp(e, now, t, sizeof t);
-				log_info("zone %s: %s fault cleared: control resumes", zc->name, t);
+				psd_log_info("zone %s: %s fault cleared: control resumes", zc->name, t);
 				event(e, now, zc->name, "fault cleared", z->why);
 				z->in_fault = 0;
 				z->why[0] = 0;
@@ -899,7 +899,7 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 		if (d->drv->deadline && d->drv->deadline(d) <= now)
 			due = 1;
 		if (due && d->drv->service(d, now) != 0)
-			log_warnx("device %s: %s", d->name, d->err);
+			psd_log_warnx("device %s: %s", d->name, d->err);
 	}
 }
 
@@ -911,16 +911,16 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
 		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {
-			log_errx("zone %s: cannot reach the safe level: %s", z->zc->name, err);
+			psd_log_errx("zone %s: cannot reach the safe level: %s", z->zc->name, err);
 			failed++;
 		} else
-			log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
+			psd_log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
 			         100 * z->zc->safe_level);
 	}
 	if (e->db) {
 		char dberr[512];
 		if (psd_db_commit(e->db, dberr, sizeof dberr) != 0)
-			log_warnx("%s: %s", e->cf->database, dberr);
+			psd_log_warnx("%s: %s", e->cf->database, dberr);
 		e->logged = e->logged_base + psd_db_committed(e->db);
 	}
 	return failed;
@@ -947,7 +947,7 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 					z->occupancy = 0;
 					z->vacant_since = now;
 				}
-				log_info("zone %s: %s", z->zc->name, value > 0.5 ? "occupied" : "vacant");
+				psd_log_info("zone %s: %s", z->zc->name, value > 0.5 ? "occupied" : "vacant");
 				z->asap = 1;   /* act on it now, off the schedule */
 				break;
 			case PSD_ACT_OVERRIDE:
@@ -955,17 +955,17 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 					break;
 				if (now < z->override_until) {
 					z->override_until = -INFINITY;
-					log_info("zone %s: button: override released", z->zc->name);
+					psd_log_info("zone %s: button: override released", z->zc->name);
 				} else {
 					z->override_level = 1.0;
 					z->override_until = now + z->zc->override_s;
-					log_info("zone %s: button: full output for %.0f s", z->zc->name, z->zc->override_s);
+					psd_log_info("zone %s: button: full output for %.0f s", z->zc->name, z->zc->override_s);
 				}
 				z->asap = 1;
 				break;
 			case PSD_ACT_CALIBRATE:
 				if (value > 0.5)
-					log_info("zone %s: button: calibration step requested", z->zc->name);
+					psd_log_info("zone %s: button: calibration step requested", z->zc->name);
 				break;
 			default:
 				break;
@@ -985,22 +985,22 @@ struct psd_zone *psd_engine_zone(struct psd_engine *e, const char *name)
 int psd_engine_set_target(struct psd_zone *z, double lux, char *err, size_t n)
 {
 	if (!(lux >= 0 && lux <= 1e6))
-		return psd_errf(err, n, "target %g lx is outside 0 to 1e6", lux);
+		return psd_errbuf(err, n, "target %g lx is outside 0 to 1e6", lux);
 	z->ctl.target_lux = lux;
-	log_info("zone %s: target %g lx", z->zc->name, lux);
+	psd_log_info("zone %s: target %g lx", z->zc->name, lux);
 	return 0;
 }
 
 int psd_engine_override(struct psd_zone *z, double level, double seconds, double now, char *err, size_t n)
 {
 	if (!(level >= 0 && level <= 1))
-		return psd_errf(err, n, "level %g is outside 0 to 1", level);
+		return psd_errbuf(err, n, "level %g is outside 0 to 1", level);
 	if (!(seconds > 0 && seconds <= 7 * 86400))
-		return psd_errf(err, n, "duration %g s is outside 0 to 7 days", seconds);
+		return psd_errbuf(err, n, "duration %g s is outside 0 to 7 days", seconds);
 	z->override_level = level;
 	z->override_until = now + seconds;
 	z->asap = 1;   /* at once, not at the next period */
-	log_info("zone %s: override %.0f %% for %g s", z->zc->name, 100 * level, seconds);
+	psd_log_info("zone %s: override %.0f %% for %g s", z->zc->name, 100 * level, seconds);
 	return 0;
 }
 
@@ -1008,7 +1008,7 @@ void psd_engine_release(struct psd_zone *z)
 {
 	z->override_until = -INFINITY;
 	z->asap = 1;
-	log_info("zone %s: override released", z->zc->name);
+	psd_log_info("zone %s: override released", z->zc->name);
 }
 
 int psd_engine_cal_start(struct psd_engine *e, struct psd_zone *z, int kind, double level, double now, char *err,
@@ -1017,7 +1017,7 @@ int psd_engine_cal_start(struct psd_engine *e, struct psd_zone *z, int kind, dou
 	struct psd_calsession_ctx c = cal_ctx(e, z, now);
 	struct psd_calsession_ask ask;
 	if (z->in_fault && !psd_calsession_running(&z->cal))
-		return psd_errf(err, n, "zone %s is at its safe level: %s", z->zc->name, z->why);
+		return psd_errbuf(err, n, "zone %s is at its safe level: %s", z->zc->name, z->why);
 	if (psd_calsession_start(&z->cal, &c, kind, level, &ask, err, n) != 0)
 		return -1;
 	cal_act(z, &ask);
@@ -1057,7 +1057,7 @@ int psd_engine_cal_accept(struct psd_engine *e, struct psd_zone *z, double now, 
 		psd_engine_stamp(e, now, t, sizeof t);
 		snprintf(text, sizeof text, "session %lld", z->cal.id);
 		event(e, now, z->zc->name, "calibration accepted", text);
-		log_info("zone %s: %s: calibration session %lld accepted (sensor gain %.5g V per unit, offset %.4g V, "
+		psd_log_info("zone %s: %s: calibration session %lld accepted (sensor gain %.5g V per unit, offset %.4g V, "
 		         "daylight ratio %.5g, electric task lux %.5g)", z->zc->name, t, z->cal.id, z->ctl.sensor_gain,
 		         z->ctl.offset, z->ctl.daylight_ratio, z->ctl.elec_task_lux);
 	}
@@ -1070,7 +1070,7 @@ int psd_engine_cal_abort(struct psd_engine *e, struct psd_zone *z, double now, c
 	struct psd_calsession_ctx c = cal_ctx(e, z, now);
 	struct psd_calsession_ask ask;
 	if (psd_calsession_abort(&z->cal, &c, why, &ask) != 0)
-		return psd_errf(err, n, "zone %s has no running session", z->zc->name);
+		return psd_errbuf(err, n, "zone %s has no running session", z->zc->name);
 	cal_act(z, &ask);
 	return 0;
 }

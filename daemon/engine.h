@@ -29,7 +29,7 @@ struct psd_zone_stats {
 };
 /* The energy a zone used since its statistics began (full-output seconds),
  * given the room's energy now. */
-double psd_zone_energy(const struct psd_zone_stats *s, double energy_now);
+double psd_engine_zone_energy(const struct psd_zone_stats *s, double energy_now);
 
 /* One control step as it happened, every value of the same moment (what
  * status and watch show): the reading, the estimate made from it at the

@@ -9,7 +9,7 @@
 #include <stddef.h>
 
 /* printf into err (at most n bytes, always terminated); returns -1. */
-int psd_errf(char *err, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-int psd_verrf(char *err, size_t n, const char *fmt, va_list ap) __attribute__((format(printf, 3, 0)));
+int psd_errbuf(char *err, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+int psd_errbuf_va(char *err, size_t n, const char *fmt, va_list ap) __attribute__((format(printf, 3, 0)));
 
 #endif

@@ -9,7 +9,7 @@
 #include <sys/stat.h>
 #include <syslog.h>
 
-/* The whole state, reset by log_init (tests call it again). */
+/* The whole state, reset by psd_log_init (tests call it again). */
 static struct {
 	int foreground;
 	int journal;          /* stderr is the journal: "<N>" priority prefixes */
@@ -30,7 +30,7 @@ static int stderr_is_journal(void)
 	return (unsigned long long)st.st_dev == dev && (unsigned long long)st.st_ino == ino;
 }
 
-void log_init(int foreground, int level, const char *ident)
+void psd_log_init(int foreground, int level, const char *ident)
 {
 	log_state.foreground = foreground;
 	log_state.journal = foreground && stderr_is_journal();
@@ -69,9 +69,9 @@ static void vlog(int level, int prio, const char *errtext, const char *fmt, va_l
 		va_end(ap);                                                    \
 	}
 
-LOG_FN(log_errx, PSD_LOG_WARN, LOG_ERR, 0)
-LOG_FN(log_err, PSD_LOG_WARN, LOG_ERR, 1)
-LOG_FN(log_warnx, PSD_LOG_WARN, LOG_WARNING, 0)
-LOG_FN(log_warn, PSD_LOG_WARN, LOG_WARNING, 1)
-LOG_FN(log_info, PSD_LOG_INFO, LOG_INFO, 0)
-LOG_FN(log_debug, PSD_LOG_DEBUG, LOG_DEBUG, 0)
+LOG_FN(psd_log_errx, PSD_LOG_WARN, LOG_ERR, 0)
+LOG_FN(psd_log_err, PSD_LOG_WARN, LOG_ERR, 1)
+LOG_FN(psd_log_warnx, PSD_LOG_WARN, LOG_WARNING, 0)
+LOG_FN(psd_log_warn, PSD_LOG_WARN, LOG_WARNING, 1)
+LOG_FN(psd_log_info, PSD_LOG_INFO, LOG_INFO, 0)
+LOG_FN(psd_log_debug, PSD_LOG_DEBUG, LOG_DEBUG, 0)

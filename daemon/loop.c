@@ -86,10 +86,10 @@ static const char *socket_path(const struct psd_config *cf, char *buf, size_t n)
 	return buf;
 }
 
-void psd_daemon_config_errors(const struct psd_config *cf)
+void psd_loop_config_errors(const struct psd_config *cf)
 {
 	for (size_t i = 0; i < cf->conf.nerrors; i++)
-		log_errx("%s", cf->conf.errors[i]);
+		psd_log_errx("%s", cf->conf.errors[i]);
 }
 
 /* The run's date: a set date the database already holds moves to the next
@@ -110,44 +110,44 @@ static void date_run(struct psd_daemon *d, double now)
 				break;
 		}
 		psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
-		log_info("the database holds samples up to that date already: this run starts %s, not %s", is, was);
+		psd_log_info("the database holds samples up to that date already: this run starts %s, not %s", is, was);
 	}
 	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
 	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
-	log_info("the run starts %s (local time)", is);
+	psd_log_info("the run starts %s (local time)", is);
 	if (d->engine.db) {
 		char err[512], text[300];
 		snprintf(text, sizeof text, "%s on a %s clock", d->config_path, d->clock.simulated ? "simulated" : "real-time");
 		if (psd_db_event(d->engine.db, now, NULL, "start", text, err, sizeof err) != 0)
-			log_warnx("%s", err);
+			psd_log_warnx("%s", err);
 	}
 }
 
 /* An MQTT command: the control socket's request function, the same code. */
 static void mqtt_request(void *user, char *line, char *reply, size_t len)
 {
-	psd_ctl_request(user, line, reply, len);
+	psd_ctlcmd_request(user, line, reply, len);
 }
 
-int psd_daemon_start(struct psd_daemon *d, const char *path)
+int psd_loop_start(struct psd_daemon *d, const char *path)
 {
 	struct psd_config *cf = calloc(1, sizeof *cf);
 	char err[1024] = "", sock[256];
 	double now = psd_clock_now(&d->clock);
 	d->config_path = path;
 	if (!cf) {
-		log_err("config");
+		psd_log_err("config");
 		return -1;
 	}
 	/* before any device opens: a driver's library may start threads, which
 	 * inherit the mask, and a signal must reach the signalfd, not them */
 	if (signals_block() != 0) {
-		log_err("signals");
+		psd_log_err("signals");
 		free(cf);
 		return -1;
 	}
 	if (psd_config_load(cf, path) != 0) {
-		psd_daemon_config_errors(cf);
+		psd_loop_config_errors(cf);
 		psd_config_free(cf);
 		free(cf);
 		return -1;
@@ -156,12 +156,12 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	 * configured): a second daemon on the same socket is refused before it
 	 * opens a device or commands a light */
 	if (!d->clock.simulated || cf->socket_path) {
-		if (psd_ctl_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
-		                 (int)cf->max_clients, psd_ctl_handle, d, err, sizeof err) != 0) {
+		if (psd_ctlsock_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
+		                 (int)cf->max_clients, psd_ctlcmd_handle, d, err, sizeof err) != 0) {
 			if (errno == EADDRINUSE)
-				log_errx("control socket %s", err);
+				psd_log_errx("control socket %s", err);
 			else
-				log_errx("control socket %s (set socket = in [psensd], or run under systemd "
+				psd_log_errx("control socket %s (set socket = in [psensd], or run under systemd "
 				          "with RuntimeDirectory=)", err);
 			psd_config_free(cf);
 			free(cf);
@@ -174,9 +174,9 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	if (psd_refresh_results(cf, d->self) != 0 ||
 	    psd_engine_open_io(&d->engine, cf, now = psd_clock_now(&d->clock), d->clock.simulated ? 500 : 1, NULL, &d->clock, err, sizeof err) != 0) {
 		if (d->engine.cf == NULL && err[0])
-			log_errx("%s", err);
+			psd_log_errx("%s", err);
 		if (d->have_ctl)
-			psd_ctl_close(&d->ctl);
+			psd_ctlsock_close(&d->ctl);
 		d->have_ctl = 0;
 		psd_config_free(cf);
 		free(cf);
@@ -190,11 +190,11 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
 	date_run(d, now);
 	if (d->have_ctl)
-		log_info("control socket %s", d->ctl.path);
+		psd_log_info("control socket %s", d->ctl.path);
 	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
-		log_errx("%s", err);
+		psd_log_errx("%s", err);
 		if (d->have_ctl)
-			psd_ctl_close(&d->ctl);
+			psd_ctlsock_close(&d->ctl);
 		d->have_ctl = 0;
 		psd_engine_close(&d->engine);
 		psd_config_free(cf);
@@ -204,7 +204,7 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	return 0;
 }
 
-int psd_daemon_run(struct psd_daemon *d)
+int psd_loop_run(struct psd_daemon *d)
 {
 	struct pollfd *fds = d->fds;
 	int *fd_dev = d->fd_dev;
@@ -225,7 +225,7 @@ int psd_daemon_run(struct psd_daemon *d)
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
 		fds[n++] = (struct pollfd){ sigfd, POLLIN, 0 };
-		nctl = d->have_ctl ? psd_ctl_pollfds(&d->ctl, fds + n, PSD_MAX_POLL - n - PSD_MAX_DEVICES) : 0;
+		nctl = d->have_ctl ? psd_ctlsock_pollfds(&d->ctl, fds + n, PSD_MAX_POLL - n - PSD_MAX_DEVICES) : 0;
 		n += nctl;
 		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n - 1);
 		timeout = psd_clock_wait_ms(&d->clock, deadline, d->watchdog_ms ? d->watchdog_ms : 60000);
@@ -236,20 +236,20 @@ int psd_daemon_run(struct psd_daemon *d)
 				timeout = w;
 		}
 		if (poll(fds, (nfds_t)(n + ndev + nmq), timeout) < 0 && errno != EINTR) {
-			log_err("poll");
+			psd_log_err("poll");
 			break;
 		}
 		if (fds[0].revents & POLLIN)
 			signals_read(d);
 		if (nctl)
-			psd_ctl_service(&d->ctl, fds + 1, nctl);
+			psd_ctlsock_service(&d->ctl, fds + 1, nctl);
 		now = psd_clock_now(&d->clock);
 		psd_engine_service(&d->engine, now, fds + 1 + nctl, fd_dev, ndev);
 		if (d->mqtt)
 			psd_mqtt_service(d->mqtt, nmq ? fds + n + ndev : NULL, now);
 		if (d->reload) {
 			d->reload = 0;
-			psd_daemon_reload(d);
+			psd_reload(d);
 		}
 		if (d->watchdog_ms && mono() >= wd_next) {
 			sd_notify(0, "WATCHDOG=1");
@@ -260,7 +260,7 @@ int psd_daemon_run(struct psd_daemon *d)
 	return 0;
 }
 
-int psd_daemon_safe(struct psd_daemon *d, const char *why)
+int psd_loop_safe(struct psd_daemon *d, const char *why)
 {
 	int unsafe = psd_engine_safe(&d->engine, psd_clock_now(&d->clock), why);
 	double until = mono() + PSD_SETTLE_MS / 1000.0;
@@ -280,14 +280,14 @@ int psd_daemon_safe(struct psd_daemon *d, const char *why)
 	return unsafe;
 }
 
-void psd_daemon_stop(struct psd_daemon *d, const char *why)
+void psd_loop_stop(struct psd_daemon *d, const char *why)
 {
 	sd_notify(0, "STOPPING=1");
 	psd_mqtt_close(d->mqtt);   /* offline, the last acknowledgements, while the log is open */
 	d->mqtt = NULL;
 	if (d->engine.cf) {
 		if (why)
-			psd_daemon_safe(d, why);
+			psd_loop_safe(d, why);
 		{
 			struct psd_config *cf = psd_engine_close(&d->engine);
 			psd_config_free(cf);
@@ -295,7 +295,7 @@ void psd_daemon_stop(struct psd_daemon *d, const char *why)
 		}
 	}
 	if (d->have_ctl)
-		psd_ctl_close(&d->ctl);
+		psd_ctlsock_close(&d->ctl);
 	d->have_ctl = 0;
 	if (sigfd >= 0) {
 		close(sigfd);

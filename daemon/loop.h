@@ -36,19 +36,19 @@ struct psd_daemon {
 
 /* Load path, refresh the results, open the engine at the clock's now, and
  * the control socket.  -1 after logging why. */
-int psd_daemon_start(struct psd_daemon *d, const char *path);
+int psd_loop_start(struct psd_daemon *d, const char *path);
 /* The event loop until d->stop or the simulated end; returns 0. */
-int psd_daemon_run(struct psd_daemon *d);
+int psd_loop_run(struct psd_daemon *d);
 /* Log a refused configuration's errors, each at LOG_ERR. */
-void psd_daemon_config_errors(const struct psd_config *cf);
+void psd_loop_config_errors(const struct psd_config *cf);
 /* Shutdown: every zone to its safe level, then (real time) the devices
  * that send step-wise are served until what was asked is sent (their
  * deadlines idle) or for at most PSD_SETTLE_S: a DALI frame queued behind
  * one on the bus would be lost when the interface closes.  Returns the
  * count of zones that cannot reach the safe level. */
 enum { PSD_SETTLE_MS = 1000 };
-int psd_daemon_safe(struct psd_daemon *d, const char *why);
+int psd_loop_safe(struct psd_daemon *d, const char *why);
 /* Safe level (unless why is NULL: already done), close everything. */
-void psd_daemon_stop(struct psd_daemon *d, const char *why);
+void psd_loop_stop(struct psd_daemon *d, const char *why);
 
 #endif

@@ -26,7 +26,7 @@ static void refuse(struct psd_reload_why *w, const char *fmt, ...)
 	va_start(ap, fmt);
 	vsnprintf(line, sizeof line, fmt, ap);
 	va_end(ap);
-	log_errx("%s", line);
+	psd_log_errx("%s", line);
 	if (w && w->n < PSD_RELOAD_WHY_MAX)
 		snprintf(w->line[w->n++], sizeof w->line[0], "%s", line);
 }
@@ -62,12 +62,12 @@ static void locate(const struct psd_config *cf, const char *err, char *out, size
 		snprintf(out, n, "%s: %s", path, err);
 }
 
-int psd_daemon_reload(struct psd_daemon *d)
+int psd_reload(struct psd_daemon *d)
 {
-	return psd_daemon_reload_why(d, NULL);
+	return psd_reload_explain(d, NULL);
 }
 
-int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
+int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 {
 	struct psd_config *cf = calloc(1, sizeof *cf), *old;
 	struct psd_engine *snap = malloc(sizeof *snap);
@@ -84,13 +84,13 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	if (psd_config_load(cf, d->config_path) != 0) {
 		for (size_t i = 0; i < cf->conf.nerrors; i++)
 			refuse(w, "%s", cf->conf.errors[i]);
-		log_errx("reload: %s has errors: the running configuration stays", d->config_path);
+		psd_log_errx("reload: %s has errors: the running configuration stays", d->config_path);
 		goto keep;
 	}
 	if (psd_refresh_results(cf, d->self) != 0) {
 		refuse(w, "%s: results %s: none for the new configuration (psscene failed: see the daemon's log)",
 		       d->config_path, cf->results ? cf->results : "-");
-		log_errx("reload: no results for the new configuration: the running configuration stays");
+		psd_log_errx("reload: no results for the new configuration: the running configuration stays");
 		goto keep;
 	}
 	/* devices can be opened once (a claimed USB interface, a GPIO line):
@@ -100,7 +100,7 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	if (psd_engine_open_io(&d->engine, cf, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 		locate(cf, err, where, sizeof where);
 		refuse(w, "%s", where);
-		log_errx("reload: the running configuration stays");
+		psd_log_errx("reload: the running configuration stays");
 		if (psd_engine_open_io(&d->engine, old, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 			refuse(w, "reload: cannot reopen the running configuration either: %s", err);
 			d->stop = SIGTERM;
@@ -119,12 +119,12 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	if (d->mqtt)
 		psd_mqtt_reload(d->mqtt);
 	if (cf->mqtt.enabled != (d->mqtt != NULL))
-		log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
-	log_info("reloaded %s", d->config_path);
+		psd_log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
+	psd_log_info("reloaded %s", d->config_path);
 	if (d->engine.db) {   /* dated: the engine kept the clock's utc0 */
 		char dberr[512];
 		if (psd_db_event(d->engine.db, now, NULL, "reload", d->config_path, dberr, sizeof dberr) != 0)
-			log_warnx("%s", dberr);
+			psd_log_warnx("%s", dberr);
 	}
 	sd_notify(0, "READY=1");
 	return 0;

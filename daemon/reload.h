@@ -8,7 +8,7 @@ struct psd_daemon;
 
 /* SIGHUP's work: a new config replaces the running one only when it loads
  * and opens; otherwise the old one keeps running.  0 when replaced. */
-int psd_daemon_reload(struct psd_daemon *d);
+int psd_reload(struct psd_daemon *d);
 /* The same, with the reasons of a refusal (each "file:line: why" when the
  * configuration names one) in w, for the control socket's reload. */
 enum { PSD_RELOAD_WHY_MAX = 16, PSD_RELOAD_WHY_LEN = 400 };
@@ -16,6 +16,6 @@ struct psd_reload_why {
 	int n;
 	char line[PSD_RELOAD_WHY_MAX][PSD_RELOAD_WHY_LEN];
 };
-int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w);
+int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w);
 
 #endif

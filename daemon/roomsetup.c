@@ -9,7 +9,7 @@
 #include "room.h"
 #include "scene.h"
 
-int psd_day_of_year(const char *mmdd)
+int psd_roomsetup_day_of_year(const char *mmdd)
 {
 	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
 	int m, d, n = 0;
@@ -36,7 +36,7 @@ static void month_day(int doy, int *m, int *d)
 	*d = doy - start[k];
 }
 
-int psd_year_has_feb29(const struct ps_results *r)
+int psd_roomsetup_has_feb29(const struct ps_results *r)
 {
 	if (r->have_year && r->year.leap)
 		return 1;   /* the weather file said so, even if the 29th is dark */
@@ -48,7 +48,7 @@ int psd_year_has_feb29(const struct ps_results *r)
 	return 0;
 }
 
-int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
+int psd_roomsetup_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
                        struct ps_room_params *p)
 {
 	int m, d;
@@ -57,10 +57,10 @@ int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypo
 		return -1;
 	}
 	month_day(doy > 365 ? 365 : doy, &m, &d);
-	return psd_room_from_date(r, m, d, day, p);
+	return psd_roomsetup_from_date(r, m, d, day, p);
 }
 
-int psd_room_from_date(const struct ps_results *r, int m, int d, struct ps_room_daypoint *day,
+int psd_roomsetup_from_date(const struct ps_results *r, int m, int d, struct ps_room_daypoint *day,
                        struct ps_room_params *p)
 {
 	size_t lo = 0, hi, n = 0;
@@ -95,7 +95,7 @@ int psd_room_from_date(const struct ps_results *r, int m, int d, struct ps_room_
 	return 0;
 }
 
-int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
+int psd_roomsetup_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p)
 {
 
@@ -112,7 +112,7 @@ int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, d
 		sh = shape(c->tod_s, sunrise, sunset);
 		if (sh <= 0.05)
 			continue;   /* too near night to scale from */
-		d = psd_day_of_year(c->date) >= 0 ? psd_day_of_year(c->date) : doy;
+		d = psd_roomsetup_day_of_year(c->date) >= 0 ? psd_roomsetup_day_of_year(c->date) : doy;
 		if (d <= doy && d > best_lo) {
 			best_lo = d;
 			s_lo = c->sensor_response / sh;
@@ -162,17 +162,17 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
                                          double sunset)
 {
 	struct roomsetup *rs;
-	int doy = psd_day_of_year(date);
+	int doy = psd_roomsetup_day_of_year(date);
 	if (doy < 0 || !(rs = malloc(sizeof *rs)))
 		return NULL;
-	if (psd_room_from_results(r, doy, sunrise, sunset, rs->day, &rs->p) != 0) {
+	if (psd_roomsetup_from_results(r, doy, sunrise, sunset, rs->day, &rs->p) != 0) {
 		free(rs);
 		return NULL;
 	}
 	return &rs->p;
 }
 
-int psd_room_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
+int psd_roomsetup_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
                       double level0, double (*law)(void *ctx, double t, double volts),
                       void (*seen)(void *ctx, double t, double level, double task_lux,
                                    double daylight_lux, double rooftop_lux),
@@ -182,7 +182,7 @@ int psd_room_play_day(const struct ps_results *r, int month, int mday, double ga
 	struct ps_room_params p;
 	struct ps_room *room;
 	int steps = (int)floor(86400.0 / period + 0.5);
-	if (period <= 0 || psd_room_from_date(r, month, mday, day, &p) != 0)
+	if (period <= 0 || psd_roomsetup_from_date(r, month, mday, day, &p) != 0)
 		return -1;
 	p.gain = gain;
 	if (!(room = ps_room_new(&p, 0.0)))
@@ -208,12 +208,12 @@ struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const 
 {
 	struct roomsetup *rs;
 	int m = 0, d = 0;
-	if (psd_day_of_year(date) < 0 || sscanf(date, "%d-%d", &m, &d) != 2 || !(rs = malloc(sizeof *rs)))
+	if (psd_roomsetup_day_of_year(date) < 0 || sscanf(date, "%d-%d", &m, &d) != 2 || !(rs = malloc(sizeof *rs)))
 		return NULL;
 	/* February 29 of a year without one: the 28th */
-	if (m == 2 && d == 29 && !psd_year_has_feb29(r))
+	if (m == 2 && d == 29 && !psd_roomsetup_has_feb29(r))
 		d = 28;
-	if (psd_room_from_date(r, m, d, rs->day, &rs->p) != 0) {
+	if (psd_roomsetup_from_date(r, m, d, rs->day, &rs->p) != 0) {
 		free(rs);
 		return NULL;
 	}

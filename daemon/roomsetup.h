@@ -20,7 +20,7 @@ enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
  * sin(pi (t - sunrise) / (sunset - sunrise)), relative to its own time, and
  * conditions at other dates are interpolated linearly in day of year.
  * Returns -1 when the results have no electric or no daylight condition. */
-int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
+int psd_roomsetup_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
                           struct ps_room_daypoint *day, struct ps_room_params *p);
 /* A day of the results' year (day of year doy, non-leap numbering): one
  * point per hour with light at the hour's middle as the weather file gives
@@ -28,7 +28,7 @@ int psd_room_from_results(const struct ps_results *r, int doy, double sunrise, d
  * zero an hour before the first and an hour after the last (a day without
  * light: no points, dark all day).  -1 when the results carry no year or no
  * electric condition. */
-int psd_room_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
+int psd_roomsetup_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
                        struct ps_room_params *p);
 /* The same, allocated with its day of daylight (free with
  * psd_roomsetup_free) for the date "MM-DD"; NULL when the results have no
@@ -37,11 +37,11 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
                                          double sunset);
 /* The same for a calendar date (month 1-12, day 1-31): February 29 of a
  * leap year's file plays its own hours. */
-int psd_room_from_date(const struct ps_results *r, int month, int mday, struct ps_room_daypoint *day,
+int psd_roomsetup_from_date(const struct ps_results *r, int month, int mday, struct ps_room_daypoint *day,
                        struct ps_room_params *p);
 /* 1 when the results' year has February 29 (a leap year's weather file). */
-int psd_year_has_feb29(const struct ps_results *r);
-/* Play the date month/mday of the results' year on a room (psd_room_from_date; sensor
+int psd_roomsetup_has_feb29(const struct ps_results *r);
+/* Play the date month/mday of the results' year on a room (psd_roomsetup_from_date; sensor
  * gain volts per unit, no noise, an instant ballast, the lights at level0 at
  * midnight): every period seconds from midnight, law(ctx, t, volts) gives the
  * level to command, then seen(ctx, t, level, true task lux a millisecond
@@ -49,16 +49,16 @@ int psd_year_has_feb29(const struct ps_results *r);
  * horizontal lux or NAN) reports the step.  The room stays inside this file
  * (psensd -Y: annual.c).  -1 when the results have no year or no electric
  * condition, or out of memory. */
-int psd_room_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
+int psd_roomsetup_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
                       double level0, double (*law)(void *ctx, double t, double volts),
                       void (*seen)(void *ctx, double t, double level, double task_lux,
                                    double daylight_lux, double rooftop_lux),
                       void *ctx);
-/* The same from the results' year (psd_room_from_date): [simulate] year =
+/* The same from the results' year (psd_roomsetup_from_date): [simulate] year =
  * yes; 02-29 plays February 28 when the year has no 29th. */
 struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);
 void psd_roomsetup_free(struct ps_room_params *p);
 /* Day of year of "MM-DD" (non-leap year); -1 if malformed. */
-int psd_day_of_year(const char *mmdd);
+int psd_roomsetup_day_of_year(const char *mmdd);
 
 #endif

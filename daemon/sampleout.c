@@ -8,7 +8,7 @@
 #include <string.h>
 #include <time.h>
 
-int psd_time_parse(const char *s, double *utc)
+int psd_sampleout_time_parse(const char *s, double *utc)
 {
 	struct tm tm;
 	int y, mo, d, h = 0, mi = 0, sec = 0, n = 0;
@@ -54,7 +54,7 @@ int psd_time_parse(const char *s, double *utc)
 	return 0;
 }
 
-void psd_time_iso(double utc, char out[32])
+void psd_sampleout_time_iso(double utc, char out[32])
 {
 	struct tm tm;
 	time_t t;
@@ -132,7 +132,7 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 	char iso[32], a[32], b[32], c[32], d[32];
 	const double num[] = { s->utc, s->t, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux,
 	                       s->daylight_v, s->daylight_lux };
-	psd_time_iso(s->utc, iso);
+	psd_sampleout_time_iso(s->utc, iso);
 	if (o->format == PSD_OUT_CSV) {
 		csv_text(o->fp, s->zone);
 		fprintf(o->fp, ",%s,", isfinite(s->utc) ? iso : "");

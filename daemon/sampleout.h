@@ -11,9 +11,9 @@
 
 /* "2026-03-18T12:05[:SS][Z]" (local time, or UTC with Z; a space for the T),
  * "2026-03-18" (local midnight), or Unix seconds: 0 and *utc, -1 else. */
-int psd_time_parse(const char *s, double *utc);
+int psd_sampleout_time_parse(const char *s, double *utc);
 /* "2026-03-18T12:05:00" (local), or "-" when utc is not finite */
-void psd_time_iso(double utc, char out[32]);
+void psd_sampleout_time_iso(double utc, char out[32]);
 
 enum psd_sampleout_format { PSD_OUT_CSV, PSD_OUT_JSON, PSD_OUT_TABLE };
 

@@ -634,7 +634,7 @@ static int export_samples(const char *sock, const char *dbpath, int timeout_ms, 
 		if (strcmp(opt, "--zone") == 0) {
 			zone = val;
 		} else if (strcmp(opt, "--since") == 0 || strcmp(opt, "--until") == 0) {
-			if (psd_time_parse(val, opt[2] == 's' ? &since : &until) != 0) {
+			if (psd_sampleout_time_parse(val, opt[2] == 's' ? &since : &until) != 0) {
 				fprintf(stderr, "psensctl: export %s '%s': not an ISO date-time (2026-03-18T12:05[:SS][Z], "
 				        "2026-03-18) or Unix seconds\n", opt, val);
 				return 2;

@@ -36,11 +36,11 @@ static void summary(struct psd_daemon *d, double start, double end)
 		if (s->samples == 0 || psd_engine_truth(z, end, &t) != 0)
 			continue;
 		/* numerator and denominator over the same span, across reloads */
-		used = psd_zone_energy(s, t.energy) / 3600.0;
+		used = psd_engine_zone_energy(s, t.energy) / 3600.0;
 		printf("psensd: %s %s to %s (%s; the room's day %s) on the %s room (%s), zone %s every %g s, "
 		       "%s control, target %g lx\n", d->clock.simulated ? "simulated" : "ran", t0, t1, span, cf->date,
 		       z->sim->drv->name, z->res ? z->res->scene : "-", z->zc->name, z->zc->period,
-		       psd_algorithm_names[z->ctl.algorithm], z->ctl.target_lux);
+		       psd_control_algorithm_names[z->ctl.algorithm], z->ctl.target_lux);
 		if (z->res)
 			printf("  simulated ratios: daylight %.2f, electric %.2f lx per unit (task-sensor ratio %.3f)\n",
 			       z->res->daylight_ratio_mean, z->res->electric_ratio, z->res->task_sensor_ratio);
@@ -106,7 +106,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 		}
 		printf("psensd: the year of %s, zone %s, %s control (dated estimate) every %g s, "
 		       "target %g lx\n",
-		       e->res.weather, z->zc->name, psd_algorithm_names[ctl.algorithm], o.period,
+		       e->res.weather, z->zc->name, psd_control_algorithm_names[ctl.algorithm], o.period,
 		       ctl.target_lux);
 		psd_clock_hhmm(o.occ_start, from);
 		psd_clock_hhmm(o.occ_end, to);
@@ -144,7 +144,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 			const char *wb = strrchr(e->res.weather, '/');
 			snprintf(title, sizeof title, "%s: zone %s, %s, target %g lx (%s)",
 			         sb ? sb + 1 : e->res.scene ? e->res.scene : "", z->zc->name,
-			         psd_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : e->res.weather);
+			         psd_control_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : e->res.weather);
 			rc = psd_annual_png(png, task, level, a.days, ctl.target_lux, title, err, sizeof err);
 			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
 			if (rc != 0) {
@@ -177,7 +177,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 			}
 			if (psd_annual_run(&e->res, &c, &q, &b) != 0)
 				continue;
-			snprintf(name, sizeof name, "%s%s", psd_algorithm_names[alg],
+			snprintf(name, sizeof name, "%s%s", psd_control_algorithm_names[alg],
 			         row < PSD_ALG_COUNT ? "" : ", mean ratio");
 			printf("  %-32s %9.1f %9.1f %9.1f %9.1f %9.1f %9.2f\n", name,
 			       100 * b.energy_h / b.occ_h, 100 * b.savings, 100 * b.effectiveness, b.below_h,
@@ -339,13 +339,13 @@ int main(int argc, char **argv)
 		fprintf(stderr, "psensd: -P draws the year: it goes with -Y\n");
 		return 2;
 	}
-	log_init(1, verbose, "psensd");
+	psd_log_init(1, verbose, "psensd");
 	if (check) {
 		rc = psd_config_load(&cf, path);
-		psd_daemon_config_errors(&cf);
+		psd_loop_config_errors(&cf);
 #ifndef PS_WITH_MQTT
 		if (rc == 0 && cf.mqtt.enabled) {   /* it would be refused at start */
-			log_errx("%s:%d: [mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)",
+			psd_log_errx("%s:%d: [mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)",
 			         path, cf.mqtt.line);
 			rc = -1;
 		}
@@ -366,7 +366,7 @@ int main(int argc, char **argv)
 	/* the clock's origin: the [simulate] start, -t, or now */
 	if (simulate) {
 		if (psd_config_load(&cf, path) != 0) {
-			psd_daemon_config_errors(&cf);
+			psd_loop_config_errors(&cf);
 			psd_config_free(&cf);
 			return 1;
 		}
@@ -390,7 +390,7 @@ int main(int argc, char **argv)
 			clock_gettime(CLOCK_REALTIME, &rt);
 			epoch0 = (double)rt.tv_sec + 1e-9 * (double)rt.tv_nsec - psd_clock_now(&d.clock);
 			if (date)
-				log_warnx("-d %s: ignored without -s or -t: the run is dated by the wall clock", date);
+				psd_log_warnx("-d %s: ignored without -s or -t: the run is dated by the wall clock", date);
 		}
 	}
 	d.clock.epoch0 = epoch0;
@@ -398,30 +398,30 @@ int main(int argc, char **argv)
 	d.advance_date = (simulate || !isnan(start)) && !date;
 	d.self = argv[0];
 	start = psd_clock_now(&d.clock);
-	if (psd_daemon_start(&d, path) != 0) {
-		psd_daemon_stop(&d, NULL);   /* what it did open (the signalfd) */
+	if (psd_loop_start(&d, path) != 0) {
+		psd_loop_stop(&d, NULL);   /* what it did open (the signalfd) */
 		return 1;
 	}
 	if (!simulate && !d.engine.cf->sim_year)
 		d.engine.month = psd_dated_month(NULL);   /* the dated estimate: today's month */
 	if (year) {
 		rc = year_report(&d, png);
-		psd_daemon_stop(&d, NULL);
+		psd_loop_stop(&d, NULL);
 		return rc;
 	}
-	log_info("controlling %zu zone(s) from %s on a %s clock", d.engine.nzone, path,
+	psd_log_info("controlling %zu zone(s) from %s on a %s clock", d.engine.nzone, path,
 	         simulate ? "simulated" : "real-time");
-	psd_daemon_run(&d);
+	psd_loop_run(&d);
 	if (d.stop)
-		log_info("%s: stopping", strsignal(d.stop));
+		psd_log_info("%s: stopping", strsignal(d.stop));
 	/* the safe level first (it commits the log), then the summary */
-	unsafe = psd_daemon_safe(&d, d.stop ? strsignal(d.stop) : "end of the simulated day");
+	unsafe = psd_loop_safe(&d, d.stop ? strsignal(d.stop) : "end of the simulated day");
 	summary(&d, start, psd_clock_now(&d.clock));
-	psd_daemon_stop(&d, NULL);
+	psd_loop_stop(&d, NULL);
 	/* a shutdown that leaves lights where nobody can see them is a failure:
 	 * said at LOG_ERR, and the exit status says it to systemd and scripts */
 	if (unsafe) {
-		log_errx("stopped with %d zone(s) not at the safe level: check the outputs", unsafe);
+		psd_log_errx("stopped with %d zone(s) not at the safe level: check the outputs", unsafe);
 		rc = 1;
 	}
 	return rc;

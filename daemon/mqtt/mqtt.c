@@ -125,7 +125,7 @@ static void save_cursor(struct psd_mqtt *m, int now)
 		return;
 	m->saved_at = t;
 	if (psd_db_mqtt_set_cursor(m->e->db, m->site, m->cursor, err, sizeof err) != 0) {
-		log_warnx("mqtt: cursor: %s", err);
+		psd_log_warnx("mqtt: cursor: %s", err);
 		return;
 	}
 	m->cursor_dirty = 0;
@@ -137,7 +137,7 @@ static int publish(struct psd_mqtt *m, const char *topic, const char *payload, i
 {
 	int rc = mosquitto_publish(m->mosq, mid, topic, (int)strlen(payload), payload, 1, retain);
 	if (rc != MOSQ_ERR_SUCCESS) {
-		log_debug("mqtt: publish %s: %s", topic, mosquitto_strerror(rc));
+		psd_log_debug("mqtt: publish %s: %s", topic, mosquitto_strerror(rc));
 		return -1;
 	}
 	m->st.published++;
@@ -155,7 +155,7 @@ static int event(struct psd_mqtt *m, const char *zone, json_object *o, int *mid)
 	else
 		snprintf(topic, sizeof topic, "psensd/%s/event", m->site);
 	if (!json_object_object_get_ex(o, "utc", NULL)) {
-		psd_mqtt_iso8601(wall(), iso, sizeof iso);
+		psd_mqttmsg_iso8601(wall(), iso, sizeof iso);
 		json_object_object_add(o, "utc", json_object_new_string(iso));
 	}
 	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
@@ -182,13 +182,13 @@ static void row(void *user, long long id, double utc, const struct psd_sample *s
 	int mid, faulted;
 	if (m->abort)
 		return;
-	if (!s->zone || !psd_mqtt_level_ok(s->zone)) {
+	if (!s->zone || !psd_mqttconf_level_ok(s->zone)) {
 		m->sent = id;     /* a row from before zones were logged: nothing to say */
 		return;
 	}
 	if ((z = psd_engine_zone(m->e, s->zone)) && !(s->t >= m->now - 2 * z->zc->period))
 		z = NULL;         /* live fields only for a sample just logged */
-	if (psd_mqtt_state_json(buf, sizeof buf, m->site, id, utc, s, z) < 0) {
+	if (psd_mqttmsg_state_json(buf, sizeof buf, m->site, id, utc, s, z) < 0) {
 		m->sent = id;
 		return;
 	}
@@ -204,7 +204,7 @@ static void row(void *user, long long id, double utc, const struct psd_sample *s
 	if (faulted != sn->faulted || (faulted && strcmp(sn->fault, s->fault) != 0)) {
 		json_object *o = event_new(faulted ? "fault" : "fault_cleared");
 		json_object_object_add(o, "id", json_object_new_int64(id));
-		psd_mqtt_iso8601(utc, iso, sizeof iso);
+		psd_mqttmsg_iso8601(utc, iso, sizeof iso);
 		json_object_object_add(o, "utc", json_object_new_string(iso));
 		json_object_object_add(o, "fault", faulted ? json_object_new_string(s->fault) : NULL);
 		if (event(m, s->zone, o, &mid) != 0 || push(m, mid, id) != 0) {
@@ -246,14 +246,14 @@ static void publish_log(struct psd_mqtt *m)
 	 * broker had them, and their ids taken again by other samples */
 	if (psd_db_commit(m->e->db, err, sizeof err) != 0) {
 		if (!m->failing++)
-			log_warnx("mqtt: committing the log: %s", err);
+			psd_log_warnx("mqtt: committing the log: %s", err);
 		return;
 	}
 	m->abort = 0;
 	n = psd_db_samples_after(m->e->db, m->sent, (int)budget, row, m, err, sizeof err);
 	if (n < 0) {
 		if (!m->failing++)
-			log_warnx("mqtt: reading the log: %s", err);
+			psd_log_warnx("mqtt: reading the log: %s", err);
 		return;
 	}
 	m->failing = 0;
@@ -305,7 +305,7 @@ static void discovery(struct psd_mqtt *m, const char *zone, int has_task, int re
 {
 	char topic[TOPIC], payload[MSG];
 	int mid;
-	for (int k = 0; psd_mqtt_discovery(k, m->prefix, m->site, zone, has_task, topic, sizeof topic, payload,
+	for (int k = 0; psd_mqttmsg_discovery(k, m->prefix, m->site, zone, has_task, topic, sizeof topic, payload,
 	                                   sizeof payload) == 0; k++)
 		publish(m, topic, remove ? "" : payload, 1, &mid);
 }
@@ -323,14 +323,14 @@ static void announce(struct psd_mqtt *m)
 			continue;
 		discovery(m, names[i], 1, 1);
 		if (psd_db_mqtt_announce(m->e->db, m->site, names[i], 0, err, sizeof err) != 0)
-			log_warnx("mqtt: %s", err);
-		log_info("mqtt: zone %s removed from Home Assistant discovery", names[i]);
+			psd_log_warnx("mqtt: %s", err);
+		psd_log_info("mqtt: zone %s removed from Home Assistant discovery", names[i]);
 	}
 	for (size_t i = 0; m->discovery && i < m->e->nzone; i++) {
 		const struct psd_zone *z = &m->e->zone[i];
 		discovery(m, z->zc->name, z->zc->task >= 0, 0);
 		if (psd_db_mqtt_announce(m->e->db, m->site, z->zc->name, 1, err, sizeof err) != 0)
-			log_warnx("mqtt: %s", err);
+			psd_log_warnx("mqtt: %s", err);
 	}
 	m->announce = 0;
 }
@@ -345,8 +345,8 @@ static void refuse(struct psd_mqtt *m, const char *zone, const char *verb, const
 	json_object_object_add(o, "command", json_object_new_string(verb));
 	json_object_object_add(o, "id", id && *id ? json_object_new_string(id) : NULL);
 	json_object_object_add(o, "error", json_object_new_string(why));
-	log_info("mqtt: set/%s for zone %s refused: %s", verb, zone ? zone : "(none)", why);
-	event(m, zone && psd_mqtt_level_ok(zone) ? zone : NULL, o, &mid);
+	psd_log_info("mqtt: set/%s for zone %s refused: %s", verb, zone ? zone : "(none)", why);
+	event(m, zone && psd_mqttconf_level_ok(zone) ? zone : NULL, o, &mid);
 }
 
 static void reply(struct psd_mqtt *m, const char *zone, const char *verb, const char *id, const char *text)
@@ -388,8 +388,8 @@ static void on_message(struct mosquitto *mosq, void *user, const struct mosquitt
 		refuse(m, lev[2], lev[4], NULL, "a retained command is refused (it would run again at every connect)");
 		goto done;
 	}
-	z = psd_mqtt_level_ok(lev[2]) ? psd_engine_zone(m->e, lev[2]) : NULL;
-	if (psd_mqtt_cmd_parse(m->site, lev[2], lev[4], msg->payload, (size_t)msg->payloadlen,
+	z = psd_mqttconf_level_ok(lev[2]) ? psd_engine_zone(m->e, lev[2]) : NULL;
+	if (psd_mqttcmd_parse(m->site, lev[2], lev[4], msg->payload, (size_t)msg->payloadlen,
 	                       z ? z->zc->override_s : 3600, &cmd, err, sizeof err) != 0) {
 		refuse(m, lev[2], lev[4], cmd.id, err);
 		goto done;
@@ -402,7 +402,7 @@ static void on_message(struct mosquitto *mosq, void *user, const struct mosquitt
 		refuse(m, lev[2], lev[4], cmd.id, why);
 		json_object_put(r);
 	} else {
-		log_info("mqtt: set/%s for zone %s: %s", lev[4], lev[2], cmd.line);
+		psd_log_info("mqtt: set/%s for zone %s: %s", lev[4], lev[2], cmd.line);
 	}
 done:
 	mosquitto_sub_topic_tokens_free(&lev, nlev);
@@ -413,7 +413,7 @@ done:
 static void lost(struct psd_mqtt *m, const char *why)
 {
 	if (m->connected && !m->closing)
-		log_warnx("mqtt: connection lost (%s): publishing resumes from sample %lld when it is back", why,
+		psd_log_warnx("mqtt: connection lost (%s): publishing resumes from sample %lld when it is back", why,
 		          m->cursor);
 	m->connected = 0;
 	m->sock_ok = 0;
@@ -435,7 +435,7 @@ static void on_connect(struct mosquitto *mosq, void *user, int rc)
 	int mid;
 	if (rc != 0) {
 		if (!m->failing++)
-			log_warnx("mqtt: the broker refused the connection: %s", mosquitto_connack_string(rc));
+			psd_log_warnx("mqtt: the broker refused the connection: %s", mosquitto_connack_string(rc));
 		return;   /* the broker closes it; lost() follows */
 	}
 	m->failing = 0;
@@ -446,7 +446,7 @@ static void on_connect(struct mosquitto *mosq, void *user, int rc)
 	m->sent = m->cursor;
 	m->announce = 1;
 	m->refill_at = mono();
-	log_info("mqtt: connected; publishing from sample %lld", m->cursor);
+	psd_log_info("mqtt: connected; publishing from sample %lld", m->cursor);
 	snprintf(topic, sizeof topic, "psensd/%s/+/set/+", m->site);
 	mosquitto_subscribe(mosq, &mid, topic, 1);
 	publish(m, m->status_topic, "online", 1, &mid);
@@ -480,7 +480,7 @@ static void try_connect(struct psd_mqtt *m)
 		return;
 	}
 	if (!m->failing++)
-		log_warnx("mqtt: cannot connect: %s; trying again every %g s at most", rc == MOSQ_ERR_ERRNO
+		psd_log_warnx("mqtt: cannot connect: %s; trying again every %g s at most", rc == MOSQ_ERR_ERRNO
 		          ? strerror(errno) : mosquitto_strerror(rc), RETRY_MAX);
 	lost(m, "connect");
 }
@@ -492,12 +492,12 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	char id[128];
 	int rc;
 	if (!e->db) {
-		psd_errf(err, errlen, "[mqtt] needs the sample log: set database in [psensd]");
+		psd_errbuf(err, errlen, "[mqtt] needs the sample log: set database in [psensd]");
 		return NULL;
 	}
 	if (!(m = calloc(1, sizeof *m)) || !(m->q = calloc((size_t)c->inflight + 2, sizeof *m->q))) {
 		free(m);
-		psd_errf(err, errlen, "mqtt: out of memory");
+		psd_errbuf(err, errlen, "mqtt: out of memory");
 		return NULL;
 	}
 	m->qcap = (size_t)c->inflight + 2;
@@ -513,14 +513,14 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	m->backoff = RETRY_MIN;
 	m->cursor = psd_db_mqtt_cursor(e->db, m->site);
 	if (m->cursor < 0) {
-		psd_errf(err, errlen, "mqtt: cannot read the cursor from the log");
+		psd_errbuf(err, errlen, "mqtt: cannot read the cursor from the log");
 		goto bad;
 	}
 	m->sent = m->cursor;
 	mosquitto_lib_init();
 	snprintf(id, sizeof id, "psensd-%s", c->site);
 	if (!(m->mosq = mosquitto_new(id, true, m))) {
-		psd_errf(err, errlen, "mqtt: %s", strerror(errno));
+		psd_errbuf(err, errlen, "mqtt: %s", strerror(errno));
 		goto bad;
 	}
 	mosquitto_connect_callback_set(m->mosq, on_connect);
@@ -532,22 +532,22 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	    (c->user && (rc = mosquitto_username_pw_set(m->mosq, c->user, c->password)) != MOSQ_ERR_SUCCESS) ||
 	    (c->cafile && (rc = mosquitto_tls_set(m->mosq, c->cafile, NULL, c->certfile, c->keyfile, NULL)) !=
 	                      MOSQ_ERR_SUCCESS)) {
-		psd_errf(err, errlen, "mqtt: %s", rc == MOSQ_ERR_ERRNO ? strerror(errno) : mosquitto_strerror(rc));
+		psd_errbuf(err, errlen, "mqtt: %s", rc == MOSQ_ERR_ERRNO ? strerror(errno) : mosquitto_strerror(rc));
 		goto bad;
 	}
 	rc = mosquitto_connect_async(m->mosq, c->host, (int)c->port, (int)c->keepalive);
 	if (rc == MOSQ_ERR_SUCCESS) {
 		m->sock_ok = 1;
 	} else if (rc == MOSQ_ERR_INVAL || rc == MOSQ_ERR_NOMEM) {
-		psd_errf(err, errlen, "mqtt: %s:%ld: %s", c->host, c->port, mosquitto_strerror(rc));
+		psd_errbuf(err, errlen, "mqtt: %s:%ld: %s", c->host, c->port, mosquitto_strerror(rc));
 		goto bad;
 	} else {
-		log_warnx("mqtt: %s:%ld: %s; trying again every %g s at most", c->host, c->port,
+		psd_log_warnx("mqtt: %s:%ld: %s; trying again every %g s at most", c->host, c->port,
 		          rc == MOSQ_ERR_ERRNO ? strerror(errno) : mosquitto_strerror(rc), RETRY_MAX);
 		m->failing = 1;
 		lost(m, "connect");
 	}
-	log_info("mqtt: site %s, broker %s:%ld%s, from sample %lld", m->site, c->host, c->port,
+	psd_log_info("mqtt: site %s, broker %s:%ld%s, from sample %lld", m->site, c->host, c->port,
 	         c->cafile ? " (TLS)" : "", m->cursor);
 	return m;
 bad:

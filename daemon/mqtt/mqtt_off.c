@@ -14,7 +14,7 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	(void)e;
 	(void)fn;
 	(void)user;
-	psd_errf(err, errlen, "[mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)");
+	psd_errbuf(err, errlen, "[mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)");
 	return NULL;
 }
 

@@ -44,7 +44,7 @@ static int field_num(json_object *o, const char *key, double *out, char *err, si
 	if (!o || !json_object_is_type(o, json_type_object) || !json_object_object_get_ex(o, key, &v))
 		return 0;
 	if (number_of(v, out) != 0)
-		return psd_errf(err, errlen, "\"%s\" is not a finite number", key);
+		return psd_errbuf(err, errlen, "\"%s\" is not a finite number", key);
 	return 1;
 }
 
@@ -55,7 +55,7 @@ static int field_word(json_object *o, const char *key, const char **out, char *e
 		return 0;
 	if (!json_object_is_type(v, json_type_string) ||
 	    !is_word(json_object_get_string(v), (size_t)json_object_get_string_len(v)))
-		return psd_errf(err, errlen, "\"%s\" is not a word", key);
+		return psd_errbuf(err, errlen, "\"%s\" is not a word", key);
 	*out = json_object_get_string(v);
 	return 1;
 }
@@ -73,7 +73,7 @@ static int only_fields(json_object *o, const char *const *allowed, char *err, si
 		if (!ok) {
 			char shown[40];
 			snprintf(shown, sizeof shown, "%s", key);
-			return psd_errf(err, errlen, "unknown field \"%s\"", shown);
+			return psd_errbuf(err, errlen, "unknown field \"%s\"", shown);
 		}
 	}
 	return 0;
@@ -86,11 +86,11 @@ static int parse(const void *payload, size_t len, struct payload *p, char *err, 
 	json_tokener *tok;
 	memset(p, 0, sizeof *p);
 	if (len > PSD_MQTT_MAX_PAYLOAD)
-		return psd_errf(err, errlen, "payload of %zu bytes: at most %d", len, PSD_MQTT_MAX_PAYLOAD);
+		return psd_errbuf(err, errlen, "payload of %zu bytes: at most %d", len, PSD_MQTT_MAX_PAYLOAD);
 	if (len == 0)
 		return 0;
 	if (memchr(s, 0, len))
-		return psd_errf(err, errlen, "payload has a NUL byte");
+		return psd_errbuf(err, errlen, "payload has a NUL byte");
 	if (is_word(s, len)) {       /* a bare word: night, accept, ... */
 		memcpy(p->wordbuf, s, len);
 		p->wordbuf[len] = 0;
@@ -98,7 +98,7 @@ static int parse(const void *payload, size_t len, struct payload *p, char *err, 
 		return 0;
 	}
 	if (!(tok = json_tokener_new_ex(8)))
-		return psd_errf(err, errlen, "out of memory");
+		return psd_errbuf(err, errlen, "out of memory");
 	/* with its terminating NUL, so that a bare number ends where the text does */
 	memcpy(text, s, len);
 	text[len] = 0;
@@ -108,7 +108,7 @@ static int parse(const void *payload, size_t len, struct payload *p, char *err, 
 		json_object_put(p->root);
 		p->root = NULL;
 		json_tokener_free(tok);
-		return psd_errf(err, errlen, "payload is not JSON (a number, a \"word\" or an object)");
+		return psd_errbuf(err, errlen, "payload is not JSON (a number, a \"word\" or an object)");
 	}
 	json_tokener_free(tok);
 	switch (json_object_get_type(p->root)) {
@@ -116,17 +116,17 @@ static int parse(const void *payload, size_t len, struct payload *p, char *err, 
 		break;
 	case json_type_string:
 		if (!is_word(json_object_get_string(p->root), (size_t)json_object_get_string_len(p->root)))
-			return psd_errf(err, errlen, "payload: not a known word");
+			return psd_errbuf(err, errlen, "payload: not a known word");
 		p->word = json_object_get_string(p->root);
 		break;
 	case json_type_int:
 	case json_type_double:
 		if (number_of(p->root, &p->num) != 0)
-			return psd_errf(err, errlen, "payload: not a finite number");
+			return psd_errbuf(err, errlen, "payload: not a finite number");
 		p->has_num = 1;
 		break;
 	default:
-		return psd_errf(err, errlen, "payload: a number, a \"word\" or an object, not %s",
+		return psd_errbuf(err, errlen, "payload: a number, a \"word\" or an object, not %s",
 		                json_type_to_name(json_object_get_type(p->root)));
 	}
 	return 0;
@@ -140,11 +140,11 @@ static int common(const struct payload *p, const char *site, struct psd_mqtt_cmd
 		return 0;
 	if (json_object_object_get_ex(p->root, "site", &v)) {
 		if (!json_object_is_type(v, json_type_string))
-			return psd_errf(err, errlen, "\"site\" is not a string");
+			return psd_errbuf(err, errlen, "\"site\" is not a string");
 		if (strcmp(json_object_get_string(v), site) != 0) {
 			char shown[PSD_MQTT_NAME];
 			snprintf(shown, sizeof shown, "%s", json_object_get_string(v));
-			return psd_errf(err, errlen, "command for site '%s' refused: this is site '%s'", shown, site);
+			return psd_errbuf(err, errlen, "command for site '%s' refused: this is site '%s'", shown, site);
 		}
 	}
 	if (json_object_object_get_ex(p->root, "id", &v)) {
@@ -155,12 +155,12 @@ static int common(const struct payload *p, const char *site, struct psd_mqtt_cmd
 		}
 		if (!json_object_is_type(v, json_type_string) ||
 		    (size_t)json_object_get_string_len(v) >= sizeof out->id)
-			return psd_errf(err, errlen, "\"id\" is not a string of at most %d characters or an integer",
+			return psd_errbuf(err, errlen, "\"id\" is not a string of at most %d characters or an integer",
 			                PSD_MQTT_REQ_ID - 1);
 		s = json_object_get_string(v);
 		for (const char *c = s; *c; c++)
 			if ((unsigned char)*c < 0x20 || *c == 0x7f)
-				return psd_errf(err, errlen, "\"id\" has a control character");
+				return psd_errbuf(err, errlen, "\"id\" has a control character");
 		snprintf(out->id, sizeof out->id, "%s", s);
 	}
 	return 0;
@@ -171,7 +171,7 @@ static int no_value(const struct payload *p, const char *verb, char *err, size_t
 {
 	static const char *const none[] = { NULL };
 	if (p->word || p->has_num)
-		return psd_errf(err, errlen, "set/%s takes no value", verb);
+		return psd_errbuf(err, errlen, "set/%s takes no value", verb);
 	return only_fields(p->root, none, err, errlen);
 }
 
@@ -184,10 +184,10 @@ static int one_number(const struct payload *p, const char *key, double *out, cha
 		return 0;
 	}
 	if (p->word || !p->root)
-		return psd_errf(err, errlen, "needs a number (or {\"%s\": N})", key);
+		return psd_errbuf(err, errlen, "needs a number (or {\"%s\": N})", key);
 	if ((rc = field_num(p->root, key, out, err, errlen)) < 0)
 		return -1;
-	return rc ? 0 : psd_errf(err, errlen, "needs \"%s\"", key);
+	return rc ? 0 : psd_errbuf(err, errlen, "needs \"%s\"", key);
 }
 
 static int build(const struct payload *p, const char *zone, const char *verb, double override_s,
@@ -219,25 +219,25 @@ static int build(const struct payload *p, const char *zone, const char *verb, do
 		const char *step = p->word;
 		int known = 0;
 		if (p->has_num || (!p->root && !p->word))
-			return psd_errf(err, errlen, "set/calibrate needs a step: \"night\", \"day\", \"finish\", "
+			return psd_errbuf(err, errlen, "set/calibrate needs a step: \"night\", \"day\", \"finish\", "
 			                             "\"accept\", \"abort\", \"status\" or {\"step\": ...}");
 		if (only_fields(p->root, f, err, errlen) || field_word(p->root, "step", &step, err, errlen) < 0)
 			return -1;
 		for (size_t i = 0; step && steps[i]; i++)
 			known |= strcmp(step, steps[i]) == 0;
 		if (!known)
-			return psd_errf(err, errlen, "set/calibrate: no step %s%s%s", step ? "'" : "", step ? step : "given",
+			return psd_errbuf(err, errlen, "set/calibrate: no step %s%s%s", step ? "'" : "", step ? step : "given",
 			                step ? "'" : "");
 		if ((rc = field_num(p->root, "level", &a, err, errlen)) < 0)
 			return -1;
 		if (rc && strcmp(step, "day") != 0)
-			return psd_errf(err, errlen, "set/calibrate: \"level\" belongs to the day step");
+			return psd_errbuf(err, errlen, "set/calibrate: \"level\" belongs to the day step");
 		if (strcmp(step, "lux") == 0) {
 			if ((rc = field_num(p->root, "lux", &b, err, errlen)) <= 0)
-				return rc < 0 ? -1 : psd_errf(err, errlen, "set/calibrate lux needs \"lux\"");
+				return rc < 0 ? -1 : psd_errbuf(err, errlen, "set/calibrate lux needs \"lux\"");
 			snprintf(out->line, sizeof out->line, "calibrate %s lux %.17g", zone, b);
 		} else if (field_num(p->root, "lux", &b, err, errlen) != 0) {
-			return psd_errf(err, errlen, "set/calibrate: \"lux\" belongs to the lux step");
+			return psd_errbuf(err, errlen, "set/calibrate: \"lux\" belongs to the lux step");
 		} else if (rc) {
 			snprintf(out->line, sizeof out->line, "calibrate %s day %.17g", zone, a);
 		} else {
@@ -254,21 +254,21 @@ static int build(const struct payload *p, const char *zone, const char *verb, do
 	} else {
 		char shown[24];
 		snprintf(shown, sizeof shown, "%s", verb);
-		return psd_errf(err, errlen, "no command set/%s (target, override, release, calibrate, lux, finish, "
+		return psd_errbuf(err, errlen, "no command set/%s (target, override, release, calibrate, lux, finish, "
 		                "accept, abort, status)", shown);
 	}
 	return 0;
 }
 
-int psd_mqtt_cmd_parse(const char *site, const char *zone, const char *verb, const void *payload, size_t len,
+int psd_mqttcmd_parse(const char *site, const char *zone, const char *verb, const void *payload, size_t len,
                        double override_s, struct psd_mqtt_cmd *out, char *err, size_t errlen)
 {
 	struct payload p;
 	int rc;
 	memset(out, 0, sizeof *out);
 	/* the zone goes into a request line: one word of the names psensd.conf allows */
-	if (!psd_mqtt_level_ok(zone))
-		return psd_errf(err, errlen, "'%.*s' is not a zone name", 47, zone);
+	if (!psd_mqttconf_level_ok(zone))
+		return psd_errbuf(err, errlen, "'%.*s' is not a zone name", 47, zone);
 	if (parse(payload, len, &p, err, errlen) != 0) {
 		json_object_put(p.root);
 		return -1;

@@ -2,7 +2,7 @@
 /* MQTT command payloads (psensd-mqtt(7)): a message on
  * psensd/<site>/<zone>/set/<verb> becomes the control-socket request that
  * does the same (psensctl(1)), so that it is judged by the very code that
- * judges socket requests (psd_ctl_request).  Only the payload's shape is
+ * judges socket requests (psd_ctlcmd_request).  Only the payload's shape is
  * checked here: its JSON, its types, its size; the values' ranges and the
  * zone's existence are the request's business. */
 #ifndef PSD_MQTTCMD_H
@@ -22,7 +22,7 @@ struct psd_mqtt_cmd {
  * terminated).  site: this psensd's; a payload naming another is refused.
  * override_s: an override's seconds when the payload gives none.  0, or -1
  * with a message in err. */
-int psd_mqtt_cmd_parse(const char *site, const char *zone, const char *verb, const void *payload, size_t len,
+int psd_mqttcmd_parse(const char *site, const char *zone, const char *verb, const void *payload, size_t len,
                        double override_s, struct psd_mqtt_cmd *out, char *err, size_t errlen);
 
 #endif

@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-int psd_mqtt_level_ok(const char *s)
+int psd_mqttconf_level_ok(const char *s)
 {
 	size_t n = strlen(s);
 	return n > 0 && n < PSD_MQTT_NAME &&
@@ -90,7 +90,7 @@ void psd_mqttconf_load(struct psd_mqtt_conf *m, struct ps_conf *c)
 		snprintf(host, sizeof host, "psensd");
 	host[strcspn(host, ".")] = 0;   /* the short name */
 	v = ps_conf_str(c, s, "site", host);
-	if (!psd_mqtt_level_ok(v))
+	if (!psd_mqttconf_level_ok(v))
 		ps_conf_error(c, line_of(s, "site"), "site: '%s' is not 1 to %d letters, digits, '_', '-' or '.'", v,
 		              PSD_MQTT_NAME - 1);
 	else
@@ -106,7 +106,7 @@ void psd_mqttconf_load(struct psd_mqtt_conf *m, struct ps_conf *c)
 	ps_conf_int(c, s, "inflight", 100, 1, 65535, &m->inflight);
 	ps_conf_bool(c, s, "discovery", 1, &m->discovery);
 	v = ps_conf_str(c, s, "discovery_prefix", "homeassistant");
-	if (!psd_mqtt_level_ok(v))
+	if (!psd_mqttconf_level_ok(v))
 		ps_conf_error(c, line_of(s, "discovery_prefix"), "discovery_prefix: '%s' is not one topic level", v);
 	else
 		snprintf(m->discovery_prefix, sizeof m->discovery_prefix, "%s", v);

@@ -35,6 +35,6 @@ void psd_mqttconf_free(struct psd_mqtt_conf *m);
 
 /* A topic level psensd writes (a site or a zone name): 1 to 47 of
  * [A-Za-z0-9_.-].  1 when good. */
-int psd_mqtt_level_ok(const char *s);
+int psd_mqttconf_level_ok(const char *s);
 
 #endif

@@ -35,7 +35,7 @@ static int emit(json_object *o, char *buf, size_t n)
 	return (int)len;
 }
 
-void psd_mqtt_iso8601(double t, char *buf, size_t n)
+void psd_mqttmsg_iso8601(double t, char *buf, size_t n)
 {
 	time_t s;
 	struct tm tm;
@@ -53,12 +53,12 @@ void psd_mqtt_iso8601(double t, char *buf, size_t n)
 	         tm.tm_hour, tm.tm_min, tm.tm_sec, ms);
 }
 
-int psd_mqtt_state_json(char *buf, size_t n, const char *site, long long id, double utc,
+int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, double utc,
                         const struct psd_sample *s, const struct psd_zone *z)
 {
 	json_object *o = json_object_new_object();
 	char iso[40];
-	psd_mqtt_iso8601(utc, iso, sizeof iso);
+	psd_mqttmsg_iso8601(utc, iso, sizeof iso);
 	json_object_object_add(o, "id", json_object_new_int64(id));
 	put_str(o, "utc", iso);
 	put_str(o, "site", site);
@@ -117,7 +117,7 @@ static const struct entity entities[] = {
 	{ "number", "override", "override level", NULL, NULL, "{{ value_json.level }}", 0, 1 },
 };
 
-int psd_mqtt_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, char *topic,
+int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, char *topic,
                        size_t topiclen, char *payload, size_t paylen)
 {
 	const struct entity *en;

@@ -14,16 +14,16 @@ struct psd_zone;
 /* The state JSON of sample id (logged at utc, UTC seconds); z, when given,
  * adds the zone's live calibration and drift (for a sample just logged).
  * Returns the length, -1 when it does not fit in n. */
-int psd_mqtt_state_json(char *buf, size_t n, const char *site, long long id, double utc,
+int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, double utc,
                         const struct psd_sample *s, const struct psd_zone *z);
 
 /* Home Assistant discovery: the k-th entity of a zone (0, 1, ... until -1):
  * its config topic and its retained config payload.  has_task: the zone has
  * a task meter (its measured lux entity). */
-int psd_mqtt_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, char *topic,
+int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, char *topic,
                        size_t topiclen, char *payload, size_t paylen);
 
 /* "2026-11-23T19:42:16.123Z" for UTC seconds t. */
-void psd_mqtt_iso8601(double t, char *buf, size_t n);
+void psd_mqttmsg_iso8601(double t, char *buf, size_t n);
 
 #endif

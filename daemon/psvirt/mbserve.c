@@ -68,7 +68,7 @@ static void hex(const struct psd_mbserve *srv, const char *what, unsigned id, co
 	for (size_t i = 0; i < n && k + 4 < sizeof s; i++)
 		k += (size_t)snprintf(s + k, sizeof s - k, "%s%02x", i ? " " : "", p[i]);
 	s[k] = 0;
-	log_debug("client %u %s %s", id, what, s);
+	psd_log_debug("client %u %s %s", id, what, s);
 }
 
 static struct psd_mbserve *new_server(const struct psd_mbserve_opts *o, psd_mbserve_fn fn, void *user)
@@ -141,7 +141,7 @@ int psd_mbserve_port(const struct psd_mbserve *s)
 
 static void drop(struct psd_mbserve *s, int i, const char *why)
 {
-	log_debug("client %u closed: %s", s->c[i]->id, why);
+	psd_log_debug("client %u closed: %s", s->c[i]->id, why);
 	close(s->c[i]->fd);
 	free(s->c[i]);
 	s->c[i] = s->c[--s->nc];
@@ -211,7 +211,7 @@ static int serve_frames(struct psd_mbserve *s, struct conn *c, double now)
 		if (len == 0)
 			break;
 		if (len < 0) {
-			log_debug("client %u: refused: %s", c->id, why);
+			psd_log_debug("client %u: refused: %s", c->id, why);
 			hex(s, "refused", c->id, c->in + used, c->nin - used);
 			closing = 1;
 			break;
@@ -279,7 +279,7 @@ static void accept_all(struct psd_mbserve *s, double now)
 		c->id = ++s->next_id;
 		c->active = now;
 		s->c[s->nc++] = c;
-		log_debug("client %u connected (%d clients)", c->id, s->nc);
+		psd_log_debug("client %u connected (%d clients)", c->id, s->nc);
 	}
 }
 
@@ -434,7 +434,7 @@ static int step_rtu(struct psd_mbserve *s, double max_wait)
 			;   /* busy */
 		} else if (r > 0) {
 			if (l->nin + (size_t)r > sizeof l->in) {
-				log_debug("line: more than two frames without a frame: dropped");
+				psd_log_debug("line: more than two frames without a frame: dropped");
 				l->nin = 0;
 			}
 			if (l->nin == 0)
@@ -458,14 +458,14 @@ static int step_rtu(struct psd_mbserve *s, double max_wait)
 		if (len == 0)
 			break;
 		if (len < 0) {   /* no frame starts here: look from the next byte */
-			log_debug("line: byte %02x dropped: %s", l->in[0], why);
+			psd_log_debug("line: byte %02x dropped: %s", l->in[0], why);
 			memmove(l->in, l->in + 1, --l->nin);
 			l->partial_since = now;
 			continue;
 		}
 		hex(s, "request", 0, l->in, (size_t)len);
 		if (l->nout + PSD_MBFRAME_TCP_MAX > OUT_CAP) {
-			log_debug("line: replies not taken by the line: dropped");
+			psd_log_debug("line: replies not taken by the line: dropped");
 			l->nout = 0;
 		}
 		answer(s, l, &adu, 0, now);
@@ -479,7 +479,7 @@ static int step_rtu(struct psd_mbserve *s, double max_wait)
 	}
 	/* a frame that never completes is dropped a frame timeout after it began */
 	if (l->nin > 0 && now - l->partial_since > s->o.frame_timeout) {
-		log_debug("line: %zu bytes dropped: no frame within the frame timeout", l->nin);
+		psd_log_debug("line: %zu bytes dropped: no frame within the frame timeout", l->nin);
 		hex(s, "dropped", 0, l->in, l->nin);
 		l->nin = 0;
 	}

@@ -411,7 +411,7 @@ static int build_rooms(struct virt *v, struct args *a)
 		fprintf(stderr, "psvirt: no results (--results FILE, or -f with [psensd] results)\n");
 		goto out;
 	}
-	if (psd_day_of_year(date) < 0 || (a->sunrise && hhmm(a->sunrise, &rise)) || (a->sunset && hhmm(a->sunset, &set)) ||
+	if (psd_roomsetup_day_of_year(date) < 0 || (a->sunrise && hhmm(a->sunrise, &rise)) || (a->sunset && hhmm(a->sunset, &set)) ||
 	    (a->start && hhmm(a->start, &v->start))) {
 		fprintf(stderr, "psvirt: date must be MM-DD and sunrise, sunset, start HH:MM\n");
 		goto out;
@@ -464,7 +464,7 @@ static int build_rooms(struct virt *v, struct args *a)
 			 * [zone]) plays its own room */
 			struct ps_results zr;
 			struct psd_virtday zday = day;
-			const char *zp = cf && !a->results ? psd_zone_results(cf, &cf->zone[z]) : NULL;
+			const char *zp = cf && !a->results ? psd_config_zone_results(cf, &cf->zone[z]) : NULL;
 			int own = zp && strcmp(zp, results) != 0;
 			if (own) {
 				if (ps_results_read(&zr, zp, &e) != 0) {
@@ -567,7 +567,7 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return 2;
 	}
-	log_init(1, a.verbose || getenv("PSVIRT_DEBUG") ? PSD_LOG_DEBUG : PSD_LOG_WARN, "psvirt");
+	psd_log_init(1, a.verbose || getenv("PSVIRT_DEBUG") ? PSD_LOG_DEBUG : PSD_LOG_WARN, "psvirt");
 	a.self = argv[0];
 	if (build_rooms(&v, &a) != 0) {
 		free_rooms(&v);

@@ -27,7 +27,7 @@ static int bad(double lo, double hi, int max)
 	return !isfinite(lo) || !isfinite(hi) || hi < lo || max < 2;
 }
 
-int psd_ticks_num(double lo, double hi, int max, struct psd_ticks *t)
+int psd_chart_ticks_num(double lo, double hi, int max, struct psd_ticks *t)
 {
 	static const double mult[] = { 1, 2, 5 };
 	double span, p;
@@ -55,7 +55,7 @@ int psd_ticks_num(double lo, double hi, int max, struct psd_ticks *t)
 	return -1;
 }
 
-int psd_ticks_time(double lo, double hi, int max, struct psd_ticks *t)
+int psd_chart_ticks_time(double lo, double hi, int max, struct psd_ticks *t)
 {
 	static const double steps[] = { 300, 600, 900, 1800, 3600, 7200, 10800, 21600, 43200, 86400,
 	                                2 * 86400, 7 * 86400, 14 * 86400, 28 * 86400 };
@@ -74,17 +74,17 @@ int psd_ticks_time(double lo, double hi, int max, struct psd_ticks *t)
 	return -1;
 }
 
-void psd_ticks_round_range(double *lo, double *hi, int max)
+void psd_chart_ticks_round_range(double *lo, double *hi, int max)
 {
 	struct psd_ticks t;
-	if (psd_ticks_num(*lo, *hi, max, &t) != 0)
+	if (psd_chart_ticks_num(*lo, *hi, max, &t) != 0)
 		return;
 	/* widen to the neighbouring ticks, then make sure they still fit max */
 	for (int tries = 0; tries < 4; tries++) {
 		double l = floor(*lo / t.step + 1e-9) * t.step, h = ceil(*hi / t.step - 1e-9) * t.step;
 		if (h <= l)
 			h = l + t.step;
-		if (psd_ticks_num(l, h, max, &t) == 0 && t.n >= 2 && fabs(t.v[0] - l) < t.step * 1e-6 &&
+		if (psd_chart_ticks_num(l, h, max, &t) == 0 && t.n >= 2 && fabs(t.v[0] - l) < t.step * 1e-6 &&
 		    fabs(t.v[t.n - 1] - h) < t.step * 1e-6) {
 			*lo = l;
 			*hi = h;
@@ -95,12 +95,12 @@ void psd_ticks_round_range(double *lo, double *hi, int max)
 	}
 }
 
-void psd_tick_num_label(const struct psd_ticks *t, double v, char *buf, size_t n)
+void psd_chart_tick_num_label(const struct psd_ticks *t, double v, char *buf, size_t n)
 {
 	snprintf(buf, n, "%.*f", t->decimals, v);
 }
 
-void psd_tick_time_label(double seconds, char *buf, size_t n)
+void psd_chart_tick_time_label(double seconds, char *buf, size_t n)
 {
 	long s = lround(fmod(fmod(seconds, 86400) + 86400, 86400));
 	snprintf(buf, n, "%02ld:%02ld", s / 3600 % 24, s / 60 % 60);

@@ -348,7 +348,7 @@ static double width_of(struct doc *d, const char *s)
 
 static void record(struct doc *d, double x0, double y0, double x1, double y1, const char *s)
 {
-	if (psd_textboxes_add(d->boxes, d->page, x0, y0, x1, y1, s) != 0)
+	if (psd_textbox_add(d->boxes, d->page, x0, y0, x1, y1, s) != 0)
 		d->failed = 1;
 }
 
@@ -516,7 +516,7 @@ static void when(double t, char *buf, size_t n)
 		snprintf(buf, n, "-");
 		return;
 	}
-	psd_tick_time_label(t, hm, sizeof hm);
+	psd_chart_tick_time_label(t, hm, sizeof hm);
 	snprintf(buf, n, "day %d %s", (int)floor(t / 86400) + 1, hm);
 }
 
@@ -878,15 +878,15 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 	cairo_restore(d->cr);
 unshaded:
 	/* grid and y ticks */
-	if (psd_ticks_num(c->ylo, c->yhi, 6, &yt) == 0)
+	if (psd_chart_ticks_num(c->ylo, c->yhi, 6, &yt) == 0)
 		for (int i = 0; i < yt.n; i++) {
 			double y = cy(c, yt.v[i]);
 			hline(d, c->x0, c->x1, y, 0.3, (const double[3]){ 0.85, 0.85, 0.85 });
-			psd_tick_num_label(&yt, yt.v[i], lab, sizeof lab);
+			psd_chart_tick_num_label(&yt, yt.v[i], lab, sizeof lab);
 			text(d, c->x0 - 3, y + 2.5, 6.5, 0, 1, BLACK, lab);
 		}
 	/* time ticks */
-	if (psd_ticks_time(c->tlo, c->thi, (int)((c->x1 - c->x0) / 45), &tt) == 0)
+	if (psd_chart_ticks_time(c->tlo, c->thi, (int)((c->x1 - c->x0) / 45), &tt) == 0)
 		for (int i = 0; i < tt.n; i++) {
 			x = cx(c, tt.v[i]);
 			set_rgb(d->cr, GREY);
@@ -894,7 +894,7 @@ unshaded:
 			cairo_move_to(d->cr, x, c->y1);
 			cairo_line_to(d->cr, x, c->y1 + 3);
 			cairo_stroke(d->cr);
-			psd_tick_time_label(tt.v[i], lab, sizeof lab);
+			psd_chart_tick_time_label(tt.v[i], lab, sizeof lab);
 			text(d, x, c->y1 + 12, 6.5, 0, 0, BLACK, lab);
 		}
 	/* day boundaries */
@@ -966,7 +966,7 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	/* sensor volts */
 	c.ylo = 0;
 	c.yhi = z->vmax > 0 ? z->vmax : 1;
-	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
+	psd_chart_ticks_round_range(&c.ylo, &c.yhi, 6);
 	{
 		struct legend lg[3] = { { "sensor signal", BLUE, 0, 1 } };
 		int k = 1;
@@ -984,7 +984,7 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	c.yhi = fmax(z->luxmax, isfinite(target) ? target * 1.1 : 0);
 	if (!(c.yhi > 0))
 		c.yhi = 100;
-	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
+	psd_chart_ticks_round_range(&c.ylo, &c.yhi, 6);
 	{
 		struct legend lg[5] = { { "estimated", ORANGE, 1, 1 } };
 		int k = 1;
@@ -1026,7 +1026,7 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	c.y1 += h + gap;
 	c.ylo = 0;
 	c.yhi = z->energy_h > 0 ? z->energy_h : 1;
-	psd_ticks_round_range(&c.ylo, &c.yhi, 6);
+	psd_chart_ticks_round_range(&c.ylo, &c.yhi, 6);
 	{
 		char lab[96];
 		snprintf(lab, sizeof lab, "lighting energy to date, %.2f full-load h in all", z->energy_h);
@@ -1259,25 +1259,25 @@ static int pick_zones(const struct psd_report_opts *o, struct psd_db *db, struct
 		if (!found && nm.n == 0 && psd_db_zone_count(db, "", err, n) > 0)
 			found = 1;
 		if (!found)
-			return psd_errf(err, n, "%s: no zone '%s' (zones: %s)", o->dbpath, o->zone,
+			return psd_errbuf(err, n, "%s: no zone '%s' (zones: %s)", o->dbpath, o->zone,
 			                nm.n ? list : "none recorded");
 		nm.n = 1;
 		snprintf(nm.name[0], sizeof nm.name[0], "%s", o->zone);
 	}
 	if (nm.n <= 0)
-		return psd_errf(err, n, "%s: no zone recorded (%s)", o->dbpath, psd_db_zone_count(db, "", err, n) > 0 ?
+		return psd_errbuf(err, n, "%s: no zone recorded (%s)", o->dbpath, psd_db_zone_count(db, "", err, n) > 0 ?
 		                "its samples name none: give the zone" : "no samples, no sessions");
 	if (nm.n > PSD_MAX_ZONES)
 		nm.n = PSD_MAX_ZONES;
 	d->zones = calloc((size_t)nm.n, sizeof *d->zones);
 	if (!d->zones)
-		return psd_errf(err, n, "out of memory");
+		return psd_errbuf(err, n, "out of memory");
 	for (int k = 0; k < nm.n; k++) {
 		struct zone *z = &d->zones[d->nzones++];
 		snprintf(z->name, sizeof z->name, "%s", nm.name[k]);
 		z->ci = o->cf ? psd_config_zone(o->cf, z->name) : -1;
 		if (zone_alloc(z) != 0)
-			return psd_errf(err, n, "out of memory");
+			return psd_errbuf(err, n, "out of memory");
 	}
 	return 0;
 }
@@ -1312,7 +1312,7 @@ static int emit(struct doc *d, FILE *fp, char *err, size_t n)
 	double scale = o->format == PSD_REPORT_PNG ? PNG_SCALE : 1, gap = 12;
 	if (o->format != PSD_REPORT_PDF && o->page > 0) {
 		if (o->page > d->nrec)
-			return psd_errf(err, n, "page %d: the report has %d pages", o->page, d->nrec);
+			return psd_errbuf(err, n, "page %d: the report has %d pages", o->page, d->nrec);
 		first = last = o->page - 1;
 	}
 	if (o->format == PSD_REPORT_PDF) {
@@ -1342,7 +1342,7 @@ static int emit(struct doc *d, FILE *fp, char *err, size_t n)
 	if (o->format == PSD_REPORT_SVG) {
 		/* drawn again, straight onto the SVG surface (same layout, same boxes) */
 		drop_pages(d);
-		psd_textboxes_free(d->boxes);
+		psd_textbox_free(d->boxes);
 		d->direct = s;
 		d->first = first;
 		d->last = last;
@@ -1373,7 +1373,7 @@ static int emit(struct doc *d, FILE *fp, char *err, size_t n)
 		st = cairo_surface_status(s);
 	cairo_surface_destroy(s);
 	if (st != CAIRO_STATUS_SUCCESS || ferror(fp))
-		return psd_errf(err, n, "writing the report: %s", ferror(fp) ? strerror(errno) : cairo_status_to_string(st));
+		return psd_errbuf(err, n, "writing the report: %s", ferror(fp) ? strerror(errno) : cairo_status_to_string(st));
 	return 0;
 }
 
@@ -1410,7 +1410,7 @@ int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_repo
 	 * and every input it names */
 	for (int i = 0; o->cf && i < d.nzones; i++) {
 		const struct psd_zone_conf *zc = zconf(&d, &d.zones[i]);
-		const char *res_path = zc ? psd_zone_results(o->cf, zc) : NULL;
+		const char *res_path = zc ? psd_config_zone_results(o->cf, zc) : NULL;
 		int k = 0;
 		if (!res_path)
 			continue;
@@ -1419,7 +1419,7 @@ int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_repo
 		if (k == d.nscenes) {
 			struct ps_results res = { 0 };
 			struct ps_err pe = { 0 };
-			const char *sc = psd_zone_scene(o->cf, zc);
+			const char *sc = psd_config_zone_scene(o->cf, zc);
 			d.scene[k].results = res_path;
 			d.scene[k].path = sc ? sc : res_path;
 			if (ps_results_read(&res, res_path, &pe) == 0 && res.scene_hash)
@@ -1433,11 +1433,11 @@ int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_repo
 	layout(&d);
 	d.pages = d.nrec;
 	drop_pages(&d);
-	psd_textboxes_free(&r->boxes);
+	psd_textbox_free(&r->boxes);
 	d.failed = 0;
 	layout(&d);
 	if (d.failed) {
-		psd_errf(err, n, "drawing the report failed (more than %d pages, or out of memory)", MAXPAGES);
+		psd_errbuf(err, n, "drawing the report failed (more than %d pages, or out of memory)", MAXPAGES);
 		goto out;
 	}
 	if (emit(&d, fp, err, n) != 0)
@@ -1475,24 +1475,24 @@ int psd_report_write(const struct psd_report_opts *o, const char *path, struct p
 	else
 		snprintf(tmp, sizeof tmp, ".%s.XXXXXX", path);
 	if ((fd = mkstemp(tmp)) < 0)
-		return psd_errf(err, n, "%s: %s", path, strerror(errno));   /* its directory */
+		return psd_errbuf(err, n, "%s: %s", path, strerror(errno));   /* its directory */
 	if (!(fp = fdopen(fd, "wb"))) {
-		psd_errf(err, n, "%s: %s", tmp, strerror(errno));
+		psd_errbuf(err, n, "%s: %s", tmp, strerror(errno));
 		close(fd);
 		unlink(tmp);
 		return -1;
 	}
 	rc = psd_report_render(o, fp, r, err, n);
 	if (rc == 0 && (fflush(fp) != 0 || fsync(fileno(fp)) != 0))
-		rc = psd_errf(err, n, "%s: %s", path, strerror(errno));
+		rc = psd_errbuf(err, n, "%s: %s", path, strerror(errno));
 	if (fclose(fp) != 0 && rc == 0)
-		rc = psd_errf(err, n, "%s: %s", path, strerror(errno));
+		rc = psd_errbuf(err, n, "%s: %s", path, strerror(errno));
 	/* the report reads as it would have been created by fopen: 0666 less the umask */
 	if (rc == 0) {
 		mode_t um = umask(0);
 		umask(um);
 		if (chmod(tmp, 0666 & ~um) != 0 || rename(tmp, path) != 0)
-			rc = psd_errf(err, n, "%s: %s", path, strerror(errno));
+			rc = psd_errbuf(err, n, "%s: %s", path, strerror(errno));
 	}
 	if (rc != 0)
 		unlink(tmp);
@@ -1501,5 +1501,5 @@ int psd_report_write(const struct psd_report_opts *o, const char *path, struct p
 
 void psd_report_out_free(struct psd_report_out *r)
 {
-	psd_textboxes_free(&r->boxes);
+	psd_textbox_free(&r->boxes);
 }

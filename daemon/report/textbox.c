@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-int psd_textboxes_add(struct psd_textboxes *r, int page, double x0, double y0, double x1, double y1,
+int psd_textbox_add(struct psd_textboxes *r, int page, double x0, double y0, double x1, double y1,
                       const char *text)
 {
 	struct psd_textbox *b;
@@ -30,7 +30,7 @@ int psd_textboxes_add(struct psd_textboxes *r, int page, double x0, double y0, d
 	return 0;
 }
 
-int psd_textboxes_overlap(const struct psd_textboxes *r, double slack, size_t *i, size_t *j)
+int psd_textbox_overlap(const struct psd_textboxes *r, double slack, size_t *i, size_t *j)
 {
 	for (size_t a = 0; a < r->n; a++)
 		for (size_t b = a + 1; b < r->n; b++) {
@@ -47,7 +47,7 @@ int psd_textboxes_overlap(const struct psd_textboxes *r, double slack, size_t *i
 	return 0;
 }
 
-double psd_textboxes_bottom(const struct psd_textboxes *r, int page)
+double psd_textbox_bottom(const struct psd_textboxes *r, int page)
 {
 	double y = 0;
 	for (size_t a = 0; a < r->n; a++)
@@ -56,7 +56,7 @@ double psd_textboxes_bottom(const struct psd_textboxes *r, int page)
 	return y;
 }
 
-void psd_textboxes_free(struct psd_textboxes *r)
+void psd_textbox_free(struct psd_textboxes *r)
 {
 	free(r->box);
 	r->box = NULL;

@@ -35,7 +35,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 	FILE *fp;
 	(void)argc;
 	(void)argv;
-	log_init(1, -1, "fuzz_ctl");   /* quiet */
+	psd_log_init(1, -1, "fuzz_ctl");   /* quiet */
 	if (!mkdtemp(dir))
 		abort();
 	snprintf(path, sizeof path, "%s/r", dir);
@@ -68,7 +68,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	line[n] = '\0';
 	if (strlen(line) != n || memchr(line, '\n', n))
 		return 0;   /* the socket splits lines and refuses NUL before the handler */
-	psd_ctl_handle(&d, &c, line, reply, sizeof reply);
+	psd_ctlcmd_handle(&d, &c, line, reply, sizeof reply);
 	if (strchr(reply, '\n') || !(o = json_tokener_parse(reply)) || !json_object_object_get_ex(o, "ok", &ok))
 		abort();
 	json_object_put(o);

@@ -31,7 +31,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	verb = verbs[data[0] % (sizeof verbs / sizeof verbs[0])];
 	zone = zones[data[1] % (sizeof zones / sizeof zones[0])];
 	memset(err, 'x', sizeof err);
-	rc = psd_mqtt_cmd_parse("lab", zone, verb, data + 2, size - 2, 3600, &cmd, err, sizeof err);
+	rc = psd_mqttcmd_parse("lab", zone, verb, data + 2, size - 2, 3600, &cmd, err, sizeof err);
 	if (rc != 0) {
 		if (rc != -1 || !memchr(err, 0, sizeof err) || !err[0])
 			abort();
@@ -43,7 +43,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if ((unsigned char)*c < 0x20 || (unsigned char)*c >= 0x7f)
 			abort();
 	memcpy(line, cmd.line, sizeof line);
-	argc = psd_ctl_split(line, argv, err, sizeof err);
+	argc = psd_ctlsock_split(line, argv, err, sizeof err);
 	if (argc < 2 || argc > 4 || strcmp(argv[1], zone) != 0)
 		abort();
 	return 0;

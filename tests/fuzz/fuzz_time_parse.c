@@ -18,8 +18,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		return 0;
 	memcpy(text, data, size);
 	text[size] = '\0';
-	if (psd_time_parse(text, &t) == 0)
-		psd_time_iso(t, iso);
+	if (psd_sampleout_time_parse(text, &t) == 0)
+		psd_sampleout_time_iso(t, iso);
 	free(text);
 	return 0;
 }

@@ -484,6 +484,6 @@ int main(void)
 		cmocka_unit_test(day_warns_of_sun_in_view),
 		cmocka_unit_test(day_without_input_ends),
 	};
-	log_init(1, PSD_LOG_WARN, "test_calsession");
+	psd_log_init(1, PSD_LOG_WARN, "test_calsession");
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -27,12 +27,12 @@ static void volts(void **state)
 	struct psd_ticks t;
 	char b[16];
 	(void)state;
-	assert_int_equal(psd_ticks_num(0, 2.8, 8, &t), 0);
+	assert_int_equal(psd_chart_ticks_num(0, 2.8, 8, &t), 0);
 	expect_ticks(&t, want, 6);
 	assert_true(fabs(t.step - 0.5) < 1e-12);
-	psd_tick_num_label(&t, t.v[1], b, sizeof b);
+	psd_chart_tick_num_label(&t, t.v[1], b, sizeof b);
 	assert_string_equal(b, "0.5");
-	psd_tick_num_label(&t, t.v[2], b, sizeof b);
+	psd_chart_tick_num_label(&t, t.v[2], b, sizeof b);
 	assert_string_equal(b, "1.0");
 }
 
@@ -42,16 +42,16 @@ static void lux(void **state)
 	struct psd_ticks t;
 	char b[16];
 	(void)state;
-	assert_int_equal(psd_ticks_num(0, 2017, 6, &t), 0);
+	assert_int_equal(psd_chart_ticks_num(0, 2017, 6, &t), 0);
 	expect_ticks(&t, want, 5);
-	psd_tick_num_label(&t, 1500, b, sizeof b);
+	psd_chart_tick_num_label(&t, 1500, b, sizeof b);
 	assert_string_equal(b, "1500");
 	/* steps of 2 x 10^n: 0..9 with at most 6 ticks is 0, 2, 4, 6, 8 */
-	assert_int_equal(psd_ticks_num(0, 9, 6, &t), 0);
+	assert_int_equal(psd_chart_ticks_num(0, 9, 6, &t), 0);
 	assert_true(fabs(t.step - 2) < 1e-12);
 	assert_int_equal(t.n, 5);
 	/* a negative start and small numbers: -0.03..0.07 by 0.02 */
-	assert_int_equal(psd_ticks_num(-0.03, 0.07, 6, &t), 0);
+	assert_int_equal(psd_chart_ticks_num(-0.03, 0.07, 6, &t), 0);
 	assert_true(fabs(t.step - 0.02) < 1e-12);
 	assert_int_equal(t.decimals, 2);
 	assert_true(fabs(t.v[0] + 0.02) < 1e-12);
@@ -61,10 +61,10 @@ static void round_range(void **state)
 {
 	double lo = 0, hi = 2.8;
 	(void)state;
-	psd_ticks_round_range(&lo, &hi, 8);
+	psd_chart_ticks_round_range(&lo, &hi, 8);
 	assert_true(fabs(lo) < 1e-12 && fabs(hi - 3) < 1e-12);
 	lo = 0, hi = 2017;
-	psd_ticks_round_range(&lo, &hi, 6);
+	psd_chart_ticks_round_range(&lo, &hi, 6);
 	assert_true(fabs(hi - 2500) < 1e-9);
 }
 
@@ -74,30 +74,30 @@ static void times(void **state)
 	struct psd_ticks t;
 	char b[16];
 	(void)state;
-	assert_int_equal(psd_ticks_time(6 * 3600, 13 * 3600, 8, &t), 0);
+	assert_int_equal(psd_chart_ticks_time(6 * 3600, 13 * 3600, 8, &t), 0);
 	assert_int_equal(t.n, 8);
 	assert_true(fabs(t.step - 3600) < 1e-9);
 	for (int i = 0; i < t.n; i++) {
 		char want[8];
 		snprintf(want, sizeof want, "%02d:00", 6 + i);
-		psd_tick_time_label(t.v[i], b, sizeof b);
+		psd_chart_tick_time_label(t.v[i], b, sizeof b);
 		assert_string_equal(b, want);
 	}
 	/* 06:00..20:00 (the example day) with room for 8: every 2 hours */
-	assert_int_equal(psd_ticks_time(6 * 3600, 20 * 3600, 8, &t), 0);
+	assert_int_equal(psd_chart_ticks_time(6 * 3600, 20 * 3600, 8, &t), 0);
 	assert_true(fabs(t.step - 7200) < 1e-9);
 	/* one hour: every 15 minutes */
-	assert_int_equal(psd_ticks_time(9 * 3600 + 100, 10 * 3600 + 100, 5, &t), 0);
+	assert_int_equal(psd_chart_ticks_time(9 * 3600 + 100, 10 * 3600 + 100, 5, &t), 0);
 	assert_true(fabs(t.step - 900) < 1e-9);
-	psd_tick_time_label(t.v[0], b, sizeof b);
+	psd_chart_tick_time_label(t.v[0], b, sizeof b);
 	assert_string_equal(b, "09:15");
 	/* two days: hh:mm of each day, whole 6 hours */
-	assert_int_equal(psd_ticks_time(6 * 3600, 30 * 3600 + 1000, 6, &t), 0);
+	assert_int_equal(psd_chart_ticks_time(6 * 3600, 30 * 3600 + 1000, 6, &t), 0);
 	assert_true(fabs(t.step - 21600) < 1e-9);
-	psd_tick_time_label(t.v[3], b, sizeof b);
+	psd_chart_tick_time_label(t.v[3], b, sizeof b);
 	assert_string_equal(b, "00:00");
 	/* half hours */
-	assert_int_equal(psd_ticks_time(3600, 3 * 3600, 5, &t), 0);
+	assert_int_equal(psd_chart_ticks_time(3600, 3 * 3600, 5, &t), 0);
 	assert_true(fabs(t.step - 1800) < 1e-9);
 }
 
@@ -105,11 +105,11 @@ static void bad_input(void **state)
 {
 	struct psd_ticks t;
 	(void)state;
-	assert_int_equal(psd_ticks_num(NAN, 1, 5, &t), -1);
-	assert_int_equal(psd_ticks_num(2, 1, 5, &t), -1);
-	assert_int_equal(psd_ticks_time(0, INFINITY, 5, &t), -1);
+	assert_int_equal(psd_chart_ticks_num(NAN, 1, 5, &t), -1);
+	assert_int_equal(psd_chart_ticks_num(2, 1, 5, &t), -1);
+	assert_int_equal(psd_chart_ticks_time(0, INFINITY, 5, &t), -1);
 	/* a flat series still gets a tick */
-	assert_int_equal(psd_ticks_num(3, 3, 5, &t), 0);
+	assert_int_equal(psd_chart_ticks_num(3, 3, 5, &t), 0);
 	assert_true(t.n >= 1);
 }
 

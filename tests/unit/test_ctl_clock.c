@@ -18,7 +18,7 @@ static void split_words(void **state)
 	char line[] = "  override\toffice  0.5 60 ", err[128];
 	char *argv[PSD_CTL_MAX_WORDS];
 	(void)state;
-	assert_int_equal(psd_ctl_split(line, argv, err, sizeof err), 4);
+	assert_int_equal(psd_ctlsock_split(line, argv, err, sizeof err), 4);
 	assert_string_equal(argv[0], "override");
 	assert_string_equal(argv[1], "office");
 	assert_string_equal(argv[2], "0.5");
@@ -30,11 +30,11 @@ static void split_refuses(void **state)
 	char ctl[] = "status\x1b[2J", many[] = "a b c d e f g h i", empty[] = " \t ", err[128];
 	char *argv[PSD_CTL_MAX_WORDS];
 	(void)state;
-	assert_int_equal(psd_ctl_split(ctl, argv, err, sizeof err), -1);
+	assert_int_equal(psd_ctlsock_split(ctl, argv, err, sizeof err), -1);
 	assert_string_equal(err, "control character 0x1b at byte 6");
-	assert_int_equal(psd_ctl_split(many, argv, err, sizeof err), -1);
+	assert_int_equal(psd_ctlsock_split(many, argv, err, sizeof err), -1);
 	assert_string_equal(err, "more than 8 words");
-	assert_int_equal(psd_ctl_split(empty, argv, err, sizeof err), 0);
+	assert_int_equal(psd_ctlsock_split(empty, argv, err, sizeof err), 0);
 }
 
 static void simulated_clock_jumps(void **state)

@@ -18,7 +18,7 @@ static char err[512];
 static int parse(const char *zone, const char *verb, const char *payload)
 {
 	err[0] = 0;
-	return psd_mqtt_cmd_parse("lab", zone, verb, payload, strlen(payload), 3600, &cmd, err, sizeof err);
+	return psd_mqttcmd_parse("lab", zone, verb, payload, strlen(payload), 3600, &cmd, err, sizeof err);
 }
 
 static void good(const char *verb, const char *payload, const char *line)
@@ -106,7 +106,7 @@ static void test_zone_and_size(void **state)
 	bad("office", "target", big, "at most 512");
 	big[PSD_MQTT_MAX_PAYLOAD] = 0;   /* 512 bytes: taken */
 	good("target", big, "target office 1");
-	assert_int_equal(psd_mqtt_cmd_parse("lab", "office", "target", "3\0" "00", 4, 60, &cmd, err, sizeof err), -1);
+	assert_int_equal(psd_mqttcmd_parse("lab", "office", "target", "3\0" "00", 4, 60, &cmd, err, sizeof err), -1);
 	assert_non_null(strstr(err, "NUL"));
 }
 

@@ -107,7 +107,7 @@ static void state_json(void **state)
 	struct psd_sample s = { 30000, 30000, 2.5, 0.25, 410, NAN, 1.2, 300, "daylight_mean", 250, NULL, "a", NAN, NULL };
 	json_object *o, *v;
 	(void)state;
-	assert_true(psd_mqtt_state_json(buf, sizeof buf, "b1", 77, 1700000000.25, &s, NULL) > 0);
+	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 77, 1700000000.25, &s, NULL) > 0);
 	assert_non_null(o = json_tokener_parse(buf));
 	assert_true(json_object_object_get_ex(o, "id", &v));
 	assert_int_equal(json_object_get_int64(v), 77);
@@ -123,8 +123,8 @@ static void state_json(void **state)
 	assert_null(v);
 	json_object_put(o);
 	s.fault = "sensor: stale";
-	assert_int_equal(psd_mqtt_state_json(buf, 20, "b1", 77, 0, &s, NULL), -1);   /* does not fit */
-	assert_true(psd_mqtt_state_json(buf, sizeof buf, "b1", 78, 0, &s, NULL) > 0);
+	assert_int_equal(psd_mqttmsg_state_json(buf, 20, "b1", 77, 0, &s, NULL), -1);   /* does not fit */
+	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 78, 0, &s, NULL) > 0);
 	assert_non_null(strstr(buf, "\"fault\":\"sensor: stale\""));
 }
 
@@ -134,7 +134,7 @@ static void discovery(void **state)
 	json_object *o;
 	int k, n = 0, empty = 0;
 	(void)state;
-	for (k = 0; psd_mqtt_discovery(k, "homeassistant", "b.1", "a", 0, topic, sizeof topic, payload,
+	for (k = 0; psd_mqttmsg_discovery(k, "homeassistant", "b.1", "a", 0, topic, sizeof topic, payload,
 	                               sizeof payload) == 0; k++) {
 		assert_int_equal(strncmp(topic, "homeassistant/", 14), 0);
 		assert_non_null(strstr(topic, "/psensd_b_1_a/"));   /* '.' is not in an HA node id */
@@ -153,7 +153,7 @@ static void discovery(void **state)
 	assert_int_equal(k, 6);
 	assert_int_equal(n, 5);
 	assert_int_equal(empty, 1);
-	assert_int_equal(psd_mqtt_discovery(5, "ha", "s", "z", 1, topic, sizeof topic, payload, sizeof payload), 0);
+	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", 1, topic, sizeof topic, payload, sizeof payload), 0);
 	assert_string_equal(topic, "ha/number/psensd_s_z/override/config");
 	assert_non_null(strstr(payload, "\"command_topic\":\"psensd/s/z/set/override\""));
 }

@@ -116,14 +116,14 @@ static void old_overlap_is_caught(void **state)
 	cairo_set_font_size(cr, 12);
 	cairo_text_extents(cr, res, &a);
 	cairo_text_extents(cr, des, &b);
-	assert_int_equal(psd_textboxes_add(&r, 1, 350, 500 - 11, 350 + a.x_advance, 503, res), 0);
-	assert_int_equal(psd_textboxes_add(&r, 1, 730, 500 - 11, 730 + b.x_advance, 503, des), 0);
-	assert_int_equal(psd_textboxes_overlap(&r, 0.5, &i, &j), 1);
+	assert_int_equal(psd_textbox_add(&r, 1, 350, 500 - 11, 350 + a.x_advance, 503, res), 0);
+	assert_int_equal(psd_textbox_add(&r, 1, 730, 500 - 11, 730 + b.x_advance, 503, des), 0);
+	assert_int_equal(psd_textbox_overlap(&r, 0.5, &i, &j), 1);
 	/* the same two a row apart do not overlap */
 	r.box[1].y0 += 18;
 	r.box[1].y1 += 18;
-	assert_int_equal(psd_textboxes_overlap(&r, 0.5, &i, &j), 0);
-	psd_textboxes_free(&r);
+	assert_int_equal(psd_textbox_overlap(&r, 0.5, &i, &j), 0);
+	psd_textbox_free(&r);
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
 }
@@ -150,7 +150,7 @@ static void no_overlap_pages_filled(void **state)
 	assert_string_equal(r.zone[1].name, "office");
 	assert_int_equal(r.zone[1].verdict, 1);
 	assert_true(r.boxes.n > 100);
-	if (psd_textboxes_overlap(&r.boxes, 0.01, &i, &j))
+	if (psd_textbox_overlap(&r.boxes, 0.01, &i, &j))
 		fail_msg("page %d: '%s' (%.1f,%.1f-%.1f,%.1f) overlaps '%s' (%.1f,%.1f-%.1f,%.1f)", r.boxes.box[i].page,
 		         r.boxes.box[i].text, r.boxes.box[i].x0, r.boxes.box[i].y0, r.boxes.box[i].x1, r.boxes.box[i].y1,
 		         r.boxes.box[j].text, r.boxes.box[j].x0, r.boxes.box[j].y0, r.boxes.box[j].x1, r.boxes.box[j].y1);
@@ -228,7 +228,7 @@ static void no_overlap_pages_filled(void **state)
 	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
 	assert_int_equal(r.nzones, 1);
 	assert_int_equal(r.verdict, -1);
-	assert_int_equal(psd_textboxes_overlap(&r.boxes, 0.01, &i, &j), 0);
+	assert_int_equal(psd_textbox_overlap(&r.boxes, 0.01, &i, &j), 0);
 	psd_report_out_free(&r);
 	/* SVG, page 2 alone: drawn straight onto the SVG surface, the same boxes */
 	o.format = PSD_REPORT_SVG;
@@ -236,7 +236,7 @@ static void no_overlap_pages_filled(void **state)
 	snprintf(out, sizeof out, "%s/report.svg", dir);
 	assert_int_equal(psd_report_write(&o, out, &r, err, sizeof err), 0);
 	assert_int_equal(r.pages, 2);
-	assert_int_equal(psd_textboxes_overlap(&r.boxes, 0.01, &i, &j), 0);
+	assert_int_equal(psd_textbox_overlap(&r.boxes, 0.01, &i, &j), 0);
 	assert_int_equal(stat(out, &st), 0);
 	assert_true(st.st_size > 10000);
 	psd_report_out_free(&r);

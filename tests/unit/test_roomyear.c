@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 /* The loopback room playing a date of the results' year (daemon/roomsetup.c,
- * psd_room_from_year): the hours of that date at their middles, linear
+ * psd_roomsetup_from_year): the hours of that date at their middles, linear
  * between them, dark an hour before the first and after the last; a date
  * without light is dark all day; results without a year keep the clear-sky
  * profile. */
@@ -37,7 +37,7 @@ static void plays_the_date(void **state)
 	r.year.n = 5;
 	r.electric_sensor_response = 1.0;
 	r.electric_task_lux = 1000.0;
-	assert_int_equal(psd_room_from_year(&r, psd_day_of_year("03-18"), day, &p), 0);
+	assert_int_equal(psd_roomsetup_from_year(&r, psd_roomsetup_day_of_year("03-18"), day, &p), 0);
 	assert_int_equal(p.ndaylight, 5);
 	assert_true(day[0].t == 6.5 * 3600 && day[0].task_lux == 0);
 	assert_true(day[1].t == 7.5 * 3600 && day[1].task_lux == 100.0);
@@ -67,7 +67,7 @@ static void plays_the_date(void **state)
 		struct ps_room_daypoint d2[PSD_DAY_POINTS];
 		struct ps_room_params p2;
 		r.ncond = 0;
-		assert_int_equal(psd_room_from_year(&r, psd_day_of_year("03-18"), d2, &p2), 0);
+		assert_int_equal(psd_roomsetup_from_year(&r, psd_roomsetup_day_of_year("03-18"), d2, &p2), 0);
 		for (size_t k = 0; k < p2.ndaylight; k++)
 			d2[k].rooftop_lux = NAN;
 		room = ps_room_new(&p2, 0.0);
@@ -78,11 +78,11 @@ static void plays_the_date(void **state)
 		ps_room_free(room);
 	}
 	/* a date without hours: dark all day */
-	assert_int_equal(psd_room_from_year(&r, psd_day_of_year("06-01"), day, &p), 0);
+	assert_int_equal(psd_roomsetup_from_year(&r, psd_roomsetup_day_of_year("06-01"), day, &p), 0);
 	assert_int_equal(p.ndaylight, 0);
 	/* no electric condition: refused */
 	r.electric_sensor_response = NAN;
-	assert_int_equal(psd_room_from_year(&r, 77, day, &p), -1);
+	assert_int_equal(psd_roomsetup_from_year(&r, 77, day, &p), -1);
 }
 
 int main(void)

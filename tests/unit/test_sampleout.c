@@ -28,21 +28,21 @@ static void iso_and_epoch(void **state)
 	double t;
 	(void)state;
 	zone("UTC0");
-	assert_int_equal(psd_time_parse("2026-03-18T12:05:30Z", &t), 0);
+	assert_int_equal(psd_sampleout_time_parse("2026-03-18T12:05:30Z", &t), 0);
 	assert_true(t == 1773835530.0);
-	assert_int_equal(psd_time_parse("2026-03-18T12:05:30", &t), 0);
+	assert_int_equal(psd_sampleout_time_parse("2026-03-18T12:05:30", &t), 0);
 	assert_true(t == 1773835530.0);
-	assert_int_equal(psd_time_parse("2026-03-18 12:05", &t), 0);
+	assert_int_equal(psd_sampleout_time_parse("2026-03-18 12:05", &t), 0);
 	assert_true(t == 1773835500.0);
-	assert_int_equal(psd_time_parse("2026-03-18", &t), 0);
+	assert_int_equal(psd_sampleout_time_parse("2026-03-18", &t), 0);
 	assert_true(t == 1773792000.0);
-	assert_int_equal(psd_time_parse("1773835530.25", &t), 0);
+	assert_int_equal(psd_sampleout_time_parse("1773835530.25", &t), 0);
 	assert_true(t == 1773835530.25);
 	/* an hour east of UTC: local 13:05:30 is 12:05:30Z; Z stays UTC */
 	zone("CET-1");
-	assert_int_equal(psd_time_parse("2026-03-18T13:05:30", &t), 0);
+	assert_int_equal(psd_sampleout_time_parse("2026-03-18T13:05:30", &t), 0);
 	assert_true(t == 1773835530.0);
-	assert_int_equal(psd_time_parse("2026-03-18T12:05:30Z", &t), 0);
+	assert_int_equal(psd_sampleout_time_parse("2026-03-18T12:05:30Z", &t), 0);
 	assert_true(t == 1773835530.0);
 	zone("UTC0");
 }
@@ -55,7 +55,7 @@ static void refused(void **state)
 	double t;
 	(void)state;
 	for (int i = 0; bad[i]; i++)
-		assert_int_equal(psd_time_parse(bad[i], &t), -1);
+		assert_int_equal(psd_sampleout_time_parse(bad[i], &t), -1);
 }
 
 static void iso_out(void **state)
@@ -63,14 +63,14 @@ static void iso_out(void **state)
 	char out[32];
 	(void)state;
 	zone("UTC0");
-	psd_time_iso(1773835530.4, out);
+	psd_sampleout_time_iso(1773835530.4, out);
 	assert_string_equal(out, "2026-03-18T12:05:30");
 	zone("CET-1");
-	psd_time_iso(1773835530.4, out);
+	psd_sampleout_time_iso(1773835530.4, out);
 	assert_string_equal(out, "2026-03-18T13:05:30");
-	psd_time_iso(NAN, out);
+	psd_sampleout_time_iso(NAN, out);
 	assert_string_equal(out, "-");
-	psd_time_iso(1e300, out);
+	psd_sampleout_time_iso(1e300, out);
 	assert_string_equal(out, "-");
 	zone("UTC0");
 }
