@@ -9,7 +9,7 @@
 
 #include "roomsetup.h"
 
-const char *const psd_config_action_names[] = { "none", "occupancy", "override", "calibrate", NULL };
+static const char *const action_names[] = { "none", "occupancy", "override", "calibrate", NULL };
 
 static int hhmm(struct ps_conf *c, struct ps_conf_section *s, const char *key, double def, double *out)
 {
@@ -93,12 +93,14 @@ static int find_name(const char *name, const void *base, size_t n, size_t stride
 	return -1;
 }
 
-int psd_config_point(const struct psd_config *cf, const char *name)
+/* Index of a point by name, -1 if none. */
+static int point_index(const struct psd_config *cf, const char *name)
 {
 	return find_name(name, cf->pt, cf->npt, sizeof cf->pt[0]);
 }
 
-int psd_config_timezone_valid(const char *tz)
+/* 1 when tz names a zone in /usr/share/zoneinfo or is a POSIX TZ rule. */
+static int timezone_valid(const char *tz)
 {
 	char path[512];
 	struct stat st;
@@ -196,7 +198,7 @@ static void load_points(struct psd_config *cf)
 		memset(p, 0, sizeof *p);
 		if (set_name(c, s->line, p->name, sizeof p->name, name, "point") != 0)
 			continue;
-		if (psd_config_point(cf, p->name) >= 0) {
+		if (point_index(cf, p->name) >= 0) {
 			ps_conf_error(c, s->line, "[point %s] is defined twice", p->name);
 			continue;
 		}
@@ -213,7 +215,7 @@ static void load_points(struct psd_config *cf)
 			ps_conf_error(c, s->line, "[point %s] needs 'role' (sensor, task, dim, relay, input, rooftop)", p->name);
 		else if (p->role < 0)
 			ps_conf_error(c, line_of(s, "role"), "role: '%s' is not sensor, task, dim, relay, input or rooftop", v);
-		ps_conf_enum(c, s, "action", psd_config_action_names, PSD_ACT_NONE, &p->action);
+		ps_conf_enum(c, s, "action", action_names, PSD_ACT_NONE, &p->action);
 		if (p->action != PSD_ACT_NONE && p->role != PS_ROLE_INPUT)
 			ps_conf_error(c, line_of(s, "action"), "action: only an input point has an action");
 		ps_conf_double(c, s, "valid_min", lux_role(p->role) ? 0 : cf->sensor_min, -1e9, 1e9, &p->min);
@@ -235,7 +237,7 @@ static int implicit_point(struct psd_config *cf, int dev, int role, int line)
 	struct psd_point_conf *p;
 	int i;
 	snprintf(name, sizeof name, "%s.%s", cf->dev[dev].name, ps_role_name(role));
-	if ((i = psd_config_point(cf, name)) >= 0)
+	if ((i = point_index(cf, name)) >= 0)
 		return i;
 	if (cf->npt >= PSD_MAX_POINTS) {
 		ps_conf_error(&cf->conf, line, "more than %d points", PSD_MAX_POINTS);
@@ -271,7 +273,7 @@ static int point_list(struct psd_config *cf, struct ps_conf_section *s, const ch
 		return 0;
 	}
 	for (char *w = strtok_r(copy, ", \t", &save); w; w = strtok_r(NULL, ", \t", &save)) {
-		int i = psd_config_point(cf, w);
+		int i = point_index(cf, w);
 		if (i < 0)
 			ps_conf_error(&cf->conf, kv->line, "%s: no [point %s]", key, w);
 		else if (cf->pt[i].role >= 0 && cf->pt[i].role != role)
@@ -443,7 +445,7 @@ static int load(struct psd_config *cf, int files)
 	ps_conf_int(c, s, "max_clients", 32, 1, 1024, &maxc);
 	cf->max_clients = maxc;
 	cf->timezone = ps_conf_str(c, s, "timezone", NULL);
-	if (cf->timezone && !psd_config_timezone_valid(cf->timezone))
+	if (cf->timezone && !timezone_valid(cf->timezone))
 		ps_conf_error(c, line_of(s, "timezone"), "timezone: '%s' is neither a zone in /usr/share/zoneinfo nor a "
 		              "POSIX rule such as CET-1CEST,M3.5.0,M10.5.0/3", cf->timezone);
 	cf->socket_mode = 0660;

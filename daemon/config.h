@@ -31,7 +31,6 @@ enum {
 };
 
 enum psd_action { PSD_ACT_NONE = 0, PSD_ACT_OCCUPANCY, PSD_ACT_OVERRIDE, PSD_ACT_CALIBRATE };
-extern const char *const psd_config_action_names[];
 
 struct psd_device_conf {
 	char name[48];
@@ -134,11 +133,7 @@ void psd_config_free(struct psd_config *cf);
 const char *psd_config_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc);
 const char *psd_config_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc);
 
-/* 1 when tz names a zone in /usr/share/zoneinfo or is a POSIX TZ rule. */
-int psd_config_timezone_valid(const char *tz);
-
-/* Index of a device, point or zone by name, -1 if none. */
-int psd_config_point(const struct psd_config *cf, const char *name);
+/* Index of a device or zone by name, -1 if none. */
 int psd_config_zone(const struct psd_config *cf, const char *name);
 
 #endif

@@ -406,7 +406,9 @@ void psd_db_set_epoch(struct psd_db *db, double epoch0)
 	db->epoch0 = epoch0;
 }
 
-void psd_db_local(double utc, char *out, size_t n)
+/* The local "YYYY-MM-DD HH:MM:SS" of a UTC time (out at least 20 bytes);
+ * "" when utc is not finite. */
+static void local_time(double utc, char *out, size_t n)
 {
 	time_t tt;
 	struct tm tm;
@@ -422,7 +424,7 @@ void psd_db_local(double utc, char *out, size_t n)
 static double utc_of(const struct psd_db *db, double t, char local[32])
 {
 	double u = isfinite(db->epoch0) && isfinite(t) ? db->epoch0 + t : NAN;
-	psd_db_local(u, local, 32);
+	local_time(u, local, 32);
 	return u;
 }
 
@@ -487,7 +489,7 @@ int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const cha
                       double value, double limit, long samples, const char *measured, char *err, size_t errlen)
 {
 	char local[32];
-	psd_db_local(utc, local, sizeof local);
+	local_time(utc, local, sizeof local);
 	return run(db, "INSERT INTO acceptance_tests(zone, utc, local, test, verdict, value, limit_value, samples, measured)"
 	           " VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?)", err, errlen, "tdtttddit", zone, utc, or_null(local), test,
 	           verdict, value, limit, (long long)samples, measured);
@@ -547,7 +549,7 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 			clock_gettime(CLOCK_REALTIME, &ts);
 			u = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 		}
-		psd_db_local(u, local, sizeof local);
+		local_time(u, local, sizeof local);
 		bind_num(db->ins, 13, u);   /* the clock's time (engine.c: its day + t) */
 		bind_text(db->ins, 14, or_null(local));
 	}
@@ -933,43 +935,6 @@ int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65
 	}
 	sqlite3_finalize(st);
 	return found;
-}
-
-int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
-                      char *err, size_t errlen)
-{
-	sqlite3_stmt *st;
-	char sql[256];
-	int rc, ncol, has_zone = 0, nrows = 0;
-	const char *names[32], *vals[32];
-	rc = table_exists(db, table);
-	if (rc <= 0)
-		return rc < 0 ? fail(db->h, "read", err, errlen) : 0;
-	snprintf(sql, sizeof sql, "SELECT * FROM \"%s\" LIMIT 0", table);
-	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
-		return fail(db->h, table, err, errlen);
-	for (int i = 0; i < sqlite3_column_count(st); i++)
-		has_zone |= strcmp(sqlite3_column_name(st, i), "zone") == 0;
-	sqlite3_finalize(st);
-	snprintf(sql, sizeof sql, has_zone ? "SELECT * FROM \"%s\" WHERE zone = ? ORDER BY rowid"
-	                                   : "SELECT * FROM \"%s\" ORDER BY rowid", table);
-	if (sqlite3_prepare_v2(db->h, sql, -1, &st, NULL) != SQLITE_OK)
-		return fail(db->h, table, err, errlen);
-	if (has_zone)
-		sqlite3_bind_text(st, 1, zone, -1, SQLITE_STATIC);
-	ncol = sqlite3_column_count(st);
-	if (ncol > 32)
-		ncol = 32;
-	for (int i = 0; i < ncol; i++)
-		names[i] = sqlite3_column_name(st, i);
-	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-		for (int i = 0; i < ncol; i++)
-			vals[i] = (const char *)sqlite3_column_text(st, i);
-		fn(user, ncol, names, vals);
-		nrows++;
-	}
-	sqlite3_finalize(st);
-	return rc == SQLITE_DONE ? nrows : fail(db->h, "read", err, errlen);
 }
 
 /* ---- the MQTT publisher --------------------------------------------------------- */

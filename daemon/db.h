@@ -80,9 +80,6 @@ int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind
                  size_t errlen);
 /* The UTC of every start of psensd on record, oldest first. */
 int psd_db_run_starts(struct psd_db *db, void (*fn)(void *user, double utc), void *user, char *err, size_t errlen);
-/* The local "YYYY-MM-DD HH:MM:SS" of a UTC time (out at least 20 bytes);
- * "" when utc is not finite. */
-void psd_db_local(double utc, char *out, size_t n);
 
 /* ---- acceptance (schema 5, daemon/accept.h) -------------------------------- */
 
@@ -182,12 +179,6 @@ int psd_db_zones(struct psd_db *db, psd_db_name_fn fn, void *user, char *err, si
 /* The config's and the scene's SHA-256 of the zone's latest session: 1 when
  * found, 0 when none (both ""), -1 on a read error. */
 int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65], char scene_sha256[65]);
-/* Every row of a table (the zone's rows when it has a zone column) as text
- * (NULL for NULL): the number of rows, 0 when the table does not exist, -1
- * with a message. */
-typedef void (*psd_db_row_fn)(void *user, int ncol, const char *const *names, const char *const *values);
-int psd_db_table_rows(struct psd_db *db, const char *table, const char *zone, psd_db_row_fn fn, void *user,
-                      char *err, size_t errlen);
 
 /* ---- the MQTT publisher (daemon/mqtt/mqtt.c) ----------------------------- */
 

@@ -14,6 +14,9 @@
 #include "roomsetup.h"
 #include "dated.h"
 
+static void start_io(struct psd_engine *e, const struct psd_clock *clock);
+static void stop_io(struct psd_engine *e);
+
 static double wall(void)
 {
 	struct timespec ts;
@@ -288,7 +291,7 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	/* the I/O threads before the first commands: a slow module must not
 	 * hold the loop at start or at a reload either */
 	if (clock && !clock->simulated)
-		psd_engine_start_io(e, clock);
+		start_io(e, clock);
 	/* the outputs start where the control believes they are (full output,
 	 * or the level before a reload) */
 	for (size_t i = 0; i < e->nzone; i++) {
@@ -305,7 +308,7 @@ bad:
 struct psd_config *psd_engine_close(struct psd_engine *e)
 {
 	struct psd_config *cf = e->cf;
-	psd_engine_stop_io(e);
+	stop_io(e);
 	psd_db_close(e->db);
 	e->db = NULL;
 	for (size_t i = 0; cf && i < cf->ndev; i++)
@@ -382,7 +385,8 @@ static int pt_write(struct psd_engine *e, int p, double now, double v)
 	return rc;
 }
 
-void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock)
+/* Real time: give each device with blocking I/O its I/O thread. */
+static void start_io(struct psd_engine *e, const struct psd_clock *clock)
 {
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		if (e->io[i] || !e->dev_open[i] || !psd_devio_wanted(e->dev[i].drv))
@@ -393,7 +397,8 @@ void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock)
 	}
 }
 
-void psd_engine_stop_io(struct psd_engine *e)
+/* Stop and join every I/O thread: the drivers are called in the loop again. */
+static void stop_io(struct psd_engine *e)
 {
 	for (size_t i = 0; i < PSD_MAX_DEVICES; i++) {
 		psd_devio_stop(e->io[i]);
@@ -907,7 +912,7 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 {
 	char err[256];
 	int failed = 0;
-	psd_engine_stop_io(e);   /* the last commands wait for their outcome */
+	stop_io(e);   /* the last commands wait for their outcome */
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
 		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {

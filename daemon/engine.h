@@ -118,16 +118,12 @@ void psd_engine_set_epoch(struct psd_engine *e, double epoch0);
 /* Local "YYYY-MM-DD HH:MM" of clock time t ("HH:MM" with no epoch). */
 void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n);
 /* The same, and in real time (clock not simulated, not NULL) the I/O
- * threads (psd_engine_start_io) started before the first commands. */
+ * threads started before the first commands: each device with blocking
+ * I/O (psd_devio_wanted) gets its I/O thread, which reads clock (a copy).
+ * Until then, and in a simulated day, the loop calls the drivers itself.  A
+ * thread that cannot start leaves its device called in the loop (logged). */
 int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                        const struct psd_engine *prev, const struct psd_clock *clock, char *err, size_t errlen);
-/* Real time: give each device with blocking I/O (psd_devio_wanted) its
- * I/O thread, which reads clock (a copy).  Until then, and in a simulated
- * day, the loop calls the drivers itself.  A thread that cannot start
- * leaves its device called in the loop (logged). */
-void psd_engine_start_io(struct psd_engine *e, const struct psd_clock *clock);
-/* Stop and join every I/O thread: the drivers are called in the loop again. */
-void psd_engine_stop_io(struct psd_engine *e);
 /* Run every zone whose step is due at now. */
 void psd_engine_step(struct psd_engine *e, double now);
 /* The next time something is due: a zone's step or a driver's deadline. */

@@ -72,6 +72,5 @@ static void vlog(int level, int prio, const char *errtext, const char *fmt, va_l
 LOG_FN(psd_log_errx, PSD_LOG_WARN, LOG_ERR, 0)
 LOG_FN(psd_log_err, PSD_LOG_WARN, LOG_ERR, 1)
 LOG_FN(psd_log_warnx, PSD_LOG_WARN, LOG_WARNING, 0)
-LOG_FN(psd_log_warn, PSD_LOG_WARN, LOG_WARNING, 1)
 LOG_FN(psd_log_info, PSD_LOG_INFO, LOG_INFO, 0)
 LOG_FN(psd_log_debug, PSD_LOG_DEBUG, LOG_DEBUG, 0)

@@ -48,6 +48,9 @@ int psd_roomsetup_has_feb29(const struct ps_results *r)
 	return 0;
 }
 
+static int from_date(const struct ps_results *r, int m, int d, struct ps_room_daypoint *day,
+                     struct ps_room_params *p);
+
 int psd_roomsetup_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
                        struct ps_room_params *p)
 {
@@ -57,11 +60,13 @@ int psd_roomsetup_from_year(const struct ps_results *r, int doy, struct ps_room_
 		return -1;
 	}
 	month_day(doy > 365 ? 365 : doy, &m, &d);
-	return psd_roomsetup_from_date(r, m, d, day, p);
+	return from_date(r, m, d, day, p);
 }
 
-int psd_roomsetup_from_date(const struct ps_results *r, int m, int d, struct ps_room_daypoint *day,
-                       struct ps_room_params *p)
+/* A day of the results' year for a calendar date (month 1-12, day 1-31):
+ * February 29 of a leap year's file plays its own hours. */
+static int from_date(const struct ps_results *r, int m, int d, struct ps_room_daypoint *day,
+                     struct ps_room_params *p)
 {
 	size_t lo = 0, hi, n = 0;
 	memset(p, 0, sizeof *p);
@@ -95,8 +100,15 @@ int psd_roomsetup_from_date(const struct ps_results *r, int m, int d, struct ps_
 	return 0;
 }
 
-int psd_roomsetup_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
-                          struct ps_room_daypoint *day, struct ps_room_params *p)
+/* Build a day of daylight for day-of-year doy from the results' daylight
+ * conditions, into day[PSD_DAY_POINTS], and the electric responses into p.
+ * The scene gives daylight at a few dates and times; between them this
+ * assumes a clear sky: each condition's value is scaled over the day by
+ * sin(pi (t - sunrise) / (sunset - sunrise)), relative to its own time, and
+ * conditions at other dates are interpolated linearly in day of year.
+ * Returns -1 when the results have no electric or no daylight condition. */
+static int from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
+                        struct ps_room_daypoint *day, struct ps_room_params *p)
 {
 
 	/* daylight at full sun-up shape (shape = 1) for the chosen day: nearest
@@ -165,7 +177,7 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 	int doy = psd_roomsetup_day_of_year(date);
 	if (doy < 0 || !(rs = malloc(sizeof *rs)))
 		return NULL;
-	if (psd_roomsetup_from_results(r, doy, sunrise, sunset, rs->day, &rs->p) != 0) {
+	if (from_results(r, doy, sunrise, sunset, rs->day, &rs->p) != 0) {
 		free(rs);
 		return NULL;
 	}
@@ -182,7 +194,7 @@ int psd_roomsetup_play_day(const struct ps_results *r, int month, int mday, doub
 	struct ps_room_params p;
 	struct ps_room *room;
 	int steps = (int)floor(86400.0 / period + 0.5);
-	if (period <= 0 || psd_roomsetup_from_date(r, month, mday, day, &p) != 0)
+	if (period <= 0 || from_date(r, month, mday, day, &p) != 0)
 		return -1;
 	p.gain = gain;
 	if (!(room = ps_room_new(&p, 0.0)))
@@ -213,7 +225,7 @@ struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const 
 	/* February 29 of a year without one: the 28th */
 	if (m == 2 && d == 29 && !psd_roomsetup_has_feb29(r))
 		d = 28;
-	if (psd_roomsetup_from_date(r, m, d, rs->day, &rs->p) != 0) {
+	if (from_date(r, m, d, rs->day, &rs->p) != 0) {
 		free(rs);
 		return NULL;
 	}

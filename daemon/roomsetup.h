@@ -13,15 +13,6 @@ struct ps_room_params;
 
 enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
 
-/* Build a day of daylight for day-of-year doy from the results' daylight
- * conditions, into day[PSD_DAY_POINTS], and the electric responses into p.
- * The scene gives daylight at a few dates and times; between them this
- * assumes a clear sky: each condition's value is scaled over the day by
- * sin(pi (t - sunrise) / (sunset - sunrise)), relative to its own time, and
- * conditions at other dates are interpolated linearly in day of year.
- * Returns -1 when the results have no electric or no daylight condition. */
-int psd_roomsetup_from_results(const struct ps_results *r, int doy, double sunrise, double sunset,
-                          struct ps_room_daypoint *day, struct ps_room_params *p);
 /* A day of the results' year (day of year doy, non-leap numbering): one
  * point per hour with light at the hour's middle as the weather file gives
  * it (standard time), the room interpolating linearly between them, and
@@ -35,13 +26,9 @@ int psd_roomsetup_from_year(const struct ps_results *r, int doy, struct ps_room_
  * electric or no daylight condition, or the date is malformed. */
 struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char *date, double sunrise,
                                          double sunset);
-/* The same for a calendar date (month 1-12, day 1-31): February 29 of a
- * leap year's file plays its own hours. */
-int psd_roomsetup_from_date(const struct ps_results *r, int month, int mday, struct ps_room_daypoint *day,
-                       struct ps_room_params *p);
 /* 1 when the results' year has February 29 (a leap year's weather file). */
 int psd_roomsetup_has_feb29(const struct ps_results *r);
-/* Play the date month/mday of the results' year on a room (psd_roomsetup_from_date; sensor
+/* Play the date month/mday of the results' year on a room (as psd_roomsetup_new_year; sensor
  * gain volts per unit, no noise, an instant ballast, the lights at level0 at
  * midnight): every period seconds from midnight, law(ctx, t, volts) gives the
  * level to command, then seen(ctx, t, level, true task lux a millisecond
@@ -54,7 +41,7 @@ int psd_roomsetup_play_day(const struct ps_results *r, int month, int mday, doub
                       void (*seen)(void *ctx, double t, double level, double task_lux,
                                    double daylight_lux, double rooftop_lux),
                       void *ctx);
-/* The same from the results' year (psd_roomsetup_from_date): [simulate] year =
+/* The same from the results' year (psd_roomsetup_from_year): [simulate] year =
  * yes; 02-29 plays February 28 when the year has no 29th. */
 struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);
 void psd_roomsetup_free(struct ps_room_params *p);

@@ -1377,7 +1377,9 @@ static int emit(struct doc *d, FILE *fp, char *err, size_t n)
 	return 0;
 }
 
-int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_report_out *r, char *err, size_t n)
+/* Draw the document to fp.  -1 with a message (a zone the database does not
+ * know is named with the zones it does know). */
+static int render(const struct psd_report_opts *o, FILE *fp, struct psd_report_out *r, char *err, size_t n)
 {
 	struct psd_db *db;
 	struct doc d = { 0 };
@@ -1468,7 +1470,7 @@ int psd_report_write(const struct psd_report_opts *o, const char *path, struct p
 	FILE *fp;
 	memset(r, 0, sizeof *r);   /* freeable whatever fails */
 	if (!path)
-		return psd_report_render(o, stdout, r, err, n) == 0 && fflush(stdout) == 0 ? 0 : -1;
+		return render(o, stdout, r, err, n) == 0 && fflush(stdout) == 0 ? 0 : -1;
 	slash = strrchr(path, '/');
 	if (slash)
 		snprintf(tmp, sizeof tmp, "%.*s/.%s.XXXXXX", (int)(slash - path), path, slash + 1);
@@ -1482,7 +1484,7 @@ int psd_report_write(const struct psd_report_opts *o, const char *path, struct p
 		unlink(tmp);
 		return -1;
 	}
-	rc = psd_report_render(o, fp, r, err, n);
+	rc = render(o, fp, r, err, n);
 	if (rc == 0 && (fflush(fp) != 0 || fsync(fileno(fp)) != 0))
 		rc = psd_errbuf(err, n, "%s: %s", path, strerror(errno));
 	if (fclose(fp) != 0 && rc == 0)

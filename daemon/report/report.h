@@ -47,10 +47,7 @@ struct psd_report_out {
 
 /* The format a file name's extension asks for (.pdf .png .svg), -1 if none. */
 int psd_report_format_of(const char *path);
-/* Draw the document to fp.  -1 with a message (a zone the database does not
- * know is named with the zones it does know). */
-int psd_report_render(const struct psd_report_opts *o, FILE *fp, struct psd_report_out *r, char *err, size_t n);
-/* The same into path through a temporary file in its directory renamed
+/* Draw the document into path through a temporary file in its directory renamed
  * over it only when complete: a failure leaves no file (and an older one
  * untouched).  path NULL: standard output.  Both zero *r first:
  * psd_report_out_free(r) is right after any return. */

@@ -47,15 +47,6 @@ int psd_textbox_overlap(const struct psd_textboxes *r, double slack, size_t *i, 
 	return 0;
 }
 
-double psd_textbox_bottom(const struct psd_textboxes *r, int page)
-{
-	double y = 0;
-	for (size_t a = 0; a < r->n; a++)
-		if (r->box[a].page == page && r->box[a].y1 > y)
-			y = r->box[a].y1;
-	return y;
-}
-
 void psd_textbox_free(struct psd_textboxes *r)
 {
 	free(r->box);

@@ -24,8 +24,6 @@ int psd_textbox_add(struct psd_textboxes *r, int page, double x0, double y0, dou
 /* The first pair of boxes on one page that overlap by more than slack
  * points in both directions: 1 with their indexes, 0 when none does. */
 int psd_textbox_overlap(const struct psd_textboxes *r, double slack, size_t *i, size_t *j);
-/* The lowest bottom edge of any box on page (0 when the page has none). */
-double psd_textbox_bottom(const struct psd_textboxes *r, int page);
 void psd_textbox_free(struct psd_textboxes *r);
 
 #endif
