@@ -136,8 +136,12 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.doy = 0;
 	for (u.m = 0; u.m < 12; u.m++)
 		for (int d = 1; d <= mdays[u.m] + (u.m == 1 && feb29); d++) {
+			struct psd_roomsetup_play q = {
+				.month = u.m + 1, .mday = d, .gain = u.c.sensor_gain, .period = o->period,
+				.level0 = u.c.level, .law = law, .seen = seen, .ctx = &u,
+			};
 			u.doy++;
-			if (psd_roomsetup_play_day(r, u.m + 1, d, u.c.sensor_gain, o->period, u.c.level, law, seen, &u) != 0)
+			if (psd_roomsetup_play_day(r, &q) != 0)
 				return -1;
 		}
 	a->days = u.doy;

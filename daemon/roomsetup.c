@@ -184,33 +184,29 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 	return &rs->p;
 }
 
-int psd_roomsetup_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
-                      double level0, double (*law)(void *ctx, double t, double volts),
-                      void (*seen)(void *ctx, double t, double level, double task_lux,
-                                   double daylight_lux, double rooftop_lux),
-                      void *ctx)
+int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetup_play *q)
 {
 	struct ps_room_daypoint day[PSD_DAY_POINTS];
 	struct ps_room_params p;
 	struct ps_room *room;
-	int steps = (int)floor(86400.0 / period + 0.5);
-	if (period <= 0 || from_date(r, month, mday, day, &p) != 0)
+	int steps = (int)floor(86400.0 / q->period + 0.5);
+	if (q->period <= 0 || from_date(r, q->month, q->mday, day, &p) != 0)
 		return -1;
-	p.gain = gain;
+	p.gain = q->gain;
 	if (!(room = ps_room_new(&p, 0.0)))
 		return -1;
-	ps_room_command(room, 0.0, level0);
+	ps_room_command(room, 0.0, q->level0);
 	for (int s = 0; s < steps; s++) {
-		double t = s * period, volts, level, dv, dl, g;
+		double t = s * q->period, volts, level, dv, dl, g;
 		if (ps_room_sensor(room, t, &volts) != 0)
 			volts = 0;
-		level = law(ctx, t, volts);
+		level = q->law(q->ctx, t, volts);
 		ps_room_command(room, t, level);
 		ps_room_daylight(room, t, &dv, &dl);
 		if (ps_room_rooftop(room, t, &g) != 0)
 			g = NAN;
 		/* the desk just after the command (an instant ballast has obeyed) */
-		seen(ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl, g);
+		q->seen(q->ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl, g);
 	}
 	ps_room_free(room);
 	return 0;

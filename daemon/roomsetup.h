@@ -28,19 +28,25 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
                                          double sunset);
 /* 1 when the results' year has February 29 (a leap year's weather file). */
 int psd_roomsetup_has_feb29(const struct ps_results *r);
-/* Play the date month/mday of the results' year on a room (as psd_roomsetup_new_year; sensor
- * gain volts per unit, no noise, an instant ballast, the lights at level0 at
- * midnight): every period seconds from midnight, law(ctx, t, volts) gives the
- * level to command, then seen(ctx, t, level, true task lux a millisecond
- * after the command, true daylight lux at the task, the rooftop's global
- * horizontal lux or NAN) reports the step.  The room stays inside this file
- * (psensd -Y: annual.c).  -1 when the results have no year or no electric
- * condition, or out of memory. */
-int psd_roomsetup_play_day(const struct ps_results *r, int month, int mday, double gain, double period,
-                      double level0, double (*law)(void *ctx, double t, double volts),
-                      void (*seen)(void *ctx, double t, double level, double task_lux,
-                                   double daylight_lux, double rooftop_lux),
-                      void *ctx);
+/* A day to play on a room (psd_roomsetup_play_day). */
+struct psd_roomsetup_play {
+	int month, mday;          /* the date of the results' year */
+	double gain;              /* the sensor's volts per unit (no noise) */
+	double period;            /* s between steps, the first at midnight */
+	double level0;            /* the lights' level at midnight */
+	/* the level to command at t for the sensor's reading */
+	double (*law)(void *ctx, double t, double volts);
+	/* the step: true task lux a millisecond after the command, true daylight
+	 * lux at the task, the rooftop's global horizontal lux or NAN */
+	void (*seen)(void *ctx, double t, double level, double task_lux, double daylight_lux, double rooftop_lux);
+	void *ctx;
+};
+/* Play q's date of the results' year on a room (an instant ballast): every
+ * period seconds from midnight, law gives the level to command, then seen
+ * reports the step.  The room stays inside this file (psensd -Y:
+ * annual.c).  -1 when the results have no year or no electric condition,
+ * or out of memory. */
+int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetup_play *q);
 /* The same from the results' year (psd_roomsetup_from_year): [simulate] year =
  * yes; 02-29 plays February 28 when the year has no 29th. */
 struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);
