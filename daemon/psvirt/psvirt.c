@@ -352,144 +352,173 @@ static int zone_cmdline_opts(const struct virt *v, struct args *a, int z, struct
 	return 0;
 }
 
-/* The day, the zones and their options: from -f (psensd.conf: [psensd]
- * results, [simulate], the [zone] sections in order, each with its sensor's
- * loopback device's options) and the command line, which wins. */
-static int build_rooms(struct virt *v, struct args *a)
+/* What the rooms are built from: the configuration (-f) and the command
+ * line. */
+struct plan {
+	struct psd_config *cf;    /* -f, or NULL */
+	const char *results, *conf_path;
+	char date[16];
+	double rise, set;
+	int year;                 /* [simulate] year = yes: the room plays the date of the results' year */
+	const struct ps_opts *zone_conf[PSD_VIRT_MAX_ZONES];   /* a loopback zone's [device] keys */
+};
+
+/* -f: the zones, their names and loopback options, the results, the date
+ * and the start from the configuration.  -1 after saying why. */
+static int plan_from_config(struct virt *v, const struct args *a, struct plan *p)
 {
-	struct psd_config *cf = NULL;
-	struct ps_results res;
+	struct psd_config *cf;
+	if (!(cf = p->cf = calloc(1, sizeof *cf))) {
+		fprintf(stderr, "psvirt: out of memory\n");
+		return -1;
+	}
+	if (psd_config_load(cf, a->conf) != 0) {
+		for (size_t i = 0; i < cf->conf.nerrors; i++)
+			fprintf(stderr, "psvirt: %s\n", cf->conf.errors[i]);
+		return -1;
+	}
+	if (cf->nzone > PSD_VIRT_MAX_ZONES || (a->zones && (size_t)a->zones != cf->nzone)) {
+		fprintf(stderr, "psvirt: %s has %zu zones: psvirt serves %s\n", a->conf, cf->nzone,
+		        a->zones ? "as many (drop --zones)" : "at most 10");
+		return -1;
+	}
+	v->nzone = (int)cf->nzone;
+	for (int z = 0; z < v->nzone; z++) {
+		const struct psd_zone_conf *zc = &cf->zone[z];
+		const struct psd_device_conf *dc = &cf->dev[cf->pt[zc->sensor].device];
+		snprintf(v->zone[z], sizeof v->zone[z], "%s", zc->name);
+		if (strcmp(dc->drv->name, "loopback") == 0)
+			p->zone_conf[z] = &dc->opts;
+	}
+	if (!p->results)
+		p->results = cf->results;
+	/* zones with their own scene: their results made as psensd makes them */
+	if (!a->results && psd_refresh_results(cf, a->self ? a->self : "psvirt") != 0)
+		return -1;
+	snprintf(p->date, sizeof p->date, "%s", cf->date);
+	p->rise = cf->sunrise;
+	p->set = cf->sunset;
+	p->year = cf->sim_year;
+	v->start = cf->start;
+	return 0;
+}
+
+/* The command line over the configuration: the date, sunrise, sunset and
+ * start.  -1 after saying why. */
+static int plan_from_args(struct virt *v, const struct args *a, struct plan *p)
+{
+	if (a->date)
+		snprintf(p->date, sizeof p->date, "%s", a->date);
+	if (!p->results) {
+		fprintf(stderr, "psvirt: no results (--results FILE, or -f with [psensd] results)\n");
+		return -1;
+	}
+	if (psd_roomsetup_day_of_year(p->date) < 0 || (a->sunrise && hhmm(a->sunrise, &p->rise)) ||
+	    (a->sunset && hhmm(a->sunset, &p->set)) || (a->start && hhmm(a->start, &v->start))) {
+		fprintf(stderr, "psvirt: date must be MM-DD and sunrise, sunset, start HH:MM\n");
+		return -1;
+	}
+	return 0;
+}
+
+/* Zone z's room options in merged[1..]: its command line options (cmd,
+ * judged alone first, so that their messages name it), then its
+ * configuration's keys (all: both, with a seed in merged[0] when z's must
+ * differ from the others').  -1 after saying why. */
+static int zone_options(struct virt *v, struct args *a, const struct plan *p, int z, struct ps_opt *merged,
+                        char *seed, size_t seedlen, struct ps_opts *cmd, struct ps_opts *all)
+{
+	int src[MAX_OPTS];
+	size_t n, nconf = p->zone_conf[z] ? p->zone_conf[z]->n : 0;
+	char err[512], *end = NULL;
+	const char *s;
+	*cmd = (struct ps_opts){ merged, 0, "psvirt -D" };
+	*all = (struct ps_opts){ merged, 0, "psvirt -D" };
+	if (zone_cmdline_opts(v, a, z, merged + 1, &n, src) != 0)
+		return -1;
+	if (n + nconf > 2 * MAX_OPTS) {
+		fprintf(stderr, "psvirt: zone %s: more than %d room options\n", v->zone[z], 2 * MAX_OPTS);
+		return -1;
+	}
+	/* the command line alone first, so its messages name it */
+	cmd->v = merged + 1;
+	cmd->n = n;
+	if (psd_virtroom_check(cmd, err, sizeof err) != 0) {
+		fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+		return -1;
+	}
+	for (size_t i = 0; i < n; i++)
+		a->opts[src[i]].used |= merged[1 + i].used;
+	for (size_t i = 0; i < nconf; i++)
+		merged[1 + n + i] = p->zone_conf[z]->v[i];
+	if (nconf)
+		all->file = p->conf_path;
+	/* zones sharing their options must not share their noise: zone
+	 * k's seed is its seed option (1) plus k */
+	all->v = merged + 1;
+	all->n = n + nconf;
+	s = ps_opt_get(all, "seed");
+	if (z > 0 && (!s || (strtol(s, &end, 10) >= 0 && !*end && *s))) {
+		snprintf(seed, seedlen, "%ld", (s ? strtol(s, NULL, 10) : 1) + z);
+		merged[0] = (struct ps_opt){ "seed", seed, 0, 0 };
+		all->v = merged;
+		all->n++;
+	}
+	return 0;
+}
+
+/* Zone z's room from its options: a zone with its own simulation (scene =
+ * or results = in its [zone]) plays its own room.  NULL after saying why. */
+static struct psd_virtroom *zone_room(const struct virt *v, const struct args *a, const struct plan *p,
+                                      const struct psd_virtday *day, int z, const struct ps_opts *all)
+{
+	struct ps_results zr;
+	struct psd_virtday zday = *day;
+	struct psd_virtroom *room;
 	struct ps_err e;
-	struct psd_virtday day;
-	const char *results = a->results, *conf_path = a->conf ? a->conf : "";
-	char date[16] = "03-18";
-	double rise = 6 * 3600.0, set = 18 * 3600.0;
-	int year = 0;   /* [simulate] year = yes: the room plays the date of the results' year */
-	int rc = -1, have_res = 0;
-	const struct ps_opts *zone_conf[PSD_VIRT_MAX_ZONES] = { NULL };
-	v->start = 6 * 3600.0;
-	v->nzone = a->zones ? (int)a->zones : 1;
-	for (int z = 0; z < PSD_VIRT_MAX_ZONES; z++)
-		snprintf(v->zone[z], sizeof v->zone[z], "zone%d", z);
-	if (a->conf) {
-		if (!(cf = calloc(1, sizeof *cf))) {
-			fprintf(stderr, "psvirt: out of memory\n");
+	char err[512];
+	const char *zp = p->cf && !a->results ? psd_config_zone_results(p->cf, &p->cf->zone[z]) : NULL;
+	int own = zp && strcmp(zp, p->results) != 0;
+	if (own) {
+		if (ps_results_read(&zr, zp, &e) != 0) {
+			fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], e.msg);
+			return NULL;
+		}
+		zday.res = &zr;
+	}
+	room = psd_virtroom_new(&zday, all, v->start, err, sizeof err);
+	if (own)
+		ps_results_free(&zr);
+	if (!room)
+		fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+	return room;
+}
+
+/* Zone z's room, every key of its configuration taken.  -1 after saying
+ * why. */
+static int build_zone(struct virt *v, struct args *a, const struct plan *p, const struct psd_virtday *day, int z)
+{
+	struct ps_opt merged[2 * MAX_OPTS + 1];
+	struct ps_opts cmd, all;
+	size_t nconf = p->zone_conf[z] ? p->zone_conf[z]->n : 0;
+	char seed[32];
+	if (zone_options(v, a, p, z, merged, seed, sizeof seed, &cmd, &all) != 0)
+		return -1;
+	if (!(v->room[z] = zone_room(v, a, p, day, z, &all)))
+		return -1;
+	for (size_t i = all.n - nconf; i < all.n; i++)
+		if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
+			fprintf(stderr, "psvirt: %s:%d: unknown key '%s' for driver loopback\n", p->conf_path,
+			        all.v[i].line, all.v[i].key);
 			return -1;
 		}
-		if (psd_config_load(cf, a->conf) != 0) {
-			for (size_t i = 0; i < cf->conf.nerrors; i++)
-				fprintf(stderr, "psvirt: %s\n", cf->conf.errors[i]);
-			goto out;
-		}
-		if (cf->nzone > PSD_VIRT_MAX_ZONES || (a->zones && (size_t)a->zones != cf->nzone)) {
-			fprintf(stderr, "psvirt: %s has %zu zones: psvirt serves %s\n", a->conf, cf->nzone,
-			        a->zones ? "as many (drop --zones)" : "at most 10");
-			goto out;
-		}
-		v->nzone = (int)cf->nzone;
-		for (int z = 0; z < v->nzone; z++) {
-			const struct psd_zone_conf *zc = &cf->zone[z];
-			const struct psd_device_conf *dc = &cf->dev[cf->pt[zc->sensor].device];
-			snprintf(v->zone[z], sizeof v->zone[z], "%s", zc->name);
-			if (strcmp(dc->drv->name, "loopback") == 0)
-				zone_conf[z] = &dc->opts;
-		}
-		if (!results)
-			results = cf->results;
-		/* zones with their own scene: their results made as psensd makes them */
-		if (!a->results && psd_refresh_results(cf, a->self ? a->self : "psvirt") != 0)
-			goto out;
-		snprintf(date, sizeof date, "%s", cf->date);
-		rise = cf->sunrise;
-		set = cf->sunset;
-		year = cf->sim_year;
-		v->start = cf->start;
-	}
-	if (a->date)
-		snprintf(date, sizeof date, "%s", a->date);
-	if (!results) {
-		fprintf(stderr, "psvirt: no results (--results FILE, or -f with [psensd] results)\n");
-		goto out;
-	}
-	if (psd_roomsetup_day_of_year(date) < 0 || (a->sunrise && hhmm(a->sunrise, &rise)) || (a->sunset && hhmm(a->sunset, &set)) ||
-	    (a->start && hhmm(a->start, &v->start))) {
-		fprintf(stderr, "psvirt: date must be MM-DD and sunrise, sunset, start HH:MM\n");
-		goto out;
-	}
-	if (ps_results_read(&res, results, &e) != 0) {
-		fprintf(stderr, "psvirt: %s\n", e.msg);
-		goto out;
-	}
-	have_res = 1;
-	day = (struct psd_virtday){ &res, date, rise, set, year };
-	for (int z = 0; z < v->nzone; z++) {
-		struct ps_opt merged[2 * MAX_OPTS + 1];
-		int src[MAX_OPTS];
-		size_t n, nconf = zone_conf[z] ? zone_conf[z]->n : 0;
-		struct ps_opts cmd = { merged, 0, "psvirt -D" }, all = { merged, 0, "psvirt -D" };
-		char err[512], seed[32], *end = NULL;
-		const char *s;
-		if (zone_cmdline_opts(v, a, z, merged + 1, &n, src) != 0)
-			goto out;
-		if (n + nconf > 2 * MAX_OPTS) {
-			fprintf(stderr, "psvirt: zone %s: more than %d room options\n", v->zone[z], 2 * MAX_OPTS);
-			goto out;
-		}
-		/* the command line alone first, so its messages name it */
-		cmd.v = merged + 1;
-		cmd.n = n;
-		if (psd_virtroom_check(&cmd, err, sizeof err) != 0) {
-			fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
-			goto out;
-		}
-		for (size_t i = 0; i < n; i++)
-			a->opts[src[i]].used |= merged[1 + i].used;
-		for (size_t i = 0; i < nconf; i++)
-			merged[1 + n + i] = zone_conf[z]->v[i];
-		if (nconf)
-			all.file = conf_path;
-		/* zones sharing their options must not share their noise: zone
-		 * k's seed is its seed option (1) plus k */
-		all.v = merged + 1;
-		all.n = n + nconf;
-		s = ps_opt_get(&all, "seed");
-		if (z > 0 && (!s || (strtol(s, &end, 10) >= 0 && !*end && *s))) {
-			snprintf(seed, sizeof seed, "%ld", (s ? strtol(s, NULL, 10) : 1) + z);
-			merged[0] = (struct ps_opt){ "seed", seed, 0, 0 };
-			all.v = merged;
-			all.n++;
-		}
-		{
-			/* a zone with its own simulation (scene = or results = in its
-			 * [zone]) plays its own room */
-			struct ps_results zr;
-			struct psd_virtday zday = day;
-			const char *zp = cf && !a->results ? psd_config_zone_results(cf, &cf->zone[z]) : NULL;
-			int own = zp && strcmp(zp, results) != 0;
-			if (own) {
-				if (ps_results_read(&zr, zp, &e) != 0) {
-					fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], e.msg);
-					goto out;
-				}
-				zday.res = &zr;
-			}
-			v->room[z] = psd_virtroom_new(&zday, &all, v->start, err, sizeof err);
-			if (own)
-				ps_results_free(&zr);
-			if (!v->room[z]) {
-				fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
-				goto out;
-			}
-		}
-		for (size_t i = all.n - nconf; i < all.n; i++)
-			if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
-				fprintf(stderr, "psvirt: %s:%d: unknown key '%s' for driver loopback\n", conf_path,
-				        all.v[i].line, all.v[i].key);
-				goto out;
-			}
-	}
-	/* a key no zone took is not a room option (one every zone overrides
-	 * with its own is) */
+	return 0;
+}
+
+/* A key no zone took is not a room option (one every zone overrides with
+ * its own is).  -1 after saying which. */
+static int every_option_taken(const struct virt *v, const struct args *a)
+{
 	for (size_t i = 0; i < a->nopts; i++) {
 		const char *key, *other;
 		int known = 0;
@@ -498,16 +527,47 @@ static int build_rooms(struct virt *v, struct args *a)
 			known = a->opts[j].used && (opt_zone(v, a->opts[j].key, &other), strcmp(key, other) == 0);
 		if (!known) {
 			fprintf(stderr, "psvirt: -D %s: not a loopback room option (see psensd.conf(5))\n", key);
-			goto out;
+			return -1;
 		}
 	}
-	rc = 0;
+	return 0;
+}
+
+/* The day, the zones and their options: from -f (psensd.conf: [psensd]
+ * results, [simulate], the [zone] sections in order, each with its sensor's
+ * loopback device's options) and the command line, which wins. */
+static int build_rooms(struct virt *v, struct args *a)
+{
+	struct plan p = { .results = a->results, .conf_path = a->conf ? a->conf : "", .date = "03-18",
+	                  .rise = 6 * 3600.0, .set = 18 * 3600.0 };
+	struct ps_results res;
+	struct ps_err e;
+	struct psd_virtday day;
+	int rc = -1, have_res = 0;
+	v->start = 6 * 3600.0;
+	v->nzone = a->zones ? (int)a->zones : 1;
+	for (int z = 0; z < PSD_VIRT_MAX_ZONES; z++)
+		snprintf(v->zone[z], sizeof v->zone[z], "zone%d", z);
+	if (a->conf && plan_from_config(v, a, &p) != 0)
+		goto out;
+	if (plan_from_args(v, a, &p) != 0)
+		goto out;
+	if (ps_results_read(&res, p.results, &e) != 0) {
+		fprintf(stderr, "psvirt: %s\n", e.msg);
+		goto out;
+	}
+	have_res = 1;
+	day = (struct psd_virtday){ &res, p.date, p.rise, p.set, p.year };
+	for (int z = 0; z < v->nzone; z++)
+		if (build_zone(v, a, &p, &day, z) != 0)
+			goto out;
+	rc = every_option_taken(v, a);
 out:
 	if (have_res)
 		ps_results_free(&res);
-	if (cf) {
-		psd_config_free(cf);
-		free(cf);
+	if (p.cf) {
+		psd_config_free(p.cf);
+		free(p.cf);
 	}
 	return rc;
 }
