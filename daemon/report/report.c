@@ -624,44 +624,26 @@ static double keyval(struct doc *d, double y, const char *key, const char *val, 
 	return y + 13;
 }
 
-static void cover(struct doc *d)
+/* The configuration's hash: the one read now, else the one the last
+ * calibration recorded. */
+static double cover_config_sha(struct doc *d, double y)
 {
-	const struct psd_report_opts *o = d->o;
-	char buf[512], a[64], b[64], wr[64];
-	double y = MARGIN + 22, tmin = INFINITY, tmax = -INFINITY;
-	int v = overall(d), checks = 0, fails = 0, tested = 0, accepted = 0;
-	struct tm tm;
-	static const double cols[] = { 0, 55, 180, 220, 260, 355, 393, 438 };
-	static const char *const head[] = { "zone", "sensor", "target", "samples", "recorded", "faults",
-	                                    "energy", "verdict" };
-	begin_page(d);
-	if (!d->cr)
-		return;
-	text(d, MARGIN, y, 20, 1, -1, BLACK, "Commissioning record");
-	y += 18;
-	text(d, MARGIN, y, 10.5, 0, -1, GREY, "Daylight-linked lighting control (psensd): sensor calibration and performance");
-	y += 26;
-	for (int i = 0; i < d->nzones; i++) {
-		tmin = fmin(tmin, d->zones[i].tmin);
-		tmax = fmax(tmax, d->zones[i].tmax);
-		checks += d->zones[i].checks;
-		fails += d->zones[i].fails;
-	}
-	y = keyval(d, y, "Site", o->site ? o->site : "(not named: psensctl report --site)", 0);
-	buf[0] = 0;
-	for (int i = 0; i < d->nzones; i++)
-		snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "%s%s", i ? ", " : "", d->zones[i].name);
-	y = keyval(d, y, "Zones", buf, 0);
-	y = keyval(d, y, "Configuration", o->config_path ? o->config_path : "(not given: psensctl report -c FILE)", 0);
+	char buf[512];
 	if (d->config_sha[0])
-		y = keyval(d, y, "Configuration SHA-256", d->config_sha, 1);
-	else if (d->nzones && d->zones[0].config_sha[0]) {
+		return keyval(d, y, "Configuration SHA-256", d->config_sha, 1);
+	if (d->nzones && d->zones[0].config_sha[0]) {
 		snprintf(buf, sizeof buf, "%s (at the last calibration)", d->zones[0].config_sha);
-		y = keyval(d, y, "Configuration SHA-256", buf, 1);
-	} else
-		y = keyval(d, y, "Configuration SHA-256", "(unknown)", 0);
+		return keyval(d, y, "Configuration SHA-256", buf, 1);
+	}
+	return keyval(d, y, "Configuration SHA-256", "(unknown)", 0);
+}
+
+/* The scene and its hash; zones on their own simulations: each scene, its
+ * zones, its hash. */
+static double cover_scenes(struct doc *d, double y)
+{
+	char buf[512];
 	if (d->nscenes > 1) {
-		/* zones on their own simulations: each scene, its zones, its hash */
 		for (int k = 0; k < d->nscenes; k++) {
 			snprintf(buf, sizeof buf, "%s (", d->scene[k].path);
 			for (int i = 0; i < d->nzones; i++)
@@ -679,7 +661,14 @@ static void cover(struct doc *d)
 		y = keyval(d, y, "Scene SHA-256", sha ? sha : d->nzones && d->zones[0].scene_sha[0] ?
 		           d->zones[0].scene_sha : "(unknown: no results file read, no calibration recorded it)", 1);
 	}
-	y = keyval(d, y, "Database", o->dbpath, 0);
+	return y;
+}
+
+/* The records' span, tmin to tmax (ISO local stamps when dated). */
+static double cover_records(struct doc *d, double y, double tmin, double tmax)
+{
+	const struct psd_report_opts *o = d->o;
+	char buf[512], a[64], b[64];
 	when(tmin, a, sizeof a);
 	when(tmax, b, sizeof b);
 	if (d->dated) {
@@ -700,12 +689,67 @@ static void cover(struct doc *d)
 		         o->cf && o->cf->date[0] ? o->cf->date : "");
 	else
 		snprintf(buf, sizeof buf, "no samples");
-	y = keyval(d, y, "Records", buf, 0);
+	return keyval(d, y, "Records", buf, 0);
+}
+
+/* The facts of the record, one per line: site, zones, configuration,
+ * scene, database, the records' span, when the report was written. */
+static double cover_facts(struct doc *d, double y, double tmin, double tmax)
+{
+	const struct psd_report_opts *o = d->o;
+	char buf[512], wr[64];
+	struct tm tm;
+	y = keyval(d, y, "Site", o->site ? o->site : "(not named: psensctl report --site)", 0);
+	buf[0] = 0;
+	for (int i = 0; i < d->nzones; i++)
+		snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "%s%s", i ? ", " : "", d->zones[i].name);
+	y = keyval(d, y, "Zones", buf, 0);
+	y = keyval(d, y, "Configuration", o->config_path ? o->config_path : "(not given: psensctl report -c FILE)", 0);
+	y = cover_config_sha(d, y);
+	y = cover_scenes(d, y);
+	y = keyval(d, y, "Database", o->dbpath, 0);
+	y = cover_records(d, y, tmin, tmax);
 	gmtime_r(&o->written, &tm);
 	strftime(wr, sizeof wr, "%Y-%m-%d %H:%M UTC", &tm);
-	y = keyval(d, y, "Report written", wr, 0);
-	y += 14;
-	/* the zones */
+	return keyval(d, y, "Report written", wr, 0);
+}
+
+/* Column c of zone z's row in the cover's table, into buf. */
+static void zone_cell(struct doc *d, struct zone *z, int c, char *buf, size_t n)
+{
+	const struct psd_zone_conf *zc = zconf(d, z);
+	char a[64], b[64];
+	switch (c) {
+	case 0: snprintf(buf, n, "%s", z->name); break;
+	case 1: sensor_text(d, z, buf, n, 1); break;
+	case 2:
+		if (zc)
+			snprintf(buf, n, "%.0f lx", zc->ctl.target_lux);
+		else
+			snprintf(buf, n, "-");
+		break;
+	case 3: snprintf(buf, n, "%lld", z->total); break;
+	case 4:
+		when_z(z, 0, a, sizeof a);
+		when_z(z, 1, b, sizeof b);
+		if (z->local0[0]) /* 03-18 06:01 to 20:58 */
+			snprintf(buf, n, "%s to %s", a + 5, b + (strncmp(a, b, 10) == 0 ? 11 : 5));
+		else
+			snprintf(buf, n, "%s to %s", a, b + (strncmp(a, b, 5) == 0 ? 6 : 0));
+		break;
+	case 5: snprintf(buf, n, "%.0f min", z->fault_s / 60); break;
+	case 6: snprintf(buf, n, "%.2f flh", z->energy_h); break;
+	default: snprintf(buf, n, "%s", verdict_word(z->verdict)); break;
+	}
+}
+
+/* The zones' table, then what its columns mean. */
+static double cover_zones(struct doc *d, double y)
+{
+	static const double cols[] = { 0, 55, 180, 220, 260, 355, 393, 438 };
+	static const char *const head[] = { "zone", "sensor", "target", "samples", "recorded", "faults",
+	                                    "energy", "verdict" };
+	char buf[512];
 	text(d, MARGIN, y, 12, 1, -1, BLACK, "Zones");
 	y += 16;
 	for (int c = 0; c < 8; c++)
@@ -714,32 +758,9 @@ static void cover(struct doc *d)
 	y += 13;
 	for (int i = 0; i < d->nzones; i++) {
 		struct zone *z = &d->zones[i];
-		const struct psd_zone_conf *zc = zconf(d, z);
-		double colw;
 		for (int c = 0; c < 8; c++) {
-			colw = (c < 7 ? cols[c + 1] : PAGE_W - 2 * MARGIN) - cols[c] - 6;
-			switch (c) {
-			case 0: snprintf(buf, sizeof buf, "%s", z->name); break;
-			case 1: sensor_text(d, z, buf, sizeof buf, 1); break;
-			case 2:
-				if (zc)
-					snprintf(buf, sizeof buf, "%.0f lx", zc->ctl.target_lux);
-				else
-					snprintf(buf, sizeof buf, "-");
-				break;
-			case 3: snprintf(buf, sizeof buf, "%lld", z->total); break;
-			case 4:
-				when_z(z, 0, a, sizeof a);
-				when_z(z, 1, b, sizeof b);
-				if (z->local0[0]) /* 03-18 06:01 to 20:58 */
-					snprintf(buf, sizeof buf, "%s to %s", a + 5, b + (strncmp(a, b, 10) == 0 ? 11 : 5));
-				else
-					snprintf(buf, sizeof buf, "%s to %s", a, b + (strncmp(a, b, 5) == 0 ? 6 : 0));
-				break;
-			case 5: snprintf(buf, sizeof buf, "%.0f min", z->fault_s / 60); break;
-			case 6: snprintf(buf, sizeof buf, "%.2f flh", z->energy_h); break;
-			default: snprintf(buf, sizeof buf, "%s", verdict_word(z->verdict)); break;
-			}
+			double colw = (c < 7 ? cols[c + 1] : PAGE_W - 2 * MARGIN) - cols[c] - 6;
+			zone_cell(d, z, c, buf, sizeof buf);
 			text_fit(d, MARGIN + cols[c], y, colw, 7.5, 5.5, c == 7, c == 7 ? verdict_rgb(z->verdict) : BLACK,
 			         buf);
 		}
@@ -753,8 +774,14 @@ static void cover(struct doc *d)
 	              "target: the task illuminance the zone holds; recorded: first and last sample (day 1 is the "
 	              "day psensd started); faults: time at the safe level; energy: lighting energy in full-load "
 	              "hours (hours at full output; power taken as proportional to the output).");
-	y += 16;
-	/* the verdict, then its reason on its own line */
+	return y;
+}
+
+/* The verdict (v: overall's), then its reason and how it is reached. */
+static double cover_verdict(struct doc *d, double y, int v, int checks, int fails)
+{
+	char buf[512];
+	int tested = 0, accepted = 0;
 	text(d, MARGIN, y + 12, 26, 1, -1, verdict_rgb(v), v == 0 && checks ? "INCOMPLETE" : verdict_word(v));
 	y += 30;
 	for (int i = 0; i < d->nzones; i++) {
@@ -763,7 +790,7 @@ static void cover(struct doc *d)
 	}
 	snprintf(buf, sizeof buf, "%d of %d calibration results within %g %% of the design prediction (the "
 	         "simulated ratios); %d of %d zone%s acceptance-tested, %d accepted.", checks - fails, checks,
-	         o->tolerance_pct, tested, d->nzones, d->nzones == 1 ? "" : "s", accepted);
+	         d->o->tolerance_pct, tested, d->nzones, d->nzones == 1 ? "" : "s", accepted);
 	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 9, 12, BLACK, buf);
 	y += 6;
 	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 8, 11, GREY,
@@ -774,11 +801,13 @@ static void cover(struct doc *d)
 	              "Title 24 NA7.6.1 and IECC C408.3. PASS: every session within the tolerance and the last "
 	              "acceptance run passed every test; NOT TESTED: calibrated, not acceptance-tested. The pages "
 	              "that follow show each zone's signals with faults and sessions shaded, and its sessions.");
-	/* every zone's light output over the record: fills the page to the sign-off */
-	if (FOOT_Y - 172 - 44 - (y + 30) >= 60 && isfinite(tmin))
-		overview(d, y + 30, FOOT_Y - 172 - 44, tmin, tmax);
-	/* the sign-off, at the foot of the page */
-	y = FOOT_Y - 172;
+	return y;
+}
+
+/* The sign-off, at the foot of the page. */
+static void sign_off(struct doc *d)
+{
+	double y = FOOT_Y - 172;
 	hline(d, MARGIN, PAGE_W - MARGIN, y - 16, 0.8, BLACK);
 	text(d, MARGIN, y, 12, 1, -1, BLACK, "Sign-off");
 	y += 15;
@@ -797,6 +826,34 @@ static void cover(struct doc *d)
 			hline(d, x + 52, x + (PAGE_W - 2 * MARGIN) / 2 - 18, yy + 1, 0.6, BLACK);
 		}
 	}
+}
+
+static void cover(struct doc *d)
+{
+	double y = MARGIN + 22, tmin = INFINITY, tmax = -INFINITY;
+	int v = overall(d), checks = 0, fails = 0;
+	begin_page(d);
+	if (!d->cr)
+		return;
+	text(d, MARGIN, y, 20, 1, -1, BLACK, "Commissioning record");
+	y += 18;
+	text(d, MARGIN, y, 10.5, 0, -1, GREY, "Daylight-linked lighting control (psensd): sensor calibration and performance");
+	y += 26;
+	for (int i = 0; i < d->nzones; i++) {
+		tmin = fmin(tmin, d->zones[i].tmin);
+		tmax = fmax(tmax, d->zones[i].tmax);
+		checks += d->zones[i].checks;
+		fails += d->zones[i].fails;
+	}
+	y = cover_facts(d, y, tmin, tmax);
+	y += 14;
+	y = cover_zones(d, y);
+	y += 16;
+	y = cover_verdict(d, y, v, checks, fails);
+	/* every zone's light output over the record: fills the page to the sign-off */
+	if (FOOT_Y - 172 - 44 - (y + 30) >= 60 && isfinite(tmin))
+		overview(d, y + 30, FOOT_Y - 172 - 44, tmin, tmax);
+	sign_off(d);
 	end_page(d, "cover");
 }
 
