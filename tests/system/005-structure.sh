@@ -1,10 +1,11 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# The tree's structure (doc: the layout rules), checked on the built
+# The layout's rules for the tree's structure, checked on the built
 # objects (nm) and the sources by tests/system/structure.py:
 # - prefix: an exported symbol of sim/**/X.c or drivers/X.c is ps_X or
 #   ps_X_*, of daemon/**/X.c psd_X or psd_X_*; source basenames are unique;
-#   X.c's exported symbols are declared in X.h (EXCEPTIONS below, with why);
+#   X.c's exported symbols are declared in X.h and no other header
+#   (EXCEPTIONS below, with why);
 # - unused: every exported symbol is used by some other object (library,
 #   program, unit test, bench, emulator) or a fuzz target;
 # - cycle: no files of libpsim, libpsdrv or the daemon's libraries use each
@@ -197,8 +198,8 @@ planted() { check "the $1 rule finds $2: $(grep "^$1: " "$TMP/self")" test "$(gr
 planted prefix "ps_sun_az in sim/sky.c and ps_db_open in daemon/db.c" \
 	"prefix: ps_sun_az in sim/sky.c (not ps_sky_*) | prefix: ps_db_open in daemon/db.c (not psd_db_*)"
 planted basename "b.c twice" "basename: b.c in daemon/b.c sim/b.c"
-planted header "a symbol missing from its header, a file without one" \
-	"header: ps_sky_moon not declared in sim/sky.h | header: ps_sun: sim/sun.c has no sim/sun.h"
+planted header "a symbol declared in another header, one missing from its own, a file without one" \
+	"header: ps_sky_sun (sim/sky.c) declared in sim/sun2.h | header: ps_sky_moon not declared in sim/sky.h | header: ps_sun: sim/sun.c has no sim/sun.h"
 planted unused "a symbol used only in its own file" "unused: ps_a_self (sim/a.c): no other object uses it"
 planted cycle "a round a -> b -> c -> a, not the use of d" "cycle: sim: a b c"
 planted room "a private header in the core and across rooms, psvirt in the core's library" \

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: ISC
-"""The tree's structure rules (doc: tests/system/005-structure.sh), judged on
+"""The tree's structure rules (run by tests/system/005-structure.sh), judged on
 the built objects (nm) and the sources.  Prints one line per violation,
 "RULE: what", and nothing when the tree keeps the rules.
 
@@ -15,7 +15,8 @@ Rules:
   prefix    an exported symbol of sim/**/X.c or drivers/X.c is ps_X or ps_X_*;
             of daemon/**/X.c, psd_X or psd_X_*
   basename  source basenames are unique across sim/, drivers/, daemon/
-  header    X.c's exported symbols are declared in X.h beside it
+  header    X.c's exported symbols are declared in X.h beside it, and in no
+            other header
   unused    an exported symbol is referenced by some other object (library
             member, program, unit test, bench, emulator) or a fuzz target
   cycle     no set of files of one library using each other's symbols
@@ -93,8 +94,9 @@ def rule_basename(srcs):
             yield "basename: %s.c in %s" % (base, " ".join(sorted(paths)))
 
 
-def rule_header(defs, read, exceptions):
-    """read(path) -> the text of a header, or None"""
+def rule_header(defs, read, exceptions, headers):
+    """read(path) -> the text of a header, or None; headers: every header's
+    path (a symbol declared in another file's header is found there)"""
     for path, sym in defs:
         if sym in exceptions:
             continue
@@ -104,6 +106,10 @@ def rule_header(defs, read, exceptions):
             yield "header: %s: %s has no %s" % (sym, path, h)
         elif not re.search(r"\b%s\b" % re.escape(sym), text):
             yield "header: %s not declared in %s" % (sym, h)
+        decl = re.compile(r"^[A-Za-z_][^/*\n]*\b%s\s*[(\[;]" % re.escape(sym), re.M)
+        for other in sorted(headers):
+            if other != h and decl.search(read(other) or ""):
+                yield "header: %s (%s) declared in %s" % (sym, path, other)
 
 
 def rule_unused(defs_by_obj, uses_by_obj, named_elsewhere):
@@ -202,7 +208,11 @@ def tree(build, top, exceptions, allow):
             return None
 
     found += rule_prefix(defs, exceptions)
-    found += rule_header(defs, read, exceptions)
+    headers = []
+    for d in ("sim", "drivers", "daemon"):
+        for root, _, files in os.walk(os.path.join(top, d)):
+            headers += [os.path.relpath(os.path.join(root, f), top) for f in files if f.endswith(".h")]
+    found += rule_header(defs, read, exceptions, headers)
     # unused: every object of the build, the libraries' members by source path
     defs_by, uses_by = {}, {}
     for _, path, kind, sym in lib_rows:
@@ -275,9 +285,9 @@ def selftest():
     show("prefix", list(rule_prefix([("sim/sky.c", "ps_sky_sun"), ("sim/sky.c", "ps_sun_az"),
                                      ("daemon/report/chart.c", "psd_chart"), ("daemon/db.c", "ps_db_open")], set())))
     show("basename", list(rule_basename({"a": ["sim/a.c"], "b": ["sim/b.c", "daemon/b.c"]})))
-    hs = {"sim/sky.h": "int ps_sky_sun(void);"}
+    hs = {"sim/sky.h": "int ps_sky_sun(void);\n/* ps_sun is the sun */", "sim/sun2.h": "double ps_sky_sun(int);"}
     show("header", list(rule_header([("sim/sky.c", "ps_sky_sun"), ("sim/sky.c", "ps_sky_moon"), ("sim/sun.c", "ps_sun")],
-                                    hs.get, set())))
+                                    hs.get, set(), sorted(hs))))
     show("unused", list(rule_unused({"sim/a.c": {"ps_a_used", "ps_a_self", "ps_a_fuzzed"}},
                                     {"sim/a.c": {"ps_a_self"}, "tests/unit/t.o": {"ps_a_used"}}, {"ps_a_fuzzed"})))
     show("cycle", list(rule_cycle("sim", {"fa": "a", "fb": "b", "fc": "c", "fd": "d"},
