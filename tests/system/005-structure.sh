@@ -185,8 +185,19 @@ EXCEPTIONS
 S=$(dirname "$0")/structure.py
 /usr/bin/python3 "$S" "$BUILD" "$TOP" "$TMP/exceptions" "$TMP/allow" > "$TMP/found" ||
 	not_ok "structure.py failed"
+# A build that leaves an optional part out (WITH_MODBUS=no, WITH_MQTT=no ...)
+# leaves its callees' symbols unused and its own violations absent: the
+# unused and stale rules judge only a build with every part.
+partial=""
+for m in libpsdrv.a:modbus.o libpsdrv.a:dali_usb.o libpsdrv.a:gpio.o libpsdmqtt.a:mqtt.o; do
+	ar t "$BUILD/lib/${m%%:*}" 2> /dev/null | grep -qx "${m#*:}" || partial="$partial ${m#*:}"
+done
 for rule in prefix basename header unused cycle room stale; do
 	grep "^$rule: " "$TMP/found" > "$TMP/$rule"
+	if [ -n "$partial" ] && { [ $rule = unused ] || [ $rule = stale ]; }; then
+		skip "$rule: this build leaves out$partial"
+		continue
+	fi
 	check "$rule: $(wc -l < "$TMP/$rule") violation(s)$(sed 's/^[a-z]*: /; /' "$TMP/$rule" | tr -d '\n')" \
 		test ! -s "$TMP/$rule"
 done

@@ -83,7 +83,7 @@ static void make_db(void)
 static int setup(void **state)
 {
 	(void)state;
-	snprintf(dir, sizeof dir, "/tmp/test_reportdoc.XXXXXX");
+	snprintf(dir, sizeof dir, "/tmp/test_report.XXXXXX");
 	if (!mkdtemp(dir))
 		return -1;
 	snprintf(dbpath, sizeof dbpath, "%s/psensd.db", dir);
