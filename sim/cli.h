@@ -4,7 +4,7 @@
  *   -h, --help     usage on standard output, exit 0
  *   -V, --version  "PROGRAM (psensd) VERSION" on standard output, exit 0
  * and the warning an old spelling gives for one release.  The letters'
- * meanings across the programs are in the README ("One letter, one meaning"). */
+ * meanings across the programs are in doc/commands.md. */
 #ifndef PS_CLI_H
 #define PS_CLI_H
 

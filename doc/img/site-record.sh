@@ -1,12 +1,12 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Redraws the README's commissioning record (doc/img/report_cover.png and
-# report_zone.png) from a fresh run of "A site dry run": psvirt's three
+# Redraws the commissioning record of doc/commissioning.md (doc/img/report_cover.png and
+# report_zone.png) from a fresh run of the site dry run (doc/site.md): psvirt's three
 # rooms (config/example/site.conf), psensd at 600 times real time, a day
 # session on the east zone at 10:00 and on the north zone at 14:00, each
 # accepted while the day runs, the south zone left uncalibrated, then each
 # zone's acceptance tests and the report.  About 100 s; needs a built tree
-# (make) and TCP port 1502 free.  Prints what the README quotes.
+# (make) and TCP port 1502 free.  Prints what doc/commissioning.md quotes.
 set -e
 cd "$(dirname "$0")/../.."
 B=build/bin
