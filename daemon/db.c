@@ -54,7 +54,7 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
 	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
 	" PRIMARY KEY(site, zone));",
-	/* 4 -> 5: dates (issue 17): the local date and time of every sample,
+	/* 4 -> 5: dates: the local date and time of every sample,
 	 * UTC and local of every session and session sample, and an event log.
 	 * Older rows keep NULL there: the day they were logged on was never
 	 * recorded.  Every ADD COLUMN is skipped when the column is there
@@ -75,7 +75,7 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
 	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
 	" PRIMARY KEY(site, zone));",
-	/* 5 -> 6: acceptance (issue 17): the zones' design constants and the
+	/* 5 -> 6: acceptance: the zones' design constants and the
 	 * results of the acceptance tests */
 	"CREATE TABLE IF NOT EXISTS zone_consts(zone TEXT PRIMARY KEY, utc REAL, target_lux REAL,"
 	" elec_task_lux REAL, delay REAL);"

@@ -195,8 +195,8 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 				z->ctl.target_lux = o->ctl.target_lux;   /* a target set at run time survives */
 			/* the statistics run on over the reload: the reopened room
 			 * counts its energy afresh, so what the old one used up to
-			 * the zone's last step is carried (issue 17: the summary's
-			 * numerator restarted at the reload, its denominator did not) */
+			 * the zone's last step is carried, so that the summary's
+			 * numerator and its denominator both span the reload */
 			if (z->sim && o->sim) {
 				double e0 = z->st.energy0;
 				z->st = o->st;
@@ -758,8 +758,8 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		}
 		if (psd_calsession_level(&z->cal, now, &level)) {
 			/* a calibration session holds the lights; in a day
-			 * session the estimate still follows the room (issue 17:
-			 * it froze); a night session's steps, measuring the
+			 * session the estimate still follows the room (it must
+			 * not freeze); a night session's steps, measuring the
 			 * constants the estimate uses, have none */
 			if (rc == 0) {
 				psd_control_estimate(&z->ctl, z->volts);

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* psens's routes against the goals of issue 18: error and wall time for
+/* psens's routes against their goals: error and wall time for
  * one-shot runs of the psens binary (cold and warm weight cache), the
  * library's decoding against its integration, batches of many pictures
  * after the weights, a rotation scan, and the peak memory of a 4000 x 4000
@@ -209,7 +209,7 @@ int main(void)
 		fprintf(stderr, "bench_psens_routes: cannot write pictures\n");
 		return 1;
 	}
-	printf("psens routes against issue 18's goals: uniform pictures, cosine sensor, exact\n"
+	printf("psens routes against their goals: uniform pictures, cosine sensor, exact\n"
 	       "weights, error against pi x the decoded radiance; wall ms, one run each on a\n"
 	       "shared 2-core machine\n");
 	printf("%-46s %10s %10s %8s %5s  %s\n", "route", "error", "ms", "goal ms", "met", "note");
@@ -396,7 +396,7 @@ int main(void)
 		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 		double t0, t_dec, t_int, t_w;
 		char name[96];
-		/* issue 18's own split: reading and decoding the picture, then
+		/* the goals' split: reading and decoding the picture, then
 		 * integrating the stored picture; each the best of three */
 		t_dec = t_int = INFINITY;
 		for (int k = 0; k < 3; k++) {
@@ -600,7 +600,7 @@ int main(void)
 			fprintf(stderr, "bench_psens_routes: %s left behind\n", dir);
 	}
 	ps_sensor_free(&cosine);
-	printf("issue 18's figures for Radiance's pipeline (pcomb | pvalue | total), same kind of\n"
+	printf("the goals' figures for Radiance's pipeline (pcomb | pvalue | total), same kind of\n"
 	       "machine: 6.9 s CPU at 4000x4000, 0.60 s at 1000x1000\n");
 	return 0;
 }

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 /* The sky: the daylight-coefficient route against the continuous Perez sky,
- * its error against MF and its run time (issue 19, section 4).
+ * its error against MF and its run time.
  *
  * A sensor faces up under an unobstructed sky.  Its coefficient pictures are
  * exact (ps_dcpic: each patch's own region of a 256 x 256 180-degree fisheye

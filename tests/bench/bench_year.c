@@ -5,7 +5,7 @@
  * coefficient pictures, ps_dcpic, 128 x 128) and the example office's
  * rfluxmtx pictures (MF 1, read from disk), with the example's year
  * (config/example/ofb/weather/sf-synthetic.wea: synthetic, see its
- * README).  Goal (issue 19): the year's series for one zone at MF 4 in at
+ * README).  Goal: the year's series for one zone at MF 4 in at
  * most 1 s once the coefficients are integrated.  The sensor and task rows
  * share the sky vectors, so a second view costs only its dot products. */
 #include <math.h>

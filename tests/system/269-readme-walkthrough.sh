@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Issue 17, finding 8: the README's calibration walk-through, run as the
-# README gives it.  The commands are taken from README.md itself (section
+# The README's calibration walk-through, run as the README gives it, so
+# that the documented commands keep working.  The commands are taken from README.md itself (section
 # "A calibration session": every line of a code block that begins with
 # "$ build/bin/", "$ export ", "$ until " or "$ kill "), in order, as one
 # script, in a copy of the tree's config/example with build/bin the
