@@ -80,8 +80,10 @@ config-status:
 	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
-# drivers/, daemon/ and tests/ see everything.
-INC = -Isim -Idrivers -Idaemon
+# drivers/, daemon/ and tests/ see everything.  daemon/ is -iquote: its
+# time.h and json.h are found by #include "..." only, never in place of the
+# system's <time.h> or json-c's json.h.
+INC = -Isim -Idrivers -iquote daemon
 $(BUILD)/obj/sim/%.o: INC = -Isim
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
 $(BUILD)/obj/%.o: %.c

@@ -12,14 +12,8 @@
 #include "errbuf.h"
 #include "log.h"
 #include "roomsetup.h"
+#include "time.h"
 #include "dated.h"
-
-static double wall(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value);
 static int command(struct psd_engine *e, struct psd_zone *z, double now, double level, char *why, size_t n);
@@ -736,7 +730,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		z->task_lux = NAN;
 	}
 	rc = read_sensor(e, z, now, why, sizeof why);
-	t0 = wall();
+	t0 = psd_time_mono();
 	if (rc == 0)
 		rc = verify_outputs(e, z, now, why, sizeof why);
 	if (rc < 0) {
@@ -793,7 +787,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 				z->why[0] = 0;
 			}
 			if (rc == 0) {
-				double lat = wall() - t0;
+				double lat = psd_time_mono() - t0;
 				e->lat_sum += lat;
 				e->lat_n++;
 				if (lat > e->lat_max)

@@ -19,6 +19,7 @@
 #include "canvas.h"
 #include "dated.h"
 #include "log.h"
+#include "time.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
 {
@@ -70,9 +71,9 @@ static double config_date(const struct psd_config *cf)
 	double epoch;
 	long year = cf->run_year;
 	if (year == 0) {
-		time_t now = time(NULL);
 		struct tm tm;
-		localtime_r(&now, &tm);
+		if (psd_time_local(psd_time_wall(), &tm) != 0)
+			return NAN;
 		year = tm.tm_year + 1900;
 	}
 	if (sscanf(cf->date, "%d-%d", &m, &day) != 2 || psd_clock_midnight((int)year, m, day, &epoch) != 0)
@@ -188,15 +189,6 @@ static int year_report(struct psd_daemon *d, const char *png)
 	return 0;
 }
 
-static int parse_hhmm(const char *s, double *out)
-{
-	int h, m, n = 0;
-	if (sscanf(s, "%d:%d%n", &h, &m, &n) != 2 || s[n] || h < 0 || h > 23 || m < 0 || m > 59)
-		return -1;
-	*out = h * 3600.0 + m * 60.0;
-	return 0;
-}
-
 static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psensd [-f config] [-n | -s | -Y [-P png]] [-t HH:MM] [-d YYYY-MM-DD] [-x speed] [-v] | -L\n"
@@ -291,7 +283,7 @@ int main(int argc, char **argv)
 		case 'Y': year = simulate = 1; break;
 		case 'P': png = optarg; break;
 		case 't':
-			if (parse_hhmm(optarg, &start) != 0) {
+			if (psd_time_hhmm(optarg, &start) != 0) {
 				fprintf(stderr, "psensd: -t %s: not HH:MM\n", optarg);
 				return 2;
 			}
@@ -386,9 +378,7 @@ int main(int argc, char **argv)
 			memset(&cf, 0, sizeof cf);
 		} else if (isnan(start)) {
 			/* the wall clock: today */
-			struct timespec rt;
-			clock_gettime(CLOCK_REALTIME, &rt);
-			epoch0 = (double)rt.tv_sec + 1e-9 * (double)rt.tv_nsec - psd_clock_now(&d.clock);
+			epoch0 = psd_time_wall() - psd_clock_now(&d.clock);
 			if (date)
 				log_warnx("-d %s: ignored without -s or -t: the run is dated by the wall clock", date);
 		}

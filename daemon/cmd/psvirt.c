@@ -31,6 +31,7 @@
 #include <modbus.h>
 
 #include "cli.h"
+#include "clock.h"
 #include "config.h"
 #include "daemon.h"
 #include "log.h"
@@ -38,6 +39,7 @@
 #include "mbserve.h"
 #include "results.h"
 #include "roomsetup.h"
+#include "time.h"
 #include "virtmap.h"
 #include "virtroom.h"
 
@@ -72,16 +74,9 @@ static void on_signal(int sig)
 	stop = 1;
 }
 
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static double room_now(const struct virt *v)
 {
-	return v->start + v->speed * (mono() - v->t0);
+	return v->start + v->speed * (psd_time_mono() - v->t0);
 }
 
 /* Requests that only touch 900-903 always get through (psvirt(1)). */
@@ -181,15 +176,6 @@ static int write_ready(const char *path, const char *what)
 	fprintf(fp, "%s\n", what);
 	if (fclose(fp) != 0 || rename(tmp, path) != 0)
 		return -1;
-	return 0;
-}
-
-static int hhmm(const char *s, double *out)
-{
-	int h, m, n = 0;
-	if (sscanf(s, "%d:%d%n", &h, &m, &n) != 2 || s[n] || h < 0 || h > 24 || m < 0 || m > 59)
-		return -1;
-	*out = h * 3600.0 + m * 60;
 	return 0;
 }
 
@@ -411,8 +397,8 @@ static int build_rooms(struct virt *v, struct args *a)
 		fprintf(stderr, "psvirt: no results (--results FILE, or -f with [psensd] results)\n");
 		goto out;
 	}
-	if (psd_day_of_year(date) < 0 || (a->sunrise && hhmm(a->sunrise, &rise)) || (a->sunset && hhmm(a->sunset, &set)) ||
-	    (a->start && hhmm(a->start, &v->start))) {
+	if (psd_day_of_year(date) < 0 || (a->sunrise && psd_time_hhmm(a->sunrise, &rise)) || (a->sunset && psd_time_hhmm(a->sunset, &set)) ||
+	    (a->start && psd_time_hhmm(a->start, &v->start))) {
 		fprintf(stderr, "psvirt: date must be MM-DD and sunrise, sunset, start HH:MM\n");
 		goto out;
 	}
@@ -512,18 +498,12 @@ out:
 	return rc;
 }
 
-static void hm(char *s, size_t n, double t)
-{
-	double tod = psd_virtroom_tod(t);
-	snprintf(s, n, "%02d:%02d", (int)(tod / 3600), (int)fmod(tod / 60, 60));
-}
-
 static void summary(struct virt *v)
 {
 	double end = room_now(v), sum = 0;
 	char from[8], to[8];
-	hm(from, sizeof from, v->start);
-	hm(to, sizeof to, end);
+	psd_clock_hhmm(v->start, from);
+	psd_clock_hhmm(end, to);
 	for (int z = 0; z < v->nzone; z++)
 		sum += end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0;
 	printf("psvirt: %ld requests (%ld faulted); room time %s to %s; light output %.1f %% of full on average\n",
@@ -614,7 +594,7 @@ int main(int argc, char **argv)
 	sigaction(SIGTERM, &sa, NULL);
 	sigaction(SIGINT, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
-	v.t0 = mono();
+	v.t0 = psd_time_mono();
 	psd_virtmap_refresh(&v.map, v.start);
 	if (v.nzone > 1) {
 		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", where, v.unit);
