@@ -90,8 +90,8 @@ static int year_report(struct psd_daemon *d, const char *png)
 	static float task[PSD_ANNUAL_MAX_DAYS * 144], level[PSD_ANNUAL_MAX_DAYS * 144];
 	const struct psd_engine *e = &d->engine;
 	if (!e->have_res || !e->res.have_year) {
-		fprintf(stderr, "psensd: -Y needs results with a year: give the scene a weather file "
-		        "(psscene(5), [daylight_coefficients] weather =)\n");
+		log_errx("-Y needs results with a year: give the scene a weather file "
+		         "(psscene(5), [daylight_coefficients] weather =)");
 		return 1;
 	}
 	for (size_t i = 0; i < e->nzone; i++) {
@@ -101,8 +101,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 		struct psd_annual a, b;
 		struct psd_control ctl = z->ctl;
 		if (psd_annual_run(&e->res, &ctl, &o, &a) != 0) {
-			fprintf(stderr, "psensd: zone %s: the year cannot run (no electric condition?)\n",
-			        z->zc->name);
+			log_errx("zone %s: the year cannot run (no electric condition?)", z->zc->name);
 			return 1;
 		}
 		printf("psensd: the year of %s, zone %s, %s control (dated estimate) every %g s, "
@@ -149,7 +148,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 			rc = psd_annual_png(png, task, level, a.days, ctl.target_lux, title, err, sizeof err);
 			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
 			if (rc != 0) {
-				fprintf(stderr, "psensd: %s\n", err);
+				log_errx("%s", err);
 				return 1;
 			}
 			printf("  the year drawn: %s\n", png);

@@ -312,7 +312,7 @@ static int opt_zone(const struct virt *v, const char *raw, const char **key)
 	for (int z = 0; z < v->nzone; z++)
 		if ((size_t)(colon - raw) == strlen(v->zone[z]) && strncmp(raw, v->zone[z], (size_t)(colon - raw)) == 0)
 			return z;
-	fprintf(stderr, "psvirt: -D %s: no zone '%.*s' (%d zone(s): 0 to %d or their names)\n", raw,
+	log_errx("-D %s: no zone '%.*s' (%d zone(s): 0 to %d or their names)", raw,
 	        (int)(colon - raw), raw, v->nzone, v->nzone - 1);
 	return -2;
 }
@@ -359,16 +359,16 @@ static int build_rooms(struct virt *v, struct args *a)
 		snprintf(v->zone[z], sizeof v->zone[z], "zone%d", z);
 	if (a->conf) {
 		if (!(cf = calloc(1, sizeof *cf))) {
-			fprintf(stderr, "psvirt: out of memory\n");
+			log_errx("out of memory");
 			return -1;
 		}
 		if (psd_config_load(cf, a->conf) != 0) {
 			for (size_t i = 0; i < cf->conf.nerrors; i++)
-				fprintf(stderr, "psvirt: %s\n", cf->conf.errors[i]);
+				log_errx("%s", cf->conf.errors[i]);
 			goto out;
 		}
 		if (cf->nzone > PSD_VIRT_MAX_ZONES || (a->zones && (size_t)a->zones != cf->nzone)) {
-			fprintf(stderr, "psvirt: %s has %zu zones: psvirt serves %s\n", a->conf, cf->nzone,
+			log_errx("%s has %zu zones: psvirt serves %s", a->conf, cf->nzone,
 			        a->zones ? "as many (drop --zones)" : "at most 10");
 			goto out;
 		}
@@ -394,16 +394,16 @@ static int build_rooms(struct virt *v, struct args *a)
 	if (a->date)
 		snprintf(date, sizeof date, "%s", a->date);
 	if (!results) {
-		fprintf(stderr, "psvirt: no results (--results FILE, or -f with [psensd] results)\n");
+		log_errx("no results (--results FILE, or -f with [psensd] results)");
 		goto out;
 	}
 	if (psd_day_of_year(date) < 0 || (a->sunrise && psd_time_hhmm(a->sunrise, &rise)) || (a->sunset && psd_time_hhmm(a->sunset, &set)) ||
 	    (a->start && psd_time_hhmm(a->start, &v->start))) {
-		fprintf(stderr, "psvirt: date must be MM-DD and sunrise, sunset, start HH:MM\n");
+		log_errx("date must be MM-DD and sunrise, sunset, start HH:MM");
 		goto out;
 	}
 	if (ps_results_read(&res, results, &e) != 0) {
-		fprintf(stderr, "psvirt: %s\n", e.msg);
+		log_errx("%s", e.msg);
 		goto out;
 	}
 	have_res = 1;
@@ -418,14 +418,14 @@ static int build_rooms(struct virt *v, struct args *a)
 		if (zone_cmdline_opts(v, a, z, merged + 1, &n, src) != 0)
 			goto out;
 		if (n + nconf > 2 * MAX_OPTS) {
-			fprintf(stderr, "psvirt: zone %s: more than %d room options\n", v->zone[z], 2 * MAX_OPTS);
+			log_errx("zone %s: more than %d room options", v->zone[z], 2 * MAX_OPTS);
 			goto out;
 		}
 		/* the command line alone first, so its messages name it */
 		cmd.v = merged + 1;
 		cmd.n = n;
 		if (psd_virtroom_check(&cmd, err, sizeof err) != 0) {
-			fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+			log_errx("zone %s: %s", v->zone[z], err);
 			goto out;
 		}
 		for (size_t i = 0; i < n; i++)
@@ -454,7 +454,7 @@ static int build_rooms(struct virt *v, struct args *a)
 			int own = zp && strcmp(zp, results) != 0;
 			if (own) {
 				if (ps_results_read(&zr, zp, &e) != 0) {
-					fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], e.msg);
+					log_errx("zone %s: %s", v->zone[z], e.msg);
 					goto out;
 				}
 				zday.res = &zr;
@@ -463,13 +463,13 @@ static int build_rooms(struct virt *v, struct args *a)
 			if (own)
 				ps_results_free(&zr);
 			if (!v->room[z]) {
-				fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+				log_errx("zone %s: %s", v->zone[z], err);
 				goto out;
 			}
 		}
 		for (size_t i = all.n - nconf; i < all.n; i++)
 			if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
-				fprintf(stderr, "psvirt: %s:%d: unknown key '%s' for driver loopback\n", conf_path,
+				log_errx("%s:%d: unknown key '%s' for driver loopback", conf_path,
 				        all.v[i].line, all.v[i].key);
 				goto out;
 			}
@@ -483,7 +483,7 @@ static int build_rooms(struct virt *v, struct args *a)
 		for (size_t j = 0; j < a->nopts && !known; j++)
 			known = a->opts[j].used && (opt_zone(v, a->opts[j].key, &other), strcmp(key, other) == 0);
 		if (!known) {
-			fprintf(stderr, "psvirt: -D %s: not a loopback room option (see psensd.conf(5))\n", key);
+			log_errx("-D %s: not a loopback room option (see psensd.conf(5))", key);
 			goto out;
 		}
 	}
@@ -519,7 +519,7 @@ static modbus_t *open_line(const struct args *a, int *fd)
 	char par = !strcmp(a->parity, "even") ? 'E' : !strcmp(a->parity, "odd") ? 'O' : 'N';
 	modbus_t *ctx = modbus_new_rtu(a->rtu, (int)a->baud, par, 8, (int)a->stop_bits);
 	if (!ctx || modbus_connect(ctx) != 0) {
-		fprintf(stderr, "psvirt: %s: %s\n", a->rtu, modbus_strerror(errno));
+		log_errx("%s: %s", a->rtu, modbus_strerror(errno));
 		if (ctx)
 			modbus_free(ctx);
 		return NULL;
@@ -561,7 +561,7 @@ int main(int argc, char **argv)
 		char host[256];
 		const char *colon = strrchr(a.tcp, ':');
 		if (!colon || colon == a.tcp || (size_t)(colon - a.tcp) >= sizeof host) {
-			fprintf(stderr, "psvirt: --tcp: '%s' is not ADDR:PORT\n", a.tcp);
+			log_errx("--tcp: '%s' is not ADDR:PORT", a.tcp);
 			free_rooms(&v);
 			return 2;
 		}
@@ -576,7 +576,7 @@ int main(int argc, char **argv)
 	}
 	if (!srv) {
 		if (a.tcp || line)
-			fprintf(stderr, "psvirt: cannot %s: %s\n", a.tcp ? "listen" : "serve the line", err);
+			log_errx("cannot %s: %s", a.tcp ? "listen" : "serve the line", err);
 		if (line) {
 			modbus_close(line);
 			modbus_free(line);
@@ -605,14 +605,14 @@ int main(int argc, char **argv)
 		fflush(stdout);
 	}
 	if (a.ready && write_ready(a.ready, where) != 0) {
-		fprintf(stderr, "psvirt: %s: %s\n", a.ready, strerror(errno));
+		log_err("%s", a.ready);
 		psd_mbserve_free(srv);
 		free_rooms(&v);
 		return 1;
 	}
 	while (!stop)
 		if (psd_mbserve_step(srv, 1.0) != 0) {
-			fprintf(stderr, "psvirt: poll: %s\n", strerror(errno));
+			log_err("poll");
 			break;
 		}
 	summary(&v);
