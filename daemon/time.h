@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The daemon's time: the two clocks it reads, the one HH:MM rule, and the
+/* The daemon's time: the clocks it reads, the one HH:MM rule, and the
  * dates it writes (ISO 8601 in UTC or local time, and the shorter forms the
  * summaries use).
  *
