@@ -97,15 +97,17 @@ config-status:
 # drivers/; the daemon's core sees sim/, drivers/, itself and MQTT's public
 # header (daemon/mqtt/mqtt.h: tests/system/005 keeps the rest of the room
 # out of the core); a room sees the core and itself; the programs in
-# daemon/cmd/ and tests/ see everything.
-INC_CORE = -Isim -Idrivers -Idaemon -Idaemon/mqtt
-INC = $(INC_CORE) -Idaemon/report -Idaemon/psvirt
+# daemon/cmd/ and tests/ see everything.  daemon/ and its rooms are
+# -iquote: daemon/time.h and json.h are found by #include "..." only, never
+# in place of the system's <time.h> or json-c's json.h.
+INC_CORE = -Isim -Idrivers -iquote daemon -iquote daemon/mqtt
+INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
 $(BUILD)/obj/sim/%.o: INC = -Isim
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
 $(BUILD)/obj/daemon/%.o: INC = $(INC_CORE)
-$(BUILD)/obj/daemon/report/%.o: INC = $(INC_CORE) -Idaemon/report
-$(BUILD)/obj/daemon/psvirt/%.o: INC = $(INC_CORE) -Idaemon/psvirt
-$(BUILD)/obj/daemon/cmd/%.o: INC = $(INC_CORE) -Idaemon/report -Idaemon/psvirt
+$(BUILD)/obj/daemon/report/%.o: INC = $(INC_CORE) -iquote daemon/report
+$(BUILD)/obj/daemon/psvirt/%.o: INC = $(INC_CORE) -iquote daemon/psvirt
+$(BUILD)/obj/daemon/cmd/%.o: INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) $(INC) $(CFLAGS) -MMD -MP -c -o $@ $<

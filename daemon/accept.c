@@ -270,8 +270,7 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 		if (strlen(c.worst_local) == 16)
 			snprintf(when, sizeof when, "%s", c.worst_local);
 		else
-			snprintf(when, sizeof when, "%02d:%02d", (int)(c.worst_at / 3600) % 24,
-			         (int)fmod(c.worst_at / 60, 60));
+			psd_clock_hhmm(c.worst_at, when);
 		snprintf(r->measured, sizeof r->measured, "estimate against the meter over %ld samples (at least %ld): "
 		         "rms %.2f %% (at most %g %%), worst %.2f %% at %s (at most %g %%); daylight at the "
 		         "task below 50 %% of the target in %ld, 50-150 %% in %ld, 150 %% and more in %ld (two bands "

@@ -11,6 +11,7 @@
 #include "falsecolor.h"
 #include "roomsetup.h"
 #include "sum.h"
+#include "time.h"
 
 #define DAYS PSD_ANNUAL_MAX_DAYS   /* the pictures' stride */
 #define ROWS 144   /* 10-minute rows */
@@ -109,11 +110,11 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	static const int mdays[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
 	struct run u;
 	int feb29;
-	struct timespec t0, t1;
+	double t0;
 	memset(a, 0, sizeof *a);
 	if (!r->have_year || isnan(r->electric_sensor_response) || o->period <= 0)
 		return -1;
-	clock_gettime(CLOCK_MONOTONIC, &t0);
+	t0 = psd_time_mono();
 	memset(&u, 0, sizeof u);
 	u.r = r;
 	u.o = o;
@@ -154,8 +155,7 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 		a->est_mean[k] = a->est_n ? 100 * ps_sum_get(&u.em[k]) / a->est_n : NAN;
 		a->est_rms[k] = a->est_n ? 100 * sqrt(ps_sum_get(&u.e2[k]) / a->est_n) : NAN;
 	}
-	clock_gettime(CLOCK_MONOTONIC, &t1);
-	a->seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+	a->seconds = psd_time_mono() - t0;
 	return 0;
 }
 

@@ -14,6 +14,7 @@
 #include "control.h"
 #include "db.h"
 #include "errbuf.h"
+#include "json.h"
 #include "log.h"
 #include "results.h"
 
@@ -226,8 +227,7 @@ static char *results_json(const struct psd_calsession *s, const struct psd_calse
 {
 	json_object *o = json_object_new_object();
 	char *out;
-	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
-#define NUM(k, v) json_object_object_add(o, k, isfinite(v) ? json_object_new_double(v) : NULL)
+#define NUM(k, v) psd_json_num(o, k, v)
 	if (s->kind == PSD_CAL_NIGHT) {
 		const struct psd_calfit_line *f = &s->night;
 		double es = c->res ? c->res->electric_sensor_response : NAN;
@@ -262,7 +262,7 @@ static char *results_json(const struct psd_calsession *s, const struct psd_calse
 			json_object_object_add(o, "sun_warning", json_object_new_string(s->sun_warning));
 	}
 #undef NUM
-	out = strdup(json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN));
+	out = strdup(psd_json_text(o, 10));
 	json_object_put(o);
 	return out;
 }

@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "time.h"
+
 void psd_clock_real(struct psd_clock *c, double origin, double speed)
 {
 	c->simulated = 0;
@@ -11,7 +13,7 @@ void psd_clock_real(struct psd_clock *c, double origin, double speed)
 	c->speed = speed > 0 ? speed : 1;
 	c->now = origin;
 	c->epoch0 = NAN;
-	clock_gettime(CLOCK_MONOTONIC, &c->mono0);
+	c->mono0 = psd_time_mono();
 }
 
 void psd_clock_simulated(struct psd_clock *c, double origin)
@@ -20,18 +22,15 @@ void psd_clock_simulated(struct psd_clock *c, double origin)
 	c->origin = origin;
 	c->speed = 1;
 	c->now = origin;
-	c->mono0.tv_sec = c->mono0.tv_nsec = 0;
+	c->mono0 = 0;
 	c->epoch0 = NAN;
 }
 
 double psd_clock_now(struct psd_clock *c)
 {
-	struct timespec t;
 	if (c->simulated)
 		return c->now;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	c->now = c->origin + c->speed * ((double)(t.tv_sec - c->mono0.tv_sec) +
-	                                 1e-9 * (double)(t.tv_nsec - c->mono0.tv_nsec));
+	c->now = c->origin + c->speed * (psd_time_mono() - c->mono0);
 	return c->now;
 }
 
@@ -56,11 +55,11 @@ void psd_clock_advance(struct psd_clock *c, double deadline)
 
 double psd_clock_local_tod(void)
 {
-	struct timespec ts;
+	double now = psd_time_wall();
 	struct tm tm;
-	clock_gettime(CLOCK_REALTIME, &ts);
-	localtime_r(&ts.tv_sec, &tm);
-	return tm.tm_hour * 3600.0 + tm.tm_min * 60.0 + tm.tm_sec + ts.tv_nsec * 1e-9;
+	if (psd_time_local(now, &tm) != 0)
+		return psd_clock_tod(now);
+	return tm.tm_hour * 3600.0 + tm.tm_min * 60.0 + tm.tm_sec + (now - floor(now));
 }
 
 double psd_clock_tod(double t)
@@ -103,16 +102,13 @@ int psd_clock_parse_date(const char *s, double *epoch)
 
 void psd_clock_stamp(double epoch0, double t, char *out, size_t n)
 {
-	time_t tt;
-	struct tm tm;
 	if (!isfinite(epoch0) || !isfinite(t)) {
 		char hm[8];
 		psd_clock_hhmm(t, hm);
 		snprintf(out, n, "%s", hm);
 		return;
 	}
-	tt = (time_t)floor(epoch0 + t + 1e-6);
-	if (!localtime_r(&tt, &tm) || strftime(out, n, "%Y-%m-%d %H:%M", &tm) == 0)
+	if (psd_time_local_text(epoch0 + t + 1e-6, PSD_TIME_MINUTE, out, n) != 0)
 		snprintf(out, n, "?");
 }
 

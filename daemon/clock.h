@@ -16,7 +16,7 @@ struct psd_clock {
 	int simulated;
 	double origin;            /* clock value at start (seconds since local midnight) */
 	double speed;             /* real: clock seconds per wall second */
-	struct timespec mono0;    /* real: CLOCK_MONOTONIC at start */
+	double mono0;             /* real: psd_time_mono() at start */
 	double now;               /* simulated: the current time */
 	double epoch0;            /* UTC (epoch seconds) of clock time 0: the local
 	                             midnight of the run's first day (NAN: not known) */

@@ -8,22 +8,21 @@
 #include <sys/stat.h>
 
 #include "roomsetup.h"
+#include "time.h"
 
 static const char *const action_names[] = { "none", "occupancy", "override", "calibrate", NULL };
 
 static int hhmm(struct ps_conf *c, struct ps_conf_section *s, const char *key, double def, double *out)
 {
 	struct ps_conf_kv *kv = ps_conf_kv(s, key);
-	int h, m, n = 0;
 	*out = def;
 	if (!kv)
 		return 0;
-	if (sscanf(kv->value, "%d:%d%n", &h, &m, &n) != 2 || kv->value[n] || h < 0 || h > 24 || m < 0 ||
-	    m > 59 || (h == 24 && m > 0)) {
-		ps_conf_error(c, kv->line, "%s: '%s' is not HH:MM", key, kv->value);
+	if (psd_time_hhmm(kv->value, out) != 0) {
+		ps_conf_error(c, kv->line, "%s: '%s' is not HH:MM (00:00 to 23:59)", key, kv->value);
+		*out = def;
 		return -1;
 	}
-	*out = h * 3600.0 + m * 60.0;
 	return 0;
 }
 

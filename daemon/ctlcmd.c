@@ -19,7 +19,9 @@
 #include "reload.h"
 #include "db.h"
 #include "errbuf.h"
+#include "json.h"
 #include "log.h"
+#include "time.h"
 
 static const char help_text[] =
 	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | release ZONE | "
@@ -27,38 +29,26 @@ static const char help_text[] =
 	"accept-test ZONE [--since YYYY-MM-DD] [--samples N] | "
 	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
 
-static void put_num(json_object *o, const char *key, double v)
-{
-	/* JSON has no NaN: an unknown value is null */
-	json_object_object_add(o, key, isfinite(v) ? json_object_new_double(v) : NULL);
-}
-
-static void put_str(json_object *o, const char *key, const char *v)
-{
-	json_object_object_add(o, key, v ? json_object_new_string(v) : NULL);
-}
-
 /* A path psensd names to a client, absolute: a relative one (from a
  * relative -f) is relative to psensd's directory, not the client's. */
 static void put_path(json_object *o, const char *key, const char *path)
 {
 	char abs[PATH_MAX], cwd[PATH_MAX];
 	if (!path || path[0] == '/')
-		put_str(o, key, path);
+		psd_json_str(o, key, path);
 	else if (realpath(path, abs))
-		put_str(o, key, abs);
+		psd_json_str(o, key, abs);
 	else if (getcwd(cwd, sizeof cwd) && (size_t)snprintf(abs, sizeof abs, "%s/%s", cwd, path) < sizeof abs)
-		put_str(o, key, abs);
+		psd_json_str(o, key, abs);
 	else
-		put_str(o, key, path);
+		psd_json_str(o, key, path);
 }
 
 static void finish(json_object *o, char *reply, size_t len)
 {
 	const char *text;
 	/* 10 significant digits: 0.3 reads 0.3, not 0.29999999999999999 */
-	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
-	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
+	text = psd_json_text(o, 10);
 	if (strlen(text) >= len)
 		snprintf(reply, len, "{\"ok\":false,\"error\":\"reply too long\"}");
 	else
@@ -76,7 +66,7 @@ static void error_reply(char *reply, size_t len, const char *fmt, ...)
 	psd_errbuf_va(msg, sizeof msg, fmt, ap);
 	va_end(ap);
 	json_object_object_add(o, "ok", json_object_new_boolean(0));
-	put_str(o, "error", msg);
+	psd_json_str(o, "error", msg);
 	finish(o, reply, len);
 }
 
@@ -107,15 +97,15 @@ static json_object *sample_json(const struct psd_zone *z)
 		return NULL;
 	}
 	hhmmss(s->t, t);
-	put_num(o, "t", s->t);
-	put_str(o, "time", t);
-	put_num(o, "level", s->level);
-	put_num(o, "sensor_v", s->volts);
-	put_num(o, "daylight_v", s->daylight_v);
-	put_num(o, "est_task_lux", s->est_task_lux);
-	put_num(o, "task_lux", s->task_lux);
-	put_num(o, "true_task_lux", s->true_task_lux);
-	put_num(o, "commanded", s->commanded);
+	psd_json_num(o, "t", s->t);
+	psd_json_str(o, "time", t);
+	psd_json_num(o, "level", s->level);
+	psd_json_num(o, "sensor_v", s->volts);
+	psd_json_num(o, "daylight_v", s->daylight_v);
+	psd_json_num(o, "est_task_lux", s->est_task_lux);
+	psd_json_num(o, "task_lux", s->task_lux);
+	psd_json_num(o, "true_task_lux", s->true_task_lux);
+	psd_json_num(o, "commanded", s->commanded);
 	json_object_object_add(o, "fault", json_object_new_boolean(s->fault));
 	return o;
 }
@@ -124,19 +114,19 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 {
 	json_object *o = json_object_new_object();
 	const struct psd_config *cf = e->cf;
-	put_str(o, "name", z->zc->name);
-	put_str(o, "algorithm", psd_control_algorithm_names[z->ctl.algorithm]);
-	put_num(o, "target_lux", z->ctl.target_lux);
-	put_num(o, "level", z->level);
+	psd_json_str(o, "name", z->zc->name);
+	psd_json_str(o, "algorithm", psd_control_algorithm_names[z->ctl.algorithm]);
+	psd_json_num(o, "target_lux", z->ctl.target_lux);
+	psd_json_num(o, "level", z->level);
 	json_object_object_add(o, "sample", sample_json(z));
-	put_str(o, "sensor", cf->pt[z->zc->sensor].name);
-	put_str(o, "fault", z->in_fault ? z->why : NULL);
-	put_num(o, "safe_level", z->zc->safe_level);
-	put_num(o, "period", z->zc->period);
+	psd_json_str(o, "sensor", cf->pt[z->zc->sensor].name);
+	psd_json_str(o, "fault", z->in_fault ? z->why : NULL);
+	psd_json_num(o, "safe_level", z->zc->safe_level);
+	psd_json_num(o, "period", z->zc->period);
 	if (now < z->override_until) {
 		json_object *ov = json_object_new_object();
-		put_num(ov, "level", z->override_level);
-		put_num(ov, "remaining_s", z->override_until - now);
+		psd_json_num(ov, "level", z->override_level);
+		psd_json_num(ov, "remaining_s", z->override_until - now);
 		json_object_object_add(o, "override", ov);
 	} else {
 		json_object_object_add(o, "override", NULL);
@@ -147,16 +137,16 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	json_object_object_add(o, "fault_steps", json_object_new_int64((int64_t)z->fault_steps));
 	if (z->zc->task >= 0) {
 		json_object_object_add(o, "drift", json_object_new_boolean(z->drift.flagged));
-		put_num(o, "drift_pct", 100 * (exp(z->drift.last_ln) - 1));
+		psd_json_num(o, "drift_pct", 100 * (exp(z->drift.last_ln) - 1));
 		/* why drift may be false beside a large drift_pct: how long the
 		 * ratio has been out (null: it is not), against the hold */
-		put_num(o, "drift_out_s", z->drift.out_since >= 0 ? now - z->drift.out_since : NAN);
-		put_num(o, "drift_hold_s", z->drift.hold);
+		psd_json_num(o, "drift_out_s", z->drift.out_since >= 0 ? now - z->drift.out_since : NAN);
+		psd_json_num(o, "drift_hold_s", z->drift.hold);
 	}
-	put_num(o, "sensor_gain", z->ctl.sensor_gain);
-	put_num(o, "offset", z->ctl.offset);
-	put_num(o, "daylight_ratio", z->ctl.daylight_ratio);
-	put_num(o, "electric_task_lux", z->ctl.elec_task_lux);
+	psd_json_num(o, "sensor_gain", z->ctl.sensor_gain);
+	psd_json_num(o, "offset", z->ctl.offset);
+	psd_json_num(o, "daylight_ratio", z->ctl.daylight_ratio);
+	psd_json_num(o, "electric_task_lux", z->ctl.elec_task_lux);
 	json_object_object_add(o, "calibrated_night", z->cal_night_id ? json_object_new_int64(z->cal_night_id) : NULL);
 	json_object_object_add(o, "calibrated_day", z->cal_day_id ? json_object_new_int64(z->cal_day_id) : NULL);
 	/* a session under way and its progress (psensctl watch shows it); its
@@ -164,8 +154,8 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	 * would not fit a status reply */
 	if (psd_calsession_running(&z->cal)) {
 		json_object *c = json_object_new_object();
-		put_str(c, "kind", psd_calsession_kind_names[z->cal.kind]);
-		put_str(c, "message", z->cal.msg[0] ? z->cal.msg : NULL);
+		psd_json_str(c, "kind", psd_calsession_kind_names[z->cal.kind]);
+		psd_json_str(c, "message", z->cal.msg[0] ? z->cal.msg : NULL);
 		cal_progress(c, z, now);
 		json_object_object_add(o, "calibration", c);
 	} else {
@@ -185,7 +175,7 @@ static void cal_progress(json_object *o, const struct psd_zone *z, double now)
 		json_object_object_add(o, "remaining_s", NULL);
 		return;
 	}
-	put_num(o, "elapsed_s", now - c->started);
+	psd_json_num(o, "elapsed_s", now - c->started);
 	if (c->kind == PSD_CAL_NIGHT) {
 		left = PSD_CAL_NLEVELS - c->npt;
 		json_object_object_add(o, "levels_left", json_object_new_int(left));
@@ -197,54 +187,54 @@ static void cal_progress(json_object *o, const struct psd_zone *z, double now)
 		json_object_object_add(o, "samples_left", json_object_new_int(left));
 		remaining = left > 0 ? fmax(0, c->next_sample - now) + (left - 1) * c->interval : 0;
 	}
-	put_num(o, "remaining_s", remaining);
+	psd_json_num(o, "remaining_s", remaining);
 }
 
 static json_object *cal_json(const struct psd_zone *z, double now)
 {
 	const struct psd_calsession *c = &z->cal;
 	json_object *o = json_object_new_object(), *pts = json_object_new_array();
-	put_str(o, "zone", z->zc->name);
-	put_str(o, "kind", psd_calsession_kind_names[c->kind]);
-	put_str(o, "state", psd_calsession_state_names[c->state]);
+	psd_json_str(o, "zone", z->zc->name);
+	psd_json_str(o, "kind", psd_calsession_kind_names[c->kind]);
+	psd_json_str(o, "state", psd_calsession_state_names[c->state]);
 	json_object_object_add(o, "session", c->id ? json_object_new_int64(c->id) : NULL);
-	put_str(o, "message", c->msg[0] ? c->msg : NULL);
+	psd_json_str(o, "message", c->msg[0] ? c->msg : NULL);
 	cal_progress(o, z, now);
 	if (c->kind == PSD_CAL_NIGHT) {
 		for (int i = 0; i < c->npt; i++) {
 			json_object *p = json_object_new_object();
-			put_num(p, "level", c->pt[i].level);
-			put_num(p, "volts", c->pt[i].volts);
-			put_num(p, "volts_se", c->pt[i].volts_se);
-			put_num(p, "lux", c->pt[i].lux);
+			psd_json_num(p, "level", c->pt[i].level);
+			psd_json_num(p, "volts", c->pt[i].volts);
+			psd_json_num(p, "volts_se", c->pt[i].volts_se);
+			psd_json_num(p, "lux", c->pt[i].lux);
 			json_object_array_add(pts, p);
 		}
 		json_object_object_add(o, "levels", pts);
 		if (c->state == PSD_CAL_DONE || c->state == PSD_CAL_ACCEPTED) {
-			put_num(o, "offset", c->night.offset);
-			put_num(o, "offset_se", c->night.offset_se);
-			put_num(o, "gain", c->night.gain);
-			put_num(o, "gain_se", c->night.gain_se);
-			put_num(o, "r2", c->night.r2);
-			put_num(o, "max_resid_pct", c->night.max_resid_pct);
-			put_num(o, "lux_gain", c->night.lux_gain);
+			psd_json_num(o, "offset", c->night.offset);
+			psd_json_num(o, "offset_se", c->night.offset_se);
+			psd_json_num(o, "gain", c->night.gain);
+			psd_json_num(o, "gain_se", c->night.gain_se);
+			psd_json_num(o, "r2", c->night.r2);
+			psd_json_num(o, "max_resid_pct", c->night.max_resid_pct);
+			psd_json_num(o, "lux_gain", c->night.lux_gain);
 		}
 	} else {
 		for (int i = 0; i < c->nds; i++) {
 			json_object *p = json_object_new_object();
-			put_num(p, "tod_s", c->ds[i].t);
-			put_num(p, "level", c->ds[i].level);
-			put_num(p, "volts", c->ds[i].volts);
-			put_num(p, "lux", c->ds[i].lux);
+			psd_json_num(p, "tod_s", c->ds[i].t);
+			psd_json_num(p, "level", c->ds[i].level);
+			psd_json_num(p, "volts", c->ds[i].volts);
+			psd_json_num(p, "lux", c->ds[i].lux);
 			json_object_array_add(pts, p);
 		}
 		json_object_object_add(o, "samples", pts);
 		if (c->state == PSD_CAL_DONE || c->state == PSD_CAL_ACCEPTED) {
-			put_num(o, "ratio", c->day.ratio);
-			put_num(o, "ratio_se", c->day.ratio_se);
-			put_num(o, "sim_ratio", c->sim_ratio);
-			put_str(o, "condition", c->sim_condition);
-			put_num(o, "error_pct", c->error_pct);
+			psd_json_num(o, "ratio", c->day.ratio);
+			psd_json_num(o, "ratio_se", c->day.ratio_se);
+			psd_json_num(o, "sim_ratio", c->sim_ratio);
+			psd_json_str(o, "condition", c->sim_condition);
+			psd_json_num(o, "error_pct", c->error_pct);
 		}
 	}
 	return o;
@@ -398,15 +388,15 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	o = ok_reply();
 	zones = json_object_new_array();
 	psd_clock_hhmm(now, t);
-	put_num(o, "now", now);
-	put_str(o, "time", t);
-	put_str(o, "clock", d->clock.simulated ? "simulated" : "real");
+	psd_json_num(o, "now", now);
+	psd_json_str(o, "time", t);
+	psd_json_str(o, "clock", d->clock.simulated ? "simulated" : "real");
 	json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
 	put_path(o, "config", d->config_path);
 	json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
-	put_num(o, "latency_max_s", e->lat_n ? e->lat_max : NAN);
-	put_num(o, "latency_mean_s", e->lat_n ? e->lat_sum / (double)e->lat_n : NAN);
-	put_num(o, "late_max_s", e->late_max);
+	psd_json_num(o, "latency_max_s", e->lat_n ? e->lat_max : NAN);
+	psd_json_num(o, "latency_mean_s", e->lat_n ? e->lat_sum / (double)e->lat_n : NAN);
+	psd_json_num(o, "late_max_s", e->late_max);
 	json_object_object_add(o, "reloads", json_object_new_int64((int64_t)d->reloads));
 	json_object_object_add(o, "requests", json_object_new_int64((int64_t)d->ctl.requests));
 	json_object_object_add(o, "rejected", json_object_new_int64((int64_t)d->ctl.rejected));
@@ -414,7 +404,7 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 		json_object *io = json_object_new_object();
 		for (size_t i = 0; e->cf && i < e->cf->ndev; i++)
 			if (e->io[i])
-				put_num(io, e->dev[i].name, psd_devio_busy(e->io[i]));
+				psd_json_num(io, e->dev[i].name, psd_devio_busy(e->io[i]));
 		json_object_object_add(o, "io_busy_s", io);
 	}
 	if (d->mqtt) {   /* [mqtt]: the publisher's state (daemon/mqtt/mqtt.h) */
@@ -429,8 +419,8 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 		json_object_object_add(mq, "commands", json_object_new_int64((int64_t)ms.commands));
 		json_object_object_add(mq, "refused", json_object_new_int64((int64_t)ms.refused));
 		json_object_object_add(mq, "connects", json_object_new_int64((int64_t)ms.connects));
-		put_num(mq, "turn_max_s", ms.turn_max);
-		put_num(mq, "turn_cpu_max_s", ms.turn_cpu_max);
+		psd_json_num(mq, "turn_max_s", ms.turn_max);
+		psd_json_num(mq, "turn_cpu_max_s", ms.turn_cpu_max);
 		json_object_object_add(o, "mqtt", mq);
 	}
 	for (size_t i = 0; i < e->nzone; i++)
@@ -461,22 +451,22 @@ static void ratios(struct psd_daemon *d, const char *zone, char *reply, size_t l
 	}
 	o = ok_reply();
 	conds = json_object_new_array();
-	put_str(o, "results", path);
-	put_str(o, "scene", r->scene);
-	put_str(o, "scene_sha256", r->scene_hash);
-	put_num(o, "daylight_ratio_mean", r->daylight_ratio_mean);
-	put_num(o, "daylight_ratio_sd", r->daylight_ratio_sd);
-	put_num(o, "electric_ratio", r->electric_ratio);
-	put_num(o, "task_sensor_ratio", r->task_sensor_ratio);
+	psd_json_str(o, "results", path);
+	psd_json_str(o, "scene", r->scene);
+	psd_json_str(o, "scene_sha256", r->scene_hash);
+	psd_json_num(o, "daylight_ratio_mean", r->daylight_ratio_mean);
+	psd_json_num(o, "daylight_ratio_sd", r->daylight_ratio_sd);
+	psd_json_num(o, "electric_ratio", r->electric_ratio);
+	psd_json_num(o, "task_sensor_ratio", r->task_sensor_ratio);
 	for (size_t i = 0; i < r->ncond; i++) {
 		json_object *c = json_object_new_object();
-		put_str(c, "label", r->cond[i].label);
-		put_str(c, "date", r->cond[i].date);
-		put_num(c, "tod_s", r->cond[i].tod_s >= 0 ? r->cond[i].tod_s : NAN);
+		psd_json_str(c, "label", r->cond[i].label);
+		psd_json_str(c, "date", r->cond[i].date);
+		psd_json_num(c, "tod_s", r->cond[i].tod_s >= 0 ? r->cond[i].tod_s : NAN);
 		json_object_object_add(c, "computed", json_object_new_boolean(r->cond[i].computed));
-		put_num(c, "sensor_response", r->cond[i].computed ? r->cond[i].sensor_response : NAN);
-		put_num(c, "task_lux", r->cond[i].computed ? r->cond[i].task_lux : NAN);
-		put_num(c, "ratio", r->cond[i].computed ? r->cond[i].ratio : NAN);
+		psd_json_num(c, "sensor_response", r->cond[i].computed ? r->cond[i].sensor_response : NAN);
+		psd_json_num(c, "task_lux", r->cond[i].computed ? r->cond[i].task_lux : NAN);
+		psd_json_num(c, "ratio", r->cond[i].computed ? r->cond[i].ratio : NAN);
 		json_object_array_add(conds, c);
 	}
 	json_object_object_add(o, "conditions", conds);
@@ -514,7 +504,7 @@ static void reload(struct psd_daemon *d, char *reply, size_t len)
 	json_object_object_add(o, "ok", json_object_new_boolean(0));
 	snprintf(msg, sizeof msg, "%s: reload refused (%d error(s)): the running configuration stays",
 	         d->config_path, w->n);
-	put_str(o, "error", msg);
+	psd_json_str(o, "error", msg);
 	for (int i = 0; i < w->n; i++)
 		json_object_array_add(arr, json_object_new_string(w->line[i]));
 	json_object_object_add(o, "reasons", arr);
@@ -535,7 +525,6 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	struct psd_accept_params p;
 	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
 	struct psd_accept_summary sum;
-	struct timespec now;
 	json_object *o, *a, *tests;
 	char err[512], stamp[24];
 	psd_accept_defaults(&p);
@@ -556,8 +545,7 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 		error_reply(reply, len, "psensd keeps no database: the acceptance tests judge its log");
 		return;
 	}
-	clock_gettime(CLOCK_REALTIME, &now);
-	if (psd_accept_zone(e->db, argv[1], &p, (double)now.tv_sec, r, &sum, err, sizeof err) != 0 ||
+	if (psd_accept_zone(e->db, argv[1], &p, floor(psd_time_wall()), r, &sum, err, sizeof err) != 0 ||
 	    psd_db_commit(e->db, err, sizeof err) != 0) {
 		error_reply(reply, len, "accept-test %s: %s", argv[1], err);
 		return;
@@ -567,23 +555,23 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	         psd_accept_overall(&sum), sum.tested, PSD_ACCEPT_NTESTS, sum.failed);
 	o = ok_reply();
 	a = json_object_new_object();
-	put_str(a, "zone", argv[1]);
-	put_num(a, "target_lux", p.target_lux);
-	put_num(a, "elec_task_lux", p.elec_task_lux);
-	put_num(a, "delay", p.delay);
+	psd_json_str(a, "zone", argv[1]);
+	psd_json_num(a, "target_lux", p.target_lux);
+	psd_json_num(a, "elec_task_lux", p.elec_task_lux);
+	psd_json_num(a, "delay", p.delay);
 	tests = json_object_new_array();
 	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
 		json_object *t = json_object_new_object();
-		put_str(t, "test", r[i].test);
-		put_str(t, "verdict", psd_accept_verdict_names[r[i].verdict + 1]);
-		put_num(t, "value", r[i].value);
-		put_num(t, "limit", r[i].limit);
+		psd_json_str(t, "test", r[i].test);
+		psd_json_str(t, "verdict", psd_accept_verdict_names[r[i].verdict + 1]);
+		psd_json_num(t, "value", r[i].value);
+		psd_json_num(t, "limit", r[i].limit);
 		json_object_object_add(t, "samples", json_object_new_int64(r[i].samples));
-		put_str(t, "measured", r[i].measured);
+		psd_json_str(t, "measured", r[i].measured);
 		json_object_array_add(tests, t);
 	}
 	json_object_object_add(a, "tests", tests);
-	put_str(a, "verdict", psd_accept_overall(&sum));
+	psd_json_str(a, "verdict", psd_accept_overall(&sum));
 	json_object_object_add(a, "tested", json_object_new_int(sum.tested));
 	json_object_object_add(a, "failed", json_object_new_int(sum.failed));
 	json_object_object_add(o, "accept", a);
@@ -617,7 +605,7 @@ void psd_ctlcmd_request(struct psd_daemon *d, char *line, char *reply, size_t le
 		finish(o, reply, len);
 	} else if (strcmp(argv[0], "help") == 0) {
 		json_object *o = ok_reply();
-		put_str(o, "commands", help_text);
+		psd_json_str(o, "commands", help_text);
 		finish(o, reply, len);
 	} else if (strcmp(argv[0], "status") == 0) {
 		status(d, argc, argv, reply, len);

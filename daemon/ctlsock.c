@@ -17,13 +17,7 @@
 #include "errbuf.h"
 #include "log.h"
 #include "pidlock.h"
-
-static double wall(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "time.h"
 
 int psd_ctlsock_split(char *line, char **argv, char *err, size_t errlen)
 {
@@ -229,7 +223,7 @@ static void accept_all(struct psd_ctlsock *s)
 			close(fd);
 			continue;
 		}
-		s->cl[s->ncl] = (struct psd_ctl_client){ .fd = fd, .uid = cr.uid, .pid = cr.pid, .last = wall() };
+		s->cl[s->ncl] = (struct psd_ctl_client){ .fd = fd, .uid = cr.uid, .pid = cr.pid, .last = psd_time_mono() };
 		s->ncl++;
 	}
 }
@@ -266,7 +260,7 @@ static int read_client(struct psd_ctlsock *s, struct psd_ctl_client *c)
 		if (n < 0)
 			return errno == EAGAIN || errno == EINTR ? 0 : -1;
 		c->nin += (size_t)n;
-		c->last = wall();
+		c->last = psd_time_mono();
 		lines(s, c);
 		if (c->nin == sizeof c->in - 1 && !memchr(c->in, '\n', c->nin)) {
 			char msg[128];
@@ -296,7 +290,7 @@ static int write_client(struct psd_ctl_client *c)
 
 void psd_ctlsock_service(struct psd_ctlsock *s, const struct pollfd *fds, int nfds)
 {
-	double now = wall();
+	double now = psd_time_mono();
 	if (s->lfd < 0)
 		return;
 	/* clients first (by descriptor: the array shifts when one is dropped) */

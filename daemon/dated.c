@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "skyclass.h"
+#include "time.h"
 
 double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int *cls)
 {
@@ -56,9 +57,8 @@ int psd_dated_day(const char *mmdd)
 	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
 	int m, d, n = 0;
 	if (!mmdd || !*mmdd) {
-		time_t t = time(NULL);
 		struct tm tm;
-		if (!localtime_r(&t, &tm))
+		if (psd_time_local(psd_time_wall(), &tm) != 0)
 			return 0;
 		m = tm.tm_mon + 1;
 		d = tm.tm_mday;
@@ -72,9 +72,8 @@ int psd_dated_month(const char *mmdd)
 {
 	int m, d, n = 0;
 	if (!mmdd) {
-		time_t t = time(NULL);
 		struct tm tm;
-		return localtime_r(&t, &tm) ? tm.tm_mon + 1 : 0;
+		return psd_time_local(psd_time_wall(), &tm) == 0 ? tm.tm_mon + 1 : 0;
 	}
 	if (sscanf(mmdd, "%d-%d%n", &m, &d, &n) != 2 || mmdd[n] || m < 1 || m > 12)
 		return 0;

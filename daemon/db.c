@@ -10,8 +10,10 @@
 #include <string.h>
 #include <time.h>
 
+#include "csv.h"
 #include "errbuf.h"
 #include "pidlock.h"
+#include "time.h"
 
 enum { DB_BATCH = 60 };
 
@@ -54,7 +56,7 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
 	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
 	" PRIMARY KEY(site, zone));",
-	/* 4 -> 5: dates (issue 17): the local date and time of every sample,
+	/* 4 -> 5: dates: the local date and time of every sample,
 	 * UTC and local of every session and session sample, and an event log.
 	 * Older rows keep NULL there: the day they were logged on was never
 	 * recorded.  Every ADD COLUMN is skipped when the column is there
@@ -75,7 +77,7 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
 	"CREATE TABLE IF NOT EXISTS mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL,"
 	" PRIMARY KEY(site, zone));",
-	/* 5 -> 6: acceptance (issue 17): the zones' design constants and the
+	/* 5 -> 6: acceptance: the zones' design constants and the
 	 * results of the acceptance tests */
 	"CREATE TABLE IF NOT EXISTS zone_consts(zone TEXT PRIMARY KEY, utc REAL, target_lux REAL,"
 	" elec_task_lux REAL, delay REAL);"
@@ -410,14 +412,7 @@ void psd_db_set_epoch(struct psd_db *db, double epoch0)
  * "" when utc is not finite. */
 static void local_time(double utc, char *out, size_t n)
 {
-	time_t tt;
-	struct tm tm;
-	out[0] = 0;
-	if (!isfinite(utc) || n < 20)
-		return;
-	tt = (time_t)floor(utc);
-	if (localtime_r(&tt, &tm))
-		strftime(out, n, "%Y-%m-%d %H:%M:%S", &tm);
+	psd_time_local_text(utc, PSD_TIME_SECOND, out, n);
 }
 
 /* The UTC and local text of clock time t for this database. */
@@ -460,10 +455,8 @@ int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind
 int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lux, double elec_task_lux,
                            double delay, char *err, size_t errlen)
 {
-	struct timespec now;
-	clock_gettime(CLOCK_REALTIME, &now);
 	return run(db, "INSERT OR REPLACE INTO zone_consts VALUES(?, ?, ?, ?, ?)", err, errlen, "tdddd", zone,
-	           (double)now.tv_sec, target_lux, elec_task_lux, delay);
+	           floor(psd_time_wall()), target_lux, elec_task_lux, delay);
 }
 
 int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
@@ -544,11 +537,8 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	{
 		char local[32];
 		double u = isfinite(s->utc) ? s->utc : utc_of(db, s->t, local);
-		if (!isfinite(u)) {   /* no clock date given: the wall clock at logging */
-			struct timespec ts;
-			clock_gettime(CLOCK_REALTIME, &ts);
-			u = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-		}
+		if (!isfinite(u))   /* no clock date given: the wall clock at logging */
+			u = psd_time_wall();
 		local_time(u, local, sizeof local);
 		bind_num(db->ins, 13, u);   /* the clock's time (engine.c: its day + t) */
 		bind_text(db->ins, 14, or_null(local));
@@ -633,45 +623,22 @@ int psd_db_zone_samples(struct psd_db *db, const char *zone, psd_db_sample_fn fn
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "read", err, errlen);
 }
 
-static void csv_num(FILE *fp, double v)
-{
-	if (!isnan(v))
-		fprintf(fp, "%.10g", v);
-}
-
-static void csv_text(FILE *fp, const char *t)
-{
-	if (!t)
-		return;
-	if (strpbrk(t, ",\"\n")) {
-		fputc('"', fp);
-		for (; *t; t++) {
-			if (*t == '"')
-				fputc('"', fp);
-			fputc(*t, fp);
-		}
-		fputc('"', fp);
-	} else {
-		fputs(t, fp);
-	}
-}
-
 static void csv_row(void *user, const struct psd_sample *s)
 {
 	FILE *fp = user;
 	const double num[] = { s->t, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux, s->daylight_v,
 	                       s->daylight_lux };
 	for (size_t i = 0; i < sizeof num / sizeof num[0]; i++) {
-		csv_num(fp, num[i]);
+		psd_csv_num(fp, num[i]);
 		fputc(',', fp);
 	}
-	csv_text(fp, s->condition);
+	psd_csv_text(fp, s->condition);
 	fputc(',', fp);
-	csv_num(fp, s->ratio);
+	psd_csv_num(fp, s->ratio);
 	fputc(',', fp);
-	csv_text(fp, s->fault);
+	psd_csv_text(fp, s->fault);
 	fputc(',', fp);
-	csv_text(fp, s->zone);
+	psd_csv_text(fp, s->zone);
 	fputc('\n', fp);
 }
 

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "log.h"
+#include "time.h"
 
 enum { DEVIO_MAX_EVENTS = 64 };
 
@@ -49,13 +50,6 @@ struct psd_devio {
 	void *saved_user;
 	double busy_since;        /* CLOCK_MONOTONIC seconds, 0 idle */
 };
-
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int psd_devio_wanted(const struct ps_driver *drv)
 {
@@ -118,7 +112,7 @@ static void *worker(void *arg)
 			struct slot *s = &io->s[w];
 			double value = s->write_value;
 			s->write_want = 0;
-			io->busy_since = mono();
+			io->busy_since = psd_time_mono();
 			pthread_mutex_unlock(&io->mu);
 			rc = dev->drv->write(dev, &io->pts[w], now, value);
 			e = errno;
@@ -131,7 +125,7 @@ static void *worker(void *arg)
 			struct slot *s = &io->s[r];
 			s->read_want = 0;
 			s->read_busy = 1;
-			io->busy_since = mono();
+			io->busy_since = psd_time_mono();
 			pthread_mutex_unlock(&io->mu);
 			rc = dev->drv->read(dev, &io->pts[r], now, &v);
 			e = errno;
@@ -145,7 +139,7 @@ static void *worker(void *arg)
 		} else if (dev->drv->service &&
 		           (dl = dev->drv->deadline ? dev->drv->deadline(dev) : INFINITY) <= now) {
 			char msg[256];
-			io->busy_since = mono();
+			io->busy_since = psd_time_mono();
 			pthread_mutex_unlock(&io->mu);
 			rc = dev->drv->service(dev, now);
 			snprintf(msg, sizeof msg, "%s", rc ? dev->err : "");
@@ -318,5 +312,5 @@ double psd_devio_busy(const struct psd_devio *io)
 	pthread_mutex_lock((pthread_mutex_t *)&io->mu);
 	since = io->busy_since;
 	pthread_mutex_unlock((pthread_mutex_t *)&io->mu);
-	return since > 0 ? mono() - since : 0;
+	return since > 0 ? psd_time_mono() - since : 0;
 }

@@ -12,17 +12,11 @@
 #include "errbuf.h"
 #include "log.h"
 #include "roomsetup.h"
+#include "time.h"
 #include "dated.h"
 
 static void start_io(struct psd_engine *e, const struct psd_clock *clock);
 static void stop_io(struct psd_engine *e);
-
-static double wall(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value);
 static int command(struct psd_engine *e, struct psd_zone *z, double now, double level, char *why, size_t n);
@@ -198,8 +192,8 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 				z->ctl.target_lux = o->ctl.target_lux;   /* a target set at run time survives */
 			/* the statistics run on over the reload: the reopened room
 			 * counts its energy afresh, so what the old one used up to
-			 * the zone's last step is carried (issue 17: the summary's
-			 * numerator restarted at the reload, its denominator did not) */
+			 * the zone's last step is carried, so that the summary's
+			 * numerator and its denominator both span the reload */
 			if (z->sim && o->sim) {
 				double e0 = z->st.energy0;
 				z->st = o->st;
@@ -741,7 +735,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		z->task_lux = NAN;
 	}
 	rc = read_sensor(e, z, now, why, sizeof why);
-	t0 = wall();
+	t0 = psd_time_mono();
 	if (rc == 0)
 		rc = verify_outputs(e, z, now, why, sizeof why);
 	if (rc < 0) {
@@ -763,8 +757,8 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 		}
 		if (psd_calsession_level(&z->cal, now, &level)) {
 			/* a calibration session holds the lights; in a day
-			 * session the estimate still follows the room (issue 17:
-			 * it froze); a night session's steps, measuring the
+			 * session the estimate still follows the room (it must
+			 * not freeze); a night session's steps, measuring the
 			 * constants the estimate uses, have none */
 			if (rc == 0) {
 				psd_control_estimate(&z->ctl, z->volts);
@@ -798,7 +792,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 				z->why[0] = 0;
 			}
 			if (rc == 0) {
-				double lat = wall() - t0;
+				double lat = psd_time_mono() - t0;
 				e->lat_sum += lat;
 				e->lat_n++;
 				if (lat > e->lat_max)

@@ -19,16 +19,17 @@
 #include "refresh.h"
 #include "reload.h"
 #include "log.h"
+#include "time.h"
 
 
 /* Unix time of local midnight of the clock's day: today on a real clock, the
  * [simulate] date (MM-DD) this year on a simulated one; NAN if unknown. */
 static double utc_of_day(const char *mmdd)
 {
-	time_t now = time(NULL);
+	time_t now;
 	struct tm tm;
 	int m, dd;
-	if (!localtime_r(&now, &tm))
+	if (psd_time_local(psd_time_wall(), &tm) != 0)
 		return NAN;
 	if (mmdd && sscanf(mmdd, "%d-%d", &m, &dd) == 2) {
 		tm.tm_mon = m - 1;
@@ -42,13 +43,6 @@ static double utc_of_day(const char *mmdd)
 /* The process's signals: one signalfd per process by nature (a signal
  * mask is the process's), so it is the one state kept outside the daemon. */
 static int sigfd = -1;
-
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int signals_block(void)
 {
@@ -103,10 +97,9 @@ static void date_run(struct psd_daemon *d, double now)
 		psd_clock_stamp(d->clock.epoch0, now, was, sizeof was);
 		while (last >= d->clock.epoch0 + now) {
 			/* the next local midnight: a day and a half on, back to 00:00 */
-			time_t t = (time_t)(d->clock.epoch0 + 36 * 3600.0);
 			struct tm tm;
-			localtime_r(&t, &tm);
-			if (psd_clock_midnight(tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, &d->clock.epoch0) != 0)
+			if (psd_time_local(d->clock.epoch0 + 36 * 3600.0, &tm) != 0 ||
+			    psd_clock_midnight(tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, &d->clock.epoch0) != 0)
 				break;
 		}
 		psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
@@ -251,9 +244,9 @@ int psd_loop_run(struct psd_daemon *d)
 			d->reload = 0;
 			psd_reload(d);
 		}
-		if (d->watchdog_ms && mono() >= wd_next) {
+		if (d->watchdog_ms && psd_time_mono() >= wd_next) {
 			sd_notify(0, "WATCHDOG=1");
-			wd_next = mono() + d->watchdog_ms / 1000.0;
+			wd_next = psd_time_mono() + d->watchdog_ms / 1000.0;
 		}
 		psd_clock_advance(&d->clock, deadline);
 	}
@@ -263,11 +256,11 @@ int psd_loop_run(struct psd_daemon *d)
 int psd_loop_safe(struct psd_daemon *d, const char *why)
 {
 	int unsafe = psd_engine_safe(&d->engine, psd_clock_now(&d->clock), why);
-	double until = mono() + PSD_SETTLE_MS / 1000.0;
+	double until = psd_time_mono() + PSD_SETTLE_MS / 1000.0;
 	if (d->clock.simulated)
 		return unsafe;
 	for (;;) {
-		double dl = psd_engine_io_deadline(&d->engine), left = until - mono();
+		double dl = psd_engine_io_deadline(&d->engine), left = until - psd_time_mono();
 		int n, timeout;
 		if (!isfinite(dl) || left <= 0)
 			break;

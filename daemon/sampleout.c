@@ -8,6 +8,10 @@
 #include <string.h>
 #include <time.h>
 
+#include "csv.h"
+#include "json.h"
+#include "time.h"
+
 int psd_sampleout_time_parse(const char *s, double *utc)
 {
 	struct tm tm;
@@ -25,8 +29,8 @@ int psd_sampleout_time_parse(const char *s, double *utc)
 		return -1;
 	s += n;
 	if (*s == 'T' || *s == ' ') {
-		n = 0;
-		if (sscanf(s + 1, "%2d:%2d%n", &h, &mi, &n) != 2)
+		n = psd_time_hhmm_scan(s + 1, &h, &mi);
+		if (n < 0)
 			return -1;
 		s += 1 + n;
 		if (*s == ':') {
@@ -56,14 +60,8 @@ int psd_sampleout_time_parse(const char *s, double *utc)
 
 void psd_sampleout_time_iso(double utc, char out[32])
 {
-	struct tm tm;
-	time_t t;
-	if (!(fabs(utc) <= 1e11)) {   /* NAN too */
-		snprintf(out, 32, "-");
-		return;
-	}
-	t = (time_t)floor(utc + 0.5);
-	if (!localtime_r(&t, &tm) || strftime(out, 32, "%Y-%m-%dT%H:%M:%S", &tm) == 0)
+	/* to the nearest second; NAN and the out of range are "-" */
+	if (!isfinite(utc) || psd_time_local_text(floor(utc + 0.5), PSD_TIME_ISO, out, 32) != 0)
 		snprintf(out, 32, "-");
 }
 
@@ -84,39 +82,6 @@ void psd_sampleout_begin(struct psd_sampleout *o, FILE *fp, int format)
 		        "task_lux", "fault");
 }
 
-static void csv_num(FILE *fp, double v)
-{
-	if (isfinite(v))
-		fprintf(fp, "%.15g", v);
-}
-
-static void csv_text(FILE *fp, const char *t)
-{
-	if (!t)
-		return;
-	if (!strpbrk(t, ",\"\n\r")) {
-		fputs(t, fp);
-		return;
-	}
-	fputc('"', fp);
-	for (; *t; t++) {
-		if (*t == '"')
-			fputc('"', fp);
-		fputc(*t, fp);
-	}
-	fputc('"', fp);
-}
-
-static void json_num(json_object *o, const char *key, double v)
-{
-	json_object_object_add(o, key, isfinite(v) ? json_object_new_double(v) : NULL);
-}
-
-static void json_text(json_object *o, const char *key, const char *v)
-{
-	json_object_object_add(o, key, v ? json_object_new_string(v) : NULL);
-}
-
 static const char *cell(char *buf, size_t n, int prec, double v)
 {
 	if (isfinite(v))
@@ -134,37 +99,35 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 	                       s->daylight_v, s->daylight_lux };
 	psd_sampleout_time_iso(s->utc, iso);
 	if (o->format == PSD_OUT_CSV) {
-		csv_text(o->fp, s->zone);
+		psd_csv_text(o->fp, s->zone);
 		fprintf(o->fp, ",%s,", isfinite(s->utc) ? iso : "");
 		for (size_t i = 0; i < sizeof num / sizeof num[0]; i++) {
-			csv_num(o->fp, num[i]);
+			psd_csv_num(o->fp, num[i]);
 			fputc(',', o->fp);
 		}
-		csv_text(o->fp, s->condition);
+		psd_csv_text(o->fp, s->condition);
 		fputc(',', o->fp);
-		csv_num(o->fp, s->ratio);
+		psd_csv_num(o->fp, s->ratio);
 		fputc(',', o->fp);
-		csv_text(o->fp, s->fault);
+		psd_csv_text(o->fp, s->fault);
 		fputc('\n', o->fp);
 	} else if (o->format == PSD_OUT_JSON) {
 		json_object *j = json_object_new_object();
-		json_text(j, "zone", s->zone);
-		json_text(j, "time", isfinite(s->utc) ? iso : NULL);
-		json_num(j, "utc", s->utc);
-		json_num(j, "t", s->t);
-		json_num(j, "tod_s", s->tod_s);
-		json_num(j, "sensor_v", s->sensor_v);
-		json_num(j, "output", s->output);
-		json_num(j, "est_task_lux", s->est_task_lux);
-		json_num(j, "task_lux", s->task_lux);
-		json_num(j, "daylight_v", s->daylight_v);
-		json_num(j, "daylight_lux", s->daylight_lux);
-		json_text(j, "condition", s->condition);
-		json_num(j, "ratio", s->ratio);
-		json_text(j, "fault", s->fault);
-		json_c_set_serialization_double_format("%.15g", JSON_C_OPTION_THREAD);
-		fprintf(o->fp, "%s\n  %s", o->rows ? "," : "",
-		        json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE));
+		psd_json_str(j, "zone", s->zone);
+		psd_json_str(j, "time", isfinite(s->utc) ? iso : NULL);
+		psd_json_num(j, "utc", s->utc);
+		psd_json_num(j, "t", s->t);
+		psd_json_num(j, "tod_s", s->tod_s);
+		psd_json_num(j, "sensor_v", s->sensor_v);
+		psd_json_num(j, "output", s->output);
+		psd_json_num(j, "est_task_lux", s->est_task_lux);
+		psd_json_num(j, "task_lux", s->task_lux);
+		psd_json_num(j, "daylight_v", s->daylight_v);
+		psd_json_num(j, "daylight_lux", s->daylight_lux);
+		psd_json_str(j, "condition", s->condition);
+		psd_json_num(j, "ratio", s->ratio);
+		psd_json_str(j, "fault", s->fault);
+		fprintf(o->fp, "%s\n  %s", o->rows ? "," : "", psd_json_text(j, 15));
 		json_object_put(j);
 	} else {
 		if (!isfinite(s->utc)) {   /* a log from before schema 4: the clock's time of day */

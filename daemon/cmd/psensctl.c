@@ -36,6 +36,7 @@
 #include "accept.h"
 #include "clock.h"
 #include "sampleout.h"
+#include "time.h"
 
 static void usage(FILE *fp)
 {
@@ -411,7 +412,6 @@ static int accept_test(const char *sock, const char *dbpath, int raw, int timeou
 	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
 	struct psd_accept_summary sum;
 	struct psd_db *db;
-	struct timespec now;
 	const char *zone = NULL, *since = NULL, *samples = NULL;
 	char err[512];
 	psd_accept_defaults(&p);
@@ -479,8 +479,7 @@ static int accept_test(const char *sock, const char *dbpath, int raw, int timeou
 		        strstr(err, "in use by psensd") ? "; without -d, psensctl asks psensd to run the tests" : "");
 		return 1;
 	}
-	clock_gettime(CLOCK_REALTIME, &now);
-	if (psd_accept_zone(db, zone, &p, (double)now.tv_sec, r, &sum, err, sizeof err) != 0) {
+	if (psd_accept_zone(db, zone, &p, floor(psd_time_wall()), r, &sum, err, sizeof err) != 0) {
 		if (sum.unstored)
 			accept_print(zone, &p, r, &sum);
 		fprintf(stderr, "psensctl: %s: %s\n", dbpath, err);

@@ -19,6 +19,7 @@
 #include "canvas.h"
 #include "dated.h"
 #include "log.h"
+#include "time.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
 {
@@ -70,9 +71,9 @@ static double config_date(const struct psd_config *cf)
 	double epoch;
 	long year = cf->run_year;
 	if (year == 0) {
-		time_t now = time(NULL);
 		struct tm tm;
-		localtime_r(&now, &tm);
+		if (psd_time_local(psd_time_wall(), &tm) != 0)
+			return NAN;
 		year = tm.tm_year + 1900;
 	}
 	if (sscanf(cf->date, "%d-%d", &m, &day) != 2 || psd_clock_midnight((int)year, m, day, &epoch) != 0)
@@ -89,8 +90,8 @@ static int year_report(struct psd_daemon *d, const char *png)
 	static float task[PSD_ANNUAL_MAX_DAYS * 144], level[PSD_ANNUAL_MAX_DAYS * 144];
 	const struct psd_engine *e = &d->engine;
 	if (!e->have_res || !e->res.have_year) {
-		fprintf(stderr, "psensd: -Y needs results with a year: give the scene a weather file "
-		        "(psscene(5), [daylight_coefficients] weather =)\n");
+		psd_log_errx("-Y needs results with a year: give the scene a weather file "
+		         "(psscene(5), [daylight_coefficients] weather =)");
 		return 1;
 	}
 	for (size_t i = 0; i < e->nzone; i++) {
@@ -100,8 +101,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 		struct psd_annual a, b;
 		struct psd_control ctl = z->ctl;
 		if (psd_annual_run(&e->res, &ctl, &o, &a) != 0) {
-			fprintf(stderr, "psensd: zone %s: the year cannot run (no electric condition?)\n",
-			        z->zc->name);
+			psd_log_errx("zone %s: the year cannot run (no electric condition?)", z->zc->name);
 			return 1;
 		}
 		printf("psensd: the year of %s, zone %s, %s control (dated estimate) every %g s, "
@@ -148,7 +148,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 			rc = psd_annual_png(png, task, level, a.days, ctl.target_lux, title, err, sizeof err);
 			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
 			if (rc != 0) {
-				fprintf(stderr, "psensd: %s\n", err);
+				psd_log_errx("%s", err);
 				return 1;
 			}
 			printf("  the year drawn: %s\n", png);
@@ -185,15 +185,6 @@ static int year_report(struct psd_daemon *d, const char *png)
 		}
 	}
 	fflush(stdout);
-	return 0;
-}
-
-static int parse_hhmm(const char *s, double *out)
-{
-	int h, m, n = 0;
-	if (sscanf(s, "%d:%d%n", &h, &m, &n) != 2 || s[n] || h < 0 || h > 23 || m < 0 || m > 59)
-		return -1;
-	*out = h * 3600.0 + m * 60.0;
 	return 0;
 }
 
@@ -291,7 +282,7 @@ int main(int argc, char **argv)
 		case 'Y': year = simulate = 1; break;
 		case 'P': png = optarg; break;
 		case 't':
-			if (parse_hhmm(optarg, &start) != 0) {
+			if (psd_time_hhmm(optarg, &start) != 0) {
 				fprintf(stderr, "psensd: -t %s: not HH:MM\n", optarg);
 				return 2;
 			}
@@ -386,9 +377,7 @@ int main(int argc, char **argv)
 			memset(&cf, 0, sizeof cf);
 		} else if (isnan(start)) {
 			/* the wall clock: today */
-			struct timespec rt;
-			clock_gettime(CLOCK_REALTIME, &rt);
-			epoch0 = (double)rt.tv_sec + 1e-9 * (double)rt.tv_nsec - psd_clock_now(&d.clock);
+			epoch0 = psd_time_wall() - psd_clock_now(&d.clock);
 			if (date)
 				psd_log_warnx("-d %s: ignored without -s or -t: the run is dated by the wall clock", date);
 		}

@@ -12,10 +12,12 @@
 
 #include "engine.h"
 #include "errbuf.h"
+#include "json.h"
 #include "log.h"
 #include "mqttcmd.h"
 #include "mqttconf.h"
 #include "mqttmsg.h"
+#include "time.h"
 
 enum { BATCH = 64, MSG = 4096, TOPIC = 256, MAX_SEEN = 2 * PSD_MAX_ZONES };
 static const double RETRY_MIN = 0.5, RETRY_MAX = 5;   /* s between connection attempts */
@@ -56,20 +58,6 @@ struct psd_mqtt {
 	size_t nseen;
 	struct psd_mqtt_stats st;
 };
-
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double wall(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_REALTIME, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static struct seen *seen_of(struct psd_mqtt *m, const char *zone)
 {
@@ -120,7 +108,7 @@ static void advance(struct psd_mqtt *m)
 static void save_cursor(struct psd_mqtt *m, int now)
 {
 	char err[256];
-	double t = mono();
+	double t = psd_time_mono();
 	if (!m->cursor_dirty || !m->e->db || (!now && t < m->saved_at + CURSOR_EVERY))
 		return;
 	m->saved_at = t;
@@ -155,11 +143,10 @@ static int event(struct psd_mqtt *m, const char *zone, json_object *o, int *mid)
 	else
 		snprintf(topic, sizeof topic, "psensd/%s/event", m->site);
 	if (!json_object_object_get_ex(o, "utc", NULL)) {
-		psd_mqttmsg_iso8601(wall(), iso, sizeof iso);
+		psd_mqttmsg_iso8601(psd_time_wall(), iso, sizeof iso);
 		json_object_object_add(o, "utc", json_object_new_string(iso));
 	}
-	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
-	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
+	text = psd_json_text(o, 10);
 	rc = m->connected ? publish(m, topic, text, 0, mid) : -1;
 	json_object_put(o);
 	return rc;
@@ -223,7 +210,7 @@ static void row(void *user, long long id, double utc, const struct psd_sample *s
 static void publish_log(struct psd_mqtt *m)
 {
 	char err[256];
-	double t = mono();
+	double t = psd_time_mono();
 	long budget;
 	int n;
 	if (!m->connected || !m->e->db)
@@ -359,8 +346,7 @@ static void reply(struct psd_mqtt *m, const char *zone, const char *verb, const 
 	json_object_object_add(r, "id", id && *id ? json_object_new_string(id) : NULL);
 	json_object_object_add(r, "reply", o);
 	snprintf(topic, sizeof topic, "psensd/%s/%s/reply", m->site, zone);
-	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
-	out = json_object_to_json_string_ext(r, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
+	out = psd_json_text(r, 10);
 	publish(m, topic, out, 0, &mid);
 	json_object_put(r);
 }
@@ -424,7 +410,7 @@ static void lost(struct psd_mqtt *m, const char *why)
 	 * twice, with the same id; none is skipped) */
 	for (size_t i = 0; i < m->nseen; i++)
 		m->seen[i].faulted = 0;
-	m->retry_at = mono() + m->backoff;
+	m->retry_at = psd_time_mono() + m->backoff;
 	m->backoff = m->backoff * 2 > RETRY_MAX ? RETRY_MAX : m->backoff * 2;
 }
 
@@ -445,7 +431,7 @@ static void on_connect(struct mosquitto *mosq, void *user, int rc)
 	m->qn = 0;
 	m->sent = m->cursor;
 	m->announce = 1;
-	m->refill_at = mono();
+	m->refill_at = psd_time_mono();
 	psd_log_info("mqtt: connected; publishing from sample %lld", m->cursor);
 	snprintf(topic, sizeof topic, "psensd/%s/+/set/+", m->site);
 	mosquitto_subscribe(mosq, &mid, topic, 1);
@@ -569,20 +555,13 @@ int psd_mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd)
 
 static void service(struct psd_mqtt *m, const struct pollfd *pfd, double now);
 
-static double cpu(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 void psd_mqtt_service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
 {
-	double t0 = mono(), c0 = cpu(), dt, dc;
+	double t0 = psd_time_mono(), c0 = psd_time_thread_cpu(), dt, dc;
 	service(m, pfd, now);
-	if ((dt = mono() - t0) > m->st.turn_max)
+	if ((dt = psd_time_mono() - t0) > m->st.turn_max)
 		m->st.turn_max = dt;
-	if ((dc = cpu() - c0) > m->st.turn_cpu_max)
+	if ((dc = psd_time_thread_cpu() - c0) > m->st.turn_cpu_max)
 		m->st.turn_cpu_max = dc;
 }
 
@@ -603,7 +582,7 @@ static void service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
 		if (mosquitto_socket(m->mosq) < 0)
 			lost(m, "closed");
 	}
-	if (!m->sock_ok && mono() >= m->retry_at)
+	if (!m->sock_ok && psd_time_mono() >= m->retry_at)
 		try_connect(m);
 	advance(m);
 	if (m->connected) {
@@ -623,7 +602,7 @@ int psd_mqtt_wait_ms(const struct psd_mqtt *m)
 {
 	double ms = 1000;
 	if (!m->sock_ok)
-		ms = 1000 * (m->retry_at - mono());
+		ms = 1000 * (m->retry_at - psd_time_mono());
 	else if (m->connected && m->backlog && (m->qcap - m->qn) / 2 >= 1)
 		ms = 1000 * (1 - m->tokens) / m->rate;   /* the next token (a full window waits for PUBACKs) */
 	if (ms < 1)
@@ -655,10 +634,10 @@ void psd_mqtt_close(struct psd_mqtt *m)
 		return;
 	m->closing = 1;
 	if (m->connected) {
-		double until = mono() + 1;
+		double until = psd_time_mono() + 1;
 		publish(m, m->status_topic, "offline", 1, &mid);
 		/* a second at most for the last acknowledgements and the offline */
-		while (m->connected && mono() < until && (m->qn || mosquitto_want_write(m->mosq))) {
+		while (m->connected && psd_time_mono() < until && (m->qn || mosquitto_want_write(m->mosq))) {
 			if (mosquitto_loop(m->mosq, 50, 16) != MOSQ_ERR_SUCCESS)
 				break;
 			advance(m);

@@ -5,26 +5,16 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "engine.h"
-
-static void put_num(json_object *o, const char *key, double v)
-{
-	json_object_object_add(o, key, isfinite(v) ? json_object_new_double(v) : NULL);
-}
-
-static void put_str(json_object *o, const char *key, const char *v)
-{
-	json_object_object_add(o, key, v ? json_object_new_string(v) : NULL);
-}
+#include "json.h"
+#include "time.h"
 
 static int emit(json_object *o, char *buf, size_t n)
 {
 	const char *text;
 	size_t len;
-	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
-	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
+	text = psd_json_text(o, 10);
 	len = strlen(text);
 	if (len >= n) {
 		json_object_put(o);
@@ -37,20 +27,8 @@ static int emit(json_object *o, char *buf, size_t n)
 
 void psd_mqttmsg_iso8601(double t, char *buf, size_t n)
 {
-	time_t s;
-	struct tm tm;
-	int ms;
-	if (!isfinite(t)) {
+	if (psd_time_utc_text(t, PSD_TIME_ISO_MS, buf, n) != 0)
 		snprintf(buf, n, "unknown");
-		return;
-	}
-	s = (time_t)floor(t);
-	ms = (int)floor((t - (double)s) * 1000);
-	if (ms > 999)
-		ms = 999;
-	gmtime_r(&s, &tm);
-	snprintf(buf, n, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
-	         tm.tm_hour, tm.tm_min, tm.tm_sec, ms);
 }
 
 int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, double utc,
@@ -60,22 +38,22 @@ int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, 
 	char iso[40];
 	psd_mqttmsg_iso8601(utc, iso, sizeof iso);
 	json_object_object_add(o, "id", json_object_new_int64(id));
-	put_str(o, "utc", iso);
-	put_str(o, "site", site);
-	put_str(o, "zone", s->zone);
-	put_num(o, "t", s->t);
-	put_num(o, "sensor_v", s->sensor_v);
-	put_num(o, "est_task_lux", s->est_task_lux);
-	put_num(o, "task_lux", s->task_lux);
-	put_num(o, "daylight_lux", s->daylight_lux);
-	put_num(o, "level", s->output);
+	psd_json_str(o, "utc", iso);
+	psd_json_str(o, "site", site);
+	psd_json_str(o, "zone", s->zone);
+	psd_json_num(o, "t", s->t);
+	psd_json_num(o, "sensor_v", s->sensor_v);
+	psd_json_num(o, "est_task_lux", s->est_task_lux);
+	psd_json_num(o, "task_lux", s->task_lux);
+	psd_json_num(o, "daylight_lux", s->daylight_lux);
+	psd_json_num(o, "level", s->output);
 	/* relative power: the commanded output is the fraction of full power */
-	put_num(o, "power_frac", s->output);
-	put_str(o, "fault", s->fault);
+	psd_json_num(o, "power_frac", s->output);
+	psd_json_str(o, "fault", s->fault);
 	if (z) {
 		json_object *cal = json_object_new_object();
-		put_str(cal, "state", psd_calsession_state_names[z->cal.state]);
-		put_str(cal, "kind", z->cal.id ? psd_calsession_kind_names[z->cal.kind] : NULL);
+		psd_json_str(cal, "state", psd_calsession_state_names[z->cal.state]);
+		psd_json_str(cal, "kind", z->cal.id ? psd_calsession_kind_names[z->cal.kind] : NULL);
 		json_object_object_add(cal, "session", z->cal.id ? json_object_new_int64(z->cal.id) : NULL);
 		json_object_object_add(cal, "night", z->cal_night_id ? json_object_new_int64(z->cal_night_id) : NULL);
 		json_object_object_add(cal, "day", z->cal_day_id ? json_object_new_int64(z->cal_day_id) : NULL);
@@ -83,12 +61,12 @@ int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, 
 		if (z->zc->task >= 0) {
 			json_object *dr = json_object_new_object();
 			json_object_object_add(dr, "flagged", json_object_new_boolean(z->drift.flagged));
-			put_num(dr, "pct", 100 * (exp(z->drift.last_ln) - 1));
+			psd_json_num(dr, "pct", 100 * (exp(z->drift.last_ln) - 1));
 			json_object_object_add(o, "drift", dr);
 		} else {
 			json_object_object_add(o, "drift", NULL);
 		}
-		put_num(o, "target_lux", z->ctl.target_lux);
+		psd_json_num(o, "target_lux", z->ctl.target_lux);
 	}
 	return emit(o, buf, n);
 }
@@ -136,29 +114,29 @@ int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const cha
 	snprintf(uid, sizeof uid, "%s_%s", node, en->key);
 	o = json_object_new_object();
 	snprintf(text, sizeof text, "%s %s", zone, en->name);
-	put_str(o, "name", text);
-	put_str(o, "unique_id", uid);
-	put_str(o, "object_id", uid);
+	psd_json_str(o, "name", text);
+	psd_json_str(o, "unique_id", uid);
+	psd_json_str(o, "object_id", uid);
 	snprintf(text, sizeof text, "%s/state", base);
-	put_str(o, "state_topic", text);
-	put_str(o, "value_template", en->template);
+	psd_json_str(o, "state_topic", text);
+	psd_json_str(o, "value_template", en->template);
 	snprintf(text, sizeof text, "psensd/%s/status", site);
-	put_str(o, "availability_topic", text);
-	put_str(o, "payload_available", "online");
-	put_str(o, "payload_not_available", "offline");
+	psd_json_str(o, "availability_topic", text);
+	psd_json_str(o, "payload_available", "online");
+	psd_json_str(o, "payload_not_available", "offline");
 	if (en->unit)
-		put_str(o, "unit_of_measurement", en->unit);
+		psd_json_str(o, "unit_of_measurement", en->unit);
 	if (en->device_class)
-		put_str(o, "device_class", en->device_class);
+		psd_json_str(o, "device_class", en->device_class);
 	if (strcmp(en->component, "sensor") == 0)
-		put_str(o, "state_class", "measurement");
+		psd_json_str(o, "state_class", "measurement");
 	if (en->number) {
 		snprintf(text, sizeof text, "%s/set/override", base);
-		put_str(o, "command_topic", text);
-		put_num(o, "min", 0);
-		put_num(o, "max", 1);
-		put_num(o, "step", 0.01);
-		put_str(o, "mode", "slider");
+		psd_json_str(o, "command_topic", text);
+		psd_json_num(o, "min", 0);
+		psd_json_num(o, "max", 1);
+		psd_json_num(o, "step", 0.01);
+		psd_json_str(o, "mode", "slider");
 		json_object_object_add(o, "qos", json_object_new_int(1));
 	}
 	dev = json_object_new_object();
@@ -166,9 +144,9 @@ int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const cha
 	json_object_array_add(ids, json_object_new_string(node));
 	json_object_object_add(dev, "identifiers", ids);
 	snprintf(text, sizeof text, "psensd %s %s", site, zone);
-	put_str(dev, "name", text);
-	put_str(dev, "manufacturer", "psensd");
-	put_str(dev, "model", "daylight-harvesting zone");
+	psd_json_str(dev, "name", text);
+	psd_json_str(dev, "manufacturer", "psensd");
+	psd_json_str(dev, "model", "daylight-harvesting zone");
 	json_object_object_add(o, "device", dev);
 	return emit(o, payload, paylen) < 0 ? -1 : 0;
 }

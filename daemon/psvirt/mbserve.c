@@ -18,6 +18,7 @@
 
 #include "log.h"
 #include "mbpdu.h"
+#include "time.h"
 
 enum {
 	IN_CAP = 2 * PSD_MBFRAME_TCP_MAX,    /* a frame and the start of the next */
@@ -50,13 +51,6 @@ struct psd_mbserve {
 	struct conn line;            /* RTU: fd, buffers, deferral */
 	double last_byte, silence, down_until;
 };
-
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 /* Frames in hex at debug level, when the server traces them. */
 static void hex(const struct psd_mbserve *srv, const char *what, unsigned id, const uint8_t *p, size_t n)
@@ -366,7 +360,7 @@ static double next_deadline(const struct psd_mbserve *s, const struct conn *c)
 static int step_tcp(struct psd_mbserve *s, double max_wait)
 {
 	struct pollfd stack[64], *p = stack;
-	double now = mono(), until = now + max_wait;
+	double now = psd_time_mono(), until = now + max_wait;
 	int n = s->nc, rc;
 	if (n + 1 > 64 && !(p = malloc((size_t)(n + 1) * sizeof *p)))
 		return 0;   /* try again next turn */
@@ -382,7 +376,7 @@ static int step_tcp(struct psd_mbserve *s, double max_wait)
 			free(p);
 		return -1;
 	}
-	now = mono();
+	now = psd_time_mono();
 	/* clients first, by their poll slot (accepting moves none of them);
 	 * one that closes is replaced by the last, whose slot is then past */
 	for (int i = n - 1; i >= 0; i--) {
@@ -405,7 +399,7 @@ static int step_rtu(struct psd_mbserve *s, double max_wait)
 {
 	struct conn *l = &s->line;
 	struct pollfd p = { l->fd, POLLIN, 0 };
-	double now = mono(), until = now + max_wait;
+	double now = psd_time_mono(), until = now + max_wait;
 	int rc;
 	if (l->nout)
 		p.events |= POLLOUT;
@@ -423,7 +417,7 @@ static int step_rtu(struct psd_mbserve *s, double max_wait)
 	rc = poll(&p, 1, (int)ceil(fmax(until - now, 0) * 1000));
 	if (rc < 0 && errno != EINTR)
 		return -1;
-	now = mono();
+	now = psd_time_mono();
 	if (rc > 0 && (p.revents & (POLLIN | POLLHUP | POLLERR))) {
 		uint8_t buf[PSD_MBFRAME_RTU_MAX];
 		ssize_t r = read(l->fd, buf, sizeof buf);

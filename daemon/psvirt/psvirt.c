@@ -31,8 +31,10 @@
 #include <modbus.h>
 
 #include "cli.h"
+#include "clock.h"
 #include "config.h"
 #include "refresh.h"
+#include "time.h"
 #include "log.h"
 #include "mbpdu.h"
 #include "mbserve.h"
@@ -72,16 +74,9 @@ static void on_signal(int sig)
 	stop = 1;
 }
 
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static double room_now(const struct virt *v)
 {
-	return v->start + v->speed * (mono() - v->t0);
+	return v->start + v->speed * (psd_time_mono() - v->t0);
 }
 
 /* Requests that only touch 900-903 always get through (psvirt(1)). */
@@ -181,15 +176,6 @@ static int write_ready(const char *path, const char *what)
 	fprintf(fp, "%s\n", what);
 	if (fclose(fp) != 0 || rename(tmp, path) != 0)
 		return -1;
-	return 0;
-}
-
-static int hhmm(const char *s, double *out)
-{
-	int h, m, n = 0;
-	if (sscanf(s, "%d:%d%n", &h, &m, &n) != 2 || s[n] || h < 0 || h > 24 || m < 0 || m > 59)
-		return -1;
-	*out = h * 3600.0 + m * 60;
 	return 0;
 }
 
@@ -326,7 +312,7 @@ static int opt_zone(const struct virt *v, const char *raw, const char **key)
 	for (int z = 0; z < v->nzone; z++)
 		if ((size_t)(colon - raw) == strlen(v->zone[z]) && strncmp(raw, v->zone[z], (size_t)(colon - raw)) == 0)
 			return z;
-	fprintf(stderr, "psvirt: -D %s: no zone '%.*s' (%d zone(s): 0 to %d or their names)\n", raw,
+	psd_log_errx("-D %s: no zone '%.*s' (%d zone(s): 0 to %d or their names)", raw,
 	        (int)(colon - raw), raw, v->nzone, v->nzone - 1);
 	return -2;
 }
@@ -369,16 +355,16 @@ static int plan_from_config(struct virt *v, const struct args *a, struct plan *p
 {
 	struct psd_config *cf;
 	if (!(cf = p->cf = calloc(1, sizeof *cf))) {
-		fprintf(stderr, "psvirt: out of memory\n");
+		psd_log_errx("out of memory");
 		return -1;
 	}
 	if (psd_config_load(cf, a->conf) != 0) {
 		for (size_t i = 0; i < cf->conf.nerrors; i++)
-			fprintf(stderr, "psvirt: %s\n", cf->conf.errors[i]);
+			psd_log_errx("%s", cf->conf.errors[i]);
 		return -1;
 	}
 	if (cf->nzone > PSD_VIRT_MAX_ZONES || (a->zones && (size_t)a->zones != cf->nzone)) {
-		fprintf(stderr, "psvirt: %s has %zu zones: psvirt serves %s\n", a->conf, cf->nzone,
+		psd_log_errx("%s has %zu zones: psvirt serves %s", a->conf, cf->nzone,
 		        a->zones ? "as many (drop --zones)" : "at most 10");
 		return -1;
 	}
@@ -410,12 +396,12 @@ static int plan_from_args(struct virt *v, const struct args *a, struct plan *p)
 	if (a->date)
 		snprintf(p->date, sizeof p->date, "%s", a->date);
 	if (!p->results) {
-		fprintf(stderr, "psvirt: no results (--results FILE, or -f with [psensd] results)\n");
+		psd_log_errx("no results (--results FILE, or -f with [psensd] results)");
 		return -1;
 	}
-	if (psd_roomsetup_day_of_year(p->date) < 0 || (a->sunrise && hhmm(a->sunrise, &p->rise)) ||
-	    (a->sunset && hhmm(a->sunset, &p->set)) || (a->start && hhmm(a->start, &v->start))) {
-		fprintf(stderr, "psvirt: date must be MM-DD and sunrise, sunset, start HH:MM\n");
+	if (psd_roomsetup_day_of_year(p->date) < 0 || (a->sunrise && psd_time_hhmm(a->sunrise, &p->rise)) ||
+	    (a->sunset && psd_time_hhmm(a->sunset, &p->set)) || (a->start && psd_time_hhmm(a->start, &v->start))) {
+		psd_log_errx("date must be MM-DD and sunrise, sunset, start HH:MM");
 		return -1;
 	}
 	return 0;
@@ -437,14 +423,14 @@ static int zone_options(struct virt *v, struct args *a, const struct plan *p, in
 	if (zone_cmdline_opts(v, a, z, merged + 1, &n, src) != 0)
 		return -1;
 	if (n + nconf > 2 * MAX_OPTS) {
-		fprintf(stderr, "psvirt: zone %s: more than %d room options\n", v->zone[z], 2 * MAX_OPTS);
+		psd_log_errx("zone %s: more than %d room options", v->zone[z], 2 * MAX_OPTS);
 		return -1;
 	}
 	/* the command line alone first, so its messages name it */
 	cmd->v = merged + 1;
 	cmd->n = n;
 	if (psd_virtroom_check(cmd, err, sizeof err) != 0) {
-		fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+		psd_log_errx("zone %s: %s", v->zone[z], err);
 		return -1;
 	}
 	for (size_t i = 0; i < n; i++)
@@ -481,7 +467,7 @@ static struct psd_virtroom *zone_room(const struct virt *v, const struct args *a
 	int own = zp && strcmp(zp, p->results) != 0;
 	if (own) {
 		if (ps_results_read(&zr, zp, &e) != 0) {
-			fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], e.msg);
+			psd_log_errx("zone %s: %s", v->zone[z], e.msg);
 			return NULL;
 		}
 		zday.res = &zr;
@@ -490,7 +476,7 @@ static struct psd_virtroom *zone_room(const struct virt *v, const struct args *a
 	if (own)
 		ps_results_free(&zr);
 	if (!room)
-		fprintf(stderr, "psvirt: zone %s: %s\n", v->zone[z], err);
+		psd_log_errx("zone %s: %s", v->zone[z], err);
 	return room;
 }
 
@@ -508,7 +494,7 @@ static int build_zone(struct virt *v, struct args *a, const struct plan *p, cons
 		return -1;
 	for (size_t i = all.n - nconf; i < all.n; i++)
 		if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
-			fprintf(stderr, "psvirt: %s:%d: unknown key '%s' for driver loopback\n", p->conf_path,
+			psd_log_errx("%s:%d: unknown key '%s' for driver loopback", p->conf_path,
 			        all.v[i].line, all.v[i].key);
 			return -1;
 		}
@@ -526,7 +512,7 @@ static int every_option_taken(const struct virt *v, const struct args *a)
 		for (size_t j = 0; j < a->nopts && !known; j++)
 			known = a->opts[j].used && (opt_zone(v, a->opts[j].key, &other), strcmp(key, other) == 0);
 		if (!known) {
-			fprintf(stderr, "psvirt: -D %s: not a loopback room option (see psensd.conf(5))\n", key);
+			psd_log_errx("-D %s: not a loopback room option (see psensd.conf(5))", key);
 			return -1;
 		}
 	}
@@ -553,7 +539,7 @@ static int build_rooms(struct virt *v, struct args *a)
 	if (plan_from_args(v, a, &p) != 0)
 		goto out;
 	if (ps_results_read(&res, p.results, &e) != 0) {
-		fprintf(stderr, "psvirt: %s\n", e.msg);
+		psd_log_errx("%s", e.msg);
 		goto out;
 	}
 	have_res = 1;
@@ -572,18 +558,12 @@ out:
 	return rc;
 }
 
-static void hm(char *s, size_t n, double t)
-{
-	double tod = psd_virtroom_tod(t);
-	snprintf(s, n, "%02d:%02d", (int)(tod / 3600), (int)fmod(tod / 60, 60));
-}
-
 static void summary(struct virt *v)
 {
 	double end = room_now(v), sum = 0;
 	char from[8], to[8];
-	hm(from, sizeof from, v->start);
-	hm(to, sizeof to, end);
+	psd_clock_hhmm(v->start, from);
+	psd_clock_hhmm(end, to);
 	for (int z = 0; z < v->nzone; z++)
 		sum += end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0;
 	printf("psvirt: %ld requests (%ld faulted); room time %s to %s; light output %.1f %% of full on average\n",
@@ -599,7 +579,7 @@ static modbus_t *open_line(const struct args *a, int *fd)
 	char par = !strcmp(a->parity, "even") ? 'E' : !strcmp(a->parity, "odd") ? 'O' : 'N';
 	modbus_t *ctx = modbus_new_rtu(a->rtu, (int)a->baud, par, 8, (int)a->stop_bits);
 	if (!ctx || modbus_connect(ctx) != 0) {
-		fprintf(stderr, "psvirt: %s: %s\n", a->rtu, modbus_strerror(errno));
+		psd_log_errx("%s: %s", a->rtu, modbus_strerror(errno));
 		if (ctx)
 			modbus_free(ctx);
 		return NULL;
@@ -641,7 +621,7 @@ int main(int argc, char **argv)
 		char host[256];
 		const char *colon = strrchr(a.tcp, ':');
 		if (!colon || colon == a.tcp || (size_t)(colon - a.tcp) >= sizeof host) {
-			fprintf(stderr, "psvirt: --tcp: '%s' is not ADDR:PORT\n", a.tcp);
+			psd_log_errx("--tcp: '%s' is not ADDR:PORT", a.tcp);
 			free_rooms(&v);
 			return 2;
 		}
@@ -656,7 +636,7 @@ int main(int argc, char **argv)
 	}
 	if (!srv) {
 		if (a.tcp || line)
-			fprintf(stderr, "psvirt: cannot %s: %s\n", a.tcp ? "listen" : "serve the line", err);
+			psd_log_errx("cannot %s: %s", a.tcp ? "listen" : "serve the line", err);
 		if (line) {
 			modbus_close(line);
 			modbus_free(line);
@@ -674,7 +654,7 @@ int main(int argc, char **argv)
 	sigaction(SIGTERM, &sa, NULL);
 	sigaction(SIGINT, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
-	v.t0 = mono();
+	v.t0 = psd_time_mono();
 	psd_virtmap_refresh(&v.map, v.start);
 	if (v.nzone > 1) {
 		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", where, v.unit);
@@ -685,14 +665,14 @@ int main(int argc, char **argv)
 		fflush(stdout);
 	}
 	if (a.ready && write_ready(a.ready, where) != 0) {
-		fprintf(stderr, "psvirt: %s: %s\n", a.ready, strerror(errno));
+		psd_log_err("%s", a.ready);
 		psd_mbserve_free(srv);
 		free_rooms(&v);
 		return 1;
 	}
 	while (!stop)
 		if (psd_mbserve_step(srv, 1.0) != 0) {
-			fprintf(stderr, "psvirt: poll: %s\n", strerror(errno));
+			psd_log_err("poll");
 			break;
 		}
 	summary(&v);

@@ -11,12 +11,29 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "log.h"
 #include "roomsetup.h"
 
 struct psd_virtroom {
 	struct ps_dev dev;
 	struct ps_point sensor, task, dim, rooftop;
+	int failing;   /* bits: the driver calls failing now (enum call), logged once each */
 };
+
+enum call { CALL_TASK = 1, CALL_WRITE = 2, CALL_TRUTH = 4 };
+
+/* A driver call's result: a failure is logged as an error when that call
+ * starts failing (the room is asked on every request: once, not a flood),
+ * and its recovery at info.  rc is passed on. */
+static int checked(struct psd_virtroom *r, int call, const char *what, int rc)
+{
+	if (rc != 0 && !(r->failing & call))
+		psd_log_errx("virtual room: %s failed: %s", what, r->dev.err[0] ? r->dev.err : "no reason given");
+	else if (rc == 0 && (r->failing & call))
+		psd_log_info("virtual room: %s works again", what);
+	r->failing = rc != 0 ? r->failing | call : r->failing & ~call;
+	return rc;
+}
 
 /* A loopback device, opened with these options; -1 with the reason in err. */
 static int open_dev(struct ps_dev *dev, const struct ps_opts *opts, char *err, size_t n)
@@ -122,7 +139,8 @@ int psd_virtroom_sensor(struct psd_virtroom *r, double now, double *volts, int *
 double psd_virtroom_task(struct psd_virtroom *r, double now)
 {
 	double lux = 0;
-	r->dev.drv->read(&r->dev, &r->task, now, &lux);
+	if (checked(r, CALL_TASK, "reading the task meter", r->dev.drv->read(&r->dev, &r->task, now, &lux)) != 0)
+		lux = 0;
 	return lux;
 }
 
@@ -134,7 +152,7 @@ double psd_virtroom_rooftop(struct psd_virtroom *r, double now)
 
 void psd_virtroom_command(struct psd_virtroom *r, double now, double level)
 {
-	r->dev.drv->write(&r->dev, &r->dim, now, level);
+	checked(r, CALL_WRITE, "setting the light level", r->dev.drv->write(&r->dev, &r->dim, now, level));
 }
 
 /* The truth hook never advances the room: asking cannot move its clock. */
@@ -142,7 +160,8 @@ static struct ps_truth truth(struct psd_virtroom *r, double now)
 {
 	struct ps_truth t;
 	memset(&t, 0, sizeof t);
-	r->dev.drv->truth(&r->dev, now, &t);
+	if (checked(r, CALL_TRUTH, "asking the room what is true", r->dev.drv->truth(&r->dev, now, &t)) != 0)
+		memset(&t, 0, sizeof t);
 	return t;
 }
 

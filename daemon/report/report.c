@@ -19,6 +19,8 @@
 #include "db.h"
 #include "errbuf.h"
 #include "results.h"
+#include "sum.h"
+#include "time.h"
 
 /* A4 in points; PNG pages at 1.5 px per point (108 dpi). */
 #define PAGE_W 595.28
@@ -56,8 +58,8 @@ struct zone {
 	double tmin, tmax, vmax, luxmax, energy_h, fault_s, prev_t;
 	double utc0;              /* UTC of clock 0 of the first dated run (NAN: none yet) */
 	char local0[20], local1[20];     /* local date and time of the first and last sample ("" undated) */
-	double esum, ecomp;              /* energy, Neumaier */
-	double err2, err2c;              /* squared estimate error, Neumaier */
+	struct ps_sum esum;              /* energy */
+	struct ps_sum err2;              /* squared estimate error */
 	long long nerr, nmeas;            /* estimate errors; task meter readings */
 	struct session sess[MAXSESS];
 	int nsess, checks, fails, verdict;
@@ -74,16 +76,6 @@ struct zone {
 
 /* A zone's last acceptance run, as the verdict and the cover read it. */
 enum accept_state { ACC_NONE, ACC_INCOMPLETE, ACC_FAILED, ACC_PASSED };
-
-static void neumaier(double *sum, double *c, double x)
-{
-	double t = *sum + x;
-	if (fabs(*sum) >= fabs(x))
-		*c += (*sum - t) + x;
-	else
-		*c += (x - t) + *sum;
-	*sum = t;
-}
 
 /* A record's time on the report's axis: its clock time, or, for rows that
  * carry their UTC (schema 4), the seconds since clock 0 of the first dated
@@ -112,12 +104,12 @@ static void add_sample(void *user, const struct psd_sample *row)
 	dt = z->seen > 0 ? s->t - z->prev_t : 0;
 	/* energy: output times time (a gap longer than an hour is not counted) */
 	if (dt > 0 && dt <= 3600 && isfinite(s->output))
-		neumaier(&z->esum, &z->ecomp, s->output * dt / 3600);
+		ps_sum_add(&z->esum, s->output * dt / 3600);
 	if (dt > 0 && dt <= 3600 && s->fault)
 		z->fault_s += dt;
 	if (isfinite(s->est_task_lux) && isfinite(s->task_lux) && s->task_lux >= 50) {
 		double e = (s->est_task_lux - s->task_lux) / s->task_lux;
-		neumaier(&z->err2, &z->err2c, e * e);
+		ps_sum_add(&z->err2, e * e);
 		z->nerr++;
 	}
 	z->nmeas += isfinite(s->task_lux);
@@ -133,7 +125,7 @@ static void add_sample(void *user, const struct psd_sample *row)
 		z->lux[i] = s->task_lux;
 		z->est[i] = s->est_task_lux;
 		z->out[i] = isfinite(s->output) ? 100 * s->output : NAN;
-		z->energy[i] = z->esum + z->ecomp;
+		z->energy[i] = ps_sum_get(&z->esum);
 		z->fault[i] = s->fault != NULL;
 		if (isfinite(s->sensor_v) && s->sensor_v > z->vmax)
 			z->vmax = s->sensor_v;
@@ -276,7 +268,7 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 		return -1;
 	if (psd_db_zone_samples(db, z->name, add_sample, z, err, n) != 0)
 		return -1;
-	z->energy_h = z->esum + z->ecomp;
+	z->energy_h = ps_sum_get(&z->esum);
 	/* an older database has no sessions table: then none are shown */
 	psd_db_cal_sessions(db, z->name, add_session, &c, ignored, sizeof ignored);
 	psd_db_cal_hashes(db, z->name, z->config_sha, z->scene_sha);
@@ -535,8 +527,7 @@ static void day_label(const struct doc *d, double t, char *buf, size_t n)
 	tm.tm_mday = d->d0 + (int)(floor(t / 86400) - floor(d->t0 / 86400));
 	tm.tm_hour = 12;
 	u = timegm(&tm);   /* normalises the day of the month */
-	gmtime_r(&u, &tm);
-	strftime(buf, n, "%Y-%m-%d", &tm);
+	psd_time_utc_text((double)u, PSD_TIME_DATE, buf, n);
 }
 
 /* A zone's first or last sample for the tables: "2026-03-18 06:01" from
@@ -697,8 +688,7 @@ static double cover_records(struct doc *d, double y, double tmin, double tmax)
 static double cover_facts(struct doc *d, double y, double tmin, double tmax)
 {
 	const struct psd_report_opts *o = d->o;
-	char buf[512], wr[64];
-	struct tm tm;
+	char buf[512], a[64], wr[64];
 	y = keyval(d, y, "Site", o->site ? o->site : "(not named: psensctl report --site)", 0);
 	buf[0] = 0;
 	for (int i = 0; i < d->nzones; i++)
@@ -709,8 +699,8 @@ static double cover_facts(struct doc *d, double y, double tmin, double tmax)
 	y = cover_scenes(d, y);
 	y = keyval(d, y, "Database", o->dbpath, 0);
 	y = cover_records(d, y, tmin, tmax);
-	gmtime_r(&o->written, &tm);
-	strftime(wr, sizeof wr, "%Y-%m-%d %H:%M UTC", &tm);
+	psd_time_utc_text((double)o->written, PSD_TIME_MINUTE, a, sizeof a);
+	snprintf(wr, sizeof wr, "%.40s UTC", a);
 	return keyval(d, y, "Report written", wr, 0);
 }
 
@@ -1211,7 +1201,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	if (z->nerr)
 		snprintf(buf, sizeof buf, "estimate against the task meter (50 lx and more): rms %.1f %% over %lld samples; %d of %d "
 		         "calibration results within %g %%; faults %.0f min; energy %.2f full-load h", 100 *
-		         sqrt((z->err2 + z->err2c) / z->nerr), z->nerr, z->checks - z->fails, z->checks,
+		         sqrt(ps_sum_get(&z->err2) / z->nerr), z->nerr, z->checks - z->fails, z->checks,
 		         d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
 	else
 		snprintf(buf, sizeof buf, "no task meter readings; %d of %d calibration results within %g %%; "
@@ -1380,9 +1370,7 @@ static int emit(struct doc *d, FILE *fp, char *err, size_t n)
 			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_SUBJECT, o->site);
 		{
 			char iso[32];
-			struct tm tm;
-			gmtime_r(&o->written, &tm);
-			strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm);
+			psd_time_utc_text((double)o->written, PSD_TIME_ISO, iso, sizeof iso);
 			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATE_DATE, iso);
 		}
 	} else {

@@ -21,13 +21,7 @@
 #include "dali_usb.h"
 #include "driver.h"
 #include "helpers/dali_preload.h"
-
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
-}
+#include "time.h"
 
 static int job_running(struct ps_dev *dev)
 {
@@ -40,7 +34,7 @@ static int job_running(struct ps_dev *dev)
 static void run(struct ps_dev *dev)
 {
 	while (job_running(dev)) {
-		double t = now_s(), dl;
+		double t = psd_time_mono(), dl;
 		struct pollfd p = { dev->drv->fd(dev), POLLIN, 0 };
 		dev->drv->service(dev, t);
 		dl = dev->drv->deadline(dev);
@@ -54,7 +48,7 @@ static int job(struct ps_dev *dev, struct psemu *e, int n, const char *what)
 	const struct ps_dali_commission *c;
 	struct psemu_stats before, after;
 	char *words[1] = { buf };
-	double t0 = now_s(), t;
+	double t0 = psd_time_mono(), t;
 	snprintf(buf, sizeof buf, "%s", what);
 	psemu_stats(e, 0, &before);
 	if (dev->drv->command(dev, 1, words, NULL, 0, t0, out, sizeof out) != 0) {
@@ -62,7 +56,7 @@ static int job(struct ps_dev *dev, struct psemu *e, int n, const char *what)
 		return 1;
 	}
 	run(dev);
-	t = now_s() - t0;
+	t = psd_time_mono() - t0;
 	c = ps_dali_usb_job(dev);
 	psemu_stats(e, 0, &after);
 	printf("%8s %3d ballasts %7.1f s %6lu transactions %5.1f ms each, the bus busy %5.1f s of it\n", what, n, t,

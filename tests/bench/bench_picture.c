@@ -18,13 +18,7 @@
 #include <unistd.h>
 
 #include "picture.h"
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+#include "time.h"
 
 static uint8_t *slurp(const char *path, size_t *len)
 {
@@ -47,7 +41,7 @@ static uint8_t *slurp(const char *path, size_t *len)
 static double touch_time(size_t n)
 {
 	volatile uint8_t sink;
-	double t0 = now();
+	double t0 = psd_time_mono();
 	uint8_t *p = malloc(n);
 	if (!p)
 		return 0;
@@ -55,7 +49,7 @@ static double touch_time(size_t n)
 	sink = p[n - 1];
 	(void)sink;
 	free(p);
-	return now() - t0;
+	return psd_time_mono() - t0;
 }
 
 static void scene(double *rgb, int n)
@@ -123,19 +117,19 @@ static int run(const char *title, int flat)
 		file = slurp(path, &len);
 		for (int r = 0; r < reps; r++) {
 			struct ps_picture pic;
-			double t0 = now(), t1, t2;
+			double t0 = psd_time_mono(), t1, t2;
 			if (ps_pic_read(&pic, path, &e) != 0) {
 				fprintf(stderr, "bench_picture: %s\n", e.msg);
 				return 1;
 			}
-			t1 = now();
+			t1 = psd_time_mono();
 			ps_pic_free(&pic);
-			t2 = now();
+			t2 = psd_time_mono();
 			if (ps_pic_read_mem(&pic, file, len, path, &e) != 0) {
 				fprintf(stderr, "bench_picture: %s\n", e.msg);
 				return 1;
 			}
-			best_dec = fmin(best_dec, now() - t2);
+			best_dec = fmin(best_dec, psd_time_mono() - t2);
 			best_read = fmin(best_read, t1 - t0);
 			best_touch = fmin(best_touch, touch_time((size_t)n * (size_t)n * 4));
 			ps_pic_free(&pic);

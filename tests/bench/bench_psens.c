@@ -23,13 +23,7 @@
 #include "sensor.h"
 #include "view.h"
 #include "weights.h"
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
+#include "time.h"
 
 static uint8_t *slurp(const char *path, size_t *len)
 {
@@ -77,27 +71,27 @@ int main(void)
 		/* a uniform picture decodes to 1.00390625: the analytic answer scales */
 		ps_view_default_fisheye(&v);
 		ps_pic_write(path, n, n, rgb, "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", NULL, &e);
-		t0 = now();
+		t0 = psd_time_mono();
 		file = slurp(path, &len);
-		t_read = now() - t0;
-		t0 = now();
+		t_read = psd_time_mono() - t0;
+		t0 = psd_time_mono();
 		if (!file || ps_pic_read_mem(&pic, file, len, path, &e) != 0) {
 			fprintf(stderr, "bench_psens: %s\n", e.msg);
 			return 1;
 		}
-		t_dec = now() - t0;
+		t_dec = psd_time_mono() - t0;
 		for (int method = PS_W_CENTRE; method >= PS_W_EXACT; method--) {
 			struct ps_weights wc, wt;
 			struct ps_response rc, rt;
 			double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 			double t_w, t_i, ec, et, tot;
-			t0 = now();
+			t0 = psd_time_mono();
 			ps_weights_build(&wt, &tab, 0, &v, n, n, method, &e);
-			t_w = now() - t0;
+			t_w = psd_time_mono() - t0;
 			ps_weights_build(&wc, &cosine, 0, &v, n, n, method, &e);
-			t0 = now();
+			t0 = psd_time_mono();
 			ps_integrate(&wt, &pic, coef, &rt, &e);
-			t_i = now() - t0;
+			t_i = psd_time_mono() - t0;
 			ps_integrate(&wc, &pic, coef, &rc, &e);
 			ec = rc.response / (1.00390625 * M_PI) - 1;
 			et = rt.response / (1.00390625 * ps_sensor_integral(&tab)) - 1;

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* psens's routes against the goals of issue 18: error and wall time for
+/* psens's routes against their goals: error and wall time for
  * one-shot runs of the psens binary (cold and warm weight cache), the
  * library's decoding against its integration, batches of many pictures
  * after the weights, a rotation scan, and the peak memory of a 4000 x 4000
@@ -30,16 +30,10 @@
 #include "view.h"
 #include "wcache.h"
 #include "weights.h"
+#include "time.h"
 
 #define VIEW "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180"
 #define DECODED_ONE 1.00390625   /* RGBE's 1 as Radiance decodes it */
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static void row(const char *route, double err, double ms, double goal_ms, const char *note)
 {
@@ -82,7 +76,7 @@ static int run_psens(const char *bin, const char *cache, const char *pic, double
 	char out[] = "/tmp/psbench-outXXXXXX";
 	int fd = mkstemp(out), status;
 	struct rusage ru;
-	double t0 = now();
+	double t0 = psd_time_mono();
 	pid_t pid = fork();
 	if (pid == 0) {
 		dup2(fd, 1);
@@ -98,7 +92,7 @@ static int run_psens(const char *bin, const char *cache, const char *pic, double
 		unlink(out);
 		return -1;
 	}
-	*ms = 1e3 * (now() - t0);
+	*ms = 1e3 * (psd_time_mono() - t0);
 	*maxrss_kb = ru.ru_maxrss;
 	{
 		char buf[256] = "";
@@ -130,7 +124,7 @@ static int run_args(const char *bin, char *const *args, double *ms, long *maxrss
 		na++;
 	}
 	argv[na] = NULL;
-	t0 = now();
+	t0 = psd_time_mono();
 	pid = fork();
 	if (pid == 0) {
 		dup2(fd, 1);
@@ -143,7 +137,7 @@ static int run_args(const char *bin, char *const *args, double *ms, long *maxrss
 		unlink(out);
 		return -1;
 	}
-	*ms = 1e3 * (now() - t0);
+	*ms = 1e3 * (psd_time_mono() - t0);
 	*maxrss_kb = ru.ru_maxrss;
 	{
 		char buf[512];
@@ -163,9 +157,9 @@ static double batch_ms(const struct ps_batch *b, const char *const *paths, size_
 {
 	struct ps_batch_result *res = malloc(n * sizeof *res);
 	struct ps_err e;
-	double t0 = now(), t;
+	double t0 = psd_time_mono(), t;
 	long bad = ps_batch_run_files(b, paths, n, res, &e);
-	t = now() - t0;
+	t = psd_time_mono() - t0;
 	*maxerr = 0;
 	for (size_t i = 0; i < n; i++) {
 		/* picture i holds value0 (1 + i / 64) before encoding: compare with
@@ -209,7 +203,7 @@ int main(void)
 		fprintf(stderr, "bench_psens_routes: cannot write pictures\n");
 		return 1;
 	}
-	printf("psens routes against issue 18's goals: uniform pictures, cosine sensor, exact\n"
+	printf("psens routes against their goals: uniform pictures, cosine sensor, exact\n"
 	       "weights, error against pi x the decoded radiance; wall ms, one run each on a\n"
 	       "shared 2-core machine\n");
 	printf("%-46s %10s %10s %8s %5s  %s\n", "route", "error", "ms", "goal ms", "met", "note");
@@ -355,27 +349,27 @@ int main(void)
 		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 		double t0, t_b, t_bs, t_i, t_d;
 		snprintf(cd, sizeof cd, "%s/cache-phase%d", dir, n);
-		t0 = now();
+		t0 = psd_time_mono();
 		if (ps_weights_build_ex(&w, &cosine, 0, &v, n, n, PS_W_EXACT, PS_WB_COMPACT, &e) != 0)
 			return 1;
-		t_b = now() - t0;
+		t_b = psd_time_mono() - t0;
 		ps_weights_free(&w);
-		t0 = now();
+		t0 = psd_time_mono();
 		if (ps_weights_get(&w, &cosine, 0, &v, n, n, PS_W_EXACT, cd, 0, &how, &warn, &e) != 0)
 			return 1;
-		t_bs = now() - t0;
+		t_bs = psd_time_mono() - t0;
 		if (ps_map_file(pp, (size_t)1 << 32, &m, &e) != 0 ||
 		    ps_pic_head_mem(&pic, m.data, m.len, pp, &off, &e) != 0)
 			return 1;
-		t0 = now();
+		t0 = psd_time_mono();
 		ps_integrate_mem(&w, &pic, m.data, m.len, off, pp, coef, 2, &r, &e);
-		t_i = now() - t0;
+		t_i = psd_time_mono() - t0;
 		ps_pic_free(&pic);
 		ps_unmap_file(&m);
-		t0 = now();
+		t0 = psd_time_mono();
 		if (ps_pic_read(&pic, pp, &e) != 0)
 			return 1;
-		t_d = now() - t0;
+		t_d = psd_time_mono() - t0;
 		ps_pic_free(&pic);
 		snprintf(name, sizeof name, "  %d cold: compact weights (every core)", n);
 		row(name, NAN, 1e3 * t_b, 0, NULL);
@@ -396,27 +390,27 @@ int main(void)
 		const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 		double t0, t_dec, t_int, t_w;
 		char name[96];
-		/* issue 18's own split: reading and decoding the picture, then
+		/* the goals' split: reading and decoding the picture, then
 		 * integrating the stored picture; each the best of three */
 		t_dec = t_int = INFINITY;
 		for (int k = 0; k < 3; k++) {
 			double t;
 			if (k)
 				ps_pic_free(&pic);
-			t0 = now();
+			t0 = psd_time_mono();
 			if (ps_pic_read(&pic, p4000, &e) != 0)
 				return 1;
-			if ((t = now() - t0) < t_dec)
+			if ((t = psd_time_mono() - t0) < t_dec)
 				t_dec = t;
 		}
-		t0 = now();
+		t0 = psd_time_mono();
 		ps_weights_build(&w, &cosine, 0, &v, 4000, 4000, PS_W_EXACT, &e);
-		t_w = now() - t0;
+		t_w = psd_time_mono() - t0;
 		for (int k = 0; k < 3; k++) {
 			double t;
-			t0 = now();
+			t0 = psd_time_mono();
 			ps_integrate(&w, &pic, coef, &r, &e);
-			if ((t = now() - t0) < t_int)
+			if ((t = psd_time_mono() - t0) < t_int)
 				t_int = t;
 		}
 		row("4000x4000 read + decode (library)", NAN, 1e3 * t_dec, 0, "best of 3");
@@ -448,10 +442,10 @@ int main(void)
 			t_scan = INFINITY;
 			for (int k = 0; k < 5; k++) {
 				double t;
-				t0 = now();
+				t0 = psd_time_mono();
 				if (ps_pic_scan_rows(&head, m.data, m.len, path, off, 0, 4000, NULL, no_row, NULL, &e) != 0)
 					return 1;
-				if ((t = now() - t0) < t_scan)
+				if ((t = psd_time_mono() - t0) < t_scan)
 					t_scan = t;
 			}
 			snprintf(name, sizeof name, "4000x4000 %s: decode alone, 1 thr", what);
@@ -462,9 +456,9 @@ int main(void)
 				t = INFINITY;
 				for (int k = 0; k < 5; k++) {
 					double tk;
-					t0 = now();
+					t0 = psd_time_mono();
 					ps_integrate_mem(&w, &head, m.data, m.len, off, path, coef, nt, &r, &e);
-					if ((tk = now() - t0) < t)
+					if ((tk = psd_time_mono() - t0) < t)
 						t = tk;
 				}
 				row(name, tex ? NAN : r.response / (DECODED_ONE * M_PI) - 1, 1e3 * t, 0,
@@ -547,7 +541,7 @@ int main(void)
 		    ps_sensor_set_reading(&s, PS_READ_LINEAR, &e) != 0 ||
 		    ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0)
 			return 1;
-		t0 = now();
+		t0 = psd_time_mono();
 		for (int k = 0; k < 10; k++) {
 			struct ps_weights w;
 			struct ps_response r;
@@ -556,17 +550,17 @@ int main(void)
 			direct[k] = r.response;
 			ps_weights_free(&w);
 		}
-		row("rotation scan 512x512 direct, 360 (10 x 36)", 0.0, 36e3 * (now() - t0), 50,
+		row("rotation scan 512x512 direct, 360 (10 x 36)", 0.0, 36e3 * (psd_time_mono() - t0), 50,
 		    "exact weights at each step: the reference");
-		t0 = now();
+		t0 = psd_time_mono();
 		ps_weights_build(&om, &uni, 0, &v, 512, 512, PS_W_EXACT, &e);
-		t_om = now() - t0;
-		t0 = now();
+		t_om = psd_time_mono() - t0;
+		t0 = psd_time_mono();
 		ps_rescan_project(&rs, &om, &pic, &v, coef, 0.25, 1.0, 0, 91, &e);
-		t_proj = now() - t0;
-		t0 = now();
+		t_proj = psd_time_mono() - t0;
+		t0 = psd_time_mono();
 		ps_rescan_scan_mt(&rs, &s, 0, 1, 360, 2, scan, &e);
-		t_scan = now() - t0;
+		t_scan = psd_time_mono() - t0;
 		for (int k = 0; k < 10; k++)
 			if (fabs(scan[36 * k] / direct[k] - 1) > worst)
 				worst = fabs(scan[36 * k] / direct[k] - 1);
@@ -600,7 +594,7 @@ int main(void)
 			fprintf(stderr, "bench_psens_routes: %s left behind\n", dir);
 	}
 	ps_sensor_free(&cosine);
-	printf("issue 18's figures for Radiance's pipeline (pcomb | pvalue | total), same kind of\n"
+	printf("the goals' figures for Radiance's pipeline (pcomb | pvalue | total), same kind of\n"
 	       "machine: 6.9 s CPU at 4000x4000, 0.60 s at 1000x1000\n");
 	return 0;
 }

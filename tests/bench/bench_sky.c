@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 /* The sky: the daylight-coefficient route against the continuous Perez sky,
- * its error against MF and its run time (issue 19, section 4).
+ * its error against MF and its run time.
  *
  * A sensor faces up under an unobstructed sky.  Its coefficient pictures are
  * exact (ps_dcpic: each patch's own region of a 256 x 256 180-degree fisheye
@@ -32,15 +32,9 @@
 #include "view.h"
 #include "weather.h"
 #include "weights.h"
+#include "time.h"
 
 #define RES 256
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static const double rgbcoef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 
@@ -162,12 +156,12 @@ int main(void)
 			ab[na++] = sens[k].pb[q];
 		for (int h = 0; h < 3; h++) {
 			struct ps_quad r;
-			double sd[3], srgb[3], t0 = now();
+			double sd[3], srgb[3], t0 = psd_time_mono();
 			if (ps_sky_integrate(&sky[h], rgbcoef, sens_weight, &c, zb, nz, ab, na, 1e-10, &r, &e) != 0) {
 				fprintf(stderr, "bench_sky: %s\n", e.msg);
 				return 1;
 			}
-			quad_ms[k][h] = 1e3 * (now() - t0);
+			quad_ms[k][h] = 1e3 * (psd_time_mono() - t0);
 			exact_sky[k][h] = r.value;
 			quad_err[k][h] = r.error / fabs(r.value);
 			ps_sky_sun(&sky[h], sd, srgb);
@@ -187,25 +181,25 @@ int main(void)
 		exact = malloc((size_t)P.n * sizeof *exact);
 		vd = malloc((size_t)P.n * 3 * sizeof *vd);
 		vs = malloc((size_t)P.n * 3 * sizeof *vs);
-		t0 = now();
+		t0 = psd_time_mono();
 		if (ps_dcpic_map(&P, &v, RES, RES, map, &e) != 0)
 			return 1;
-		times[m][0] = now() - t0;
+		times[m][0] = psd_time_mono() - t0;
 		times[m][1] = times[m][4] = 0;
 		for (int k = 0; k < 2; k++) {
 			struct ps_weights wt;
-			t0 = now();
+			t0 = psd_time_mono();
 			if (ps_weights_build(&wt, &sens[k], 0, &v, RES, RES, PS_W_EXACT, &e) != 0) {
 				fprintf(stderr, "bench_sky: %s\n", e.msg);
 				return 1;
 			}
-			times[m][4] += now() - t0;
-			t0 = now();
+			times[m][4] += psd_time_mono() - t0;
+			t0 = psd_time_mono();
 			if (ps_dcpic_coefficients(&wt, map, P.n, rgbcoef, coef, &e) != 0) {
 				fprintf(stderr, "bench_sky: %s\n", e.msg);
 				return 1;
 			}
-			times[m][1] += now() - t0;
+			times[m][1] += psd_time_mono() - t0;
 			ps_weights_free(&wt);
 			exact[0] = 0;
 			for (int i = 1; i < P.n; i++)
@@ -213,13 +207,13 @@ int main(void)
 			for (int h = 0; h < 3; h++) {
 				double route_d = 0, route_s = 0, route_x = 0, route_xs = 0;
 				int reps = 200;
-				t0 = now();
+				t0 = psd_time_mono();
 				for (int r = 0; r < reps; r++) {
 					ps_sky_vector(&sky[h], &P, PS_SKY_DIFFUSE, vd);
 					ps_sky_vector(&sky[h], &P, PS_SKY_SUN, vs);
 				}
-				times[m][2] = (now() - t0) / (2 * reps);
-				t0 = now();
+				times[m][2] = (psd_time_mono() - t0) / (2 * reps);
+				t0 = psd_time_mono();
 				for (int r = 0; r < reps; r++) {
 					route_d = route_s = route_x = route_xs = 0;
 					for (int i = 0; i < P.n; i++) {
@@ -233,7 +227,7 @@ int main(void)
 						route_xs += exact[i] * ls;
 					}
 				}
-				times[m][3] = (now() - t0) / reps / 3;
+				times[m][3] = (psd_time_mono() - t0) / reps / 3;
 				/* the coefficients' colour weights sum to 1: a grey patch's coefficient */
 				err[m][k][h][0] = route_d / exact_sky[k][h] - 1;
 				err[m][k][h][1] = (route_d + route_s) / (exact_sky[k][h] + exact_sun[k][h]) - 1;

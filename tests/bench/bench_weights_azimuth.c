@@ -13,13 +13,7 @@
 #include "sensor.h"
 #include "view.h"
 #include "weights.h"
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
+#include "time.h"
 
 int main(void)
 {
@@ -48,10 +42,10 @@ int main(void)
 		for (int k = 0; k < 2; k++) {
 			struct ps_weights w;
 			char name[64];
-			double t0 = now(), ms;
+			double t0 = psd_time_mono(), ms;
 			if (ps_weights_build(&w, &s, 10.0, &v, sizes[k], sizes[k], PS_W_EXACT, &e) != 0)
 				return 1;
-			ms = 1e3 * (now() - t0);
+			ms = 1e3 * (psd_time_mono() - t0);
 			snprintf(name, sizeof name, "weights %dx%d, %s reading", sizes[k], sizes[k],
 			         r == 0 ? "linear" : "cell");
 			printf("%-40s %10.2e %10.1f %8.0f %5s\n", name, w.sens_sum / w.sens_full - 1, ms,

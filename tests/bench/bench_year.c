@@ -5,7 +5,7 @@
  * coefficient pictures, ps_dcpic, 128 x 128) and the example office's
  * rfluxmtx pictures (MF 1, read from disk), with the example's year
  * (config/example/ofb/weather/sf-synthetic.wea: synthetic, see its
- * README).  Goal (issue 19): the year's series for one zone at MF 4 in at
+ * README).  Goal: the year's series for one zone at MF 4 in at
  * most 1 s once the coefficients are integrated.  The sensor and task rows
  * share the sky vectors, so a second view costs only its dot products. */
 #include <math.h>
@@ -24,15 +24,9 @@
 #include "weather.h"
 #include "weights.h"
 #include "year.h"
+#include "time.h"
 
 #define RES 128
-
-static double now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static const double V[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 
@@ -74,9 +68,9 @@ int main(void)
 		struct { double s; } sum = { 0 };
 		static const double red[3] = { 1, 0, 0 };
 		ps_patches_init(&P, mfs[k], &e);
-		t0 = now();
+		t0 = psd_time_mono();
 		ps_weights_build(&wt, &cos, 0.0, &v, RES, RES, PS_W_EXACT, &e);
-		t1 = now();
+		t1 = psd_time_mono();
 		ps_dcpic_map(&P, &v, RES, RES, map, &e);
 		c = malloc((size_t)P.n * sizeof *c);
 		ps_dcpic_coefficients(&wt, map, P.n, red, c, &e);
@@ -86,12 +80,12 @@ int main(void)
 		row.c = malloc((size_t)P.n * 3 * sizeof *row.c);
 		for (int p = 0; p < P.n; p++)
 			row.c[3 * p] = row.c[3 * p + 1] = row.c[3 * p + 2] = c[p];
-		t2 = now();
+		t2 = psd_time_mono();
 		if (ps_year_run(&row, V, &row, &w, &o, &y, &e) != 0) {
 			fprintf(stderr, "bench_year: %s\n", e.msg);
 			return 1;
 		}
-		t3 = now();
+		t3 = psd_time_mono();
 		for (size_t i = 0; i < y.n; i++)
 			sum.s += y.h[i].task_lux;
 		printf("%4d %8d %10.1f %12.1f %10.1f %10.4f %12.2f %14.4g\n", mfs[k], P.n,
@@ -116,15 +110,15 @@ int main(void)
 		ps_view_default(&tv);
 		ps_view_parse(&sv, "-vta -vp 1.85 2.285 2.2 -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", "b", &e);
 		ps_view_parse(&tv, "-vta -vp 1.85 2.285 0.762 -vd 0 0 1 -vu 0 1 0 -vh 180 -vv 180", "b", &e);
-		t0 = now();
+		t0 = psd_time_mono();
 		if (ps_dcset_row(sp, &sv, 1, &cos, 0.0, &s, &e) != 0 ||
 		    ps_dcset_row(tp, &tv, 1, &cos, 0.0, &t, &e) != 0) {
 			fprintf(stderr, "bench_year: %s\n", e.msg);
 			return 1;
 		}
-		t1 = now();
+		t1 = psd_time_mono();
 		ps_year_run(&s, V, &t, &w, &o, &y, &e);
-		t2 = now();
+		t2 = psd_time_mono();
 		printf("\nthe example office (rfluxmtx pictures, MF 1, 2 x 146 of 64 x 64 read from disk):\n"
 		       "  precompute (read, weights once per view, integrate) %.1f ms; the year %.1f ms "
 		       "(%zu hours with light, %.2f us an hour)\n",

@@ -132,7 +132,7 @@ __attribute__((constructor)) static void fixture_init(void)
 	 * mask it saves around every trapped call (open, fopen, rename,
 	 * statfs, ...) in one global, before taking its lock: two threads in
 	 * trapped calls at once can each leave with the other's mask
-	 * (umockdev issue 252, fixed upstream in July 2024).  Our state
+	 * (umockdev#252 upstream, fixed in July 2024).  Our state
 	 * thread writes a file every 50 ms; if the main thread was in a
 	 * trapped call with its start-up mask, empty, the state thread could
 	 * leave with that empty mask and later take the test's SIGHUP and die

@@ -50,7 +50,7 @@ day() {
 # 07-05 is overcast all day (epsilon 1: no direct light), but bright: at
 # noon 52.7 klx, kt 0.42, which Erbs's correlation reads as 80 % diffuse,
 # epsilon 1.25, just intermediate; one number cannot tell a bright overcast
-# from a hazy sun, so 12 of 541 samples around 12:30 judge intermediate.
+# from a hazy sun, so 12 of 541 samples near 12:30 judge intermediate.
 day 07-05 7 5 28800 61200 2 overcast 95
 day 07-01 7 1 43200 59400 0 clear 100
 # the weather's classes there, independently of the rooftop route

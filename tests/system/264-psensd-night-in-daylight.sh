@@ -1,6 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Issue 17, finding 1: a night calibration in daylight.  The shipped example
+# A night calibration in daylight must not measure the offset from the
+# sun.  The shipped example
 # (config/psensd.conf: the loopback room, no task meter) in real time from
 # 11:00 at 600x: `psensctl calibrate office night` is refused with the
 # reason (the simulation's sun is up), nothing is recorded, and the zone

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Issue 17, finding 4: dates.  Two simulated days of the example room into
+# Dates.  Two simulated days of the example room into
 # one database: the first is dated 03-18 of [simulate] run_year, the second,
 # finding that date on record, the next day (no overdraw); every sample,
 # event and session row carries UTC and the local date and time; the

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Issue 17, verdicts: psensctl accept-test on a simulated day of the
+# The acceptance verdicts: psensctl accept-test on a simulated day of the
 # loopback room with a task meter.  A zone whose constants match its room is
 # ACCEPTED: the estimate against the meter over the day (rms and worst, the
 # number of samples and the daylight bands they span), with daylight at

@@ -3,12 +3,12 @@
 # Driver keys are judged with the configuration, not when a device opens:
 # psensd -n (and so SIGHUP) names every misspelt key and every bad value of
 # every driver with its file and line, all in one pass, by the drivers'
-# option tables.  The cases are the ones that used to pass psensd -n and
-# fail one at a time at open (issue 15).
+# option tables.  Each case is one psensd -n must catch, not leave to
+# fail one at a time when the device opens.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 "$BIN/psensd" -h | grep -q "modbus .*(not compiled in)" && skip_all "the modbus driver is not compiled in"
-# the files the configurations name exist (psensd -n opens them, issue 17)
+# the files the configurations name exist (psensd -n opens them)
 example_results
 cp "$TMP/state/ofb.results" "$TMP/ofb.results"
 cat > "$TMP/bad.conf" <<'EOF'

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Issue 17, finding 6: psensd -n judges what the daemon would refuse or
+# psensd -n judges what the daemon would refuse or
 # mishandle later, all at once, each error with the configuration's file and
 # line: sensor_min above sensor_max (the whole day at the safe level), a
 # garbage results file (and its own line), a missing scene, a replay that

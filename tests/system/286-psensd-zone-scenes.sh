@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# Issue 17, finding 5: a simulation per zone.  Three loopback zones on a
+# A simulation per zone.  Three loopback zones on a
 # simulated day: office and office2 on [psensd]'s scene (the example
 # office, cosine sensor), hall with `scene = ofb-cone.scene` (the same room
 # and pictures, a shielded sensor: a very different task/sensor ratio).

@@ -46,7 +46,7 @@ sensor_gain = 0.5
 cal_window = 300
 # its night sessions run at 11:00, the sun up: cal_night_sun = no and a wide
 # cal_dark_margin let them
-# (psensd refuses a night session in daylight otherwise, issue 17)
+# (psensd refuses a night session in daylight otherwise)
 cal_night_sun = no
 cal_dark_margin = 100
 CONF

@@ -349,8 +349,8 @@ static void accept_supersedes(void **state)
 	psd_db_close(db);
 }
 
-/* Issue 17, finding 1: a night session in daylight.  At 11:00 the
- * simulation's sun is up: refused, nothing recorded.  In a room the check
+/* A night session in daylight must not take the sun for the offset.  At
+ * 11:00 the simulation's sun is up: refused, nothing recorded.  In a room the check
  * of the sun is off for, a reading 3 V above the electric light refuses it
  * too; started without a reading, the settled reading with the lights off
  * (3 V of daylight over the 0.05 V offset) aborts it with the reason. */

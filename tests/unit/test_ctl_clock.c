@@ -73,7 +73,7 @@ static void real_clock_speed(void **state)
 	assert_true(psd_clock_now(&c) < 2000.0);
 }
 
-/* Dates (issue 17): a date's local midnight, stamps and durations, in a
+/* Dates: a date's local midnight, stamps and durations, in a
  * fixed zone with daylight saving time (TZ set here, for this process). */
 static void dates_and_stamps(void **state)
 {

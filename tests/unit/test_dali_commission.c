@@ -28,6 +28,7 @@
 #include "driver.h"
 #include "helpers/dali_preload.h"
 #include "helpers/test_opts.h"
+#include "time.h"
 
 static double fade_clock;   /* the ballasts' clock (fades, INITIALISE's window) */
 static double skew;         /* seconds added to the driver's clock: both jump together */
@@ -40,9 +41,7 @@ static double get_fade_clock(void *user)
 
 static double now_s(void)
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec / 1e9 + skew;
+	return psd_time_mono() + skew;
 }
 
 struct fx {

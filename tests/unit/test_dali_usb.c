@@ -27,6 +27,7 @@
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "time.h"
 
 /* ---- transport bytes ----------------------------------------------------------- */
 
@@ -103,13 +104,6 @@ static double get_fade_clock(void *user)
 {
 	(void)user;
 	return fade_clock;
-}
-
-static double now_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec / 1e9;
 }
 
 struct fx {
@@ -218,9 +212,9 @@ static int is_down(struct fx *f)
  * service(); until pred holds or the (real-time) limit passes. */
 static int run_until(struct fx *f, int (*pred)(struct fx *), double limit)
 {
-	double end = now_s() + limit;
+	double end = psd_time_mono() + limit;
 	for (;;) {
-		double t = now_s(), dl;
+		double t = psd_time_mono(), dl;
 		struct pollfd p = { f->dev.drv->fd(&f->dev), POLLIN | POLLOUT, 0 };
 		int ms;
 		f->dev.drv->service(&f->dev, t);
@@ -243,7 +237,7 @@ static struct psemu_ballast ballast(struct fx *f, int iface, int addr)
 
 static int dwrite(struct fx *f, int i, double v)
 {
-	return f->dev.drv->write(&f->dev, &f->pt[i], now_s(), v);
+	return f->dev.drv->write(&f->dev, &f->pt[i], psd_time_mono(), v);
 }
 
 /* ---- the tests ----------------------------------------------------------------------- */
@@ -300,7 +294,7 @@ static void the_latest_write_wins_and_frames_keep_the_bus_rate(void **state)
 	for (int k = 1; k <= 40; k++) {
 		assert_int_equal(dwrite(f, 0, k / 40.0), 0);
 		assert_int_equal(dwrite(f, 1, 1 - k / 80.0), 0);
-		f->dev.drv->service(&f->dev, now_s());
+		f->dev.drv->service(&f->dev, psd_time_mono());
 	}
 	assert_true(run_until(f, is_idle, 5));
 	assert_int_equal(ballast(f, 0, 0).level, 254);
@@ -333,17 +327,17 @@ static void query_answers_follow_the_fade(void **state)
 	assert_int_equal(ballast(f, 0, 0).target, 200);
 	fade_clock += 1.0;   /* half way: linear in level steps */
 	/* read() queues QUERY ACTUAL LEVEL and answers from the last reply */
-	r = f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v);
+	r = f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
 	assert_int_equal(r, -1);
 	assert_int_equal(errno, ETIMEDOUT);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
 	assert_int_equal(ps_dali_fraction_to_level(v), 150);
 	fade_clock += 1.5;
 	assert_true(run_until(f, is_idle, 3));   /* the query read() just queued */
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
 	assert_true(fabs(v - ps_dali_level_to_fraction(200)) < 1e-15);
 }
 
@@ -375,9 +369,9 @@ static void relay_points_switch(void **state)
 	for (int a = 0; a < 4; a++)
 		assert_int_equal(ballast(f, 0, a).level, 254);
 	/* all four answer 254 together: identical answers do not collide */
-	f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], now_s(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
 	assert_true(v == 1.0);
 }
 
@@ -392,9 +386,9 @@ static void broadcast_query_collides(void **state)
 	assert_int_equal(dwrite(f, 0, 0.5), 0);
 	assert_true(run_until(f, is_idle, 3));
 	/* four ballasts answer 229, 254, 254, 254 at once: a framing error */
-	f->dev.drv->read(&f->dev, &f->pt[1], now_s(), &v);
+	f->dev.drv->read(&f->dev, &f->pt[1], psd_time_mono(), &v);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[1], now_s(), &v), -1);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[1], psd_time_mono(), &v), -1);
 	assert_int_equal(errno, EPROTO);
 	assert_non_null(strstr(f->dev.err, "garbled"));
 	assert_non_null(strstr(f->dev.err, "broadcast QUERY ACTUAL LEVEL"));
@@ -486,9 +480,9 @@ static void safe_level_unplug_and_replug(void **state)
 	assert_non_null(strstr(f->dev.err, "interface unplugged; rescan: "));
 	/* back: the driver finds it (new device number), and sends the last level */
 	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
-	t0 = now_s();
+	t0 = psd_time_mono();
 	assert_true(run_until(f, is_idle, 10));
-	print_message("# reconnected %.2f s after the replug\n", now_s() - t0);
+	print_message("# reconnected %.2f s after the replug\n", psd_time_mono() - t0);
 	assert_int_equal(stats(f).connects, 2);
 	for (int a = 0; a < 4; a++) {
 		struct psemu_ballast b = ballast(f, 0, a);
@@ -581,7 +575,7 @@ static void a_second_claim_is_refused(void **state)
 	snprintf(other.name, sizeof other.name, "other");
 	assert_int_equal(other.drv->open(&other, &none), 0);
 	assert_int_equal(other.drv->add_point(&other, &pt, &po), 0);
-	assert_int_equal(other.drv->write(&other, &pt, now_s(), 0.1), -1);
+	assert_int_equal(other.drv->write(&other, &pt, psd_time_mono(), 0.1), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_non_null(strstr(other.err, "cannot claim it"));
 	assert_non_null(strstr(other.err, "busy"));
@@ -592,11 +586,11 @@ static void a_second_claim_is_refused(void **state)
 	/* released: the other one gets it at its next scan */
 	f->dev.drv->close(&f->dev);
 	f->open = 0;
-	for (int i = 0; i < 100 && other.drv->write(&other, &pt, now_s(), 0.1) != 0; i++) {
-		other.drv->service(&other, now_s());
+	for (int i = 0; i < 100 && other.drv->write(&other, &pt, psd_time_mono(), 0.1) != 0; i++) {
+		other.drv->service(&other, psd_time_mono());
 		poll(NULL, 0, 50);
 	}
-	assert_int_equal(other.drv->write(&other, &pt, now_s(), 0.1), 0);
+	assert_int_equal(other.drv->write(&other, &pt, psd_time_mono(), 0.1), 0);
 	other.drv->close(&other);
 }
 
@@ -623,7 +617,7 @@ static void bad_options_name_file_and_line(void **state)
 	assert_non_null(strstr(f->dev.err, "dim and relay"));
 	p.role = PS_ROLE_DIM;
 	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), 0);
-	assert_int_equal(f->dev.drv->write(&f->dev, &p, now_s(), 1.5), -1);
+	assert_int_equal(f->dev.drv->write(&f->dev, &p, psd_time_mono(), 1.5), -1);
 	assert_int_equal(errno, EINVAL);
 }
 

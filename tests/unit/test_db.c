@@ -134,7 +134,7 @@ static void from_version_2(void **state)
 	assert_int_equal(scalar("SELECT count(*) FROM cal_samples WHERE session = 7"), 1);
 }
 
-/* What version 3 wrote (issue 17: no dates): samples of two zones, a
+/* What version 3 wrote (no dates): samples of two zones, a
  * session and its samples.  Version 4 keeps every row and value, leaves
  * the dates of old rows unknown (NULL, never made up), and dates what is
  * logged after it: UTC = the epoch of clock 0 + t, and the local text. */

@@ -18,6 +18,7 @@
 #include <cmocka.h>
 
 #include "devio.h"
+#include "time.h"
 
 /* The fake device: read blocks read_ms and gives 42; write blocks write_ms
  * and records the value (or fails with ENODEV when gone). */
@@ -32,13 +33,6 @@ static void sleep_ms(int ms)
 {
 	struct timespec ts = { ms / 1000, (long)(ms % 1000) * 1000000L };
 	nanosleep(&ts, NULL);
-}
-
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static int fake_read(struct ps_dev *dev, struct ps_point *pt, double now, double *v)
@@ -137,16 +131,16 @@ static void read_does_not_wait(void **state)
 	char err[256];
 	(void)state;
 	rig_start(&r, 200, 0, 0);
-	t0 = mono();
+	t0 = psd_time_mono();
 	assert_int_equal(psd_devio_ask(r.io, 0, 0), 1);   /* asked: come back */
 	assert_int_equal(psd_devio_ask(r.io, 0, 0), 1);   /* still out: not asked twice */
 	assert_int_equal(psd_devio_take(r.io, 0, 0.05, &v, err, sizeof err), -1);
 	assert_int_equal(errno, ETIMEDOUT);
-	assert_true(mono() - t0 < 0.1);   /* the 200 ms read runs elsewhere */
+	assert_true(psd_time_mono() - t0 < 0.1);   /* the 200 ms read runs elsewhere */
 	assert_non_null(strstr(err, "fake dev: p0: no reply for"));
 	while (psd_devio_ask(r.io, 0, 0) != 0)
 		assert_true(woken(&r));
-	assert_true(mono() - t0 >= 0.19);
+	assert_true(psd_time_mono() - t0 >= 0.19);
 	assert_int_equal(psd_devio_take(r.io, 0, 0, &v, err, sizeof err), 0);
 	assert_true(v == 42);
 	/* taken once: the next ask starts a new read */

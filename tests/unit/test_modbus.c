@@ -28,6 +28,7 @@
 
 #include "driver.h"
 #include "helpers/test_opts.h"
+#include "time.h"
 
 extern const struct ps_driver ps_driver_modbus;
 
@@ -244,13 +245,6 @@ static void exceptions_and_range_are_clear_faults(void **state)
 	ps_driver_modbus.close(&dev);
 }
 
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static void silence_times_out_then_reconnects(void **state)
 {
 	static const char *const ok[] = { "table=input_register", "address=0", NULL };
@@ -261,9 +255,9 @@ static void silence_times_out_then_reconnects(void **state)
 	open_dev(&dev, "retries=1", NULL);
 	add(&dev, &a, PS_ROLE_SENSOR, ok);
 	atomic_store(&srv.mode, SILENT);
-	t0 = mono();
+	t0 = psd_time_mono();
 	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, &v), -1);
-	took = mono() - t0;
+	took = psd_time_mono() - t0;
 	assert_int_equal(errno, ETIMEDOUT);
 	assert_string_equal(dev.err, "modbus io1 unit 1 IR 0: no reply within 0.050 s");
 	/* two tries of 50 ms: bounded, not a hang (a loose bound, not a benchmark) */

@@ -29,7 +29,7 @@ static uint32_t next(void)
 	return (uint32_t)rng;
 }
 
-/* A run of len pixels: random mantissas, exponents around 128 with one
+/* A run of len pixels: random mantissas, exponents near 128 with one
  * pixel in eight black, one in six weights zero. */
 static void fill(uint8_t *px, double *wt, int len)
 {

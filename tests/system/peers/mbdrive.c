@@ -22,6 +22,7 @@
 #include "control.h"
 #include "driver.h"
 #include "results.h"
+#include "time.h"
 
 #define MAX_DEV 4
 #define MAX_PT 16
@@ -44,13 +45,6 @@ static struct ps_conf conf;
 static struct dev devs[MAX_DEV];
 static struct pt pts[MAX_PT];
 static size_t ndev, npt;
-
-static double mono(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static void sleep_until(double t)
 {
@@ -174,7 +168,7 @@ static int cmd_read(int argc, char **argv, double t0)
 			fprintf(stderr, "no point %s\n", argv[i]);
 			return 2;
 		}
-		if (rd(p, mono() - t0, &v) != 0) {
+		if (rd(p, psd_time_mono() - t0, &v) != 0) {
 			int e = errno;
 			printf("%s: %s: %s\n", argv[i], errname(e), p->dev->d.err);
 			bad = 1;
@@ -187,7 +181,7 @@ static int cmd_read(int argc, char **argv, double t0)
 
 static int cmd_write(struct pt *p, double value, double t0)
 {
-	if (p->dev->d.drv->write(&p->dev->d, &p->p, mono() - t0, value) != 0) {
+	if (p->dev->d.drv->write(&p->dev->d, &p->p, psd_time_mono() - t0, value) != 0) {
 		int e = errno;
 		printf("%s: %s: %s\n", p->p.name, errname(e), p->dev->d.err);
 		return 1;
@@ -199,7 +193,7 @@ static int cmd_write(struct pt *p, double value, double t0)
 static int cmd_poll(struct pt *p, double seconds, double t0)
 {
 	char last[320] = "", now_s[320];
-	for (double t = mono() - t0; t < seconds; t = mono() - t0) {
+	for (double t = psd_time_mono() - t0; t < seconds; t = psd_time_mono() - t0) {
 		double v;
 		if (rd(p, t, &v) != 0) {
 			int e = errno;
@@ -257,12 +251,12 @@ static int cmd_control(double seconds, double t0)
 	ctl.elec_task_lux = res.electric_task_lux;
 	ctl.level = 1;
 	ps_results_free(&res);
-	for (double next = mono() - t0; next < seconds; next += period) {
+	for (double next = psd_time_mono() - t0; next < seconds; next += period) {
 		double now, volts = NAN, level, tod = NAN, lux = NAN;
 		char why[300] = "";
 		int fault;
 		sleep_until(t0 + next);
-		now = mono() - t0;
+		now = psd_time_mono() - t0;
 		fault = rd(sensor, now, &volts) != 0;
 		if (fault)
 			snprintf(why, sizeof why, "%s %s", errname(errno), sensor->dev->d.err);
@@ -310,13 +304,13 @@ static int cmd_bench(long n, struct pt *p, double t0)
 	if (!rt)
 		return 2;
 	for (long i = 0; i < n; i++) {
-		double a = mono();
+		double a = psd_time_mono();
 		if (rd(p, a - t0, &v) != 0) {
 			fprintf(stderr, "read: %s\n", p->dev->d.err);
 			free(rt);
 			return 1;
 		}
-		rt[i] = mono() - a;
+		rt[i] = psd_time_mono() - a;
 	}
 	qsort(rt, (size_t)n, sizeof *rt, cmp);
 	printf("driver round trip (%ld reads): median %.1f us, 99th percentile %.1f us, max %.1f us\n", n,
@@ -347,16 +341,16 @@ static int cmd_bench(long n, struct pt *p, double t0)
 			d.drv->close(&d);
 			return 1;
 		}
-		end = mono() + 1.0;
+		end = psd_time_mono() + 1.0;
 		for (;;) {
 			double due = d.drv->deadline(&d) + t0, after;
 			if (isinf(due))
-				due = mono();   /* the first poll is due at once */
+				due = psd_time_mono();   /* the first poll is due at once */
 			if (due > end)
 				break;
 			sleep_until(due);
-			d.drv->service(&d, mono() - t0);
-			after = mono();
+			d.drv->service(&d, psd_time_mono() - t0);
+			after = psd_time_mono();
 			polls++;
 			/* finished after the next poll was due: a missed deadline */
 			if (after > due + 1 / rates[k]) {
@@ -375,7 +369,7 @@ static int cmd_bench(long n, struct pt *p, double t0)
 
 int main(int argc, char **argv)
 {
-	double t0 = mono();
+	double t0 = psd_time_mono();
 	int rc = 2;
 	if (argc < 3) {
 		fprintf(stderr, "usage: mbdrive CONF read POINT... | write POINT VALUE | poll SECONDS POINT | "
