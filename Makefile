@@ -38,7 +38,8 @@ CFLAGS_ALL += $(shell $(PKG) --cflags $(REQ_PKGS) 2>/dev/null)
 LIBS_REQ   := $(shell $(PKG) --libs $(REQ_PKGS) 2>/dev/null)
 
 # ---- sources --------------------------------------------------------------
-SIM_SRC      := $(wildcard sim/*.c)
+SIM_DIRS     := sim sim/picture sim/sky sim/weights sim/draw
+SIM_SRC      := $(foreach d,$(SIM_DIRS),$(wildcard $(d)/*.c))
 SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
 # drivers/module.mk: which drivers this build compiles (DRV_SRC), their
 # libraries, and HAVE_MODBUS / HAVE_USB / HAVE_GPIOD.  Included here, before
@@ -81,8 +82,9 @@ config-status:
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
 # drivers/, daemon/ and tests/ see everything.
-INC = -Isim -Idrivers -Idaemon
-$(BUILD)/obj/sim/%.o: INC = -Isim
+SIM_INC = $(addprefix -I,$(SIM_DIRS))
+INC = $(SIM_INC) -Idrivers -Idaemon
+$(BUILD)/obj/sim/%.o: INC = $(SIM_INC)
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
