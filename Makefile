@@ -32,7 +32,7 @@ endif
 
 # ---- required libraries ---------------------------------------------------
 # cairo draws the pictures' marks and legends (its text through fontconfig),
-# libpng writes them (sim/canvas.c)
+# libpng writes them (sim/draw/canvas.c)
 REQ_PKGS = sqlite3 inih libsystemd nettle json-c cairo libpng fontconfig
 CFLAGS_ALL += $(shell $(PKG) --cflags $(REQ_PKGS) 2>/dev/null)
 LIBS_REQ   := $(shell $(PKG) --libs $(REQ_PKGS) 2>/dev/null)

@@ -308,7 +308,7 @@ fail:
 }
 
 /* Several sensors: each picture is decoded once and integrated against
- * every sensor's weights at once (sim/stream.h), its rows shared among the
+ * every sensor's weights at once (sim/weights/stream.h), its rows shared among the
  * threads; the maps are kept while the pictures' view and size stay the
  * same.  items[k n + i]: sensor k, picture i, as direct() gives them. */
 static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
@@ -456,7 +456,7 @@ static int parse_scan(const char *arg, struct opts *o)
 	return 0;
 }
 
-/* The rotation scan: each picture projected once (sim/rescan.h), every
+/* The rotation scan: each picture projected once (sim/weights/rescan.h), every
  * sensor evaluated at every rotation from the projection. */
 static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
                       const char *const *paths, size_t n)

@@ -17,7 +17,7 @@
  * sensor, the irradiance at the view's point.
  *
  * The weights are built once and the pictures read and integrated in
- * parallel through sim/batch.h (each picture's numbers are the one-picture
+ * parallel through sim/weights/batch.h (each picture's numbers are the one-picture
  * route's, bit for bit; the set's view is written into each picture as it
  * is read, since the files carry none). */
 #ifndef PS_DCSET_H

@@ -135,7 +135,7 @@ out:
 }
 
 /* A file: the header first (size and view), then decoding fused with the
- * integration (sim/stream.h), which gives ps_integrate's numbers exactly. */
+ * integration (sim/weights/stream.h), which gives ps_integrate's numbers exactly. */
 static void one_file(struct job *j, size_t i)
 {
 	const struct ps_batch *b = j->b;

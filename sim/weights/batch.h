@@ -32,7 +32,7 @@
 #define PS_BATCH_THREADS_DEFAULT 2
 #define PS_BATCH_THREADS_MAX 256
 
-struct ps_wstore;   /* sim/wcache.h */
+struct ps_wstore;   /* sim/weights/wcache.h */
 
 struct ps_batch {
 	struct ps_weights w;           /* the batch's weights (read-only once built) */
@@ -62,14 +62,14 @@ struct ps_batch_result {
 int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
                   const struct ps_view *v, int width, int height, int method,
                   const double coef[3], int nthreads, struct ps_err *e);
-/* The same with the weights through the cache directory (sim/wcache.h;
+/* The same with the weights through the cache directory (sim/weights/wcache.h;
  * NULL: none): *how is a ps_wcache_how, warn gets its message. */
 int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
                         const struct ps_view *v, int width, int height, int method,
                         const double coef[3], int nthreads, const char *cachedir,
                         size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
 /* The same with the weights stored in the cache while the pictures are
- * integrated (sim/wcache.h, ps_weights_get_async): *how is provisional
+ * integrated (sim/weights/wcache.h, ps_weights_get_async): *how is provisional
  * until ps_batch_finish_store gives the final one (and warn). */
 int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
                               const struct ps_view *v, int width, int height, int method,

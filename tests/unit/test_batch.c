@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Batches (sim/batch.h): every picture's result is the one-picture route's
+/* Batches (sim/weights/batch.h): every picture's result is the one-picture route's
  * (ps_integrate with the same weights) bit for bit, in input order with 1, 2
  * and 5 threads; a picture of another size or view, or one that cannot be
  * read, is an error of that picture naming its file, and the others are

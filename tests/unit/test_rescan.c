@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Re-evaluation without re-weighting (sim/rescan.h) against the direct
+/* Re-evaluation without re-weighting (sim/weights/rescan.h) against the direct
  * exact route (weights built at each rotation): a 256 x 256 picture with a
  * bright window and a sensor whose sensitivity changes with azimuth, cells
  * of 0.25 x 1 degree (what psens -r a:b:s uses for steps of 1 degree).  The

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The integration's run kernel (sim/rowsum.c): every instruction set gives
+/* The integration's run kernel (sim/weights/rowsum.c): every instruction set gives
  * the same bits; the sum is as good as a compensated sum of the pixels'
  * own responses (ps_pixel_response); the brightest pixel is the first of
  * equals; a mirrored map reads as its full map. */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The sky class of a rooftop reading (sim/skyclass.c) against analytic
+/* The sky class of a rooftop reading (sim/sky/skyclass.c) against analytic
  * answers:
  *   - Erbs's diffuse fraction at its knots (1 - 0.09 kt up to 0.22, 0.165
  *     above 0.80) and continuous across both within 0.2 %;

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Decoding fused with integration (sim/stream.h) against decoding the whole
+/* Decoding fused with integration (sim/weights/stream.h) against decoding the whole
  * picture and ps_integrate: the same response, channels, brightest pixel and
  * top-1 % share bit for bit, with 1, 2 and 3 threads, for run-length and flat
  * scanlines, a picture with a sun (the second pass), XYZE, and a picture in

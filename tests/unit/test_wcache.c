@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The weight cache (sim/cache.c blobs, sim/wcache.c): a stored map comes
+/* The weight cache (sim/cache.c blobs, sim/weights/wcache.c): a stored map comes
  * back bit for bit; the key is the content (the same table under another
  * file name hits, another rotation misses); a truncated entry, a flipped
  * byte anywhere, or a checksummed payload that is not a map are rebuilt and
