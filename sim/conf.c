@@ -215,7 +215,7 @@ static int parse_common(struct ps_conf *c, struct reader *r, const char *path, s
 	c->path = xstrdup(path ? path : "(config)");
 	slash = c->path ? strrchr(c->path, '/') : NULL;
 	if (!c->path)
-		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
+		return ps_err_set(e, PS_ENOMEM, "out of memory reading %s", path);
 	if (slash) {
 		c->dir = malloc((size_t)(slash - c->path) + 2);
 		if (c->dir) {
@@ -228,12 +228,12 @@ static int parse_common(struct ps_conf *c, struct reader *r, const char *path, s
 	r->c = c;
 	if (!c->dir || !add_section(c, "", 0)) {
 		ps_conf_free(c);
-		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
+		return ps_err_set(e, PS_ENOMEM, "out of memory reading %s", path);
 	}
 	rc = ini_parse_stream(read_line, r, on_pair, &h);
 	if (h.oom || r->oom) {
 		ps_conf_free(c);
-		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
+		return ps_err_set(e, PS_ENOMEM, "out of memory reading %s", path);
 	}
 	/* Syntax errors inih found that our shape check did not (it reports the
 	 * first one only): make sure at least that one is listed. */
@@ -249,14 +249,14 @@ int ps_conf_load(struct ps_conf *c, const char *path, struct ps_err *e)
 	r.fp = fopen(path, "r");
 	if (!r.fp) {
 		memset(c, 0, sizeof *c);
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	}
 	ini_max_line = CONF_MAX_LINE;
 	rc = parse_common(c, &r, path, e);
 	if (rc == 0 && ferror(r.fp)) {
 		fclose(r.fp);
 		ps_conf_free(c);
-		return ps_errsys(e, "%s: read error", path);
+		return ps_err_sys(e, "%s: read error", path);
 	}
 	fclose(r.fp);
 	return rc;

@@ -17,14 +17,14 @@ static const char *const ps_errtext[PS_ECOUNT] = {
 	[PS_EMISSING] = "missing",
 };
 
-const char *ps_strerror(int code)
+const char *ps_err_str(int code)
 {
 	if (code < 0 || code >= PS_ECOUNT || !ps_errtext[code])
 		return "unknown error";
 	return ps_errtext[code];
 }
 
-int ps_errf(struct ps_err *e, int code, const char *fmt, ...)
+int ps_err_set(struct ps_err *e, int code, const char *fmt, ...)
 {
 	if (e) {
 		va_list ap;
@@ -37,7 +37,7 @@ int ps_errf(struct ps_err *e, int code, const char *fmt, ...)
 	return -1;
 }
 
-int ps_errsys(struct ps_err *e, const char *fmt, ...)
+int ps_err_sys(struct ps_err *e, const char *fmt, ...)
 {
 	int saved = errno;   /* before anything else can change it */
 	if (e) {

@@ -26,15 +26,15 @@ struct ps_err {
 };
 
 /* Text of a code (never NULL). */
-const char *ps_strerror(int code);
+const char *ps_err_str(int code);
 
 /* Fill *e (may be NULL) and return -1, so callers can write
- * `return ps_errf(e, PS_EFORMAT, "%s:%d: ...", path, line);` */
-int ps_errf(struct ps_err *e, int code, const char *fmt, ...)
+ * `return ps_err_set(e, PS_EFORMAT, "%s:%d: ...", path, line);` */
+int ps_err_set(struct ps_err *e, int code, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
 
-/* Like ps_errf with code PS_EIO and the current errno appended (": No such file"). */
-int ps_errsys(struct ps_err *e, const char *fmt, ...)
+/* Like ps_err_set with code PS_EIO and the current errno appended (": No such file"). */
+int ps_err_sys(struct ps_err *e, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 
 /* Clear an error record. */

@@ -17,7 +17,7 @@ int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, stru
 	*data = NULL;
 	*len = 0;
 	if (!fp)
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	for (;;) {
 		size_t got;
 		if (n + 1 >= cap) {
@@ -26,13 +26,13 @@ int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, stru
 			if (cap > max) {
 				fclose(fp);
 				free(buf);
-				return ps_errf(e, PS_ERANGE, "%s: larger than %zu bytes", path, max);
+				return ps_err_set(e, PS_ERANGE, "%s: larger than %zu bytes", path, max);
 			}
 			nb = realloc(buf, ncap);
 			if (!nb) {
 				fclose(fp);
 				free(buf);
-				return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
+				return ps_err_set(e, PS_ENOMEM, "%s: out of memory", path);
 			}
 			buf = nb;
 			cap = ncap;
@@ -43,7 +43,7 @@ int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, stru
 			break;
 	}
 	if (ferror(fp)) {
-		int rc = ps_errsys(e, "%s: read error", path);
+		int rc = ps_err_sys(e, "%s: read error", path);
 		fclose(fp);
 		free(buf);
 		return rc;
@@ -51,7 +51,7 @@ int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, stru
 	fclose(fp);
 	if (n > max) {
 		free(buf);
-		return ps_errf(e, PS_ERANGE, "%s: larger than %zu bytes", path, max);
+		return ps_err_set(e, PS_ERANGE, "%s: larger than %zu bytes", path, max);
 	}
 	buf[n] = '\0';
 	*data = buf;
@@ -66,26 +66,26 @@ int ps_map_file(const char *path, size_t max, struct ps_filemap *m, struct ps_er
 	memset(m, 0, sizeof *m);
 	fd = open(path, O_RDONLY | O_CLOEXEC);
 	if (fd < 0)
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	/* a regular file is read in one piece of its size (not mapped: a file
 	 * cut short by another process meanwhile must not end in SIGBUS) */
 	if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
 		size_t want = (size_t)st.st_size, got = 0;
 		if ((uint64_t)st.st_size > max) {
 			close(fd);
-			return ps_errf(e, PS_ERANGE, "%s: larger than %zu bytes", path, max);
+			return ps_err_set(e, PS_ERANGE, "%s: larger than %zu bytes", path, max);
 		}
 		m->buf = malloc(want + 1);
 		if (!m->buf) {
 			close(fd);
-			return ps_errf(e, PS_ENOMEM, "%s: out of memory for %zu bytes", path, want);
+			return ps_err_set(e, PS_ENOMEM, "%s: out of memory for %zu bytes", path, want);
 		}
 		while (got < want) {
 			ssize_t k = read(fd, m->buf + got, want - got);
 			if (k < 0 && errno == EINTR)
 				continue;
 			if (k < 0) {
-				int rc = ps_errsys(e, "%s: read error", path);
+				int rc = ps_err_sys(e, "%s: read error", path);
 				close(fd);
 				ps_unmap_file(m);
 				return rc;

@@ -294,7 +294,7 @@ static int scene_from_conf(struct ps_scene *s, struct ps_conf *cp, const char *p
 oom:
 	ps_conf_free(&c);
 	ps_scene_free(s);
-	return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
+	return ps_err_set(e, PS_ENOMEM, "%s: out of memory", path);
 }
 
 int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)

@@ -226,7 +226,7 @@ static double *sensitivity_picture(const struct ps_sensor *s, double rot, const 
 	if (!val || !omega) {
 		free(val);
 		val = NULL;
-		ps_errf(e, PS_ENOMEM, "out of memory");
+		ps_err_set(e, PS_ENOMEM, "out of memory");
 		goto done;
 	}
 	/* pixel solid angles (the uniform sensor's weights), dense */
@@ -260,7 +260,7 @@ static int write_hdr(const struct opts *o, const double *val, double vh, struct 
 	FILE *fp = stdout;
 	int rc;
 	if (!rgb)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	for (size_t k = 0; k < n; k++)
 		rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = val[k];
 	snprintf(view, sizeof view, "-vta -vp 0 0 0 -vd 0 0 -1 -vu 0 1 0 -vh %g -vv %g", vh, vh);
@@ -268,16 +268,16 @@ static int write_hdr(const struct opts *o, const double *val, double vh, struct 
 	         ps_reading_name(o->reading), o->sensfile);
 	if (o->out && !(fp = fopen(o->out, "wb"))) {
 		free(rgb);
-		return ps_errsys(e, "%s", o->out);
+		return ps_err_sys(e, "%s", o->out);
 	}
 	rc = ps_pic_write_fp(fp, o->out ? o->out : "(stdout)", (int)o->res, (int)o->res, rgb, view,
 	                     extra, e);
 	free(rgb);
 	if (fp != stdout) {
 		if (fclose(fp) != 0 && rc == 0)
-			rc = ps_errsys(e, "%s", o->out);
+			rc = ps_err_sys(e, "%s", o->out);
 	} else if (rc == 0 && fflush(stdout) != 0) {
-		rc = ps_errsys(e, "(stdout)");
+		rc = ps_err_sys(e, "(stdout)");
 	}
 	return rc;
 }
@@ -299,7 +299,7 @@ static int draw_contours(struct ps_canvas *c, const struct ps_place *pl, const s
 	int nx, ny;
 	double *grid = ps_place_sensitivity(pl, s, o->rot, &nx, &ny), lx, ly;
 	if (!grid)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	{
 		/* a target far out along azimuth 300: each contour's label goes
 		 * where the contour crosses that direction */

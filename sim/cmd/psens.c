@@ -355,10 +355,10 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 				status = PS_BATCH_MISMATCH;
 				ps_view_format(&view, vs, sizeof vs);
 				if (width != cw || height != ch)
-					ps_errf(&pe, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are "
-					        "for %d x %d", paths[i], width, height, cw, ch);
+					ps_err_set(&pe, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are "
+					           "for %d x %d", paths[i], width, height, cw, ch);
 				else
-					ps_errf(&pe, PS_EINVAL, "%s: its view (%s) is not the batch's", paths[i], vs);
+					ps_err_set(&pe, PS_EINVAL, "%s: its view (%s) is not the batch's", paths[i], vs);
 				goto done;
 			}
 			for (int k = 0; k < nsens; k++)

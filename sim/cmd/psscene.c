@@ -77,22 +77,22 @@ static int ensure_picture(struct run *r, const struct ps_condition *c, const cha
 	if (file_exists(pic))
 		return 0;
 	if (!c->octree || !at->have) {
-		return ps_errf(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing%s", r->sc->path,
-		               c->label, task ? "task" : "sensor", pic,
-		               c->octree ? "; give the [sensor]/[task] position to render it"
+		return ps_err_set(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing%s", r->sc->path,
+		                  c->label, task ? "task" : "sensor", pic,
+		                  c->octree ? "; give the [sensor]/[task] position to render it"
 		                         : "; render it (see psscene(1)) or name an octree to render from");
 	}
 	if (ps_render_find("rpict", rpict, sizeof rpict) != 0)
-		return ps_errf(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing and rpict "
-		               "(Radiance) is not on PATH; render it with: rpict -vta -vp %g %g %g "
-		               "-vd %g %g %g -vu %g %g %g -vh %g -vv %g -x %d -y %d %s > %s",
-		               r->sc->path, c->label, task ? "task" : "sensor", pic, at->pos[0], at->pos[1],
-		               at->pos[2], at->dir[0], at->dir[1], at->dir[2], at->up[0], at->up[1],
-		               at->up[2], field, field, r->sc->resolution, r->sc->resolution, c->octree, pic);
+		return ps_err_set(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing and rpict "
+		                  "(Radiance) is not on PATH; render it with: rpict -vta -vp %g %g %g "
+		                  "-vd %g %g %g -vu %g %g %g -vh %g -vv %g -x %d -y %d %s > %s",
+		                  r->sc->path, c->label, task ? "task" : "sensor", pic, at->pos[0], at->pos[1],
+		                  at->pos[2], at->dir[0], at->dir[1], at->dir[2], at->up[0], at->up[1],
+		                  at->up[2], field, field, r->sc->resolution, r->sc->resolution, c->octree, pic);
 	argv = ps_render_argv(rpict, at->pos, at->dir, at->up, field, r->sc->resolution,
 	                      r->sc->render_options, c->octree);
 	if (!argv)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	if (!r->quiet)
 		fprintf(stderr, "%spsscene: rendering %s (-vta -vh %g) with %s\n", r->tty ? "\n" : "",
 		        pic, field, rpict);
@@ -312,9 +312,9 @@ static int dc_rows(struct run *r, struct ps_dcrow *srow, struct ps_dcrow *trow, 
 		return -1;
 	}
 	if (srow->n != trow->n) {
-		ps_errf(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
-		        "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
-		        trow->mf);
+		ps_err_set(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
+		           "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
+		           trow->mf);
 		ps_dcrow_free(srow);
 		ps_dcrow_free(trow);
 		return -1;
@@ -377,7 +377,7 @@ static int run_year(const struct run *r, const struct ps_dcrow *srow, const stru
 	res->weather = strdup(d->weather);
 	res->year_mf = srow->mf;
 	*secs = seconds_since(&t0);
-	return res->weather ? 0 : ps_errf(e, PS_ENOMEM, "out of memory");
+	return res->weather ? 0 : ps_err_set(e, PS_ENOMEM, "out of memory");
 }
 
 static void print_year(const struct ps_results *res, double secs)

@@ -194,7 +194,7 @@ static int write_hdr(const struct opts *o, const struct ps_share *s, const char 
 	char extra[700];
 	int rc;
 	if (!rgb)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	for (size_t k = 0; k < n; k++)
 		rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = 100.0 * s->share[k];
 	snprintf(extra, sizeof extra, "psshare -s %s -r %g %s\n"

@@ -16,14 +16,14 @@ int ps_canvas_init(struct ps_canvas *c, int width, int height, const uint8_t rgb
 	/* 4 bytes a pixel: at most 2^27 pixels (512 MiB) */
 	if (width < 1 || height < 1 || width > 32768 || height > 32768 ||
 	    (long long)width * height > (1LL << 27))
-		return ps_errf(e, PS_ERANGE, "canvas of %d x %d pixels: 1 to 32768 a side and at most "
-		               "%lld pixels (a smaller zoom?)", width, height, 1LL << 27);
+		return ps_err_set(e, PS_ERANGE, "canvas of %d x %d pixels: 1 to 32768 a side and at most "
+		                  "%lld pixels (a smaller zoom?)", width, height, 1LL << 27);
 	c->surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
 	if (cairo_surface_status(c->surf) != CAIRO_STATUS_SUCCESS) {
 		cairo_surface_destroy(c->surf);
 		c->surf = NULL;
-		return ps_errf(e, PS_ENOMEM, "canvas of %d x %d pixels: %s", width, height,
-		               cairo_status_to_string(CAIRO_STATUS_NO_MEMORY));
+		return ps_err_set(e, PS_ENOMEM, "canvas of %d x %d pixels: %s", width, height,
+		                  cairo_status_to_string(CAIRO_STATUS_NO_MEMORY));
 	}
 	c->cr = cairo_create(c->surf);
 	c->width = width;
@@ -152,14 +152,14 @@ int ps_canvas_write_png(struct ps_canvas *c, FILE *fp, const char *path, struct 
 	png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &ctx, png_fail, png_warn);
 	if (!png || !(info = png_create_info_struct(png))) {
 		png_destroy_write_struct(&png, NULL);
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory for the PNG writer", path);
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory for the PNG writer", path);
 	}
 	if (setjmp(ctx.jmp)) {
 		png_destroy_write_struct(&png, &info);
 		free(row);
 		if (ferror(fp))
-			return ps_errsys(e, "%s: writing the PNG", path);
-		return ps_errf(e, PS_EIO, "%s: writing the PNG: %s", path, ctx.msg);
+			return ps_err_sys(e, "%s: writing the PNG", path);
+		return ps_err_set(e, PS_EIO, "%s: writing the PNG: %s", path, ctx.msg);
 	}
 	row = malloc(3 * (size_t)c->width);
 	if (!row)
@@ -199,7 +199,7 @@ int ps_canvas_write_png(struct ps_canvas *c, FILE *fp, const char *path, struct 
 	png_destroy_write_struct(&png, &info);
 	free(row);
 	if (fflush(fp) != 0 || ferror(fp))
-		return ps_errsys(e, "%s: writing the PNG", path);
+		return ps_err_sys(e, "%s: writing the PNG", path);
 	return 0;
 }
 
@@ -210,15 +210,15 @@ int ps_canvas_save_png(struct ps_canvas *c, const char *path, struct ps_err *e)
 	FILE *fp;
 	int rc;
 	if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp", path) >= sizeof tmp)
-		return ps_errf(e, PS_EINVAL, "%.200s...: path too long", path);
+		return ps_err_set(e, PS_EINVAL, "%.200s...: path too long", path);
 	fp = fopen(tmp, "wb");
 	if (!fp)
-		return ps_errsys(e, "%s", tmp);
+		return ps_err_sys(e, "%s", tmp);
 	rc = ps_canvas_write_png(c, fp, path, e);
 	if (fclose(fp) != 0 && rc == 0)
-		rc = ps_errsys(e, "%s: closing", tmp);
+		rc = ps_err_sys(e, "%s: closing", tmp);
 	if (rc == 0 && rename(tmp, path) != 0)
-		rc = ps_errsys(e, "%s: renaming %s", path, tmp);
+		rc = ps_err_sys(e, "%s: renaming %s", path, tmp);
 	if (rc != 0)
 		remove(tmp);
 	return rc;

@@ -161,9 +161,9 @@ static int sb_append(struct strbuf *b, const char *s, size_t n)
 static int truncated(struct cursor *c, const char *what, long scanline)
 {
 	if (scanline >= 0)
-		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: file ends inside %s of scanline %ld",
-		               c->name, c->pos, what, scanline);
-	return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: file ends inside %s", c->name, c->pos, what);
+		return ps_err_set(c->e, PS_EFORMAT, "%s: byte %zu: file ends inside %s of scanline %ld",
+		                  c->name, c->pos, what, scanline);
+	return ps_err_set(c->e, PS_EFORMAT, "%s: byte %zu: file ends inside %s", c->name, c->pos, what);
 }
 
 /* Parse n doubles from s; 0 if all were there, finite, and nothing follows. */
@@ -216,30 +216,30 @@ static int header_line(struct ps_picture *pic, struct cursor *c, const char *lin
 		else if (n == 15 && strncmp(f, "32-bit_rle_xyze", 15) == 0)
 			pic->format = PS_PIC_XYZE;
 		else
-			return ps_errf(c->e, PS_EUNSUPPORTED, "%s: header line %d: unsupported %.200s",
-			               c->name, lineno, line);
+			return ps_err_set(c->e, PS_EUNSUPPORTED, "%s: header line %d: unsupported %.200s",
+			                  c->name, lineno, line);
 	} else if (strncmp(line, "EXPOSURE=", 9) == 0) {
 		if (parse_numbers(line + 9, v, 1) != 0 || v[0] <= 0.0)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad EXPOSURE (%.200s)",
-			               c->name, lineno, line + 9);
+			return ps_err_set(c->e, PS_EFORMAT, "%s: header line %d: bad EXPOSURE (%.200s)",
+			                  c->name, lineno, line + 9);
 		for (int i = 0; i < 3; i++)
 			pic->exposure[i] *= v[0];
 	} else if (strncmp(line, "COLORCORR=", 10) == 0) {
 		if (parse_numbers(line + 10, v, 3) != 0 || v[0] <= 0 || v[1] <= 0 || v[2] <= 0)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad COLORCORR (%.200s)",
-			               c->name, lineno, line + 10);
+			return ps_err_set(c->e, PS_EFORMAT, "%s: header line %d: bad COLORCORR (%.200s)",
+			                  c->name, lineno, line + 10);
 		for (int i = 0; i < 3; i++)
 			pic->exposure[i] *= v[i];
 	} else if (strncmp(line, "PIXASPECT=", 10) == 0) {
 		if (parse_numbers(line + 10, v, 1) != 0 || v[0] <= 0.0)
-			return ps_errf(c->e, PS_EFORMAT, "%s: header line %d: bad PIXASPECT (%.200s)",
-			               c->name, lineno, line + 10);
+			return ps_err_set(c->e, PS_EFORMAT, "%s: header line %d: bad PIXASPECT (%.200s)",
+			                  c->name, lineno, line + 10);
 		pic->pixaspect *= v[0];
 	} else if (strncmp(line, "PRIMARIES=", 10) == 0) {
 		if (parse_numbers(line + 10, v, 8) != 0)
-			return ps_errf(c->e, PS_EFORMAT,
-			               "%s: header line %d: PRIMARIES needs 8 numbers (%.200s)",
-			               c->name, lineno, line + 10);
+			return ps_err_set(c->e, PS_EFORMAT,
+			                  "%s: header line %d: PRIMARIES needs 8 numbers (%.200s)",
+			                  c->name, lineno, line + 10);
 		memcpy(pic->primaries, v, sizeof pic->primaries);
 		pic->has_primaries = 1;
 	} else if (strncmp(line, "VIEW=", 5) == 0 || is_view_program(line)) {
@@ -247,7 +247,7 @@ static int header_line(struct ps_picture *pic, struct cursor *c, const char *lin
 		while (*opts == ' ' || *opts == '\t')
 			opts++;
 		if ((view->n && sb_append(view, " ", 1) != 0) || sb_append(view, opts, strlen(opts)) != 0)
-			return ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+			return ps_err_set(c->e, PS_ENOMEM, "%s: out of memory", c->name);
 	}
 	/* anything else (SOFTWARE=, CAPDATE=, program lines) is kept in pic->header */
 	return 0;
@@ -261,8 +261,8 @@ static int read_header(struct ps_picture *pic, struct cursor *c)
 	int lineno = 0, rc = -1;
 	size_t end;
 	if (c->len < 2 || c->data[0] != '#' || c->data[1] != '?')
-		return ps_errf(c->e, PS_EFORMAT, "%s: byte 0: not a Radiance picture (no '#?' magic)",
-		               c->name);
+		return ps_err_set(c->e, PS_EFORMAT, "%s: byte 0: not a Radiance picture (no '#?' magic)",
+		                  c->name);
 	for (;;) {
 		size_t avail = c->len - c->pos, n;
 		const uint8_t *start = c->data + c->pos, *nl;
@@ -273,16 +273,16 @@ static int read_header(struct ps_picture *pic, struct cursor *c)
 		lineno++;
 		if (!nl) {
 			if (c->len > HEADER_MAX)
-				ps_errf(c->e, PS_EFORMAT, "%s: header line %d: header longer than %d bytes",
-				        c->name, lineno, HEADER_MAX);
+				ps_err_set(c->e, PS_EFORMAT, "%s: header line %d: header longer than %d bytes",
+				           c->name, lineno, HEADER_MAX);
 			else
 				truncated(c, "the header (no empty line ends it)", -1);
 			goto out;
 		}
 		n = (size_t)(nl - start);
 		if (memchr(start, '\0', n)) {
-			ps_errf(c->e, PS_EFORMAT, "%s: header line %d (byte %zu): NUL byte in header",
-			        c->name, lineno, c->pos + (size_t)((const uint8_t *)memchr(start, '\0', n) - start));
+			ps_err_set(c->e, PS_EFORMAT, "%s: header line %d (byte %zu): NUL byte in header",
+			           c->name, lineno, c->pos + (size_t)((const uint8_t *)memchr(start, '\0', n) - start));
 			goto out;
 		}
 		c->pos += n + 1;
@@ -292,7 +292,7 @@ static int read_header(struct ps_picture *pic, struct cursor *c)
 			break;
 		line.n = 0;
 		if (sb_append(&line, (const char *)start, n) != 0) {
-			ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+			ps_err_set(c->e, PS_ENOMEM, "%s: out of memory", c->name);
 			goto out;
 		}
 		if (header_line(pic, c, line.p, lineno, &view) != 0)
@@ -304,7 +304,7 @@ static int read_header(struct ps_picture *pic, struct cursor *c)
 		end--;
 	pic->header = malloc(end + 2);
 	if (!pic->header) {
-		ps_errf(c->e, PS_ENOMEM, "%s: out of memory", c->name);
+		ps_err_set(c->e, PS_ENOMEM, "%s: out of memory", c->name);
 		goto out;
 	}
 	memcpy(pic->header, c->data, end);
@@ -367,11 +367,11 @@ static int read_resolution(struct cursor *c, int *orient, long *slow, long *fast
 	memcpy(buf, c->data + c->pos, n);
 	buf[n] = '\0';
 	if (memchr(buf, '\0', n))
-		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line (NUL byte)",
-		               c->name, c->pos);
+		return ps_err_set(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line (NUL byte)",
+		                  c->name, c->pos);
 	if (!nl)
-		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: no resolution line after the header%s%.40s%s",
-		               c->name, c->pos, n ? " ('" : "", buf, n ? "')" : "");
+		return ps_err_set(c->e, PS_EFORMAT, "%s: byte %zu: no resolution line after the header%s%.40s%s",
+		                  c->name, c->pos, n ? " ('" : "", buf, n ? "')" : "");
 	r1 = parse_axis(&s, &s1, &a1, &n1);
 	if (r1 == 0)
 		r2 = parse_axis(&s, &s2, &a2, &n2);
@@ -380,11 +380,11 @@ static int read_resolution(struct cursor *c, int *orient, long *slow, long *fast
 			s++;
 	}
 	if (r1 != -2 && (r1 == -1 || r2 == -1 || *s != '\0' || a1 == a2))
-		return ps_errf(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line '%.60s'",
-		               c->name, c->pos, buf);
+		return ps_err_set(c->e, PS_EFORMAT, "%s: byte %zu: bad resolution line '%.60s'",
+		                  c->name, c->pos, buf);
 	if (r1 == -2 || r2 == -2 || n1 <= 0 || n2 <= 0)
-		return ps_errf(c->e, PS_ERANGE, "%s: byte %zu: bad picture size in '%.60s'",
-		               c->name, c->pos, buf);
+		return ps_err_set(c->e, PS_ERANGE, "%s: byte %zu: bad picture size in '%.60s'",
+		                  c->name, c->pos, buf);
 	c->pos += (size_t)(nl - (c->data + c->pos)) + 1;
 	*orient = 0;
 	if (a1 == 'Y')
@@ -412,18 +412,18 @@ static int read_old_scanline(struct cursor *c, uint8_t *sl, long len, long scanl
 		if (p[0] == 1 && p[1] == 1 && p[2] == 1) {
 			unsigned long count;
 			if (j == 0)
-				return ps_errf(c->e, PS_EFORMAT,
-				               "%s: byte %zu: scanline %ld starts with a repeat of no pixel",
-				               c->name, c->pos, scanline);
+				return ps_err_set(c->e, PS_EFORMAT,
+				                  "%s: byte %zu: scanline %ld starts with a repeat of no pixel",
+				                  c->name, c->pos, scanline);
 			if (shift > 24)
-				return ps_errf(c->e, PS_EFORMAT,
-				               "%s: byte %zu: repeat count overflows in scanline %ld",
-				               c->name, c->pos, scanline);
+				return ps_err_set(c->e, PS_EFORMAT,
+				                  "%s: byte %zu: repeat count overflows in scanline %ld",
+				                  c->name, c->pos, scanline);
 			count = (unsigned long)p[3] << shift;
 			if (count > (unsigned long)(len - j))
-				return ps_errf(c->e, PS_EFORMAT,
-				               "%s: byte %zu: repeat of %lu pixels overruns scanline %ld (%ld left)",
-				               c->name, c->pos, count, scanline, len - j);
+				return ps_err_set(c->e, PS_EFORMAT,
+				                  "%s: byte %zu: repeat of %lu pixels overruns scanline %ld (%ld left)",
+				                  c->name, c->pos, count, scanline, len - j);
 			if (sl)
 				for (unsigned long k = 0; k < count; k++)
 					memcpy(sl + 4 * (j + (long)k), sl + 4 * (j - 1), 4);
@@ -453,9 +453,9 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 	if (p[0] != 2 || p[1] != 2 || (p[2] & 0x80))
 		return read_old_scanline(c, sl, len, scanline);
 	if (((long)p[2] << 8 | p[3]) != len)
-		return ps_errf(c->e, PS_EFORMAT,
-		               "%s: byte %zu: scanline %ld says %ld pixels, the picture has %ld",
-		               c->name, c->pos, scanline, (long)p[2] << 8 | p[3], len);
+		return ps_err_set(c->e, PS_EFORMAT,
+		                  "%s: byte %zu: scanline %ld says %ld pixels, the picture has %ld",
+		                  c->name, c->pos, scanline, (long)p[2] << 8 | p[3], len);
 	c->pos += 4;
 	for (int comp = 0; comp < 4; comp++) {
 		uint8_t *o = sl ? sl + comp : NULL;
@@ -469,9 +469,9 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 				uint8_t v;
 				code &= 127;
 				if ((long)code > len - j)
-					return ps_errf(c->e, PS_EFORMAT,
-					               "%s: byte %zu: run of %u overruns scanline %ld",
-					               c->name, c->pos, code, scanline);
+					return ps_err_set(c->e, PS_EFORMAT,
+					                  "%s: byte %zu: run of %u overruns scanline %ld",
+					                  c->name, c->pos, code, scanline);
 				if (c->len - c->pos < 2)
 					return truncated(c, "a run", scanline);
 				v = c->data[c->pos + 1];
@@ -483,13 +483,13 @@ static int read_scanline(struct cursor *c, uint8_t *sl, long len, long scanline)
 			} else {
 				const uint8_t *q = c->data + c->pos + 1;
 				if (code == 0)
-					return ps_errf(c->e, PS_EFORMAT,
-					               "%s: byte %zu: zero-length run in scanline %ld",
-					               c->name, c->pos, scanline);
+					return ps_err_set(c->e, PS_EFORMAT,
+					                  "%s: byte %zu: zero-length run in scanline %ld",
+					                  c->name, c->pos, scanline);
 				if ((long)code > len - j)
-					return ps_errf(c->e, PS_EFORMAT,
-					               "%s: byte %zu: literal of %u overruns scanline %ld",
-					               c->name, c->pos, code, scanline);
+					return ps_err_set(c->e, PS_EFORMAT,
+					                  "%s: byte %zu: literal of %u overruns scanline %ld",
+					                  c->name, c->pos, code, scanline);
 				if (c->len - c->pos - 1 < code)
 					return truncated(c, "literal data", scanline);
 				if (o)
@@ -527,8 +527,8 @@ static int check_size(struct cursor *c, long slow, long fast)
 {
 	size_t npix = (size_t)slow * (size_t)fast, left = c->len - c->pos;
 	if (npix > PIC_MAX_PIXELS || npix / PIC_MAX_RATIO > left)
-		return ps_errf(c->e, PS_ERANGE, "%s: byte %zu: %ld x %ld pixels cannot be in the %zu "
-		               "bytes left", c->name, c->pos, slow, fast, left);
+		return ps_err_set(c->e, PS_ERANGE, "%s: byte %zu: %ld x %ld pixels cannot be in the %zu "
+		                  "bytes left", c->name, c->pos, slow, fast, left);
 	return 0;
 }
 
@@ -544,7 +544,7 @@ int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 	pic->exposure[0] = pic->exposure[1] = pic->exposure[2] = 1.0;
 	pic->pixaspect = 1.0;
 	if (!data && len)
-		return ps_errf(e, PS_EINVAL, "%s: no data", c.name);
+		return ps_err_set(e, PS_EINVAL, "%s: no data", c.name);
 	if (read_header(pic, &c) != 0 || read_resolution(&c, &orient, &slow, &fast) != 0)
 		goto fail;
 	if (check_size(&c, slow, fast) != 0)
@@ -562,7 +562,7 @@ int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 	if (orient != ORIENT_STANDARD)
 		sl = malloc((size_t)fast * 4);
 	if (!pic->pix || (orient != ORIENT_STANDARD && !sl)) {
-		ps_errf(e, PS_ENOMEM, "%s: out of memory for %ld x %ld pixels", c.name, slow, fast);
+		ps_err_set(e, PS_ENOMEM, "%s: out of memory for %ld x %ld pixels", c.name, slow, fast);
 		goto fail;
 	}
 	for (long s = 0; s < slow; s++) {
@@ -611,7 +611,7 @@ int ps_pic_head_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 	pic->exposure[0] = pic->exposure[1] = pic->exposure[2] = 1.0;
 	pic->pixaspect = 1.0;
 	if (!data && len)
-		return ps_errf(e, PS_EINVAL, "%s: no data", c.name);
+		return ps_err_set(e, PS_EINVAL, "%s: no data", c.name);
 	if (read_header(pic, &c) != 0 || read_resolution(&c, &orient, &slow, &fast) != 0 ||
 	    check_size(&c, slow, fast) != 0) {
 		ps_pic_free(pic);
@@ -639,7 +639,7 @@ int ps_pic_scanline_starts(const struct ps_picture *pic, const uint8_t *data, si
 {
 	struct cursor c = { data, len, off, name ? name : "(picture)", e };
 	if (pic->orientation != ORIENT_STANDARD)
-		return ps_errf(e, PS_EUNSUPPORTED, "%s: scanlines are not rows (orientation)", c.name);
+		return ps_err_set(e, PS_EUNSUPPORTED, "%s: scanlines are not rows (orientation)", c.name);
 	for (long s = 0; s < pic->height; s++) {
 		starts[s] = c.pos;
 		if (read_scanline(&c, NULL, pic->width, s) != 0)
@@ -657,10 +657,10 @@ int ps_pic_scan_rows(const struct ps_picture *pic, const uint8_t *data, size_t l
 	uint8_t *sl;
 	int rc = 0;
 	if (pic->orientation != ORIENT_STANDARD)
-		return ps_errf(e, PS_EUNSUPPORTED, "%s: scanlines are not rows (orientation)", c.name);
+		return ps_err_set(e, PS_EUNSUPPORTED, "%s: scanlines are not rows (orientation)", c.name);
 	sl = malloc((size_t)pic->width * 4);
 	if (!sl)
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory", c.name);
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory", c.name);
 	for (int y = y0; y < y1; y++) {
 		int use = !want || want[y];
 		/* a row nobody wants is checked and passed, not decoded */
@@ -716,10 +716,10 @@ int ps_pic_write_fp(FILE *fp, const char *path, int width, int height, const dou
 {
 	uint8_t *sl;
 	if (width <= 0 || height <= 0)
-		return ps_errf(e, PS_EINVAL, "%s: bad picture size %d x %d", path, width, height);
+		return ps_err_set(e, PS_EINVAL, "%s: bad picture size %d x %d", path, width, height);
 	sl = malloc((size_t)width * 4);
 	if (!sl)
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory", path);
 	fputs("#?RADIANCE\n", fp);
 	if (extra_header)
 		fputs(extra_header, fp);
@@ -743,7 +743,7 @@ int ps_pic_write_fp(FILE *fp, const char *path, int width, int height, const dou
 	}
 	free(sl);
 	if (ferror(fp))
-		return ps_errsys(e, "%s: write error", path);
+		return ps_err_sys(e, "%s: write error", path);
 	return 0;
 }
 
@@ -753,9 +753,9 @@ int ps_pic_write(const char *path, int width, int height, const double *rgb, con
 	FILE *fp = fopen(path, "wb");
 	int rc;
 	if (!fp)
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	rc = ps_pic_write_fp(fp, path, width, height, rgb, view, extra_header, e);
 	if (fclose(fp) != 0 && rc == 0)
-		rc = ps_errsys(e, "%s: write error", path);
+		rc = ps_err_sys(e, "%s: write error", path);
 	return rc;
 }

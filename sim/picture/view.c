@@ -56,12 +56,12 @@ static int read_numbers(const char **s, double *out, int n, const char *opt, con
 	for (int i = 0; i < n; i++) {
 		char *end;
 		if (!next_word(s, w, sizeof w))
-			return ps_errf(e, PS_EFORMAT, "%s: %s needs %d number%s", where, opt, n,
-			               n > 1 ? "s" : "");
+			return ps_err_set(e, PS_EFORMAT, "%s: %s needs %d number%s", where, opt, n,
+			                  n > 1 ? "s" : "");
 		errno = 0;
 		out[i] = strtod(w, &end);
 		if (end == w || *end || errno == ERANGE || !isfinite(out[i]))
-			return ps_errf(e, PS_EFORMAT, "%s: %s: '%s' is not a number", where, opt, w);
+			return ps_err_set(e, PS_EFORMAT, "%s: %s: '%s' is not a number", where, opt, w);
 	}
 	return 0;
 }
@@ -77,7 +77,7 @@ int ps_view_parse(struct ps_view *v, const char *text, const char *where, struct
 		switch (w[2]) {
 		case 't':
 			if (!w[3] || w[4] || !strchr("vlahcsr", w[3]))
-				return ps_errf(e, PS_EFORMAT, "%s: unknown view type '%s'", where, w);
+				return ps_err_set(e, PS_EFORMAT, "%s: unknown view type '%s'", where, w);
 			nv.type = w[3];
 			break;
 		case 'p':
@@ -121,20 +121,20 @@ int ps_view_check_fisheye(const struct ps_view *v, const char *where, struct ps_
 	double cy = v->vd[2] * v->vu[0] - v->vd[0] * v->vu[2];
 	double cz = v->vd[0] * v->vu[1] - v->vd[1] * v->vu[0];
 	if (v->type != PS_VT_ANGULAR && v->type != PS_VT_HEMI)
-		return ps_errf(e, PS_EUNSUPPORTED,
-		               "%s: view type -vt%c is not a fisheye (psens needs -vta or -vth)", where,
-		               v->type);
+		return ps_err_set(e, PS_EUNSUPPORTED,
+		                  "%s: view type -vt%c is not a fisheye (psens needs -vta or -vth)", where,
+		                  v->type);
 	if (dd <= 0.0)
-		return ps_errf(e, PS_ERANGE, "%s: -vd is a zero vector", where);
+		return ps_err_set(e, PS_ERANGE, "%s: -vd is a zero vector", where);
 	if (uu <= 0.0 || cx * cx + cy * cy + cz * cz <= 1e-12 * dd * uu)
-		return ps_errf(e, PS_ERANGE, "%s: -vu is zero or parallel to -vd", where);
+		return ps_err_set(e, PS_ERANGE, "%s: -vu is zero or parallel to -vd", where);
 	if (!(v->vh > 0.0) || !(v->vv > 0.0) ||
 	    v->vh > (v->type == PS_VT_ANGULAR ? 360.0 : 180.0) ||
 	    v->vv > (v->type == PS_VT_ANGULAR ? 360.0 : 180.0))
-		return ps_errf(e, PS_ERANGE, "%s: -vh %g -vv %g outside what -vt%c allows (0 to %d)",
-		               where, v->vh, v->vv, v->type, v->type == PS_VT_ANGULAR ? 360 : 180);
+		return ps_err_set(e, PS_ERANGE, "%s: -vh %g -vv %g outside what -vt%c allows (0 to %d)",
+		                  where, v->vh, v->vv, v->type, v->type == PS_VT_ANGULAR ? 360 : 180);
 	if (!isfinite(v->vs) || !isfinite(v->vl) || fabs(v->vs) > 10 || fabs(v->vl) > 10)
-		return ps_errf(e, PS_ERANGE, "%s: -vs %g -vl %g out of range", where, v->vs, v->vl);
+		return ps_err_set(e, PS_ERANGE, "%s: -vs %g -vl %g out of range", where, v->vs, v->vl);
 	return 0;
 }
 

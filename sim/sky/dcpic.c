@@ -46,7 +46,7 @@ int ps_dcpic_map(const struct ps_patches *P, const struct ps_view *v, int width,
 	if (ps_view_check_fisheye(v, "coefficient pictures", e) != 0)
 		return -1;
 	if (width < 1 || height < 1)
-		return ps_errf(e, PS_EINVAL, "coefficient pictures: size %d x %d", width, height);
+		return ps_err_set(e, PS_EINVAL, "coefficient pictures: size %d x %d", width, height);
 	ps_fisheye_init(&fe, v, width, height);
 	ps_dcpic_frame(v, f);
 	for (int row = 0; row < height; row++)
@@ -82,7 +82,7 @@ int ps_dcpic_picture(const int *map, int width, int height, int patch, struct ps
 	init_picture(pic, width, height);
 	pic->pix = calloc(n, 4);
 	if (!pic->pix)
-		return ps_errf(e, PS_ENOMEM, "out of memory for a %d x %d picture", width, height);
+		return ps_err_set(e, PS_ENOMEM, "out of memory for a %d x %d picture", width, height);
 	ps_rgbe_encode(white, one);
 	for (size_t i = 0; i < n; i++)
 		if (map[i] == patch)
@@ -112,7 +112,7 @@ int ps_dcpic_path(const char *fmt, int p, char *out, size_t size, struct ps_err 
 		snprintf(out, size, "%.*s%*d%s", (int)(c - fmt), fmt, width, p, q + 1);
 	return 0;
 bad:
-	return ps_errf(e, PS_EINVAL, "'%s' needs exactly one %%d (e.g. dc_%%03d.hdr)", fmt);
+	return ps_err_set(e, PS_EINVAL, "'%s' needs exactly one %%d (e.g. dc_%%03d.hdr)", fmt);
 }
 
 int ps_dcpic_write(const char *path_fmt, const struct ps_patches *P, const int *map, int width,
@@ -122,7 +122,7 @@ int ps_dcpic_write(const char *path_fmt, const struct ps_patches *P, const int *
 	double *rgb = calloc(n * 3, sizeof *rgb);
 	char extra[160];
 	if (!rgb)
-		return ps_errf(e, PS_ENOMEM, "out of memory for a %d x %d picture", width, height);
+		return ps_err_set(e, PS_ENOMEM, "out of memory for a %d x %d picture", width, height);
 	for (int p = 0; p < P->n; p++) {
 		char path[4096];
 		int rc;
@@ -165,7 +165,7 @@ int ps_dcpic_coefficients(const struct ps_weights *w, const int *map, int npatch
 		free(pic.pix);
 		free(first);
 		free(next);
-		return ps_errf(e, PS_ENOMEM, "out of memory for %d coefficient pictures", npatch);
+		return ps_err_set(e, PS_ENOMEM, "out of memory for %d coefficient pictures", npatch);
 	}
 	ps_rgbe_encode(white, one);
 	/* each patch's pixels as a linked list */

@@ -33,7 +33,7 @@ int ps_dcset_count(const char *pattern, int mf, int *n, int *mf_out, struct ps_e
 	char path[4096];
 	int want = mf > 0 ? ps_patches_count(mf) : 0, count = 0, limit;
 	if (mf < 0 || mf > PS_PATCHES_MF_MAX)
-		return ps_errf(e, PS_ERANGE, "%s: MF %d is not 1 to %d", pattern, mf, PS_PATCHES_MF_MAX);
+		return ps_err_set(e, PS_ERANGE, "%s: MF %d is not 1 to %d", pattern, mf, PS_PATCHES_MF_MAX);
 	limit = ps_patches_count(PS_PATCHES_MF_MAX);
 	/* the contiguous run from patch 0 */
 	for (;;) {
@@ -45,23 +45,23 @@ int ps_dcset_count(const char *pattern, int mf, int *n, int *mf_out, struct ps_e
 	}
 	if (want) {
 		if (count < want)
-			return ps_errf(e, PS_EMISSING, "%s: patch %d of %d (MF %d) is missing: %s", pattern,
-			               count, want, mf, path);
+			return ps_err_set(e, PS_EMISSING, "%s: patch %d of %d (MF %d) is missing: %s", pattern,
+			                  count, want, mf, path);
 		if (count > want)
-			return ps_errf(e, PS_EFORMAT, "%s: %d pictures or more, MF %d has %d patches (found %s)",
-			               pattern, count, mf, want,
-			               (ps_dcpic_path(pattern, want, path, sizeof path, e), path));
+			return ps_err_set(e, PS_EFORMAT, "%s: %d pictures or more, MF %d has %d patches (found %s)",
+			                  pattern, count, mf, want,
+			                  (ps_dcpic_path(pattern, want, path, sizeof path, e), path));
 	} else if (count == 0) {
-		return ps_errf(e, PS_EMISSING, "%s: no pictures (patch 0 would be %s)", pattern, path);
+		return ps_err_set(e, PS_EMISSING, "%s: no pictures (patch 0 would be %s)", pattern, path);
 	} else if (ps_patches_mf_for_count(count) < 0) {
 		/* a gap, or a count no subdivision has */
 		int next = 0;
 		for (int m = 1; m <= PS_PATCHES_MF_MAX && !next; m++)
 			if (ps_patches_count(m) > count)
 				next = ps_patches_count(m);
-		return ps_errf(e, PS_EFORMAT, "%s: %d pictures (patches 0 to %d) match no MF (146, 578, "
-		               "2306, 5186 for MF 1, 2, 4, 6); if the set has %d, patch %d is missing: %s",
-		               pattern, count, count - 1, next, count, path);
+		return ps_err_set(e, PS_EFORMAT, "%s: %d pictures (patches 0 to %d) match no MF (146, 578, "
+		                  "2306, 5186 for MF 1, 2, 4, 6); if the set has %d, patch %d is missing: %s",
+		                  pattern, count, count - 1, next, count, path);
 	}
 	*n = count;
 	*mf_out = ps_patches_mf_for_count(count);
@@ -84,7 +84,7 @@ static int dc_load_pic(void *ctx, size_t i, struct ps_picture *pic, struct ps_er
 	struct dc_load *l = ctx;
 	char *view = strdup(l->view);
 	if (!view)
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory", l->names[i]);
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory", l->names[i]);
 	if (i == 0 && l->have_first) {
 		/* patch 0's picture goes to the one thread that asks for it */
 		*pic = l->first;
@@ -122,7 +122,7 @@ int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const str
 		free(l.names);
 		free(res);
 		ps_dcrow_free(row);
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory for %d pictures", pattern, n);
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory for %d pictures", pattern, n);
 	}
 	row->n = n;
 	row->mf = m;
@@ -150,13 +150,13 @@ int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const str
 		if (r->status == PS_BATCH_OK) {
 			memcpy(row->c + 3 * p, r->r.rgb, 3 * sizeof *row->c);
 		} else if (r->width > 0 && (r->width != row->width || r->height != row->height)) {
-			rc = ps_errf(e, PS_EFORMAT, "%s: patch %d is %d x %d, patch 0 (%s) is %d x %d: "
-			             "one set, one size", l.names[p], p, r->width, r->height, l.names[0],
-			             row->width, row->height);
+			rc = ps_err_set(e, PS_EFORMAT, "%s: patch %d is %d x %d, patch 0 (%s) is %d x %d: "
+			                "one set, one size", l.names[p], p, r->width, r->height, l.names[0],
+			                row->width, row->height);
 		} else if (!strstr(r->err.msg, l.names[p])) {
-			rc = ps_errf(e, r->err.code, "%s (patch %d): %s", l.names[p], p, r->err.msg);
+			rc = ps_err_set(e, r->err.code, "%s (patch %d): %s", l.names[p], p, r->err.msg);
 		} else {
-			rc = ps_errf(e, r->err.code, "%s (patch %d)", r->err.msg, p);
+			rc = ps_err_set(e, r->err.code, "%s (patch %d)", r->err.msg, p);
 		}
 	}
 	ps_batch_free(&b);

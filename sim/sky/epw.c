@@ -49,10 +49,10 @@ static int parse_location(struct ps_weather *w, const char *line, struct ps_err 
 	static const int lines[5] = { 1, 1, 1, 1, 1 };
 	size_t cn, kn;
 	if (nf != 10)
-		return ps_errf(e, PS_EFORMAT,
-		               "%s:1: LOCATION has %d fields, expected 10 (LOCATION, city, state, "
-		               "country, source, WMO, latitude, longitude, time zone, elevation)",
-		               w->name, nf);
+		return ps_err_set(e, PS_EFORMAT,
+		                  "%s:1: LOCATION has %d fields, expected 10 (LOCATION, city, state, "
+		                  "country, source, WMO, latitude, longitude, time zone, elevation)",
+		                  w->name, nf);
 	for (int k = 0; k < 4; k++)
 		if (ps_weather_number(f[6 + k], n[6 + k], &v[k], w->name, 1, what[k], e) != 0)
 			return -1;
@@ -72,7 +72,7 @@ static int parse_location(struct ps_weather *w, const char *line, struct ps_err 
 	w->site.tz = v[2];
 	w->site.elevation = v[3];
 	if (cn == 0)
-		return ps_errf(e, PS_EFORMAT, "%s:1: the header names no site (empty city)", w->name);
+		return ps_err_set(e, PS_EFORMAT, "%s:1: the header names no site (empty city)", w->name);
 	return ps_weather_check_site(w, lines, e);
 }
 
@@ -83,17 +83,17 @@ static int parse_periods(struct ps_weather *w, const char *line, int lineno, str
 	double count, per;
 	int nf = split(line, f, n, 4);
 	if (nf < 4)
-		return ps_errf(e, PS_EFORMAT, "%s:%d: DATA PERIODS needs the count and the records "
-		               "per hour", w->name, lineno);
+		return ps_err_set(e, PS_EFORMAT, "%s:%d: DATA PERIODS needs the count and the records "
+		                  "per hour", w->name, lineno);
 	if (ps_weather_number(f[1], n[1], &count, w->name, lineno, "number of data periods", e) != 0 ||
 	    ps_weather_number(f[2], n[2], &per, w->name, lineno, "records per hour", e) != 0)
 		return -1;
 	if (!whole(count, 1, 1000))
-		return ps_errf(e, PS_ERANGE, "%s:%d: number of data periods %g is not 1 or more",
-		               w->name, lineno, count);
+		return ps_err_set(e, PS_ERANGE, "%s:%d: number of data periods %g is not 1 or more",
+		                  w->name, lineno, count);
 	if (!whole(per, 1, 60) || 60 % (int)per != 0)
-		return ps_errf(e, PS_ERANGE, "%s:%d: records per hour %g does not divide 60", w->name,
-		               lineno, per);
+		return ps_err_set(e, PS_ERANGE, "%s:%d: records per hour %g does not divide 60", w->name,
+		                  lineno, per);
 	w->per_hour = (int)per;
 	return 0;
 }
@@ -108,8 +108,8 @@ static int parse_record(struct ps_weather *w, const char *line, int lineno, unsi
 	int idir = illum ? 17 : 14, idif = illum ? 18 : 15;
 	double missing = illum ? 999900.0 : 9999.0;
 	if (nf != PS_EPW_FIELDS)
-		return ps_errf(e, PS_EFORMAT, "%s:%d: %d fields, expected %d", w->name, lineno, nf,
-		               PS_EPW_FIELDS);
+		return ps_err_set(e, PS_EFORMAT, "%s:%d: %d fields, expected %d", w->name, lineno, nf,
+		                  PS_EPW_FIELDS);
 	if (ps_weather_number(f[0], n[0], &year, w->name, lineno, "year (field 1)", e) != 0 ||
 	    ps_weather_number(f[1], n[1], &month, w->name, lineno, "month (field 2)", e) != 0 ||
 	    ps_weather_number(f[2], n[2], &day, w->name, lineno, "day (field 3)", e) != 0 ||
@@ -117,17 +117,17 @@ static int parse_record(struct ps_weather *w, const char *line, int lineno, unsi
 	    ps_weather_number(f[4], n[4], &minute, w->name, lineno, "minute (field 5)", e) != 0)
 		return -1;
 	if (!whole(year, -9999, 9999) || !whole(month, 1, 12) || !whole(day, 1, 31))
-		return ps_errf(e, PS_ERANGE, "%s:%d: no date %g/%g/%g (year/month/day, whole numbers)",
-		               w->name, lineno, year, month, day);
+		return ps_err_set(e, PS_ERANGE, "%s:%d: no date %g/%g/%g (year/month/day, whole numbers)",
+		                  w->name, lineno, year, month, day);
 	if (!whole(hour, 1, 24) || !whole(minute, 0, 60))
-		return ps_errf(e, PS_ERANGE, "%s:%d: hour %g minute %g: the hour must be 1 to 24 and "
-		               "the minute 0 to 60", w->name, lineno, hour, minute);
+		return ps_err_set(e, PS_ERANGE, "%s:%d: hour %g minute %g: the hour must be 1 to 24 and "
+		                  "the minute 0 to 60", w->name, lineno, hour, minute);
 	if (w->per_hour == 1) {
 		t = hour - 0.5;
 	} else {
 		if (minute == 0)
-			return ps_errf(e, PS_ERANGE, "%s:%d: minute 0 with %d records an hour: the minute "
-			               "is the end of the interval (1 to 60)", w->name, lineno, w->per_hour);
+			return ps_err_set(e, PS_ERANGE, "%s:%d: minute 0 with %d records an hour: the minute "
+			                  "is the end of the interval (1 to 60)", w->name, lineno, w->per_hour);
 		t = hour - 1.0 + minute / 60.0 - 0.5 / w->per_hour;
 	}
 	/* the dew point: empty or 99.9 (and above) is missing */
@@ -139,8 +139,8 @@ static int parse_record(struct ps_weather *w, const char *line, int lineno, unsi
 		if (dew >= 99.9)
 			dew = NAN;
 		else if (!(dew > -70.0 && dew < 70.0))
-			return ps_errf(e, PS_ERANGE, "%s:%d: dew point %g C is not between -70 and 70",
-			               w->name, lineno, dew);
+			return ps_err_set(e, PS_ERANGE, "%s:%d: dew point %g C is not between -70 and 70",
+			                  w->name, lineno, dew);
 	}
 	if (ps_weather_number(f[idir], n[idir], &dir, w->name, lineno,
 	                      illum ? "direct normal illuminance (field 18)"
@@ -150,9 +150,9 @@ static int parse_record(struct ps_weather *w, const char *line, int lineno, unsi
 	                            : "diffuse horizontal irradiance (field 16)", e) != 0)
 		return -1;
 	if (dir >= missing || dif >= missing)
-		return ps_errf(e, PS_EMISSING, "%s:%d: %s %s is missing (%g)", w->name, lineno,
-		               dir >= missing ? "direct normal" : "diffuse horizontal",
-		               illum ? "illuminance" : "irradiance", dir >= missing ? dir : dif);
+		return ps_err_set(e, PS_EMISSING, "%s:%d: %s %s is missing (%g)", w->name, lineno,
+		                  dir >= missing ? "direct normal" : "diffuse horizontal",
+		                  illum ? "illuminance" : "irradiance", dir >= missing ? dir : dif);
 	return ps_weather_push(w, (int)month, (int)day, t, dir, dif, dew, lineno, e);
 }
 
@@ -165,21 +165,21 @@ int ps_epw_parse(struct ps_weather *w, const char *text, size_t len, unsigned fl
 	w->format = PS_WX_EPW;
 	w->units = (flags & PS_WX_EPW_ILLUM) ? PS_WX_ILLUM : PS_WX_DN_DH;
 	if (!buf)
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory", w->name);
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory", w->name);
 	rc = ps_weather_line(&l, buf, EPW_LINE_MAX, w->name, e);
 	if (rc == 0)
-		rc = ps_errf(e, PS_EFORMAT, "%s:1: empty file", w->name);
+		rc = ps_err_set(e, PS_EFORMAT, "%s:1: empty file", w->name);
 	if (rc > 0)
 		rc = parse_location(w, buf, e);
 	for (int k = 0; rc == 0 && k < 7; k++) {
 		const char *key = k < 6 ? header_keys[k] : "DATA PERIODS";
 		rc = ps_weather_line(&l, buf, EPW_LINE_MAX, w->name, e);
 		if (rc == 0)
-			rc = ps_errf(e, PS_EFORMAT, "%s:%d: the header ends before '%s'", w->name,
-			             l.line + 1, key);
+			rc = ps_err_set(e, PS_EFORMAT, "%s:%d: the header ends before '%s'", w->name,
+			                l.line + 1, key);
 		else if (rc > 0 && strncasecmp(buf, key, strlen(key)) != 0)
-			rc = ps_errf(e, PS_EFORMAT, "%s:%d: expected the '%s,' header line", w->name,
-			             l.line, key);
+			rc = ps_err_set(e, PS_EFORMAT, "%s:%d: expected the '%s,' header line", w->name,
+			                l.line, key);
 		else if (rc > 0)
 			rc = k < 6 ? 0 : parse_periods(w, buf, l.line, e);
 	}

@@ -57,9 +57,9 @@ int ps_mtx_write(FILE *fp, const char *path, const struct ps_mtx_header *h, int 
 		if (h->format == PS_MTX_ASCII && h->ncols > 1)
 			fputc('\n', fp);
 		if (ferror(fp))
-			return ps_errsys(e, "%s: write error", path);
+			return ps_err_sys(e, "%s: write error", path);
 	}
 	if (fflush(fp) != 0 || ferror(fp))
-		return ps_errsys(e, "%s: write error", path);
+		return ps_err_sys(e, "%s: write error", path);
 	return 0;
 }

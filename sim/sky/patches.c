@@ -40,7 +40,7 @@ int ps_patches_init(struct ps_patches *p, int mf, struct ps_err *e)
 	int k = 1;
 	memset(p, 0, sizeof *p);
 	if (mf < 1 || mf > PS_PATCHES_MF_MAX)
-		return ps_errf(e, PS_EINVAL, "sky subdivision %d is not 1 to %d", mf, PS_PATCHES_MF_MAX);
+		return ps_err_set(e, PS_EINVAL, "sky subdivision %d is not 1 to %d", mf, PS_PATCHES_MF_MAX);
 	p->mf = mf;
 	p->n = ps_patches_count(mf);
 	p->nrows = 7 * mf + 1;
@@ -54,7 +54,7 @@ int ps_patches_init(struct ps_patches *p, int mf, struct ps_err *e)
 	p->row = malloc((size_t)p->n * sizeof *p->row);
 	if (!p->row_count || !p->row_first || !p->alt || !p->azi || !p->omega || !p->dir || !p->row) {
 		ps_patches_free(p);
-		return ps_errf(e, PS_ENOMEM, "out of memory for %d sky patches", ps_patches_count(mf));
+		return ps_err_set(e, PS_ENOMEM, "out of memory for %d sky patches", ps_patches_count(mf));
 	}
 	p->alt[0] = -M_PI / 2;
 	p->azi[0] = 0.0;

@@ -76,7 +76,7 @@ int ps_sky_step(struct ps_sky *s, const struct ps_weather *w, size_t i, const st
 	struct ps_sky_in in;
 	const struct ps_wx_step *st;
 	if (i >= w->n)
-		return ps_errf(e, PS_EINVAL, "%s: step %zu of %zu", w->name, i, w->n);
+		return ps_err_set(e, PS_EINVAL, "%s: step %zu of %zu", w->name, i, w->n);
 	st = &w->step[i];
 	in.dir = st->dir;
 	in.dif = st->dif;
@@ -274,8 +274,8 @@ int ps_sky_normalise(struct ps_sky *s, double reltol, struct ps_err *e)
 		return 0;
 	}
 	if (!r.converged)
-		return ps_errf(e, PS_ERANGE, "sky normalisation did not reach %g (error %g of %g)", reltol,
-		               r.error, r.value);
+		return ps_err_set(e, PS_ERANGE, "sky normalisation did not reach %g (error %g of %g)", reltol,
+		                  r.error, r.value);
 	return 0;
 }
 
@@ -325,7 +325,7 @@ int ps_sky_integrate(const struct ps_sky *s, const double coef[3], ps_sky_weight
 		return 0;
 	}
 	if (s->norm == 0.0)
-		return ps_errf(e, PS_EINVAL, "the continuous sky is not normalised (ps_sky_normalise)");
+		return ps_err_set(e, PS_EINVAL, "the continuous sky is not normalised (ps_sky_normalise)");
 	k = (coef[0] * s->opt.sky_color[0] + coef[1] * s->opt.sky_color[1] +
 	     coef[2] * s->opt.sky_color[2]) * diffuse_scale(s);
 	if (ps_sky_bright(s->opt.sky_color) <= SKY_DARK)
@@ -334,7 +334,7 @@ int ps_sky_integrate(const struct ps_sky *s, const double coef[3], ps_sky_weight
 	r->value *= k;
 	r->error *= fabs(k);
 	if (!r->converged)
-		return ps_errf(e, PS_ERANGE, "sky integral did not reach %g (error %g of %g)", reltol,
-		               r->error, r->value);
+		return ps_err_set(e, PS_ERANGE, "sky integral did not reach %g (error %g of %g)", reltol,
+		                  r->error, r->value);
 	return 0;
 }

@@ -33,12 +33,12 @@ static int header_number(struct ps_weather *w, struct ps_wx_lines *l, char *buf,
 	if (rc < 0)
 		return -1;
 	if (rc == 0)
-		return ps_errf(e, PS_EFORMAT, "%s:%d: the header ends before '%s %s'", w->name,
-		               l->line + 1, key, what);
+		return ps_err_set(e, PS_EFORMAT, "%s:%d: the header ends before '%s %s'", w->name,
+		                  l->line + 1, key, what);
 	if (keyword(buf, key, &v, &n) != 0)
-		return ps_errf(e, PS_EFORMAT, "%s:%d: expected '%s %s'", w->name, l->line, key, what);
+		return ps_err_set(e, PS_EFORMAT, "%s:%d: expected '%s %s'", w->name, l->line, key, what);
 	if (memchr(v, ' ', n) || memchr(v, '\t', n))
-		return ps_errf(e, PS_EFORMAT, "%s:%d: '%s' takes one value", w->name, l->line, key);
+		return ps_err_set(e, PS_EFORMAT, "%s:%d: '%s' takes one value", w->name, l->line, key);
 	return ps_weather_number(v, n, out, w->name, l->line, key, e);
 }
 
@@ -59,16 +59,16 @@ int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_e
 	w->per_hour = 1;
 	/* place: the rest of the line */
 	if (ps_weather_line(&l, buf, sizeof buf, w->name, e) <= 0)
-		return l.line ? -1 : ps_errf(e, PS_EFORMAT, "%s:1: empty file", w->name);
+		return l.line ? -1 : ps_err_set(e, PS_EFORMAT, "%s:1: empty file", w->name);
 	if (keyword(buf, "place", &v, &n) != 0)
-		return ps_errf(e, PS_EFORMAT, "%s:%d: expected 'place <name>'", w->name, l.line);
+		return ps_err_set(e, PS_EFORMAT, "%s:%d: expected 'place <name>'", w->name, l.line);
 	if (n >= sizeof w->site.name)
 		n = sizeof w->site.name - 1;
 	memcpy(w->site.name, v, n);
 	w->site.name[n] = '\0';
 	if (n == 0)
-		return ps_errf(e, PS_EFORMAT, "%s:%d: the header names no site (empty place)", w->name,
-		               l.line);
+		return ps_err_set(e, PS_EFORMAT, "%s:%d: the header names no site (empty place)", w->name,
+		                  l.line);
 	if (header_number(w, &l, buf, "latitude", "<degrees north>", &w->site.lat, e) != 0 ||
 	    header_number(w, &l, buf, "longitude", "<degrees west>", &lon_west, e) != 0 ||
 	    header_number(w, &l, buf, "time_zone", "<degrees west>", &tz_west, e) != 0 ||
@@ -84,11 +84,11 @@ int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_e
 	if (header_number(w, &l, buf, "weather_data_file_units", "<1|2|3>", &units, e) != 0)
 		return -1;
 	if (units != 1 && units != 2 && units != 3)
-		return ps_errf(e, PS_ERANGE,
-		               "%s:%d: weather_data_file_units %g is not 1 (direct normal and diffuse "
-		               "horizontal irradiance), 2 (direct horizontal and diffuse horizontal "
-		               "irradiance) or 3 (direct normal and diffuse horizontal illuminance)",
-		               w->name, l.line, units);
+		return ps_err_set(e, PS_ERANGE,
+		                  "%s:%d: weather_data_file_units %g is not 1 (direct normal and diffuse "
+		                  "horizontal irradiance), 2 (direct horizontal and diffuse horizontal "
+		                  "irradiance) or 3 (direct normal and diffuse horizontal illuminance)",
+		                  w->name, l.line, units);
 	w->units = (int)units;
 	while ((rc = ps_weather_line(&l, buf, sizeof buf, w->name, e)) > 0) {
 		static const char *const what[WEA_FIELDS] = { "month", "day", "hour", "direct",
@@ -112,15 +112,15 @@ int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_e
 		if (nf == 0)
 			continue;   /* blank line */
 		if (nf != WEA_FIELDS)
-			return ps_errf(e, PS_EFORMAT,
-			               "%s:%d: %d fields, expected %d (month day hour direct diffuse)",
-			               w->name, l.line, nf, WEA_FIELDS);
+			return ps_err_set(e, PS_EFORMAT,
+			                  "%s:%d: %d fields, expected %d (month day hour direct diffuse)",
+			                  w->name, l.line, nf, WEA_FIELDS);
 		for (int k = 0; k < WEA_FIELDS; k++)
 			if (ps_weather_number(tok[k], tlen[k], &x[k], w->name, l.line, what[k], e) != 0)
 				return -1;
 		if (!whole(x[0]) || !whole(x[1]))
-			return ps_errf(e, PS_EFORMAT, "%s:%d: month and day must be whole numbers (%g %g)",
-			               w->name, l.line, x[0], x[1]);
+			return ps_err_set(e, PS_EFORMAT, "%s:%d: month and day must be whole numbers (%g %g)",
+			                  w->name, l.line, x[0], x[1]);
 		if (ps_weather_push(w, (int)x[0], (int)x[1], x[2], x[3], x[4], PS_WX_DEW_DEFAULT,
 		                    l.line, e) != 0)
 			return -1;

@@ -77,7 +77,7 @@ int ps_year_run(const struct ps_dcrow *srow, const double scoef[3], const struct
 	int *list, nlist = 0;
 	memset(y, 0, sizeof *y);
 	if (srow->n != trow->n || srow->mf != trow->mf)
-		return ps_errf(e, PS_EINVAL, "year: the rows have %d and %d patches", srow->n, trow->n);
+		return ps_err_set(e, PS_EINVAL, "year: the rows have %d and %d patches", srow->n, trow->n);
 	if (ps_patches_init(&P, srow->mf, e) != 0)
 		return -1;
 	sky = malloc((size_t)P.n * 3 * sizeof *sky);
@@ -88,7 +88,7 @@ int ps_year_run(const struct ps_dcrow *srow, const double scoef[3], const struct
 		free(list);
 		ps_patches_free(&P);
 		ps_year_free(y);
-		return ps_errf(e, PS_ENOMEM, "year: out of memory for %zu hours", w->n);
+		return ps_err_set(e, PS_ENOMEM, "year: out of memory for %zu hours", w->n);
 	}
 	for (int p = 0; p < P.n; p++) {
 		int any = 0;

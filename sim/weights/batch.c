@@ -29,7 +29,7 @@ static int init(struct ps_batch *b, const struct ps_sensor *s, double rotation_d
 {
 	memset(b, 0, sizeof *b);
 	if (nthreads > PS_BATCH_THREADS_MAX)
-		return ps_errf(e, PS_EINVAL, "%d threads: at most %d", nthreads, PS_BATCH_THREADS_MAX);
+		return ps_err_set(e, PS_EINVAL, "%d threads: at most %d", nthreads, PS_BATCH_THREADS_MAX);
 	b->sens = s;
 	b->rotation = rotation_deg;
 	b->method = method;
@@ -111,8 +111,8 @@ static void one(struct job *j, size_t i)
 		goto out;
 	if (pic.width != b->w.width || pic.height != b->w.height) {
 		r->status = PS_BATCH_MISMATCH;
-		ps_errf(&r->err, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are for %d x %d",
-		        name, pic.width, pic.height, b->w.width, b->w.height);
+		ps_err_set(&r->err, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are for %d x %d",
+		           name, pic.width, pic.height, b->w.width, b->w.height);
 		goto out;
 	}
 	ps_weights_key(b->sens, b->rotation, &view, pic.width, pic.height, b->method, key, sizeof key);
@@ -120,13 +120,13 @@ static void one(struct job *j, size_t i)
 		char vs[400];
 		r->status = PS_BATCH_MISMATCH;
 		ps_view_format(&view, vs, sizeof vs);
-		ps_errf(&r->err, PS_EINVAL, "%s: its view (%s) is not the batch's", name, vs);
+		ps_err_set(&r->err, PS_EINVAL, "%s: its view (%s) is not the batch's", name, vs);
 		goto out;
 	}
 	if (ps_integrate(&b->w, &pic, b->coef, &r->r, &r->err) != 0) {
 		char msg[sizeof r->err.msg];
 		memcpy(msg, r->err.msg, sizeof msg);
-		ps_errf(&r->err, r->err.code, "%.200s: %.300s", name, msg);
+		ps_err_set(&r->err, r->err.code, "%.200s: %.300s", name, msg);
 		goto out;
 	}
 	r->status = PS_BATCH_OK;
@@ -166,8 +166,8 @@ static void one_file(struct job *j, size_t i)
 		goto out;
 	if (head.width != b->w.width || head.height != b->w.height) {
 		r->status = PS_BATCH_MISMATCH;
-		ps_errf(&r->err, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are for %d x %d",
-		        name, head.width, head.height, b->w.width, b->w.height);
+		ps_err_set(&r->err, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are for %d x %d",
+		           name, head.width, head.height, b->w.width, b->w.height);
 		goto out;
 	}
 	ps_weights_key(b->sens, b->rotation, &view, head.width, head.height, b->method, key,
@@ -176,7 +176,7 @@ static void one_file(struct job *j, size_t i)
 		char vs[400];
 		r->status = PS_BATCH_MISMATCH;
 		ps_view_format(&view, vs, sizeof vs);
-		ps_errf(&r->err, PS_EINVAL, "%s: its view (%s) is not the batch's", name, vs);
+		ps_err_set(&r->err, PS_EINVAL, "%s: its view (%s) is not the batch's", name, vs);
 		goto out;
 	}
 	if (ps_integrate_mem(&b->w, &head, m.data, m.len, off, name, b->coef, j->inner, &r->r,
@@ -229,7 +229,7 @@ static long run(const struct ps_batch *b, size_t n,
 	}
 	if ((rc = pthread_mutex_init(&j.mu, NULL)) != 0) {
 		errno = rc;
-		return ps_errsys(e, "batch: mutex");
+		return ps_err_sys(e, "batch: mutex");
 	}
 	/* the calling thread is one of the workers; a thread that cannot be
 	 * started only leaves more pictures to the others */

@@ -131,8 +131,8 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	size_t ncontrib = 0;
 	memset(r, 0, sizeof *r);
 	if (pic->width != w->width || pic->height != w->height)
-		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
-		               pic->height, w->width, w->height);
+		return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
+		                  pic->height, w->width, w->height);
 	ps_pic_rgb_matrix(pic, k);
 	ps_coef_k(coef, k, kc);
 	/* Each run is summed with compensation in four lanes (rowsum.h) and
@@ -172,7 +172,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		size_t n = 0;
 		contrib = malloc(ncontrib * sizeof *contrib);
 		if (!contrib)
-			return ps_errf(e, PS_ENOMEM, "out of memory");
+			return ps_err_set(e, PS_ENOMEM, "out of memory");
 		for (size_t ri = 0; ri < w->nruns; ri++) {
 			const struct ps_wrun *run = &w->runs[ri];
 			const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);

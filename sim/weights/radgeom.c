@@ -46,8 +46,8 @@ static int next_word(struct lex *l, char *buf, struct ps_err *e)
 		return 1;
 	while (l->p < l->end && !is_space(*l->p)) {
 		if (n + 1 >= TOKEN_MAX)
-			return ps_errf(e, PS_EFORMAT, "%s:%d: a word longer than %d bytes", l->name, l->line,
-			               TOKEN_MAX - 1);
+			return ps_err_set(e, PS_EFORMAT, "%s:%d: a word longer than %d bytes", l->name, l->line,
+			                  TOKEN_MAX - 1);
 		buf[n++] = *l->p++;
 	}
 	buf[n] = '\0';
@@ -114,7 +114,7 @@ static int add_poly(struct ps_radgeom *g, const char *name, const char *mat, int
 		struct ps_radpoly *np = realloc(g->poly, cap * sizeof *np);
 		if (!np) {
 			free(v);
-			return ps_errf(e, PS_ENOMEM, "out of memory");
+			return ps_err_set(e, PS_ENOMEM, "out of memory");
 		}
 		g->poly = np;
 		g->cap = cap;
@@ -127,7 +127,7 @@ static int add_poly(struct ps_radgeom *g, const char *name, const char *mat, int
 		free(p->name);
 		free(p->material);
 		free(v);
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	}
 	p->file = file;
 	p->line = line;
@@ -209,17 +209,17 @@ static int xform_stage(char **w, int n, struct xf *x, const char **mat, const ch
 		xf_identity(&a);
 		if (strcmp(o, "-t") == 0) {
 			if (i + 3 >= n)
-				return ps_errf(e, PS_EFORMAT, "%s: xform -t needs 3 numbers", where);
+				return ps_err_set(e, PS_EFORMAT, "%s: xform -t needs 3 numbers", where);
 			for (int k = 0; k < 3; k++)
 				if (parse_double(w[i + 1 + k], &a.t[k]) != 0)
-					return ps_errf(e, PS_EFORMAT, "%s: xform -t: '%s' is not a number", where,
-					               w[i + 1 + k]);
+					return ps_err_set(e, PS_EFORMAT, "%s: xform -t: '%s' is not a number", where,
+					                  w[i + 1 + k]);
 			i += 3;
 		} else if (strcmp(o, "-rx") == 0 || strcmp(o, "-ry") == 0 || strcmp(o, "-rz") == 0) {
 			double deg, c, s;
 			int ax = o[2] - 'x', p = (ax + 1) % 3, q = (ax + 2) % 3;
 			if (i + 1 >= n || parse_double(w[i + 1], &deg) != 0)
-				return ps_errf(e, PS_EFORMAT, "%s: xform %s needs an angle in degrees", where, o);
+				return ps_err_set(e, PS_EFORMAT, "%s: xform %s needs an angle in degrees", where, o);
 			/* right-handed about the axis: p towards q */
 			c = cos(deg * DEG);
 			s = sin(deg * DEG);
@@ -231,7 +231,7 @@ static int xform_stage(char **w, int n, struct xf *x, const char **mat, const ch
 		} else if (strcmp(o, "-s") == 0) {
 			double s;
 			if (i + 1 >= n || parse_double(w[i + 1], &s) != 0 || s == 0)
-				return ps_errf(e, PS_EFORMAT, "%s: xform -s needs a non-zero scale", where);
+				return ps_err_set(e, PS_EFORMAT, "%s: xform -s needs a non-zero scale", where);
 			for (int k = 0; k < 3; k++)
 				a.m[k][k] = s;
 			i++;
@@ -239,12 +239,12 @@ static int xform_stage(char **w, int n, struct xf *x, const char **mat, const ch
 			a.m[o[2] - 'x'][o[2] - 'x'] = -1.0;
 		} else if (strcmp(o, "-m") == 0) {
 			if (i + 1 >= n)
-				return ps_errf(e, PS_EFORMAT, "%s: xform -m needs a material", where);
+				return ps_err_set(e, PS_EFORMAT, "%s: xform -m needs a material", where);
 			*mat = w[++i];
 			continue;
 		} else {
-			return ps_errf(e, PS_EUNSUPPORTED, "%s: xform option '%s' is not handled (only -t, "
-			               "-rx, -ry, -rz, -s, -mx, -my, -mz and -m)", where, o);
+			return ps_err_set(e, PS_EUNSUPPORTED, "%s: xform option '%s' is not handled (only -t, "
+			                  "-rx, -ry, -rz, -s, -mx, -my, -mz and -m)", where, o);
 		}
 		xf_then(x, &a);
 	}
@@ -263,25 +263,25 @@ static int command(struct ps_radgeom *g, char *text, int file, const char *name,
 	snprintf(where, sizeof where, "%.255s:%d", name, line);
 	for (s = strtok_r(text, "|", &save); s; s = strtok_r(NULL, "|", &save)) {
 		if (nstage == 64)
-			return ps_errf(e, PS_EFORMAT, "%s: more than 64 commands in one pipe", where);
+			return ps_err_set(e, PS_EFORMAT, "%s: more than 64 commands in one pipe", where);
 		stage[nstage++] = s;
 	}
 	if (nstage == 0)
-		return ps_errf(e, PS_EFORMAT, "%s: an empty command", where);
+		return ps_err_set(e, PS_EFORMAT, "%s: an empty command", where);
 	n = split_words(stage[0], w, 64);
 	if (n == 0)
-		return ps_errf(e, PS_EFORMAT, "%s: an empty command", where);
+		return ps_err_set(e, PS_EFORMAT, "%s: an empty command", where);
 	if (n > 64)
-		return ps_errf(e, PS_EFORMAT, "%s: too many words in a command", where);
+		return ps_err_set(e, PS_EFORMAT, "%s: too many words in a command", where);
 	if (strcmp(w[0], "genbox") != 0)
-		return ps_errf(e, PS_EUNSUPPORTED, "%s: command '%.64s' is not handled (only !genbox, "
-		               "piped to xform)", where, w[0]);
+		return ps_err_set(e, PS_EUNSUPPORTED, "%s: command '%.64s' is not handled (only !genbox, "
+		                  "piped to xform)", where, w[0]);
 	if (n < 6 || n > 7 || (n == 7 && strcmp(w[6], "-i") != 0))
-		return ps_errf(e, PS_EUNSUPPORTED, "%s: genbox takes MATERIAL NAME X Y Z [-i] here "
-		               "(-r and -b are not handled)", where);
+		return ps_err_set(e, PS_EUNSUPPORTED, "%s: genbox takes MATERIAL NAME X Y Z [-i] here "
+		                  "(-r and -b are not handled)", where);
 	for (int k = 0; k < 3; k++)
 		if (parse_double(w[3 + k], &size[k]) != 0)
-			return ps_errf(e, PS_EFORMAT, "%s: genbox: '%s' is not a number", where, w[3 + k]);
+			return ps_err_set(e, PS_EFORMAT, "%s: genbox: '%s' is not a number", where, w[3 + k]);
 	mat = w[1];
 	box = w[2];
 	xf_identity(&x);
@@ -289,10 +289,10 @@ static int command(struct ps_radgeom *g, char *text, int file, const char *name,
 		char *xw[64];
 		int xn = split_words(stage[k], xw, 64);
 		if (xn == 0 || strcmp(xw[0], "xform") != 0)
-			return ps_errf(e, PS_EUNSUPPORTED, "%s: genbox piped to '%.64s': only xform is "
-			               "handled", where, xn ? xw[0] : "");
+			return ps_err_set(e, PS_EUNSUPPORTED, "%s: genbox piped to '%.64s': only xform is "
+			                  "handled", where, xn ? xw[0] : "");
 		if (xn > 64)
-			return ps_errf(e, PS_EFORMAT, "%s: too many xform options", where);
+			return ps_err_set(e, PS_EFORMAT, "%s: too many xform options", where);
 		if (xform_stage(xw, xn, &x, &mat, where, e) != 0)
 			return -1;
 	}
@@ -304,7 +304,7 @@ static int command(struct ps_radgeom *g, char *text, int file, const char *name,
 			char fname[TOKEN_MAX + 8];
 			double *v = malloc(12 * sizeof *v);
 			if (!v)
-				return ps_errf(e, PS_ENOMEM, "out of memory");
+				return ps_err_set(e, PS_ENOMEM, "out of memory");
 			for (int i = 0; i < 4; i++) {
 				int c = face[f][i];
 				double p[3] = { c & 1 ? size[0] : 0, c & 2 ? size[1] : 0, c & 4 ? size[2] : 0 };
@@ -338,10 +338,10 @@ int ps_radgeom_parse(struct ps_radgeom *g, const char *text, size_t len, const c
 	{
 		char **nf = realloc(g->files, (size_t)(g->nfiles + 1) * sizeof *nf);
 		if (!nf)
-			return ps_errf(e, PS_ENOMEM, "out of memory");
+			return ps_err_set(e, PS_ENOMEM, "out of memory");
 		g->files = nf;
 		if (!(g->files[g->nfiles] = strdup(name)))
-			return ps_errf(e, PS_ENOMEM, "out of memory");
+			return ps_err_set(e, PS_ENOMEM, "out of memory");
 		file = g->nfiles++;
 	}
 	for (;;) {
@@ -362,7 +362,7 @@ int ps_radgeom_parse(struct ps_radgeom *g, const char *text, size_t len, const c
 			char *buf = malloc(COMMAND_MAX);
 			size_t n = 0;
 			if (!buf)
-				return ps_errf(e, PS_ENOMEM, "out of memory");
+				return ps_err_set(e, PS_ENOMEM, "out of memory");
 			l.p++;
 			while (l.p < l.end && *l.p != '\n') {
 				if (*l.p == '\\' && l.p + 1 < l.end && l.p[1] == '\n') {
@@ -375,8 +375,8 @@ int ps_radgeom_parse(struct ps_radgeom *g, const char *text, size_t len, const c
 				}
 				if (n + 1 >= COMMAND_MAX) {
 					free(buf);
-					return ps_errf(e, PS_EFORMAT, "%s:%d: a command longer than %d bytes", name,
-					               line, COMMAND_MAX - 1);
+					return ps_err_set(e, PS_EFORMAT, "%s:%d: a command longer than %d bytes", name,
+					                  line, COMMAND_MAX - 1);
 				}
 			}
 			buf[n] = '\0';
@@ -391,51 +391,51 @@ int ps_radgeom_parse(struct ps_radgeom *g, const char *text, size_t len, const c
 		if ((rc = next_word(&l, type, e)) != 0 || (rc = next_word(&l, id, e)) != 0) {
 			if (rc < 0)
 				return -1;
-			return ps_errf(e, PS_EFORMAT, "%s:%d: the input ends inside a primitive (after '%s')",
-			               name, line, mod);
+			return ps_err_set(e, PS_EFORMAT, "%s:%d: the input ends inside a primitive (after '%s')",
+			                  name, line, mod);
 		}
 		if (strcmp(type, "alias") == 0) {
 			/* MOD alias ID ORIGINAL: no argument counts */
 			if ((rc = next_word(&l, w, e)) != 0)
-				return rc < 0 ? -1 : ps_errf(e, PS_EFORMAT, "%s:%d: alias '%s' has no original",
-				                             name, line, id);
+				return rc < 0 ? -1 : ps_err_set(e, PS_EFORMAT, "%s:%d: alias '%s' has no original",
+				                                name, line, id);
 			g->skipped++;
 			continue;
 		}
 		if (refused_surface(type))
-			return ps_errf(e, PS_EUNSUPPORTED, "%s:%d: %s '%s' is not handled (the labeller reads "
-			               "polygon primitives and !genbox | xform)", name, line, type, id);
+			return ps_err_set(e, PS_EUNSUPPORTED, "%s:%d: %s '%s' is not handled (the labeller reads "
+			                  "polygon primitives and !genbox | xform)", name, line, type, id);
 		for (int k = 0; k < 3; k++) {
 			if ((rc = next_word(&l, w, e)) != 0) {
 				free(v);
-				return rc < 0 ? -1 : ps_errf(e, PS_EFORMAT, "%s:%d: %s '%s' ends before its "
-				                             "argument counts", name, line, type, id);
+				return rc < 0 ? -1 : ps_err_set(e, PS_EFORMAT, "%s:%d: %s '%s' ends before its "
+				                                "argument counts", name, line, type, id);
 			}
 			/* every argument takes two bytes at least: no count beyond the input */
 			if (parse_count(w, &cnt[k]) != 0 || cnt[k] > (l.end - l.p + 1) / 2) {
 				free(v);
-				return ps_errf(e, PS_EFORMAT, "%s:%d: %s '%s': '%s' is not an argument count "
-				               "this input can hold", name, l.line, type, id, w);
+				return ps_err_set(e, PS_EFORMAT, "%s:%d: %s '%s': '%s' is not an argument count "
+				                  "this input can hold", name, l.line, type, id, w);
 			}
 			if (k == 2 && strcmp(type, "polygon") == 0) {
 				if (cnt[0] != 0 || cnt[1] != 0 || cnt[2] < 9 || cnt[2] % 3 != 0)
-					return ps_errf(e, PS_EFORMAT, "%s:%d: polygon '%s' needs 0 strings, 0 integers "
-					               "and 3 x 3 or more reals (has %ld, %ld, %ld)", name, line, id,
-					               cnt[0], cnt[1], cnt[2]);
+					return ps_err_set(e, PS_EFORMAT, "%s:%d: polygon '%s' needs 0 strings, 0 integers "
+					                  "and 3 x 3 or more reals (has %ld, %ld, %ld)", name, line, id,
+					                  cnt[0], cnt[1], cnt[2]);
 				v = malloc((size_t)cnt[2] * sizeof *v);
 				if (!v)
-					return ps_errf(e, PS_ENOMEM, "out of memory");
+					return ps_err_set(e, PS_ENOMEM, "out of memory");
 			}
 			for (long i = 0; i < cnt[k]; i++) {
 				if ((rc = next_word(&l, w, e)) != 0) {
 					free(v);
-					return rc < 0 ? -1 : ps_errf(e, PS_EFORMAT, "%s:%d: %s '%s' ends before its "
-					                             "%ld arguments", name, line, type, id, cnt[k]);
+					return rc < 0 ? -1 : ps_err_set(e, PS_EFORMAT, "%s:%d: %s '%s' ends before its "
+					                                "%ld arguments", name, line, type, id, cnt[k]);
 				}
 				if (v && k == 2 && parse_double(w, &v[i]) != 0) {
 					free(v);
-					return ps_errf(e, PS_EFORMAT, "%s:%d: polygon '%s': '%s' is not a number",
-					               name, l.line, id, w);
+					return ps_err_set(e, PS_EFORMAT, "%s:%d: polygon '%s': '%s' is not a number",
+					                  name, l.line, id, w);
 				}
 			}
 		}

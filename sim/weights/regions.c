@@ -87,7 +87,7 @@ nomem:
 		free(lab[i]);
 	free(lab);
 	free(of);
-	return ps_errf(e, PS_ENOMEM, "out of memory");
+	return ps_err_set(e, PS_ENOMEM, "out of memory");
 }
 
 static void cross(const double a[3], const double b[3], double c[3])
@@ -184,8 +184,8 @@ static int label_view(struct ps_regions *r, struct classify *c, const struct ps_
 	if (v->type != PS_VT_ANGULAR && v->type != PS_VT_HEMI) {
 		free(lab);
 		free(wt);
-		return ps_errf(e, PS_EUNSUPPORTED, "view type -vt%c is not a fisheye (-vta or -vth)",
-		               v->type);
+		return ps_err_set(e, PS_EUNSUPPORTED, "view type -vt%c is not a fisheye (-vta or -vth)",
+		                  v->type);
 	}
 	ps_fisheye_init(&f, v, width, height);
 	r->width = width;
@@ -276,15 +276,15 @@ static int label_view(struct ps_regions *r, struct classify *c, const struct ps_
 nomem:
 	free(lab);
 	free(wt);
-	return ps_errf(e, PS_ENOMEM, "out of memory labelling %d x %d pixels", width, height);
+	return ps_err_set(e, PS_ENOMEM, "out of memory labelling %d x %d pixels", width, height);
 }
 
 static int check_args(int width, int height, int sub, struct ps_err *e)
 {
 	if (width < 1 || height < 1 || width > 16384 || height > 16384)
-		return ps_errf(e, PS_ERANGE, "%d x %d pixels: 1 to 16384 a side", width, height);
+		return ps_err_set(e, PS_ERANGE, "%d x %d pixels: 1 to 16384 a side", width, height);
 	if (sub < 1 || sub > 16)
-		return ps_errf(e, PS_ERANGE, "%d samples a side per pixel: 1 to 16", sub);
+		return ps_err_set(e, PS_ERANGE, "%d samples a side per pixel: 1 to 16", sub);
 	return 0;
 }
 
@@ -330,7 +330,7 @@ int ps_regions_sectors(struct ps_regions *r, const struct ps_view *v, int width,
 			snprintf(name, sizeof name, "%s\xc2\xb0 %s", band[b], quad[q]);
 			if (add_label(&r->label, &r->nlabels, name) < 0) {
 				ps_regions_free(r);
-				return ps_errf(e, PS_ENOMEM, "out of memory");
+				return ps_err_set(e, PS_ENOMEM, "out of memory");
 			}
 		}
 	memset(&c, 0, sizeof c);

@@ -28,11 +28,11 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 	memset(p, 0, sizeof *p);
 	if (!(dtheta_deg > 0 && dtheta_deg <= 180) || !(dphi_deg > 0 && dphi_deg <= 360) ||
 	    !(theta_max_deg > 0) || !isfinite(phi0_deg))
-		return ps_errf(e, PS_EINVAL, "bad grid: %g x %g degrees to %g", dtheta_deg, dphi_deg,
-		               theta_max_deg);
+		return ps_err_set(e, PS_EINVAL, "bad grid: %g x %g degrees to %g", dtheta_deg, dphi_deg,
+		                  theta_max_deg);
 	if (pic->width != omega->width || pic->height != omega->height)
-		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the solid angles are for %d x %d",
-		               pic->width, pic->height, omega->width, omega->height);
+		return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the solid angles are for %d x %d",
+		                  pic->width, pic->height, omega->width, omega->height);
 	if (theta_max_deg > 180)
 		theta_max_deg = 180;
 	p->dtheta = dtheta_deg * DEG;
@@ -41,10 +41,10 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 	p->ntheta = (int)ceil(theta_max_deg / dtheta_deg - 1e-9);
 	p->nphi = (int)lround(360.0 / dphi_deg);
 	if (fabs(p->nphi * dphi_deg - 360.0) > 1e-9 * 360.0)
-		return ps_errf(e, PS_EINVAL, "%g degrees does not divide 360", dphi_deg);
+		return ps_err_set(e, PS_EINVAL, "%g degrees does not divide 360", dphi_deg);
 	p->e = calloc((size_t)p->ntheta * (size_t)p->nphi, sizeof *p->e);
 	if (!p->e)
-		return ps_errf(e, PS_ENOMEM, "out of memory for %d x %d cells", p->ntheta, p->nphi);
+		return ps_err_set(e, PS_ENOMEM, "out of memory for %d x %d cells", p->ntheta, p->nphi);
 	ps_fisheye_init(&f, v, pic->width, pic->height);
 	/* stored channels -> response per unit of decoded (m + 0.5) 2^(e-136) */
 	ps_pic_rgb_matrix(pic, k);
@@ -56,7 +56,7 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 		double *uc = malloc(((size_t)pic->width + 1) * sizeof *uc), inv = 1.0 / p->dphi;
 		if (!uc) {
 			ps_rescan_free(p);
-			return ps_errf(e, PS_ENOMEM, "out of memory");
+			return ps_err_set(e, PS_ENOMEM, "out of memory");
 		}
 		for (int x = 0; x < pic->width; x++)
 			uc[x] = ps_fisheye_u(&f, x + 0.5);
@@ -170,8 +170,8 @@ int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, doub
 	if (n <= 0)
 		return 0;
 	if (fabs(q - qs) > 1e-9 || fabs(r0 - r0s) > 1e-9)
-		return ps_errf(e, PS_EINVAL, "rotations %g + k %g degrees are not whole cells of %g",
-		               rot0_deg, step_deg, p->dphi / DEG);
+		return ps_err_set(e, PS_EINVAL, "rotations %g + k %g degrees are not whole cells of %g",
+		                  rot0_deg, step_deg, p->dphi / DEG);
 	/* The rings collapse onto a few rows: within one patch of the table the
 	 * sensitivity is affine in theta at every azimuth (bilinear reading, or
 	 * constant for rsensor's), so S(theta_r, phi) = (1 - a) S(theta_A, phi) +
@@ -196,7 +196,7 @@ int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, doub
 			free(nz);
 			free(ez);
 			free(sg);
-			return ps_errf(e, PS_ENOMEM, "out of memory for %zu cells", ncells);
+			return ps_err_set(e, PS_ENOMEM, "out of memory for %zu cells", ncells);
 		}
 		for (int it = 0; it < p->ntheta; it++) {
 			const double *er = p->e + (size_t)it * (size_t)np;

@@ -115,7 +115,7 @@ static int alloc_reading(struct ps_sensor *s, int nt, int np, struct ps_err *e)
 	s->mcoef = calloc((size_t)nt * (size_t)np * 6, sizeof *s->mcoef);
 	if (!s->tb || !s->pb || !s->corner || !s->cum || !s->mcoef) {
 		free_reading(s);
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory", s->path ? s->path : "sensor");
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory", s->path ? s->path : "sensor");
 	}
 	return 0;
 }
@@ -186,7 +186,7 @@ int ps_sensor_builtin(struct ps_sensor *s, int kind, struct ps_err *e)
 	s->pb = malloc(2 * sizeof *s->pb);
 	if (!s->path || !s->tb || !s->pb) {
 		ps_sensor_free(s);
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	}
 	s->tb[0] = 0.0;
 	s->tb[1] = s->theta_end;
@@ -243,20 +243,20 @@ static int line_numbers(const char *line, double **v, int *n, int *cap, const ch
 		errno = 0;
 		x = strtod(p, &end);
 		if (end == p || (*end && *end != ' ' && *end != '\t'))
-			return ps_errf(e, PS_EFORMAT, "%s:%d: '%.*s' is not a number", name, lineno,
-			               (int)strcspn(p, " \t"), p);
+			return ps_err_set(e, PS_EFORMAT, "%s:%d: '%.*s' is not a number", name, lineno,
+			                  (int)strcspn(p, " \t"), p);
 		if (errno == ERANGE || !isfinite(x))
-			return ps_errf(e, PS_ERANGE, "%s:%d: '%.*s' is not a finite number", name, lineno,
-			               (int)strcspn(p, " \t"), p);
+			return ps_err_set(e, PS_ERANGE, "%s:%d: '%.*s' is not a finite number", name, lineno,
+			                  (int)strcspn(p, " \t"), p);
 		if (*n == *cap) {
 			int ncap = *cap ? *cap * 2 : 64;
 			double *nv;
 			if (ncap > SENSOR_MAX_COLS + 1)
-				return ps_errf(e, PS_ERANGE, "%s:%d: more than %d values on a line", name,
-				               lineno, SENSOR_MAX_COLS);
+				return ps_err_set(e, PS_ERANGE, "%s:%d: more than %d values on a line", name,
+				                  lineno, SENSOR_MAX_COLS);
 			nv = realloc(*v, (size_t)ncap * sizeof *nv);
 			if (!nv)
-				return ps_errf(e, PS_ENOMEM, "%s:%d: out of memory", name, lineno);
+				return ps_err_set(e, PS_ENOMEM, "%s:%d: out of memory", name, lineno);
 			*v = nv;
 			*cap = ncap;
 		}
@@ -276,7 +276,7 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 	s->kind = PS_SENS_TABLE;
 	s->path = strdup(name);
 	if (!s->path)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	if (memchr(text, '\0', len))
 		goto nul;
 	/* header: optional "Elevation ..." then "degrees phi..." */
@@ -288,15 +288,15 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 			free(line);
 	}
 	if (!line) {
-		ps_errf(e, PS_EFORMAT, "%s:%d: empty sensitivity table", name, l.lineno);
+		ps_err_set(e, PS_EFORMAT, "%s:%d: empty sensitivity table", name, l.lineno);
 		goto fail;
 	}
 	header_line = l.lineno;
 	{
 		const char *p = line + strspn(line, " \t");
 		if (strncmp(p, "degrees", 7) != 0 || (p[7] && p[7] != ' ' && p[7] != '\t')) {
-			ps_errf(e, PS_EFORMAT, "%s:%d: first line must be 'degrees' and the azimuths", name,
-			        l.lineno);
+			ps_err_set(e, PS_EFORMAT, "%s:%d: first line must be 'degrees' and the azimuths", name,
+			           l.lineno);
 			goto fail;
 		}
 		if (line_numbers(p + 7, &s->phi, &s->nphi, &caprow, name, l.lineno, e) != 0)
@@ -305,22 +305,22 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 	free(line);
 	line = NULL;
 	if (s->nphi == 0) {
-		ps_errf(e, PS_EFORMAT, "%s:%d: no azimuths after 'degrees'", name, header_line);
+		ps_err_set(e, PS_EFORMAT, "%s:%d: no azimuths after 'degrees'", name, header_line);
 		goto fail;
 	}
 	if (s->phi[0] != 0.0) {
-		ps_errf(e, PS_ERANGE, "%s:%d: azimuths must start at 0 (not %g)", name, header_line, s->phi[0]);
+		ps_err_set(e, PS_ERANGE, "%s:%d: azimuths must start at 0 (not %g)", name, header_line, s->phi[0]);
 		goto fail;
 	}
 	for (int j = 1; j < s->nphi; j++)
 		if (!(s->phi[j] > s->phi[j - 1])) {
-			ps_errf(e, PS_ERANGE, "%s:%d: azimuth %g does not increase (after %g)", name,
-			        header_line, s->phi[j], s->phi[j - 1]);
+			ps_err_set(e, PS_ERANGE, "%s:%d: azimuth %g does not increase (after %g)", name,
+			           header_line, s->phi[j], s->phi[j - 1]);
 			goto fail;
 		}
 	if (s->phi[s->nphi - 1] < 270.0 || s->phi[s->nphi - 1] >= 360.0) {
-		ps_errf(e, PS_ERANGE, "%s:%d: azimuths must reach at least 270 and stay below 360 (last is %g)",
-		        name, header_line, s->phi[s->nphi - 1]);
+		ps_err_set(e, PS_ERANGE, "%s:%d: azimuths must reach at least 270 and stay below 360 (last is %g)",
+		           name, header_line, s->phi[s->nphi - 1]);
 		goto fail;
 	}
 	caprow = 0;
@@ -333,23 +333,23 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 		if (line_numbers(line, &row, &nrow, &caprow, name, l.lineno, e) != 0)
 			goto fail;
 		if (nrow != s->nphi + 1) {
-			ps_errf(e, PS_EFORMAT, "%s:%d: row has %d values, expected a polar angle and %d",
-			        name, l.lineno, nrow, s->nphi);
+			ps_err_set(e, PS_EFORMAT, "%s:%d: row has %d values, expected a polar angle and %d",
+			           name, l.lineno, nrow, s->nphi);
 			goto fail;
 		}
 		if (s->ntheta == 0 ? row[0] != 0.0 : !(row[0] > s->theta[s->ntheta - 1])) {
-			ps_errf(e, PS_ERANGE, "%s:%d: polar angle %g %s", name, l.lineno, row[0],
-			        s->ntheta == 0 ? "must be 0 in the first row" : "does not increase");
+			ps_err_set(e, PS_ERANGE, "%s:%d: polar angle %g %s", name, l.lineno, row[0],
+			           s->ntheta == 0 ? "must be 0 in the first row" : "does not increase");
 			goto fail;
 		}
 		if (row[0] > 180.0) {
-			ps_errf(e, PS_ERANGE, "%s:%d: polar angle %g is beyond 180", name, l.lineno, row[0]);
+			ps_err_set(e, PS_ERANGE, "%s:%d: polar angle %g is beyond 180", name, l.lineno, row[0]);
 			goto fail;
 		}
 		for (int j = 1; j < nrow; j++)
 			if (row[j] < 0.0) {
-				ps_errf(e, PS_ERANGE, "%s:%d: negative sensitivity %g (azimuth %g)", name,
-				        l.lineno, row[j], s->phi[j - 1]);
+				ps_err_set(e, PS_ERANGE, "%s:%d: negative sensitivity %g (azimuth %g)", name,
+				           l.lineno, row[j], s->phi[j - 1]);
 				goto fail;
 			}
 		if (s->ntheta == rows_cap) {
@@ -360,7 +360,7 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 				goto oom;
 			s->theta = nt;
 			if (ncap > SENSOR_MAX_ROWS || (size_t)ncap * (size_t)s->nphi > (size_t)SENSOR_MAX_FILE) {
-				ps_errf(e, PS_ERANGE, "%s:%d: table too large", name, l.lineno);
+				ps_err_set(e, PS_ERANGE, "%s:%d: table too large", name, l.lineno);
 				goto fail;
 			}
 			nv = realloc(s->val, (size_t)ncap * (size_t)s->nphi * sizeof *nv);
@@ -384,21 +384,21 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 	free(row);
 	row = NULL;
 	if (s->ntheta < 2) {
-		ps_errf(e, PS_EFORMAT, "%s:%d: the table needs at least two polar angle rows (has %d)",
-		        name, l.lineno, s->ntheta);
+		ps_err_set(e, PS_EFORMAT, "%s:%d: the table needs at least two polar angle rows (has %d)",
+		           name, l.lineno, s->ntheta);
 		goto fail;
 	}
 	if (s->max_value <= 0.0) {
-		ps_errf(e, PS_ERANGE, "%s: every sensitivity is zero", name);
+		ps_err_set(e, PS_ERANGE, "%s: every sensitivity is zero", name);
 		goto fail;
 	}
 	return ps_sensor_set_reading(s, PS_READ_LINEAR, e) == 0 ? 0 : (ps_sensor_free(s), -1);
 nul:
-	ps_errf(e, PS_EFORMAT, "%s: byte %zu: NUL byte in a text file", name,
-	        (size_t)((const char *)memchr(text, '\0', len) - text));
+	ps_err_set(e, PS_EFORMAT, "%s: byte %zu: NUL byte in a text file", name,
+	           (size_t)((const char *)memchr(text, '\0', len) - text));
 	goto fail;
 oom:
-	ps_errf(e, PS_ENOMEM, "%s:%d: out of memory", name, l.lineno);
+	ps_err_set(e, PS_ENOMEM, "%s:%d: out of memory", name, l.lineno);
 fail:
 	free(line);
 	free(row);

@@ -15,11 +15,11 @@ int ps_share_compute(struct ps_share *s, const struct ps_weights *w, const struc
 	size_t npix = (size_t)pic->width * (size_t)pic->height;
 	memset(s, 0, sizeof *s);
 	if (pic->width != w->width || pic->height != w->height)
-		return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
-		               pic->height, w->width, w->height);
+		return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
+		                  pic->height, w->width, w->height);
 	s->share = calloc(npix ? npix : 1, sizeof *s->share);
 	if (!s->share)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	s->width = pic->width;
 	s->height = pic->height;
 	ps_lum_init(&l, pic);
@@ -37,7 +37,7 @@ int ps_share_compute(struct ps_share *s, const struct ps_weights *w, const struc
 	s->response = ps_sum_get(&tot);
 	if (s->response == 0) {
 		ps_share_free(s);
-		return ps_errf(e, PS_ERANGE, "the response is 0: no share to give");
+		return ps_err_set(e, PS_ERANGE, "the response is 0: no share to give");
 	}
 	for (size_t p = 0; p < npix; p++)
 		s->share[p] /= s->response;
@@ -70,7 +70,7 @@ int ps_share_regions(const struct ps_share *s, const struct ps_regions *r,
 	int n = r->nlabels;
 	if (r->width != s->width || r->height != s->height || omega->width != s->width ||
 	    omega->height != s->height)
-		return ps_errf(e, PS_EINVAL, "regions, shares and solid angles are of different sizes");
+		return ps_err_set(e, PS_EINVAL, "regions, shares and solid angles are of different sizes");
 	sh = calloc((size_t)n + 1, sizeof *sh);
 	om = calloc((size_t)n + 1, sizeof *om);
 	lo = calloc((size_t)n + 1, sizeof *lo);
@@ -82,7 +82,7 @@ int ps_share_regions(const struct ps_share *s, const struct ps_regions *r,
 		free(lo);
 		free(res);
 		free(dense);
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	}
 	for (size_t k = 0; k < omega->nruns; k++)
 		for (int i = 0; i < omega->runs[k].n; i++)

@@ -33,10 +33,10 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
 	memset(f, 0, sizeof *f);
 	f->path = strdup(name);
 	if (!f->path)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	if (memchr(text, '\0', len)) {
-		ps_errf(e, PS_EFORMAT, "%s: byte %zu: NUL byte in a text file", name,
-		        (size_t)((const char *)memchr(text, '\0', len) - text));
+		ps_err_set(e, PS_EFORMAT, "%s: byte %zu: NUL byte in a text file", name,
+		           (size_t)((const char *)memchr(text, '\0', len) - text));
 		goto fail;
 	}
 	while (p < end) {
@@ -46,7 +46,7 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
 		double wl, v;
 		lineno++;
 		if (n >= sizeof line) {
-			ps_errf(e, PS_EFORMAT, "%s:%d: line longer than %zu bytes", name, lineno, sizeof line - 1);
+			ps_err_set(e, PS_EFORMAT, "%s:%d: line longer than %zu bytes", name, lineno, sizeof line - 1);
 			goto fail;
 		}
 		memcpy(line, p, n);
@@ -60,43 +60,43 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
 		errno = 0;
 		wl = strtod(q, &r2);
 		if (r2 == q || !isfinite(wl)) {
-			ps_errf(e, PS_EFORMAT, "%s:%d: '%.*s' is not a wavelength", name, lineno,
-			        (int)strcspn(q, " \t,"), q);
+			ps_err_set(e, PS_EFORMAT, "%s:%d: '%.*s' is not a wavelength", name, lineno,
+			           (int)strcspn(q, " \t,"), q);
 			goto fail;
 		}
 		q = r2 + strspn(r2, " \t,;");
 		v = strtod(q, &r2);
 		if (r2 == q || !isfinite(v)) {
-			ps_errf(e, PS_EFORMAT, "%s:%d: '%.*s' is not a number (expected wavelength and value)",
-			        name, lineno, (int)strcspn(q, " \t,"), *q ? q : "(nothing)");
+			ps_err_set(e, PS_EFORMAT, "%s:%d: '%.*s' is not a number (expected wavelength and value)",
+			           name, lineno, (int)strcspn(q, " \t,"), *q ? q : "(nothing)");
 			goto fail;
 		}
 		if (r2[strspn(r2, " \t\r,")] != '\0') {
-			ps_errf(e, PS_EFORMAT, "%s:%d: more than two numbers on a line", name, lineno);
+			ps_err_set(e, PS_EFORMAT, "%s:%d: more than two numbers on a line", name, lineno);
 			goto fail;
 		}
 		if (v < 0) {
-			ps_errf(e, PS_ERANGE, "%s:%d: negative transmittance %g", name, lineno, v);
+			ps_err_set(e, PS_ERANGE, "%s:%d: negative transmittance %g", name, lineno, v);
 			goto fail;
 		}
 		if (wl <= 0) {
-			ps_errf(e, PS_ERANGE, "%s:%d: wavelength %g nm is not positive", name, lineno, wl);
+			ps_err_set(e, PS_ERANGE, "%s:%d: wavelength %g nm is not positive", name, lineno, wl);
 			goto fail;
 		}
 		if (f->n > 0 && wl == f->nm[f->n - 1]) {
-			ps_errf(e, PS_EFORMAT, "%s:%d: wavelength %g nm appears twice", name, lineno, wl);
+			ps_err_set(e, PS_EFORMAT, "%s:%d: wavelength %g nm appears twice", name, lineno, wl);
 			goto fail;
 		}
 		if (f->n > 0 && wl < f->nm[f->n - 1]) {
-			ps_errf(e, PS_EFORMAT, "%s:%d: wavelength %g nm comes after %g nm: sort the file", name,
-			        lineno, wl, f->nm[f->n - 1]);
+			ps_err_set(e, PS_EFORMAT, "%s:%d: wavelength %g nm comes after %g nm: sort the file", name,
+			           lineno, wl, f->nm[f->n - 1]);
 			goto fail;
 		}
 		if (f->n == cap) {
 			int ncap = cap ? 2 * cap : 256;
 			double *a, *b;
 			if (ncap > FILTER_MAX_POINTS) {
-				ps_errf(e, PS_ERANGE, "%s:%d: more than %d points", name, lineno, FILTER_MAX_POINTS);
+				ps_err_set(e, PS_ERANGE, "%s:%d: more than %d points", name, lineno, FILTER_MAX_POINTS);
 				goto fail;
 			}
 			a = realloc(f->nm, (size_t)ncap * sizeof *a);
@@ -106,7 +106,7 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
 			if (b)
 				f->value = b;
 			if (!a || !b) {
-				ps_errf(e, PS_ENOMEM, "%s:%d: out of memory", name, lineno);
+				ps_err_set(e, PS_ENOMEM, "%s:%d: out of memory", name, lineno);
 				goto fail;
 			}
 			cap = ncap;
@@ -117,16 +117,16 @@ int ps_filter_parse(struct ps_filter *f, const char *text, size_t len, const cha
 			vmax = v;
 	}
 	if (f->n < 2) {
-		ps_errf(e, PS_EFORMAT, "%s:%d: a filter needs at least two points (has %d)", name, lineno, f->n);
+		ps_err_set(e, PS_EFORMAT, "%s:%d: a filter needs at least two points (has %d)", name, lineno, f->n);
 		goto fail;
 	}
 	if (f->nm[f->n - 1] <= 380.0 || f->nm[0] >= 780.0) {
-		ps_errf(e, PS_ERANGE, "%s: %g to %g nm does not overlap 380-780 nm", name, f->nm[0],
-		        f->nm[f->n - 1]);
+		ps_err_set(e, PS_ERANGE, "%s: %g to %g nm does not overlap 380-780 nm", name, f->nm[0],
+		           f->nm[f->n - 1]);
 		goto fail;
 	}
 	if (vmax <= 0) {
-		ps_errf(e, PS_ERANGE, "%s: every value is zero", name);
+		ps_err_set(e, PS_ERANGE, "%s: every value is zero", name);
 		goto fail;
 	}
 	/* A transmittance in fractions stays below 1, but a relative spectral
@@ -299,8 +299,8 @@ int ps_filter_analyse(const struct ps_filter *f, const char *calibration,
 	double cal_s, cal_v, cal_p;
 	memset(r, 0, sizeof *r);
 	if (!cal)
-		return ps_errf(e, PS_EINVAL, "no CIE illuminant '%s' (A, D65, FL2, FL7, FL11, FL12, HP1-HP5, "
-		               "LED-B3, LED-B4)", calibration);
+		return ps_err_set(e, PS_EINVAL, "no CIE illuminant '%s' (A, D65, FL2, FL7, FL11, FL12, HP1-HP5, "
+		                  "LED-B3, LED-B4)", calibration);
 	r->calibration = calibration;
 	r->lo = f->nm[0];
 	r->hi = f->nm[f->n - 1];
@@ -312,7 +312,7 @@ int ps_filter_analyse(const struct ps_filter *f, const char *calibration,
 		b[i] = grid_integral(g0, g1, at_spectrum, cmf[i], at_filter, f);
 	}
 	if (solve3(a, b, r->xyz, &r->condition) != 0)
-		return ps_errf(e, PS_ERANGE, "the colour-matching functions are singular");
+		return ps_err_set(e, PS_ERANGE, "the colour-matching functions are singular");
 	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
 	for (int k = 0; k < 3; k++)
 		r->rgb[k] = m[0][k] * r->xyz[0] + m[1][k] * r->xyz[1] + m[2][k] * r->xyz[2];

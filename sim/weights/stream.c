@@ -229,8 +229,8 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 	for (int k = 0; k < nmaps; k++) {
 		memset(&rs[k], 0, sizeof rs[k]);
 		if (head->width != ws[k]->width || head->height != ws[k]->height)
-			return ps_errf(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d",
-			               head->width, head->height, ws[k]->width, ws[k]->height);
+			return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d",
+			                  head->width, head->height, ws[k]->width, ws[k]->height);
 	}
 	if (!ps_pic_is_standard(head)) {   /* rows are not scanlines: decode it whole */
 		struct ps_picture pic;
@@ -261,7 +261,7 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 	if (nt > 1)
 		starts = malloc((size_t)head->height * sizeof *starts);
 	if (!j.m || !want || !ncontrib || !best || (nt > 1 && !starts)) {
-		ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
+		ps_err_set(e, PS_ENOMEM, "%s: out of memory", name);
 		goto out;
 	}
 	for (int k = 0; k < nmaps; k++) {
@@ -271,14 +271,14 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 		o->row_run = malloc((size_t)head->height * sizeof *o->row_run);
 		o->acc = malloc((w->nruns ? w->nruns : 1) * sizeof *o->acc);
 		if (!o->row_run || !o->acc) {
-			ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
+			ps_err_set(e, PS_ENOMEM, "%s: out of memory", name);
 			goto out;
 		}
 		for (int y = 0; y < head->height; y++)
 			o->row_run[y] = -1;
 		for (size_t ri = 0; ri < w->nruns; ri++) {
 			if (o->row_run[w->runs[ri].row] >= 0) {   /* one run a row is what the maps are */
-				ps_errf(e, PS_EINVAL, "%s: two weight runs on row %d", name, w->runs[ri].row);
+				ps_err_set(e, PS_EINVAL, "%s: two weight runs on row %d", name, w->runs[ri].row);
 				goto out;
 			}
 			o->row_run[w->runs[ri].row] = (int)ri;
@@ -304,7 +304,7 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 			o->coff = malloc((o->w->nruns ? o->w->nruns : 1) * sizeof *o->coff);
 			o->contrib = malloc(ncontrib[k] * sizeof *o->contrib);
 			if (!o->coff || !o->contrib) {
-				ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
+				ps_err_set(e, PS_ENOMEM, "%s: out of memory", name);
 				goto out;
 			}
 			for (size_t ri = 0; ri < o->w->nruns; ri++) {

@@ -79,8 +79,8 @@ int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, 
 	double f[4];
 	memset(w, 0, sizeof *w);
 	if (len < FIXED)
-		return ps_errf(e, PS_EFORMAT, "%s: %zu bytes, shorter than a weight map's header", name,
-		               len);
+		return ps_err_set(e, PS_EFORMAT, "%s: %zu bytes, shorter than a weight map's header", name,
+		                  len);
 	memcpy(&version, p, 4);
 	memcpy(&hw, p + 4, 4);
 	memcpy(&hh, p + 8, 4);
@@ -89,19 +89,19 @@ int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, 
 	memcpy(&nw, p + 24, 8);
 	memcpy(f, p + 32, sizeof f);
 	if (version != PS_WEIGHTS_ALGO_VERSION || hw != width || hh != height || hm != method)
-		return ps_errf(e, PS_EFORMAT, "%s: a map of another version, size or method", name);
+		return ps_err_set(e, PS_EFORMAT, "%s: a map of another version, size or method", name);
 	/* every run is a piece of one row: no more runs than rows, no more
 	 * weights than pixels; then the length must be exact */
 	if (nruns > (uint64_t)height || nw > (uint64_t)width * (uint64_t)height ||
 	    len != FIXED + nruns * RUN + nw * sizeof(double))
-		return ps_errf(e, PS_EFORMAT, "%s: %llu runs and %llu weights do not fit %zu bytes",
-		               name, (unsigned long long)nruns, (unsigned long long)nw, len);
+		return ps_err_set(e, PS_EFORMAT, "%s: %llu runs and %llu weights do not fit %zu bytes",
+		                  name, (unsigned long long)nruns, (unsigned long long)nw, len);
 	for (int i = 0; i < 4; i++)
 		if (!isfinite(f[i]))
-			return ps_errf(e, PS_EFORMAT, "%s: a total is not finite", name);
+			return ps_err_set(e, PS_EFORMAT, "%s: a total is not finite", name);
 	w->runs = malloc((nruns ? nruns : 1) * sizeof *w->runs);
 	if (!w->runs)
-		return ps_errf(e, PS_ENOMEM, "%s: out of memory", name);
+		return ps_err_set(e, PS_ENOMEM, "%s: out of memory", name);
 	for (uint64_t i = 0; i < nruns; i++) {
 		int32_t r[4];
 		memcpy(r, p + FIXED + i * RUN, sizeof r);
@@ -111,9 +111,9 @@ int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, 
 		    (r[3] != 0) != w->mirror || r[3] < -1 || (r[3] > 0 && (uint64_t)r[3] > i)) {
 			free(w->runs);
 			w->runs = NULL;
-			return ps_errf(e, PS_EFORMAT, "%s: run %llu (row %d, x %d, %d pixels, share %d) is "
-			               "outside %d x %d", name, (unsigned long long)i, r[0], r[1], r[2], r[3],
-			               width, height);
+			return ps_err_set(e, PS_EFORMAT, "%s: run %llu (row %d, x %d, %d pixels, share %d) is "
+			                  "outside %d x %d", name, (unsigned long long)i, r[0], r[1], r[2], r[3],
+			                  width, height);
 		}
 		if (r[3] > 0) {
 			/* the weights of an earlier run of its own, of the same pixels */
@@ -123,9 +123,9 @@ int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, 
 			if (k != -1 || o->x0 != r[1] || o->n != r[2]) {
 				free(w->runs);
 				w->runs = NULL;
-				return ps_errf(e, PS_EFORMAT, "%s: run %llu shares the weights of run %d, "
-				               "not one of its own of %d pixels from x %d", name,
-				               (unsigned long long)i, r[3] - 1, r[2], r[1]);
+				return ps_err_set(e, PS_EFORMAT, "%s: run %llu shares the weights of run %d, "
+				                  "not one of its own of %d pixels from x %d", name,
+				                  (unsigned long long)i, r[3] - 1, r[2], r[1]);
 			}
 			w->runs[i] = (struct ps_wrun){ r[0], r[1], r[2], o->off };
 		} else {
@@ -137,8 +137,8 @@ int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, 
 	if (sum != nw) {
 		free(w->runs);
 		w->runs = NULL;
-		return ps_errf(e, PS_EFORMAT, "%s: the runs hold %llu pixels, the map %llu weights", name,
-		               (unsigned long long)sum, (unsigned long long)nw);
+		return ps_err_set(e, PS_EFORMAT, "%s: the runs hold %llu pixels, the map %llu weights", name,
+		                  (unsigned long long)sum, (unsigned long long)nw);
 	}
 	w->width = width;
 	w->height = height;
@@ -166,7 +166,7 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 	size_t len[3];
 	int rc;
 	if (!runs)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	memset(fixed, 0, sizeof fixed);
 	memcpy(fixed, &version, 4);
 	memcpy(fixed + 4, &hw, 4);
@@ -202,7 +202,7 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 						k = q;
 				if (k == i) {
 					free(runs);
-					return ps_errf(e, PS_EINVAL, "run %zu shares no earlier run's weights", i);
+					return ps_err_set(e, PS_EINVAL, "run %zu shares no earlier run's weights", i);
 				}
 				r[3] = (int32_t)(k + 1);
 			}

@@ -523,7 +523,7 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 		free(c->rho_breaks);
 		free(c->rho2_breaks);
 		free(c->rho_is_field);
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	}
 	for (int i = 1; i <= s->nt; i++)
 		if (s->tb[i] < c->f.theta_field) {
@@ -854,9 +854,9 @@ int ps_weights_build_ex(struct ps_weights *w, const struct ps_sensor *s, double 
 	struct ps_sum total;
 	memset(w, 0, sizeof *w);
 	if (width <= 0 || height <= 0)
-		return ps_errf(e, PS_EINVAL, "bad picture size %d x %d", width, height);
+		return ps_err_set(e, PS_EINVAL, "bad picture size %d x %d", width, height);
 	if (!isfinite(rotation_deg))
-		return ps_errf(e, PS_EINVAL, "rotation %g is not a finite angle", rotation_deg);
+		return ps_err_set(e, PS_EINVAL, "rotation %g is not a finite angle", rotation_deg);
 	if (ps_view_check_fisheye(v, "view", e) != 0)
 		return -1;
 	w->width = width;
@@ -1060,5 +1060,5 @@ oom:
 	free(u);
 	ctx_free(&c);
 	ps_weights_free(w);
-	return ps_errf(e, PS_ENOMEM, "out of memory building %d x %d weights", width, height);
+	return ps_err_set(e, PS_ENOMEM, "out of memory building %d x %d weights", width, height);
 }
