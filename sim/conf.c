@@ -343,7 +343,7 @@ int ps_conf_required(struct ps_conf *c, struct ps_conf_section *s, const char *k
 	return -1;
 }
 
-int ps_parse_double(const char *text, double *out)
+int ps_conf_parse_double(const char *text, double *out)
 {
 	char *end;
 	double v;
@@ -359,7 +359,7 @@ int ps_parse_double(const char *text, double *out)
 	return 0;
 }
 
-int ps_parse_long(const char *text, long *out)
+int ps_conf_parse_long(const char *text, long *out)
 {
 	char *end;
 	long v;
@@ -383,7 +383,7 @@ int ps_conf_double(struct ps_conf *c, struct ps_conf_section *s, const char *key
 	*out = def;
 	if (!kv)
 		return 0;
-	if (ps_parse_double(kv->value, &v) != 0) {
+	if (ps_conf_parse_double(kv->value, &v) != 0) {
 		ps_conf_error(c, kv->line, "%s: '%s' is not a number", key, kv->value);
 		return -1;
 	}
@@ -403,7 +403,7 @@ int ps_conf_int(struct ps_conf *c, struct ps_conf_section *s, const char *key,
 	*out = def;
 	if (!kv)
 		return 0;
-	if (ps_parse_long(kv->value, &v) != 0) {
+	if (ps_conf_parse_long(kv->value, &v) != 0) {
 		ps_conf_error(c, kv->line, "%s: '%s' is not a whole number", key, kv->value);
 		return -1;
 	}
@@ -455,7 +455,7 @@ int ps_conf_enum(struct ps_conf *c, struct ps_conf_section *s, const char *key,
 	return -1;
 }
 
-char *ps_path_join(const char *dir, const char *name)
+char *ps_conf_path_join(const char *dir, const char *name)
 {
 	size_t nd, nn;
 	char *p;
@@ -478,7 +478,7 @@ char *ps_conf_path(struct ps_conf *c, struct ps_conf_section *s, const char *key
 	const char *v = ps_conf_str(c, s, key, NULL);
 	if (!v)
 		return NULL;
-	return ps_path_join(c->dir, v);
+	return ps_conf_path_join(c->dir, v);
 }
 
 void ps_conf_check_unused(struct ps_conf *c)

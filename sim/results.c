@@ -182,7 +182,7 @@ static double num(struct ps_conf *c, struct ps_conf_section *s, const char *key)
 	}
 	if (strcmp(kv->value, "nan") == 0)
 		return NAN;
-	if (ps_parse_double(kv->value, &v) != 0) {
+	if (ps_conf_parse_double(kv->value, &v) != 0) {
 		ps_conf_error(c, kv->line, "%s: '%s' is not a number", key, kv->value);
 		return NAN;
 	}
