@@ -27,7 +27,7 @@ static void to_hex(const uint8_t *d, char hex[65])
 	hex[64] = '\0';
 }
 
-int ps_hash_file(const char *path, char hex[65], struct ps_err *e)
+int ps_cache_hash_file(const char *path, char hex[65], struct ps_err *e)
 {
 	struct sha256_ctx ctx;
 	uint8_t buf[65536], d[SHA256_DIGEST_SIZE];
@@ -49,7 +49,7 @@ int ps_hash_file(const char *path, char hex[65], struct ps_err *e)
 	return 0;
 }
 
-void ps_hash_string(const char *s, char hex[65])
+void ps_cache_hash_string(const char *s, char hex[65])
 {
 	struct sha256_ctx ctx;
 	uint8_t d[SHA256_DIGEST_SIZE];
@@ -62,7 +62,7 @@ void ps_hash_string(const char *s, char hex[65])
 static void entry_path(const char *dir, const char *key, char *out, size_t len)
 {
 	char h[65];
-	ps_hash_string(key, h);
+	ps_cache_hash_string(key, h);
 	snprintf(out, len, "%s/%.2s/%s", dir, h, h + 2);
 }
 

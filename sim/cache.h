@@ -10,9 +10,9 @@
 #include "err.h"
 
 /* hex SHA-256 of a file's bytes (65 bytes with the NUL). */
-int ps_hash_file(const char *path, char hex[65], struct ps_err *e);
+int ps_cache_hash_file(const char *path, char hex[65], struct ps_err *e);
 /* hex SHA-256 of a string. */
-void ps_hash_string(const char *s, char hex[65]);
+void ps_cache_hash_string(const char *s, char hex[65]);
 
 /* Look up n doubles under key; 1 found, 0 absent (or unreadable). */
 int ps_cache_get(const char *dir, const char *key, double *v, int n);

@@ -115,7 +115,7 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 	struct ps_view view;
 	struct ps_response resp;
 	char wkey[512], where[4200];
-	if (ps_hash_file(path, hash, e) != 0)
+	if (ps_cache_hash_file(path, hash, e) != 0)
 		return -1;
 	snprintf(key, sizeof key, "v1 %s %s rot=%.17g reading=%s rgb=%.17g,%.17g,%.17g exact", hash,
 	         task ? "builtin:cosine" : r->sensor_id, task ? 0.0 : r->sc->rotation,
@@ -495,7 +495,7 @@ int main(int argc, char **argv)
 	}
 	if (strncmp(sc.sensitivity, "builtin:", 8) == 0)
 		snprintf(r.sensor_id, sizeof r.sensor_id, "%s", sc.sensitivity);
-	else if (ps_hash_file(sc.sensitivity, hash, &e) == 0)
+	else if (ps_cache_hash_file(sc.sensitivity, hash, &e) == 0)
 		snprintf(r.sensor_id, sizeof r.sensor_id, "sensor:%s", hash);
 	else {
 		fprintf(stderr, "psscene: %s\n", e.msg);
@@ -581,13 +581,13 @@ int main(int argc, char **argv)
 	if (status == 0) {
 		char all[8192];
 		ps_results_summarise(&res);
-		if (ps_hash_file(sc.path, shash, &e) != 0) {
+		if (ps_cache_hash_file(sc.path, shash, &e) != 0) {
 			fprintf(stderr, "psscene: %s\n", e.msg);
 			return 1;
 		}
 		snprintf(all, sizeof all, "%s|%s|%s|%.17g|%.17g,%.17g,%.17g", shash, r.sensor_id, r.hashes,
 		         sc.rotation, r.rgb[0], r.rgb[1], r.rgb[2]);
-		ps_hash_string(all, hash);
+		ps_cache_hash_string(all, hash);
 		res.scene_hash = strdup(hash);
 		if (ps_results_write(&res, out, &e) != 0) {
 			fprintf(stderr, "psscene: %s\n", e.msg);
