@@ -37,7 +37,7 @@ const struct ps_spectrum *ps_cie_illuminant(const char *name)
 	return find(file, 1);
 }
 
-double ps_spectrum_at(const struct ps_spectrum *s, double nm)
+double ps_cie_spectrum_at(const struct ps_spectrum *s, double nm)
 {
 	double x = (nm - s->start) / s->step;
 	int i;

@@ -28,6 +28,6 @@ const struct ps_spectrum *ps_cie_illuminant(const char *name);
 /* The illuminants the report covers, in order. */
 extern const char *const ps_cie_illuminant_names[];
 /* Value at a wavelength: linear between grid points, 0 outside the table. */
-double ps_spectrum_at(const struct ps_spectrum *s, double nm);
+double ps_cie_spectrum_at(const struct ps_spectrum *s, double nm);
 
 #endif

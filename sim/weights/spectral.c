@@ -189,7 +189,7 @@ static double grid_integral(double a, double b, spec_fn f, const void *fc, spec_
 
 static double at_spectrum(const void *ctx, double nm)
 {
-	return ps_spectrum_at(ctx, nm);
+	return ps_cie_spectrum_at(ctx, nm);
 }
 
 static double at_filter(const void *ctx, double nm)
@@ -204,8 +204,8 @@ struct proj {
 static double at_projection(const void *ctx, double nm)
 {
 	const struct proj *p = ctx;
-	return p->c[0] * ps_spectrum_at(ps_cie_cmf(0), nm) + p->c[1] * ps_spectrum_at(ps_cie_cmf(1), nm) +
-	       p->c[2] * ps_spectrum_at(ps_cie_cmf(2), nm);
+	return p->c[0] * ps_cie_spectrum_at(ps_cie_cmf(0), nm) + p->c[1] * ps_cie_spectrum_at(ps_cie_cmf(1), nm) +
+	       p->c[2] * ps_cie_spectrum_at(ps_cie_cmf(2), nm);
 }
 
 struct scaled_diff {
@@ -216,7 +216,7 @@ struct scaled_diff {
 static double at_abs_diff(const void *ctx, double nm)
 {
 	const struct scaled_diff *d = ctx;
-	return fabs(d->k * ps_filter_at(d->f, nm) - ps_spectrum_at(ps_cie_v(), nm));
+	return fabs(d->k * ps_filter_at(d->f, nm) - ps_cie_spectrum_at(ps_cie_v(), nm));
 }
 
 struct resid {
