@@ -301,22 +301,22 @@ static int print_variants(struct run *r, const struct ps_scene *sc, const struct
 /* The daylight-coefficient rows of both views (the scene's
  * [daylight_coefficients]): the sensor's with its sensitivity, rotation and
  * colour coefficients, the task's with a cosine. */
-static int dc_rows(struct run *r, struct ps_dcrow *srow, struct ps_dcrow *trow, struct ps_err *e)
+static int dc_rows(struct run *r, struct ps_dcset_row *srow, struct ps_dcset_row *trow, struct ps_err *e)
 {
 	const struct ps_dcspec *d = &r->sc->dc;
 	if (ps_dcset_row(d->sensor_pattern, &d->sensor_view, d->mf, &r->sensor, r->sc->rotation, srow,
 	                 e) != 0)
 		return -1;
 	if (ps_dcset_row(d->task_pattern, &d->task_view, d->mf, &r->cosine, 0.0, trow, e) != 0) {
-		ps_dcrow_free(srow);
+		ps_dcset_row_free(srow);
 		return -1;
 	}
 	if (srow->n != trow->n) {
 		ps_err_set(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
 		           "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
 		           trow->mf);
-		ps_dcrow_free(srow);
-		ps_dcrow_free(trow);
+		ps_dcset_row_free(srow);
+		ps_dcset_row_free(trow);
 		return -1;
 	}
 	if (!r->quiet && srow->coverage < 1 - 1e-9)
@@ -325,7 +325,7 @@ static int dc_rows(struct run *r, struct ps_dcrow *srow, struct ps_dcrow *trow, 
 	return 0;
 }
 
-static void print_dc(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+static void print_dc(const struct run *r, const struct ps_dcset_row *srow, const struct ps_dcset_row *trow,
                      double seconds)
 {
 	static const double grey[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
@@ -338,8 +338,8 @@ static void print_dc(const struct run *r, const struct ps_dcrow *srow, const str
 	for (int p = 0; p < srow->n; p++)
 		zero += srow->c[3 * p] == 0 && srow->c[3 * p + 1] == 0 && srow->c[3 * p + 2] == 0 &&
 		        trow->c[3 * p] == 0 && trow->c[3 * p + 1] == 0 && trow->c[3 * p + 2] == 0;
-	s = ps_dcrow_apply(srow, r->rgb, one);
-	t = ps_dcrow_apply(trow, grey, one);
+	s = ps_dcset_row_apply(srow, r->rgb, one);
+	t = ps_dcset_row_apply(trow, grey, one);
 	printf("\ndaylight coefficients: MF %d, %d patches of %d x %d (sensor) and %d x %d (task), "
 	       "%d zero in both views; %.2f s\n", srow->mf, srow->n, srow->width, srow->height,
 	       trow->width, trow->height, zero, seconds);
@@ -356,7 +356,7 @@ static double seconds_since(const struct timespec *t0)
 }
 
 /* The year of the scene's weather file through the two rows. */
-static int run_year(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+static int run_year(const struct run *r, const struct ps_dcset_row *srow, const struct ps_dcset_row *trow,
                     struct ps_results *res, double *secs, struct ps_err *e)
 {
 	const struct ps_dcspec *d = &r->sc->dc;
@@ -440,7 +440,7 @@ int main(int argc, char **argv)
 	struct ps_results res;
 	struct run r;
 	struct ps_err e;
-	struct ps_dcrow srow, trow;
+	struct ps_dcset_row srow, trow;
 	int have_dc = 0;
 	double dc_seconds = 0, year_seconds = 0;
 
@@ -610,8 +610,8 @@ int main(int argc, char **argv)
 		}
 	}
 	ps_results_free(&res);
-	ps_dcrow_free(&srow);
-	ps_dcrow_free(&trow);
+	ps_dcset_row_free(&srow);
+	ps_dcset_row_free(&trow);
 	ps_weights_free(&r.w);
 	ps_sensor_free(&r.sensor);
 	ps_sensor_free(&r.cosine);

@@ -20,7 +20,7 @@ static int exists(const char *path)
 	return stat(path, &st) == 0;
 }
 
-void ps_dcrow_free(struct ps_dcrow *row)
+void ps_dcset_row_free(struct ps_dcset_row *row)
 {
 	if (!row)
 		return;
@@ -104,7 +104,7 @@ static const char *dc_name(void *ctx, size_t i)
 }
 
 int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const struct ps_sensor *s,
-                 double rotation, struct ps_dcrow *row, struct ps_err *e)
+                 double rotation, struct ps_dcset_row *row, struct ps_err *e)
 {
 	static const double none[3] = { 1, 1, 1 };
 	struct dc_load l;
@@ -121,7 +121,7 @@ int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const str
 	if (!row->c || !l.names || !res) {
 		free(l.names);
 		free(res);
-		ps_dcrow_free(row);
+		ps_dcset_row_free(row);
 		return ps_err_set(e, PS_ENOMEM, "%s: out of memory for %d pictures", pattern, n);
 	}
 	row->n = n;
@@ -166,11 +166,11 @@ out:
 	free(l.names);
 	free(res);
 	if (rc != 0)
-		ps_dcrow_free(row);
+		ps_dcset_row_free(row);
 	return rc;
 }
 
-double ps_dcrow_apply(const struct ps_dcrow *row, const double coef[3], const double *sky)
+double ps_dcset_row_apply(const struct ps_dcset_row *row, const double coef[3], const double *sky)
 {
 	struct ps_sum s;
 	ps_sum_init(&s);
@@ -180,8 +180,8 @@ double ps_dcrow_apply(const struct ps_dcrow *row, const double coef[3], const do
 	return ps_sum_get(&s);
 }
 
-double ps_dcrow_apply_list(const struct ps_dcrow *row, const double coef[3], const double *sky,
-                           const int *list, int nlist)
+double ps_dcset_row_apply_list(const struct ps_dcset_row *row, const double coef[3], const double *sky,
+                               const int *list, int nlist)
 {
 	struct ps_sum s;
 	ps_sum_init(&s);

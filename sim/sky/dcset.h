@@ -13,7 +13,7 @@
  * (R, G, B, without colour coefficients), with the sensor's exact pixel
  * weights built once for the set's view and size and applied to every
  * picture.  A sky's signal is then sum over patches and channels of
- * coef[c] x row[3p + c] x sky[3p + c] (ps_dcrow_apply): in W/m2 for a cosine
+ * coef[c] x row[3p + c] x sky[3p + c] (ps_dcset_row_apply): in W/m2 for a cosine
  * sensor, the irradiance at the view's point.
  *
  * The weights are built once and the pictures read and integrated in
@@ -27,7 +27,7 @@
 #include "sensor.h"
 #include "view.h"
 
-struct ps_dcrow {
+struct ps_dcset_row {
 	int mf;              /* subdivision */
 	int n;               /* patches, ground included */
 	int width, height;   /* of the pictures */
@@ -45,13 +45,13 @@ int ps_dcset_count(const char *pattern, int mf, int *n, int *mf_out, struct ps_e
  * (see ps_weights_build).  Errors name the file and patch; on error row is
  * left empty. */
 int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const struct ps_sensor *s,
-                 double rotation, struct ps_dcrow *row, struct ps_err *e);
-void ps_dcrow_free(struct ps_dcrow *row);
+                 double rotation, struct ps_dcset_row *row, struct ps_err *e);
+void ps_dcset_row_free(struct ps_dcset_row *row);
 
 /* sum over patches of coef . (row x sky), sky 3 per patch (ps_sky_vector). */
-double ps_dcrow_apply(const struct ps_dcrow *row, const double coef[3], const double *sky);
+double ps_dcset_row_apply(const struct ps_dcset_row *row, const double coef[3], const double *sky);
 /* The same over a list of patches only (those with a non-zero coefficient). */
-double ps_dcrow_apply_list(const struct ps_dcrow *row, const double coef[3], const double *sky,
-                           const int *list, int nlist);
+double ps_dcset_row_apply_list(const struct ps_dcset_row *row, const double coef[3], const double *sky,
+                               const int *list, int nlist);
 
 #endif

@@ -67,7 +67,7 @@ void ps_year_tabulate(struct ps_year *y)
 	y->mean_ratio = ps_sum_get(&as) > 0 ? ps_sum_get(&at) / ps_sum_get(&as) : NAN;
 }
 
-int ps_year_run(const struct ps_dcrow *srow, const double scoef[3], const struct ps_dcrow *trow,
+int ps_year_run(const struct ps_dcset_row *srow, const double scoef[3], const struct ps_dcset_row *trow,
                 const struct ps_weather *w, const struct ps_skyopt *o, struct ps_year *y,
                 struct ps_err *e)
 {
@@ -122,8 +122,8 @@ int ps_year_run(const struct ps_dcrow *srow, const double scoef[3], const struct
 		k->month = w->step[i].month;
 		k->day = w->step[i].day;
 		k->hour = w->step[i].hour;
-		k->sensor = ps_dcrow_apply_list(srow, scoef, sky, list, nlist);
-		k->task_lux = PS_YEAR_LUX_PER_WM2 * ps_dcrow_apply_list(trow, vl, sky, list, nlist);
+		k->sensor = ps_dcset_row_apply_list(srow, scoef, sky, list, nlist);
+		k->task_lux = PS_YEAR_LUX_PER_WM2 * ps_dcset_row_apply_list(trow, vl, sky, list, nlist);
 		k->epsilon = s.model.epsilon;
 		k->sky_class = ps_year_class(s.model.epsilon);
 		k->horiz_lux = s.model.dif_lux + (s.sun_alt > 0 ? s.model.dir_lux * sin(s.sun_alt) : 0.0);

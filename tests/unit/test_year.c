@@ -33,7 +33,7 @@
 static const double V[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 
 /* an upward exact set, size x size, MF 1, as a row for a cosine */
-static void upward_row(int size, struct ps_dcrow *row)
+static void upward_row(int size, struct ps_dcset_row *row)
 {
 	char dir[] = "/tmp/psyearXXXXXX", pattern[128], cmd[200];
 	struct ps_patches P;
@@ -82,7 +82,7 @@ static char *constant_year(double dir, double dif, int units)
 
 static void same_row_gives_179(void **state)
 {
-	struct ps_dcrow row;
+	struct ps_dcset_row row;
 	struct ps_weather w;
 	struct ps_skyopt o;
 	struct ps_year y;
@@ -113,12 +113,12 @@ static void same_row_gives_179(void **state)
 	ps_year_free(&y);
 	ps_weather_free(&w);
 	free(text);
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 }
 
 static void year_of_night(void **state)
 {
-	struct ps_dcrow row;
+	struct ps_dcset_row row;
 	struct ps_weather w;
 	struct ps_skyopt o;
 	struct ps_year y;
@@ -139,7 +139,7 @@ static void year_of_night(void **state)
 	ps_year_free(&y);
 	ps_weather_free(&w);
 	free(text);
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 }
 
 /* Overcast hours: an upward cosine under the patch sky sees the diffuse
@@ -150,7 +150,7 @@ static void year_of_night(void **state)
  * at 128 x 128 (so the patches, not the pixels, set it); 1 % is allowed. */
 static void overcast_task_is_diffuse_horizontal(void **state)
 {
-	struct ps_dcrow row, zero;
+	struct ps_dcset_row row, zero;
 	struct ps_weather w;
 	struct ps_skyopt o;
 	struct ps_year y, y2;
@@ -191,7 +191,7 @@ static void overcast_task_is_diffuse_horizontal(void **state)
 		assert_int_equal(ps_patches_init(&P, 1, &e), 0);
 		assert_int_equal(ps_sky_step(&s, &w, 0, &o, &e), 0);
 		ps_sky_vector(&s, &P, PS_SKY_ALL, sky);
-		assert_true(fabs(y2.h[0].task_lux - 179.0 * ps_dcrow_apply(&zero, V, sky)) <
+		assert_true(fabs(y2.h[0].task_lux - 179.0 * ps_dcset_row_apply(&zero, V, sky)) <
 		            1e-12 * y2.h[0].task_lux);
 		ps_patches_free(&P);
 		free(sky);
@@ -200,7 +200,7 @@ static void overcast_task_is_diffuse_horizontal(void **state)
 	ps_year_free(&y2);
 	ps_year_free(&y);
 	ps_weather_free(&w);
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 }
 
 int main(void)
