@@ -331,8 +331,8 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	struct ps_view rv;
 	struct ps_canvas c;
 	struct ps_place pl;
-	struct ps_legend leg;
-	struct ps_fcscale scale = { 100.0, 0, 0 };
+	struct ps_falsecolor_legend leg;
+	struct ps_falsecolor_scale scale = { 100.0, 0, 0 };
 	uint8_t bg[3] = { 28, 28, 28 };
 	int w, h, zoom, margin, strip = 0, rc, have_room = 0;
 	double font, fg[3] = { 0.92, 0.92, 0.92 };
@@ -394,9 +394,9 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 		goto fail;
 	}
 	if (!o->overlay) {
-		ps_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
+		ps_falsecolor_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
 		leg.above = 0;
-		ps_legend_draw(&c, &leg, &scale, "% of peak");
+		ps_falsecolor_legend_draw(&c, &leg, &scale, "% of peak");
 	}
 	if (o->overlay) {
 		snprintf(caption, sizeof caption, "%s over %s, rotation %g\xc2\xb0", base,

@@ -135,21 +135,21 @@ int main(int argc, char **argv)
 	}
 	if (falsecolor) {
 		struct ps_lum l;
-		struct ps_fcscale s;
-		struct ps_legend leg;
+		struct ps_falsecolor_scale s;
+		struct ps_falsecolor_legend leg;
 		int ph = pic.height * zoom, pw = pic.width * zoom, sw;
 		double top;
 		ps_lum_init(&l, &pic);
 		top = ps_picdraw_max_cdm2(&pic, &l);
-		s.max = scale_max > 0 ? scale_max : top > 0 ? ps_nice_ceil(top) : 1.0;
+		s.max = scale_max > 0 ? scale_max : top > 0 ? ps_falsecolor_nice_ceil(top) : 1.0;
 		s.log = logscale;
 		s.decades = decades;
-		ps_legend_layout(&leg, pw, 0, 0, ph < 160 ? 160 : ph);
+		ps_falsecolor_legend_layout(&leg, pw, 0, 0, ph < 160 ? 160 : ph);
 		sw = (int)(leg.font * 8.5) + 8;
 		if (ps_canvas_init(&c, pw + sw, ph < 160 ? 160 : ph, bg, &e) != 0)
 			goto fail;
 		ps_picdraw_false(&c, &pic, &l, &s, 0, 0, zoom);
-		ps_legend_draw(&c, &leg, &s, logscale ? "cd/m\xc2\xb2 (log)" : "cd/m\xc2\xb2");
+		ps_falsecolor_legend_draw(&c, &leg, &s, logscale ? "cd/m\xc2\xb2 (log)" : "cd/m\xc2\xb2");
 		snprintf(summary, sizeof summary, "false colour, %s scale %g to %g cd/m2%s, largest %.4g cd/m2",
 		         logscale ? "log" : "linear", logscale ? s.max / pow(10, decades) : 0.0, s.max,
 		         scale_max > 0 ? "" : " (auto)", top);

@@ -215,8 +215,8 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
 	struct ps_canvas c;
 	struct ps_place pl;
 	struct ps_tonemap t;
-	struct ps_legend leg;
-	struct ps_fcscale scale = { 0, 1, 3 };
+	struct ps_falsecolor_legend leg;
+	struct ps_falsecolor_scale scale = { 0, 1, 3 };
 	uint8_t bg[3] = { 28, 28, 28 };
 	int w = s->width, h = s->height, zoom, margin, strip, rc;
 	double font, top = 0, fg[3] = { 0.92, 0.92, 0.92 };
@@ -229,7 +229,7 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
 	strip = (int)(8.5 * font) + 8;
 	for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
 		top = fmax(top, s->share[p]);
-	scale.max = ps_nice_ceil(100.0 * top);
+	scale.max = ps_falsecolor_nice_ceil(100.0 * top);
 	if (ps_canvas_init(&c, margin + w * zoom + margin + strip, margin + h * zoom + 2 * margin, bg,
 	                   e) != 0)
 		return -1;
@@ -239,7 +239,7 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
 	ps_canvas_begin(&c);
 	for (int row = 0; row < h; row++)
 		for (int x = 0; x < w; x++) {
-			double f = ps_fcscale_fraction(&scale, 100.0 * s->share[(size_t)row * (size_t)w + (size_t)x]);
+			double f = ps_falsecolor_scale_fraction(&scale, 100.0 * s->share[(size_t)row * (size_t)w + (size_t)x]);
 			uint8_t rgb[3];
 			if (!(f >= 0))
 				continue;
@@ -300,9 +300,9 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
 		ps_canvas_label(&c, margin + zoom * (bx + 0.5), margin + zoom * (by + 0.5), font, 0, fg, 1,
 		                lab);
 	}
-	ps_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
+	ps_falsecolor_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
 	leg.above = 0;
-	ps_legend_draw(&c, &leg, &scale, "% per pixel");
+	ps_falsecolor_legend_draw(&c, &leg, &scale, "% per pixel");
 	snprintf(caption, sizeof caption, "%s seen by %s, rotation %g\xc2\xb0; %s",
 	         strrchr(o->picture, '/') ? strrchr(o->picture, '/') + 1 : o->picture,
 	         strrchr(o->sensfile, '/') ? strrchr(o->sensfile, '/') + 1 : o->sensfile, o->rot,

@@ -19,7 +19,7 @@ static const double anchor_rgb[8][3] = {
 	{ 0.90, 0.12, 0.10 },   /* red */
 };
 
-double ps_fcscale_fraction(const struct ps_fcscale *s, double value)
+double ps_falsecolor_scale_fraction(const struct ps_falsecolor_scale *s, double value)
 {
 	if (!s->log)
 		return value / s->max;
@@ -45,7 +45,7 @@ void ps_falsecolor_rgb8(double f, uint8_t out[3])
 		out[c] = ps_byte(anchor_rgb[k][c] + t * (anchor_rgb[k + 1][c] - anchor_rgb[k][c]));
 }
 
-double ps_nice_ceil(double v)
+double ps_falsecolor_nice_ceil(double v)
 {
 	double p = pow(10.0, floor(log10(v)));
 	static const double steps[] = { 1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10 };
@@ -55,7 +55,7 @@ double ps_nice_ceil(double v)
 	return 10 * p;
 }
 
-int ps_fcscale_ticks(const struct ps_fcscale *s, double *ticks, int max)
+int ps_falsecolor_scale_ticks(const struct ps_falsecolor_scale *s, double *ticks, int max)
 {
 	int n = 0;
 	if (s->log) {
@@ -64,14 +64,14 @@ int ps_fcscale_ticks(const struct ps_fcscale *s, double *ticks, int max)
 		return n;
 	}
 	{
-		double step = ps_nice_ceil(s->max / 6.0);
+		double step = ps_falsecolor_nice_ceil(s->max / 6.0);
 		for (int k = 0; k * step <= s->max * (1 + 1e-9) && n < max; k++)
 			ticks[n++] = k * step;
 	}
 	return n;
 }
 
-void ps_fclabel(double v, char *buf, int len)
+void ps_falsecolor_label(double v, char *buf, int len)
 {
 	if (v == 0)
 		snprintf(buf, (size_t)len, "0");
@@ -83,7 +83,7 @@ void ps_fclabel(double v, char *buf, int len)
 		snprintf(buf, (size_t)len, "%.3g", v);
 }
 
-void ps_legend_layout(struct ps_legend *l, int sx, int sy, int sw, int sh)
+void ps_falsecolor_legend_layout(struct ps_falsecolor_legend *l, int sx, int sy, int sw, int sh)
 {
 	(void)sw;
 	l->font = sh > 400 ? 13.0 : sh > 200 ? 11.0 : 9.0;
@@ -96,7 +96,7 @@ void ps_legend_layout(struct ps_legend *l, int sx, int sy, int sw, int sh)
 		l->bottom = l->top + 10;
 }
 
-int ps_legend_row(const struct ps_legend *l, double f)
+int ps_falsecolor_legend_row(const struct ps_falsecolor_legend *l, double f)
 {
 	double h = l->bottom - l->top;
 	int row = (int)floor(l->bottom - f * h);
@@ -107,11 +107,11 @@ int ps_legend_row(const struct ps_legend *l, double f)
 	return row;
 }
 
-void ps_legend_draw(struct ps_canvas *c, const struct ps_legend *l, const struct ps_fcscale *s,
-                    const char *title)
+void ps_falsecolor_legend_draw(struct ps_canvas *c, const struct ps_falsecolor_legend *l, const struct ps_falsecolor_scale *s,
+                               const char *title)
 {
 	double h = l->bottom - l->top, ticks[16], fg[3] = { 0.92, 0.92, 0.92 };
-	int nt = ps_fcscale_ticks(s, ticks, 16);
+	int nt = ps_falsecolor_scale_ticks(s, ticks, 16);
 	uint8_t white[3] = { 255, 255, 255 };
 	cairo_t *cr = c->cr;
 	ps_canvas_label(c, l->x - 2, l->top - 3.6 * l->font, l->font, -1, fg, 0, title);
@@ -135,12 +135,12 @@ void ps_legend_draw(struct ps_canvas *c, const struct ps_legend *l, const struct
 	cairo_set_source_rgb(cr, fg[0], fg[1], fg[2]);
 	for (int i = 0; i < nt; i++) {
 		char lab[32];
-		double y = l->bottom - ps_fcscale_fraction(s, ticks[i]) * h;
+		double y = l->bottom - ps_falsecolor_scale_fraction(s, ticks[i]) * h;
 		y = floor(y) + 0.5;
 		cairo_move_to(cr, l->x + l->width - 4, y);
 		cairo_line_to(cr, l->x + l->width + 3, y);
 		cairo_stroke(cr);
-		ps_fclabel(ticks[i], lab, sizeof lab);
+		ps_falsecolor_label(ticks[i], lab, sizeof lab);
 		ps_canvas_label(c, l->x + l->width + 5, y, l->font, -1, fg, 0, lab);
 	}
 	cairo_restore(cr);

@@ -37,7 +37,7 @@ void ps_picdraw_grey(struct ps_canvas *c, const struct ps_picture *pic, const st
 }
 
 void ps_picdraw_false(struct ps_canvas *c, const struct ps_picture *pic, const struct ps_lum *l,
-                      const struct ps_fcscale *s, int ox, int oy, int zoom)
+                      const struct ps_falsecolor_scale *s, int ox, int oy, int zoom)
 {
 	ps_canvas_begin(c);
 	for (int row = 0; row < pic->height; row++)
@@ -45,7 +45,7 @@ void ps_picdraw_false(struct ps_canvas *c, const struct ps_picture *pic, const s
 			double rgb[3];
 			uint8_t out[3];
 			ps_lum_rgb(l, pic, x, row, rgb);
-			ps_falsecolor_rgb8(ps_fcscale_fraction(s, PS_LUM_EFFICACY * ps_lum_y(l, rgb)), out);
+			ps_falsecolor_rgb8(ps_falsecolor_scale_fraction(s, PS_LUM_EFFICACY * ps_lum_y(l, rgb)), out);
 			ps_canvas_set(c, ox + zoom * x, oy + zoom * row, zoom, out);
 		}
 	ps_canvas_end(c);

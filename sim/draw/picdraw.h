@@ -17,7 +17,7 @@ void ps_picdraw_grey(struct ps_canvas *c, const struct ps_picture *pic, const st
                      int ox, int oy, int zoom, double dim);
 /* Luminance in cd/m2 on the scale s. */
 void ps_picdraw_false(struct ps_canvas *c, const struct ps_picture *pic, const struct ps_lum *l,
-                      const struct ps_fcscale *s, int ox, int oy, int zoom);
+                      const struct ps_falsecolor_scale *s, int ox, int oy, int zoom);
 /* The largest luminance of a picture, cd/m2. */
 double ps_picdraw_max_cdm2(const struct ps_picture *pic, const struct ps_lum *l);
 

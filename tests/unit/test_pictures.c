@@ -369,21 +369,21 @@ static void orientation_standardised(void **state)
 
 static void falsecolor_scale(void **state)
 {
-	struct ps_fcscale lin = { 2000, 0, 0 }, lg = { 5000, 1, 3 };
+	struct ps_falsecolor_scale lin = { 2000, 0, 0 }, lg = { 5000, 1, 3 };
 	double t[16];
 	uint8_t a[3], b[3];
 	(void)state;
-	assert_true(fabs(ps_fcscale_fraction(&lin, 500) - 0.25) < 1e-15);
-	assert_true(fabs(ps_fcscale_fraction(&lg, 50) - 1.0 / 3) < 1e-12);
-	assert_true(fabs(ps_fcscale_fraction(&lg, 5) - 0.0) < 1e-12);
-	assert_true(ps_fcscale_fraction(&lg, 0) < 0);
-	assert_true(ps_nice_ceil(2456) == 2500);
-	assert_true(ps_nice_ceil(2000) == 2000);
-	assert_true(ps_nice_ceil(0.0123) == 0.015);
-	assert_true(ps_nice_ceil(7.2) == 8);
-	assert_int_equal(ps_fcscale_ticks(&lg, t, 16), 4);
+	assert_true(fabs(ps_falsecolor_scale_fraction(&lin, 500) - 0.25) < 1e-15);
+	assert_true(fabs(ps_falsecolor_scale_fraction(&lg, 50) - 1.0 / 3) < 1e-12);
+	assert_true(fabs(ps_falsecolor_scale_fraction(&lg, 5) - 0.0) < 1e-12);
+	assert_true(ps_falsecolor_scale_fraction(&lg, 0) < 0);
+	assert_true(ps_falsecolor_nice_ceil(2456) == 2500);
+	assert_true(ps_falsecolor_nice_ceil(2000) == 2000);
+	assert_true(ps_falsecolor_nice_ceil(0.0123) == 0.015);
+	assert_true(ps_falsecolor_nice_ceil(7.2) == 8);
+	assert_int_equal(ps_falsecolor_scale_ticks(&lg, t, 16), 4);
 	assert_true(fabs(t[0] - 5) < 1e-9 && fabs(t[3] - 5000) < 1e-9);
-	assert_int_equal(ps_fcscale_ticks(&lin, t, 16), 6);   /* step nice(2000 / 6) = 400: 0 .. 2000 */
+	assert_int_equal(ps_falsecolor_scale_ticks(&lin, t, 16), 6);   /* step nice(2000 / 6) = 400: 0 .. 2000 */
 	assert_true(t[1] == 400 && t[5] == 2000);
 	/* above the scale: white; below: the bottom colour */
 	ps_falsecolor_rgb8(1.0001, a);
@@ -407,8 +407,8 @@ static void falsecolor_png_and_legend(void **state)
 	double lum[6];
 	struct ps_picture pic;
 	struct ps_lum l;
-	struct ps_fcscale s = { 0, 0, 0 };
-	struct ps_legend leg;
+	struct ps_falsecolor_scale s = { 0, 0, 0 };
+	struct ps_falsecolor_legend leg;
 	struct ps_canvas cv;
 	struct ps_err e;
 	struct png_read r;
@@ -426,23 +426,23 @@ static void falsecolor_png_and_legend(void **state)
 	/* largest 179 x 0.25098 x 32 = 1437.6: the scale tops at 1500 */
 	assert_true(fabs(ps_picdraw_max_cdm2(&pic, &l) - lum[5]) < 1e-9);
 	for (int logscale = 0; logscale < 2; logscale++) {
-		s.max = ps_nice_ceil(lum[5]);
+		s.max = ps_falsecolor_nice_ceil(lum[5]);
 		assert_true(s.max == 1500);
 		s.log = logscale;
 		s.decades = 2;
 		assert_int_equal(ps_canvas_init(&cv, 6 * zoom + 120, 300, bg, &e), 0);
 		ps_picdraw_false(&cv, &pic, &l, &s, 0, 0, zoom);
-		ps_legend_layout(&leg, 6 * zoom, 0, 120, 300);
-		ps_legend_draw(&cv, &leg, &s, "cd/m2");
+		ps_falsecolor_legend_layout(&leg, 6 * zoom, 0, 120, 300);
+		ps_falsecolor_legend_draw(&cv, &leg, &s, "cd/m2");
 		assert_int_equal(ps_canvas_save_png(&cv, path, &e), 0);
 		ps_canvas_free(&cv);
 		read_png(path, &r);
 		for (int i = 0; i < 6; i++) {
-			double f = ps_fcscale_fraction(&s, lum[i]);
+			double f = ps_falsecolor_scale_fraction(&s, lum[i]);
 			uint8_t want[3];
 			const uint8_t *got = px(&r, i * zoom + zoom / 2, zoom / 2);
 			const uint8_t *bar;
-			int row = ps_legend_row(&leg, f);
+			int row = ps_falsecolor_legend_row(&leg, f);
 			ps_falsecolor_rgb8(f, want);
 			assert_memory_equal(got, want, 3);
 			/* the bar's row centre is within half a row of f: the palette
