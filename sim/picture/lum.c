@@ -8,14 +8,14 @@ void ps_lum_init(struct ps_lum *l, const struct ps_picture *pic)
 	double m[3][3];
 	if (pic->format == PS_PIC_XYZE) {
 		/* luminance-based XYZ (Y in cd/m2): / 179 back to radiance,
-		 * as ps_pic_rgb_matrix does for psens */
-		ps_rgb_to_xyz_matrix(ps_std_primaries, m);
-		ps_mat3_invert((const double(*)[3])m, l->to_rgb);
+		 * as ps_integrate_pic_matrix does for psens */
+		ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
+		ps_integrate_mat3_invert((const double(*)[3])m, l->to_rgb);
 		for (int i = 0; i < 3; i++)
 			for (int k = 0; k < 3; k++)
 				l->to_rgb[i][k] /= PS_LUM_EFFICACY;
 	} else {
-		ps_rgb_to_xyz_matrix(pic->has_primaries ? pic->primaries : ps_std_primaries, m);
+		ps_integrate_rgb_to_xyz(pic->has_primaries ? pic->primaries : ps_integrate_std_primaries, m);
 		for (int i = 0; i < 3; i++)
 			for (int k = 0; k < 3; k++)
 				l->to_rgb[i][k] = i == k;

@@ -5,7 +5,7 @@
  * luminance is 179 lm/W (WHTEFFICACY, the efficacy of Radiance's equal-energy
  * white) times Y, Y = 0.265074126 R + 0.670114631 G + 0.064811243 B for the
  * standard primaries (R 0.640 0.330, G 0.290 0.600, B 0.150 0.060, white
- * 0.3333 0.3333): the Y row of the RGB-to-XYZ matrix (ps_rgb_to_xyz_matrix),
+ * 0.3333 0.3333): the Y row of the RGB-to-XYZ matrix (ps_integrate_rgb_to_xyz),
  * the CIE_rf, CIE_gf, CIE_bf of Radiance's color.h, and psens's default
  * coefficients (what psfilter gives for an ideal V(lambda) filter).
  *

@@ -10,9 +10,9 @@
 
 /* White is 0.3333, 0.3333 exactly as Radiance's color.h has it (not 1/3): only
  * then is the Y row psens's default 0.265074126 0.670114631 0.064811243. */
-const double ps_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 0.3333, 0.3333 };
+const double ps_integrate_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 0.3333, 0.3333 };
 
-void ps_mat3_invert(const double a[3][3], double out[3][3])
+void ps_integrate_mat3_invert(const double a[3][3], double out[3][3])
 {
 	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
 	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
@@ -28,7 +28,7 @@ void ps_mat3_invert(const double a[3][3], double out[3][3])
 	out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
 }
 
-void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
+void ps_integrate_rgb_to_xyz(const double prim[8], double m[3][3])
 {
 	/* columns: XYZ of each primary scaled so that R + G + B = white (Y = 1) */
 	double p[3][3], inv[3][3], wx = prim[6] / prim[7], wz = (1 - prim[6] - prim[7]) / prim[7];
@@ -39,7 +39,7 @@ void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
 		p[1][k] = 1.0;
 		p[2][k] = (1 - x - y) / y;
 	}
-	ps_mat3_invert((const double(*)[3])p, inv);
+	ps_integrate_mat3_invert((const double(*)[3])p, inv);
 	for (int k = 0; k < 3; k++)
 		sc[k] = inv[k][0] * wx + inv[k][1] * 1.0 + inv[k][2] * wz;
 	for (int i = 0; i < 3; i++)
@@ -47,11 +47,11 @@ void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3])
 			m[i][k] = p[i][k] * sc[k];
 }
 
-void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3])
+void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3])
 {
 	double to_xyz[3][3], from_xyz[3][3], m[3][3];
-	ps_rgb_to_xyz_matrix(ps_std_primaries, to_xyz);
-	ps_mat3_invert((const double(*)[3])to_xyz, from_xyz);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, to_xyz);
+	ps_integrate_mat3_invert((const double(*)[3])to_xyz, from_xyz);
 	if (pic->format == PS_PIC_XYZE) {
 		/* XYZE holds luminance-based values (Y in cd/m2 once EXPOSURE is
 		 * divided out): Radiance's ra_xyze writes EXPOSURE=1/179 on the
@@ -62,7 +62,7 @@ void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3])
 	} else if (pic->has_primaries) {
 		/* RGB in the picture's own primaries -> XYZ -> standard RGB */
 		double own[3][3];
-		ps_rgb_to_xyz_matrix(pic->primaries, own);
+		ps_integrate_rgb_to_xyz(pic->primaries, own);
 		for (int i = 0; i < 3; i++)
 			for (int c = 0; c < 3; c++)
 				m[i][c] = from_xyz[i][0] * own[0][c] + from_xyz[i][1] * own[1][c] +
@@ -110,7 +110,7 @@ static void select_largest(double *v, size_t n, size_t k)
 	}
 }
 
-double ps_top1_share(double *contrib, size_t n, double response)
+double ps_integrate_top1_share(double *contrib, size_t n, double response)
 {
 	size_t top = n / 100 ? n / 100 : 1;
 	struct ps_sum s;
@@ -133,7 +133,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	if (pic->width != w->width || pic->height != w->height)
 		return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
 		                  pic->height, w->width, w->height);
-	ps_pic_rgb_matrix(pic, k);
+	ps_integrate_pic_matrix(pic, k);
 	ps_coef_k(coef, k, kc);
 	/* Each run is summed with compensation in four lanes (rowsum.h) and
 	 * the runs are added with compensation: a 1e9 sun next to 1e-2 walls
@@ -183,7 +183,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 				contrib[n++] = ps_pixel_response(px, ps_wrun_at(w, run, i), kc, raws);
 			}
 		}
-		r->top1_share = ps_top1_share(contrib, n, r->response);
+		r->top1_share = ps_integrate_top1_share(contrib, n, r->response);
 	}
 	free(contrib);
 	return 0;

@@ -27,12 +27,12 @@ struct ps_response {
 
 /* Apply a weight map to a picture of the same size.  XYZE pictures and
  * RGBE pictures with their own PRIMARIES= are converted to Radiance RGB
- * radiance first (see ps_pic_rgb_matrix). */
+ * radiance first (see ps_integrate_pic_matrix). */
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e);
 
 /* The pixel loop that ps_integrate and ps_integrate_mem share, so both give
- * the same numbers bit for bit.  kc = coef^T k (k from ps_pic_rgb_matrix):
+ * the same numbers bit for bit.  kc = coef^T k (k from ps_integrate_pic_matrix):
  * one pixel's response is kc . raw, raw the stored channels decoded and
  * times the weight; a row's channel sums are k times the row's raw sums
  * (ps_row_rgb), which is linear, so no per-pixel matrix is needed. */
@@ -61,15 +61,15 @@ static inline void ps_row_rgb(const double k[3][3], const double raw_sum[3], dou
 
 /* The share of response of the largest 1 % of the n contributions (at
  * least one); contrib is reordered. */
-double ps_top1_share(double *contrib, size_t n, double response);
+double ps_integrate_top1_share(double *contrib, size_t n, double response);
 
 /* Radiance's standard primaries (CIE x, y of R, G, B and white 0.3333 0.3333). */
-extern const double ps_std_primaries[8];
+extern const double ps_integrate_std_primaries[8];
 /* The 3 x 3 matrix from RGB with the given primaries to CIE XYZ (Y of white = 1). */
-void ps_rgb_to_xyz_matrix(const double prim[8], double m[3][3]);
+void ps_integrate_rgb_to_xyz(const double prim[8], double m[3][3]);
 /* The inverse of a 3 x 3 matrix by its adjugate (the matrices here are
  * colour primaries, far from singular). */
-void ps_mat3_invert(const double a[3][3], double out[3][3]);
+void ps_integrate_mat3_invert(const double a[3][3], double out[3][3]);
 
 /* Radiance's luminous efficacy of its equal-energy white, lm/W (WHTEFFICACY). */
 #define PS_WHTEFFICACY 179.0
@@ -83,6 +83,6 @@ void ps_mat3_invert(const double a[3][3], double out[3][3]);
  *  - RGBE with PRIMARIES=: own RGB -> XYZ -> standard RGB, which keeps the
  *    luminance (the default coefficients give the same Y); an XYZE
  *    picture's PRIMARIES= line is ignored (XYZ has no primaries). */
-void ps_pic_rgb_matrix(const struct ps_picture *pic, double k[3][3]);
+void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3]);
 
 #endif

@@ -47,7 +47,7 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 		return ps_err_set(e, PS_ENOMEM, "out of memory for %d x %d cells", p->ntheta, p->nphi);
 	ps_fisheye_init(&f, v, pic->width, pic->height);
 	/* stored channels -> response per unit of decoded (m + 0.5) 2^(e-136) */
-	ps_pic_rgb_matrix(pic, k);
+	ps_integrate_pic_matrix(pic, k);
 	for (int c = 0; c < 3; c++)
 		kc[c] = coef[0] * k[0][c] + coef[1] * k[1][c] + coef[2] * k[2][c];
 	{

@@ -313,7 +313,7 @@ int ps_filter_analyse(const struct ps_filter *f, const char *calibration,
 	}
 	if (solve3(a, b, r->xyz, &r->condition) != 0)
 		return ps_err_set(e, PS_ERANGE, "the colour-matching functions are singular");
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	for (int k = 0; k < 3; k++)
 		r->rgb[k] = m[0][k] * r->xyz[0] + m[1][k] * r->xyz[1] + m[2][k] * r->xyz[2];
 	memcpy(pr.c, r->xyz, sizeof pr.c);

@@ -248,7 +248,7 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 	j.len = len;
 	j.name = name;
 	j.nm = nmaps;
-	ps_pic_rgb_matrix(head, j.k);
+	ps_integrate_pic_matrix(head, j.k);
 	ps_coef_k(coef, j.k, j.kc);
 	{
 		long ps = sysconf(_SC_PAGESIZE);
@@ -319,7 +319,7 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 			goto out;
 		for (int k = 0; k < nmaps; k++)
 			if (j.m[k].contrib)
-				rs[k].top1_share = ps_top1_share(j.m[k].contrib, ncontrib[k], rs[k].response);
+				rs[k].top1_share = ps_integrate_top1_share(j.m[k].contrib, ncontrib[k], rs[k].response);
 	}
 	rc = 0;
 out:

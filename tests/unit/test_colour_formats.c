@@ -119,7 +119,7 @@ static void xyze_is_luminance_based(void **state)
 	double m[3][3], minv[3][3];
 	(void)state;
 	cosine_weights(&w);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
 	for (size_t t = 0; t < sizeof rgbs / sizeof rgbs[0]; t++) {
 		const double *rgb = rgbs[t];
@@ -172,7 +172,7 @@ static void xyze_with_ra_xyze_exposure(void **state)
 	uint8_t px[4];
 	(void)state;
 	cosine_weights(&w);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
 	for (int i = 0; i < 3; i++)
 		xyz[i] = dot(m[i], rgb);
@@ -199,7 +199,7 @@ static void colorcorr_divides_stored_channels(void **state)
 	char head[128];
 	(void)state;
 	cosine_weights(&w);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
 	ps_rgbe_decode(px, st);
 	for (int c = 0; c < 3; c++)
@@ -238,10 +238,10 @@ static void primaries_keep_luminance(void **state)
 	(void)state;
 	cosine_weights(&w);
 	ps_rgbe_decode(px, st);
-	ps_rgb_to_xyz_matrix(srgb, own);
+	ps_integrate_rgb_to_xyz(srgb, own);
 	snprintf(head, sizeof head, "PRIMARIES= %g %g %g %g %g %g %g %g\n", srgb[0], srgb[1], srgb[2],
 	         srgb[3], srgb[4], srgb[5], srgb[6], srgb[7]);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
 	for (int i = 0; i < 3; i++)
 		xyz[i] = dot(own[i], st);

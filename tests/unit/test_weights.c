@@ -351,7 +351,7 @@ static void default_coefficients_are_the_primaries_luminance(void **state)
 {
 	double m[3][3];
 	(void)state;
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	assert_true(fabs(m[1][0] - PS_RGB_DEFAULT_R) < 5e-9);
 	assert_true(fabs(m[1][1] - PS_RGB_DEFAULT_G) < 5e-9);
 	assert_true(fabs(m[1][2] - PS_RGB_DEFAULT_B) < 5e-9);
