@@ -63,7 +63,7 @@ static void read_vec(struct ps_conf *c, struct ps_conf_section *sec, const char 
 		*have = 1;
 }
 
-static void read_place(struct ps_conf *c, struct ps_conf_section *sec, struct ps_place *p,
+static void read_place(struct ps_conf *c, struct ps_conf_section *sec, struct ps_marks_place *p,
                        const double *dir)
 {
 	static const double zero[3] = { 0, 0, 0 }, up[3] = { 0, 1, 0 };

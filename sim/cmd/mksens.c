@@ -293,19 +293,19 @@ static int auto_zoom(int size, int zoom)
 /* Contours of the sensitivity at the levels, labelled where they cross
  * azimuth 320 degrees: white over the false colour, light blue over a
  * render (apart from the white rings and the yellow arrow). */
-static int draw_contours(struct ps_canvas *c, const struct ps_place *pl, const struct ps_sensor *s,
+static int draw_contours(struct ps_canvas *c, const struct ps_marks_place *pl, const struct ps_sensor *s,
                          const struct opts *o, double font, struct ps_err *e)
 {
 	int nx, ny;
-	double *grid = ps_place_sensitivity(pl, s, o->rot, &nx, &ny), lx, ly;
+	double *grid = ps_marks_place_sensitivity(pl, s, o->rot, &nx, &ny), lx, ly;
 	if (!grid)
 		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	{
 		/* a target far out along azimuth 300: each contour's label goes
 		 * where the contour crosses that direction */
 		double xc, yc, xe, ye;
-		ps_place_point(pl, 0, 0, &xc, &yc);
-		ps_place_point(pl, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
+		ps_marks_place_point(pl, 0, 0, &xc, &yc);
+		ps_marks_place_point(pl, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
 		lx = xc + 4 * (xe - xc);
 		ly = yc + 4 * (ye - yc);
 	}
@@ -330,7 +330,7 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	struct ps_picture room;
 	struct ps_view rv;
 	struct ps_canvas c;
-	struct ps_place pl;
+	struct ps_marks_place pl;
 	struct ps_falsecolor_legend leg;
 	struct ps_falsecolor_scale scale = { 100.0, 0, 0 };
 	uint8_t bg[3] = { 28, 28, 28 };
@@ -368,7 +368,7 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	if (ps_canvas_init(&c, margin + w * zoom + margin + strip, margin + h * zoom + 2 * margin, bg,
 	                   e) != 0)
 		goto fail;
-	ps_place_init(&pl, v, w, h, margin, margin, zoom);
+	ps_marks_place_init(&pl, v, w, h, margin, margin, zoom);
 	if (have_room) {
 		struct ps_tonemap t;
 		ps_tonemap_init(&t, &room, o->tone, o->exposure, 2.2, 0);

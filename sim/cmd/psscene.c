@@ -70,7 +70,7 @@ static int ensure_picture(struct run *r, const struct ps_condition *c, const cha
                           int task, struct ps_err *e)
 {
 	char rpict[4096];
-	const struct ps_place *at = task ? &r->sc->task_at : &r->sc->sensor_at;
+	const struct ps_marks_place *at = task ? &r->sc->task_at : &r->sc->sensor_at;
 	double field = task ? 180.0 : ps_render_field(ps_sensor_extent(&r->sensor));
 	char **argv;
 	int rc;

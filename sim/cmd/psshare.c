@@ -213,7 +213,7 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
                      const struct ps_region_share *rs, int nrs, struct ps_err *e)
 {
 	struct ps_canvas c;
-	struct ps_place pl;
+	struct ps_marks_place pl;
 	struct ps_tonemap t;
 	struct ps_falsecolor_legend leg;
 	struct ps_falsecolor_scale scale = { 0, 1, 3 };
@@ -233,7 +233,7 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
 	if (ps_canvas_init(&c, margin + w * zoom + margin + strip, margin + h * zoom + 2 * margin, bg,
 	                   e) != 0)
 		return -1;
-	ps_place_init(&pl, v, w, h, margin, margin, zoom);
+	ps_marks_place_init(&pl, v, w, h, margin, margin, zoom);
 	ps_tonemap_init(&t, pic, PS_TONE_REINHARD, 0, 2.2, 0);
 	ps_picdraw_grey(&c, pic, &t, margin, margin, zoom, 0.6);
 	ps_canvas_begin(&c);

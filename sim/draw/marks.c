@@ -7,8 +7,8 @@
 
 #define DEG (M_PI / 180.0)
 
-void ps_place_init(struct ps_place *p, const struct ps_view *v, int width, int height, double ox,
-                   double oy, double zoom)
+void ps_marks_place_init(struct ps_marks_place *p, const struct ps_view *v, int width, int height, double ox,
+                         double oy, double zoom)
 {
 	ps_fisheye_init(&p->f, v, width, height);
 	p->ox = ox;
@@ -16,7 +16,7 @@ void ps_place_init(struct ps_place *p, const struct ps_view *v, int width, int h
 	p->zoom = zoom;
 }
 
-void ps_place_point(const struct ps_place *p, double theta, double phi, double *x, double *y)
+void ps_marks_place_point(const struct ps_marks_place *p, double theta, double phi, double *x, double *y)
 {
 	double rho = ps_fisheye_rho(&p->f, theta), a = phi + M_PI / 2;
 	double u = rho * cos(a), v = rho * sin(a);
@@ -24,7 +24,7 @@ void ps_place_point(const struct ps_place *p, double theta, double phi, double *
 	*y = p->oy + p->zoom * p->f.height * (1.0 - (v - p->f.v0) / p->f.sv);
 }
 
-int ps_place_dir(const struct ps_place *p, double x, double y, double *theta, double *phi)
+int ps_marks_place_dir(const struct ps_marks_place *p, double x, double y, double *theta, double *phi)
 {
 	double u = ps_fisheye_u(&p->f, (x - p->ox) / p->zoom);
 	double v = ps_fisheye_v(&p->f, p->f.height - (y - p->oy) / p->zoom);
@@ -36,8 +36,8 @@ int ps_place_dir(const struct ps_place *p, double x, double y, double *theta, do
 	return 0;
 }
 
-double *ps_place_sensitivity(const struct ps_place *p, const struct ps_sensor *s,
-                             double rotation_deg, int *nx, int *ny)
+double *ps_marks_place_sensitivity(const struct ps_marks_place *p, const struct ps_sensor *s,
+                                   double rotation_deg, int *nx, int *ny)
 {
 	int w = (int)lround(p->zoom * p->f.width) + 1, h = (int)lround(p->zoom * p->f.height) + 1;
 	double *val = malloc((size_t)w * (size_t)h * sizeof *val);
@@ -48,7 +48,7 @@ double *ps_place_sensitivity(const struct ps_place *p, const struct ps_sensor *s
 		for (int i = 0; i < w; i++) {
 			double theta, phi;
 			val[(size_t)j * (size_t)w + (size_t)i] =
-			        ps_place_dir(p, p->ox + i, p->oy + j, &theta, &phi) == 0
+			        ps_marks_place_dir(p, p->ox + i, p->oy + j, &theta, &phi) == 0
 			                ? ps_sensor_value(s, theta, phi - rotation_deg * DEG) / top
 			                : NAN;
 		}
@@ -58,12 +58,12 @@ double *ps_place_sensitivity(const struct ps_place *p, const struct ps_sensor *s
 }
 
 /* polyline along a ring of constant theta, clipped to the picture */
-static void ring(cairo_t *cr, const struct ps_place *p, double theta)
+static void ring(cairo_t *cr, const struct ps_marks_place *p, double theta)
 {
 	int started = 0;
 	for (int k = 0; k <= 360; k++) {
 		double x, y;
-		ps_place_point(p, theta, k * DEG, &x, &y);
+		ps_marks_place_point(p, theta, k * DEG, &x, &y);
 		if (started)
 			cairo_line_to(cr, x, y);
 		else
@@ -82,7 +82,7 @@ static void stroke_haloed(cairo_t *cr, double width, double alpha)
 	cairo_stroke(cr);
 }
 
-void ps_marks_draw(struct ps_canvas *c, const struct ps_place *p, int which, double rotation_deg,
+void ps_marks_draw(struct ps_canvas *c, const struct ps_marks_place *p, int which, double rotation_deg,
                    double font)
 {
 	cairo_t *cr = c->cr;
@@ -101,8 +101,8 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_place *p, int which, dou
 	if (which & PS_MARK_AZIMUTH) {
 		for (int a = 0; a < 360; a += 30) {
 			double x0, y0, x1, y1;
-			ps_place_point(p, edge - 6 * DEG, a * DEG, &x0, &y0);
-			ps_place_point(p, edge, a * DEG, &x1, &y1);
+			ps_marks_place_point(p, edge - 6 * DEG, a * DEG, &x0, &y0);
+			ps_marks_place_point(p, edge, a * DEG, &x1, &y1);
 			cairo_move_to(cr, x0, y0);
 			cairo_line_to(cr, x1, y1);
 			stroke_haloed(cr, a % 90 ? 1.0 : 2.0, 0.9);
@@ -110,8 +110,8 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_place *p, int which, dou
 	}
 	if (which & PS_MARK_SENSOR) {
 		double x0, y0, x1, y1, ang, r = rotation_deg * DEG, hl = 0.9 * font;
-		ps_place_point(p, 0, 0, &x0, &y0);
-		ps_place_point(p, fmin(edge, 60 * DEG), r, &x1, &y1);
+		ps_marks_place_point(p, 0, 0, &x0, &y0);
+		ps_marks_place_point(p, fmin(edge, 60 * DEG), r, &x1, &y1);
 		ang = atan2(y1 - y0, x1 - x0);
 		cairo_move_to(cr, x0, y0);
 		cairo_line_to(cr, x1, y1);
@@ -137,7 +137,7 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_place *p, int which, dou
 		for (int t = 30; t < 180 && t * DEG <= field + 1e-9; t += 30) {
 			char lab[16];
 			double x, y;
-			ps_place_point(p, t * DEG, 225 * DEG, &x, &y);
+			ps_marks_place_point(p, t * DEG, 225 * DEG, &x, &y);
 			if (x < p->ox + font || x > p->ox + pw - font || y < p->oy + font || y > p->oy + ph - font)
 				continue;
 			snprintf(lab, sizeof lab, "%d\xc2\xb0", t);
@@ -150,8 +150,8 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_place *p, int which, dou
 		static const char *const name[4] = { "0\xc2\xb0 up", "90\xc2\xb0", "180\xc2\xb0", "270\xc2\xb0" };
 		for (int k = 0; k < 4; k++) {
 			double xc, yc, xe, ye, dx, dy, d;
-			ps_place_point(p, 0, 0, &xc, &yc);
-			ps_place_point(p, edge, k * M_PI / 2, &xe, &ye);
+			ps_marks_place_point(p, 0, 0, &xc, &yc);
+			ps_marks_place_point(p, edge, k * M_PI / 2, &xe, &ye);
 			dx = xe - xc;
 			dy = ye - yc;
 			d = hypot(dx, dy);

@@ -12,31 +12,31 @@
 #include "fisheye.h"
 #include "sensor.h"
 
-struct ps_place {
+struct ps_marks_place {
 	struct ps_fisheye f;
 	double ox, oy;   /* canvas position of the picture's top-left corner */
 	double zoom;     /* canvas pixels per picture pixel */
 };
 
-void ps_place_init(struct ps_place *p, const struct ps_view *v, int width, int height, double ox,
-                   double oy, double zoom);
+void ps_marks_place_init(struct ps_marks_place *p, const struct ps_view *v, int width, int height, double ox,
+                         double oy, double zoom);
 /* Canvas position of the direction (theta, phi), radians (phi the sensor
  * azimuth: 0 up, growing to the left). */
-void ps_place_point(const struct ps_place *p, double theta, double phi, double *x, double *y);
+void ps_marks_place_point(const struct ps_marks_place *p, double theta, double phi, double *x, double *y);
 /* Direction at a canvas position; -1 outside the field. */
-int ps_place_dir(const struct ps_place *p, double x, double y, double *theta, double *phi);
+int ps_marks_place_dir(const struct ps_marks_place *p, double x, double y, double *theta, double *phi);
 
 /* The sensor's sensitivity, as a fraction of its largest table value, at every
  * canvas pixel corner over the picture (the sensor looks along the view
  * direction, its azimuth 0 turned by rotation_deg towards growing azimuth):
  * a grid of (zoom W + 1) x (zoom H + 1) samples, NaN outside the field.
  * Free with free(); NULL when out of memory. */
-double *ps_place_sensitivity(const struct ps_place *p, const struct ps_sensor *s,
-                             double rotation_deg, int *nx, int *ny);
+double *ps_marks_place_sensitivity(const struct ps_marks_place *p, const struct ps_sensor *s,
+                                   double rotation_deg, int *nx, int *ny);
 
 enum { PS_MARK_RINGS = 1, PS_MARK_AZIMUTH = 2, PS_MARK_SENSOR = 4 };
 /* Draw the marks chosen (PS_MARK_*) at text size font. */
-void ps_marks_draw(struct ps_canvas *c, const struct ps_place *p, int which, double rotation_deg,
+void ps_marks_draw(struct ps_canvas *c, const struct ps_marks_place *p, int which, double rotation_deg,
                    double font);
 
 #endif
