@@ -245,8 +245,8 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 		}
 		if (ps_pic_head_mem(&pic, fm.data, fm.len, paths[first], &off,
 		                    &items[first].res.err) != 0 ||
-		    ps_pic_fisheye_view(&pic, paths[first], &view, &assumed,
-		                        &items[first].res.err) != 0) {
+		    ps_picview_fisheye(&pic, paths[first], &view, &assumed,
+		                       &items[first].res.err) != 0) {
 			items[first].res.status = PS_BATCH_FAILED;
 			ps_pic_free(&pic);
 			ps_unmap_file(&fm);
@@ -346,7 +346,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 		}
 		width = head.width;
 		height = head.height;
-		if (ps_pic_fisheye_view(&head, paths[i], &view, &assumed, &pe) != 0)
+		if (ps_picview_fisheye(&head, paths[i], &view, &assumed, &pe) != 0)
 			goto done;
 		if (have && (width != cw || height != ch || view.type != cur.type || view.vh != cur.vh ||
 		             view.vv != cur.vv || view.vs != cur.vs || view.vl != cur.vl)) {
@@ -489,7 +489,7 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 		double ext = 0;
 		int assumed, how;
 		if (ps_pic_read(&pic, paths[i], &e) != 0 ||
-		    ps_pic_fisheye_view(&pic, paths[i], &view, &assumed, &e) != 0) {
+		    ps_picview_fisheye(&pic, paths[i], &view, &assumed, &e) != 0) {
 			fprintf(stderr, "psens: %s\n", e.msg);
 			ps_pic_free(&pic);
 			status = 1;

@@ -3,8 +3,8 @@
 
 #include <stdio.h>
 
-int ps_pic_fisheye_view(const struct ps_picture *pic, const char *path, struct ps_view *v,
-                        int *assumed, struct ps_err *e)
+int ps_picview_fisheye(const struct ps_picture *pic, const char *path, struct ps_view *v,
+                       int *assumed, struct ps_err *e)
 {
 	char where[600];
 	snprintf(where, sizeof where, "%s: VIEW", path);

@@ -11,7 +11,7 @@
 
 /* path names the picture in messages; *assumed (may be NULL) is set to 1
  * when the picture had no view and the default fisheye was taken. */
-int ps_pic_fisheye_view(const struct ps_picture *pic, const char *path, struct ps_view *v,
-                        int *assumed, struct ps_err *e);
+int ps_picview_fisheye(const struct ps_picture *pic, const char *path, struct ps_view *v,
+                       int *assumed, struct ps_err *e);
 
 #endif

@@ -107,7 +107,7 @@ static void one(struct job *j, size_t i)
 		return;
 	r->width = pic.width;
 	r->height = pic.height;
-	if (ps_pic_fisheye_view(&pic, name, &view, &r->view_assumed, &r->err) != 0)
+	if (ps_picview_fisheye(&pic, name, &view, &r->view_assumed, &r->err) != 0)
 		goto out;
 	if (pic.width != b->w.width || pic.height != b->w.height) {
 		r->status = PS_BATCH_MISMATCH;
@@ -162,7 +162,7 @@ static void one_file(struct job *j, size_t i)
 	}
 	r->width = head.width;
 	r->height = head.height;
-	if (ps_pic_fisheye_view(&head, name, &view, &r->view_assumed, &r->err) != 0)
+	if (ps_picview_fisheye(&head, name, &view, &r->view_assumed, &r->err) != 0)
 		goto out;
 	if (head.width != b->w.width || head.height != b->w.height) {
 		r->status = PS_BATCH_MISMATCH;
