@@ -270,8 +270,8 @@ static int write_hdr(const struct opts *o, const double *val, double vh, struct 
 		free(rgb);
 		return ps_err_sys(e, "%s", o->out);
 	}
-	rc = ps_pic_write_fp(fp, o->out ? o->out : "(stdout)", (int)o->res, (int)o->res, rgb, view,
-	                     extra, e);
+	rc = ps_picture_write_fp(fp, o->out ? o->out : "(stdout)", (int)o->res, (int)o->res, rgb, view,
+	                         extra, e);
 	free(rgb);
 	if (fp != stdout) {
 		if (fclose(fp) != 0 && rc == 0)
@@ -341,7 +341,7 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	memset(&room, 0, sizeof room);
 	if (o->overlay) {
 		char where[600];
-		if (ps_pic_read(&room, o->overlay, e) != 0)
+		if (ps_picture_read(&room, o->overlay, e) != 0)
 			return -1;
 		have_room = 1;
 		snprintf(where, sizeof where, "%s: VIEW", o->overlay);
@@ -420,11 +420,11 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	rc = o->out ? ps_canvas_save_png(&c, o->out, e) : ps_canvas_write_png(&c, stdout, "(stdout)", e);
 	ps_canvas_free(&c);
 	ps_canvas_shutdown();
-	ps_pic_free(&room);
+	ps_picture_free(&room);
 	return rc;
 fail:
 	if (have_room)
-		ps_pic_free(&room);
+		ps_picture_free(&room);
 	return -1;
 }
 

@@ -243,12 +243,12 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			items[first].res.status = PS_BATCH_FAILED;
 			continue;
 		}
-		if (ps_pic_head_mem(&pic, fm.data, fm.len, paths[first], &off,
-		                    &items[first].res.err) != 0 ||
+		if (ps_picture_head_mem(&pic, fm.data, fm.len, paths[first], &off,
+		                        &items[first].res.err) != 0 ||
 		    ps_picview_fisheye(&pic, paths[first], &view, &assumed,
 		                       &items[first].res.err) != 0) {
 			items[first].res.status = PS_BATCH_FAILED;
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			ps_unmap_file(&fm);
 			continue;
 		}
@@ -297,7 +297,7 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			free(list);
 			ps_unmap_file(&fm);
 		}
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		ps_batch_free(&b);
 	}
 	free(idx);
@@ -340,7 +340,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 		memset(&view, 0, sizeof view);
 		if (ps_map_file(paths[i], (size_t)4 << 30, &fm, &pe) != 0)
 			goto give;
-		if (ps_pic_head_mem(&head, fm.data, fm.len, paths[i], &off, &pe) != 0) {
+		if (ps_picture_head_mem(&head, fm.data, fm.len, paths[i], &off, &pe) != 0) {
 			ps_unmap_file(&fm);
 			goto give;
 		}
@@ -403,7 +403,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 				cache_warning(o, how, &warn);
 			}
 done:
-		ps_pic_free(&head);
+		ps_picture_free(&head);
 		ps_unmap_file(&fm);
 give:
 		for (int k = 0; k < nsens; k++) {
@@ -488,10 +488,10 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 		struct ps_err warn;
 		double ext = 0;
 		int assumed, how;
-		if (ps_pic_read(&pic, paths[i], &e) != 0 ||
+		if (ps_picture_read(&pic, paths[i], &e) != 0 ||
 		    ps_picview_fisheye(&pic, paths[i], &view, &assumed, &e) != 0) {
 			fprintf(stderr, "psens: %s\n", e.msg);
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			status = 1;
 			continue;
 		}
@@ -508,7 +508,7 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 		                      ext / (M_PI / 180) + 0.25, &e) != 0) {
 			fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 			ps_weights_free(&om);
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			status = 1;
 			continue;
 		}
@@ -546,7 +546,7 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 		}
 		ps_rescan_free(&p);
 		ps_weights_free(&om);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 	}
 	free(out);
 	ps_sensor_free(&uni);

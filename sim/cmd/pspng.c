@@ -129,7 +129,7 @@ int main(int argc, char **argv)
 		fprintf(stderr, "pspng: %s\n", e.msg);
 		return 2;
 	}
-	if (ps_pic_read(&pic, path, &e) != 0) {
+	if (ps_picture_read(&pic, path, &e) != 0) {
 		fprintf(stderr, "pspng: %s\n", e.msg);
 		return 1;
 	}
@@ -186,10 +186,10 @@ int main(int argc, char **argv)
 	if (!quiet)
 		fprintf(stderr, "pspng: %s: %d x %d, %s -> %s\n", path, pic.width, pic.height, summary,
 		        out ? out : "(stdout)");
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return 0;
 fail:
 	fprintf(stderr, "pspng: %s\n", e.msg);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return 1;
 }

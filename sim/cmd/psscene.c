@@ -128,7 +128,7 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 		r->reused++;
 		return 0;
 	}
-	if (ps_pic_read(&pic, path, e) != 0)
+	if (ps_picture_read(&pic, path, e) != 0)
 		return -1;
 	snprintf(where, sizeof where, "%s: VIEW", path);
 	ps_view_default(&view);
@@ -137,11 +137,11 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 		if (!r->quiet)
 			fprintf(stderr, "psscene: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n", path);
 	} else if (ps_view_parse(&view, pic.view, where, e) != 0) {
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		return -1;
 	}
 	if (ps_view_check_fisheye(&view, where, e) != 0) {
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		return -1;
 	}
 	/* weight maps are shared by every picture of the same view and size */
@@ -152,18 +152,18 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 		r->have_w = ps_weights_build(&r->w, s, task ? 0.0 : r->sc->rotation, &view, pic.width,
 		                             pic.height, PS_W_EXACT, e) == 0;
 		if (!r->have_w) {
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			return -1;
 		}
 	}
 	if (ps_integrate(&r->w, &pic, coef, &resp, e) != 0) {
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		return -1;
 	}
 	if (!r->quiet && r->w.coverage < 1 - 1e-9)
 		fprintf(stderr, "psscene: warning: %s holds %.2f %% of the sensitivity\n", path,
 		        100 * r->w.coverage);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	out[0] = resp.response;
 	out[1] = resp.brightest_share;
 	r->computed++;

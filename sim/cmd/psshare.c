@@ -163,7 +163,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 static int load(const struct opts *o, struct ps_picture *pic, struct ps_view *v, struct ps_err *e)
 {
 	char where[600];
-	if (ps_pic_read(pic, o->picture, e) != 0)
+	if (ps_picture_read(pic, o->picture, e) != 0)
 		return -1;
 	snprintf(where, sizeof where, "%s: VIEW", o->picture);
 	if (!pic->view) {
@@ -182,7 +182,7 @@ static int load(const struct opts *o, struct ps_picture *pic, struct ps_view *v,
 		goto fail;
 	return 0;
 fail:
-	ps_pic_free(pic);
+	ps_picture_free(pic);
 	return -1;
 }
 
@@ -200,7 +200,7 @@ static int write_hdr(const struct opts *o, const struct ps_share *s, const char 
 	snprintf(extra, sizeof extra, "psshare -s %s -r %g %s\n"
 	         "COMMENT= each pixel holds its share of the sensor's response, in percent\n",
 	         o->sensfile, o->rot, o->picture);
-	rc = ps_pic_write(o->hdr, s->width, s->height, rgb, view, extra, e);
+	rc = ps_picture_write(o->hdr, s->width, s->height, rgb, view, extra, e);
 	free(rgb);
 	return rc;
 }
@@ -416,7 +416,7 @@ done:
 	ps_weights_free(&w);
 	ps_weights_free(&sa);
 	ps_radgeom_free(&g);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	ps_sensor_free(&sens);
 	ps_sensor_free(&uni);
 	return status;

@@ -27,7 +27,7 @@ void ps_lum_init(struct ps_lum *l, const struct ps_picture *pic)
 void ps_lum_rgb(const struct ps_lum *l, const struct ps_picture *pic, int x, int row, double rgb[3])
 {
 	double c[3];
-	ps_pic_get(pic, x, row, c);
+	ps_picture_get(pic, x, row, c);
 	for (int i = 0; i < 3; i++)
 		rgb[i] = l->to_rgb[i][0] * c[0] + l->to_rgb[i][1] * c[1] + l->to_rgb[i][2] * c[2];
 }

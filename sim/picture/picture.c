@@ -28,9 +28,9 @@ enum {
 	ORIENT_STANDARD = ORIENT_YMAJOR | ORIENT_YDECR,
 };
 
-/* 2^(e-136): a stored mantissa m reads as (m + 0.5) * ps_rgbe_scale[e];
+/* 2^(e-136): a stored mantissa m reads as (m + 0.5) * ps_picture_rgbe_scale[e];
  * e = 0 is black.  Hexadecimal literals make every entry exact. */
-const double ps_rgbe_scale[256] = {
+const double ps_picture_rgbe_scale[256] = {
 	0.0, 0x1p-135, 0x1p-134, 0x1p-133, 0x1p-132, 0x1p-131, 0x1p-130, 0x1p-129,
 	0x1p-128, 0x1p-127, 0x1p-126, 0x1p-125, 0x1p-124, 0x1p-123, 0x1p-122, 0x1p-121,
 	0x1p-120, 0x1p-119, 0x1p-118, 0x1p-117, 0x1p-116, 0x1p-115, 0x1p-114, 0x1p-113,
@@ -65,9 +65,9 @@ const double ps_rgbe_scale[256] = {
 	0x1p112, 0x1p113, 0x1p114, 0x1p115, 0x1p116, 0x1p117, 0x1p118, 0x1p119,
 };
 
-void ps_rgbe_decode(const uint8_t in[4], double rgb[3])
+void ps_picture_rgbe_decode(const uint8_t in[4], double rgb[3])
 {
-	double f = ps_rgbe_scale[in[3]];
+	double f = ps_picture_rgbe_scale[in[3]];
 	if (in[3] == 0) {
 		rgb[0] = rgb[1] = rgb[2] = 0.0;
 		return;
@@ -77,7 +77,7 @@ void ps_rgbe_decode(const uint8_t in[4], double rgb[3])
 	rgb[2] = (in[2] + 0.5) * f;
 }
 
-void ps_rgbe_encode(const double rgb[3], uint8_t out[4])
+void ps_picture_rgbe_encode(const double rgb[3], uint8_t out[4])
 {
 	double c[3], d;
 	int e;
@@ -103,16 +103,16 @@ void ps_rgbe_encode(const double rgb[3], uint8_t out[4])
 	out[3] = (uint8_t)(e + 128);
 }
 
-void ps_pic_get(const struct ps_picture *pic, int x, int y, double out[3])
+void ps_picture_get(const struct ps_picture *pic, int x, int y, double out[3])
 {
 	const uint8_t *p = pic->pix + ((size_t)y * (size_t)pic->width + (size_t)x) * 4;
-	ps_rgbe_decode(p, out);
+	ps_picture_rgbe_decode(p, out);
 	out[0] /= pic->exposure[0];
 	out[1] /= pic->exposure[1];
 	out[2] /= pic->exposure[2];
 }
 
-void ps_pic_free(struct ps_picture *pic)
+void ps_picture_free(struct ps_picture *pic)
 {
 	if (!pic)
 		return;
@@ -532,8 +532,8 @@ static int check_size(struct cursor *c, long slow, long fast)
 	return 0;
 }
 
-int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
-                    struct ps_err *e)
+int ps_picture_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
+                        struct ps_err *e)
 {
 	struct cursor c = { data, len, 0, name ? name : "(picture)", e };
 	long slow = 0, fast = 0;
@@ -581,11 +581,11 @@ int ps_pic_read_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 	return 0;
 fail:
 	free(sl);
-	ps_pic_free(pic);
+	ps_picture_free(pic);
 	return -1;
 }
 
-int ps_pic_read(struct ps_picture *pic, const char *path, struct ps_err *e)
+int ps_picture_read(struct ps_picture *pic, const char *path, struct ps_err *e)
 {
 	uint8_t *buf;
 	size_t len;
@@ -594,15 +594,15 @@ int ps_pic_read(struct ps_picture *pic, const char *path, struct ps_err *e)
 	/* 4 GiB: more than the largest picture we accept could need */
 	if (ps_read_file(path, (size_t)4 << 30, &buf, &len, e) != 0)
 		return -1;
-	rc = ps_pic_read_mem(pic, buf, len, path, e);
+	rc = ps_picture_read_mem(pic, buf, len, path, e);
 	free(buf);
 	return rc;
 }
 
 /* ---- row by row ------------------------------------------------------------ */
 
-int ps_pic_head_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
-                    size_t *data_off, struct ps_err *e)
+int ps_picture_head_mem(struct ps_picture *pic, const uint8_t *data, size_t len, const char *name,
+                        size_t *data_off, struct ps_err *e)
 {
 	struct cursor c = { data, len, 0, name ? name : "(picture)", e };
 	long slow = 0, fast = 0;
@@ -614,7 +614,7 @@ int ps_pic_head_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 		return ps_err_set(e, PS_EINVAL, "%s: no data", c.name);
 	if (read_header(pic, &c) != 0 || read_resolution(&c, &orient, &slow, &fast) != 0 ||
 	    check_size(&c, slow, fast) != 0) {
-		ps_pic_free(pic);
+		ps_picture_free(pic);
 		return -1;
 	}
 	pic->orientation = orient;
@@ -629,13 +629,13 @@ int ps_pic_head_mem(struct ps_picture *pic, const uint8_t *data, size_t len, con
 	return 0;
 }
 
-int ps_pic_is_standard(const struct ps_picture *pic)
+int ps_picture_is_standard(const struct ps_picture *pic)
 {
 	return pic->orientation == ORIENT_STANDARD;
 }
 
-int ps_pic_scanline_starts(const struct ps_picture *pic, const uint8_t *data, size_t len,
-                           const char *name, size_t off, size_t *starts, struct ps_err *e)
+int ps_picture_scanline_starts(const struct ps_picture *pic, const uint8_t *data, size_t len,
+                               const char *name, size_t off, size_t *starts, struct ps_err *e)
 {
 	struct cursor c = { data, len, off, name ? name : "(picture)", e };
 	if (pic->orientation != ORIENT_STANDARD)
@@ -648,10 +648,10 @@ int ps_pic_scanline_starts(const struct ps_picture *pic, const uint8_t *data, si
 	return 0;
 }
 
-int ps_pic_scan_rows(const struct ps_picture *pic, const uint8_t *data, size_t len,
-                     const char *name, size_t off, int y0, int y1, const uint8_t *want,
-                     int (*row)(void *ctx, int y, const uint8_t *rgbe), void *ctx,
-                     struct ps_err *e)
+int ps_picture_scan_rows(const struct ps_picture *pic, const uint8_t *data, size_t len,
+                         const char *name, size_t off, int y0, int y1, const uint8_t *want,
+                         int (*row)(void *ctx, int y, const uint8_t *rgbe), void *ctx,
+                         struct ps_err *e)
 {
 	struct cursor c = { data, len, off, name ? name : "(picture)", e };
 	uint8_t *sl;
@@ -711,8 +711,8 @@ static void put_plane(FILE *fp, const uint8_t *sl, long len, int comp)
 	}
 }
 
-int ps_pic_write_fp(FILE *fp, const char *path, int width, int height, const double *rgb,
-                    const char *view, const char *extra_header, struct ps_err *e)
+int ps_picture_write_fp(FILE *fp, const char *path, int width, int height, const double *rgb,
+                        const char *view, const char *extra_header, struct ps_err *e)
 {
 	uint8_t *sl;
 	if (width <= 0 || height <= 0)
@@ -729,7 +729,7 @@ int ps_pic_write_fp(FILE *fp, const char *path, int width, int height, const dou
 	fprintf(fp, "-Y %d +X %d\n", height, width);
 	for (int y = 0; y < height; y++) {
 		for (int x = 0; x < width; x++)
-			ps_rgbe_encode(rgb + 3 * ((size_t)y * (size_t)width + (size_t)x), sl + 4 * x);
+			ps_picture_rgbe_encode(rgb + 3 * ((size_t)y * (size_t)width + (size_t)x), sl + 4 * x);
 		if (width < RLE_MIN_LEN || width > RLE_MAX_LEN) {
 			fwrite(sl, 4, (size_t)width, fp);
 			continue;
@@ -747,14 +747,14 @@ int ps_pic_write_fp(FILE *fp, const char *path, int width, int height, const dou
 	return 0;
 }
 
-int ps_pic_write(const char *path, int width, int height, const double *rgb, const char *view,
-                 const char *extra_header, struct ps_err *e)
+int ps_picture_write(const char *path, int width, int height, const double *rgb, const char *view,
+                     const char *extra_header, struct ps_err *e)
 {
 	FILE *fp = fopen(path, "wb");
 	int rc;
 	if (!fp)
 		return ps_err_sys(e, "%s", path);
-	rc = ps_pic_write_fp(fp, path, width, height, rgb, view, extra_header, e);
+	rc = ps_picture_write_fp(fp, path, width, height, rgb, view, extra_header, e);
 	if (fclose(fp) != 0 && rc == 0)
 		rc = ps_err_sys(e, "%s: write error", path);
 	return rc;

@@ -83,7 +83,7 @@ int ps_dcpic_picture(const int *map, int width, int height, int patch, struct ps
 	pic->pix = calloc(n, 4);
 	if (!pic->pix)
 		return ps_err_set(e, PS_ENOMEM, "out of memory for a %d x %d picture", width, height);
-	ps_rgbe_encode(white, one);
+	ps_picture_rgbe_encode(white, one);
 	for (size_t i = 0; i < n; i++)
 		if (map[i] == patch)
 			memcpy(pic->pix + 4 * i, one, 4);
@@ -138,7 +138,7 @@ int ps_dcpic_write(const char *path_fmt, const struct ps_patches *P, const int *
 		         "daylight coefficient of sky patch %d of %d (MF %d): radiance 1 in the patch\n"
 		         "EXPOSURE=%.8f\n",
 		         p, P->n, P->mf, PS_DCPIC_EXPOSURE);
-		rc = ps_pic_write(path, width, height, rgb, view, extra, e);
+		rc = ps_picture_write(path, width, height, rgb, view, extra, e);
 		if (rc != 0) {
 			free(rgb);
 			return -1;
@@ -167,7 +167,7 @@ int ps_dcpic_coefficients(const struct ps_weights *w, const int *map, int npatch
 		free(next);
 		return ps_err_set(e, PS_ENOMEM, "out of memory for %d coefficient pictures", npatch);
 	}
-	ps_rgbe_encode(white, one);
+	ps_picture_rgbe_encode(white, one);
 	/* each patch's pixels as a linked list */
 	for (int p = 0; p < npatch; p++)
 		first[p] = (size_t)-1;

@@ -34,7 +34,7 @@ void ps_dcpic_dir(const double f[3][3], double theta, double phi, double d[3]);
  * -1 outside the fisheye's field). */
 int ps_dcpic_map(const struct ps_patches *P, const struct ps_view *v, int width, int height,
                  int *map, struct ps_err *e);
-/* Picture of one patch in memory (free with ps_pic_free). */
+/* Picture of one patch in memory (free with ps_picture_free). */
 int ps_dcpic_picture(const int *map, int width, int height, int patch, struct ps_picture *pic,
                      struct ps_err *e);
 /* Write every patch's picture: path_fmt is a printf format with one integer

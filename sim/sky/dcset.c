@@ -89,7 +89,7 @@ static int dc_load_pic(void *ctx, size_t i, struct ps_picture *pic, struct ps_er
 		/* patch 0's picture goes to the one thread that asks for it */
 		*pic = l->first;
 		l->have_first = 0;
-	} else if (ps_pic_read(pic, l->names[i], e) != 0) {
+	} else if (ps_picture_read(pic, l->names[i], e) != 0) {
 		free(view);
 		return -1;
 	}
@@ -130,7 +130,7 @@ int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const str
 	ps_view_format(v, l.view, sizeof l.view);
 	for (int p = 0; p < n; p++)
 		ps_dcpic_path(pattern, p, l.names[p], sizeof l.names[p], e);
-	if (ps_pic_read(&l.first, l.names[0], e) != 0) {
+	if (ps_picture_read(&l.first, l.names[0], e) != 0) {
 		rc = -1;
 		goto out;
 	}
@@ -162,7 +162,7 @@ int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const str
 	ps_batch_free(&b);
 out:
 	if (l.have_first)
-		ps_pic_free(&l.first);
+		ps_picture_free(&l.first);
 	free(l.names);
 	free(res);
 	if (rc != 0)

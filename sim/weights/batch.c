@@ -131,7 +131,7 @@ static void one(struct job *j, size_t i)
 	}
 	r->status = PS_BATCH_OK;
 out:
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 /* A file: the header first (size and view), then decoding fused with the
@@ -156,7 +156,7 @@ static void one_file(struct job *j, size_t i)
 	} else if (ps_map_file(name, (size_t)4 << 30, &m, &r->err) != 0) {
 		return;
 	}
-	if (ps_pic_head_mem(&head, m.data, m.len, name, &off, &r->err) != 0) {
+	if (ps_picture_head_mem(&head, m.data, m.len, name, &off, &r->err) != 0) {
 		ps_unmap_file(&m);
 		return;
 	}
@@ -184,7 +184,7 @@ static void one_file(struct job *j, size_t i)
 		goto out;
 	r->status = PS_BATCH_OK;
 out:
-	ps_pic_free(&head);
+	ps_picture_free(&head);
 	ps_unmap_file(&m);
 }
 

@@ -39,7 +39,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 static inline double ps_pixel_response(const uint8_t *px, double wt, const double kc[3],
                                        double raw_sum[3])
 {
-	double f = ps_rgbe_scale[px[3]] * wt;
+	double f = ps_picture_rgbe_scale[px[3]] * wt;
 	double r0 = (px[0] + 0.5) * f, r1 = (px[1] + 0.5) * f, r2 = (px[2] + 0.5) * f;
 	raw_sum[0] += r0;
 	raw_sum[1] += r1;

@@ -78,7 +78,7 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 				if (it >= p->ntheta)
 					continue;
 				ph = atan2(vc, uc[x]) - M_PI / 2;
-				sc = ps_rgbe_scale[px[3]];
+				sc = ps_picture_rgbe_scale[px[3]];
 				b = ((px[0] + 0.5) * kc[0] + (px[1] + 0.5) * kc[1] + (px[2] + 0.5) * kc[2]) * sc *
 				    ps_wrun_at(omega, run, i);
 				/* phi - phi0 is within a few turns: no integer division */

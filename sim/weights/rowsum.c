@@ -49,7 +49,7 @@ static inline unsigned c_decode(const uint8_t *p, v4c *c0, v4c *c1, v4c *c2, v4c
 		c0->v[l] = p[4 * l];
 		c1->v[l] = p[4 * l + 1];
 		c2->v[l] = p[4 * l + 2];
-		sc->v[l] = ps_rgbe_scale[p[4 * l + 3]];
+		sc->v[l] = ps_picture_rgbe_scale[p[4 * l + 3]];
 		black->v[l] = p[4 * l + 3] == 0;
 		lit += p[4 * l + 3] != 0;
 	}
@@ -120,7 +120,7 @@ static inline double s_get(v4s a, int l)
 }
 static const unsigned char bits4[16] = { 0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4 };
 /* 2^(e-136) built as a double's bits, (e - 136 + 1023) << 52: exact, and
- * the same as ps_rgbe_scale; black (e = 0) masked to 0 */
+ * the same as ps_picture_rgbe_scale; black (e = 0) masked to 0 */
 static inline __m128d s_pow2(__m128i e64, __m128i black64)
 {
 	__m128i bits = _mm_slli_epi64(_mm_add_epi64(e64, _mm_set1_epi64x(1023 - 136)), 52);

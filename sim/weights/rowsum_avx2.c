@@ -37,7 +37,7 @@ static inline unsigned a_decode(const uint8_t *p, __m256d *c0, __m256d *c1, __m2
 	__m128i e = _mm_srli_epi32(x, 24), bl = _mm_cmpeq_epi32(e, _mm_setzero_si128());
 	__m256i bl64 = _mm256_cvtepi32_epi64(bl);
 	/* 2^(e-136) built as a double's bits, (e - 136 + 1023) << 52: exact,
-	 * the same as ps_rgbe_scale; black (e = 0) masked to 0 */
+	 * the same as ps_picture_rgbe_scale; black (e = 0) masked to 0 */
 	__m256i bits = _mm256_slli_epi64(_mm256_add_epi64(_mm256_cvtepu32_epi64(e), _mm256_set1_epi64x(1023 - 136)), 52);
 	*sc = _mm256_castsi256_pd(_mm256_andnot_si256(bl64, bits));
 	*c0 = _mm256_cvtepi32_pd(_mm_and_si128(x, ff));

@@ -8,7 +8,7 @@
  *   v_load(p)     p[0..3];  v_rev(p) p[3], p[2], p[1], p[0]
  *   v_set(a, b, c, d), v_get(v, l)
  *   v_decode(p, &c0, &c1, &c2, &sc, &black)  stored channels as doubles
- *                 and 2^(e-136) (0 for e = 0, as ps_rgbe_scale); returns
+ *                 and 2^(e-136) (0 for e = 0, as ps_picture_rgbe_scale); returns
  *                 how many of the four are lit (exponent > 0)
  *   v_keep(&best, &idx, b, at, black)   where lit and b > best: b, at
  * Every lane does the same operations in the same order whatever the

@@ -121,8 +121,8 @@ struct band {
 static void *band_run(void *arg)
 {
 	struct band *b = arg;
-	b->rc = ps_pic_scan_rows(b->j->head, b->j->data, b->j->len, b->j->name, b->off, b->y0, b->y1,
-	                         b->j->want, b->fn, b->j, &b->e);
+	b->rc = ps_picture_scan_rows(b->j->head, b->j->data, b->j->len, b->j->name, b->off, b->y0, b->y1,
+	                             b->j->want, b->fn, b->j, &b->e);
 	return NULL;
 }
 
@@ -232,14 +232,14 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 			return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d",
 			                  head->width, head->height, ws[k]->width, ws[k]->height);
 	}
-	if (!ps_pic_is_standard(head)) {   /* rows are not scanlines: decode it whole */
+	if (!ps_picture_is_standard(head)) {   /* rows are not scanlines: decode it whole */
 		struct ps_picture pic;
-		if (ps_pic_read_mem(&pic, data, len, name, e) != 0)
+		if (ps_picture_read_mem(&pic, data, len, name, e) != 0)
 			return -1;
 		rc = 0;
 		for (int k = 0; k < nmaps && rc == 0; k++)
 			rc = ps_integrate(ws[k], &pic, coef, &rs[k], e);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		return rc;
 	}
 	memset(&j, 0, sizeof j);
@@ -289,7 +289,7 @@ int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
 	}
 	j.want = want;
 	/* one pass for the scanline starts, then the bands in parallel */
-	if (nt > 1 && ps_pic_scanline_starts(head, data, len, name, off, starts, e) != 0)
+	if (nt > 1 && ps_picture_scanline_starts(head, data, len, name, off, starts, e) != 0)
 		goto out;
 	if (scan(&j, row_sum, nt, starts, off, e) != 0)
 		goto out;

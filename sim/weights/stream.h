@@ -18,7 +18,7 @@
 #include "picture.h"
 #include "weights.h"
 
-/* head: from ps_pic_head_mem on the same data, with off where its
+/* head: from ps_picture_head_mem on the same data, with off where its
  * scanlines start.  nthreads <= 1: this thread only. */
 int ps_integrate_mem(const struct ps_weights *w, const struct ps_picture *head,
                      const uint8_t *data, size_t len, size_t off, const char *name,

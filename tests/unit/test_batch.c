@@ -41,7 +41,7 @@ static void write_picture(const char *path, int w, int h, int k, const char *vie
 			p[1] = (1 + k * 0.5) * (0.2 + 0.02 * y);
 			p[2] = 0.3 + 0.001 * k * (x + y);
 		}
-	if (ps_pic_write(path, w, h, rgb, view, NULL, &e) != 0)
+	if (ps_picture_write(path, w, h, rgb, view, NULL, &e) != 0)
 		fail_msg("%s", e.msg);
 	free(rgb);
 }
@@ -92,9 +92,9 @@ static struct ps_response direct(const struct ps_batch *b, const char *path)
 	struct ps_response r;
 	struct ps_err e;
 	memset(&r, 0, sizeof r);
-	if (ps_pic_read(&pic, path, &e) != 0 || ps_integrate(&b->w, &pic, b->coef, &r, &e) != 0)
+	if (ps_picture_read(&pic, path, &e) != 0 || ps_integrate(&b->w, &pic, b->coef, &r, &e) != 0)
 		fail_msg("%s", e.msg);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return r;
 }
 

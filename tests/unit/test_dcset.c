@@ -126,7 +126,7 @@ static void bad_sets(void **state)
 	snprintf(path, sizeof path, "%s/dc_005.hdr", dir);
 	snprintf(other, sizeof other, "%s/keep.hdr", dir);
 	assert_int_equal(rename(path, other), 0);
-	assert_int_equal(ps_pic_write(path, 8, 8, px, NULL, NULL, &e), 0);
+	assert_int_equal(ps_picture_write(path, 8, 8, px, NULL, NULL, &e), 0);
 	snprintf(want, sizeof want, "%s: patch 5 is 8 x 8", path);
 	expect_error(pattern, &v, 1, want, "16 x 16");
 	assert_int_equal(rename(other, path), 0);
@@ -139,7 +139,7 @@ static void bad_sets(void **state)
 	assert_int_equal(rename(other, path), 0);
 	/* more than the MF has */
 	snprintf(path, sizeof path, "%s/dc_146.hdr", dir);
-	assert_int_equal(ps_pic_write(path, 16, 16, px, NULL, NULL, &e), 0);
+	assert_int_equal(ps_picture_write(path, 16, 16, px, NULL, NULL, &e), 0);
 	expect_error(pattern, &v, 1, "MF 1 has 146 patches", path);
 	/* 147 match no MF */
 	expect_error(pattern, &v, 0, "147 pictures", "match no MF");

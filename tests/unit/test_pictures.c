@@ -49,7 +49,7 @@ static void make_picture(struct ps_picture *pic, int w, int h, const uint8_t *pi
 	memcpy(buf, head, hl);
 	for (size_t i = 0; i < n; i += 4)
 		memcpy(buf + hl + i, pixels ? pixels + i : one, 4);
-	assert_int_equal(ps_pic_read_mem(pic, buf, hl + n, "mem", &e), 0);
+	assert_int_equal(ps_picture_read_mem(pic, buf, hl + n, "mem", &e), 0);
 	free(buf);
 }
 
@@ -132,7 +132,7 @@ static void luminance_coefficients(void **state)
 		assert_true(fabs(rgb[0] - GREY) < 1e-15);
 		assert_true(fabs(PS_LUM_EFFICACY * ps_lum_y(&l, rgb) - 179 * GREY) < 1e-9);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	/* EXPOSURE= is divided out: a picture exposed by 2 holds half the radiance */
 	make_picture(&pic, 1, 1, NULL, g, "EXPOSURE=2\n");
 	ps_lum_init(&l, &pic);
@@ -141,7 +141,7 @@ static void luminance_coefficients(void **state)
 		ps_lum_rgb(&l, &pic, 0, 0, rgb);
 		assert_true(fabs(ps_lum_y(&l, rgb) - GREY / 2) < 1e-15);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 static void luminance_xyze(void **state)
@@ -161,11 +161,11 @@ static void luminance_xyze(void **state)
 	buf[sizeof head] = 128;          /* Y */
 	buf[sizeof head + 1] = 200;      /* Z */
 	buf[sizeof head + 2] = 127;
-	assert_int_equal(ps_pic_read_mem(&pic, buf, sizeof buf, "xyz", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, buf, sizeof buf, "xyz", &e), 0);
 	ps_lum_init(&l, &pic);
 	ps_lum_rgb(&l, &pic, 0, 0, rgb);
 	assert_true(fabs(PS_LUM_EFFICACY * ps_lum_y(&l, rgb) - GREY) < 1e-12);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 /* ---- exposure and curves on a uniform grey picture ---- */
@@ -182,7 +182,7 @@ static uint8_t map_grey(int curve, double exposure, double gamma, double white)
 	ps_tonemap_rgb(&t, rgb, out);
 	assert_int_equal(out[0], out[1]);
 	assert_int_equal(out[1], out[2]);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return out[0];
 }
 
@@ -222,7 +222,7 @@ static void auto_exposure_is_log_average(void **state)
 	assert_true(fabs(t.exposure - 0.35859922178988324) < 1e-12);
 	ps_tonemap_stats(&pic, &t.lum, &la, &ym);
 	assert_true(fabs(ym - 2.0078125) < 1e-15);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 static void exposure_parsing(void **state)
@@ -309,7 +309,7 @@ static void png_of_tone_curves(void **state)
 		assert_int_equal(r.ntext, 1);
 		assert_string_equal(r.text[0][0], "Software");
 		free(r.rgb);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		unlink(path);
 	}
 }
@@ -350,7 +350,7 @@ static void orientation_standardised(void **state)
 		uint8_t p[4] = { 128, 128, 128, (uint8_t)(127 + k) };
 		memcpy(buf + sizeof head - 1 + 4 * k, p, 4);
 	}
-	assert_int_equal(ps_pic_read_mem(&pic, buf, sizeof buf, "orient", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, buf, sizeof buf, "orient", &e), 0);
 	ps_tonemap_init(&t, &pic, PS_TONE_LINEAR, 1, 0, 0);
 	assert_int_equal(ps_canvas_init(&cv, 3, 2, bg, &e), 0);
 	ps_picdraw_tone(&cv, &pic, &t, 0, 0, 1);
@@ -361,7 +361,7 @@ static void orientation_standardised(void **state)
 		for (int x = 0; x < 3; x++)
 			assert_int_equal(px(&r, x, y)[1], want[y][x]);
 	free(r.rgb);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	unlink(path);
 }
 
@@ -454,7 +454,7 @@ static void falsecolor_png_and_legend(void **state)
 		}
 		free(r.rgb);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	unlink(path);
 }
 

@@ -157,8 +157,8 @@ static void the_sun_does_not_swallow_the_walls(void **state)
 	uint8_t px[4 * LEN], wallpx[4], sunpx[4];
 	double wt[LEN];
 	(void)state;
-	ps_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
-	ps_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
+	ps_picture_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
+	ps_picture_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
 	for (int i = 0; i < LEN; i++)
 		wt[i] = (1 + i % 7) / 3e3;
 	for (int at = 0; at < 8; at++)
@@ -195,7 +195,7 @@ static void the_brightest_is_the_first_of_equals(void **state)
 	for (int kk = PS_ROWSUM_C; kk <= PS_ROWSUM_AVX2; kk++) {
 		enum ps_rowsum_kernel k = (enum ps_rowsum_kernel)kk;
 		for (int i = 0; i < 12; i++) {
-			ps_rgbe_encode((double[3]){ 1, 1, 1 }, px + 4 * i);
+			ps_picture_rgbe_encode((double[3]){ 1, 1, 1 }, px + 4 * i);
 			wt[i] = 1;
 		}
 		wt[6] = wt[3] = 2;   /* lanes 2 and 3: 3 first */
@@ -210,7 +210,7 @@ static void the_brightest_is_the_first_of_equals(void **state)
 		assert_int_equal(r.n, 0);
 		assert_int_equal(r.best_i, -1);
 		assert_true(ps_sum_get(&r.sum) == 0);
-		ps_rgbe_encode((double[3]){ 5, 5, 5 }, px + 4 * 9);
+		ps_picture_rgbe_encode((double[3]){ 5, 5, 5 }, px + 4 * 9);
 		wt[9] = 0;
 		run_on(k, px, wt, 12, 0, &r);
 		assert_int_equal(r.n, 1);

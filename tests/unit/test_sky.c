@@ -628,17 +628,17 @@ static void coefficient_pictures(void **state)
 		assert_int_equal(ps_dcpic_map(&P, &v, n, n, map, &e), 0);
 		assert_int_equal(ps_dcpic_write(fmt, &P, map, n, n, NULL, &e), 0);
 		snprintf(path, sizeof path, "%s/dc_145.hdr", dir);
-		assert_int_equal(ps_pic_read(&pic, path, &e), 0);
+		assert_int_equal(ps_picture_read(&pic, path, &e), 0);
 		assert_int_equal(ps_dcpic_picture(map, n, n, 145, &mem, &e), 0);
 		assert_int_equal(ps_weights_build(&w, &cosine, 0, &v, n, n, PS_W_EXACT, &e), 0);
 		assert_int_equal(ps_integrate(&w, &pic, coef, &a, &e), 0);
 		assert_int_equal(ps_integrate(&w, &mem, coef, &b, &e), 0);
 		assert_true(a.response == b.response && a.response > 0);
-		ps_pic_get(&pic, n / 2, n / 2, rgb);
+		ps_picture_get(&pic, n / 2, n / 2, rgb);
 		assert_true(rgb[0] == 1.0 && rgb[1] == 1.0 && rgb[2] == 1.0);
 		assert_int_equal(ps_dcpic_write("/tmp/no%s", &P, map, n, n, NULL, &e), -1);
-		ps_pic_free(&pic);
-		ps_pic_free(&mem);
+		ps_picture_free(&pic);
+		ps_picture_free(&mem);
 		ps_weights_free(&w);
 		for (int i = 0; i < P.n; i++) {
 			snprintf(path, sizeof path, "%s/dc_%03d.hdr", dir, i);

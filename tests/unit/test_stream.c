@@ -45,7 +45,7 @@ static uint8_t *make(int w, int h, int sx, int sy, const char *extra, size_t *le
 	if (sx >= 0)
 		for (int c = 0; c < 3; c++)
 			rgb[3 * ((size_t)sy * w + sx) + c] = 1e6;
-	assert_int_equal(ps_pic_write_fp(fp, "mem", w, h, rgb, "-vta -vh 180 -vv 180", extra, &e), 0);
+	assert_int_equal(ps_picture_write_fp(fp, "mem", w, h, rgb, "-vta -vh 180 -vv 180", extra, &e), 0);
 	fclose(fp);
 	free(rgb);
 	*len = n;
@@ -81,10 +81,10 @@ static void routes_with(const uint8_t *data, size_t len, int expect_standard, in
 		assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
 	}
 	ps_view_default_fisheye(&v);
-	if (ps_pic_read_mem(&pic, data, len, "mem", &e) != 0 ||
-	    ps_pic_head_mem(&head, data, len, "mem", &off, &e) != 0)
+	if (ps_picture_read_mem(&pic, data, len, "mem", &e) != 0 ||
+	    ps_picture_head_mem(&head, data, len, "mem", &off, &e) != 0)
 		fail_msg("%s", e.msg);
-	assert_int_equal(ps_pic_is_standard(&head), expect_standard);
+	assert_int_equal(ps_picture_is_standard(&head), expect_standard);
 	assert_null(head.pix);
 	assert_int_equal(ps_weights_build(&w, &s, 25, &v, pic.width, pic.height, PS_W_EXACT, &e), 0);
 	assert_int_equal(ps_integrate(&w, &pic, coef, &want, &e), 0);
@@ -106,8 +106,8 @@ static void routes_with(const uint8_t *data, size_t len, int expect_standard, in
 			assert_true(got.top1_share == want.top1_share);
 	}
 	ps_weights_free(&w);
-	ps_pic_free(&pic);
-	ps_pic_free(&head);
+	ps_picture_free(&pic);
+	ps_picture_free(&head);
 	ps_sensor_free(&s);
 }
 
@@ -187,8 +187,8 @@ static void several_maps_one_decoding(void **state)
 		struct ps_response want[3], got[3];
 		size_t len, off;
 		uint8_t *d = make(64, 64, suns[k][0], suns[k][1], NULL, &len);
-		if (ps_pic_read_mem(&pic, d, len, "mem", &e) != 0 ||
-		    ps_pic_head_mem(&head, d, len, "mem", &off, &e) != 0)
+		if (ps_picture_read_mem(&pic, d, len, "mem", &e) != 0 ||
+		    ps_picture_head_mem(&head, d, len, "mem", &off, &e) != 0)
 			fail_msg("%s", e.msg);
 		assert_int_equal(ps_weights_build(&w[0], &cos, 0, &v, 64, 64, PS_W_EXACT, &e), 0);
 		assert_int_equal(ps_weights_build_ex(&w[1], &cos, 0, &v, 64, 64, PS_W_EXACT,
@@ -219,8 +219,8 @@ static void several_maps_one_decoding(void **state)
 		assert_true(fabs(got[1].response / got[0].response - 1) <= 1e-14);
 		for (int m = 0; m < 3; m++)
 			ps_weights_free(&w[m]);
-		ps_pic_free(&pic);
-		ps_pic_free(&head);
+		ps_picture_free(&pic);
+		ps_picture_free(&head);
 		free(d);
 	}
 	ps_sensor_free(&cos);
@@ -242,16 +242,16 @@ static void damage_is_named(void **state)
 	assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
 	ps_view_default_fisheye(&v);
 	assert_int_equal(ps_weights_build(&w, &s, 0, &v, 64, 64, PS_W_EXACT, &e), 0);
-	assert_int_equal(ps_pic_head_mem(&head, d, len, "cut.hdr", &off, &e), 0);
+	assert_int_equal(ps_picture_head_mem(&head, d, len, "cut.hdr", &off, &e), 0);
 	/* cut in the middle of the scanlines */
-	assert_int_equal(ps_pic_read_mem(&pic, d, len - len / 3, "cut.hdr", &ref), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, d, len - len / 3, "cut.hdr", &ref), -1);
 	for (int nt = 1; nt <= 3; nt++) {
 		assert_int_equal(ps_integrate_mem(&w, &head, d, len - len / 3, off, "cut.hdr", coef, nt,
 		                                  &r, &e), -1);
-		/* the message ps_pic_read_mem gives: the same byte */
+		/* the message ps_picture_read_mem gives: the same byte */
 		assert_string_equal(e.msg, ref.msg);
 	}
-	ps_pic_free(&head);
+	ps_picture_free(&head);
 	ps_weights_free(&w);
 	ps_sensor_free(&s);
 	free(d);

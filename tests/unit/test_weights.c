@@ -323,8 +323,8 @@ static void sun_and_walls_lose_nothing(void **state)
 	pic.width = pic.height = n;
 	pic.exposure[0] = pic.exposure[1] = pic.exposure[2] = 1;
 	pic.pix = malloc((size_t)n * n * 4);
-	ps_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
-	ps_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
+	ps_picture_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
+	ps_picture_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
 	wall = (wallpx[0] + 0.5) * ldexp(1, wallpx[3] - 136);
 	sun = (sunpx[0] + 0.5) * ldexp(1, sunpx[3] - 136);
 	for (int i = 0; i < n * n; i++)
@@ -340,7 +340,7 @@ static void sun_and_walls_lose_nothing(void **state)
 	assert_true(relerr(r.brightest_share, sun * wsun / r.response) < 1e-12);
 	assert_int_equal(r.brightest_x, 120);
 	assert_int_equal(r.brightest_row, 70);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	ps_weights_free(&w);
 	ps_sensor_free(&s);
 }

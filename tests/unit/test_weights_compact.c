@@ -193,10 +193,10 @@ static void uniform_picture_integrates_to_pi(void **state)
 		assert_non_null(rgb);
 		for (size_t i = 0; i < 3 * (size_t)n[k] * (size_t)n[k]; i++)
 			rgb[i] = 1.0;
-		assert_int_equal(ps_pic_write(path, n[k], n[k], rgb,
-		                              "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", NULL, &e), 0);
+		assert_int_equal(ps_picture_write(path, n[k], n[k], rgb,
+		                                  "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", NULL, &e), 0);
 		free(rgb);
-		assert_int_equal(ps_pic_read(&pic, path, &e), 0);
+		assert_int_equal(ps_picture_read(&pic, path, &e), 0);
 		assert_int_equal(ps_weights_build(&full, &cosine, 0, &v, n[k], n[k], PS_W_EXACT, &e), 0);
 		assert_int_equal(ps_weights_build_ex(&comp, &cosine, 0, &v, n[k], n[k], PS_W_EXACT,
 		                                     PS_WB_COMPACT, &e), 0);
@@ -207,7 +207,7 @@ static void uniform_picture_integrates_to_pi(void **state)
 		/* the pixels counted: the symmetric ranges may add some of weight 0 */
 		assert_true(rc.npixels >= rf.npixels);
 		assert_int_equal(ps_map_file(path, (size_t)1 << 30, &m, &e), 0);
-		assert_int_equal(ps_pic_head_mem(&head, m.data, m.len, path, &off, &e), 0);
+		assert_int_equal(ps_picture_head_mem(&head, m.data, m.len, path, &off, &e), 0);
 		for (int nt = 1; nt <= 2; nt++) {
 			struct ps_response rs;
 			assert_int_equal(ps_integrate_mem(&comp, &head, m.data, m.len, off, path, coef, nt,
@@ -215,9 +215,9 @@ static void uniform_picture_integrates_to_pi(void **state)
 			/* the streamed route sums in the same order: bit for bit */
 			assert_true(rs.response == rc.response);
 		}
-		ps_pic_free(&head);
+		ps_picture_free(&head);
 		ps_unmap_file(&m);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		ps_weights_free(&full);
 		ps_weights_free(&comp);
 	}
