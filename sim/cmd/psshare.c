@@ -133,7 +133,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			o->geom[o->ngeom++] = optarg;
 			break;
 		case 'P':
-			o->group = ps_group_parse(optarg);
+			o->group = ps_regions_group_parse(optarg);
 			if (o->group < 0) {
 				fprintf(stderr, "psshare: --group: '%s' is not auto, name or material\n", optarg);
 				return 2;

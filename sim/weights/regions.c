@@ -11,7 +11,7 @@
 
 #define DEG (M_PI / 180.0)
 
-int ps_group_parse(const char *name)
+int ps_regions_group_parse(const char *name)
 {
 	if (strcmp(name, "auto") == 0)
 		return PS_GROUP_AUTO;

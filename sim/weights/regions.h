@@ -50,7 +50,7 @@ struct ps_regions {
 };
 
 /* "auto", "name" or "material"; -1 otherwise. */
-int ps_group_parse(const char *name);
+int ps_regions_group_parse(const char *name);
 /* The group of each surface (names[i] for g->poly[i], pointers into *labels):
  * *labels holds the distinct groups in order of first appearance. */
 int ps_regions_groups(const struct ps_radgeom *g, int group, char ***labels, int *nlabels,
