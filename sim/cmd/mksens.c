@@ -131,7 +131,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			}
 			break;
 		case 'm':
-			o->reading = ps_reading_parse(optarg);
+			o->reading = ps_sensor_reading_parse(optarg);
 			if (o->reading < 0) {
 				fprintf(stderr, "mksens: -m: '%s' is not linear or cell\n", optarg);
 				return 2;
@@ -265,7 +265,7 @@ static int write_hdr(const struct opts *o, const double *val, double vh, struct 
 		rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = val[k];
 	snprintf(view, sizeof view, "-vta -vp 0 0 0 -vd 0 0 -1 -vu 0 1 0 -vh %g -vv %g", vh, vh);
 	snprintf(extra, sizeof extra, "mksens -S %ld --rotation %g -m %s %s\n", o->res, o->rot,
-	         ps_reading_name(o->reading), o->sensfile);
+	         ps_sensor_reading_name(o->reading), o->sensfile);
 	if (o->out && !(fp = fopen(o->out, "wb"))) {
 		free(rgb);
 		return ps_err_sys(e, "%s", o->out);
@@ -406,13 +406,13 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 		                "contours: sensitivity in % of its peak");
 	} else {
 		snprintf(caption, sizeof caption, "%s, rotation %g\xc2\xb0, %s reading", base, o->rot,
-		         ps_reading_name(o->reading));
+		         ps_sensor_reading_name(o->reading));
 		ps_canvas_label(&c, margin, margin + h * zoom + 1.5 * margin, font, -1, fg, 0, caption);
 	}
 	{
 		char cmd[700];
 		snprintf(cmd, sizeof cmd, "mksens -S %ld --rotation %g -m %s%s%s %s", o->res, o->rot,
-		         ps_reading_name(o->reading), o->overlay ? " --overlay " : "",
+		         ps_sensor_reading_name(o->reading), o->overlay ? " --overlay " : "",
 		         o->overlay ? o->overlay : "", o->sensfile);
 		ps_canvas_text_chunk(&c, "Software", "mksens (psensd) " PS_VERSION);
 		ps_canvas_text_chunk(&c, "Comment", cmd);

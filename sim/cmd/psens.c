@@ -124,7 +124,7 @@ static void print_result(const char *path, const char *sensname, const struct it
 		       "\"width\": %d, \"height\": %d, \"method\": \"%s\", \"reading\": \"%s\"}\n",
 		       r->solid_angle, sens->total, r->response, r->rgb[0], r->rgb[1], r->rgb[2],
 		       it->coverage, r->brightest_share, top1, r->npixels, it->res.width, it->res.height,
-		       method == PS_W_CENTRE ? "centre" : "exact", ps_reading_name(sens->reading));
+		       method == PS_W_CENTRE ? "centre" : "exact", ps_sensor_reading_name(sens->reading));
 	} else {
 		if (several)
 			printf("%s: ", path);
@@ -599,7 +599,7 @@ int main(int argc, char **argv)
 			}
 			break;
 		case 'm':
-			reading = ps_reading_parse(optarg);
+			reading = ps_sensor_reading_parse(optarg);
 			if (reading < 0) {
 				fprintf(stderr, "psens: -m: '%s' is not linear or cell\n", optarg);
 				return 2;

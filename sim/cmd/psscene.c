@@ -119,7 +119,7 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 		return -1;
 	snprintf(key, sizeof key, "v1 %s %s rot=%.17g reading=%s rgb=%.17g,%.17g,%.17g exact", hash,
 	         task ? "builtin:cosine" : r->sensor_id, task ? 0.0 : r->sc->rotation,
-	         ps_reading_name(s->reading), coef[0], coef[1], coef[2]);
+	         ps_sensor_reading_name(s->reading), coef[0], coef[1], coef[2]);
 	{
 		size_t n = strlen(r->hashes);
 		snprintf(r->hashes + n, sizeof r->hashes - n, "%.16s", hash);
@@ -511,7 +511,7 @@ int main(int argc, char **argv)
 	memset(&res, 0, sizeof res);
 	res.scene = strdup(sc.path);
 	res.sensitivity = strdup(sc.sensitivity);
-	res.reading = strdup(ps_reading_name(sc.reading));
+	res.reading = strdup(ps_sensor_reading_name(sc.reading));
 	res.rotation = sc.rotation;
 	memcpy(res.rgb, r.rgb, sizeof res.rgb);
 	res.cond = calloc(sc.ncond, sizeof *res.cond);

@@ -119,7 +119,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			}
 			break;
 		case 'm':
-			o->reading = ps_reading_parse(optarg);
+			o->reading = ps_sensor_reading_parse(optarg);
 			if (o->reading < 0) {
 				fprintf(stderr, "psshare: -m: '%s' is not linear or cell\n", optarg);
 				return 2;

@@ -36,7 +36,7 @@ void ps_sensor_free(struct ps_sensor *s)
 	memset(s, 0, sizeof *s);
 }
 
-int ps_reading_parse(const char *name)
+int ps_sensor_reading_parse(const char *name)
 {
 	if (strcmp(name, "linear") == 0)
 		return PS_READ_LINEAR;
@@ -45,7 +45,7 @@ int ps_reading_parse(const char *name)
 	return -1;
 }
 
-const char *ps_reading_name(int reading)
+const char *ps_sensor_reading_name(int reading)
 {
 	return reading == PS_READ_CELL ? "cell" : "linear";
 }

@@ -70,8 +70,8 @@ int ps_sensor_set_reading(struct ps_sensor *s, int reading, struct ps_err *e);
 void ps_sensor_free(struct ps_sensor *s);
 
 /* Parse "linear" or "cell"; -1 if neither. */
-int ps_reading_parse(const char *name);
-const char *ps_reading_name(int reading);
+int ps_sensor_reading_parse(const char *name);
+const char *ps_sensor_reading_name(int reading);
 
 /* Sensitivity at (theta, phi), radians, under the current reading. */
 double ps_sensor_value(const struct ps_sensor *s, double theta, double phi);

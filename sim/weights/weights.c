@@ -578,7 +578,7 @@ void ps_weights_key(const struct ps_sensor *s, double rotation_deg, const struct
                     int width, int height, int method, char *buf, size_t len)
 {
 	snprintf(buf, len, "%s|%s|%.17g|%c|%.17g|%.17g|%.17g|%.17g|%dx%d|%s", s->path,
-	         ps_reading_name(s->reading), rotation_deg, v->type, v->vh, v->vv, v->vs, v->vl,
+	         ps_sensor_reading_name(s->reading), rotation_deg, v->type, v->vh, v->vv, v->vs, v->vl,
 	         width, height, method == PS_W_CENTRE ? "centre" : "exact");
 }
 
