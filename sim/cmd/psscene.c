@@ -361,13 +361,13 @@ static int run_year(const struct run *r, const struct ps_dcset_row *srow, const 
 {
 	const struct ps_dcspec *d = &r->sc->dc;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct timespec t0;
 	int rc;
 	clock_gettime(CLOCK_MONOTONIC, &t0);
 	if (ps_weather_read(&w, d->weather, d->weather_illum ? PS_WX_EPW_ILLUM : 0, e) != 0)
 		return -1;
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	memcpy(o.ground, d->ground, sizeof o.ground);
 	rc = ps_year_run(srow, r->rgb, trow, &w, &o, &res->year, e);
 	ps_weather_free(&w);

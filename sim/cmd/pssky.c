@@ -100,7 +100,7 @@ static int read_stdin(uint8_t **data, size_t *len, struct ps_err *e)
 
 int main(int argc, char **argv)
 {
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_weather w;
 	struct ps_patches P;
 	struct ps_err e;
@@ -112,7 +112,7 @@ int main(int argc, char **argv)
 	char *cmd;
 	double *vec;
 	void *mtx;
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	for (i = 1; i < argc && argv[i][0] == '-' && argv[i][1]; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || (strcmp(a, "-h") == 0 && argc == 2)) {

@@ -12,7 +12,7 @@
 #define SKY_TINY 1e-6          /* a sky (or colour) sum at or below this counts as none */
 #define SUN_HALF_ANGLE (0.533 / 2 * DEG)
 
-void ps_skyopt_default(struct ps_skyopt *o)
+void ps_sky_opt_default(struct ps_sky_opt *o)
 {
 	memset(o, 0, sizeof *o);
 	o->ground[0] = o->ground[1] = o->ground[2] = 0.2;
@@ -29,7 +29,7 @@ double ps_sky_bright(const double rgb[3])
 	return 0.265074126 * rgb[0] + 0.670114631 * rgb[1] + 0.064811243 * rgb[2];
 }
 
-void ps_sky_init(struct ps_sky *s, const struct ps_sky_in *in, const struct ps_skyopt *o)
+void ps_sky_init(struct ps_sky *s, const struct ps_sky_in *in, const struct ps_sky_opt *o)
 {
 	struct ps_perez_in pin;
 	double dir = in->dir, azi, g;
@@ -70,7 +70,7 @@ void ps_sky_init(struct ps_sky *s, const struct ps_sky_in *in, const struct ps_s
 		s->ground_rad[c] = g * o->ground[c];
 }
 
-int ps_sky_step(struct ps_sky *s, const struct ps_weather *w, size_t i, const struct ps_skyopt *o,
+int ps_sky_step(struct ps_sky *s, const struct ps_weather *w, size_t i, const struct ps_sky_opt *o,
                 struct ps_err *e)
 {
 	struct ps_sky_in in;

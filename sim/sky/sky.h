@@ -46,7 +46,7 @@
 enum ps_sky_part { PS_SKY_GROUND = 1, PS_SKY_DIFFUSE = 2, PS_SKY_SUN = 4, PS_SKY_ALL = 7 };
 enum ps_sky_output { PS_SKY_VISIBLE = 0, PS_SKY_SOLAR = 1 };
 
-struct ps_skyopt {
+struct ps_sky_opt {
 	double rotation;     /* degrees the sky turns counter-clockwise seen from above (west of north) */
 	double ground[3];    /* ground reflectance (0.2 0.2 0.2) */
 	double sky_color[3]; /* (0.960 1.004 1.118), gendaymtx's default */
@@ -78,13 +78,13 @@ struct ps_sky {
 	double dif_lum;      /* diffuse horizontal illuminance, lux (x 179 W/m2 with PS_SKY_SOLAR) */
 	double dir_lum;      /* direct normal illuminance, likewise */
 	double ground_rad[3];/* ground radiance, reflectance included */
-	struct ps_skyopt opt;
+	struct ps_sky_opt opt;
 	double norm;         /* integral of the relative luminance x cos over the upper
 	                        hemisphere; 0 until ps_sky_normalise */
 	double norm_err;     /* its estimated error */
 };
 
-void ps_skyopt_default(struct ps_skyopt *o);
+void ps_sky_opt_default(struct ps_sky_opt *o);
 /* Radiance's table sine (tsin in rtmath.h without fast math): what
  * gendaymtx weights the patches' illuminance with. */
 double ps_sky_table_sin(double x);
@@ -92,9 +92,9 @@ double ps_sky_table_sin(double x);
 double ps_sky_bright(const double rgb[3]);
 
 /* The sky of one step from its inputs. */
-void ps_sky_init(struct ps_sky *s, const struct ps_sky_in *in, const struct ps_skyopt *o);
+void ps_sky_init(struct ps_sky *s, const struct ps_sky_in *in, const struct ps_sky_opt *o);
 /* The sky of step i of a weather series. */
-int ps_sky_step(struct ps_sky *s, const struct ps_weather *w, size_t i, const struct ps_skyopt *o,
+int ps_sky_step(struct ps_sky *s, const struct ps_weather *w, size_t i, const struct ps_sky_opt *o,
                 struct ps_err *e);
 
 /* The patch radiances (3 per patch, P->n patches) of the parts asked for. */

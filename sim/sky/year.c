@@ -68,7 +68,7 @@ void ps_year_tabulate(struct ps_year *y)
 }
 
 int ps_year_run(const struct ps_dcset_row *srow, const double scoef[3], const struct ps_dcset_row *trow,
-                const struct ps_weather *w, const struct ps_skyopt *o, struct ps_year *y,
+                const struct ps_weather *w, const struct ps_sky_opt *o, struct ps_year *y,
                 struct ps_err *e)
 {
 	static const double vl[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };

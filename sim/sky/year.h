@@ -61,7 +61,7 @@ const char *ps_year_class_name(int c);
  * V(lambda) (the task).  o: the sky options (ground reflectance, ...); the
  * rows' MF sets the patches. */
 int ps_year_run(const struct ps_dcset_row *srow, const double scoef[3], const struct ps_dcset_row *trow,
-                const struct ps_weather *w, const struct ps_skyopt *o, struct ps_year *y,
+                const struct ps_weather *w, const struct ps_sky_opt *o, struct ps_year *y,
                 struct ps_err *e);
 /* The table and mean from the hours (ps_year_run calls it; readers too). */
 void ps_year_tabulate(struct ps_year *y);

@@ -48,7 +48,7 @@ int main(void)
 	struct ps_weather w;
 	struct ps_sensor cos;
 	struct ps_view v;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	char path[4096];
 	top_path(path, sizeof path, "config/example/ofb/weather/sf-synthetic.wea");
@@ -58,7 +58,7 @@ int main(void)
 	}
 	ps_view_default(&v);
 	ps_view_parse(&v, "-vta -vp 0 0 0 -vd 0 0 1 -vu 0 1 0 -vh 180 -vv 180", "bench", &e);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	printf("the year (%zu steps of %s) through coefficient rows, upward cosine, open sky,\n"
 	       "exact pictures %d x %d (ms; year = both rows, every hour with light)\n", w.n, path,
 	       RES, RES);

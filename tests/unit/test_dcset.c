@@ -221,7 +221,7 @@ static void office_against_point_route(void **state)
 	double one[146 * 3], sky[146 * 3], worst = 0, ss = 0, sp = 0, ts = 0, tp = 0;
 	struct ps_weather w;
 	struct ps_patches P;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	char path[4096];
 	int hours = 0;
@@ -238,7 +238,7 @@ static void office_against_point_route(void **state)
 	data_path(path, sizeof path, "tests/data/gendaymtx/test.wea");
 	assert_int_equal(ps_weather_read(&w, path, 0, &e), 0);
 	assert_int_equal(ps_patches_init(&P, 1, &e), 0);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	for (size_t i = 0; i < w.n; i++) {
 		struct ps_sky s;
 		double a, b, c, d;

@@ -81,9 +81,9 @@ static char **read_reference(size_t *count, int *nrows, int *ncols)
 	return tok;
 }
 
-static void reference_options(struct ps_skyopt *o)
+static void reference_options(struct ps_sky_opt *o)
 {
-	ps_skyopt_default(o);
+	ps_sky_opt_default(o);
 	o->rotation = 90;
 	o->ground[0] = .3;
 	o->ground[1] = .2;
@@ -104,7 +104,7 @@ static void reference_matrix(void **state)
 {
 	struct ps_weather w;
 	struct ps_patches P;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	size_t count, match = 0;
 	int nrows, ncols;
@@ -163,7 +163,7 @@ static void implied_sun_positions(void **state)
 {
 	struct ps_weather w;
 	struct ps_patches P;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	size_t count;
 	int nrows, ncols, steps = 0;
@@ -337,8 +337,8 @@ static void sky_of(struct ps_sky *s, double dir, double dif, double alt_deg, dou
                    int exact_sine)
 {
 	struct ps_sky_in in = { dir, dif, PS_WX_DN_DH, 11.0, 172, alt_deg * DEG, azi_deg * DEG };
-	struct ps_skyopt o;
-	ps_skyopt_default(&o);
+	struct ps_sky_opt o;
+	ps_sky_opt_default(&o);
 	o.exact_sine = exact_sine;
 	ps_sky_init(s, &in, &o);
 }

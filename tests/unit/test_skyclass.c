@@ -83,13 +83,13 @@ static double agreement(const char *rel, int *judged, int *far)
 	char path[4096];
 	const char *top = getenv("TOP");
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	int n = 0, same = 0, wide = 0;
 	snprintf(path, sizeof path, "%s/%s", top ? top : ".", rel);
 	if (ps_weather_read(&w, path, 0, &e) != 0)
 		fail_msg("%s", e.msg);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	for (size_t i = 0; i < w.n; i++) {
 		struct ps_sky s;
 		double g;

@@ -84,7 +84,7 @@ static void same_row_gives_179(void **state)
 {
 	struct ps_dcset_row row;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_year y;
 	struct ps_err e;
 	char *text = constant_year(300, 150, 1);
@@ -92,7 +92,7 @@ static void same_row_gives_179(void **state)
 	(void)state;
 	upward_row(16, &row);
 	weather(&w, text);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	assert_int_equal(ps_year_run(&row, V, &row, &w, &o, &y, &e), 0);
 	assert_int_equal(y.steps, 8760);
 	/* direct + diffuse > 0 every hour: no step is dark, night hours
@@ -120,14 +120,14 @@ static void year_of_night(void **state)
 {
 	struct ps_dcset_row row;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_year y;
 	struct ps_err e;
 	char *text = constant_year(0, 0, 1);
 	(void)state;
 	upward_row(8, &row);
 	weather(&w, text);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	assert_int_equal(ps_year_run(&row, V, &row, &w, &o, &y, &e), 0);
 	assert_int_equal(y.n, 0);
 	assert_int_equal(y.dark, 8760);
@@ -152,7 +152,7 @@ static void overcast_task_is_diffuse_horizontal(void **state)
 {
 	struct ps_dcset_row row, zero;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_year y, y2;
 	struct ps_err e;
 	double worst = 0;
@@ -162,7 +162,7 @@ static void overcast_task_is_diffuse_horizontal(void **state)
 	            "weather_data_file_units 3\n"
 	            "3 21 8.5 0 8000\n3 21 12.5 0 20000\n6 21 12.5 0 30000\n12 21 15.5 0 5000\n"
 	            "12 21 23.5 0 0\n");
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	o.ground[0] = o.ground[1] = o.ground[2] = 0;
 	assert_int_equal(ps_year_run(&row, V, &row, &w, &o, &y, &e), 0);
 	assert_int_equal(y.n, 4);
