@@ -5,7 +5,7 @@
 
 #include "year.h"
 
-double ps_erbs_diffuse_fraction(double kt)
+double ps_skyclass_erbs_diffuse_fraction(double kt)
 {
 	if (kt <= 0.22)
 		return 1.0 - 0.09 * (kt > 0 ? kt : 0.0);
@@ -14,7 +14,7 @@ double ps_erbs_diffuse_fraction(double kt)
 	return 0.165;
 }
 
-double ps_clearness_from_fraction(double fd, double g, double zenith)
+double ps_skyclass_clearness_from_fraction(double fd, double g, double zenith)
 {
 	double dh = fd * g, in, z3 = 1.041 * zenith * zenith * zenith;
 	if (!(dh > 0))
@@ -35,7 +35,7 @@ int ps_skyclass_from_global(const struct ps_site *site, int doy, double std_hour
 		return -1;
 	e0 = PS_LUMINOUS_SOLAR_CONSTANT * (1.0 + 0.033 * cos(2.0 * M_PI * doy / 365.0));
 	k = glob_lux / (e0 * sin(p.alt));
-	e = ps_clearness_from_fraction(ps_erbs_diffuse_fraction(k), glob_lux, M_PI / 2 - p.alt);
+	e = ps_skyclass_clearness_from_fraction(ps_skyclass_erbs_diffuse_fraction(k), glob_lux, M_PI / 2 - p.alt);
 	if (kt)
 		*kt = k;
 	if (eps)

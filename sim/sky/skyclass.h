@@ -30,10 +30,10 @@
 #define PS_SKYCLASS_MIN_ALT_DEG 5.0
 
 /* Erbs diffuse fraction of a clearness index. */
-double ps_erbs_diffuse_fraction(double kt);
+double ps_skyclass_erbs_diffuse_fraction(double kt);
 /* Perez clearness from the diffuse fraction, the clearness index's global
  * reading g (any unit) and the sun's zenith (radians). */
-double ps_clearness_from_fraction(double fd, double g, double zenith);
+double ps_skyclass_clearness_from_fraction(double fd, double g, double zenith);
 /* The class (enum ps_skyclass) of a global horizontal reading glob_lux on
  * day of year doy at standard time std_hour; *kt and *eps (either may be
  * NULL) get the clearness index and Perez clearness.  -1 when the sun is
