@@ -391,8 +391,8 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 			ch = height;
 			cur = view;
 		}
-		if (ps_integrate_mem_multi(ws, nsens, &head, fm.data, fm.len, off, paths[i], o->coef,
-		                           o->nthreads, rs, &pe) == 0)
+		if (ps_stream_integrate_multi(ws, nsens, &head, fm.data, fm.len, off, paths[i], o->coef,
+		                              o->nthreads, rs, &pe) == 0)
 			status = PS_BATCH_OK;
 		for (int k = 0; k < nsens; k++)
 			if (pend[k]) {   /* the stores' outcomes */

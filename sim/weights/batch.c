@@ -179,8 +179,8 @@ static void one_file(struct job *j, size_t i)
 		ps_err_set(&r->err, PS_EINVAL, "%s: its view (%s) is not the batch's", name, vs);
 		goto out;
 	}
-	if (ps_integrate_mem(&b->w, &head, m.data, m.len, off, name, b->coef, j->inner, &r->r,
-	                     &r->err) != 0)
+	if (ps_stream_integrate(&b->w, &head, m.data, m.len, off, name, b->coef, j->inner, &r->r,
+	                        &r->err) != 0)
 		goto out;
 	r->status = PS_BATCH_OK;
 out:

@@ -31,7 +31,7 @@ struct ps_response {
 int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
                  struct ps_response *r, struct ps_err *e);
 
-/* The pixel loop that ps_integrate and ps_integrate_mem share, so both give
+/* The pixel loop that ps_integrate and ps_stream_integrate share, so both give
  * the same numbers bit for bit.  kc = coef^T k (k from ps_integrate_pic_matrix):
  * one pixel's response is kc . raw, raw the stored channels decoded and
  * times the weight; a row's channel sums are k times the row's raw sums

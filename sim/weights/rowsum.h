@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
 /* The pixel loop of every integration route: one run of a weight map
  * against the stored RGBE pixels under it.  ps_integrate (a picture in
- * memory) and ps_integrate_mem (rows decoded on the fly) both call it, so
+ * memory) and ps_stream_integrate (rows decoded on the fly) both call it, so
  * they agree bit for bit.
  *
  * Pixel i of the run goes to lane i mod 4; each lane keeps its own

@@ -206,18 +206,18 @@ static void totals(const struct one *o, struct ps_response *r, size_t *ncontrib,
 		r->brightest_share = *best / r->response;
 }
 
-int ps_integrate_mem(const struct ps_weights *w, const struct ps_picture *head,
-                     const uint8_t *data, size_t len, size_t off, const char *name,
-                     const double coef[3], int nthreads, struct ps_response *r,
-                     struct ps_err *e)
+int ps_stream_integrate(const struct ps_weights *w, const struct ps_picture *head,
+                        const uint8_t *data, size_t len, size_t off, const char *name,
+                        const double coef[3], int nthreads, struct ps_response *r,
+                        struct ps_err *e)
 {
-	return ps_integrate_mem_multi(&w, 1, head, data, len, off, name, coef, nthreads, r, e);
+	return ps_stream_integrate_multi(&w, 1, head, data, len, off, name, coef, nthreads, r, e);
 }
 
-int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
-                           const struct ps_picture *head, const uint8_t *data, size_t len,
-                           size_t off, const char *name, const double coef[3], int nthreads,
-                           struct ps_response *rs, struct ps_err *e)
+int ps_stream_integrate_multi(const struct ps_weights *const *ws, int nmaps,
+                              const struct ps_picture *head, const uint8_t *data, size_t len,
+                              size_t off, const char *name, const double coef[3], int nthreads,
+                              struct ps_response *rs, struct ps_err *e)
 {
 	struct job j;
 	int rc = -1, second = 0, nt = nthreads < 1 ? 1 : nthreads > MAX_THREADS ? MAX_THREADS

@@ -20,17 +20,17 @@
 
 /* head: from ps_picture_head_mem on the same data, with off where its
  * scanlines start.  nthreads <= 1: this thread only. */
-int ps_integrate_mem(const struct ps_weights *w, const struct ps_picture *head,
-                     const uint8_t *data, size_t len, size_t off, const char *name,
-                     const double coef[3], int nthreads, struct ps_response *r,
-                     struct ps_err *e);
+int ps_stream_integrate(const struct ps_weights *w, const struct ps_picture *head,
+                        const uint8_t *data, size_t len, size_t off, const char *name,
+                        const double coef[3], int nthreads, struct ps_response *r,
+                        struct ps_err *e);
 
 /* The same for several weight maps of the picture's size (several sensors)
- * with one decoding: rs[k] for ws[k], each ps_integrate_mem's alone bit for
+ * with one decoding: rs[k] for ws[k], each ps_stream_integrate's alone bit for
  * bit (every map's rows are summed and merged as they would be alone). */
-int ps_integrate_mem_multi(const struct ps_weights *const *ws, int nmaps,
-                           const struct ps_picture *head, const uint8_t *data, size_t len,
-                           size_t off, const char *name, const double coef[3], int nthreads,
-                           struct ps_response *rs, struct ps_err *e);
+int ps_stream_integrate_multi(const struct ps_weights *const *ws, int nmaps,
+                              const struct ps_picture *head, const uint8_t *data, size_t len,
+                              size_t off, const char *name, const double coef[3], int nthreads,
+                              struct ps_response *rs, struct ps_err *e);
 
 #endif

@@ -368,7 +368,7 @@ int main(void)
 		    ps_picture_head_mem(&pic, m.data, m.len, pp, &off, &e) != 0)
 			return 1;
 		t0 = now();
-		ps_integrate_mem(&w, &pic, m.data, m.len, off, pp, coef, 2, &r, &e);
+		ps_stream_integrate(&w, &pic, m.data, m.len, off, pp, coef, 2, &r, &e);
 		t_i = now() - t0;
 		ps_picture_free(&pic);
 		ps_unmap_file(&m);
@@ -463,7 +463,7 @@ int main(void)
 				for (int k = 0; k < 5; k++) {
 					double tk;
 					t0 = now();
-					ps_integrate_mem(&w, &head, m.data, m.len, off, path, coef, nt, &r, &e);
+					ps_stream_integrate(&w, &head, m.data, m.len, off, path, coef, nt, &r, &e);
 					if ((tk = now() - t0) < t)
 						t = tk;
 				}

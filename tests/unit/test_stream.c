@@ -91,7 +91,7 @@ static void routes_with(const uint8_t *data, size_t len, int expect_standard, in
 	if (use_narrow)   /* rows without weights exist: they are skipped */
 		assert_true(w.nruns < (size_t)pic.height);
 	for (int nt = 1; nt <= 3; nt++) {
-		if (ps_integrate_mem(&w, &head, data, len, off, "mem", coef, nt, &got, &e) != 0)
+		if (ps_stream_integrate(&w, &head, data, len, off, "mem", coef, nt, &got, &e) != 0)
 			fail_msg("%s", e.msg);
 		assert_true(got.response == want.response);
 		for (int c = 0; c < 3; c++)
@@ -164,7 +164,7 @@ static void other_orientation(void **state)
 	both_routes(buf, sizeof buf, 0);
 }
 
-/* Several maps with one decoding (ps_integrate_mem_multi): each map's
+/* Several maps with one decoding (ps_stream_integrate_multi): each map's
  * numbers are ps_integrate's alone bit for bit - a full map, a compact one
  * and a narrow table turned by 25 degrees, whose rows differ - with and
  * without a sun (the second pass), at 1 to 3 threads. */
@@ -200,7 +200,7 @@ static void several_maps_one_decoding(void **state)
 		if (k == 1)   /* the sun: the second pass runs */
 			assert_false(isnan(want[0].top1_share));
 		for (int nt = 1; nt <= 3; nt++) {
-			if (ps_integrate_mem_multi(ws, 3, &head, d, len, off, "mem", coef, nt, got, &e) != 0)
+			if (ps_stream_integrate_multi(ws, 3, &head, d, len, off, "mem", coef, nt, got, &e) != 0)
 				fail_msg("%s", e.msg);
 			for (int m = 0; m < 3; m++) {
 				assert_true(got[m].response == want[m].response);
@@ -246,8 +246,8 @@ static void damage_is_named(void **state)
 	/* cut in the middle of the scanlines */
 	assert_int_equal(ps_picture_read_mem(&pic, d, len - len / 3, "cut.hdr", &ref), -1);
 	for (int nt = 1; nt <= 3; nt++) {
-		assert_int_equal(ps_integrate_mem(&w, &head, d, len - len / 3, off, "cut.hdr", coef, nt,
-		                                  &r, &e), -1);
+		assert_int_equal(ps_stream_integrate(&w, &head, d, len - len / 3, off, "cut.hdr", coef, nt,
+		                                     &r, &e), -1);
 		/* the message ps_picture_read_mem gives: the same byte */
 		assert_string_equal(e.msg, ref.msg);
 	}

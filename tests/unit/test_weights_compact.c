@@ -210,8 +210,8 @@ static void uniform_picture_integrates_to_pi(void **state)
 		assert_int_equal(ps_picture_head_mem(&head, m.data, m.len, path, &off, &e), 0);
 		for (int nt = 1; nt <= 2; nt++) {
 			struct ps_response rs;
-			assert_int_equal(ps_integrate_mem(&comp, &head, m.data, m.len, off, path, coef, nt,
-			                                  &rs, &e), 0);
+			assert_int_equal(ps_stream_integrate(&comp, &head, m.data, m.len, off, path, coef, nt,
+			                                     &rs, &e), 0);
 			/* the streamed route sums in the same order: bit for bit */
 			assert_true(rs.response == rc.response);
 		}
