@@ -153,7 +153,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			}
 			break;
 		case 'e':
-			rc = ps_exposure_parse(optarg, &o->exposure);
+			rc = ps_tonemap_exposure_parse(optarg, &o->exposure);
 			if (rc < 0) {
 				fprintf(stderr, "mksens: --exposure: '%s' is not auto, a positive multiplier "
 				        "or +N/-N stops\n", optarg);
@@ -163,7 +163,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 				o->exposure = 0;
 			break;
 		case 't':
-			o->tone = ps_tone_parse(optarg);
+			o->tone = ps_tonemap_parse(optarg);
 			if (o->tone < 0) {
 				fprintf(stderr, "mksens: --tone: '%s' is not linear, gamma, srgb or reinhard\n",
 				        optarg);

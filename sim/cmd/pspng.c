@@ -79,7 +79,7 @@ int main(int argc, char **argv)
 		switch (opt) {
 		case 'o': out = optarg; break;
 		case 'e':
-			rc = ps_exposure_parse(optarg, &exposure);
+			rc = ps_tonemap_exposure_parse(optarg, &exposure);
 			if (rc < 0) {
 				fprintf(stderr, "pspng: -e: '%s' is not auto, a positive multiplier or "
 				        "+N/-N stops\n", optarg);
@@ -89,7 +89,7 @@ int main(int argc, char **argv)
 				exposure = 0;
 			break;
 		case 't':
-			curve = ps_tone_parse(optarg);
+			curve = ps_tonemap_parse(optarg);
 			if (curve < 0) {
 				fprintf(stderr, "pspng: -t: '%s' is not linear, gamma, srgb or reinhard\n", optarg);
 				return 2;
@@ -168,7 +168,7 @@ int main(int argc, char **argv)
 		rc = snprintf(summary, sizeof summary, "log-average %.4g cd/m2, largest %.4g cd/m2; "
 		              "exposure %.4g%s, tone %s", PS_LUM_EFFICACY * logavg,
 		              PS_LUM_EFFICACY * ymax, t.exposure, exposure > 0 ? "" : " (auto)",
-		              ps_tone_name(curve));
+		              ps_tonemap_name(curve));
 		if (curve == PS_TONE_REINHARD && rc > 0 && (size_t)rc < sizeof summary)
 			snprintf(summary + rc, sizeof summary - (size_t)rc, " (white %.4g cd/m2)",
 			         PS_LUM_EFFICACY * t.white / t.exposure);

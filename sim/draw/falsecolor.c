@@ -42,7 +42,7 @@ void ps_falsecolor_rgb8(double f, uint8_t out[3])
 		k++;
 	t = (f - anchor_at[k]) / (anchor_at[k + 1] - anchor_at[k]);
 	for (int c = 0; c < 3; c++)
-		out[c] = ps_byte(anchor_rgb[k][c] + t * (anchor_rgb[k + 1][c] - anchor_rgb[k][c]));
+		out[c] = ps_tonemap_byte(anchor_rgb[k][c] + t * (anchor_rgb[k + 1][c] - anchor_rgb[k][c]));
 }
 
 double ps_falsecolor_nice_ceil(double v)

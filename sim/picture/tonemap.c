@@ -7,7 +7,7 @@
 
 #include "sum.h"
 
-int ps_tone_parse(const char *name)
+int ps_tonemap_parse(const char *name)
 {
 	static const char *const names[] = { "linear", "gamma", "srgb", "reinhard" };
 	for (int i = 0; i < 4; i++)
@@ -16,7 +16,7 @@ int ps_tone_parse(const char *name)
 	return -1;
 }
 
-const char *ps_tone_name(int curve)
+const char *ps_tonemap_name(int curve)
 {
 	switch (curve) {
 	case PS_TONE_LINEAR: return "linear";
@@ -27,7 +27,7 @@ const char *ps_tone_name(int curve)
 	}
 }
 
-int ps_exposure_parse(const char *text, double *mult)
+int ps_tonemap_exposure_parse(const char *text, double *mult)
 {
 	char *end;
 	double v;
@@ -86,7 +86,7 @@ void ps_tonemap_init(struct ps_tonemap *t, const struct ps_picture *pic, int cur
 		t->white = 1.0;
 }
 
-double ps_srgb_encode(double v)
+double ps_tonemap_srgb_encode(double v)
 {
 	if (!(v > 0))
 		return 0.0;
@@ -95,7 +95,7 @@ double ps_srgb_encode(double v)
 	return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
 }
 
-uint8_t ps_byte(double v)
+uint8_t ps_tonemap_byte(double v)
 {
 	if (!(v > 0))
 		return 0;
@@ -118,8 +118,8 @@ void ps_tonemap_rgb(const struct ps_tonemap *t, const double rgb[3], uint8_t out
 		switch (t->curve) {
 		case PS_TONE_LINEAR: break;
 		case PS_TONE_GAMMA: x[c] = pow(x[c], 1 / t->gamma); break;
-		default: x[c] = ps_srgb_encode(x[c]); break;
+		default: x[c] = ps_tonemap_srgb_encode(x[c]); break;
 		}
-		out[c] = ps_byte(x[c]);
+		out[c] = ps_tonemap_byte(x[c]);
 	}
 }

@@ -42,12 +42,12 @@ struct ps_tonemap {
 };
 
 /* "linear", "gamma", "srgb" or "reinhard"; -1 for anything else. */
-int ps_tone_parse(const char *name);
-const char *ps_tone_name(int curve);
+int ps_tonemap_parse(const char *name);
+const char *ps_tonemap_name(int curve);
 /* Parse an exposure: "auto" (returns 1, *mult untouched), a multiplier or
  * +N/-N stops (returns 0), or -1 when the text is none of these or not
  * positive and finite. */
-int ps_exposure_parse(const char *text, double *mult);
+int ps_tonemap_exposure_parse(const char *text, double *mult);
 
 /* Log-average and largest Y of a picture (pixels with Y > 0; both 0 when
  * there is none). */
@@ -61,8 +61,8 @@ void ps_tonemap_init(struct ps_tonemap *t, const struct ps_picture *pic, int cur
 /* Map one RGB radiance triple to display bytes. */
 void ps_tonemap_rgb(const struct ps_tonemap *t, const double rgb[3], uint8_t out[3]);
 /* The sRGB encoding of a linear value in 0..1. */
-double ps_srgb_encode(double v);
+double ps_tonemap_srgb_encode(double v);
 /* floor(255 v + 0.5) of v clamped to 0..1. */
-uint8_t ps_byte(double v);
+uint8_t ps_tonemap_byte(double v);
 
 #endif

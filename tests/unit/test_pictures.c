@@ -229,31 +229,31 @@ static void exposure_parsing(void **state)
 {
 	double m = 0;
 	(void)state;
-	assert_int_equal(ps_exposure_parse("auto", &m), 1);
-	assert_int_equal(ps_exposure_parse("2.5", &m), 0);
+	assert_int_equal(ps_tonemap_exposure_parse("auto", &m), 1);
+	assert_int_equal(ps_tonemap_exposure_parse("2.5", &m), 0);
 	assert_true(m == 2.5);
-	assert_int_equal(ps_exposure_parse("+2", &m), 0);
+	assert_int_equal(ps_tonemap_exposure_parse("+2", &m), 0);
 	assert_true(m == 4.0);
-	assert_int_equal(ps_exposure_parse("-1", &m), 0);
+	assert_int_equal(ps_tonemap_exposure_parse("-1", &m), 0);
 	assert_true(m == 0.5);
-	assert_int_equal(ps_exposure_parse("0", &m), -1);
-	assert_int_equal(ps_exposure_parse("nan", &m), -1);
-	assert_int_equal(ps_exposure_parse("2x", &m), -1);
-	assert_int_equal(ps_exposure_parse("+1000", &m), -1);
-	assert_int_equal(ps_tone_parse("reinhard"), PS_TONE_REINHARD);
-	assert_int_equal(ps_tone_parse("log"), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("0", &m), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("nan", &m), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("2x", &m), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("+1000", &m), -1);
+	assert_int_equal(ps_tonemap_parse("reinhard"), PS_TONE_REINHARD);
+	assert_int_equal(ps_tonemap_parse("log"), -1);
 }
 
 static void srgb_encoding(void **state)
 {
 	(void)state;
 	/* IEC 61966-2-1: linear below 0.0031308, 1.055 v^(1/2.4) - 0.055 above */
-	assert_true(fabs(ps_srgb_encode(0.002) - 0.02584) < 1e-12);
-	assert_true(fabs(ps_srgb_encode(0.5) - 0.7353569830524495) < 1e-12);
-	assert_true(ps_srgb_encode(1.0) == 1.0);
-	assert_true(ps_srgb_encode(-1) == 0.0);
-	assert_int_equal(ps_byte(0.5), 128);       /* 127.5 rounds up */
-	assert_int_equal(ps_byte(127.49 / 255), 127);
+	assert_true(fabs(ps_tonemap_srgb_encode(0.002) - 0.02584) < 1e-12);
+	assert_true(fabs(ps_tonemap_srgb_encode(0.5) - 0.7353569830524495) < 1e-12);
+	assert_true(ps_tonemap_srgb_encode(1.0) == 1.0);
+	assert_true(ps_tonemap_srgb_encode(-1) == 0.0);
+	assert_int_equal(ps_tonemap_byte(0.5), 128);       /* 127.5 rounds up */
+	assert_int_equal(ps_tonemap_byte(127.49 / 255), 127);
 }
 
 /* ---- PNG files ---- */
