@@ -317,7 +317,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 	struct ps_weights *w = calloc((size_t)nsens, sizeof *w);
 	const struct ps_weights **ws = calloc((size_t)nsens, sizeof *ws);
 	struct ps_response *rs = calloc((size_t)nsens, sizeof *rs);
-	struct ps_wstore **pend = calloc((size_t)nsens, sizeof *pend);
+	struct ps_wcache_store **pend = calloc((size_t)nsens, sizeof *pend);
 	struct ps_view cur;
 	int have = 0, cw = 0, ch = 0, rc = 0;
 	if (!w || !ws || !rs || !pend) {
@@ -370,12 +370,12 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 				struct ps_err warn, e;
 				int how;
 				/* stored in the cache while the picture is integrated */
-				if (ps_weights_get_async(&w[k], &sens[k], o->rot, &view, width, height,
-				                         o->method, o->cachedir, ps_cache_max_bytes(), &how,
-				                         &warn, &pend[k], &e) != 0) {
+				if (ps_wcache_get_async(&w[k], &sens[k], o->rot, &view, width, height,
+				                        o->method, o->cachedir, ps_cache_max_bytes(), &how,
+				                        &warn, &pend[k], &e) != 0) {
 					fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 					for (int q = 0; q < k; q++) {
-						ps_weights_store_finish(pend[q], NULL, NULL);
+						ps_wcache_store_finish(pend[q], NULL, NULL);
 						pend[q] = NULL;
 						ps_weights_free(&w[q]);
 					}
@@ -398,7 +398,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 			if (pend[k]) {   /* the stores' outcomes */
 				struct ps_err warn;
 				int how;
-				ps_weights_store_finish(pend[k], &how, &warn);
+				ps_wcache_store_finish(pend[k], &how, &warn);
 				pend[k] = NULL;
 				cache_warning(o, how, &warn);
 			}
@@ -502,8 +502,8 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 			if (ps_sensor_extent(&sens[k]) > ext)
 				ext = ps_sensor_extent(&sens[k]);
 		/* the pixels' solid angles: the uniform sensor's exact weights */
-		if (ps_weights_get(&om, &uni, 0, &view, pic.width, pic.height, PS_W_EXACT, o->cachedir,
-		                   ps_cache_max_bytes(), &how, &warn, &e) != 0 ||
+		if (ps_wcache_get(&om, &uni, 0, &view, pic.width, pic.height, PS_W_EXACT, o->cachedir,
+		                  ps_cache_max_bytes(), &how, &warn, &e) != 0 ||
 		    ps_rescan_project(&p, &om, &pic, &view, o->coef, 0.25, dphi, o->rot_a,
 		                      ext / (M_PI / 180) + 0.25, &e) != 0) {
 			fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);

@@ -36,10 +36,10 @@ static int init(struct ps_batch *b, const struct ps_sensor *s, double rotation_d
 	memcpy(b->coef, coef, sizeof b->coef);
 	b->nthreads = nthreads > 0 ? nthreads : PS_BATCH_THREADS_DEFAULT;
 	if (async)
-		return ps_weights_get_async(&b->w, s, rotation_deg, v, width, height, method, cachedir,
-		                            max_bytes, how, warn, &b->pending, e);
-	return ps_weights_get(&b->w, s, rotation_deg, v, width, height, method, cachedir, max_bytes,
-	                      how, warn, e);
+		return ps_wcache_get_async(&b->w, s, rotation_deg, v, width, height, method, cachedir,
+		                           max_bytes, how, warn, &b->pending, e);
+	return ps_wcache_get(&b->w, s, rotation_deg, v, width, height, method, cachedir, max_bytes,
+	                     how, warn, e);
 }
 
 int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
@@ -62,7 +62,7 @@ int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_sensor *s, dou
 
 void ps_batch_finish_store(struct ps_batch *b, int *how, struct ps_err *warn)
 {
-	ps_weights_store_finish(b->pending, how, warn);
+	ps_wcache_store_finish(b->pending, how, warn);
 	b->pending = NULL;
 }
 

@@ -32,7 +32,7 @@
 #define PS_BATCH_THREADS_DEFAULT 2
 #define PS_BATCH_THREADS_MAX 256
 
-struct ps_wstore;   /* sim/weights/wcache.h */
+struct ps_wcache_store;   /* sim/weights/wcache.h */
 
 struct ps_batch {
 	struct ps_weights w;           /* the batch's weights (read-only once built) */
@@ -41,7 +41,7 @@ struct ps_batch {
 	int method;                    /* enum ps_wmethod */
 	double coef[3];
 	int nthreads;
-	struct ps_wstore *pending;     /* the weights' cache store under way, or NULL */
+	struct ps_wcache_store *pending;     /* the weights' cache store under way, or NULL */
 };
 
 enum ps_batch_status {
@@ -69,7 +69,7 @@ int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double ro
                         const double coef[3], int nthreads, const char *cachedir,
                         size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
 /* The same with the weights stored in the cache while the pictures are
- * integrated (sim/weights/wcache.h, ps_weights_get_async): *how is provisional
+ * integrated (sim/weights/wcache.h, ps_wcache_get_async): *how is provisional
  * until ps_batch_finish_store gives the final one (and warn). */
 int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
                               const struct ps_view *v, int width, int height, int method,

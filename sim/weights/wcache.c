@@ -34,8 +34,8 @@ static void hash_int(struct sha256_ctx *c, long long v)
 	sha256_update(c, sizeof v, (const uint8_t *)&v);
 }
 
-void ps_weights_cache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
-                          int width, int height, int method, char hex[65])
+void ps_wcache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
+                   int width, int height, int method, char hex[65])
 {
 	static const char digits[] = "0123456789abcdef";
 	struct sha256_ctx c;
@@ -69,8 +69,8 @@ void ps_weights_cache_key(const struct ps_sensor *s, double rotation_deg, const 
 	hex[64] = '\0';
 }
 
-int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, int width,
-                            int height, int method, const char *name, struct ps_err *e)
+int ps_wcache_from_payload(struct ps_weights *w, const void *data, size_t len, int width,
+                           int height, int method, const char *name, struct ps_err *e)
 {
 	const uint8_t *p = data;
 	uint32_t version;
@@ -220,7 +220,7 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 	return rc;
 }
 
-struct ps_wstore {
+struct ps_wcache_store {
 	pthread_t tid;
 	const struct ps_weights *w;
 	char *dir;
@@ -232,7 +232,7 @@ struct ps_wstore {
 
 static void *store_run(void *arg)
 {
-	struct ps_wstore *p = arg;
+	struct ps_wcache_store *p = arg;
 	struct ps_err ce;
 	p->rc = store(p->w, p->dir, p->hex, p->max_bytes, &ce);
 	if (p->rc != 0)
@@ -240,7 +240,7 @@ static void *store_run(void *arg)
 	return NULL;
 }
 
-void ps_weights_store_finish(struct ps_wstore *p, int *how, struct ps_err *warn)
+void ps_wcache_store_finish(struct ps_wcache_store *p, int *how, struct ps_err *warn)
 {
 	if (!p)
 		return;
@@ -255,20 +255,20 @@ void ps_weights_store_finish(struct ps_wstore *p, int *how, struct ps_err *warn)
 
 static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                const struct ps_view *v, int width, int height, int method, const char *dir,
-               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wstore **pending,
+               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wcache_store **pending,
                struct ps_err *e);
 
-int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                   const struct ps_view *v, int width, int height, int method, const char *dir,
-                   size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+int ps_wcache_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                  const struct ps_view *v, int width, int height, int method, const char *dir,
+                  size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
 {
 	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, NULL, e);
 }
 
-int ps_weights_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                         const struct ps_view *v, int width, int height, int method,
-                         const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
-                         struct ps_wstore **pending, struct ps_err *e)
+int ps_wcache_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method,
+                        const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
+                        struct ps_wcache_store **pending, struct ps_err *e)
 {
 	*pending = NULL;
 	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, pending,
@@ -277,7 +277,7 @@ int ps_weights_get_async(struct ps_weights *w, const struct ps_sensor *s, double
 
 static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
                const struct ps_view *v, int width, int height, int method, const char *dir,
-               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wstore **pending,
+               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wcache_store **pending,
                struct ps_err *e)
 {
 	char hex[65];
@@ -288,12 +288,12 @@ static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_
 	if (!dir)
 		return ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, PS_WB_COMPACT,
 		                           e);
-	ps_weights_cache_key(s, rotation_deg, v, width, height, method, hex);
+	ps_wcache_key(s, rotation_deg, v, width, height, method, hex);
 	got = ps_cache_blob_get(dir, hex, &b, &ce);
 	if (got == 1) {
 		char name[4200];
 		snprintf(name, sizeof name, "%s/blobs/%.2s/%s", dir, hex, hex + 2);
-		if (ps_weights_from_payload(w, b.data, b.len, width, height, method, name, &ce) == 0) {
+		if (ps_wcache_from_payload(w, b.data, b.len, width, height, method, name, &ce) == 0) {
 			w->map = b.map;
 			w->maplen = b.maplen;
 			ps_weights_key(s, rotation_deg, v, width, height, method, w->key, sizeof w->key);
@@ -313,7 +313,7 @@ static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_
 		return -1;
 	if (pending) {
 		/* stored by a thread; a thread that cannot start: stored here */
-		struct ps_wstore *p = calloc(1, sizeof *p);
+		struct ps_wcache_store *p = calloc(1, sizeof *p);
 		if (p && (p->dir = strdup(dir)) != NULL) {
 			p->w = w;
 			memcpy(p->hex, hex, sizeof p->hex);

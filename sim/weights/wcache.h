@@ -20,8 +20,8 @@
                                       * 4: compact symmetric maps */
 
 /* The content key (64 hex digits). */
-void ps_weights_cache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
-                          int width, int height, int method, char hex[65]);
+void ps_wcache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
+                   int width, int height, int method, char hex[65]);
 
 enum ps_wcache_how {
 	PS_WC_BUILT = 0,       /* no cache given: built */
@@ -35,29 +35,29 @@ enum ps_wcache_how {
  * happened; warn (may be NULL) gets the message for PS_WC_UNWRITABLE and
  * PS_WC_REBUILT.  max_bytes bounds the cache (0: unbounded).  Errors are
  * ps_weights_build's. */
-int ps_weights_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                   const struct ps_view *v, int width, int height, int method, const char *dir,
-                   size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
+int ps_wcache_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                  const struct ps_view *v, int width, int height, int method, const char *dir,
+                  size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
 
 /* The same, with a map built for the cache stored by a thread while the
  * caller goes on (the store costs a checksum and a write of the map: off
  * the critical path, the integration runs meanwhile; the entry is written
- * and renamed as by ps_weights_get, so it stays whole or absent).  When a
+ * and renamed as by ps_wcache_get, so it stays whole or absent).  When a
  * store is under way *pending is set (else NULL) and *how says
- * PS_WC_STORED or PS_WC_REBUILT provisionally; ps_weights_store_finish
+ * PS_WC_STORED or PS_WC_REBUILT provisionally; ps_wcache_store_finish
  * waits for it and gives the final *how and warn.  Call it before w is
  * freed. */
-struct ps_wstore;
-int ps_weights_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                         const struct ps_view *v, int width, int height, int method,
-                         const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
-                         struct ps_wstore **pending, struct ps_err *e);
-void ps_weights_store_finish(struct ps_wstore *p, int *how, struct ps_err *warn);
+struct ps_wcache_store;
+int ps_wcache_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                        const struct ps_view *v, int width, int height, int method,
+                        const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
+                        struct ps_wcache_store **pending, struct ps_err *e);
+void ps_wcache_store_finish(struct ps_wcache_store *p, int *how, struct ps_err *warn);
 
 /* Parse a cache payload into w (runs copied, weights left in place:
  * data must outlive w, or be owned by it through w->map).  -1 with e when
  * the payload is not a consistent map of width x height (never trusted). */
-int ps_weights_from_payload(struct ps_weights *w, const void *data, size_t len, int width,
-                            int height, int method, const char *name, struct ps_err *e);
+int ps_wcache_from_payload(struct ps_weights *w, const void *data, size_t len, int width,
+                           int height, int method, const char *name, struct ps_err *e);
 
 #endif

@@ -361,7 +361,7 @@ int main(void)
 		t_b = now() - t0;
 		ps_weights_free(&w);
 		t0 = now();
-		if (ps_weights_get(&w, &cosine, 0, &v, n, n, PS_W_EXACT, cd, 0, &how, &warn, &e) != 0)
+		if (ps_wcache_get(&w, &cosine, 0, &v, n, n, PS_W_EXACT, cd, 0, &how, &warn, &e) != 0)
 			return 1;
 		t_bs = now() - t0;
 		if (ps_map_file(pp, (size_t)1 << 32, &m, &e) != 0 ||

@@ -31,7 +31,7 @@ static void walk(const void *payload, size_t len)
 	if (!copy)
 		return;
 	memcpy(copy, payload, len);
-	if (ps_weights_from_payload(&w, copy, len, wh[0], wh[1], wh[2], "fuzz", &e) == 0) {
+	if (ps_wcache_from_payload(&w, copy, len, wh[0], wh[1], wh[2], "fuzz", &e) == 0) {
 		for (size_t i = 0; i < w.nruns; i++)
 			for (int k = 0; k < w.runs[i].n; k++)
 				sum += ps_wrun_at(&w, &w.runs[i], k);   /* compact maps: palindromes */

@@ -255,12 +255,12 @@ static void cache_keeps_compact_maps(void **state)
 	assert_non_null(mkdtemp(dir));
 	assert_int_equal(ps_sensor_builtin(&cosine, PS_SENS_COSINE, &e), 0);
 	ps_view_default_fisheye(&v);
-	assert_int_equal(ps_weights_get(&a, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
-	                                &e), 0);
+	assert_int_equal(ps_wcache_get(&a, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
+	                               &e), 0);
 	assert_int_equal(how, PS_WC_STORED);
 	assert_int_equal(a.mirror, 1);
-	assert_int_equal(ps_weights_get(&b, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
-	                                &e), 0);
+	assert_int_equal(ps_wcache_get(&b, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
+	                               &e), 0);
 	assert_int_equal(how, PS_WC_HIT);
 	assert_int_equal(b.mirror, 1);
 	assert_int_equal(a.nruns, b.nruns);
@@ -281,15 +281,15 @@ static void cache_keeps_compact_maps(void **state)
 		int32_t k;
 		assert_non_null(p);
 		memcpy(p, (const uint8_t *)b.map + 128, len);
-		assert_int_equal(ps_weights_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), 0);
+		assert_int_equal(ps_wcache_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), 0);
 		assert_int_equal(c.mirror, 1);
 		ps_weights_free(&(struct ps_weights){ .runs = c.runs });
 		k = (int32_t)a.nruns;   /* itself */
 		memcpy(p + 64 + (a.nruns - 1) * 16 + 12, &k, 4);
-		assert_int_equal(ps_weights_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
+		assert_int_equal(ps_wcache_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
 		k = (int32_t)a.nruns - 1;   /* the run before: shared too */
 		memcpy(p + 64 + (a.nruns - 1) * 16 + 12, &k, 4);
-		assert_int_equal(ps_weights_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
+		assert_int_equal(ps_wcache_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
 		assert_non_null(strstr(e.msg, "shares"));
 		free(p);
 	}
