@@ -12,7 +12,7 @@
 #include "batch.h"
 #include "cache.h"
 #include "cli.h"
-#include "file.h"
+#include "fileio.h"
 #include "fisheye.h"
 #include "integrate.h"
 #include "mtx.h"
@@ -20,7 +20,7 @@
 #include "picview.h"
 #include "rescan.h"
 #include "sensor.h"
-#include "spectral.h"
+#include "filter.h"
 #include "stream.h"
 #include "view.h"
 #include "wcache.h"
@@ -230,7 +230,7 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 		struct ps_picture pic;
 		struct ps_view view;
 		struct ps_batch b;
-		struct ps_filemap fm;
+		struct ps_fileio_map fm;
 		const char **list;
 		size_t m = 0, off;
 		int assumed, how;
@@ -239,7 +239,7 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			continue;
 		items[first].done = 1;
 		/* the first picture's header sets the batch's view and size */
-		if (ps_map_file(paths[first], (size_t)4 << 30, &fm, &items[first].res.err) != 0) {
+		if (ps_fileio_map(paths[first], (size_t)4 << 30, &fm, &items[first].res.err) != 0) {
 			items[first].res.status = PS_BATCH_FAILED;
 			continue;
 		}
@@ -249,7 +249,7 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 		                       &items[first].res.err) != 0) {
 			items[first].res.status = PS_BATCH_FAILED;
 			ps_picture_free(&pic);
-			ps_unmap_file(&fm);
+			ps_fileio_unmap(&fm);
 			continue;
 		}
 		/* the weights, stored in the cache while the pictures are integrated */
@@ -295,7 +295,7 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			}
 			free(res);
 			free(list);
-			ps_unmap_file(&fm);
+			ps_fileio_unmap(&fm);
 		}
 		ps_picture_free(&pic);
 		ps_batch_free(&b);
@@ -330,7 +330,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 	}
 	memset(&cur, 0, sizeof cur);
 	for (size_t i = 0; i < n && rc == 0; i++) {
-		struct ps_filemap fm;
+		struct ps_fileio_map fm;
 		struct ps_picture head;
 		struct ps_view view;
 		struct ps_err pe;
@@ -338,10 +338,10 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 		int assumed = 0, width = 0, height = 0, status = PS_BATCH_FAILED;
 		memset(&pe, 0, sizeof pe);
 		memset(&view, 0, sizeof view);
-		if (ps_map_file(paths[i], (size_t)4 << 30, &fm, &pe) != 0)
+		if (ps_fileio_map(paths[i], (size_t)4 << 30, &fm, &pe) != 0)
 			goto give;
 		if (ps_picture_head_mem(&head, fm.data, fm.len, paths[i], &off, &pe) != 0) {
-			ps_unmap_file(&fm);
+			ps_fileio_unmap(&fm);
 			goto give;
 		}
 		width = head.width;
@@ -404,7 +404,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 			}
 done:
 		ps_picture_free(&head);
-		ps_unmap_file(&fm);
+		ps_fileio_unmap(&fm);
 give:
 		for (int k = 0; k < nsens; k++) {
 			struct item *it = &items[(size_t)k * n + i];

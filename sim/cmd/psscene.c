@@ -23,7 +23,7 @@
 #include "results.h"
 #include "scene.h"
 #include "sensor.h"
-#include "spectral.h"
+#include "filter.h"
 #include "sum.h"
 #include "view.h"
 #include "weather.h"

@@ -23,7 +23,7 @@
 #include "regions.h"
 #include "sensor.h"
 #include "share.h"
-#include "spectral.h"
+#include "filter.h"
 #include "tonemap.h"
 #include "version.h"
 #include "view.h"

@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "file.h"
+#include "fileio.h"
 #include "mtx.h"
 #include "patches.h"
 #include "sky.h"

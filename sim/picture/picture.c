@@ -7,7 +7,7 @@
  * hostile file can only produce an error naming its byte offset. */
 #include "picture.h"
 
-#include "file.h"
+#include "fileio.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -592,7 +592,7 @@ int ps_picture_read(struct ps_picture *pic, const char *path, struct ps_err *e)
 	int rc;
 	memset(pic, 0, sizeof *pic);
 	/* 4 GiB: more than the largest picture we accept could need */
-	if (ps_read_file(path, (size_t)4 << 30, &buf, &len, e) != 0)
+	if (ps_fileio_read(path, (size_t)4 << 30, &buf, &len, e) != 0)
 		return -1;
 	rc = ps_picture_read_mem(pic, buf, len, path, e);
 	free(buf);

@@ -10,7 +10,7 @@
 #include <strings.h>
 
 #include "epw.h"
-#include "file.h"
+#include "fileio.h"
 #include "wea.h"
 
 static const int month_days[12] = { 31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
@@ -235,7 +235,7 @@ int ps_weather_read(struct ps_weather *w, const char *path, unsigned flags, stru
 	size_t len;
 	int rc;
 	ps_weather_init(w, path);
-	if (ps_read_file(path, PS_WX_MAX_FILE, &data, &len, e) != 0)
+	if (ps_fileio_read(path, PS_WX_MAX_FILE, &data, &len, e) != 0)
 		return -1;
 	rc = ps_weather_parse(w, (const char *)data, len, path, flags, e);
 	free(data);

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "file.h"
+#include "fileio.h"
 #include "picview.h"
 #include "stream.h"
 #include "wcache.h"
@@ -141,7 +141,7 @@ static void one_file(struct job *j, size_t i)
 	const struct ps_batch *b = j->b;
 	struct ps_batch_result *r = &j->out[i];
 	const char *name = j->paths[i];
-	struct ps_filemap m;
+	struct ps_fileio_map m;
 	struct ps_picture head;
 	struct ps_view view;
 	char key[sizeof b->w.key];
@@ -153,11 +153,11 @@ static void one_file(struct job *j, size_t i)
 		memset(&m, 0, sizeof m);
 		m.data = j->first;
 		m.len = j->first_len;
-	} else if (ps_map_file(name, (size_t)4 << 30, &m, &r->err) != 0) {
+	} else if (ps_fileio_map(name, (size_t)4 << 30, &m, &r->err) != 0) {
 		return;
 	}
 	if (ps_picture_head_mem(&head, m.data, m.len, name, &off, &r->err) != 0) {
-		ps_unmap_file(&m);
+		ps_fileio_unmap(&m);
 		return;
 	}
 	r->width = head.width;
@@ -185,7 +185,7 @@ static void one_file(struct job *j, size_t i)
 	r->status = PS_BATCH_OK;
 out:
 	ps_picture_free(&head);
-	ps_unmap_file(&m);
+	ps_fileio_unmap(&m);
 }
 
 static void *worker(void *arg)

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "file.h"
+#include "fileio.h"
 
 #define TOKEN_MAX 256
 #define COMMAND_MAX 65536
@@ -453,7 +453,7 @@ int ps_radgeom_read(struct ps_radgeom *g, const char *path, struct ps_err *e)
 	uint8_t *text;
 	size_t len;
 	int rc;
-	if (ps_read_file(path, (size_t)256 << 20, &text, &len, e) != 0)
+	if (ps_fileio_read(path, (size_t)256 << 20, &text, &len, e) != 0)
 		return -1;
 	rc = ps_radgeom_parse(g, (const char *)text, len, path, e);
 	free(text);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
 #include "sensor.h"
 
-#include "file.h"
+#include "fileio.h"
 
 #include <errno.h>
 #include <math.h>
@@ -412,7 +412,7 @@ int ps_sensor_read(struct ps_sensor *s, const char *path, struct ps_err *e)
 	size_t len;
 	int rc;
 	memset(s, 0, sizeof *s);
-	if (ps_read_file(path, SENSOR_MAX_FILE, &buf, &len, e) != 0)
+	if (ps_fileio_read(path, SENSOR_MAX_FILE, &buf, &len, e) != 0)
 		return -1;
 	rc = ps_sensor_parse(s, (const char *)buf, len, path, e);
 	free(buf);

@@ -20,7 +20,7 @@
 
 #include "batch.h"
 #include "cache.h"
-#include "file.h"
+#include "fileio.h"
 #include "integrate.h"
 #include "picture.h"
 #include "rescan.h"
@@ -348,7 +348,7 @@ int main(void)
 		struct ps_weights w;
 		struct ps_picture pic;
 		struct ps_response r;
-		struct ps_filemap m;
+		struct ps_fileio_map m;
 		struct ps_err warn;
 		size_t off;
 		int how;
@@ -364,14 +364,14 @@ int main(void)
 		if (ps_wcache_get(&w, &cosine, 0, &v, n, n, PS_W_EXACT, cd, 0, &how, &warn, &e) != 0)
 			return 1;
 		t_bs = now() - t0;
-		if (ps_map_file(pp, (size_t)1 << 32, &m, &e) != 0 ||
+		if (ps_fileio_map(pp, (size_t)1 << 32, &m, &e) != 0 ||
 		    ps_picture_head_mem(&pic, m.data, m.len, pp, &off, &e) != 0)
 			return 1;
 		t0 = now();
 		ps_stream_integrate(&w, &pic, m.data, m.len, off, pp, coef, 2, &r, &e);
 		t_i = now() - t0;
 		ps_picture_free(&pic);
-		ps_unmap_file(&m);
+		ps_fileio_unmap(&m);
 		t0 = now();
 		if (ps_picture_read(&pic, pp, &e) != 0)
 			return 1;
@@ -427,7 +427,7 @@ int main(void)
 		 * picture (long runs: its decoding is cheap) and the textured one
 		 * (no runs), each decoded alone and decoded with integration */
 		for (int tex = 0; tex < 2; tex++) {
-			struct ps_filemap m;
+			struct ps_fileio_map m;
 			struct ps_picture head;
 			size_t off;
 			char path[600];
@@ -440,7 +440,7 @@ int main(void)
 				snprintf(path, sizeof path, "%s/t4000.hdr", dir);
 			else
 				snprintf(path, sizeof path, "%s", p4000);
-			if (ps_map_file(path, (size_t)1 << 32, &m, &e) != 0 ||
+			if (ps_fileio_map(path, (size_t)1 << 32, &m, &e) != 0 ||
 			    ps_picture_head_mem(&head, m.data, m.len, path, &off, &e) != 0)
 				return 1;
 			/* the goal compares two times: each the best of five runs, so
@@ -476,7 +476,7 @@ int main(void)
 			row(name, NAN, 1e3 * (t_fused1 - t_scan), 1e3 * t_scan,
 			    "decode+integrate less decode; goal: no more than decoding");
 			ps_picture_free(&head);
-			ps_unmap_file(&m);
+			ps_fileio_unmap(&m);
 		}
 		ps_weights_free(&w);
 		ps_picture_free(&pic);

@@ -22,7 +22,7 @@
 #include <cmocka.h>
 
 #include "dcpic.h"
-#include "file.h"
+#include "fileio.h"
 #include "integrate.h"
 #include "patches.h"
 #include "perez.h"
@@ -59,7 +59,7 @@ static char **read_reference(size_t *count, int *nrows, int *ncols)
 	size_t len, n = 0, cap = 32768;
 	struct ps_err e;
 	data_path(path, sizeof path, "tests/data/gendaymtx/test.smx");
-	if (ps_read_file(path, 1 << 24, &data, &len, &e) != 0)
+	if (ps_fileio_read(path, 1 << 24, &data, &len, &e) != 0)
 		fail_msg("%s", e.msg);
 	p = strstr((char *)data, "NROWS=");
 	assert_non_null(p);

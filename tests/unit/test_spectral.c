@@ -12,7 +12,7 @@
 #include <cmocka.h>
 
 #include "cie.h"
-#include "spectral.h"
+#include "filter.h"
 
 /* a filter file from a function of wavelength, every nm from lo to hi */
 static void make_filter(struct ps_filter *f, double lo, double hi, double (*fn)(double))

@@ -29,7 +29,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "file.h"
+#include "fileio.h"
 #include "integrate.h"
 #include "picture.h"
 #include "sensor.h"
@@ -188,7 +188,7 @@ static void uniform_picture_integrates_to_pi(void **state)
 		struct ps_weights full, comp;
 		struct ps_picture pic, head;
 		struct ps_response rf, rc;
-		struct ps_filemap m;
+		struct ps_fileio_map m;
 		size_t off;
 		assert_non_null(rgb);
 		for (size_t i = 0; i < 3 * (size_t)n[k] * (size_t)n[k]; i++)
@@ -206,7 +206,7 @@ static void uniform_picture_integrates_to_pi(void **state)
 		assert_true(fabs(rc.response / rf.response - 1) <= 1e-14);
 		/* the pixels counted: the symmetric ranges may add some of weight 0 */
 		assert_true(rc.npixels >= rf.npixels);
-		assert_int_equal(ps_map_file(path, (size_t)1 << 30, &m, &e), 0);
+		assert_int_equal(ps_fileio_map(path, (size_t)1 << 30, &m, &e), 0);
 		assert_int_equal(ps_picture_head_mem(&head, m.data, m.len, path, &off, &e), 0);
 		for (int nt = 1; nt <= 2; nt++) {
 			struct ps_response rs;
@@ -216,7 +216,7 @@ static void uniform_picture_integrates_to_pi(void **state)
 			assert_true(rs.response == rc.response);
 		}
 		ps_picture_free(&head);
-		ps_unmap_file(&m);
+		ps_fileio_unmap(&m);
 		ps_picture_free(&pic);
 		ps_weights_free(&full);
 		ps_weights_free(&comp);

@@ -12,8 +12,8 @@
  * on the CMF table's 1-nm grid (360-830 nm) gives c_xyz; the RGB coefficients
  * are M^T c_xyz with M Radiance's RGB-to-XYZ matrix (standard primaries, white
  * 0.3333 0.3333), so that s = V(lambda) gives 0.265074 0.670115 0.064811. */
-#ifndef PS_SPECTRAL_H
-#define PS_SPECTRAL_H
+#ifndef PS_FILTER_H
+#define PS_FILTER_H
 
 #include <stddef.h>
 

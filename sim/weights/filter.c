@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-#include "spectral.h"
+#include "filter.h"
 
 #include <errno.h>
 #include <math.h>
@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "cie.h"
-#include "file.h"
+#include "fileio.h"
 #include "integrate.h"
 #include "sum.h"
 
@@ -148,7 +148,7 @@ int ps_filter_read(struct ps_filter *f, const char *path, int percent, struct ps
 	size_t len;
 	int rc;
 	memset(f, 0, sizeof *f);
-	if (ps_read_file(path, (size_t)64 << 20, &buf, &len, e) != 0)
+	if (ps_fileio_read(path, (size_t)64 << 20, &buf, &len, e) != 0)
 		return -1;
 	rc = ps_filter_parse(f, (const char *)buf, len, path, percent, e);
 	free(buf);

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-#include "file.h"
+#include "fileio.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -9,7 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, struct ps_err *e)
+int ps_fileio_read(const char *path, size_t max, uint8_t **data, size_t *len, struct ps_err *e)
 {
 	FILE *fp = fopen(path, "rb");
 	uint8_t *buf = NULL;
@@ -59,7 +59,7 @@ int ps_read_file(const char *path, size_t max, uint8_t **data, size_t *len, stru
 	return 0;
 }
 
-int ps_map_file(const char *path, size_t max, struct ps_filemap *m, struct ps_err *e)
+int ps_fileio_map(const char *path, size_t max, struct ps_fileio_map *m, struct ps_err *e)
 {
 	struct stat st;
 	int fd;
@@ -87,7 +87,7 @@ int ps_map_file(const char *path, size_t max, struct ps_filemap *m, struct ps_er
 			if (k < 0) {
 				int rc = ps_err_sys(e, "%s: read error", path);
 				close(fd);
-				ps_unmap_file(m);
+				ps_fileio_unmap(m);
 				return rc;
 			}
 			if (k == 0)
@@ -101,13 +101,13 @@ int ps_map_file(const char *path, size_t max, struct ps_filemap *m, struct ps_er
 		return 0;
 	}
 	close(fd);
-	if (ps_read_file(path, max, &m->buf, &m->len, e) != 0)
+	if (ps_fileio_read(path, max, &m->buf, &m->len, e) != 0)
 		return -1;
 	m->data = m->buf;
 	return 0;
 }
 
-void ps_unmap_file(struct ps_filemap *m)
+void ps_fileio_unmap(struct ps_fileio_map *m)
 {
 	free(m->buf);
 	memset(m, 0, sizeof *m);
