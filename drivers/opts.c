@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "driver.h"
+#include "role.h"
 
 const char *const ps_opt_type_names[] = { "double", "long", "enum", "bool", "string", "windows", NULL };
 static const char *const bool_names[] = { "no", "yes", NULL };

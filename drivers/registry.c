@@ -9,6 +9,7 @@
 
 #include "driver.h"
 #include "loopback.h"
+#include "registry.h"
 
 __attribute__((unused)) static int not_compiled(struct ps_dev *dev, const struct ps_opts *opts)
 {
@@ -37,7 +38,7 @@ static const struct ps_driver ps_driver_gpio = STUB("gpio", "GPIO relays, button
 
 extern const struct ps_driver ps_driver_file;
 
-const struct ps_driver *const ps_drivers[] = {
+const struct ps_driver *const ps_registry_drivers[] = {
 	&ps_driver_loopback,
 	&ps_driver_modbus,
 	&ps_driver_dali_usb,
@@ -46,18 +47,18 @@ const struct ps_driver *const ps_drivers[] = {
 	NULL,
 };
 
-void ps_driver_names(char *out, size_t n)
+void ps_registry_names(char *out, size_t n)
 {
 	size_t len = 0;
 	out[0] = 0;
-	for (int i = 0; ps_drivers[i] && len < n; i++)
-		len += (size_t)snprintf(out + len, n - len, "%s%s", i ? ", " : "", ps_drivers[i]->name);
+	for (int i = 0; ps_registry_drivers[i] && len < n; i++)
+		len += (size_t)snprintf(out + len, n - len, "%s%s", i ? ", " : "", ps_registry_drivers[i]->name);
 }
 
-const struct ps_driver *ps_driver_find(const char *name)
+const struct ps_driver *ps_registry_find(const char *name)
 {
-	for (int i = 0; ps_drivers[i]; i++)
-		if (strcmp(ps_drivers[i]->name, name) == 0)
-			return ps_drivers[i];
+	for (int i = 0; ps_registry_drivers[i]; i++)
+		if (strcmp(ps_registry_drivers[i]->name, name) == 0)
+			return ps_registry_drivers[i];
 	return NULL;
 }

@@ -19,6 +19,7 @@
 #include "canvas.h"
 #include "dated.h"
 #include "log.h"
+#include "registry.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
 {
@@ -217,9 +218,9 @@ static void usage(FILE *fp)
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
 #endif
 	fprintf(fp, "drivers:\n");
-	for (int i = 0; ps_drivers[i]; i++)
-		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
-		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
+	for (int i = 0; ps_registry_drivers[i]; i++)
+		fprintf(fp, "  %-9s %s%s\n", ps_registry_drivers[i]->name, ps_registry_drivers[i]->summary,
+		        ps_registry_drivers[i]->compiled_in ? "" : " (not compiled in)");
 }
 
 /* What a key takes, for -L: its range, its choices, or its kind. */
@@ -248,8 +249,8 @@ static void accepts(const struct ps_opt_spec *o, char *out, size_t n)
 /* -L: every driver's option table, one key a line. */
 static void list_options(void)
 {
-	for (int i = 0; ps_drivers[i]; i++) {
-		const struct ps_driver *drv = ps_drivers[i];
+	for (int i = 0; ps_registry_drivers[i]; i++) {
+		const struct ps_driver *drv = ps_registry_drivers[i];
 		printf("%s%s: %s\n", drv->name, drv->compiled_in ? "" : " (not compiled in)", drv->summary);
 		for (const struct ps_opt_spec *o = drv->options; o && o->key; o++) {
 			char what[200], roles[64] = "";

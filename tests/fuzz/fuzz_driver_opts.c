@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "driver.h"
+#include "registry.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -39,9 +40,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	int role;
 	if (size < 1)
 		return 0;
-	while (ps_drivers[ndrv])
+	while (ps_registry_drivers[ndrv])
 		ndrv++;
-	drv = ps_drivers[data[0] % ndrv];
+	drv = ps_registry_drivers[data[0] % ndrv];
 	role = (int)(data[0] / ndrv) % (PS_ROLE_COUNT + 1) - 1;   /* -1: the device */
 	if (!(text = malloc(size)))
 		return 0;

@@ -27,6 +27,7 @@
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "registry.h"
 
 /* ---- transport bytes ----------------------------------------------------------- */
 
@@ -164,7 +165,7 @@ static int open_dev(struct fx *f, ...)
 	va_list ap;
 	const struct ps_opts *opts;
 	memset(&f->dev, 0, sizeof f->dev);
-	f->dev.drv = ps_driver_find("dali_usb");
+	f->dev.drv = ps_registry_find("dali_usb");
 	assert_non_null(f->dev.drv);
 	assert_true(f->dev.drv->compiled_in);
 	snprintf(f->dev.name, sizeof f->dev.name, "dali");

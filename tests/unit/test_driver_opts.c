@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "driver.h"
+#include "registry.h"
 
 #define assert_near(a, b, tol) assert_true(fabs((double)(a) - (double)(b)) <= (tol))
 
@@ -50,8 +51,8 @@ static int role_of(const struct ps_opt_spec *s)
 static void tables_are_consistent(void **state)
 {
 	(void)state;
-	for (int d = 0; ps_drivers[d]; d++) {
-		const struct ps_driver *drv = ps_drivers[d];
+	for (int d = 0; ps_registry_drivers[d]; d++) {
+		const struct ps_driver *drv = ps_registry_drivers[d];
 		if (!drv->compiled_in) {
 			assert_null(drv->options);   /* a stub judges nothing */
 			continue;
@@ -91,7 +92,7 @@ static void tables_are_consistent(void **state)
  * another role or scope said so. */
 static void section_errors_with_lines(void **state)
 {
-	const struct ps_driver *lb = ps_driver_find("loopback");
+	const struct ps_driver *lb = ps_registry_find("loopback");
 	struct ps_opt kv[] = {
 		{ "gain", "0.5.5", 11, 0 }, { "seed", "-3", 12, 0 }, { "off_below_min", "maybe", 13, 0 },
 		{ "faults", "open 12:00-12:20, stuck 25:00-26:00", 14, 0 }, { "fade_rte", "0.2", 15, 0 },
@@ -114,7 +115,7 @@ static void section_errors_with_lines(void **state)
 /* The readers: values and windows, and a bad value's location. */
 static void readers(void **state)
 {
-	const struct ps_driver *lb = ps_driver_find("loopback");
+	const struct ps_driver *lb = ps_registry_find("loopback");
 	struct ps_opt kv[] = { { "faults", "open 12:00-12:20, obstruct 23:30-00:30", 5, 0 }, { "gain", "x", 6, 0 } };
 	struct ps_opts o = { kv, 2, "t.conf" };
 	char err[256];
@@ -164,7 +165,7 @@ static void put(const char *path, const char *text)
 static void file_driver(void **state)
 {
 	char dir[] = "/tmp/test_driver_opts.XXXXXX", path[128], text[64];
-	const struct ps_driver *drv = ps_driver_find("file");
+	const struct ps_driver *drv = ps_registry_find("file");
 	struct ps_opt dkv[] = { { "dir", dir, 2, 0 } };
 	struct ps_opts dopts = { dkv, 1, "t.conf" };
 	struct ps_opt skv[] = { { "path", "light", 5, 0 }, { "scale", "2", 6, 0 } };
