@@ -155,7 +155,7 @@ static int valid_address(const char *v, char *why, size_t n)
 }
 
 #define DEV PS_OPT_DEVICE
-static const struct ps_opt_spec du_options[] = {
+static const struct ps_opts_spec du_options[] = {
 	{ "transport", PS_OPT_ENUM, DEV, 0, "tridonic", 0, 0, transport_names, NULL,
 	  "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020)" },
 	{ "serial", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL, "the interface with this USB serial number" },
@@ -180,7 +180,7 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 {
 	if (role < 0 || role == PS_ROLE_DIM || role == PS_ROLE_RELAY)
 		return 0;
-	*line = ps_opt_line(o, "address");
+	*line = ps_opts_line(o, "address");
 	snprintf(why, n, "dali_usb drives dim and relay points, not %s", ps_role_name(role));
 	return -1;
 }
@@ -1049,13 +1049,13 @@ static int du_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
 {
 	struct dali_usb *d = dev->priv;
-	struct ps_opt_reader r = { o, du_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, du_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	struct dpoint *p;
 	const char *a = NULL;
 	char why[120];
 	if (!d)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
-	if (ps_dev_check(dev, o, pt->role) != 0 || ps_opt_string(&r, "address", &a) != 0)
+	if (ps_dev_check(dev, o, pt->role) != 0 || ps_opts_string(&r, "address", &a) != 0)
 		return -1;
 	if (d->npts >= MAX_POINTS)
 		return ps_dev_fail(dev, EINVAL, "%s: more than %d points on one interface", pt->name, MAX_POINTS);
@@ -1103,7 +1103,7 @@ static void du_close(struct ps_dev *dev)
 static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct dali_usb *d = calloc(1, sizeof *d);
-	struct ps_opt_reader r = { o, du_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, du_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
 	const char *serial = NULL, *port = NULL;
 	int transport = 0;
 	if (!d)
@@ -1116,10 +1116,10 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	d->seq = 0;
 	if (d->epfd < 0)
 		return ps_dev_fail(dev, errno, "epoll: %s", strerror(errno));
-	if (ps_opt_choice(&r, "transport", &transport) || ps_opt_string(&r, "serial", &serial) ||
-	    ps_opt_string(&r, "port", &port) || ps_opt_double(&r, "timeout", &d->timeout) ||
-	    ps_opt_long(&r, "retries", &d->retries) || ps_opt_double(&r, "frame_gap", &d->frame_gap) ||
-	    ps_opt_double(&r, "safe_level", &d->safe_level) || ps_opt_double(&r, "fade_time", &d->fade_time))
+	if (ps_opts_choice(&r, "transport", &transport) || ps_opts_string(&r, "serial", &serial) ||
+	    ps_opts_string(&r, "port", &port) || ps_opts_double(&r, "timeout", &d->timeout) ||
+	    ps_opts_long(&r, "retries", &d->retries) || ps_opts_double(&r, "frame_gap", &d->frame_gap) ||
+	    ps_opts_double(&r, "safe_level", &d->safe_level) || ps_opts_double(&r, "fade_time", &d->fade_time))
 		return -1;
 	d->tp = transports[transport];
 	snprintf(d->serial, sizeof d->serial, "%s", serial ? serial : "");

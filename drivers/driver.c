@@ -4,14 +4,14 @@
 
 #include "driver.h"
 
-int ps_driver_check(const struct ps_driver *drv, const struct ps_opts *o, int role, ps_opt_report_fn report,
+int ps_driver_check(const struct ps_driver *drv, const struct ps_opts *o, int role, ps_opts_report_fn report,
                     void *user)
 {
 	char why[200];
 	int line = 0, errors;
 	if (!drv->options)
 		return 0;
-	errors = ps_opt_check(drv->options, drv->name, o, role, report, user);
+	errors = ps_opts_check(drv->options, drv->name, o, role, report, user);
 	if (errors == 0 && drv->check && drv->check(o, role, &line, why, sizeof why) != 0) {
 		report(user, line, why);
 		errors++;

@@ -79,7 +79,7 @@ struct ps_driver {
 	const char *summary;  /* one line for psensd -h and -L */
 	int compiled_in;      /* 0 for a stub: every method fails with ENOTSUP */
 	/* The keys it takes (opts.h), NULL-key terminated; NULL for a stub. */
-	const struct ps_opt_spec *options;
+	const struct ps_opts_spec *options;
 	/* Checks across keys the table cannot express (e.g. a Modbus device needs
 	 * host or device), on a device section (role < 0) or a point section
 	 * whose keys passed the table; NULL if none.  -1 with the key's line in
@@ -125,7 +125,7 @@ struct ps_driver {
  * the driver's table, then, when they all pass, its check method.  Each
  * error goes to report (opts.h); returns the number of errors.  A stub
  * (not compiled in) has no table: its keys are not judged. */
-int ps_driver_check(const struct ps_driver *drv, const struct ps_opts *o, int role, ps_opt_report_fn report,
+int ps_driver_check(const struct ps_driver *drv, const struct ps_opts *o, int role, ps_opts_report_fn report,
                     void *user);
 
 #endif

@@ -38,7 +38,7 @@ static const char *const fault_names[] = { "stuck", "open", "saturated", "drop",
                                            NULL };   /* enum ps_room_fault, from 1 */
 
 #define DEV PS_OPT_DEVICE
-static const struct ps_opt_spec lb_options[] = {
+static const struct ps_opts_spec lb_options[] = {
 	{ "gain", PS_OPT_DOUBLE, DEV, 0, "1", 0, 1e9, NULL, NULL, "volts per unit of sensor response" },
 	{ "offset", PS_OPT_DOUBLE, DEV, 0, "0", -100, 100, NULL, NULL, "volts added to the sensor's signal" },
 	{ "noise", PS_OPT_DOUBLE, DEV, 0, "0", 0, 100, NULL, NULL, "the sensor's noise, volts (standard deviation)" },
@@ -66,8 +66,8 @@ static const struct ps_opt_spec lb_options[] = {
 static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct loopback *lb = calloc(1, sizeof *lb);
-	struct ps_opt_reader r = { o, lb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
-	struct ps_opt_window w[16];
+	struct ps_opts_reader r = { o, lb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_window w[16];
 	const char *replay = NULL;
 	size_t nw;
 	long seed;
@@ -75,13 +75,13 @@ static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 	if (!lb)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = lb;
-	if (ps_opt_double(&r, "gain", &lb->opts.gain) || ps_opt_double(&r, "offset", &lb->opts.offset) ||
-	    ps_opt_double(&r, "noise", &lb->opts.noise) || ps_opt_double(&r, "saturation", &lb->opts.saturation) ||
-	    ps_opt_double(&r, "task_noise", &lb->opts.task_noise) || ps_opt_long(&r, "seed", &seed) ||
-	    ps_opt_double(&r, "fade_rate", &lb->opts.ballast.fade_rate) ||
-	    ps_opt_double(&r, "min_level", &lb->opts.ballast.min_level) ||
-	    ps_opt_double(&r, "lag_tau", &lb->opts.ballast.lag_tau) || ps_opt_choice(&r, "off_below_min", &off) ||
-	    ps_opt_windows(&r, "faults", w, &nw) || ps_opt_string(&r, "replay", &replay))
+	if (ps_opts_double(&r, "gain", &lb->opts.gain) || ps_opts_double(&r, "offset", &lb->opts.offset) ||
+	    ps_opts_double(&r, "noise", &lb->opts.noise) || ps_opts_double(&r, "saturation", &lb->opts.saturation) ||
+	    ps_opts_double(&r, "task_noise", &lb->opts.task_noise) || ps_opts_long(&r, "seed", &seed) ||
+	    ps_opts_double(&r, "fade_rate", &lb->opts.ballast.fade_rate) ||
+	    ps_opts_double(&r, "min_level", &lb->opts.ballast.min_level) ||
+	    ps_opts_double(&r, "lag_tau", &lb->opts.ballast.lag_tau) || ps_opts_choice(&r, "off_below_min", &off) ||
+	    ps_opts_windows(&r, "faults", w, &nw) || ps_opts_string(&r, "replay", &replay))
 		return -1;
 	lb->opts.seed = (uint64_t)seed;
 	lb->opts.ballast.off_below_min = off;
@@ -92,10 +92,10 @@ static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 	if (replay) {
 		double ratio;
 		char err[512];
-		if (ps_opt_double(&r, "replay_ratio", &ratio) != 0)
+		if (ps_opts_double(&r, "replay_ratio", &ratio) != 0)
 			return -1;
 		if (ps_replay_read(replay, lb->opts.gain, ratio, &lb->replay, &lb->nreplay, err, sizeof err) != 0)
-			return ps_dev_fail(dev, EINVAL, "%s:%d: replay: %s", o->file, ps_opt_line(o, "replay"), err);
+			return ps_dev_fail(dev, EINVAL, "%s:%d: replay: %s", o->file, ps_opts_line(o, "replay"), err);
 	}
 	return 0;
 }
@@ -133,10 +133,10 @@ struct ps_room *ps_loopback_room(struct ps_dev *dev)
 
 static int read_windows(struct ps_dev *dev, struct lb_input *in, const struct ps_opts *o)
 {
-	struct ps_opt_reader r = { o, lb_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
-	struct ps_opt_window w[LB_MAX_WINDOWS];
+	struct ps_opts_reader r = { o, lb_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_window w[LB_MAX_WINDOWS];
 	size_t n;
-	if (ps_opt_windows(&r, "occupied", w, &n) != 0)
+	if (ps_opts_windows(&r, "occupied", w, &n) != 0)
 		return -1;
 	for (size_t i = 0; i < n; i++) {
 		in->win[i][0] = w[i].start;

@@ -114,7 +114,7 @@ static int connect_now(struct ps_dev *dev, struct mb_dev *m, double now)
 static int mb_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct mb_dev *m = calloc(1, sizeof *m);
-	struct ps_opt_reader r = { o, ps_mb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, ps_mb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
 	const char *host = NULL, *device = NULL;
 	long port, unit, baud, bits, stop;
 	int parity;
@@ -122,23 +122,23 @@ static int mb_open(struct ps_dev *dev, const struct ps_opts *o)
 	if (!m)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = m;
-	if (ps_mb_check_device(o, dev->err, sizeof dev->err) != 0 || ps_opt_string(&r, "host", &host) ||
-	    ps_opt_string(&r, "device", &device) || ps_opt_long(&r, "unit", &unit) ||
-	    ps_opt_double(&r, "timeout", &m->timeout) || ps_opt_double(&r, "byte_timeout", &byte_timeout) ||
-	    ps_opt_long(&r, "retries", &m->retries) || ps_opt_double(&r, "backoff_min", &m->backoff_min) ||
-	    ps_opt_double(&r, "backoff_max", &m->backoff_max) || ps_opt_long(&r, "lost_after", &m->lost_after))
+	if (ps_mb_check_device(o, dev->err, sizeof dev->err) != 0 || ps_opts_string(&r, "host", &host) ||
+	    ps_opts_string(&r, "device", &device) || ps_opts_long(&r, "unit", &unit) ||
+	    ps_opts_double(&r, "timeout", &m->timeout) || ps_opts_double(&r, "byte_timeout", &byte_timeout) ||
+	    ps_opts_long(&r, "retries", &m->retries) || ps_opts_double(&r, "backoff_min", &m->backoff_min) ||
+	    ps_opts_double(&r, "backoff_max", &m->backoff_max) || ps_opts_long(&r, "lost_after", &m->lost_after))
 		return -1;
 	if (host) {
 		char portstr[16];
-		if (ps_opt_long(&r, "port", &port))
+		if (ps_opts_long(&r, "port", &port))
 			return -1;
 		snprintf(portstr, sizeof portstr, "%ld", port);
 		snprintf(m->where, sizeof m->where, "%s:%ld", host, port);
 		m->tcp = 1;
 		m->ctx = modbus_new_tcp_pi(host, portstr);
 	} else {
-		if (ps_opt_long(&r, "baud", &baud) || ps_opt_choice(&r, "parity", &parity) ||
-		    ps_opt_long(&r, "data_bits", &bits) || ps_opt_long(&r, "stop_bits", &stop))
+		if (ps_opts_long(&r, "baud", &baud) || ps_opts_choice(&r, "parity", &parity) ||
+		    ps_opts_long(&r, "data_bits", &bits) || ps_opts_long(&r, "stop_bits", &stop))
 			return -1;
 		snprintf(m->where, sizeof m->where, "%s", device);
 		m->ctx = modbus_new_rtu(device, (int)baud, "NEO"[parity], (int)bits, (int)stop);

@@ -43,7 +43,7 @@ static const char *const baud_names[] = { "1200", "2400", "4800", "9600", "19200
 
 #define DEV PS_OPT_DEVICE
 #define PT PS_OPT_POINT
-const struct ps_opt_spec ps_mb_options[] = {
+const struct ps_opts_spec ps_mb_options[] = {
 	{ "host", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL,
 	  "TCP: the module's IP address (exactly one of host and device)" },
 	{ "port", PS_OPT_LONG, DEV, 0, "502", 1, 65535, NULL, NULL, "TCP: the module's port" },
@@ -106,7 +106,7 @@ static int table_fits(int role, int table)
 
 /* A point's keys through the table, then the rules across them; errors go
  * through the reader (its err, or its line for a check). */
-static int parse_point(struct ps_mb_point *p, int role, const struct ps_opt_reader *r)
+static int parse_point(struct ps_mb_point *p, int role, const struct ps_opts_reader *r)
 {
 	const struct ps_opts *o = r->opts;
 	long addr = -1, unit = -1, mask, status;
@@ -115,26 +115,26 @@ static int parse_point(struct ps_mb_point *p, int role, const struct ps_opt_read
 	memset(p, 0, sizeof *p);
 	p->role = role;
 	p->table = -1;
-	if (ps_opt_choice(r, "table", &p->table) || ps_opt_choice(r, "type", &p->type) ||
-	    ps_opt_choice(r, "word_order", &p->order) || ps_opt_long(r, "address", &addr) ||
-	    ps_opt_long(r, "unit", &unit) || ps_opt_long(r, "mask", &mask) || ps_opt_long(r, "status_mask", &status) ||
-	    ps_opt_double(r, "period", &p->period))
+	if (ps_opts_choice(r, "table", &p->table) || ps_opts_choice(r, "type", &p->type) ||
+	    ps_opts_choice(r, "word_order", &p->order) || ps_opts_long(r, "address", &addr) ||
+	    ps_opts_long(r, "unit", &unit) || ps_opts_long(r, "mask", &mask) || ps_opts_long(r, "status_mask", &status) ||
+	    ps_opts_double(r, "period", &p->period))
 		return -1;
 	if (p->table < 0)
-		return ps_opt_fail(r, "table", "table is required (input_register, holding_register, coil or "
-		                   "discrete_input)");
+		return ps_opts_fail(r, "table", "table is required (input_register, holding_register, coil or "
+		                    "discrete_input)");
 	if (addr < 0)
-		return ps_opt_fail(r, "address", "address is required (0-based: 40001 is 0)");
+		return ps_opts_fail(r, "address", "address is required (0-based: 40001 is 0)");
 	p->address = (int)addr;
 	p->unit = (int)unit;
 	p->mask = (uint16_t)mask;
 	p->status_mask = (uint16_t)status;
 	if (!table_fits(role, p->table))
-		return ps_opt_fail(r, "table", "table: '%s' %s", ps_mb_table_names[p->table], role == PS_ROLE_INPUT
-		                   ? "does not suit an input point (coil or discrete_input)"
-		                   : role == PS_ROLE_DIM ? "does not suit a dim output (holding_register)"
-		                   : role == PS_ROLE_RELAY ? "does not suit a relay (coil or holding_register)"
-		                   : "does not suit a reading (input_register or holding_register)");
+		return ps_opts_fail(r, "table", "table: '%s' %s", ps_mb_table_names[p->table], role == PS_ROLE_INPUT
+		                    ? "does not suit an input point (coil or discrete_input)"
+		                    : role == PS_ROLE_DIM ? "does not suit a dim output (holding_register)"
+		                    : role == PS_ROLE_RELAY ? "does not suit a relay (coil or holding_register)"
+		                    : "does not suit a reading (input_register or holding_register)");
 	if (p->table == PS_MB_COIL || p->table == PS_MB_DISCRETE_INPUT) {
 		/* a bit is 0 or 1: no type, no scaling */
 		p->raw_min = p->min = 0;
@@ -142,26 +142,26 @@ static int parse_point(struct ps_mb_point *p, int role, const struct ps_opt_read
 		return 0;
 	}
 	if (addr + ps_mb_point_count(p) - 1 > 65535)
-		return ps_opt_fail(r, "address", "address: '%ld' leaves no room for the second register", addr);
-	if (ps_mb_point_count(p) == 2 && (ps_opt_get(o, "mask") || ps_opt_get(o, "status_mask"))) {
-		const char *k = ps_opt_get(o, "mask") ? "mask" : "status_mask";
-		return ps_opt_fail(r, k, "%s: '%s' applies to 16-bit types only", k, ps_opt_get(o, k));
+		return ps_opts_fail(r, "address", "address: '%ld' leaves no room for the second register", addr);
+	if (ps_mb_point_count(p) == 2 && (ps_opts_get(o, "mask") || ps_opts_get(o, "status_mask"))) {
+		const char *k = ps_opts_get(o, "mask") ? "mask" : "status_mask";
+		return ps_opts_fail(r, k, "%s: '%s' applies to 16-bit types only", k, ps_opts_get(o, k));
 	}
 	type_range(p->type, &tlo, &thi);
-	given_raw = ps_opt_get(o, "raw_min") || ps_opt_get(o, "raw_max");
-	given_scale = ps_opt_get(o, "min") || ps_opt_get(o, "max");
+	given_raw = ps_opts_get(o, "raw_min") || ps_opts_get(o, "raw_max");
+	given_scale = ps_opts_get(o, "min") || ps_opts_get(o, "max");
 	p->raw_min = tlo;
 	p->raw_max = thi;
-	if (ps_opt_double(r, "raw_min", &p->raw_min) || ps_opt_double(r, "raw_max", &p->raw_max))
+	if (ps_opts_double(r, "raw_min", &p->raw_min) || ps_opts_double(r, "raw_max", &p->raw_max))
 		return -1;
 	for (int i = 0; i < 2; i++) {
 		const char *k = i ? "raw_max" : "raw_min";
 		double v = i ? p->raw_max : p->raw_min;
 		if (v < tlo || v > thi)
-			return ps_opt_fail(r, k, "%s: '%s' is outside %g to %g", k, ps_opt_get(o, k), tlo, thi);
+			return ps_opts_fail(r, k, "%s: '%s' is outside %g to %g", k, ps_opts_get(o, k), tlo, thi);
 	}
 	if (p->raw_min == p->raw_max)
-		return ps_opt_fail(r, "raw_max", "raw_max: '%g' must differ from raw_min", p->raw_max);
+		return ps_opts_fail(r, "raw_max", "raw_max: '%g' must differ from raw_min", p->raw_max);
 	/* default scaling: an integer sensor register spans 0..10 V and a dim
 	 * register spans light output 0..1; everything else (and every f32,
 	 * which already carries engineering units) is taken as it is */
@@ -172,61 +172,61 @@ static int parse_point(struct ps_mb_point *p, int role, const struct ps_opt_read
 	else if (p->type != PS_MB_F32 && role == PS_ROLE_DIM)
 		lo = 0, hi = 1;
 	if (p->type == PS_MB_F32 && given_scale && !given_raw) {
-		const char *k = ps_opt_get(o, "min") ? "min" : "max";
-		return ps_opt_fail(r, k, "%s: '%s' on an f32 point needs raw_min and raw_max too", k, ps_opt_get(o, k));
+		const char *k = ps_opts_get(o, "min") ? "min" : "max";
+		return ps_opts_fail(r, k, "%s: '%s' on an f32 point needs raw_min and raw_max too", k, ps_opts_get(o, k));
 	}
 	p->min = lo;
 	p->max = hi;
-	if (ps_opt_double(r, "min", &p->min) || ps_opt_double(r, "max", &p->max))
+	if (ps_opts_double(r, "min", &p->min) || ps_opts_double(r, "max", &p->max))
 		return -1;
 	if (p->min == p->max)
-		return ps_opt_fail(r, "max", "max: '%g' must differ from min", p->max);
+		return ps_opts_fail(r, "max", "max: '%g' must differ from min", p->max);
 	if (role == PS_ROLE_DIM && (fmin(p->min, p->max) > 0 || fmax(p->min, p->max) < 1))
-		return ps_opt_fail(r, "max", "max: '%g' leaves light output 0..1 outside min..max", p->max);
+		return ps_opts_fail(r, "max", "max: '%g' leaves light output 0..1 outside min..max", p->max);
 	return 0;
 }
 
 int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, char *err, size_t errlen)
 {
-	struct ps_opt_reader r = { o, ps_mb_options, PS_OPT_POINT, err, errlen, NULL };
+	struct ps_opts_reader r = { o, ps_mb_options, PS_OPT_POINT, err, errlen, NULL };
 	return parse_point(p, role, &r);
 }
 
 /* The device's rules across keys (the table judges each key). */
-static int check_device(const struct ps_opt_reader *r)
+static int check_device(const struct ps_opts_reader *r)
 {
 	const struct ps_opts *o = r->opts;
 	static const char *const rtu_only[] = { "baud", "parity", "data_bits", "stop_bits", "lost_after", NULL };
-	const char *host = ps_opt_get(o, "host"), *device = ps_opt_get(o, "device");
+	const char *host = ps_opts_get(o, "host"), *device = ps_opts_get(o, "device");
 	double bmin = 1, bmax = 60;
 	long unit = 1;
 	if (!host == !device)
-		return ps_opt_fail(r, host ? "device" : "host", "a modbus device needs either host (TCP) or device (RTU)");
+		return ps_opts_fail(r, host ? "device" : "host", "a modbus device needs either host (TCP) or device (RTU)");
 	for (int i = 0; host && rtu_only[i]; i++)
-		if (ps_opt_get(o, rtu_only[i]))
-			return ps_opt_fail(r, rtu_only[i], "%s: applies to RTU (device =), not TCP", rtu_only[i]);
-	if (device && ps_opt_get(o, "port"))
-		return ps_opt_fail(r, "port", "port: applies to TCP (host =), not RTU");
-	if (ps_opt_double(r, "backoff_min", &bmin) || ps_opt_double(r, "backoff_max", &bmax) ||
-	    ps_opt_long(r, "unit", &unit))
+		if (ps_opts_get(o, rtu_only[i]))
+			return ps_opts_fail(r, rtu_only[i], "%s: applies to RTU (device =), not TCP", rtu_only[i]);
+	if (device && ps_opts_get(o, "port"))
+		return ps_opts_fail(r, "port", "port: applies to TCP (host =), not RTU");
+	if (ps_opts_double(r, "backoff_min", &bmin) || ps_opts_double(r, "backoff_max", &bmax) ||
+	    ps_opts_long(r, "unit", &unit))
 		return -1;
 	if (bmax < bmin)
-		return ps_opt_fail(r, "backoff_max", "backoff_max: must not be below backoff_min");
+		return ps_opts_fail(r, "backoff_max", "backoff_max: must not be below backoff_min");
 	if (device && (unit == 0 || unit > 247))
-		return ps_opt_fail(r, "unit", "unit: RTU units are 1 to 247");
+		return ps_opts_fail(r, "unit", "unit: RTU units are 1 to 247");
 	return 0;
 }
 
 int ps_mb_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
 {
 	struct ps_mb_point p;
-	struct ps_opt_reader r = { o, ps_mb_options, role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT, why, n, line };
+	struct ps_opts_reader r = { o, ps_mb_options, role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT, why, n, line };
 	return role < 0 ? check_device(&r) : parse_point(&p, role, &r);
 }
 
 int ps_mb_check_device(const struct ps_opts *o, char *err, size_t errlen)
 {
-	struct ps_opt_reader r = { o, ps_mb_options, PS_OPT_DEVICE, err, errlen, NULL };
+	struct ps_opts_reader r = { o, ps_mb_options, PS_OPT_DEVICE, err, errlen, NULL };
 	return check_device(&r);
 }
 

@@ -50,7 +50,7 @@ struct ps_mb_point {
 };
 
 /* The driver's options, device and point keys (opts.h). */
-extern const struct ps_opt_spec ps_mb_options[];
+extern const struct ps_opts_spec ps_mb_options[];
 
 /* Parse a point's options for a role; 0, or -1 with errno EINVAL and a
  * "file:line: key: why" message in err. */

@@ -452,7 +452,7 @@ static int build_rooms(struct virt *v, struct args *a)
 		 * k's seed is its seed option (1) plus k */
 		all.v = merged + 1;
 		all.n = n + nconf;
-		s = ps_opt_get(&all, "seed");
+		s = ps_opts_get(&all, "seed");
 		if (z > 0 && (!s || (strtol(s, &end, 10) >= 0 && !*end && *s))) {
 			snprintf(seed, sizeof seed, "%ld", (s ? strtol(s, NULL, 10) : 1) + z);
 			merged[0] = (struct ps_opt){ "seed", seed, 0, 0 };
@@ -482,7 +482,7 @@ static int build_rooms(struct virt *v, struct args *a)
 			}
 		}
 		for (size_t i = all.n - nconf; i < all.n; i++)
-			if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
+			if (!all.v[i].used && !ps_opts_get(&cmd, all.v[i].key)) {
 				fprintf(stderr, "psvirt: %s:%d: unknown key '%s' for driver loopback\n", conf_path,
 				        all.v[i].line, all.v[i].key);
 				goto out;
