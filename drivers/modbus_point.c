@@ -8,18 +8,18 @@
 
 #include "modbus_point.h"
 
-const char *const ps_mb_table_names[] = { "input_register", "holding_register", "coil",
+const char *const ps_modbus_point_table_names[] = { "input_register", "holding_register", "coil",
                                           "discrete_input", NULL };
-const char *const ps_mb_type_names[] = { "u16", "s16", "u32", "s32", "f32", NULL };
-const char *const ps_mb_order_names[] = { "abcd", "cdab", NULL };
+const char *const ps_modbus_point_type_names[] = { "u16", "s16", "u32", "s32", "f32", NULL };
+const char *const ps_modbus_point_order_names[] = { "abcd", "cdab", NULL };
 
-const char *ps_mb_table_short(int table)
+const char *ps_modbus_point_table_short(int table)
 {
 	static const char *const s[] = { "IR", "HR", "coil", "DI" };
 	return table >= 0 && table < PS_MB_TABLE_COUNT ? s[table] : "?";
 }
 
-int ps_mb_point_count(const struct ps_mb_point *p)
+int ps_modbus_point_count(const struct ps_modbus_point *p)
 {
 	if (p->table == PS_MB_COIL || p->table == PS_MB_DISCRETE_INPUT)
 		return 1;
@@ -43,7 +43,7 @@ static const char *const baud_names[] = { "1200", "2400", "4800", "9600", "19200
 
 #define DEV PS_OPT_DEVICE
 #define PT PS_OPT_POINT
-const struct ps_opts_spec ps_mb_options[] = {
+const struct ps_opts_spec ps_modbus_point_options[] = {
 	{ "host", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL,
 	  "TCP: the module's IP address (exactly one of host and device)" },
 	{ "port", PS_OPT_LONG, DEV, 0, "502", 1, 65535, NULL, NULL, "TCP: the module's port" },
@@ -64,11 +64,11 @@ const struct ps_opts_spec ps_mb_options[] = {
 	  "the longest wait the doubling backoff reaches, seconds" },
 	{ "lost_after", PS_OPT_LONG, DEV, 0, "3", 1, 1000, NULL, NULL,
 	  "RTU: timeouts in a row before the serial device is reopened" },
-	{ "table", PS_OPT_ENUM, PT, 0, NULL, 0, 0, ps_mb_table_names, NULL, "where the value lives (required)" },
+	{ "table", PS_OPT_ENUM, PT, 0, NULL, 0, 0, ps_modbus_point_table_names, NULL, "where the value lives (required)" },
 	{ "address", PS_OPT_LONG, PT, 0, NULL, 0, 65535, NULL, NULL,
 	  "the 0-based protocol address: 40001 is 0 (required)" },
-	{ "type", PS_OPT_ENUM, PT, 0, "u16", 0, 0, ps_mb_type_names, NULL, "a register's type; 32-bit types take two" },
-	{ "word_order", PS_OPT_ENUM, PT, 0, "abcd", 0, 0, ps_mb_order_names, NULL,
+	{ "type", PS_OPT_ENUM, PT, 0, "u16", 0, 0, ps_modbus_point_type_names, NULL, "a register's type; 32-bit types take two" },
+	{ "word_order", PS_OPT_ENUM, PT, 0, "abcd", 0, 0, ps_modbus_point_order_names, NULL,
 	  "32-bit types: abcd high word first, cdab low word first" },
 	{ "unit", PS_OPT_LONG, PT, 0, NULL, 0, 255, NULL, NULL, "the point's own unit id (default: the device's)" },
 	{ "mask", PS_OPT_LONG, PT, 0, "0xffff", 1, 0xffff, NULL, NULL, "AND-ed into a 16-bit register before decoding" },
@@ -106,7 +106,7 @@ static int table_fits(int role, int table)
 
 /* A point's keys through the table, then the rules across them; errors go
  * through the reader (its err, or its line for a check). */
-static int parse_point(struct ps_mb_point *p, int role, const struct ps_opts_reader *r)
+static int parse_point(struct ps_modbus_point *p, int role, const struct ps_opts_reader *r)
 {
 	const struct ps_opts *o = r->opts;
 	long addr = -1, unit = -1, mask, status;
@@ -130,7 +130,7 @@ static int parse_point(struct ps_mb_point *p, int role, const struct ps_opts_rea
 	p->mask = (uint16_t)mask;
 	p->status_mask = (uint16_t)status;
 	if (!table_fits(role, p->table))
-		return ps_opts_fail(r, "table", "table: '%s' %s", ps_mb_table_names[p->table], role == PS_ROLE_INPUT
+		return ps_opts_fail(r, "table", "table: '%s' %s", ps_modbus_point_table_names[p->table], role == PS_ROLE_INPUT
 		                    ? "does not suit an input point (coil or discrete_input)"
 		                    : role == PS_ROLE_DIM ? "does not suit a dim output (holding_register)"
 		                    : role == PS_ROLE_RELAY ? "does not suit a relay (coil or holding_register)"
@@ -141,9 +141,9 @@ static int parse_point(struct ps_mb_point *p, int role, const struct ps_opts_rea
 		p->raw_max = p->max = 1;
 		return 0;
 	}
-	if (addr + ps_mb_point_count(p) - 1 > 65535)
+	if (addr + ps_modbus_point_count(p) - 1 > 65535)
 		return ps_opts_fail(r, "address", "address: '%ld' leaves no room for the second register", addr);
-	if (ps_mb_point_count(p) == 2 && (ps_opts_get(o, "mask") || ps_opts_get(o, "status_mask"))) {
+	if (ps_modbus_point_count(p) == 2 && (ps_opts_get(o, "mask") || ps_opts_get(o, "status_mask"))) {
 		const char *k = ps_opts_get(o, "mask") ? "mask" : "status_mask";
 		return ps_opts_fail(r, k, "%s: '%s' applies to 16-bit types only", k, ps_opts_get(o, k));
 	}
@@ -186,9 +186,9 @@ static int parse_point(struct ps_mb_point *p, int role, const struct ps_opts_rea
 	return 0;
 }
 
-int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, char *err, size_t errlen)
+int ps_modbus_point_parse(struct ps_modbus_point *p, int role, const struct ps_opts *o, char *err, size_t errlen)
 {
-	struct ps_opts_reader r = { o, ps_mb_options, PS_OPT_POINT, err, errlen, NULL };
+	struct ps_opts_reader r = { o, ps_modbus_point_options, PS_OPT_POINT, err, errlen, NULL };
 	return parse_point(p, role, &r);
 }
 
@@ -217,27 +217,27 @@ static int check_device(const struct ps_opts_reader *r)
 	return 0;
 }
 
-int ps_mb_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
+int ps_modbus_point_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
 {
-	struct ps_mb_point p;
-	struct ps_opts_reader r = { o, ps_mb_options, role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT, why, n, line };
+	struct ps_modbus_point p;
+	struct ps_opts_reader r = { o, ps_modbus_point_options, role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT, why, n, line };
 	return role < 0 ? check_device(&r) : parse_point(&p, role, &r);
 }
 
-int ps_mb_check_device(const struct ps_opts *o, char *err, size_t errlen)
+int ps_modbus_point_check_device(const struct ps_opts *o, char *err, size_t errlen)
 {
-	struct ps_opts_reader r = { o, ps_mb_options, PS_OPT_DEVICE, err, errlen, NULL };
+	struct ps_opts_reader r = { o, ps_modbus_point_options, PS_OPT_DEVICE, err, errlen, NULL };
 	return check_device(&r);
 }
 
-static uint32_t join32(const struct ps_mb_point *p, const uint16_t *regs)
+static uint32_t join32(const struct ps_modbus_point *p, const uint16_t *regs)
 {
 	return p->order == PS_MB_ABCD ? (uint32_t)regs[0] << 16 | regs[1]
 	                              : (uint32_t)regs[1] << 16 | regs[0];
 }
 
-int ps_mb_decode(const struct ps_mb_point *p, const uint16_t *regs, double *raw, char *why,
-                 size_t whylen)
+int ps_modbus_point_decode(const struct ps_modbus_point *p, const uint16_t *regs, double *raw, char *why,
+                           size_t whylen)
 {
 	uint32_t u;
 	float f;
@@ -272,12 +272,12 @@ int ps_mb_decode(const struct ps_mb_point *p, const uint16_t *regs, double *raw,
 	}
 }
 
-static int identity(const struct ps_mb_point *p)
+static int identity(const struct ps_modbus_point *p)
 {
 	return p->min == p->raw_min && p->max == p->raw_max;
 }
 
-int ps_mb_scale(const struct ps_mb_point *p, double raw, double *value, char *why, size_t whylen)
+int ps_modbus_point_scale(const struct ps_modbus_point *p, double raw, double *value, char *why, size_t whylen)
 {
 	double lo = fmin(p->raw_min, p->raw_max), hi = fmax(p->raw_min, p->raw_max);
 	if (!(raw >= lo && raw <= hi)) {
@@ -292,16 +292,16 @@ int ps_mb_scale(const struct ps_mb_point *p, double raw, double *value, char *wh
 	return 0;
 }
 
-int ps_mb_value(const struct ps_mb_point *p, const uint16_t *regs, double *value, char *why,
-                size_t whylen)
+int ps_modbus_point_value(const struct ps_modbus_point *p, const uint16_t *regs, double *value, char *why,
+                          size_t whylen)
 {
 	double raw;
-	if (ps_mb_decode(p, regs, &raw, why, whylen) != 0)
+	if (ps_modbus_point_decode(p, regs, &raw, why, whylen) != 0)
 		return -1;
-	return ps_mb_scale(p, raw, value, why, whylen);
+	return ps_modbus_point_scale(p, raw, value, why, whylen);
 }
 
-double ps_mb_encode(const struct ps_mb_point *p, double value, uint16_t *regs)
+double ps_modbus_point_encode(const struct ps_modbus_point *p, double value, uint16_t *regs)
 {
 	double vlo = fmin(p->min, p->max), vhi = fmax(p->min, p->max);
 	double lo = fmin(p->raw_min, p->raw_max), hi = fmax(p->raw_min, p->raw_max);
