@@ -49,6 +49,7 @@
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "usb_tridonic.h"
 
 #define MAX_POINTS 64
 #define QCAP 256
@@ -127,10 +128,10 @@ struct dali_usb {
 extern const struct ps_driver ps_driver_dali_usb;
 
 /* The interfaces, and their names for the transport key (in that order). */
-static const struct ps_dali_transport *const transports[] = { &ps_dali_tridonic, NULL };
+static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL };
 static const char *const transport_names[] = { "tridonic", NULL };
 
-const struct ps_dali_transport *ps_dali_transport_find(const char *name)
+const struct ps_dali_transport *ps_dali_usb_transport_find(const char *name)
 {
 	for (int i = 0; transports[i]; i++)
 		if (strcmp(transports[i]->name, name) == 0)
