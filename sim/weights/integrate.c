@@ -134,7 +134,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
 		                  pic->height, w->width, w->height);
 	ps_integrate_pic_matrix(pic, k);
-	ps_coef_k(coef, k, kc);
+	ps_integrate_coef_k(coef, k, kc);
 	/* Each run is summed with compensation in four lanes (rowsum.h) and
 	 * the runs are added with compensation: a 1e9 sun next to 1e-2 walls
 	 * keeps the walls to 1e-12 (test_weights). */
@@ -154,7 +154,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 			r->brightest_row = run->row;
 		}
 		ps_sum_merge(&tot, &row.sum);
-		ps_row_rgb(k, row.raw, rc);
+		ps_integrate_row_rgb(k, row.raw, rc);
 		for (int c = 0; c < 3; c++)
 			ps_sum_add(&ch[c], rc[c]);
 	}
@@ -180,7 +180,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 				double raws[3] = { 0, 0, 0 };
 				if (px[3] == 0)
 					continue;
-				contrib[n++] = ps_pixel_response(px, ps_wrun_at(w, run, i), kc, raws);
+				contrib[n++] = ps_integrate_pixel_response(px, ps_wrun_at(w, run, i), kc, raws);
 			}
 		}
 		r->top1_share = ps_integrate_top1_share(contrib, n, r->response);

@@ -35,9 +35,9 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
  * the same numbers bit for bit.  kc = coef^T k (k from ps_integrate_pic_matrix):
  * one pixel's response is kc . raw, raw the stored channels decoded and
  * times the weight; a row's channel sums are k times the row's raw sums
- * (ps_row_rgb), which is linear, so no per-pixel matrix is needed. */
-static inline double ps_pixel_response(const uint8_t *px, double wt, const double kc[3],
-                                       double raw_sum[3])
+ * (ps_integrate_row_rgb), which is linear, so no per-pixel matrix is needed. */
+static inline double ps_integrate_pixel_response(const uint8_t *px, double wt, const double kc[3],
+                                                 double raw_sum[3])
 {
 	double f = ps_picture_rgbe_scale[px[3]] * wt;
 	double r0 = (px[0] + 0.5) * f, r1 = (px[1] + 0.5) * f, r2 = (px[2] + 0.5) * f;
@@ -47,13 +47,13 @@ static inline double ps_pixel_response(const uint8_t *px, double wt, const doubl
 	return kc[0] * r0 + kc[1] * r1 + kc[2] * r2;
 }
 
-static inline void ps_coef_k(const double coef[3], const double k[3][3], double kc[3])
+static inline void ps_integrate_coef_k(const double coef[3], const double k[3][3], double kc[3])
 {
 	for (int i = 0; i < 3; i++)
 		kc[i] = coef[0] * k[0][i] + coef[1] * k[1][i] + coef[2] * k[2][i];
 }
 
-static inline void ps_row_rgb(const double k[3][3], const double raw_sum[3], double rgb[3])
+static inline void ps_integrate_row_rgb(const double k[3][3], const double raw_sum[3], double rgb[3])
 {
 	for (int c = 0; c < 3; c++)
 		rgb[c] = k[c][0] * raw_sum[0] + k[c][1] * raw_sum[1] + k[c][2] * raw_sum[2];

@@ -32,7 +32,7 @@ struct ps_rowsum {
 
 /* px: the pixels under run (its n, 4 bytes each) of map w, a full or a
  * compact one (its weights as ps_wrun_at reads them); kc: stored channels
- * to response (ps_coef_k). */
+ * to response (ps_integrate_coef_k). */
 void ps_rowsum(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run, const double kc[3],
                struct ps_rowsum *out);
 

@@ -28,7 +28,7 @@ RS_HOT unsigned RS(quad)(struct RS(lanes) *L, const uint8_t *p, V4 w, V4 at, V4 
 	M4 black;
 	unsigned lit = v_decode(p, &c0, &c1, &c2, &sc, &black);
 	f = v_mul(sc, w);
-	/* (m + 0.5) 2^(e-136) w per channel, as ps_pixel_response */
+	/* (m + 0.5) 2^(e-136) w per channel, as ps_integrate_pixel_response */
 	r0 = v_mul(v_add(c0, half), f);
 	r1 = v_mul(v_add(c1, half), f);
 	r2 = v_mul(v_add(c2, half), f);

@@ -70,7 +70,7 @@ static void row_sum_one(const struct job *j, const struct one *o, int ri, const 
 	a->n = rs.n;
 	a->best = rs.best;
 	a->bx = run->x0 + rs.best_i;   /* read only when n > 0 (totals), then best_i >= 0 */
-	ps_row_rgb(j->k, rs.raw, a->rc);
+	ps_integrate_row_rgb(j->k, rs.raw, a->rc);
 	release(o->w, run, j->page);
 }
 
@@ -103,7 +103,7 @@ static int row_contrib(void *ctx, int y, const uint8_t *px_row)
 			double raws[3] = { 0, 0, 0 };
 			if (px[3] == 0)
 				continue;
-			*out++ = ps_pixel_response(px, ps_wrun_at(o->w, run, i), j->kc, raws);
+			*out++ = ps_integrate_pixel_response(px, ps_wrun_at(o->w, run, i), j->kc, raws);
 		}
 	}
 	return 0;
@@ -249,7 +249,7 @@ int ps_stream_integrate_multi(const struct ps_weights *const *ws, int nmaps,
 	j.name = name;
 	j.nm = nmaps;
 	ps_integrate_pic_matrix(head, j.k);
-	ps_coef_k(coef, j.k, j.kc);
+	ps_integrate_coef_k(coef, j.k, j.kc);
 	{
 		long ps = sysconf(_SC_PAGESIZE);
 		j.page = ps > 0 ? (uintptr_t)ps : 4096;

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
 /* The integration's run kernel (sim/weights/rowsum.c): every instruction set gives
  * the same bits; the sum is as good as a compensated sum of the pixels'
- * own responses (ps_pixel_response); the brightest pixel is the first of
+ * own responses (ps_integrate_pixel_response); the brightest pixel is the first of
  * equals; a mirrored map reads as its full map. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -74,7 +74,7 @@ static void reference(const uint8_t *px, const double *wt, int len, double *sum,
 		double b;
 		if (px[4 * i + 3] == 0)
 			continue;
-		b = ps_pixel_response(px + 4 * i, wt[i], kc, raws);
+		b = ps_integrate_pixel_response(px + 4 * i, wt[i], kc, raws);
 		ps_sum_add(&s, b);
 		++*n;
 		if (b > *best) {
@@ -136,7 +136,7 @@ static void sum_count_and_brightest_match_the_pixels(void **state)
 		/* the channel sums: kc . raw is the response (plain sums, n eps) */
 		for (int i = 0; i < len; i++)
 			if (px[4 * i + 3])
-				ps_pixel_response(px + 4 * i, wt[i], kc, raws);
+				ps_integrate_pixel_response(px + 4 * i, wt[i], kc, raws);
 		for (int c = 0; c < 3; c++) {
 			assert_true(fabs(r.raw[c] - raws[c]) <= 1e-13 * fabs(raws[c]) + 1e-300);
 			rgb_sum += kc[c] * r.raw[c];
@@ -170,9 +170,9 @@ static void the_sun_does_not_swallow_the_walls(void **state)
 			for (int i = 0; i < LEN; i++) {
 				memcpy(px + 4 * i, i == 500 + at ? sunpx : wallpx, 4);
 				if (i == 500 + at)
-					sun = ps_pixel_response(sunpx, wt[i], kc, raws);
+					sun = ps_integrate_pixel_response(sunpx, wt[i], kc, raws);
 				else
-					ps_sum_add(&walls, ps_pixel_response(wallpx, wt[i], kc, raws));
+					ps_sum_add(&walls, ps_integrate_pixel_response(wallpx, wt[i], kc, raws));
 			}
 			run_on((enum ps_rowsum_kernel)kk, px, wt, LEN, 0, &r);
 			/* the sum and its compensation, the sun taken out first
