@@ -235,11 +235,11 @@ static double *sensitivity_picture(const struct ps_sensor *s, double rot, const 
 			omega[(size_t)sa.runs[q].row * (size_t)res + (size_t)(sa.runs[q].x0 + i)] =
 			        sa.w[sa.runs[q].off + (size_t)i];
 	for (size_t k = 0; k < w.nruns; k++) {
-		const struct ps_wrun *r = &w.runs[k];
+		const struct ps_weights_run *r = &w.runs[k];
 		for (int i = 0; i < r->n; i++) {
 			size_t at = (size_t)r->row * (size_t)res + (size_t)(r->x0 + i);
 			if (omega[at] > 0) {
-				double x = ps_wrun_at(&w, r, i) / omega[at] / s->max_value;
+				double x = ps_weights_run_at(&w, r, i) / omega[at] / s->max_value;
 				val[at] = x > 0 ? x : 0.0;
 			}
 		}

@@ -142,7 +142,7 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	for (int c = 0; c < 3; c++)
 		ps_sum_init(&ch[c]);
 	for (size_t ri = 0; ri < w->nruns; ri++) {
-		const struct ps_wrun *run = &w->runs[ri];
+		const struct ps_weights_run *run = &w->runs[ri];
 		const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
 		struct ps_rowsum row;
 		double rc[3];
@@ -174,13 +174,13 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 		if (!contrib)
 			return ps_err_set(e, PS_ENOMEM, "out of memory");
 		for (size_t ri = 0; ri < w->nruns; ri++) {
-			const struct ps_wrun *run = &w->runs[ri];
+			const struct ps_weights_run *run = &w->runs[ri];
 			const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
 			for (int i = 0; i < run->n && n < ncontrib; i++, px += 4) {
 				double raws[3] = { 0, 0, 0 };
 				if (px[3] == 0)
 					continue;
-				contrib[n++] = ps_integrate_pixel_response(px, ps_wrun_at(w, run, i), kc, raws);
+				contrib[n++] = ps_integrate_pixel_response(px, ps_weights_run_at(w, run, i), kc, raws);
 			}
 		}
 		r->top1_share = ps_integrate_top1_share(contrib, n, r->response);

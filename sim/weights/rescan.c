@@ -61,7 +61,7 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 		for (int x = 0; x < pic->width; x++)
 			uc[x] = ps_fisheye_u(&f, x + 0.5);
 		for (size_t ri = 0; ri < omega->nruns; ri++) {
-			const struct ps_wrun *run = &omega->runs[ri];
+			const struct ps_weights_run *run = &omega->runs[ri];
 			const uint8_t *row = pic->pix + 4 * (size_t)run->row * (size_t)pic->width;
 			double vc = ps_fisheye_v(&f, pic->height - run->row - 0.5);
 			for (int i = 0; i < run->n; i++) {
@@ -80,7 +80,7 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 				ph = atan2(vc, uc[x]) - M_PI / 2;
 				sc = ps_picture_rgbe_scale[px[3]];
 				b = ((px[0] + 0.5) * kc[0] + (px[1] + 0.5) * kc[1] + (px[2] + 0.5) * kc[2]) * sc *
-				    ps_wrun_at(omega, run, i);
+				    ps_weights_run_at(omega, run, i);
 				/* phi - phi0 is within a few turns: no integer division */
 				m = (int)floor((ph - p->phi0) * inv);
 				while (m >= p->nphi)

@@ -77,7 +77,7 @@ static inline void c_keep(v4c *best, v4c *idx, v4c b, v4c at, m4c black)
 #define v_get c_get
 #define v_decode c_decode
 #define v_keep c_keep
-void ps_rowsum_c(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run, const double kc[3],
+void ps_rowsum_c(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run, const double kc[3],
                  struct ps_rowsum *out);
 #include "rowsum_body.h"
 #undef RS
@@ -169,13 +169,13 @@ static inline void s_keep(v4s *best, v4s *idx, v4s b, v4s at, v4s black)
 #define v_get s_get
 #define v_decode s_decode
 #define v_keep s_keep
-void ps_rowsum_sse2(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run,
+void ps_rowsum_sse2(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run,
                     const double kc[3], struct ps_rowsum *out);
 #include "rowsum_body.h"
 #endif
 
 /* ---- the choice ------------------------------------------------------- */
-void ps_rowsum_avx2(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run,
+void ps_rowsum_avx2(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run,
                     const double kc[3], struct ps_rowsum *out);
 extern const int ps_rowsum_avx2_built;
 
@@ -215,7 +215,7 @@ enum ps_rowsum_kernel ps_rowsum_best(void)
 
 /* k, which this processor runs */
 static void run_kernel(enum ps_rowsum_kernel k, const uint8_t *px, const struct ps_weights *w,
-                       const struct ps_wrun *run, const double kc[3], struct ps_rowsum *out)
+                       const struct ps_weights_run *run, const double kc[3], struct ps_rowsum *out)
 {
 	if (k == PS_ROWSUM_AVX2)
 		ps_rowsum_avx2(px, w, run, kc, out);
@@ -228,7 +228,7 @@ static void run_kernel(enum ps_rowsum_kernel k, const uint8_t *px, const struct 
 }
 
 void ps_rowsum_with(enum ps_rowsum_kernel k, const uint8_t *px, const struct ps_weights *w,
-                    const struct ps_wrun *run, const double kc[3], struct ps_rowsum *out)
+                    const struct ps_weights_run *run, const double kc[3], struct ps_rowsum *out)
 {
 	run_kernel(ps_rowsum_have(k) ? k : PS_ROWSUM_C, px, w, run, kc, out);
 }
@@ -236,7 +236,7 @@ void ps_rowsum_with(enum ps_rowsum_kernel k, const uint8_t *px, const struct ps_
 /* The processor's best, asked at every run: __builtin_cpu_supports reads
  * a word libgcc filled at start, cheaper than sharing a cached answer
  * between threads. */
-void ps_rowsum(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run, const double kc[3],
+void ps_rowsum(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run, const double kc[3],
                struct ps_rowsum *out)
 {
 	run_kernel(ps_rowsum_best(), px, w, run, kc, out);

@@ -31,9 +31,9 @@ struct ps_rowsum {
 };
 
 /* px: the pixels under run (its n, 4 bytes each) of map w, a full or a
- * compact one (its weights as ps_wrun_at reads them); kc: stored channels
+ * compact one (its weights as ps_weights_run_at reads them); kc: stored channels
  * to response (ps_integrate_coef_k). */
-void ps_rowsum(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run, const double kc[3],
+void ps_rowsum(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run, const double kc[3],
                struct ps_rowsum *out);
 
 /* The kernels; ps_rowsum runs the best this processor has.  Tests and the
@@ -43,6 +43,6 @@ int ps_rowsum_have(enum ps_rowsum_kernel k);
 enum ps_rowsum_kernel ps_rowsum_best(void);
 const char *ps_rowsum_name(enum ps_rowsum_kernel k);
 void ps_rowsum_with(enum ps_rowsum_kernel k, const uint8_t *px, const struct ps_weights *w,
-                    const struct ps_wrun *run, const double kc[3], struct ps_rowsum *out);
+                    const struct ps_weights_run *run, const double kc[3], struct ps_rowsum *out);
 
 #endif

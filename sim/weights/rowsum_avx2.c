@@ -8,7 +8,7 @@
 
 #include "picture.h"
 
-void ps_rowsum_avx2(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run,
+void ps_rowsum_avx2(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run,
                     const double kc[3], struct ps_rowsum *out);
 extern const int ps_rowsum_avx2_built;
 
@@ -71,7 +71,7 @@ static inline void a_keep(__m256d *best, __m256d *idx, __m256d b, __m256d at, __
 #else
 const int ps_rowsum_avx2_built = 0;
 
-void ps_rowsum_avx2(const uint8_t *px, const struct ps_weights *w, const struct ps_wrun *run,
+void ps_rowsum_avx2(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run,
                     const double kc[3], struct ps_rowsum *out)
 {
 	(void)px, (void)w, (void)run, (void)kc, (void)out;

@@ -44,7 +44,7 @@ RS_HOT unsigned RS(quad)(struct RS(lanes) *L, const uint8_t *p, V4 w, V4 at, V4 
 	return lit;
 }
 
-void RS(ps_rowsum)(const uint8_t *px, const struct ps_weights *wm, const struct ps_wrun *run,
+void RS(ps_rowsum)(const uint8_t *px, const struct ps_weights *wm, const struct ps_weights_run *run,
                    const double kc[3], struct ps_rowsum *out)
 {
 	struct RS(lanes) L;
@@ -52,7 +52,7 @@ void RS(ps_rowsum)(const uint8_t *px, const struct ps_weights *wm, const struct 
 	int len = run->n;
 	const V4 k0 = v_dup(kc[0]), k1 = v_dup(kc[1]), k2 = v_dup(kc[2]), four = v_dup(4.0);
 	V4 at = v_set(0, 1, 2, 3);   /* the indices of the four pixels in hand */
-	int half = ps_wrun_stored(wm, run), i = 0;   /* weights read forwards */
+	int half = ps_weights_run_stored(wm, run), i = 0;   /* weights read forwards */
 	size_t n = 0;
 	L.s = L.c = L.r0 = L.r1 = L.r2 = v_dup(0.0);
 	L.best = L.idx = v_dup(-1.0);
@@ -61,10 +61,10 @@ void RS(ps_rowsum)(const uint8_t *px, const struct ps_weights *wm, const struct 
 		if (i + 4 <= half)
 			w = v_load(wt + i);
 		else if (i >= half)
-			w = v_rev(wt + (len - 4 - i));   /* ps_wrun_at(i + k) = wt[len - 1 - i - k] */
+			w = v_rev(wt + (len - 4 - i));   /* ps_weights_run_at(i + k) = wt[len - 1 - i - k] */
 		else
-			w = v_set(ps_wrun_at(wm, run, i), ps_wrun_at(wm, run, i + 1), ps_wrun_at(wm, run, i + 2),
-			          ps_wrun_at(wm, run, i + 3));
+			w = v_set(ps_weights_run_at(wm, run, i), ps_weights_run_at(wm, run, i + 1), ps_weights_run_at(wm, run, i + 2),
+			          ps_weights_run_at(wm, run, i + 3));
 		n += RS(quad)(&L, px + 4 * (size_t)i, w, at, k0, k1, k2);
 	}
 	if (i < len) {
@@ -74,7 +74,7 @@ void RS(ps_rowsum)(const uint8_t *px, const struct ps_weights *wm, const struct 
 		double w[4] = { 0, 0, 0, 0 };
 		memcpy(pad, px + 4 * (size_t)i, 4 * (size_t)(len - i));
 		for (int j = 0; i + j < len; j++)
-			w[j] = ps_wrun_at(wm, run, i + j);
+			w[j] = ps_weights_run_at(wm, run, i + j);
 		n += RS(quad)(&L, pad, v_load(w), at, k0, k1, k2);
 	}
 	/* the lanes merged in order 0 to 3 */

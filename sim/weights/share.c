@@ -25,11 +25,11 @@ int ps_share_compute(struct ps_share *s, const struct ps_weights *w, const struc
 	ps_lum_init(&l, pic);
 	ps_sum_init(&tot);
 	for (size_t k = 0; k < w->nruns; k++) {
-		const struct ps_wrun *r = &w->runs[k];
+		const struct ps_weights_run *r = &w->runs[k];
 		for (int i = 0; i < r->n; i++) {
 			double rgb[3], b;
 			ps_lum_rgb(&l, pic, r->x0 + i, r->row, rgb);
-			b = ps_wrun_at(w, r, i) * (coef[0] * rgb[0] + coef[1] * rgb[1] + coef[2] * rgb[2]);
+			b = ps_weights_run_at(w, r, i) * (coef[0] * rgb[0] + coef[1] * rgb[1] + coef[2] * rgb[2]);
 			s->share[(size_t)r->row * (size_t)pic->width + (size_t)(r->x0 + i)] = b;
 			ps_sum_add(&tot, b);
 		}
@@ -87,7 +87,7 @@ int ps_share_regions(const struct ps_share *s, const struct ps_regions *r,
 	for (size_t k = 0; k < omega->nruns; k++)
 		for (int i = 0; i < omega->runs[k].n; i++)
 			dense[(size_t)omega->runs[k].row * (size_t)s->width + (size_t)(omega->runs[k].x0 + i)] =
-			        ps_wrun_at(omega, &omega->runs[k], i);
+			        ps_weights_run_at(omega, &omega->runs[k], i);
 	ps_lum_init(&l, pic);
 	for (int i = 0; i < n; i++) {
 		ps_sum_init(&sh[i]);

@@ -49,20 +49,20 @@ struct job {
  * used leave this process's resident set (they stay in the page cache, and
  * a neighbouring row that shares a page faults it back), so a large map is
  * never resident whole.  Maps under RELEASE_MIN stay resident. */
-static void release(const struct ps_weights *w, const struct ps_wrun *run, uintptr_t page)
+static void release(const struct ps_weights *w, const struct ps_weights_run *run, uintptr_t page)
 {
 	uintptr_t a, b;
 	/* small maps stay: a batch would fault them in again for every picture */
 	if (!w->map || w->maplen < RELEASE_MIN || run->n <= 0)
 		return;
 	a = (uintptr_t)(w->w + run->off) & ~(page - 1);
-	b = ((uintptr_t)(w->w + run->off + (size_t)ps_wrun_stored(w, run)) + page - 1) & ~(page - 1);
+	b = ((uintptr_t)(w->w + run->off + (size_t)ps_weights_run_stored(w, run)) + page - 1) & ~(page - 1);
 	madvise((void *)a, b - a, MADV_DONTNEED);
 }
 
 static void row_sum_one(const struct job *j, const struct one *o, int ri, const uint8_t *px_row)
 {
-	const struct ps_wrun *run = &o->w->runs[ri];
+	const struct ps_weights_run *run = &o->w->runs[ri];
 	struct acc *a = &o->acc[ri];
 	struct ps_rowsum rs;
 	ps_rowsum(px_row + 4 * (size_t)run->x0, o->w, run, j->kc, &rs);
@@ -91,7 +91,7 @@ static int row_contrib(void *ctx, int y, const uint8_t *px_row)
 	for (int k = 0; k < j->nm; k++) {
 		const struct one *o = &j->m[k];
 		int ri = o->row_run[y];
-		const struct ps_wrun *run;
+		const struct ps_weights_run *run;
 		const uint8_t *px;
 		double *out;
 		if (ri < 0 || !o->contrib)
@@ -103,7 +103,7 @@ static int row_contrib(void *ctx, int y, const uint8_t *px_row)
 			double raws[3] = { 0, 0, 0 };
 			if (px[3] == 0)
 				continue;
-			*out++ = ps_integrate_pixel_response(px, ps_wrun_at(o->w, run, i), j->kc, raws);
+			*out++ = ps_integrate_pixel_response(px, ps_weights_run_at(o->w, run, i), j->kc, raws);
 		}
 	}
 	return 0;

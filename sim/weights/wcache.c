@@ -117,7 +117,7 @@ int ps_wcache_from_payload(struct ps_weights *w, const void *data, size_t len, i
 		}
 		if (r[3] > 0) {
 			/* the weights of an earlier run of its own, of the same pixels */
-			const struct ps_wrun *o = &w->runs[r[3] - 1];
+			const struct ps_weights_run *o = &w->runs[r[3] - 1];
 			int32_t k;
 			memcpy(&k, p + FIXED + (uint64_t)(r[3] - 1) * RUN + 12, 4);
 			if (k != -1 || o->x0 != r[1] || o->n != r[2]) {
@@ -127,9 +127,9 @@ int ps_wcache_from_payload(struct ps_weights *w, const void *data, size_t len, i
 				                  "not one of its own of %d pixels from x %d", name,
 				                  (unsigned long long)i, r[3] - 1, r[2], r[1]);
 			}
-			w->runs[i] = (struct ps_wrun){ r[0], r[1], r[2], o->off };
+			w->runs[i] = (struct ps_weights_run){ r[0], r[1], r[2], o->off };
 		} else {
-			w->runs[i] = (struct ps_wrun){ r[0], r[1], r[2], (size_t)sum };
+			w->runs[i] = (struct ps_weights_run){ r[0], r[1], r[2], (size_t)sum };
 			sum += (uint64_t)(w->mirror ? (r[2] + 1) / 2 : r[2]);
 		}
 		w->npix += (size_t)r[2];
@@ -181,7 +181,7 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 			int32_t r[4] = { w->runs[i].row, w->runs[i].x0, w->runs[i].n, 0 };
 			if (w->mirror && w->runs[i].off == next) {
 				r[3] = -1;
-				next += (size_t)ps_wrun_stored(w, &w->runs[i]);
+				next += (size_t)ps_weights_run_stored(w, &w->runs[i]);
 				nown++;
 			} else if (w->mirror) {
 				/* the earlier run of its own it shares: those come first,

@@ -598,13 +598,13 @@ static int push_run(struct ps_weights *w, size_t *cap, int row, int x0, int n, s
 {
 	if (w->nruns == *cap) {
 		size_t ncap = *cap ? *cap * 2 : 256;
-		struct ps_wrun *nr = realloc(w->runs, ncap * sizeof *nr);
+		struct ps_weights_run *nr = realloc(w->runs, ncap * sizeof *nr);
 		if (!nr)
 			return -1;
 		w->runs = nr;
 		*cap = ncap;
 	}
-	w->runs[w->nruns++] = (struct ps_wrun){ row, x0, n, off };
+	w->runs[w->nruns++] = (struct ps_weights_run){ row, x0, n, off };
 	return 0;
 }
 

@@ -37,14 +37,14 @@
 enum ps_wmethod { PS_W_EXACT = 0, PS_W_CENTRE = 1 };
 
 /* A run of consecutive weighted pixels on one row (row 0 = top). */
-struct ps_wrun {
+struct ps_weights_run {
 	int row, x0, n;
 	size_t off;          /* index of the run's first weight in w[] */
 };
 
 struct ps_weights {
 	int width, height, method;
-	struct ps_wrun *runs;
+	struct ps_weights_run *runs;
 	size_t nruns;
 	double *w;           /* weights of the runs' pixels, steradian x sensitivity */
 	size_t nw;           /* weights stored in w */
@@ -65,19 +65,19 @@ struct ps_weights {
  * first (n+1)/2 weights are stored at off; the runs of rows r and
  * height-1-r are equal and share their weights.  A 4000 x 4000 map then
  * holds a quarter of the weights (25 MB instead of 100).  Read a weight
- * with ps_wrun_at or ps_wrun_index, never w[off + i]. */
-static inline size_t ps_wrun_index(const struct ps_weights *w, const struct ps_wrun *r, int i)
+ * with ps_weights_run_at or ps_weights_run_index, never w[off + i]. */
+static inline size_t ps_weights_run_index(const struct ps_weights *w, const struct ps_weights_run *r, int i)
 {
 	return r->off + (size_t)(w->mirror && 2 * i >= r->n ? r->n - 1 - i : i);
 }
 
-static inline double ps_wrun_at(const struct ps_weights *w, const struct ps_wrun *r, int i)
+static inline double ps_weights_run_at(const struct ps_weights *w, const struct ps_weights_run *r, int i)
 {
-	return w->w[ps_wrun_index(w, r, i)];
+	return w->w[ps_weights_run_index(w, r, i)];
 }
 
 /* The number of weights a run has stored. */
-static inline int ps_wrun_stored(const struct ps_weights *w, const struct ps_wrun *r)
+static inline int ps_weights_run_stored(const struct ps_weights *w, const struct ps_weights_run *r)
 {
 	return w->mirror ? (r->n + 1) / 2 : r->n;
 }

@@ -34,7 +34,7 @@ static void walk(const void *payload, size_t len)
 	if (ps_wcache_from_payload(&w, copy, len, wh[0], wh[1], wh[2], "fuzz", &e) == 0) {
 		for (size_t i = 0; i < w.nruns; i++)
 			for (int k = 0; k < w.runs[i].n; k++)
-				sum += ps_wrun_at(&w, &w.runs[i], k);   /* compact maps: palindromes */
+				sum += ps_weights_run_at(&w, &w.runs[i], k);   /* compact maps: palindromes */
 		if (sum != sum)   /* NaN weights are the payload's business, not a fault */
 			sum = 0;
 		w.w = NULL;   /* the copy's, freed below */

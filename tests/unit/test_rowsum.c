@@ -47,7 +47,7 @@ static void run_on(enum ps_rowsum_kernel k, const uint8_t *px, const double *wt,
                    struct ps_rowsum *out)
 {
 	struct ps_weights w;
-	struct ps_wrun run = { 0, 0, len, 0 };
+	struct ps_weights_run run = { 0, 0, len, 0 };
 	memset(&w, 0, sizeof w);
 	w.w = (double *)wt;
 	w.mirror = mirror;

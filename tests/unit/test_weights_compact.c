@@ -47,11 +47,11 @@ static const int sizes[][2] = { { 1, 1 }, { 2, 2 }, { 3, 3 }, { 8, 5 }, { 33, 33
  * row -> run, -1 none). */
 static double weight_at(const struct ps_weights *w, const int *rr, int x, int row)
 {
-	const struct ps_wrun *r;
+	const struct ps_weights_run *r;
 	if (rr[row] < 0)
 		return NAN;
 	r = &w->runs[rr[row]];
-	return x >= r->x0 && x < r->x0 + r->n ? ps_wrun_at(w, r, x - r->x0) : NAN;
+	return x >= r->x0 && x < r->x0 + r->n ? ps_weights_run_at(w, r, x - r->x0) : NAN;
 }
 
 static int *row_runs(const struct ps_weights *w)
