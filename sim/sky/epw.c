@@ -7,6 +7,8 @@
 #include <string.h>
 #include <strings.h>
 
+#include "series.h"
+
 enum { EPW_LINE_MAX = 65536 };
 
 /* Split a line at commas: up to max fields (start and length); returns the
@@ -54,7 +56,7 @@ static int parse_location(struct ps_weather *w, const char *line, struct ps_err 
 		                  "country, source, WMO, latitude, longitude, time zone, elevation)",
 		                  w->name, nf);
 	for (int k = 0; k < 4; k++)
-		if (ps_weather_number(f[6 + k], n[6 + k], &v[k], w->name, 1, what[k], e) != 0)
+		if (ps_series_number(f[6 + k], n[6 + k], &v[k], w->name, 1, what[k], e) != 0)
 			return -1;
 	/* the site: "city, country" */
 	cn = n[1];
@@ -73,7 +75,7 @@ static int parse_location(struct ps_weather *w, const char *line, struct ps_err 
 	w->site.elevation = v[3];
 	if (cn == 0)
 		return ps_err_set(e, PS_EFORMAT, "%s:1: the header names no site (empty city)", w->name);
-	return ps_weather_check_site(w, lines, e);
+	return ps_series_check_site(w, lines, e);
 }
 
 static int parse_periods(struct ps_weather *w, const char *line, int lineno, struct ps_err *e)
@@ -85,8 +87,8 @@ static int parse_periods(struct ps_weather *w, const char *line, int lineno, str
 	if (nf < 4)
 		return ps_err_set(e, PS_EFORMAT, "%s:%d: DATA PERIODS needs the count and the records "
 		                  "per hour", w->name, lineno);
-	if (ps_weather_number(f[1], n[1], &count, w->name, lineno, "number of data periods", e) != 0 ||
-	    ps_weather_number(f[2], n[2], &per, w->name, lineno, "records per hour", e) != 0)
+	if (ps_series_number(f[1], n[1], &count, w->name, lineno, "number of data periods", e) != 0 ||
+	    ps_series_number(f[2], n[2], &per, w->name, lineno, "records per hour", e) != 0)
 		return -1;
 	if (!whole(count, 1, 1000))
 		return ps_err_set(e, PS_ERANGE, "%s:%d: number of data periods %g is not 1 or more",
@@ -110,11 +112,11 @@ static int parse_record(struct ps_weather *w, const char *line, int lineno, unsi
 	if (nf != PS_EPW_FIELDS)
 		return ps_err_set(e, PS_EFORMAT, "%s:%d: %d fields, expected %d", w->name, lineno, nf,
 		                  PS_EPW_FIELDS);
-	if (ps_weather_number(f[0], n[0], &year, w->name, lineno, "year (field 1)", e) != 0 ||
-	    ps_weather_number(f[1], n[1], &month, w->name, lineno, "month (field 2)", e) != 0 ||
-	    ps_weather_number(f[2], n[2], &day, w->name, lineno, "day (field 3)", e) != 0 ||
-	    ps_weather_number(f[3], n[3], &hour, w->name, lineno, "hour (field 4)", e) != 0 ||
-	    ps_weather_number(f[4], n[4], &minute, w->name, lineno, "minute (field 5)", e) != 0)
+	if (ps_series_number(f[0], n[0], &year, w->name, lineno, "year (field 1)", e) != 0 ||
+	    ps_series_number(f[1], n[1], &month, w->name, lineno, "month (field 2)", e) != 0 ||
+	    ps_series_number(f[2], n[2], &day, w->name, lineno, "day (field 3)", e) != 0 ||
+	    ps_series_number(f[3], n[3], &hour, w->name, lineno, "hour (field 4)", e) != 0 ||
+	    ps_series_number(f[4], n[4], &minute, w->name, lineno, "minute (field 5)", e) != 0)
 		return -1;
 	if (!whole(year, -9999, 9999) || !whole(month, 1, 12) || !whole(day, 1, 31))
 		return ps_err_set(e, PS_ERANGE, "%s:%d: no date %g/%g/%g (year/month/day, whole numbers)",
@@ -134,7 +136,7 @@ static int parse_record(struct ps_weather *w, const char *line, int lineno, unsi
 	if (f[7][strspn(f[7], " \t")] == ',' || n[7] == 0) {
 		dew = NAN;
 	} else {
-		if (ps_weather_number(f[7], n[7], &dew, w->name, lineno, "dew point (field 8)", e) != 0)
+		if (ps_series_number(f[7], n[7], &dew, w->name, lineno, "dew point (field 8)", e) != 0)
 			return -1;
 		if (dew >= 99.9)
 			dew = NAN;
@@ -142,38 +144,38 @@ static int parse_record(struct ps_weather *w, const char *line, int lineno, unsi
 			return ps_err_set(e, PS_ERANGE, "%s:%d: dew point %g C is not between -70 and 70",
 			                  w->name, lineno, dew);
 	}
-	if (ps_weather_number(f[idir], n[idir], &dir, w->name, lineno,
-	                      illum ? "direct normal illuminance (field 18)"
+	if (ps_series_number(f[idir], n[idir], &dir, w->name, lineno,
+	                     illum ? "direct normal illuminance (field 18)"
 	                            : "direct normal irradiance (field 15)", e) != 0 ||
-	    ps_weather_number(f[idif], n[idif], &dif, w->name, lineno,
-	                      illum ? "diffuse horizontal illuminance (field 19)"
+	    ps_series_number(f[idif], n[idif], &dif, w->name, lineno,
+	                     illum ? "diffuse horizontal illuminance (field 19)"
 	                            : "diffuse horizontal irradiance (field 16)", e) != 0)
 		return -1;
 	if (dir >= missing || dif >= missing)
 		return ps_err_set(e, PS_EMISSING, "%s:%d: %s %s is missing (%g)", w->name, lineno,
 		                  dir >= missing ? "direct normal" : "diffuse horizontal",
 		                  illum ? "illuminance" : "irradiance", dir >= missing ? dir : dif);
-	return ps_weather_push(w, (int)month, (int)day, t, dir, dif, dew, lineno, e);
+	return ps_series_push(w, (int)month, (int)day, t, dir, dif, dew, lineno, e);
 }
 
 int ps_epw_parse(struct ps_weather *w, const char *text, size_t len, unsigned flags,
                  struct ps_err *e)
 {
-	struct ps_wx_lines l = { text, text + len, 0 };
+	struct ps_series_lines l = { text, text + len, 0 };
 	char *buf = malloc(EPW_LINE_MAX);
 	int rc;
 	w->format = PS_WX_EPW;
 	w->units = (flags & PS_WX_EPW_ILLUM) ? PS_WX_ILLUM : PS_WX_DN_DH;
 	if (!buf)
 		return ps_err_set(e, PS_ENOMEM, "%s: out of memory", w->name);
-	rc = ps_weather_line(&l, buf, EPW_LINE_MAX, w->name, e);
+	rc = ps_series_line(&l, buf, EPW_LINE_MAX, w->name, e);
 	if (rc == 0)
 		rc = ps_err_set(e, PS_EFORMAT, "%s:1: empty file", w->name);
 	if (rc > 0)
 		rc = parse_location(w, buf, e);
 	for (int k = 0; rc == 0 && k < 7; k++) {
 		const char *key = k < 6 ? header_keys[k] : "DATA PERIODS";
-		rc = ps_weather_line(&l, buf, EPW_LINE_MAX, w->name, e);
+		rc = ps_series_line(&l, buf, EPW_LINE_MAX, w->name, e);
 		if (rc == 0)
 			rc = ps_err_set(e, PS_EFORMAT, "%s:%d: the header ends before '%s'", w->name,
 			                l.line + 1, key);
@@ -183,7 +185,7 @@ int ps_epw_parse(struct ps_weather *w, const char *text, size_t len, unsigned fl
 		else if (rc > 0)
 			rc = k < 6 ? 0 : parse_periods(w, buf, l.line, e);
 	}
-	while (rc == 0 && (rc = ps_weather_line(&l, buf, EPW_LINE_MAX, w->name, e)) > 0) {
+	while (rc == 0 && (rc = ps_series_line(&l, buf, EPW_LINE_MAX, w->name, e)) > 0) {
 		if (buf[strspn(buf, " \t")] == '\0') {
 			rc = 0;
 			continue;   /* blank line */

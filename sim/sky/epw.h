@@ -25,8 +25,8 @@
 
 enum { PS_EPW_FIELDS = 35 };
 
-/* Parse the header and the records into w (started with ps_weather_init);
- * the caller finishes with ps_weather_finish. */
+/* Parse the header and the records into w (started with ps_series_init);
+ * the caller finishes with ps_series_finish. */
 int ps_epw_parse(struct ps_weather *w, const char *text, size_t len, unsigned flags,
                  struct ps_err *e);
 

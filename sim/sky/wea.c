@@ -6,6 +6,8 @@
 #include <string.h>
 #include <strings.h>
 
+#include "series.h"
+
 enum { WEA_LINE_MAX = 1024, WEA_FIELDS = 5 };
 
 /* "keyword value" on one line: the value's text (trimmed) in *val, *n. */
@@ -24,12 +26,12 @@ static int keyword(const char *line, const char *key, const char **val, size_t *
 	return 0;
 }
 
-static int header_number(struct ps_weather *w, struct ps_wx_lines *l, char *buf,
+static int header_number(struct ps_weather *w, struct ps_series_lines *l, char *buf,
                          const char *key, const char *what, double *out, struct ps_err *e)
 {
 	const char *v;
 	size_t n;
-	int rc = ps_weather_line(l, buf, WEA_LINE_MAX, w->name, e);
+	int rc = ps_series_line(l, buf, WEA_LINE_MAX, w->name, e);
 	if (rc < 0)
 		return -1;
 	if (rc == 0)
@@ -39,7 +41,7 @@ static int header_number(struct ps_weather *w, struct ps_wx_lines *l, char *buf,
 		return ps_err_set(e, PS_EFORMAT, "%s:%d: expected '%s %s'", w->name, l->line, key, what);
 	if (memchr(v, ' ', n) || memchr(v, '\t', n))
 		return ps_err_set(e, PS_EFORMAT, "%s:%d: '%s' takes one value", w->name, l->line, key);
-	return ps_weather_number(v, n, out, w->name, l->line, key, e);
+	return ps_series_number(v, n, out, w->name, l->line, key, e);
 }
 
 static int whole(double x)
@@ -49,7 +51,7 @@ static int whole(double x)
 
 int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_err *e)
 {
-	struct ps_wx_lines l = { text, text + len, 0 };
+	struct ps_series_lines l = { text, text + len, 0 };
 	char buf[WEA_LINE_MAX];
 	const char *v;
 	size_t n;
@@ -58,7 +60,7 @@ int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_e
 	w->format = PS_WX_WEA;
 	w->per_hour = 1;
 	/* place: the rest of the line */
-	if (ps_weather_line(&l, buf, sizeof buf, w->name, e) <= 0)
+	if (ps_series_line(&l, buf, sizeof buf, w->name, e) <= 0)
 		return l.line ? -1 : ps_err_set(e, PS_EFORMAT, "%s:1: empty file", w->name);
 	if (keyword(buf, "place", &v, &n) != 0)
 		return ps_err_set(e, PS_EFORMAT, "%s:%d: expected 'place <name>'", w->name, l.line);
@@ -78,7 +80,7 @@ int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_e
 	w->site.tz = -tz_west / 15.0;
 	{
 		static const int lines[5] = { 1, 2, 3, 4, 5 };
-		if (ps_weather_check_site(w, lines, e) != 0)
+		if (ps_series_check_site(w, lines, e) != 0)
 			return -1;
 	}
 	if (header_number(w, &l, buf, "weather_data_file_units", "<1|2|3>", &units, e) != 0)
@@ -90,7 +92,7 @@ int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_e
 		                  "irradiance) or 3 (direct normal and diffuse horizontal illuminance)",
 		                  w->name, l.line, units);
 	w->units = (int)units;
-	while ((rc = ps_weather_line(&l, buf, sizeof buf, w->name, e)) > 0) {
+	while ((rc = ps_series_line(&l, buf, sizeof buf, w->name, e)) > 0) {
 		static const char *const what[WEA_FIELDS] = { "month", "day", "hour", "direct",
 		                                              "diffuse" };
 		const char *tok[WEA_FIELDS + 1];
@@ -116,13 +118,13 @@ int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_e
 			                  "%s:%d: %d fields, expected %d (month day hour direct diffuse)",
 			                  w->name, l.line, nf, WEA_FIELDS);
 		for (int k = 0; k < WEA_FIELDS; k++)
-			if (ps_weather_number(tok[k], tlen[k], &x[k], w->name, l.line, what[k], e) != 0)
+			if (ps_series_number(tok[k], tlen[k], &x[k], w->name, l.line, what[k], e) != 0)
 				return -1;
 		if (!whole(x[0]) || !whole(x[1]))
 			return ps_err_set(e, PS_EFORMAT, "%s:%d: month and day must be whole numbers (%g %g)",
 			                  w->name, l.line, x[0], x[1]);
-		if (ps_weather_push(w, (int)x[0], (int)x[1], x[2], x[3], x[4], PS_WX_DEW_DEFAULT,
-		                    l.line, e) != 0)
+		if (ps_series_push(w, (int)x[0], (int)x[1], x[2], x[3], x[4], PS_WX_DEW_DEFAULT,
+		                   l.line, e) != 0)
 			return -1;
 	}
 	return rc;

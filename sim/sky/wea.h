@@ -20,8 +20,8 @@
 #include "err.h"
 #include "weather.h"
 
-/* Parse the header and the steps into w (started with ps_weather_init);
- * the caller finishes with ps_weather_finish. */
+/* Parse the header and the steps into w (started with ps_series_init);
+ * the caller finishes with ps_series_finish. */
 int ps_wea_parse(struct ps_weather *w, const char *text, size_t len, struct ps_err *e);
 
 #endif

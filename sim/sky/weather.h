@@ -74,30 +74,4 @@ int ps_weather_parse(struct ps_weather *w, const char *text, size_t len, const c
                      unsigned flags, struct ps_err *e);
 void ps_weather_free(struct ps_weather *w);
 
-/* ---- for the readers (wea.c, epw.c) ------------------------------------- */
-
-/* Lines of a text in memory. */
-struct ps_wx_lines {
-	const char *p, *end;
-	int line;            /* number of the line last returned */
-};
-/* Next line (without its newline or CR) into buf; 0 at the end, -1 if longer
- * than the buffer (e names the line). */
-int ps_weather_line(struct ps_wx_lines *l, char *buf, size_t size, const char *name,
-                    struct ps_err *e);
-/* A whole token as a finite number: 0, or -1 with e naming name:line and what. */
-int ps_weather_number(const char *tok, size_t n, double *out, const char *name, int line,
-                      const char *what, struct ps_err *e);
-/* Start an empty series (name copied). */
-void ps_weather_init(struct ps_weather *w, const char *name);
-/* Check a site read from a header: name non-empty, values in range; line[]
- * gives the lines of the name, latitude, longitude, time zone, elevation. */
-int ps_weather_check_site(const struct ps_weather *w, const int line[5], struct ps_err *e);
-/* Append a step after checking its date, time, values and order.  dew may
- * be NAN (missing) for an .epw; a .wea passes its default. */
-int ps_weather_push(struct ps_weather *w, int month, int day, double hour, double dir,
-                    double dif, double dew, int line, struct ps_err *e);
-/* After the last step: days of the year, dew-point means, sun positions. */
-int ps_weather_finish(struct ps_weather *w, struct ps_err *e);
-
 #endif

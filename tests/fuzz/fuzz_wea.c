@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "patches.h"
+#include "series.h"
 #include "sky.h"
 #include "wea.h"
 #include "weather.h"
@@ -16,8 +17,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	struct ps_weather w;
 	struct ps_err e;
 	/* always through the .wea reader, whatever the first line says */
-	ps_weather_init(&w, "fuzz.wea");
-	if (ps_wea_parse(&w, (const char *)data, size, &e) == 0 && ps_weather_finish(&w, &e) == 0) {
+	ps_series_init(&w, "fuzz.wea");
+	if (ps_wea_parse(&w, (const char *)data, size, &e) == 0 && ps_series_finish(&w, &e) == 0) {
 		struct ps_patches P;
 		struct ps_sky_opt o;
 		double v[3 * 146];
