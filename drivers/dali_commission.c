@@ -36,7 +36,7 @@ enum {
 };
 
 const char *const ps_dali_commission_kinds[] = { "scan", "address", "group", "identify", "verify", NULL };
-const char *const ps_dali_commission_states[] = { "running", "done", "failed", "aborted", NULL };
+static const char *const ps_dali_commission_states[] = { "running", "done", "failed", "aborted", NULL };
 
 /* what a scan asks each short address that answers */
 static const int scan_queries[] = {

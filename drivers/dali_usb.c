@@ -131,14 +131,6 @@ extern const struct ps_driver ps_driver_dali_usb;
 static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL };
 static const char *const transport_names[] = { "tridonic", NULL };
 
-const struct ps_dali_transport *ps_dali_usb_transport_find(const char *name)
-{
-	for (int i = 0; transports[i]; i++)
-		if (strcmp(transports[i]->name, name) == 0)
-			return transports[i];
-	return NULL;
-}
-
 /* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
 static int valid_port(const char *v, char *why, size_t n)
 {

@@ -26,8 +26,4 @@ struct ps_dali_commission;
 /* The last commissioning job (dali_commission.h), NULL before the first. */
 const struct ps_dali_commission *ps_dali_usb_job(struct ps_dev *dev);
 
-struct ps_dali_transport;
-/* Find a transport by name (dali_transport.h), NULL if unknown. */
-const struct ps_dali_transport *ps_dali_usb_transport_find(const char *name);
-
 #endif

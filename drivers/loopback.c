@@ -100,7 +100,11 @@ static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 	return 0;
 }
 
-int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, double now)
+/* The setup method: give an opened loopback device its room.  The daemon
+ * builds the daylight and electric responses from the scene results; the
+ * device's own options (noise, gain, ballast, faults) are merged in.  Called
+ * once, after open. */
+static int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, double now)
 {
 	struct loopback *lb = dev->priv;
 	struct ps_room_params merged = *p;
@@ -123,12 +127,6 @@ int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, dou
 	lb->room = ps_room_new(&merged, now);
 	lb->serviced = now;
 	return lb->room ? 0 : ps_dev_fail(dev, ENOMEM, "out of memory");
-}
-
-struct ps_room *ps_loopback_room(struct ps_dev *dev)
-{
-	struct loopback *lb = dev->priv;
-	return lb ? lb->room : NULL;
 }
 
 static int read_windows(struct ps_dev *dev, struct lb_input *in, const struct ps_opts *o)

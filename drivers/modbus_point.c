@@ -236,8 +236,10 @@ static uint32_t join32(const struct ps_modbus_point *p, const uint16_t *regs)
 	                              : (uint32_t)regs[1] << 16 | regs[0];
 }
 
-int ps_modbus_point_decode(const struct ps_modbus_point *p, const uint16_t *regs, double *raw, char *why,
-                           size_t whylen)
+/* Registers as read -> raw number.  -1 with errno ERANGE when a status bit
+ * is set or an f32 is not finite; the reason goes to why. */
+static int ps_modbus_point_decode(const struct ps_modbus_point *p, const uint16_t *regs, double *raw, char *why,
+                                  size_t whylen)
 {
 	uint32_t u;
 	float f;
@@ -277,7 +279,8 @@ static int identity(const struct ps_modbus_point *p)
 	return p->min == p->raw_min && p->max == p->raw_max;
 }
 
-int ps_modbus_point_scale(const struct ps_modbus_point *p, double raw, double *value, char *why, size_t whylen)
+/* raw -> value, -1 with errno ERANGE when raw is outside the raw range. */
+static int ps_modbus_point_scale(const struct ps_modbus_point *p, double raw, double *value, char *why, size_t whylen)
 {
 	double lo = fmin(p->raw_min, p->raw_max), hi = fmax(p->raw_min, p->raw_max);
 	if (!(raw >= lo && raw <= hi)) {

@@ -68,12 +68,6 @@ int ps_modbus_point_count(const struct ps_modbus_point *p);
 /* "IR 0", "HR 10", "coil 16", "DI 1": for messages. */
 const char *ps_modbus_point_table_short(int table);
 
-/* Registers as read -> raw number.  -1 with errno ERANGE when a status bit
- * is set or an f32 is not finite; the reason goes to why. */
-int ps_modbus_point_decode(const struct ps_modbus_point *p, const uint16_t *regs, double *raw, char *why,
-                           size_t whylen);
-/* raw -> value, -1 with errno ERANGE when raw is outside the raw range. */
-int ps_modbus_point_scale(const struct ps_modbus_point *p, double raw, double *value, char *why, size_t whylen);
 /* Both: registers -> value. */
 int ps_modbus_point_value(const struct ps_modbus_point *p, const uint16_t *regs, double *value, char *why,
                           size_t whylen);

@@ -355,6 +355,10 @@ static int write_all(int fd, const void *p, size_t n)
 	return 0;
 }
 
+/* Evict oldest-used entries until at most max_bytes remain, keeping keep
+ * (may be NULL); returns the number removed (-1 when the lock fails). */
+static long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep);
+
 int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *const *ptr,
                       const size_t *len, size_t max_bytes, struct ps_err *e)
 {
@@ -430,7 +434,7 @@ static int by_use(const void *a, const void *b)
 	return 0;
 }
 
-long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep)
+static long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep)
 {
 	char top[4096], lock[4200];
 	struct blob_file *f = NULL;

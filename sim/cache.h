@@ -64,9 +64,6 @@ int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const 
  * the directory cannot be written; callers go on uncached. */
 int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *const *ptr,
                       const size_t *len, size_t max_bytes, struct ps_err *e);
-/* Evict oldest-used entries until at most max_bytes remain, keeping keep
- * (may be NULL); returns the number removed (-1 when the lock fails). */
-long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep);
 /* The cache directory psscene and psens share: $XDG_CACHE_HOME/psensd,
  * else $HOME/.cache/psensd (/tmp/.cache/psensd without a HOME). */
 void ps_cache_default_dir(char *buf, size_t len);

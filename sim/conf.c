@@ -359,7 +359,7 @@ int ps_conf_parse_double(const char *text, double *out)
 	return 0;
 }
 
-int ps_conf_parse_long(const char *text, long *out)
+static int ps_conf_parse_long(const char *text, long *out)
 {
 	char *end;
 	long v;

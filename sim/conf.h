@@ -78,7 +78,6 @@ void ps_conf_check_unused(struct ps_conf *c);
 
 /* Parse a whole string as a finite double; 0 on success. */
 int ps_conf_parse_double(const char *text, double *out);
-int ps_conf_parse_long(const char *text, long *out);
 
 /* Join dir and a relative name (an absolute name is returned as is); malloc'd. */
 char *ps_conf_path_join(const char *dir, const char *name);

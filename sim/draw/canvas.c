@@ -74,18 +74,6 @@ void ps_canvas_set(struct ps_canvas *c, int x, int y, int zoom, const uint8_t rg
 	}
 }
 
-void ps_canvas_get(struct ps_canvas *c, int x, int y, uint8_t rgb[3])
-{
-	const unsigned char *data;
-	uint32_t px;
-	cairo_surface_flush(c->surf);
-	data = cairo_image_surface_get_data(c->surf);
-	memcpy(&px, data + (size_t)y * (size_t)cairo_image_surface_get_stride(c->surf) + 4 * (size_t)x, 4);
-	rgb[0] = (uint8_t)(px >> 16);
-	rgb[1] = (uint8_t)(px >> 8);
-	rgb[2] = (uint8_t)px;
-}
-
 void ps_canvas_text_chunk(struct ps_canvas *c, const char *key, const char *value)
 {
 	if (c->ntext >= 8)

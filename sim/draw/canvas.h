@@ -35,8 +35,6 @@ void ps_canvas_free(struct ps_canvas *c);
 void ps_canvas_begin(struct ps_canvas *c);
 void ps_canvas_set(struct ps_canvas *c, int x, int y, int zoom, const uint8_t rgb[3]);
 void ps_canvas_end(struct ps_canvas *c);
-/* The pixel at (x, y). */
-void ps_canvas_get(struct ps_canvas *c, int x, int y, uint8_t rgb[3]);
 /* Add a tEXt chunk (at most 8; longer text is cut). */
 void ps_canvas_text_chunk(struct ps_canvas *c, const char *key, const char *value);
 

@@ -71,7 +71,8 @@ int ps_falsecolor_scale_ticks(const struct ps_falsecolor_scale *s, double *ticks
 	return n;
 }
 
-void ps_falsecolor_label(double v, char *buf, int len)
+/* A value as a short label ("0.5", "250", "12000"). */
+static void ps_falsecolor_label(double v, char *buf, int len)
 {
 	if (v == 0)
 		snprintf(buf, (size_t)len, "0");

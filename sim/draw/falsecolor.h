@@ -32,8 +32,6 @@ void ps_falsecolor_rgb8(double fraction, uint8_t out[3]);
 double ps_falsecolor_nice_ceil(double v);
 /* The labelled values of a scale, from the bottom; returns how many (<= max). */
 int ps_falsecolor_scale_ticks(const struct ps_falsecolor_scale *s, double *ticks, int max);
-/* A value as a short label ("0.5", "250", "12000"). */
-void ps_falsecolor_label(double v, char *buf, int len);
 
 /* The legend's bar: its left x, top y (the scale's max) and bottom y (its
  * bottom), and width; placed in a strip of the canvas. */

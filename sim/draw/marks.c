@@ -24,7 +24,8 @@ void ps_marks_place_point(const struct ps_marks_place *p, double theta, double p
 	*y = p->oy + p->zoom * p->f.height * (1.0 - (v - p->f.v0) / p->f.sv);
 }
 
-int ps_marks_place_dir(const struct ps_marks_place *p, double x, double y, double *theta, double *phi)
+/* Direction at a canvas position; -1 outside the field. */
+static int ps_marks_place_dir(const struct ps_marks_place *p, double x, double y, double *theta, double *phi)
 {
 	double u = ps_fisheye_u(&p->f, (x - p->ox) / p->zoom);
 	double v = ps_fisheye_v(&p->f, p->f.height - (y - p->oy) / p->zoom);

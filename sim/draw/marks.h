@@ -23,8 +23,6 @@ void ps_marks_place_init(struct ps_marks_place *p, const struct ps_view *v, int 
 /* Canvas position of the direction (theta, phi), radians (phi the sensor
  * azimuth: 0 up, growing to the left). */
 void ps_marks_place_point(const struct ps_marks_place *p, double theta, double phi, double *x, double *y);
-/* Direction at a canvas position; -1 outside the field. */
-int ps_marks_place_dir(const struct ps_marks_place *p, double x, double y, double *theta, double *phi);
 
 /* The sensor's sensitivity, as a fraction of its largest table value, at every
  * canvas pixel corner over the picture (the sensor looks along the view

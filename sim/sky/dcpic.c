@@ -31,7 +31,9 @@ void ps_dcpic_frame(const struct ps_view *v, double f[3][3])
 	left[2] = up[0] * dir[1] - up[1] * dir[0];
 }
 
-void ps_dcpic_dir(const double f[3][3], double theta, double phi, double d[3])
+/* World direction of polar angle theta and sensor azimuth phi (radians;
+ * 0 = up, growing to the left) in the view. */
+static void ps_dcpic_dir(const double f[3][3], double theta, double phi, double d[3])
 {
 	double st = sin(theta), ct = cos(theta), cp = cos(phi), sp = sin(phi);
 	for (int i = 0; i < 3; i++)

@@ -26,9 +26,6 @@
 /* The view's frame: f[0] its up vector made normal to the direction, f[1]
  * its left (the sensor azimuth 90 degrees), f[2] the direction; unit. */
 void ps_dcpic_frame(const struct ps_view *v, double f[3][3]);
-/* World direction of polar angle theta and sensor azimuth phi (radians;
- * 0 = up, growing to the left) in the view. */
-void ps_dcpic_dir(const double f[3][3], double theta, double phi, double d[3]);
 
 /* The patch of every pixel's centre ray (width x height, row 0 at the top;
  * -1 outside the fisheye's field). */

@@ -28,7 +28,11 @@ void ps_dcset_row_free(struct ps_dcset_row *row)
 	memset(row, 0, sizeof *row);
 }
 
-int ps_dcset_count(const char *pattern, int mf, int *n, int *mf_out, struct ps_err *e)
+/* Check a set's files without reading them: every patch present, the count
+ * a subdivision's (mf > 0: that one's; 0: any).  *n gets the count, *mf_out
+ * the subdivision.  Errors name the pattern and the first missing patch's
+ * file, or the count and the counts that would do. */
+static int ps_dcset_count(const char *pattern, int mf, int *n, int *mf_out, struct ps_err *e)
 {
 	char path[4096];
 	int want = mf > 0 ? ps_patches_count(mf) : 0, count = 0, limit;
@@ -110,7 +114,7 @@ int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const str
 	struct dc_load l;
 	struct ps_batch b;
 	struct ps_batch_result *res = NULL;
-	int n, m, rc = 0;
+	int n = 0, m = 0, rc = 0;
 	memset(row, 0, sizeof *row);
 	memset(&l, 0, sizeof l);
 	if (ps_view_check_fisheye(v, pattern, e) != 0 || ps_dcset_count(pattern, mf, &n, &m, e) != 0)

@@ -35,12 +35,6 @@ struct ps_dcset_row {
 	double coverage;     /* share of the sensitivity the pictures' field holds */
 };
 
-/* Check a set's files without reading them: every patch present, the count
- * a subdivision's (mf > 0: that one's; 0: any).  *n gets the count, *mf_out
- * the subdivision.  Errors name the pattern and the first missing patch's
- * file, or the count and the counts that would do. */
-int ps_dcset_count(const char *pattern, int mf, int *n, int *mf_out, struct ps_err *e);
-
 /* Read and integrate a whole set for a sensor turned by rotation degrees
  * (see ps_weights_build).  Errors name the file and patch; on error row is
  * left empty. */

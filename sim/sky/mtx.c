@@ -3,7 +3,8 @@
 
 #include <stdint.h>
 
-const char *ps_mtx_format_name(int format)
+/* "ascii", "float", "double". */
+static const char *ps_mtx_format_name(int format)
 {
 	switch (format) {
 	case PS_MTX_ASCII: return "ascii";

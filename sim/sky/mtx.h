@@ -34,8 +34,6 @@ struct ps_mtx_header {
 	int digits;              /* ascii: significant digits (0: 3, as gendaymtx) */
 };
 
-/* "ascii", "float", "double". */
-const char *ps_mtx_format_name(int format);
 /* Write the header (unless header is 0) and the data: element (row r,
  * column c, component k) at data[3 (c nrows + r) + k], floats or doubles
  * as data_double says.  path names the output in messages. */

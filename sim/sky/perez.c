@@ -175,7 +175,9 @@ void ps_perez_init(struct ps_perez *p, const struct ps_perez_in *in)
 	distribution(p);
 }
 
-double ps_perez_rel(const struct ps_perez *p, double cos_zeta, double gamma)
+/* Relative luminance at cos zeta (of the sky point) and gamma (its angle
+ * from the sun, radians); never negative. */
+static double ps_perez_rel(const struct ps_perez *p, double cos_zeta, double gamma)
 {
 	double cz = cos_zeta < PS_PEREZ_COS_ZETA_MIN ? PS_PEREZ_COS_ZETA_MIN : cos_zeta;
 	double cg = cos(gamma);

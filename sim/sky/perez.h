@@ -75,11 +75,9 @@ double ps_perez_bin_edge(int k);
 int ps_perez_bin(double epsilon);
 /* Everything for one step. */
 void ps_perez_init(struct ps_perez *p, const struct ps_perez_in *in);
-/* Relative luminance at cos zeta (of the sky point) and gamma (its angle
- * from the sun, radians); never negative. */
-double ps_perez_rel(const struct ps_perez *p, double cos_zeta, double gamma);
-/* The same for unit vectors: the sky point and the model's sun (the vector
- * of altitude 90 degrees minus p->zenith). */
+/* Relative luminance (never negative) at a unit vector d of the sky, with
+ * the model's sun at sun (the vector of altitude 90 degrees minus
+ * p->zenith). */
 double ps_perez_rel_dir(const struct ps_perez *p, const double d[3], const double sun[3]);
 
 #endif

@@ -98,8 +98,11 @@ static void totals(const struct piece *h, int n, double *value, double *error)
 	*error = ps_sum_get(&e);
 }
 
-void ps_quad_1d(ps_quad_fn f, void *ctx, double a, double b, const double *brk, int nbrk,
-                double abstol, double reltol, int max_intervals, struct ps_quad *r)
+/* Integral of f over [a, b], starting from the pieces the breakpoints brk[]
+ * (any order; those outside (a, b) ignored) cut; stops when error <=
+ * max(abstol, reltol |value|) or after max_intervals intervals. */
+static void ps_quad_1d(ps_quad_fn f, void *ctx, double a, double b, const double *brk, int nbrk,
+                       double abstol, double reltol, int max_intervals, struct ps_quad *r)
 {
 	int cap = (max_intervals > nbrk + 1 ? max_intervals : nbrk + 1) + 1, n = 0;
 	struct piece *h = malloc((size_t)cap * sizeof *h);

@@ -18,12 +18,6 @@ struct ps_quad {
 	int converged;       /* 1: error within the tolerance */
 };
 
-/* Integral of f over [a, b], starting from the pieces the breakpoints brk[]
- * (any order; those outside (a, b) ignored) cut; stops when error <=
- * max(abstol, reltol |value|) or after max_intervals intervals. */
-void ps_quad_1d(ps_quad_fn f, void *ctx, double a, double b, const double *brk, int nbrk,
-                double abstol, double reltol, int max_intervals, struct ps_quad *r);
-
 /* Integral of f(x, y) over [x0, x1] x [y0, y1] as nested 1-D quadratures
  * (inner over y).  The inner tolerance is a tenth of the outer one spread
  * over the outer range; the error stated is the outer estimate plus the

@@ -13,7 +13,8 @@ int ps_sun_day_of_year(int month, int day, int leap)
 	return month_start[month - 1] + day + (leap && month > 2 ? 1 : 0);
 }
 
-double ps_sun_declination(int doy)
+/* Declination (radians) on a day of the year. */
+static double ps_sun_declination(int doy)
 {
 	/* amplitude 0.4093 rad (23.45 degrees), zero at the March equinox (day 81) */
 	return 0.4093 * sin(2.0 * M_PI * (doy - 81) / 365.0);

@@ -34,8 +34,6 @@ struct ps_sunpos {
 /* Day of the year (1 = January 1st) for month 1-12 and day 1-31; leap = 1
  * counts February 29 and shifts the days after it by one. */
 int ps_sun_day_of_year(int month, int day, int leap);
-/* Declination (radians) on a day of the year. */
-double ps_sun_declination(int doy);
 /* Equation of time, hours (apparent solar minus mean solar time). */
 double ps_sun_equation_of_time(int doy);
 /* Apparent solar time (hours) at standard time std_hour on day doy. */

@@ -104,7 +104,9 @@ static void unit(double a[3])
 		a[k] /= l;
 }
 
-int ps_regions_ray(const struct ps_view *v, int type, double u, double w, double dir[3])
+/* The world direction of plane point (u, v) of a fisheye view (unit length);
+ * -1 outside the field. */
+static int ps_regions_ray(const struct ps_view *v, int type, double u, double w, double dir[3])
 {
 	double d[3] = { v->vd[0], v->vd[1], v->vd[2] }, h[3], up[3], rho = hypot(u, w), th, s;
 	struct ps_fisheye f;

@@ -63,8 +63,4 @@ int ps_regions_sectors(struct ps_regions *r, const struct ps_view *v, int width,
                        int sub, struct ps_err *e);
 void ps_regions_free(struct ps_regions *r);
 
-/* The world direction of plane point (u, v) of a fisheye view (unit length);
- * -1 outside the field. */
-int ps_regions_ray(const struct ps_view *v, int type, double u, double w, double dir[3]);
-
 #endif

@@ -77,8 +77,8 @@ static inline void c_keep(v4c *best, v4c *idx, v4c b, v4c at, m4c black)
 #define v_get c_get
 #define v_decode c_decode
 #define v_keep c_keep
-void ps_rowsum_c(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run, const double kc[3],
-                 struct ps_rowsum *out);
+static void ps_rowsum_c(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run, const double kc[3],
+                        struct ps_rowsum *out);
 #include "rowsum_body.h"
 #undef RS
 #undef V4
@@ -169,8 +169,8 @@ static inline void s_keep(v4s *best, v4s *idx, v4s b, v4s at, v4s black)
 #define v_get s_get
 #define v_decode s_decode
 #define v_keep s_keep
-void ps_rowsum_sse2(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run,
-                    const double kc[3], struct ps_rowsum *out);
+static void ps_rowsum_sse2(const uint8_t *px, const struct ps_weights *w, const struct ps_weights_run *run,
+                           const double kc[3], struct ps_rowsum *out);
 #include "rowsum_body.h"
 #endif
 
