@@ -253,9 +253,14 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			continue;
 		}
 		/* the weights, stored in the cache while the pictures are integrated */
-		if (ps_batch_init_cache_async(&b, sens, o->rot, &view, pic.width, pic.height, o->method,
-		                              o->coef, o->nthreads, o->cachedir, ps_cache_max_bytes(),
-		                              &how, &warn, &e) != 0) {
+		struct ps_batch_spec sp = {
+			.map = { .sensor = sens, .rotation_deg = o->rot, .view = &view, .width = pic.width,
+			         .height = pic.height, .method = o->method },
+			.coef = o->coef,
+			.nthreads = o->nthreads,
+		};
+		struct ps_wcache_dir cache = { .path = o->cachedir, .max_bytes = ps_cache_max_bytes() };
+		if (ps_batch_init_cache_async(&b, &sp, &cache, &how, &warn, &e) != 0) {
 			fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
 			goto fail;
 		}
@@ -370,9 +375,12 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 				struct ps_err warn, e;
 				int how;
 				/* stored in the cache while the picture is integrated */
-				if (ps_wcache_get_async(&w[k], &sens[k], o->rot, &view, width, height,
-				                        o->method, o->cachedir, ps_cache_max_bytes(), &how,
-				                        &warn, &pend[k], &e) != 0) {
+				struct ps_wcache_key key = { .sensor = &sens[k], .rotation_deg = o->rot,
+				                             .view = &view, .width = width, .height = height,
+				                             .method = o->method };
+				struct ps_wcache_dir cache = { .path = o->cachedir,
+				                               .max_bytes = ps_cache_max_bytes() };
+				if (ps_wcache_get_async(&w[k], &key, &cache, &how, &warn, &pend[k], &e) != 0) {
 					fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 					for (int q = 0; q < k; q++) {
 						ps_wcache_store_finish(pend[q], NULL, NULL);
@@ -502,8 +510,11 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 			if (ps_sensor_extent(&sens[k]) > ext)
 				ext = ps_sensor_extent(&sens[k]);
 		/* the pixels' solid angles: the uniform sensor's exact weights */
-		if (ps_wcache_get(&om, &uni, 0, &view, pic.width, pic.height, PS_W_EXACT, o->cachedir,
-		                  ps_cache_max_bytes(), &how, &warn, &e) != 0 ||
+		struct ps_wcache_key key = { .sensor = &uni, .rotation_deg = 0, .view = &view,
+		                             .width = pic.width, .height = pic.height,
+		                             .method = PS_W_EXACT };
+		struct ps_wcache_dir cache = { .path = o->cachedir, .max_bytes = ps_cache_max_bytes() };
+		if (ps_wcache_get(&om, &key, &cache, &how, &warn, &e) != 0 ||
 		    ps_rescan_project(&p, &om, &pic, &view, o->coef, 0.25, dphi, o->rot_a,
 		                      ext / (M_PI / 180) + 0.25, &e) != 0) {
 			fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);

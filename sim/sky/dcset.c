@@ -142,7 +142,13 @@ int ps_dcset_row(const char *pattern, const struct ps_view *v, int mf, const str
 	row->width = l.first.width;
 	row->height = l.first.height;
 	/* the weights once, the pictures read and integrated in parallel */
-	if (ps_batch_init(&b, s, rotation, v, row->width, row->height, PS_W_EXACT, none, 0, e) != 0) {
+	struct ps_batch_spec sp = {
+		.map = { .sensor = s, .rotation_deg = rotation, .view = v, .width = row->width,
+		         .height = row->height, .method = PS_W_EXACT },
+		.coef = none,
+		.nthreads = 0,
+	};
+	if (ps_batch_init(&b, &sp, e) != 0) {
 		rc = -1;
 		goto out;
 	}

@@ -13,51 +13,33 @@
 #include "stream.h"
 #include "wcache.h"
 
-int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                  const struct ps_view *v, int width, int height, int method,
-                  const double coef[3], int nthreads, struct ps_err *e)
-{
-	int how;
-	return ps_batch_init_cache(b, s, rotation_deg, v, width, height, method, coef, nthreads,
-	                           NULL, 0, &how, NULL, e);
-}
-
-static int init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                const struct ps_view *v, int width, int height, int method, const double coef[3],
-                int nthreads, const char *cachedir, size_t max_bytes, int *how,
-                struct ps_err *warn, int async, struct ps_err *e)
+static int init(struct ps_batch *b, const struct ps_batch_spec *sp, const struct ps_wcache_dir *cache,
+                int *how, struct ps_err *warn, int async, struct ps_err *e)
 {
 	memset(b, 0, sizeof *b);
-	if (nthreads > PS_BATCH_THREADS_MAX)
-		return ps_err_set(e, PS_EINVAL, "%d threads: at most %d", nthreads, PS_BATCH_THREADS_MAX);
-	b->sens = s;
-	b->rotation = rotation_deg;
-	b->method = method;
-	memcpy(b->coef, coef, sizeof b->coef);
-	b->nthreads = nthreads > 0 ? nthreads : PS_BATCH_THREADS_DEFAULT;
+	if (sp->nthreads > PS_BATCH_THREADS_MAX)
+		return ps_err_set(e, PS_EINVAL, "%d threads: at most %d", sp->nthreads, PS_BATCH_THREADS_MAX);
+	b->sens = sp->map.sensor;
+	b->rotation = sp->map.rotation_deg;
+	b->method = sp->map.method;
+	memcpy(b->coef, sp->coef, sizeof b->coef);
+	b->nthreads = sp->nthreads > 0 ? sp->nthreads : PS_BATCH_THREADS_DEFAULT;
 	if (async)
-		return ps_wcache_get_async(&b->w, s, rotation_deg, v, width, height, method, cachedir,
-		                           max_bytes, how, warn, &b->pending, e);
-	return ps_wcache_get(&b->w, s, rotation_deg, v, width, height, method, cachedir, max_bytes,
-	                     how, warn, e);
+		return ps_wcache_get_async(&b->w, &sp->map, cache, how, warn, &b->pending, e);
+	return ps_wcache_get(&b->w, &sp->map, cache, how, warn, e);
 }
 
-int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                        const struct ps_view *v, int width, int height, int method,
-                        const double coef[3], int nthreads, const char *cachedir,
-                        size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+int ps_batch_init(struct ps_batch *b, const struct ps_batch_spec *sp, struct ps_err *e)
 {
-	return init(b, s, rotation_deg, v, width, height, method, coef, nthreads, cachedir,
-	            max_bytes, how, warn, 0, e);
+	int how;
+	return init(b, sp, NULL, &how, NULL, 0, e);
 }
 
-int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                              const struct ps_view *v, int width, int height, int method,
-                              const double coef[3], int nthreads, const char *cachedir,
-                              size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_batch_spec *sp,
+                              const struct ps_wcache_dir *cache, int *how, struct ps_err *warn,
+                              struct ps_err *e)
 {
-	return init(b, s, rotation_deg, v, width, height, method, coef, nthreads, cachedir,
-	            max_bytes, how, warn, 1, e);
+	return init(b, sp, cache, how, warn, 1, e);
 }
 
 void ps_batch_finish_store(struct ps_batch *b, int *how, struct ps_err *warn)

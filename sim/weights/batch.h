@@ -3,8 +3,10 @@
  * method) applied to many pictures, read and integrated in parallel.
  *
  *   struct ps_batch b;
- *   ps_batch_init(&b, &sensor, rotation_deg, &view, width, height,
- *                 PS_W_EXACT, coef, 2, &e);         weights built once
+ *   struct ps_batch_spec sp = { .map = { &sensor, rotation_deg, &view, width,
+ *                                       height, PS_W_EXACT },
+ *                              .coef = coef, .nthreads = 2 };
+ *   ps_batch_init(&b, &sp, &e);                     weights built once
  *   ps_batch_run_files(&b, paths, n, results);      results[i] for paths[i]
  *   ps_batch_free(&b);
  *
@@ -27,12 +29,11 @@
 #include "picture.h"
 #include "sensor.h"
 #include "view.h"
+#include "wcache.h"
 #include "weights.h"
 
 #define PS_BATCH_THREADS_DEFAULT 2
 #define PS_BATCH_THREADS_MAX 256
-
-struct ps_wcache_store;   /* sim/weights/wcache.h */
 
 struct ps_batch {
 	struct ps_weights w;           /* the batch's weights (read-only once built) */
@@ -58,23 +59,22 @@ struct ps_batch_result {
 	struct ps_err err;             /* when status is not OK: names the file */
 };
 
-/* Build the weights once.  nthreads <= 0 means PS_BATCH_THREADS_DEFAULT. */
-int ps_batch_init(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                  const struct ps_view *v, int width, int height, int method,
-                  const double coef[3], int nthreads, struct ps_err *e);
-/* The same with the weights through the cache directory (sim/weights/wcache.h;
- * NULL: none): *how is a ps_wcache_how, warn gets its message. */
-int ps_batch_init_cache(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                        const struct ps_view *v, int width, int height, int method,
-                        const double coef[3], int nthreads, const char *cachedir,
-                        size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
-/* The same with the weights stored in the cache while the pictures are
- * integrated (sim/weights/wcache.h, ps_wcache_get_async): *how is provisional
- * until ps_batch_finish_store gives the final one (and warn). */
-int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_sensor *s, double rotation_deg,
-                              const struct ps_view *v, int width, int height, int method,
-                              const double coef[3], int nthreads, const char *cachedir,
-                              size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
+/* A batch: its weight map, the colour coefficients, the threads. */
+struct ps_batch_spec {
+	struct ps_wcache_key map;      /* the weight map (its sensor must outlive the batch) */
+	const double *coef;            /* [3] */
+	int nthreads;                  /* <= 0: PS_BATCH_THREADS_DEFAULT */
+};
+
+/* Build the weights once. */
+int ps_batch_init(struct ps_batch *b, const struct ps_batch_spec *sp, struct ps_err *e);
+/* The same with the weights through the cache (sim/weights/wcache.h; NULL:
+ * none), stored there while the pictures are integrated
+ * (ps_wcache_get_async): *how is a ps_wcache_how, provisional until
+ * ps_batch_finish_store gives the final one (and warn). */
+int ps_batch_init_cache_async(struct ps_batch *b, const struct ps_batch_spec *sp,
+                              const struct ps_wcache_dir *cache, int *how, struct ps_err *warn,
+                              struct ps_err *e);
 void ps_batch_finish_store(struct ps_batch *b, int *how, struct ps_err *warn);
 /* Frees the weights (waiting for a store under way first). */
 void ps_batch_free(struct ps_batch *b);

@@ -34,10 +34,11 @@ static void hash_int(struct sha256_ctx *c, long long v)
 	sha256_update(c, sizeof v, (const uint8_t *)&v);
 }
 
-void ps_wcache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
-                   int width, int height, int method, char hex[65])
+void ps_wcache_key_hex(const struct ps_wcache_key *k, char hex[65])
 {
 	static const char digits[] = "0123456789abcdef";
+	const struct ps_sensor *s = k->sensor;
+	const struct ps_view *v = k->view;
 	struct sha256_ctx c;
 	uint8_t d[SHA256_DIGEST_SIZE];
 	double view[4] = { v->vh, v->vv, v->vs, v->vl };
@@ -55,12 +56,12 @@ void ps_wcache_key(const struct ps_sensor *s, double rotation_deg, const struct 
 	if (s->ntheta > 0 && s->nphi > 0 && s->val)
 		hash_doubles(&c, s->val, (size_t)s->ntheta * (size_t)s->nphi);
 	hash_int(&c, s->reading);
-	hash_doubles(&c, &rotation_deg, 1);
+	hash_doubles(&c, &k->rotation_deg, 1);
 	hash_int(&c, v->type);
 	hash_doubles(&c, view, 4);
-	hash_int(&c, width);
-	hash_int(&c, height);
-	hash_int(&c, method);
+	hash_int(&c, k->width);
+	hash_int(&c, k->height);
+	hash_int(&c, k->method);
 	sha256_digest(&c, sizeof d, d);
 	for (int i = 0; i < 32; i++) {
 		hex[2 * i] = digits[d[i] >> 4];
@@ -253,50 +254,51 @@ void ps_wcache_store_finish(struct ps_wcache_store *p, int *how, struct ps_err *
 	free(p);
 }
 
-static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-               const struct ps_view *v, int width, int height, int method, const char *dir,
-               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wcache_store **pending,
-               struct ps_err *e);
+static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct ps_wcache_dir *cache,
+               int *how, struct ps_err *warn, struct ps_wcache_store **pending, struct ps_err *e);
 
-int ps_wcache_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                  const struct ps_view *v, int width, int height, int method, const char *dir,
-                  size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e)
+int ps_wcache_get(struct ps_weights *w, const struct ps_wcache_key *k, const struct ps_wcache_dir *cache,
+                  int *how, struct ps_err *warn, struct ps_err *e)
 {
-	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, NULL, e);
+	return get(w, k, cache, how, warn, NULL, e);
 }
 
-int ps_wcache_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                        const struct ps_view *v, int width, int height, int method,
-                        const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
+int ps_wcache_get_async(struct ps_weights *w, const struct ps_wcache_key *k,
+                        const struct ps_wcache_dir *cache, int *how, struct ps_err *warn,
                         struct ps_wcache_store **pending, struct ps_err *e)
 {
 	*pending = NULL;
-	return get(w, s, rotation_deg, v, width, height, method, dir, max_bytes, how, warn, pending,
-	           e);
+	return get(w, k, cache, how, warn, pending, e);
 }
 
-static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-               const struct ps_view *v, int width, int height, int method, const char *dir,
-               size_t max_bytes, int *how, struct ps_err *warn, struct ps_wcache_store **pending,
-               struct ps_err *e)
+static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct ps_err *e)
 {
+	return ps_weights_build_ex(w, k->sensor, k->rotation_deg, k->view, k->width, k->height, k->method,
+	                           PS_WB_COMPACT, e);
+}
+
+static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct ps_wcache_dir *cache,
+               int *how, struct ps_err *warn, struct ps_wcache_store **pending, struct ps_err *e)
+{
+	const char *dir = cache ? cache->path : NULL;
+	size_t max_bytes = cache ? cache->max_bytes : 0;
 	char hex[65];
 	struct ps_cache_blob b;
 	struct ps_err ce;
 	int got, rebuilt = 0;
 	*how = PS_WC_BUILT;
 	if (!dir)
-		return ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, PS_WB_COMPACT,
-		                           e);
-	ps_wcache_key(s, rotation_deg, v, width, height, method, hex);
+		return build(w, k, e);
+	ps_wcache_key_hex(k, hex);
 	got = ps_cache_blob_get(dir, hex, &b, &ce);
 	if (got == 1) {
 		char name[4200];
 		snprintf(name, sizeof name, "%s/blobs/%.2s/%s", dir, hex, hex + 2);
-		if (ps_wcache_from_payload(w, b.data, b.len, width, height, method, name, &ce) == 0) {
+		if (ps_wcache_from_payload(w, b.data, b.len, k->width, k->height, k->method, name, &ce) == 0) {
 			w->map = b.map;
 			w->maplen = b.maplen;
-			ps_weights_key(s, rotation_deg, v, width, height, method, w->key, sizeof w->key);
+			ps_weights_key(k->sensor, k->rotation_deg, k->view, k->width, k->height, k->method, w->key,
+			               sizeof w->key);
 			*how = PS_WC_HIT;
 			return 0;
 		}
@@ -309,7 +311,7 @@ static int get(struct ps_weights *w, const struct ps_sensor *s, double rotation_
 		if (warn)
 			*warn = ce;
 	}
-	if (ps_weights_build_ex(w, s, rotation_deg, v, width, height, method, PS_WB_COMPACT, e) != 0)
+	if (build(w, k, e) != 0)
 		return -1;
 	if (pending) {
 		/* stored by a thread; a thread that cannot start: stored here */

@@ -19,9 +19,25 @@
 #define PS_WEIGHTS_ALGO_VERSION 4   /* 2: symmetric maps mirrored; 3: and transposed;
                                       * 4: compact symmetric maps */
 
+/* What a weight map is of: everything its numbers depend on, so the content
+ * its cache entry is found by. */
+struct ps_wcache_key {
+	const struct ps_sensor *sensor;
+	double rotation_deg;
+	const struct ps_view *view;
+	int width, height;             /* the picture's size */
+	int method;                    /* enum ps_wmethod */
+};
+
+/* The cache directory (path NULL: no cache) and its bound (max_bytes 0:
+ * unbounded). */
+struct ps_wcache_dir {
+	const char *path;
+	size_t max_bytes;
+};
+
 /* The content key (64 hex digits). */
-void ps_wcache_key(const struct ps_sensor *s, double rotation_deg, const struct ps_view *v,
-                   int width, int height, int method, char hex[65]);
+void ps_wcache_key_hex(const struct ps_wcache_key *k, char hex[65]);
 
 enum ps_wcache_how {
 	PS_WC_BUILT = 0,       /* no cache given: built */
@@ -31,13 +47,11 @@ enum ps_wcache_how {
 	PS_WC_REBUILT = 4,     /* an entry failed its checks (warn says which): rebuilt, stored */
 };
 
-/* ps_weights_build through the cache dir (NULL: no cache).  *how says what
- * happened; warn (may be NULL) gets the message for PS_WC_UNWRITABLE and
- * PS_WC_REBUILT.  max_bytes bounds the cache (0: unbounded).  Errors are
- * ps_weights_build's. */
-int ps_wcache_get(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                  const struct ps_view *v, int width, int height, int method, const char *dir,
-                  size_t max_bytes, int *how, struct ps_err *warn, struct ps_err *e);
+/* ps_weights_build of the map k through the cache (NULL, or a NULL path:
+ * no cache).  *how says what happened; warn (may be NULL) gets the message
+ * for PS_WC_UNWRITABLE and PS_WC_REBUILT.  Errors are ps_weights_build's. */
+int ps_wcache_get(struct ps_weights *w, const struct ps_wcache_key *k, const struct ps_wcache_dir *cache,
+                  int *how, struct ps_err *warn, struct ps_err *e);
 
 /* The same, with a map built for the cache stored by a thread while the
  * caller goes on (the store costs a checksum and a write of the map: off
@@ -48,9 +62,8 @@ int ps_wcache_get(struct ps_weights *w, const struct ps_sensor *s, double rotati
  * waits for it and gives the final *how and warn.  Call it before w is
  * freed. */
 struct ps_wcache_store;
-int ps_wcache_get_async(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
-                        const struct ps_view *v, int width, int height, int method,
-                        const char *dir, size_t max_bytes, int *how, struct ps_err *warn,
+int ps_wcache_get_async(struct ps_weights *w, const struct ps_wcache_key *k,
+                        const struct ps_wcache_dir *cache, int *how, struct ps_err *warn,
                         struct ps_wcache_store **pending, struct ps_err *e);
 void ps_wcache_store_finish(struct ps_wcache_store *p, int *how, struct ps_err *warn);
 

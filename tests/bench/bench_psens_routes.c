@@ -361,7 +361,7 @@ int main(void)
 		t_b = now() - t0;
 		ps_weights_free(&w);
 		t0 = now();
-		if (ps_wcache_get(&w, &cosine, 0, &v, n, n, PS_W_EXACT, cd, 0, &how, &warn, &e) != 0)
+		if (ps_wcache_get(&w, &(struct ps_wcache_key){ &cosine, 0, &v, n, n, PS_W_EXACT }, &(struct ps_wcache_dir){ cd, 0 }, &how, &warn, &e) != 0)
 			return 1;
 		t_bs = now() - t0;
 		if (ps_fileio_map(pp, (size_t)1 << 32, &m, &e) != 0 ||
@@ -495,7 +495,9 @@ int main(void)
 			if (uniform(paths[i], 128, 1 + (double)i / 64) != 0)
 				return 1;
 		}
-		if (ps_batch_init(&b, &cosine, 0, &v, 128, 128, PS_W_EXACT, coef, 2, &e) != 0)
+		struct ps_batch_spec sp = { .map = { &cosine, 0, &v, 128, 128, PS_W_EXACT }, .coef = coef,
+		                            .nthreads = 2 };
+		if (ps_batch_init(&b, &sp, &e) != 0)
 			return 1;
 		for (size_t k = 0; k < 2; k++) {
 			char name[64];

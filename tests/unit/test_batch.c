@@ -81,7 +81,9 @@ static void batch_for(struct ps_batch *b, struct ps_sensor *s, int nthreads)
 	const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 	assert_int_equal(ps_sensor_builtin(s, PS_SENS_COSINE, &e), 0);
 	ps_view_default_fisheye(&v);
-	if (ps_batch_init(b, s, 30.0, &v, W, H, PS_W_EXACT, coef, nthreads, &e) != 0)
+	struct ps_batch_spec sp = { .map = { s, 30.0, &v, W, H, PS_W_EXACT }, .coef = coef,
+	                            .nthreads = nthreads };
+	if (ps_batch_init(b, &sp, &e) != 0)
 		fail_msg("%s", e.msg);
 }
 

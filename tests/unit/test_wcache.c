@@ -85,7 +85,7 @@ static int get(struct ps_weights *w, const struct ps_sensor *s, double rot, cons
 	int how = -1;
 	ps_view_default_fisheye(&v);
 	memset(warn, 0, sizeof *warn);
-	if (ps_wcache_get(w, s, rot, &v, N, N, PS_W_EXACT, cdir, max, &how, warn, &e) != 0)
+	if (ps_wcache_get(w, &(struct ps_wcache_key){ s, rot, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ cdir, max }, &how, warn, &e) != 0)
 		fail_msg("%s", e.msg);
 	return how;
 }
@@ -105,7 +105,7 @@ static void entry(const struct ps_sensor *s, double rot, const char *cdir, char 
 	struct ps_view v;
 	char hex[65];
 	ps_view_default_fisheye(&v);
-	ps_wcache_key(s, rot, &v, N, N, PS_W_EXACT, hex);
+	ps_wcache_key_hex(&(struct ps_wcache_key){ s, rot, &v, N, N, PS_W_EXACT }, hex);
 	snprintf(path, len, "%s/blobs/%.2s/%s", cdir, hex, hex + 2);
 }
 
@@ -238,7 +238,7 @@ static void checksummed_nonsense_is_not_trusted(void **state)
 	sensor(&s, "a.sen");
 	built(&ref, &s, 0);
 	ps_view_default_fisheye(&v);
-	ps_wcache_key(&s, 0, &v, N, N, PS_W_EXACT, hex);
+	ps_wcache_key_hex(&(struct ps_wcache_key){ &s, 0, &v, N, N, PS_W_EXACT }, hex);
 	memset(junk, 0, sizeof junk);
 	{
 		uint32_t version = PS_WEIGHTS_ALGO_VERSION;
@@ -364,8 +364,8 @@ static void concurrent_processes_share_it(void **state)
 					struct ps_view v;
 					struct ps_err e, warn;
 					ps_view_default_fisheye(&v);
-					if (ps_wcache_get(&w, &s, 10.0 * k, &v, N, N, PS_W_EXACT, c,
-					                  2 * (size_t)st.st_size, &how, &warn, &e) != 0) {
+					if (ps_wcache_get(&w, &(struct ps_wcache_key){ &s, 10.0 * k, &v, N, N, PS_W_EXACT },
+					                  &(struct ps_wcache_dir){ c, 2 * (size_t)st.st_size }, &how, &warn, &e) != 0) {
 						bad = 1;
 						continue;
 					}
@@ -409,7 +409,7 @@ static void stored_by_a_thread(void **state)
 	built(&ref, &s, 25);
 	ps_view_default_fisheye(&v);
 	memset(&warn, 0, sizeof warn);
-	assert_int_equal(ps_wcache_get_async(&w, &s, 25, &v, N, N, PS_W_EXACT, c, 0, &how, &warn,
+	assert_int_equal(ps_wcache_get_async(&w, &(struct ps_wcache_key){ &s, 25, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ c, 0 }, &how, &warn,
 	                                     &pending, &e), 0);
 	assert_non_null(pending);
 	assert_int_equal(how, PS_WC_STORED);
@@ -421,7 +421,7 @@ static void stored_by_a_thread(void **state)
 	assert_int_equal(access(path, F_OK), 0);
 	ps_weights_free(&w);
 	/* the next run finds it: no store under way */
-	assert_int_equal(ps_wcache_get_async(&again, &s, 25, &v, N, N, PS_W_EXACT, c, 0, &how,
+	assert_int_equal(ps_wcache_get_async(&again, &(struct ps_wcache_key){ &s, 25, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ c, 0 }, &how,
 	                                     &warn, &pending, &e), 0);
 	assert_null(pending);
 	assert_int_equal(how, PS_WC_HIT);
@@ -432,7 +432,7 @@ static void stored_by_a_thread(void **state)
 	fp = fopen(plain, "w");
 	assert_non_null(fp);
 	fclose(fp);
-	assert_int_equal(ps_wcache_get_async(&w, &s, 25, &v, N, N, PS_W_EXACT, plain, 0, &how,
+	assert_int_equal(ps_wcache_get_async(&w, &(struct ps_wcache_key){ &s, 25, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ plain, 0 }, &how,
 	                                     &warn, &pending, &e), 0);
 	if (pending)
 		ps_wcache_store_finish(pending, &how, &warn);

@@ -255,12 +255,12 @@ static void cache_keeps_compact_maps(void **state)
 	assert_non_null(mkdtemp(dir));
 	assert_int_equal(ps_sensor_builtin(&cosine, PS_SENS_COSINE, &e), 0);
 	ps_view_default_fisheye(&v);
-	assert_int_equal(ps_wcache_get(&a, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
-	                               &e), 0);
+	assert_int_equal(ps_wcache_get(&a, &(struct ps_wcache_key){ &cosine, 0, &v, 101, 101, PS_W_EXACT }, &(struct ps_wcache_dir){ dir, 0 }, &how,
+	                               &warn, &e), 0);
 	assert_int_equal(how, PS_WC_STORED);
 	assert_int_equal(a.mirror, 1);
-	assert_int_equal(ps_wcache_get(&b, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
-	                               &e), 0);
+	assert_int_equal(ps_wcache_get(&b, &(struct ps_wcache_key){ &cosine, 0, &v, 101, 101, PS_W_EXACT }, &(struct ps_wcache_dir){ dir, 0 }, &how,
+	                               &warn, &e), 0);
 	assert_int_equal(how, PS_WC_HIT);
 	assert_int_equal(b.mirror, 1);
 	assert_int_equal(a.nruns, b.nruns);
