@@ -317,8 +317,9 @@ static int draw_contours(struct ps_canvas *c, const struct ps_marks_place *pl, c
 			rgb[1] = 0.88;
 		}
 		snprintf(lab, sizeof lab, "%g %%", o->levels[k]);
-		ps_contour_draw(c, grid, nx, ny, pl->ox, pl->oy, 1.0, o->levels[k] / 100.0, rgb, 2.0, lab,
-		                font, lx, ly);
+		struct ps_contour_style st = { .ox = pl->ox, .oy = pl->oy, .step = 1.0, .rgb = rgb,
+		                               .width = 2.0, .label = lab, .font = font, .lx = lx, .ly = ly };
+		ps_contour_draw(c, grid, nx, ny, o->levels[k] / 100.0, &st);
 	}
 	free(grid);
 	return 0;

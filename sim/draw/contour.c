@@ -81,11 +81,12 @@ static void draw_seg(void *arg, double x0, double y0, double x1, double y1)
 	}
 }
 
-long ps_contour_draw(struct ps_canvas *c, const double *val, int nx, int ny, double ox, double oy,
-                     double step, double level, const double rgb[3], double width,
-                     const char *label, double font, double lx, double ly)
+long ps_contour_draw(struct ps_canvas *c, const double *val, int nx, int ny, double level,
+                     const struct ps_contour_style *st)
 {
-	struct draw_ctx d = { c->cr, ox, oy, step, lx, ly, INFINITY, 0, 0, 0 };
+	const double *rgb = st->rgb;
+	double width = st->width;
+	struct draw_ctx d = { c->cr, st->ox, st->oy, st->step, st->lx, st->ly, INFINITY, 0, 0, 0 };
 	long n;
 	cairo_save(c->cr);
 	cairo_new_path(c->cr);
@@ -99,7 +100,7 @@ long ps_contour_draw(struct ps_canvas *c, const double *val, int nx, int ny, dou
 	cairo_set_line_width(c->cr, width);
 	cairo_stroke(c->cr);
 	cairo_restore(c->cr);
-	if (label && n > 0)
-		ps_canvas_label(c, d.bx, d.by, font, 0, rgb, 1, label);
+	if (st->label && n > 0)
+		ps_canvas_label(c, d.bx, d.by, st->font, 0, rgb, 1, st->label);
 	return n;
 }

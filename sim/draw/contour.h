@@ -16,11 +16,20 @@ typedef void (*ps_contour_fn)(void *arg, double x0, double y0, double x1, double
 /* Every segment of the level's contour; returns how many. */
 long ps_contour(const double *val, int nx, int ny, double level, ps_contour_fn fn, void *arg);
 
-/* Draw the level's contour: sample (i, j) is at canvas (ox + i step, oy + j step).
- * The label (may be NULL) goes on the segment nearest canvas (lx, ly), with
- * a halo.  Returns the number of segments drawn. */
-long ps_contour_draw(struct ps_canvas *c, const double *val, int nx, int ny, double ox, double oy,
-                     double step, double level, const double rgb[3], double width,
-                     const char *label, double font, double lx, double ly);
+/* How a contour is drawn: sample (i, j) at canvas (ox + i step, oy + j step),
+ * a line of the colour and width, and the label (may be NULL) of that font
+ * size on the segment nearest canvas (lx, ly), with a halo. */
+struct ps_contour_style {
+	double ox, oy, step;
+	const double *rgb;             /* [3], 0..1 */
+	double width;
+	const char *label;
+	double font;
+	double lx, ly;
+};
+
+/* Draw the level's contour; returns the number of segments drawn. */
+long ps_contour_draw(struct ps_canvas *c, const double *val, int nx, int ny, double level,
+                     const struct ps_contour_style *st);
 
 #endif
