@@ -38,13 +38,14 @@ struct file_dev {
 };
 
 static const struct ps_opts_spec file_options[] = {
-	{ "dir", PS_OPT_STRING, PS_OPT_DEVICE, 0, ".", 0, 0, NULL, NULL,
-	  "the directory of the points' files, relative to the configuration file's" },
-	{ "path", PS_OPT_STRING, PS_OPT_POINT, 0, NULL, 0, 0, NULL, NULL,
-	  "the point's file, in dir unless it starts with / (required)" },
-	{ "scale", PS_OPT_DOUBLE, PS_OPT_POINT, 0, "1", -1e9, 1e9, NULL, NULL,
-	  "a reading is the file's number times scale; an output writes its level over scale" },
-	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+	{ .key = "dir", .type = PS_OPT_STRING, .scope = PS_OPT_DEVICE, .def = ".",
+	  .doc = "the directory of the points' files, relative to the configuration file's" },
+	{ .key = "path", .type = PS_OPT_STRING, .scope = PS_OPT_POINT,
+	  .doc = "the point's file, in dir unless it starts with / (required)" },
+	{ .key = "scale", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .def = "1",
+	  .min = -1e9, .max = 1e9,
+	  .doc = "a reading is the file's number times scale; an output writes its level over scale" },
+	{ .key = NULL },
 };
 
 static int file_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
