@@ -125,7 +125,6 @@ struct dali_usb {
 	int job_held;          /* points were held back while it ran */
 };
 
-extern const struct ps_driver ps_driver_dali_usb;
 
 /* The interfaces, and their names for the transport key (in that order). */
 static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL };

@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "driver.h"
+#include "file.h"
 
 enum { FILE_MAX_POINTS = 32 };
 

@@ -24,6 +24,7 @@
 
 #include "driver.h"
 #include "freq.h"
+#include "gpio.h"
 
 enum { GPIO_MAX_POINTS = 32 };
 

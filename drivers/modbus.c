@@ -25,6 +25,7 @@
 #include <modbus.h>
 
 #include "driver.h"
+#include "modbus.h"
 #include "modbus_point.h"
 
 struct mb_point {

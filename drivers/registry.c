@@ -8,8 +8,18 @@
 #include <string.h>
 
 #include "driver.h"
+#include "file.h"
 #include "loopback.h"
 #include "registry.h"
+#ifdef PS_WITH_MODBUS
+#include "modbus.h"
+#endif
+#ifdef PS_WITH_USB
+#include "dali_usb.h"
+#endif
+#ifdef PS_WITH_GPIOD
+#include "gpio.h"
+#endif
 
 __attribute__((unused)) static int not_compiled(struct ps_dev *dev, const struct ps_opts *opts)
 {
@@ -20,23 +30,15 @@ __attribute__((unused)) static int not_compiled(struct ps_dev *dev, const struct
 
 #define STUB(n, what) { .name = n, .summary = what, .compiled_in = 0, .open = not_compiled }
 
-#ifdef PS_WITH_MODBUS
-extern const struct ps_driver ps_driver_modbus;
-#else
+#ifndef PS_WITH_MODBUS
 static const struct ps_driver ps_driver_modbus = STUB("modbus", "Modbus TCP and RTU (libmodbus)");
 #endif
-#ifdef PS_WITH_USB
-extern const struct ps_driver ps_driver_dali_usb;
-#else
+#ifndef PS_WITH_USB
 static const struct ps_driver ps_driver_dali_usb = STUB("dali_usb", "DALI over USB (libusb)");
 #endif
-#ifdef PS_WITH_GPIOD
-extern const struct ps_driver ps_driver_gpio;
-#else
+#ifndef PS_WITH_GPIOD
 static const struct ps_driver ps_driver_gpio = STUB("gpio", "GPIO relays, buttons, light-to-frequency (libgpiod)");
 #endif
-
-extern const struct ps_driver ps_driver_file;
 
 const struct ps_driver *const ps_registry_drivers[] = {
 	&ps_driver_loopback,
