@@ -363,7 +363,100 @@ static int scan_result(struct ps_dali_commission *c, double now, int rx, unsigne
 	return 1;
 }
 
-/* ---- address: the random-address search (dali_commission.h) ---- */
+/* ---- address, its search: the next ballast's random address by a binary
+ * search with SEARCHADDRH/M/L and COMPARE, from the smallest half where
+ * COMPARE came back garbled (dali_commission.h); address_run and
+ * address_result hand it the steps they do not have ---- */
+
+static int search_run(struct ps_dali_commission *c, double now)
+{
+	switch (c->pc) {
+	case AD_FIRST:
+		step(c, "address: searching for ballast %d", c->nfound + 1);
+		/* the smallest garbled half that still holds a ballast, else all */
+		while (c->nnode > 0 && c->node[c->nnode - 1].found >= 2)
+			c->nnode--;
+		c->from_node = c->nnode > 0;
+		c->lo = c->from_node ? c->node[c->nnode - 1].base : 0;
+		c->hi = c->from_node ? c->node[c->nnode - 1].top : 0xFFFFFF;
+		c->hi_rx = PS_DALI_RX_NONE;   /* nobody said yes to hi yet */
+		c->pc = AD_BIN;
+		return 1;
+	case AD_BIN_CMP:
+	case AD_CONFIRM:
+		emit(c, special(PS_DALI_COMPARE, 0), 0, 1);
+		return 0;
+	case AD_BIN:
+		if (c->lo >= c->hi) {
+			c->found_at = c->hi;
+			if (c->hi_rx == PS_DALI_RX_COLLISION) {
+				c->pc = AD_CLASH;
+				return 1;
+			}
+			search_to(c, c->found_at, c->hi_rx == PS_DALI_RX_NONE ? AD_CONFIRM : AD_QUERY);
+			return 1;
+		}
+		c->mid = c->lo + (c->hi - c->lo) / 2;
+		search_to(c, c->mid, AD_BIN_CMP);
+		return 1;
+	case PC_SEARCH: {
+		static const int byte_cmd[3] = { PS_DALI_SEARCHADDRH, PS_DALI_SEARCHADDRM, PS_DALI_SEARCHADDRL };
+		int b;
+		for (b = 0; b < 3; b++) {
+			int shift = 16 - 8 * b;
+			if (!(c->search_known & (1 << b)) || ((c->search >> shift) & 0xFF) != ((c->want >> shift) & 0xFF))
+				break;
+		}
+		if (b == 3) {
+			c->pc = c->want_ret;
+			return 1;
+		}
+		c->k = b;
+		emit(c, special(byte_cmd[b], (int)(c->want >> (16 - 8 * b)) & 0xFF), 0, 0);
+		return 0;
+	}
+	default:
+		return internal(c, now);
+	}
+}
+
+static int search_result(struct ps_dali_commission *c, int rx)
+{
+	int yes = rx == PS_DALI_RX_ANSWER || rx == PS_DALI_RX_COLLISION;
+	switch (c->pc) {
+	case AD_BIN_CMP:
+		if (yes) {
+			if (rx == PS_DALI_RX_COLLISION && c->nnode < 24)
+				c->node[c->nnode++] = (struct ps_dali_search_node){ c->lo, c->mid, 0 };
+			c->hi = c->mid;
+			c->hi_rx = rx;
+		} else {
+			c->lo = c->mid + 1;
+		}
+		c->pc = AD_BIN;
+		return 1;
+	case AD_CONFIRM:
+		if (yes) {
+			c->hi_rx = rx;
+			c->pc = rx == PS_DALI_RX_COLLISION ? AD_CLASH : AD_QUERY;
+		} else if (c->from_node) {
+			c->nnode = 0;   /* the garble was not two ballasts after all: search all */
+			c->pc = AD_FIRST;
+		} else {
+			c->pc = AD_FINAL;   /* nobody answers anywhere: all found */
+		}
+		return 1;
+	case PC_SEARCH: {
+		int shift = 16 - 8 * c->k;
+		c->search = (c->search & ~(0xFFu << shift)) | (c->want & (0xFFu << shift));
+		c->search_known |= 1 << c->k;
+		return 1;
+	}
+	}
+	return 1;
+}
+
+/* ---- address: short addresses for the ballasts the search finds ---- */
 
 static int address_run(struct ps_dali_commission *c, double now)
 {
@@ -399,34 +492,6 @@ static int address_run(struct ps_dali_commission *c, double now)
 		step(c, "address: RANDOMISE");
 		emit(c, special(PS_DALI_RANDOMISE, 0), 1, 0);
 		return 0;
-	case AD_FIRST:
-		step(c, "address: searching for ballast %d", c->nfound + 1);
-		/* the smallest garbled half that still holds a ballast, else all */
-		while (c->nnode > 0 && c->node[c->nnode - 1].found >= 2)
-			c->nnode--;
-		c->from_node = c->nnode > 0;
-		c->lo = c->from_node ? c->node[c->nnode - 1].base : 0;
-		c->hi = c->from_node ? c->node[c->nnode - 1].top : 0xFFFFFF;
-		c->hi_rx = PS_DALI_RX_NONE;   /* nobody said yes to hi yet */
-		c->pc = AD_BIN;
-		return 1;
-	case AD_BIN_CMP:
-	case AD_CONFIRM:
-		emit(c, special(PS_DALI_COMPARE, 0), 0, 1);
-		return 0;
-	case AD_BIN:
-		if (c->lo >= c->hi) {
-			c->found_at = c->hi;
-			if (c->hi_rx == PS_DALI_RX_COLLISION) {
-				c->pc = AD_CLASH;
-				return 1;
-			}
-			search_to(c, c->found_at, c->hi_rx == PS_DALI_RX_NONE ? AD_CONFIRM : AD_QUERY);
-			return 1;
-		}
-		c->mid = c->lo + (c->hi - c->lo) / 2;
-		search_to(c, c->mid, AD_BIN_CMP);
-		return 1;
 	case AD_QUERY:
 		step(c, "address: ballast %d at random address 0x%06X", c->nfound + 1, c->found_at);
 		emit(c, special(PS_DALI_QUERY_SHORT_ADDRESS, 0), 0, 1);
@@ -454,24 +519,8 @@ static int address_run(struct ps_dali_commission *c, double now)
 	case AD_WITHDRAW:
 		emit(c, special(PS_DALI_WITHDRAW, 0), 0, 0);
 		return 0;
-	case PC_SEARCH: {
-		static const int byte_cmd[3] = { PS_DALI_SEARCHADDRH, PS_DALI_SEARCHADDRM, PS_DALI_SEARCHADDRL };
-		int b;
-		for (b = 0; b < 3; b++) {
-			int shift = 16 - 8 * b;
-			if (!(c->search_known & (1 << b)) || ((c->search >> shift) & 0xFF) != ((c->want >> shift) & 0xFF))
-				break;
-		}
-		if (b == 3) {
-			c->pc = c->want_ret;
-			return 1;
-		}
-		c->k = b;
-		emit(c, special(byte_cmd[b], (int)(c->want >> (16 - 8 * b)) & 0xFF), 0, 0);
-		return 0;
-	}
 	default:
-		return internal(c, now);
+		return search_run(c, now);
 	}
 }
 
@@ -517,28 +566,6 @@ static int address_result(struct ps_dali_commission *c, double now, int rx, unsi
 		c->nnode = 0;   /* every address is new */
 		c->wait_until = now + RANDOMISE_WAIT;
 		c->pc = AD_FIRST;
-		return 1;
-	case AD_BIN_CMP:
-		if (yes) {
-			if (rx == PS_DALI_RX_COLLISION && c->nnode < 24)
-				c->node[c->nnode++] = (struct ps_dali_search_node){ c->lo, c->mid, 0 };
-			c->hi = c->mid;
-			c->hi_rx = rx;
-		} else {
-			c->lo = c->mid + 1;
-		}
-		c->pc = AD_BIN;
-		return 1;
-	case AD_CONFIRM:
-		if (yes) {
-			c->hi_rx = rx;
-			c->pc = rx == PS_DALI_RX_COLLISION ? AD_CLASH : AD_QUERY;
-		} else if (c->from_node) {
-			c->nnode = 0;   /* the garble was not two ballasts after all: search all */
-			c->pc = AD_FIRST;
-		} else {
-			c->pc = AD_FINAL;   /* nobody answers anywhere: all found */
-		}
 		return 1;
 	case AD_QUERY:
 		if (rx == PS_DALI_RX_NONE) {
@@ -608,16 +635,12 @@ static int address_result(struct ps_dali_commission *c, double now, int rx, unsi
 	case AD_FINAL:
 		address_done(c, now);
 		return 0;
-	case PC_SEARCH: {
-		int shift = 16 - 8 * c->k;
-		c->search = (c->search & ~(0xFFu << shift)) | (c->want & (0xFFu << shift));
-		c->search_known |= 1 << c->k;
-		return 1;
-	}
 	case AB_TERMINATE:
 		end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted: %d ballasts had been found (%d new addresses)", c->nfound,
 		    c->programmed);
 		return 0;
+	default:
+		return search_result(c, rx);
 	}
 	return 1;
 }
