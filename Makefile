@@ -35,13 +35,14 @@ endif
 
 # ---- required libraries ---------------------------------------------------
 # cairo draws the pictures' marks and legends (its text through fontconfig),
-# libpng writes them (sim/canvas.c)
+# libpng writes them (sim/draw/canvas.c)
 REQ_PKGS = sqlite3 inih libsystemd nettle json-c cairo libpng fontconfig
 CFLAGS_ALL += $(shell $(PKG) --cflags $(REQ_PKGS) 2>/dev/null)
 LIBS_REQ   := $(shell $(PKG) --libs $(REQ_PKGS) 2>/dev/null)
 
 # ---- sources --------------------------------------------------------------
-SIM_SRC      := $(wildcard sim/*.c)
+SIM_DIRS     := sim sim/picture sim/sky sim/weights sim/draw
+SIM_SRC      := $(foreach d,$(SIM_DIRS),$(wildcard $(d)/*.c))
 SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
 # drivers/module.mk: which drivers this build compiles (DRV_SRC), their
 # libraries, and HAVE_MODBUS / HAVE_USB / HAVE_GPIOD.  Included here, before
@@ -94,15 +95,16 @@ config-status:
 	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
-# drivers/; the daemon's core sees sim/, drivers/, itself and MQTT's public
+# drivers/ (SIM_INC: sim/ and each of its folders); the daemon's core sees sim/, drivers/, itself and MQTT's public
 # header (daemon/mqtt/mqtt.h: tests/system/005 keeps the rest of the room
 # out of the core); a room sees the core and itself; the programs in
 # daemon/cmd/ and tests/ see everything.  daemon/ and its rooms are
 # -iquote: daemon/time.h and json.h are found by #include "..." only, never
 # in place of the system's <time.h> or json-c's json.h.
-INC_CORE = -Isim -Idrivers -iquote daemon -iquote daemon/mqtt
+SIM_INC = $(addprefix -I,$(SIM_DIRS))
+INC_CORE = $(SIM_INC) -Idrivers -iquote daemon -iquote daemon/mqtt
 INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
-$(BUILD)/obj/sim/%.o: INC = -Isim
+$(BUILD)/obj/sim/%.o: INC = $(SIM_INC)
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
 $(BUILD)/obj/daemon/%.o: INC = $(INC_CORE)
 $(BUILD)/obj/daemon/report/%.o: INC = $(INC_CORE) -iquote daemon/report

@@ -167,7 +167,7 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 	const int z = 2, left = 50, top = 34, gap = 40, pw = days * z, ph = ROWS * z, lw = 230;
 	struct ps_canvas cv;
 	struct ps_err e;
-	struct ps_fcscale sc = { 100 * target, 1, 3 };   /* 0.1 to 100 x target, log */
+	struct ps_falsecolor_scale sc = { 100 * target, 1, 3 };   /* 0.1 to 100 x target, log */
 	int W = left + pw + lw, H = top + 2 * ph + gap + 30;
 	if (ps_canvas_init(&cv, W, H, white, &e) != 0)
 		return snprintf(err, errlen, "%s", e.msg), -1;
@@ -176,7 +176,7 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 		for (int d = 0; d < days; d++) {
 			uint8_t rgb[3];
 			int y = ROWS - 1 - row;   /* midnight at the bottom */
-			double v = task_img[row * DAYS + d], f = ps_fcscale_fraction(&sc, v);
+			double v = task_img[row * DAYS + d], f = ps_falsecolor_scale_fraction(&sc, v);
 			ps_falsecolor_rgb8(clamp(f, 0, 1), rgb);
 			ps_canvas_set(&cv, left + d * z, top + y * z, z, rgb);
 			v = clamp(level_img[row * DAYS + d], 0, 1);

@@ -163,7 +163,7 @@ int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_c
 	if (kind == PSD_CAL_NIGHT && c->have_reading &&
 	    dark_check(c, "no night session", c->volts, 1.0, c->level, elec_volts(c), err, n) != 0)
 		return -1;
-	if (!c->config_path || ps_hash_file(c->config_path, cfg, &pe) != 0)
+	if (!c->config_path || ps_cache_hash_file(c->config_path, cfg, &pe) != 0)
 		cfg[0] = 0;
 	snprintf(scene, sizeof scene, "%s", c->res && c->res->scene_hash ? c->res->scene_hash : "");
 	id = psd_db_cal_begin(c->db, c->zone, psd_calsession_kind_names[kind], c->now, cfg, scene, err, n);

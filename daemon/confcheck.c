@@ -118,7 +118,7 @@ static void check_replays(struct psd_config *cf)
 		if (!rp || cf->npath >= PSD_MAX_DEVICES)
 			continue;
 		{
-			char *path = ps_path_join(c->dir, rp->value), err[512];
+			char *path = ps_conf_path_join(c->dir, rp->value), err[512];
 			struct ps_room_daypoint *dp = NULL;
 			size_t n = 0;
 			double ratio = ratio_s ? strtod(ratio_s, NULL) : 0;

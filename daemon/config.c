@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "registry.h"
 #include "roomsetup.h"
 #include "time.h"
 
@@ -168,9 +169,9 @@ static void load_devices(struct psd_config *cf)
 		drv = ps_conf_str(c, s, "driver", NULL);
 		if (!drv)
 			ps_conf_error(c, s->line, "[device %s] needs 'driver'", d->name);
-		else if (!(d->drv = ps_driver_find(drv))) {
+		else if (!(d->drv = ps_registry_find(drv))) {
 			char names[128];
-			ps_driver_names(names, sizeof names);
+			ps_registry_names(names, sizeof names);
 			ps_conf_error(c, line_of(s, "driver"), "driver: no driver '%s' (%s)", drv, names);
 		}
 		driver_opts(cf, s, own, &d->opts);

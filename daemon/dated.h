@@ -22,7 +22,7 @@ int psd_dated_day(const char *mmdd);
 
 /* With a rooftop sensor (a point with role rooftop named by the zone's
  * rooftop key): the class of the sky now from its global horizontal lux
- * (sim/skyclass.h: clearness index, Erbs, Perez epsilon, the year's bins),
+ * (sim/sky/skyclass.h: clearness index, Erbs, Perez epsilon, the year's bins),
  * at the results' weather site, on day doy at tod_s (the clock's time of
  * day, taken as standard time).  -1 when the results carry no site, the sun
  * is below 5 degrees or the reading is not finite; the caller then uses

@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: ISC */
 /* DALI commissioning jobs as step machines (see dali_commission.h).
  *
- * Each job is a program counter (pc) and a few registers.  run() does what
- * the pc says until it needs the bus (a transaction in c->tx), a wait
- * (c->wait_until) or has ended; result() files the transaction's outcome
- * under the pc that asked for it and moves the pc on.  The facts (frames,
+ * Each job is a program counter (pc) over its own steps and a few
+ * registers, and a run/result pair: X_run does what the pc says until it
+ * needs the bus (a transaction in c->tx), a wait (c->wait_until) or has
+ * ended; X_result files the transaction's outcome under the pc that asked
+ * for it and moves the pc on.  The facts (frames,
  * the send-twice rule, INITIALISE's window, RANDOMISE's 100 ms) are those
  * of IEC 62386-102 as doc/hardware.md section 2 restates them. */
 #include <json-c/json.h>
@@ -36,7 +37,7 @@ enum {
 };
 
 const char *const ps_dali_commission_kinds[] = { "scan", "address", "group", "identify", "verify", NULL };
-const char *const ps_dali_commission_states[] = { "running", "done", "failed", "aborted", NULL };
+static const char *const ps_dali_commission_states[] = { "running", "done", "failed", "aborted", NULL };
 
 /* what a scan asks each short address that answers */
 static const int scan_queries[] = {
@@ -228,243 +229,11 @@ static void address_done(struct ps_dali_commission *c, double now)
 	    c->clashes, c->restarts, c->lost, c->inits > 1 ? ", INITIALISE renewed" : "");
 }
 
-/* Do what the pc says until a transaction, a wait or the end. */
-static void run(struct ps_dali_commission *c, double now)
+/* a step the job does not have */
+static int internal(struct ps_dali_commission *c, double now)
 {
-	c->have_tx = 0;
-	for (;;) {
-		if (c->state != PS_DALI_COMMISSION_RUNNING)
-			return;
-		if (now < c->wait_until)
-			return;
-		switch (c->pc) {
-		case PC_END:
-			return;
-
-		/* ---- scan ---- */
-		case SC_PRESENT:
-			step(c, "scan: short address %d of 63", c->i);
-			emit(c, short_frame(c->i, PS_DALI_QUERY_GEAR_PRESENT), 0, 1);
-			return;
-		case SC_DETAIL:
-			step(c, "scan: short address %d of 63, its settings", c->i);
-			emit(c, short_frame(c->i, scan_queries[c->k]), 0, 1);
-			return;
-		case SC_UNADDR:
-		case AD_UNADDR:
-			step(c, "%s: gear without a short address?", c->pc == SC_UNADDR ? "scan" : "address");
-			emit(c, (PS_DALI_UNADDRESSED << 8) | PS_DALI_QUERY_GEAR_PRESENT, 0, 1);
-			return;
-
-		/* ---- address ---- */
-		case AD_PRESENT:
-			step(c, "address: which short addresses answer (%d of 63)", c->i);
-			emit(c, short_frame(c->i, PS_DALI_QUERY_GEAR_PRESENT), 0, 1);
-			return;
-		case AD_TERMINATE:
-		case AD_FINAL:
-		case AB_TERMINATE:
-			emit(c, special(PS_DALI_TERMINATE, 0), 0, 0);
-			return;
-		case AD_INIT:
-			step(c, "address: INITIALISE %s", c->mode == PS_DALI_ADDRESS_ALL ? "all" : "unaddressed");
-			emit(c, special(PS_DALI_INITIALISE, c->mode == PS_DALI_ADDRESS_ALL ? 0x00 : 0xFF), 1, 0);
-			return;
-		case AD_INIT_DUP:
-			while (c->i < 64 && !(c->dup & bit(c->i)))
-				c->i++;
-			if (c->i >= 64) {
-				c->pc = c->reinit ? AD_FIRST : AD_RANDOMISE;
-				continue;
-			}
-			step(c, "address: INITIALISE short %d (several ballasts share it)", c->i);
-			emit(c, special(PS_DALI_INITIALISE, c->i << 1 | 1), 1, 0);
-			return;
-		case AD_RANDOMISE:
-			step(c, "address: RANDOMISE");
-			emit(c, special(PS_DALI_RANDOMISE, 0), 1, 0);
-			return;
-		case AD_FIRST:
-			step(c, "address: searching for ballast %d", c->nfound + 1);
-			/* the smallest garbled half that still holds a ballast, else all */
-			while (c->nnode > 0 && c->node[c->nnode - 1].found >= 2)
-				c->nnode--;
-			c->from_node = c->nnode > 0;
-			c->lo = c->from_node ? c->node[c->nnode - 1].base : 0;
-			c->hi = c->from_node ? c->node[c->nnode - 1].top : 0xFFFFFF;
-			c->hi_rx = PS_DALI_RX_NONE;   /* nobody said yes to hi yet */
-			c->pc = AD_BIN;
-			continue;
-		case AD_BIN_CMP:
-		case AD_CONFIRM:
-			emit(c, special(PS_DALI_COMPARE, 0), 0, 1);
-			return;
-		case AD_BIN:
-			if (c->lo >= c->hi) {
-				c->found_at = c->hi;
-				if (c->hi_rx == PS_DALI_RX_COLLISION) {
-					c->pc = AD_CLASH;
-					continue;
-				}
-				search_to(c, c->found_at, c->hi_rx == PS_DALI_RX_NONE ? AD_CONFIRM : AD_QUERY);
-				continue;
-			}
-			c->mid = c->lo + (c->hi - c->lo) / 2;
-			search_to(c, c->mid, AD_BIN_CMP);
-			continue;
-		case AD_QUERY:
-			step(c, "address: ballast %d at random address 0x%06X", c->nfound + 1, c->found_at);
-			emit(c, special(PS_DALI_QUERY_SHORT_ADDRESS, 0), 0, 1);
-			return;
-		case AD_PROGRAM:
-			step(c, "address: random address 0x%06X gets short address %d", c->found_at, c->addr);
-			emit(c, special(PS_DALI_PROGRAM_SHORT_ADDRESS, c->addr << 1 | 1), 0, 0);
-			return;
-		case AD_VERIFY:
-			emit(c, special(PS_DALI_VERIFY_SHORT_ADDRESS, c->addr << 1 | 1), 0, 1);
-			return;
-		case AD_UNPROGRAM:
-			emit(c, special(PS_DALI_PROGRAM_SHORT_ADDRESS, 0xFF), 0, 0);
-			return;
-		case AD_CLASH:
-			c->nnode = 0;
-			if (++c->clashes > MAX_CLASHES) {
-				end(c, now, PS_DALI_COMMISSION_FAILED,
-				    "random addresses collided %d times: ballasts that cannot draw distinct ones", c->clashes);
-				return;
-			}
-			step(c, "address: two ballasts drew random address 0x%06X: RANDOMISE again", c->found_at);
-			c->pc = AD_RANDOMISE;
-			continue;
-		case AD_WITHDRAW:
-			emit(c, special(PS_DALI_WITHDRAW, 0), 0, 0);
-			return;
-		case PC_SEARCH: {
-			static const int byte_cmd[3] = { PS_DALI_SEARCHADDRH, PS_DALI_SEARCHADDRM, PS_DALI_SEARCHADDRL };
-			int b;
-			for (b = 0; b < 3; b++) {
-				int shift = 16 - 8 * b;
-				if (!(c->search_known & (1 << b)) || ((c->search >> shift) & 0xFF) != ((c->want >> shift) & 0xFF))
-					break;
-			}
-			if (b == 3) {
-				c->pc = c->want_ret;
-				continue;
-			}
-			c->k = b;
-			emit(c, special(byte_cmd[b], (int)(c->want >> (16 - 8 * b)) & 0xFF), 0, 0);
-			return;
-		}
-
-		/* ---- group ---- */
-		case GR_CMD:
-			step(c, "group: %s group %d", c->add ? "ADD TO" : "REMOVE FROM", c->group);
-			emit(c, (unsigned)ps_dali_cmd(&c->target, (c->add ? PS_DALI_ADD_TO_GROUP : PS_DALI_REMOVE_FROM_GROUP) +
-			                                              c->group), 1, 0);
-			return;
-		case GR_Q0:
-			emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_0_7), 0, 1);
-			return;
-		case GR_Q1:
-			emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_8_15), 0, 1);
-			return;
-
-		/* ---- identify ---- */
-		case ID_QUERY:
-			step(c, "identify: short address %d, its level", c->target.n);
-			emit(c, short_frame(c->target.n, PS_DALI_QUERY_ACTUAL_LEVEL), 0, 1);
-			return;
-		case ID_G0:
-			emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_0_7), 0, 1);
-			return;
-		case ID_G1:
-			emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_8_15), 0, 1);
-			return;
-		case ID_FLASH:
-			step(c, "identify: short address %d flashing (%.0f of %.0f s)", c->target.n,
-			     fmax(0, now - c->t0), c->seconds);
-			emit(c, short_frame(c->target.n, c->k % 2 ? PS_DALI_RECALL_MIN : PS_DALI_RECALL_MAX), 0, 0);
-			return;
-		case ID_RESTORE:
-		case AB_RESTORE:
-			if (c->saved_level < 0 || c->saved_level == PS_DALI_MASK) {
-				/* level unknown: the held zone points set it afterwards */
-				if (c->pc == AB_RESTORE)
-					end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted");
-				else
-					end(c, now, PS_DALI_COMMISSION_DONE, "flashed %d times", c->flashes);
-				return;
-			}
-			step(c, "identify: short address %d back to level %d", c->target.n, c->saved_level);
-			if (c->saved_level == 0)
-				emit(c, short_frame(c->target.n, PS_DALI_OFF), 0, 0);
-			else
-				emit(c, (unsigned)ps_dali_dapc(&c->target, c->saved_level), 0, 0);
-			return;
-
-		/* ---- verify ---- */
-		case VE_PRESENT:
-			step(c, "verify: which short addresses answer (%d of 63)", c->i);
-			emit(c, short_frame(c->i, PS_DALI_QUERY_GEAR_PRESENT), 0, 1);
-			return;
-		case VE_INFO:
-			while (c->i < 64 && !(c->used & bit(c->i)))
-				c->i++;
-			if (c->i >= 64) {
-				/* who answers to each target; from now on their light is ours */
-				for (int t = 0; t < c->nvt; t++) {
-					struct ps_dali_verify_target *v = &c->vt[t];
-					if (v->addr.kind == PS_DALI_SHORT)
-						v->members = bit(v->addr.n);
-					for (int a = 0; a < 64; a++)
-						if ((c->used & bit(a)) && reaches(&v->addr, a, c->gear[a].groups))
-							v->members |= bit(a);
-					c->hold |= v->members;
-				}
-				for (int a = 0; a < 64; a++)
-					c->hold_groups[a] = c->gear[a].groups >= 0 ? c->gear[a].groups : ALL_GROUPS;
-				c->i = c->k = 0;
-				c->pc = VE_CMD;
-				continue;
-			}
-			step(c, "verify: short address %d, its groups and levels", c->i);
-			emit(c, short_frame(c->i, verify_queries[c->tmp]), 0, 1);
-			return;
-		case VE_CMD:
-			if (c->i >= c->nvt) {
-				double fade = 0;
-				for (int a = 0; a < 64; a++)
-					if (c->hold & bit(a))
-						fade = fmax(fade, fade_seconds(c->gear[a].fade));
-				c->i = 0;
-				c->pc = VE_QUERY;
-				c->wait_until = now + fade + FADE_MARGIN;
-				step(c, "verify: level %d sent, waiting %.1f s for the fade", c->levels[c->k], fade + FADE_MARGIN);
-				continue;
-			}
-			step(c, "verify: %s to level %d", c->vt[c->i].name, c->levels[c->k]);
-			emit(c, (unsigned)ps_dali_dapc(&c->vt[c->i].addr, c->levels[c->k]), 0, 0);
-			return;
-		case VE_QUERY:
-			while (c->i < 64 && !(c->used & bit(c->i)) && !(c->hold & bit(c->i)))
-				c->i++;
-			if (c->i >= 64) {
-				if (++c->k < 2) {
-					c->i = 0;
-					c->pc = VE_CMD;
-					continue;
-				}
-				verify_judge(c, now);
-				return;
-			}
-			step(c, "verify: level %d: short address %d", c->levels[c->k], c->i);
-			emit(c, short_frame(c->i, PS_DALI_QUERY_ACTUAL_LEVEL), 0, 1);
-			return;
-		default:
-			end(c, now, PS_DALI_COMMISSION_FAILED, "internal: step %d", c->pc);
-			return;
-		}
-	}
+	end(c, now, PS_DALI_COMMISSION_FAILED, "internal: step %d", c->pc);
+	return 0;
 }
 
 /* the value of a query's answer, or PS_DALI_NO_ANSWER / PS_DALI_COLLIDED */
@@ -535,35 +304,49 @@ static void do_abort(struct ps_dali_commission *c, double now)
 		end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted");
 }
 
-void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx, unsigned value, const char *why)
+/* ---- scan: every short address and its settings ---- */
+
+static int scan_run(struct ps_dali_commission *c, double now)
 {
-	int v = value_of(rx, value), yes = rx == PS_DALI_RX_ANSWER || rx == PS_DALI_RX_COLLISION;
-	if (c->state != PS_DALI_COMMISSION_RUNNING || !c->have_tx)
-		return;
-	c->have_tx = 0;
-	c->frames++;
-	if (rx == PS_DALI_RX_FAILED) {
-		end(c, now, PS_DALI_COMMISSION_FAILED, "%s", why && *why ? why : "the interface did not answer");
-		return;
+	switch (c->pc) {
+	case SC_PRESENT:
+		step(c, "scan: short address %d of 63", c->i);
+		emit(c, short_frame(c->i, PS_DALI_QUERY_GEAR_PRESENT), 0, 1);
+		return 0;
+	case SC_DETAIL:
+		step(c, "scan: short address %d of 63, its settings", c->i);
+		emit(c, short_frame(c->i, scan_queries[c->k]), 0, 1);
+		return 0;
+	case SC_UNADDR:
+		step(c, "scan: gear without a short address?");
+		emit(c, (PS_DALI_UNADDRESSED << 8) | PS_DALI_QUERY_GEAR_PRESENT, 0, 1);
+		return 0;
+	default:
+		return internal(c, now);
 	}
+}
+
+static int scan_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
+{
+	int v = value_of(rx, value);
 	switch (c->pc) {
 	case SC_PRESENT:
 		c->gear[c->i].present = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
 		if (c->gear[c->i].present) {
 			c->k = 0;
 			c->pc = SC_DETAIL;
-			break;
+			return 1;
 		}
 		c->scanned = ++c->i;
 		c->pc = c->i < 64 ? SC_PRESENT : SC_UNADDR;
-		break;
+		return 1;
 	case SC_DETAIL:
 		scan_store(&c->gear[c->i], c->k, v);
 		if (++c->k < NSCAN)
-			break;
+			return 1;
 		c->scanned = ++c->i;
 		c->pc = c->i < 64 ? SC_PRESENT : SC_UNADDR;
-		break;
+		return 1;
 	case SC_UNADDR: {
 		int n = 0, several = 0;
 		c->unaddressed = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
@@ -574,48 +357,73 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 		end(c, now, PS_DALI_COMMISSION_DONE, "%d short addresses answer%s; gear without a short address: %s", n,
 		    several ? ", some by several ballasts at once" : "",
 		    c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "yes" : "several");
-		return;
+		return 0;
 	}
+	}
+	return 1;
+}
 
-	case AD_PRESENT:
-		if (yes)
-			c->used |= bit(c->i);
-		if (rx == PS_DALI_RX_COLLISION)
-			c->dup |= bit(c->i);
-		if (++c->i < 64)
-			break;
-		c->scanned = 64;
-		c->pc = c->mode == PS_DALI_ADDRESS_NEW ? AD_UNADDR : AD_TERMINATE;
-		break;
-	case AD_UNADDR:
-		c->unaddressed = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
-		if (!yes && !c->dup) {
-			end(c, now, PS_DALI_COMMISSION_DONE, "every ballast has a short address of its own: nothing to do");
-			return;
+/* ---- address, its search: the next ballast's random address by a binary
+ * search with SEARCHADDRH/M/L and COMPARE, from the smallest half where
+ * COMPARE came back garbled (dali_commission.h); address_run and
+ * address_result hand it the steps they do not have ---- */
+
+static int search_run(struct ps_dali_commission *c, double now)
+{
+	switch (c->pc) {
+	case AD_FIRST:
+		step(c, "address: searching for ballast %d", c->nfound + 1);
+		/* the smallest garbled half that still holds a ballast, else all */
+		while (c->nnode > 0 && c->node[c->nnode - 1].found >= 2)
+			c->nnode--;
+		c->from_node = c->nnode > 0;
+		c->lo = c->from_node ? c->node[c->nnode - 1].base : 0;
+		c->hi = c->from_node ? c->node[c->nnode - 1].top : 0xFFFFFF;
+		c->hi_rx = PS_DALI_RX_NONE;   /* nobody said yes to hi yet */
+		c->pc = AD_BIN;
+		return 1;
+	case AD_BIN_CMP:
+	case AD_CONFIRM:
+		emit(c, special(PS_DALI_COMPARE, 0), 0, 1);
+		return 0;
+	case AD_BIN:
+		if (c->lo >= c->hi) {
+			c->found_at = c->hi;
+			if (c->hi_rx == PS_DALI_RX_COLLISION) {
+				c->pc = AD_CLASH;
+				return 1;
+			}
+			search_to(c, c->found_at, c->hi_rx == PS_DALI_RX_NONE ? AD_CONFIRM : AD_QUERY);
+			return 1;
 		}
-		c->pc = AD_TERMINATE;
-		break;
-	case AD_TERMINATE:
-		c->pc = AD_INIT;
-		break;
-	case AD_INIT:
-		c->inits++;
-		c->init_at = now;
-		c->search_known = 0;   /* gear new to the search holds an unknown search address */
-		c->i = 0;
-		if (c->mode == PS_DALI_ADDRESS_NEW)
-			c->pc = AD_INIT_DUP;
-		else
-			c->pc = c->reinit ? AD_FIRST : AD_RANDOMISE;
-		break;
-	case AD_INIT_DUP:
-		c->i++;
-		break;
-	case AD_RANDOMISE:
-		c->nnode = 0;   /* every address is new */
-		c->wait_until = now + RANDOMISE_WAIT;
-		c->pc = AD_FIRST;
-		break;
+		c->mid = c->lo + (c->hi - c->lo) / 2;
+		search_to(c, c->mid, AD_BIN_CMP);
+		return 1;
+	case PC_SEARCH: {
+		static const int byte_cmd[3] = { PS_DALI_SEARCHADDRH, PS_DALI_SEARCHADDRM, PS_DALI_SEARCHADDRL };
+		int b;
+		for (b = 0; b < 3; b++) {
+			int shift = 16 - 8 * b;
+			if (!(c->search_known & (1 << b)) || ((c->search >> shift) & 0xFF) != ((c->want >> shift) & 0xFF))
+				break;
+		}
+		if (b == 3) {
+			c->pc = c->want_ret;
+			return 1;
+		}
+		c->k = b;
+		emit(c, special(byte_cmd[b], (int)(c->want >> (16 - 8 * b)) & 0xFF), 0, 0);
+		return 0;
+	}
+	default:
+		return internal(c, now);
+	}
+}
+
+static int search_result(struct ps_dali_commission *c, int rx)
+{
+	int yes = rx == PS_DALI_RX_ANSWER || rx == PS_DALI_RX_COLLISION;
+	switch (c->pc) {
 	case AD_BIN_CMP:
 		if (yes) {
 			if (rx == PS_DALI_RX_COLLISION && c->nnode < 24)
@@ -626,7 +434,7 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 			c->lo = c->mid + 1;
 		}
 		c->pc = AD_BIN;
-		break;
+		return 1;
 	case AD_CONFIRM:
 		if (yes) {
 			c->hi_rx = rx;
@@ -637,16 +445,137 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 		} else {
 			c->pc = AD_FINAL;   /* nobody answers anywhere: all found */
 		}
-		break;
+		return 1;
+	case PC_SEARCH: {
+		int shift = 16 - 8 * c->k;
+		c->search = (c->search & ~(0xFFu << shift)) | (c->want & (0xFFu << shift));
+		c->search_known |= 1 << c->k;
+		return 1;
+	}
+	}
+	return 1;
+}
+
+/* ---- address: short addresses for the ballasts the search finds ---- */
+
+static int address_run(struct ps_dali_commission *c, double now)
+{
+	switch (c->pc) {
+	case AD_UNADDR:
+		step(c, "address: gear without a short address?");
+		emit(c, (PS_DALI_UNADDRESSED << 8) | PS_DALI_QUERY_GEAR_PRESENT, 0, 1);
+		return 0;
+	case AD_PRESENT:
+		step(c, "address: which short addresses answer (%d of 63)", c->i);
+		emit(c, short_frame(c->i, PS_DALI_QUERY_GEAR_PRESENT), 0, 1);
+		return 0;
+	case AD_TERMINATE:
+	case AD_FINAL:
+	case AB_TERMINATE:
+		emit(c, special(PS_DALI_TERMINATE, 0), 0, 0);
+		return 0;
+	case AD_INIT:
+		step(c, "address: INITIALISE %s", c->mode == PS_DALI_ADDRESS_ALL ? "all" : "unaddressed");
+		emit(c, special(PS_DALI_INITIALISE, c->mode == PS_DALI_ADDRESS_ALL ? 0x00 : 0xFF), 1, 0);
+		return 0;
+	case AD_INIT_DUP:
+		while (c->i < 64 && !(c->dup & bit(c->i)))
+			c->i++;
+		if (c->i >= 64) {
+			c->pc = c->reinit ? AD_FIRST : AD_RANDOMISE;
+			return 1;
+		}
+		step(c, "address: INITIALISE short %d (several ballasts share it)", c->i);
+		emit(c, special(PS_DALI_INITIALISE, c->i << 1 | 1), 1, 0);
+		return 0;
+	case AD_RANDOMISE:
+		step(c, "address: RANDOMISE");
+		emit(c, special(PS_DALI_RANDOMISE, 0), 1, 0);
+		return 0;
+	case AD_QUERY:
+		step(c, "address: ballast %d at random address 0x%06X", c->nfound + 1, c->found_at);
+		emit(c, special(PS_DALI_QUERY_SHORT_ADDRESS, 0), 0, 1);
+		return 0;
+	case AD_PROGRAM:
+		step(c, "address: random address 0x%06X gets short address %d", c->found_at, c->addr);
+		emit(c, special(PS_DALI_PROGRAM_SHORT_ADDRESS, c->addr << 1 | 1), 0, 0);
+		return 0;
+	case AD_VERIFY:
+		emit(c, special(PS_DALI_VERIFY_SHORT_ADDRESS, c->addr << 1 | 1), 0, 1);
+		return 0;
+	case AD_UNPROGRAM:
+		emit(c, special(PS_DALI_PROGRAM_SHORT_ADDRESS, 0xFF), 0, 0);
+		return 0;
+	case AD_CLASH:
+		c->nnode = 0;
+		if (++c->clashes > MAX_CLASHES) {
+			end(c, now, PS_DALI_COMMISSION_FAILED,
+			    "random addresses collided %d times: ballasts that cannot draw distinct ones", c->clashes);
+			return 0;
+		}
+		step(c, "address: two ballasts drew random address 0x%06X: RANDOMISE again", c->found_at);
+		c->pc = AD_RANDOMISE;
+		return 1;
+	case AD_WITHDRAW:
+		emit(c, special(PS_DALI_WITHDRAW, 0), 0, 0);
+		return 0;
+	default:
+		return search_run(c, now);
+	}
+}
+
+static int address_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
+{
+	int yes = rx == PS_DALI_RX_ANSWER || rx == PS_DALI_RX_COLLISION;
+	switch (c->pc) {
+	case AD_PRESENT:
+		if (yes)
+			c->used |= bit(c->i);
+		if (rx == PS_DALI_RX_COLLISION)
+			c->dup |= bit(c->i);
+		if (++c->i < 64)
+			return 1;
+		c->scanned = 64;
+		c->pc = c->mode == PS_DALI_ADDRESS_NEW ? AD_UNADDR : AD_TERMINATE;
+		return 1;
+	case AD_UNADDR:
+		c->unaddressed = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
+		if (!yes && !c->dup) {
+			end(c, now, PS_DALI_COMMISSION_DONE, "every ballast has a short address of its own: nothing to do");
+			return 0;
+		}
+		c->pc = AD_TERMINATE;
+		return 1;
+	case AD_TERMINATE:
+		c->pc = AD_INIT;
+		return 1;
+	case AD_INIT:
+		c->inits++;
+		c->init_at = now;
+		c->search_known = 0;   /* gear new to the search holds an unknown search address */
+		c->i = 0;
+		if (c->mode == PS_DALI_ADDRESS_NEW)
+			c->pc = AD_INIT_DUP;
+		else
+			c->pc = c->reinit ? AD_FIRST : AD_RANDOMISE;
+		return 1;
+	case AD_INIT_DUP:
+		c->i++;
+		return 1;
+	case AD_RANDOMISE:
+		c->nnode = 0;   /* every address is new */
+		c->wait_until = now + RANDOMISE_WAIT;
+		c->pc = AD_FIRST;
+		return 1;
 	case AD_QUERY:
 		if (rx == PS_DALI_RX_NONE) {
 			c->nnode = 0;
 			restart(c, now);
-			break;
+			return 1;
 		}
 		if (rx == PS_DALI_RX_COLLISION) {
 			c->pc = AD_CLASH;
-			break;
+			return 1;
 		}
 		c->was = value == 0xFF ? -1 : short_of(value);
 		c->refound = 0;
@@ -667,10 +596,10 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 		} else {
 			c->pc = AD_PROGRAM;
 		}
-		break;
+		return 1;
 	case AD_PROGRAM:
 		c->pc = AD_VERIFY;
-		break;
+		return 1;
 	case AD_VERIFY:
 		if (rx == PS_DALI_RX_ANSWER) {
 			c->claimed |= bit(c->addr);
@@ -685,10 +614,10 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 			c->lost++;
 			c->pc = AD_WITHDRAW;
 		}
-		break;
+		return 1;
 	case AD_UNPROGRAM:
 		c->pc = AD_CLASH;
-		break;
+		return 1;
 	case AD_WITHDRAW:
 		for (int j = 0; j < c->nnode; j++)
 			if (c->node[j].base <= c->found_at && c->found_at <= c->node[j].top)
@@ -702,39 +631,66 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 		} else {
 			c->pc = AD_FIRST;
 		}
-		break;
+		return 1;
 	case AD_FINAL:
 		address_done(c, now);
-		return;
-	case PC_SEARCH: {
-		int shift = 16 - 8 * c->k;
-		c->search = (c->search & ~(0xFFu << shift)) | (c->want & (0xFFu << shift));
-		c->search_known |= 1 << c->k;
-		break;
+		return 0;
+	case AB_TERMINATE:
+		end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted: %d ballasts had been found (%d new addresses)", c->nfound,
+		    c->programmed);
+		return 0;
+	default:
+		return search_result(c, rx);
 	}
+	return 1;
+}
 
+/* ---- group: add to or remove from a group, then check ---- */
+
+static int group_run(struct ps_dali_commission *c, double now)
+{
+	switch (c->pc) {
+	case GR_CMD:
+		step(c, "group: %s group %d", c->add ? "ADD TO" : "REMOVE FROM", c->group);
+		emit(c, (unsigned)ps_dali_cmd(&c->target, (c->add ? PS_DALI_ADD_TO_GROUP : PS_DALI_REMOVE_FROM_GROUP) +
+		                                              c->group), 1, 0);
+		return 0;
+	case GR_Q0:
+		emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_0_7), 0, 1);
+		return 0;
+	case GR_Q1:
+		emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_8_15), 0, 1);
+		return 0;
+	default:
+		return internal(c, now);
+	}
+}
+
+static int group_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
+{
+	switch (c->pc) {
 	case GR_CMD:
 		if (c->target.kind != PS_DALI_SHORT) {
 			end(c, now, PS_DALI_COMMISSION_DONE, "%s group %d sent to %s", c->add ? "ADD TO" : "REMOVE FROM",
 			    c->group, c->target.kind == PS_DALI_GROUP ? "a group" : "all gear");
-			return;
+			return 0;
 		}
 		c->pc = GR_Q0;
-		break;
+		return 1;
 	case GR_Q0:
 		if (rx != PS_DALI_RX_ANSWER) {
 			end(c, now, PS_DALI_COMMISSION_FAILED, "short address %d: %s", c->target.n,
 			    rx == PS_DALI_RX_NONE ? "no ballast answers" : "several ballasts answer, with different groups");
-			return;
+			return 0;
 		}
 		c->tmp = (int)value;
 		c->pc = GR_Q1;
-		break;
+		return 1;
 	case GR_Q1:
 		if (rx != PS_DALI_RX_ANSWER) {
 			end(c, now, PS_DALI_COMMISSION_FAILED, "short address %d: no clean answer to QUERY GROUPS 8-15",
 			    c->target.n);
-			return;
+			return 0;
 		}
 		c->groups_after = (int)value << 8 | c->tmp;
 		if (((c->groups_after >> c->group) & 1) == c->add)
@@ -743,38 +699,164 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 		else
 			end(c, now, PS_DALI_COMMISSION_FAILED, "short address %d did not take it: still %s group %d",
 			    c->target.n, c->add ? "out of" : "in", c->group);
-		return;
+		return 0;
+	}
+	return 1;
+}
 
+/* ---- identify: flash one ballast, then restore its level ---- */
+
+static int identify_run(struct ps_dali_commission *c, double now)
+{
+	switch (c->pc) {
+	case ID_QUERY:
+		step(c, "identify: short address %d, its level", c->target.n);
+		emit(c, short_frame(c->target.n, PS_DALI_QUERY_ACTUAL_LEVEL), 0, 1);
+		return 0;
+	case ID_G0:
+		emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_0_7), 0, 1);
+		return 0;
+	case ID_G1:
+		emit(c, short_frame(c->target.n, PS_DALI_QUERY_GROUPS_8_15), 0, 1);
+		return 0;
+	case ID_FLASH:
+		step(c, "identify: short address %d flashing (%.0f of %.0f s)", c->target.n,
+		     fmax(0, now - c->t0), c->seconds);
+		emit(c, short_frame(c->target.n, c->k % 2 ? PS_DALI_RECALL_MIN : PS_DALI_RECALL_MAX), 0, 0);
+		return 0;
+	case ID_RESTORE:
+	case AB_RESTORE:
+		if (c->saved_level < 0 || c->saved_level == PS_DALI_MASK) {
+			/* level unknown: the held zone points set it afterwards */
+			if (c->pc == AB_RESTORE)
+				end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted");
+			else
+				end(c, now, PS_DALI_COMMISSION_DONE, "flashed %d times", c->flashes);
+			return 0;
+		}
+		step(c, "identify: short address %d back to level %d", c->target.n, c->saved_level);
+		if (c->saved_level == 0)
+			emit(c, short_frame(c->target.n, PS_DALI_OFF), 0, 0);
+		else
+			emit(c, (unsigned)ps_dali_dapc(&c->target, c->saved_level), 0, 0);
+		return 0;
+	default:
+		return internal(c, now);
+	}
+}
+
+static int identify_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
+{
+	int v = value_of(rx, value);
+	switch (c->pc) {
 	case ID_QUERY:
 		if (rx == PS_DALI_RX_NONE) {
 			end(c, now, PS_DALI_COMMISSION_FAILED, "no ballast answers at short address %d", c->target.n);
-			return;
+			return 0;
 		}
 		c->saved_level = v;
 		c->pc = ID_G0;
-		break;
+		return 1;
 	case ID_G0:
 		c->tmp = v;
 		c->pc = ID_G1;
-		break;
+		return 1;
 	case ID_G1:
 		c->hold_groups[c->target.n] = c->tmp < 0 || v < 0 ? ALL_GROUPS : v << 8 | c->tmp;
 		c->hold = bit(c->target.n);
 		c->k = 0;
 		c->t0 = now;
 		c->pc = ID_FLASH;
-		break;
+		return 1;
 	case ID_FLASH:
 		c->k++;
 		c->flashes = (c->k + 1) / 2;
 		c->wait_until = c->t0 + c->k * FLASH_HALF;
 		if (c->k * FLASH_HALF >= c->seconds)
 			c->pc = ID_RESTORE;
-		break;
+		return 1;
 	case ID_RESTORE:
 		end(c, now, PS_DALI_COMMISSION_DONE, "flashed %d times, back at level %d", c->flashes, c->saved_level);
-		return;
+		return 0;
+	case AB_RESTORE:
+		end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted; back at level %d", c->saved_level);
+		return 0;
+	}
+	return 1;
+}
 
+/* ---- verify: command each target two levels, read every ballast back ---- */
+
+static int verify_run(struct ps_dali_commission *c, double now)
+{
+	switch (c->pc) {
+	case VE_PRESENT:
+		step(c, "verify: which short addresses answer (%d of 63)", c->i);
+		emit(c, short_frame(c->i, PS_DALI_QUERY_GEAR_PRESENT), 0, 1);
+		return 0;
+	case VE_INFO:
+		while (c->i < 64 && !(c->used & bit(c->i)))
+			c->i++;
+		if (c->i >= 64) {
+			/* who answers to each target; from now on their light is ours */
+			for (int t = 0; t < c->nvt; t++) {
+				struct ps_dali_verify_target *v = &c->vt[t];
+				if (v->addr.kind == PS_DALI_SHORT)
+					v->members = bit(v->addr.n);
+				for (int a = 0; a < 64; a++)
+					if ((c->used & bit(a)) && reaches(&v->addr, a, c->gear[a].groups))
+						v->members |= bit(a);
+				c->hold |= v->members;
+			}
+			for (int a = 0; a < 64; a++)
+				c->hold_groups[a] = c->gear[a].groups >= 0 ? c->gear[a].groups : ALL_GROUPS;
+			c->i = c->k = 0;
+			c->pc = VE_CMD;
+			return 1;
+		}
+		step(c, "verify: short address %d, its groups and levels", c->i);
+		emit(c, short_frame(c->i, verify_queries[c->tmp]), 0, 1);
+		return 0;
+	case VE_CMD:
+		if (c->i >= c->nvt) {
+			double fade = 0;
+			for (int a = 0; a < 64; a++)
+				if (c->hold & bit(a))
+					fade = fmax(fade, fade_seconds(c->gear[a].fade));
+			c->i = 0;
+			c->pc = VE_QUERY;
+			c->wait_until = now + fade + FADE_MARGIN;
+			step(c, "verify: level %d sent, waiting %.1f s for the fade", c->levels[c->k], fade + FADE_MARGIN);
+			return 1;
+		}
+		step(c, "verify: %s to level %d", c->vt[c->i].name, c->levels[c->k]);
+		emit(c, (unsigned)ps_dali_dapc(&c->vt[c->i].addr, c->levels[c->k]), 0, 0);
+		return 0;
+	case VE_QUERY:
+		while (c->i < 64 && !(c->used & bit(c->i)) && !(c->hold & bit(c->i)))
+			c->i++;
+		if (c->i >= 64) {
+			if (++c->k < 2) {
+				c->i = 0;
+				c->pc = VE_CMD;
+				return 1;
+			}
+			verify_judge(c, now);
+			return 0;
+		}
+		step(c, "verify: level %d: short address %d", c->levels[c->k], c->i);
+		emit(c, short_frame(c->i, PS_DALI_QUERY_ACTUAL_LEVEL), 0, 1);
+		return 0;
+	default:
+		return internal(c, now);
+	}
+}
+
+static int verify_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
+{
+	int v = value_of(rx, value), yes = rx == PS_DALI_RX_ANSWER || rx == PS_DALI_RX_COLLISION;
+	(void)now;   /* verify decides at the end of a run, not on a result */
+	switch (c->pc) {
 	case VE_PRESENT:
 		if (yes) {
 			c->used |= bit(c->i);
@@ -785,30 +867,66 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 			c->tmp = 0;
 			c->pc = VE_INFO;
 		}
-		break;
+		return 1;
 	case VE_INFO:
 		verify_store(&c->gear[c->i], c->tmp, v);
 		if (++c->tmp >= NVERIFY) {
 			c->tmp = 0;
 			c->i++;
 		}
-		break;
+		return 1;
 	case VE_CMD:
 		c->i++;
-		break;
+		return 1;
 	case VE_QUERY:
 		c->got[c->i][c->k] = v;
 		c->i++;
-		break;
+		return 1;
+	}
+	return 1;
+}
 
-	case AB_TERMINATE:
-		end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted: %d ballasts had been found (%d new addresses)", c->nfound,
-		    c->programmed);
+/* Each job is a run/result pair over its own steps (pc).  run does what the
+ * pc says: 1 when the pc moved on and run should go again, 0 when it asked
+ * for a transaction (c->tx) or a wait (c->wait_until), or the job ended.
+ * result files a transaction's outcome under the pc that asked for it and
+ * moves the pc on: 1 to go on running, 0 when the job ended. */
+static int (*const job_run[])(struct ps_dali_commission *c, double now) = {
+	[PS_DALI_COMMISSION_SCAN] = scan_run,
+	[PS_DALI_COMMISSION_ADDRESS] = address_run,
+	[PS_DALI_COMMISSION_GROUP] = group_run,
+	[PS_DALI_COMMISSION_IDENTIFY] = identify_run,
+	[PS_DALI_COMMISSION_VERIFY] = verify_run,
+};
+static int (*const job_result[])(struct ps_dali_commission *c, double now, int rx, unsigned value) = {
+	[PS_DALI_COMMISSION_SCAN] = scan_result,
+	[PS_DALI_COMMISSION_ADDRESS] = address_result,
+	[PS_DALI_COMMISSION_GROUP] = group_result,
+	[PS_DALI_COMMISSION_IDENTIFY] = identify_result,
+	[PS_DALI_COMMISSION_VERIFY] = verify_result,
+};
+
+/* Do what the pc says until a transaction, a wait or the end. */
+static void run(struct ps_dali_commission *c, double now)
+{
+	c->have_tx = 0;
+	while (c->state == PS_DALI_COMMISSION_RUNNING && !(now < c->wait_until) && c->pc != PC_END &&
+	       job_run[c->kind](c, now))
+		;
+}
+
+void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx, unsigned value, const char *why)
+{
+	if (c->state != PS_DALI_COMMISSION_RUNNING || !c->have_tx)
 		return;
-	case AB_RESTORE:
-		end(c, now, PS_DALI_COMMISSION_ABORTED, "aborted; back at level %d", c->saved_level);
+	c->have_tx = 0;
+	c->frames++;
+	if (rx == PS_DALI_RX_FAILED) {
+		end(c, now, PS_DALI_COMMISSION_FAILED, "%s", why && *why ? why : "the interface did not answer");
 		return;
 	}
+	if (!job_result[c->kind](c, now, rx, value))
+		return;
 	if (c->abort_req)
 		do_abort(c, now);
 	run(c, now);

@@ -180,7 +180,6 @@ int ps_dali_commission_holds(const struct ps_dali_commission *c, const struct ps
 /* The job as JSON: into gets "job", "state", "step", "frames", "elapsed_s",
  * "message" and the kind's results.  Names of kinds and states: */
 extern const char *const ps_dali_commission_kinds[];
-extern const char *const ps_dali_commission_states[];
 void ps_dali_commission_json(const struct ps_dali_commission *c, double now, struct json_object *into);
 
 #endif

@@ -4,7 +4,7 @@
  * report becomes an event.  The transports are pure byte codecs; the USB I/O,
  * sequence numbers, timeouts, retries and the frame rate live in dali_usb.c,
  * so a second interface (the hasseb DALI Master, 04cc:0802, 10-byte reports)
- * is one more table like ps_dali_tridonic, without touching the driver or
+ * is one more table like ps_usb_tridonic, without touching the driver or
  * the DALI layer. */
 #ifndef PS_DALI_TRANSPORT_H
 #define PS_DALI_TRANSPORT_H
@@ -45,11 +45,5 @@ struct ps_dali_transport {
 	/* Next sequence number after seq (the interface's wrap rule). */
 	int (*next_seq)(int seq);
 };
-
-/* The Tridonic / Lunatone DALI USB interface (17b5:0020), usb_tridonic.c. */
-extern const struct ps_dali_transport ps_dali_tridonic;
-
-/* Find a transport by name, NULL if unknown. */
-const struct ps_dali_transport *ps_dali_transport_find(const char *name);
 
 #endif

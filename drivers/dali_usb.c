@@ -49,6 +49,7 @@
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "usb_tridonic.h"
 
 #define MAX_POINTS 64
 #define QCAP 256
@@ -124,19 +125,10 @@ struct dali_usb {
 	int job_held;          /* points were held back while it ran */
 };
 
-extern const struct ps_driver ps_driver_dali_usb;
 
 /* The interfaces, and their names for the transport key (in that order). */
-static const struct ps_dali_transport *const transports[] = { &ps_dali_tridonic, NULL };
+static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL };
 static const char *const transport_names[] = { "tridonic", NULL };
-
-const struct ps_dali_transport *ps_dali_transport_find(const char *name)
-{
-	for (int i = 0; transports[i]; i++)
-		if (strcmp(transports[i]->name, name) == 0)
-			return transports[i];
-	return NULL;
-}
 
 /* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
 static int valid_port(const char *v, char *why, size_t n)
@@ -155,24 +147,27 @@ static int valid_address(const char *v, char *why, size_t n)
 }
 
 #define DEV PS_OPT_DEVICE
-static const struct ps_opt_spec du_options[] = {
-	{ "transport", PS_OPT_ENUM, DEV, 0, "tridonic", 0, 0, transport_names, NULL,
-	  "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020)" },
-	{ "serial", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL, "the interface with this USB serial number" },
-	{ "port", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, valid_port,
-	  "the interface at this USB port, BUS-PORT[.PORT...] (e.g. 1-1.4)" },
-	{ "timeout", PS_OPT_DOUBLE, DEV, 0, "0.2", 0.01, 10, NULL, NULL,
-	  "seconds for the interface's answer to a frame" },
-	{ "retries", PS_OPT_LONG, DEV, 0, "2", 0, 10, NULL, NULL, "further tries of a frame that got no answer" },
-	{ "frame_gap", PS_OPT_DOUBLE, DEV, 0, "0.022", 0, 1, NULL, NULL,
-	  "seconds between a transaction's end and the next frame" },
-	{ "safe_level", PS_OPT_DOUBLE, DEV, 0, NULL, 0, 1, NULL, NULL,
-	  "program each ballast's SYSTEM FAILURE LEVEL to this output (absent: leave it)" },
-	{ "fade_time", PS_OPT_DOUBLE, DEV, 0, NULL, 0, 90.5, NULL, NULL,
-	  "program each ballast's fade time, seconds (absent: leave it)" },
-	{ "address", PS_OPT_STRING, PS_OPT_POINT, 0, "broadcast", 0, 0, NULL, valid_address,
-	  "the ballasts: a short address 0 to 63, group N or broadcast" },
-	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+static const struct ps_opts_spec du_options[] = {
+	{ .key = "transport", .type = PS_OPT_ENUM, .scope = DEV, .def = "tridonic",
+	  .names = transport_names,
+	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020)" },
+	{ .key = "serial", .type = PS_OPT_STRING, .scope = DEV,
+	  .doc = "the interface with this USB serial number" },
+	{ .key = "port", .type = PS_OPT_STRING, .scope = DEV, .valid = valid_port,
+	  .doc = "the interface at this USB port, BUS-PORT[.PORT...] (e.g. 1-1.4)" },
+	{ .key = "timeout", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0.2",
+	  .min = 0.01, .max = 10, .doc = "seconds for the interface's answer to a frame" },
+	{ .key = "retries", .type = PS_OPT_LONG, .scope = DEV, .def = "2", .min = 0, .max = 10,
+	  .doc = "further tries of a frame that got no answer" },
+	{ .key = "frame_gap", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0.022",
+	  .min = 0, .max = 1, .doc = "seconds between a transaction's end and the next frame" },
+	{ .key = "safe_level", .type = PS_OPT_DOUBLE, .scope = DEV, .min = 0, .max = 1,
+	  .doc = "program each ballast's SYSTEM FAILURE LEVEL to this output (absent: leave it)" },
+	{ .key = "fade_time", .type = PS_OPT_DOUBLE, .scope = DEV, .min = 0, .max = 90.5,
+	  .doc = "program each ballast's fade time, seconds (absent: leave it)" },
+	{ .key = "address", .type = PS_OPT_STRING, .scope = PS_OPT_POINT, .def = "broadcast",
+	  .valid = valid_address, .doc = "the ballasts: a short address 0 to 63, group N or broadcast" },
+	{ .key = NULL },
 };
 #undef DEV
 
@@ -180,7 +175,7 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 {
 	if (role < 0 || role == PS_ROLE_DIM || role == PS_ROLE_RELAY)
 		return 0;
-	*line = ps_opt_line(o, "address");
+	*line = ps_opts_line(o, "address");
 	snprintf(why, n, "dali_usb drives dim and relay points, not %s", ps_role_name(role));
 	return -1;
 }
@@ -1049,13 +1044,13 @@ static int du_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
 {
 	struct dali_usb *d = dev->priv;
-	struct ps_opt_reader r = { o, du_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, du_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	struct dpoint *p;
 	const char *a = NULL;
 	char why[120];
 	if (!d)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
-	if (ps_dev_check(dev, o, pt->role) != 0 || ps_opt_string(&r, "address", &a) != 0)
+	if (ps_dev_check(dev, o, pt->role) != 0 || ps_opts_string(&r, "address", &a) != 0)
 		return -1;
 	if (d->npts >= MAX_POINTS)
 		return ps_dev_fail(dev, EINVAL, "%s: more than %d points on one interface", pt->name, MAX_POINTS);
@@ -1103,7 +1098,7 @@ static void du_close(struct ps_dev *dev)
 static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct dali_usb *d = calloc(1, sizeof *d);
-	struct ps_opt_reader r = { o, du_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, du_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
 	const char *serial = NULL, *port = NULL;
 	int transport = 0;
 	if (!d)
@@ -1116,10 +1111,10 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	d->seq = 0;
 	if (d->epfd < 0)
 		return ps_dev_fail(dev, errno, "epoll: %s", strerror(errno));
-	if (ps_opt_choice(&r, "transport", &transport) || ps_opt_string(&r, "serial", &serial) ||
-	    ps_opt_string(&r, "port", &port) || ps_opt_double(&r, "timeout", &d->timeout) ||
-	    ps_opt_long(&r, "retries", &d->retries) || ps_opt_double(&r, "frame_gap", &d->frame_gap) ||
-	    ps_opt_double(&r, "safe_level", &d->safe_level) || ps_opt_double(&r, "fade_time", &d->fade_time))
+	if (ps_opts_choice(&r, "transport", &transport) || ps_opts_string(&r, "serial", &serial) ||
+	    ps_opts_string(&r, "port", &port) || ps_opts_double(&r, "timeout", &d->timeout) ||
+	    ps_opts_long(&r, "retries", &d->retries) || ps_opts_double(&r, "frame_gap", &d->frame_gap) ||
+	    ps_opts_double(&r, "safe_level", &d->safe_level) || ps_opts_double(&r, "fade_time", &d->fade_time))
 		return -1;
 	d->tp = transports[transport];
 	snprintf(d->serial, sizeof d->serial, "%s", serial ? serial : "");

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: ISC */
-/* The DALI USB driver's extras beyond the driver.h table: counters for tests,
- * benchmarks and psensctl.  The driver itself is ps_driver_dali_usb. */
+/* The DALI USB driver, ps_driver_dali_usb, and its extras beyond the
+ * driver.h table: counters for tests, benchmarks and psensctl, and the last
+ * commissioning job. */
 #ifndef PS_DALI_USB_H
 #define PS_DALI_USB_H
 
@@ -21,6 +22,8 @@ struct ps_dali_usb_stats {
 
 /* 0, or -1 (EINVAL) when dev is not a dali_usb device. */
 int ps_dali_usb_stats(struct ps_dev *dev, struct ps_dali_usb_stats *st);
+
+extern const struct ps_driver ps_driver_dali_usb;
 
 struct ps_dali_commission;
 /* The last commissioning job (dali_commission.h), NULL before the first. */

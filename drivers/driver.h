@@ -35,22 +35,9 @@
 
 #include <stddef.h>
 
+#include "dev.h"
 #include "opts.h"
-
-enum ps_role {
-	PS_ROLE_SENSOR = 0,   /* photosensor signal, volts */
-	PS_ROLE_TASK_LUX,     /* task illuminance meter, lux */
-	PS_ROLE_DIM,          /* dimming output, light-output fraction 0..1 */
-	PS_ROLE_RELAY,        /* switched output, 0 or 1 (a step of a stepped system) */
-	PS_ROLE_INPUT,        /* button or occupancy input, 0 or 1, reported as events */
-	PS_ROLE_ROOFTOP,      /* outdoor global horizontal illuminance, lux (the live
-	                         estimate's sky class; not a control input) */
-	PS_ROLE_COUNT
-};
-
-/* Role names as used in the config file ("sensor", "task", "dim", "relay", "input", "rooftop"). */
-const char *ps_role_name(int role);
-int ps_role_parse(const char *name);   /* -1 if unknown */
+#include "role.h"
 
 struct ps_dev;
 struct ps_point;
@@ -92,7 +79,7 @@ struct ps_driver {
 	const char *summary;  /* one line for psensd -h and -L */
 	int compiled_in;      /* 0 for a stub: every method fails with ENOTSUP */
 	/* The keys it takes (opts.h), NULL-key terminated; NULL for a stub. */
-	const struct ps_opt_spec *options;
+	const struct ps_opts_spec *options;
 	/* Checks across keys the table cannot express (e.g. a Modbus device needs
 	 * host or device), on a device section (role < 0) or a point section
 	 * whose keys passed the table; NULL if none.  -1 with the key's line in
@@ -134,30 +121,11 @@ struct ps_driver {
 	               double now, char *out, size_t outlen);
 };
 
-/* The registry: every driver this build knows, compiled in or not. */
-extern const struct ps_driver *const ps_drivers[];
-/* Find by name; NULL if no such driver exists at all. */
-const struct ps_driver *ps_driver_find(const char *name);
-/* "loopback, modbus, ..." of the registry, for messages. */
-void ps_driver_names(char *out, size_t n);
 /* Judge a device section (role < 0) or a point section: every key against
  * the driver's table, then, when they all pass, its check method.  Each
  * error goes to report (opts.h); returns the number of errors.  A stub
  * (not compiled in) has no table: its keys are not judged. */
-int ps_driver_check(const struct ps_driver *drv, const struct ps_opts *o, int role, ps_opt_report_fn report,
+int ps_driver_check(const struct ps_driver *drv, const struct ps_opts *o, int role, ps_opts_report_fn report,
                     void *user);
-
-/* Set dev->err (printf-style) and errno; returns -1. */
-int ps_dev_fail(struct ps_dev *dev, int err, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-/* What a failed read's errno means: 1 a fault at once (ENODEV, ENOTSUP,
- * EINVAL, ERANGE, EOVERFLOW: the device is gone or misconfigured, or the
- * value is wrong), 0 a missed reply (ETIMEDOUT, EPROTO, EAGAIN, ...: a
- * fault only once the last good reading is older than the zone's
- * stale_after; until then the level is held). */
-int ps_dev_fault_at_once(int err);
-/* The driver's check method on a section, for its own open (role < 0) and
- * add_point: -1 with errno EINVAL and "file:line: why" in dev->err. */
-int ps_dev_check(struct ps_dev *dev, const struct ps_opts *o, int role);
 
 #endif

@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "driver.h"
+#include "file.h"
 
 enum { FILE_MAX_POINTS = 32 };
 
@@ -37,56 +38,57 @@ struct file_dev {
 	int npts;
 };
 
-static const struct ps_opt_spec file_options[] = {
-	{ "dir", PS_OPT_STRING, PS_OPT_DEVICE, 0, ".", 0, 0, NULL, NULL,
-	  "the directory of the points' files, relative to the configuration file's" },
-	{ "path", PS_OPT_STRING, PS_OPT_POINT, 0, NULL, 0, 0, NULL, NULL,
-	  "the point's file, in dir unless it starts with / (required)" },
-	{ "scale", PS_OPT_DOUBLE, PS_OPT_POINT, 0, "1", -1e9, 1e9, NULL, NULL,
-	  "a reading is the file's number times scale; an output writes its level over scale" },
-	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+static const struct ps_opts_spec file_options[] = {
+	{ .key = "dir", .type = PS_OPT_STRING, .scope = PS_OPT_DEVICE, .def = ".",
+	  .doc = "the directory of the points' files, relative to the configuration file's" },
+	{ .key = "path", .type = PS_OPT_STRING, .scope = PS_OPT_POINT,
+	  .doc = "the point's file, in dir unless it starts with / (required)" },
+	{ .key = "scale", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .def = "1",
+	  .min = -1e9, .max = 1e9,
+	  .doc = "a reading is the file's number times scale; an output writes its level over scale" },
+	{ .key = NULL },
 };
 
 static int file_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
 {
-	struct ps_opt_reader r = { o, file_options, PS_OPT_POINT, why, n, line };
+	struct ps_opts_reader r = { o, file_options, PS_OPT_POINT, why, n, line };
 	double scale = 1;
 	if (role < 0)
 		return 0;
 	if (role == PS_ROLE_INPUT)
-		return ps_opt_fail(&r, "path", "file: no input points (sensor, task, dim and relay)");
-	if (!ps_opt_get(o, "path"))
-		return ps_opt_fail(&r, "path", "file: 'path' (the point's file) is required");
-	if (ps_opt_double(&r, "scale", &scale) != 0)
+		return ps_opts_fail(&r, "path", "file: no input points (sensor, task, dim and relay)");
+	if (!ps_opts_get(o, "path"))
+		return ps_opts_fail(&r, "path", "file: 'path' (the point's file) is required");
+	if (ps_opts_double(&r, "scale", &scale) != 0)
 		return -1;
 	if (scale == 0)
-		return ps_opt_fail(&r, "scale", "scale: must not be 0");
+		return ps_opts_fail(&r, "scale", "scale: must not be 0");
 	return 0;
 }
 
 static int file_open(struct ps_dev *dev, const struct ps_opts *o)
 {
-	struct ps_opt_reader r = { o, file_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, file_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
 	struct file_dev *f = calloc(1, sizeof *f);
 	const char *dir = NULL;
 	int base;
 	if (!f)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = f;
-	if (ps_dev_check(dev, o, -1) != 0 || ps_opt_string(&r, "dir", &dir) != 0)
+	if (ps_dev_check(dev, o, -1) != 0 || ps_opts_string(&r, "dir", &dir) != 0)
 		return -1;
 	/* relative to the configuration file, as psensd.conf's other paths */
 	base = dir[0] != '/' && o && o->file && strrchr(o->file, '/') ? (int)(strrchr(o->file, '/') - o->file) : -1;
 	if ((size_t)snprintf(f->dir, sizeof f->dir, "%.*s%s%s", base < 0 ? 0 : base, o && o->file ? o->file : "",
 	                     base < 0 ? "" : "/", dir) >= sizeof f->dir)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: dir: longer than %zu bytes", o->file, ps_opt_line(o, "dir"),
+		return ps_dev_fail(dev, EINVAL, "%s:%d: dir: longer than %zu bytes", o->file, ps_opts_line(o, "dir"),
 		                   sizeof f->dir - 1);
 	return 0;
 }
 
 static int file_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
 {
-	struct ps_opt_reader r = { o, file_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, file_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	struct file_dev *f = dev->priv;
 	struct file_point *p;
 	const char *path = NULL;
@@ -95,11 +97,11 @@ static int file_add_point(struct ps_dev *dev, struct ps_point *pt, const struct 
 	if (f->npts >= FILE_MAX_POINTS)
 		return ps_dev_fail(dev, EINVAL, "file: at most %d points per device", FILE_MAX_POINTS);
 	p = &f->pts[f->npts];
-	if (ps_opt_string(&r, "path", &path) || ps_opt_double(&r, "scale", &p->scale))
+	if (ps_opts_string(&r, "path", &path) || ps_opts_double(&r, "scale", &p->scale))
 		return -1;
 	if ((size_t)snprintf(p->path, sizeof p->path, "%s%s%s", path[0] == '/' ? "" : f->dir,
 	                     path[0] == '/' ? "" : "/", path) >= sizeof p->path)
-		return ps_dev_fail(dev, EINVAL, "%s:%d: path: longer than %zu bytes", o->file, ps_opt_line(o, "path"),
+		return ps_dev_fail(dev, EINVAL, "%s:%d: path: longer than %zu bytes", o->file, ps_opts_line(o, "path"),
 		                   sizeof p->path - 1);
 	f->npts++;
 	pt->priv = p;

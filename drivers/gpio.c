@@ -24,6 +24,7 @@
 
 #include "driver.h"
 #include "freq.h"
+#include "gpio.h"
 
 enum { GPIO_MAX_POINTS = 32 };
 
@@ -71,35 +72,45 @@ static const char *const sensitivities[] = { "1", "10", "100", NULL };
 #define RELAY PS_ROLE_BIT(PS_ROLE_RELAY)
 #define INPUT PS_ROLE_BIT(PS_ROLE_INPUT)
 #define SENSOR PS_ROLE_BIT(PS_ROLE_SENSOR)
-static const struct ps_opt_spec gpio_options[] = {
-	{ "chip", PS_OPT_STRING, PS_OPT_DEVICE, 0, "gpiochip0", 0, 0, NULL, NULL,
-	  "the chip: a path, name, label or number" },
-	{ "consumer", PS_OPT_STRING, PS_OPT_DEVICE, 0, "psensd", 0, 0, NULL, NULL,
-	  "the label the kernel shows for the lines psensd holds" },
-	{ "line", PS_OPT_LONG, PT, RELAY | INPUT | SENSOR, NULL, 0, 1023, NULL, NULL,
-	  "the line's offset on the chip (required)" },
-	{ "active_low", PS_OPT_BOOL, PT, RELAY | INPUT, "no", 0, 0, NULL, NULL, "the line is active low" },
-	{ "initial", PS_OPT_ENUM, PT, RELAY, "off", 0, 0, onoff, NULL,
-	  "the relay's state from the request until psensd's first command" },
-	{ "edge", PS_OPT_ENUM, PT, INPUT, "both", 0, 0, edges, NULL, "which changes of an input are events" },
-	{ "bias", PS_OPT_ENUM, PT, INPUT, "as-is", 0, 0, biases, NULL, "the input's bias" },
-	{ "debounce", PS_OPT_DOUBLE, PT, INPUT, "0.02", 0, 10, NULL, NULL,
-	  "seconds an input must hold still before its level counts" },
-	{ "kind", PS_OPT_ENUM, PT, SENSOR, NULL, 0, 0, kinds, NULL,
-	  "frequency: a light-to-frequency sensor (required on a sensor)" },
-	{ "gate", PS_OPT_DOUBLE, PT, SENSOR, "1", 0.01, 3600, NULL, NULL, "seconds per measurement" },
-	{ "factor", PS_OPT_DOUBLE, PT, SENSOR, "1", 1e-12, 1e12, NULL, NULL, "signal units per hertz" },
-	{ "max_rate", PS_OPT_DOUBLE, PT, SENSOR, "2000", 1, 1e7, NULL, NULL,
-	  "edges per second the driver takes before it raises the divider" },
-	{ "gap", PS_OPT_DOUBLE, PT, SENSOR, "3", 1.1, 1000, NULL, NULL,
-	  "an interval this many times the shortest in a gate means lost edges" },
-	{ "s0", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the sensitivity pin S0's line" },
-	{ "s1", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the sensitivity pin S1's line" },
-	{ "s2", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the divider pin S2's line (with s3)" },
-	{ "s3", PS_OPT_LONG, PT, SENSOR, NULL, 0, 1023, NULL, NULL, "the divider pin S3's line (with s2)" },
-	{ "sensitivity", PS_OPT_LONG, PT, SENSOR, "1", 0, 0, sensitivities, NULL,
-	  "the sensitivity set on s0 and s1" },
-	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+static const struct ps_opts_spec gpio_options[] = {
+	{ .key = "chip", .type = PS_OPT_STRING, .scope = PS_OPT_DEVICE, .def = "gpiochip0",
+	  .doc = "the chip: a path, name, label or number" },
+	{ .key = "consumer", .type = PS_OPT_STRING, .scope = PS_OPT_DEVICE, .def = "psensd",
+	  .doc = "the label the kernel shows for the lines psensd holds" },
+	{ .key = "line", .type = PS_OPT_LONG, .scope = PT, .roles = RELAY | INPUT | SENSOR,
+	  .min = 0, .max = 1023, .doc = "the line's offset on the chip (required)" },
+	{ .key = "active_low", .type = PS_OPT_BOOL, .scope = PT, .roles = RELAY | INPUT,
+	  .def = "no", .doc = "the line is active low" },
+	{ .key = "initial", .type = PS_OPT_ENUM, .scope = PT, .roles = RELAY, .def = "off",
+	  .names = onoff, .doc = "the relay's state from the request until psensd's first command" },
+	{ .key = "edge", .type = PS_OPT_ENUM, .scope = PT, .roles = INPUT, .def = "both",
+	  .names = edges, .doc = "which changes of an input are events" },
+	{ .key = "bias", .type = PS_OPT_ENUM, .scope = PT, .roles = INPUT, .def = "as-is",
+	  .names = biases, .doc = "the input's bias" },
+	{ .key = "debounce", .type = PS_OPT_DOUBLE, .scope = PT, .roles = INPUT, .def = "0.02",
+	  .min = 0, .max = 10, .doc = "seconds an input must hold still before its level counts" },
+	{ .key = "kind", .type = PS_OPT_ENUM, .scope = PT, .roles = SENSOR, .names = kinds,
+	  .doc = "frequency: a light-to-frequency sensor (required on a sensor)" },
+	{ .key = "gate", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "1",
+	  .min = 0.01, .max = 3600, .doc = "seconds per measurement" },
+	{ .key = "factor", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "1",
+	  .min = 1e-12, .max = 1e12, .doc = "signal units per hertz" },
+	{ .key = "max_rate", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "2000",
+	  .min = 1, .max = 1e7, .doc = "edges per second the driver takes before it raises the divider" },
+	{ .key = "gap", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "3",
+	  .min = 1.1, .max = 1000,
+	  .doc = "an interval this many times the shortest in a gate means lost edges" },
+	{ .key = "s0", .type = PS_OPT_LONG, .scope = PT, .roles = SENSOR, .min = 0, .max = 1023,
+	  .doc = "the sensitivity pin S0's line" },
+	{ .key = "s1", .type = PS_OPT_LONG, .scope = PT, .roles = SENSOR, .min = 0, .max = 1023,
+	  .doc = "the sensitivity pin S1's line" },
+	{ .key = "s2", .type = PS_OPT_LONG, .scope = PT, .roles = SENSOR, .min = 0, .max = 1023,
+	  .doc = "the divider pin S2's line (with s3)" },
+	{ .key = "s3", .type = PS_OPT_LONG, .scope = PT, .roles = SENSOR, .min = 0, .max = 1023,
+	  .doc = "the divider pin S3's line (with s2)" },
+	{ .key = "sensitivity", .type = PS_OPT_LONG, .scope = PT, .roles = SENSOR, .def = "1",
+	  .names = sensitivities, .doc = "the sensitivity set on s0 and s1" },
+	{ .key = NULL },
 };
 #undef PT
 #undef RELAY
@@ -107,36 +118,36 @@ static const struct ps_opt_spec gpio_options[] = {
 #undef SENSOR
 
 /* The rules across a point's keys; errors through the reader. */
-static int check_point(const struct ps_opt_reader *r, int role)
+static int check_point(const struct ps_opts_reader *r, int role)
 {
 	const struct ps_opts *o = r->opts;
 	if (role != PS_ROLE_RELAY && role != PS_ROLE_INPUT && role != PS_ROLE_SENSOR)
-		return ps_opt_fail(r, "line", "gpio: no %s points (relay, input and frequency sensors)", ps_role_name(role));
-	if (!ps_opt_get(o, "line"))
-		return ps_opt_fail(r, "line", "gpio: 'line' (the line's offset on the chip) is required");
-	if (role == PS_ROLE_SENSOR && !ps_opt_get(o, "kind"))
-		return ps_opt_fail(r, "kind", "gpio: a sensor point needs kind = frequency (a light-to-frequency sensor)");
-	if (!ps_opt_get(o, "s2") != !ps_opt_get(o, "s3"))
-		return ps_opt_fail(r, ps_opt_get(o, "s2") ? "s2" : "s3", "gpio: the divider needs both s2 and s3");
+		return ps_opts_fail(r, "line", "gpio: no %s points (relay, input and frequency sensors)", ps_role_name(role));
+	if (!ps_opts_get(o, "line"))
+		return ps_opts_fail(r, "line", "gpio: 'line' (the line's offset on the chip) is required");
+	if (role == PS_ROLE_SENSOR && !ps_opts_get(o, "kind"))
+		return ps_opts_fail(r, "kind", "gpio: a sensor point needs kind = frequency (a light-to-frequency sensor)");
+	if (!ps_opts_get(o, "s2") != !ps_opts_get(o, "s3"))
+		return ps_opts_fail(r, ps_opts_get(o, "s2") ? "s2" : "s3", "gpio: the divider needs both s2 and s3");
 	return 0;
 }
 
 static int gpio_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
 {
-	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, why, n, line };
+	struct ps_opts_reader r = { o, gpio_options, PS_OPT_POINT, why, n, line };
 	return role < 0 ? 0 : check_point(&r, role);
 }
 
 static int gpio_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct gpio_dev *g = calloc(1, sizeof *g);
-	struct ps_opt_reader r = { o, gpio_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, gpio_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
 	const char *chip = NULL, *consumer = NULL;
 	if (!g)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = g;
 	g->epfd = -1;
-	if (ps_opt_string(&r, "chip", &chip) || ps_opt_string(&r, "consumer", &consumer))
+	if (ps_opts_string(&r, "chip", &chip) || ps_opts_string(&r, "consumer", &consumer))
 		return -1;
 	snprintf(g->chipname, sizeof g->chipname, "%s", chip);
 	snprintf(g->consumer, sizeof g->consumer, "%s", consumer);
@@ -154,17 +165,17 @@ static int gpio_open(struct ps_dev *dev, const struct ps_opts *o)
 static struct gpiod_line *get_line(struct ps_dev *dev, const struct ps_opts *o, const char *key, int *offset)
 {
 	struct gpio_dev *g = dev->priv;
-	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	long n = -1;
 	struct gpiod_line *l;
-	if (ps_opt_long(&r, key, &n) != 0)
+	if (ps_opts_long(&r, key, &n) != 0)
 		return NULL;
 	if (n < 0) {
 		errno = 0;
 		return NULL;
 	}
 	if (!(l = gpiod_chip_get_line(g->chip, (unsigned)n))) {
-		ps_dev_fail(dev, EINVAL, "%s:%d: %s: %s has no line %ld (%u lines)", o->file, ps_opt_line(o, key), key,
+		ps_dev_fail(dev, EINVAL, "%s:%d: %s: %s has no line %ld (%u lines)", o->file, ps_opts_line(o, key), key,
 		            g->chipname, n, gpiod_chip_num_lines(g->chip));
 		return NULL;
 	}
@@ -178,7 +189,7 @@ static int request(struct ps_dev *dev, const struct ps_opts *o, const char *key,
 	struct gpio_dev *g = dev->priv;
 	struct gpiod_line_request_config cfg = { g->consumer, type, flags };
 	if (gpiod_line_request(l, &cfg, value) != 0)
-		return ps_dev_fail(dev, errno, "%s:%d: %s: line %u of %s: %s%s", o->file, ps_opt_line(o, key), key,
+		return ps_dev_fail(dev, errno, "%s:%d: %s: line %u of %s: %s%s", o->file, ps_opts_line(o, key), key,
 		                   gpiod_line_offset(l), g->chipname, strerror(errno),
 		                   errno == EBUSY ? " (another program holds it)" : "");
 	return 0;
@@ -196,13 +207,13 @@ static int watch(struct ps_dev *dev, struct gpio_point *p)
 
 static int add_frequency(struct ps_dev *dev, struct gpio_point *p, const struct ps_opts *o)
 {
-	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	long sens;
 	int off;
 	struct gpiod_line *s0, *s1;
-	if (ps_opt_double(&r, "gate", &p->gate) || ps_opt_double(&r, "factor", &p->factor) ||
-	    ps_opt_double(&r, "max_rate", &p->max_rate) || ps_opt_double(&r, "gap", &p->gap) ||
-	    ps_opt_long(&r, "sensitivity", &sens))
+	if (ps_opts_double(&r, "gate", &p->gate) || ps_opts_double(&r, "factor", &p->factor) ||
+	    ps_opts_double(&r, "max_rate", &p->max_rate) || ps_opts_double(&r, "gap", &p->gap) ||
+	    ps_opts_long(&r, "sensitivity", &sens))
 		return -1;
 	if (!(p->line = get_line(dev, o, "line", &p->offset)) ||
 	    request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_EVENT_RISING_EDGE, 0, 0) != 0)
@@ -234,10 +245,10 @@ static int add_frequency(struct ps_dev *dev, struct gpio_point *p, const struct 
 
 static int add_input(struct ps_dev *dev, struct gpio_point *p, const struct ps_opts *o, int flags)
 {
-	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	int bias;
-	if (ps_opt_choice(&r, "edge", &p->edge) || ps_opt_choice(&r, "bias", &bias) ||
-	    ps_opt_double(&r, "debounce", &p->debounce) || !(p->line = get_line(dev, o, "line", &p->offset)))
+	if (ps_opts_choice(&r, "edge", &p->edge) || ps_opts_choice(&r, "bias", &bias) ||
+	    ps_opts_double(&r, "debounce", &p->debounce) || !(p->line = get_line(dev, o, "line", &p->offset)))
 		return -1;
 	flags |= bias == 1 ? GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_UP : bias == 2 ? GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_DOWN
 	         : bias == 3 ? GPIOD_LINE_REQUEST_FLAG_BIAS_DISABLE : 0;
@@ -252,7 +263,7 @@ static int add_input(struct ps_dev *dev, struct gpio_point *p, const struct ps_o
 static int gpio_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
 {
 	struct gpio_dev *g = dev->priv;
-	struct ps_opt_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, gpio_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
 	struct gpio_point *p;
 	int flags, init = 0, rc;
 	if (g->np >= GPIO_MAX_POINTS)
@@ -264,11 +275,11 @@ static int gpio_add_point(struct ps_dev *dev, struct ps_point *pt, const struct 
 	p->pt = pt;
 	p->role = pt->role;
 	p->state = p->pending = -1;
-	if (pt->role != PS_ROLE_SENSOR && ps_opt_choice(&r, "active_low", &p->active_low) != 0)
+	if (pt->role != PS_ROLE_SENSOR && ps_opts_choice(&r, "active_low", &p->active_low) != 0)
 		return -1;
 	flags = p->active_low ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0;
 	if (pt->role == PS_ROLE_RELAY)
-		rc = ps_opt_choice(&r, "initial", &init) || !(p->line = get_line(dev, o, "line", &p->offset)) ||
+		rc = ps_opts_choice(&r, "initial", &init) || !(p->line = get_line(dev, o, "line", &p->offset)) ||
 		     request(dev, o, "line", p->line, GPIOD_LINE_REQUEST_DIRECTION_OUTPUT, flags, init) != 0 ? -1 : 0;
 	else if (pt->role == PS_ROLE_INPUT)
 		rc = add_input(dev, p, o, flags);

@@ -38,36 +38,46 @@ static const char *const fault_names[] = { "stuck", "open", "saturated", "drop",
                                            NULL };   /* enum ps_room_fault, from 1 */
 
 #define DEV PS_OPT_DEVICE
-static const struct ps_opt_spec lb_options[] = {
-	{ "gain", PS_OPT_DOUBLE, DEV, 0, "1", 0, 1e9, NULL, NULL, "volts per unit of sensor response" },
-	{ "offset", PS_OPT_DOUBLE, DEV, 0, "0", -100, 100, NULL, NULL, "volts added to the sensor's signal" },
-	{ "noise", PS_OPT_DOUBLE, DEV, 0, "0", 0, 100, NULL, NULL, "the sensor's noise, volts (standard deviation)" },
-	{ "saturation", PS_OPT_DOUBLE, DEV, 0, "10", 0, 1000, NULL, NULL, "volts at which the sensor clips" },
-	{ "task_noise", PS_OPT_DOUBLE, DEV, 0, "0", 0, 1e6, NULL, NULL, "the task meter's noise, lux (standard deviation)" },
-	{ "seed", PS_OPT_LONG, DEV, 0, "1", 0, 0x7fffffff, NULL, NULL, "the noise's seed: a run is reproducible" },
-	{ "fade_rate", PS_OPT_DOUBLE, DEV, 0, "0", 0, 1e6, NULL, NULL,
-	  "the ballast's fade, fraction of full output per second (0: instant)" },
-	{ "min_level", PS_OPT_DOUBLE, DEV, 0, "0.01", 0, 1, NULL, NULL, "the ballast's lowest output above off" },
-	{ "lag_tau", PS_OPT_DOUBLE, DEV, 0, "0.05", 0, 1e6, NULL, NULL, "the lamp's time constant, seconds" },
-	{ "off_below_min", PS_OPT_BOOL, DEV, 0, "yes", 0, 0, NULL, NULL,
-	  "a command below min_level switches off (no: holds min_level)" },
-	{ "faults", PS_OPT_WINDOWS, DEV, 0, NULL, 0, 16, fault_names, NULL,
-	  "faults by time of day: KIND HH:MM-HH:MM, ..." },
-	{ "replay", PS_OPT_STRING, DEV, 0, NULL, 0, 0, NULL, NULL,
-	  "a CSV written by psensctl export --csv: its day of daylight replaces the scene's" },
-	{ "replay_ratio", PS_OPT_DOUBLE, DEV, 0, "0", 0, 1e9, NULL, NULL,
-	  "lux per daylight volt, for a replay without daylight_lux" },
-	{ "occupied", PS_OPT_WINDOWS, PS_OPT_POINT, PS_ROLE_BIT(PS_ROLE_INPUT), NULL, 0, LB_MAX_WINDOWS, NULL, NULL,
-	  "an occupancy input's occupied times: HH:MM-HH:MM, ..." },
-	{ NULL, 0, 0, 0, NULL, 0, 0, NULL, NULL, NULL },
+static const struct ps_opts_spec lb_options[] = {
+	{ .key = "gain", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "1", .min = 0, .max = 1e9,
+	  .doc = "volts per unit of sensor response" },
+	{ .key = "offset", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0",
+	  .min = -100, .max = 100, .doc = "volts added to the sensor's signal" },
+	{ .key = "noise", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0", .min = 0, .max = 100,
+	  .doc = "the sensor's noise, volts (standard deviation)" },
+	{ .key = "saturation", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "10",
+	  .min = 0, .max = 1000, .doc = "volts at which the sensor clips" },
+	{ .key = "task_noise", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0",
+	  .min = 0, .max = 1e6, .doc = "the task meter's noise, lux (standard deviation)" },
+	{ .key = "seed", .type = PS_OPT_LONG, .scope = DEV, .def = "1",
+	  .min = 0, .max = 0x7fffffff, .doc = "the noise's seed: a run is reproducible" },
+	{ .key = "fade_rate", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0",
+	  .min = 0, .max = 1e6,
+	  .doc = "the ballast's fade, fraction of full output per second (0: instant)" },
+	{ .key = "min_level", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0.01",
+	  .min = 0, .max = 1, .doc = "the ballast's lowest output above off" },
+	{ .key = "lag_tau", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0.05",
+	  .min = 0, .max = 1e6, .doc = "the lamp's time constant, seconds" },
+	{ .key = "off_below_min", .type = PS_OPT_BOOL, .scope = DEV, .def = "yes",
+	  .doc = "a command below min_level switches off (no: holds min_level)" },
+	{ .key = "faults", .type = PS_OPT_WINDOWS, .scope = DEV, .min = 0, .max = 16,
+	  .names = fault_names, .doc = "faults by time of day: KIND HH:MM-HH:MM, ..." },
+	{ .key = "replay", .type = PS_OPT_STRING, .scope = DEV,
+	  .doc = "a CSV written by psensctl export --csv: its day of daylight replaces the scene's" },
+	{ .key = "replay_ratio", .type = PS_OPT_DOUBLE, .scope = DEV, .def = "0",
+	  .min = 0, .max = 1e9, .doc = "lux per daylight volt, for a replay without daylight_lux" },
+	{ .key = "occupied", .type = PS_OPT_WINDOWS, .scope = PS_OPT_POINT,
+	  .roles = PS_ROLE_BIT(PS_ROLE_INPUT), .min = 0, .max = LB_MAX_WINDOWS,
+	  .doc = "an occupancy input's occupied times: HH:MM-HH:MM, ..." },
+	{ .key = NULL },
 };
 #undef DEV
 
 static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct loopback *lb = calloc(1, sizeof *lb);
-	struct ps_opt_reader r = { o, lb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
-	struct ps_opt_window w[16];
+	struct ps_opts_reader r = { o, lb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_window w[16];
 	const char *replay = NULL;
 	size_t nw;
 	long seed;
@@ -75,13 +85,13 @@ static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 	if (!lb)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = lb;
-	if (ps_opt_double(&r, "gain", &lb->opts.gain) || ps_opt_double(&r, "offset", &lb->opts.offset) ||
-	    ps_opt_double(&r, "noise", &lb->opts.noise) || ps_opt_double(&r, "saturation", &lb->opts.saturation) ||
-	    ps_opt_double(&r, "task_noise", &lb->opts.task_noise) || ps_opt_long(&r, "seed", &seed) ||
-	    ps_opt_double(&r, "fade_rate", &lb->opts.ballast.fade_rate) ||
-	    ps_opt_double(&r, "min_level", &lb->opts.ballast.min_level) ||
-	    ps_opt_double(&r, "lag_tau", &lb->opts.ballast.lag_tau) || ps_opt_choice(&r, "off_below_min", &off) ||
-	    ps_opt_windows(&r, "faults", w, &nw) || ps_opt_string(&r, "replay", &replay))
+	if (ps_opts_double(&r, "gain", &lb->opts.gain) || ps_opts_double(&r, "offset", &lb->opts.offset) ||
+	    ps_opts_double(&r, "noise", &lb->opts.noise) || ps_opts_double(&r, "saturation", &lb->opts.saturation) ||
+	    ps_opts_double(&r, "task_noise", &lb->opts.task_noise) || ps_opts_long(&r, "seed", &seed) ||
+	    ps_opts_double(&r, "fade_rate", &lb->opts.ballast.fade_rate) ||
+	    ps_opts_double(&r, "min_level", &lb->opts.ballast.min_level) ||
+	    ps_opts_double(&r, "lag_tau", &lb->opts.ballast.lag_tau) || ps_opts_choice(&r, "off_below_min", &off) ||
+	    ps_opts_windows(&r, "faults", w, &nw) || ps_opts_string(&r, "replay", &replay))
 		return -1;
 	lb->opts.seed = (uint64_t)seed;
 	lb->opts.ballast.off_below_min = off;
@@ -92,15 +102,19 @@ static int lb_open(struct ps_dev *dev, const struct ps_opts *o)
 	if (replay) {
 		double ratio;
 		char err[512];
-		if (ps_opt_double(&r, "replay_ratio", &ratio) != 0)
+		if (ps_opts_double(&r, "replay_ratio", &ratio) != 0)
 			return -1;
 		if (ps_replay_read(replay, lb->opts.gain, ratio, &lb->replay, &lb->nreplay, err, sizeof err) != 0)
-			return ps_dev_fail(dev, EINVAL, "%s:%d: replay: %s", o->file, ps_opt_line(o, "replay"), err);
+			return ps_dev_fail(dev, EINVAL, "%s:%d: replay: %s", o->file, ps_opts_line(o, "replay"), err);
 	}
 	return 0;
 }
 
-int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, double now)
+/* The setup method: give an opened loopback device its room.  The daemon
+ * builds the daylight and electric responses from the scene results; the
+ * device's own options (noise, gain, ballast, faults) are merged in.  Called
+ * once, after open. */
+static int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, double now)
 {
 	struct loopback *lb = dev->priv;
 	struct ps_room_params merged = *p;
@@ -125,18 +139,12 @@ int ps_loopback_set_room(struct ps_dev *dev, const struct ps_room_params *p, dou
 	return lb->room ? 0 : ps_dev_fail(dev, ENOMEM, "out of memory");
 }
 
-struct ps_room *ps_loopback_room(struct ps_dev *dev)
-{
-	struct loopback *lb = dev->priv;
-	return lb ? lb->room : NULL;
-}
-
 static int read_windows(struct ps_dev *dev, struct lb_input *in, const struct ps_opts *o)
 {
-	struct ps_opt_reader r = { o, lb_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
-	struct ps_opt_window w[LB_MAX_WINDOWS];
+	struct ps_opts_reader r = { o, lb_options, PS_OPT_POINT, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_window w[LB_MAX_WINDOWS];
 	size_t n;
-	if (ps_opt_windows(&r, "occupied", w, &n) != 0)
+	if (ps_opts_windows(&r, "occupied", w, &n) != 0)
 		return -1;
 	for (size_t i = 0; i < n; i++) {
 		in->win[i][0] = w[i].start;

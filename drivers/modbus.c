@@ -2,7 +2,7 @@
 /* The Modbus driver (libmodbus): analog input and output modules and task lux
  * meters over Modbus TCP or RTU.  psensd-modbus(5) documents every option.
  *
- * Its options, device and point keys, are the table ps_mb_options in
+ * Its options, device and point keys, are the table ps_modbus_point_options in
  * modbus_point.c.
  *
  * Never a long block: every transaction is bounded by the response timeout
@@ -25,10 +25,11 @@
 #include <modbus.h>
 
 #include "driver.h"
+#include "modbus.h"
 #include "modbus_point.h"
 
 struct mb_point {
-	struct ps_mb_point cfg;
+	struct ps_modbus_point cfg;
 	struct ps_point *pt;
 	/* the last poll (period > 0): its time, value or failure */
 	double polled_at, next_poll;
@@ -114,7 +115,7 @@ static int connect_now(struct ps_dev *dev, struct mb_dev *m, double now)
 static int mb_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct mb_dev *m = calloc(1, sizeof *m);
-	struct ps_opt_reader r = { o, ps_mb_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
+	struct ps_opts_reader r = { o, ps_modbus_point_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
 	const char *host = NULL, *device = NULL;
 	long port, unit, baud, bits, stop;
 	int parity;
@@ -122,23 +123,23 @@ static int mb_open(struct ps_dev *dev, const struct ps_opts *o)
 	if (!m)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = m;
-	if (ps_mb_check_device(o, dev->err, sizeof dev->err) != 0 || ps_opt_string(&r, "host", &host) ||
-	    ps_opt_string(&r, "device", &device) || ps_opt_long(&r, "unit", &unit) ||
-	    ps_opt_double(&r, "timeout", &m->timeout) || ps_opt_double(&r, "byte_timeout", &byte_timeout) ||
-	    ps_opt_long(&r, "retries", &m->retries) || ps_opt_double(&r, "backoff_min", &m->backoff_min) ||
-	    ps_opt_double(&r, "backoff_max", &m->backoff_max) || ps_opt_long(&r, "lost_after", &m->lost_after))
+	if (ps_modbus_point_check_device(o, dev->err, sizeof dev->err) != 0 || ps_opts_string(&r, "host", &host) ||
+	    ps_opts_string(&r, "device", &device) || ps_opts_long(&r, "unit", &unit) ||
+	    ps_opts_double(&r, "timeout", &m->timeout) || ps_opts_double(&r, "byte_timeout", &byte_timeout) ||
+	    ps_opts_long(&r, "retries", &m->retries) || ps_opts_double(&r, "backoff_min", &m->backoff_min) ||
+	    ps_opts_double(&r, "backoff_max", &m->backoff_max) || ps_opts_long(&r, "lost_after", &m->lost_after))
 		return -1;
 	if (host) {
 		char portstr[16];
-		if (ps_opt_long(&r, "port", &port))
+		if (ps_opts_long(&r, "port", &port))
 			return -1;
 		snprintf(portstr, sizeof portstr, "%ld", port);
 		snprintf(m->where, sizeof m->where, "%s:%ld", host, port);
 		m->tcp = 1;
 		m->ctx = modbus_new_tcp_pi(host, portstr);
 	} else {
-		if (ps_opt_long(&r, "baud", &baud) || ps_opt_choice(&r, "parity", &parity) ||
-		    ps_opt_long(&r, "data_bits", &bits) || ps_opt_long(&r, "stop_bits", &stop))
+		if (ps_opts_long(&r, "baud", &baud) || ps_opts_choice(&r, "parity", &parity) ||
+		    ps_opts_long(&r, "data_bits", &bits) || ps_opts_long(&r, "stop_bits", &stop))
 			return -1;
 		snprintf(m->where, sizeof m->where, "%s", device);
 		m->ctx = modbus_new_rtu(device, (int)baud, "NEO"[parity], (int)bits, (int)stop);
@@ -174,7 +175,7 @@ static int mb_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 	p = calloc(1, sizeof *p);
 	if (!p)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
-	if (ps_mb_point_parse(&p->cfg, pt->role, o, dev->err, sizeof dev->err) != 0) {
+	if (ps_modbus_point_parse(&p->cfg, pt->role, o, dev->err, sizeof dev->err) != 0) {
 		free(p);
 		return -1;
 	}
@@ -199,7 +200,7 @@ static int classify(struct ps_dev *dev, struct mb_dev *m, const struct mb_point 
 	char what[96];
 	int unit = p->cfg.unit >= 0 ? p->cfg.unit : m->unit;
 	snprintf(what, sizeof what, "modbus %s unit %d %s %d", dev->name, unit,
-	         ps_mb_table_short(p->cfg.table), p->cfg.address);
+	         ps_modbus_point_table_short(p->cfg.table), p->cfg.address);
 	if (e >= EMBXILFUN && e <= EMBXGTAR) {
 		int code = e - MODBUS_ENOBASE;
 		*out = EPROTO;
@@ -243,8 +244,8 @@ static int transact(struct ps_dev *dev, struct mb_point *p, double now, uint16_t
                     int write)
 {
 	struct mb_dev *m = dev->priv;
-	const struct ps_mb_point *c = &p->cfg;
-	int n = ps_mb_point_count(c), err = 0;
+	const struct ps_modbus_point *c = &p->cfg;
+	int n = ps_modbus_point_count(c), err = 0;
 	for (long attempt = 0; attempt <= m->retries; attempt++) {
 		uint8_t bit;
 		int rc, e;
@@ -288,9 +289,9 @@ static int read_now(struct ps_dev *dev, struct mb_point *p, double now, double *
 	char why[128];
 	if (transact(dev, p, now, regs, 0) != 0)
 		return -1;
-	if (ps_mb_value(&p->cfg, regs, value, why, sizeof why) != 0)
+	if (ps_modbus_point_value(&p->cfg, regs, value, why, sizeof why) != 0)
 		return ps_dev_fail(dev, ERANGE, "modbus %s unit %d %s %d: %s", dev->name,
-		                   p->cfg.unit >= 0 ? p->cfg.unit : m->unit, ps_mb_table_short(p->cfg.table),
+		                   p->cfg.unit >= 0 ? p->cfg.unit : m->unit, ps_modbus_point_table_short(p->cfg.table),
 		                   p->cfg.address, why);
 	return 0;
 }
@@ -323,7 +324,7 @@ static int mb_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 		                   pt->name);
 	if (p->cfg.role != PS_ROLE_DIM && p->cfg.role != PS_ROLE_RELAY)
 		return ps_dev_fail(dev, EINVAL, "modbus %s: %s is not an output", dev->name, pt->name);
-	ps_mb_encode(&p->cfg, value, regs);
+	ps_modbus_point_encode(&p->cfg, value, regs);
 	return transact(dev, p, now, regs, 1);
 }
 
@@ -396,8 +397,8 @@ const struct ps_driver ps_driver_modbus = {
 	.name = "modbus",
 	.summary = "Modbus TCP and RTU (libmodbus): analog I/O modules and lux meters",
 	.compiled_in = 1,
-	.options = ps_mb_options,
-	.check = ps_mb_check,
+	.options = ps_modbus_point_options,
+	.check = ps_modbus_point_check,
 	.open = mb_open,
 	.add_point = mb_add_point,
 	.read = mb_read,

@@ -16,7 +16,7 @@
 
 #include "driver.h"
 
-enum ps_mb_table {
+enum ps_modbus_point_table {
 	PS_MB_INPUT_REGISTER = 0,  /* FC 04, read only */
 	PS_MB_HOLDING_REGISTER,    /* FC 03 / 06 / 16 */
 	PS_MB_COIL,                /* FC 01 / 05 */
@@ -24,22 +24,22 @@ enum ps_mb_table {
 	PS_MB_TABLE_COUNT
 };
 
-enum ps_mb_type { PS_MB_U16 = 0, PS_MB_S16, PS_MB_U32, PS_MB_S32, PS_MB_F32, PS_MB_TYPE_COUNT };
+enum ps_modbus_point_type { PS_MB_U16 = 0, PS_MB_S16, PS_MB_U32, PS_MB_S32, PS_MB_F32, PS_MB_TYPE_COUNT };
 
 /* Word order of 32-bit types: ABCD = high word in the first register (the
  * usual lux meter), CDAB = low word first (ADAM-6000 counters).  Bytes within
  * a register are always big-endian, as the protocol sends them. */
-enum ps_mb_order { PS_MB_ABCD = 0, PS_MB_CDAB };
+enum ps_modbus_point_order { PS_MB_ABCD = 0, PS_MB_CDAB };
 
-extern const char *const ps_mb_table_names[];   /* config names, NULL-terminated */
-extern const char *const ps_mb_type_names[];
-extern const char *const ps_mb_order_names[];
+extern const char *const ps_modbus_point_table_names[];   /* config names, NULL-terminated */
+extern const char *const ps_modbus_point_type_names[];
+extern const char *const ps_modbus_point_order_names[];
 
-struct ps_mb_point {
+struct ps_modbus_point {
 	int role;              /* enum ps_role */
-	int table;             /* enum ps_mb_table */
-	int type;              /* enum ps_mb_type (registers only) */
-	int order;             /* enum ps_mb_order (32-bit types only) */
+	int table;             /* enum ps_modbus_point_table */
+	int type;              /* enum ps_modbus_point_type (registers only) */
+	int order;             /* enum ps_modbus_point_order (32-bit types only) */
 	int unit;              /* unit id, -1: the device's */
 	int address;           /* 0-based protocol address (Modicon 40001 is 0) */
 	uint16_t mask;         /* AND-ed into a 16-bit register before decoding */
@@ -50,35 +50,29 @@ struct ps_mb_point {
 };
 
 /* The driver's options, device and point keys (opts.h). */
-extern const struct ps_opt_spec ps_mb_options[];
+extern const struct ps_opts_spec ps_modbus_point_options[];
 
 /* Parse a point's options for a role; 0, or -1 with errno EINVAL and a
  * "file:line: key: why" message in err. */
-int ps_mb_point_parse(struct ps_mb_point *p, int role, const struct ps_opts *o, char *err,
-                      size_t errlen);
+int ps_modbus_point_parse(struct ps_modbus_point *p, int role, const struct ps_opts *o, char *err,
+                          size_t errlen);
 /* The rules across a device's keys (exactly one of host and device, ...);
  * the same errors. */
-int ps_mb_check_device(const struct ps_opts *o, char *err, size_t errlen);
+int ps_modbus_point_check_device(const struct ps_opts *o, char *err, size_t errlen);
 /* The driver's check method (driver.h): a device (role < 0) or a point. */
-int ps_mb_check(const struct ps_opts *o, int role, int *line, char *why, size_t n);
+int ps_modbus_point_check(const struct ps_opts *o, int role, int *line, char *why, size_t n);
 
 /* Registers (or bits) the point spans: 1 or 2. */
-int ps_mb_point_count(const struct ps_mb_point *p);
+int ps_modbus_point_count(const struct ps_modbus_point *p);
 
 /* "IR 0", "HR 10", "coil 16", "DI 1": for messages. */
-const char *ps_mb_table_short(int table);
+const char *ps_modbus_point_table_short(int table);
 
-/* Registers as read -> raw number.  -1 with errno ERANGE when a status bit
- * is set or an f32 is not finite; the reason goes to why. */
-int ps_mb_decode(const struct ps_mb_point *p, const uint16_t *regs, double *raw, char *why,
-                 size_t whylen);
-/* raw -> value, -1 with errno ERANGE when raw is outside the raw range. */
-int ps_mb_scale(const struct ps_mb_point *p, double raw, double *value, char *why, size_t whylen);
 /* Both: registers -> value. */
-int ps_mb_value(const struct ps_mb_point *p, const uint16_t *regs, double *value, char *why,
-                size_t whylen);
+int ps_modbus_point_value(const struct ps_modbus_point *p, const uint16_t *regs, double *value, char *why,
+                          size_t whylen);
 /* An output: value (clamped to min..max) -> registers, rounded to the
  * nearest raw step and kept inside the raw range.  Returns the raw number. */
-double ps_mb_encode(const struct ps_mb_point *p, double value, uint16_t *regs);
+double ps_modbus_point_encode(const struct ps_modbus_point *p, double value, uint16_t *regs);
 
 #endif

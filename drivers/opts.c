@@ -9,12 +9,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "driver.h"
+#include "role.h"
 
-const char *const ps_opt_type_names[] = { "double", "long", "enum", "bool", "string", "windows", NULL };
+const char *const ps_opts_type_names[] = { "double", "long", "enum", "bool", "string", "windows", NULL };
 static const char *const bool_names[] = { "no", "yes", NULL };
 
-const struct ps_opt_spec *ps_opt_spec_find(const struct ps_opt_spec *t, int scope, const char *key)
+const struct ps_opts_spec *ps_opts_spec_find(const struct ps_opts_spec *t, int scope, const char *key)
 {
 	for (; t && t->key; t++)
 		if (t->scope == scope && strcmp(t->key, key) == 0)
@@ -32,13 +32,13 @@ static struct ps_opt *find(const struct ps_opts *o, const char *key)
 	return NULL;
 }
 
-const char *ps_opt_get(const struct ps_opts *o, const char *key)
+const char *ps_opts_get(const struct ps_opts *o, const char *key)
 {
 	struct ps_opt *p = find(o, key);
 	return p ? p->value : NULL;
 }
 
-int ps_opt_line(const struct ps_opts *o, const char *key)
+int ps_opts_line(const struct ps_opts *o, const char *key)
 {
 	for (size_t i = 0; o && i < o->n; i++)
 		if (strcmp(o->v[i].key, key) == 0)
@@ -52,7 +52,7 @@ static const char *file_of(const struct ps_opts *o)
 }
 
 /* The reader's error: at line, "file:line: msg" or msg alone (r->line). */
-static int reader_fail(const struct ps_opt_reader *r, int line, const char *msg)
+static int reader_fail(const struct ps_opts_reader *r, int line, const char *msg)
 {
 	if (r->line) {
 		*r->line = line;
@@ -64,14 +64,14 @@ static int reader_fail(const struct ps_opt_reader *r, int line, const char *msg)
 	return -1;
 }
 
-int ps_opt_fail(const struct ps_opt_reader *r, const char *key, const char *fmt, ...)
+int ps_opts_fail(const struct ps_opts_reader *r, const char *key, const char *fmt, ...)
 {
 	char msg[300];
 	va_list ap;
 	va_start(ap, fmt);
 	vsnprintf(msg, sizeof msg, fmt, ap);
 	va_end(ap);
-	return reader_fail(r, ps_opt_line(r->opts, key), msg);
+	return reader_fail(r, ps_opts_line(r->opts, key), msg);
 }
 
 /* ---- one value --------------------------------------------------------------- */
@@ -114,7 +114,7 @@ static double hhmm(const char *s, const char **end)
 	return h * 3600.0 + m * 60.0;
 }
 
-static int parse_windows(const struct ps_opt_spec *s, const char *text, struct ps_opt_window *w, size_t *nw,
+static int parse_windows(const struct ps_opts_spec *s, const char *text, struct ps_opts_window *w, size_t *nw,
                          char *why, size_t n)
 {
 	char names[160] = "";
@@ -124,7 +124,7 @@ static int parse_windows(const struct ps_opt_spec *s, const char *text, struct p
 		list_names(s->names, names, sizeof names);
 	*nw = 0;
 	for (;;) {
-		struct ps_opt_window win = { 0, 0, 0 };
+		struct ps_opts_window win = { 0, 0, 0 };
 		const char *item, *end;
 		while (*p == ' ' || *p == '\t')
 			p++;
@@ -163,7 +163,7 @@ union value {
 
 /* Judge text as the spec's type: 0 with the value, or -1 with why (the
  * text after "key: 'value' "). */
-static int parse(const struct ps_opt_spec *s, const char *text, union value *v, char *why, size_t n)
+static int parse(const struct ps_opts_spec *s, const char *text, union value *v, char *why, size_t n)
 {
 	char names[200];
 	char *end;
@@ -203,7 +203,7 @@ static int parse(const struct ps_opt_spec *s, const char *text, union value *v, 
 		v->s = text;
 		return s->valid ? s->valid(text, why, n) : 0;
 	default: {
-		struct ps_opt_window w[PS_OPT_MAX_WINDOWS];
+		struct ps_opts_window w[PS_OPT_MAX_WINDOWS];
 		size_t nw;
 		return parse_windows(s, text, w, &nw, why, n);
 	}
@@ -212,18 +212,18 @@ static int parse(const struct ps_opt_spec *s, const char *text, union value *v, 
 
 /* ---- a section against a table -------------------------------------------- */
 
-int ps_opt_check(const struct ps_opt_spec *table, const char *driver, const struct ps_opts *o, int role,
-                 ps_opt_report_fn report, void *user)
+int ps_opts_check(const struct ps_opts_spec *table, const char *driver, const struct ps_opts *o, int role,
+                  ps_opts_report_fn report, void *user)
 {
 	int errors = 0;
 	int scope = role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT;
 	for (size_t i = 0; o && i < o->n; i++) {
 		const struct ps_opt *p = &o->v[i];
-		const struct ps_opt_spec *s = ps_opt_spec_find(table, scope, p->key);
+		const struct ps_opts_spec *s = ps_opts_spec_find(table, scope, p->key);
 		char why[300], msg[400];
 		union value v;
 		if (!s) {
-			const struct ps_opt_spec *other = ps_opt_spec_find(table, scope == PS_OPT_DEVICE ? PS_OPT_POINT
+			const struct ps_opts_spec *other = ps_opts_spec_find(table, scope == PS_OPT_DEVICE ? PS_OPT_POINT
 			                                                                                 : PS_OPT_DEVICE, p->key);
 			snprintf(msg, sizeof msg, "unknown key '%s' for driver %s%s", p->key, driver,
 			         !other ? "" : scope == PS_OPT_DEVICE ? " (a point key, not a device key)"
@@ -255,21 +255,21 @@ int ps_opt_check(const struct ps_opt_spec *table, const char *driver, const stru
 
 /* The key's spec and its text (the section's, else the default; NULL: absent
  * with no default).  -1 when the table does not have the key of that type. */
-static int lookup(const struct ps_opt_reader *r, const char *key, int type, const struct ps_opt_spec **s,
+static int lookup(const struct ps_opts_reader *r, const char *key, int type, const struct ps_opts_spec **s,
                   const struct ps_opt **given, const char **text)
 {
-	*s = ps_opt_spec_find(r->table, r->scope, key);
+	*s = ps_opts_spec_find(r->table, r->scope, key);
 	if (!*s || ((*s)->type != type && !(type == PS_OPT_ENUM && (*s)->type == PS_OPT_BOOL)))
-		return ps_opt_fail(r, key, "%s: not in the driver's option table as a %s", key,
-		                   ps_opt_type_names[type]);
+		return ps_opts_fail(r, key, "%s: not in the driver's option table as a %s", key,
+		                    ps_opts_type_names[type]);
 	*given = find(r->opts, key);
 	*text = *given ? (*given)->value : (*s)->def;
 	return 0;
 }
 
-static int read_value(const struct ps_opt_reader *r, const char *key, int type, union value *v)
+static int read_value(const struct ps_opts_reader *r, const char *key, int type, union value *v)
 {
-	const struct ps_opt_spec *s;
+	const struct ps_opts_spec *s;
 	const struct ps_opt *given;
 	const char *text;
 	char why[300], msg[400];
@@ -283,7 +283,7 @@ static int read_value(const struct ps_opt_reader *r, const char *key, int type, 
 	return reader_fail(r, given ? given->line : 0, msg);
 }
 
-int ps_opt_double(const struct ps_opt_reader *r, const char *key, double *out)
+int ps_opts_double(const struct ps_opts_reader *r, const char *key, double *out)
 {
 	union value v;
 	int rc = read_value(r, key, PS_OPT_DOUBLE, &v);
@@ -292,7 +292,7 @@ int ps_opt_double(const struct ps_opt_reader *r, const char *key, double *out)
 	return rc < 0 ? -1 : 0;
 }
 
-int ps_opt_long(const struct ps_opt_reader *r, const char *key, long *out)
+int ps_opts_long(const struct ps_opts_reader *r, const char *key, long *out)
 {
 	union value v;
 	int rc = read_value(r, key, PS_OPT_LONG, &v);
@@ -301,7 +301,7 @@ int ps_opt_long(const struct ps_opt_reader *r, const char *key, long *out)
 	return rc < 0 ? -1 : 0;
 }
 
-int ps_opt_choice(const struct ps_opt_reader *r, const char *key, int *out)
+int ps_opts_choice(const struct ps_opts_reader *r, const char *key, int *out)
 {
 	union value v;
 	int rc = read_value(r, key, PS_OPT_ENUM, &v);
@@ -310,7 +310,7 @@ int ps_opt_choice(const struct ps_opt_reader *r, const char *key, int *out)
 	return rc < 0 ? -1 : 0;
 }
 
-int ps_opt_string(const struct ps_opt_reader *r, const char *key, const char **out)
+int ps_opts_string(const struct ps_opts_reader *r, const char *key, const char **out)
 {
 	union value v;
 	int rc = read_value(r, key, PS_OPT_STRING, &v);
@@ -319,9 +319,9 @@ int ps_opt_string(const struct ps_opt_reader *r, const char *key, const char **o
 	return rc < 0 ? -1 : 0;
 }
 
-int ps_opt_windows(const struct ps_opt_reader *r, const char *key, struct ps_opt_window *w, size_t *nw)
+int ps_opts_windows(const struct ps_opts_reader *r, const char *key, struct ps_opts_window *w, size_t *nw)
 {
-	const struct ps_opt_spec *s;
+	const struct ps_opts_spec *s;
 	const struct ps_opt *given;
 	const char *text;
 	char why[300], msg[400];

@@ -8,7 +8,18 @@
 #include <string.h>
 
 #include "driver.h"
+#include "file.h"
 #include "loopback.h"
+#include "registry.h"
+#ifdef PS_WITH_MODBUS
+#include "modbus.h"
+#endif
+#ifdef PS_WITH_USB
+#include "dali_usb.h"
+#endif
+#ifdef PS_WITH_GPIOD
+#include "gpio.h"
+#endif
 
 __attribute__((unused)) static int not_compiled(struct ps_dev *dev, const struct ps_opts *opts)
 {
@@ -19,25 +30,17 @@ __attribute__((unused)) static int not_compiled(struct ps_dev *dev, const struct
 
 #define STUB(n, what) { .name = n, .summary = what, .compiled_in = 0, .open = not_compiled }
 
-#ifdef PS_WITH_MODBUS
-extern const struct ps_driver ps_driver_modbus;
-#else
+#ifndef PS_WITH_MODBUS
 static const struct ps_driver ps_driver_modbus = STUB("modbus", "Modbus TCP and RTU (libmodbus)");
 #endif
-#ifdef PS_WITH_USB
-extern const struct ps_driver ps_driver_dali_usb;
-#else
+#ifndef PS_WITH_USB
 static const struct ps_driver ps_driver_dali_usb = STUB("dali_usb", "DALI over USB (libusb)");
 #endif
-#ifdef PS_WITH_GPIOD
-extern const struct ps_driver ps_driver_gpio;
-#else
+#ifndef PS_WITH_GPIOD
 static const struct ps_driver ps_driver_gpio = STUB("gpio", "GPIO relays, buttons, light-to-frequency (libgpiod)");
 #endif
 
-extern const struct ps_driver ps_driver_file;
-
-const struct ps_driver *const ps_drivers[] = {
+const struct ps_driver *const ps_registry_drivers[] = {
 	&ps_driver_loopback,
 	&ps_driver_modbus,
 	&ps_driver_dali_usb,
@@ -46,18 +49,18 @@ const struct ps_driver *const ps_drivers[] = {
 	NULL,
 };
 
-void ps_driver_names(char *out, size_t n)
+void ps_registry_names(char *out, size_t n)
 {
 	size_t len = 0;
 	out[0] = 0;
-	for (int i = 0; ps_drivers[i] && len < n; i++)
-		len += (size_t)snprintf(out + len, n - len, "%s%s", i ? ", " : "", ps_drivers[i]->name);
+	for (int i = 0; ps_registry_drivers[i] && len < n; i++)
+		len += (size_t)snprintf(out + len, n - len, "%s%s", i ? ", " : "", ps_registry_drivers[i]->name);
 }
 
-const struct ps_driver *ps_driver_find(const char *name)
+const struct ps_driver *ps_registry_find(const char *name)
 {
-	for (int i = 0; ps_drivers[i]; i++)
-		if (strcmp(ps_drivers[i]->name, name) == 0)
-			return ps_drivers[i];
+	for (int i = 0; ps_registry_drivers[i]; i++)
+		if (strcmp(ps_registry_drivers[i]->name, name) == 0)
+			return ps_registry_drivers[i];
 	return NULL;
 }

@@ -14,7 +14,7 @@
  *   a garbled answer, e.g. two ballasts answering at once). */
 #include <string.h>
 
-#include "dali_transport.h"
+#include "usb_tridonic.h"
 
 #define LEN 64
 #define CMD_SEND 0x12
@@ -99,7 +99,7 @@ static int tri_next_seq(int seq)
 	return seq >= 255 || seq < 1 ? 1 : seq + 1;
 }
 
-const struct ps_dali_transport ps_dali_tridonic = {
+const struct ps_dali_transport ps_usb_tridonic = {
 	.name = "tridonic",
 	.vid = 0x17B5,
 	.pid = 0x0020,

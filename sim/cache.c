@@ -27,19 +27,19 @@ static void to_hex(const uint8_t *d, char hex[65])
 	hex[64] = '\0';
 }
 
-int ps_hash_file(const char *path, char hex[65], struct ps_err *e)
+int ps_cache_hash_file(const char *path, char hex[65], struct ps_err *e)
 {
 	struct sha256_ctx ctx;
 	uint8_t buf[65536], d[SHA256_DIGEST_SIZE];
 	size_t n;
 	FILE *fp = fopen(path, "rb");
 	if (!fp)
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	sha256_init(&ctx);
 	while ((n = fread(buf, 1, sizeof buf, fp)) > 0)
 		sha256_update(&ctx, n, buf);
 	if (ferror(fp)) {
-		int rc = ps_errsys(e, "%s: read error", path);
+		int rc = ps_err_sys(e, "%s: read error", path);
 		fclose(fp);
 		return rc;
 	}
@@ -49,7 +49,7 @@ int ps_hash_file(const char *path, char hex[65], struct ps_err *e)
 	return 0;
 }
 
-void ps_hash_string(const char *s, char hex[65])
+void ps_cache_hash_string(const char *s, char hex[65])
 {
 	struct sha256_ctx ctx;
 	uint8_t d[SHA256_DIGEST_SIZE];
@@ -62,7 +62,7 @@ void ps_hash_string(const char *s, char hex[65])
 static void entry_path(const char *dir, const char *key, char *out, size_t len)
 {
 	char h[65];
-	ps_hash_string(key, h);
+	ps_cache_hash_string(key, h);
 	snprintf(out, len, "%s/%.2s/%s", dir, h, h + 2);
 }
 
@@ -140,17 +140,17 @@ int ps_cache_put(const char *dir, const char *key, const double *v, int n, struc
 	slash = strrchr(path, '/');
 	*slash = '\0';
 	if (mkdir_p(path) != 0)
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	*slash = '/';
 	snprintf(tmp, sizeof tmp, "%s.%ld", path, (long)getpid());
 	fp = fopen(tmp, "w");
 	if (!fp)
-		return ps_errsys(e, "%s", tmp);
+		return ps_err_sys(e, "%s", tmp);
 	fprintf(fp, "psscene-cache 1\n%s\n", key);
 	for (int i = 0; i < n; i++)
 		fprintf(fp, "%.17g\n", v[i]);
 	if (fclose(fp) != 0 || rename(tmp, path) != 0) {
-		int rc = ps_errsys(e, "%s", path);
+		int rc = ps_err_sys(e, "%s", path);
 		unlink(tmp);
 		return rc;
 	}
@@ -247,21 +247,21 @@ static int blob_check(const void *file, size_t len, const char *hexkey, const ch
 	struct sha256_ctx ctx;
 	uint64_t plen;
 	if (!hex_ok(hexkey))
-		return ps_errf(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
+		return ps_err_set(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
 	if (len < PS_CACHE_BLOB_HEADER)
-		return ps_errf(e, PS_EFORMAT, "%s: byte %zu: shorter than its %d-byte header: cache "
-		               "entry removed", name, len, PS_CACHE_BLOB_HEADER);
+		return ps_err_set(e, PS_EFORMAT, "%s: byte %zu: shorter than its %d-byte header: cache "
+		                  "entry removed", name, len, PS_CACHE_BLOB_HEADER);
 	if (memcmp(h, blob_magic, sizeof blob_magic) != 0)
-		return ps_errf(e, PS_EFORMAT, "%s: byte 0: not a cache entry (bad magic): removed", name);
+		return ps_err_set(e, PS_EFORMAT, "%s: byte 0: not a cache entry (bad magic): removed", name);
 	from_hex(hexkey, key);
 	if (memcmp(h + 16, key, 32) != 0)
-		return ps_errf(e, PS_EFORMAT, "%s: byte 16: the entry is for another key: removed", name);
+		return ps_err_set(e, PS_EFORMAT, "%s: byte 16: the entry is for another key: removed", name);
 	plen = get_le64(h + 8);
 	if (plen != (uint64_t)(len - PS_CACHE_BLOB_HEADER))
-		return ps_errf(e, PS_EFORMAT, "%s: byte %zu: %s (the header says %llu payload bytes): "
-		               "cache entry removed", name, len,
-		               plen > (uint64_t)(len - PS_CACHE_BLOB_HEADER) ? "truncated" : "overlong",
-		               (unsigned long long)plen);
+		return ps_err_set(e, PS_EFORMAT, "%s: byte %zu: %s (the header says %llu payload bytes): "
+		                  "cache entry removed", name, len,
+		                  plen > (uint64_t)(len - PS_CACHE_BLOB_HEADER) ? "truncated" : "overlong",
+		                  (unsigned long long)plen);
 	sha256_init(&ctx);
 	{
 		const size_t chunk = (size_t)4 << 20;   /* a multiple of any page size */
@@ -280,11 +280,11 @@ static int blob_check(const void *file, size_t len, const char *hexkey, const ch
 	}
 	sha256_digest(&ctx, sizeof sum, sum);
 	if (memcmp(sum, h + 48, sizeof sum) != 0)
-		return ps_errf(e, PS_EFORMAT, "%s: checksum mismatch: cache entry removed", name);
+		return ps_err_set(e, PS_EFORMAT, "%s: checksum mismatch: cache entry removed", name);
 	for (int i = 80; i < PS_CACHE_BLOB_HEADER; i++)
 		if (h[i])
-			return ps_errf(e, PS_EFORMAT, "%s: byte %d: reserved header byte not zero: "
-			               "cache entry removed", name, i);
+			return ps_err_set(e, PS_EFORMAT, "%s: byte %d: reserved header byte not zero: "
+			                  "cache entry removed", name, i);
 	return 0;
 }
 
@@ -303,25 +303,25 @@ int ps_cache_blob_get(const char *dir, const char *hexkey, struct ps_cache_blob 
 	int fd;
 	memset(b, 0, sizeof *b);
 	if (!hex_ok(hexkey))
-		return ps_errf(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
+		return ps_err_set(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
 	blob_path(dir, hexkey, path, sizeof path);
 	fd = open(path, O_RDONLY | O_CLOEXEC);
 	if (fd < 0)
-		return errno == ENOENT || errno == ENOTDIR ? 0 : ps_errsys(e, "%s", path);
+		return errno == ENOENT || errno == ENOTDIR ? 0 : ps_err_sys(e, "%s", path);
 	if (fstat(fd, &st) != 0) {
-		int rc = ps_errsys(e, "%s", path);
+		int rc = ps_err_sys(e, "%s", path);
 		close(fd);
 		return rc;
 	}
 	if (!S_ISREG(st.st_mode) || st.st_size < PS_CACHE_BLOB_HEADER) {
 		close(fd);
 		unlink(path);
-		return ps_errf(e, PS_EFORMAT, "%s: byte %lld: shorter than its %d-byte header: cache "
-		               "entry removed", path, (long long)st.st_size, PS_CACHE_BLOB_HEADER);
+		return ps_err_set(e, PS_EFORMAT, "%s: byte %lld: shorter than its %d-byte header: cache "
+		                  "entry removed", path, (long long)st.st_size, PS_CACHE_BLOB_HEADER);
 	}
 	map = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_SHARED, fd, 0);
 	if (map == MAP_FAILED) {
-		int rc = ps_errsys(e, "%s: mmap", path);
+		int rc = ps_err_sys(e, "%s: mmap", path);
 		close(fd);
 		return rc;
 	}
@@ -355,6 +355,10 @@ static int write_all(int fd, const void *p, size_t n)
 	return 0;
 }
 
+/* Evict oldest-used entries until at most max_bytes remain, keeping keep
+ * (may be NULL); returns the number removed (-1 when the lock fails). */
+static long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep);
+
 int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *const *ptr,
                       const size_t *len, size_t max_bytes, struct ps_err *e)
 {
@@ -366,12 +370,12 @@ int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *co
 	unsigned long k;
 	int fd;
 	if (!hex_ok(hexkey))
-		return ps_errf(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
+		return ps_err_set(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
 	blob_path(dir, hexkey, path, sizeof path);
 	slash = strrchr(path, '/');
 	*slash = '\0';
 	if (mkdir_p(path) != 0)
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	*slash = '/';
 	memset(h, 0, sizeof h);
 	memcpy(h, blob_magic, sizeof blob_magic);
@@ -387,7 +391,7 @@ int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *co
 	snprintf(tmp, sizeof tmp, "%s.tmp.%ld.%lu", path, (long)getpid(), k);
 	fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
 	if (fd < 0)
-		return ps_errsys(e, "%s", tmp);
+		return ps_err_sys(e, "%s", tmp);
 	if (write_all(fd, h, sizeof h) != 0)
 		goto fail;
 	for (int i = 0; i < n; i++)
@@ -405,7 +409,7 @@ int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *co
 	return 0;
 fail:
 	{
-		int rc = ps_errsys(e, "%s", tmp);
+		int rc = ps_err_sys(e, "%s", tmp);
 		if (fd >= 0)
 			close(fd);
 		unlink(tmp);
@@ -430,7 +434,7 @@ static int by_use(const void *a, const void *b)
 	return 0;
 }
 
-long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep)
+static long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep)
 {
 	char top[4096], lock[4200];
 	struct blob_file *f = NULL;

@@ -10,9 +10,9 @@
 #include "err.h"
 
 /* hex SHA-256 of a file's bytes (65 bytes with the NUL). */
-int ps_hash_file(const char *path, char hex[65], struct ps_err *e);
+int ps_cache_hash_file(const char *path, char hex[65], struct ps_err *e);
 /* hex SHA-256 of a string. */
-void ps_hash_string(const char *s, char hex[65]);
+void ps_cache_hash_string(const char *s, char hex[65]);
 
 /* Look up n doubles under key; 1 found, 0 absent (or unreadable). */
 int ps_cache_get(const char *dir, const char *key, double *v, int n);
@@ -64,9 +64,6 @@ int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const 
  * the directory cannot be written; callers go on uncached. */
 int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *const *ptr,
                       const size_t *len, size_t max_bytes, struct ps_err *e);
-/* Evict oldest-used entries until at most max_bytes remain, keeping keep
- * (may be NULL); returns the number removed (-1 when the lock fails). */
-long ps_cache_blob_evict(const char *dir, size_t max_bytes, const char *keep);
 /* The cache directory psscene and psens share: $XDG_CACHE_HOME/psensd,
  * else $HOME/.cache/psensd (/tmp/.cache/psensd without a HOME). */
 void ps_cache_default_dir(char *buf, size_t len);

@@ -215,7 +215,7 @@ static int parse_common(struct ps_conf *c, struct reader *r, const char *path, s
 	c->path = xstrdup(path ? path : "(config)");
 	slash = c->path ? strrchr(c->path, '/') : NULL;
 	if (!c->path)
-		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
+		return ps_err_set(e, PS_ENOMEM, "out of memory reading %s", path);
 	if (slash) {
 		c->dir = malloc((size_t)(slash - c->path) + 2);
 		if (c->dir) {
@@ -228,12 +228,12 @@ static int parse_common(struct ps_conf *c, struct reader *r, const char *path, s
 	r->c = c;
 	if (!c->dir || !add_section(c, "", 0)) {
 		ps_conf_free(c);
-		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
+		return ps_err_set(e, PS_ENOMEM, "out of memory reading %s", path);
 	}
 	rc = ini_parse_stream(read_line, r, on_pair, &h);
 	if (h.oom || r->oom) {
 		ps_conf_free(c);
-		return ps_errf(e, PS_ENOMEM, "out of memory reading %s", path);
+		return ps_err_set(e, PS_ENOMEM, "out of memory reading %s", path);
 	}
 	/* Syntax errors inih found that our shape check did not (it reports the
 	 * first one only): make sure at least that one is listed. */
@@ -249,14 +249,14 @@ int ps_conf_load(struct ps_conf *c, const char *path, struct ps_err *e)
 	r.fp = fopen(path, "r");
 	if (!r.fp) {
 		memset(c, 0, sizeof *c);
-		return ps_errsys(e, "%s", path);
+		return ps_err_sys(e, "%s", path);
 	}
 	ini_max_line = CONF_MAX_LINE;
 	rc = parse_common(c, &r, path, e);
 	if (rc == 0 && ferror(r.fp)) {
 		fclose(r.fp);
 		ps_conf_free(c);
-		return ps_errsys(e, "%s: read error", path);
+		return ps_err_sys(e, "%s: read error", path);
 	}
 	fclose(r.fp);
 	return rc;
@@ -343,7 +343,7 @@ int ps_conf_required(struct ps_conf *c, struct ps_conf_section *s, const char *k
 	return -1;
 }
 
-int ps_parse_double(const char *text, double *out)
+int ps_conf_parse_double(const char *text, double *out)
 {
 	char *end;
 	double v;
@@ -359,7 +359,7 @@ int ps_parse_double(const char *text, double *out)
 	return 0;
 }
 
-int ps_parse_long(const char *text, long *out)
+static int ps_conf_parse_long(const char *text, long *out)
 {
 	char *end;
 	long v;
@@ -383,7 +383,7 @@ int ps_conf_double(struct ps_conf *c, struct ps_conf_section *s, const char *key
 	*out = def;
 	if (!kv)
 		return 0;
-	if (ps_parse_double(kv->value, &v) != 0) {
+	if (ps_conf_parse_double(kv->value, &v) != 0) {
 		ps_conf_error(c, kv->line, "%s: '%s' is not a number", key, kv->value);
 		return -1;
 	}
@@ -403,7 +403,7 @@ int ps_conf_int(struct ps_conf *c, struct ps_conf_section *s, const char *key,
 	*out = def;
 	if (!kv)
 		return 0;
-	if (ps_parse_long(kv->value, &v) != 0) {
+	if (ps_conf_parse_long(kv->value, &v) != 0) {
 		ps_conf_error(c, kv->line, "%s: '%s' is not a whole number", key, kv->value);
 		return -1;
 	}
@@ -455,7 +455,7 @@ int ps_conf_enum(struct ps_conf *c, struct ps_conf_section *s, const char *key,
 	return -1;
 }
 
-char *ps_path_join(const char *dir, const char *name)
+char *ps_conf_path_join(const char *dir, const char *name)
 {
 	size_t nd, nn;
 	char *p;
@@ -478,7 +478,7 @@ char *ps_conf_path(struct ps_conf *c, struct ps_conf_section *s, const char *key
 	const char *v = ps_conf_str(c, s, key, NULL);
 	if (!v)
 		return NULL;
-	return ps_path_join(c->dir, v);
+	return ps_conf_path_join(c->dir, v);
 }
 
 void ps_conf_check_unused(struct ps_conf *c)

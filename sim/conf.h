@@ -77,10 +77,9 @@ char *ps_conf_path(struct ps_conf *c, struct ps_conf_section *s, const char *key
 void ps_conf_check_unused(struct ps_conf *c);
 
 /* Parse a whole string as a finite double; 0 on success. */
-int ps_parse_double(const char *text, double *out);
-int ps_parse_long(const char *text, long *out);
+int ps_conf_parse_double(const char *text, double *out);
 
 /* Join dir and a relative name (an absolute name is returned as is); malloc'd. */
-char *ps_path_join(const char *dir, const char *name);
+char *ps_conf_path_join(const char *dir, const char *name);
 
 #endif

@@ -6,25 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const ps_errtext[PS_ECOUNT] = {
-	[PS_OK] = "no error",
-	[PS_EIO] = "input/output error",
-	[PS_EFORMAT] = "malformed input",
-	[PS_ERANGE] = "value out of range",
-	[PS_ENOMEM] = "out of memory",
-	[PS_EINVAL] = "invalid argument",
-	[PS_EUNSUPPORTED] = "not supported",
-	[PS_EMISSING] = "missing",
-};
-
-const char *ps_strerror(int code)
-{
-	if (code < 0 || code >= PS_ECOUNT || !ps_errtext[code])
-		return "unknown error";
-	return ps_errtext[code];
-}
-
-int ps_errf(struct ps_err *e, int code, const char *fmt, ...)
+int ps_err_set(struct ps_err *e, int code, const char *fmt, ...)
 {
 	if (e) {
 		va_list ap;
@@ -37,7 +19,7 @@ int ps_errf(struct ps_err *e, int code, const char *fmt, ...)
 	return -1;
 }
 
-int ps_errsys(struct ps_err *e, const char *fmt, ...)
+int ps_err_sys(struct ps_err *e, const char *fmt, ...)
 {
 	int saved = errno;   /* before anything else can change it */
 	if (e) {
@@ -54,13 +36,4 @@ int ps_errsys(struct ps_err *e, const char *fmt, ...)
 	}
 	errno = saved;
 	return -1;
-}
-
-void ps_err_clear(struct ps_err *e)
-{
-	if (e) {
-		e->code = PS_OK;
-		e->sys_errno = 0;
-		e->msg[0] = '\0';
-	}
 }

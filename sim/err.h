@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
-/* Errors of the simulation library: a project code with one strerror, and a
- * message that names the file and the line or byte offset.  The library never
- * prints; the tools print ps_err.msg. */
+/* Errors of the simulation library: a project code and a message that names
+ * the file and the line or byte offset.  The library never prints; the tools
+ * print ps_err.msg. */
 #ifndef PS_ERR_H
 #define PS_ERR_H
 
@@ -25,19 +25,13 @@ struct ps_err {
 	char msg[512];     /* "file:line: what is wrong", ready to print */
 };
 
-/* Text of a code (never NULL). */
-const char *ps_strerror(int code);
-
 /* Fill *e (may be NULL) and return -1, so callers can write
- * `return ps_errf(e, PS_EFORMAT, "%s:%d: ...", path, line);` */
-int ps_errf(struct ps_err *e, int code, const char *fmt, ...)
+ * `return ps_err_set(e, PS_EFORMAT, "%s:%d: ...", path, line);` */
+int ps_err_set(struct ps_err *e, int code, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
 
-/* Like ps_errf with code PS_EIO and the current errno appended (": No such file"). */
-int ps_errsys(struct ps_err *e, const char *fmt, ...)
+/* Like ps_err_set with code PS_EIO and the current errno appended (": No such file"). */
+int ps_err_sys(struct ps_err *e, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
-
-/* Clear an error record. */
-void ps_err_clear(struct ps_err *e);
 
 #endif

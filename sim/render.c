@@ -129,28 +129,28 @@ int ps_render_run(char *const argv[], const char *out_path, struct ps_err *e)
 	int status, rc;
 	snprintf(tmp, sizeof tmp, "%s.rendering.%ld", out_path, (long)getpid());
 	if (posix_spawn_file_actions_init(&fa) != 0)
-		return ps_errsys(e, "posix_spawn_file_actions_init");
+		return ps_err_sys(e, "posix_spawn_file_actions_init");
 	posix_spawn_file_actions_addopen(&fa, 1, tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
 	rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, environ);
 	posix_spawn_file_actions_destroy(&fa);
 	if (rc != 0) {
 		errno = rc;
 		unlink(tmp);
-		return ps_errsys(e, "cannot run %s", argv[0]);
+		return ps_err_sys(e, "cannot run %s", argv[0]);
 	}
 	while (waitpid(pid, &status, 0) < 0)
 		if (errno != EINTR) {
 			unlink(tmp);
-			return ps_errsys(e, "waiting for %s", argv[0]);
+			return ps_err_sys(e, "waiting for %s", argv[0]);
 		}
 	if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
 		unlink(tmp);
 		if (WIFSIGNALED(status))
-			return ps_errf(e, PS_EIO, "%s was killed by signal %d", argv[0], WTERMSIG(status));
-		return ps_errf(e, PS_EIO, "%s exited with status %d", argv[0], WEXITSTATUS(status));
+			return ps_err_set(e, PS_EIO, "%s was killed by signal %d", argv[0], WTERMSIG(status));
+		return ps_err_set(e, PS_EIO, "%s exited with status %d", argv[0], WEXITSTATUS(status));
 	}
 	if (rename(tmp, out_path) != 0) {
-		rc = ps_errsys(e, "rename %s to %s", tmp, out_path);
+		rc = ps_err_sys(e, "rename %s to %s", tmp, out_path);
 		unlink(tmp);
 		return rc;
 	}

@@ -122,7 +122,7 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
 	fp = fopen(tmp, "w");
 	if (!fp)
-		return ps_errsys(e, "%s", tmp);
+		return ps_err_sys(e, "%s", tmp);
 	fprintf(fp, "; psscene results: the simulated task-sensor ratios psensd runs on.\n"
 	            "; Written by psscene; see psscene(5).\n[psresults]\nversion = %d\n",
 	        PS_RESULTS_VERSION);
@@ -157,7 +157,7 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	if (r->have_year)
 		write_year(fp, r);
 	if (fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) {
-		int rc = ps_errsys(e, "%s: write error", tmp);
+		int rc = ps_err_sys(e, "%s: write error", tmp);
 		fclose(fp);
 		unlink(tmp);
 		return rc;
@@ -165,7 +165,7 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	fclose(fp);
 	/* the old file stays whole until the new one is complete */
 	if (rename(tmp, path) != 0) {
-		int rc = ps_errsys(e, "rename %s to %s", tmp, path);
+		int rc = ps_err_sys(e, "rename %s to %s", tmp, path);
 		unlink(tmp);
 		return rc;
 	}
@@ -182,7 +182,7 @@ static double num(struct ps_conf *c, struct ps_conf_section *s, const char *key)
 	}
 	if (strcmp(kv->value, "nan") == 0)
 		return NAN;
-	if (ps_parse_double(kv->value, &v) != 0) {
+	if (ps_conf_parse_double(kv->value, &v) != 0) {
 		ps_conf_error(c, kv->line, "%s: '%s' is not a number", key, kv->value);
 		return NAN;
 	}
@@ -274,14 +274,14 @@ static int results_from_conf(struct ps_results *r, struct ps_conf *cp, const cha
 	s = ps_conf_section(&c, "psresults");
 	if (!s) {
 		ps_conf_free(&c);
-		return ps_errf(e, PS_EFORMAT, "%s: not a psscene results file (no [psresults])", path);
+		return ps_err_set(e, PS_EFORMAT, "%s: not a psscene results file (no [psresults])", path);
 	}
 	ps_conf_int(&c, s, "version", 0, 0, 1000000, &version);
 	if (version < 1 || version > PS_RESULTS_VERSION) {
 		int line = ps_conf_kv(s, "version") ? ps_conf_kv(s, "version")->line : s->line;
 		ps_conf_free(&c);
-		return ps_errf(e, PS_EUNSUPPORTED, "%s:%d: results version %ld, this psensd reads 1 to %d: "
-		               "run psscene again", path, line, version, PS_RESULTS_VERSION);
+		return ps_err_set(e, PS_EUNSUPPORTED, "%s:%d: results version %ld, this psensd reads 1 to %d: "
+		                  "run psscene again", path, line, version, PS_RESULTS_VERSION);
 	}
 	r->version = (int)version;
 	r->scene = strdup(ps_conf_str(&c, s, "scene", ""));
@@ -327,7 +327,7 @@ static int results_from_conf(struct ps_results *r, struct ps_conf *cp, const cha
 		read_year(&c, r);
 	ps_conf_check_unused(&c);
 	if (c.nerrors) {
-		ps_errf(e, PS_EFORMAT, "%s%s", c.errors[0], c.nerrors > 1 ? " (and more)" : "");
+		ps_err_set(e, PS_EFORMAT, "%s%s", c.errors[0], c.nerrors > 1 ? " (and more)" : "");
 		ps_conf_free(&c);
 		ps_results_free(r);
 		return -1;

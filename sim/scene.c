@@ -63,7 +63,7 @@ static void read_vec(struct ps_conf *c, struct ps_conf_section *sec, const char 
 		*have = 1;
 }
 
-static void read_place(struct ps_conf *c, struct ps_conf_section *sec, struct ps_place *p,
+static void read_place(struct ps_conf *c, struct ps_conf_section *sec, struct ps_marks_place *p,
                        const double *dir)
 {
 	static const double zero[3] = { 0, 0, 0 }, up[3] = { 0, 1, 0 };
@@ -294,7 +294,7 @@ static int scene_from_conf(struct ps_scene *s, struct ps_conf *cp, const char *p
 oom:
 	ps_conf_free(&c);
 	ps_scene_free(s);
-	return ps_errf(e, PS_ENOMEM, "%s: out of memory", path);
+	return ps_err_set(e, PS_ENOMEM, "%s: out of memory", path);
 }
 
 int ps_scene_read(struct ps_scene *s, const char *path, struct ps_err *e)

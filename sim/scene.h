@@ -11,7 +11,7 @@
 
 enum ps_cond_kind { PS_COND_DAYLIGHT = 0, PS_COND_ELECTRIC = 1 };
 
-struct ps_place {
+struct ps_marks_place {
 	double pos[3], dir[3], up[3];   /* where a picture is rendered from */
 	int have;                       /* position given */
 };
@@ -64,7 +64,7 @@ struct ps_scene {
 	int reading;
 	double rgb[3];
 	char *filter;            /* resolved, or NULL */
-	struct ps_place sensor_at, task_at;
+	struct ps_marks_place sensor_at, task_at;
 	int resolution;          /* for rendering */
 	char *render_options;    /* extra rpict options, or NULL */
 	char *cache_dir;         /* resolved, or NULL */

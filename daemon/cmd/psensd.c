@@ -19,6 +19,7 @@
 #include "canvas.h"
 #include "dated.h"
 #include "log.h"
+#include "registry.h"
 #include "time.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
@@ -208,13 +209,13 @@ static void usage(FILE *fp)
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
 #endif
 	fprintf(fp, "drivers:\n");
-	for (int i = 0; ps_drivers[i]; i++)
-		fprintf(fp, "  %-9s %s%s\n", ps_drivers[i]->name, ps_drivers[i]->summary,
-		        ps_drivers[i]->compiled_in ? "" : " (not compiled in)");
+	for (int i = 0; ps_registry_drivers[i]; i++)
+		fprintf(fp, "  %-9s %s%s\n", ps_registry_drivers[i]->name, ps_registry_drivers[i]->summary,
+		        ps_registry_drivers[i]->compiled_in ? "" : " (not compiled in)");
 }
 
 /* What a key takes, for -L: its range, its choices, or its kind. */
-static void accepts(const struct ps_opt_spec *o, char *out, size_t n)
+static void accepts(const struct ps_opts_spec *o, char *out, size_t n)
 {
 	size_t len = 0;
 	out[0] = 0;
@@ -239,10 +240,10 @@ static void accepts(const struct ps_opt_spec *o, char *out, size_t n)
 /* -L: every driver's option table, one key a line. */
 static void list_options(void)
 {
-	for (int i = 0; ps_drivers[i]; i++) {
-		const struct ps_driver *drv = ps_drivers[i];
+	for (int i = 0; ps_registry_drivers[i]; i++) {
+		const struct ps_driver *drv = ps_registry_drivers[i];
 		printf("%s%s: %s\n", drv->name, drv->compiled_in ? "" : " (not compiled in)", drv->summary);
-		for (const struct ps_opt_spec *o = drv->options; o && o->key; o++) {
+		for (const struct ps_opts_spec *o = drv->options; o && o->key; o++) {
 			char what[200], roles[64] = "";
 			size_t len = 0;
 			accepts(o, what, sizeof what);
@@ -251,7 +252,7 @@ static void list_options(void)
 					len += (size_t)snprintf(roles + len, sizeof roles - len, "%s%s", len ? "," : " (",
 					                        ps_role_name(r));
 			printf("  %-6s %-13s %-7s default %-10s %s%s%s: %s\n", o->scope == PS_OPT_DEVICE ? "device" : "point",
-			       o->key, ps_opt_type_names[o->type], o->def ? o->def : "-", what, roles, len ? ")" : "",
+			       o->key, ps_opts_type_names[o->type], o->def ? o->def : "-", what, roles, len ? ")" : "",
 			       o->doc);
 		}
 	}

@@ -443,7 +443,7 @@ static int zone_options(struct virt *v, struct args *a, const struct plan *p, in
 	 * k's seed is its seed option (1) plus k */
 	all->v = merged + 1;
 	all->n = n + nconf;
-	s = ps_opt_get(all, "seed");
+	s = ps_opts_get(all, "seed");
 	if (z > 0 && (!s || (strtol(s, &end, 10) >= 0 && !*end && *s))) {
 		snprintf(seed, seedlen, "%ld", (s ? strtol(s, NULL, 10) : 1) + z);
 		merged[0] = (struct ps_opt){ "seed", seed, 0, 0 };
@@ -493,7 +493,7 @@ static int build_zone(struct virt *v, struct args *a, const struct plan *p, cons
 	if (!(v->room[z] = zone_room(v, a, p, day, z, &all)))
 		return -1;
 	for (size_t i = all.n - nconf; i < all.n; i++)
-		if (!all.v[i].used && !ps_opt_get(&cmd, all.v[i].key)) {
+		if (!all.v[i].used && !ps_opts_get(&cmd, all.v[i].key)) {
 			psd_log_errx("%s:%d: unknown key '%s' for driver loopback", p->conf_path,
 			        all.v[i].line, all.v[i].key);
 			return -1;

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "log.h"
+#include "registry.h"
 #include "roomsetup.h"
 
 struct psd_virtroom {
@@ -39,7 +40,7 @@ static int checked(struct psd_virtroom *r, int call, const char *what, int rc)
 static int open_dev(struct ps_dev *dev, const struct ps_opts *opts, char *err, size_t n)
 {
 	memset(dev, 0, sizeof *dev);
-	dev->drv = ps_driver_find("loopback");
+	dev->drv = ps_registry_find("loopback");
 	snprintf(dev->name, sizeof dev->name, "psvirt");
 	if (!dev->drv || !dev->drv->setup || !dev->drv->truth) {
 		snprintf(err, n, "this build has no simulated room (loopback driver)");

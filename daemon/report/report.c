@@ -1449,7 +1449,7 @@ static int render(const struct psd_report_opts *o, FILE *fp, struct psd_report_o
 		}
 	if (o->config_path) {
 		struct ps_err pe = { 0 };
-		if (ps_hash_file(o->config_path, d.config_sha, &pe) != 0)
+		if (ps_cache_hash_file(o->config_path, d.config_sha, &pe) != 0)
 			d.config_sha[0] = 0;   /* the cover then says it is unknown */
 	}
 	/* each simulation the zones run on, read once: its scene (or, with no

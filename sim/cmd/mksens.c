@@ -131,7 +131,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			}
 			break;
 		case 'm':
-			o->reading = ps_reading_parse(optarg);
+			o->reading = ps_sensor_reading_parse(optarg);
 			if (o->reading < 0) {
 				fprintf(stderr, "mksens: -m: '%s' is not linear or cell\n", optarg);
 				return 2;
@@ -153,7 +153,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			}
 			break;
 		case 'e':
-			rc = ps_exposure_parse(optarg, &o->exposure);
+			rc = ps_tonemap_exposure_parse(optarg, &o->exposure);
 			if (rc < 0) {
 				fprintf(stderr, "mksens: --exposure: '%s' is not auto, a positive multiplier "
 				        "or +N/-N stops\n", optarg);
@@ -163,7 +163,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 				o->exposure = 0;
 			break;
 		case 't':
-			o->tone = ps_tone_parse(optarg);
+			o->tone = ps_tonemap_parse(optarg);
 			if (o->tone < 0) {
 				fprintf(stderr, "mksens: --tone: '%s' is not linear, gamma, srgb or reinhard\n",
 				        optarg);
@@ -226,7 +226,7 @@ static double *sensitivity_picture(const struct ps_sensor *s, double rot, const 
 	if (!val || !omega) {
 		free(val);
 		val = NULL;
-		ps_errf(e, PS_ENOMEM, "out of memory");
+		ps_err_set(e, PS_ENOMEM, "out of memory");
 		goto done;
 	}
 	/* pixel solid angles (the uniform sensor's weights), dense */
@@ -235,11 +235,11 @@ static double *sensitivity_picture(const struct ps_sensor *s, double rot, const 
 			omega[(size_t)sa.runs[q].row * (size_t)res + (size_t)(sa.runs[q].x0 + i)] =
 			        sa.w[sa.runs[q].off + (size_t)i];
 	for (size_t k = 0; k < w.nruns; k++) {
-		const struct ps_wrun *r = &w.runs[k];
+		const struct ps_weights_run *r = &w.runs[k];
 		for (int i = 0; i < r->n; i++) {
 			size_t at = (size_t)r->row * (size_t)res + (size_t)(r->x0 + i);
 			if (omega[at] > 0) {
-				double x = ps_wrun_at(&w, r, i) / omega[at] / s->max_value;
+				double x = ps_weights_run_at(&w, r, i) / omega[at] / s->max_value;
 				val[at] = x > 0 ? x : 0.0;
 			}
 		}
@@ -260,24 +260,24 @@ static int write_hdr(const struct opts *o, const double *val, double vh, struct 
 	FILE *fp = stdout;
 	int rc;
 	if (!rgb)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	for (size_t k = 0; k < n; k++)
 		rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = val[k];
 	snprintf(view, sizeof view, "-vta -vp 0 0 0 -vd 0 0 -1 -vu 0 1 0 -vh %g -vv %g", vh, vh);
 	snprintf(extra, sizeof extra, "mksens -S %ld --rotation %g -m %s %s\n", o->res, o->rot,
-	         ps_reading_name(o->reading), o->sensfile);
+	         ps_sensor_reading_name(o->reading), o->sensfile);
 	if (o->out && !(fp = fopen(o->out, "wb"))) {
 		free(rgb);
-		return ps_errsys(e, "%s", o->out);
+		return ps_err_sys(e, "%s", o->out);
 	}
-	rc = ps_pic_write_fp(fp, o->out ? o->out : "(stdout)", (int)o->res, (int)o->res, rgb, view,
-	                     extra, e);
+	rc = ps_picture_write_fp(fp, o->out ? o->out : "(stdout)", (int)o->res, (int)o->res, rgb, view,
+	                         extra, e);
 	free(rgb);
 	if (fp != stdout) {
 		if (fclose(fp) != 0 && rc == 0)
-			rc = ps_errsys(e, "%s", o->out);
+			rc = ps_err_sys(e, "%s", o->out);
 	} else if (rc == 0 && fflush(stdout) != 0) {
-		rc = ps_errsys(e, "(stdout)");
+		rc = ps_err_sys(e, "(stdout)");
 	}
 	return rc;
 }
@@ -293,19 +293,19 @@ static int auto_zoom(int size, int zoom)
 /* Contours of the sensitivity at the levels, labelled where they cross
  * azimuth 320 degrees: white over the false colour, light blue over a
  * render (apart from the white rings and the yellow arrow). */
-static int draw_contours(struct ps_canvas *c, const struct ps_place *pl, const struct ps_sensor *s,
+static int draw_contours(struct ps_canvas *c, const struct ps_marks_place *pl, const struct ps_sensor *s,
                          const struct opts *o, double font, struct ps_err *e)
 {
 	int nx, ny;
-	double *grid = ps_place_sensitivity(pl, s, o->rot, &nx, &ny), lx, ly;
+	double *grid = ps_marks_place_sensitivity(pl, s, o->rot, &nx, &ny), lx, ly;
 	if (!grid)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	{
 		/* a target far out along azimuth 300: each contour's label goes
 		 * where the contour crosses that direction */
 		double xc, yc, xe, ye;
-		ps_place_point(pl, 0, 0, &xc, &yc);
-		ps_place_point(pl, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
+		ps_marks_place_point(pl, 0, 0, &xc, &yc);
+		ps_marks_place_point(pl, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
 		lx = xc + 4 * (xe - xc);
 		ly = yc + 4 * (ye - yc);
 	}
@@ -317,8 +317,9 @@ static int draw_contours(struct ps_canvas *c, const struct ps_place *pl, const s
 			rgb[1] = 0.88;
 		}
 		snprintf(lab, sizeof lab, "%g %%", o->levels[k]);
-		ps_contour_draw(c, grid, nx, ny, pl->ox, pl->oy, 1.0, o->levels[k] / 100.0, rgb, 2.0, lab,
-		                font, lx, ly);
+		struct ps_contour_style st = { .ox = pl->ox, .oy = pl->oy, .step = 1.0, .rgb = rgb,
+		                               .width = 2.0, .label = lab, .font = font, .lx = lx, .ly = ly };
+		ps_contour_draw(c, grid, nx, ny, o->levels[k] / 100.0, &st);
 	}
 	free(grid);
 	return 0;
@@ -330,9 +331,9 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	struct ps_picture room;
 	struct ps_view rv;
 	struct ps_canvas c;
-	struct ps_place pl;
-	struct ps_legend leg;
-	struct ps_fcscale scale = { 100.0, 0, 0 };
+	struct ps_marks_place pl;
+	struct ps_falsecolor_legend leg;
+	struct ps_falsecolor_scale scale = { 100.0, 0, 0 };
 	uint8_t bg[3] = { 28, 28, 28 };
 	int w, h, zoom, margin, strip = 0, rc, have_room = 0;
 	double font, fg[3] = { 0.92, 0.92, 0.92 };
@@ -341,7 +342,7 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	memset(&room, 0, sizeof room);
 	if (o->overlay) {
 		char where[600];
-		if (ps_pic_read(&room, o->overlay, e) != 0)
+		if (ps_picture_read(&room, o->overlay, e) != 0)
 			return -1;
 		have_room = 1;
 		snprintf(where, sizeof where, "%s: VIEW", o->overlay);
@@ -368,7 +369,7 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	if (ps_canvas_init(&c, margin + w * zoom + margin + strip, margin + h * zoom + 2 * margin, bg,
 	                   e) != 0)
 		goto fail;
-	ps_place_init(&pl, v, w, h, margin, margin, zoom);
+	ps_marks_place_init(&pl, v, w, h, margin, margin, zoom);
 	if (have_room) {
 		struct ps_tonemap t;
 		ps_tonemap_init(&t, &room, o->tone, o->exposure, 2.2, 0);
@@ -394,9 +395,9 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 		goto fail;
 	}
 	if (!o->overlay) {
-		ps_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
+		ps_falsecolor_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
 		leg.above = 0;
-		ps_legend_draw(&c, &leg, &scale, "% of peak");
+		ps_falsecolor_legend_draw(&c, &leg, &scale, "% of peak");
 	}
 	if (o->overlay) {
 		snprintf(caption, sizeof caption, "%s over %s, rotation %g\xc2\xb0", base,
@@ -406,13 +407,13 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 		                "contours: sensitivity in % of its peak");
 	} else {
 		snprintf(caption, sizeof caption, "%s, rotation %g\xc2\xb0, %s reading", base, o->rot,
-		         ps_reading_name(o->reading));
+		         ps_sensor_reading_name(o->reading));
 		ps_canvas_label(&c, margin, margin + h * zoom + 1.5 * margin, font, -1, fg, 0, caption);
 	}
 	{
 		char cmd[700];
 		snprintf(cmd, sizeof cmd, "mksens -S %ld --rotation %g -m %s%s%s %s", o->res, o->rot,
-		         ps_reading_name(o->reading), o->overlay ? " --overlay " : "",
+		         ps_sensor_reading_name(o->reading), o->overlay ? " --overlay " : "",
 		         o->overlay ? o->overlay : "", o->sensfile);
 		ps_canvas_text_chunk(&c, "Software", "mksens (psensd) " PS_VERSION);
 		ps_canvas_text_chunk(&c, "Comment", cmd);
@@ -420,11 +421,11 @@ static int write_png(const struct opts *o, const struct ps_sensor *s, const doub
 	rc = o->out ? ps_canvas_save_png(&c, o->out, e) : ps_canvas_write_png(&c, stdout, "(stdout)", e);
 	ps_canvas_free(&c);
 	ps_canvas_shutdown();
-	ps_pic_free(&room);
+	ps_picture_free(&room);
 	return rc;
 fail:
 	if (have_room)
-		ps_pic_free(&room);
+		ps_picture_free(&room);
 	return -1;
 }
 

@@ -12,7 +12,7 @@
 #include "batch.h"
 #include "cache.h"
 #include "cli.h"
-#include "file.h"
+#include "fileio.h"
 #include "fisheye.h"
 #include "integrate.h"
 #include "mtx.h"
@@ -20,7 +20,7 @@
 #include "picview.h"
 #include "rescan.h"
 #include "sensor.h"
-#include "spectral.h"
+#include "filter.h"
 #include "stream.h"
 #include "view.h"
 #include "wcache.h"
@@ -124,7 +124,7 @@ static void print_result(const char *path, const char *sensname, const struct it
 		       "\"width\": %d, \"height\": %d, \"method\": \"%s\", \"reading\": \"%s\"}\n",
 		       r->solid_angle, sens->total, r->response, r->rgb[0], r->rgb[1], r->rgb[2],
 		       it->coverage, r->brightest_share, top1, r->npixels, it->res.width, it->res.height,
-		       method == PS_W_CENTRE ? "centre" : "exact", ps_reading_name(sens->reading));
+		       method == PS_W_CENTRE ? "centre" : "exact", ps_sensor_reading_name(sens->reading));
 	} else {
 		if (several)
 			printf("%s: ", path);
@@ -230,7 +230,7 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 		struct ps_picture pic;
 		struct ps_view view;
 		struct ps_batch b;
-		struct ps_filemap fm;
+		struct ps_fileio_map fm;
 		const char **list;
 		size_t m = 0, off;
 		int assumed, how;
@@ -239,23 +239,28 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			continue;
 		items[first].done = 1;
 		/* the first picture's header sets the batch's view and size */
-		if (ps_map_file(paths[first], (size_t)4 << 30, &fm, &items[first].res.err) != 0) {
+		if (ps_fileio_map(paths[first], (size_t)4 << 30, &fm, &items[first].res.err) != 0) {
 			items[first].res.status = PS_BATCH_FAILED;
 			continue;
 		}
-		if (ps_pic_head_mem(&pic, fm.data, fm.len, paths[first], &off,
-		                    &items[first].res.err) != 0 ||
-		    ps_pic_fisheye_view(&pic, paths[first], &view, &assumed,
-		                        &items[first].res.err) != 0) {
+		if (ps_picture_head_mem(&pic, fm.data, fm.len, paths[first], &off,
+		                        &items[first].res.err) != 0 ||
+		    ps_picview_fisheye(&pic, paths[first], &view, &assumed,
+		                       &items[first].res.err) != 0) {
 			items[first].res.status = PS_BATCH_FAILED;
-			ps_pic_free(&pic);
-			ps_unmap_file(&fm);
+			ps_picture_free(&pic);
+			ps_fileio_unmap(&fm);
 			continue;
 		}
 		/* the weights, stored in the cache while the pictures are integrated */
-		if (ps_batch_init_cache_async(&b, sens, o->rot, &view, pic.width, pic.height, o->method,
-		                              o->coef, o->nthreads, o->cachedir, ps_cache_max_bytes(),
-		                              &how, &warn, &e) != 0) {
+		struct ps_batch_spec sp = {
+			.map = { .sensor = sens, .rotation_deg = o->rot, .view = &view, .width = pic.width,
+			         .height = pic.height, .method = o->method },
+			.coef = o->coef,
+			.nthreads = o->nthreads,
+		};
+		struct ps_wcache_dir cache = { .path = o->cachedir, .max_bytes = ps_cache_max_bytes() };
+		if (ps_batch_init_cache_async(&b, &sp, &cache, &how, &warn, &e) != 0) {
 			fprintf(stderr, "psens: %s: %s\n", paths[first], e.msg);
 			goto fail;
 		}
@@ -295,9 +300,9 @@ static int direct(const struct ps_sensor *sens, struct opts *o, const char *cons
 			}
 			free(res);
 			free(list);
-			ps_unmap_file(&fm);
+			ps_fileio_unmap(&fm);
 		}
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		ps_batch_free(&b);
 	}
 	free(idx);
@@ -308,7 +313,7 @@ fail:
 }
 
 /* Several sensors: each picture is decoded once and integrated against
- * every sensor's weights at once (sim/stream.h), its rows shared among the
+ * every sensor's weights at once (sim/weights/stream.h), its rows shared among the
  * threads; the maps are kept while the pictures' view and size stay the
  * same.  items[k n + i]: sensor k, picture i, as direct() gives them. */
 static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
@@ -317,7 +322,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 	struct ps_weights *w = calloc((size_t)nsens, sizeof *w);
 	const struct ps_weights **ws = calloc((size_t)nsens, sizeof *ws);
 	struct ps_response *rs = calloc((size_t)nsens, sizeof *rs);
-	struct ps_wstore **pend = calloc((size_t)nsens, sizeof *pend);
+	struct ps_wcache_store **pend = calloc((size_t)nsens, sizeof *pend);
 	struct ps_view cur;
 	int have = 0, cw = 0, ch = 0, rc = 0;
 	if (!w || !ws || !rs || !pend) {
@@ -330,7 +335,7 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 	}
 	memset(&cur, 0, sizeof cur);
 	for (size_t i = 0; i < n && rc == 0; i++) {
-		struct ps_filemap fm;
+		struct ps_fileio_map fm;
 		struct ps_picture head;
 		struct ps_view view;
 		struct ps_err pe;
@@ -338,15 +343,15 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 		int assumed = 0, width = 0, height = 0, status = PS_BATCH_FAILED;
 		memset(&pe, 0, sizeof pe);
 		memset(&view, 0, sizeof view);
-		if (ps_map_file(paths[i], (size_t)4 << 30, &fm, &pe) != 0)
+		if (ps_fileio_map(paths[i], (size_t)4 << 30, &fm, &pe) != 0)
 			goto give;
-		if (ps_pic_head_mem(&head, fm.data, fm.len, paths[i], &off, &pe) != 0) {
-			ps_unmap_file(&fm);
+		if (ps_picture_head_mem(&head, fm.data, fm.len, paths[i], &off, &pe) != 0) {
+			ps_fileio_unmap(&fm);
 			goto give;
 		}
 		width = head.width;
 		height = head.height;
-		if (ps_pic_fisheye_view(&head, paths[i], &view, &assumed, &pe) != 0)
+		if (ps_picview_fisheye(&head, paths[i], &view, &assumed, &pe) != 0)
 			goto done;
 		if (have && (width != cw || height != ch || view.type != cur.type || view.vh != cur.vh ||
 		             view.vv != cur.vv || view.vs != cur.vs || view.vl != cur.vl)) {
@@ -355,10 +360,10 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 				status = PS_BATCH_MISMATCH;
 				ps_view_format(&view, vs, sizeof vs);
 				if (width != cw || height != ch)
-					ps_errf(&pe, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are "
-					        "for %d x %d", paths[i], width, height, cw, ch);
+					ps_err_set(&pe, PS_EINVAL, "%s: picture is %d x %d, the batch's weights are "
+					           "for %d x %d", paths[i], width, height, cw, ch);
 				else
-					ps_errf(&pe, PS_EINVAL, "%s: its view (%s) is not the batch's", paths[i], vs);
+					ps_err_set(&pe, PS_EINVAL, "%s: its view (%s) is not the batch's", paths[i], vs);
 				goto done;
 			}
 			for (int k = 0; k < nsens; k++)
@@ -370,12 +375,15 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 				struct ps_err warn, e;
 				int how;
 				/* stored in the cache while the picture is integrated */
-				if (ps_weights_get_async(&w[k], &sens[k], o->rot, &view, width, height,
-				                         o->method, o->cachedir, ps_cache_max_bytes(), &how,
-				                         &warn, &pend[k], &e) != 0) {
+				struct ps_wcache_key key = { .sensor = &sens[k], .rotation_deg = o->rot,
+				                             .view = &view, .width = width, .height = height,
+				                             .method = o->method };
+				struct ps_wcache_dir cache = { .path = o->cachedir,
+				                               .max_bytes = ps_cache_max_bytes() };
+				if (ps_wcache_get_async(&w[k], &key, &cache, &how, &warn, &pend[k], &e) != 0) {
 					fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 					for (int q = 0; q < k; q++) {
-						ps_weights_store_finish(pend[q], NULL, NULL);
+						ps_wcache_store_finish(pend[q], NULL, NULL);
 						pend[q] = NULL;
 						ps_weights_free(&w[q]);
 					}
@@ -391,20 +399,20 @@ static int direct_multi(const struct ps_sensor *sens, int nsens, struct opts *o,
 			ch = height;
 			cur = view;
 		}
-		if (ps_integrate_mem_multi(ws, nsens, &head, fm.data, fm.len, off, paths[i], o->coef,
-		                           o->nthreads, rs, &pe) == 0)
+		if (ps_stream_integrate_multi(ws, nsens, &head, fm.data, fm.len, off, paths[i], o->coef,
+		                              o->nthreads, rs, &pe) == 0)
 			status = PS_BATCH_OK;
 		for (int k = 0; k < nsens; k++)
 			if (pend[k]) {   /* the stores' outcomes */
 				struct ps_err warn;
 				int how;
-				ps_weights_store_finish(pend[k], &how, &warn);
+				ps_wcache_store_finish(pend[k], &how, &warn);
 				pend[k] = NULL;
 				cache_warning(o, how, &warn);
 			}
 done:
-		ps_pic_free(&head);
-		ps_unmap_file(&fm);
+		ps_picture_free(&head);
+		ps_fileio_unmap(&fm);
 give:
 		for (int k = 0; k < nsens; k++) {
 			struct item *it = &items[(size_t)k * n + i];
@@ -456,7 +464,7 @@ static int parse_scan(const char *arg, struct opts *o)
 	return 0;
 }
 
-/* The rotation scan: each picture projected once (sim/rescan.h), every
+/* The rotation scan: each picture projected once (sim/weights/rescan.h), every
  * sensor evaluated at every rotation from the projection. */
 static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
                       const char *const *paths, size_t n)
@@ -488,10 +496,10 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 		struct ps_err warn;
 		double ext = 0;
 		int assumed, how;
-		if (ps_pic_read(&pic, paths[i], &e) != 0 ||
-		    ps_pic_fisheye_view(&pic, paths[i], &view, &assumed, &e) != 0) {
+		if (ps_picture_read(&pic, paths[i], &e) != 0 ||
+		    ps_picview_fisheye(&pic, paths[i], &view, &assumed, &e) != 0) {
 			fprintf(stderr, "psens: %s\n", e.msg);
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			status = 1;
 			continue;
 		}
@@ -502,13 +510,16 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 			if (ps_sensor_extent(&sens[k]) > ext)
 				ext = ps_sensor_extent(&sens[k]);
 		/* the pixels' solid angles: the uniform sensor's exact weights */
-		if (ps_weights_get(&om, &uni, 0, &view, pic.width, pic.height, PS_W_EXACT, o->cachedir,
-		                   ps_cache_max_bytes(), &how, &warn, &e) != 0 ||
+		struct ps_wcache_key key = { .sensor = &uni, .rotation_deg = 0, .view = &view,
+		                             .width = pic.width, .height = pic.height,
+		                             .method = PS_W_EXACT };
+		struct ps_wcache_dir cache = { .path = o->cachedir, .max_bytes = ps_cache_max_bytes() };
+		if (ps_wcache_get(&om, &key, &cache, &how, &warn, &e) != 0 ||
 		    ps_rescan_project(&p, &om, &pic, &view, o->coef, 0.25, dphi, o->rot_a,
 		                      ext / (M_PI / 180) + 0.25, &e) != 0) {
 			fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 			ps_weights_free(&om);
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			status = 1;
 			continue;
 		}
@@ -546,7 +557,7 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 		}
 		ps_rescan_free(&p);
 		ps_weights_free(&om);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 	}
 	free(out);
 	ps_sensor_free(&uni);
@@ -599,7 +610,7 @@ int main(int argc, char **argv)
 			}
 			break;
 		case 'm':
-			reading = ps_reading_parse(optarg);
+			reading = ps_sensor_reading_parse(optarg);
 			if (reading < 0) {
 				fprintf(stderr, "psens: -m: '%s' is not linear or cell\n", optarg);
 				return 2;

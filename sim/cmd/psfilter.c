@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "spectral.h"
+#include "filter.h"
 
 static void usage(FILE *fp)
 {

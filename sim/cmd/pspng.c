@@ -79,7 +79,7 @@ int main(int argc, char **argv)
 		switch (opt) {
 		case 'o': out = optarg; break;
 		case 'e':
-			rc = ps_exposure_parse(optarg, &exposure);
+			rc = ps_tonemap_exposure_parse(optarg, &exposure);
 			if (rc < 0) {
 				fprintf(stderr, "pspng: -e: '%s' is not auto, a positive multiplier or "
 				        "+N/-N stops\n", optarg);
@@ -89,7 +89,7 @@ int main(int argc, char **argv)
 				exposure = 0;
 			break;
 		case 't':
-			curve = ps_tone_parse(optarg);
+			curve = ps_tonemap_parse(optarg);
 			if (curve < 0) {
 				fprintf(stderr, "pspng: -t: '%s' is not linear, gamma, srgb or reinhard\n", optarg);
 				return 2;
@@ -129,27 +129,27 @@ int main(int argc, char **argv)
 		fprintf(stderr, "pspng: %s\n", e.msg);
 		return 2;
 	}
-	if (ps_pic_read(&pic, path, &e) != 0) {
+	if (ps_picture_read(&pic, path, &e) != 0) {
 		fprintf(stderr, "pspng: %s\n", e.msg);
 		return 1;
 	}
 	if (falsecolor) {
 		struct ps_lum l;
-		struct ps_fcscale s;
-		struct ps_legend leg;
+		struct ps_falsecolor_scale s;
+		struct ps_falsecolor_legend leg;
 		int ph = pic.height * zoom, pw = pic.width * zoom, sw;
 		double top;
 		ps_lum_init(&l, &pic);
 		top = ps_picdraw_max_cdm2(&pic, &l);
-		s.max = scale_max > 0 ? scale_max : top > 0 ? ps_nice_ceil(top) : 1.0;
+		s.max = scale_max > 0 ? scale_max : top > 0 ? ps_falsecolor_nice_ceil(top) : 1.0;
 		s.log = logscale;
 		s.decades = decades;
-		ps_legend_layout(&leg, pw, 0, 0, ph < 160 ? 160 : ph);
+		ps_falsecolor_legend_layout(&leg, pw, 0, 0, ph < 160 ? 160 : ph);
 		sw = (int)(leg.font * 8.5) + 8;
 		if (ps_canvas_init(&c, pw + sw, ph < 160 ? 160 : ph, bg, &e) != 0)
 			goto fail;
 		ps_picdraw_false(&c, &pic, &l, &s, 0, 0, zoom);
-		ps_legend_draw(&c, &leg, &s, logscale ? "cd/m\xc2\xb2 (log)" : "cd/m\xc2\xb2");
+		ps_falsecolor_legend_draw(&c, &leg, &s, logscale ? "cd/m\xc2\xb2 (log)" : "cd/m\xc2\xb2");
 		snprintf(summary, sizeof summary, "false colour, %s scale %g to %g cd/m2%s, largest %.4g cd/m2",
 		         logscale ? "log" : "linear", logscale ? s.max / pow(10, decades) : 0.0, s.max,
 		         scale_max > 0 ? "" : " (auto)", top);
@@ -168,7 +168,7 @@ int main(int argc, char **argv)
 		rc = snprintf(summary, sizeof summary, "log-average %.4g cd/m2, largest %.4g cd/m2; "
 		              "exposure %.4g%s, tone %s", PS_LUM_EFFICACY * logavg,
 		              PS_LUM_EFFICACY * ymax, t.exposure, exposure > 0 ? "" : " (auto)",
-		              ps_tone_name(curve));
+		              ps_tonemap_name(curve));
 		if (curve == PS_TONE_REINHARD && rc > 0 && (size_t)rc < sizeof summary)
 			snprintf(summary + rc, sizeof summary - (size_t)rc, " (white %.4g cd/m2)",
 			         PS_LUM_EFFICACY * t.white / t.exposure);
@@ -186,10 +186,10 @@ int main(int argc, char **argv)
 	if (!quiet)
 		fprintf(stderr, "pspng: %s: %d x %d, %s -> %s\n", path, pic.width, pic.height, summary,
 		        out ? out : "(stdout)");
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return 0;
 fail:
 	fprintf(stderr, "pspng: %s\n", e.msg);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return 1;
 }

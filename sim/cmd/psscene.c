@@ -23,7 +23,7 @@
 #include "results.h"
 #include "scene.h"
 #include "sensor.h"
-#include "spectral.h"
+#include "filter.h"
 #include "sum.h"
 #include "view.h"
 #include "weather.h"
@@ -70,29 +70,29 @@ static int ensure_picture(struct run *r, const struct ps_condition *c, const cha
                           int task, struct ps_err *e)
 {
 	char rpict[4096];
-	const struct ps_place *at = task ? &r->sc->task_at : &r->sc->sensor_at;
+	const struct ps_marks_place *at = task ? &r->sc->task_at : &r->sc->sensor_at;
 	double field = task ? 180.0 : ps_render_field(ps_sensor_extent(&r->sensor));
 	char **argv;
 	int rc;
 	if (file_exists(pic))
 		return 0;
 	if (!c->octree || !at->have) {
-		return ps_errf(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing%s", r->sc->path,
-		               c->label, task ? "task" : "sensor", pic,
-		               c->octree ? "; give the [sensor]/[task] position to render it"
+		return ps_err_set(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing%s", r->sc->path,
+		                  c->label, task ? "task" : "sensor", pic,
+		                  c->octree ? "; give the [sensor]/[task] position to render it"
 		                         : "; render it (see psscene(1)) or name an octree to render from");
 	}
 	if (ps_render_find("rpict", rpict, sizeof rpict) != 0)
-		return ps_errf(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing and rpict "
-		               "(Radiance) is not on PATH; render it with: rpict -vta -vp %g %g %g "
-		               "-vd %g %g %g -vu %g %g %g -vh %g -vv %g -x %d -y %d %s > %s",
-		               r->sc->path, c->label, task ? "task" : "sensor", pic, at->pos[0], at->pos[1],
-		               at->pos[2], at->dir[0], at->dir[1], at->dir[2], at->up[0], at->up[1],
-		               at->up[2], field, field, r->sc->resolution, r->sc->resolution, c->octree, pic);
+		return ps_err_set(e, PS_EMISSING, "%s: condition %s: %s picture %s is missing and rpict "
+		                  "(Radiance) is not on PATH; render it with: rpict -vta -vp %g %g %g "
+		                  "-vd %g %g %g -vu %g %g %g -vh %g -vv %g -x %d -y %d %s > %s",
+		                  r->sc->path, c->label, task ? "task" : "sensor", pic, at->pos[0], at->pos[1],
+		                  at->pos[2], at->dir[0], at->dir[1], at->dir[2], at->up[0], at->up[1],
+		                  at->up[2], field, field, r->sc->resolution, r->sc->resolution, c->octree, pic);
 	argv = ps_render_argv(rpict, at->pos, at->dir, at->up, field, r->sc->resolution,
 	                      r->sc->render_options, c->octree);
 	if (!argv)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	if (!r->quiet)
 		fprintf(stderr, "%spsscene: rendering %s (-vta -vh %g) with %s\n", r->tty ? "\n" : "",
 		        pic, field, rpict);
@@ -115,11 +115,11 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 	struct ps_view view;
 	struct ps_response resp;
 	char wkey[512], where[4200];
-	if (ps_hash_file(path, hash, e) != 0)
+	if (ps_cache_hash_file(path, hash, e) != 0)
 		return -1;
 	snprintf(key, sizeof key, "v1 %s %s rot=%.17g reading=%s rgb=%.17g,%.17g,%.17g exact", hash,
 	         task ? "builtin:cosine" : r->sensor_id, task ? 0.0 : r->sc->rotation,
-	         ps_reading_name(s->reading), coef[0], coef[1], coef[2]);
+	         ps_sensor_reading_name(s->reading), coef[0], coef[1], coef[2]);
 	{
 		size_t n = strlen(r->hashes);
 		snprintf(r->hashes + n, sizeof r->hashes - n, "%.16s", hash);
@@ -128,7 +128,7 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 		r->reused++;
 		return 0;
 	}
-	if (ps_pic_read(&pic, path, e) != 0)
+	if (ps_picture_read(&pic, path, e) != 0)
 		return -1;
 	snprintf(where, sizeof where, "%s: VIEW", path);
 	ps_view_default(&view);
@@ -137,11 +137,11 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 		if (!r->quiet)
 			fprintf(stderr, "psscene: warning: %s has no VIEW=; assuming -vta -vh 180 -vv 180\n", path);
 	} else if (ps_view_parse(&view, pic.view, where, e) != 0) {
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		return -1;
 	}
 	if (ps_view_check_fisheye(&view, where, e) != 0) {
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		return -1;
 	}
 	/* weight maps are shared by every picture of the same view and size */
@@ -152,18 +152,18 @@ static int integrate(struct run *r, const char *path, int task, double out[2], s
 		r->have_w = ps_weights_build(&r->w, s, task ? 0.0 : r->sc->rotation, &view, pic.width,
 		                             pic.height, PS_W_EXACT, e) == 0;
 		if (!r->have_w) {
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			return -1;
 		}
 	}
 	if (ps_integrate(&r->w, &pic, coef, &resp, e) != 0) {
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		return -1;
 	}
 	if (!r->quiet && r->w.coverage < 1 - 1e-9)
 		fprintf(stderr, "psscene: warning: %s holds %.2f %% of the sensitivity\n", path,
 		        100 * r->w.coverage);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	out[0] = resp.response;
 	out[1] = resp.brightest_share;
 	r->computed++;
@@ -301,22 +301,22 @@ static int print_variants(struct run *r, const struct ps_scene *sc, const struct
 /* The daylight-coefficient rows of both views (the scene's
  * [daylight_coefficients]): the sensor's with its sensitivity, rotation and
  * colour coefficients, the task's with a cosine. */
-static int dc_rows(struct run *r, struct ps_dcrow *srow, struct ps_dcrow *trow, struct ps_err *e)
+static int dc_rows(struct run *r, struct ps_dcset_row *srow, struct ps_dcset_row *trow, struct ps_err *e)
 {
 	const struct ps_dcspec *d = &r->sc->dc;
 	if (ps_dcset_row(d->sensor_pattern, &d->sensor_view, d->mf, &r->sensor, r->sc->rotation, srow,
 	                 e) != 0)
 		return -1;
 	if (ps_dcset_row(d->task_pattern, &d->task_view, d->mf, &r->cosine, 0.0, trow, e) != 0) {
-		ps_dcrow_free(srow);
+		ps_dcset_row_free(srow);
 		return -1;
 	}
 	if (srow->n != trow->n) {
-		ps_errf(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
-		        "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
-		        trow->mf);
-		ps_dcrow_free(srow);
-		ps_dcrow_free(trow);
+		ps_err_set(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
+		           "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
+		           trow->mf);
+		ps_dcset_row_free(srow);
+		ps_dcset_row_free(trow);
 		return -1;
 	}
 	if (!r->quiet && srow->coverage < 1 - 1e-9)
@@ -325,7 +325,7 @@ static int dc_rows(struct run *r, struct ps_dcrow *srow, struct ps_dcrow *trow, 
 	return 0;
 }
 
-static void print_dc(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+static void print_dc(const struct run *r, const struct ps_dcset_row *srow, const struct ps_dcset_row *trow,
                      double seconds)
 {
 	static const double grey[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
@@ -338,8 +338,8 @@ static void print_dc(const struct run *r, const struct ps_dcrow *srow, const str
 	for (int p = 0; p < srow->n; p++)
 		zero += srow->c[3 * p] == 0 && srow->c[3 * p + 1] == 0 && srow->c[3 * p + 2] == 0 &&
 		        trow->c[3 * p] == 0 && trow->c[3 * p + 1] == 0 && trow->c[3 * p + 2] == 0;
-	s = ps_dcrow_apply(srow, r->rgb, one);
-	t = ps_dcrow_apply(trow, grey, one);
+	s = ps_dcset_row_apply(srow, r->rgb, one);
+	t = ps_dcset_row_apply(trow, grey, one);
 	printf("\ndaylight coefficients: MF %d, %d patches of %d x %d (sensor) and %d x %d (task), "
 	       "%d zero in both views; %.2f s\n", srow->mf, srow->n, srow->width, srow->height,
 	       trow->width, trow->height, zero, seconds);
@@ -356,18 +356,18 @@ static double seconds_since(const struct timespec *t0)
 }
 
 /* The year of the scene's weather file through the two rows. */
-static int run_year(const struct run *r, const struct ps_dcrow *srow, const struct ps_dcrow *trow,
+static int run_year(const struct run *r, const struct ps_dcset_row *srow, const struct ps_dcset_row *trow,
                     struct ps_results *res, double *secs, struct ps_err *e)
 {
 	const struct ps_dcspec *d = &r->sc->dc;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct timespec t0;
 	int rc;
 	clock_gettime(CLOCK_MONOTONIC, &t0);
 	if (ps_weather_read(&w, d->weather, d->weather_illum ? PS_WX_EPW_ILLUM : 0, e) != 0)
 		return -1;
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	memcpy(o.ground, d->ground, sizeof o.ground);
 	rc = ps_year_run(srow, r->rgb, trow, &w, &o, &res->year, e);
 	ps_weather_free(&w);
@@ -377,7 +377,7 @@ static int run_year(const struct run *r, const struct ps_dcrow *srow, const stru
 	res->weather = strdup(d->weather);
 	res->year_mf = srow->mf;
 	*secs = seconds_since(&t0);
-	return res->weather ? 0 : ps_errf(e, PS_ENOMEM, "out of memory");
+	return res->weather ? 0 : ps_err_set(e, PS_ENOMEM, "out of memory");
 }
 
 static void print_year(const struct ps_results *res, double secs)
@@ -440,7 +440,7 @@ int main(int argc, char **argv)
 	struct ps_results res;
 	struct run r;
 	struct ps_err e;
-	struct ps_dcrow srow, trow;
+	struct ps_dcset_row srow, trow;
 	int have_dc = 0;
 	double dc_seconds = 0, year_seconds = 0;
 
@@ -495,7 +495,7 @@ int main(int argc, char **argv)
 	}
 	if (strncmp(sc.sensitivity, "builtin:", 8) == 0)
 		snprintf(r.sensor_id, sizeof r.sensor_id, "%s", sc.sensitivity);
-	else if (ps_hash_file(sc.sensitivity, hash, &e) == 0)
+	else if (ps_cache_hash_file(sc.sensitivity, hash, &e) == 0)
 		snprintf(r.sensor_id, sizeof r.sensor_id, "sensor:%s", hash);
 	else {
 		fprintf(stderr, "psscene: %s\n", e.msg);
@@ -511,7 +511,7 @@ int main(int argc, char **argv)
 	memset(&res, 0, sizeof res);
 	res.scene = strdup(sc.path);
 	res.sensitivity = strdup(sc.sensitivity);
-	res.reading = strdup(ps_reading_name(sc.reading));
+	res.reading = strdup(ps_sensor_reading_name(sc.reading));
 	res.rotation = sc.rotation;
 	memcpy(res.rgb, r.rgb, sizeof res.rgb);
 	res.cond = calloc(sc.ncond, sizeof *res.cond);
@@ -581,13 +581,13 @@ int main(int argc, char **argv)
 	if (status == 0) {
 		char all[8192];
 		ps_results_summarise(&res);
-		if (ps_hash_file(sc.path, shash, &e) != 0) {
+		if (ps_cache_hash_file(sc.path, shash, &e) != 0) {
 			fprintf(stderr, "psscene: %s\n", e.msg);
 			return 1;
 		}
 		snprintf(all, sizeof all, "%s|%s|%s|%.17g|%.17g,%.17g,%.17g", shash, r.sensor_id, r.hashes,
 		         sc.rotation, r.rgb[0], r.rgb[1], r.rgb[2]);
-		ps_hash_string(all, hash);
+		ps_cache_hash_string(all, hash);
 		res.scene_hash = strdup(hash);
 		if (ps_results_write(&res, out, &e) != 0) {
 			fprintf(stderr, "psscene: %s\n", e.msg);
@@ -610,8 +610,8 @@ int main(int argc, char **argv)
 		}
 	}
 	ps_results_free(&res);
-	ps_dcrow_free(&srow);
-	ps_dcrow_free(&trow);
+	ps_dcset_row_free(&srow);
+	ps_dcset_row_free(&trow);
 	ps_weights_free(&r.w);
 	ps_sensor_free(&r.sensor);
 	ps_sensor_free(&r.cosine);

@@ -23,7 +23,7 @@
 #include "regions.h"
 #include "sensor.h"
 #include "share.h"
-#include "spectral.h"
+#include "filter.h"
 #include "tonemap.h"
 #include "version.h"
 #include "view.h"
@@ -119,7 +119,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			}
 			break;
 		case 'm':
-			o->reading = ps_reading_parse(optarg);
+			o->reading = ps_sensor_reading_parse(optarg);
 			if (o->reading < 0) {
 				fprintf(stderr, "psshare: -m: '%s' is not linear or cell\n", optarg);
 				return 2;
@@ -133,7 +133,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			o->geom[o->ngeom++] = optarg;
 			break;
 		case 'P':
-			o->group = ps_group_parse(optarg);
+			o->group = ps_regions_group_parse(optarg);
 			if (o->group < 0) {
 				fprintf(stderr, "psshare: --group: '%s' is not auto, name or material\n", optarg);
 				return 2;
@@ -163,7 +163,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 static int load(const struct opts *o, struct ps_picture *pic, struct ps_view *v, struct ps_err *e)
 {
 	char where[600];
-	if (ps_pic_read(pic, o->picture, e) != 0)
+	if (ps_picture_read(pic, o->picture, e) != 0)
 		return -1;
 	snprintf(where, sizeof where, "%s: VIEW", o->picture);
 	if (!pic->view) {
@@ -182,7 +182,7 @@ static int load(const struct opts *o, struct ps_picture *pic, struct ps_view *v,
 		goto fail;
 	return 0;
 fail:
-	ps_pic_free(pic);
+	ps_picture_free(pic);
 	return -1;
 }
 
@@ -194,13 +194,13 @@ static int write_hdr(const struct opts *o, const struct ps_share *s, const char 
 	char extra[700];
 	int rc;
 	if (!rgb)
-		return ps_errf(e, PS_ENOMEM, "out of memory");
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
 	for (size_t k = 0; k < n; k++)
 		rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = 100.0 * s->share[k];
 	snprintf(extra, sizeof extra, "psshare -s %s -r %g %s\n"
 	         "COMMENT= each pixel holds its share of the sensor's response, in percent\n",
 	         o->sensfile, o->rot, o->picture);
-	rc = ps_pic_write(o->hdr, s->width, s->height, rgb, view, extra, e);
+	rc = ps_picture_write(o->hdr, s->width, s->height, rgb, view, extra, e);
 	free(rgb);
 	return rc;
 }
@@ -213,10 +213,10 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
                      const struct ps_region_share *rs, int nrs, struct ps_err *e)
 {
 	struct ps_canvas c;
-	struct ps_place pl;
+	struct ps_marks_place pl;
 	struct ps_tonemap t;
-	struct ps_legend leg;
-	struct ps_fcscale scale = { 0, 1, 3 };
+	struct ps_falsecolor_legend leg;
+	struct ps_falsecolor_scale scale = { 0, 1, 3 };
 	uint8_t bg[3] = { 28, 28, 28 };
 	int w = s->width, h = s->height, zoom, margin, strip, rc;
 	double font, top = 0, fg[3] = { 0.92, 0.92, 0.92 };
@@ -229,17 +229,17 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
 	strip = (int)(8.5 * font) + 8;
 	for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
 		top = fmax(top, s->share[p]);
-	scale.max = ps_nice_ceil(100.0 * top);
+	scale.max = ps_falsecolor_nice_ceil(100.0 * top);
 	if (ps_canvas_init(&c, margin + w * zoom + margin + strip, margin + h * zoom + 2 * margin, bg,
 	                   e) != 0)
 		return -1;
-	ps_place_init(&pl, v, w, h, margin, margin, zoom);
+	ps_marks_place_init(&pl, v, w, h, margin, margin, zoom);
 	ps_tonemap_init(&t, pic, PS_TONE_REINHARD, 0, 2.2, 0);
 	ps_picdraw_grey(&c, pic, &t, margin, margin, zoom, 0.6);
 	ps_canvas_begin(&c);
 	for (int row = 0; row < h; row++)
 		for (int x = 0; x < w; x++) {
-			double f = ps_fcscale_fraction(&scale, 100.0 * s->share[(size_t)row * (size_t)w + (size_t)x]);
+			double f = ps_falsecolor_scale_fraction(&scale, 100.0 * s->share[(size_t)row * (size_t)w + (size_t)x]);
 			uint8_t rgb[3];
 			if (!(f >= 0))
 				continue;
@@ -300,9 +300,9 @@ static int write_png(const struct opts *o, const struct ps_picture *pic, const s
 		ps_canvas_label(&c, margin + zoom * (bx + 0.5), margin + zoom * (by + 0.5), font, 0, fg, 1,
 		                lab);
 	}
-	ps_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
+	ps_falsecolor_legend_layout(&leg, margin + w * zoom + margin, margin, strip, h * zoom);
 	leg.above = 0;
-	ps_legend_draw(&c, &leg, &scale, "% per pixel");
+	ps_falsecolor_legend_draw(&c, &leg, &scale, "% per pixel");
 	snprintf(caption, sizeof caption, "%s seen by %s, rotation %g\xc2\xb0; %s",
 	         strrchr(o->picture, '/') ? strrchr(o->picture, '/') + 1 : o->picture,
 	         strrchr(o->sensfile, '/') ? strrchr(o->sensfile, '/') + 1 : o->sensfile, o->rot,
@@ -416,7 +416,7 @@ done:
 	ps_weights_free(&w);
 	ps_weights_free(&sa);
 	ps_radgeom_free(&g);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	ps_sensor_free(&sens);
 	ps_sensor_free(&uni);
 	return status;

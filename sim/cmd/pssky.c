@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "file.h"
+#include "fileio.h"
 #include "mtx.h"
 #include "patches.h"
 #include "sky.h"
@@ -66,19 +66,19 @@ static int read_stdin(uint8_t **data, size_t *len, struct ps_err *e)
 	size_t cap = 65536, n = 0;
 	uint8_t *buf = malloc(cap);
 	if (!buf)
-		return ps_errf(e, PS_ENOMEM, "(stdin): out of memory");
+		return ps_err_set(e, PS_ENOMEM, "(stdin): out of memory");
 	for (;;) {
 		size_t got;
 		if (n + 1 >= cap) {
 			uint8_t *nb;
 			if (cap > PS_WX_MAX_FILE) {
 				free(buf);
-				return ps_errf(e, PS_ERANGE, "(stdin): larger than %u bytes", PS_WX_MAX_FILE);
+				return ps_err_set(e, PS_ERANGE, "(stdin): larger than %u bytes", PS_WX_MAX_FILE);
 			}
 			nb = realloc(buf, cap * 2);
 			if (!nb) {
 				free(buf);
-				return ps_errf(e, PS_ENOMEM, "(stdin): out of memory");
+				return ps_err_set(e, PS_ENOMEM, "(stdin): out of memory");
 			}
 			buf = nb;
 			cap *= 2;
@@ -90,7 +90,7 @@ static int read_stdin(uint8_t **data, size_t *len, struct ps_err *e)
 	}
 	if (ferror(stdin)) {
 		free(buf);
-		return ps_errsys(e, "(stdin): read error");
+		return ps_err_sys(e, "(stdin): read error");
 	}
 	buf[n] = '\0';
 	*data = buf;
@@ -100,7 +100,7 @@ static int read_stdin(uint8_t **data, size_t *len, struct ps_err *e)
 
 int main(int argc, char **argv)
 {
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_weather w;
 	struct ps_patches P;
 	struct ps_err e;
@@ -112,7 +112,7 @@ int main(int argc, char **argv)
 	char *cmd;
 	double *vec;
 	void *mtx;
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	for (i = 1; i < argc && argv[i][0] == '-' && argv[i][1]; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || (strcmp(a, "-h") == 0 && argc == 2)) {

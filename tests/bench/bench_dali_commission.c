@@ -20,6 +20,7 @@
 #include "dali_emu.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "registry.h"
 #include "helpers/dali_preload.h"
 #include "time.h"
 
@@ -83,7 +84,7 @@ static int one(int n)
 	for (int s = 0; s < n; s++)
 		psemu_ballast_identity(e, 0, s, -1, 0xFFFFFF, 5.5 + fmod(s * 0.37, 5.0));
 	psemu_set_bus_timing(e, 1);
-	dev.drv = ps_driver_find("dali_usb");
+	dev.drv = ps_registry_find("dali_usb");
 	snprintf(dev.name, sizeof dev.name, "dali");
 	if (dev.drv->open(&dev, &none) != 0) {
 		printf("bench_dali_commission: %s\n", dev.err);

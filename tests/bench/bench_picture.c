@@ -2,9 +2,9 @@
 /* Radiance picture decoding throughput, sizes 64 to 4096.
  * Each picture is an analytic fisheye-like scene (a smooth sky gradient,
  * flat walls that run-length encode well, and a bright disc), written with
- * ps_pic_write into a temporary directory; then, best of several runs:
- *   read:    ps_pic_read (the file read in one go plus decoding)
- *   decode:  ps_pic_read_mem on the file already in memory
+ * ps_picture_write into a temporary directory; then, best of several runs:
+ *   read:    ps_picture_read (the file read in one go plus decoding)
+ *   decode:  ps_picture_read_mem on the file already in memory
  *   MB/s:    file bytes per second of decode;  Mpix/s: pixels per second
  *   touch:   malloc and first write of the 4 n^2 bytes of pixels alone: the
  *            page-fault floor under any decoder (large on some VMs)
@@ -79,7 +79,7 @@ static int write_flat(const char *path, const double *rgb, int n)
 	fprintf(fp, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n", n, n);
 	for (size_t i = 0; i < (size_t)n * (size_t)n; i++) {
 		uint8_t px[4];
-		ps_rgbe_encode(rgb + 3 * i, px);
+		ps_picture_rgbe_encode(rgb + 3 * i, px);
 		/* a flat pixel must not look like a run-length start or a repeat */
 		if (i % (size_t)n == 0 && px[0] == 2 && px[1] == 2)
 			px[1] = 3;
@@ -109,7 +109,7 @@ static int run(const char *title, int flat)
 		if (!rgb)
 			return 1;
 		scene(rgb, n);
-		if ((flat ? write_flat(path, rgb, n) : ps_pic_write(path, n, n, rgb, NULL, NULL, &e)) != 0) {
+		if ((flat ? write_flat(path, rgb, n) : ps_picture_write(path, n, n, rgb, NULL, NULL, &e)) != 0) {
 			fprintf(stderr, "bench_picture: cannot write %s\n", path);
 			return 1;
 		}
@@ -118,21 +118,21 @@ static int run(const char *title, int flat)
 		for (int r = 0; r < reps; r++) {
 			struct ps_picture pic;
 			double t0 = psd_time_mono(), t1, t2;
-			if (ps_pic_read(&pic, path, &e) != 0) {
+			if (ps_picture_read(&pic, path, &e) != 0) {
 				fprintf(stderr, "bench_picture: %s\n", e.msg);
 				return 1;
 			}
 			t1 = psd_time_mono();
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			t2 = psd_time_mono();
-			if (ps_pic_read_mem(&pic, file, len, path, &e) != 0) {
+			if (ps_picture_read_mem(&pic, file, len, path, &e) != 0) {
 				fprintf(stderr, "bench_picture: %s\n", e.msg);
 				return 1;
 			}
 			best_dec = fmin(best_dec, psd_time_mono() - t2);
 			best_read = fmin(best_read, t1 - t0);
 			best_touch = fmin(best_touch, touch_time((size_t)n * (size_t)n * 4));
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 		}
 		printf("%6d %12zu %10.3f %10.3f %10.0f %10.0f %10.3f\n", n, len, best_read * 1e3,
 		       best_dec * 1e3, len / best_dec / 1e6, (double)n * n / best_dec / 1e6, best_touch * 1e3);
@@ -145,7 +145,7 @@ static int run(const char *title, int flat)
 
 int main(void)
 {
-	if (run("run-length encoded (as ps_pic_write and rpict write)", 0) != 0)
+	if (run("run-length encoded (as ps_picture_write and rpict write)", 0) != 0)
 		return 1;
 	return run("flat scanlines", 1);
 }

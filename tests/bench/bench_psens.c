@@ -70,12 +70,12 @@ int main(void)
 			rgb[i] = 1.0;
 		/* a uniform picture decodes to 1.00390625: the analytic answer scales */
 		ps_view_default_fisheye(&v);
-		ps_pic_write(path, n, n, rgb, "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", NULL, &e);
+		ps_picture_write(path, n, n, rgb, "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", NULL, &e);
 		t0 = psd_time_mono();
 		file = slurp(path, &len);
 		t_read = psd_time_mono() - t0;
 		t0 = psd_time_mono();
-		if (!file || ps_pic_read_mem(&pic, file, len, path, &e) != 0) {
+		if (!file || ps_picture_read_mem(&pic, file, len, path, &e) != 0) {
 			fprintf(stderr, "bench_psens: %s\n", e.msg);
 			return 1;
 		}
@@ -106,7 +106,7 @@ int main(void)
 			ps_weights_free(&wc);
 			ps_weights_free(&wt);
 		}
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		free(file);
 		free(rgb);
 	}

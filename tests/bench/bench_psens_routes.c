@@ -20,7 +20,7 @@
 
 #include "batch.h"
 #include "cache.h"
-#include "file.h"
+#include "fileio.h"
 #include "integrate.h"
 #include "picture.h"
 #include "rescan.h"
@@ -29,8 +29,8 @@
 #include "stream.h"
 #include "view.h"
 #include "wcache.h"
-#include "weights.h"
 #include "time.h"
+#include "weights.h"
 
 #define VIEW "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180"
 #define DECODED_ONE 1.00390625   /* RGBE's 1 as Radiance decodes it */
@@ -64,7 +64,7 @@ static int uniform(const char *path, int n, double value)
 		return -1;
 	for (size_t i = 0; i < (size_t)n * n * 3; i++)
 		rgb[i] = value;
-	rc = ps_pic_write(path, n, n, rgb, VIEW, NULL, &e);
+	rc = ps_picture_write(path, n, n, rgb, VIEW, NULL, &e);
 	free(rgb);
 	return rc;
 }
@@ -167,8 +167,8 @@ static double batch_ms(const struct ps_batch *b, const char *const *paths, size_
 		uint8_t px[4];
 		double rgb[3], want;
 		double v = value0 * (1 + (double)i / 64);
-		ps_rgbe_encode((double[3]){ v, v, v }, px);
-		ps_rgbe_decode(px, rgb);
+		ps_picture_rgbe_encode((double[3]){ v, v, v }, px);
+		ps_picture_rgbe_decode(px, rgb);
 		want = rgb[0] * M_PI;
 		if (res[i].status != PS_BATCH_OK)
 			*maxerr = INFINITY;
@@ -244,8 +244,8 @@ int main(void)
 		for (size_t i = 0; rgb && i < (size_t)4000 * 4000; i++)
 			for (int c = 0; c < 3; c++)
 				rgb[3 * i + c] = 0.5 + 0.37 * (double)((i * 7 + (size_t)c * 3) % 11);
-		if (!rgb || ps_pic_write(pt, 4000, 4000, rgb, VIEW, NULL, &e) != 0 ||
-		    ps_pic_read(&pic, pt, &e) != 0 ||
+		if (!rgb || ps_picture_write(pt, 4000, 4000, rgb, VIEW, NULL, &e) != 0 ||
+		    ps_picture_read(&pic, pt, &e) != 0 ||
 		    ps_weights_build(&w, &cosine, 0, &v, 4000, 4000, PS_W_EXACT, &e) != 0 ||
 		    ps_integrate(&w, &pic, coef, &r, &e) != 0) {
 			fprintf(stderr, "bench_psens_routes: textured picture\n");
@@ -253,7 +253,7 @@ int main(void)
 		}
 		free(rgb);
 		ps_weights_free(&w);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		for (int k = 0; k < 2; k++) {
 			char *args[] = { "-q", "-C", c2, "-s", "builtin:cosine", pt, NULL };
 			double rr;
@@ -296,7 +296,7 @@ int main(void)
 			struct ps_weights w;
 			struct ps_response r;
 			const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
-			if (ps_pic_read(&pic, pt, &e) != 0)
+			if (ps_picture_read(&pic, pt, &e) != 0)
 				return 1;
 			for (int k = 0; k < 2; k++) {
 				if (ps_weights_build(&w, k ? &tab : &cosine, 0, &v, 4000, 4000, PS_W_EXACT,
@@ -305,7 +305,7 @@ int main(void)
 				want[k] = r.response;
 				ps_weights_free(&w);
 			}
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 		}
 		{
 			char c3[600];
@@ -342,7 +342,7 @@ int main(void)
 		struct ps_weights w;
 		struct ps_picture pic;
 		struct ps_response r;
-		struct ps_filemap m;
+		struct ps_fileio_map m;
 		struct ps_err warn;
 		size_t off;
 		int how;
@@ -355,22 +355,22 @@ int main(void)
 		t_b = psd_time_mono() - t0;
 		ps_weights_free(&w);
 		t0 = psd_time_mono();
-		if (ps_weights_get(&w, &cosine, 0, &v, n, n, PS_W_EXACT, cd, 0, &how, &warn, &e) != 0)
+		if (ps_wcache_get(&w, &(struct ps_wcache_key){ &cosine, 0, &v, n, n, PS_W_EXACT }, &(struct ps_wcache_dir){ cd, 0 }, &how, &warn, &e) != 0)
 			return 1;
 		t_bs = psd_time_mono() - t0;
-		if (ps_map_file(pp, (size_t)1 << 32, &m, &e) != 0 ||
-		    ps_pic_head_mem(&pic, m.data, m.len, pp, &off, &e) != 0)
+		if (ps_fileio_map(pp, (size_t)1 << 32, &m, &e) != 0 ||
+		    ps_picture_head_mem(&pic, m.data, m.len, pp, &off, &e) != 0)
 			return 1;
 		t0 = psd_time_mono();
-		ps_integrate_mem(&w, &pic, m.data, m.len, off, pp, coef, 2, &r, &e);
+		ps_stream_integrate(&w, &pic, m.data, m.len, off, pp, coef, 2, &r, &e);
 		t_i = psd_time_mono() - t0;
-		ps_pic_free(&pic);
-		ps_unmap_file(&m);
+		ps_picture_free(&pic);
+		ps_fileio_unmap(&m);
 		t0 = psd_time_mono();
-		if (ps_pic_read(&pic, pp, &e) != 0)
+		if (ps_picture_read(&pic, pp, &e) != 0)
 			return 1;
 		t_d = psd_time_mono() - t0;
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		snprintf(name, sizeof name, "  %d cold: compact weights (every core)", n);
 		row(name, NAN, 1e3 * t_b, 0, NULL);
 		snprintf(name, sizeof name, "  %d cold: storing them (checksum, write)", n);
@@ -396,9 +396,9 @@ int main(void)
 		for (int k = 0; k < 3; k++) {
 			double t;
 			if (k)
-				ps_pic_free(&pic);
+				ps_picture_free(&pic);
 			t0 = psd_time_mono();
-			if (ps_pic_read(&pic, p4000, &e) != 0)
+			if (ps_picture_read(&pic, p4000, &e) != 0)
 				return 1;
 			if ((t = psd_time_mono() - t0) < t_dec)
 				t_dec = t;
@@ -421,7 +421,7 @@ int main(void)
 		 * picture (long runs: its decoding is cheap) and the textured one
 		 * (no runs), each decoded alone and decoded with integration */
 		for (int tex = 0; tex < 2; tex++) {
-			struct ps_filemap m;
+			struct ps_fileio_map m;
 			struct ps_picture head;
 			size_t off;
 			char path[600];
@@ -434,8 +434,8 @@ int main(void)
 				snprintf(path, sizeof path, "%s/t4000.hdr", dir);
 			else
 				snprintf(path, sizeof path, "%s", p4000);
-			if (ps_map_file(path, (size_t)1 << 32, &m, &e) != 0 ||
-			    ps_pic_head_mem(&head, m.data, m.len, path, &off, &e) != 0)
+			if (ps_fileio_map(path, (size_t)1 << 32, &m, &e) != 0 ||
+			    ps_picture_head_mem(&head, m.data, m.len, path, &off, &e) != 0)
 				return 1;
 			/* the goal compares two times: each the best of five runs, so
 			 * that another process's burst does not decide it */
@@ -443,7 +443,7 @@ int main(void)
 			for (int k = 0; k < 5; k++) {
 				double t;
 				t0 = psd_time_mono();
-				if (ps_pic_scan_rows(&head, m.data, m.len, path, off, 0, 4000, NULL, no_row, NULL, &e) != 0)
+				if (ps_picture_scan_rows(&head, m.data, m.len, path, off, 0, 4000, NULL, no_row, NULL, &e) != 0)
 					return 1;
 				if ((t = psd_time_mono() - t0) < t_scan)
 					t_scan = t;
@@ -457,7 +457,7 @@ int main(void)
 				for (int k = 0; k < 5; k++) {
 					double tk;
 					t0 = psd_time_mono();
-					ps_integrate_mem(&w, &head, m.data, m.len, off, path, coef, nt, &r, &e);
+					ps_stream_integrate(&w, &head, m.data, m.len, off, path, coef, nt, &r, &e);
 					if ((tk = psd_time_mono() - t0) < t)
 						t = tk;
 				}
@@ -469,11 +469,11 @@ int main(void)
 			snprintf(name, sizeof name, "4000x4000 %s: its integration, 1 thr", what);
 			row(name, NAN, 1e3 * (t_fused1 - t_scan), 1e3 * t_scan,
 			    "decode+integrate less decode; goal: no more than decoding");
-			ps_pic_free(&head);
-			ps_unmap_file(&m);
+			ps_picture_free(&head);
+			ps_fileio_unmap(&m);
 		}
 		ps_weights_free(&w);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 	}
 
 	/* batches after the weights: 146 and 2306 pictures of 128 x 128 */
@@ -489,7 +489,9 @@ int main(void)
 			if (uniform(paths[i], 128, 1 + (double)i / 64) != 0)
 				return 1;
 		}
-		if (ps_batch_init(&b, &cosine, 0, &v, 128, 128, PS_W_EXACT, coef, 2, &e) != 0)
+		struct ps_batch_spec sp = { .map = { &cosine, 0, &v, 128, 128, PS_W_EXACT }, .coef = coef,
+		                            .nthreads = 2 };
+		if (ps_batch_init(&b, &sp, &e) != 0)
 			return 1;
 		for (size_t k = 0; k < 2; k++) {
 			char name[64];
@@ -532,11 +534,11 @@ int main(void)
 						rgb[3 * ((size_t)y * 512 + x) + c] =
 						    (x > 300 && x < 400 && y > 80 && y < 240) ? 40.0 : 0.5;
 			snprintf(pw, sizeof pw, "%s/w512.hdr", dir);
-			if (ps_pic_write(pw, 512, 512, rgb, VIEW, NULL, &e) != 0)
+			if (ps_picture_write(pw, 512, 512, rgb, VIEW, NULL, &e) != 0)
 				return 1;
 			free(rgb);
 		}
-		if (ps_pic_read(&pic, pw, &e) != 0 ||
+		if (ps_picture_read(&pic, pw, &e) != 0 ||
 		    ps_sensor_parse(&s, table, sizeof table - 1, "table", &e) != 0 ||
 		    ps_sensor_set_reading(&s, PS_READ_LINEAR, &e) != 0 ||
 		    ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0)
@@ -576,7 +578,7 @@ int main(void)
 		ps_weights_free(&om);
 		ps_sensor_free(&s);
 		ps_sensor_free(&uni);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		unlink(pw);
 	}
 	unlink(p4000);

@@ -112,7 +112,7 @@ int main(void)
 	struct ps_weather w;
 	struct ps_view v;
 	struct ps_err e;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_sky sky[3];
 	double exact_sky[2][3], exact_sun[2][3], quad_err[2][3], quad_ms[2][3];
 	size_t hi[3];
@@ -127,7 +127,7 @@ int main(void)
 		fprintf(stderr, "bench_sky: %s\n", e.msg);
 		return 1;
 	}
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	o.exact_sine = 1;
 	ps_view_default_fisheye(&v);
 	v.vd[2] = 1.0;   /* up, north (+Y) at the top */

@@ -42,7 +42,7 @@ int main(void)
 	struct ps_weather w;
 	struct ps_sensor cos;
 	struct ps_view v;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	char path[4096];
 	top_path(path, sizeof path, "config/example/ofb/weather/sf-synthetic.wea");
@@ -52,7 +52,7 @@ int main(void)
 	}
 	ps_view_default(&v);
 	ps_view_parse(&v, "-vta -vp 0 0 0 -vd 0 0 1 -vu 0 1 0 -vh 180 -vv 180", "bench", &e);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	printf("the year (%zu steps of %s) through coefficient rows, upward cosine, open sky,\n"
 	       "exact pictures %d x %d (ms; year = both rows, every hour with light)\n", w.n, path,
 	       RES, RES);
@@ -61,7 +61,7 @@ int main(void)
 	for (size_t k = 0; k < sizeof mfs / sizeof *mfs; k++) {
 		struct ps_patches P;
 		struct ps_weights wt;
-		struct ps_dcrow row;
+		struct ps_dcset_row row;
 		struct ps_year y;
 		int *map = malloc(RES * RES * sizeof *map);
 		double *c, t0, t1, t2, t3;
@@ -92,14 +92,14 @@ int main(void)
 		       1e3 * (t1 - t0), 1e3 * (t2 - t1), 1e3 * (t3 - t2), 1e3 * (t3 - t2) / (double)y.n,
 		       y.mean_ratio, sum.s);
 		ps_year_free(&y);
-		ps_dcrow_free(&row);
+		ps_dcset_row_free(&row);
 		free(c);
 		free(map);
 		ps_weights_free(&wt);
 		ps_patches_free(&P);
 	}
 	{
-		struct ps_dcrow s, t;
+		struct ps_dcset_row s, t;
 		struct ps_year y;
 		struct ps_view sv, tv;
 		char sp[4096], tp[4096];
@@ -124,8 +124,8 @@ int main(void)
 		       "(%zu hours with light, %.2f us an hour)\n",
 		       1e3 * (t1 - t0), 1e3 * (t2 - t1), y.n, 1e6 * (t2 - t1) / (double)y.n);
 		ps_year_free(&y);
-		ps_dcrow_free(&s);
-		ps_dcrow_free(&t);
+		ps_dcset_row_free(&s);
+		ps_dcset_row_free(&t);
 	}
 	ps_sensor_free(&cos);
 	ps_weather_free(&w);

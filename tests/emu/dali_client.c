@@ -24,6 +24,7 @@
 #include "dali.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "registry.h"
 
 static struct ps_dev dev;
 static struct ps_point pts[8];
@@ -86,7 +87,7 @@ int main(int argc, char **argv)
 		*eq = 0;
 		o[opts.n++] = (struct ps_opt){ argv[i], eq + 1, i, 0 };
 	}
-	dev.drv = ps_driver_find("dali_usb");
+	dev.drv = ps_registry_find("dali_usb");
 	snprintf(dev.name, sizeof dev.name, "dali");
 	if (!dev.drv || dev.drv->open(&dev, &opts) != 0) {
 		printf("open: %s\n", dev.drv ? dev.err : "no dali_usb driver");

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
 /* Fuzz the weight cache's readers: a whole entry file (sim/cache.c's
  * header checks: size, magic, key, checksum) and a weight-map payload
- * (sim/wcache.c), which is parsed directly too since the fuzzer rarely
+ * (sim/weights/wcache.c), which is parsed directly too since the fuzzer rarely
  * forges a SHA-256.  Every accepted map is walked in full. */
 #include <stddef.h>
 #include <stdint.h>
@@ -31,10 +31,10 @@ static void walk(const void *payload, size_t len)
 	if (!copy)
 		return;
 	memcpy(copy, payload, len);
-	if (ps_weights_from_payload(&w, copy, len, wh[0], wh[1], wh[2], "fuzz", &e) == 0) {
+	if (ps_wcache_from_payload(&w, copy, len, wh[0], wh[1], wh[2], "fuzz", &e) == 0) {
 		for (size_t i = 0; i < w.nruns; i++)
 			for (int k = 0; k < w.runs[i].n; k++)
-				sum += ps_wrun_at(&w, &w.runs[i], k);   /* compact maps: palindromes */
+				sum += ps_weights_run_at(&w, &w.runs[i], k);   /* compact maps: palindromes */
 		if (sum != sum)   /* NaN weights are the payload's business, not a fault */
 			sum = 0;
 		w.w = NULL;   /* the copy's, freed below */

@@ -10,7 +10,7 @@
 
 #include "dali.h"
 #ifdef PS_WITH_USB
-#include "dali_transport.h"
+#include "usb_tridonic.h"
 #endif
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -22,10 +22,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 #ifdef PS_WITH_USB
 	struct ps_dali_reply r;
 	/* the whole input as one report, then as a stream of 64-byte reports */
-	ps_dali_tridonic.decode(data, size, &r);
+	ps_usb_tridonic.decode(data, size, &r);
 	for (size_t off = 0; off + 9 <= size; off += 64) {
 		size_t n = size - off < 64 ? size - off : 64;
-		ps_dali_tridonic.decode(data + off, n, &r);
+		ps_usb_tridonic.decode(data + off, n, &r);
 		if (r.seq < -1 || r.seq > 255)
 			abort();
 		if ((r.event == PS_DALI_EV_ANSWER || r.event == PS_DALI_EV_NO_ANSWER || r.event == PS_DALI_EV_ECHO ||

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "driver.h"
+#include "registry.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -39,9 +40,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	int role;
 	if (size < 1)
 		return 0;
-	while (ps_drivers[ndrv])
+	while (ps_registry_drivers[ndrv])
 		ndrv++;
-	drv = ps_drivers[data[0] % ndrv];
+	drv = ps_registry_drivers[data[0] % ndrv];
 	role = (int)(data[0] / ndrv) % (PS_ROLE_COUNT + 1) - 1;   /* -1: the device */
 	if (!(text = malloc(size)))
 		return 0;
@@ -61,21 +62,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (seen.bad_line)
 		abort();
 	if (seen.n == 0 && drv->options) {
-		struct ps_opt_reader r = { &o, drv->options, role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT, err, sizeof err, NULL };
-		for (const struct ps_opt_spec *s = drv->options; s->key; s++) {
+		struct ps_opts_reader r = { &o, drv->options, role < 0 ? PS_OPT_DEVICE : PS_OPT_POINT, err, sizeof err, NULL };
+		for (const struct ps_opts_spec *s = drv->options; s->key; s++) {
 			union { double d; long l; int i; const char *s; } v;
-			struct ps_opt_window w[PS_OPT_MAX_WINDOWS];
+			struct ps_opts_window w[PS_OPT_MAX_WINDOWS];
 			size_t nw;
 			int rc;
 			if (s->scope != r.scope)
 				continue;
 			switch (s->type) {
-			case PS_OPT_DOUBLE: rc = ps_opt_double(&r, s->key, &v.d); break;
-			case PS_OPT_LONG: rc = ps_opt_long(&r, s->key, &v.l); break;
+			case PS_OPT_DOUBLE: rc = ps_opts_double(&r, s->key, &v.d); break;
+			case PS_OPT_LONG: rc = ps_opts_long(&r, s->key, &v.l); break;
 			case PS_OPT_ENUM:
-			case PS_OPT_BOOL: rc = ps_opt_choice(&r, s->key, &v.i); break;
-			case PS_OPT_STRING: rc = ps_opt_string(&r, s->key, &v.s); break;
-			default: rc = ps_opt_windows(&r, s->key, w, &nw); break;
+			case PS_OPT_BOOL: rc = ps_opts_choice(&r, s->key, &v.i); break;
+			case PS_OPT_STRING: rc = ps_opts_string(&r, s->key, &v.s); break;
+			default: rc = ps_opts_windows(&r, s->key, w, &nw); break;
 			}
 			if (rc != 0)
 				abort();   /* the check passed what a reader refuses */

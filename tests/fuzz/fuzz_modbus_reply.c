@@ -24,7 +24,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	struct ps_opt v[10];
 	struct ps_opts o = { v, 0, "fuzz.conf" };
-	struct ps_mb_point p;
+	struct ps_modbus_point p;
 	char addr[16], mask[16], stat[16], err[256], why[128];
 	uint16_t regs[2], out[2];
 	double value;
@@ -32,9 +32,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (size < 8)
 		return 0;
 	role = data[0] % PS_ROLE_COUNT;
-	v[o.n++] = (struct ps_opt){ "table", ps_mb_table_names[data[1] % PS_MB_TABLE_COUNT], 1, 0 };
-	v[o.n++] = (struct ps_opt){ "type", ps_mb_type_names[(data[1] >> 2) % PS_MB_TYPE_COUNT], 2, 0 };
-	v[o.n++] = (struct ps_opt){ "word_order", ps_mb_order_names[(data[1] >> 5) & 1], 3, 0 };
+	v[o.n++] = (struct ps_opt){ "table", ps_modbus_point_table_names[data[1] % PS_MB_TABLE_COUNT], 1, 0 };
+	v[o.n++] = (struct ps_opt){ "type", ps_modbus_point_type_names[(data[1] >> 2) % PS_MB_TYPE_COUNT], 2, 0 };
+	v[o.n++] = (struct ps_opt){ "word_order", ps_modbus_point_order_names[(data[1] >> 5) & 1], 3, 0 };
 	snprintf(addr, sizeof addr, "%u", (unsigned)(data[2] << 8 | data[3]));
 	v[o.n++] = (struct ps_opt){ "address", addr, 4, 0 };
 	if (data[4] & 1) {
@@ -53,22 +53,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		v[o.n++] = (struct ps_opt){ "min", scales[data[7] & 7], 9, 0 };
 		v[o.n++] = (struct ps_opt){ "max", scales[(data[7] >> 3) & 7], 10, 0 };
 	}
-	if (ps_mb_point_parse(&p, role, &o, err, sizeof err) != 0)
+	if (ps_modbus_point_parse(&p, role, &o, err, sizeof err) != 0)
 		return 0;
 	data += 8;
 	size -= 8;
 	while (size >= 4) {
 		regs[0] = (uint16_t)(data[0] << 8 | data[1]);
 		regs[1] = (uint16_t)(data[2] << 8 | data[3]);
-		if (ps_mb_value(&p, regs, &value, why, sizeof why) == 0) {
+		if (ps_modbus_point_value(&p, regs, &value, why, sizeof why) == 0) {
 			double lo = fmin(p.min, p.max), hi = fmax(p.min, p.max);
 			if (!isfinite(value) || value < lo - 1e-9 * fabs(lo) - 1e-9 || value > hi + 1e-9 * fabs(hi) + 1e-9)
 				abort();
 			/* an output written from this value decodes back within half a
 			 * raw step (f32: within float precision) */
 			if (role == PS_ROLE_DIM) {
-				double raw = ps_mb_encode(&p, value, out), back;
-				if (ps_mb_value(&p, out, &back, why, sizeof why) != 0)
+				double raw = ps_modbus_point_encode(&p, value, out), back;
+				if (ps_modbus_point_value(&p, out, &back, why, sizeof why) != 0)
 					abort();
 				if (raw < fmin(p.raw_min, p.raw_max) || raw > fmax(p.raw_min, p.raw_max))
 					abort();

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "patches.h"
+#include "series.h"
 #include "sky.h"
 #include "wea.h"
 #include "weather.h"
@@ -16,12 +17,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	struct ps_weather w;
 	struct ps_err e;
 	/* always through the .wea reader, whatever the first line says */
-	ps_weather_init(&w, "fuzz.wea");
-	if (ps_wea_parse(&w, (const char *)data, size, &e) == 0 && ps_weather_finish(&w, &e) == 0) {
+	ps_series_init(&w, "fuzz.wea");
+	if (ps_wea_parse(&w, (const char *)data, size, &e) == 0 && ps_series_finish(&w, &e) == 0) {
 		struct ps_patches P;
-		struct ps_skyopt o;
+		struct ps_sky_opt o;
 		double v[3 * 146];
-		ps_skyopt_default(&o);
+		ps_sky_opt_default(&o);
 		if (ps_patches_init(&P, 1, &e) == 0) {
 			for (size_t i = 0; i < w.n && i < 64; i++) {
 				struct ps_sky s;

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# psens on many pictures (sim/batch.h): the weights are built once and the
+# psens on many pictures (sim/weights/batch.h): the weights are built once and the
 # pictures integrated in parallel; each result equals psens on that picture
 # alone (the one-picture route), in input order, with 1 or 2 threads; the
 # matrix output (-oa/-of/-od, Radiance's matrix format, one row for the

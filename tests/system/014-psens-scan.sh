@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
 # psens -r start:end:step (the rotation scan from a picture projected once,
-# sim/rescan.h) against psens -r R (the exact route) at several rotations,
+# sim/weights/rescan.h) against psens -r R (the exact route) at several rotations,
 # within the stated 2e-4; several sensors in one run give each sensor's own
 # numbers, and a matrix gets one row per sensor.
 . "$(dirname "$0")/lib.sh"

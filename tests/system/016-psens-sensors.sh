@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
 # Several sensors in one psens run (-s repeated): each picture is decoded
-# once for all of them (sim/stream.h, ps_integrate_mem_multi).  Every
+# once for all of them (sim/weights/stream.h, ps_stream_integrate_multi).  Every
 # sensor's JSON object equals psens with that sensor alone (the same
 # printed digits: the sums are the same bit for bit), for a symmetric
 # builtin, its table twin and a table that changes with azimuth, turned by

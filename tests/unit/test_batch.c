@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Batches (sim/batch.h): every picture's result is the one-picture route's
+/* Batches (sim/weights/batch.h): every picture's result is the one-picture route's
  * (ps_integrate with the same weights) bit for bit, in input order with 1, 2
  * and 5 threads; a picture of another size or view, or one that cannot be
  * read, is an error of that picture naming its file, and the others are
@@ -41,7 +41,7 @@ static void write_picture(const char *path, int w, int h, int k, const char *vie
 			p[1] = (1 + k * 0.5) * (0.2 + 0.02 * y);
 			p[2] = 0.3 + 0.001 * k * (x + y);
 		}
-	if (ps_pic_write(path, w, h, rgb, view, NULL, &e) != 0)
+	if (ps_picture_write(path, w, h, rgb, view, NULL, &e) != 0)
 		fail_msg("%s", e.msg);
 	free(rgb);
 }
@@ -81,7 +81,9 @@ static void batch_for(struct ps_batch *b, struct ps_sensor *s, int nthreads)
 	const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 	assert_int_equal(ps_sensor_builtin(s, PS_SENS_COSINE, &e), 0);
 	ps_view_default_fisheye(&v);
-	if (ps_batch_init(b, s, 30.0, &v, W, H, PS_W_EXACT, coef, nthreads, &e) != 0)
+	struct ps_batch_spec sp = { .map = { s, 30.0, &v, W, H, PS_W_EXACT }, .coef = coef,
+	                            .nthreads = nthreads };
+	if (ps_batch_init(b, &sp, &e) != 0)
 		fail_msg("%s", e.msg);
 }
 
@@ -92,9 +94,9 @@ static struct ps_response direct(const struct ps_batch *b, const char *path)
 	struct ps_response r;
 	struct ps_err e;
 	memset(&r, 0, sizeof r);
-	if (ps_pic_read(&pic, path, &e) != 0 || ps_integrate(&b->w, &pic, b->coef, &r, &e) != 0)
+	if (ps_picture_read(&pic, path, &e) != 0 || ps_integrate(&b->w, &pic, b->coef, &r, &e) != 0)
 		fail_msg("%s", e.msg);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return r;
 }
 

@@ -86,7 +86,7 @@ static void uniform(struct ps_picture *pic, const char *format, const char *extr
 	assert_false(px[0] == 1 && px[1] == 1 && px[2] == 1);
 	/* nor may 2 2 start a new-style scanline */
 	assert_false(px[0] == 2 && px[1] == 2);
-	if (ps_pic_read_mem(pic, buf, len, format, &e) != 0)
+	if (ps_picture_read_mem(pic, buf, len, format, &e) != 0)
 		fail_msg("%s", e.msg);
 	free(buf);
 }
@@ -119,7 +119,7 @@ static void xyze_is_luminance_based(void **state)
 	double m[3][3], minv[3][3];
 	(void)state;
 	cosine_weights(&w);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
 	for (size_t t = 0; t < sizeof rgbs / sizeof rgbs[0]; t++) {
 		const double *rgb = rgbs[t];
@@ -128,22 +128,22 @@ static void xyze_is_luminance_based(void **state)
 		struct ps_picture pic;
 		for (int i = 0; i < 3; i++)
 			xyz[i] = 179.0 * dot(m[i], rgb);
-		ps_rgbe_encode(xyz, pxyz);
-		ps_rgbe_encode(rgb, prgb);
-		ps_rgbe_decode(pxyz, xyz_q);
-		ps_rgbe_decode(prgb, rgb_q);
+		ps_picture_rgbe_encode(xyz, pxyz);
+		ps_picture_rgbe_encode(rgb, prgb);
+		ps_picture_rgbe_decode(pxyz, xyz_q);
+		ps_picture_rgbe_decode(prgb, rgb_q);
 		/* exact: standard RGB of the stored XYZ, / 179 */
 		for (int i = 0; i < 3; i++)
 			back[i] = dot(minv[i], xyz_q) / 179.0;
 		want = dot(coef, back) * w.sens_sum;
 		uniform(&pic, "32-bit_rle_xyze", NULL, pxyz);
 		got = response_of(&w, &pic);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		assert_true(relerr(got, want) <= 1e-12);
 		/* the RGBE twin */
 		uniform(&pic, "32-bit_rle_rgbe", NULL, prgb);
 		twin = response_of(&w, &pic);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		assert_true(relerr(twin, dot(coef, rgb_q) * w.sens_sum) <= 1e-12);
 		for (int c = 0; c < 3; c++) {
 			double stepx = 0.5 * ldexp(1, pxyz[3] - 136), stepr = 0.5 * ldexp(1, prgb[3] - 136);
@@ -172,18 +172,18 @@ static void xyze_with_ra_xyze_exposure(void **state)
 	uint8_t px[4];
 	(void)state;
 	cosine_weights(&w);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
 	for (int i = 0; i < 3; i++)
 		xyz[i] = dot(m[i], rgb);
-	ps_rgbe_encode(xyz, px);
-	ps_rgbe_decode(px, xyz_q);
+	ps_picture_rgbe_encode(xyz, px);
+	ps_picture_rgbe_decode(px, xyz_q);
 	snprintf(head, sizeof head, "EXPOSURE=%.17g\n", 1.0 / 179.0);
 	uniform(&pic, "32-bit_rle_xyze", head, px);
 	for (int i = 0; i < 3; i++)
 		back[i] = dot(minv[i], xyz_q);   /* x 179 (1 / EXPOSURE) / 179 */
 	assert_true(relerr(response_of(&w, &pic), dot(coef, back) * w.sens_sum) <= 1e-12);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	ps_weights_free(&w);
 }
 
@@ -199,15 +199,15 @@ static void colorcorr_divides_stored_channels(void **state)
 	char head[128];
 	(void)state;
 	cosine_weights(&w);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
-	ps_rgbe_decode(px, st);
+	ps_picture_rgbe_decode(px, st);
 	for (int c = 0; c < 3; c++)
 		st[c] /= corr[c] * 3.0;   /* COLORCORR and EXPOSURE=3 */
 	snprintf(head, sizeof head, "COLORCORR= %g %g %g\nEXPOSURE=3\n", corr[0], corr[1], corr[2]);
 	uniform(&pic, "32-bit_rle_rgbe", head, px);
 	assert_true(relerr(response_of(&w, &pic), dot(coef, st) * w.sens_sum) <= 1e-12);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	uniform(&pic, "32-bit_rle_xyze", head, px);
 	for (int i = 0; i < 3; i++)
 		back[i] = dot(minv[i], st) / 179.0;
@@ -220,7 +220,7 @@ static void colorcorr_divides_stored_channels(void **state)
 		ps_lum_rgb(&l, &pic, 3, 5, rgb);
 		assert_true(relerr(PS_LUM_EFFICACY * ps_lum_y(&l, rgb), st[1]) <= 1e-12);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	ps_weights_free(&w);
 }
 
@@ -237,11 +237,11 @@ static void primaries_keep_luminance(void **state)
 	char head[160];
 	(void)state;
 	cosine_weights(&w);
-	ps_rgbe_decode(px, st);
-	ps_rgb_to_xyz_matrix(srgb, own);
+	ps_picture_rgbe_decode(px, st);
+	ps_integrate_rgb_to_xyz(srgb, own);
 	snprintf(head, sizeof head, "PRIMARIES= %g %g %g %g %g %g %g %g\n", srgb[0], srgb[1], srgb[2],
 	         srgb[3], srgb[4], srgb[5], srgb[6], srgb[7]);
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	invert3(m, minv);
 	for (int i = 0; i < 3; i++)
 		xyz[i] = dot(own[i], st);
@@ -254,22 +254,22 @@ static void primaries_keep_luminance(void **state)
 	assert_true(relerr(response_of(&w, &pic), xyz[1] * w.sens_sum) <= 1e-8);
 	/* and it differs from reading the bytes as standard RGB */
 	assert_true(relerr(response_of(&w, &pic), dot(coef, st) * w.sens_sum) > 1e-3);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	uniform(&pic, "32-bit_rle_rgbe", NULL, px);
 	plain = response_of(&w, &pic);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	uniform(&pic, "32-bit_rle_rgbe", "PRIMARIES= 0.640 0.330 0.290 0.600 0.150 0.060 0.3333 0.3333\n",
 	        px);
 	withstd = response_of(&w, &pic);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	assert_true(relerr(withstd, plain) <= 1e-12);
 	/* XYZE: PRIMARIES= means nothing */
 	uniform(&pic, "32-bit_rle_xyze", NULL, px);
 	plain = response_of(&w, &pic);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	uniform(&pic, "32-bit_rle_xyze", head, px);
 	assert_true(response_of(&w, &pic) == plain);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	ps_weights_free(&w);
 }
 

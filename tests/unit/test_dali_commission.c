@@ -26,6 +26,7 @@
 #include "dali_emu.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "registry.h"
 #include "helpers/dali_preload.h"
 #include "helpers/test_opts.h"
 #include "time.h"
@@ -104,7 +105,7 @@ static void open_dev(struct fx *f, ...)
 	va_list ap;
 	const struct ps_opts *opts;
 	memset(&f->dev, 0, sizeof f->dev);
-	f->dev.drv = ps_driver_find("dali_usb");
+	f->dev.drv = ps_registry_find("dali_usb");
 	assert_non_null(f->dev.drv);
 	assert_non_null(f->dev.drv->command);
 	snprintf(f->dev.name, sizeof f->dev.name, "dali");

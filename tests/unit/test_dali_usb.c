@@ -27,6 +27,8 @@
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "registry.h"
+#include "usb_tridonic.h"
 #include "time.h"
 
 /* ---- transport bytes ----------------------------------------------------------- */
@@ -36,21 +38,21 @@ static void tridonic_send_report(void **state)
 	uint8_t out[64], want[64] = { 0 };
 	(void)state;
 	/* doc/hardware.md section 1: DAPC short 5 level 200 seq 0x2A -> 12 2A 00 03 00 00 0A C8 00... */
-	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 0x2A, 0x0AC8, 0, -1), 64);
+	assert_int_equal(ps_usb_tridonic.encode_send(out, sizeof out, 0x2A, 0x0AC8, 0, -1), 64);
 	memcpy(want, (uint8_t[]){ 0x12, 0x2A, 0x00, 0x03, 0x00, 0x00, 0x0A, 0xC8 }, 8);
 	assert_memory_equal(out, want, 64);
 	/* python-dali's log: DAPC short 21 level 1, seq 0xD6 */
-	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 0xD6, 0x2A01, 0, -1), 64);
+	assert_int_equal(ps_usb_tridonic.encode_send(out, sizeof out, 0xD6, 0x2A01, 0, -1), 64);
 	assert_memory_equal(out, ((uint8_t[]){ 0x12, 0xD6, 0x00, 0x03, 0x00, 0x00, 0x2A, 0x01, 0x00 }), 9);
 	/* send twice with DTR0 first: flags 0x20 | 0x10, DTR0 in byte 8 */
-	assert_int_equal(ps_dali_tridonic.encode_send(out, sizeof out, 7, 0xFF2C, 1, 229), 64);
+	assert_int_equal(ps_usb_tridonic.encode_send(out, sizeof out, 7, 0xFF2C, 1, 229), 64);
 	assert_memory_equal(out, ((uint8_t[]){ 0x12, 7, 0x30, 0x03, 0, 0, 0xFF, 0x2C, 229 }), 9);
-	assert_int_equal(ps_dali_tridonic.encode_send(out, 63, 7, 0xFF2C, 1, -1), -1);   /* too small */
-	assert_int_equal(ps_dali_tridonic.encode_send(out, 64, 256, 0xFF2C, 1, -1), -1);
+	assert_int_equal(ps_usb_tridonic.encode_send(out, 63, 7, 0xFF2C, 1, -1), -1);   /* too small */
+	assert_int_equal(ps_usb_tridonic.encode_send(out, 64, 256, 0xFF2C, 1, -1), -1);
 	/* sequence numbers run 1..255 and skip 0 */
-	assert_int_equal(ps_dali_tridonic.next_seq(255), 1);
-	assert_int_equal(ps_dali_tridonic.next_seq(0), 1);
-	assert_int_equal(ps_dali_tridonic.next_seq(41), 42);
+	assert_int_equal(ps_usb_tridonic.next_seq(255), 1);
+	assert_int_equal(ps_usb_tridonic.next_seq(0), 1);
+	assert_int_equal(ps_usb_tridonic.next_seq(41), 42);
 }
 
 static void tridonic_reports(void **state)
@@ -60,39 +62,39 @@ static void tridonic_reports(void **state)
 	(void)state;
 	/* python-dali's log: 12 73 00 00 2A 01 00 F5 D6, then 12 71 00 00 00 00 00 8A D6 */
 	memcpy(in, (uint8_t[]){ 0x12, 0x73, 0, 0, 0x2A, 0x01, 0x00, 0xF5, 0xD6 }, 9);
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_ECHO);
 	assert_int_equal(r.seq, 0xD6);
 	assert_int_equal(r.value, 0x2A01);
 	memcpy(in, (uint8_t[]){ 0x12, 0x71, 0, 0, 0, 0, 0x00, 0x8A, 0xD6 }, 9);
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_NO_ANSWER);
 	assert_int_equal(r.seq, 0xD6);
 	memcpy(in, (uint8_t[]){ 0x12, 0x72, 0, 0, 0, 0xC8, 0x00, 0x8A, 0x05 }, 9);
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_ANSWER);
 	assert_int_equal(r.value, 200);
 	assert_int_equal(r.seq, 5);
 	memcpy(in, (uint8_t[]){ 0x12, 0x77, 0, 0, 0, 3, 0, 0, 9 }, 9);       /* framing error */
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_BUS_ERROR);
 	assert_int_equal(r.value, 3);
 	in[5] = 4;                                                            /* bus ok: news only */
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_IGNORE);
 	memcpy(in, (uint8_t[]){ 0x11, 0x73, 0, 0, 0xFF, 0x05, 0, 0, 0 }, 9);  /* another master */
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_OBSERVED);
 	assert_int_equal(r.seq, -1);
 	assert_int_equal(r.value, 0xFF05);
-	ps_dali_tridonic.decode(in, 8, &r);                                   /* short */
+	ps_usb_tridonic.decode(in, 8, &r);                                   /* short */
 	assert_int_equal(r.event, PS_DALI_EV_MALFORMED);
 	in[0] = 0x12;
 	in[1] = 0x7E;                                                         /* no such type */
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_MALFORMED);
 	in[0] = 0x99;
-	ps_dali_tridonic.decode(in, 64, &r);
+	ps_usb_tridonic.decode(in, 64, &r);
 	assert_int_equal(r.event, PS_DALI_EV_MALFORMED);
 }
 
@@ -158,7 +160,7 @@ static int open_dev(struct fx *f, ...)
 	va_list ap;
 	const struct ps_opts *opts;
 	memset(&f->dev, 0, sizeof f->dev);
-	f->dev.drv = ps_driver_find("dali_usb");
+	f->dev.drv = ps_registry_find("dali_usb");
 	assert_non_null(f->dev.drv);
 	assert_true(f->dev.drv->compiled_in);
 	snprintf(f->dev.name, sizeof f->dev.name, "dali");

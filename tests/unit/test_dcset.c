@@ -73,7 +73,7 @@ static void exact_set_sums_to_pi(void **state)
 	char dir[64], pattern[128];
 	struct ps_view v;
 	struct ps_sensor s;
-	struct ps_dcrow row;
+	struct ps_dcset_row row;
 	struct ps_err e;
 	double *one = malloc(146 * 3 * sizeof *one), sum;
 	(void)state;
@@ -84,16 +84,16 @@ static void exact_set_sums_to_pi(void **state)
 	assert_int_equal(row.mf, 1);
 	for (int i = 0; i < 3 * 146; i++)
 		one[i] = 1.0;
-	sum = ps_dcrow_apply(&row, V, one);
+	sum = ps_dcset_row_apply(&row, V, one);
 	assert_true(fabs(sum - M_PI) < 1e-12);
 	/* every channel alike */
 	for (int p = 0; p < 146; p++)
 		assert_true(row.c[3 * p] == row.c[3 * p + 1] && row.c[3 * p] == row.c[3 * p + 2]);
 	/* mf 0: found from the count */
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 	assert_int_equal(ps_dcset_row(pattern, &v, 0, &s, 0.0, &row, &e), 0);
 	assert_int_equal(row.mf, 1);
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 	ps_sensor_free(&s);
 	remove_set(dir);
 	free(one);
@@ -103,7 +103,7 @@ static void expect_error(const char *pattern, const struct ps_view *v, int mf, c
                          const char *b)
 {
 	struct ps_sensor s;
-	struct ps_dcrow row;
+	struct ps_dcset_row row;
 	struct ps_err e;
 	assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
 	e.msg[0] = '\0';
@@ -126,7 +126,7 @@ static void bad_sets(void **state)
 	snprintf(path, sizeof path, "%s/dc_005.hdr", dir);
 	snprintf(other, sizeof other, "%s/keep.hdr", dir);
 	assert_int_equal(rename(path, other), 0);
-	assert_int_equal(ps_pic_write(path, 8, 8, px, NULL, NULL, &e), 0);
+	assert_int_equal(ps_picture_write(path, 8, 8, px, NULL, NULL, &e), 0);
 	snprintf(want, sizeof want, "%s: patch 5 is 8 x 8", path);
 	expect_error(pattern, &v, 1, want, "16 x 16");
 	assert_int_equal(rename(other, path), 0);
@@ -139,7 +139,7 @@ static void bad_sets(void **state)
 	assert_int_equal(rename(other, path), 0);
 	/* more than the MF has */
 	snprintf(path, sizeof path, "%s/dc_146.hdr", dir);
-	assert_int_equal(ps_pic_write(path, 16, 16, px, NULL, NULL, &e), 0);
+	assert_int_equal(ps_picture_write(path, 16, 16, px, NULL, NULL, &e), 0);
 	expect_error(pattern, &v, 1, "MF 1 has 146 patches", path);
 	/* 147 match no MF */
 	expect_error(pattern, &v, 0, "147 pictures", "match no MF");
@@ -147,10 +147,10 @@ static void bad_sets(void **state)
 	/* the set is whole again */
 	{
 		struct ps_sensor s;
-		struct ps_dcrow row;
+		struct ps_dcset_row row;
 		assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
 		assert_int_equal(ps_dcset_row(pattern, &v, 1, &s, 0.0, &row, &e), 0);
-		ps_dcrow_free(&row);
+		ps_dcset_row_free(&row);
 		ps_sensor_free(&s);
 	}
 	/* no %d, and a set that is not there */
@@ -179,7 +179,7 @@ static void read_points(double m[2][146 * 3])
 	fclose(fp);
 }
 
-static void office(struct ps_dcrow *srow, struct ps_dcrow *trow)
+static void office(struct ps_dcset_row *srow, struct ps_dcset_row *trow)
 {
 	char sp[4096], tp[4096];
 	struct ps_view sv, tv;
@@ -217,11 +217,11 @@ static double apply_points(const double *m, const double *sky)
 static void office_against_point_route(void **state)
 {
 	static double m[2][146 * 3];
-	struct ps_dcrow srow, trow;
+	struct ps_dcset_row srow, trow;
 	double one[146 * 3], sky[146 * 3], worst = 0, ss = 0, sp = 0, ts = 0, tp = 0;
 	struct ps_weather w;
 	struct ps_patches P;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	char path[4096];
 	int hours = 0;
@@ -230,15 +230,15 @@ static void office_against_point_route(void **state)
 	office(&srow, &trow);
 	for (int i = 0; i < 146 * 3; i++)
 		one[i] = 1.0;
-	assert_true(fabs(ps_dcrow_apply(&srow, V, one) / 0.16146 - 1) < 1e-3);
-	assert_true(fabs(ps_dcrow_apply(&trow, V, one) / 0.31943 - 1) < 1e-3);
-	assert_true(fabs(ps_dcrow_apply(&srow, V, one) / apply_points(m[0], one) - 1) < 0.015);
-	assert_true(fabs(ps_dcrow_apply(&trow, V, one) / apply_points(m[1], one) - 1) < 0.015);
+	assert_true(fabs(ps_dcset_row_apply(&srow, V, one) / 0.16146 - 1) < 1e-3);
+	assert_true(fabs(ps_dcset_row_apply(&trow, V, one) / 0.31943 - 1) < 1e-3);
+	assert_true(fabs(ps_dcset_row_apply(&srow, V, one) / apply_points(m[0], one) - 1) < 0.015);
+	assert_true(fabs(ps_dcset_row_apply(&trow, V, one) / apply_points(m[1], one) - 1) < 0.015);
 	assert_true(fabs(apply_points(m[0], one) / 0.16083 - 1) < 1e-3);
 	data_path(path, sizeof path, "tests/data/gendaymtx/test.wea");
 	assert_int_equal(ps_weather_read(&w, path, 0, &e), 0);
 	assert_int_equal(ps_patches_init(&P, 1, &e), 0);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	for (size_t i = 0; i < w.n; i++) {
 		struct ps_sky s;
 		double a, b, c, d;
@@ -246,9 +246,9 @@ static void office_against_point_route(void **state)
 		if (s.dark || w.step[i].dif < 50)
 			continue;
 		ps_sky_vector(&s, &P, PS_SKY_ALL, sky);
-		a = ps_dcrow_apply(&srow, V, sky);
+		a = ps_dcset_row_apply(&srow, V, sky);
 		b = apply_points(m[0], sky);
-		c = ps_dcrow_apply(&trow, V, sky);
+		c = ps_dcset_row_apply(&trow, V, sky);
 		d = apply_points(m[1], sky);
 		ss += a, sp += b, ts += c, tp += d;
 		worst = fmax(worst, fmax(fabs(a / b - 1), fabs(c / d - 1)));
@@ -262,8 +262,8 @@ static void office_against_point_route(void **state)
 	assert_true(fabs(ss / sp - 1) < 0.015 && fabs(ts / tp - 1) < 0.015);
 	ps_patches_free(&P);
 	ps_weather_free(&w);
-	ps_dcrow_free(&srow);
-	ps_dcrow_free(&trow);
+	ps_dcset_row_free(&srow);
+	ps_dcset_row_free(&trow);
 }
 
 int main(void)

@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "driver.h"
+#include "registry.h"
 
 #define assert_near(a, b, tol) assert_true(fabs((double)(a) - (double)(b)) <= (tol))
 
@@ -36,7 +37,7 @@ static void collect(void *user, int line, const char *why)
 }
 
 /* A role a point key applies to. */
-static int role_of(const struct ps_opt_spec *s)
+static int role_of(const struct ps_opts_spec *s)
 {
 	for (int r = 0; r < PS_ROLE_COUNT; r++)
 		if (!s->roles || (s->roles & PS_ROLE_BIT(r)))
@@ -50,37 +51,37 @@ static int role_of(const struct ps_opt_spec *s)
 static void tables_are_consistent(void **state)
 {
 	(void)state;
-	for (int d = 0; ps_drivers[d]; d++) {
-		const struct ps_driver *drv = ps_drivers[d];
+	for (int d = 0; ps_registry_drivers[d]; d++) {
+		const struct ps_driver *drv = ps_registry_drivers[d];
 		if (!drv->compiled_in) {
 			assert_null(drv->options);   /* a stub judges nothing */
 			continue;
 		}
 		assert_non_null(drv->options);
-		for (const struct ps_opt_spec *s = drv->options; s->key; s++) {
+		for (const struct ps_opts_spec *s = drv->options; s->key; s++) {
 			struct ps_opt kv = { s->key, s->def, 7, 0 };
 			struct ps_opts o = { &kv, 1, "t.conf" };
 			struct errors e = { 0 };
 			char err[256];
-			struct ps_opt_reader r = { NULL, drv->options, s->scope, err, sizeof err, NULL };
+			struct ps_opts_reader r = { NULL, drv->options, s->scope, err, sizeof err, NULL };
 			assert_true(s->scope == PS_OPT_DEVICE || s->scope == PS_OPT_POINT);
-			assert_ptr_equal(ps_opt_spec_find(drv->options, s->scope, s->key), s);
+			assert_ptr_equal(ps_opts_spec_find(drv->options, s->scope, s->key), s);
 			assert_true(s->doc && strlen(s->doc) > 10);
 			if (s->type == PS_OPT_ENUM)
 				assert_non_null(s->names);
 			if (!s->def)
 				continue;
-			ps_opt_check(drv->options, drv->name, &o, s->scope == PS_OPT_DEVICE ? -1 : role_of(s), collect, &e);
+			ps_opts_check(drv->options, drv->name, &o, s->scope == PS_OPT_DEVICE ? -1 : role_of(s), collect, &e);
 			if (e.n)
 				fail_msg("%s %s default '%s': %s", drv->name, s->key, s->def, e.text[0]);
 			/* absent from the section: the reader gives the default */
 			if (s->type == PS_OPT_DOUBLE) {
 				double v = NAN;
-				assert_int_equal(ps_opt_double(&r, s->key, &v), 0);
+				assert_int_equal(ps_opts_double(&r, s->key, &v), 0);
 				assert_near(v, strtod(s->def, NULL), 0);
 			} else if (s->type == PS_OPT_LONG) {
 				long v = -1;
-				assert_int_equal(ps_opt_long(&r, s->key, &v), 0);
+				assert_int_equal(ps_opts_long(&r, s->key, &v), 0);
 				assert_int_equal(v, strtol(s->def, NULL, 0));
 			}
 		}
@@ -91,7 +92,7 @@ static void tables_are_consistent(void **state)
  * another role or scope said so. */
 static void section_errors_with_lines(void **state)
 {
-	const struct ps_driver *lb = ps_driver_find("loopback");
+	const struct ps_driver *lb = ps_registry_find("loopback");
 	struct ps_opt kv[] = {
 		{ "gain", "0.5.5", 11, 0 }, { "seed", "-3", 12, 0 }, { "off_below_min", "maybe", 13, 0 },
 		{ "faults", "open 12:00-12:20, stuck 25:00-26:00", 14, 0 }, { "fade_rte", "0.2", 15, 0 },
@@ -114,33 +115,33 @@ static void section_errors_with_lines(void **state)
 /* The readers: values and windows, and a bad value's location. */
 static void readers(void **state)
 {
-	const struct ps_driver *lb = ps_driver_find("loopback");
+	const struct ps_driver *lb = ps_registry_find("loopback");
 	struct ps_opt kv[] = { { "faults", "open 12:00-12:20, obstruct 23:30-00:30", 5, 0 }, { "gain", "x", 6, 0 } };
 	struct ps_opts o = { kv, 2, "t.conf" };
 	char err[256];
 	int line = -1;
-	struct ps_opt_reader r = { &o, lb->options, PS_OPT_DEVICE, err, sizeof err, NULL };
-	struct ps_opt_window w[16];
+	struct ps_opts_reader r = { &o, lb->options, PS_OPT_DEVICE, err, sizeof err, NULL };
+	struct ps_opts_window w[16];
 	size_t n;
 	double v = 7;
 	(void)state;
-	assert_int_equal(ps_opt_windows(&r, "faults", w, &n), 0);
+	assert_int_equal(ps_opts_windows(&r, "faults", w, &n), 0);
 	assert_int_equal(n, 2);
 	assert_int_equal(w[0].kind, 1);   /* "open", the second name */
 	assert_near(w[0].start, 12 * 3600, 0);
 	assert_near(w[1].start, 23.5 * 3600, 0);
 	assert_near(w[1].end, 0.5 * 3600, 0);   /* across midnight */
-	assert_int_equal(ps_opt_double(&r, "gain", &v), -1);
+	assert_int_equal(ps_opts_double(&r, "gain", &v), -1);
 	assert_int_equal(errno, EINVAL);
 	assert_string_equal(err, "t.conf:6: gain: 'x' is not a number");
 	assert_near(v, 7, 0);
 	r.line = &line;   /* the check methods' form: the line apart */
-	assert_int_equal(ps_opt_double(&r, "gain", &v), -1);
+	assert_int_equal(ps_opts_double(&r, "gain", &v), -1);
 	assert_int_equal(line, 6);
 	assert_string_equal(err, "gain: 'x' is not a number");
 	/* a key the table lacks is the driver's mistake, said as such */
 	r.line = NULL;
-	assert_int_equal(ps_opt_double(&r, "nosuch", &v), -1);
+	assert_int_equal(ps_opts_double(&r, "nosuch", &v), -1);
 	assert_non_null(strstr(err, "nosuch: not in the driver's option table"));
 }
 
@@ -164,7 +165,7 @@ static void put(const char *path, const char *text)
 static void file_driver(void **state)
 {
 	char dir[] = "/tmp/test_driver_opts.XXXXXX", path[128], text[64];
-	const struct ps_driver *drv = ps_driver_find("file");
+	const struct ps_driver *drv = ps_registry_find("file");
 	struct ps_opt dkv[] = { { "dir", dir, 2, 0 } };
 	struct ps_opts dopts = { dkv, 1, "t.conf" };
 	struct ps_opt skv[] = { { "path", "light", 5, 0 }, { "scale", "2", 6, 0 } };

@@ -28,12 +28,12 @@ static const struct ps_opts *opts(struct optset *s, const char *const *kv)
 	return ps_test_opts(&s->t, "site.conf", 10, kv);
 }
 
-static struct ps_mb_point parsed(int role, const char *const *kv)
+static struct ps_modbus_point parsed(int role, const char *const *kv)
 {
 	struct optset s;
-	struct ps_mb_point p;
+	struct ps_modbus_point p;
 	char err[256] = "";
-	int rc = ps_mb_point_parse(&p, role, opts(&s, kv), err, sizeof err);
+	int rc = ps_modbus_point_parse(&p, role, opts(&s, kv), err, sizeof err);
 	if (rc != 0)
 		fail_msg("%s", err);
 	return p;
@@ -43,19 +43,19 @@ static void adam_input_is_0_to_10_volts(void **state)
 {
 	/* ADAM-6017/6024 AI: 0..65535 spans 0..10 V, so V = raw * 10 / 65535 */
 	static const char *const kv[] = { "table=input_register", "address=0", NULL };
-	struct ps_mb_point p = parsed(PS_ROLE_SENSOR, kv);
+	struct ps_modbus_point p = parsed(PS_ROLE_SENSOR, kv);
 	uint16_t r[1];
 	double v;
 	char why[128];
 	(void)state;
 	r[0] = 0;
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
 	assert_true(v == 0);
 	r[0] = 65535;
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
 	assert_true(fabs(v - 10) < 1e-12);
 	r[0] = 13107;   /* 13107 * 10 / 65535 = 2 exactly */
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
 	assert_true(fabs(v - 2) < 1e-12);
 }
 
@@ -63,15 +63,15 @@ static void twelve_bit_range_and_open_circuit_code(void **state)
 {
 	/* a 12-bit module: 0..4095 is 0..10 V; 0xFFFF (an open-circuit code) is outside */
 	static const char *const kv[] = { "table=holding_register", "address=3", "raw_max=4095", NULL };
-	struct ps_mb_point p = parsed(PS_ROLE_SENSOR, kv);
+	struct ps_modbus_point p = parsed(PS_ROLE_SENSOR, kv);
 	uint16_t r[1] = { 4095 };
 	double v;
 	char why[128];
 	(void)state;
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
 	assert_true(fabs(v - 10) < 1e-12);
 	r[0] = 0xffff;
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), -1);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), -1);
 	assert_int_equal(errno, ERANGE);
 	assert_non_null(strstr(why, "raw 65535 outside 0 to 4095"));
 }
@@ -82,18 +82,18 @@ static void wago_left_justified_with_status_bits(void **state)
 	 * mask them off and treat any of them set as a fault */
 	static const char *const kv[] = { "table=input_register", "address=0", "mask=0xfff8",
 	                                  "status_mask=0x0007", "raw_max=32760", NULL };
-	struct ps_mb_point p = parsed(PS_ROLE_SENSOR, kv);
+	struct ps_modbus_point p = parsed(PS_ROLE_SENSOR, kv);
 	uint16_t r[1] = { 0x7ff8 };
 	double v;
 	char why[128];
 	(void)state;
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
 	assert_true(fabs(v - 10) < 1e-12);
 	r[0] = 0x3ffc;   /* 0x3FF8 with status bit 2 (over-range) set */
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), -1);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), -1);
 	assert_int_equal(errno, ERANGE);
 	r[0] = 0x3ff8;   /* 16376 / 32760 * 10 */
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
 	assert_true(fabs(v - 16376.0 / 32760 * 10) < 1e-12);
 }
 
@@ -103,20 +103,20 @@ static void u32_lux_both_word_orders(void **state)
 	static const char *const hi[] = { "table=holding_register", "address=7", "type=u32", NULL };
 	static const char *const lo[] = { "table=holding_register", "address=7", "type=u32",
 	                                  "word_order=cdab", NULL };
-	struct ps_mb_point a = parsed(PS_ROLE_TASK_LUX, hi), c = parsed(PS_ROLE_TASK_LUX, lo);
+	struct ps_modbus_point a = parsed(PS_ROLE_TASK_LUX, hi), c = parsed(PS_ROLE_TASK_LUX, lo);
 	uint16_t r[2] = { 0x0002, 0x06f6 }, s[2] = { 0x06f6, 0x0002 };
 	double v;
 	char why[128];
 	(void)state;
-	assert_int_equal(ps_mb_point_count(&a), 2);
-	assert_int_equal(ps_mb_value(&a, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_count(&a), 2);
+	assert_int_equal(ps_modbus_point_value(&a, r, &v, why, sizeof why), 0);
 	assert_true(v == 132854);
-	assert_int_equal(ps_mb_value(&c, s, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&c, s, &v, why, sizeof why), 0);
 	assert_true(v == 132854);
 	/* NHZD210 example: 0x0000 0x0128 = 296 lx */
 	r[0] = 0;
 	r[1] = 0x0128;
-	assert_int_equal(ps_mb_value(&a, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&a, r, &v, why, sizeof why), 0);
 	assert_true(v == 296);
 }
 
@@ -124,18 +124,18 @@ static void signed_types(void **state)
 {
 	static const char *const s16[] = { "table=input_register", "address=0", "type=s16", NULL };
 	static const char *const s32[] = { "table=input_register", "address=0", "type=s32", NULL };
-	struct ps_mb_point a = parsed(PS_ROLE_TASK_LUX, s16), b = parsed(PS_ROLE_TASK_LUX, s32);
+	struct ps_modbus_point a = parsed(PS_ROLE_TASK_LUX, s16), b = parsed(PS_ROLE_TASK_LUX, s32);
 	uint16_t r[2] = { 0xffff, 0xfffe };
 	double v;
 	char why[128];
 	(void)state;
-	assert_int_equal(ps_mb_value(&a, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&a, r, &v, why, sizeof why), 0);
 	assert_true(v == -1);
-	assert_int_equal(ps_mb_value(&b, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&b, r, &v, why, sizeof why), 0);
 	assert_true(v == -2);
 	r[0] = 0x8000;
 	r[1] = 0;
-	assert_int_equal(ps_mb_value(&b, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&b, r, &v, why, sizeof why), 0);
 	assert_true(v == -2147483648.0);
 }
 
@@ -145,20 +145,20 @@ static void f32_bits(void **state)
 	static const char *const ab[] = { "table=input_register", "address=0", "type=f32", NULL };
 	static const char *const cd[] = { "table=input_register", "address=0", "type=f32",
 	                                  "word_order=cdab", NULL };
-	struct ps_mb_point a = parsed(PS_ROLE_TASK_LUX, ab), c = parsed(PS_ROLE_TASK_LUX, cd);
+	struct ps_modbus_point a = parsed(PS_ROLE_TASK_LUX, ab), c = parsed(PS_ROLE_TASK_LUX, cd);
 	uint16_t r[2] = { 0x42c8, 0x0000 }, s[2] = { 0x0000, 0x42c8 }, w[2];
 	double v;
 	char why[128];
 	(void)state;
-	assert_int_equal(ps_mb_value(&a, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&a, r, &v, why, sizeof why), 0);
 	assert_true(v == 100.0);
-	assert_int_equal(ps_mb_value(&c, s, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&c, s, &v, why, sizeof why), 0);
 	assert_true(v == 100.0);
 	r[0] = 0x7fc0;   /* a NaN */
-	assert_int_equal(ps_mb_value(&a, r, &v, why, sizeof why), -1);
+	assert_int_equal(ps_modbus_point_value(&a, r, &v, why, sizeof why), -1);
 	assert_int_equal(errno, ERANGE);
 	/* -2.5 is 0xC0200000 */
-	ps_mb_encode(&c, -2.5, w);
+	ps_modbus_point_encode(&c, -2.5, w);
 	assert_int_equal(w[0], 0x0000);
 	assert_int_equal(w[1], 0xc020);
 }
@@ -167,18 +167,18 @@ static void dim_output_adam_6024(void **state)
 {
 	/* ADAM-6024 AO: 0..4095 is 0..10 V; light output 0..1 maps onto it */
 	static const char *const kv[] = { "table=holding_register", "address=10", "raw_max=4095", NULL };
-	struct ps_mb_point p = parsed(PS_ROLE_DIM, kv);
+	struct ps_modbus_point p = parsed(PS_ROLE_DIM, kv);
 	uint16_t r[1];
 	(void)state;
-	assert_true(ps_mb_encode(&p, 0.5, r) == 2048);   /* 2047.5 rounds away from zero */
+	assert_true(ps_modbus_point_encode(&p, 0.5, r) == 2048);   /* 2047.5 rounds away from zero */
 	assert_int_equal(r[0], 2048);
-	ps_mb_encode(&p, 1.0, r);
+	ps_modbus_point_encode(&p, 1.0, r);
 	assert_int_equal(r[0], 4095);
-	ps_mb_encode(&p, 1.7, r);   /* clamped */
+	ps_modbus_point_encode(&p, 1.7, r);   /* clamped */
 	assert_int_equal(r[0], 4095);
-	ps_mb_encode(&p, -0.2, r);
+	ps_modbus_point_encode(&p, -0.2, r);
 	assert_int_equal(r[0], 0);
-	ps_mb_encode(&p, 0.1, r);   /* 409.5 -> 410 */
+	ps_modbus_point_encode(&p, 0.1, r);   /* 409.5 -> 410 */
 	assert_int_equal(r[0], 410);
 }
 
@@ -189,19 +189,19 @@ static void one_to_ten_volt_output(void **state)
 	 * -1/9; the level 0.5 is 5.5 V */
 	static const char *const kv[] = { "table=holding_register", "address=10", "raw_min=0",
 	                                  "raw_max=10000", "min=-0.111111111111111111", "max=1", NULL };
-	struct ps_mb_point p = parsed(PS_ROLE_DIM, kv);
+	struct ps_modbus_point p = parsed(PS_ROLE_DIM, kv);
 	uint16_t r[1];
 	double v;
 	char why[64];
 	(void)state;
-	ps_mb_encode(&p, 0, r);
+	ps_modbus_point_encode(&p, 0, r);
 	assert_int_equal(r[0], 1000);
-	ps_mb_encode(&p, 0.5, r);
+	ps_modbus_point_encode(&p, 0.5, r);
 	assert_int_equal(r[0], 5500);
-	ps_mb_encode(&p, 1, r);
+	ps_modbus_point_encode(&p, 1, r);
 	assert_int_equal(r[0], 10000);
 	/* the inverse, read back */
-	assert_int_equal(ps_mb_value(&p, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
 	assert_true(fabs(v - 1) < 1e-12);
 }
 
@@ -209,26 +209,26 @@ static void bits(void **state)
 {
 	static const char *const relay[] = { "table=coil", "address=16", NULL };
 	static const char *const in[] = { "table=discrete_input", "address=1", NULL };
-	struct ps_mb_point a = parsed(PS_ROLE_RELAY, relay), b = parsed(PS_ROLE_INPUT, in);
+	struct ps_modbus_point a = parsed(PS_ROLE_RELAY, relay), b = parsed(PS_ROLE_INPUT, in);
 	uint16_t r[1];
 	double v;
 	char why[64];
 	(void)state;
-	ps_mb_encode(&a, 1, r);
+	ps_modbus_point_encode(&a, 1, r);
 	assert_int_equal(r[0], 1);
-	ps_mb_encode(&a, 0.2, r);
+	ps_modbus_point_encode(&a, 0.2, r);
 	assert_int_equal(r[0], 0);
 	r[0] = 1;
-	assert_int_equal(ps_mb_value(&b, r, &v, why, sizeof why), 0);
+	assert_int_equal(ps_modbus_point_value(&b, r, &v, why, sizeof why), 0);
 	assert_true(v == 1);
 }
 
 static void expect_error(int role, const char *const *kv, const char *text)
 {
 	struct optset s;
-	struct ps_mb_point p;
+	struct ps_modbus_point p;
 	char err[256] = "";
-	assert_int_equal(ps_mb_point_parse(&p, role, opts(&s, kv), err, sizeof err), -1);
+	assert_int_equal(ps_modbus_point_parse(&p, role, opts(&s, kv), err, sizeof err), -1);
 	assert_int_equal(errno, EINVAL);
 	if (!strstr(err, text))
 		fail_msg("'%s' lacks '%s'", err, text);
@@ -261,15 +261,15 @@ static void bad_options_name_file_and_line(void **state)
 static void round_trip_error_is_half_a_step(void **state)
 {
 	static const char *const kv[] = { "table=holding_register", "address=10", "raw_max=4095", NULL };
-	struct ps_mb_point p = parsed(PS_ROLE_DIM, kv);
+	struct ps_modbus_point p = parsed(PS_ROLE_DIM, kv);
 	double worst = 0;
 	(void)state;
 	for (int i = 0; i <= 10000; i++) {
 		double level = i / 10000.0, back;
 		uint16_t r[1];
 		char why[64];
-		ps_mb_encode(&p, level, r);
-		assert_int_equal(ps_mb_value(&p, r, &back, why, sizeof why), 0);
+		ps_modbus_point_encode(&p, level, r);
+		assert_int_equal(ps_modbus_point_value(&p, r, &back, why, sizeof why), 0);
 		worst = fmax(worst, fabs(back - level));
 	}
 	assert_true(worst <= 0.5 / 4095 + 1e-15);

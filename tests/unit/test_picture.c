@@ -53,14 +53,14 @@ static void one_reads_as_1_00390625(void **state)
 	uint8_t px[4];
 	double in[3] = { 1.0, 1.0, 1.0 }, out[3];
 	(void)state;
-	ps_rgbe_encode(in, px);
+	ps_picture_rgbe_encode(in, px);
 	assert_int_equal(px[0], 128);
 	assert_int_equal(px[3], 129);
-	ps_rgbe_decode(px, out);
+	ps_picture_rgbe_decode(px, out);
 	assert_true(out[0] == 1.00390625);
 	for (int e = 1; e < 256; e++)
-		assert_true(ps_rgbe_scale[e] == ldexp(1.0, e - 136));
-	assert_true(ps_rgbe_scale[0] == 0.0);
+		assert_true(ps_picture_rgbe_scale[e] == ldexp(1.0, e - 136));
+	assert_true(ps_picture_rgbe_scale[0] == 0.0);
 }
 
 static void exposure_and_colorcorr(void **state)
@@ -73,13 +73,13 @@ static void exposure_and_colorcorr(void **state)
 	puts_(&b, "#?RADIANCE\nEXPOSURE=2\nEXPOSURE=2\nCOLORCORR=1 2 4\nPIXASPECT=1.5\n"
 	          "FORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 1\n");
 	put4(&b, 128, 128, 128, 129);
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "t.hdr", &e), 0);
-	ps_pic_get(&pic, 0, 0, v);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "t.hdr", &e), 0);
+	ps_picture_get(&pic, 0, 0, v);
 	assert_true(v[0] == 1.00390625 / 4);
 	assert_true(v[1] == 1.00390625 / 8);
 	assert_true(v[2] == 1.00390625 / 16);
 	assert_true(pic.pixaspect == 1.5);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	free(b.p);
 }
 
@@ -105,7 +105,7 @@ static void all_eight_orientations(void **state)
 				int x = a1 == 'Y' ? c2 : c1, y = a1 == 'Y' ? c1 : c2;
 				put4(&b, 10 + x, 20 + y, 7, 130);
 			}
-		assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, res[k], &e), 0);
+		assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, res[k], &e), 0);
 		assert_int_equal(pic.width, 3);
 		assert_int_equal(pic.height, 2);
 		for (int row = 0; row < 2; row++)
@@ -114,7 +114,7 @@ static void all_eight_orientations(void **state)
 				assert_int_equal(px[0], 10 + x);
 				assert_int_equal(px[1], 20 + (1 - row));   /* row 0 is the top: y = 1 */
 			}
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		free(b.p);
 	}
 }
@@ -134,20 +134,20 @@ static void write_read_round_trip(void **state)
 			for (int c = 0; c < 3; c++)   /* runs, literals and variety */
 				rgb[3 * i + c] = (i % 17 < 9) ? 0.25 * (c + 1) : 1e-3 * (i + c) + (i % 5) * 1e3;
 		close(fd);
-		assert_int_equal(ps_pic_write(path, w, h, rgb, "-vta -vh 180 -vv 180", "SOFTWARE= test\n", &e), 0);
-		assert_int_equal(ps_pic_read(&pic, path, &e), 0);
+		assert_int_equal(ps_picture_write(path, w, h, rgb, "-vta -vh 180 -vv 180", "SOFTWARE= test\n", &e), 0);
+		assert_int_equal(ps_picture_read(&pic, path, &e), 0);
 		assert_int_equal(pic.width, w);
 		assert_int_equal(pic.height, h);
 		assert_string_equal(pic.view, "-vta -vh 180 -vv 180");
 		for (int i = 0; i < w * h; i++) {
 			uint8_t px[4];
-			ps_rgbe_encode(rgb + 3 * i, px);
+			ps_picture_rgbe_encode(rgb + 3 * i, px);
 			assert_memory_equal(pic.pix + 4 * i, px, 4);
 			for (int c = 0; c < 3; c++)
 				assert_true(fabs(radiance_decode(px[c], px[3]) - rgb[3 * i + c]) <=
 				            rgb[3 * i + c] / 128 + 1e-300);
 		}
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		unlink(path);
 		free(rgb);
 	}
@@ -159,8 +159,8 @@ static void extreme_radiances_round_trip(void **state)
 	for (double v = 1e-30; v <= 1e30; v *= 7.3) {
 		double in[3] = { v, v / 3, v * 0.9 }, out[3];
 		uint8_t px[4];
-		ps_rgbe_encode(in, px);
-		ps_rgbe_decode(px, out);
+		ps_picture_rgbe_encode(in, px);
+		ps_picture_rgbe_decode(px, out);
 		/* the largest channel keeps 8 bits; the others are relative to it */
 		assert_true(fabs(out[0] - v) <= v / 256 * 1.0001);
 		assert_true(fabs(out[2] - v * 0.9) <= v / 256 * 1.0001);
@@ -192,13 +192,13 @@ static void old_style_runs(void **state)
 			put(&b, &v, 1);
 		}
 	}
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "old.hdr", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "old.hdr", &e), 0);
 	for (int x = 0; x < 300; x++) {
 		assert_int_equal(pic.pix[4 * x], 50);
 		assert_int_equal(pic.pix[4 * x + 3], 128);
 		assert_int_equal(pic.pix[4 * (300 + x) + 1], x < 254 ? 4 : 4 + (x - 254) % 2);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	free(b.p);
 }
 
@@ -214,7 +214,7 @@ static void every_truncation_fails_cleanly(void **state)
 	for (int i = 0; i < 40 * 5 * 3; i++)
 		rgb[i] = (i % 7) * 0.5 + i * 1e-3;
 	close(fd);
-	assert_int_equal(ps_pic_write(path, 40, 5, rgb, NULL, NULL, NULL), 0);
+	assert_int_equal(ps_picture_write(path, 40, 5, rgb, NULL, NULL, NULL), 0);
 	fp = fopen(path, "rb");
 	n = fread(data, 1, sizeof data, fp);
 	fclose(fp);
@@ -222,7 +222,7 @@ static void every_truncation_fails_cleanly(void **state)
 	for (size_t len = 0; len < n; len++) {
 		struct ps_picture pic;
 		struct ps_err e;
-		assert_int_equal(ps_pic_read_mem(&pic, data, len, "cut.hdr", &e), -1);
+		assert_int_equal(ps_picture_read_mem(&pic, data, len, "cut.hdr", &e), -1);
 		assert_non_null(strstr(e.msg, "cut.hdr"));
 		/* the offset named is where the incomplete item starts: within the prefix */
 		{
@@ -238,8 +238,8 @@ static void every_truncation_fails_cleanly(void **state)
 			struct ps_picture pic;
 			struct ps_err e;
 			data[i] ^= (uint8_t)(1 << bit);
-			if (ps_pic_read_mem(&pic, data, n, "flip.hdr", &e) == 0)
-				ps_pic_free(&pic);
+			if (ps_picture_read_mem(&pic, data, n, "flip.hdr", &e) == 0)
+				ps_picture_free(&pic);
 			else
 				assert_true(e.msg[0] != '\0');
 			data[i] ^= (uint8_t)(1 << bit);
@@ -265,8 +265,8 @@ static void hostile_headers(void **state)
 	for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
 		struct ps_picture pic;
 		struct ps_err e;
-		assert_int_equal(ps_pic_read_mem(&pic, (const uint8_t *)cases[k].text,
-		                                 strlen(cases[k].text), "h.hdr", &e), -1);
+		assert_int_equal(ps_picture_read_mem(&pic, (const uint8_t *)cases[k].text,
+		                                     strlen(cases[k].text), "h.hdr", &e), -1);
 		if (!strstr(e.msg, cases[k].want))
 			fail_msg("case %zu: '%s' lacks '%s'", k, e.msg, cases[k].want);
 	}
@@ -275,7 +275,7 @@ static void hostile_headers(void **state)
 		static const uint8_t nul[] = "#?RADIANCE\nA\0B\n\n-Y 1 +X 1\n";
 		struct ps_picture pic;
 		struct ps_err e;
-		assert_int_equal(ps_pic_read_mem(&pic, nul, sizeof nul - 1, "n.hdr", &e), -1);
+		assert_int_equal(ps_picture_read_mem(&pic, nul, sizeof nul - 1, "n.hdr", &e), -1);
 		assert_non_null(strstr(e.msg, "header line 2"));
 	}
 }
@@ -288,7 +288,7 @@ static void new_style_errors(void **state)
 	(void)state;
 	puts_(&b, "#?RADIANCE\n\n-Y 1 +X 8\n");
 	put4(&b, 2, 2, 0, 9);   /* says 9 pixels, the picture has 8 */
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "n.hdr", &e), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "n.hdr", &e), -1);
 	assert_non_null(strstr(e.msg, "says 9 pixels"));
 	b.n -= 4;
 	put4(&b, 2, 2, 0, 8);
@@ -296,14 +296,14 @@ static void new_style_errors(void **state)
 		uint8_t over[] = { 128 + 9, 1 };   /* a run of 9 in a scanline of 8 */
 		put(&b, over, 2);
 	}
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "n.hdr", &e), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "n.hdr", &e), -1);
 	assert_non_null(strstr(e.msg, "run of 9 overruns scanline 0"));
 	b.n -= 2;
 	{
 		uint8_t zero[] = { 0 };
 		put(&b, zero, 1);
 	}
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "n.hdr", &e), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "n.hdr", &e), -1);
 	assert_non_null(strstr(e.msg, "zero-length run"));
 	free(b.p);
 }
@@ -318,11 +318,11 @@ static void xyze_format_and_views(void **state)
 	          "VIEW= -vp 1 2 3\nFORMAT=32-bit_rle_xyze\n"
 	          "PRIMARIES= 0.64 0.33 0.29 0.60 0.15 0.06 0.3333 0.3333\n\n+X 1 +Y 1\n");
 	put4(&b, 1, 2, 3, 140);
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "x.hdr", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "x.hdr", &e), 0);
 	assert_int_equal(pic.format, PS_PIC_XYZE);
 	assert_string_equal(pic.view, "-vta -vh 180 -x 4 -y 4 scene.oct -vp 1 2 3");
 	assert_true(pic.has_primaries && pic.primaries[7] == 0.3333);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	free(b.p);
 }
 

@@ -180,10 +180,10 @@ static void orientations_in_every_encoding(void **state)
 			struct ps_picture pic;
 			struct ps_err e;
 			emit_picture(&b, orientations[k], 10, 13, encs[m]);
-			if (ps_pic_read_mem(&pic, b.p, b.n, orientations[k], &e) != 0)
+			if (ps_picture_read_mem(&pic, b.p, b.n, orientations[k], &e) != 0)
 				fail_msg("%s encoding %d: %s", orientations[k], m, e.msg);
 			check_test_picture(&pic, 10, 13);
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			free(b.p);
 		}
 }
@@ -197,9 +197,9 @@ static void tiny_pictures(void **state)
 			struct ps_picture pic;
 			struct ps_err e;
 			emit_picture(&b, orientations[k], n, n, n == 1 ? all_flat : all_old);
-			assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "tiny", &e), 0);
+			assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "tiny", &e), 0);
 			check_test_picture(&pic, n, n);
-			ps_pic_free(&pic);
+			ps_picture_free(&pic);
 			free(b.p);
 		}
 }
@@ -225,7 +225,7 @@ static void wide_old_style_repeats(void **state)
 		uint8_t q[4] = { (uint8_t)x, (uint8_t)(x >> 8), 3, 130 };
 		put(&b, q, 4);
 	}
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "wide", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "wide", &e), 0);
 	assert_int_equal(pic.width, 40000);
 	assert_int_equal(pic.height, 2);
 	for (int x = 0; x < 40000; x++) {
@@ -233,10 +233,10 @@ static void wide_old_style_repeats(void **state)
 		assert_int_equal(pic.pix[4 * (40000 + x)], x & 255);
 		assert_int_equal(pic.pix[4 * (40000 + x) + 1], x >> 8);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	/* one more pixel's worth of repeat overruns the scanline */
 	b.p[marker - 1] = 0x40;
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "wide", &e), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "wide", &e), -1);
 	assert_non_null(strstr(e.msg, "overruns scanline 0"));
 	free(b.p);
 }
@@ -275,7 +275,7 @@ static void encoding_choice_by_width(void **state)
 		for (int i = 0; i < w * h; i++)
 			rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = (i % 1000) < 500 ? 2.0 : 0.5;
 		close(fd);
-		assert_int_equal(ps_pic_write(path, w, h, rgb, NULL, NULL, &e), 0);
+		assert_int_equal(ps_picture_write(path, w, h, rgb, NULL, NULL, &e), 0);
 		d = slurp(path, &n);
 		snprintf(res, sizeof res, "\n-Y %d +X %d\n", h, w);
 		start = memmem(d, n, res, strlen(res));
@@ -290,15 +290,15 @@ static void encoding_choice_by_width(void **state)
 		} else {
 			assert_int_equal(body, (size_t)w * (size_t)h * 4);   /* flat */
 		}
-		assert_int_equal(ps_pic_read_mem(&pic, d, n, path, &e), 0);
+		assert_int_equal(ps_picture_read_mem(&pic, d, n, path, &e), 0);
 		assert_int_equal(pic.width, w);
 		for (int i = 0; i < w * h; i++) {
 			double v[3];
 			/* 2.0 -> m 128, e 130: 128.5 * 2^-6; 0.5 -> 128.5 * 2^-8 */
-			ps_pic_get(&pic, i % w, i / w, v);
+			ps_picture_get(&pic, i % w, i / w, v);
 			assert_true(v[0] == ((i % 1000) < 500 ? 128.5 / 64 : 128.5 / 256));
 		}
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		free(d);
 		free(rgb);
 		unlink(path);
@@ -315,13 +315,13 @@ static void rgbe_rounding_is_radiance_s(void **state)
 		double in[3] = { v, v * 0.61, v * 0.0031 }, out[3];
 		uint8_t px[4];
 		int big = ilogb(v) + 1;
-		ps_rgbe_encode(in, px);
+		ps_picture_rgbe_encode(in, px);
 		assert_int_equal(px[3], big + 128);
 		for (int c = 0; c < 3; c++) {
 			double m = floor(ldexp(in[c], 8 - big));
 			assert_int_equal(px[c], (int)m);
 		}
-		ps_rgbe_decode(px, out);
+		ps_picture_rgbe_decode(px, out);
 		for (int c = 0; c < 3; c++)
 			assert_true(out[c] == ldexp(px[c] + 0.5, px[3] - 136));
 		/* the largest channel: relative error at most 2^-8 */
@@ -333,21 +333,21 @@ static void rgbe_rounding_is_radiance_s(void **state)
 	{
 		uint8_t px[4];
 		double out[3];
-		ps_rgbe_encode((double[3]){ 0x1p-90, 0x1p-90, 0x1p-90 }, px);
-		ps_rgbe_decode(px, out);
+		ps_picture_rgbe_encode((double[3]){ 0x1p-90, 0x1p-90, 0x1p-90 }, px);
+		ps_picture_rgbe_decode(px, out);
 		assert_true(out[0] == 0x1p-90 * (1 + 0x1p-8));
 	}
 	/* black, tiny, negative and not-a-number encode as 0 0 0 0 */
 	{
 		uint8_t px[4];
-		ps_rgbe_encode((double[3]){ 1e-33, -5, NAN }, px);
+		ps_picture_rgbe_encode((double[3]){ 1e-33, -5, NAN }, px);
 		assert_int_equal(px[0] | px[1] | px[2] | px[3], 0);
 	}
 }
 
 static int read_text(const char *text, struct ps_picture *pic, struct ps_err *e)
 {
-	return ps_pic_read_mem(pic, (const uint8_t *)text, strlen(text), "t.hdr", e);
+	return ps_picture_read_mem(pic, (const uint8_t *)text, strlen(text), "t.hdr", e);
 }
 
 static void header_details(void **state)
@@ -359,23 +359,23 @@ static void header_details(void **state)
 	/* no FORMAT line: rgbe, as Radiance assumes; any "#?" program id; CRLF */
 	assert_int_equal(read_text("#?RGBE\r\nSOFTWARE= x\r\n\r\n-Y 1 +X 1\r\n\x80\x40\x20\x81", &pic, &e), 0);
 	assert_int_equal(pic.format, PS_PIC_RGBE);
-	ps_pic_get(&pic, 0, 0, v);
+	ps_picture_get(&pic, 0, 0, v);
 	assert_true(v[0] == 128.5 / 128 && v[1] == 64.5 / 128 && v[2] == 32.5 / 128);
 	assert_non_null(strstr(pic.header, "SOFTWARE= x"));
 	assert_null(pic.view);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	/* trailing bytes after the last scanline are ignored, as by Radiance */
 	assert_int_equal(read_text("#?RADIANCE\n\n-Y 1 +X 1\n\x80\x40\x20\x81 trailing", &pic, &e), 0);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	/* EXPOSURE with surrounding blanks; several multiply */
 	assert_int_equal(read_text("#?RADIANCE\nEXPOSURE= 0.5 \nEXPOSURE=8\n\n-Y 1 +X 1\n\x80\x80\x80\x81",
 	                           &pic, &e), 0);
-	ps_pic_get(&pic, 0, 0, v);
+	ps_picture_get(&pic, 0, 0, v);
 	assert_true(v[0] == 1.00390625 / 4);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	/* the resolution line as rpict writes it, with padded numbers */
 	assert_int_equal(read_text("#?RADIANCE\n\n-Y      1 +X      1\n\x80\x80\x80\x81", &pic, &e), 0);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 static void header_errors_name_the_line(void **state)
@@ -422,7 +422,7 @@ static void truncation_names_byte_and_scanline(void **state)
 		put(&b, px, 4);
 	}
 	/* cut in the middle of scanline 1's second pixel (bytes hdr+12..hdr+15) */
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, hdr + 14, "cut.hdr", &e), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, hdr + 14, "cut.hdr", &e), -1);
 	{
 		char want[80];
 		snprintf(want, sizeof want, "cut.hdr: byte %zu: file ends inside a pixel of scanline 1",
@@ -462,15 +462,15 @@ static void long_headers(void **state)
 	for (int i = 0; i < 80000; i++)
 		put_str(&b, i % 2 ? "VIEW= -vh 2\n" : "VIEW= -vh 1\n");
 	put_str(&b, "\n-Y 1 +X 1\n\x80\x80\x80\x81");
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "long.hdr", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "long.hdr", &e), 0);
 	assert_int_equal(strlen(pic.view), 80000 * 6 - 1);
 	assert_memory_equal(pic.view, "-vh 1 -vh 2 -vh 1", 17);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	b.n = 11;
 	for (int i = 0; i < 100000; i++)
 		put_str(&b, "SOFTWARE= x\n");
 	put_str(&b, "\n-Y 1 +X 1\n\x80\x80\x80\x81");
-	assert_int_equal(ps_pic_read_mem(&pic, b.p, b.n, "long.hdr", &e), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, b.p, b.n, "long.hdr", &e), -1);
 	assert_non_null(strstr(e.msg, "long.hdr: header line"));
 	assert_non_null(strstr(e.msg, "header longer than 1048576 bytes"));
 	free(b.p);
@@ -488,7 +488,7 @@ static void real_rpict_render(void **state)
 	struct ps_sum sum;
 	(void)state;
 	snprintf(path, sizeof path, "%s/tests/data/picture/day_0318_sensor_256.hdr", top ? top : ".");
-	if (ps_pic_read(&pic, path, &e) != 0)
+	if (ps_picture_read(&pic, path, &e) != 0)
 		fail_msg("%s", e.msg);
 	assert_int_equal(pic.width, 256);
 	assert_int_equal(pic.height, 256);
@@ -505,11 +505,11 @@ static void real_rpict_render(void **state)
 	for (int y = 0; y < pic.height; y++)
 		for (int x = 0; x < pic.width; x++) {
 			double v[3];
-			ps_pic_get(&pic, x, y, v);
+			ps_picture_get(&pic, x, y, v);
 			ps_sum_add(&sum, 0.265 * v[0] + 0.670 * v[1] + 0.065 * v[2]);
 		}
 	assert_true(isfinite(ps_sum_get(&sum)) && ps_sum_get(&sum) > 0.0);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 int main(void)

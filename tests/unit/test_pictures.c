@@ -49,7 +49,7 @@ static void make_picture(struct ps_picture *pic, int w, int h, const uint8_t *pi
 	memcpy(buf, head, hl);
 	for (size_t i = 0; i < n; i += 4)
 		memcpy(buf + hl + i, pixels ? pixels + i : one, 4);
-	assert_int_equal(ps_pic_read_mem(pic, buf, hl + n, "mem", &e), 0);
+	assert_int_equal(ps_picture_read_mem(pic, buf, hl + n, "mem", &e), 0);
 	free(buf);
 }
 
@@ -118,7 +118,7 @@ static void luminance_coefficients(void **state)
 	uint8_t g[4] = { 128, 128, 128, 127 };
 	(void)state;
 	/* Radiance's color.h: CIE_rf .265074126, CIE_gf .670114631, CIE_bf .064811243 */
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	assert_true(fabs(m[1][0] - 0.265074126) < 1e-9);
 	assert_true(fabs(m[1][1] - 0.670114631) < 1e-9);
 	assert_true(fabs(m[1][2] - 0.064811243) < 1e-9);
@@ -132,7 +132,7 @@ static void luminance_coefficients(void **state)
 		assert_true(fabs(rgb[0] - GREY) < 1e-15);
 		assert_true(fabs(PS_LUM_EFFICACY * ps_lum_y(&l, rgb) - 179 * GREY) < 1e-9);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	/* EXPOSURE= is divided out: a picture exposed by 2 holds half the radiance */
 	make_picture(&pic, 1, 1, NULL, g, "EXPOSURE=2\n");
 	ps_lum_init(&l, &pic);
@@ -141,7 +141,7 @@ static void luminance_coefficients(void **state)
 		ps_lum_rgb(&l, &pic, 0, 0, rgb);
 		assert_true(fabs(ps_lum_y(&l, rgb) - GREY / 2) < 1e-15);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 static void luminance_xyze(void **state)
@@ -161,11 +161,11 @@ static void luminance_xyze(void **state)
 	buf[sizeof head] = 128;          /* Y */
 	buf[sizeof head + 1] = 200;      /* Z */
 	buf[sizeof head + 2] = 127;
-	assert_int_equal(ps_pic_read_mem(&pic, buf, sizeof buf, "xyz", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, buf, sizeof buf, "xyz", &e), 0);
 	ps_lum_init(&l, &pic);
 	ps_lum_rgb(&l, &pic, 0, 0, rgb);
 	assert_true(fabs(PS_LUM_EFFICACY * ps_lum_y(&l, rgb) - GREY) < 1e-12);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 /* ---- exposure and curves on a uniform grey picture ---- */
@@ -182,7 +182,7 @@ static uint8_t map_grey(int curve, double exposure, double gamma, double white)
 	ps_tonemap_rgb(&t, rgb, out);
 	assert_int_equal(out[0], out[1]);
 	assert_int_equal(out[1], out[2]);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	return out[0];
 }
 
@@ -222,38 +222,38 @@ static void auto_exposure_is_log_average(void **state)
 	assert_true(fabs(t.exposure - 0.35859922178988324) < 1e-12);
 	ps_tonemap_stats(&pic, &t.lum, &la, &ym);
 	assert_true(fabs(ym - 2.0078125) < 1e-15);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 static void exposure_parsing(void **state)
 {
 	double m = 0;
 	(void)state;
-	assert_int_equal(ps_exposure_parse("auto", &m), 1);
-	assert_int_equal(ps_exposure_parse("2.5", &m), 0);
+	assert_int_equal(ps_tonemap_exposure_parse("auto", &m), 1);
+	assert_int_equal(ps_tonemap_exposure_parse("2.5", &m), 0);
 	assert_true(m == 2.5);
-	assert_int_equal(ps_exposure_parse("+2", &m), 0);
+	assert_int_equal(ps_tonemap_exposure_parse("+2", &m), 0);
 	assert_true(m == 4.0);
-	assert_int_equal(ps_exposure_parse("-1", &m), 0);
+	assert_int_equal(ps_tonemap_exposure_parse("-1", &m), 0);
 	assert_true(m == 0.5);
-	assert_int_equal(ps_exposure_parse("0", &m), -1);
-	assert_int_equal(ps_exposure_parse("nan", &m), -1);
-	assert_int_equal(ps_exposure_parse("2x", &m), -1);
-	assert_int_equal(ps_exposure_parse("+1000", &m), -1);
-	assert_int_equal(ps_tone_parse("reinhard"), PS_TONE_REINHARD);
-	assert_int_equal(ps_tone_parse("log"), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("0", &m), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("nan", &m), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("2x", &m), -1);
+	assert_int_equal(ps_tonemap_exposure_parse("+1000", &m), -1);
+	assert_int_equal(ps_tonemap_parse("reinhard"), PS_TONE_REINHARD);
+	assert_int_equal(ps_tonemap_parse("log"), -1);
 }
 
 static void srgb_encoding(void **state)
 {
 	(void)state;
 	/* IEC 61966-2-1: linear below 0.0031308, 1.055 v^(1/2.4) - 0.055 above */
-	assert_true(fabs(ps_srgb_encode(0.002) - 0.02584) < 1e-12);
-	assert_true(fabs(ps_srgb_encode(0.5) - 0.7353569830524495) < 1e-12);
-	assert_true(ps_srgb_encode(1.0) == 1.0);
-	assert_true(ps_srgb_encode(-1) == 0.0);
-	assert_int_equal(ps_byte(0.5), 128);       /* 127.5 rounds up */
-	assert_int_equal(ps_byte(127.49 / 255), 127);
+	assert_true(fabs(ps_tonemap_srgb_encode(0.002) - 0.02584) < 1e-12);
+	assert_true(fabs(ps_tonemap_srgb_encode(0.5) - 0.7353569830524495) < 1e-12);
+	assert_true(ps_tonemap_srgb_encode(1.0) == 1.0);
+	assert_true(ps_tonemap_srgb_encode(-1) == 0.0);
+	assert_int_equal(ps_tonemap_byte(0.5), 128);       /* 127.5 rounds up */
+	assert_int_equal(ps_tonemap_byte(127.49 / 255), 127);
 }
 
 /* ---- PNG files ---- */
@@ -309,7 +309,7 @@ static void png_of_tone_curves(void **state)
 		assert_int_equal(r.ntext, 1);
 		assert_string_equal(r.text[0][0], "Software");
 		free(r.rgb);
-		ps_pic_free(&pic);
+		ps_picture_free(&pic);
 		unlink(path);
 	}
 }
@@ -350,7 +350,7 @@ static void orientation_standardised(void **state)
 		uint8_t p[4] = { 128, 128, 128, (uint8_t)(127 + k) };
 		memcpy(buf + sizeof head - 1 + 4 * k, p, 4);
 	}
-	assert_int_equal(ps_pic_read_mem(&pic, buf, sizeof buf, "orient", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, buf, sizeof buf, "orient", &e), 0);
 	ps_tonemap_init(&t, &pic, PS_TONE_LINEAR, 1, 0, 0);
 	assert_int_equal(ps_canvas_init(&cv, 3, 2, bg, &e), 0);
 	ps_picdraw_tone(&cv, &pic, &t, 0, 0, 1);
@@ -361,7 +361,7 @@ static void orientation_standardised(void **state)
 		for (int x = 0; x < 3; x++)
 			assert_int_equal(px(&r, x, y)[1], want[y][x]);
 	free(r.rgb);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	unlink(path);
 }
 
@@ -369,21 +369,21 @@ static void orientation_standardised(void **state)
 
 static void falsecolor_scale(void **state)
 {
-	struct ps_fcscale lin = { 2000, 0, 0 }, lg = { 5000, 1, 3 };
+	struct ps_falsecolor_scale lin = { 2000, 0, 0 }, lg = { 5000, 1, 3 };
 	double t[16];
 	uint8_t a[3], b[3];
 	(void)state;
-	assert_true(fabs(ps_fcscale_fraction(&lin, 500) - 0.25) < 1e-15);
-	assert_true(fabs(ps_fcscale_fraction(&lg, 50) - 1.0 / 3) < 1e-12);
-	assert_true(fabs(ps_fcscale_fraction(&lg, 5) - 0.0) < 1e-12);
-	assert_true(ps_fcscale_fraction(&lg, 0) < 0);
-	assert_true(ps_nice_ceil(2456) == 2500);
-	assert_true(ps_nice_ceil(2000) == 2000);
-	assert_true(ps_nice_ceil(0.0123) == 0.015);
-	assert_true(ps_nice_ceil(7.2) == 8);
-	assert_int_equal(ps_fcscale_ticks(&lg, t, 16), 4);
+	assert_true(fabs(ps_falsecolor_scale_fraction(&lin, 500) - 0.25) < 1e-15);
+	assert_true(fabs(ps_falsecolor_scale_fraction(&lg, 50) - 1.0 / 3) < 1e-12);
+	assert_true(fabs(ps_falsecolor_scale_fraction(&lg, 5) - 0.0) < 1e-12);
+	assert_true(ps_falsecolor_scale_fraction(&lg, 0) < 0);
+	assert_true(ps_falsecolor_nice_ceil(2456) == 2500);
+	assert_true(ps_falsecolor_nice_ceil(2000) == 2000);
+	assert_true(ps_falsecolor_nice_ceil(0.0123) == 0.015);
+	assert_true(ps_falsecolor_nice_ceil(7.2) == 8);
+	assert_int_equal(ps_falsecolor_scale_ticks(&lg, t, 16), 4);
 	assert_true(fabs(t[0] - 5) < 1e-9 && fabs(t[3] - 5000) < 1e-9);
-	assert_int_equal(ps_fcscale_ticks(&lin, t, 16), 6);   /* step nice(2000 / 6) = 400: 0 .. 2000 */
+	assert_int_equal(ps_falsecolor_scale_ticks(&lin, t, 16), 6);   /* step nice(2000 / 6) = 400: 0 .. 2000 */
 	assert_true(t[1] == 400 && t[5] == 2000);
 	/* above the scale: white; below: the bottom colour */
 	ps_falsecolor_rgb8(1.0001, a);
@@ -407,8 +407,8 @@ static void falsecolor_png_and_legend(void **state)
 	double lum[6];
 	struct ps_picture pic;
 	struct ps_lum l;
-	struct ps_fcscale s = { 0, 0, 0 };
-	struct ps_legend leg;
+	struct ps_falsecolor_scale s = { 0, 0, 0 };
+	struct ps_falsecolor_legend leg;
 	struct ps_canvas cv;
 	struct ps_err e;
 	struct png_read r;
@@ -426,23 +426,23 @@ static void falsecolor_png_and_legend(void **state)
 	/* largest 179 x 0.25098 x 32 = 1437.6: the scale tops at 1500 */
 	assert_true(fabs(ps_picdraw_max_cdm2(&pic, &l) - lum[5]) < 1e-9);
 	for (int logscale = 0; logscale < 2; logscale++) {
-		s.max = ps_nice_ceil(lum[5]);
+		s.max = ps_falsecolor_nice_ceil(lum[5]);
 		assert_true(s.max == 1500);
 		s.log = logscale;
 		s.decades = 2;
 		assert_int_equal(ps_canvas_init(&cv, 6 * zoom + 120, 300, bg, &e), 0);
 		ps_picdraw_false(&cv, &pic, &l, &s, 0, 0, zoom);
-		ps_legend_layout(&leg, 6 * zoom, 0, 120, 300);
-		ps_legend_draw(&cv, &leg, &s, "cd/m2");
+		ps_falsecolor_legend_layout(&leg, 6 * zoom, 0, 120, 300);
+		ps_falsecolor_legend_draw(&cv, &leg, &s, "cd/m2");
 		assert_int_equal(ps_canvas_save_png(&cv, path, &e), 0);
 		ps_canvas_free(&cv);
 		read_png(path, &r);
 		for (int i = 0; i < 6; i++) {
-			double f = ps_fcscale_fraction(&s, lum[i]);
+			double f = ps_falsecolor_scale_fraction(&s, lum[i]);
 			uint8_t want[3];
 			const uint8_t *got = px(&r, i * zoom + zoom / 2, zoom / 2);
 			const uint8_t *bar;
-			int row = ps_legend_row(&leg, f);
+			int row = ps_falsecolor_legend_row(&leg, f);
 			ps_falsecolor_rgb8(f, want);
 			assert_memory_equal(got, want, 3);
 			/* the bar's row centre is within half a row of f: the palette
@@ -454,7 +454,7 @@ static void falsecolor_png_and_legend(void **state)
 		}
 		free(r.rgb);
 	}
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	unlink(path);
 }
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Re-evaluation without re-weighting (sim/rescan.h) against the direct
+/* Re-evaluation without re-weighting (sim/weights/rescan.h) against the direct
  * exact route (weights built at each rotation): a 256 x 256 picture with a
  * bright window and a sensor whose sensitivity changes with azimuth, cells
  * of 0.25 x 1 degree (what psens -r a:b:s uses for steps of 1 degree).  The
@@ -53,9 +53,9 @@ static void picture(struct ps_picture *pic, int window)
 			p[1] = window ? v * 0.9 : v;
 			p[2] = window ? v * 0.8 : v;
 		}
-	assert_int_equal(ps_pic_write_fp(fp, "mem", N, N, rgb, "-vta -vh 180 -vv 180", NULL, &e), 0);
+	assert_int_equal(ps_picture_write_fp(fp, "mem", N, N, rgb, "-vta -vh 180 -vv 180", NULL, &e), 0);
 	fclose(fp);
-	if (ps_pic_read_mem(pic, (uint8_t *)buf, n, "mem", &e) != 0)
+	if (ps_picture_read_mem(pic, (uint8_t *)buf, n, "mem", &e) != 0)
 		fail_msg("%s", e.msg);
 	free(buf);
 	free(rgb);
@@ -128,7 +128,7 @@ static void scan_against_exact(void **state)
 	assert_int_equal(ps_rescan_scan(&p, &s, 0.1, 1, 3, out, &e), -1);
 	ps_rescan_free(&p);
 	ps_sensor_free(&s);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 static void uniform_cosine_is_pi(void **state)
@@ -147,7 +147,7 @@ static void uniform_cosine_is_pi(void **state)
 		assert_true(fabs(out[k] / (M_PI * 1.00390625) - 1) < BOUND);
 	ps_rescan_free(&p);
 	ps_sensor_free(&s);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 /* The scan's definition, cell by cell: sum over every cell of its energy
@@ -202,7 +202,7 @@ static void scan_equals_its_definition(void **state)
 		ps_sensor_free(&s);
 	}
 	ps_rescan_free(&p);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 int main(void)

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: ISC */
-/* The integration's run kernel (sim/rowsum.c): every instruction set gives
+/* The integration's run kernel (sim/weights/rowsum.c): every instruction set gives
  * the same bits; the sum is as good as a compensated sum of the pixels'
- * own responses (ps_pixel_response); the brightest pixel is the first of
+ * own responses (ps_integrate_pixel_response); the brightest pixel is the first of
  * equals; a mirrored map reads as its full map. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -47,7 +47,7 @@ static void run_on(enum ps_rowsum_kernel k, const uint8_t *px, const double *wt,
                    struct ps_rowsum *out)
 {
 	struct ps_weights w;
-	struct ps_wrun run = { 0, 0, len, 0 };
+	struct ps_weights_run run = { 0, 0, len, 0 };
 	memset(&w, 0, sizeof w);
 	w.w = (double *)wt;
 	w.mirror = mirror;
@@ -74,7 +74,7 @@ static void reference(const uint8_t *px, const double *wt, int len, double *sum,
 		double b;
 		if (px[4 * i + 3] == 0)
 			continue;
-		b = ps_pixel_response(px + 4 * i, wt[i], kc, raws);
+		b = ps_integrate_pixel_response(px + 4 * i, wt[i], kc, raws);
 		ps_sum_add(&s, b);
 		++*n;
 		if (b > *best) {
@@ -136,7 +136,7 @@ static void sum_count_and_brightest_match_the_pixels(void **state)
 		/* the channel sums: kc . raw is the response (plain sums, n eps) */
 		for (int i = 0; i < len; i++)
 			if (px[4 * i + 3])
-				ps_pixel_response(px + 4 * i, wt[i], kc, raws);
+				ps_integrate_pixel_response(px + 4 * i, wt[i], kc, raws);
 		for (int c = 0; c < 3; c++) {
 			assert_true(fabs(r.raw[c] - raws[c]) <= 1e-13 * fabs(raws[c]) + 1e-300);
 			rgb_sum += kc[c] * r.raw[c];
@@ -157,8 +157,8 @@ static void the_sun_does_not_swallow_the_walls(void **state)
 	uint8_t px[4 * LEN], wallpx[4], sunpx[4];
 	double wt[LEN];
 	(void)state;
-	ps_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
-	ps_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
+	ps_picture_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
+	ps_picture_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
 	for (int i = 0; i < LEN; i++)
 		wt[i] = (1 + i % 7) / 3e3;
 	for (int at = 0; at < 8; at++)
@@ -170,9 +170,9 @@ static void the_sun_does_not_swallow_the_walls(void **state)
 			for (int i = 0; i < LEN; i++) {
 				memcpy(px + 4 * i, i == 500 + at ? sunpx : wallpx, 4);
 				if (i == 500 + at)
-					sun = ps_pixel_response(sunpx, wt[i], kc, raws);
+					sun = ps_integrate_pixel_response(sunpx, wt[i], kc, raws);
 				else
-					ps_sum_add(&walls, ps_pixel_response(wallpx, wt[i], kc, raws));
+					ps_sum_add(&walls, ps_integrate_pixel_response(wallpx, wt[i], kc, raws));
 			}
 			run_on((enum ps_rowsum_kernel)kk, px, wt, LEN, 0, &r);
 			/* the sum and its compensation, the sun taken out first
@@ -195,7 +195,7 @@ static void the_brightest_is_the_first_of_equals(void **state)
 	for (int kk = PS_ROWSUM_C; kk <= PS_ROWSUM_AVX2; kk++) {
 		enum ps_rowsum_kernel k = (enum ps_rowsum_kernel)kk;
 		for (int i = 0; i < 12; i++) {
-			ps_rgbe_encode((double[3]){ 1, 1, 1 }, px + 4 * i);
+			ps_picture_rgbe_encode((double[3]){ 1, 1, 1 }, px + 4 * i);
 			wt[i] = 1;
 		}
 		wt[6] = wt[3] = 2;   /* lanes 2 and 3: 3 first */
@@ -210,7 +210,7 @@ static void the_brightest_is_the_first_of_equals(void **state)
 		assert_int_equal(r.n, 0);
 		assert_int_equal(r.best_i, -1);
 		assert_true(ps_sum_get(&r.sum) == 0);
-		ps_rgbe_encode((double[3]){ 5, 5, 5 }, px + 4 * 9);
+		ps_picture_rgbe_encode((double[3]){ 5, 5, 5 }, px + 4 * 9);
 		wt[9] = 0;
 		run_on(k, px, wt, 12, 0, &r);
 		assert_int_equal(r.n, 1);

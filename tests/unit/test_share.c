@@ -52,7 +52,7 @@ static void shares_of_the_example_render(void **state)
 	struct ps_err e;
 	(void)state;
 	snprintf(path, sizeof path, "%s/config/example/ofb/img/day_0318_sensor_256.hdr", top ? top : ".");
-	assert_int_equal(ps_pic_read(&pic, path, &e), 0);
+	assert_int_equal(ps_picture_read(&pic, path, &e), 0);
 	load_view(&pic, &v);
 	snprintf(path, sizeof path, "%s/config/example/ofb/sensors/cosine.sen", top ? top : ".");
 	assert_int_equal(ps_sensor_open(&s, path, &e), 0);
@@ -108,7 +108,7 @@ static void shares_of_the_example_render(void **state)
 	ps_weights_free(&sa);
 	ps_sensor_free(&s);
 	ps_sensor_free(&uni);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 /* Lambert: configuration factor from a differential area at the origin with
@@ -155,7 +155,7 @@ static void cosine_shares_are_configuration_factors(void **state)
 		uint8_t px[4] = { 128, 128, 128, 129 };
 		memcpy(buf + hl + 4 * i, px, 4);
 	}
-	assert_int_equal(ps_pic_read_mem(&pic, buf, hl + (size_t)N * N * 4, "uniform", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, buf, hl + (size_t)N * N * 4, "uniform", &e), 0);
 	free(buf);
 	load_view(&pic, &v);
 	{
@@ -230,7 +230,7 @@ static void cosine_shares_are_configuration_factors(void **state)
 	ps_weights_free(&sa);
 	ps_sensor_free(&cosine);
 	ps_sensor_free(&uni);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 static void zero_response_refused(void **state)
@@ -245,7 +245,7 @@ static void zero_response_refused(void **state)
 	struct ps_err e;
 	(void)state;
 	memcpy(buf, head, strlen(head));
-	assert_int_equal(ps_pic_read_mem(&pic, buf, strlen(head) + 16, "black", &e), 0);
+	assert_int_equal(ps_picture_read_mem(&pic, buf, strlen(head) + 16, "black", &e), 0);
 	ps_view_default_fisheye(&v);
 	assert_int_equal(ps_sensor_builtin(&cosine, PS_SENS_COSINE, &e), 0);
 	assert_int_equal(ps_weights_build(&w, &cosine, 0, &v, 2, 2, PS_W_EXACT, &e), 0);
@@ -253,7 +253,7 @@ static void zero_response_refused(void **state)
 	assert_non_null(strstr(e.msg, "response is 0"));
 	ps_weights_free(&w);
 	ps_sensor_free(&cosine);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 }
 
 int main(void)

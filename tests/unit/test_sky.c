@@ -22,7 +22,7 @@
 #include <cmocka.h>
 
 #include "dcpic.h"
-#include "file.h"
+#include "fileio.h"
 #include "integrate.h"
 #include "patches.h"
 #include "perez.h"
@@ -59,7 +59,7 @@ static char **read_reference(size_t *count, int *nrows, int *ncols)
 	size_t len, n = 0, cap = 32768;
 	struct ps_err e;
 	data_path(path, sizeof path, "tests/data/gendaymtx/test.smx");
-	if (ps_read_file(path, 1 << 24, &data, &len, &e) != 0)
+	if (ps_fileio_read(path, 1 << 24, &data, &len, &e) != 0)
 		fail_msg("%s", e.msg);
 	p = strstr((char *)data, "NROWS=");
 	assert_non_null(p);
@@ -81,9 +81,9 @@ static char **read_reference(size_t *count, int *nrows, int *ncols)
 	return tok;
 }
 
-static void reference_options(struct ps_skyopt *o)
+static void reference_options(struct ps_sky_opt *o)
 {
-	ps_skyopt_default(o);
+	ps_sky_opt_default(o);
 	o->rotation = 90;
 	o->ground[0] = .3;
 	o->ground[1] = .2;
@@ -104,7 +104,7 @@ static void reference_matrix(void **state)
 {
 	struct ps_weather w;
 	struct ps_patches P;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	size_t count, match = 0;
 	int nrows, ncols;
@@ -163,7 +163,7 @@ static void implied_sun_positions(void **state)
 {
 	struct ps_weather w;
 	struct ps_patches P;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	size_t count;
 	int nrows, ncols, steps = 0;
@@ -337,8 +337,8 @@ static void sky_of(struct ps_sky *s, double dir, double dif, double alt_deg, dou
                    int exact_sine)
 {
 	struct ps_sky_in in = { dir, dif, PS_WX_DN_DH, 11.0, 172, alt_deg * DEG, azi_deg * DEG };
-	struct ps_skyopt o;
-	ps_skyopt_default(&o);
+	struct ps_sky_opt o;
+	ps_sky_opt_default(&o);
 	o.exact_sine = exact_sine;
 	ps_sky_init(s, &in, &o);
 }
@@ -628,17 +628,17 @@ static void coefficient_pictures(void **state)
 		assert_int_equal(ps_dcpic_map(&P, &v, n, n, map, &e), 0);
 		assert_int_equal(ps_dcpic_write(fmt, &P, map, n, n, NULL, &e), 0);
 		snprintf(path, sizeof path, "%s/dc_145.hdr", dir);
-		assert_int_equal(ps_pic_read(&pic, path, &e), 0);
+		assert_int_equal(ps_picture_read(&pic, path, &e), 0);
 		assert_int_equal(ps_dcpic_picture(map, n, n, 145, &mem, &e), 0);
 		assert_int_equal(ps_weights_build(&w, &cosine, 0, &v, n, n, PS_W_EXACT, &e), 0);
 		assert_int_equal(ps_integrate(&w, &pic, coef, &a, &e), 0);
 		assert_int_equal(ps_integrate(&w, &mem, coef, &b, &e), 0);
 		assert_true(a.response == b.response && a.response > 0);
-		ps_pic_get(&pic, n / 2, n / 2, rgb);
+		ps_picture_get(&pic, n / 2, n / 2, rgb);
 		assert_true(rgb[0] == 1.0 && rgb[1] == 1.0 && rgb[2] == 1.0);
 		assert_int_equal(ps_dcpic_write("/tmp/no%s", &P, map, n, n, NULL, &e), -1);
-		ps_pic_free(&pic);
-		ps_pic_free(&mem);
+		ps_picture_free(&pic);
+		ps_picture_free(&mem);
 		ps_weights_free(&w);
 		for (int i = 0; i < P.n; i++) {
 			snprintf(path, sizeof path, "%s/dc_%03d.hdr", dir, i);

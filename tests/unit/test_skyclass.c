@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The sky class of a rooftop reading (sim/skyclass.c) against analytic
+/* The sky class of a rooftop reading (sim/sky/skyclass.c) against analytic
  * answers:
  *   - Erbs's diffuse fraction at its knots (1 - 0.09 kt up to 0.22, 0.165
  *     above 0.80) and continuous across both within 0.2 %;
@@ -32,12 +32,12 @@
 static void erbs(void **st)
 {
 	(void)st;
-	assert_true(fabs(ps_erbs_diffuse_fraction(0.1) - 0.991) < 1e-12);
-	assert_true(fabs(ps_erbs_diffuse_fraction(0.9) - 0.165) < 1e-12);
-	assert_true(fabs(ps_erbs_diffuse_fraction(0.22) - ps_erbs_diffuse_fraction(0.2200001)) < 2e-3);
-	assert_true(fabs(ps_erbs_diffuse_fraction(0.80) - 0.165) < 2e-3);
+	assert_true(fabs(ps_skyclass_erbs_diffuse_fraction(0.1) - 0.991) < 1e-12);
+	assert_true(fabs(ps_skyclass_erbs_diffuse_fraction(0.9) - 0.165) < 1e-12);
+	assert_true(fabs(ps_skyclass_erbs_diffuse_fraction(0.22) - ps_skyclass_erbs_diffuse_fraction(0.2200001)) < 2e-3);
+	assert_true(fabs(ps_skyclass_erbs_diffuse_fraction(0.80) - 0.165) < 2e-3);
 	/* at the zenith: (Dh + In) / Dh = 1 / fd */
-	assert_true(fabs(ps_clearness_from_fraction(0.25, 1000.0, 0.0) - 4.0) < 1e-12);
+	assert_true(fabs(ps_skyclass_clearness_from_fraction(0.25, 1000.0, 0.0) - 4.0) < 1e-12);
 }
 
 static void noon(struct ps_site *s, int doy, double *alt, double *hour)
@@ -83,13 +83,13 @@ static double agreement(const char *rel, int *judged, int *far)
 	char path[4096];
 	const char *top = getenv("TOP");
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_err e;
 	int n = 0, same = 0, wide = 0;
 	snprintf(path, sizeof path, "%s/%s", top ? top : ".", rel);
 	if (ps_weather_read(&w, path, 0, &e) != 0)
 		fail_msg("%s", e.msg);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	for (size_t i = 0; i < w.n; i++) {
 		struct ps_sky s;
 		double g;

@@ -12,7 +12,7 @@
 #include <cmocka.h>
 
 #include "cie.h"
-#include "spectral.h"
+#include "filter.h"
 
 /* a filter file from a function of wavelength, every nm from lo to hi */
 static void make_filter(struct ps_filter *f, double lo, double hi, double (*fn)(double))
@@ -29,12 +29,12 @@ static void make_filter(struct ps_filter *f, double lo, double hi, double (*fn)(
 
 static double vbar(double nm)
 {
-	return ps_spectrum_at(ps_cie_v(), nm);
+	return ps_cie_spectrum_at(ps_cie_v(), nm);
 }
 
 static double xbar(double nm)
 {
-	return ps_spectrum_at(ps_cie_cmf(0), nm);
+	return ps_cie_spectrum_at(ps_cie_cmf(0), nm);
 }
 
 static double flat(double nm)
@@ -52,7 +52,7 @@ static double silicon(double nm)
 
 static double shifted(double nm)
 {
-	return ps_spectrum_at(ps_cie_v(), nm - 20.0);
+	return ps_cie_spectrum_at(ps_cie_v(), nm - 20.0);
 }
 
 /* sum over the 1-nm grid lo..hi of f(nm) * g(nm), trapezoid ends */
@@ -60,7 +60,7 @@ static double isum(double lo, double hi, double (*f)(double), const struct ps_sp
 {
 	double s = 0;
 	for (double nm = lo; nm <= hi; nm += 1.0)
-		s += (nm == lo || nm == hi ? 0.5 : 1.0) * f(nm) * (g ? ps_spectrum_at(g, nm) : 1.0);
+		s += (nm == lo || nm == hi ? 0.5 : 1.0) * f(nm) * (g ? ps_cie_spectrum_at(g, nm) : 1.0);
 	return s;
 }
 
@@ -227,12 +227,12 @@ static void tables_are_whole(void **state)
 {
 	(void)state;
 	/* y-bar(555) = 1 = V(555); grids as documented */
-	assert_true(fabs(ps_spectrum_at(ps_cie_cmf(1), 555) - 1.0) < 1e-12);
-	assert_true(fabs(ps_spectrum_at(ps_cie_v(), 555) - 1.0) < 1e-12);
+	assert_true(fabs(ps_cie_spectrum_at(ps_cie_cmf(1), 555) - 1.0) < 1e-12);
+	assert_true(fabs(ps_cie_spectrum_at(ps_cie_v(), 555) - 1.0) < 1e-12);
 	assert_int_equal(ps_cie_cmf(0)->n, 471);
 	assert_true(ps_cie_illuminant("A")->start == 300 && ps_cie_illuminant("A")->step == 1);
 	assert_true(ps_cie_illuminant("HP3")->step == 5);
-	assert_true(fabs(ps_spectrum_at(ps_cie_illuminant("A"), 560) - 100.0) < 1e-12);
+	assert_true(fabs(ps_cie_spectrum_at(ps_cie_illuminant("A"), 560) - 100.0) < 1e-12);
 	assert_null(ps_cie_illuminant("XYZ"));
 	for (int i = 0; ps_cie_illuminant_names[i]; i++)
 		assert_non_null(ps_cie_illuminant(ps_cie_illuminant_names[i]));

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* Decoding fused with integration (sim/stream.h) against decoding the whole
+/* Decoding fused with integration (sim/weights/stream.h) against decoding the whole
  * picture and ps_integrate: the same response, channels, brightest pixel and
  * top-1 % share bit for bit, with 1, 2 and 3 threads, for run-length and flat
  * scanlines, a picture with a sun (the second pass), XYZE, and a picture in
@@ -45,7 +45,7 @@ static uint8_t *make(int w, int h, int sx, int sy, const char *extra, size_t *le
 	if (sx >= 0)
 		for (int c = 0; c < 3; c++)
 			rgb[3 * ((size_t)sy * w + sx) + c] = 1e6;
-	assert_int_equal(ps_pic_write_fp(fp, "mem", w, h, rgb, "-vta -vh 180 -vv 180", extra, &e), 0);
+	assert_int_equal(ps_picture_write_fp(fp, "mem", w, h, rgb, "-vta -vh 180 -vv 180", extra, &e), 0);
 	fclose(fp);
 	free(rgb);
 	*len = n;
@@ -81,17 +81,17 @@ static void routes_with(const uint8_t *data, size_t len, int expect_standard, in
 		assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
 	}
 	ps_view_default_fisheye(&v);
-	if (ps_pic_read_mem(&pic, data, len, "mem", &e) != 0 ||
-	    ps_pic_head_mem(&head, data, len, "mem", &off, &e) != 0)
+	if (ps_picture_read_mem(&pic, data, len, "mem", &e) != 0 ||
+	    ps_picture_head_mem(&head, data, len, "mem", &off, &e) != 0)
 		fail_msg("%s", e.msg);
-	assert_int_equal(ps_pic_is_standard(&head), expect_standard);
+	assert_int_equal(ps_picture_is_standard(&head), expect_standard);
 	assert_null(head.pix);
 	assert_int_equal(ps_weights_build(&w, &s, 25, &v, pic.width, pic.height, PS_W_EXACT, &e), 0);
 	assert_int_equal(ps_integrate(&w, &pic, coef, &want, &e), 0);
 	if (use_narrow)   /* rows without weights exist: they are skipped */
 		assert_true(w.nruns < (size_t)pic.height);
 	for (int nt = 1; nt <= 3; nt++) {
-		if (ps_integrate_mem(&w, &head, data, len, off, "mem", coef, nt, &got, &e) != 0)
+		if (ps_stream_integrate(&w, &head, data, len, off, "mem", coef, nt, &got, &e) != 0)
 			fail_msg("%s", e.msg);
 		assert_true(got.response == want.response);
 		for (int c = 0; c < 3; c++)
@@ -106,8 +106,8 @@ static void routes_with(const uint8_t *data, size_t len, int expect_standard, in
 			assert_true(got.top1_share == want.top1_share);
 	}
 	ps_weights_free(&w);
-	ps_pic_free(&pic);
-	ps_pic_free(&head);
+	ps_picture_free(&pic);
+	ps_picture_free(&head);
 	ps_sensor_free(&s);
 }
 
@@ -164,7 +164,7 @@ static void other_orientation(void **state)
 	both_routes(buf, sizeof buf, 0);
 }
 
-/* Several maps with one decoding (ps_integrate_mem_multi): each map's
+/* Several maps with one decoding (ps_stream_integrate_multi): each map's
  * numbers are ps_integrate's alone bit for bit - a full map, a compact one
  * and a narrow table turned by 25 degrees, whose rows differ - with and
  * without a sun (the second pass), at 1 to 3 threads. */
@@ -187,8 +187,8 @@ static void several_maps_one_decoding(void **state)
 		struct ps_response want[3], got[3];
 		size_t len, off;
 		uint8_t *d = make(64, 64, suns[k][0], suns[k][1], NULL, &len);
-		if (ps_pic_read_mem(&pic, d, len, "mem", &e) != 0 ||
-		    ps_pic_head_mem(&head, d, len, "mem", &off, &e) != 0)
+		if (ps_picture_read_mem(&pic, d, len, "mem", &e) != 0 ||
+		    ps_picture_head_mem(&head, d, len, "mem", &off, &e) != 0)
 			fail_msg("%s", e.msg);
 		assert_int_equal(ps_weights_build(&w[0], &cos, 0, &v, 64, 64, PS_W_EXACT, &e), 0);
 		assert_int_equal(ps_weights_build_ex(&w[1], &cos, 0, &v, 64, 64, PS_W_EXACT,
@@ -200,7 +200,7 @@ static void several_maps_one_decoding(void **state)
 		if (k == 1)   /* the sun: the second pass runs */
 			assert_false(isnan(want[0].top1_share));
 		for (int nt = 1; nt <= 3; nt++) {
-			if (ps_integrate_mem_multi(ws, 3, &head, d, len, off, "mem", coef, nt, got, &e) != 0)
+			if (ps_stream_integrate_multi(ws, 3, &head, d, len, off, "mem", coef, nt, got, &e) != 0)
 				fail_msg("%s", e.msg);
 			for (int m = 0; m < 3; m++) {
 				assert_true(got[m].response == want[m].response);
@@ -219,8 +219,8 @@ static void several_maps_one_decoding(void **state)
 		assert_true(fabs(got[1].response / got[0].response - 1) <= 1e-14);
 		for (int m = 0; m < 3; m++)
 			ps_weights_free(&w[m]);
-		ps_pic_free(&pic);
-		ps_pic_free(&head);
+		ps_picture_free(&pic);
+		ps_picture_free(&head);
 		free(d);
 	}
 	ps_sensor_free(&cos);
@@ -242,16 +242,16 @@ static void damage_is_named(void **state)
 	assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
 	ps_view_default_fisheye(&v);
 	assert_int_equal(ps_weights_build(&w, &s, 0, &v, 64, 64, PS_W_EXACT, &e), 0);
-	assert_int_equal(ps_pic_head_mem(&head, d, len, "cut.hdr", &off, &e), 0);
+	assert_int_equal(ps_picture_head_mem(&head, d, len, "cut.hdr", &off, &e), 0);
 	/* cut in the middle of the scanlines */
-	assert_int_equal(ps_pic_read_mem(&pic, d, len - len / 3, "cut.hdr", &ref), -1);
+	assert_int_equal(ps_picture_read_mem(&pic, d, len - len / 3, "cut.hdr", &ref), -1);
 	for (int nt = 1; nt <= 3; nt++) {
-		assert_int_equal(ps_integrate_mem(&w, &head, d, len - len / 3, off, "cut.hdr", coef, nt,
-		                                  &r, &e), -1);
-		/* the message ps_pic_read_mem gives: the same byte */
+		assert_int_equal(ps_stream_integrate(&w, &head, d, len - len / 3, off, "cut.hdr", coef, nt,
+		                                     &r, &e), -1);
+		/* the message ps_picture_read_mem gives: the same byte */
 		assert_string_equal(e.msg, ref.msg);
 	}
-	ps_pic_free(&head);
+	ps_picture_free(&head);
 	ps_weights_free(&w);
 	ps_sensor_free(&s);
 	free(d);

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The weight cache (sim/cache.c blobs, sim/wcache.c): a stored map comes
+/* The weight cache (sim/cache.c blobs, sim/weights/wcache.c): a stored map comes
  * back bit for bit; the key is the content (the same table under another
  * file name hits, another rotation misses); a truncated entry, a flipped
  * byte anywhere, or a checksummed payload that is not a map are rebuilt and
@@ -85,7 +85,7 @@ static int get(struct ps_weights *w, const struct ps_sensor *s, double rot, cons
 	int how = -1;
 	ps_view_default_fisheye(&v);
 	memset(warn, 0, sizeof *warn);
-	if (ps_weights_get(w, s, rot, &v, N, N, PS_W_EXACT, cdir, max, &how, warn, &e) != 0)
+	if (ps_wcache_get(w, &(struct ps_wcache_key){ s, rot, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ cdir, max }, &how, warn, &e) != 0)
 		fail_msg("%s", e.msg);
 	return how;
 }
@@ -105,7 +105,7 @@ static void entry(const struct ps_sensor *s, double rot, const char *cdir, char 
 	struct ps_view v;
 	char hex[65];
 	ps_view_default_fisheye(&v);
-	ps_weights_cache_key(s, rot, &v, N, N, PS_W_EXACT, hex);
+	ps_wcache_key_hex(&(struct ps_wcache_key){ s, rot, &v, N, N, PS_W_EXACT }, hex);
 	snprintf(path, len, "%s/blobs/%.2s/%s", cdir, hex, hex + 2);
 }
 
@@ -238,7 +238,7 @@ static void checksummed_nonsense_is_not_trusted(void **state)
 	sensor(&s, "a.sen");
 	built(&ref, &s, 0);
 	ps_view_default_fisheye(&v);
-	ps_weights_cache_key(&s, 0, &v, N, N, PS_W_EXACT, hex);
+	ps_wcache_key_hex(&(struct ps_wcache_key){ &s, 0, &v, N, N, PS_W_EXACT }, hex);
 	memset(junk, 0, sizeof junk);
 	{
 		uint32_t version = PS_WEIGHTS_ALGO_VERSION;
@@ -364,8 +364,8 @@ static void concurrent_processes_share_it(void **state)
 					struct ps_view v;
 					struct ps_err e, warn;
 					ps_view_default_fisheye(&v);
-					if (ps_weights_get(&w, &s, 10.0 * k, &v, N, N, PS_W_EXACT, c,
-					                   2 * (size_t)st.st_size, &how, &warn, &e) != 0) {
+					if (ps_wcache_get(&w, &(struct ps_wcache_key){ &s, 10.0 * k, &v, N, N, PS_W_EXACT },
+					                  &(struct ps_wcache_dir){ c, 2 * (size_t)st.st_size }, &how, &warn, &e) != 0) {
 						bad = 1;
 						continue;
 					}
@@ -389,8 +389,8 @@ static void concurrent_processes_share_it(void **state)
 	ps_sensor_free(&s);
 }
 
-/* The store by a thread (ps_weights_get_async): the map is usable at
- * once, the entry is there after ps_weights_store_finish and gives the same
+/* The store by a thread (ps_wcache_get_async): the map is usable at
+ * once, the entry is there after ps_wcache_store_finish and gives the same
  * map on the next run; a cache that cannot be written says so at the
  * finish, and the map stays good. */
 static void stored_by_a_thread(void **state)
@@ -399,7 +399,7 @@ static void stored_by_a_thread(void **state)
 	struct ps_weights ref, w, again;
 	struct ps_view v;
 	struct ps_err warn, e;
-	struct ps_wstore *pending;
+	struct ps_wcache_store *pending;
 	char c[128], path[512], plain[128];
 	int how = -1;
 	FILE *fp;
@@ -409,20 +409,20 @@ static void stored_by_a_thread(void **state)
 	built(&ref, &s, 25);
 	ps_view_default_fisheye(&v);
 	memset(&warn, 0, sizeof warn);
-	assert_int_equal(ps_weights_get_async(&w, &s, 25, &v, N, N, PS_W_EXACT, c, 0, &how, &warn,
-	                                      &pending, &e), 0);
+	assert_int_equal(ps_wcache_get_async(&w, &(struct ps_wcache_key){ &s, 25, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ c, 0 }, &how, &warn,
+	                                     &pending, &e), 0);
 	assert_non_null(pending);
 	assert_int_equal(how, PS_WC_STORED);
 	same_map(&w, &ref);   /* usable while the store goes on */
 	how = -1;
-	ps_weights_store_finish(pending, &how, &warn);
+	ps_wcache_store_finish(pending, &how, &warn);
 	assert_int_equal(how, PS_WC_STORED);
 	entry(&s, 25, c, path, sizeof path);
 	assert_int_equal(access(path, F_OK), 0);
 	ps_weights_free(&w);
 	/* the next run finds it: no store under way */
-	assert_int_equal(ps_weights_get_async(&again, &s, 25, &v, N, N, PS_W_EXACT, c, 0, &how,
-	                                      &warn, &pending, &e), 0);
+	assert_int_equal(ps_wcache_get_async(&again, &(struct ps_wcache_key){ &s, 25, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ c, 0 }, &how,
+	                                     &warn, &pending, &e), 0);
 	assert_null(pending);
 	assert_int_equal(how, PS_WC_HIT);
 	same_map(&again, &ref);
@@ -432,10 +432,10 @@ static void stored_by_a_thread(void **state)
 	fp = fopen(plain, "w");
 	assert_non_null(fp);
 	fclose(fp);
-	assert_int_equal(ps_weights_get_async(&w, &s, 25, &v, N, N, PS_W_EXACT, plain, 0, &how,
-	                                      &warn, &pending, &e), 0);
+	assert_int_equal(ps_wcache_get_async(&w, &(struct ps_wcache_key){ &s, 25, &v, N, N, PS_W_EXACT }, &(struct ps_wcache_dir){ plain, 0 }, &how,
+	                                     &warn, &pending, &e), 0);
 	if (pending)
-		ps_weights_store_finish(pending, &how, &warn);
+		ps_wcache_store_finish(pending, &how, &warn);
 	assert_int_equal(how, PS_WC_UNWRITABLE);
 	assert_true(warn.msg[0] != '\0');
 	same_map(&w, &ref);

@@ -246,10 +246,10 @@ static void leap_years(void **state)
 	parse_ok(&w, text, 0);
 	assert_true(w.step[0].sun.alt < w.step[1].sun.alt && w.step[1].sun.alt < w.step[2].sun.alt);
 	{
-		struct ps_skyopt o;
+		struct ps_sky_opt o;
 		struct ps_sky s;
 		struct ps_err e;
-		ps_skyopt_default(&o);
+		ps_sky_opt_default(&o);
 		assert_int_equal(ps_sky_step(&s, &w, 1, &o, &e), 0);
 		assert_true(isfinite(s.dif_lum) && s.dif_lum > 0);
 	}
@@ -285,11 +285,11 @@ static void missing_dew_point(void **state)
 	assert_true(fabs(w.step[5].dew - 7.0) < 1e-12);                 /* (6 + 6 + 9) / 3 */
 	/* the sky of the missing hour is the one with the substituted value */
 	{
-		struct ps_skyopt o;
+		struct ps_sky_opt o;
 		struct ps_sky s, ref;
 		struct ps_sky_in in;
 		struct ps_err e;
-		ps_skyopt_default(&o);
+		ps_sky_opt_default(&o);
 		assert_int_equal(ps_sky_step(&s, &w, 3, &o, &e), 0);
 		in.dir = 500;
 		in.dif = 100;
@@ -321,7 +321,7 @@ static void polar_day_and_night(void **state)
 	char text[4096];
 	size_t n;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	(void)state;
 	n = (size_t)snprintf(text, sizeof text, "place Longyearbyen_NOR\nlatitude 78.22\n"
 	                                        "longitude -15.65\ntime_zone -15\nsite_elevation 28\n"
@@ -331,7 +331,7 @@ static void polar_day_and_night(void **state)
 	for (int h = 0; h < 24; h++)
 		n += (size_t)snprintf(text + n, sizeof text - n, "12 21 %d.5 0 %d\n", h, h == 12 ? 4 : 0);
 	parse_ok(&w, text, 0);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	for (int i = 0; i < 48; i++) {
 		struct ps_sky s;
 		struct ps_err e;

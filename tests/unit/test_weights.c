@@ -323,8 +323,8 @@ static void sun_and_walls_lose_nothing(void **state)
 	pic.width = pic.height = n;
 	pic.exposure[0] = pic.exposure[1] = pic.exposure[2] = 1;
 	pic.pix = malloc((size_t)n * n * 4);
-	ps_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
-	ps_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
+	ps_picture_rgbe_encode((double[3]){ 1e-2, 1e-2, 1e-2 }, wallpx);
+	ps_picture_rgbe_encode((double[3]){ 1e9, 1e9, 1e9 }, sunpx);
 	wall = (wallpx[0] + 0.5) * ldexp(1, wallpx[3] - 136);
 	sun = (sunpx[0] + 0.5) * ldexp(1, sunpx[3] - 136);
 	for (int i = 0; i < n * n; i++)
@@ -340,7 +340,7 @@ static void sun_and_walls_lose_nothing(void **state)
 	assert_true(relerr(r.brightest_share, sun * wsun / r.response) < 1e-12);
 	assert_int_equal(r.brightest_x, 120);
 	assert_int_equal(r.brightest_row, 70);
-	ps_pic_free(&pic);
+	ps_picture_free(&pic);
 	ps_weights_free(&w);
 	ps_sensor_free(&s);
 }
@@ -351,7 +351,7 @@ static void default_coefficients_are_the_primaries_luminance(void **state)
 {
 	double m[3][3];
 	(void)state;
-	ps_rgb_to_xyz_matrix(ps_std_primaries, m);
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 	assert_true(fabs(m[1][0] - PS_RGB_DEFAULT_R) < 5e-9);
 	assert_true(fabs(m[1][1] - PS_RGB_DEFAULT_G) < 5e-9);
 	assert_true(fabs(m[1][2] - PS_RGB_DEFAULT_B) < 5e-9);

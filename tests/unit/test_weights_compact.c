@@ -29,7 +29,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "file.h"
+#include "fileio.h"
 #include "integrate.h"
 #include "picture.h"
 #include "sensor.h"
@@ -47,11 +47,11 @@ static const int sizes[][2] = { { 1, 1 }, { 2, 2 }, { 3, 3 }, { 8, 5 }, { 33, 33
  * row -> run, -1 none). */
 static double weight_at(const struct ps_weights *w, const int *rr, int x, int row)
 {
-	const struct ps_wrun *r;
+	const struct ps_weights_run *r;
 	if (rr[row] < 0)
 		return NAN;
 	r = &w->runs[rr[row]];
-	return x >= r->x0 && x < r->x0 + r->n ? ps_wrun_at(w, r, x - r->x0) : NAN;
+	return x >= r->x0 && x < r->x0 + r->n ? ps_weights_run_at(w, r, x - r->x0) : NAN;
 }
 
 static int *row_runs(const struct ps_weights *w)
@@ -188,15 +188,15 @@ static void uniform_picture_integrates_to_pi(void **state)
 		struct ps_weights full, comp;
 		struct ps_picture pic, head;
 		struct ps_response rf, rc;
-		struct ps_filemap m;
+		struct ps_fileio_map m;
 		size_t off;
 		assert_non_null(rgb);
 		for (size_t i = 0; i < 3 * (size_t)n[k] * (size_t)n[k]; i++)
 			rgb[i] = 1.0;
-		assert_int_equal(ps_pic_write(path, n[k], n[k], rgb,
-		                              "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", NULL, &e), 0);
+		assert_int_equal(ps_picture_write(path, n[k], n[k], rgb,
+		                                  "-vta -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180", NULL, &e), 0);
 		free(rgb);
-		assert_int_equal(ps_pic_read(&pic, path, &e), 0);
+		assert_int_equal(ps_picture_read(&pic, path, &e), 0);
 		assert_int_equal(ps_weights_build(&full, &cosine, 0, &v, n[k], n[k], PS_W_EXACT, &e), 0);
 		assert_int_equal(ps_weights_build_ex(&comp, &cosine, 0, &v, n[k], n[k], PS_W_EXACT,
 		                                     PS_WB_COMPACT, &e), 0);
@@ -206,18 +206,18 @@ static void uniform_picture_integrates_to_pi(void **state)
 		assert_true(fabs(rc.response / rf.response - 1) <= 1e-14);
 		/* the pixels counted: the symmetric ranges may add some of weight 0 */
 		assert_true(rc.npixels >= rf.npixels);
-		assert_int_equal(ps_map_file(path, (size_t)1 << 30, &m, &e), 0);
-		assert_int_equal(ps_pic_head_mem(&head, m.data, m.len, path, &off, &e), 0);
+		assert_int_equal(ps_fileio_map(path, (size_t)1 << 30, &m, &e), 0);
+		assert_int_equal(ps_picture_head_mem(&head, m.data, m.len, path, &off, &e), 0);
 		for (int nt = 1; nt <= 2; nt++) {
 			struct ps_response rs;
-			assert_int_equal(ps_integrate_mem(&comp, &head, m.data, m.len, off, path, coef, nt,
-			                                  &rs, &e), 0);
+			assert_int_equal(ps_stream_integrate(&comp, &head, m.data, m.len, off, path, coef, nt,
+			                                     &rs, &e), 0);
 			/* the streamed route sums in the same order: bit for bit */
 			assert_true(rs.response == rc.response);
 		}
-		ps_pic_free(&head);
-		ps_unmap_file(&m);
-		ps_pic_free(&pic);
+		ps_picture_free(&head);
+		ps_fileio_unmap(&m);
+		ps_picture_free(&pic);
 		ps_weights_free(&full);
 		ps_weights_free(&comp);
 	}
@@ -255,12 +255,12 @@ static void cache_keeps_compact_maps(void **state)
 	assert_non_null(mkdtemp(dir));
 	assert_int_equal(ps_sensor_builtin(&cosine, PS_SENS_COSINE, &e), 0);
 	ps_view_default_fisheye(&v);
-	assert_int_equal(ps_weights_get(&a, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
-	                                &e), 0);
+	assert_int_equal(ps_wcache_get(&a, &(struct ps_wcache_key){ &cosine, 0, &v, 101, 101, PS_W_EXACT }, &(struct ps_wcache_dir){ dir, 0 }, &how,
+	                               &warn, &e), 0);
 	assert_int_equal(how, PS_WC_STORED);
 	assert_int_equal(a.mirror, 1);
-	assert_int_equal(ps_weights_get(&b, &cosine, 0, &v, 101, 101, PS_W_EXACT, dir, 0, &how, &warn,
-	                                &e), 0);
+	assert_int_equal(ps_wcache_get(&b, &(struct ps_wcache_key){ &cosine, 0, &v, 101, 101, PS_W_EXACT }, &(struct ps_wcache_dir){ dir, 0 }, &how,
+	                               &warn, &e), 0);
 	assert_int_equal(how, PS_WC_HIT);
 	assert_int_equal(b.mirror, 1);
 	assert_int_equal(a.nruns, b.nruns);
@@ -281,15 +281,15 @@ static void cache_keeps_compact_maps(void **state)
 		int32_t k;
 		assert_non_null(p);
 		memcpy(p, (const uint8_t *)b.map + 128, len);
-		assert_int_equal(ps_weights_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), 0);
+		assert_int_equal(ps_wcache_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), 0);
 		assert_int_equal(c.mirror, 1);
 		ps_weights_free(&(struct ps_weights){ .runs = c.runs });
 		k = (int32_t)a.nruns;   /* itself */
 		memcpy(p + 64 + (a.nruns - 1) * 16 + 12, &k, 4);
-		assert_int_equal(ps_weights_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
+		assert_int_equal(ps_wcache_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
 		k = (int32_t)a.nruns - 1;   /* the run before: shared too */
 		memcpy(p + 64 + (a.nruns - 1) * 16 + 12, &k, 4);
-		assert_int_equal(ps_weights_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
+		assert_int_equal(ps_wcache_from_payload(&c, p, len, 101, 101, PS_W_EXACT, "p", &e), -1);
 		assert_non_null(strstr(e.msg, "shares"));
 		free(p);
 	}

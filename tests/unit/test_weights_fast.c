@@ -96,7 +96,7 @@ static void cell_pixels_weigh_value_times_solid_angle(void **state)
 		for (size_t k = 0; k < w.nw; k++)
 			wmax = fmax(wmax, fabs(w.w[k]));
 		for (size_t r = 0; r < w.nruns; r++) {
-			const struct ps_wrun *run = &w.runs[r];
+			const struct ps_weights_run *run = &w.runs[r];
 			int jb = n - 1 - run->row;   /* bottom-based */
 			double v0 = ps_fisheye_v(&f, jb), v1 = ps_fisheye_v(&f, jb + 1);
 			if (v0 <= 0 && v1 >= 0)

@@ -33,7 +33,7 @@
 static const double V[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 
 /* an upward exact set, size x size, MF 1, as a row for a cosine */
-static void upward_row(int size, struct ps_dcrow *row)
+static void upward_row(int size, struct ps_dcset_row *row)
 {
 	char dir[] = "/tmp/psyearXXXXXX", pattern[128], cmd[200];
 	struct ps_patches P;
@@ -82,9 +82,9 @@ static char *constant_year(double dir, double dif, int units)
 
 static void same_row_gives_179(void **state)
 {
-	struct ps_dcrow row;
+	struct ps_dcset_row row;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_year y;
 	struct ps_err e;
 	char *text = constant_year(300, 150, 1);
@@ -92,7 +92,7 @@ static void same_row_gives_179(void **state)
 	(void)state;
 	upward_row(16, &row);
 	weather(&w, text);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	assert_int_equal(ps_year_run(&row, V, &row, &w, &o, &y, &e), 0);
 	assert_int_equal(y.steps, 8760);
 	/* direct + diffuse > 0 every hour: no step is dark, night hours
@@ -113,21 +113,21 @@ static void same_row_gives_179(void **state)
 	ps_year_free(&y);
 	ps_weather_free(&w);
 	free(text);
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 }
 
 static void year_of_night(void **state)
 {
-	struct ps_dcrow row;
+	struct ps_dcset_row row;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_year y;
 	struct ps_err e;
 	char *text = constant_year(0, 0, 1);
 	(void)state;
 	upward_row(8, &row);
 	weather(&w, text);
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	assert_int_equal(ps_year_run(&row, V, &row, &w, &o, &y, &e), 0);
 	assert_int_equal(y.n, 0);
 	assert_int_equal(y.dark, 8760);
@@ -139,7 +139,7 @@ static void year_of_night(void **state)
 	ps_year_free(&y);
 	ps_weather_free(&w);
 	free(text);
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 }
 
 /* Overcast hours: an upward cosine under the patch sky sees the diffuse
@@ -150,9 +150,9 @@ static void year_of_night(void **state)
  * at 128 x 128 (so the patches, not the pixels, set it); 1 % is allowed. */
 static void overcast_task_is_diffuse_horizontal(void **state)
 {
-	struct ps_dcrow row, zero;
+	struct ps_dcset_row row, zero;
 	struct ps_weather w;
-	struct ps_skyopt o;
+	struct ps_sky_opt o;
 	struct ps_year y, y2;
 	struct ps_err e;
 	double worst = 0;
@@ -162,7 +162,7 @@ static void overcast_task_is_diffuse_horizontal(void **state)
 	            "weather_data_file_units 3\n"
 	            "3 21 8.5 0 8000\n3 21 12.5 0 20000\n6 21 12.5 0 30000\n12 21 15.5 0 5000\n"
 	            "12 21 23.5 0 0\n");
-	ps_skyopt_default(&o);
+	ps_sky_opt_default(&o);
 	o.ground[0] = o.ground[1] = o.ground[2] = 0;
 	assert_int_equal(ps_year_run(&row, V, &row, &w, &o, &y, &e), 0);
 	assert_int_equal(y.n, 4);
@@ -191,7 +191,7 @@ static void overcast_task_is_diffuse_horizontal(void **state)
 		assert_int_equal(ps_patches_init(&P, 1, &e), 0);
 		assert_int_equal(ps_sky_step(&s, &w, 0, &o, &e), 0);
 		ps_sky_vector(&s, &P, PS_SKY_ALL, sky);
-		assert_true(fabs(y2.h[0].task_lux - 179.0 * ps_dcrow_apply(&zero, V, sky)) <
+		assert_true(fabs(y2.h[0].task_lux - 179.0 * ps_dcset_row_apply(&zero, V, sky)) <
 		            1e-12 * y2.h[0].task_lux);
 		ps_patches_free(&P);
 		free(sky);
@@ -200,7 +200,7 @@ static void overcast_task_is_diffuse_horizontal(void **state)
 	ps_year_free(&y2);
 	ps_year_free(&y);
 	ps_weather_free(&w);
-	ps_dcrow_free(&row);
+	ps_dcset_row_free(&row);
 }
 
 int main(void)

@@ -21,6 +21,7 @@
 #include "conf.h"
 #include "control.h"
 #include "driver.h"
+#include "registry.h"
 #include "results.h"
 #include "time.h"
 
@@ -106,7 +107,7 @@ static int load(const char *path)
 		if ((name = ps_conf_section_is(s, "device")) && ndev < MAX_DEV) {
 			struct dev *d = &devs[ndev++];
 			const char *drv = ps_conf_str(&conf, s, "driver", "");
-			d->d.drv = ps_driver_find(drv);
+			d->d.drv = ps_registry_find(drv);
 			snprintf(d->d.name, sizeof d->d.name, "%s", name);
 			copy_opts(s, d->kv, &d->o, "driver", NULL, NULL);
 			if (!d->d.drv || d->d.drv->open(&d->d, &d->o) != 0) {

@@ -1,0 +1,190 @@
+/* SPDX-License-Identifier: ISC */
+#include "integrate.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rowsum.h"
+#include "sum.h"
+
+/* White is 0.3333, 0.3333 exactly as Radiance's color.h has it (not 1/3): only
+ * then is the Y row psens's default 0.265074126 0.670114631 0.064811243. */
+const double ps_integrate_std_primaries[8] = { 0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 0.3333, 0.3333 };
+
+void ps_integrate_mat3_invert(const double a[3][3], double out[3][3])
+{
+	double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+	             a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+	             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+	out[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) / det;
+	out[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
+	out[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
+	out[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) / det;
+	out[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
+	out[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
+	out[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) / det;
+	out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
+	out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
+}
+
+void ps_integrate_rgb_to_xyz(const double prim[8], double m[3][3])
+{
+	/* columns: XYZ of each primary scaled so that R + G + B = white (Y = 1) */
+	double p[3][3], inv[3][3], wx = prim[6] / prim[7], wz = (1 - prim[6] - prim[7]) / prim[7];
+	double sc[3];
+	for (int k = 0; k < 3; k++) {
+		double x = prim[2 * k], y = prim[2 * k + 1];
+		p[0][k] = x / y;
+		p[1][k] = 1.0;
+		p[2][k] = (1 - x - y) / y;
+	}
+	ps_integrate_mat3_invert((const double(*)[3])p, inv);
+	for (int k = 0; k < 3; k++)
+		sc[k] = inv[k][0] * wx + inv[k][1] * 1.0 + inv[k][2] * wz;
+	for (int i = 0; i < 3; i++)
+		for (int k = 0; k < 3; k++)
+			m[i][k] = p[i][k] * sc[k];
+}
+
+void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3])
+{
+	double to_xyz[3][3], from_xyz[3][3], m[3][3];
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, to_xyz);
+	ps_integrate_mat3_invert((const double(*)[3])to_xyz, from_xyz);
+	if (pic->format == PS_PIC_XYZE) {
+		/* XYZE holds luminance-based values (Y in cd/m2 once EXPOSURE is
+		 * divided out): Radiance's ra_xyze writes EXPOSURE=1/179 on the
+		 * unchanged XYZ of a radiance picture.  Back to radiance: / 179. */
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = from_xyz[i][c] / PS_WHTEFFICACY;
+	} else if (pic->has_primaries) {
+		/* RGB in the picture's own primaries -> XYZ -> standard RGB */
+		double own[3][3];
+		ps_integrate_rgb_to_xyz(pic->primaries, own);
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = from_xyz[i][0] * own[0][c] + from_xyz[i][1] * own[1][c] +
+				          from_xyz[i][2] * own[2][c];
+	} else {
+		for (int i = 0; i < 3; i++)
+			for (int c = 0; c < 3; c++)
+				m[i][c] = i == c;
+	}
+	/* EXPOSURE and COLORCORR act on the stored channels, before any change
+	 * of colour space (Radiance divides them out of the pixel as read) */
+	for (int i = 0; i < 3; i++)
+		for (int c = 0; c < 3; c++)
+			k[i][c] = m[i][c] / pic->exposure[c];
+}
+
+/* Rearrange v so that its k largest values come first (quickselect, O(n)). */
+static void select_largest(double *v, size_t n, size_t k)
+{
+	size_t lo = 0, hi = n;
+	while (hi - lo > 1) {
+		double pivot = v[lo + (hi - lo) / 2];
+		size_t i = lo, j = hi - 1;
+		while (i <= j) {
+			while (v[i] > pivot)
+				i++;
+			while (v[j] < pivot)
+				j--;
+			if (i <= j) {
+				double t = v[i];
+				v[i] = v[j];
+				v[j] = t;
+				i++;
+				if (j == 0)
+					break;
+				j--;
+			}
+		}
+		if (k <= j + 1 && j + 1 > lo)
+			hi = j + 1;
+		else if (k >= i)
+			lo = i;
+		else
+			return;
+	}
+}
+
+double ps_integrate_top1_share(double *contrib, size_t n, double response)
+{
+	size_t top = n / 100 ? n / 100 : 1;
+	struct ps_sum s;
+	select_largest(contrib, n, top);
+	ps_sum_init(&s);
+	for (size_t i = 0; i < top; i++)
+		ps_sum_add(&s, contrib[i]);
+	return ps_sum_get(&s) / response;
+}
+
+int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const double coef[3],
+                 struct ps_response *r, struct ps_err *e)
+{
+	struct ps_sum tot, ch[3];
+	double k[3][3];   /* radiance channel c of the stored pixel -> weighted RGB */
+	double kc[3];     /* stored channels -> response */
+	double best = -1.0, *contrib = NULL;
+	size_t ncontrib = 0;
+	memset(r, 0, sizeof *r);
+	if (pic->width != w->width || pic->height != w->height)
+		return ps_err_set(e, PS_EINVAL, "picture is %d x %d, the weights are for %d x %d", pic->width,
+		                  pic->height, w->width, w->height);
+	ps_integrate_pic_matrix(pic, k);
+	ps_integrate_coef_k(coef, k, kc);
+	/* Each run is summed with compensation in four lanes (rowsum.h) and
+	 * the runs are added with compensation: a 1e9 sun next to 1e-2 walls
+	 * keeps the walls to 1e-12 (test_weights). */
+	ps_sum_init(&tot);
+	for (int c = 0; c < 3; c++)
+		ps_sum_init(&ch[c]);
+	for (size_t ri = 0; ri < w->nruns; ri++) {
+		const struct ps_weights_run *run = &w->runs[ri];
+		const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
+		struct ps_rowsum row;
+		double rc[3];
+		ps_rowsum(px, w, run, kc, &row);
+		ncontrib += row.n;
+		if (row.n && row.best > best) {   /* a lit pixel: best_i >= 0 */
+			best = row.best;
+			r->brightest_x = run->x0 + row.best_i;
+			r->brightest_row = run->row;
+		}
+		ps_sum_merge(&tot, &row.sum);
+		ps_integrate_row_rgb(k, row.raw, rc);
+		for (int c = 0; c < 3; c++)
+			ps_sum_add(&ch[c], rc[c]);
+	}
+	r->response = ps_sum_get(&tot);
+	for (int c = 0; c < 3; c++)
+		r->rgb[c] = ps_sum_get(&ch[c]);
+	r->solid_angle = w->solid_angle;
+	r->npixels = ncontrib;
+	r->top1_share = NAN;
+	if (r->response > 0 && ncontrib > 0)
+		r->brightest_share = best / r->response;
+	/* the brightest 1 % only matters when one pixel already stands out:
+	 * only then a second pass collects every contribution */
+	if (r->response > 0 && ncontrib > 0 && r->brightest_share > 0.001) {
+		size_t n = 0;
+		contrib = malloc(ncontrib * sizeof *contrib);
+		if (!contrib)
+			return ps_err_set(e, PS_ENOMEM, "out of memory");
+		for (size_t ri = 0; ri < w->nruns; ri++) {
+			const struct ps_weights_run *run = &w->runs[ri];
+			const uint8_t *px = pic->pix + 4 * ((size_t)run->row * (size_t)pic->width + (size_t)run->x0);
+			for (int i = 0; i < run->n && n < ncontrib; i++, px += 4) {
+				double raws[3] = { 0, 0, 0 };
+				if (px[3] == 0)
+					continue;
+				contrib[n++] = ps_integrate_pixel_response(px, ps_weights_run_at(w, run, i), kc, raws);
+			}
+		}
+		r->top1_share = ps_integrate_top1_share(contrib, n, r->response);
+	}
+	free(contrib);
+	return 0;
+}
