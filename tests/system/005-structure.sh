@@ -64,11 +64,11 @@ check "every line of structure.py is one of the rules" sh -c "! grep -v -E '^(pr
 # the rules themselves, each on a planted violation beside a case that keeps it
 /usr/bin/python3 "$S" --selftest > "$TMP/self"
 planted() { check "the $1 rule finds $2: $(grep "^$1: " "$TMP/self")" test "$(grep "^$1: " "$TMP/self")" = "$3"; }
-planted prefix "ps_sun_az in sim/sky.c and ps_db_open in daemon/db.c" \
-	"prefix: ps_sun_az in sim/sky.c (not ps_sky_*) | prefix: ps_db_open in daemon/db.c (not psd_db_*)"
+planted prefix "ps_sun_az in sim/sky/sky.c and ps_db_open in daemon/db.c" \
+	"prefix: ps_sun_az in sim/sky/sky.c (not ps_sky_*) | prefix: ps_db_open in daemon/db.c (not psd_db_*)"
 planted basename "b.c twice" "basename: b.c in daemon/b.c sim/b.c"
 planted header "a symbol declared in another header, one missing from its own, a file without one" \
-	"header: ps_sky_sun (sim/sky.c) declared in sim/sun2.h | header: ps_sky_moon not declared in sim/sky.h | header: ps_sun: sim/sun.c has no sim/sun.h"
+	"header: ps_sky_sun (sim/sky/sky.c) declared in sim/sun2.h | header: ps_sky_moon not declared in sim/sky/sky.h | header: ps_sun: sim/sky/sun.c has no sim/sky/sun.h"
 planted unused "a symbol used only in its own file" "unused: ps_a_self (sim/a.c): no other object uses it"
 planted cycle "a round a -> b -> c -> a, not the use of d" "cycle: sim: a b c"
 planted room "a private header in the core and across rooms, psvirt in the core's library" \

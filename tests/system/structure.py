@@ -291,12 +291,12 @@ def selftest():
     """Each rule on a planted violation and a case that keeps it."""
     def show(name, got):
         print(" | ".join(got) if got else name + ": none")
-    show("prefix", list(rule_prefix([("sim/sky.c", "ps_sky_sun"), ("sim/sky.c", "ps_sun_az"),
+    show("prefix", list(rule_prefix([("sim/sky/sky.c", "ps_sky_sun"), ("sim/sky/sky.c", "ps_sun_az"),
                                      ("daemon/report/chart.c", "psd_chart"), ("daemon/db.c", "ps_db_open"),
                                      ("daemon/mqtt/mqtt_off.c", "psd_mqtt_open")], set())))
     show("basename", list(rule_basename({"a": ["sim/a.c"], "b": ["sim/b.c", "daemon/b.c"]})))
-    hs = {"sim/sky.h": "int ps_sky_sun(void);\n/* ps_sun is the sun */", "sim/sun2.h": "double ps_sky_sun(int);"}
-    show("header", list(rule_header([("sim/sky.c", "ps_sky_sun"), ("sim/sky.c", "ps_sky_moon"), ("sim/sun.c", "ps_sun")],
+    hs = {"sim/sky/sky.h": "int ps_sky_sun(void);\n/* ps_sun is the sun */", "sim/sun2.h": "double ps_sky_sun(int);"}
+    show("header", list(rule_header([("sim/sky/sky.c", "ps_sky_sun"), ("sim/sky/sky.c", "ps_sky_moon"), ("sim/sky/sun.c", "ps_sun")],
                                     hs.get, set(), sorted(hs))))
     show("unused", list(rule_unused({"sim/a.c": {"ps_a_used", "ps_a_self", "ps_a_fuzzed"}},
                                     {"sim/a.c": {"ps_a_self"}, "tests/unit/t.o": {"ps_a_used"}}, {"ps_a_fuzzed"})))
