@@ -216,6 +216,24 @@ static void record_consts(struct psd_engine *e, const struct psd_zone *z)
 		log_warnx("%s: %s", e->cf->database, err);
 }
 
+/* The log cannot be opened: before the start is refused, every zone's
+ * outputs to its safe level (the lights may be wherever a crash left
+ * them). */
+static void safe_without_log(struct psd_engine *e, double now, const struct psd_engine *prev)
+{
+	for (size_t i = 0; i < e->cf->nzone; i++) {
+		struct psd_zone *z = &e->zone[i];
+		char why[256];
+		zone_init(e, z, &e->cf->zone[i], now, prev);
+		if (command(e, z, now, z->zc->safe_level, why, sizeof why) != 0)
+			log_errx("zone %s: the log cannot be opened, and the safe level cannot be reached: %s", z->zc->name,
+			         why);
+		else
+			log_errx("zone %s: the log cannot be opened: lights at the safe level %.0f %%", z->zc->name,
+			         100 * z->zc->safe_level);
+	}
+}
+
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
                     const struct psd_engine *prev, char *err, size_t errlen)
 {
@@ -260,11 +278,22 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	}
 	if (open_devices(e, now, err, errlen) != 0)
 		goto bad;
-	if (cf->database && !(e->db = psd_db_open(cf->database, err, errlen)))
+	/* the log: its own thread writes it (dbwriter.h); a simulated clock
+	 * waits for room in the queue rather than drop a sample.  A log that
+	 * cannot be opened refuses the start, after the lights are safe */
+	if (cf->database && (!(e->db = psd_db_open(cf->database, err, errlen)) ||
+	                     !(e->log = psd_dbwriter_open(cf->database, (size_t)cf->log_hold, !clock || clock->simulated,
+	                                                  err, errlen)))) {
+		safe_without_log(e, now, prev);
 		goto bad;
+	}
 	if (e->db) {
 		psd_db_set_batch(e->db, e->db_batch);
 		psd_db_set_epoch(e->db, e->utc0);
+		psd_dbwriter_set_epoch(e->log, e->utc0);
+		/* the control thread's own writes (calibration records, MQTT's
+		 * cursor) wait for a lock only briefly: they fail and are retried */
+		psd_db_set_busy(e->db, 50);
 	}
 	for (size_t i = 0; i < cf->nzone; i++) {
 		zone_init(e, &e->zone[i], &cf->zone[i], now, prev);
@@ -306,6 +335,8 @@ struct psd_config *psd_engine_close(struct psd_engine *e)
 {
 	struct psd_config *cf = e->cf;
 	psd_engine_stop_io(e);
+	psd_dbwriter_close(e->log, 2.0);   /* what is held, written while there is time */
+	e->log = NULL;
 	psd_db_close(e->db);
 	e->db = NULL;
 	for (size_t i = 0; cf && i < cf->ndev; i++)
@@ -325,6 +356,8 @@ void psd_engine_set_epoch(struct psd_engine *e, double epoch0)
 	e->utc0 = epoch0;   /* the one clock date: samples.utc and every dated row */
 	if (e->db)
 		psd_db_set_epoch(e->db, epoch0);
+	if (e->log)
+		psd_dbwriter_set_epoch(e->log, epoch0);
 }
 
 void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n)
@@ -332,12 +365,17 @@ void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n)
 	psd_clock_stamp(e->utc0, t, out, n);
 }
 
-/* An event in the database's events table (a record: a failure is logged once). */
+/* An event in the database's events table, through the writer (which
+ * reports its failures). */
+void psd_engine_event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text)
+{
+	if (e->log)
+		psd_dbwriter_event(e->log, now, zone, kind, text);
+}
+
 static void event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text)
 {
-	char err[512];
-	if (e->db && psd_db_event(e->db, now, zone, kind, text, err, sizeof err) != 0 && e->log_errors++ == 0)
-		log_warnx("%s: %s", e->cf->database, err);
+	psd_engine_event(e, now, zone, kind, text);
 }
 
 static struct ps_dev *dev_of(struct psd_engine *e, int point)
@@ -615,7 +653,6 @@ static const char *ratio_name(const struct psd_engine *e, const struct psd_zone 
 
 static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 {
-	char err[512];
 	int fault = z->in_fault;
 	/* the step's own estimate (snapshot): none when the control did not run */
 	double dl = z->ctl.daylight_ratio * z->last.daylight_v / z->ctl.sensor_gain;
@@ -627,15 +664,11 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		ratio_name(e, z), z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, e->utc0 + now, NULL,   /* utc: the clock's; local from it (db.c) */
 	};
-	if (!e->db)
+	if (!e->log)
 		return;
-	if (psd_db_add(e->db, &s, err, sizeof err) != 0) {
-		/* the log is a record, not the control: say so and go on */
-		if (e->log_errors++ == 0)
-			log_warnx("%s: %s", e->cf->database, err);
-		return;
-	}
-	e->logged = e->logged_base + psd_db_committed(e->db);
+	/* queued: the writer thread writes it and reports its faults */
+	psd_dbwriter_sample(e->log, &s);
+	e->logged = e->logged_base + psd_dbwriter_committed(e->log);
 }
 
 int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t)
@@ -917,11 +950,12 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 			log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
 			         100 * z->zc->safe_level);
 	}
-	if (e->db) {
-		char dberr[512];
-		if (psd_db_commit(e->db, dberr, sizeof dberr) != 0)
-			log_warnx("%s: %s", e->cf->database, dberr);
-		e->logged = e->logged_base + psd_db_committed(e->db);
+	if (e->log) {
+		/* what is queued, written: a simulated day waits for it; real
+		 * time at most 2 s (a locked log: psd_engine_close tries again) */
+		if (psd_dbwriter_sync(e->log, e->db_batch > 1 ? 30 : 2) != 0)
+			log_warnx("%s: samples still held in memory: the log is not written yet", e->cf->database);
+		e->logged = e->logged_base + psd_dbwriter_committed(e->log);
 	}
 	return failed;
 }

@@ -119,11 +119,7 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	if (cf->mqtt.enabled != (d->mqtt != NULL))
 		log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
 	log_info("reloaded %s", d->config_path);
-	if (d->engine.db) {   /* dated: the engine kept the clock's utc0 */
-		char dberr[512];
-		if (psd_db_event(d->engine.db, now, NULL, "reload", d->config_path, dberr, sizeof dberr) != 0)
-			log_warnx("%s", dberr);
-	}
+	psd_engine_event(&d->engine, now, NULL, "reload", d->config_path);   /* dated: the engine kept utc0 */
 	sd_notify(0, "READY=1");
 	return 0;
 keep:
