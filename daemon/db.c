@@ -388,6 +388,16 @@ static int check_file(const char *path, char *err, size_t errlen)
 	return 0;
 }
 
+static long long app_id(struct psd_db *db)
+{
+	sqlite3_stmt *q;
+	long long app = -1;
+	if (sqlite3_prepare_v2(db->h, "PRAGMA application_id", -1, &q, NULL) == SQLITE_OK && sqlite3_step(q) == SQLITE_ROW)
+		app = sqlite3_column_int64(q, 0);
+	sqlite3_finalize(q);
+	return app;
+}
+
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 {
 	int lockfd;
@@ -404,8 +414,9 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 	db->lockfd = lockfd;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
+	/* marked once (a write: not at every start, which a held lock would stop) */
 	snprintf(sql, sizeof sql, "PRAGMA application_id = %d", PSD_DB_APP_ID);
-	if (sqlite3_exec(db->h, sql, NULL, NULL, NULL) != SQLITE_OK) {
+	if (app_id(db) != PSD_DB_APP_ID && sqlite3_exec(db->h, sql, NULL, NULL, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
 	}
