@@ -321,6 +321,8 @@ static int lock_writer(const char *path, char *err, size_t errlen)
 		         (long)holder, lock);
 	else if (errno == EWOULDBLOCK)
 		psd_errf(err, errlen, "%s is in use: another process holds %s: one daemon per database", path, lock);
+	else if (errno == ENOSPC || errno == EDQUOT)
+		psd_errf(err, errlen, "%s: disk full (%s)", lock, strerror(errno));
 	else
 		psd_errf(err, errlen, "%s: %s", lock, strerror(errno));
 	return -2;
