@@ -17,7 +17,9 @@ enum { BATCH = 256, ZONE = 48, WORD = 40, TEXT = 256 };
 static const double BACKOFF_MIN = 0.05, BACKOFF_MAX = 5;   /* s between attempts */
 static const double REPEAT = 60;                           /* s between reminders of a fault */
 
-/* One queued row: a sample, or an event (its kind in word). */
+/* One queued row: a sample, an event (its kind in word), or an MQTT
+ * cursor (its site in zone, the sample id in s.t). */
+enum { SAMPLE, EVENT, CURSOR };
 struct entry {
 	int event;
 	int has_zone;
@@ -86,7 +88,7 @@ void psd_dbwriter_sample(struct psd_dbwriter *w, const struct psd_sample *s)
 	struct entry *e;
 	pthread_mutex_lock(&w->mu);
 	e = slot(w);
-	e->event = 0;
+	e->event = SAMPLE;
 	e->s = *s;
 	e->has_zone = s->zone != NULL;
 	e->has_cond = s->condition != NULL;
@@ -105,13 +107,26 @@ void psd_dbwriter_event(struct psd_dbwriter *w, double t, const char *zone, cons
 	pthread_mutex_lock(&w->mu);
 	e = slot(w);
 	memset(e, 0, sizeof *e);
-	e->event = 1;
+	e->event = EVENT;
 	e->s.t = t;
 	e->has_zone = zone != NULL;
 	e->has_fault = text != NULL;
 	copy(e->zone, sizeof e->zone, zone);
 	copy(e->word, sizeof e->word, kind);
 	copy(e->text, sizeof e->text, text);
+	pthread_cond_signal(&w->work);
+	pthread_mutex_unlock(&w->mu);
+}
+
+void psd_dbwriter_cursor(struct psd_dbwriter *w, const char *site, long long id)
+{
+	struct entry *e;
+	pthread_mutex_lock(&w->mu);
+	e = slot(w);
+	memset(e, 0, sizeof *e);
+	e->event = CURSOR;
+	e->s.t = (double)id;   /* exact below 2^53 */
+	copy(e->zone, sizeof e->zone, site);
 	pthread_cond_signal(&w->work);
 	pthread_mutex_unlock(&w->mu);
 }
@@ -129,7 +144,9 @@ static long write_batch(struct psd_dbwriter *w, struct entry *b, size_t n, doubl
 	for (size_t i = 0; i < n; i++) {
 		struct entry *e = &b[i];
 		int rc;
-		if (e->event) {
+		if (e->event == CURSOR) {
+			rc = psd_db_mqtt_set_cursor(w->db, e->zone, (long long)e->s.t, err, sizeof err);
+		} else if (e->event == EVENT) {
 			rc = psd_db_event(w->db, e->s.t, e->has_zone ? e->zone : NULL, e->word,
 			                  e->has_fault ? e->text : NULL, err, sizeof err);
 		} else {

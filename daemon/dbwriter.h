@@ -51,6 +51,9 @@ void psd_dbwriter_set_epoch(struct psd_dbwriter *w, double epoch0);
 void psd_dbwriter_sample(struct psd_dbwriter *w, const struct psd_sample *s);
 /* Queue an event (db.h psd_db_event). */
 void psd_dbwriter_event(struct psd_dbwriter *w, double t, const char *zone, const char *kind, const char *text);
+/* Queue MQTT's cursor for a site (db.h psd_db_mqtt_set_cursor): it is
+ * written in order with the samples, and a failed write keeps it queued. */
+void psd_dbwriter_cursor(struct psd_dbwriter *w, const char *site, long long id);
 /* Samples committed so far. */
 unsigned long psd_dbwriter_committed(struct psd_dbwriter *w);
 void psd_dbwriter_stats(struct psd_dbwriter *w, struct psd_dbwriter_stats *st);

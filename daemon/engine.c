@@ -281,9 +281,17 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	/* the log: its own thread writes it (dbwriter.h); a simulated clock
 	 * waits for room in the queue rather than drop a sample.  A log that
 	 * cannot be opened refuses the start, after the lights are safe */
+	/* a reload on the same database keeps the writer and what it holds
+	 * (reload.c leaves it open), so the reload waits for no lock */
+	if (cf->database && prev && prev->log && prev->cf && prev->cf->database &&
+	    strcmp(prev->cf->database, cf->database) == 0) {
+		e->log = prev->log;
+		e->log_borrowed = 1;
+		e->logged_base = prev->logged_base;   /* the writer counts on from where it was */
+	}
 	if (cf->database && (!(e->db = psd_db_open(cf->database, err, errlen)) ||
-	                     !(e->log = psd_dbwriter_open(cf->database, (size_t)cf->log_hold, !clock || clock->simulated,
-	                                                  err, errlen)))) {
+	                     (!e->log && !(e->log = psd_dbwriter_open(cf->database, (size_t)cf->log_hold,
+	                                                              !clock || clock->simulated, err, errlen))))) {
 		safe_without_log(e, now, prev);
 		goto bad;
 	}
@@ -325,6 +333,7 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 		if (command(e, &e->zone[i], now, e->zone[i].level, why, sizeof why) != 0)
 			log_warnx("zone %s: %s", e->zone[i].zc->name, why);
 	}
+	e->log_borrowed = 0;   /* the writer is this engine's now */
 	return 0;
 bad:
 	psd_engine_close(e);
@@ -335,7 +344,8 @@ struct psd_config *psd_engine_close(struct psd_engine *e)
 {
 	struct psd_config *cf = e->cf;
 	psd_engine_stop_io(e);
-	psd_dbwriter_close(e->log, 2.0);   /* what is held, written while there is time */
+	if (!e->log_borrowed)   /* what is held, written while there is time */
+		psd_dbwriter_close(e->log, 2.0);
 	e->log = NULL;
 	psd_db_close(e->db);
 	e->db = NULL;

@@ -95,6 +95,7 @@ struct psd_engine {
 	int doy;                  /* and day of the year, for a rooftop sensor's sun */
 	struct psd_db *db;        /* the control thread's connection: reads, calibration records */
 	struct psd_dbwriter *log; /* the samples' and events' writer thread (dbwriter.h) */
+	int log_borrowed;         /* log is prev's (a reload) until the open succeeds */
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */
 	unsigned long logged_base;/* committed by the engines this one replaced */

@@ -94,6 +94,7 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 	/* devices can be opened once (a claimed USB interface, a GPIO line):
 	 * close the running ones, try the new, and reopen the old on failure */
 	*snap = d->engine;
+	d->engine.log = NULL;   /* the log's writer goes on: the new engine takes it (snap has it) */
 	old = psd_engine_close(&d->engine);
 	if (psd_engine_open_io(&d->engine, cf, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 		locate(cf, err, where, sizeof where);
@@ -101,6 +102,7 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 		log_errx("reload: the running configuration stays");
 		if (psd_engine_open_io(&d->engine, old, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 			refuse(w, "reload: cannot reopen the running configuration either: %s", err);
+			psd_dbwriter_close(snap->log, 2.0);
 			d->stop = SIGTERM;
 		}
 		psd_config_free(cf);
@@ -110,6 +112,8 @@ int psd_daemon_reload_why(struct psd_daemon *d, struct psd_reload_why *w)
 		sd_notify(0, "READY=1");
 		return -1;
 	}
+	if (snap->log && snap->log != d->engine.log)   /* another database: the old log's writer ends */
+		psd_dbwriter_close(snap->log, 2.0);
 	psd_config_free(old);
 	free(old);
 	free(snap);

@@ -3,7 +3,8 @@
  * locks: samples queued while another process holds the write lock are
  * held, the cause names that process, and they are all written, in order,
  * once it lets go; past the bound the oldest are dropped and counted in
- * the record; a waiting writer (a simulated clock) loses nothing. */
+ * the record; a waiting writer (a simulated clock) loses nothing; events
+ * and MQTT cursors are written in order with the samples. */
 #include <math.h>
 #include <setjmp.h>
 #include <signal.h>
@@ -243,7 +244,10 @@ static void events_in_order_with_samples(void **state)
 	add(w, 1);
 	psd_dbwriter_event(w, 2, "office", "fault", "sensor reads 12 V");
 	psd_dbwriter_event(w, 3, NULL, "start", NULL);
+	psd_dbwriter_cursor(w, "site1", 1);
+	psd_dbwriter_cursor(w, "site1", 9007199254740991LL);   /* 2^53 - 1: exact */
 	psd_dbwriter_close(w, 5);
+	assert_int_equal(scalar("SELECT sample FROM mqtt_cursor WHERE site = 'site1'"), 9007199254740991LL);
 	assert_int_equal(scalar("SELECT count(*) FROM events WHERE kind = 'fault' AND zone = 'office' AND"
 	                        " text = 'sensor reads 12 V' AND utc = 1700000002"), 1);
 	assert_int_equal(scalar("SELECT count(*) FROM events WHERE kind = 'start' AND zone IS NULL AND text IS NULL"), 1);
