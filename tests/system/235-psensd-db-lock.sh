@@ -9,7 +9,8 @@
 # taken during the lock is in the log (no step of two periods between
 # consecutive samples) and `logged` moves on.  Then with
 # log_hold = 16 the oldest held samples are dropped past the bound and the
-# count is in status and in the record (an event "log gap").
+# count is in status and in the record (an event "log gap").  Last, a start
+# while the lock is held runs with its log degraded until the lock goes.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 PY=/usr/bin/python3
@@ -109,4 +110,21 @@ check "the record has the gap and its count" \
 	test "$(sqlite3 "$DB" "SELECT count(*) FROM events WHERE kind = 'log gap' AND text LIKE '$dropped samples dropped%'")" = 1
 gap=$(max_gap)
 check "the rows show the gap ($gap s of clock)" awk -v g="$gap" -v d="$dropped" 'BEGIN { exit !(g >= 60 * d) }'
+
+# a start under the lock: the file opens (no write is needed), the log is
+# degraded from the first sample and written once the lock goes
+DB="$TMP/state/lock.db"
+conf lock.db ""
+: > "$TMP/err"
+hold 5
+(cd "$TMP" && exec "$BINA/psensd" -f psensd.conf -t 08:00 -x 600 >> out 2>> err) &
+PID=$!; track_pid $PID
+wait_for 20 ctl ping > /dev/null
+check "a start under the lock runs" ctl ping
+wait_for 5 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"degraded\"'"
+check "... with its log degraded, naming the holder" sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q 'locked by pid $LOCKER'"
+wait "$LOCKER"
+wait_for 15 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"ok\"'"
+check "... and written once the lock goes" test "$(field "d['log']['state']") $(field "d['log']['dropped']")" = "ok 0"
+kill -TERM "$PID"; wait "$PID"
 done_testing
