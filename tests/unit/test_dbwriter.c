@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: ISC */
 /* The sample log's writer thread (daemon/dbwriter.c) against real SQLite
- * locks: samples queued while another process holds the write lock are
- * held, the cause names that process, and they are all written, in order,
- * once it lets go; past the bound the oldest are dropped and counted in
- * the record; a waiting writer (a simulated clock) loses nothing; events
- * and MQTT cursors are written in order with the samples. */
+ * locks (python3's sqlite3 in a child): samples queued while another
+ * process holds the write lock are held, the cause names that process,
+ * and they are all written, in order, once it lets go; past the bound the
+ * oldest are dropped and counted in the record; a waiting writer (a
+ * simulated clock) loses nothing; events and MQTT cursors are written in
+ * order with the samples. */
 #include <math.h>
 #include <setjmp.h>
 #include <signal.h>
@@ -85,10 +86,17 @@ static void sleep_ms(int ms)
 	nanosleep(&ts, NULL);
 }
 
-/* Another process holding BEGIN IMMEDIATE until it is told to stop (a
- * byte on its pipe); returns its pid once the lock is taken. */
+/* Another process (python3's sqlite3) holding BEGIN IMMEDIATE until it is
+ * told to stop (a byte on its stdin); returns its pid once the lock is
+ * taken. */
 static pid_t hold_lock(int *stop_fd)
 {
+	static const char script[] = "import sqlite3, sys\n"
+	                             "c = sqlite3.connect(sys.argv[1], isolation_level=None)\n"
+	                             "c.execute('BEGIN IMMEDIATE')\n"
+	                             "sys.stdout.write('r'); sys.stdout.flush()\n"
+	                             "sys.stdin.read(1)\n"
+	                             "c.execute('COMMIT')\n";
 	int ready[2], stop[2];
 	char c;
 	pid_t pid;
@@ -97,20 +105,17 @@ static pid_t hold_lock(int *stop_fd)
 	pid = fork();
 	assert_true(pid >= 0);
 	if (pid == 0) {
-		sqlite3 *h;
+		dup2(stop[0], 0);
+		dup2(ready[1], 1);
 		close(ready[0]);
 		close(stop[1]);
-		if (sqlite3_open(path, &h) != SQLITE_OK || sqlite3_exec(h, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
-			_exit(1);
-		if (write(ready[1], "r", 1) != 1 || read(stop[0], &c, 1) != 1)
-			_exit(1);
-		sqlite3_exec(h, "COMMIT", NULL, NULL, NULL);
-		sqlite3_close(h);
-		_exit(0);
+		execl("/usr/bin/python3", "python3", "-c", script, path, (char *)NULL);
+		_exit(127);
 	}
 	close(ready[1]);
 	close(stop[0]);
-	assert_int_equal(read(ready[0], &c, 1), 1);
+	if (read(ready[0], &c, 1) != 1)
+		skip();   /* no python3: the lock cannot be held */
 	close(ready[0]);
 	*stop_fd = stop[1];
 	return pid;
