@@ -212,8 +212,10 @@ static void record_consts(struct psd_engine *e, const struct psd_zone *z)
 {
 	char err[512];
 	if (e->db && psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux, z->ctl.delay,
-	                                    err, sizeof err) != 0 && e->log_errors++ == 0)
+	                                    err, sizeof err) != 0) {
+		e->log_errors++;   /* rare (a start, an accepted session): each said */
 		log_warnx("%s: %s", e->cf->database, err);
+	}
 }
 
 /* The log cannot be opened: before the start is refused, every zone's
