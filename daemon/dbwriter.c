@@ -69,10 +69,12 @@ static void copy(char *dst, size_t n, const char *src)
 	snprintf(dst, n, "%s", src ? src : "");
 }
 
-/* Room for one more entry: in real time the oldest goes (counted). */
+/* Room for one more entry: in real time the oldest goes (counted); a
+ * waiting writer waits for room unless the database is failing (a
+ * simulated day must not hang on a corrupt file: it drops and counts). */
 static struct entry *slot(struct psd_dbwriter *w)
 {
-	while (w->wait && w->n == w->cap && !w->stop)
+	while (w->wait && w->n == w->cap && !w->stop && !w->degraded)
 		pthread_cond_wait(&w->room, &w->mu);
 	if (w->n == w->cap) {
 		w->head = (w->head + 1) % w->cap;
@@ -184,6 +186,7 @@ static void failed(struct psd_dbwriter *w, const char *why, int kind)
 	w->n += keep;
 	w->nb = 0;
 	w->errors++;
+	pthread_cond_broadcast(&w->room);   /* a waiting producer drops instead */
 	if (!w->degraded) {
 		w->degraded = 1;
 		w->since = w->told_at = now;

@@ -15,8 +15,9 @@
  * each about 500 bytes: 2 MiB), samples and events together.  Past it, in
  * real time, the oldest entry is dropped and counted: the count goes in
  * the log, in status, and in the record itself (an event "log gap" once
- * the database works again).  A simulated clock instead waits for room:
- * a simulated day has no lights to keep and loses nothing. */
+ * the database works again).  A simulated clock instead waits for room
+ * while the database works: a simulated day has no lights to keep and
+ * loses nothing (a failing database drops and counts, never hangs it). */
 #ifndef PSD_DBWRITER_H
 #define PSD_DBWRITER_H
 

@@ -964,8 +964,11 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 	}
 	if (e->log) {
 		/* what is queued, written: a simulated day waits for it; real
-		 * time at most 2 s (a locked log: psd_engine_close tries again) */
-		if (psd_dbwriter_sync(e->log, e->db_batch > 1 ? 30 : 2) != 0)
+		 * time, or a failing log, at most 2 s (psd_engine_close tries
+		 * again) */
+		struct psd_dbwriter_stats ls;
+		psd_dbwriter_stats(e->log, &ls);
+		if (psd_dbwriter_sync(e->log, e->db_batch > 1 && !ls.degraded ? 30 : 2) != 0)
 			log_warnx("%s: samples still held in memory: the log is not written yet", e->cf->database);
 		e->logged = e->logged_base + psd_dbwriter_committed(e->log);
 	}

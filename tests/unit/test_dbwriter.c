@@ -4,8 +4,9 @@
  * process holds the write lock are held, the cause names that process,
  * and they are all written, in order, once it lets go; past the bound the
  * oldest are dropped and counted in the record; a waiting writer (a
- * simulated clock) loses nothing; events and MQTT cursors are written in
- * order with the samples. */
+ * simulated clock) loses nothing while the database works and drops
+ * (counted) rather than hang while it fails; events and MQTT cursors are
+ * written in order with the samples. */
 #include <math.h>
 #include <setjmp.h>
 #include <signal.h>
@@ -239,6 +240,31 @@ static void waiting_loses_nothing(void **state)
 	assert_int_equal(scalar("SELECT count(*) FROM samples"), 2000);
 }
 
+/* A waiting writer on a failing database drops and counts: a simulated
+ * day on a locked or corrupt file never hangs. */
+static void waiting_drops_when_failing(void **state)
+{
+	char err[256];
+	struct psd_dbwriter *w = psd_dbwriter_open(path, 16, 1, err, sizeof err);
+	struct psd_dbwriter_stats st;
+	int stop;
+	pid_t pid;
+	(void)state;
+	assert_non_null(w);
+	pid = hold_lock(&stop);
+	add(w, 0);
+	wait_degraded(w, &st);
+	for (int i = 1; i < 40; i++)
+		add(w, i);
+	psd_dbwriter_stats(w, &st);
+	assert_int_equal(st.held, 16);
+	assert_int_equal(st.dropped, 24);
+	release_lock(pid, stop);
+	assert_int_equal(psd_dbwriter_sync(w, 10), 0);
+	psd_dbwriter_close(w, 1);
+	assert_int_equal(scalar("SELECT count(*) FROM samples"), 16);
+}
+
 static void events_in_order_with_samples(void **state)
 {
 	char err[256];
@@ -265,6 +291,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(lock_held_then_released, setup, teardown),
 		cmocka_unit_test_setup_teardown(past_the_bound, setup, teardown),
 		cmocka_unit_test_setup_teardown(waiting_loses_nothing, setup, teardown),
+		cmocka_unit_test_setup_teardown(waiting_drops_when_failing, setup, teardown),
 		cmocka_unit_test_setup_teardown(events_in_order_with_samples, setup, teardown),
 	};
 	signal(SIGPIPE, SIG_IGN);
