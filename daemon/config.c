@@ -444,6 +444,7 @@ static int load(struct psd_config *cf, int files)
 	ps_conf_double(c, s, "stuck_after", 0, 0, 86400 * 7, &cf->stuck_after);
 	ps_conf_int(c, s, "max_clients", 32, 1, 1024, &maxc);
 	cf->max_clients = maxc;
+	ps_conf_int(c, s, "log_hold", 4096, 16, 1048576, &cf->log_hold);
 	cf->timezone = ps_conf_str(c, s, "timezone", NULL);
 	if (cf->timezone && !timezone_valid(cf->timezone))
 		ps_conf_error(c, line_of(s, "timezone"), "timezone: '%s' is neither a zone in /usr/share/zoneinfo nor a "

@@ -95,6 +95,7 @@ struct psd_config {
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;
 	long max_clients;
+	long log_hold;             /* samples held in memory while the log cannot be written */
 	/* [simulate] */
 	char date[16];
 	long run_year;            /* the year a run on a set clock is dated (0: the current year) */

@@ -394,6 +394,18 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
 	put_path(o, "config", d->config_path);
 	json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
+	if (e->log) {   /* the sample log's writer (dbwriter.h): ok, or degraded with what it holds */
+		struct psd_dbwriter_stats ls;
+		json_object *lo = json_object_new_object();
+		psd_dbwriter_stats(e->log, &ls);
+		psd_json_str(lo, "state", ls.degraded ? "degraded" : "ok");
+		json_object_object_add(lo, "held", json_object_new_int64((int64_t)ls.held));
+		json_object_object_add(lo, "dropped", json_object_new_int64((int64_t)ls.dropped));
+		json_object_object_add(lo, "errors", json_object_new_int64((int64_t)ls.errors));
+		if (ls.degraded)
+			psd_json_str(lo, "cause", ls.cause);
+		json_object_object_add(o, "log", lo);
+	}
 	psd_json_num(o, "latency_max_s", e->lat_n ? e->lat_max : NAN);
 	psd_json_num(o, "latency_mean_s", e->lat_n ? e->lat_sum / (double)e->lat_n : NAN);
 	psd_json_num(o, "late_max_s", e->late_max);

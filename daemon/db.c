@@ -8,7 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "csv.h"
 #include "errbuf.h"
@@ -97,6 +99,7 @@ static const char sample_columns_v3[] = "t, tod_s, sensor_v, output, est_task_lu
                                         " daylight_lux, condition, ratio, fault, zone, NULL, NULL";
 
 static int has_column(struct psd_db *db, const char *table, const char *column);
+static const char *col_text(sqlite3_stmt *st, int i);
 
 /* 1 when the file's samples have utc */
 static int has_utc(struct psd_db *db)
@@ -112,9 +115,83 @@ static const char *read_columns(struct psd_db *db)
 	return has_utc(db) ? sample_columns_v4 : sample_columns_v3;
 }
 
+/* The process other than this one holding a write lock on file, 0 when
+ * none is seen.  Read from /proc/locks by the file's inode: opening the
+ * file to ask fcntl would drop SQLite's own locks on it at close. */
+static long lock_holder(const char *file)
+{
+	struct stat st;
+	char line[256];
+	long pid = 0;
+	FILE *fp;
+	if (stat(file, &st) != 0 || !(fp = fopen("/proc/locks", "r")))
+		return 0;
+	while (!pid && fgets(line, sizeof line, fp)) {
+		char kind[16], mode[16];
+		unsigned maj, min;
+		unsigned long long ino;
+		long p;
+		/* "1: POSIX  ADVISORY  WRITE 1234 08:01:5678 120 120" ("->" marks a waiter) */
+		if (strstr(line, "->") || sscanf(line, "%*d: %15s %*s %15s %ld %x:%x:%llu", kind, mode, &p, &maj, &min, &ino) != 6)
+			continue;
+		if (strcmp(mode, "WRITE") == 0 && ino == (unsigned long long)st.st_ino && p != (long)getpid() && p > 0)
+			pid = p;
+	}
+	fclose(fp);
+	return pid;
+}
+
+/* The pid of another process holding a write lock on the database file
+ * or its WAL index, 0 when none is seen. */
+static long lock_holder_of(const char *path)
+{
+	char shm[4096];
+	long pid = 0;
+	/* WAL: a writer holds a byte of path-shm; a rollback journal: the file */
+	if ((size_t)snprintf(shm, sizeof shm, "%s-shm", path) < sizeof shm)
+		pid = lock_holder(shm);
+	return pid ? pid : lock_holder(path);
+}
+
+static int cause_of(sqlite3 *h, char *out, size_t n)
+{
+	int rc = h ? sqlite3_extended_errcode(h) : SQLITE_NOMEM, prim = rc & 0xff;
+	int sys = h ? sqlite3_system_errno(h) : 0;
+	const char *msg = h ? sqlite3_errmsg(h) : "out of memory";
+	const char *file = h ? sqlite3_db_filename(h, "main") : NULL;
+	if (prim == SQLITE_FULL || sys == ENOSPC) {
+		snprintf(out, n, "disk full (%s)", msg);
+		return PSD_DB_FULL;
+	}
+	if (prim == SQLITE_BUSY || prim == SQLITE_LOCKED) {
+		long pid = file && *file ? lock_holder_of(file) : 0;
+		if (pid > 0)
+			snprintf(out, n, "locked by pid %ld (%s)", pid, msg);
+		else
+			snprintf(out, n, "locked by another connection (%s)", msg);
+		return PSD_DB_LOCKED;
+	}
+	if (prim == SQLITE_CORRUPT || prim == SQLITE_NOTADB) {
+		snprintf(out, n, "corrupt (%s)", msg);
+		return PSD_DB_CORRUPT;
+	}
+	if (sys && prim != SQLITE_OK && prim != SQLITE_ERROR && prim != SQLITE_MISUSE)
+		snprintf(out, n, "%s (%s)", msg, strerror(sys));
+	else
+		snprintf(out, n, "%s", msg);
+	return PSD_DB_OTHER;
+}
+
 static int fail(sqlite3 *h, const char *what, char *err, size_t errlen)
 {
-	return psd_errbuf(err, errlen, "%s: %s", what, h ? sqlite3_errmsg(h) : "out of memory");
+	char why[400];
+	cause_of(h, why, sizeof why);
+	return psd_errbuf(err, errlen, "%s: %s", what, why);
+}
+
+int psd_db_cause(struct psd_db *db, char *out, size_t n)
+{
+	return cause_of(db ? db->h : NULL, out, n);
 }
 
 int psd_db_schema(struct psd_db *db)
@@ -186,15 +263,17 @@ static int migrate(struct psd_db *db, const char *path, char *err, size_t errlen
 		if (run_step(db->h, steps[v], &msg) != SQLITE_OK ||
 		    sqlite3_exec(db->h, set, NULL, NULL, &msg) != SQLITE_OK ||
 		    sqlite3_exec(db->h, "COMMIT", NULL, NULL, &msg) != SQLITE_OK) {
+			char why[400];
+			cause_of(db->h, why, sizeof why);
 			sqlite3_exec(db->h, "ROLLBACK", NULL, NULL, NULL);
-			psd_errbuf(err, errlen, "%s: schema %d to %d: %s", path, v, v + 1, msg ? msg : "failed");
+			psd_errbuf(err, errlen, "%s: schema %d to %d: %s", path, v, v + 1, why);
 			sqlite3_free(msg);
 			return -1;
 		}
 	}
 	return 0;
 bad:
-	psd_errbuf(err, errlen, "%s: %s", path, msg ? msg : sqlite3_errmsg(db->h));
+	fail(db->h, path, err, errlen);
 	sqlite3_free(msg);
 	return -1;
 }
@@ -244,17 +323,93 @@ static int lock_writer(const char *path, char *err, size_t errlen)
 		         (long)holder, lock);
 	else if (errno == EWOULDBLOCK)
 		psd_errbuf(err, errlen, "%s is in use: another process holds %s: one daemon per database", path, lock);
+	else if (errno == ENOSPC || errno == EDQUOT)
+		psd_errbuf(err, errlen, "%s: disk full (%s)", lock, strerror(errno));
 	else
 		psd_errbuf(err, errlen, "%s: %s", lock, strerror(errno));
 	return -2;
 }
 
+/* A file psensd must not write: a directory, another application's
+ * SQLite file (its own application_id, or tables but no sample log), or
+ * a corrupt one (refused with the commands that set it aside or recover
+ * it: psensd(8)).  0 when the file is absent, empty or psensd's. */
+static int check_file(const char *path, char *err, size_t errlen)
+{
+	struct stat st;
+	struct psd_db *db;
+	sqlite3_stmt *q;
+	char names[200] = "", why[400];
+	size_t len = 0;
+	int ntab = 0, rc, kind;
+	long long app = 0;
+	if (!*path || strcmp(path, ":memory:") == 0 || stat(path, &st) != 0)
+		return 0;
+	if (S_ISDIR(st.st_mode))
+		return psd_errbuf(err, errlen, "%s: is a directory, not a database file", path);
+	if (!S_ISREG(st.st_mode) || st.st_size == 0)
+		return 0;
+	if (!(db = open_db(path, SQLITE_OPEN_READONLY, err, errlen)))
+		return -1;
+	rc = sqlite3_prepare_v2(db->h, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name", -1, &q, NULL);
+	while (rc == SQLITE_OK || rc == SQLITE_ROW) {
+		if ((rc = sqlite3_step(q)) != SQLITE_ROW)
+			break;
+		const char *t = col_text(q, 0);
+		ntab++;
+		if (t && len < sizeof names - 1 && strcmp(t, "meta") != 0)
+			len += (size_t)snprintf(names + len, sizeof names - len, "%s%s", len ? ", " : "", t);
+	}
+	if (rc == SQLITE_DONE) {
+		sqlite3_finalize(q);
+		q = NULL;
+		if (sqlite3_prepare_v2(db->h, "PRAGMA application_id", -1, &q, NULL) == SQLITE_OK &&
+		    sqlite3_step(q) == SQLITE_ROW)
+			app = sqlite3_column_int64(q, 0);
+		rc = SQLITE_DONE;
+	}
+	sqlite3_finalize(q);
+	if (rc != SQLITE_DONE) {
+		kind = cause_of(db->h, why, sizeof why);
+		psd_db_close(db);
+		if (kind == PSD_DB_CORRUPT)
+			return psd_errbuf(err, errlen, "%s: %s: psensd will not write to it; set it aside and start a new "
+			                "log (mv %s %s.corrupt), recovering its rows first if wanted (sqlite3 %s .recover "
+			                "| sqlite3 %s.recovered)", path, why, path, path, path, path);
+		return psd_errbuf(err, errlen, "%s: %s", path, why);
+	}
+	if (app != 0 && app != PSD_DB_APP_ID) {
+		psd_db_close(db);
+		return psd_errbuf(err, errlen, "%s: not a psensd database (application_id %lld): psensd writes only "
+		                "its own files", path, app);
+	}
+	if (ntab > 0 && !has_column(db, "samples", "t") && psd_db_schema(db) <= 0) {
+		psd_db_close(db);
+		return psd_errbuf(err, errlen, "%s: not a psensd database (its tables: %s): psensd writes only its own "
+		                "files", path, names);
+	}
+	psd_db_close(db);
+	return 0;
+}
+
+static long long app_id(struct psd_db *db)
+{
+	sqlite3_stmt *q;
+	long long app = -1;
+	if (sqlite3_prepare_v2(db->h, "PRAGMA application_id", -1, &q, NULL) == SQLITE_OK && sqlite3_step(q) == SQLITE_ROW)
+		app = sqlite3_column_int64(q, 0);
+	sqlite3_finalize(q);
+	return app;
+}
+
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 {
-	int lockfd = lock_writer(path, err, errlen);
+	int lockfd;
 	struct psd_db *db;
 	char sql[256];
-	if (lockfd == -2)
+	if (check_file(path, err, errlen) != 0)
+		return NULL;
+	if ((lockfd = lock_writer(path, err, errlen)) == -2)
 		return NULL;
 	if (!(db = open_db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, err, errlen))) {
 		psd_pidlock_release(lockfd);
@@ -263,6 +418,12 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 	db->lockfd = lockfd;
 	if (migrate(db, path, err, errlen) != 0)
 		goto bad;
+	/* marked once (a write: not at every start, which a held lock would stop) */
+	snprintf(sql, sizeof sql, "PRAGMA application_id = %d", PSD_DB_APP_ID);
+	if (app_id(db) != PSD_DB_APP_ID && sqlite3_exec(db->h, sql, NULL, NULL, NULL) != SQLITE_OK) {
+		fail(db->h, path, err, errlen);
+		goto bad;
+	}
 	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
@@ -272,6 +433,27 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 bad:
 	psd_db_close(db);
 	return NULL;
+}
+
+struct psd_db *psd_db_open_peer(const char *path, char *err, size_t errlen)
+{
+	struct psd_db *db = open_db(path, SQLITE_OPEN_READWRITE, err, errlen);
+	char sql[256];
+	if (!db)
+		return NULL;
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	if (sqlite3_exec(db->h, "PRAGMA synchronous=NORMAL", NULL, NULL, NULL) != SQLITE_OK ||
+	    sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
+		fail(db->h, path, err, errlen);
+		psd_db_close(db);
+		return NULL;
+	}
+	return db;
+}
+
+void psd_db_set_busy(struct psd_db *db, int ms)
+{
+	sqlite3_busy_timeout(db->h, ms);
 }
 
 /* A reader is not migrated, so it checks what it was given: SQLite opens
@@ -513,15 +695,11 @@ void psd_db_set_batch(struct psd_db *db, int batch)
 	db->batch = batch > 0 ? batch : 1;
 }
 
-unsigned long psd_db_committed(const struct psd_db *db)
+int psd_db_insert(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen)
 {
-	return db->committed;
-}
-
-int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen)
-{
-	if (db->pending == 0 && sqlite3_exec(db->h, "BEGIN", NULL, NULL, NULL) != SQLITE_OK)
-		return fail(db->h, "begin", err, errlen);
+	char local[32];
+	double u = isfinite(s->utc) ? s->utc : utc_of(db, s->t, local);
+	int rc;
 	bind_num(db->ins, 1, s->t);
 	bind_num(db->ins, 2, s->tod_s);
 	bind_num(db->ins, 3, s->sensor_v);
@@ -534,20 +712,51 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 	bind_num(db->ins, 10, s->ratio);
 	bind_text(db->ins, 11, s->fault);
 	bind_text(db->ins, 12, s->zone);
-	{
-		char local[32];
-		double u = isfinite(s->utc) ? s->utc : utc_of(db, s->t, local);
-		if (!isfinite(u))   /* no clock date given: the wall clock at logging */
-			u = psd_time_wall();
-		local_time(u, local, sizeof local);
-		bind_num(db->ins, 13, u);   /* the clock's time (engine.c: its day + t) */
-		bind_text(db->ins, 14, or_null(local));
+	if (!isfinite(u)) {   /* no clock date given: the wall clock at logging */
+		u = psd_time_wall();
 	}
-	if (sqlite3_step(db->ins) != SQLITE_DONE) {
-		sqlite3_reset(db->ins);
-		return fail(db->h, "insert", err, errlen);
-	}
+	local_time(u, local, sizeof local);
+	bind_num(db->ins, 13, u);   /* the clock's time (engine.c: its day + t) */
+	bind_text(db->ins, 14, or_null(local));
+	rc = sqlite3_step(db->ins);
 	sqlite3_reset(db->ins);
+	return rc == SQLITE_DONE ? 0 : fail(db->h, "insert", err, errlen);
+}
+
+int psd_db_begin(struct psd_db *db, char *err, size_t errlen)
+{
+	if (sqlite3_exec(db->h, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
+		return fail(db->h, "begin", err, errlen);
+	return 0;
+}
+
+int psd_db_end(struct psd_db *db, int commit, char *err, size_t errlen)
+{
+	if (commit)
+		return sqlite3_exec(db->h, "COMMIT", NULL, NULL, NULL) == SQLITE_OK ? 0 : fail(db->h, "commit", err, errlen);
+	/* a failed statement may have rolled the transaction back already */
+	if (!sqlite3_get_autocommit(db->h))
+		sqlite3_exec(db->h, "ROLLBACK", NULL, NULL, NULL);
+	return 0;
+}
+
+int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen)
+{
+	if (db->pending > 0 && sqlite3_get_autocommit(db->h)) {
+		/* SQLite rolled the open batch back (a full disk, an I/O error) */
+		psd_errbuf(err, errlen, "insert: %d samples of the open transaction were rolled back", db->pending);
+		db->pending = 0;
+		return -1;
+	}
+	if (db->pending == 0 && sqlite3_exec(db->h, "BEGIN", NULL, NULL, NULL) != SQLITE_OK)
+		return fail(db->h, "begin", err, errlen);
+	if (psd_db_insert(db, s, err, errlen) != 0) {
+		if (db->pending == 0)
+			psd_db_end(db, 0, NULL, 0);
+		else if (sqlite3_get_autocommit(db->h))
+			db->pending = 0;
+		return -1;
+	}
 	if (++db->pending >= db->batch)
 		return psd_db_commit(db, err, errlen);
 	return 0;
@@ -555,12 +764,17 @@ int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t 
 
 int psd_db_commit(struct psd_db *db, char *err, size_t errlen)
 {
-	if (db->pending == 0)
+	int n = db->pending;
+	if (n == 0)
 		return 0;
-	if (sqlite3_exec(db->h, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
-		return fail(db->h, "commit", err, errlen);
-	db->committed += (unsigned long)db->pending;
 	db->pending = 0;
+	if (sqlite3_get_autocommit(db->h))
+		return psd_errbuf(err, errlen, "commit: %d samples of the open transaction were rolled back", n);
+	if (psd_db_end(db, 1, err, errlen) != 0) {
+		psd_db_end(db, 0, NULL, 0);
+		return -1;
+	}
+	db->committed += (unsigned long)n;
 	return 0;
 }
 

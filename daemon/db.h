@@ -29,6 +29,11 @@
 
 /* The schema version this build writes. */
 enum { PSD_DB_SCHEMA = 6 };
+/* PRAGMA application_id of a psensd file ("PSND"): a file with another
+ * non-zero id is another application's and is never written. */
+enum { PSD_DB_APP_ID = 0x50534E44 };
+/* What a failure was (psd_db_cause). */
+enum { PSD_DB_OTHER, PSD_DB_FULL, PSD_DB_LOCKED, PSD_DB_CORRUPT };
 
 struct psd_sample {
 	double t;             /* seconds on the daemon's clock */
@@ -55,8 +60,22 @@ struct psd_sample {
 struct psd_db;
 
 /* Open for writing (creating or migrating the schema); ":memory:" for a
- * private in-memory database.  NULL with a message in err. */
+ * private in-memory database.  NULL with a message in err naming the
+ * cause: a directory, another application's SQLite file, a corrupt file
+ * (with the commands that set it aside or recover it), "disk full",
+ * "locked by pid N". */
 struct psd_db *psd_db_open(const char *path, char *err, size_t errlen);
+/* A second connection to a file psd_db_open opened (the log's writer
+ * thread, daemon/dbwriter.h): no lock file, no migration. */
+struct psd_db *psd_db_open_peer(const char *path, char *err, size_t errlen);
+/* How long a statement waits for another connection's lock (ms; 2000 by
+ * default). */
+void psd_db_set_busy(struct psd_db *db, int ms);
+/* The last failure's real cause in out ("disk full (...)", "locked by pid
+ * N (...)", "corrupt (...)", or SQLite's words with the system error):
+ * PSD_DB_FULL, _LOCKED, _CORRUPT or _OTHER. */
+int psd_db_cause(struct psd_db *db, char *out, size_t n);
+
 /* Open an existing database read-only (psensctl export and report); a
  * file that is not psensd's, or newer than this psensd, is an error naming
  * it. */
@@ -107,12 +126,18 @@ int psd_db_accept_results(struct psd_db *db, const char *zone, psd_db_accept_fn 
 
 /* Samples per transaction (default 60; 1 commits every sample at once). */
 void psd_db_set_batch(struct psd_db *db, int batch);
-/* Samples committed so far by this connection: what a SIGKILL cannot take. */
-unsigned long psd_db_committed(const struct psd_db *db);
 /* Queue a sample; every `batch` samples are committed in one transaction. */
 int psd_db_add(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen);
-/* Commit what is queued. */
+/* Commit what is queued.  A batch SQLite rolled back by itself (a full
+ * disk) is an error naming how many samples it held, never committed. */
 int psd_db_commit(struct psd_db *db, char *err, size_t errlen);
+/* The writer thread's own transactions: BEGIN IMMEDIATE, one insert per
+ * sample, then commit (1) or roll back (0); -1 with the cause in err (a
+ * failed commit leaves the transaction to be rolled back: psd_db_cause
+ * first, then psd_db_end(db, 0)). */
+int psd_db_begin(struct psd_db *db, char *err, size_t errlen);
+int psd_db_insert(struct psd_db *db, const struct psd_sample *s, char *err, size_t errlen);
+int psd_db_end(struct psd_db *db, int commit, char *err, size_t errlen);
 /* A zone's samples (and those logged before samples named their zone), in
  * the order they were logged; fn gets each.  -1 with a message in err. */
 typedef void (*psd_db_sample_fn)(void *user, const struct psd_sample *s);

@@ -209,8 +209,28 @@ static void record_consts(struct psd_engine *e, const struct psd_zone *z)
 {
 	char err[512];
 	if (e->db && psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux, z->ctl.delay,
-	                                    err, sizeof err) != 0 && e->log_errors++ == 0)
+	                                    err, sizeof err) != 0) {
+		e->log_errors++;   /* rare (a start, an accepted session): each said */
 		psd_log_warnx("%s: %s", e->cf->database, err);
+	}
+}
+
+/* The log cannot be opened: before the start is refused, every zone's
+ * outputs to its safe level (the lights may be wherever a crash left
+ * them). */
+static void safe_without_log(struct psd_engine *e, double now, const struct psd_engine *prev)
+{
+	for (size_t i = 0; i < e->cf->nzone; i++) {
+		struct psd_zone *z = &e->zone[i];
+		char why[256];
+		zone_init(e, z, &e->cf->zone[i], now, prev);
+		if (command(e, z, now, z->zc->safe_level, why, sizeof why) != 0)
+			psd_log_errx("zone %s: the log cannot be opened, and the safe level cannot be reached: %s", z->zc->name,
+			         why);
+		else
+			psd_log_errx("zone %s: the log cannot be opened: lights at the safe level %.0f %%", z->zc->name,
+			         100 * z->zc->safe_level);
+	}
 }
 
 int psd_engine_open(struct psd_engine *e, struct psd_config *cf, double now, int db_batch,
@@ -257,11 +277,30 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	}
 	if (open_devices(e, now, err, errlen) != 0)
 		goto bad;
-	if (cf->database && !(e->db = psd_db_open(cf->database, err, errlen)))
+	/* the log: its own thread writes it (dbwriter.h); a simulated clock
+	 * waits for room in the queue rather than drop a sample.  A log that
+	 * cannot be opened refuses the start, after the lights are safe */
+	/* a reload on the same database keeps the writer and what it holds
+	 * (reload.c leaves it open), so the reload waits for no lock */
+	if (cf->database && prev && prev->log && prev->cf && prev->cf->database &&
+	    strcmp(prev->cf->database, cf->database) == 0) {
+		e->log = prev->log;
+		e->log_borrowed = 1;
+		e->logged_base = prev->logged_base;   /* the writer counts on from where it was */
+	}
+	if (cf->database && (!(e->db = psd_db_open(cf->database, err, errlen)) ||
+	                     (!e->log && !(e->log = psd_dbwriter_open(cf->database, (size_t)cf->log_hold,
+	                                                              !clock || clock->simulated, err, errlen))))) {
+		safe_without_log(e, now, prev);
 		goto bad;
+	}
 	if (e->db) {
 		psd_db_set_batch(e->db, e->db_batch);
 		psd_db_set_epoch(e->db, e->utc0);
+		psd_dbwriter_set_epoch(e->log, e->utc0);
+		/* the control thread's own writes (calibration records, MQTT's
+		 * cursor) wait for a lock only briefly: they fail and are retried */
+		psd_db_set_busy(e->db, 50);
 	}
 	for (size_t i = 0; i < cf->nzone; i++) {
 		zone_init(e, &e->zone[i], &cf->zone[i], now, prev);
@@ -293,6 +332,7 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 		if (command(e, &e->zone[i], now, e->zone[i].level, why, sizeof why) != 0)
 			psd_log_warnx("zone %s: %s", e->zone[i].zc->name, why);
 	}
+	e->log_borrowed = 0;   /* the writer is this engine's now */
 	return 0;
 bad:
 	psd_engine_close(e);
@@ -303,6 +343,9 @@ struct psd_config *psd_engine_close(struct psd_engine *e)
 {
 	struct psd_config *cf = e->cf;
 	stop_io(e);
+	if (!e->log_borrowed)   /* what is held, written while there is time */
+		psd_dbwriter_close(e->log, 2.0);
+	e->log = NULL;
 	psd_db_close(e->db);
 	e->db = NULL;
 	for (size_t i = 0; cf && i < cf->ndev; i++)
@@ -322,6 +365,8 @@ void psd_engine_set_epoch(struct psd_engine *e, double epoch0)
 	e->utc0 = epoch0;   /* the one clock date: samples.utc and every dated row */
 	if (e->db)
 		psd_db_set_epoch(e->db, epoch0);
+	if (e->log)
+		psd_dbwriter_set_epoch(e->log, epoch0);
 }
 
 void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n)
@@ -329,12 +374,17 @@ void psd_engine_stamp(const struct psd_engine *e, double t, char *out, size_t n)
 	psd_clock_stamp(e->utc0, t, out, n);
 }
 
-/* An event in the database's events table (a record: a failure is logged once). */
+/* An event in the database's events table, through the writer (which
+ * reports its failures). */
+void psd_engine_event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text)
+{
+	if (e->log)
+		psd_dbwriter_event(e->log, now, zone, kind, text);
+}
+
 static void event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text)
 {
-	char err[512];
-	if (e->db && psd_db_event(e->db, now, zone, kind, text, err, sizeof err) != 0 && e->log_errors++ == 0)
-		psd_log_warnx("%s: %s", e->cf->database, err);
+	psd_engine_event(e, now, zone, kind, text);
 }
 
 static struct ps_dev *dev_of(struct psd_engine *e, int point)
@@ -614,7 +664,6 @@ static const char *ratio_name(const struct psd_engine *e, const struct psd_zone 
 
 static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 {
-	char err[512];
 	int fault = z->in_fault;
 	/* the step's own estimate (snapshot): none when the control did not run */
 	double dl = z->ctl.daylight_ratio * z->last.daylight_v / z->ctl.sensor_gain;
@@ -626,15 +675,11 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		ratio_name(e, z), z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, e->utc0 + now, NULL,   /* utc: the clock's; local from it (db.c) */
 	};
-	if (!e->db)
+	if (!e->log)
 		return;
-	if (psd_db_add(e->db, &s, err, sizeof err) != 0) {
-		/* the log is a record, not the control: say so and go on */
-		if (e->log_errors++ == 0)
-			psd_log_warnx("%s: %s", e->cf->database, err);
-		return;
-	}
-	e->logged = e->logged_base + psd_db_committed(e->db);
+	/* queued: the writer thread writes it and reports its faults */
+	psd_dbwriter_sample(e->log, &s);
+	e->logged = e->logged_base + psd_dbwriter_committed(e->log);
 }
 
 int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t)
@@ -916,11 +961,15 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 			psd_log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
 			         100 * z->zc->safe_level);
 	}
-	if (e->db) {
-		char dberr[512];
-		if (psd_db_commit(e->db, dberr, sizeof dberr) != 0)
-			psd_log_warnx("%s: %s", e->cf->database, dberr);
-		e->logged = e->logged_base + psd_db_committed(e->db);
+	if (e->log) {
+		/* what is queued, written: a simulated day waits for it; real
+		 * time, or a failing log, at most 2 s (psd_engine_close tries
+		 * again) */
+		struct psd_dbwriter_stats ls;
+		psd_dbwriter_stats(e->log, &ls);
+		if (psd_dbwriter_sync(e->log, e->db_batch > 1 && !ls.degraded ? 30 : 2) != 0)
+			psd_log_warnx("%s: samples still held in memory: the log is not written yet", e->cf->database);
+		e->logged = e->logged_base + psd_dbwriter_committed(e->log);
 	}
 	return failed;
 }

@@ -14,6 +14,7 @@
 #include "config.h"
 #include "control.h"
 #include "db.h"
+#include "dbwriter.h"
 #include "devio.h"
 #include "driver.h"
 #include "results.h"
@@ -92,7 +93,9 @@ struct psd_engine {
 	int have_zres[PSD_MAX_ZONES];
 	int month;                /* the dated estimate's month (dated.h), 1-12 */
 	int doy;                  /* and day of the year, for a rooftop sensor's sun */
-	struct psd_db *db;
+	struct psd_db *db;        /* the control thread's connection: reads, calibration records */
+	struct psd_dbwriter *log; /* the samples' and events' writer thread (dbwriter.h) */
+	int log_borrowed;         /* log is prev's (a reload) until the open succeeds */
 	int db_batch;             /* samples per transaction (1 in real time) */
 	unsigned long logged;     /* samples committed to the database */
 	unsigned long logged_base;/* committed by the engines this one replaced */
@@ -141,6 +144,8 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why);
  * descriptor (a driver with an fd method: DALI USB, GPIO): INFINITY when
  * all of them are idle, e.g. every frame asked for is on the bus. */
 double psd_engine_io_deadline(const struct psd_engine *e);
+/* An event in the log's events table (through the writer: never waits). */
+void psd_engine_event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text);
 /* Commit the log and close every device.  Returns the config to free (or NULL). */
 struct psd_config *psd_engine_close(struct psd_engine *e);
 

@@ -108,11 +108,10 @@ static void date_run(struct psd_daemon *d, double now)
 	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
 	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
 	psd_log_info("the run starts %s (local time)", is);
-	if (d->engine.db) {
-		char err[512], text[300];
+	{
+		char text[300];
 		snprintf(text, sizeof text, "%s on a %s clock", d->config_path, d->clock.simulated ? "simulated" : "real-time");
-		if (psd_db_event(d->engine.db, now, NULL, "start", text, err, sizeof err) != 0)
-			psd_log_warnx("%s", err);
+		psd_engine_event(&d->engine, now, NULL, "start", text);
 	}
 }
 
@@ -186,6 +185,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		psd_log_info("control socket %s", d->ctl.path);
 	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
+		psd_loop_safe(d, "MQTT cannot start");
 		if (d->have_ctl)
 			psd_ctlsock_close(&d->ctl);
 		d->have_ctl = 0;

@@ -96,6 +96,7 @@ int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 	/* devices can be opened once (a claimed USB interface, a GPIO line):
 	 * close the running ones, try the new, and reopen the old on failure */
 	*snap = d->engine;
+	d->engine.log = NULL;   /* the log's writer goes on: the new engine takes it (snap has it) */
 	old = psd_engine_close(&d->engine);
 	if (psd_engine_open_io(&d->engine, cf, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 		locate(cf, err, where, sizeof where);
@@ -103,6 +104,7 @@ int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 		psd_log_errx("reload: the running configuration stays");
 		if (psd_engine_open_io(&d->engine, old, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 			refuse(w, "reload: cannot reopen the running configuration either: %s", err);
+			psd_dbwriter_close(snap->log, 2.0);
 			d->stop = SIGTERM;
 		}
 		psd_config_free(cf);
@@ -112,6 +114,8 @@ int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 		sd_notify(0, "READY=1");
 		return -1;
 	}
+	if (snap->log && snap->log != d->engine.log)   /* another database: the old log's writer ends */
+		psd_dbwriter_close(snap->log, 2.0);
 	psd_config_free(old);
 	free(old);
 	free(snap);
@@ -121,11 +125,7 @@ int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 	if (cf->mqtt.enabled != (d->mqtt != NULL))
 		psd_log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
 	psd_log_info("reloaded %s", d->config_path);
-	if (d->engine.db) {   /* dated: the engine kept the clock's utc0 */
-		char dberr[512];
-		if (psd_db_event(d->engine.db, now, NULL, "reload", d->config_path, dberr, sizeof dberr) != 0)
-			psd_log_warnx("%s", dberr);
-	}
+	psd_engine_event(&d->engine, now, NULL, "reload", d->config_path);   /* dated: the engine kept utc0 */
 	sd_notify(0, "READY=1");
 	return 0;
 keep:

@@ -112,7 +112,9 @@ static void save_cursor(struct psd_mqtt *m, int now)
 	if (!m->cursor_dirty || !m->e->db || (!now && t < m->saved_at + CURSOR_EVERY))
 		return;
 	m->saved_at = t;
-	if (psd_db_mqtt_set_cursor(m->e->db, m->site, m->cursor, err, sizeof err) != 0) {
+	if (m->e->log)   /* the log's writer: never waits, keeps it through a fault */
+		psd_dbwriter_cursor(m->e->log, m->site, m->cursor);
+	else if (psd_db_mqtt_set_cursor(m->e->db, m->site, m->cursor, err, sizeof err) != 0) {
 		psd_log_warnx("mqtt: cursor: %s", err);
 		return;
 	}

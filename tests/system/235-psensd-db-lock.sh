@@ -1,0 +1,130 @@
+#!/bin/sh
+# SPDX-License-Identifier: ISC
+# The sample log under a real lock: another process (python3's sqlite3)
+# holds the database's write lock with BEGIN IMMEDIATE for 3 s and then for
+# 10 s while psensd runs at 600x (a step every 0.1 s of wall time).  The
+# control keeps stepping through the lock, status says the log is degraded
+# and names the holder's pid, one LOG_ERR line starts the fault and one ends
+# it, a SIGHUP under the lock reloads at once, and afterwards every sample
+# taken during the lock is in the log (no step of two periods between
+# consecutive samples) and `logged` moves on.  Then with
+# log_hold = 16 the oldest held samples are dropped past the bound and the
+# count is in status and in the record (an event "log gap").  Last, a start
+# while the lock is held runs with its log degraded until the lock goes.
+. "$(dirname "$0")/lib.sh"
+[ -x "$BIN/psensd" ] || skip_all "psensd not built"
+PY=/usr/bin/python3
+BINA=$(cd "$BIN" && pwd)
+$PY -c 'import sqlite3' 2>/dev/null || skip_all "python3's sqlite3 missing"
+example_results
+S="$TMP/sock"
+conf() {  # conf DB [EXTRA]: the example on the loopback room, no fault window
+	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/$1\nsocket = sock\n$2|; /^faults = /d" \
+		config/psensd.conf > "$TMP/psensd.conf"
+}
+ctl() { "$BIN/psensctl" -s "$S" "$@"; }
+field() { ctl -j status | $PY -c "import json,sys; d=json.load(sys.stdin); print(eval(sys.argv[1]))" "$1"; }
+# hold SECONDS: BEGIN IMMEDIATE on the database for SECONDS; LOCKER is its pid
+hold() {
+	rm -f "$TMP/locked"
+	$PY -c "
+import sqlite3, sys, time
+c = sqlite3.connect(sys.argv[1], isolation_level=None, timeout=30)
+c.execute('BEGIN IMMEDIATE')
+open(sys.argv[3], 'w').write('1')
+time.sleep(float(sys.argv[2]))
+c.execute('COMMIT')
+" "$DB" "$1" "$TMP/locked" &
+	LOCKER=$!; track_pid $LOCKER
+	wait_for 10 test -s "$TMP/locked"
+}
+start() {
+	(cd "$TMP" && exec "$BINA/psensd" -f psensd.conf -t 08:00 -x 600 >> out 2>> err) &
+	PID=$!; track_pid $PID
+	wait_for 20 ctl ping > /dev/null
+	wait_for 10 sh -c "[ \$(\"$BIN/psensctl\" -s \"$S\" -j status | grep -o '\"logged\":[0-9]*' | cut -d: -f2) -ge 5 ]"
+}
+# the largest step between consecutive samples' clock times (a lost one: two periods)
+max_gap() { sqlite3 "$DB" "SELECT max(b.t - a.t) FROM samples a JOIN samples b ON b.rowid = a.rowid + 1"; }
+
+DB="$TMP/state/lock.db"
+conf lock.db ""
+start
+for secs in 3 10; do
+	logged0=$(field "d['logged']")
+	hold "$secs"
+	wait_for 5 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"degraded\"'"
+	check "$secs s lock: status says the log is degraded" test "$(field "d['log']['state']")" = degraded
+	cause=$(field "d['log']['cause']")
+	check "$secs s lock: the cause names the holder ($cause)" sh -c "echo '$cause' | grep -q 'locked by pid $LOCKER'"
+	if [ "$secs" = 10 ]; then
+		# a reload under the lock: prompt, and the held samples go on with it
+		kill -HUP "$PID"
+		wait_for 2 grep -q "reloaded" "$TMP/err"
+		check "$secs s lock: SIGHUP reloads at once (the log's writer goes on)" grep -q "reloaded" "$TMP/err"
+	fi
+	steps0=$(field "d['zones'][0]['steps']")
+	sleep 1
+	steps1=$(field "d['zones'][0]['steps']")
+	held=$(field "d['log']['held']")
+	# 600x: 10 steps a second of wall time; a control waiting on the
+	# lock (2 s a write) would take one step in 2 s
+	check "$secs s lock: the control steps on (steps $steps0 -> $steps1 in 1 s)" test $((steps1 - steps0)) -ge 5
+	check "$secs s lock: samples held in memory ($held)" test "$held" -ge 5
+	wait "$LOCKER"
+	wait_for 15 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"ok\"'"
+	check "$secs s lock released: the log is ok again" test "$(field "d['log']['state']")" = ok
+	logged1=$(field "d['logged']")
+	wait_for 5 sh -c "[ \$(\"$BIN/psensctl\" -s \"$S\" -j status | grep -o '\"logged\":[0-9]*' | cut -d: -f2) -gt $logged1 ]"
+	logged2=$(field "d['logged']")
+	check "$secs s lock released: logged moves ($logged0 -> $logged1 -> $logged2)" test "$logged2" -gt "$logged1"
+	check "$secs s lock: nothing dropped" test "$(field "d['log']['dropped']")" = 0
+done
+late=$(field "d['late_max_s']")
+diag "worst lateness of a step: $late s on the clock (600x: $(awk -v l="$late" 'BEGIN { printf "%.1f", 1000 * l / 600 }') ms of wall time)"
+kill -TERM "$PID"; wait "$PID"; rc=$?
+check "SIGTERM: exit 0" test "$rc" = 0
+check "one LOG_ERR line started each fault" test "$(grep -c 'the sample log cannot be written: locked by pid' "$TMP/err")" = 2
+check "one line ended each fault, nothing dropped" test "$(grep -c 'the sample log is written again after .*, 0 dropped' "$TMP/err")" = 2
+gap=$(max_gap)
+# (a reload at 600x may skip a step: its 0.1 s of start-up is 60 s of clock)
+check "no run of samples lost: consecutive samples less than three periods apart (largest step $gap s)" \
+	awk -v g="$gap" 'BEGIN { exit !(g > 0 && g < 180) }'
+n=$(sqlite3 "$DB" "SELECT count(*) FROM samples")
+check "every step is a row ($n rows, the summary says $(grep -o '[0-9]* samples logged' "$TMP/out"))" \
+	grep -q "; $n samples logged" "$TMP/out"
+
+# past the bound: 16 held, the oldest dropped and counted
+DB="$TMP/state/bound.db"
+conf bound.db "log_hold = 16"
+: > "$TMP/err"
+start
+hold 6
+wait "$LOCKER"
+wait_for 15 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"ok\"'"
+dropped=$(field "d['log']['dropped']")
+check "log_hold = 16 under a 6 s lock: samples dropped and counted ($dropped)" test "$dropped" -ge 20
+kill -TERM "$PID"; wait "$PID"
+check "the end of the fault gives the count" grep -q "samples were held, $dropped dropped" "$TMP/err"
+check "the record has the gap and its count" \
+	test "$(sqlite3 "$DB" "SELECT count(*) FROM events WHERE kind = 'log gap' AND text LIKE '$dropped samples dropped%'")" = 1
+gap=$(max_gap)
+check "the rows show the gap ($gap s of clock)" awk -v g="$gap" -v d="$dropped" 'BEGIN { exit !(g >= 60 * d) }'
+
+# a start under the lock: the file opens (no write is needed), the log is
+# degraded from the first sample and written once the lock goes
+DB="$TMP/state/lock.db"
+conf lock.db ""
+: > "$TMP/err"
+hold 5
+(cd "$TMP" && exec "$BINA/psensd" -f psensd.conf -t 08:00 -x 600 >> out 2>> err) &
+PID=$!; track_pid $PID
+wait_for 20 ctl ping > /dev/null
+check "a start under the lock runs" ctl ping
+wait_for 5 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"degraded\"'"
+check "... with its log degraded, naming the holder" sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q 'locked by pid $LOCKER'"
+wait "$LOCKER"
+wait_for 15 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"ok\"'"
+check "... and written once the lock goes" test "$(field "d['log']['state']") $(field "d['log']['dropped']")" = "ok 0"
+kill -TERM "$PID"; wait "$PID"
+done_testing
