@@ -26,7 +26,8 @@ static char *dup_or_null(const char *v)
 	return v ? strdup(v) : NULL;
 }
 
-/* The password: the file's first line, refused when others may change it. */
+/* The password: the file's first line, refused when others may read it or
+ * its group or others may change it. */
 static void read_password(struct psd_mqtt_conf *m, struct ps_conf *c, int line)
 {
 	struct stat st;
@@ -43,6 +44,10 @@ static void read_password(struct psd_mqtt_conf *m, struct ps_conf *c, int line)
 		ps_conf_error(c, line, "password_file: %s is writable by %s (mode %04o): chmod go-w it",
 		              m->password_file, (st.st_mode & S_IWOTH) ? "everyone" : "its group",
 		              (unsigned)(st.st_mode & 07777));
+	} else if (st.st_mode & S_IROTH) {
+		/* as ssh does with a private key: a secret everyone can read is none */
+		ps_conf_error(c, line, "password_file: %s is readable by everyone (mode %04o): chmod o-r it",
+		              m->password_file, (unsigned)(st.st_mode & 07777));
 	} else if (!fgets(buf, sizeof buf, fp)) {
 		ps_conf_error(c, line, "password_file: %s is empty", m->password_file);
 	} else {
