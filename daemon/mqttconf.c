@@ -15,6 +15,8 @@ int psd_mqtt_level_ok(const char *s)
 	       strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") == n;
 }
 
+static const char *const commands_names[] = { "none", "override", "all", NULL };
+
 static int line_of(struct ps_conf_section *s, const char *key)
 {
 	struct ps_conf_kv *kv = ps_conf_kv(s, key);
@@ -115,6 +117,7 @@ void psd_mqttconf_load(struct psd_mqtt_conf *m, struct ps_conf *c)
 		ps_conf_error(c, line_of(s, "discovery_prefix"), "discovery_prefix: '%s' is not one topic level", v);
 	else
 		snprintf(m->discovery_prefix, sizeof m->discovery_prefix, "%s", v);
+	ps_conf_enum(c, s, "commands", commands_names, PSD_MQTT_COMMANDS_NONE, &m->commands);
 }
 
 void psd_mqttconf_free(struct psd_mqtt_conf *m)
