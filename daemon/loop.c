@@ -201,6 +201,25 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	return 0;
 }
 
+/* A step of the wall clock (NTP, settimeofday): logged with its size; a
+ * run dated by the wall clock moves its dates with it (the samples' utc and
+ * local columns), while periods and timeouts keep to the monotonic clock. */
+static void follow_wall(struct psd_daemon *d, double now)
+{
+	double step = psd_wallstep_check(&d->wall);
+	char was[24], is[24], text[160], err[256];
+	if (step == 0)
+		return;
+	psd_clock_stamp(d->clock.epoch0, now, was, sizeof was);
+	d->clock.epoch0 += step;
+	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
+	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
+	snprintf(text, sizeof text, "the wall clock stepped by %+.3f s: %s is now %s local time", step, was, is);
+	log_warnx("%s; the log's dates follow it, periods and timeouts run on", text);
+	if (d->engine.db && psd_db_event(d->engine.db, now, NULL, "clock_step", text, err, sizeof err) != 0)
+		log_warnx("%s", err);
+}
+
 int psd_daemon_run(struct psd_daemon *d)
 {
 	struct pollfd *fds = d->fds;
@@ -215,6 +234,8 @@ int psd_daemon_run(struct psd_daemon *d)
 		int n = 0, nctl, ndev, nmq = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
+		if (d->wall_dated)
+			follow_wall(d, now);
 		psd_engine_step(&d->engine, now);
 		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
 			psd_mqtt_service(d->mqtt, NULL, now);
