@@ -89,10 +89,32 @@ void psd_daemon_config_errors(const struct psd_config *cf)
 		log_errx("%s", cf->conf.errors[i]);
 }
 
+/* A run that starts before the last sample on record would interleave its
+ * rows with those logged from its start on: refused (-1) on a date given
+ * with -d, warned on the wall clock (set back: the lights are controlled
+ * all the same); the overlap named either way. */
+static int set_back(struct psd_daemon *d, double now, double last)
+{
+	char from[24], to[24];
+	if (!isfinite(d->clock.epoch0) || !isfinite(last) || last < d->clock.epoch0 + now)
+		return 0;
+	psd_clock_stamp(d->clock.epoch0, now, from, sizeof from);
+	psd_clock_stamp(last, 0, to, sizeof to);
+	if (d->wall_dated) {
+		log_warnx("the wall clock is behind the log: this run starts %s, before the last sample on record (%s); "
+		          "the samples from %s to %s will interleave", from, to, from, to);
+		return 0;
+	}
+	log_errx("this run would start %s, before the last sample on record (%s): its samples would interleave "
+	         "with those logged from %s to %s; give a later date (-d) or another database", from, to, from, to);
+	return -1;
+}
+
 /* The run's date: a set date the database already holds moves to the next
  * day it does not (a second simulated run appends a day, never overdraws
- * the first); then every row and log line carries it. */
-static void date_run(struct psd_daemon *d, double now)
+ * the first); a date given that the log holds from the run's start on is
+ * refused (set_back); then every row and log line carries it. */
+static int date_run(struct psd_daemon *d, double now)
 {
 	double last = d->engine.db ? psd_db_last_utc(d->engine.db) : NAN;
 	char was[24], is[24];
@@ -108,6 +130,8 @@ static void date_run(struct psd_daemon *d, double now)
 		}
 		psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
 		log_info("the database holds samples up to that date already: this run starts %s, not %s", is, was);
+	} else if (set_back(d, now, last) != 0) {
+		return -1;
 	}
 	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
 	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
@@ -118,6 +142,7 @@ static void date_run(struct psd_daemon *d, double now)
 		if (psd_db_event(d->engine.db, now, NULL, "start", text, err, sizeof err) != 0)
 			log_warnx("%s", err);
 	}
+	return 0;
 }
 
 /* An MQTT command: the control socket's request function, the same code. */
@@ -185,7 +210,16 @@ int psd_daemon_start(struct psd_daemon *d, const char *path)
 	 * to the engine (samples.utc = utc0 + t, and every dated row) */
 	if (!isfinite(d->clock.epoch0))
 		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
-	date_run(d, now);
+	if (date_run(d, now) != 0) {
+		psd_daemon_safe(d, "refused start");
+		if (d->have_ctl)
+			psd_ctl_close(&d->ctl);
+		d->have_ctl = 0;
+		psd_engine_close(&d->engine);
+		psd_config_free(cf);
+		free(cf);
+		return -1;
+	}
 	if (d->have_ctl)
 		log_info("control socket %s", d->ctl.path);
 	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {

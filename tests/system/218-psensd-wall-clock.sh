@@ -6,7 +6,8 @@
 # - an NTP-like step of +3600 s, then back: each is logged with its size and
 #   recorded as a clock_step event; the samples' utc follows the wall clock
 #   (one gap of 3600 s plus a period, the rest a period apart) while their
-#   t, the monotonic clock, keeps its period across the step;
+#   t, the monotonic clock, keeps its period across the step; a start on a
+#   wall clock behind the log's last sample runs, with the overlap warned;
 # - a spring and an autumn daylight-saving change in Europe/Berlin: utc
 #   advances by the period throughout, and every row's local column is the
 #   zone's local time of its utc (Python's time.localtime under the same TZ):
@@ -77,6 +78,14 @@ check "the step back is logged too ($(grep -o 'wall clock stepped by -[0-9.]* s'
 check "psensd still answers" "$BIN/psensctl" -s "$TMP/sock" ping
 kill $PID; wait $PID; rc=$?
 check "psensd exits 0 on SIGTERM" test "$rc" = 0
+# a start on a wall clock an hour behind the log: controlled all the same, the overlap warned
+echo -3600 > "$OFF"
+run step.db
+wait_for 10 "$BIN/psensctl" -s "$TMP/sock" ping > /dev/null
+check "a wall clock behind the log: warned with the overlap ($(grep -o 'this run starts .*' "$TMP/err" | cut -c1-90))" \
+	grep -q 'the wall clock is behind the log: this run starts .*, before the last sample on record (.*); the samples from .* to .* will interleave' "$TMP/err"
+check "and psensd runs" "$BIN/psensctl" -s "$TMP/sock" ping
+kill $PID; wait $PID
 
 # ---- daylight-saving changes in a named zone: the wall clock set 4 s before each
 TZ=Europe/Berlin; export TZ
