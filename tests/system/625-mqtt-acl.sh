@@ -17,7 +17,9 @@ command -v mosquitto_passwd > /dev/null || skip_all "mosquitto_passwd not instal
 command -v mosquitto_sub > /dev/null || skip_all "mosquitto-clients not installed"
 example_results
 # the ACL of psensd-mqtt(7), for its site hq
-sed -n '/^\.SH ACCESS CONTROL/,/^\.SH NOTES/p' "$TOP/daemon/cmd/psensd-mqtt.7" | sed -n '/^\.nf/,/^\.fi/p' |
+MAN=$(find "$TOP/daemon" -name psensd-mqtt.7 | head -n 1)
+check "psensd-mqtt(7) is there ($MAN)" test -n "$MAN"
+sed -n '/^\.SH ACCESS CONTROL/,/^\.SH NOTES/p' "$MAN" | sed -n '/^\.nf/,/^\.fi/p' |
 	sed '/^\.nf/d; /^\.fi/d' > "$TMP/acl"
 check "the man page's ACL gives psensd, dashboard and operator users" \
 	sh -c "grep -q '^user psensd$' '$TMP/acl' && grep -q '^user dashboard$' '$TMP/acl' && grep -q '^user operator$' '$TMP/acl'"
