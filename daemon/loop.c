@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "daemon.h"
+#include "dated.h"
 #include "log.h"
 
 
@@ -254,6 +255,28 @@ static void follow_wall(struct psd_daemon *d, double now)
 		log_warnx("%s", err);
 }
 
+/* A run on the wall clock: the dated estimate's month and day of the year
+ * are the run's local date, which moves on at midnight and with the clock
+ * (set once at start, they would stay the start's for a run of months;
+ * the day was even the [simulate] date's). */
+static void follow_date(struct psd_daemon *d, double now)
+{
+	time_t t = (time_t)floor(d->clock.epoch0 + now);
+	struct tm tm;
+	char mmdd[16];
+	int month, doy;
+	if (d->engine.cf->sim_year || !isfinite(d->clock.epoch0) || !localtime_r(&t, &tm))
+		return;   /* a room playing the year's day: the estimate keeps that day's */
+	snprintf(mmdd, sizeof mmdd, "%02d-%02d", tm.tm_mon + 1, tm.tm_mday);
+	month = psd_dated_month(mmdd);
+	doy = psd_dated_day(mmdd);
+	if (month == d->engine.month && doy == d->engine.doy)
+		return;
+	d->engine.month = month;
+	d->engine.doy = doy;
+	log_info("the dated estimate: %04d-%s, month %d, day %d of the year", tm.tm_year + 1900, mmdd, month, doy);
+}
+
 int psd_daemon_run(struct psd_daemon *d)
 {
 	struct pollfd *fds = d->fds;
@@ -268,8 +291,10 @@ int psd_daemon_run(struct psd_daemon *d)
 		int n = 0, nctl, ndev, nmq = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
-		if (d->wall_dated)
+		if (d->wall_dated) {
 			follow_wall(d, now);
+			follow_date(d, now);
+		}
 		psd_engine_step(&d->engine, now);
 		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
 			psd_mqtt_service(d->mqtt, NULL, now);

@@ -11,7 +11,8 @@
 # - a spring and an autumn daylight-saving change in Europe/Berlin: utc
 #   advances by the period throughout, and every row's local column is the
 #   zone's local time of its utc (Python's time.localtime under the same TZ):
-#   01:59 to 03:00 in March, 02:59 back to 02:00 in October.
+#   01:59 to 03:00 in March, 02:59 back to 02:00 in October; and the dated
+#   estimate's month and day of the year are that wall-clock date's.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v sqlite3 > /dev/null || skip_all "sqlite3 not installed"
@@ -103,10 +104,14 @@ check "spring: local time goes from 01:59 to 03:00 ($(head -n 1 "$TMP/spring.loc
 	sh -c "grep -q '^2026-03-29 01:59:5' '$TMP/spring.local' && grep -q '^2026-03-29 03:00:0' '$TMP/spring.local' && ! grep -q '^2026-03-29 02:' '$TMP/spring.local'"
 check "spring: every local column is the zone's time of its utc" sh -c "! grep -q '^local' '$TMP/spring.d'"
 check "spring: utc a period apart throughout" test "$(awk '$4 <= 0 || $4 > 1.5' "$TMP/spring.d" | wc -l)" = 0
+check "spring: the dated estimate is the wall clock's date (March 29: month 3, day 31 + 28 + 29 = 88)" \
+	grep -q 'the dated estimate: 2026-03-29, month 3, day 88 of the year' "$TMP/err"
 dst autumn 2026-10-25T01:00:00Z
 check "autumn: local time goes from 02:59 back to 02:00 ($(head -n 1 "$TMP/autumn.local") .. $(tail -n 1 "$TMP/autumn.local"))" \
 	sh -c "grep -q '^2026-10-25 02:59:5' '$TMP/autumn.local' && grep -q '^2026-10-25 02:00:0' '$TMP/autumn.local'"
 check "autumn: every local column is the zone's time of its utc" sh -c "! grep -q '^local' '$TMP/autumn.d'"
 check "autumn: utc a period apart throughout" test "$(awk '$4 <= 0 || $4 > 1.5' "$TMP/autumn.d" | wc -l)" = 0
+check "autumn: the dated estimate's date (October 25: month 10, day 273 + 25 = 298)" \
+	grep -q 'the dated estimate: 2026-10-25, month 10, day 298 of the year' "$TMP/err"
 check "no step was seen in either" sh -c "! grep -q 'wall clock stepped' '$TMP/err'"
 done_testing
