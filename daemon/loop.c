@@ -18,6 +18,7 @@
 #include "ctlcmd.h"
 #include "refresh.h"
 #include "reload.h"
+#include "dated.h"
 #include "log.h"
 #include "time.h"
 
@@ -86,10 +87,32 @@ void psd_loop_config_errors(const struct psd_config *cf)
 		psd_log_errx("%s", cf->conf.errors[i]);
 }
 
+/* A run that starts before the last sample on record would interleave its
+ * rows with those logged from its start on: refused (-1) on a date given
+ * with -d, warned on the wall clock (set back: the lights are controlled
+ * all the same); the overlap named either way. */
+static int set_back(struct psd_daemon *d, double now, double last)
+{
+	char from[24], to[24];
+	if (!isfinite(d->clock.epoch0) || !isfinite(last) || last < d->clock.epoch0 + now)
+		return 0;
+	psd_clock_stamp(d->clock.epoch0, now, from, sizeof from);
+	psd_clock_stamp(last, 0, to, sizeof to);
+	if (d->wall_dated) {
+		psd_log_warnx("the wall clock is behind the log: this run starts %s, before the last sample on record (%s); "
+		          "the samples from %s to %s will interleave", from, to, from, to);
+		return 0;
+	}
+	psd_log_errx("this run would start %s, before the last sample on record (%s): its samples would interleave "
+	         "with those logged from %s to %s; give a later date (-d) or another database", from, to, from, to);
+	return -1;
+}
+
 /* The run's date: a set date the database already holds moves to the next
  * day it does not (a second simulated run appends a day, never overdraws
- * the first); then every row and log line carries it. */
-static void date_run(struct psd_daemon *d, double now)
+ * the first); a date given that the log holds from the run's start on is
+ * refused (set_back); then every row and log line carries it. */
+static int date_run(struct psd_daemon *d, double now)
 {
 	double last = d->engine.db ? psd_db_last_utc(d->engine.db) : NAN;
 	char was[24], is[24];
@@ -104,6 +127,8 @@ static void date_run(struct psd_daemon *d, double now)
 		}
 		psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
 		psd_log_info("the database holds samples up to that date already: this run starts %s, not %s", is, was);
+	} else if (set_back(d, now, last) != 0) {
+		return -1;
 	}
 	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
 	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
@@ -113,6 +138,7 @@ static void date_run(struct psd_daemon *d, double now)
 		snprintf(text, sizeof text, "%s on a %s clock", d->config_path, d->clock.simulated ? "simulated" : "real-time");
 		psd_engine_event(&d->engine, now, NULL, "start", text);
 	}
+	return 0;
 }
 
 /* An MQTT command: the control socket's request function, the same code. */
@@ -180,7 +206,16 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	 * to the engine (samples.utc = utc0 + t, and every dated row) */
 	if (!isfinite(d->clock.epoch0))
 		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
-	date_run(d, now);
+	if (date_run(d, now) != 0) {
+		psd_loop_safe(d, "refused start");
+		if (d->have_ctl)
+			psd_ctlsock_close(&d->ctl);
+		d->have_ctl = 0;
+		psd_engine_close(&d->engine);
+		psd_config_free(cf);
+		free(cf);
+		return -1;
+	}
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
 	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
@@ -197,6 +232,46 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	return 0;
 }
 
+/* A step of the wall clock (NTP, settimeofday): logged with its size; a
+ * run dated by the wall clock moves its dates with it (the samples' utc and
+ * local columns), while periods and timeouts keep to the monotonic clock. */
+static void follow_wall(struct psd_daemon *d, double now)
+{
+	double step = psd_wallstep_check(&d->wall);
+	char was[24], is[24], text[160];
+	if (step == 0)
+		return;
+	psd_clock_stamp(d->clock.epoch0, now, was, sizeof was);
+	d->clock.epoch0 += step;
+	psd_engine_set_epoch(&d->engine, d->clock.epoch0);
+	psd_clock_stamp(d->clock.epoch0, now, is, sizeof is);
+	snprintf(text, sizeof text, "the wall clock stepped by %+.3f s: %s is now %s local time", step, was, is);
+	psd_log_warnx("%s; the log's dates follow it, periods and timeouts run on", text);
+	psd_engine_event(&d->engine, now, NULL, "clock_step", text);
+}
+
+/* A run on the wall clock: the dated estimate's month and day of the year
+ * are the run's local date, which moves on at midnight and with the clock
+ * (set once at start, they would stay the start's for a run of months;
+ * the day was even the [simulate] date's). */
+static void follow_date(struct psd_daemon *d, double now)
+{
+	time_t t = (time_t)floor(d->clock.epoch0 + now);
+	struct tm tm;
+	char mmdd[16];
+	int month, doy;
+	if (d->engine.cf->sim_year || !isfinite(d->clock.epoch0) || !localtime_r(&t, &tm))
+		return;   /* a room playing the year's day: the estimate keeps that day's */
+	snprintf(mmdd, sizeof mmdd, "%02d-%02d", tm.tm_mon + 1, tm.tm_mday);
+	month = psd_dated_month(mmdd);
+	doy = psd_dated_day(mmdd);
+	if (month == d->engine.month && doy == d->engine.doy)
+		return;
+	d->engine.month = month;
+	d->engine.doy = doy;
+	psd_log_info("the dated estimate: %04d-%s, month %d, day %d of the year", tm.tm_year + 1900, mmdd, month, doy);
+}
+
 int psd_loop_run(struct psd_daemon *d)
 {
 	struct pollfd *fds = d->fds;
@@ -211,6 +286,10 @@ int psd_loop_run(struct psd_daemon *d)
 		int n = 0, nctl, ndev, nmq = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
+		if (d->wall_dated) {
+			follow_wall(d, now);
+			follow_date(d, now);
+		}
 		psd_engine_step(&d->engine, now);
 		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
 			psd_mqtt_service(d->mqtt, NULL, now);

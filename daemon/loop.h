@@ -9,6 +9,7 @@
 #include "ctlsock.h"
 #include "engine.h"
 #include "mqtt.h"
+#include "wallstep.h"
 
 /* Descriptors one turn of the loop polls: the signals, the control socket's
  * clients and listener, the drivers'. */
@@ -26,6 +27,9 @@ struct psd_daemon {
 	                             database already holds it, the run is dated the next
 	                             free day (clock.epoch0 moves), so runs never overdraw */
 	int watchdog_ms;          /* systemd watchdog interval / 2, 0: none */
+	struct psd_wallstep wall; /* real time: the wall clock's steps */
+	int wall_dated;           /* the run's dates are the wall clock's (no -t, -d, -s):
+	                             they follow its steps */
 	int stop;                 /* 1: SIGTERM/SIGINT seen */
 	int reload;               /* 1: SIGHUP seen */
 	unsigned long reloads, reload_failures;

@@ -377,8 +377,10 @@ int main(int argc, char **argv)
 			psd_config_free(&cf);
 			memset(&cf, 0, sizeof cf);
 		} else if (isnan(start)) {
-			/* the wall clock: today */
-			epoch0 = psd_time_wall() - psd_clock_now(&d.clock);
+			/* the wall clock: today, and its steps from now on */
+			psd_wallstep_init(&d.wall, PSD_WALL_STEP_MS / 1000.0);
+			epoch0 = psd_wallstep_wall() - psd_clock_now(&d.clock);
+			d.wall_dated = 1;
 			if (date)
 				psd_log_warnx("-d %s: ignored without -s or -t: the run is dated by the wall clock", date);
 		}

@@ -5,6 +5,7 @@
 #include <json-c/json.h>
 #include <math.h>
 #include <mosquitto.h>
+#include <mqtt_protocol.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,6 +48,7 @@ struct psd_mqtt {
 	double rate;
 	long inflight;
 	int discovery;
+	int commands;             /* PSD_MQTT_COMMANDS_*: what set/<verb> may do */
 	int connected, sock_ok, announce, failing, cursor_dirty, abort, closing;
 	double retry_at, backoff, tokens, refill_at, saved_at;
 	struct slot *q;
@@ -294,7 +296,8 @@ static void discovery(struct psd_mqtt *m, const char *zone, int has_task, int re
 {
 	char topic[TOPIC], payload[MSG];
 	int mid;
-	for (int k = 0; psd_mqttmsg_discovery(k, m->prefix, m->site, zone, has_task, topic, sizeof topic, payload,
+	for (int k = 0; psd_mqttmsg_discovery(k, m->prefix, m->site, zone, has_task,
+	                                   m->commands >= PSD_MQTT_COMMANDS_OVERRIDE, topic, sizeof topic, payload,
 	                                   sizeof payload) == 0; k++)
 		publish(m, topic, remove ? "" : payload, 1, &mid);
 }
@@ -356,9 +359,9 @@ static void reply(struct psd_mqtt *m, const char *zone, const char *verb, const 
 static void on_message(struct mosquitto *mosq, void *user, const struct mosquitto_message *msg)
 {
 	struct psd_mqtt *m = user;
-	char **lev = NULL, err[512], out[4096];
-	int nlev = 0;
 	struct psd_mqtt_cmd cmd;
+	char **lev = NULL, err[512], out[4096], shown[sizeof cmd.line];
+	int nlev = 0;
 	const struct psd_zone *z;
 	(void)mosq;
 	m->st.commands++;
@@ -372,8 +375,16 @@ static void on_message(struct mosquitto *mosq, void *user, const struct mosquitt
 		refuse(m, NULL, lev[4], NULL, err);
 		goto done;
 	}
+	/* retain as published (MQTT 5): a command retained on the broker is
+	 * refused whether it came at the subscription or while connected */
 	if (msg->retain) {
 		refuse(m, lev[2], lev[4], NULL, "a retained command is refused (it would run again at every connect)");
+		goto done;
+	}
+	if (psd_mqttcmd_scope(lev[4]) > m->commands) {
+		snprintf(err, sizeof err, "set/%.24s is not allowed: [mqtt] commands = override (override, release, "
+		         "status)", lev[4]);
+		refuse(m, lev[2], lev[4], NULL, err);
 		goto done;
 	}
 	z = psd_mqttconf_level_ok(lev[2]) ? psd_engine_zone(m->e, lev[2]) : NULL;
@@ -382,6 +393,7 @@ static void on_message(struct mosquitto *mosq, void *user, const struct mosquitt
 		refuse(m, lev[2], lev[4], cmd.id, err);
 		goto done;
 	}
+	snprintf(shown, sizeof shown, "%s", cmd.line);   /* the request's words, which fn splits */
 	m->fn(m->user, cmd.line, out, sizeof out);
 	reply(m, lev[2], lev[4], cmd.id, out);
 	if (!strstr(out, "\"ok\":true")) {
@@ -390,7 +402,7 @@ static void on_message(struct mosquitto *mosq, void *user, const struct mosquitt
 		refuse(m, lev[2], lev[4], cmd.id, why);
 		json_object_put(r);
 	} else {
-		psd_log_info("mqtt: set/%s for zone %s: %s", lev[4], lev[2], cmd.line);
+		psd_log_info("mqtt: set/%s for zone %s: %s", lev[4], lev[2], shown);
 	}
 done:
 	mosquitto_sub_topic_tokens_free(&lev, nlev);
@@ -436,7 +448,8 @@ static void on_connect(struct mosquitto *mosq, void *user, int rc)
 	m->refill_at = psd_time_mono();
 	psd_log_info("mqtt: connected; publishing from sample %lld", m->cursor);
 	snprintf(topic, sizeof topic, "psensd/%s/+/set/+", m->site);
-	mosquitto_subscribe(mosq, &mid, topic, 1);
+	if (m->commands != PSD_MQTT_COMMANDS_NONE)
+		mosquitto_subscribe_v5(mosq, &mid, topic, 1, MQTT_SUB_OPT_RETAIN_AS_PUBLISHED, NULL);
 	publish(m, m->status_topic, "online", 1, &mid);
 }
 
@@ -498,6 +511,7 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	m->rate = c->rate;
 	m->inflight = c->inflight;
 	m->discovery = c->discovery;
+	m->commands = c->commands;
 	m->backoff = RETRY_MIN;
 	m->cursor = psd_db_mqtt_cursor(e->db, m->site);
 	if (m->cursor < 0) {
@@ -516,6 +530,11 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	mosquitto_publish_callback_set(m->mosq, on_publish);
 	mosquitto_message_callback_set(m->mosq, on_message);
 	mosquitto_max_inflight_messages_set(m->mosq, (unsigned)c->inflight + 8);
+	/* commands need MQTT 5: only its "retain as published" subscription
+	 * tells a command retained while psensd is connected; telemetry alone
+	 * speaks 3.1.1 to any broker */
+	if (m->commands != PSD_MQTT_COMMANDS_NONE)
+		mosquitto_int_option(m->mosq, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V5);
 	if ((rc = mosquitto_will_set(m->mosq, m->status_topic, 7, "offline", 1, true)) != MOSQ_ERR_SUCCESS ||
 	    (c->user && (rc = mosquitto_username_pw_set(m->mosq, c->user, c->password)) != MOSQ_ERR_SUCCESS) ||
 	    (c->cafile && (rc = mosquitto_tls_set(m->mosq, c->cafile, NULL, c->certfile, c->keyfile, NULL)) !=
@@ -535,8 +554,10 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 		m->failing = 1;
 		lost(m, "connect");
 	}
-	psd_log_info("mqtt: site %s, broker %s:%ld%s, from sample %lld", m->site, c->host, c->port,
-	         c->cafile ? " (TLS)" : "", m->cursor);
+	psd_log_info("mqtt: site %s, broker %s:%ld%s, from sample %lld, commands %s", m->site, c->host, c->port,
+	         c->cafile ? " (TLS)" : "", m->cursor, m->commands == PSD_MQTT_COMMANDS_ALL ? "all"
+	         : m->commands == PSD_MQTT_COMMANDS_OVERRIDE ? "override (override, release, status)"
+	         : "none (not subscribed)");
 	return m;
 bad:
 	if (m->mosq)

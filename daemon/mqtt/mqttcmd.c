@@ -260,6 +260,19 @@ static int build(const struct payload *p, const char *zone, const char *verb, do
 	return 0;
 }
 
+int psd_mqttcmd_scope(const char *verb)
+{
+	static const char *const override[] = { "override", "release", "status", NULL };
+	static const char *const all[] = { "target", "calibrate", "lux", "finish", "accept", "abort", NULL };
+	for (size_t i = 0; override[i]; i++)
+		if (strcmp(verb, override[i]) == 0)
+			return PSD_MQTT_COMMANDS_OVERRIDE;
+	for (size_t i = 0; all[i]; i++)
+		if (strcmp(verb, all[i]) == 0)
+			return PSD_MQTT_COMMANDS_ALL;
+	return PSD_MQTT_COMMANDS_NONE;
+}
+
 int psd_mqttcmd_parse(const char *site, const char *zone, const char *verb, const void *payload, size_t len,
                        double override_s, struct psd_mqtt_cmd *out, char *err, size_t errlen)
 {

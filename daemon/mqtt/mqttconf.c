@@ -15,6 +15,8 @@ int psd_mqttconf_level_ok(const char *s)
 	       strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") == n;
 }
 
+static const char *const commands_names[] = { "none", "override", "all", NULL };
+
 static int line_of(struct ps_conf_section *s, const char *key)
 {
 	struct ps_conf_kv *kv = ps_conf_kv(s, key);
@@ -26,7 +28,8 @@ static char *dup_or_null(const char *v)
 	return v ? strdup(v) : NULL;
 }
 
-/* The password: the file's first line, refused when others may change it. */
+/* The password: the file's first line, refused when others may read it or
+ * its group or others may change it. */
 static void read_password(struct psd_mqtt_conf *m, struct ps_conf *c, int line)
 {
 	struct stat st;
@@ -43,6 +46,10 @@ static void read_password(struct psd_mqtt_conf *m, struct ps_conf *c, int line)
 		ps_conf_error(c, line, "password_file: %s is writable by %s (mode %04o): chmod go-w it",
 		              m->password_file, (st.st_mode & S_IWOTH) ? "everyone" : "its group",
 		              (unsigned)(st.st_mode & 07777));
+	} else if (st.st_mode & S_IROTH) {
+		/* as ssh does with a private key: a secret everyone can read is none */
+		ps_conf_error(c, line, "password_file: %s is readable by everyone (mode %04o): chmod o-r it",
+		              m->password_file, (unsigned)(st.st_mode & 07777));
 	} else if (!fgets(buf, sizeof buf, fp)) {
 		ps_conf_error(c, line, "password_file: %s is empty", m->password_file);
 	} else {
@@ -110,6 +117,7 @@ void psd_mqttconf_load(struct psd_mqtt_conf *m, struct ps_conf *c)
 		ps_conf_error(c, line_of(s, "discovery_prefix"), "discovery_prefix: '%s' is not one topic level", v);
 	else
 		snprintf(m->discovery_prefix, sizeof m->discovery_prefix, "%s", v);
+	ps_conf_enum(c, s, "commands", commands_names, PSD_MQTT_COMMANDS_NONE, &m->commands);
 }
 
 void psd_mqttconf_free(struct psd_mqtt_conf *m)

@@ -11,6 +11,10 @@
 
 enum { PSD_MQTT_NAME = 48 };
 
+/* What commands psensd takes from the broker ([mqtt] commands): none (it
+ * does not subscribe), override (override, release, status), all. */
+enum { PSD_MQTT_COMMANDS_NONE, PSD_MQTT_COMMANDS_OVERRIDE, PSD_MQTT_COMMANDS_ALL };
+
 struct psd_mqtt_conf {
 	int enabled;              /* an [mqtt] section is there */
 	int line;                 /* its line */
@@ -26,10 +30,12 @@ struct psd_mqtt_conf {
 	long inflight;            /* QoS 1 messages awaiting PUBACK at most */
 	int discovery;            /* Home Assistant discovery messages */
 	char discovery_prefix[64];/* default "homeassistant" */
+	int commands;             /* PSD_MQTT_COMMANDS_*, default none */
 };
 
 /* Read [mqtt] of c into m (errors go to c).  A password file that cannot be
- * read, or that its group or others may write, is an error at its line. */
+ * read, that others may read, or that its group or others may write, is an
+ * error at its line. */
 void psd_mqttconf_load(struct psd_mqtt_conf *m, struct ps_conf *c);
 void psd_mqttconf_free(struct psd_mqtt_conf *m);
 

@@ -95,8 +95,8 @@ static const struct entity entities[] = {
 	{ "number", "override", "override level", NULL, NULL, "{{ value_json.level }}", 0, 1 },
 };
 
-int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, char *topic,
-                       size_t topiclen, char *payload, size_t paylen)
+int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, int commands,
+                       char *topic, size_t topiclen, char *payload, size_t paylen)
 {
 	const struct entity *en;
 	json_object *o, *dev, *ids;
@@ -106,7 +106,7 @@ int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const cha
 	en = &entities[k];
 	node_id(node, sizeof node, site, zone);
 	snprintf(topic, topiclen, "%s/%s/%s/%s/config", prefix, en->component, node, en->key);
-	if (en->task_only && !has_task) {
+	if ((en->task_only && !has_task) || (en->number && !commands)) {
 		payload[0] = 0;     /* not this zone's: an empty config removes it */
 		return 0;
 	}

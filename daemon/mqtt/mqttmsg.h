@@ -19,9 +19,10 @@ int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, 
 
 /* Home Assistant discovery: the k-th entity of a zone (0, 1, ... until -1):
  * its config topic and its retained config payload.  has_task: the zone has
- * a task meter (its measured lux entity). */
-int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, char *topic,
-                       size_t topiclen, char *payload, size_t paylen);
+ * a task meter (its measured lux entity).  commands: set/override is taken
+ * (else the override entity's config is empty, which removes it). */
+int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, int commands,
+                       char *topic, size_t topiclen, char *payload, size_t paylen);
 
 /* "2026-11-23T19:42:16.123Z" for UTC seconds t. */
 void psd_mqttmsg_iso8601(double t, char *buf, size_t n);

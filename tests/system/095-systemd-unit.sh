@@ -1,7 +1,8 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
 # The installed unit: Type=notify with a watchdog, state and runtime
-# directories, and a sandbox whose exposure (systemd-analyze security
+# directories, ordered after time-sync.target (the log's dates need a
+# synchronised wall clock), and a sandbox whose exposure (systemd-analyze security
 # --offline=true) is at most 2.0.  The exposure is printed for CI's log.
 . "$(dirname "$0")/lib.sh"
 command -v systemd-analyze > /dev/null || skip_all "systemd-analyze not installed"
@@ -17,6 +18,9 @@ for k in Type=notify WatchdogSec= Restart=on-failure StateDirectory=psensd Runti
 	"SupplementaryGroups=dialout plugdev gpio"; do
 	check "the unit sets $k" grep -q "^$k" "$u"
 done
+# the log's dates follow the wall clock: start after it is synchronised
+check "the unit is ordered after time-sync.target (After=)" grep -q "^After=.*\<time-sync\.target\>" "$u"
+check "and pulls it in (Wants=)" grep -q "^Wants=.*\<time-sync\.target\>" "$u"
 systemd-analyze security --offline=true "$u" > "$TMP/sec" 2>&1
 e=$(sed -n 's/.*Overall exposure level for psensd.service: \([0-9.]*\).*/\1/p' "$TMP/sec")
 diag "systemd-analyze security --offline=true: exposure $e"

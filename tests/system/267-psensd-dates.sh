@@ -4,7 +4,9 @@
 # one database: the first is dated 03-18 of [simulate] run_year, the second,
 # finding that date on record, the next day (no overdraw); every sample,
 # event and session row carries UTC and the local date and time; the
-# summary shows dates and the duration; -d sets the date; a run over
+# summary shows dates and the duration; -d sets the date, and a date
+# before the last sample on record is refused with the overlap named (its
+# rows would interleave with those logged); a run over
 # midnight in real time (-t 23:30 -x 3600) summarises across the day
 # boundary with both dates.
 . "$(dirname "$0")/lib.sh"
@@ -53,6 +55,15 @@ check "the faults are events with dates ($(q "select group_concat(local, ', ') f
 "$BIN/psensd" -f "$TMP/day.conf" -s -d 2026-06-21 > "$TMP/out3" 2> "$TMP/err3"
 check "-d 2026-06-21 dates the run" grep -q "^psensd: simulated 2026-06-21 06:00 to 2026-06-21 20:00" "$TMP/out3"
 check "-d refuses a non-date" sh -c "! \"$BIN/psensd\" -f \"$TMP/day.conf\" -s -d 2026-02-30 2> /dev/null"
+# -d back onto days on record: refused, the overlap named, nothing logged
+n=$(q "select count(*) from samples")
+"$BIN/psensd" -f "$TMP/day.conf" -s -d 2026-03-19 > "$TMP/out4" 2> "$TMP/err4"; rc=$?
+check "-d 2026-03-19 with 2026-06-21 on record: refused (exit $rc)" test "$rc" = 1
+check "the overlap named: $(grep 'before the last sample' "$TMP/err4" | cut -c1-120)" \
+	grep -q "this run would start 2026-03-19 06:00, before the last sample on record (2026-06-21 19:55): its samples would interleave with those logged from 2026-03-19 06:00 to 2026-06-21 19:55" "$TMP/err4"
+check "no sample was added ($n, then $(q "select count(*) from samples"))" test "$(q "select count(*) from samples")" = "$n"
+"$BIN/psensd" -f "$TMP/day.conf" -s -d 2026-06-22 > /dev/null 2> "$TMP/err5"; rc=$?
+check "-d 2026-06-22, after the log's end: runs (exit $rc)" test "$rc" = 0
 # over midnight in real time: 23:30 at 3600x, stopped after 1.5 s (about 90 min)
 sed -e 's|^database = .*|database = state/m.db|' -e 's|^period = 300|period = 60\nsocket = sock|' "$TMP/day.conf" > "$TMP/m.conf"
 "$BIN/psensd" -f "$TMP/m.conf" -t 23:30 -x 3600 > "$TMP/outm" 2> "$TMP/errm" &

@@ -1,10 +1,11 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# MQTT commands against a real mosquitto: set/override, set/target and the
+# MQTT commands against a real mosquitto ([mqtt] commands = all): set/override, set/target and the
 # calibration verbs go through the control socket's own code (the error
 # texts are compared with psensctl's for the same requests); malformed,
 # oversized, wrongly typed, retained, unknown-zone and other-site commands
-# are refused with an error event and psensd keeps running.  Then Home
+# are refused with an error event and psensd keeps running; a command
+# retained while psensd is connected is refused too, not executed.  Then Home
 # Assistant discovery: a zone renamed by SIGHUP has its retained config
 # messages removed (empty) and the new one announced; a zone removed while
 # psensd was stopped is removed at the next start (the announced list is
@@ -24,7 +25,7 @@ S="$TMP/sock"
 conf() {   # conf ZONE: the example with its zone named ZONE
 	sed "s|^results = .*|results = $TMP/state/ofb.results|; s|^database = .*|database = $TMP/psensd.db\nsocket = $S|; s|^faults = .*|faults = open 08:00-08:30|; s|^\[zone office\]|[zone $1]|" \
 		config/psensd.conf > "$TMP/psensd.conf"
-	printf '\n[mqtt]\nhost = 127.0.0.1\nport = %s\nsite = lab\n' "$P" >> "$TMP/psensd.conf"
+	printf '\n[mqtt]\nhost = 127.0.0.1\nport = %s\nsite = lab\ncommands = all\n' "$P" >> "$TMP/psensd.conf"
 }
 conf office
 last() { wait_for 5 grep -q -- "$1" "$TMP/sub.log"; grep -- "$1" "$TMP/sub.log" | tail -n 1; }
@@ -73,6 +74,22 @@ check "a retained command: refused" got 'retained command' command_refused
 mosquitto_pub -p "$P" -q 1 -r -t psensd/lab/office/set/target -n   # cleared
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 pub() { mosquitto_pub -p "$P" -q 1 "$@"; }
+
+# a retained command published while psensd is connected: a 3.1.1 broker
+# forwards it with the retain flag cleared; psensd must still refuse it
+# (the same command, not retained, then sets the target: the refusal is the flag's)
+n0=$(grep -c 'retained command' "$TMP/err")
+pub -r -t psensd/lab/office/set/target -m '{"lux": 123, "id": "ret"}'
+wait_for 5 sh -c "[ \$(grep -c 'retained command' '$TMP/err') -gt $n0 ]"
+check "a retained set/target while connected: refused and logged" \
+	sh -c "[ \$(grep -c 'mqtt: set/target for zone office refused: a retained command' '$TMP/err') -gt $n0 ]"
+check "and not executed (target_lux is not 123)" sh -c "! \"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"target_lux\":123'"
+check "no reply for it" sh -c "! grep -q '\"id\":\"ret\",\"reply\"' '$TMP/sub.log'"
+pub -r -t psensd/lab/office/set/target -n   # cleared
+pub -t psensd/lab/office/set/target -m '{"lux": 123, "id": "live"}'
+wait_for 5 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"target_lux\":123'"
+check "the same command not retained: executed (target_lux 123)" \
+	sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"target_lux\":123'"
 
 pub -t psensd/lab/office/set/override -m '{"level": 0.3, "seconds": 6000, "id": "r1"}'
 check "set/override: reply ok with the request's id" got '"id":"r1"' '"reply":{"ok":true}'

@@ -3,7 +3,8 @@
 # MQTT over TLS against a real mosquitto: a CA, a server certificate for
 # 127.0.0.1 and a client certificate made here with openssl; the broker
 # requires the client certificate and a user and password (mosquitto_passwd).
-# psensd -n refuses a group- or world-writable password file (file:line);
+# psensd -n refuses a group- or world-writable password file (file:line),
+# and psensd a world-readable one (its mode named), as ssh does with keys;
 # the right password publishes; a wrong one is refused by the broker and
 # psensd goes on controlling without publishing.
 . "$(dirname "$0")/lib.sh"
@@ -61,6 +62,14 @@ check "a group-writable password file: refused at $TMP/psensd.conf:$line ($(cat 
 chmod 602 "$TMP/secret"
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/ww.err"; rc=$?
 check "a world-writable one: psensd will not start (exit $rc)" sh -c "[ $rc = 1 ] && grep -q 'writable by everyone' '$TMP/ww.err'"
+# as ssh does with a private key: a password everyone may read is refused at start,
+# with the file and its mode named; one its group may read (640) is accepted
+chmod 604 "$TMP/secret"
+timeout 20 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/wr.err"; rc=$?
+check "a world-readable one: psensd will not start (exit $rc: $(cat "$TMP/wr.err"))" \
+	sh -c "[ $rc = 1 ] && grep -q 'psensd.conf:$line: password_file: .*/secret is readable by everyone (mode 0604)' '$TMP/wr.err'"
+chmod 640 "$TMP/secret"
+check "a group-readable one (640): accepted" sh -c "\"$BIN/psensd\" -n -f \"$TMP/psensd.conf\" > /dev/null"
 chmod 600 "$TMP/secret"
 
 mosquitto_sub $TLS -u watcher -P watch -q 1 -v -t 'psensd/tls/#' > "$TMP/sub.log" &

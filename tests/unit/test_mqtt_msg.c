@@ -17,6 +17,7 @@
 
 #include "config.h"
 #include "db.h"
+#include "mqttcmd.h"
 #include "mqttmsg.h"
 
 static struct psd_config cf;
@@ -94,11 +95,44 @@ static void conf_password(void **state)
 	assert_int_equal(load(text), -1);
 	assert_true(has_error("is writable by everyone"));
 	psd_config_free(&cf);
+	chmod(path, 0604);
+	assert_int_equal(load(text), -1);
+	assert_true(has_error("is readable by everyone (mode 0604)"));
+	psd_config_free(&cf);
+	chmod(path, 0640);
+	assert_int_equal(load(text), 0);
+	psd_config_free(&cf);
 	unlink(path);
 	assert_int_equal(load(text), -1);
 	assert_true(has_error("No such file"));
 	psd_config_free(&cf);
 	rmdir(dir);
+}
+
+/* commands: none unless the file says otherwise, one of three words */
+static void conf_commands(void **state)
+{
+	(void)state;
+	assert_int_equal(load("[mqtt]\nhost = h\n"), 0);
+	assert_int_equal(cf.mqtt.commands, PSD_MQTT_COMMANDS_NONE);
+	psd_config_free(&cf);
+	assert_int_equal(load("[mqtt]\nhost = h\ncommands = override\n"), 0);
+	assert_int_equal(cf.mqtt.commands, PSD_MQTT_COMMANDS_OVERRIDE);
+	psd_config_free(&cf);
+	assert_int_equal(load("[mqtt]\nhost = h\ncommands = all\n"), 0);
+	assert_int_equal(cf.mqtt.commands, PSD_MQTT_COMMANDS_ALL);
+	psd_config_free(&cf);
+	assert_int_equal(load("[mqtt]\nhost = h\ncommands = yes\n"), -1);
+	assert_true(has_error("t.conf:10: commands"));
+	psd_config_free(&cf);
+	/* the scope each verb needs */
+	assert_int_equal(psd_mqttcmd_scope("override"), PSD_MQTT_COMMANDS_OVERRIDE);
+	assert_int_equal(psd_mqttcmd_scope("release"), PSD_MQTT_COMMANDS_OVERRIDE);
+	assert_int_equal(psd_mqttcmd_scope("status"), PSD_MQTT_COMMANDS_OVERRIDE);
+	assert_int_equal(psd_mqttcmd_scope("target"), PSD_MQTT_COMMANDS_ALL);
+	assert_int_equal(psd_mqttcmd_scope("calibrate"), PSD_MQTT_COMMANDS_ALL);
+	assert_int_equal(psd_mqttcmd_scope("accept"), PSD_MQTT_COMMANDS_ALL);
+	assert_int_equal(psd_mqttcmd_scope("reboot"), PSD_MQTT_COMMANDS_NONE);
 }
 
 static void state_json(void **state)
@@ -134,7 +168,7 @@ static void discovery(void **state)
 	json_object *o;
 	int k, n = 0, empty = 0;
 	(void)state;
-	for (k = 0; psd_mqttmsg_discovery(k, "homeassistant", "b.1", "a", 0, topic, sizeof topic, payload,
+	for (k = 0; psd_mqttmsg_discovery(k, "homeassistant", "b.1", "a", 0, 1, topic, sizeof topic, payload,
 	                               sizeof payload) == 0; k++) {
 		assert_int_equal(strncmp(topic, "homeassistant/", 14), 0);
 		assert_non_null(strstr(topic, "/psensd_b_1_a/"));   /* '.' is not in an HA node id */
@@ -153,9 +187,13 @@ static void discovery(void **state)
 	assert_int_equal(k, 6);
 	assert_int_equal(n, 5);
 	assert_int_equal(empty, 1);
-	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", 1, topic, sizeof topic, payload, sizeof payload), 0);
+	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", 1, 1, topic, sizeof topic, payload, sizeof payload), 0);
 	assert_string_equal(topic, "ha/number/psensd_s_z/override/config");
 	assert_non_null(strstr(payload, "\"command_topic\":\"psensd/s/z/set/override\""));
+	/* without commands over MQTT the override entity is removed (an empty config) */
+	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", 1, 0, topic, sizeof topic, payload, sizeof payload), 0);
+	assert_string_equal(topic, "ha/number/psensd_s_z/override/config");
+	assert_string_equal(payload, "");
 }
 
 static long long ids[16];
@@ -216,6 +254,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(conf_section),
 		cmocka_unit_test(conf_password),
+		cmocka_unit_test(conf_commands),
 		cmocka_unit_test(state_json),
 		cmocka_unit_test(discovery),
 		cmocka_unit_test(db_cursor),
