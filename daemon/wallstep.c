@@ -6,12 +6,7 @@
 #include <stdlib.h>
 #include <time.h>
 
-static double seconds(clockid_t id)
-{
-	struct timespec ts;
-	clock_gettime(id, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "time.h"
 
 /* The tests' offset: the number in the file PSENSD_TEST_WALL_OFFSET names
  * (0 without the variable, or when the file holds no finite number). */
@@ -30,13 +25,13 @@ static double test_offset(void)
 
 double psd_wallstep_wall(void)
 {
-	return seconds(CLOCK_REALTIME) + test_offset();
+	return psd_time_wall() + test_offset();
 }
 
 /* Wall minus monotonic, read as close together as two calls allow. */
 static double wall_minus_mono(void)
 {
-	double m = seconds(CLOCK_MONOTONIC);
+	double m = psd_time_mono();
 	return psd_wallstep_wall() - m;
 }
 
