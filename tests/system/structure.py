@@ -41,6 +41,12 @@ STANDINS = {"mqtt_off": "mqtt"}
 EXPORTED = set("TDBRCGSV")
 
 
+# Symbols a compiler instrumentation adds beside the program's own (ASan's
+# ODR indicators "__odr_asan.NAME", its and UBSan's runtime, the fuzzer's
+# coverage counters): never the program's names.
+TOOL_SYMBOLS = ("__odr_asan", "__asan", "__ubsan", "__sanitizer", "__sancov", "__start___sancov", "__stop___sancov")
+
+
 def nm(path):
     """[(member, kind, symbol)] of an object or archive: kind D defined, U used."""
     out = subprocess.run(["nm", "-A", path], capture_output=True, text=True, check=True).stdout
@@ -51,6 +57,8 @@ def nm(path):
             continue
         member, rest = os.path.basename(parts[-2]), parts[-1]
         f = rest.split()
+        if f and f[-1].startswith(TOOL_SYMBOLS):
+            continue   # the sanitizers' and the fuzzer's own symbols
         if len(f) == 2 and f[0] == "U":
             rows.append((member, "U", f[1]))
         elif len(f) == 3 and f[1] in EXPORTED:
