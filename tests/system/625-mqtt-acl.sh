@@ -52,7 +52,7 @@ conf() {   # conf [COMMANDS]: the example on site hq, commands = COMMANDS (none:
 }
 level() { "$BIN/psensctl" -s "$S" -j status | grep -o '"level":[0-9.e-]*' | head -n 1 | cut -d: -f2; }
 # a dashboard's view of everything
-as dashboard dash-secret mosquitto_sub -q 1 -v -t 'psensd/#' -t 'homeassistant/#' > "$TMP/dash.log" &
+mosquitto_sub -q 1 -v -t 'psensd/#' -t 'homeassistant/#' -p "$P" -u dashboard -P dash-secret > "$TMP/dash.log" &   # not through as(): $! must be the client
 track_pid $!
 conf override
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/err" &
@@ -88,7 +88,7 @@ check "psensd exits 0 on SIGTERM" test "$rc" = 0
 
 # no commands key: not subscribed; the override entity is removed; samples still go out
 conf
-as dashboard dash-secret mosquitto_sub -q 1 -v -t 'psensd/#' -t 'homeassistant/#' > "$TMP/dash2.log" &
+mosquitto_sub -q 1 -v -t 'psensd/#' -t 'homeassistant/#' -p "$P" -u dashboard -P dash-secret > "$TMP/dash2.log" &   # not through as(): $! must be the client
 track_pid $!
 wait_for 10 grep -q '^psensd/hq/status offline' "$TMP/dash2.log"
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/err2" &
