@@ -120,6 +120,27 @@ void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3])
 			k[i][c] = m[i][c] / pic->exposure[c];
 }
 
+int ps_integrate_check_finite(const struct ps_response *r, const double coef[3], double sens_sum,
+                              struct ps_err *e)
+{
+	if (isfinite(r->response) && isfinite(r->rgb[0]) && isfinite(r->rgb[1]) && isfinite(r->rgb[2]))
+		return 0;
+	if (!isfinite(coef[0]) || !isfinite(coef[1]) || !isfinite(coef[2]))
+		return ps_err_set(e, PS_ERANGE, "the response is not finite: the colour coefficients "
+		                  "(%g %g %g) are not", coef[0], coef[1], coef[2]);
+	if (!isfinite(sens_sum))
+		return ps_err_set(e, PS_ERANGE, "the response is not finite: the sensor's weights sum "
+		                  "to %g (its sensitivities are too large)", sens_sum);
+	if (!isfinite(r->rgb[0]) || !isfinite(r->rgb[1]) || !isfinite(r->rgb[2]))
+		return ps_err_set(e, PS_ERANGE, "the response is not finite: the picture's weighted "
+		                  "radiance (R %g G %g B %g) overflows with weights summing to %g",
+		                  r->rgb[0], r->rgb[1], r->rgb[2], sens_sum);
+	return ps_err_set(e, PS_ERANGE, "the response is %s: the colour coefficients (%g %g %g) "
+	                  "times the picture's weighted radiance (R %g G %g B %g) overflow",
+	                  isnan(r->response) ? "not a number" : "infinite", coef[0], coef[1], coef[2],
+	                  r->rgb[0], r->rgb[1], r->rgb[2]);
+}
+
 /* Rearrange v so that its k largest values come first (quickselect, O(n)). */
 static void select_largest(double *v, size_t n, size_t k)
 {
@@ -205,6 +226,8 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	r->solid_angle = w->solid_angle;
 	r->npixels = ncontrib;
 	r->top1_share = NAN;
+	if (ps_integrate_check_finite(r, coef, w->sens_sum, e) != 0)
+		return -1;
 	if (r->response > 0 && ncontrib > 0)
 		r->brightest_share = best / r->response;
 	/* the brightest 1 % only matters when one pixel already stands out:

@@ -59,6 +59,13 @@ static inline void ps_integrate_row_rgb(const double k[3][3], const double raw_s
 		rgb[c] = k[c][0] * raw_sum[0] + k[c][1] * raw_sum[1] + k[c][2] * raw_sum[2];
 }
 
+/* A response that is not finite (NaN or infinite) is an error, never a
+ * result: 0 when r's response and channels are finite, else -1 with e
+ * naming the cause (the coefficients, the weights' sum, or the picture's
+ * weighted radiance or its product with the coefficients overflowing). */
+int ps_integrate_check_finite(const struct ps_response *r, const double coef[3], double sens_sum,
+                              struct ps_err *e);
+
 /* The share of response of the largest 1 % of the n contributions (at
  * least one); contrib is reordered. */
 double ps_integrate_top1_share(double *contrib, size_t n, double response);

@@ -182,6 +182,11 @@ int ps_sensor_set_reading(struct ps_sensor *s, int reading, struct ps_err *e)
 	}
 	s->reading = reading;
 	build_cum(s);
+	if (!isfinite(ps_sensor_integral(s)))
+		return ps_err_set(e, PS_ERANGE,
+		                  "%s: the sensitivity's integral over the sphere is not finite (values up "
+		                  "to %g): scale the table down",
+		                  s->path ? s->path : "sensor", s->max_value);
 	return 0;
 }
 
@@ -403,6 +408,13 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 	}
 	if (s->max_value <= 0.0) {
 		ps_err_set(e, PS_ERANGE, "%s: every sensitivity is zero", name);
+		goto fail;
+	}
+	if (!isfinite(s->total)) {
+		ps_err_set(e, PS_ERANGE,
+		           "%s: the sensitivities (up to %g) add up past the largest number: the total "
+		           "sensitivity would not be finite; scale the table down",
+		           name, s->max_value);
 		goto fail;
 	}
 	return ps_sensor_set_reading(s, PS_READ_LINEAR, e) == 0 ? 0 : (ps_sensor_free(s), -1);
