@@ -43,6 +43,10 @@ static void check_ranges(struct psd_config *cf)
 		ps_conf_error(c, key_line(s, ps_conf_kv(s, "sensor_max") ? "sensor_max" : "sensor_min"),
 		              "sensor_min %g must be below sensor_max %g: every reading would be a fault and the "
 		              "lights would stay at the safe level", cf->sensor_min, cf->sensor_max);
+	if (cf->sensor_saturation > 0 && !(cf->sensor_saturation > cf->sensor_min))
+		ps_conf_error(c, key_line(s, "sensor_saturation"),
+		              "sensor_saturation %g must be above sensor_min %g: every reading would be a fault",
+		              cf->sensor_saturation, cf->sensor_min);
 }
 
 /* A scene and its results, named at lines ls and lr of the file. */

@@ -141,7 +141,8 @@ static int set_name(struct ps_conf *c, int line, char *dst, size_t size, const c
 	return 0;
 }
 
-static const char *const point_keys[] = { "device", "role", "action", "valid_min", "valid_max", NULL };
+static const char *const point_keys[] = { "device", "role",       "action",
+	                                   "valid_min", "valid_max", "sensor_saturation", NULL };
 
 static void load_devices(struct psd_config *cf)
 {
@@ -222,6 +223,12 @@ static void load_points(struct psd_config *cf)
 		ps_conf_double(c, s, "valid_max", lux_role(p->role) ? 2e5 : cf->sensor_max, -1e9, 1e9, &p->max);
 		if (p->min >= p->max)
 			ps_conf_error(c, s->line, "[point %s]: valid_min must be below valid_max", p->name);
+		ps_conf_double(c, s, "sensor_saturation", p->role == PS_ROLE_SENSOR ? cf->sensor_saturation : 0, 0,
+		               1e9, &p->saturation);
+		if (p->role == PS_ROLE_SENSOR && p->saturation > 0 && p->saturation <= p->min)
+			ps_conf_error(c, line_of(s, ps_conf_kv(s, "sensor_saturation") ? "sensor_saturation" : "valid_min"),
+			              "[point %s]: sensor_saturation %g must be above valid_min %g: every reading "
+			              "would be a fault", p->name, p->saturation, p->min);
 		driver_opts(cf, s, point_keys, &p->opts);
 		/* a point whose device or role is wrong was reported above */
 		if (p->device >= 0 && p->role >= 0)
@@ -254,6 +261,7 @@ static int implicit_point(struct psd_config *cf, int dev, int role, int line)
 	p->role = role;
 	p->min = lux_role(role) ? 0 : cf->sensor_min;
 	p->max = lux_role(role) ? 2e5 : cf->sensor_max;
+	p->saturation = role == PS_ROLE_SENSOR ? cf->sensor_saturation : 0;
 	p->opts.file = cf->conf.path;
 	p->line = line;
 	return (int)cf->npt++;
@@ -440,6 +448,7 @@ static int load(struct psd_config *cf, int files)
 	ps_conf_double(c, s, "safe_level", 1.0, 0, 1, &cf->safe_level);
 	ps_conf_double(c, s, "sensor_min", 0.01, -100, 100, &cf->sensor_min);
 	ps_conf_double(c, s, "sensor_max", 9.9, -100, 1000, &cf->sensor_max);
+	ps_conf_double(c, s, "sensor_saturation", 10, 0, 1000, &cf->sensor_saturation);
 	ps_conf_double(c, s, "stale_after", 0, 0, 86400 * 7, &cf->stale_after);
 	ps_conf_double(c, s, "stuck_after", 0, 0, 86400 * 7, &cf->stuck_after);
 	ps_conf_int(c, s, "max_clients", 32, 1, 1024, &maxc);

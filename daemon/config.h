@@ -45,6 +45,7 @@ struct psd_point_conf {
 	int role;                 /* enum ps_role */
 	int action;               /* inputs: enum psd_action */
 	double min, max;          /* valid range of a reading (sensor volts, task lux) */
+	double saturation;        /* sensor: volts at which it saturates (0: unknown) */
 	struct ps_opts opts;      /* the driver's keys */
 	int line;
 };
@@ -94,6 +95,7 @@ struct psd_config {
 	const char *timezone;     /* the site's time zone (TZ: a zoneinfo name or a POSIX rule), NULL: the process's */
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;
+	double sensor_saturation;   /* volts at which a sensor saturates (0: unknown) */
 	long max_clients;
 	long log_hold;             /* samples held in memory while the log cannot be written */
 	/* [simulate] */

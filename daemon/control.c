@@ -36,6 +36,8 @@ static double switching(struct psd_control *c, double volts, double now)
 
 void psd_control_estimate(struct psd_control *c, double volts)
 {
+	if (!isfinite(volts))
+		return;   /* no reading: the last estimate stands */
 	/* the daylight part of the signal: what the offset and the lights do
 	 * not explain */
 	double day = (volts - c->offset) / c->sensor_gain - c->level * c->elec_sensor;
@@ -50,6 +52,15 @@ double psd_control_step(struct psd_control *c, double volts, double now)
 	double want, se = c->sensor_gain * c->elec_sensor;   /* S_E: volts at night, full output */
 	double rd = c->sensor_gain / c->daylight_ratio;      /* r_D: daylight volts per task lux */
 	double raw = volts;
+	/* A reading that is not a number (NaN, Inf) says nothing about the
+	 * room: every law holds its last level and its state, and goes on
+	 * with the next finite reading.  A level that is not finite (a state
+	 * set from outside) is taken as full output, the level a law can
+	 * always step down from. */
+	if (!isfinite(c->level))
+		c->level = 1.0;
+	if (!isfinite(volts))
+		return c->level;
 	psd_control_estimate(c, volts);
 	volts -= c->offset;   /* the dark signal, once a night calibration measured it */
 	switch (c->algorithm) {

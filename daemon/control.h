@@ -51,7 +51,9 @@ struct psd_control {
  * so that the logged estimate follows the room. */
 void psd_control_estimate(struct psd_control *c, double volts);
 /* Next level from a reading (volts) at time now (seconds), the lights being
- * at c->level since the last step. */
+ * at c->level since the last step.  A reading that is not finite changes
+ * nothing: the last level is returned and the next finite reading goes on
+ * from it (psd_control_estimate ignores it likewise). */
 double psd_control_step(struct psd_control *c, double volts, double now);
 
 #endif

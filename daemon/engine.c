@@ -583,6 +583,13 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 		return 1;
 	}
 	z->volts = v;
+	/* saturation is the sensor's own limit, apart from the control range:
+	 * a reading at it says only "this much or more" */
+	if (pc->saturation > 0 && v >= pc->saturation) {
+		snprintf(why, n, "sensor saturated: reads %.3f V, at or above its saturation %g V", v,
+		         pc->saturation);
+		return -1;
+	}
 	if (!(v >= pc->min && v <= pc->max)) {
 		snprintf(why, n, "sensor reads %.3f V, outside %g to %g V", v, pc->min, pc->max);
 		return -1;

@@ -133,6 +133,16 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	        r->rgb[0], r->rgb[1], r->rgb[2]);
 	for (size_t i = 0; i < r->ncond; i++) {
 		const struct ps_result_cond *c = &r->cond[i];
+		if (c->computed && !(isfinite(c->sensor_response) && isfinite(c->task_irradiance) &&
+		                     isfinite(c->task_lux) && isfinite(c->ratio))) {
+			fclose(fp);
+			unlink(tmp);
+			return ps_err_set(e, PS_ERANGE, "%s: condition %s: not written: its %s is not finite",
+			                  path, c->label,
+			                  !isfinite(c->sensor_response) ? "sensor response"
+			                  : !isfinite(c->task_irradiance) ? "task irradiance"
+			                  : !isfinite(c->task_lux) ? "task illuminance" : "task-sensor ratio");
+		}
 		fprintf(fp, "\n[condition %s]\nkind = %s\n", c->label,
 		        c->kind == PS_COND_ELECTRIC ? "electric" : "daylight");
 		if (c->date && *c->date)
@@ -186,6 +196,22 @@ static double num(struct ps_conf *c, struct ps_conf_section *s, const char *key)
 		ps_conf_error(c, kv->line, "%s: '%s' is not a number", key, kv->value);
 		return NAN;
 	}
+	if (!isfinite(v)) {
+		ps_conf_error(c, kv->line, "%s: '%s' is not a finite number", key, kv->value);
+		return NAN;
+	}
+	return v;
+}
+
+/* A number a computed condition must have: finite ("nan" only marks a
+ * condition left out). */
+static double finite_num(struct ps_conf *c, struct ps_conf_section *s, const char *key)
+{
+	double v = num(c, s, key);
+	struct ps_conf_kv *kv = ps_conf_kv(s, key);
+	if (isnan(v) && kv && strcmp(kv->value, "nan") == 0)
+		ps_conf_error(c, kv->line, "%s: a computed condition's %s must be a finite number, not "
+		              "'nan': run psscene again", key, key);
 	return v;
 }
 
@@ -311,10 +337,14 @@ static int results_from_conf(struct ps_results *r, struct ps_conf *cp, const cha
 		k->tod_s = num(&c, &c.sec[i], "tod_s");
 		ps_conf_bool(&c, &c.sec[i], "computed", 1, &computed);
 		k->computed = computed;
-		k->sensor_response = num(&c, &c.sec[i], "sensor_response");
-		k->task_irradiance = num(&c, &c.sec[i], "task_irradiance");
-		k->task_lux = num(&c, &c.sec[i], "task_lux");
-		k->ratio = num(&c, &c.sec[i], "ratio");
+		{
+			double (*get)(struct ps_conf *, struct ps_conf_section *, const char *) =
+				computed ? finite_num : num;
+			k->sensor_response = get(&c, &c.sec[i], "sensor_response");
+			k->task_irradiance = get(&c, &c.sec[i], "task_irradiance");
+			k->task_lux = get(&c, &c.sec[i], "task_lux");
+			k->ratio = get(&c, &c.sec[i], "ratio");
+		}
 		k->brightest_share = num(&c, &c.sec[i], "brightest_share");
 	}
 	if (ps_conf_section(&c, "summary")) {

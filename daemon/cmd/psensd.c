@@ -105,35 +105,54 @@ static int year_report(struct psd_daemon *d, const char *png)
 			psd_log_errx("zone %s: the year cannot run (no electric condition?)", z->zc->name);
 			return 1;
 		}
+		psd_clock_hhmm(o.occ_start, from);
+		psd_clock_hhmm(o.occ_end, to);
+		if (!(a.occ_h > 0)) {
+			/* every figure is a share of the occupied hours: none to give */
+			psd_log_errx("zone %s: no control step of the year falls in the occupied hours "
+			             "%s-%s (a step every %g s): no energy or savings to give; use a period "
+			             "that steps inside them", z->zc->name, from, to, o.period);
+			return 1;
+		}
 		printf("psensd: the year of %s, zone %s, %s control (dated estimate) every %g s, "
 		       "target %g lx\n",
 		       e->res.weather, z->zc->name, psd_control_algorithm_names[ctl.algorithm], o.period,
 		       ctl.target_lux);
-		psd_clock_hhmm(o.occ_start, from);
-		psd_clock_hhmm(o.occ_end, to);
 		printf("  %.0f control steps in %.2f s (%.0f ns a step); occupied %s-%s every day, "
 		       "%.0f h\n", a.steps, a.seconds, 1e9 * a.seconds / a.steps, from, to, a.occ_h);
 		if (a.days != 365)
 			printf("  %d days: the weather file's year has February 29\n", a.days);
 		printf("  lighting energy %.0f full-output hours (%.1f %% of full), savings %.1f %%\n",
 		       a.energy_h, 100 * a.energy_h / a.occ_h, 100 * a.savings);
-		printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
-		       "effectiveness %.1f %%\n", 100 * a.ideal_savings, 100 * a.effectiveness);
+		if (isfinite(a.effectiveness))
+			printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
+			       "effectiveness %.1f %%\n", 100 * a.ideal_savings, 100 * a.effectiveness);
+		else   /* nothing to save: no effectiveness to give */
+			printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
+			       "no effectiveness to give\n", 100 * a.ideal_savings);
 		printf("  occupied hours below 90 %% of target: %.1f h (%.2f %%); over-dimmed %.1f h; "
 		       "%.2f dimming changes an hour\n", a.below_h, 100 * a.below_h / a.occ_h,
 		       a.overdim_h, a.changes_per_h);
-		printf("  daylight estimate against the task's true daylight (%.0f steps with 50 lx or more):\n"
-		       "    one mean ratio (%.1f): mean %+.1f %%, rms %.1f %%\n"
-		       "    dated ratio (month x hour x typical sky class): mean %+.1f %%, rms %.1f %%\n",
-		       a.est_n, e->res.year.mean_ratio, a.est_mean[0], a.est_rms[0], a.est_mean[1],
-		       a.est_rms[1]);
-		if (a.est_rooftop)
+		if (!(a.est_n > 0))
+			printf("  daylight estimate against the task's true daylight: no step with 50 lx or more\n");
+		else
+			printf("  daylight estimate against the task's true daylight (%.0f steps with 50 lx or more):\n"
+			       "    one mean ratio (%.1f): mean %+.1f %%, rms %.1f %%\n"
+			       "    dated ratio (month x hour x typical sky class): mean %+.1f %%, rms %.1f %%\n",
+			       a.est_n, e->res.year.mean_ratio, a.est_mean[0], a.est_rms[0], a.est_mean[1],
+			       a.est_rms[1]);
+		if (a.est_rooftop && a.est_n > 0)
 			printf("    dated ratio, sky class from a rooftop sensor: mean %+.1f %%, rms %.1f %%\n",
 			       a.est_mean[2], a.est_rms[2]);
 		printf("  %-5s %9s %9s %9s %9s %9s\n", "month", "occ. h", "energy %", "ideal %",
 		       "below 90%", "overdim h");
 		for (int m = 0; m < 12; m++) {
 			const struct psd_annual_month *k = &a.month[m];
+			if (!(k->occ_h > 0)) {   /* no occupied step this month: no shares */
+				printf("  %-5s %9.0f %9s %9s %9.1f %9.1f\n", mon[m], k->occ_h, "-", "-", k->below_h,
+				       k->overdim_h);
+				continue;
+			}
 			printf("  %-5s %9.0f %9.1f %9.1f %9.1f %9.1f\n", mon[m], k->occ_h,
 			       100 * k->energy_h / k->occ_h, 100 * k->ideal_h / k->occ_h, k->below_h,
 			       k->overdim_h);
@@ -180,9 +199,14 @@ static int year_report(struct psd_daemon *d, const char *png)
 				continue;
 			snprintf(name, sizeof name, "%s%s", psd_control_algorithm_names[alg],
 			         row < PSD_ALG_COUNT ? "" : ", mean ratio");
-			printf("  %-32s %9.1f %9.1f %9.1f %9.1f %9.1f %9.2f\n", name,
-			       100 * b.energy_h / b.occ_h, 100 * b.savings, 100 * b.effectiveness, b.below_h,
-			       b.overdim_h, b.changes_per_h);
+			{
+				char eff[16] = "-";
+				if (isfinite(b.effectiveness))
+					snprintf(eff, sizeof eff, "%.1f", 100 * b.effectiveness);
+				printf("  %-32s %9.1f %9.1f %9s %9.1f %9.1f %9.2f\n", name,
+				       100 * b.energy_h / b.occ_h, 100 * b.savings, eff, b.below_h, b.overdim_h,
+				       b.changes_per_h);
+			}
 		}
 	}
 	fflush(stdout);

@@ -537,6 +537,21 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 				status = 1;
 				continue;
 			}
+			{
+				int bad = -1;
+				for (int r = 0; r < o->nrot && bad < 0; r++)
+					if (!isfinite(out[r]))
+						bad = r;
+				if (bad >= 0) {
+					fprintf(stderr, "psens: %s: rotation %g: the response is %s: the colour "
+					        "coefficients (%g %g %g) times the picture overflow, or the sensor's "
+					        "sensitivities are too large\n", paths[i], o->rot_a + bad * o->rot_step,
+					        isnan(out[bad]) ? "not a number" : "infinite", o->coef[0], o->coef[1],
+					        o->coef[2]);
+					status = 1;
+					continue;
+				}
+			}
 			for (int r = 0; r < o->nrot; r++) {
 				double rot = o->rot_a + r * o->rot_step;
 				if (o->json) {

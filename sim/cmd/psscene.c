@@ -561,6 +561,19 @@ int main(int argc, char **argv)
 		rc->task_irradiance = tv[0];
 		rc->task_lux = LUX_PER_WM2 * tv[0];
 		rc->ratio = sv[0] > 0 ? rc->task_lux / sv[0] : NAN;
+		if (!(sv[0] > 0) || !isfinite(rc->ratio)) {
+			if (r.tty && !r.quiet)
+				fputc('\n', stderr);
+			if (!(sv[0] > 0))
+				fprintf(stderr, "psscene: condition %s: the sensor's response is %g (%s sees no "
+				        "light where the sensor looks): no task-sensor ratio\n", c->label, sv[0],
+				        c->sensor_pic);
+			else
+				fprintf(stderr, "psscene: condition %s: the task-sensor ratio is not finite "
+				        "(task %g lx over sensor response %g)\n", c->label, rc->task_lux, sv[0]);
+			status = 1;
+			break;
+		}
 	}
 	if (status == 0 && sc.dc.have) {
 		struct timespec t0, t1;

@@ -8,6 +8,7 @@
  * first byte is written: a bad input line gives file:line and no output.
  * See pssky(1). */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -284,6 +285,14 @@ int main(int argc, char **argv)
 				                "sun is below the horizon)\n",
 				        w.name, st->line, st->hour, st->month, st->day);
 			ps_sky_vector(&s, &P, PS_SKY_ALL, vec);
+			for (int q = 0; q < 3 * P.n; q++)
+				if (!isfinite(vec[q]) || (!dbl && !(fabs(vec[q]) <= FLT_MAX))) {
+					/* a sky that is not finite is an error, never output */
+					fprintf(stderr, "pssky: %s:%d: the sky of %d-%d %.2f h is not finite (direct "
+					        "%g, diffuse %g): values out of range\n", w.name, st->line,
+					        st->month, st->day, st->hour, st->dir, st->dif);
+					return 1;
+				}
 			for (int q = 0; q < 3 * P.n; q++) {
 				if (average)
 					sum[q] += vec[q];

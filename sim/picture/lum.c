@@ -15,7 +15,10 @@ void ps_lum_init(struct ps_lum *l, const struct ps_picture *pic)
 			for (int k = 0; k < 3; k++)
 				l->to_rgb[i][k] /= PS_LUM_EFFICACY;
 	} else {
-		ps_integrate_rgb_to_xyz(pic->has_primaries ? pic->primaries : ps_integrate_std_primaries, m);
+		if (pic->has_primaries)
+			ps_integrate_own_rgb_to_xyz(pic->primaries, m);
+		else
+			ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
 		for (int i = 0; i < 3; i++)
 			for (int k = 0; k < 3; k++)
 				l->to_rgb[i][k] = i == k;

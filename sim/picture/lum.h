@@ -9,7 +9,8 @@
  * the CIE_rf, CIE_gf, CIE_bf of Radiance's color.h, and psens's default
  * coefficients (what psfilter gives for an ideal V(lambda) filter).
  *
- * A picture with a PRIMARIES= line gets the Y row of its own primaries; an
+ * A picture with a PRIMARIES= line gets the Y row of its own primaries
+ * balanced to the standard white (ps_integrate_own_rgb_to_xyz); an
  * XYZE picture's Y is luminance in cd/m2 as stored (EXPOSURE divided out;
  * Radiance's ra_xyze writes EXPOSURE=1/179 on the unchanged XYZ), so its
  * radiance is XYZ / 179, and its colour is shown in

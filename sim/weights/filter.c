@@ -348,6 +348,21 @@ int ps_filter_analyse(const struct ps_filter *f, const char *calibration,
 		r->illum[r->nillum].rgb = (p_ / v_) / (cal_p / cal_v) - 1.0;
 		r->nillum++;
 	}
+	{
+		/* a result that is not finite is an error, never a figure */
+		int ok = isfinite(r->rgb[0]) && isfinite(r->rgb[1]) && isfinite(r->rgb[2]) &&
+		         isfinite(r->residual) && isfinite(r->f1p);
+		double top = 0;
+		for (int i = 0; i < r->nillum; i++)
+			ok = ok && isfinite(r->illum[i].spectral) && isfinite(r->illum[i].rgb);
+		for (int i = 0; i < f->n; i++)
+			top = fmax(top, fabs(f->value[i]));
+		if (!ok)
+			return ps_err_set(e, PS_ERANGE, "%s: the filter's figures are not finite: its "
+			                  "transmittances (up to %g) overflow the integrals, or it is zero "
+			                  "where the eye sees; give transmittances from 0 to 1 (or percent)",
+			                  f->path ? f->path : "filter", top);
+	}
 	return 0;
 }
 

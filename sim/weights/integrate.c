@@ -47,6 +47,48 @@ void ps_integrate_rgb_to_xyz(const double prim[8], double m[3][3])
 			m[i][k] = p[i][k] * sc[k];
 }
 
+/* The Sharp cone-response matrix (Finlayson and Suesstrunk), the one
+ * Radiance's von Kries white balance works in (vkmat of its colour code). */
+static const double sharp_cones[3][3] = { { 1.2694, -0.0988, -0.1706 },
+                                          { -0.8364, 1.8006, 0.0357 },
+                                          { 0.0297, -0.0315, 1.0018 } };
+
+/* m = a b */
+static void mat3_mul(const double a[3][3], const double b[3][3], double m[3][3])
+{
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			m[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+}
+
+/* The von Kries transform in the Sharp cones taking XYZ seen under white
+ * (x1, y1) to XYZ seen under white (x2, y2): S^-1 diag(S w2 / S w1) S, w the
+ * whites' XYZ with Y = 1.  The exact inverse of S is used, so white maps to
+ * white exactly (Radiance's colour code tables a 4-digit inverse: its
+ * D65-to-neutral matrix differs from this one by at most 8.3e-5, and takes
+ * the D65 white to Y = 0.99994). */
+static void white_balance(double x1, double y1, double x2, double y2, double m[3][3])
+{
+	double w1[3] = { x1 / y1, 1.0, (1 - x1 - y1) / y1 }, w2[3] = { x2 / y2, 1.0, (1 - x2 - y2) / y2 };
+	double inv[3][3], d[3][3] = { { 0 } }, t[3][3];
+	for (int i = 0; i < 3; i++) {
+		double c1 = sharp_cones[i][0] * w1[0] + sharp_cones[i][1] * w1[1] + sharp_cones[i][2] * w1[2];
+		double c2 = sharp_cones[i][0] * w2[0] + sharp_cones[i][1] * w2[1] + sharp_cones[i][2] * w2[2];
+		d[i][i] = c2 / c1;
+	}
+	ps_integrate_mat3_invert(sharp_cones, inv);
+	mat3_mul((const double(*)[3])d, sharp_cones, t);
+	mat3_mul((const double(*)[3])inv, (const double(*)[3])t, m);
+}
+
+void ps_integrate_own_rgb_to_xyz(const double prim[8], double m[3][3])
+{
+	double own[3][3], wb[3][3];
+	ps_integrate_rgb_to_xyz(prim, own);
+	white_balance(prim[6], prim[7], ps_integrate_std_primaries[6], ps_integrate_std_primaries[7], wb);
+	mat3_mul((const double(*)[3])wb, (const double(*)[3])own, m);
+}
+
 void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3])
 {
 	double to_xyz[3][3], from_xyz[3][3], m[3][3];
@@ -60,9 +102,10 @@ void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3])
 			for (int c = 0; c < 3; c++)
 				m[i][c] = from_xyz[i][c] / PS_WHTEFFICACY;
 	} else if (pic->has_primaries) {
-		/* RGB in the picture's own primaries -> XYZ -> standard RGB */
+		/* RGB in the picture's own primaries -> XYZ balanced to the
+		 * standard white -> standard RGB */
 		double own[3][3];
-		ps_integrate_rgb_to_xyz(pic->primaries, own);
+		ps_integrate_own_rgb_to_xyz(pic->primaries, own);
 		for (int i = 0; i < 3; i++)
 			for (int c = 0; c < 3; c++)
 				m[i][c] = from_xyz[i][0] * own[0][c] + from_xyz[i][1] * own[1][c] +
@@ -77,6 +120,27 @@ void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3])
 	for (int i = 0; i < 3; i++)
 		for (int c = 0; c < 3; c++)
 			k[i][c] = m[i][c] / pic->exposure[c];
+}
+
+int ps_integrate_check_finite(const struct ps_response *r, const double coef[3], double sens_sum,
+                              struct ps_err *e)
+{
+	if (isfinite(r->response) && isfinite(r->rgb[0]) && isfinite(r->rgb[1]) && isfinite(r->rgb[2]))
+		return 0;
+	if (!isfinite(coef[0]) || !isfinite(coef[1]) || !isfinite(coef[2]))
+		return ps_err_set(e, PS_ERANGE, "the response is not finite: the colour coefficients "
+		                  "(%g %g %g) are not", coef[0], coef[1], coef[2]);
+	if (!isfinite(sens_sum))
+		return ps_err_set(e, PS_ERANGE, "the response is not finite: the sensor's weights sum "
+		                  "to %g (its sensitivities are too large)", sens_sum);
+	if (!isfinite(r->rgb[0]) || !isfinite(r->rgb[1]) || !isfinite(r->rgb[2]))
+		return ps_err_set(e, PS_ERANGE, "the response is not finite: the picture's weighted "
+		                  "radiance (R %g G %g B %g) overflows with weights summing to %g",
+		                  r->rgb[0], r->rgb[1], r->rgb[2], sens_sum);
+	return ps_err_set(e, PS_ERANGE, "the response is %s: the colour coefficients (%g %g %g) "
+	                  "times the picture's weighted radiance (R %g G %g B %g) overflow",
+	                  isnan(r->response) ? "not a number" : "infinite", coef[0], coef[1], coef[2],
+	                  r->rgb[0], r->rgb[1], r->rgb[2]);
 }
 
 /* Rearrange v so that its k largest values come first (quickselect, O(n)). */
@@ -164,6 +228,8 @@ int ps_integrate(const struct ps_weights *w, const struct ps_picture *pic, const
 	r->solid_angle = w->solid_angle;
 	r->npixels = ncontrib;
 	r->top1_share = NAN;
+	if (ps_integrate_check_finite(r, coef, w->sens_sum, e) != 0)
+		return -1;
 	if (r->response > 0 && ncontrib > 0)
 		r->brightest_share = best / r->response;
 	/* the brightest 1 % only matters when one pixel already stands out:

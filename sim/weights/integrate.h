@@ -59,6 +59,13 @@ static inline void ps_integrate_row_rgb(const double k[3][3], const double raw_s
 		rgb[c] = k[c][0] * raw_sum[0] + k[c][1] * raw_sum[1] + k[c][2] * raw_sum[2];
 }
 
+/* A response that is not finite (NaN or infinite) is an error, never a
+ * result: 0 when r's response and channels are finite, else -1 with e
+ * naming the cause (the coefficients, the weights' sum, or the picture's
+ * weighted radiance or its product with the coefficients overflowing). */
+int ps_integrate_check_finite(const struct ps_response *r, const double coef[3], double sens_sum,
+                              struct ps_err *e);
+
 /* The share of response of the largest 1 % of the n contributions (at
  * least one); contrib is reordered. */
 double ps_integrate_top1_share(double *contrib, size_t n, double response);
@@ -67,6 +74,14 @@ double ps_integrate_top1_share(double *contrib, size_t n, double response);
 extern const double ps_integrate_std_primaries[8];
 /* The 3 x 3 matrix from RGB with the given primaries to CIE XYZ (Y of white = 1). */
 void ps_integrate_rgb_to_xyz(const double prim[8], double m[3][3]);
+/* The 3 x 3 matrix from RGB in a picture's own primaries and white to CIE
+ * XYZ seen under the standard white (0.3333, 0.3333, Radiance's
+ * equal-energy white), as Radiance reads such a picture (ra_xyze, and its
+ * RGB to standard RGB conversion): the primaries' matrix, then a von Kries
+ * white balance in the Sharp cone space from the picture's white to the
+ * standard white.  The picture's white (R = G = B) becomes the standard
+ * white exactly; for the standard white it is ps_integrate_rgb_to_xyz. */
+void ps_integrate_own_rgb_to_xyz(const double prim[8], double m[3][3]);
 /* The inverse of a 3 x 3 matrix by its adjugate (the matrices here are
  * colour primaries, far from singular). */
 void ps_integrate_mat3_invert(const double a[3][3], double out[3][3]);
@@ -80,9 +95,10 @@ void ps_integrate_mat3_invert(const double a[3][3], double out[3][3]);
  *  - EXPOSURE= and COLORCORR= are divided out per stored channel;
  *  - XYZE: XYZ -> RGB of the standard primaries, then / 179 (XYZE values are
  *    luminance-based: Y in cd/m2, as Radiance's ra_xyze writes them);
- *  - RGBE with PRIMARIES=: own RGB -> XYZ -> standard RGB, which keeps the
- *    luminance (the default coefficients give the same Y); an XYZE
- *    picture's PRIMARIES= line is ignored (XYZ has no primaries). */
+ *  - RGBE with PRIMARIES=: own RGB -> XYZ balanced to the standard white
+ *    (ps_integrate_own_rgb_to_xyz) -> standard RGB, so a grey pixel stays
+ *    grey and its luminance is kept; an XYZE picture's PRIMARIES= line is
+ *    ignored (XYZ has no primaries). */
 void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3]);
 
 #endif

@@ -50,13 +50,24 @@ const char *ps_sensor_reading_name(int reading)
 	return reading == PS_READ_CELL ? "cell" : "linear";
 }
 
-/* integral_{t0}^{t} (a + b u) sin u du for s linear from s0 at t0 to s1 at t1 */
+/* 1 - cos t and sin t - t cos t, without cancellation for small t */
+static void h_g(double t, double *h, double *g)
+{
+	double sh = sin(0.5 * t);
+	*h = 2.0 * sh * sh;
+	*g = t < PS_SENSOR_SMALL_THETA ? ps_sensor_sin_t_cos_small(t) : sin(t) - t * cos(t);
+}
+
+/* integral_{t0}^{t} (a + b u) sin u du for s linear from s0 at t0 to s1 at t1:
+ * a (h(t) - h(t0)) + b (g(t) - g(t0)), h = 1 - cos, g = sin u - u cos u */
 static double lin_sin_integral(double s0, double s1, double t0, double t1, double t)
 {
 	double b = (t1 > t0) ? (s1 - s0) / (t1 - t0) : 0.0;
 	double a = s0 - b * t0;
-	double ct = cos(t), st = sin(t), c0 = cos(t0), sn0 = sin(t0);
-	return a * (c0 - ct) + b * ((st - t * ct) - (sn0 - t0 * c0));
+	double h, g, h0, g0;
+	h_g(t, &h, &g);
+	h_g(t0, &h0, &g0);
+	return a * (h - h0) + b * (g - g0);
 }
 
 static double *corner_at(const struct ps_sensor *s, int i, int j)
@@ -86,17 +97,19 @@ static void build_cum(struct ps_sensor *s)
 	}
 	/* Within a patch, along an edge where S = a + b t:
 	 *   M(theta) = cum + integral_{t0}^{theta} (a + b t) sin t dt
-	 *            = A + b sin(theta) - (a + b theta) cos(theta)
-	 * so that evaluating M costs one sine and one cosine. */
+	 *            = K + a (1 - cos theta) + b (sin theta - theta cos theta)
+	 * with K = cum - a (1 - cos t0) - b (sin t0 - t0 cos t0): one sine and
+	 * one cosine, and near the axis no cancellation (ps_sensor_m_patch). */
 	for (int i = 0; i < s->nt; i++)
 		for (int j = 0; j < s->np; j++) {
 			const double *c = corner_at(s, i, j), *cu = cum_at(s, i, j);
-			double t0 = s->tb[i], t1 = s->tb[i + 1], c0 = cos(t0), s0 = sin(t0);
+			double t0 = s->tb[i], t1 = s->tb[i + 1], h0, g0;
 			double *k = s->mcoef + 6 * ((size_t)i * (size_t)s->np + (size_t)j);
+			h_g(t0, &h0, &g0);
 			for (int side = 0; side < 2; side++) {
 				double v0 = c[2 * side], v1 = c[2 * side + 1];
 				double b = t1 > t0 ? (v1 - v0) / (t1 - t0) : 0.0, a = v0 - b * t0;
-				k[3 * side + 0] = cu[side] + a * c0 - b * (s0 - t0 * c0);
+				k[3 * side + 0] = cu[side] - a * h0 - b * g0;
 				k[3 * side + 1] = a;
 				k[3 * side + 2] = b;
 			}
@@ -169,6 +182,11 @@ int ps_sensor_set_reading(struct ps_sensor *s, int reading, struct ps_err *e)
 	}
 	s->reading = reading;
 	build_cum(s);
+	if (!isfinite(ps_sensor_integral(s)))
+		return ps_err_set(e, PS_ERANGE,
+		                  "%s: the sensitivity's integral over the sphere is not finite (values up "
+		                  "to %g): scale the table down",
+		                  s->path ? s->path : "sensor", s->max_value);
 	return 0;
 }
 
@@ -392,6 +410,13 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 		ps_err_set(e, PS_ERANGE, "%s: every sensitivity is zero", name);
 		goto fail;
 	}
+	if (!isfinite(s->total)) {
+		ps_err_set(e, PS_ERANGE,
+		           "%s: the sensitivities (up to %g) add up past the largest number: the total "
+		           "sensitivity would not be finite; scale the table down",
+		           name, s->max_value);
+		goto fail;
+	}
 	return ps_sensor_set_reading(s, PS_READ_LINEAR, e) == 0 ? 0 : (ps_sensor_free(s), -1);
 nul:
 	ps_err_set(e, PS_EFORMAT, "%s: byte %zu: NUL byte in a text file", name,
@@ -475,10 +500,10 @@ double ps_sensor_m_in(const struct ps_sensor *s, int i, int j, double theta, dou
 	{
 		const double *k = s->mcoef + 6 * ((size_t)i * (size_t)s->np + (size_t)j);
 		double ct = cos(theta), st = sin(theta);
-		ml = k[0] + k[2] * st - (k[1] + k[2] * theta) * ct;
+		ml = ps_sensor_m_patch(k, theta, st, ct);
 		if (s->reading == PS_READ_CELL)
 			return ml;
-		mr = k[3] + k[5] * st - (k[4] + k[5] * theta) * ct;
+		mr = ps_sensor_m_patch(k + 3, theta, st, ct);
 	}
 	return (1.0 - w) * ml + w * mr;
 }

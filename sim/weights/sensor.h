@@ -50,8 +50,9 @@ struct ps_sensor {
 	double *corner;         /* (nt) x (np + 1) x 2: S at (tb[i], pb[j]) and (tb[i+1], pb[j]) */
 	double *cum;            /* (nt + 1) x np x 2: integral_0^tb[i] S(t, phi) sin t dt along
 	                           each patch's left and right edge */
-	double *mcoef;          /* nt x np x 6: per patch edge (A, a, b) with
-	                           M(theta) = A + b sin(theta) - (a + b theta) cos(theta) */
+	double *mcoef;          /* nt x np x 6: per patch edge (K, a, b) with
+	                           M(theta) = K + a (1 - cos theta) + b (sin theta - theta cos theta)
+	                           (ps_sensor_m_patch) */
 	double theta_end;       /* radians: S = 0 beyond */
 };
 
@@ -80,15 +81,49 @@ double ps_sensor_m(const struct ps_sensor *s, double theta, double phi);
 /* Same with the patch indices already known (theta within patch i, phi
  * within patch j, phi in [pb[0], pb[0] + 2 pi)); i == nt means beyond the end. */
 double ps_sensor_m_in(const struct ps_sensor *s, int i, int j, double theta, double phi);
+/* Below this polar angle (radians) M is summed from 1 - cos t = 2 sin^2(t/2)
+ * and the series of sin t - t cos t, which keep their relative precision
+ * however small t is; above it the closed form's cancellation costs at most
+ * 2e-14 relative. */
+#define PS_SENSOR_SMALL_THETA 0.1
+
+/* sin t - t cos t for 0 <= t < PS_SENSOR_SMALL_THETA: its series
+ * sum (-1)^(n+1) 2n t^(2n+1) / (2n+1)!, to n = 5 (the next term is below
+ * 1e-18 of the sum). */
+static inline double ps_sensor_sin_t_cos_small(double t)
+{
+	double t2 = t * t;
+	return t * t2 *
+	       (1.0 / 3 - t2 * (1.0 / 30 - t2 * (1.0 / 840 - t2 * (1.0 / 45360 - t2 * (1.0 / 3991680)))));
+}
+
+/* M in one patch edge's piece, k = (K, a, b) of mcoef, st and ct the sine
+ * and cosine of theta (used above PS_SENSOR_SMALL_THETA only). */
+static inline double ps_sensor_m_patch(const double *k, double theta, double st, double ct)
+{
+	if (theta < PS_SENSOR_SMALL_THETA) {
+		double sh = sin(0.5 * theta);
+		return k[0] + k[1] * (2.0 * sh * sh) + k[2] * ps_sensor_sin_t_cos_small(theta);
+	}
+	return (k[0] + k[1]) + k[2] * st - (k[1] + k[2] * theta) * ct;
+}
+
 /* M of a builtin (kind PS_SENS_COSINE or PS_SENS_UNIFORM), which depends on
- * theta alone; inline: the exact weights take it at every node. */
+ * theta alone; inline: the exact weights take it at every node.  The
+ * uniform sensor's 1 - cos theta is 2 sin^2(theta/2): exact to the last
+ * digits for the smallest angles. */
 static inline double ps_sensor_m_builtin(int kind, double theta)
 {
 	if (kind == PS_SENS_COSINE) {
 		double st = theta >= M_PI / 2 ? 1.0 : sin(theta);
 		return 0.5 * st * st;
 	}
-	return theta >= M_PI ? 2.0 : 1.0 - cos(theta);
+	if (theta >= M_PI)
+		return 2.0;
+	{
+		double sh = sin(0.5 * theta);
+		return 2.0 * sh * sh;
+	}
 }
 /* Patch indices for a direction; phi is reduced into [pb[0], pb[0] + 2 pi). */
 void ps_sensor_locate(const struct ps_sensor *s, double theta, double *phi, int *i, int *j);

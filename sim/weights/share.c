@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: ISC */
 #include "share.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -35,6 +36,12 @@ int ps_share_compute(struct ps_share *s, const struct ps_weights *w, const struc
 		}
 	}
 	s->response = ps_sum_get(&tot);
+	if (!isfinite(s->response)) {
+		ps_share_free(s);
+		return ps_err_set(e, PS_ERANGE, "the response is %s: the colour coefficients (%g %g %g) "
+		                  "times the picture's radiance overflow, or the sensor's weights do",
+		                  isnan(s->response) ? "not a number" : "infinite", coef[0], coef[1], coef[2]);
+	}
 	if (s->response == 0) {
 		ps_share_free(s);
 		return ps_err_set(e, PS_ERANGE, "the response is 0: no share to give");

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
@@ -299,6 +300,12 @@ int ps_stream_integrate_multi(const struct ps_weights *const *ws, int nmaps,
 		struct one *o = &j.m[k];
 		struct ps_response *r = &rs[k];
 		totals(o, r, &ncontrib[k], &best[k]);
+		if (ps_integrate_check_finite(r, coef, o->w->sens_sum, e) != 0) {
+			char why[sizeof e->msg];
+			snprintf(why, sizeof why, "%s", e->msg);
+			ps_err_set(e, PS_ERANGE, "%s: %s", name, why);
+			goto out;
+		}
 		if (r->response > 0 && ncontrib[k] > 0 && r->brightest_share > 0.001) {
 			size_t at = 0;
 			o->coff = malloc((o->w->nruns ? o->w->nruns : 1) * sizeof *o->coff);

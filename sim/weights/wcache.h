@@ -16,8 +16,9 @@
 
 /* Bump when ps_weights_build's numbers change: older entries are then never
  * found again (and age out). */
-#define PS_WEIGHTS_ALGO_VERSION 4   /* 2: symmetric maps mirrored; 3: and transposed;
-                                      * 4: compact symmetric maps */
+#define PS_WEIGHTS_ALGO_VERSION 5   /* 2: symmetric maps mirrored; 3: and transposed;
+                                      * 4: compact symmetric maps; 5: M without
+                                      * cancellation near the axis */
 
 /* What a weight map is of: everything its numbers depend on, so the content
  * its cache entry is found by. */

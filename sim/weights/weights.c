@@ -425,9 +425,9 @@ order_done:
 				double t = tm + hl * g->x[q], r2 = t * t + k * k, rho = sqrt(r2);
 				double theta = ps_fisheye_theta(&c->f, rho), st, ct, ml, m, a;
 				sincos(theta, &st, &ct);
-				ml = kc[0] + kc[2] * st - (kc[1] + kc[2] * theta) * ct;
+				ml = ps_sensor_m_patch(kc, theta, st, ct);
 				if (need_phi) {
-					double mr = kc[3] + kc[5] * st - (kc[4] + kc[5] * theta) * ct, wphi;
+					double mr = ps_sensor_m_patch(kc + 3, theta, st, ct), wphi;
 					if (alpha_at(vertical, k, tm, am, t, &a))
 						return 0;   /* not reached: the ends bound the nodes */
 					wphi = (a - M_PI / 2 - c->rot + shift - p0) * inv;

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: ISC
 # Every fault the loopback room can inject, over a simulated day: psensd
 # names it, drives the lights to the safe level, logs it with each sample,
-# and resumes when it clears.  Then two zones at once: a dimmed one and a
+# and resumes when it clears; a saturated sensor is a fault even when the
+# control range reaches its saturation voltage.  Then two zones at once: a dimmed one and a
 # stepped one switched by two relays with an occupancy sensor.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
@@ -22,7 +23,22 @@ expect() {  # expect NAME START-HH:MM MESSAGE
 	check "$1: $n samples logged at full output with the reason" test "$n" -ge 1
 }
 run open open 12:00-12:20;           expect open 12:00 "sensor reads 0.000 V, outside 0.01 to 9.9 V"
-run saturated saturated 12:00-12:20; expect saturated 12:00 "sensor reads 10.000 V, outside"
+run saturated saturated 12:00-12:20; expect saturated 12:00 "sensor saturated: reads 10.000 V, at or above its saturation 10 V"
+# the control range up to the saturation voltage: the saturated reading is
+# still a fault, found from the sensor's own limit (sensor_saturation)
+sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/satmax.db|; s|^faults = .*|faults = saturated 12:00-12:20|; s|^sensor_max = .*|sensor_max = 10|" \
+	config/psensd.conf > "$TMP/satmax.conf"
+"$BIN/psensd" -f "$TMP/satmax.conf" -s > "$TMP/satmax.out" 2> "$TMP/satmax.err"
+expect satmax 12:00 "sensor saturated: reads 10.000 V, at or above its saturation 10 V"
+# sensor_saturation = 0 (unknown) turns the check off: the same reading passes
+sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/satoff.db|; s|^faults = .*|faults = saturated 12:00-12:20|; s|^sensor_max = .*|sensor_max = 10\nsensor_saturation = 0|" \
+	config/psensd.conf > "$TMP/satoff.conf"
+"$BIN/psensd" -f "$TMP/satoff.conf" -s > "$TMP/satoff.out" 2> "$TMP/satoff.err"
+check "sensor_saturation = 0: no saturation check, the reading is taken" sh -c "! grep -q 'fault:' '$TMP/satoff.err'"
+printf 'sensor_saturation = 0.005\n' > "$TMP/satlow.add"
+sed "/^sensor_max = /r $TMP/satlow.add" config/psensd.conf > "$TMP/satlow.conf"
+check "psensd -n refuses a saturation below sensor_min, naming the line" \
+	sh -c "! '$BIN/psensd' -f '$TMP/satlow.conf' -n 2>&1 | grep -q 'fine' && '$BIN/psensd' -f '$TMP/satlow.conf' -n 2>&1 | grep -q 'satlow.conf:18: sensor_saturation 0.005 must be above sensor_min 0.01'"
 run stuck stuck 12:00-12:20 "stuck_after = 300"
 expect stuck 12:04 "sensor stuck at"
 run drop drop 12:00-12:20;           expect drop 12:02 "no reading since 11:59 (loopback room: sensor reply dropped)"

@@ -130,7 +130,7 @@ at() { wait_for 60 past "$(($1 / 100 * 3600 + $1 % 100 * 60))"; }
 case_run normal loopback "stall (dropped replies)" "at 1120" "at 1140" "dropped"
 case_run normal loopback "slow (late replies)" "at 1200" "at 1220" "late"
 case_run normal loopback "bad value (open circuit)" "at 1240" "at 1300" "outside"
-case_run normal loopback "bad value (saturated)" "at 1320" "at 1340" "outside"
+case_run normal loopback "bad value (saturated)" "at 1320" "at 1340" "saturated"
 case_run session loopback "stall (dropped replies)" "at 1400" "at 1420" "dropped"
 case_run session loopback "bad value (open circuit)" "at 1440" "at 1500" "outside"
 finish $pid $pid

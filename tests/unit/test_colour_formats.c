@@ -5,7 +5,9 @@
  * unchanged XYZ of a radiance picture), so psens must convert XYZ to the
  * standard primaries' RGB and divide by 179 (WHTEFFICACY); COLORCORR= acts
  * on the stored channels like a per-channel EXPOSURE=; PRIMARIES= on an RGBE
- * picture names the primaries its RGB is in (luminance is kept), and means
+ * picture names the primaries and white point its RGB is in (read with
+ * Radiance's white balance to its standard white: grey stays grey, colours
+ * match the published sRGB and BT.2020 matrices adapted from D65), and means
  * nothing on an XYZE picture.
  *
  * Every picture is written here, byte by byte, as a uniform picture: its
@@ -224,37 +226,31 @@ static void colorcorr_divides_stored_channels(void **state)
 	ps_weights_free(&w);
 }
 
-/* PRIMARIES= on RGBE: the default coefficients measure luminance, so the
- * response is the Y of the picture's own primaries; the standard primaries
- * written out change nothing; on XYZE the line is ignored. */
-static void primaries_keep_luminance(void **state)
+/* PRIMARIES= on RGBE: a grey pixel stays grey (the picture's white point is
+ * balanced to the standard white, so the standard RGB is R = G = B with
+ * the same luminance); the standard primaries written out change nothing;
+ * on XYZE the line is ignored. */
+static void primaries_keep_grey(void **state)
 {
-	static const double srgb[8] = { 0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290 };
+	static const char srgb[] = "PRIMARIES= 0.64 0.33 0.30 0.60 0.15 0.06 0.3127 0.3290\n";
+	static const char bt2020[] = "PRIMARIES= 0.708 0.292 0.170 0.797 0.131 0.046 0.3127 0.3290\n";
+	const char *heads[] = { srgb, bt2020 };
 	struct ps_weights w;
 	struct ps_picture pic;
-	const uint8_t px[4] = { 30, 220, 100, 127 };
-	double own[3][3], m[3][3], minv[3][3], st[3], xyz[3], std[3], plain, withstd;
-	char head[160];
+	const uint8_t grey[4] = { 140, 140, 140, 127 }, px[4] = { 30, 220, 100, 127 };
+	double st[3], k[3][3], plain, withstd;
 	(void)state;
 	cosine_weights(&w);
-	ps_picture_rgbe_decode(px, st);
-	ps_integrate_rgb_to_xyz(srgb, own);
-	snprintf(head, sizeof head, "PRIMARIES= %g %g %g %g %g %g %g %g\n", srgb[0], srgb[1], srgb[2],
-	         srgb[3], srgb[4], srgb[5], srgb[6], srgb[7]);
-	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, m);
-	invert3(m, minv);
-	for (int i = 0; i < 3; i++)
-		xyz[i] = dot(own[i], st);
-	for (int i = 0; i < 3; i++)
-		std[i] = dot(minv[i], xyz);
-	uniform(&pic, "32-bit_rle_rgbe", head, px);
-	assert_true(relerr(response_of(&w, &pic), dot(coef, std) * w.sens_sum) <= 1e-12);
-	/* which is the luminance of the own primaries, to the 9 digits the
-	 * default coefficients have */
-	assert_true(relerr(response_of(&w, &pic), xyz[1] * w.sens_sum) <= 1e-8);
-	/* and it differs from reading the bytes as standard RGB */
-	assert_true(relerr(response_of(&w, &pic), dot(coef, st) * w.sens_sum) > 1e-3);
-	ps_picture_free(&pic);
+	ps_picture_rgbe_decode(grey, st);
+	for (int h = 0; h < 2; h++) {
+		uniform(&pic, "32-bit_rle_rgbe", heads[h], grey);
+		ps_integrate_pic_matrix(&pic, k);
+		for (int i = 0; i < 3; i++)
+			assert_true(relerr(dot(k[i], st), st[0]) <= 1e-12);
+		/* the luminance of a grey is its value whatever the primaries */
+		assert_true(relerr(response_of(&w, &pic), st[0] * w.sens_sum) <= 1e-8);
+		ps_picture_free(&pic);
+	}
 	uniform(&pic, "32-bit_rle_rgbe", NULL, px);
 	plain = response_of(&w, &pic);
 	ps_picture_free(&pic);
@@ -267,9 +263,86 @@ static void primaries_keep_luminance(void **state)
 	uniform(&pic, "32-bit_rle_xyze", NULL, px);
 	plain = response_of(&w, &pic);
 	ps_picture_free(&pic);
-	uniform(&pic, "32-bit_rle_xyze", head, px);
+	uniform(&pic, "32-bit_rle_xyze", srgb, px);
 	assert_true(response_of(&w, &pic) == plain);
 	ps_picture_free(&pic);
+	ps_weights_free(&w);
+}
+
+/* Coloured sRGB and BT.2020 pictures (D65 white) against the XYZ their
+ * standards publish, seen as Radiance reads such a picture: the published
+ * RGB-to-XYZ matrix (IEC 61966-2-1 for sRGB, ITU-R BT.2087 for BT.2020,
+ * 4 digits), then the von Kries white balance in the Sharp cones
+ * (Finlayson and Suesstrunk's matrix, the one Radiance's colour code
+ * uses) from D65 (0.3127, 0.3290) to Radiance's white (0.3333, 0.3333).
+ * psens's X, Y and Z are its responses with the standard primaries' XYZ
+ * rows as coefficients.  Reading the RGB without the white balance (the
+ * primaries' matrix alone) is off by more than 2 % on these colours. */
+static void primaries_white_balanced(void **state)
+{
+	static const double pub_srgb[3][3] = { { 0.4124, 0.3576, 0.1805 },
+	                                       { 0.2126, 0.7152, 0.0722 },
+	                                       { 0.0193, 0.1192, 0.9505 } };
+	static const double pub_bt2020[3][3] = { { 0.6370, 0.1446, 0.1689 },
+	                                         { 0.2627, 0.6780, 0.0593 },
+	                                         { 0.0000, 0.0281, 1.0610 } };
+	static const double sharp[3][3] = { { 1.2694, -0.0988, -0.1706 },
+	                                    { -0.8364, 1.8006, 0.0357 },
+	                                    { 0.0297, -0.0315, 1.0018 } };
+	static const uint8_t colours[][4] = { { 230, 0, 0, 128 },     { 0, 230, 0, 128 },
+	                                      { 0, 0, 230, 128 },     { 50, 128, 230, 128 },
+	                                      { 250, 180, 30, 127 },  { 140, 140, 140, 128 } };
+	static const char *heads[] = { "PRIMARIES= 0.64 0.33 0.30 0.60 0.15 0.06 0.3127 0.3290\n",
+		                       "PRIMARIES= 0.708 0.292 0.170 0.797 0.131 0.046 0.3127 0.3290\n" };
+	const double(*pub[2])[3] = { pub_srgb, pub_bt2020 };
+	const double d65[3] = { 0.3127 / 0.3290, 1.0, (1 - 0.3127 - 0.3290) / 0.3290 };
+	const double rad[3] = { 1.0, 1.0, (1 - 0.3333 - 0.3333) / 0.3333 };
+	double isharp[3][3], cat[3][3], stdm[3][3], worst = 0, worst_plain = 0;
+	struct ps_weights w;
+	(void)state;
+	/* the adaptation: sharp^-1 diag(sharp rad / sharp d65) sharp */
+	invert3(sharp, isharp);
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			cat[i][j] = 0;
+			for (int c = 0; c < 3; c++)
+				cat[i][j] += isharp[i][c] * dot(sharp[c], rad) / dot(sharp[c], d65) * sharp[c][j];
+		}
+	ps_integrate_rgb_to_xyz(ps_integrate_std_primaries, stdm);
+	cosine_weights(&w);
+	for (int h = 0; h < 2; h++)
+		for (size_t n = 0; n < sizeof colours / sizeof colours[0]; n++) {
+			struct ps_picture pic;
+			struct ps_response r;
+			struct ps_err e;
+			double st[3], d65xyz[3], want[3];
+			ps_picture_rgbe_decode(colours[n], st);
+			for (int i = 0; i < 3; i++)
+				d65xyz[i] = dot(pub[h][i], st);
+			for (int i = 0; i < 3; i++)
+				want[i] = dot(cat[i], d65xyz);
+			uniform(&pic, "32-bit_rle_rgbe", heads[h], colours[n]);
+			for (int i = 0; i < 3; i++) {
+				double got;
+				if (ps_integrate(&w, &pic, stdm[i], &r, &e) != 0)
+					fail_msg("%s", e.msg);
+				got = r.response / w.sens_sum;
+				/* the published matrices' 4 digits: 2.5e-4 per
+				 * unit of the largest channel */
+				if (fabs(got - want[i]) > 3e-4 * st[0] + 3e-4 * st[1] + 3e-4 * st[2])
+					fail_msg("primaries %d colour %zu: XYZ[%d] %.6f, want %.6f", h, n, i, got,
+					         want[i]);
+				if (fabs(got - want[i]) / want[i] > worst)
+					worst = fabs(got - want[i]) / want[i];
+				if (fabs(d65xyz[i] - want[i]) / want[i] > worst_plain)
+					worst_plain = fabs(d65xyz[i] - want[i]) / want[i];
+			}
+			ps_picture_free(&pic);
+		}
+	/* the check can tell: without the white balance it would fail */
+	assert_true(worst_plain > 0.02);
+	print_message("largest relative XYZ error: %.2e (without the white balance %.2e)\n", worst,
+	              worst_plain);
 	ps_weights_free(&w);
 }
 
@@ -279,7 +352,8 @@ int main(void)
 		cmocka_unit_test(xyze_is_luminance_based),
 		cmocka_unit_test(xyze_with_ra_xyze_exposure),
 		cmocka_unit_test(colorcorr_divides_stored_channels),
-		cmocka_unit_test(primaries_keep_luminance),
+		cmocka_unit_test(primaries_keep_grey),
+		cmocka_unit_test(primaries_white_balanced),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

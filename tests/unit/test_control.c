@@ -128,6 +128,90 @@ static void limits_minimum_step_and_hysteresis(void **state)
 	}
 }
 
+/* Each law on its own: a NaN or infinite reading in the middle of a
+ * steady run returns the last level, and the next finite readings bring
+ * the law back to the same steady state as a run that never saw one
+ * (the plant's analytic fixed point for the laws that have one). */
+static void law_holds_and_recovers(int alg, double d)
+{
+	static const double bad[] = { NAN, INFINITY, -INFINITY };
+	for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+		struct psd_control c = make(alg), ref = make(alg);
+		double u = 1.0, uref = 1.0, held;
+		c.s_off = ref.s_off = 1.0;
+		c.s_on = ref.s_on = 0.6;
+		c.steps = ref.steps = 4;
+		for (int k = 0; k < 200; k++) {
+			u = psd_control_step(&c, volts(u, d), k);
+			uref = psd_control_step(&ref, volts(uref, d), k);
+		}
+		held = u;
+		for (int k = 200; k < 205; k++) {
+			u = psd_control_step(&c, bad[b], k);
+			if (u != held)
+				fail_msg("law %d, reading %g: level %g, held %g", alg, bad[b], u, held);
+			assert_true(isfinite(c.est_task_lux) && isfinite(c.daylight_volts));
+		}
+		for (int k = 205; k < 400; k++) {
+			u = psd_control_step(&c, volts(u, d), k);
+			uref = psd_control_step(&ref, volts(uref, d), k);
+		}
+		if (!(fabs(u - uref) < 1e-9))
+			fail_msg("law %d after %g: level %g, never-faulted run %g", alg, bad[b], u, uref);
+	}
+}
+
+static void setpoint_holds_on_nan(void **state)
+{
+	(void)state;
+	law_holds_and_recovers(PSD_ALG_SETPOINT, 0.8);
+	/* the steady state is the analytic one */
+	struct psd_control c = make(PSD_ALG_SETPOINT);
+	double u = 1.0;
+	for (int k = 0; k < 50; k++)
+		u = psd_control_step(&c, k == 20 ? NAN : volts(u, 0.8), k);
+	assert_true(fabs(task(u, 0.8) - 500) < 1e-9);
+}
+
+static void closed_proportional_holds_on_nan(void **state)
+{
+	(void)state;
+	law_holds_and_recovers(PSD_ALG_CLOSED_PROPORTIONAL, 0.8);
+}
+
+static void open_proportional_holds_on_nan(void **state)
+{
+	(void)state;
+	law_holds_and_recovers(PSD_ALG_OPEN_PROPORTIONAL, 0.8);
+}
+
+static void integral_reset_holds_on_nan(void **state)
+{
+	(void)state;
+	law_holds_and_recovers(PSD_ALG_INTEGRAL_RESET, 0.8);
+}
+
+static void switching_holds_on_nan(void **state)
+{
+	(void)state;
+	/* above s_off: steps down to off; an Inf reading is not "above" */
+	law_holds_and_recovers(PSD_ALG_SWITCHING, 3.0);
+	law_holds_and_recovers(PSD_ALG_SWITCHING, 0.2);
+}
+
+/* A level that is not finite (state set from outside) does not stick. */
+static void nan_level_recovers(void **state)
+{
+	(void)state;
+	for (int alg = 0; alg < PSD_ALG_COUNT; alg++) {
+		struct psd_control c = make(alg);
+		double u;
+		c.level = NAN;
+		u = psd_control_step(&c, volts(1.0, 0.5), 0);
+		assert_true(isfinite(u) && isfinite(c.level));
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -136,6 +220,12 @@ int main(void)
 		cmocka_unit_test(open_loop_proportional),
 		cmocka_unit_test(switching_waits_and_keeps_its_deadband),
 		cmocka_unit_test(limits_minimum_step_and_hysteresis),
+		cmocka_unit_test(setpoint_holds_on_nan),
+		cmocka_unit_test(closed_proportional_holds_on_nan),
+		cmocka_unit_test(open_proportional_holds_on_nan),
+		cmocka_unit_test(integral_reset_holds_on_nan),
+		cmocka_unit_test(switching_holds_on_nan),
+		cmocka_unit_test(nan_level_recovers),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
