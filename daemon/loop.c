@@ -123,8 +123,9 @@ static void date_run(struct psd_daemon *d, double now)
 	}
 }
 
-/* An MQTT command: the control socket's request function, the same code. */
-static void mqtt_request(void *user, char *line, char *reply, size_t len)
+/* An MQTT command or a BACnet write: the control socket's request function,
+ * the same code. */
+static void front_end_request(void *user, char *line, char *reply, size_t len)
 {
 	psd_ctlcmd_request(user, line, reply, len);
 }
@@ -191,8 +192,20 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	date_run(d, now);
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
-	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, front_end_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
+		if (d->have_ctl)
+			psd_ctlsock_close(&d->ctl);
+		d->have_ctl = 0;
+		psd_engine_close(&d->engine);
+		psd_config_free(cf);
+		free(cf);
+		return -1;
+	}
+	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, front_end_request, d, err, sizeof err))) {
+		psd_log_errx("%s", err);
+		psd_mqtt_close(d->mqtt);
+		d->mqtt = NULL;
 		if (d->have_ctl)
 			psd_ctlsock_close(&d->ctl);
 		d->have_ctl = 0;
@@ -215,7 +228,7 @@ int psd_loop_run(struct psd_daemon *d)
 	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
 	while (!d->stop) {
 		double now = psd_clock_now(&d->clock), deadline;
-		int n = 0, nctl, ndev, nmq = 0, timeout;
+		int n = 0, nctl, ndev, nmq = 0, nbac = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
 		psd_engine_step(&d->engine, now);
@@ -235,7 +248,9 @@ int psd_loop_run(struct psd_daemon *d)
 			if (w >= 0 && (timeout < 0 || w < timeout))
 				timeout = w;
 		}
-		if (poll(fds, (nfds_t)(n + ndev + nmq), timeout) < 0 && errno != EINTR) {
+		if (d->bacnet)
+			nbac = psd_bacnet_pollfd(d->bacnet, fds + n + ndev + nmq);
+		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac), timeout) < 0 && errno != EINTR) {
 			psd_log_err("poll");
 			break;
 		}
@@ -247,6 +262,8 @@ int psd_loop_run(struct psd_daemon *d)
 		psd_engine_service(&d->engine, now, fds + 1 + nctl, fd_dev, ndev);
 		if (d->mqtt)
 			psd_mqtt_service(d->mqtt, nmq ? fds + n + ndev : NULL, now);
+		if (d->bacnet)
+			psd_bacnet_service(d->bacnet, nbac ? fds + n + ndev + nmq : NULL, now);
 		if (d->reload) {
 			d->reload = 0;
 			psd_reload(d);
@@ -283,6 +300,8 @@ int psd_loop_safe(struct psd_daemon *d, const char *why)
 void psd_loop_stop(struct psd_daemon *d, const char *why)
 {
 	sd_notify(0, "STOPPING=1");
+	psd_bacnet_close(d->bacnet);
+	d->bacnet = NULL;
 	psd_mqtt_close(d->mqtt);   /* offline, the last acknowledgements, while the log is open */
 	d->mqtt = NULL;
 	if (d->engine.cf) {

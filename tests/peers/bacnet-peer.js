@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: ISC
+// An outside BACnet/IP client (@bacnet-js/client, pinned in package.json)
+// against psensd's BACnet server: discovery (Who-Is with a range, I-Am),
+// the Device's Object_List, every object's properties with
+// ReadPropertyMultiple (ALL), a Lighting Output's Present_Value with
+// ReadProperty, a write at priority 8 and its relinquish (when writes are
+// on, else the refusal), and the errors for an unknown object and
+// property.  Prints TAP lines ("ok N - ..." / "not ok N - ...") and
+// "# rp_ms p50 p99 max" for 200 ReadProperty round trips.
+// usage: node bacnet-peer.js SERVER_PORT DEVICE_INSTANCE WRITES(0|1) [ZONE_INSTANCE]
+'use strict';
+const Bacnet = require('@bacnet-js/client').default;
+const { ObjectType, PropertyIdentifier: P, ErrorClass, ErrorCode } = require('@bacnet-js/client');
+
+const [port, device, writes] = process.argv.slice(2).map(Number);
+const server = { address: `127.0.0.1:${port}` };
+const client = new Bacnet({ port: 0, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 2000 });
+let n = 0, failed = 0;
+const ok = (cond, what) => { n++; if (!cond) failed++; console.log(`${cond ? 'ok' : 'not ok'} ${n} - ${what}`); };
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+function whoIs(low, high) {
+	return new Promise((resolve) => {
+		const seen = [];
+		const on = (msg) => seen.push(msg.payload);
+		client.on('iAm', on);
+		client.whoIs(server, { lowLimit: low, highLimit: high });
+		setTimeout(() => { client.removeListener('iAm', on); resolve(seen); }, 500);
+	});
+}
+
+// the error a request ended in: "CLASS:CODE" from the library's message
+async function errorOf(p) {
+	try { await p; return 'none'; } catch (e) { return String(e.message || e); }
+}
+
+async function main() {
+	await new Promise((r) => client.on('listening', r));
+	const hit = await whoIs(device, device);
+	ok(hit.length === 1 && hit[0].deviceId === device, `Who-Is ${device}-${device}: one I-Am from device ${device}`);
+	ok(hit.length === 1 && hit[0].maxApdu === 1476 && hit[0].segmentation === 3,
+		`I-Am: max APDU 1476, no-segmentation (${hit.length ? hit[0].maxApdu + ', ' + hit[0].segmentation : 'none'})`);
+	const miss = await whoIs(device + 1, device + 10);
+	ok(miss.length === 0, `Who-Is ${device + 1}-${device + 10}: no I-Am (${miss.length})`);
+	const all = await whoIs();
+	ok(all.length === 1, 'Who-Is without a range: an I-Am');
+
+	const dev = { type: ObjectType.DEVICE, instance: device };
+	const list = await client.readProperty(server, dev, P.OBJECT_LIST);
+	const objs = list.values.map((v) => v.value);
+	ok(objs.length >= 5 && objs[0].type === ObjectType.DEVICE && objs[0].instance === device,
+		`Object_List: ${objs.length} objects, the Device first`);
+	const count = await client.readProperty(server, dev, P.OBJECT_LIST, { arrayIndex: 0 });
+	ok(count.values[0].value === objs.length, `Object_List[0] is its length (${count.values[0].value})`);
+	const los = objs.filter((o) => o.type === ObjectType.LIGHTING_OUTPUT);
+	const ais = objs.filter((o) => o.type === ObjectType.ANALOG_INPUT);
+	ok(los.length >= 1 && ais.length === 3 * los.length, `${los.length} Lighting Output(s), ${ais.length} Analog Inputs`);
+
+	// every object's properties, one ReadPropertyMultiple (ALL) each
+	let props = 0, errs = 0;
+	const names = new Set();
+	for (const o of objs) {
+		const r = await client.readPropertyMultiple(server, [{ objectId: o, properties: [{ id: P.ALL, index: 0xffffffff }] }]);
+		for (const v of r.values[0].values) {
+			props++;
+			if (v.value.length && v.value[0].value && v.value[0].value.errorClass !== undefined) errs++;
+			if (v.id === P.OBJECT_NAME) names.add(v.value[0].value);
+		}
+	}
+	ok(props > 0 && errs === 0, `ReadPropertyMultiple ALL on every object: ${props} properties, ${errs} errors`);
+	ok(names.size === objs.length, `Object_Name unique across the device (${names.size} of ${objs.length})`);
+
+	const devr = await client.readPropertyMultiple(server, [{ objectId: dev, properties: [
+		{ id: P.PROTOCOL_VERSION, index: 0xffffffff }, { id: P.PROTOCOL_REVISION, index: 0xffffffff },
+		{ id: P.MAX_APDU_LENGTH_ACCEPTED, index: 0xffffffff }, { id: P.SEGMENTATION_SUPPORTED, index: 0xffffffff }] }]);
+	const dv = devr.values[0].values.map((v) => v.value[0].value);
+	ok(dv[0] === 1 && dv[1] === 14 && dv[2] === 1476 && dv[3] === 3,
+		`Device: Protocol_Version 1, Protocol_Revision 14, Max_APDU 1476, no-segmentation (${dv.join(' ')})`);
+
+	// ReadProperty round trips: Present_Value of the first Lighting Output
+	const lo = los[0];
+	const t = [];
+	let pv;
+	for (let i = 0; i < 200; i++) {
+		const t0 = process.hrtime.bigint();
+		pv = await client.readProperty(server, lo, P.PRESENT_VALUE);
+		t.push(Number(process.hrtime.bigint() - t0) / 1e6);
+	}
+	t.sort((a, b) => a - b);
+	const level = pv.values[0].value;
+	ok(typeof level === 'number' && level >= 0 && level <= 100, `Lighting Output ${lo.instance} Present_Value ${level} is 0-100 %`);
+	console.log(`# rp_ms p50 ${t[100].toFixed(3)} p99 ${t[197].toFixed(3)} max ${t[199].toFixed(3)}`);
+
+	// write at priority 8, then relinquish
+	const real = (v) => [{ type: 4 /* REAL */, value: v }];
+	const wr = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, real(42.5), { priority: 8 }));
+	if (writes) {
+		ok(wr === 'none', `WriteProperty Present_Value 42.5 at priority 8 accepted (${wr})`);
+		const pa = await client.readProperty(server, lo, P.PRIORITY_ARRAY, { arrayIndex: 8 });
+		ok(pa.values[0].value === 42.5, `Priority_Array[8] reads 42.5 (${pa.values[0].value})`);
+		let seen;
+		for (let i = 0; i < 40; i++) {
+			seen = (await client.readProperty(server, lo, P.PRESENT_VALUE)).values[0].value;
+			if (Math.abs(seen - 42.5) < 1e-3) break;
+			await sleep(100);
+		}
+		ok(Math.abs(seen - 42.5) < 1e-3, `Present_Value follows the write: ${seen}`);
+		const rangeErr = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, real(120), { priority: 8 }));
+		ok(/PROPERTY.*VALUE_OUT_OF_RANGE|Class:2.*Code:37/i.test(rangeErr), `120 % is refused: ${rangeErr}`);
+		const rel = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, [{ type: 0, value: null }], { priority: 8 }));
+		ok(rel === 'none', `relinquish at priority 8 (NULL) accepted (${rel})`);
+		const pa2 = await client.readProperty(server, lo, P.PRIORITY_ARRAY, { arrayIndex: 8 });
+		ok(pa2.values[0].type === 0, `Priority_Array[8] is NULL again (type ${pa2.values[0].type})`);
+	} else {
+		ok(/PROPERTY.*WRITE_ACCESS_DENIED|Class:2.*Code:40/i.test(wr), `writes off: WriteProperty refused: ${wr}`);
+	}
+
+	// errors: an unknown object, an unknown property
+	const e1 = await errorOf(client.readProperty(server, { type: ObjectType.ANALOG_VALUE, instance: 77 }, P.PRESENT_VALUE));
+	ok(/OBJECT.*UNKNOWN_OBJECT|Class:1.*Code:31/i.test(e1), `unknown object: ${e1}`);
+	const e2 = await errorOf(client.readProperty(server, dev, P.PRESENT_VALUE));
+	ok(/PROPERTY.*UNKNOWN_PROPERTY|Class:2.*Code:32/i.test(e2), `unknown property: ${e2}`);
+	console.log(`1..${n}`);
+	client.close();
+	process.exit(failed ? 1 : 0);
+}
+main().catch((e) => { console.log(`not ok ${n + 1} - the peer stopped: ${e.stack || e}`); client.close(); process.exit(1); });

@@ -1,0 +1,54 @@
+#!/bin/sh
+# SPDX-License-Identifier: ISC
+# psensd's BACnet/IP server (psensd.conf(5) [bacnet]) against an outside BACnet
+# stack: @bacnet-js/client (tests/peers/package.json) on loopback, psensd
+# in real time sped up 600 times on the loopback room.  Discovery with and
+# without a range, the Device's Object_List, every object's properties by
+# ReadPropertyMultiple, a Lighting Output's Present_Value, a write at
+# priority 8 and its relinquish (the engine's override and release, seen on
+# the control socket too), the errors for an unknown object and property;
+# then with writes off, the refusal; a [bacnet] section without bind is
+# refused with its line.
+. "$(dirname "$0")/lib.sh"
+[ -x "$BIN/psensd" ] || skip_all "psensd not built"
+command -v node > /dev/null || skip_all "node is not installed (make deps: nodejs)"
+[ -d "$TOP/tests/peers/node_modules/@bacnet-js/client" ] ||
+	skip_all "the BACnet peer is not installed (make deps: npm ci in tests/peers)"
+PEER="$TOP/tests/peers/bacnet-peer.js"
+example_results
+S="$TMP/sock"
+ctl() { "$BIN/psensctl" -s "$S" "$@"; }
+
+# run WRITES: psensd with [bacnet] on a free port, the peer against it
+run() {
+	port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd$1.db\nsocket = sock|; /^faults = /d" \
+		config/psensd.conf > "$TMP/psensd.conf"
+	w=none; [ "$1" = 1 ] && w=lighting-output
+	printf '\n[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 2601\nname = psensd test site\nwrites = %s\n' \
+		"$port" "$w" >> "$TMP/psensd.conf"
+	"$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > "$TMP/out$1" 2> "$TMP/err$1" &
+	PID=$!; track_pid $PID
+	wait_for 10 ctl ping > /dev/null
+	check "psensd logs its BACnet device (writes=$w)" grep -q "bacnet: device 2601 'psensd test site' on udp 127.0.0.1:$port" "$TMP/err$1"
+	node "$PEER" "$port" 2601 "$1" > "$TMP/peer$1" 2>&1
+	rc=$?
+	sed -n 's/^\(not \)\{0,1\}ok [0-9]* - /peer: /p' "$TMP/peer$1" | while read -r l; do diag "$l"; done
+	grep '^# rp_ms' "$TMP/peer$1"
+	check "the peer's checks all pass (writes=$w; $(grep -c '^ok' "$TMP/peer$1") ok, $(grep -c '^not ok' "$TMP/peer$1") not ok)" \
+		test "$rc" = 0 -a "$(grep -c '^not ok' "$TMP/peer$1")" = 0 -a "$(grep -c '^ok' "$TMP/peer$1")" -ge 12
+	grep '^not ok' "$TMP/peer$1" | while read -r l; do diag "$l"; done
+	check "psensd still answers the control socket" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
+	kill "$PID"; wait "$PID" 2> /dev/null
+}
+run 1
+check "the write became the engine's override at 42.5 %" grep -q "zone office: override 42 % for 3600 s" "$TMP/err1"
+check "the relinquish became its release" grep -q "zone office: override released" "$TMP/err1"
+check "the BACnet room said who set what" grep -q "bacnet: zone office: level 42.5 % at priority 8" "$TMP/err1"
+run 0
+check "writes off: no override reached the engine" sh -c "! grep -q 'override' '$TMP/err0'"
+
+sed '/^bind = /d' "$TMP/psensd.conf" > "$TMP/bad.conf"
+"$BIN/psensd" -n -f "$TMP/bad.conf" > "$TMP/bad.out" 2>&1
+check "a [bacnet] without bind is refused with its line" grep -q "bad.conf:[0-9]*: \[bacnet\] needs 'bind'" "$TMP/bad.out"
+done_testing
