@@ -747,7 +747,7 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 		break;
 	case 0x04:   /* Forwarded-NPDU: a BBMD passes on a broadcast from addr */
 		if (n < 10)
-			return;
+			goto none;
 		memcpy(r->addr, in + 4, 6);
 		r->to = PSD_BACSERVE_TO_ADDRESS;
 		broadcast = 1;
@@ -769,7 +769,7 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 	}
 	/* the NPDU (clause 6.2) */
 	if (n - pos < 2 || in[pos] != 1)
-		return;
+		goto none;
 	ctrl = in[pos + 1];
 	pos += 2;
 	if (ctrl & 0x80 || ctrl & 0x50)   /* a network-layer message, or reserved bits */

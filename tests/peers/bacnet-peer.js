@@ -7,7 +7,9 @@
 // on, else the refusal), and the errors for an unknown object and
 // property.  Prints TAP lines ("ok N - ..." / "not ok N - ...") and
 // "# rp_ms p50 p99 max" for 200 ReadProperty round trips.
-// usage: node bacnet-peer.js SERVER_PORT DEVICE_INSTANCE WRITES(0|1) [ZONE_INSTANCE]
+// With WRITES 2 (psensd's zone in a sensor fault at its safe level of
+// 100 %): a write at priority 1 is taken, and the light stays at 100 %.
+// usage: node bacnet-peer.js SERVER_PORT DEVICE_INSTANCE WRITES(0|1|2)
 'use strict';
 const Bacnet = require('@bacnet-js/client').default;
 const { ObjectType, PropertyIdentifier: P, ErrorClass, ErrorCode } = require('@bacnet-js/client');
@@ -34,8 +36,39 @@ async function errorOf(p) {
 	try { await p; return 'none'; } catch (e) { return String(e.message || e); }
 }
 
+// the zone in a fault: Status_Flags says so, a BMS write cannot move the light
+async function fault() {
+	const lo = { type: ObjectType.LIGHTING_OUTPUT, instance: 1 };
+	const flags = async () => (await client.readProperty(server, lo, P.STATUS_FLAGS)).values[0].value.value[0];
+	let f = 0;
+	for (let i = 0; i < 50 && !f; i++) {
+		f = await flags();
+		if (!f) await sleep(100);
+	}
+	// the library gives bit i of the bit string as 1 << i: fault is bit 1
+	ok(f === 2, `Status_Flags: fault, and only fault (${f})`);
+	const real = (v) => [{ type: 4 /* REAL */, value: v }];
+	const wr = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, real(20), { priority: 1 }));
+	ok(wr === 'none', `WriteProperty 20 % at priority 1 during the fault is taken (${wr})`);
+	const seen = new Set();
+	for (let i = 0; i < 10; i++) {
+		seen.add((await client.readProperty(server, lo, P.PRESENT_VALUE)).values[0].value);
+		await sleep(100);
+	}
+	ok(seen.size === 1 && seen.has(100), `the light stays at the safe level: Present_Value ${[...seen].join(', ')}`);
+	const pa = await client.readProperty(server, lo, P.PRIORITY_ARRAY, { arrayIndex: 1 });
+	ok(pa.values[0].value === 20, `Priority_Array[1] holds the command (${pa.values[0].value})`);
+	const rel = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, [{ type: 0, value: null }], { priority: 1 }));
+	ok(rel === 'none', `relinquished (${rel})`);
+	console.log(`1..${n}`);
+	client.close();
+	process.exit(failed ? 1 : 0);
+}
+
 async function main() {
 	await new Promise((r) => client.on('listening', r));
+	if (writes === 2)
+		return fault();
 	const hit = await whoIs(device, device);
 	ok(hit.length === 1 && hit[0].deviceId === device, `Who-Is ${device}-${device}: one I-Am from device ${device}`);
 	ok(hit.length === 1 && hit[0].maxApdu === 1476 && hit[0].segmentation === 3,
