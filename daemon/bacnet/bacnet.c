@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "bacserve.h"
@@ -129,33 +130,44 @@ int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd)
 	return 1;
 }
 
+static void send_to(struct psd_bacnet *b, const uint8_t *out, size_t len, const uint8_t addr[6])
+{
+	struct sockaddr_in to = { .sin_family = AF_INET };
+	memcpy(&to.sin_addr, addr, 4);
+	memcpy(&to.sin_port, addr + 4, 2);
+	if (to.sin_port == 0)
+		return;
+	/* a full socket buffer drops the datagram, as UDP may: never wait */
+	(void)sendto(b->fd, out, len, MSG_DONTWAIT, (struct sockaddr *)&to, sizeof to);
+}
+
 void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double now)
 {
 	uint8_t in[PSD_BACSERVE_MAX_PACKET + 1], out[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	b->m.now = (double)ts.tv_sec + ts.tv_nsec / 1e9;   /* subscriptions' lifetimes: wall seconds */
 	b->now = now;
 	refresh(b);
 	for (int k = 0; pfd && (pfd->revents & POLLIN) && k < BATCH; k++) {
-		struct sockaddr_in from, to;
+		struct sockaddr_in from;
 		socklen_t fl = sizeof from;
-		struct psd_bacserve_reply r;
+		uint8_t src[6];
 		ssize_t n = recvfrom(b->fd, in, sizeof in, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
 		if (n < 0)
 			break;
 		if (fl != sizeof from || from.sin_family != AF_INET || from.sin_port == 0)
 			continue;
-		psd_bacserve_handle(&b->m, in, (size_t)n, 0, out, &r);
-		if (r.to == PSD_BACSERVE_NONE || r.len == 0)
-			continue;
-		to = from;
-		if (r.to == PSD_BACSERVE_TO_ADDRESS) {
-			memcpy(&to.sin_addr, r.addr, 4);
-			memcpy(&to.sin_port, r.addr + 4, 2);
-			if (to.sin_port == 0)
-				continue;
-		}
-		/* a full socket buffer drops the reply, as UDP may: never wait */
-		(void)sendto(b->fd, out, r.len, MSG_DONTWAIT, (struct sockaddr *)&to, sizeof to);
+		memcpy(src, &from.sin_addr, 4);
+		memcpy(src + 4, &from.sin_port, 2);
+		psd_bacserve_handle(&b->m, in, (size_t)n, src, 0, out, &r);
+		if (r.to != PSD_BACSERVE_NONE && r.len > 0)
+			send_to(b, out, r.len, r.to == PSD_BACSERVE_TO_ADDRESS ? r.addr : src);
 	}
+	/* COV notifications: at most one per subscription a turn */
+	while (psd_bacserve_cov(&b->m, out, &r))
+		send_to(b, out, r.len, r.addr);
 	/* renew an override a BMS still holds before it runs out */
 	for (size_t i = 0; i < b->m.nzone; i++)
 		if (in_force(&b->zone[i]) >= 0 && now - b->issued[i] >= b->c.hold / 2)

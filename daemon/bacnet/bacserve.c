@@ -12,7 +12,7 @@
 
 /* property identifiers (BACnetPropertyIdentifier) */
 enum {
-	P_APDU_TIMEOUT = 11, P_APP_SW_VERSION = 12, P_DESCRIPTION = 28, P_DEVICE_ADDRESS_BINDING = 30,
+	P_APDU_TIMEOUT = 11, P_COV_INCREMENT = 22, P_APP_SW_VERSION = 12, P_DESCRIPTION = 28, P_DEVICE_ADDRESS_BINDING = 30,
 	P_EVENT_STATE = 36, P_FIRMWARE_REVISION = 44, P_ALL = 8, P_MAX_APDU = 62, P_MODEL_NAME = 70,
 	P_APDU_RETRIES = 73, P_OBJECT_ID = 75, P_OBJECT_LIST = 76, P_OBJECT_NAME = 77, P_OBJECT_TYPE = 79,
 	P_OPTIONAL = 80, P_OUT_OF_SERVICE = 81, P_PRESENT_VALUE = 85, P_PRIORITY_ARRAY = 87,
@@ -26,17 +26,17 @@ enum {
 };
 
 /* error classes and codes (clause 18), reject and abort reasons (clause 18.8, 18.9) */
-enum { EC_OBJECT = 1, EC_PROPERTY = 2, EC_SERVICES = 5 };
+enum { EC_OBJECT = 1, EC_PROPERTY = 2, EC_RESOURCES = 3, EC_SERVICES = 5 };
 enum {
-	E_INVALID_DATA_TYPE = 9, E_UNKNOWN_OBJECT = 31, E_UNKNOWN_PROPERTY = 32, E_VALUE_OUT_OF_RANGE = 37,
+	E_INVALID_DATA_TYPE = 9, E_NO_SPACE_TO_ADD = 19, E_UNKNOWN_OBJECT = 31, E_NOT_SUPPORTED = 45, E_UNKNOWN_PROPERTY = 32, E_VALUE_OUT_OF_RANGE = 37,
 	E_WRITE_ACCESS_DENIED = 40, E_INVALID_ARRAY_INDEX = 42, E_NOT_AN_ARRAY = 50, E_PARAMETER_OUT_OF_RANGE = 80,
 };
 enum { R_INVALID_TAG = 4, R_MISSING_PARAMETER = 5, R_TOO_MANY_ARGUMENTS = 7, R_UNRECOGNIZED_SERVICE = 9 };
 enum { A_SEGMENTATION_NOT_SUPPORTED = 4 };
 
 /* services (BACnetConfirmedServiceChoice, BACnetUnconfirmedServiceChoice) */
-enum { S_READ_PROPERTY = 12, S_READ_PROPERTY_MULTIPLE = 14, S_WRITE_PROPERTY = 15 };
-enum { U_I_AM = 0, U_WHO_IS = 8 };
+enum { S_COV_NOTIFICATION = 1, S_SUBSCRIBE_COV = 5, S_READ_PROPERTY = 12, S_READ_PROPERTY_MULTIPLE = 14, S_WRITE_PROPERTY = 15 };
+enum { U_I_AM = 0, U_COV_NOTIFICATION = 2, U_WHO_IS = 8 };
 
 enum { PROTOCOL_REVISION = 14, MAX_INSTANCE = 4194303 };
 
@@ -59,12 +59,12 @@ static const struct prop lo_props[] = {
 	{ P_OUT_OF_SERVICE, 1 }, { P_BLINK_WARN_ENABLE, 1 }, { P_EGRESS_TIME, 1 }, { P_EGRESS_ACTIVE, 1 },
 	{ P_DEFAULT_FADE_TIME, 1 }, { P_DEFAULT_RAMP_RATE, 1 }, { P_DEFAULT_STEP_INCREMENT, 1 },
 	{ P_PRIORITY_ARRAY, 1 }, { P_RELINQUISH_DEFAULT, 1 }, { P_LIGHTING_COMMAND_DEFAULT_PRIORITY, 1 },
-	{ P_PROPERTY_LIST, 1 }, { P_EVENT_STATE, 0 }, { P_DESCRIPTION, 0 },
+	{ P_PROPERTY_LIST, 1 }, { P_EVENT_STATE, 0 }, { P_DESCRIPTION, 0 }, { P_COV_INCREMENT, 0 },
 };
 static const struct prop ai_props[] = {
 	{ P_OBJECT_ID, 1 }, { P_OBJECT_NAME, 1 }, { P_OBJECT_TYPE, 1 }, { P_PRESENT_VALUE, 1 },
 	{ P_STATUS_FLAGS, 1 }, { P_EVENT_STATE, 1 }, { P_OUT_OF_SERVICE, 1 }, { P_UNITS, 1 },
-	{ P_PROPERTY_LIST, 1 }, { P_DESCRIPTION, 0 },
+	{ P_PROPERTY_LIST, 1 }, { P_COV_INCREMENT, 1 }, { P_DESCRIPTION, 0 },
 };
 #define NPROPS(a) (sizeof(a) / sizeof(a)[0])
 
@@ -80,6 +80,13 @@ struct obj {
 static const char *const ai_what[PSD_BACSERVE_AI_PER_ZONE] = { "estimated task illuminance", "sensor signal",
 	                                                        "target task illuminance" };
 static const uint32_t ai_units[PSD_BACSERVE_AI_PER_ZONE] = { 37 /* luxes */, 5 /* volts */, 37 };
+
+/* COV_Increment: a Lighting Output's 1 %, the Analog Inputs' 10 lx, 0.01 V, 1 lx */
+static float cov_increment(const struct obj *o)
+{
+	static const float ai[PSD_BACSERVE_AI_PER_ZONE] = { 10.0f, 0.01f, 1.0f };
+	return o->type == PSD_BAC_LO ? 1.0f : ai[o->ai];
+}
 
 static size_t nobjects(const struct psd_bacserve_model *m)
 {
@@ -157,6 +164,19 @@ static void object_name(const struct psd_bacserve_model *m, const struct obj *o,
 static float ai_value(const struct psd_bacserve_zone *z, int ai)
 {
 	return (float)(ai == 0 ? z->est_lux : ai == 1 ? z->signal : z->target);
+}
+
+static float present_value(const struct psd_bacserve_model *m, const struct obj *o)
+{
+	const struct psd_bacserve_zone *z = &m->zone[o->zone];
+	return o->type == PSD_BAC_LO ? (float)z->level : ai_value(z, o->ai);
+}
+
+/* Status_Flags' fault: the zone at its safe level, or a reading missing */
+static int in_fault(const struct psd_bacserve_model *m, const struct obj *o)
+{
+	const struct psd_bacserve_zone *z = &m->zone[o->zone];
+	return z->fault || (o->type == PSD_BAC_AI && o->ai < 2 && !isfinite(ai_value(z, o->ai)));
 }
 
 /* Encode one array element (idx 1..) or, idx 0, the whole array; -1 when idx
@@ -268,9 +288,10 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		psd_bactag_put_unsigned(b, -1, PROTOCOL_REVISION);
 		break;
 	case P_SERVICES_SUPPORTED: {
-		/* readProperty 12, readPropertyMultiple 14, writeProperty 15, i-Am 26,
-		 * who-Is 34 (BACnetServicesSupported); 41 bits at revision 14 */
-		static const unsigned s[] = { 12, 14, 15, 26, 34 };
+		/* subscribeCOV 5, readProperty 12, readPropertyMultiple 14,
+		 * writeProperty 15, i-Am 26, who-Is 34 (BACnetServicesSupported); 41
+		 * bits at revision 14 */
+		static const unsigned s[] = { 5, 12, 14, 15, 26, 34 };
 		put_bits(b, s, NPROPS(s), 41);
 		break;
 	}
@@ -299,7 +320,7 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		break;
 	case P_PRESENT_VALUE:
 	case P_TRACKING_VALUE:
-		psd_bactag_put_real(b, -1, o->type == PSD_BAC_LO ? (float)z->level : ai_value(z, o->ai));
+		psd_bactag_put_real(b, -1, present_value(m, o));
 		break;
 	case P_RELINQUISH_DEFAULT:
 		psd_bactag_put_real(b, -1, (float)z->level);
@@ -312,9 +333,8 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		break;
 	case P_STATUS_FLAGS: {
 		/* in-alarm, fault, overridden, out-of-service */
-		int fault = z->fault || (o->type == PSD_BAC_AI && o->ai < 2 && !isfinite(ai_value(z, o->ai)));
 		static const unsigned f[] = { 1 };
-		put_bits(b, f, fault ? 1 : 0, 4);
+		put_bits(b, f, in_fault(m, o) ? 1 : 0, 4);
 		break;
 	}
 	case P_EVENT_STATE:
@@ -342,6 +362,9 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		break;
 	case P_UNITS:
 		psd_bactag_put_enum(b, -1, ai_units[o->ai]);
+		break;
+	case P_COV_INCREMENT:
+		psd_bactag_put_real(b, -1, cov_increment(o));
 		break;
 	default:
 		*ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY;
@@ -648,6 +671,133 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 	}
 }
 
+/* SubscribeCOV (13.14): a subscription made, renewed or cancelled. */
+static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, const uint8_t *src, const uint8_t *npdu,
+                          size_t npdu_len, struct psd_bacbuf *b)
+{
+	size_t pos = 0;
+	uint32_t pid, type, inst, life = 0;
+	int rc, has_conf, has_life, confirmed = 0;
+	struct psd_bactag t;
+	struct psd_bacserve_sub *free_slot = NULL, *s = NULL;
+	struct obj o;
+	if ((rc = need_unsigned(q, &pos, 0, &pid)) || (rc = need_objectid(q, &pos, 1, &type, &inst))) {
+		put_reject(b, q->invoke, (uint8_t)rc);
+		return;
+	}
+	if ((has_conf = ctx_tag(q, &pos, 2, &t)) < 0 || (has_conf == 0 && (t.len != 1 || t.data[0] > 1))) {
+		put_reject(b, q->invoke, R_INVALID_TAG);
+		return;
+	}
+	has_conf = has_conf == 0;
+	if (has_conf)
+		confirmed = t.data[0];
+	if ((has_life = opt_unsigned(q, &pos, 3, &life)) < 0) {
+		put_reject(b, q->invoke, R_INVALID_TAG);
+		return;
+	}
+	if (pos != q->n) {
+		put_reject(b, q->invoke, R_TOO_MANY_ARGUMENTS);
+		return;
+	}
+	if (has_life && !has_conf) {
+		put_reject(b, q->invoke, R_MISSING_PARAMETER);
+		return;
+	}
+	if (npdu_len > sizeof s->npdu)
+		return;
+	for (size_t i = 0; i < PSD_BACSERVE_SUBS; i++) {
+		struct psd_bacserve_sub *x = &m->sub[i];
+		if (!x->used) {
+			if (!free_slot)
+				free_slot = x;
+		} else if (x->pid == pid && x->type == type && x->instance == inst && memcmp(x->addr, src, 6) == 0) {
+			s = x;
+		}
+	}
+	if (!has_conf) {   /* a cancellation: done whether or not it was there */
+		if (s)
+			s->used = 0;
+	} else {
+		if (find(m, type, inst, &o) != 0) {
+			put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
+			return;
+		}
+		if (o.type == PSD_BAC_DEVICE) {
+			put_error(b, q, EC_OBJECT, E_NOT_SUPPORTED);
+			return;
+		}
+		if (!s && !(s = free_slot)) {
+			put_error(b, q, EC_RESOURCES, E_NO_SPACE_TO_ADD);
+			return;
+		}
+		*s = (struct psd_bacserve_sub){ .used = 1, .pid = pid, .type = o.type, .instance = o.instance,
+			                        .confirmed = confirmed, .npdu_len = npdu_len,
+			                        .expires = life ? m->now + life : 0 };
+		memcpy(s->addr, src, 6);
+		memcpy(s->npdu, npdu, npdu_len);
+	}
+	{
+		uint8_t h[3] = { 0x20, q->invoke, q->service };
+		psd_bactag_put_raw(b, h, 3);
+	}
+}
+
+int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacserve_reply *r)
+{
+	memset(r, 0, sizeof *r);
+	for (size_t i = 0; i < PSD_BACSERVE_SUBS; i++) {
+		struct psd_bacserve_sub *s = &m->sub[i];
+		struct psd_bacbuf b;
+		struct obj o;
+		float pv;
+		int fault;
+		static const unsigned f[] = { 1 };
+		if (!s->used)
+			continue;
+		if ((s->expires > 0 && m->now >= s->expires) || find(m, s->type, s->instance, &o) != 0) {
+			s->used = 0;   /* its lifetime ended, or its zone left at a reload */
+			continue;
+		}
+		pv = present_value(m, &o);
+		fault = in_fault(m, &o);
+		if (s->sent && fault == s->last_fault && (pv == s->last_pv || (isnan(pv) && isnan(s->last_pv)) ||
+		                                          fabsf(pv - s->last_pv) < cov_increment(&o)))
+			continue;
+		s->sent = 1, s->last_pv = pv, s->last_fault = fault;
+		out[0] = 0x81, out[1] = 0x0a;
+		memcpy(out + 4, s->npdu, s->npdu_len);
+		b = (struct psd_bacbuf){ out + 4 + s->npdu_len, PSD_BACSERVE_MAX_APDU, 0, 0 };
+		if (s->confirmed) {
+			uint8_t h[4] = { 0x00, 0x05, m->invoke++, S_COV_NOTIFICATION };
+			psd_bactag_put_raw(&b, h, 4);
+		} else {
+			uint8_t h[2] = { 0x10, U_COV_NOTIFICATION };
+			psd_bactag_put_raw(&b, h, 2);
+		}
+		psd_bactag_put_unsigned(&b, 0, s->pid);
+		psd_bactag_put_objectid(&b, 1, PSD_BAC_DEVICE, m->device);
+		psd_bactag_put_objectid(&b, 2, s->type, s->instance);
+		psd_bactag_put_unsigned(&b, 3, s->expires > 0 ? (uint32_t)ceil(s->expires - m->now) : 0);
+		psd_bactag_open(&b, 4);
+		psd_bactag_put_enum(&b, 0, P_PRESENT_VALUE);
+		psd_bactag_open(&b, 2);
+		psd_bactag_put_real(&b, -1, pv);
+		psd_bactag_close(&b, 2);
+		psd_bactag_put_enum(&b, 0, P_STATUS_FLAGS);
+		psd_bactag_open(&b, 2);
+		put_bits(&b, f, fault ? 1 : 0, 4);
+		psd_bactag_close(&b, 2);
+		psd_bactag_close(&b, 4);
+		r->len = 4 + s->npdu_len + b.len;
+		out[2] = (uint8_t)(r->len >> 8), out[3] = (uint8_t)r->len;
+		r->to = PSD_BACSERVE_TO_ADDRESS;
+		memcpy(r->addr, s->addr, 6);
+		return 1;
+	}
+	return 0;
+}
+
 /* Who-Is: 1 when this device is in its range (or it has none), 0 not,
  * -1 malformed. */
 static int who_is_me(const struct psd_bacserve_model *m, const uint8_t *p, size_t n)
@@ -671,7 +821,8 @@ static size_t max_apdu(uint8_t code)
 }
 
 /* The APDU apdu[0..n): the reply's APDU into b (nothing: b->len 0). */
-static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int broadcast, struct psd_bacbuf *b)
+static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int broadcast, const uint8_t *src,
+                 const uint8_t *npdu, size_t npdu_len, struct psd_bacbuf *b)
 {
 	unsigned type;
 	struct req q;
@@ -713,6 +864,9 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 	case S_WRITE_PROPERTY:
 		write_property(m, &q, b);
 		break;
+	case S_SUBSCRIBE_COV:
+		subscribe_cov(m, &q, src, npdu, npdu_len, b);
+		break;
 	default:
 		put_reject(b, q.invoke, R_UNRECOGNIZED_SERVICE);
 		break;
@@ -726,8 +880,8 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 
 /* ---- BVLL and NPDU ----------------------------------------------------- */
 
-void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t n, int broadcast, uint8_t *out,
-                         struct psd_bacserve_reply *r)
+void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t n, const uint8_t src[6],
+                         int broadcast, uint8_t *out, struct psd_bacserve_reply *r)
 {
 	size_t pos, snet_at = 0, h;
 	unsigned fn, ctrl;
@@ -749,6 +903,7 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 		if (n < 10)
 			goto none;
 		memcpy(r->addr, in + 4, 6);
+		src = r->addr;
 		r->to = PSD_BACSERVE_TO_ADDRESS;
 		broadcast = 1;
 		pos = 10;
@@ -809,7 +964,7 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 		out[5] = 0;
 	}
 	b = (struct psd_bacbuf){ out + h, PSD_BACSERVE_MAX_APDU, 0, 0 };
-	apdu(m, in + pos, n - pos, broadcast, &b);
+	apdu(m, in + pos, n - pos, broadcast, src, out + 4, h - 4, &b);
 	if (b.len == 0 || b.overflow)
 		goto none;
 	r->len = h + b.len;

@@ -25,6 +25,7 @@ enum {
 	PSD_BACSERVE_MAX_PACKET = 1497, /* BVLL 4 + NPDU (at most 17 here) + APDU */
 	PSD_BACSERVE_PRIORITIES = 16,
 	PSD_BACSERVE_AI_PER_ZONE = 3,   /* estimated task lux, sensor signal, target */
+	PSD_BACSERVE_SUBS = 64,         /* COV subscriptions at most */
 };
 
 /* object types (clause 21, BACnetObjectType) */
@@ -40,6 +41,21 @@ struct psd_bacserve_zone {
 	double prio[PSD_BACSERVE_PRIORITIES];   /* the BACnet priority array, % (NAN: relinquished) */
 };
 
+/* A COV subscription (SubscribeCOV): who, what, until when, what was sent. */
+struct psd_bacserve_sub {
+	int used;
+	uint8_t addr[6];          /* the subscriber's B/IP address */
+	uint8_t npdu[16];         /* the NPDU header that reaches it (through its router) */
+	size_t npdu_len;
+	uint32_t pid;             /* its subscriber process identifier */
+	uint32_t type, instance;  /* the monitored object */
+	int confirmed;            /* confirmed notifications */
+	double expires;           /* model time; 0: no lifetime */
+	int sent;                 /* a notification went out (the first is due at once) */
+	float last_pv;
+	int last_fault;
+};
+
 /* The result of applying a zone's priority array: 0 done, -1 refused. */
 typedef int (*psd_bacserve_apply_fn)(void *user, size_t zone);
 
@@ -53,6 +69,9 @@ struct psd_bacserve_model {
 	struct psd_bacserve_zone *zone;
 	psd_bacserve_apply_fn apply;   /* after a write changed a zone's priority array */
 	void *user;
+	double now;             /* seconds on a monotonic clock: subscriptions' lifetimes */
+	struct psd_bacserve_sub sub[PSD_BACSERVE_SUBS];
+	uint8_t invoke;         /* the next confirmed notification's invoke ID */
 };
 
 /* Where the reply goes. */
@@ -64,10 +83,16 @@ struct psd_bacserve_reply {
 	size_t len;             /* octets in out */
 };
 
-/* Judge one datagram in[0..n) and write the reply, if any, into out
- * (at least PSD_BACSERVE_MAX_PACKET octets).  `broadcast`: it came to a
- * broadcast address (then only Who-Is is answered). */
-void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t n, int broadcast,
-                         uint8_t *out, struct psd_bacserve_reply *r);
+/* Judge one datagram in[0..n) from B/IP address src (IPv4 and port, network
+ * order) and write the reply, if any, into out (at least
+ * PSD_BACSERVE_MAX_PACKET octets).  `broadcast`: it came to a broadcast
+ * address (then only Who-Is is answered). */
+void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t n, const uint8_t src[6],
+                         int broadcast, uint8_t *out, struct psd_bacserve_reply *r);
+/* The next COV notification due (a new subscription's first, or a value
+ * moved by its increment or a fault flag changed), into out and r (to an
+ * address): 1, or 0 when none is due.  Drops subscriptions whose lifetime
+ * ended.  Each call looks at each subscription at most once. */
+int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacserve_reply *r);
 
 #endif

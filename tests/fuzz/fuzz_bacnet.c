@@ -8,7 +8,8 @@
  * 1476 octets of APDU; a datagram to a broadcast address gets at most an
  * I-Am (unconfirmed, 0x10 0x00) and never an error, reject or abort; the
  * priority arrays hold only NULL or 0-100 %; every reply's tags read back
- * to its end (each tag lies inside the reply). */
+ * to its end (each tag lies inside the reply); so do the COV
+ * notifications a subscription in the datagram makes due. */
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -27,12 +28,41 @@ static int apply(void *user, size_t z)
 	return z == 2 ? -1 : 0;   /* the third zone refuses, as the engine may */
 }
 
+/* Every COV notification due: a BVLL Original-Unicast-NPDU of its own
+ * length to a subscriber's address, an unconfirmed or confirmed COV
+ * notification whose tags read back; at most one per subscription a call. */
+static void notifications(struct psd_bacserve_model *m)
+{
+	static uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	int k = 0;
+	while (psd_bacserve_cov(m, out, &r)) {
+		size_t pos = 6;
+		struct psd_bactag t;
+		if (++k > PSD_BACSERVE_SUBS || r.to != PSD_BACSERVE_TO_ADDRESS || r.len < 8 ||
+		    ((size_t)out[2] << 8 | out[3]) != r.len || out[1] != 0x0a || out[4] != 1)
+			abort();
+		if (out[5] & 0x20)
+			pos += 3 + out[8] + 1;
+		if (out[pos] == 0x10 && out[pos + 1] == 0x02)
+			pos += 2;
+		else if (out[pos] == 0x00 && out[pos + 3] == 0x01)
+			pos += 4;
+		else
+			abort();
+		while (pos < r.len)
+			if (psd_bactag_read(out, r.len, &pos, &t) != 0)
+				abort();
+	}
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	static struct psd_bacserve_zone zone[3];
 	static uint8_t out[PSD_BACSERVE_MAX_PACKET];
-	struct psd_bacserve_model m = { .device = 260001, .name = "fuzz", .vendor_id = 65535, .writes = 1,
-		                        .database_revision = 1, .nzone = 3, .zone = zone, .apply = apply };
+	static struct psd_bacserve_model m;
+	m = (struct psd_bacserve_model){ .device = 260001, .name = "fuzz", .vendor_id = 65535, .writes = 1,
+		                             .database_revision = 1, .nzone = 3, .zone = zone, .apply = apply };
 	struct psd_bacserve_reply r;
 	int broadcast;
 	if (size < 1)
@@ -49,7 +79,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
 				zone[i].prio[k] = NAN;
 	}
-	psd_bacserve_handle(&m, data + 1, size - 1, broadcast, out, &r);
+	static const uint8_t src[6] = { 127, 0, 0, 1, 0xba, 0xc1 };
+	m.now = 100;
+	psd_bacserve_handle(&m, data + 1, size - 1, src, broadcast, out, &r);
+	/* a subscription's first notification; then the levels move and a
+	 * lifetime of up to 50 s ends */
+	notifications(&m);
+	for (int i = 0; i < 3; i++)
+		zone[i].level = 100 - zone[i].level;
+	m.now = 150;
+	notifications(&m);
 	if (r.to == PSD_BACSERVE_NONE) {
 		if (r.len != 0)
 			abort();

@@ -4,8 +4,9 @@
 // the Device's Object_List, every object's properties with
 // ReadPropertyMultiple (ALL), a Lighting Output's Present_Value with
 // ReadProperty, a write at priority 8 and its relinquish (when writes are
-// on, else the refusal), and the errors for an unknown object and
-// property.  Prints TAP lines ("ok N - ..." / "not ok N - ...") and
+// on, else the refusal), COV subscriptions (unconfirmed with a lifetime,
+// confirmed, one refused, the notification after a write, a cancel), and
+// the errors for an unknown object and property.  Prints TAP lines ("ok N - ..." / "not ok N - ...") and
 // "# rp_ms p50 p99 max" for 200 ReadProperty round trips.
 // With WRITES 2 (psensd's zone in a sensor fault at its safe level of
 // 100 %): a write at priority 1 is taken, and the light stays at 100 %.
@@ -124,8 +125,27 @@ async function main() {
 	ok(typeof level === 'number' && level >= 0 && level <= 100, `Lighting Output ${lo.instance} Present_Value ${level} is 0-100 %`);
 	console.log(`# rp_ms p50 ${t[100].toFixed(3)} p99 ${t[197].toFixed(3)} max ${t[199].toFixed(3)}`);
 
+	// COV: an unconfirmed subscription (lifetime 300 s) and a confirmed one
+	const notes = [];
+	client.on('covNotifyUnconfirmed', (m) => notes.push({ t: process.hrtime.bigint(), p: m.payload, confirmed: false }));
+	client.on('covNotify', (m) => notes.push({ t: process.hrtime.bigint(), p: m.payload, confirmed: true }));
+	const covOf = (pid) => notes.filter((x) => x.p.subscriberProcessId === pid);
+	const pvOf = (x) => x.p.values.find((v) => v.property.id === P.PRESENT_VALUE).value[0].value;
+	const sub = await errorOf(client.subscribeCov(server, lo, 71, false, false, 300));
+	const subc = await errorOf(client.subscribeCov(server, ais[0], 72, false, true, 0));
+	await sleep(300);
+	const first = covOf(71);
+	ok(sub === 'none' && first.length >= 1 && first[0].p.monitoredObjectId.instance === lo.instance &&
+		first[0].p.timeRemaining > 290 && first[0].p.timeRemaining <= 300,
+		`SubscribeCOV (unconfirmed, 300 s): taken (${sub}), the first notification at once (${first.length}, ${first.length ? first[0].p.timeRemaining : '-'} s left)`);
+	ok(subc === 'none' && covOf(72).length >= 1 && covOf(72)[0].confirmed,
+		`SubscribeCOV (confirmed) on Analog Input ${ais[0].instance}: a confirmed notification (${subc}, ${covOf(72).length})`);
+	const covErr = await errorOf(client.subscribeCov(server, dev, 73, false, false, 60));
+	ok(/Class:1.*Code:45/i.test(covErr), `SubscribeCOV on the Device: optional-functionality-not-supported (${covErr})`);
+
 	// write at priority 8, then relinquish
 	const real = (v) => [{ type: 4 /* REAL */, value: v }];
+	const t0w = process.hrtime.bigint();
 	const wr = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, real(42.5), { priority: 8 }));
 	if (writes) {
 		ok(wr === 'none', `WriteProperty Present_Value 42.5 at priority 8 accepted (${wr})`);
@@ -138,6 +158,9 @@ async function main() {
 			await sleep(100);
 		}
 		ok(Math.abs(seen - 42.5) < 1e-3, `Present_Value follows the write: ${seen}`);
+		const cov = covOf(71).find((x) => x.t > t0w && Math.abs(pvOf(x) - 42.5) < 1e-3);
+		ok(cov !== undefined, `a COV notification carries 42.5`);
+		if (cov) console.log(`# cov_ms ${(Number(cov.t - t0w) / 1e6).toFixed(3)} from the write's request to the notification`);
 		const rangeErr = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, real(120), { priority: 8 }));
 		ok(/PROPERTY.*VALUE_OUT_OF_RANGE|Class:2.*Code:37/i.test(rangeErr), `120 % is refused: ${rangeErr}`);
 		const rel = await errorOf(client.writeProperty(server, lo, P.PRESENT_VALUE, [{ type: 0, value: null }], { priority: 8 }));
@@ -147,6 +170,9 @@ async function main() {
 	} else {
 		ok(/PROPERTY.*WRITE_ACCESS_DENIED|Class:2.*Code:40/i.test(wr), `writes off: WriteProperty refused: ${wr}`);
 	}
+
+	const cancel = await errorOf(client.subscribeCov(server, lo, 71, true, false, 0));
+	ok(cancel === 'none', `SubscribeCOV cancelled (${cancel})`);
 
 	// errors: an unknown object, an unknown property
 	const e1 = await errorOf(client.readProperty(server, { type: ObjectType.ANALOG_VALUE, instance: 77 }, P.PRESENT_VALUE));

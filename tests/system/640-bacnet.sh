@@ -5,8 +5,9 @@
 # in real time sped up 600 times on the loopback room.  Discovery with and
 # without a range, the Device's Object_List, every object's properties by
 # ReadPropertyMultiple, a Lighting Output's Present_Value, a write at
-# priority 8 and its relinquish (the engine's override and release, seen on
-# the control socket too), the errors for an unknown object and property;
+# priority 8 and its relinquish (the engine's override and release, seen in
+# psensd's log), COV subscriptions and the notification a write causes, the
+# errors for an unknown object and property;
 # then with writes off, the refusal; then a zone in a sensor fault: a BMS
 # write at priority 1 is taken but the light stays at the safe level; a
 # [bacnet] section without bind is refused with its line.
@@ -37,7 +38,7 @@ run() {
 	node "$PEER" "$port" 2601 "$1" > "$TMP/peer$1" 2>&1
 	rc=$?
 	sed -n 's/^\(not \)\{0,1\}ok [0-9]* - /peer: /p' "$TMP/peer$1" | while read -r l; do diag "$l"; done
-	grep '^# rp_ms' "$TMP/peer$1"
+	grep -E '^# (rp|cov)_ms' "$TMP/peer$1"
 	check "the peer's checks all pass (writes=$w; $(grep -c '^ok' "$TMP/peer$1") ok, $(grep -c '^not ok' "$TMP/peer$1") not ok)" \
 		test "$rc" = 0 -a "$(grep -c '^not ok' "$TMP/peer$1")" = 0 -a "$(grep -c '^ok' "$TMP/peer$1")" -ge 5
 	grep '^not ok' "$TMP/peer$1" | while read -r l; do diag "$l"; done

@@ -114,6 +114,7 @@ static void decoding_reads_tags_and_stops_at_the_end(void **state)
 /* ---- the server over a two-zone model --------------------------------- */
 
 static struct psd_bacserve_zone zones[6];
+static const uint8_t peer[6] = { 10, 0, 0, 7, 0xba, 0xc0 };   /* 10.0.0.7:47808 */
 static struct psd_bacserve_model model;
 static int applied;
 
@@ -148,7 +149,7 @@ static size_t ask(const uint8_t *apdu, size_t n, uint8_t fn, uint8_t *out, const
 	struct psd_bacserve_reply r;
 	in[0] = 0x81, in[1] = fn, in[2] = (uint8_t)((n + 6) >> 8), in[3] = (uint8_t)(n + 6), in[4] = 1, in[5] = 0x04;
 	memcpy(in + 6, apdu, n);
-	psd_bacserve_handle(&model, in, n + 6, 0, out, &r);
+	psd_bacserve_handle(&model, in, n + 6, peer, 0, out, &r);
 	if (r.to == PSD_BACSERVE_NONE)
 		return 0;
 	assert_int_equal(r.to, PSD_BACSERVE_TO_SENDER);
@@ -255,8 +256,8 @@ static void read_property_and_its_errors(void **state)
 		ASK(0x0a, 3, 0x60, 0x0a, 0x07);
 	}
 	{
-		/* subscribeCOV (5), not supported: Reject unrecognized-service (9) */
-		static const uint8_t req[] = { 0x00, 0x05, 0x0b, 0x05, 0x09, 0x01 };
+		/* atomicReadFile (6), not supported: Reject unrecognized-service (9) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0b, 0x06, 0x09, 0x01 };
 		ASK(0x0a, 3, 0x60, 0x0b, 0x09);
 	}
 	{
@@ -305,7 +306,7 @@ static void read_property_multiple(void **state)
 	}
 }
 
-/* REQUIRED returns the required ones only: (analog-input, 1) has 9 */
+/* REQUIRED returns the required ones only: (analog-input, 1) has 10 */
 static void rpm_required_and_optional(void **state)
 {
 	uint8_t out[PSD_BACSERVE_MAX_PACKET];
@@ -327,8 +328,9 @@ static void rpm_required_and_optional(void **state)
 				props++;
 		}
 		/* required: object-identifier, -name, -type, present-value, status-flags,
-		 * event-state, out-of-service, units, property-list; optional: description */
-		assert_int_equal(props, which ? 1 : 9);
+		 * event-state, out-of-service, units, property-list, and cov-increment
+		 * (an object that reports COV); optional: description */
+		assert_int_equal(props, which ? 1 : 10);
 	}
 }
 
@@ -403,14 +405,14 @@ static void bvll_and_npdu(void **state)
 		/* Register-Foreign-Device (0x05), TTL 60: BVLC-Result NAK 0x0030 */
 		static const uint8_t in[] = { 0x81, 0x05, 0x00, 0x06, 0x00, 0x3c };
 		static const uint8_t want[] = { 0x81, 0x00, 0x00, 0x06, 0x00, 0x30 };
-		psd_bacserve_handle(&model, in, sizeof in, 0, out, &r);
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
 		assert_int_equal(r.len, 6);
 		assert_memory_equal(out, want, 6);
 	}
 	{
 		/* Read-Broadcast-Distribution-Table (0x02): NAK 0x0020 */
 		static const uint8_t in[] = { 0x81, 0x02, 0x00, 0x04 };
-		psd_bacserve_handle(&model, in, sizeof in, 0, out, &r);
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
 		assert_int_equal(r.len, 6);
 		assert_int_equal(out[5], 0x20);
 	}
@@ -419,23 +421,23 @@ static void bvll_and_npdu(void **state)
 		static const uint8_t res[] = { 0x81, 0x00, 0x00, 0x06, 0x00, 0x00 };
 		static const uint8_t len[] = { 0x81, 0x0a, 0x00, 0x09, 0x01, 0x00, 0x10, 0x08 };
 		static const uint8_t typ[] = { 0x82, 0x0a, 0x00, 0x08, 0x01, 0x00, 0x10, 0x08 };
-		psd_bacserve_handle(&model, res, sizeof res, 0, out, &r);
+		psd_bacserve_handle(&model, res, sizeof res, peer, 0, out, &r);
 		assert_int_equal(r.len, 0);
-		psd_bacserve_handle(&model, len, sizeof len, 0, out, &r);
+		psd_bacserve_handle(&model, len, sizeof len, peer, 0, out, &r);
 		assert_int_equal(r.len, 0);
-		psd_bacserve_handle(&model, typ, sizeof typ, 0, out, &r);
+		psd_bacserve_handle(&model, typ, sizeof typ, peer, 0, out, &r);
 		assert_int_equal(r.len, 0);
 	}
 	{
 		/* a network-layer message (control 0x80, Who-Is-Router-To-Network): ignored */
 		static const uint8_t in[] = { 0x81, 0x0b, 0x00, 0x07, 0x01, 0x80, 0x00 };
-		psd_bacserve_handle(&model, in, sizeof in, 0, out, &r);
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
 		assert_int_equal(r.len, 0);
 	}
 	{
 		/* for network 5 (DNET 5, DLEN 0, hop 255): psensd routes nothing */
 		static const uint8_t in[] = { 0x81, 0x0a, 0x00, 0x0c, 0x01, 0x20, 0x00, 0x05, 0x00, 0xff, 0x10, 0x08 };
-		psd_bacserve_handle(&model, in, sizeof in, 0, out, &r);
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
 		assert_int_equal(r.len, 0);
 	}
 	{
@@ -444,7 +446,7 @@ static void bvll_and_npdu(void **state)
 		static const uint8_t in[] = { 0x81, 0x0b, 0x00, 0x10, 0x01, 0x28, 0xff, 0xff, 0x00,
 			                      0x00, 0x07, 0x01, 0x21, 0xff, 0x10, 0x08 };
 		static const uint8_t want[] = { 0x81, 0x0a, 0x00, 0x1a, 0x01, 0x20, 0x00, 0x07, 0x01, 0x21, 0xff, 0x10, 0x00 };
-		psd_bacserve_handle(&model, in, sizeof in, 0, out, &r);
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
 		assert_int_equal(r.len, 0x1a);
 		assert_memory_equal(out, want, sizeof want);
 	}
@@ -452,10 +454,84 @@ static void bvll_and_npdu(void **state)
 		/* Forwarded-NPDU from 192.168.1.9:47808: the I-Am to that address */
 		static const uint8_t in[] = { 0x81, 0x04, 0x00, 0x0e, 192, 168, 1, 9, 0xba, 0xc0, 0x01, 0x00, 0x10, 0x08 };
 		static const uint8_t addr[] = { 192, 168, 1, 9, 0xba, 0xc0 };
-		psd_bacserve_handle(&model, in, sizeof in, 0, out, &r);
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
 		assert_int_equal(r.to, PSD_BACSERVE_TO_ADDRESS);
 		assert_memory_equal(r.addr, addr, 6);
 		assert_int_equal(r.len, 21);
+	}
+}
+
+static void subscribe_cov_and_notifications(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	struct psd_bacserve_reply r;
+	(void)state;
+	model.now = 1000;
+	{
+		/* subscribeCOV (5): [0] process 18, [1] (lighting-output, 1),
+		 * [2] FALSE (unconfirmed), [3] lifetime 60 s: SimpleACK */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0f, 0x05, 0x09, 0x12, 0x1c, 0x0d, 0x80, 0x00, 0x01,
+			                       0x29, 0x00, 0x39, 0x3c };
+		ASK(0x0a, 3, 0x20, 0x0f, 0x05);
+	}
+	{
+		/* the first notification at once: unconfirmedCOVNotification (2),
+		 * [0] 18, [1] (device, 10), [2] (lighting-output, 1), [3] 60 s left,
+		 * [4]( [0] present-value [2]( REAL 10.0 ) [0] status-flags [2]( B'0000' ) ) */
+		static const uint8_t want[] = { 0x81, 0x0a, 0x00, 0x28, 0x01, 0x00, 0x10, 0x02, 0x09, 0x12,
+			                        0x1c, 0x02, 0x00, 0x00, 0x0a, 0x2c, 0x0d, 0x80, 0x00, 0x01,
+			                        0x39, 0x3c, 0x4e, 0x09, 0x55, 0x2e, 0x44, 0x41, 0x20, 0x00,
+			                        0x00, 0x2f, 0x09, 0x6f, 0x2e, 0x82, 0x04, 0x00, 0x2f, 0x4f };
+		assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+		assert_int_equal(r.to, PSD_BACSERVE_TO_ADDRESS);
+		assert_memory_equal(r.addr, peer, 6);
+		assert_int_equal(r.len, sizeof want);
+		assert_memory_equal(out, want, sizeof want);
+	}
+	/* nothing moved: nothing; 0.5 % (under the 1 % increment): nothing */
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	zones[0].level = 10.5;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	/* 1.5 % from the last sent: a notification with 11.5 (0x41380000) */
+	zones[0].level = 11.5;
+	model.now = 1030.5;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+	assert_int_equal(out[20], 0x39);
+	assert_int_equal(out[21], 30);   /* 29.5 s left, rounded up */
+	assert_int_equal(out[27], 0x41);
+	assert_int_equal(out[28], 0x38);
+	/* the fault flag changes: a notification even without a level change */
+	zones[0].fault = 1;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+	assert_int_equal(out[r.len - 3], 0x40);
+	/* the lifetime ends: the subscription goes */
+	zones[0].level = 50;
+	model.now = 1060;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	{
+		/* again without a lifetime, then cancelled ([2] and [3] left out) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x10, 0x05, 0x09, 0x12, 0x1c, 0x0d, 0x80, 0x00, 0x01, 0x29, 0x01 };
+		ASK(0x0a, 3, 0x20, 0x10, 0x05);
+	}
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+	assert_int_equal(out[6], 0x00);   /* confirmed: a ConfirmedRequest, confirmedCOVNotification (1) */
+	assert_int_equal(out[9], 0x01);
+	{
+		static const uint8_t req[] = { 0x00, 0x05, 0x11, 0x05, 0x09, 0x12, 0x1c, 0x0d, 0x80, 0x00, 0x01 };
+		ASK(0x0a, 3, 0x20, 0x11, 0x05);
+	}
+	zones[0].level = 90;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	{
+		/* the Device: object/optional-functionality-not-supported (45) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x12, 0x05, 0x09, 0x12, 0x1c, 0x02, 0x00, 0x00, 0x0a, 0x29, 0x00 };
+		ASK(0x0a, 7, 0x50, 0x12, 0x05, 0x91, 0x01, 0x91, 0x2d);
+	}
+	{
+		/* (analog-value, 1): object/unknown-object */
+		static const uint8_t req[] = { 0x00, 0x05, 0x13, 0x05, 0x09, 0x12, 0x1c, 0x00, 0x80, 0x00, 0x01, 0x29, 0x00 };
+		ASK(0x0a, 7, 0x50, 0x13, 0x05, 0x91, 0x01, 0x91, 0x1f);
 	}
 }
 
@@ -470,6 +546,7 @@ int main(void)
 		cmocka_unit_test_setup(rpm_required_and_optional, setup),
 		cmocka_unit_test_setup(write_property_with_priorities, setup),
 		cmocka_unit_test_setup(bvll_and_npdu, setup),
+		cmocka_unit_test_setup(subscribe_cov_and_notifications, setup),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
