@@ -44,4 +44,5 @@ void psd_bacconf_load(struct psd_bacnet_conf *b, struct ps_conf *c)
 	ps_conf_int(c, s, "vendor_id", 65535, 0, 65535, &b->vendor_id);
 	ps_conf_enum(c, s, "writes", writes, PSD_BACCONF_NONE, &b->writes);
 	ps_conf_double(c, s, "hold", 3600, 60, 7 * 86400, &b->hold);
+	ps_conf_double(c, s, "rate", 100, 1, 100000, &b->rate);
 }

@@ -21,6 +21,7 @@ struct psd_bacnet_conf {
 	long vendor_id;        /* Vendor_Identifier, default 65535 (none assigned) */
 	int writes;            /* PSD_BACCONF_NONE or _LIGHTING_OUTPUT */
 	double hold;           /* s: a written level's override lasts this long, renewed while written */
+	double rate;           /* datagrams a second one source may send (and as many at once) */
 };
 
 /* Read [bacnet] of c into b (errors go to c). */

@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <math.h>
 #include <netinet/in.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +20,13 @@
 #include "log.h"
 
 enum { BATCH = 64 };   /* datagrams answered in one turn at most */
+enum { SOURCES = 32 }; /* sources whose rate is tracked (the longest idle one makes room) */
+
+/* A token bucket per source address: `rate` a second, as many at once. */
+struct source {
+	uint32_t ip;
+	double tokens, last;
+};
 
 struct psd_bacnet {
 	int fd;
@@ -30,7 +38,39 @@ struct psd_bacnet {
 	double issued[PSD_MAX_ZONES];   /* clock time of the last override sent for a zone */
 	struct psd_bacserve_model m;
 	double now;
+	struct source src[SOURCES];
+	unsigned long dropped;          /* datagrams over a source's rate */
 };
+
+/* 1 when a datagram from ip may be answered now (wall seconds t). */
+static int within_rate(struct psd_bacnet *b, uint32_t ip, double t)
+{
+	struct source *s = NULL, *idle = &b->src[0];
+	for (int i = 0; i < SOURCES; i++) {
+		if (b->src[i].last > 0 && b->src[i].ip == ip) {
+			s = &b->src[i];
+			break;
+		}
+		if (b->src[i].last < idle->last)
+			idle = &b->src[i];
+	}
+	if (!s) {
+		s = idle;
+		*s = (struct source){ ip, b->c.rate, t };
+	}
+	s->tokens += (t - s->last) * b->c.rate;
+	if (s->tokens > b->c.rate)
+		s->tokens = b->c.rate;
+	s->last = t;
+	if (s->tokens < 1) {
+		if (b->dropped++ == 0)
+			psd_log_warnx("bacnet: a source sends more than %g datagrams a second: the excess is dropped",
+			              b->c.rate);
+		return 0;
+	}
+	s->tokens -= 1;
+	return 1;
+}
 
 /* The highest priority written, or -1 when every one is relinquished. */
 static int in_force(const struct psd_bacserve_zone *z)
@@ -158,6 +198,8 @@ void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double n
 		if (n < 0)
 			break;
 		if (fl != sizeof from || from.sin_family != AF_INET || from.sin_port == 0)
+			continue;
+		if (!within_rate(b, from.sin_addr.s_addr, b->m.now))
 			continue;
 		memcpy(src, &from.sin_addr, 4);
 		memcpy(src + 4, &from.sin_port, 2);

@@ -10,7 +10,8 @@
 # errors for an unknown object and property;
 # then with writes off, the refusal; then a zone in a sensor fault: a BMS
 # write at priority 1 is taken but the light stays at the safe level; a
-# [bacnet] section without bind is refused with its line.
+# flood from one source is cut to its rate; a [bacnet] section without
+# bind is refused with its line.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v node > /dev/null || skip_all "node is not installed (make deps: nodejs)"
@@ -29,12 +30,13 @@ run() {
 	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd$1.db\nsocket = sock|; $f" \
 		config/psensd.conf > "$TMP/psensd.conf"
 	w=none; [ "$1" != 0 ] && w=lighting-output
-	printf '\n[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 2601\nname = psensd test site\nwrites = %s\n' \
-		"$port" "$w" >> "$TMP/psensd.conf"
+	printf '\n[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 2601\nname = psensd test site\nwrites = %s\nrate = %s\n' \
+		"$port" "$w" "${RATE:-100000}" >> "$TMP/psensd.conf"
 	"$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > "$TMP/out$1" 2> "$TMP/err$1" &
 	PID=$!; track_pid $PID
 	wait_for 10 ctl ping > /dev/null
 	check "psensd logs its BACnet device (writes=$w)" grep -q "bacnet: device 2601 'psensd test site' on udp 127.0.0.1:$port" "$TMP/err$1"
+	[ -z "${FLOOD:-}" ] || return 0
 	node "$PEER" "$port" 2601 "$1" > "$TMP/peer$1" 2>&1
 	rc=$?
 	sed -n 's/^\(not \)\{0,1\}ok [0-9]* - /peer: /p' "$TMP/peer$1" | while read -r l; do diag "$l"; done
@@ -53,6 +55,36 @@ run 0
 check "writes off: no override reached the engine" sh -c "! grep -q 'override' '$TMP/err0'"
 run 2
 check "the fault was the engine's: the zone went to its safe level" grep -q "zone office: .*lights at the safe level" "$TMP/err2"
+
+# a flood from one source at rate = 100: at most 100 at once and 100 a
+# second are answered, the rest dropped (logged once); control goes on
+FLOOD=1 RATE=100 run 3
+/usr/bin/python3 - "$port" > "$TMP/flood" <<'EOP'
+import socket, sys, time
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.bind(("127.0.0.1", 0))
+who_is = bytes([0x81, 0x0a, 0x00, 0x08, 0x01, 0x00, 0x10, 0x08])
+t0 = time.monotonic()
+for i in range(2000):
+    s.sendto(who_is, ("127.0.0.1", int(sys.argv[1])))
+t1 = time.monotonic()
+s.settimeout(0.5)
+n = 0
+try:
+    while True:
+        s.recvfrom(2000)
+        n += 1
+except socket.timeout:
+    pass
+print(n, round(time.monotonic() - t0, 3))
+EOP
+read -r got secs < "$TMP/flood"
+bound=$(awk -v s="$secs" 'BEGIN { printf "%d", 100 + 100 * s + 1 }')
+check "2000 Who-Is from one source: $got I-Am in $secs s, at most 100 + 100/s ($bound)" \
+	test "$got" -ge 100 -a "$got" -le "$bound"
+check "the excess is logged once" test "$(grep -c 'bacnet: a source sends more than 100 datagrams a second' "$TMP/err3")" = 1
+check "psensd still answers the control socket after the flood" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
+kill "$PID"; wait "$PID" 2> /dev/null
 
 sed '/^bind = /d' "$TMP/psensd.conf" > "$TMP/bad.conf"
 "$BIN/psensd" -n -f "$TMP/bad.conf" > "$TMP/bad.out" 2>&1
