@@ -36,7 +36,7 @@ enum { A_SEGMENTATION_NOT_SUPPORTED = 4 };
 
 /* services (BACnetConfirmedServiceChoice, BACnetUnconfirmedServiceChoice) */
 enum { S_COV_NOTIFICATION = 1, S_SUBSCRIBE_COV = 5, S_READ_PROPERTY = 12, S_READ_PROPERTY_MULTIPLE = 14, S_WRITE_PROPERTY = 15 };
-enum { U_I_AM = 0, U_COV_NOTIFICATION = 2, U_WHO_IS = 8 };
+enum { U_I_AM = 0, U_I_HAVE = 1, U_COV_NOTIFICATION = 2, U_WHO_HAS = 7, U_WHO_IS = 8 };
 
 enum { PROTOCOL_REVISION = 14, MAX_INSTANCE = 4194303 };
 
@@ -289,9 +289,9 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		break;
 	case P_SERVICES_SUPPORTED: {
 		/* subscribeCOV 5, readProperty 12, readPropertyMultiple 14,
-		 * writeProperty 15, i-Am 26, who-Is 34 (BACnetServicesSupported); 41
-		 * bits at revision 14 */
-		static const unsigned s[] = { 5, 12, 14, 15, 26, 34 };
+		 * writeProperty 15, i-Am 26, i-Have 27, who-Has 33, who-Is 34
+		 * (BACnetServicesSupported); 41 bits at revision 14 */
+		static const unsigned s[] = { 5, 12, 14, 15, 26, 27, 33, 34 };
 		put_bits(b, s, NPROPS(s), 41);
 		break;
 	}
@@ -813,6 +813,54 @@ static int who_is_me(const struct psd_bacserve_model *m, const uint8_t *p, size_
 	return m->device >= lo && m->device <= hi;
 }
 
+/* Who-Has (16.9): the I-Have for the object named by identifier or by
+ * name, when this device is in the range (or there is none); nothing
+ * when psensd has no such object or the request is malformed. */
+static void who_has(const struct psd_bacserve_model *m, const uint8_t *p, size_t n, struct psd_bacbuf *b)
+{
+	struct req q = { p, n, 0, 0 };
+	size_t pos = 0;
+	uint32_t lo, hi, type, inst;
+	int has_lo, has_hi;
+	struct psd_bactag t;
+	struct obj o;
+	char name[128];
+	if ((has_lo = opt_unsigned(&q, &pos, 0, &lo)) < 0 || (has_hi = opt_unsigned(&q, &pos, 1, &hi)) < 0 ||
+	    has_lo != has_hi || (has_lo && (lo > MAX_INSTANCE || hi > MAX_INSTANCE)))
+		return;
+	if (has_lo && !(m->device >= lo && m->device <= hi))
+		return;
+	if (psd_bactag_read(p, n, &pos, &t) != 0 || pos != n || !t.context || t.opening || t.closing)
+		return;
+	if (t.number == 2) {
+		if (psd_bactag_objectid(&t, &type, &inst) != 0 || find(m, type, inst, &o) != 0 ||
+		    (o.type == PSD_BAC_DEVICE && inst != m->device))
+			return;
+	} else if (t.number == 3) {   /* a character string in UTF-8 (set 0) */
+		size_t i, count = nobjects(m);
+		if (t.len < 1 || t.data[0] != 0)
+			return;
+		for (i = 0; i < count; i++) {
+			object_at(m, i, &o);
+			object_name(m, &o, name, sizeof name);
+			if (strlen(name) == t.len - 1 && memcmp(name, t.data + 1, t.len - 1) == 0)
+				break;
+		}
+		if (i == count)
+			return;
+	} else {
+		return;
+	}
+	{
+		uint8_t h[2] = { 0x10, U_I_HAVE };
+		psd_bactag_put_raw(b, h, 2);
+	}
+	object_name(m, &o, name, sizeof name);
+	psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
+	psd_bactag_put_objectid(b, -1, o.type, o.instance);
+	psd_bactag_put_string(b, -1, name);
+}
+
 /* The largest APDU the asker accepts (20.1.2.5); reserved codes: the least. */
 static size_t max_apdu(uint8_t code)
 {
@@ -838,6 +886,8 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 			psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
 			psd_bactag_put_enum(b, -1, 3);   /* no-segmentation */
 			psd_bactag_put_unsigned(b, -1, m->vendor_id);
+		} else if (a[1] == U_WHO_HAS) {
+			who_has(m, a + 2, n - 2, b);
 		}
 		return;
 	}

@@ -13,6 +13,10 @@
 // usage: node bacnet-peer.js SERVER_PORT DEVICE_INSTANCE WRITES(0|1|2)
 'use strict';
 const Bacnet = require('@bacnet-js/client').default;
+// the library has no Who-Has request of its own: its Who-Has parameter
+// encoder (and its I-Have decoder, the 'iHave' event) over a 2-octet NPDU
+// and APDU header
+const WhoHas = require('@bacnet-js/client/dist/lib/services/WhoHas').default;
 const { ObjectType, PropertyIdentifier: P, ErrorClass, ErrorCode } = require('@bacnet-js/client');
 
 const [port, device, writes] = process.argv.slice(2).map(Number);
@@ -66,6 +70,20 @@ async function fault() {
 	process.exit(failed ? 1 : 0);
 }
 
+function whoHas(objectId, objectName) {
+	return new Promise((resolve) => {
+		const seen = [];
+		const on = (msg) => seen.push(msg.payload);
+		client.on('iHave', on);
+		const buf = { buffer: Buffer.alloc(1482), offset: 4 };
+		buf.buffer.set([0x01, 0x00, 0x10, 0x07], 4);   // NPDU version 1; unconfirmed who-Has (7)
+		buf.offset = 8;
+		WhoHas.encode(buf, -1, -1, objectId, objectName);
+		client.sendBvlc(server, buf);
+		setTimeout(() => { client.removeListener('iHave', on); resolve(seen); }, 500);
+	});
+}
+
 async function main() {
 	await new Promise((r) => client.on('listening', r));
 	if (writes === 2)
@@ -103,6 +121,15 @@ async function main() {
 	}
 	ok(props > 0 && errs === 0, `ReadPropertyMultiple ALL on every object: ${props} properties, ${errs} errors`);
 	ok(names.size === objs.length, `Object_Name unique across the device (${names.size} of ${objs.length})`);
+
+	const byName = await whoHas(null, 'office light level');
+	ok(byName.length === 1 && byName[0].objectId.type === ObjectType.LIGHTING_OUTPUT && byName[0].objectId.instance === 1 &&
+		byName[0].deviceId.instance === device, `Who-Has 'office light level': I-Have (lighting-output, 1) from device ${device} (${byName.length})`);
+	const byId = await whoHas({ type: ObjectType.ANALOG_INPUT, instance: 2 });
+	ok(byId.length === 1 && byId[0].objectName === 'office sensor signal',
+		`Who-Has (analog-input, 2): I-Have named '${byId.length ? byId[0].objectName : '-'}'`);
+	const none = await whoHas(null, 'no such object');
+	ok(none.length === 0, `Who-Has a name psensd lacks: no I-Have (${none.length})`);
 
 	const devr = await client.readPropertyMultiple(server, [{ objectId: dev, properties: [
 		{ id: P.PROTOCOL_VERSION, index: 0xffffffff }, { id: P.PROTOCOL_REVISION, index: 0xffffffff },

@@ -4,9 +4,10 @@
 # stack: @bacnet-js/client (tests/peers/package.json) on loopback, psensd
 # in real time sped up 600 times on the loopback room.  Discovery with and
 # without a range, the Device's Object_List, every object's properties by
-# ReadPropertyMultiple, a Lighting Output's Present_Value, a write at
-# priority 8 and its relinquish (the engine's override and release, seen in
-# psensd's log), COV subscriptions and the notification a write causes, the
+# ReadPropertyMultiple, Who-Has by name and identifier, a Lighting
+# Output's Present_Value, a write at priority 8 and its relinquish (the
+# engine's override and release, seen in psensd's log), COV subscriptions
+# and the notification a write causes, the
 # errors for an unknown object and property;
 # then with writes off, the refusal; then a zone in a sensor fault: a BMS
 # write at priority 1 is taken but the light stays at the safe level; a

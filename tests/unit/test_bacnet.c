@@ -196,6 +196,37 @@ static void who_is_with_a_range(void **state)
 	}
 }
 
+static void who_has_by_identifier_and_by_name(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	(void)state;
+	{
+		/* Who-Has (7) [2] (analog-input, 5): I-Have (1), (device, 10),
+		 * (analog-input, 5), "z1 sensor signal" (16 characters + set 0) */
+		static const uint8_t req[] = { 0x10, 0x07, 0x2c, 0x00, 0x00, 0x00, 0x05 };
+		ASK(0x0b, 31, 0x10, 0x01, 0xc4, 0x02, 0x00, 0x00, 0x0a, 0xc4, 0x00, 0x00, 0x00, 0x05, 0x75, 0x11, 0x00,
+		    'z', '1', ' ', 's', 'e', 'n', 's', 'o', 'r', ' ', 's', 'i', 'g', 'n', 'a', 'l');
+	}
+	{
+		/* by name, in a range 5..15: [0] 5 [1] 15 [3] "z2 light level" */
+		static const uint8_t req[] = { 0x10, 0x07, 0x09, 0x05, 0x19, 0x0f, 0x3d, 0x0f, 0x00, 'z', '2', ' ',
+			                       'l', 'i', 'g', 'h', 't', ' ', 'l', 'e', 'v', 'e', 'l' };
+		/* (lighting-output, 3) */
+		ASK(0x0b, 29, 0x10, 0x01, 0xc4, 0x02, 0x00, 0x00, 0x0a, 0xc4, 0x0d, 0x80, 0x00, 0x03);
+	}
+	{
+		/* a range without this device, an object psensd lacks, a name
+		 * psensd lacks: silence */
+		static const uint8_t r1[] = { 0x10, 0x07, 0x09, 0x0b, 0x19, 0x0f, 0x2c, 0x00, 0x00, 0x00, 0x05 };
+		static const uint8_t r2[] = { 0x10, 0x07, 0x2c, 0x00, 0x80, 0x00, 0x01 };
+		static const uint8_t r3[] = { 0x10, 0x07, 0x3d, 0x03, 0x00, 'z', '9' };
+		assert_int_equal(ask(r1, sizeof r1, 0x0b, out, &a), 0);
+		assert_int_equal(ask(r2, sizeof r2, 0x0b, out, &a), 0);
+		assert_int_equal(ask(r3, sizeof r3, 0x0b, out, &a), 0);
+	}
+}
+
 static void read_property_and_its_errors(void **state)
 {
 	uint8_t out[PSD_BACSERVE_MAX_PACKET];
@@ -541,6 +572,7 @@ int main(void)
 		cmocka_unit_test(encodings_follow_clause_20_2),
 		cmocka_unit_test(decoding_reads_tags_and_stops_at_the_end),
 		cmocka_unit_test_setup(who_is_with_a_range, setup),
+		cmocka_unit_test_setup(who_has_by_identifier_and_by_name, setup),
 		cmocka_unit_test_setup(read_property_and_its_errors, setup),
 		cmocka_unit_test_setup(read_property_multiple, setup),
 		cmocka_unit_test_setup(rpm_required_and_optional, setup),
