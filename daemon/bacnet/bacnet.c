@@ -94,11 +94,11 @@ static int apply(void *user, size_t i)
 	else
 		snprintf(line, sizeof line, "release %s", z->name);
 	b->fn(b->user, line, reply, sizeof reply);
+	b->issued[i] = b->now;   /* a refusal too: tried again at the next renewal, not every turn */
 	if (strncmp(reply, "{\"ok\":true", 10) != 0) {
 		psd_log_warnx("bacnet: zone %s: %s refused: %s", z->name, line, reply);
 		return -1;
 	}
-	b->issued[i] = b->now;
 	if (p >= 0)
 		psd_log_info("bacnet: zone %s: level %.1f %% at priority %d", z->name, z->prio[p], p + 1);
 	else
@@ -149,7 +149,6 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 		                            .zone = b->zone, .apply = apply, .user = b };
 	if (inet_pton(AF_INET, c->bind, &sa.sin_addr) != 1 ||
 	    (b->fd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0)) < 0 ||
-	    setsockopt(b->fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
 	    setsockopt(b->fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) != 0 ||
 	    bind(b->fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
 		psd_errbuf(err, errlen, "bacnet: udp %s:%ld: %s", c->bind, c->port, strerror(errno));

@@ -87,6 +87,17 @@ check "the excess is logged once" test "$(grep -c 'bacnet: a source sends more t
 check "psensd still answers the control socket after the flood" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
 kill "$PID"; wait "$PID" 2> /dev/null
 
+# the port taken by another socket: psensd refuses to start, saying which
+/usr/bin/python3 -c 'import socket, sys, time
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.bind(("127.0.0.1", int(sys.argv[1])))
+time.sleep(15)' "$port" & track_pid $!
+sleep 0.5
+timeout 20 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > /dev/null 2> "$TMP/busy.err"
+rc=$?
+check "a BACnet port in use: psensd stops at start (exit $rc) naming it" \
+	sh -c "[ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q 'bacnet: udp 127.0.0.1:$port: Address already in use' '$TMP/busy.err'"
+
 sed '/^bind = /d' "$TMP/psensd.conf" > "$TMP/bad.conf"
 "$BIN/psensd" -n -f "$TMP/bad.conf" > "$TMP/bad.out" 2>&1
 check "a [bacnet] without bind is refused with its line" grep -q "bad.conf:[0-9]*: \[bacnet\] needs 'bind'" "$TMP/bad.out"
