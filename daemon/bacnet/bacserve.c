@@ -743,6 +743,13 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 	}
 }
 
+/* Whole seconds left, rounded up; a sum's last bit (300.000000001) is not
+ * a second more. */
+static uint32_t remaining(double left)
+{
+	return left > 1e-6 ? (uint32_t)ceil(left - 1e-6) : 0;
+}
+
 int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacserve_reply *r)
 {
 	memset(r, 0, sizeof *r);
@@ -778,7 +785,7 @@ int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacs
 		psd_bactag_put_unsigned(&b, 0, s->pid);
 		psd_bactag_put_objectid(&b, 1, PSD_BAC_DEVICE, m->device);
 		psd_bactag_put_objectid(&b, 2, s->type, s->instance);
-		psd_bactag_put_unsigned(&b, 3, s->expires > 0 ? (uint32_t)ceil(s->expires - m->now) : 0);
+		psd_bactag_put_unsigned(&b, 3, s->expires > 0 ? remaining(s->expires - m->now) : 0);
 		psd_bactag_open(&b, 4);
 		psd_bactag_put_enum(&b, 0, P_PRESENT_VALUE);
 		psd_bactag_open(&b, 2);

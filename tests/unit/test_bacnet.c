@@ -498,7 +498,7 @@ static void subscribe_cov_and_notifications(void **state)
 	const uint8_t *a;
 	struct psd_bacserve_reply r;
 	(void)state;
-	model.now = 1000;
+	model.now = 1000.4;   /* 1000.4 + 60 - 1000.4 is 60.000000000000114: still 60 s left */
 	{
 		/* subscribeCOV (5): [0] process 18, [1] (lighting-output, 1),
 		 * [2] FALSE (unconfirmed), [3] lifetime 60 s: SimpleACK */
@@ -526,7 +526,7 @@ static void subscribe_cov_and_notifications(void **state)
 	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
 	/* 1.5 % from the last sent: a notification with 11.5 (0x41380000) */
 	zones[0].level = 11.5;
-	model.now = 1030.5;
+	model.now = 1030.9;
 	assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
 	assert_int_equal(out[20], 0x39);
 	assert_int_equal(out[21], 30);   /* 29.5 s left, rounded up */
@@ -538,7 +538,7 @@ static void subscribe_cov_and_notifications(void **state)
 	assert_int_equal(out[r.len - 3], 0x40);
 	/* the lifetime ends: the subscription goes */
 	zones[0].level = 50;
-	model.now = 1060;
+	model.now = 1060.4;
 	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
 	{
 		/* again without a lifetime, then cancelled ([2] and [3] left out) */
