@@ -27,8 +27,9 @@ void psd_bacconf_load(struct psd_bacnet_conf *b, struct ps_conf *c)
 	/* no default: BACnet/IP has no authentication, so the interface a
 	 * BMS may reach is the site's choice, said in the file */
 	if (!(v = ps_conf_str(c, s, "bind", NULL)) || !*v)
-		ps_conf_error(c, s->line, "[bacnet] needs 'bind' (the IPv4 address of the interface the BMS "
-		                          "reaches, 0.0.0.0 for every one: BACnet/IP has no authentication)");
+		ps_conf_error(c, s->line,
+		              "[bacnet] needs 'bind' (the IPv4 address of the interface the BMS "
+		              "reaches, 0.0.0.0 for every one: BACnet/IP has no authentication)");
 	else if (strlen(v) >= sizeof b->bind || inet_pton(AF_INET, v, &a) != 1)
 		ps_conf_error(c, line_of(s, "bind"), "bind: '%s' is not an IPv4 address", v);
 	else

@@ -35,11 +35,11 @@ struct psd_bacnet {
 	psd_bacnet_request_fn fn;
 	void *user;
 	struct psd_bacserve_zone zone[PSD_MAX_ZONES];
-	double issued[PSD_MAX_ZONES];   /* clock time of the last override sent for a zone */
+	double issued[PSD_MAX_ZONES]; /* clock time of the last override sent for a zone */
 	struct psd_bacserve_model m;
 	double now;
 	struct source src[SOURCES];
-	unsigned long dropped;          /* datagrams over a source's rate */
+	unsigned long dropped; /* datagrams over a source's rate */
 };
 
 /* 1 when a datagram from ip may be answered now (wall seconds t). */
@@ -64,7 +64,8 @@ static int within_rate(struct psd_bacnet *b, uint32_t ip, double t)
 	s->last = t;
 	if (s->tokens < 1) {
 		if (b->dropped++ == 0)
-			psd_log_warnx("bacnet: a source sends more than %g datagrams a second: the excess is dropped",
+			psd_log_warnx("bacnet: a source sends more than %g datagrams a second: the excess is "
+			              "dropped",
 			              b->c.rate);
 		return 0;
 	}
@@ -94,7 +95,7 @@ static int apply(void *user, size_t i)
 	else
 		snprintf(line, sizeof line, "release %s", z->name);
 	b->fn(b->user, line, reply, sizeof reply);
-	b->issued[i] = b->now;   /* a refusal too: tried again at the next renewal, not every turn */
+	b->issued[i] = b->now; /* a refusal too: tried again at the next renewal, not every turn */
 	if (strncmp(reply, "{\"ok\":true", 10) != 0) {
 		psd_log_warnx("bacnet: zone %s: %s refused: %s", z->name, line, reply);
 		return -1;
@@ -102,7 +103,8 @@ static int apply(void *user, size_t i)
 	if (p >= 0)
 		psd_log_info("bacnet: zone %s: level %.1f %% at priority %d", z->name, z->prio[p], p + 1);
 	else
-		psd_log_info("bacnet: zone %s: every priority relinquished: daylight control resumes", z->name);
+		psd_log_info("bacnet: zone %s: every priority relinquished: daylight control resumes",
+		             z->name);
 	return 0;
 }
 
@@ -130,8 +132,8 @@ static void refresh(struct psd_bacnet *b)
 	}
 }
 
-struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e, psd_bacnet_request_fn fn,
-                                   void *user, char *err, size_t errlen)
+struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
+                                   psd_bacnet_request_fn fn, void *user, char *err, size_t errlen)
 {
 	struct psd_bacnet *b = calloc(1, sizeof *b);
 	struct sockaddr_in sa = { .sin_family = AF_INET, .sin_port = htons((uint16_t)c->port) };
@@ -143,10 +145,14 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 	b->fd = -1;
 	b->c = *c;
 	b->e = e, b->fn = fn, b->user = user;
-	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance, .name = b->c.name,
+	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance,
+		                            .name = b->c.name,
 		                            .vendor_id = (uint16_t)c->vendor_id,
-		                            .writes = c->writes == PSD_BACCONF_LIGHTING_OUTPUT, .database_revision = 1,
-		                            .zone = b->zone, .apply = apply, .user = b };
+		                            .writes = c->writes == PSD_BACCONF_LIGHTING_OUTPUT,
+		                            .database_revision = 1,
+		                            .zone = b->zone,
+		                            .apply = apply,
+		                            .user = b };
 	if (inet_pton(AF_INET, c->bind, &sa.sin_addr) != 1 ||
 	    (b->fd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0)) < 0 ||
 	    setsockopt(b->fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) != 0 ||
@@ -158,8 +164,8 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 		return NULL;
 	}
 	refresh(b);
-	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s", c->instance, c->name, c->bind,
-	             c->port, e->nzone, b->m.writes ? "to the lighting outputs" : "refused");
+	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s", c->instance, c->name,
+	             c->bind, c->port, e->nzone, b->m.writes ? "to the lighting outputs" : "refused");
 	return b;
 }
 
@@ -186,7 +192,7 @@ void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double n
 	struct psd_bacserve_reply r;
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
-	b->m.now = (double)ts.tv_sec + ts.tv_nsec / 1e9;   /* subscriptions' lifetimes: wall seconds */
+	b->m.now = (double)ts.tv_sec + ts.tv_nsec / 1e9; /* subscriptions' lifetimes: wall seconds */
 	b->now = now;
 	refresh(b);
 	for (int k = 0; pfd && (pfd->revents & POLLIN) && k < BATCH; k++) {

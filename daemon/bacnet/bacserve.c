@@ -12,30 +12,76 @@
 
 /* property identifiers (BACnetPropertyIdentifier) */
 enum {
-	P_APDU_TIMEOUT = 11, P_COV_INCREMENT = 22, P_APP_SW_VERSION = 12, P_DESCRIPTION = 28, P_DEVICE_ADDRESS_BINDING = 30,
-	P_EVENT_STATE = 36, P_FIRMWARE_REVISION = 44, P_ALL = 8, P_MAX_APDU = 62, P_MODEL_NAME = 70,
-	P_APDU_RETRIES = 73, P_OBJECT_ID = 75, P_OBJECT_LIST = 76, P_OBJECT_NAME = 77, P_OBJECT_TYPE = 79,
-	P_OPTIONAL = 80, P_OUT_OF_SERVICE = 81, P_PRESENT_VALUE = 85, P_PRIORITY_ARRAY = 87,
-	P_OBJECT_TYPES_SUPPORTED = 96, P_SERVICES_SUPPORTED = 97, P_PROTOCOL_VERSION = 98,
-	P_RELINQUISH_DEFAULT = 104, P_REQUIRED = 105, P_SEGMENTATION = 107, P_STATUS_FLAGS = 111,
-	P_SYSTEM_STATUS = 112, P_UNITS = 117, P_VENDOR_ID = 120, P_VENDOR_NAME = 121,
-	P_PROTOCOL_REVISION = 139, P_DATABASE_REVISION = 155, P_TRACKING_VALUE = 164, P_PROPERTY_LIST = 371,
-	P_BLINK_WARN_ENABLE = 373, P_DEFAULT_FADE_TIME = 374, P_DEFAULT_RAMP_RATE = 375,
-	P_DEFAULT_STEP_INCREMENT = 376, P_EGRESS_TIME = 377, P_IN_PROGRESS = 378, P_LIGHTING_COMMAND = 380,
-	P_LIGHTING_COMMAND_DEFAULT_PRIORITY = 381, P_EGRESS_ACTIVE = 386,
+	P_APDU_TIMEOUT = 11,
+	P_COV_INCREMENT = 22,
+	P_APP_SW_VERSION = 12,
+	P_DESCRIPTION = 28,
+	P_DEVICE_ADDRESS_BINDING = 30,
+	P_EVENT_STATE = 36,
+	P_FIRMWARE_REVISION = 44,
+	P_ALL = 8,
+	P_MAX_APDU = 62,
+	P_MODEL_NAME = 70,
+	P_APDU_RETRIES = 73,
+	P_OBJECT_ID = 75,
+	P_OBJECT_LIST = 76,
+	P_OBJECT_NAME = 77,
+	P_OBJECT_TYPE = 79,
+	P_OPTIONAL = 80,
+	P_OUT_OF_SERVICE = 81,
+	P_PRESENT_VALUE = 85,
+	P_PRIORITY_ARRAY = 87,
+	P_OBJECT_TYPES_SUPPORTED = 96,
+	P_SERVICES_SUPPORTED = 97,
+	P_PROTOCOL_VERSION = 98,
+	P_RELINQUISH_DEFAULT = 104,
+	P_REQUIRED = 105,
+	P_SEGMENTATION = 107,
+	P_STATUS_FLAGS = 111,
+	P_SYSTEM_STATUS = 112,
+	P_UNITS = 117,
+	P_VENDOR_ID = 120,
+	P_VENDOR_NAME = 121,
+	P_PROTOCOL_REVISION = 139,
+	P_DATABASE_REVISION = 155,
+	P_TRACKING_VALUE = 164,
+	P_PROPERTY_LIST = 371,
+	P_BLINK_WARN_ENABLE = 373,
+	P_DEFAULT_FADE_TIME = 374,
+	P_DEFAULT_RAMP_RATE = 375,
+	P_DEFAULT_STEP_INCREMENT = 376,
+	P_EGRESS_TIME = 377,
+	P_IN_PROGRESS = 378,
+	P_LIGHTING_COMMAND = 380,
+	P_LIGHTING_COMMAND_DEFAULT_PRIORITY = 381,
+	P_EGRESS_ACTIVE = 386,
 };
 
 /* error classes and codes (clause 18), reject and abort reasons (clause 18.8, 18.9) */
 enum { EC_OBJECT = 1, EC_PROPERTY = 2, EC_RESOURCES = 3, EC_SERVICES = 5 };
 enum {
-	E_INVALID_DATA_TYPE = 9, E_NO_SPACE_TO_ADD = 19, E_UNKNOWN_OBJECT = 31, E_NOT_SUPPORTED = 45, E_UNKNOWN_PROPERTY = 32, E_VALUE_OUT_OF_RANGE = 37,
-	E_WRITE_ACCESS_DENIED = 40, E_INVALID_ARRAY_INDEX = 42, E_NOT_AN_ARRAY = 50, E_PARAMETER_OUT_OF_RANGE = 80,
+	E_INVALID_DATA_TYPE = 9,
+	E_NO_SPACE_TO_ADD = 19,
+	E_UNKNOWN_OBJECT = 31,
+	E_NOT_SUPPORTED = 45,
+	E_UNKNOWN_PROPERTY = 32,
+	E_VALUE_OUT_OF_RANGE = 37,
+	E_WRITE_ACCESS_DENIED = 40,
+	E_INVALID_ARRAY_INDEX = 42,
+	E_NOT_AN_ARRAY = 50,
+	E_PARAMETER_OUT_OF_RANGE = 80,
 };
 enum { R_INVALID_TAG = 4, R_MISSING_PARAMETER = 5, R_TOO_MANY_ARGUMENTS = 7, R_UNRECOGNIZED_SERVICE = 9 };
 enum { A_SEGMENTATION_NOT_SUPPORTED = 4 };
 
 /* services (BACnetConfirmedServiceChoice, BACnetUnconfirmedServiceChoice) */
-enum { S_COV_NOTIFICATION = 1, S_SUBSCRIBE_COV = 5, S_READ_PROPERTY = 12, S_READ_PROPERTY_MULTIPLE = 14, S_WRITE_PROPERTY = 15 };
+enum {
+	S_COV_NOTIFICATION = 1,
+	S_SUBSCRIBE_COV = 5,
+	S_READ_PROPERTY = 12,
+	S_READ_PROPERTY_MULTIPLE = 14,
+	S_WRITE_PROPERTY = 15
+};
 enum { U_I_AM = 0, U_I_HAVE = 1, U_COV_NOTIFICATION = 2, U_WHO_HAS = 7, U_WHO_IS = 8 };
 
 enum { PROTOCOL_REVISION = 14, MAX_INSTANCE = 4194303 };
@@ -46,24 +92,42 @@ struct prop {
 	int required;
 };
 static const struct prop device_props[] = {
-	{ P_OBJECT_ID, 1 }, { P_OBJECT_NAME, 1 }, { P_OBJECT_TYPE, 1 }, { P_SYSTEM_STATUS, 1 },
-	{ P_VENDOR_NAME, 1 }, { P_VENDOR_ID, 1 }, { P_MODEL_NAME, 1 }, { P_FIRMWARE_REVISION, 1 },
-	{ P_APP_SW_VERSION, 1 }, { P_PROTOCOL_VERSION, 1 }, { P_PROTOCOL_REVISION, 1 },
-	{ P_SERVICES_SUPPORTED, 1 }, { P_OBJECT_TYPES_SUPPORTED, 1 }, { P_OBJECT_LIST, 1 }, { P_MAX_APDU, 1 },
-	{ P_SEGMENTATION, 1 }, { P_APDU_TIMEOUT, 1 }, { P_APDU_RETRIES, 1 }, { P_DEVICE_ADDRESS_BINDING, 1 },
-	{ P_DATABASE_REVISION, 1 }, { P_PROPERTY_LIST, 1 }, { P_DESCRIPTION, 0 },
+	{ P_OBJECT_ID, 1 },
+	{ P_OBJECT_NAME, 1 },
+	{ P_OBJECT_TYPE, 1 },
+	{ P_SYSTEM_STATUS, 1 },
+	{ P_VENDOR_NAME, 1 },
+	{ P_VENDOR_ID, 1 },
+	{ P_MODEL_NAME, 1 },
+	{ P_FIRMWARE_REVISION, 1 },
+	{ P_APP_SW_VERSION, 1 },
+	{ P_PROTOCOL_VERSION, 1 },
+	{ P_PROTOCOL_REVISION, 1 },
+	{ P_SERVICES_SUPPORTED, 1 },
+	{ P_OBJECT_TYPES_SUPPORTED, 1 },
+	{ P_OBJECT_LIST, 1 },
+	{ P_MAX_APDU, 1 },
+	{ P_SEGMENTATION, 1 },
+	{ P_APDU_TIMEOUT, 1 },
+	{ P_APDU_RETRIES, 1 },
+	{ P_DEVICE_ADDRESS_BINDING, 1 },
+	{ P_DATABASE_REVISION, 1 },
+	{ P_PROPERTY_LIST, 1 },
+	{ P_DESCRIPTION, 0 },
 };
 static const struct prop lo_props[] = {
-	{ P_OBJECT_ID, 1 }, { P_OBJECT_NAME, 1 }, { P_OBJECT_TYPE, 1 }, { P_PRESENT_VALUE, 1 },
-	{ P_TRACKING_VALUE, 1 }, { P_LIGHTING_COMMAND, 1 }, { P_IN_PROGRESS, 1 }, { P_STATUS_FLAGS, 1 },
-	{ P_OUT_OF_SERVICE, 1 }, { P_BLINK_WARN_ENABLE, 1 }, { P_EGRESS_TIME, 1 }, { P_EGRESS_ACTIVE, 1 },
-	{ P_DEFAULT_FADE_TIME, 1 }, { P_DEFAULT_RAMP_RATE, 1 }, { P_DEFAULT_STEP_INCREMENT, 1 },
-	{ P_PRIORITY_ARRAY, 1 }, { P_RELINQUISH_DEFAULT, 1 }, { P_LIGHTING_COMMAND_DEFAULT_PRIORITY, 1 },
-	{ P_PROPERTY_LIST, 1 }, { P_EVENT_STATE, 0 }, { P_DESCRIPTION, 0 }, { P_COV_INCREMENT, 0 },
+	{ P_OBJECT_ID, 1 },         { P_OBJECT_NAME, 1 },        { P_OBJECT_TYPE, 1 },
+	{ P_PRESENT_VALUE, 1 },     { P_TRACKING_VALUE, 1 },     { P_LIGHTING_COMMAND, 1 },
+	{ P_IN_PROGRESS, 1 },       { P_STATUS_FLAGS, 1 },       { P_OUT_OF_SERVICE, 1 },
+	{ P_BLINK_WARN_ENABLE, 1 }, { P_EGRESS_TIME, 1 },        { P_EGRESS_ACTIVE, 1 },
+	{ P_DEFAULT_FADE_TIME, 1 }, { P_DEFAULT_RAMP_RATE, 1 },  { P_DEFAULT_STEP_INCREMENT, 1 },
+	{ P_PRIORITY_ARRAY, 1 },    { P_RELINQUISH_DEFAULT, 1 }, { P_LIGHTING_COMMAND_DEFAULT_PRIORITY, 1 },
+	{ P_PROPERTY_LIST, 1 },     { P_EVENT_STATE, 0 },        { P_DESCRIPTION, 0 },
+	{ P_COV_INCREMENT, 0 },
 };
 static const struct prop ai_props[] = {
-	{ P_OBJECT_ID, 1 }, { P_OBJECT_NAME, 1 }, { P_OBJECT_TYPE, 1 }, { P_PRESENT_VALUE, 1 },
-	{ P_STATUS_FLAGS, 1 }, { P_EVENT_STATE, 1 }, { P_OUT_OF_SERVICE, 1 }, { P_UNITS, 1 },
+	{ P_OBJECT_ID, 1 },     { P_OBJECT_NAME, 1 },   { P_OBJECT_TYPE, 1 },    { P_PRESENT_VALUE, 1 },
+	{ P_STATUS_FLAGS, 1 },  { P_EVENT_STATE, 1 },   { P_OUT_OF_SERVICE, 1 }, { P_UNITS, 1 },
 	{ P_PROPERTY_LIST, 1 }, { P_COV_INCREMENT, 1 }, { P_DESCRIPTION, 0 },
 };
 #define NPROPS(a) (sizeof(a) / sizeof(a)[0])
@@ -72,13 +136,13 @@ static const struct prop ai_props[] = {
 struct obj {
 	uint32_t type, instance;
 	size_t zone;
-	int ai;          /* 0 estimated task lux, 1 sensor signal, 2 target */
+	int ai; /* 0 estimated task lux, 1 sensor signal, 2 target */
 	const struct prop *props;
 	size_t nprops;
 };
 
 static const char *const ai_what[PSD_BACSERVE_AI_PER_ZONE] = { "estimated task illuminance", "sensor signal",
-	                                                        "target task illuminance" };
+	                                                       "target task illuminance" };
 static const uint32_t ai_units[PSD_BACSERVE_AI_PER_ZONE] = { 37 /* luxes */, 5 /* volts */, 37 };
 
 /* COV_Increment: a Lighting Output's 1 %, the Analog Inputs' 10 lx, 0.01 V, 1 lx */
@@ -126,7 +190,8 @@ static int find(const struct psd_bacserve_model *m, uint32_t type, uint32_t inst
 		return 0;
 	}
 	if (type == PSD_BAC_AI && instance >= 1 && instance <= m->nzone * PSD_BACSERVE_AI_PER_ZONE) {
-		size_t z = (instance - 1) / PSD_BACSERVE_AI_PER_ZONE, k = (instance - 1) % PSD_BACSERVE_AI_PER_ZONE;
+		size_t z = (instance - 1) / PSD_BACSERVE_AI_PER_ZONE,
+		       k = (instance - 1) % PSD_BACSERVE_AI_PER_ZONE;
 		object_at(m, 1 + z * (1 + PSD_BACSERVE_AI_PER_ZONE) + 1 + k, o);
 		return 0;
 	}
@@ -152,7 +217,7 @@ static void put_bits(struct psd_bacbuf *b, const unsigned *set, size_t nset, uns
 static void object_name(const struct psd_bacserve_model *m, const struct obj *o, char *s, size_t n)
 {
 	static const char *const ai_name[PSD_BACSERVE_AI_PER_ZONE] = { "task lux estimate", "sensor signal",
-		                                                        "target lux" };
+		                                                       "target lux" };
 	if (o->type == PSD_BAC_DEVICE)
 		snprintf(s, n, "%s", m->name);
 	else if (o->type == PSD_BAC_LO)
@@ -184,7 +249,9 @@ static int in_fault(const struct psd_bacserve_model *m, const struct obj *o)
 static int put_array(const struct psd_bacserve_model *m, const struct obj *o, uint32_t prop, int has_idx,
                      uint32_t idx, struct psd_bacbuf *b)
 {
-	size_t count = prop == P_OBJECT_LIST ? nobjects(m) : prop == P_PRIORITY_ARRAY ? PSD_BACSERVE_PRIORITIES : 0;
+	size_t count = prop == P_OBJECT_LIST      ? nobjects(m)
+	               : prop == P_PRIORITY_ARRAY ? PSD_BACSERVE_PRIORITIES
+	                                          : 0;
 	size_t from = 0, to;
 	if (prop == P_PROPERTY_LIST)
 		for (size_t i = 0; i < o->nprops; i++)
@@ -214,7 +281,8 @@ static int put_array(const struct psd_bacserve_model *m, const struct obj *o, ui
 			size_t k = 0;
 			for (size_t j = 0; j < o->nprops; j++) {
 				uint32_t id = o->props[j].id;
-				if (id == P_OBJECT_ID || id == P_OBJECT_NAME || id == P_OBJECT_TYPE || id == P_PROPERTY_LIST)
+				if (id == P_OBJECT_ID || id == P_OBJECT_NAME || id == P_OBJECT_TYPE ||
+				    id == P_PROPERTY_LIST)
 					continue;
 				if (k++ == i)
 					psd_bactag_put_enum(b, -1, id);
@@ -246,19 +314,16 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		return -1;
 	}
 	switch (prop) {
-	case P_OBJECT_ID:
-		psd_bactag_put_objectid(b, -1, o->type, o->instance);
-		break;
+	case P_OBJECT_ID: psd_bactag_put_objectid(b, -1, o->type, o->instance); break;
 	case P_OBJECT_NAME:
 		object_name(m, o, name, sizeof name);
 		psd_bactag_put_string(b, -1, name);
 		break;
-	case P_OBJECT_TYPE:
-		psd_bactag_put_enum(b, -1, o->type);
-		break;
+	case P_OBJECT_TYPE: psd_bactag_put_enum(b, -1, o->type); break;
 	case P_DESCRIPTION:
 		if (o->type == PSD_BAC_DEVICE)
-			snprintf(name, sizeof name, "psensd: daylight-linked lighting control, %zu zone(s)", m->nzone);
+			snprintf(name, sizeof name, "psensd: daylight-linked lighting control, %zu zone(s)",
+			         m->nzone);
 		else if (o->type == PSD_BAC_LO)
 			snprintf(name, sizeof name, "zone %s: the light output in force, %%", z->name);
 		else
@@ -266,27 +331,15 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		psd_bactag_put_string(b, -1, name);
 		break;
 	case P_SYSTEM_STATUS:
-		psd_bactag_put_enum(b, -1, 0);   /* operational */
+		psd_bactag_put_enum(b, -1, 0); /* operational */
 		break;
-	case P_VENDOR_NAME:
-		psd_bactag_put_string(b, -1, "psensd");
-		break;
-	case P_VENDOR_ID:
-		psd_bactag_put_unsigned(b, -1, m->vendor_id);
-		break;
-	case P_MODEL_NAME:
-		psd_bactag_put_string(b, -1, "psensd daylight controller");
-		break;
+	case P_VENDOR_NAME: psd_bactag_put_string(b, -1, "psensd"); break;
+	case P_VENDOR_ID: psd_bactag_put_unsigned(b, -1, m->vendor_id); break;
+	case P_MODEL_NAME: psd_bactag_put_string(b, -1, "psensd daylight controller"); break;
 	case P_FIRMWARE_REVISION:
-	case P_APP_SW_VERSION:
-		psd_bactag_put_string(b, -1, "psensd");
-		break;
-	case P_PROTOCOL_VERSION:
-		psd_bactag_put_unsigned(b, -1, 1);
-		break;
-	case P_PROTOCOL_REVISION:
-		psd_bactag_put_unsigned(b, -1, PROTOCOL_REVISION);
-		break;
+	case P_APP_SW_VERSION: psd_bactag_put_string(b, -1, "psensd"); break;
+	case P_PROTOCOL_VERSION: psd_bactag_put_unsigned(b, -1, 1); break;
+	case P_PROTOCOL_REVISION: psd_bactag_put_unsigned(b, -1, PROTOCOL_REVISION); break;
 	case P_SERVICES_SUPPORTED: {
 		/* subscribeCOV 5, readProperty 12, readPropertyMultiple 14,
 		 * writeProperty 15, i-Am 26, i-Have 27, who-Has 33, who-Is 34
@@ -301,35 +354,22 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		put_bits(b, t, NPROPS(t), 55);
 		break;
 	}
-	case P_MAX_APDU:
-		psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
-		break;
+	case P_MAX_APDU: psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU); break;
 	case P_SEGMENTATION:
-		psd_bactag_put_enum(b, -1, 3);   /* no-segmentation */
+		psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
 		break;
-	case P_APDU_TIMEOUT:
-		psd_bactag_put_unsigned(b, -1, 3000);
-		break;
-	case P_APDU_RETRIES:
-		psd_bactag_put_unsigned(b, -1, 3);
-		break;
-	case P_DEVICE_ADDRESS_BINDING:
-		break;   /* an empty list: psensd binds to no other device */
-	case P_DATABASE_REVISION:
-		psd_bactag_put_unsigned(b, -1, m->database_revision);
-		break;
+	case P_APDU_TIMEOUT: psd_bactag_put_unsigned(b, -1, 3000); break;
+	case P_APDU_RETRIES: psd_bactag_put_unsigned(b, -1, 3); break;
+	case P_DEVICE_ADDRESS_BINDING: break; /* an empty list: psensd binds to no other device */
+	case P_DATABASE_REVISION: psd_bactag_put_unsigned(b, -1, m->database_revision); break;
 	case P_PRESENT_VALUE:
-	case P_TRACKING_VALUE:
-		psd_bactag_put_real(b, -1, present_value(m, o));
-		break;
-	case P_RELINQUISH_DEFAULT:
-		psd_bactag_put_real(b, -1, (float)z->level);
-		break;
+	case P_TRACKING_VALUE: psd_bactag_put_real(b, -1, present_value(m, o)); break;
+	case P_RELINQUISH_DEFAULT: psd_bactag_put_real(b, -1, (float)z->level); break;
 	case P_LIGHTING_COMMAND:
-		psd_bactag_put_enum(b, 0, 0);   /* BACnetLightingCommand, operation none */
+		psd_bactag_put_enum(b, 0, 0); /* BACnetLightingCommand, operation none */
 		break;
 	case P_IN_PROGRESS:
-		psd_bactag_put_enum(b, -1, 0);  /* idle */
+		psd_bactag_put_enum(b, -1, 0); /* idle */
 		break;
 	case P_STATUS_FLAGS: {
 		/* in-alarm, fault, overridden, out-of-service */
@@ -338,37 +378,25 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 		break;
 	}
 	case P_EVENT_STATE:
-		psd_bactag_put_enum(b, -1, 0);  /* normal */
+		psd_bactag_put_enum(b, -1, 0); /* normal */
 		break;
 	case P_OUT_OF_SERVICE:
 	case P_BLINK_WARN_ENABLE:
-	case P_EGRESS_ACTIVE:
-		psd_bactag_put_bool(b, -1, 0);
-		break;
-	case P_EGRESS_TIME:
-		psd_bactag_put_unsigned(b, -1, 0);
-		break;
+	case P_EGRESS_ACTIVE: psd_bactag_put_bool(b, -1, 0); break;
+	case P_EGRESS_TIME: psd_bactag_put_unsigned(b, -1, 0); break;
 	case P_DEFAULT_FADE_TIME:
-		psd_bactag_put_unsigned(b, -1, 100);   /* ms, the least the standard allows */
+		psd_bactag_put_unsigned(b, -1, 100); /* ms, the least the standard allows */
 		break;
 	case P_DEFAULT_RAMP_RATE:
-		psd_bactag_put_real(b, -1, 100.0f);    /* %/s */
+		psd_bactag_put_real(b, -1, 100.0f); /* %/s */
 		break;
 	case P_DEFAULT_STEP_INCREMENT:
-		psd_bactag_put_real(b, -1, 1.0f);      /* % */
+		psd_bactag_put_real(b, -1, 1.0f); /* % */
 		break;
-	case P_LIGHTING_COMMAND_DEFAULT_PRIORITY:
-		psd_bactag_put_unsigned(b, -1, 16);
-		break;
-	case P_UNITS:
-		psd_bactag_put_enum(b, -1, ai_units[o->ai]);
-		break;
-	case P_COV_INCREMENT:
-		psd_bactag_put_real(b, -1, cov_increment(o));
-		break;
-	default:
-		*ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY;
-		return -1;
+	case P_LIGHTING_COMMAND_DEFAULT_PRIORITY: psd_bactag_put_unsigned(b, -1, 16); break;
+	case P_UNITS: psd_bactag_put_enum(b, -1, ai_units[o->ai]); break;
+	case P_COV_INCREMENT: psd_bactag_put_real(b, -1, cov_increment(o)); break;
+	default: *ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY; return -1;
 	}
 	return 0;
 }
@@ -376,7 +404,7 @@ static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, ui
 /* ---- the APDU ------------------------------------------------------------ */
 
 struct req {
-	const uint8_t *p;   /* the service's parameters */
+	const uint8_t *p; /* the service's parameters */
 	size_t n;
 	uint8_t invoke;
 	uint8_t service;
@@ -483,8 +511,9 @@ static void read_property(const struct psd_bacserve_model *m, const struct req *
 		psd_bactag_put_unsigned(b, 2, idx);
 	psd_bactag_open(b, 3);
 	mark = b->len;
-	if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL || read_prop(m, &o, prop, has_idx, idx, b, &ec, &code) != 0) {
-		if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL)   /* RPM only (15.5.1.1.2) */
+	if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL ||
+	    read_prop(m, &o, prop, has_idx, idx, b, &ec, &code) != 0) {
+		if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL) /* RPM only (15.5.1.1.2) */
 			ec = EC_PROPERTY, code = E_UNKNOWN_PROPERTY;
 		b->len = mark;
 		put_error(b, q, ec, code);
@@ -508,14 +537,15 @@ static void rpm_one(const struct psd_bacserve_model *m, const struct obj *o, uin
 		psd_bactag_close(b, 4);
 		return;
 	}
-	b->len = mark - 1;   /* the opening [4] is one octet */
+	b->len = mark - 1; /* the opening [4] is one octet */
 	psd_bactag_open(b, 5);
 	psd_bactag_put_enum(b, -1, ec);
 	psd_bactag_put_enum(b, -1, code);
 	psd_bactag_close(b, 5);
 }
 
-static void read_property_multiple(const struct psd_bacserve_model *m, const struct req *q, struct psd_bacbuf *b)
+static void read_property_multiple(const struct psd_bacserve_model *m, const struct req *q,
+                                   struct psd_bacbuf *b)
 {
 	size_t pos = 0;
 	uint8_t h[3] = { 0x30, q->invoke, q->service };
@@ -562,13 +592,14 @@ static void read_property_multiple(const struct psd_bacserve_model *m, const str
 			nprop++;
 			if ((prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL) && known) {
 				for (size_t i = 0; i < o.nprops; i++)
-					if (prop == P_ALL || (prop == P_REQUIRED) == (o.props[i].required == 1))
+					if (prop == P_ALL ||
+					    (prop == P_REQUIRED) == (o.props[i].required == 1))
 						rpm_one(m, &o, o.props[i].id, 0, 0, b);
 			} else {
 				rpm_one(m, known ? &o : NULL, prop, has_idx, idx, b);
 			}
 		}
-		if (nprop == 0) {   /* the list of property references may not be empty */
+		if (nprop == 0) { /* the list of property references may not be empty */
 			put_reject(b, q->invoke, R_MISSING_PARAMETER);
 			return;
 		}
@@ -611,7 +642,7 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 				return;
 			}
 		}
-		val.context = 1;   /* judged below as the wrong type */
+		val.context = 1; /* judged below as the wrong type */
 	}
 	if ((rc = opt_unsigned(q, &pos, 4, &prio)) < 0) {
 		put_reject(b, q->invoke, R_INVALID_TAG);
@@ -641,7 +672,7 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 		put_error(b, q, EC_SERVICES, E_PARAMETER_OUT_OF_RANGE);
 		return;
 	}
-	if (prio == 6) {   /* reserved for minimum on/off (19.2.1.1) */
+	if (prio == 6) { /* reserved for minimum on/off (19.2.1.1) */
 		put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
 		return;
 	}
@@ -672,8 +703,8 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 }
 
 /* SubscribeCOV (13.14): a subscription made, renewed or cancelled. */
-static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, const uint8_t *src, const uint8_t *npdu,
-                          size_t npdu_len, struct psd_bacbuf *b)
+static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, const uint8_t *src,
+                          const uint8_t *npdu, size_t npdu_len, struct psd_bacbuf *b)
 {
 	size_t pos = 0;
 	uint32_t pid, type, inst, life = 0;
@@ -711,11 +742,12 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 		if (!x->used) {
 			if (!free_slot)
 				free_slot = x;
-		} else if (x->pid == pid && x->type == type && x->instance == inst && memcmp(x->addr, src, 6) == 0) {
+		} else if (x->pid == pid && x->type == type && x->instance == inst &&
+		           memcmp(x->addr, src, 6) == 0) {
 			s = x;
 		}
 	}
-	if (!has_conf) {   /* a cancellation: done whether or not it was there */
+	if (!has_conf) { /* a cancellation: done whether or not it was there */
 		if (s)
 			s->used = 0;
 	} else {
@@ -731,8 +763,12 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 			put_error(b, q, EC_RESOURCES, E_NO_SPACE_TO_ADD);
 			return;
 		}
-		*s = (struct psd_bacserve_sub){ .used = 1, .pid = pid, .type = o.type, .instance = o.instance,
-			                        .confirmed = confirmed, .npdu_len = npdu_len,
+		*s = (struct psd_bacserve_sub){ .used = 1,
+			                        .pid = pid,
+			                        .type = o.type,
+			                        .instance = o.instance,
+			                        .confirmed = confirmed,
+			                        .npdu_len = npdu_len,
 			                        .expires = life ? m->now + life : 0 };
 		memcpy(s->addr, src, 6);
 		memcpy(s->npdu, npdu, npdu_len);
@@ -763,13 +799,14 @@ int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacs
 		if (!s->used)
 			continue;
 		if ((s->expires > 0 && m->now >= s->expires) || find(m, s->type, s->instance, &o) != 0) {
-			s->used = 0;   /* its lifetime ended, or its zone left at a reload */
+			s->used = 0; /* its lifetime ended, or its zone left at a reload */
 			continue;
 		}
 		pv = present_value(m, &o);
 		fault = in_fault(m, &o);
-		if (s->sent && fault == s->last_fault && (pv == s->last_pv || (isnan(pv) && isnan(s->last_pv)) ||
-		                                          fabsf(pv - s->last_pv) < cov_increment(&o)))
+		if (s->sent && fault == s->last_fault &&
+		    (pv == s->last_pv || (isnan(pv) && isnan(s->last_pv)) ||
+		     fabsf(pv - s->last_pv) < cov_increment(&o)))
 			continue;
 		s->sent = 1, s->last_pv = pv, s->last_fault = fault;
 		out[0] = 0x81, out[1] = 0x0a;
@@ -814,8 +851,8 @@ static int who_is_me(const struct psd_bacserve_model *m, const uint8_t *p, size_
 	uint32_t lo, hi;
 	if (n == 0)
 		return 1;
-	if (need_unsigned(&q, &pos, 0, &lo) || need_unsigned(&q, &pos, 1, &hi) || pos != n || lo > MAX_INSTANCE ||
-	    hi > MAX_INSTANCE)
+	if (need_unsigned(&q, &pos, 0, &lo) || need_unsigned(&q, &pos, 1, &hi) || pos != n ||
+	    lo > MAX_INSTANCE || hi > MAX_INSTANCE)
 		return -1;
 	return m->device >= lo && m->device <= hi;
 }
@@ -843,7 +880,7 @@ static void who_has(const struct psd_bacserve_model *m, const uint8_t *p, size_t
 		if (psd_bactag_objectid(&t, &type, &inst) != 0 || find(m, type, inst, &o) != 0 ||
 		    (o.type == PSD_BAC_DEVICE && inst != m->device))
 			return;
-	} else if (t.number == 3) {   /* a character string in UTF-8 (set 0) */
+	} else if (t.number == 3) { /* a character string in UTF-8 (set 0) */
 		size_t i, count = nobjects(m);
 		if (t.len < 1 || t.data[0] != 0)
 			return;
@@ -885,13 +922,13 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 	if (n < 2)
 		return;
 	type = a[0] >> 4;
-	if (type == 1) {   /* unconfirmed request */
+	if (type == 1) { /* unconfirmed request */
 		if (a[1] == U_WHO_IS && who_is_me(m, a + 2, n - 2) == 1) {
 			uint8_t h[2] = { 0x10, U_I_AM };
 			psd_bactag_put_raw(b, h, 2);
 			psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
 			psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
-			psd_bactag_put_enum(b, -1, 3);   /* no-segmentation */
+			psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
 			psd_bactag_put_unsigned(b, -1, m->vendor_id);
 		} else if (a[1] == U_WHO_HAS) {
 			who_has(m, a + 2, n - 2, b);
@@ -902,7 +939,7 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 	 * (no amplified replies to a forged broadcast) */
 	if (type != 0 || broadcast || n < 3)
 		return;
-	if (a[0] & 0x08) {   /* segmented: refused (20.1.2.1), whatever follows */
+	if (a[0] & 0x08) { /* segmented: refused (20.1.2.1), whatever follows */
 		put_abort(b, a[2], A_SEGMENTATION_NOT_SUPPORTED);
 		return;
 	}
@@ -912,23 +949,13 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 	if (max_apdu(a[1] & 15) < cap)
 		b->cap = max_apdu(a[1] & 15);
 	switch (q.service) {
-	case S_READ_PROPERTY:
-		read_property(m, &q, b);
-		break;
-	case S_READ_PROPERTY_MULTIPLE:
-		read_property_multiple(m, &q, b);
-		break;
-	case S_WRITE_PROPERTY:
-		write_property(m, &q, b);
-		break;
-	case S_SUBSCRIBE_COV:
-		subscribe_cov(m, &q, src, npdu, npdu_len, b);
-		break;
-	default:
-		put_reject(b, q.invoke, R_UNRECOGNIZED_SERVICE);
-		break;
+	case S_READ_PROPERTY: read_property(m, &q, b); break;
+	case S_READ_PROPERTY_MULTIPLE: read_property_multiple(m, &q, b); break;
+	case S_WRITE_PROPERTY: write_property(m, &q, b); break;
+	case S_SUBSCRIBE_COV: subscribe_cov(m, &q, src, npdu, npdu_len, b); break;
+	default: put_reject(b, q.invoke, R_UNRECOGNIZED_SERVICE); break;
 	}
-	if (b->overflow) {   /* longer than the asker takes: no segmentation */
+	if (b->overflow) { /* longer than the asker takes: no segmentation */
 		b->cap = cap;
 		put_abort(b, q.invoke, A_SEGMENTATION_NOT_SUPPORTED);
 	}
@@ -949,14 +976,12 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 	fn = in[1];
 	pos = 4;
 	switch (fn) {
-	case 0x0a:   /* Original-Unicast-NPDU */
-		r->to = PSD_BACSERVE_TO_SENDER;
-		break;
-	case 0x0b:   /* Original-Broadcast-NPDU */
+	case 0x0a: /* Original-Unicast-NPDU */ r->to = PSD_BACSERVE_TO_SENDER; break;
+	case 0x0b: /* Original-Broadcast-NPDU */
 		r->to = PSD_BACSERVE_TO_SENDER;
 		broadcast = 1;
 		break;
-	case 0x04:   /* Forwarded-NPDU: a BBMD passes on a broadcast from addr */
+	case 0x04: /* Forwarded-NPDU: a BBMD passes on a broadcast from addr */
 		if (n < 10)
 			goto none;
 		memcpy(r->addr, in + 4, 6);
@@ -965,10 +990,17 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 		broadcast = 1;
 		pos = 10;
 		break;
-	case 0x01: case 0x02: case 0x05: case 0x06: case 0x08: case 0x09: {
+	case 0x01:
+	case 0x02:
+	case 0x05:
+	case 0x06:
+	case 0x08:
+	case 0x09: {
 		/* a BBMD's or foreign device's function psensd does not do: the
 		 * BVLC-Result NAK for it (J.2.1), 0x0010 to 0x0060 */
-		static const uint8_t nak[10] = { [1] = 0x10, [2] = 0x20, [5] = 0x30, [6] = 0x40, [8] = 0x50, [9] = 0x60 };
+		static const uint8_t nak[10] = {
+			[1] = 0x10, [2] = 0x20, [5] = 0x30, [6] = 0x40, [8] = 0x50, [9] = 0x60
+		};
 		if (broadcast)
 			return;
 		out[0] = 0x81, out[1] = 0x00, out[2] = 0, out[3] = 6, out[4] = 0, out[5] = nak[fn];
@@ -976,17 +1008,16 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 		r->len = 6;
 		return;
 	}
-	default:     /* results, acknowledgements, secure BVLL: nothing to say */
-		return;
+	default: /* results, acknowledgements, secure BVLL: nothing to say */ return;
 	}
 	/* the NPDU (clause 6.2) */
 	if (n - pos < 2 || in[pos] != 1)
 		goto none;
 	ctrl = in[pos + 1];
 	pos += 2;
-	if (ctrl & 0x80 || ctrl & 0x50)   /* a network-layer message, or reserved bits */
+	if (ctrl & 0x80 || ctrl & 0x50) /* a network-layer message, or reserved bits */
 		goto none;
-	if (ctrl & 0x20) {   /* DNET: for another network unless a global broadcast */
+	if (ctrl & 0x20) { /* DNET: for another network unless a global broadcast */
 		if (n - pos < 3 || ((unsigned)in[pos] << 8 | in[pos + 1]) != 0xffff)
 			goto none;
 		if (n - pos - 3 < in[pos + 2])
@@ -994,14 +1025,14 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 		pos += 3 + in[pos + 2];
 		broadcast = 1;
 	}
-	if (ctrl & 0x08) {   /* SNET: from another network, through a router */
+	if (ctrl & 0x08) { /* SNET: from another network, through a router */
 		if (n - pos < 3 || in[pos + 2] == 0 || n - pos - 3 < in[pos + 2] || in[pos + 2] > 8 ||
 		    ((unsigned)in[pos] << 8 | in[pos + 1]) == 0xffff)
 			goto none;
 		snet_at = pos;
 		pos += 3 + in[pos + 2];
 	}
-	if (ctrl & 0x20) {   /* the hop count */
+	if (ctrl & 0x20) { /* the hop count */
 		if (pos >= n)
 			goto none;
 		pos++;
@@ -1016,7 +1047,7 @@ void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t
 		out[5] = 0x20;
 		memcpy(out + 6, in + snet_at, 3 + slen);
 		h += 3 + slen;
-		out[h++] = 255;   /* hop count */
+		out[h++] = 255; /* hop count */
 	} else {
 		out[5] = 0;
 	}

@@ -24,8 +24,8 @@ enum {
 	PSD_BACSERVE_MAX_APDU = 1476,   /* the largest APDU over BACnet/IP (B/IP, Annex J) */
 	PSD_BACSERVE_MAX_PACKET = 1497, /* BVLL 4 + NPDU (at most 17 here) + APDU */
 	PSD_BACSERVE_PRIORITIES = 16,
-	PSD_BACSERVE_AI_PER_ZONE = 3,   /* estimated task lux, sensor signal, target */
-	PSD_BACSERVE_SUBS = 64,         /* COV subscriptions at most */
+	PSD_BACSERVE_AI_PER_ZONE = 3, /* estimated task lux, sensor signal, target */
+	PSD_BACSERVE_SUBS = 64,       /* COV subscriptions at most */
 };
 
 /* object types (clause 21, BACnetObjectType) */
@@ -33,25 +33,25 @@ enum { PSD_BAC_AI = 0, PSD_BAC_DEVICE = 8, PSD_BAC_LO = 54 };
 
 struct psd_bacserve_zone {
 	char name[48];
-	double level;       /* the output in force, 0-100 % (Present_Value, Tracking_Value) */
-	double est_lux;     /* estimated task illuminance, lx (NAN: none) */
-	double signal;      /* the sensor's signal, V (NAN: none) */
-	double target;      /* the target task illuminance, lx */
-	int fault;          /* the zone is at its safe level */
-	double prio[PSD_BACSERVE_PRIORITIES];   /* the BACnet priority array, % (NAN: relinquished) */
+	double level;   /* the output in force, 0-100 % (Present_Value, Tracking_Value) */
+	double est_lux; /* estimated task illuminance, lx (NAN: none) */
+	double signal;  /* the sensor's signal, V (NAN: none) */
+	double target;  /* the target task illuminance, lx */
+	int fault;      /* the zone is at its safe level */
+	double prio[PSD_BACSERVE_PRIORITIES]; /* the BACnet priority array, % (NAN: relinquished) */
 };
 
 /* A COV subscription (SubscribeCOV): who, what, until when, what was sent. */
 struct psd_bacserve_sub {
 	int used;
-	uint8_t addr[6];          /* the subscriber's B/IP address */
-	uint8_t npdu[16];         /* the NPDU header that reaches it (through its router) */
+	uint8_t addr[6];  /* the subscriber's B/IP address */
+	uint8_t npdu[16]; /* the NPDU header that reaches it (through its router) */
 	size_t npdu_len;
-	uint32_t pid;             /* its subscriber process identifier */
-	uint32_t type, instance;  /* the monitored object */
-	int confirmed;            /* confirmed notifications */
-	double expires;           /* model time; 0: no lifetime */
-	int sent;                 /* a notification went out (the first is due at once) */
+	uint32_t pid;            /* its subscriber process identifier */
+	uint32_t type, instance; /* the monitored object */
+	int confirmed;           /* confirmed notifications */
+	double expires;          /* model time; 0: no lifetime */
+	int sent;                /* a notification went out (the first is due at once) */
 	float last_pv;
 	int last_fault;
 };
@@ -60,27 +60,27 @@ struct psd_bacserve_sub {
 typedef int (*psd_bacserve_apply_fn)(void *user, size_t zone);
 
 struct psd_bacserve_model {
-	uint32_t device;        /* the Device object's instance (0 - 4194302) */
-	const char *name;       /* its Object_Name */
+	uint32_t device;  /* the Device object's instance (0 - 4194302) */
+	const char *name; /* its Object_Name */
 	uint16_t vendor_id;
-	int writes;             /* 1: a Lighting Output's Present_Value is writable */
+	int writes; /* 1: a Lighting Output's Present_Value is writable */
 	uint32_t database_revision;
 	size_t nzone;
 	struct psd_bacserve_zone *zone;
-	psd_bacserve_apply_fn apply;   /* after a write changed a zone's priority array */
+	psd_bacserve_apply_fn apply; /* after a write changed a zone's priority array */
 	void *user;
-	double now;             /* seconds on a monotonic clock: subscriptions' lifetimes */
+	double now; /* seconds on a monotonic clock: subscriptions' lifetimes */
 	struct psd_bacserve_sub sub[PSD_BACSERVE_SUBS];
-	uint8_t invoke;         /* the next confirmed notification's invoke ID */
+	uint8_t invoke; /* the next confirmed notification's invoke ID */
 };
 
 /* Where the reply goes. */
 enum { PSD_BACSERVE_NONE = 0, PSD_BACSERVE_TO_SENDER = 1, PSD_BACSERVE_TO_ADDRESS = 2 };
 
 struct psd_bacserve_reply {
-	int to;                 /* PSD_BACSERVE_* */
-	uint8_t addr[6];        /* TO_ADDRESS: the B/IP address (IPv4, port), network order */
-	size_t len;             /* octets in out */
+	int to;          /* PSD_BACSERVE_* */
+	uint8_t addr[6]; /* TO_ADDRESS: the B/IP address (IPv4, port), network order */
+	size_t len;      /* octets in out */
 };
 
 /* Judge one datagram in[0..n) from B/IP address src (IPv4 and port, network

@@ -16,27 +16,27 @@ int psd_bactag_read(const uint8_t *buf, size_t n, size_t *pos, struct psd_bactag
 	t->number = o >> 4;
 	t->context = (o >> 3) & 1;
 	lvt = o & 7u;
-	if (t->number == 15) {   /* extended tag number: the next octet, 255 reserved */
+	if (t->number == 15) { /* extended tag number: the next octet, 255 reserved */
 		if (i >= n || buf[i] == 255)
 			return -1;
 		t->number = buf[i++];
 	}
 	if (lvt == 6 || lvt == 7) {
-		if (!t->context)   /* an application tag cannot open or close */
+		if (!t->context) /* an application tag cannot open or close */
 			return -1;
 		t->opening = lvt == 6;
 		t->closing = lvt == 7;
 		*pos = i;
 		return 0;
 	}
-	if (!t->context && t->number == PSD_BACTAG_BOOLEAN) {   /* the value is in the tag */
+	if (!t->context && t->number == PSD_BACTAG_BOOLEAN) { /* the value is in the tag */
 		if (lvt > 1)
 			return -1;
 		t->len = lvt;
 		*pos = i;
 		return 0;
 	}
-	if (lvt == 5) {   /* extended length */
+	if (lvt == 5) { /* extended length */
 		if (i >= n)
 			return -1;
 		lvt = buf[i++];
@@ -48,7 +48,8 @@ int psd_bactag_read(const uint8_t *buf, size_t n, size_t *pos, struct psd_bactag
 		} else if (lvt == 255) {
 			if (n - i < 4)
 				return -1;
-			lvt = (uint32_t)buf[i] << 24 | (uint32_t)buf[i + 1] << 16 | (uint32_t)buf[i + 2] << 8 | buf[i + 3];
+			lvt = (uint32_t)buf[i] << 24 | (uint32_t)buf[i + 1] << 16 |
+			      (uint32_t)buf[i + 2] << 8 | buf[i + 3];
 			i += 4;
 		}
 	}
@@ -81,7 +82,7 @@ int psd_bactag_signed(const struct psd_bactag *t, int32_t *v)
 	uint32_t x;
 	if (psd_bactag_unsigned(t, &x) != 0)
 		return -1;
-	if (t->len < 4 && (t->data[0] & 0x80))   /* sign-extend */
+	if (t->len < 4 && (t->data[0] & 0x80)) /* sign-extend */
 		x |= ~0u << (8 * t->len);
 	memcpy(v, &x, sizeof x);
 	return 0;
@@ -144,7 +145,8 @@ void psd_bactag_put_tag(struct psd_bacbuf *b, uint32_t number, int context, uint
 		uint8_t o[3] = { 254, (uint8_t)(len >> 8), (uint8_t)len };
 		psd_bactag_put_raw(b, o, 3);
 	} else {
-		uint8_t o[5] = { 255, (uint8_t)(len >> 24), (uint8_t)(len >> 16), (uint8_t)(len >> 8), (uint8_t)len };
+		uint8_t o[5] = { 255, (uint8_t)(len >> 24), (uint8_t)(len >> 16), (uint8_t)(len >> 8),
+			         (uint8_t)len };
 		psd_bactag_put_raw(b, o, 5);
 	}
 }
@@ -174,7 +176,7 @@ void psd_bactag_put_null(struct psd_bacbuf *b, int ctx)
 
 void psd_bactag_put_bool(struct psd_bacbuf *b, int ctx, int v)
 {
-	if (ctx < 0) {   /* the value in the tag (20.2.3) */
+	if (ctx < 0) { /* the value in the tag (20.2.3) */
 		psd_bactag_put_tag(b, PSD_BACTAG_BOOLEAN, 0, v ? 1 : 0);
 	} else {
 		psd_bactag_put_tag(b, (uint32_t)ctx, 1, 1);
@@ -223,7 +225,7 @@ void psd_bactag_put_string(struct psd_bacbuf *b, int ctx, const char *s)
 {
 	size_t n = strlen(s);
 	put_tag_for(b, ctx, PSD_BACTAG_CHARSTRING, (uint32_t)n + 1);
-	put1(b, 0);   /* character set: ISO 10646 (UTF-8) */
+	put1(b, 0); /* character set: ISO 10646 (UTF-8) */
 	psd_bactag_put_raw(b, s, n);
 }
 
@@ -231,6 +233,6 @@ void psd_bactag_put_bits(struct psd_bacbuf *b, int ctx, const uint8_t *bits, uns
 {
 	unsigned n = (nbits + 7) / 8;
 	put_tag_for(b, ctx, PSD_BACTAG_BITSTRING, n + 1);
-	put1(b, (uint8_t)(n * 8 - nbits));   /* unused bits in the last octet */
+	put1(b, (uint8_t)(n * 8 - nbits)); /* unused bits in the last octet */
 	psd_bactag_put_raw(b, bits, n);
 }

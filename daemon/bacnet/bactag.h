@@ -17,20 +17,29 @@
 
 /* application tag numbers (20.2.1.4) */
 enum {
-	PSD_BACTAG_NULL = 0, PSD_BACTAG_BOOLEAN = 1, PSD_BACTAG_UNSIGNED = 2, PSD_BACTAG_SIGNED = 3,
-	PSD_BACTAG_REAL = 4, PSD_BACTAG_DOUBLE = 5, PSD_BACTAG_OCTETS = 6, PSD_BACTAG_CHARSTRING = 7,
-	PSD_BACTAG_BITSTRING = 8, PSD_BACTAG_ENUM = 9, PSD_BACTAG_DATE = 10, PSD_BACTAG_TIME = 11,
+	PSD_BACTAG_NULL = 0,
+	PSD_BACTAG_BOOLEAN = 1,
+	PSD_BACTAG_UNSIGNED = 2,
+	PSD_BACTAG_SIGNED = 3,
+	PSD_BACTAG_REAL = 4,
+	PSD_BACTAG_DOUBLE = 5,
+	PSD_BACTAG_OCTETS = 6,
+	PSD_BACTAG_CHARSTRING = 7,
+	PSD_BACTAG_BITSTRING = 8,
+	PSD_BACTAG_ENUM = 9,
+	PSD_BACTAG_DATE = 10,
+	PSD_BACTAG_TIME = 11,
 	PSD_BACTAG_OBJECTID = 12
 };
 
 /* One decoded tag.  For an application boolean `len` is its value (0 or 1)
  * and `data` points at nothing. */
 struct psd_bactag {
-	uint32_t number;     /* tag number (0-254) */
-	int context;         /* 1: context-specific class */
-	int opening, closing;/* an opening or a closing tag (context class only) */
-	uint32_t len;        /* content octets (or the boolean's value) */
-	const uint8_t *data; /* the content */
+	uint32_t number;      /* tag number (0-254) */
+	int context;          /* 1: context-specific class */
+	int opening, closing; /* an opening or a closing tag (context class only) */
+	uint32_t len;         /* content octets (or the boolean's value) */
+	const uint8_t *data;  /* the content */
 };
 
 /* Read the tag at *pos of buf[0..n) and step *pos over it and its content.
