@@ -8,69 +8,10 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bacobj.h"
 #include "bactag.h"
 
-/* property identifiers (BACnetPropertyIdentifier) */
-enum {
-	P_APDU_TIMEOUT = 11,
-	P_COV_INCREMENT = 22,
-	P_APP_SW_VERSION = 12,
-	P_DESCRIPTION = 28,
-	P_DEVICE_ADDRESS_BINDING = 30,
-	P_EVENT_STATE = 36,
-	P_FIRMWARE_REVISION = 44,
-	P_ALL = 8,
-	P_MAX_APDU = 62,
-	P_MODEL_NAME = 70,
-	P_APDU_RETRIES = 73,
-	P_OBJECT_ID = 75,
-	P_OBJECT_LIST = 76,
-	P_OBJECT_NAME = 77,
-	P_OBJECT_TYPE = 79,
-	P_OPTIONAL = 80,
-	P_OUT_OF_SERVICE = 81,
-	P_PRESENT_VALUE = 85,
-	P_PRIORITY_ARRAY = 87,
-	P_OBJECT_TYPES_SUPPORTED = 96,
-	P_SERVICES_SUPPORTED = 97,
-	P_PROTOCOL_VERSION = 98,
-	P_RELINQUISH_DEFAULT = 104,
-	P_REQUIRED = 105,
-	P_SEGMENTATION = 107,
-	P_STATUS_FLAGS = 111,
-	P_SYSTEM_STATUS = 112,
-	P_UNITS = 117,
-	P_VENDOR_ID = 120,
-	P_VENDOR_NAME = 121,
-	P_PROTOCOL_REVISION = 139,
-	P_DATABASE_REVISION = 155,
-	P_TRACKING_VALUE = 164,
-	P_PROPERTY_LIST = 371,
-	P_BLINK_WARN_ENABLE = 373,
-	P_DEFAULT_FADE_TIME = 374,
-	P_DEFAULT_RAMP_RATE = 375,
-	P_DEFAULT_STEP_INCREMENT = 376,
-	P_EGRESS_TIME = 377,
-	P_IN_PROGRESS = 378,
-	P_LIGHTING_COMMAND = 380,
-	P_LIGHTING_COMMAND_DEFAULT_PRIORITY = 381,
-	P_EGRESS_ACTIVE = 386,
-};
-
-/* error classes and codes (clause 18), reject and abort reasons (clause 18.8, 18.9) */
-enum { EC_OBJECT = 1, EC_PROPERTY = 2, EC_RESOURCES = 3, EC_SERVICES = 5 };
-enum {
-	E_INVALID_DATA_TYPE = 9,
-	E_NO_SPACE_TO_ADD = 19,
-	E_UNKNOWN_OBJECT = 31,
-	E_NOT_SUPPORTED = 45,
-	E_UNKNOWN_PROPERTY = 32,
-	E_VALUE_OUT_OF_RANGE = 37,
-	E_WRITE_ACCESS_DENIED = 40,
-	E_INVALID_ARRAY_INDEX = 42,
-	E_NOT_AN_ARRAY = 50,
-	E_PARAMETER_OUT_OF_RANGE = 80,
-};
+/* reject and abort reasons (clause 18.8, 18.9) */
 enum { R_INVALID_TAG = 4, R_MISSING_PARAMETER = 5, R_TOO_MANY_ARGUMENTS = 7, R_UNRECOGNIZED_SERVICE = 9 };
 enum { A_SEGMENTATION_NOT_SUPPORTED = 4 };
 
@@ -83,323 +24,6 @@ enum {
 	S_WRITE_PROPERTY = 15
 };
 enum { U_I_AM = 0, U_I_HAVE = 1, U_COV_NOTIFICATION = 2, U_WHO_HAS = 7, U_WHO_IS = 8 };
-
-enum { PROTOCOL_REVISION = 14, MAX_INSTANCE = 4194303 };
-
-/* the properties of each object type; 1: required, 0: optional */
-struct prop {
-	uint32_t id;
-	int required;
-};
-static const struct prop device_props[] = {
-	{ P_OBJECT_ID, 1 },
-	{ P_OBJECT_NAME, 1 },
-	{ P_OBJECT_TYPE, 1 },
-	{ P_SYSTEM_STATUS, 1 },
-	{ P_VENDOR_NAME, 1 },
-	{ P_VENDOR_ID, 1 },
-	{ P_MODEL_NAME, 1 },
-	{ P_FIRMWARE_REVISION, 1 },
-	{ P_APP_SW_VERSION, 1 },
-	{ P_PROTOCOL_VERSION, 1 },
-	{ P_PROTOCOL_REVISION, 1 },
-	{ P_SERVICES_SUPPORTED, 1 },
-	{ P_OBJECT_TYPES_SUPPORTED, 1 },
-	{ P_OBJECT_LIST, 1 },
-	{ P_MAX_APDU, 1 },
-	{ P_SEGMENTATION, 1 },
-	{ P_APDU_TIMEOUT, 1 },
-	{ P_APDU_RETRIES, 1 },
-	{ P_DEVICE_ADDRESS_BINDING, 1 },
-	{ P_DATABASE_REVISION, 1 },
-	{ P_PROPERTY_LIST, 1 },
-	{ P_DESCRIPTION, 0 },
-};
-static const struct prop lo_props[] = {
-	{ P_OBJECT_ID, 1 },         { P_OBJECT_NAME, 1 },        { P_OBJECT_TYPE, 1 },
-	{ P_PRESENT_VALUE, 1 },     { P_TRACKING_VALUE, 1 },     { P_LIGHTING_COMMAND, 1 },
-	{ P_IN_PROGRESS, 1 },       { P_STATUS_FLAGS, 1 },       { P_OUT_OF_SERVICE, 1 },
-	{ P_BLINK_WARN_ENABLE, 1 }, { P_EGRESS_TIME, 1 },        { P_EGRESS_ACTIVE, 1 },
-	{ P_DEFAULT_FADE_TIME, 1 }, { P_DEFAULT_RAMP_RATE, 1 },  { P_DEFAULT_STEP_INCREMENT, 1 },
-	{ P_PRIORITY_ARRAY, 1 },    { P_RELINQUISH_DEFAULT, 1 }, { P_LIGHTING_COMMAND_DEFAULT_PRIORITY, 1 },
-	{ P_PROPERTY_LIST, 1 },     { P_EVENT_STATE, 0 },        { P_DESCRIPTION, 0 },
-	{ P_COV_INCREMENT, 0 },
-};
-static const struct prop ai_props[] = {
-	{ P_OBJECT_ID, 1 },     { P_OBJECT_NAME, 1 },   { P_OBJECT_TYPE, 1 },    { P_PRESENT_VALUE, 1 },
-	{ P_STATUS_FLAGS, 1 },  { P_EVENT_STATE, 1 },   { P_OUT_OF_SERVICE, 1 }, { P_UNITS, 1 },
-	{ P_PROPERTY_LIST, 1 }, { P_COV_INCREMENT, 1 }, { P_DESCRIPTION, 0 },
-};
-#define NPROPS(a) (sizeof(a) / sizeof(a)[0])
-
-/* An object of the model: its type, instance, zone (for LO, AI) and which AI. */
-struct obj {
-	uint32_t type, instance;
-	size_t zone;
-	int ai; /* 0 estimated task lux, 1 sensor signal, 2 target */
-	const struct prop *props;
-	size_t nprops;
-};
-
-static const char *const ai_what[PSD_BACSERVE_AI_PER_ZONE] = { "estimated task illuminance", "sensor signal",
-	                                                       "target task illuminance" };
-static const uint32_t ai_units[PSD_BACSERVE_AI_PER_ZONE] = { 37 /* luxes */, 5 /* volts */, 37 };
-
-/* COV_Increment: a Lighting Output's 1 %, the Analog Inputs' 10 lx, 0.01 V, 1 lx */
-static float cov_increment(const struct obj *o)
-{
-	static const float ai[PSD_BACSERVE_AI_PER_ZONE] = { 10.0f, 0.01f, 1.0f };
-	return o->type == PSD_BAC_LO ? 1.0f : ai[o->ai];
-}
-
-static size_t nobjects(const struct psd_bacserve_model *m)
-{
-	return 1 + m->nzone * (1 + PSD_BACSERVE_AI_PER_ZONE);
-}
-
-/* The i-th object of Object_List (0: the Device). */
-static void object_at(const struct psd_bacserve_model *m, size_t i, struct obj *o)
-{
-	memset(o, 0, sizeof *o);
-	if (i == 0) {
-		o->type = PSD_BAC_DEVICE, o->instance = m->device, o->props = device_props;
-		o->nprops = NPROPS(device_props);
-		return;
-	}
-	o->zone = (i - 1) / (1 + PSD_BACSERVE_AI_PER_ZONE);
-	size_t k = (i - 1) % (1 + PSD_BACSERVE_AI_PER_ZONE);
-	if (k == 0) {
-		o->type = PSD_BAC_LO, o->instance = (uint32_t)o->zone + 1, o->props = lo_props;
-		o->nprops = NPROPS(lo_props);
-	} else {
-		o->ai = (int)k - 1;
-		o->type = PSD_BAC_AI, o->instance = (uint32_t)(o->zone * PSD_BACSERVE_AI_PER_ZONE + k);
-		o->props = ai_props, o->nprops = NPROPS(ai_props);
-	}
-}
-
-/* The object of a type and instance: 0 found. */
-static int find(const struct psd_bacserve_model *m, uint32_t type, uint32_t instance, struct obj *o)
-{
-	if (type == PSD_BAC_DEVICE && (instance == m->device || instance == MAX_INSTANCE)) {
-		object_at(m, 0, o);
-		return 0;
-	}
-	if (type == PSD_BAC_LO && instance >= 1 && instance <= m->nzone) {
-		object_at(m, 1 + (instance - 1) * (1 + PSD_BACSERVE_AI_PER_ZONE), o);
-		return 0;
-	}
-	if (type == PSD_BAC_AI && instance >= 1 && instance <= m->nzone * PSD_BACSERVE_AI_PER_ZONE) {
-		size_t z = (instance - 1) / PSD_BACSERVE_AI_PER_ZONE,
-		       k = (instance - 1) % PSD_BACSERVE_AI_PER_ZONE;
-		object_at(m, 1 + z * (1 + PSD_BACSERVE_AI_PER_ZONE) + 1 + k, o);
-		return 0;
-	}
-	return -1;
-}
-
-static int has_prop(const struct obj *o, uint32_t id)
-{
-	for (size_t i = 0; i < o->nprops; i++)
-		if (o->props[i].id == id)
-			return 1;
-	return 0;
-}
-
-static void put_bits(struct psd_bacbuf *b, const unsigned *set, size_t nset, unsigned nbits)
-{
-	uint8_t bits[8] = { 0 };
-	for (size_t i = 0; i < nset; i++)
-		bits[set[i] / 8] |= (uint8_t)(0x80u >> (set[i] % 8));
-	psd_bactag_put_bits(b, -1, bits, nbits);
-}
-
-static void object_name(const struct psd_bacserve_model *m, const struct obj *o, char *s, size_t n)
-{
-	static const char *const ai_name[PSD_BACSERVE_AI_PER_ZONE] = { "task lux estimate", "sensor signal",
-		                                                       "target lux" };
-	if (o->type == PSD_BAC_DEVICE)
-		snprintf(s, n, "%s", m->name);
-	else if (o->type == PSD_BAC_LO)
-		snprintf(s, n, "%s light level", m->zone[o->zone].name);
-	else
-		snprintf(s, n, "%s %s", m->zone[o->zone].name, ai_name[o->ai]);
-}
-
-static float ai_value(const struct psd_bacserve_zone *z, int ai)
-{
-	return (float)(ai == 0 ? z->est_lux : ai == 1 ? z->signal : z->target);
-}
-
-static float present_value(const struct psd_bacserve_model *m, const struct obj *o)
-{
-	const struct psd_bacserve_zone *z = &m->zone[o->zone];
-	return o->type == PSD_BAC_LO ? (float)z->level : ai_value(z, o->ai);
-}
-
-/* Status_Flags' fault: the zone at its safe level, or a reading missing */
-static int in_fault(const struct psd_bacserve_model *m, const struct obj *o)
-{
-	const struct psd_bacserve_zone *z = &m->zone[o->zone];
-	return z->fault || (o->type == PSD_BAC_AI && o->ai < 2 && !isfinite(ai_value(z, o->ai)));
-}
-
-/* Encode one array element (idx 1..) or, idx 0, the whole array; -1 when idx
- * is past its end. */
-static int put_array(const struct psd_bacserve_model *m, const struct obj *o, uint32_t prop, int has_idx,
-                     uint32_t idx, struct psd_bacbuf *b)
-{
-	size_t count = prop == P_OBJECT_LIST      ? nobjects(m)
-	               : prop == P_PRIORITY_ARRAY ? PSD_BACSERVE_PRIORITIES
-	                                          : 0;
-	size_t from = 0, to;
-	if (prop == P_PROPERTY_LIST)
-		for (size_t i = 0; i < o->nprops; i++)
-			count += o->props[i].id != P_OBJECT_ID && o->props[i].id != P_OBJECT_NAME &&
-			         o->props[i].id != P_OBJECT_TYPE && o->props[i].id != P_PROPERTY_LIST;
-	if (has_idx && idx == 0) {
-		psd_bactag_put_unsigned(b, -1, (uint32_t)count);
-		return 0;
-	}
-	if (has_idx && idx > count)
-		return -1;
-	to = count;
-	if (has_idx)
-		from = idx - 1, to = idx;
-	for (size_t i = from; i < to; i++) {
-		if (prop == P_OBJECT_LIST) {
-			struct obj e;
-			object_at(m, i, &e);
-			psd_bactag_put_objectid(b, -1, e.type, e.instance);
-		} else if (prop == P_PRIORITY_ARRAY) {
-			double v = m->zone[o->zone].prio[i];
-			if (isnan(v))
-				psd_bactag_put_null(b, -1);
-			else
-				psd_bactag_put_real(b, -1, (float)v);
-		} else {
-			size_t k = 0;
-			for (size_t j = 0; j < o->nprops; j++) {
-				uint32_t id = o->props[j].id;
-				if (id == P_OBJECT_ID || id == P_OBJECT_NAME || id == P_OBJECT_TYPE ||
-				    id == P_PROPERTY_LIST)
-					continue;
-				if (k++ == i)
-					psd_bactag_put_enum(b, -1, id);
-			}
-		}
-	}
-	return 0;
-}
-
-/* Encode the value of o's property: 0, or -1 with an error class and code
- * (and nothing written). */
-static int read_prop(const struct psd_bacserve_model *m, const struct obj *o, uint32_t prop, int has_idx,
-                     uint32_t idx, struct psd_bacbuf *b, uint32_t *ec, uint32_t *code)
-{
-	const struct psd_bacserve_zone *z = o->type == PSD_BAC_DEVICE ? NULL : &m->zone[o->zone];
-	char name[128];
-	if (!has_prop(o, prop)) {
-		*ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY;
-		return -1;
-	}
-	if (prop == P_OBJECT_LIST || prop == P_PRIORITY_ARRAY || prop == P_PROPERTY_LIST) {
-		if (put_array(m, o, prop, has_idx, idx, b) == 0)
-			return 0;
-		*ec = EC_PROPERTY, *code = E_INVALID_ARRAY_INDEX;
-		return -1;
-	}
-	if (has_idx) {
-		*ec = EC_PROPERTY, *code = E_NOT_AN_ARRAY;
-		return -1;
-	}
-	switch (prop) {
-	case P_OBJECT_ID: psd_bactag_put_objectid(b, -1, o->type, o->instance); break;
-	case P_OBJECT_NAME:
-		object_name(m, o, name, sizeof name);
-		psd_bactag_put_string(b, -1, name);
-		break;
-	case P_OBJECT_TYPE: psd_bactag_put_enum(b, -1, o->type); break;
-	case P_DESCRIPTION:
-		if (o->type == PSD_BAC_DEVICE)
-			snprintf(name, sizeof name, "psensd: daylight-linked lighting control, %zu zone(s)",
-			         m->nzone);
-		else if (o->type == PSD_BAC_LO)
-			snprintf(name, sizeof name, "zone %s: the light output in force, %%", z->name);
-		else
-			snprintf(name, sizeof name, "zone %s: %s", z->name, ai_what[o->ai]);
-		psd_bactag_put_string(b, -1, name);
-		break;
-	case P_SYSTEM_STATUS:
-		psd_bactag_put_enum(b, -1, 0); /* operational */
-		break;
-	case P_VENDOR_NAME: psd_bactag_put_string(b, -1, "psensd"); break;
-	case P_VENDOR_ID: psd_bactag_put_unsigned(b, -1, m->vendor_id); break;
-	case P_MODEL_NAME: psd_bactag_put_string(b, -1, "psensd daylight controller"); break;
-	case P_FIRMWARE_REVISION:
-	case P_APP_SW_VERSION: psd_bactag_put_string(b, -1, "psensd"); break;
-	case P_PROTOCOL_VERSION: psd_bactag_put_unsigned(b, -1, 1); break;
-	case P_PROTOCOL_REVISION: psd_bactag_put_unsigned(b, -1, PROTOCOL_REVISION); break;
-	case P_SERVICES_SUPPORTED: {
-		/* subscribeCOV 5, readProperty 12, readPropertyMultiple 14,
-		 * writeProperty 15, i-Am 26, i-Have 27, who-Has 33, who-Is 34
-		 * (BACnetServicesSupported); 41 bits at revision 14 */
-		static const unsigned s[] = { 5, 12, 14, 15, 26, 27, 33, 34 };
-		put_bits(b, s, NPROPS(s), 41);
-		break;
-	}
-	case P_OBJECT_TYPES_SUPPORTED: {
-		/* analog-input 0, device 8, lighting-output 54; 55 bits at revision 14 */
-		static const unsigned t[] = { PSD_BAC_AI, PSD_BAC_DEVICE, PSD_BAC_LO };
-		put_bits(b, t, NPROPS(t), 55);
-		break;
-	}
-	case P_MAX_APDU: psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU); break;
-	case P_SEGMENTATION:
-		psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
-		break;
-	case P_APDU_TIMEOUT: psd_bactag_put_unsigned(b, -1, 3000); break;
-	case P_APDU_RETRIES: psd_bactag_put_unsigned(b, -1, 3); break;
-	case P_DEVICE_ADDRESS_BINDING: break; /* an empty list: psensd binds to no other device */
-	case P_DATABASE_REVISION: psd_bactag_put_unsigned(b, -1, m->database_revision); break;
-	case P_PRESENT_VALUE:
-	case P_TRACKING_VALUE: psd_bactag_put_real(b, -1, present_value(m, o)); break;
-	case P_RELINQUISH_DEFAULT: psd_bactag_put_real(b, -1, (float)z->level); break;
-	case P_LIGHTING_COMMAND:
-		psd_bactag_put_enum(b, 0, 0); /* BACnetLightingCommand, operation none */
-		break;
-	case P_IN_PROGRESS:
-		psd_bactag_put_enum(b, -1, 0); /* idle */
-		break;
-	case P_STATUS_FLAGS: {
-		/* in-alarm, fault, overridden, out-of-service */
-		static const unsigned f[] = { 1 };
-		put_bits(b, f, in_fault(m, o) ? 1 : 0, 4);
-		break;
-	}
-	case P_EVENT_STATE:
-		psd_bactag_put_enum(b, -1, 0); /* normal */
-		break;
-	case P_OUT_OF_SERVICE:
-	case P_BLINK_WARN_ENABLE:
-	case P_EGRESS_ACTIVE: psd_bactag_put_bool(b, -1, 0); break;
-	case P_EGRESS_TIME: psd_bactag_put_unsigned(b, -1, 0); break;
-	case P_DEFAULT_FADE_TIME:
-		psd_bactag_put_unsigned(b, -1, 100); /* ms, the least the standard allows */
-		break;
-	case P_DEFAULT_RAMP_RATE:
-		psd_bactag_put_real(b, -1, 100.0f); /* %/s */
-		break;
-	case P_DEFAULT_STEP_INCREMENT:
-		psd_bactag_put_real(b, -1, 1.0f); /* % */
-		break;
-	case P_LIGHTING_COMMAND_DEFAULT_PRIORITY: psd_bactag_put_unsigned(b, -1, 16); break;
-	case P_UNITS: psd_bactag_put_enum(b, -1, ai_units[o->ai]); break;
-	case P_COV_INCREMENT: psd_bactag_put_real(b, -1, cov_increment(o)); break;
-	default: *ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY; return -1;
-	}
-	return 0;
-}
 
 /* ---- the APDU ------------------------------------------------------------ */
 
@@ -484,7 +108,7 @@ static void read_property(const struct psd_bacserve_model *m, const struct req *
 	size_t pos = 0, mark;
 	uint32_t type, inst, prop, idx = 0, ec, code;
 	int rc, has_idx;
-	struct obj o;
+	struct psd_bacobj o;
 	if ((rc = need_objectid(q, &pos, 0, &type, &inst)) || (rc = need_unsigned(q, &pos, 1, &prop))) {
 		put_reject(b, q->invoke, (uint8_t)rc);
 		return;
@@ -497,7 +121,7 @@ static void read_property(const struct psd_bacserve_model *m, const struct req *
 		put_reject(b, q->invoke, R_TOO_MANY_ARGUMENTS);
 		return;
 	}
-	if (find(m, type, inst, &o) != 0) {
+	if (psd_bacobj_find(m, type, inst, &o) != 0) {
 		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
 		return;
 	}
@@ -512,7 +136,7 @@ static void read_property(const struct psd_bacserve_model *m, const struct req *
 	psd_bactag_open(b, 3);
 	mark = b->len;
 	if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL ||
-	    read_prop(m, &o, prop, has_idx, idx, b, &ec, &code) != 0) {
+	    psd_bacobj_read(m, &o, prop, has_idx, idx, b, &ec, &code) != 0) {
 		if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL) /* RPM only (15.5.1.1.2) */
 			ec = EC_PROPERTY, code = E_UNKNOWN_PROPERTY;
 		b->len = mark;
@@ -523,8 +147,8 @@ static void read_property(const struct psd_bacserve_model *m, const struct req *
 }
 
 /* One ReadAccessResult's element: [2] property, [3] index, [4] value or [5] error. */
-static void rpm_one(const struct psd_bacserve_model *m, const struct obj *o, uint32_t prop, int has_idx,
-                    uint32_t idx, struct psd_bacbuf *b)
+static void rpm_one(const struct psd_bacserve_model *m, const struct psd_bacobj *o, uint32_t prop,
+                    int has_idx, uint32_t idx, struct psd_bacbuf *b)
 {
 	uint32_t ec = EC_OBJECT, code = E_UNKNOWN_OBJECT;
 	size_t mark;
@@ -533,7 +157,7 @@ static void rpm_one(const struct psd_bacserve_model *m, const struct obj *o, uin
 		psd_bactag_put_unsigned(b, 3, idx);
 	psd_bactag_open(b, 4);
 	mark = b->len;
-	if (o && read_prop(m, o, prop, has_idx, idx, b, &ec, &code) == 0) {
+	if (o && psd_bacobj_read(m, o, prop, has_idx, idx, b, &ec, &code) == 0) {
 		psd_bactag_close(b, 4);
 		return;
 	}
@@ -557,7 +181,7 @@ static void read_property_multiple(const struct psd_bacserve_model *m, const str
 	while (pos < q->n) {
 		uint32_t type, inst;
 		struct psd_bactag t;
-		struct obj o;
+		struct psd_bacobj o;
 		int known, rc, nprop = 0;
 		if ((rc = need_objectid(q, &pos, 0, &type, &inst))) {
 			put_reject(b, q->invoke, (uint8_t)rc);
@@ -567,7 +191,7 @@ static void read_property_multiple(const struct psd_bacserve_model *m, const str
 			put_reject(b, q->invoke, R_INVALID_TAG);
 			return;
 		}
-		known = find(m, type, inst, &o) == 0;
+		known = psd_bacobj_find(m, type, inst, &o) == 0;
 		psd_bactag_put_objectid(b, 0, known ? o.type : type, known ? o.instance : inst);
 		psd_bactag_open(b, 1);
 		for (;;) {
@@ -614,7 +238,7 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 	int rc, has_idx, is_null = 0;
 	float v = 0;
 	struct psd_bactag t, val;
-	struct obj o;
+	struct psd_bacobj o;
 	if ((rc = need_objectid(q, &pos, 0, &type, &inst)) || (rc = need_unsigned(q, &pos, 1, &prop))) {
 		put_reject(b, q->invoke, (uint8_t)rc);
 		return;
@@ -652,11 +276,11 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 		put_reject(b, q->invoke, R_TOO_MANY_ARGUMENTS);
 		return;
 	}
-	if (find(m, type, inst, &o) != 0) {
+	if (psd_bacobj_find(m, type, inst, &o) != 0) {
 		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
 		return;
 	}
-	if (!has_prop(&o, prop)) {
+	if (!psd_bacobj_has(&o, prop)) {
 		put_error(b, q, EC_PROPERTY, E_UNKNOWN_PROPERTY);
 		return;
 	}
@@ -711,7 +335,7 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 	int rc, has_conf, has_life, confirmed = 0;
 	struct psd_bactag t;
 	struct psd_bacserve_sub *free_slot = NULL, *s = NULL;
-	struct obj o;
+	struct psd_bacobj o;
 	if ((rc = need_unsigned(q, &pos, 0, &pid)) || (rc = need_objectid(q, &pos, 1, &type, &inst))) {
 		put_reject(b, q->invoke, (uint8_t)rc);
 		return;
@@ -751,7 +375,7 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 		if (s)
 			s->used = 0;
 	} else {
-		if (find(m, type, inst, &o) != 0) {
+		if (psd_bacobj_find(m, type, inst, &o) != 0) {
 			put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
 			return;
 		}
@@ -792,21 +416,21 @@ int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacs
 	for (size_t i = 0; i < PSD_BACSERVE_SUBS; i++) {
 		struct psd_bacserve_sub *s = &m->sub[i];
 		struct psd_bacbuf b;
-		struct obj o;
+		struct psd_bacobj o;
 		float pv;
 		int fault;
-		static const unsigned f[] = { 1 };
 		if (!s->used)
 			continue;
-		if ((s->expires > 0 && m->now >= s->expires) || find(m, s->type, s->instance, &o) != 0) {
+		if ((s->expires > 0 && m->now >= s->expires) ||
+		    psd_bacobj_find(m, s->type, s->instance, &o) != 0) {
 			s->used = 0; /* its lifetime ended, or its zone left at a reload */
 			continue;
 		}
-		pv = present_value(m, &o);
-		fault = in_fault(m, &o);
+		pv = psd_bacobj_present_value(m, &o);
+		fault = psd_bacobj_fault(m, &o);
 		if (s->sent && fault == s->last_fault &&
 		    (pv == s->last_pv || (isnan(pv) && isnan(s->last_pv)) ||
-		     fabsf(pv - s->last_pv) < cov_increment(&o)))
+		     fabsf(pv - s->last_pv) < psd_bacobj_cov_increment(&o)))
 			continue;
 		s->sent = 1, s->last_pv = pv, s->last_fault = fault;
 		out[0] = 0x81, out[1] = 0x0a;
@@ -830,7 +454,7 @@ int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacs
 		psd_bactag_close(&b, 2);
 		psd_bactag_put_enum(&b, 0, P_STATUS_FLAGS);
 		psd_bactag_open(&b, 2);
-		put_bits(&b, f, fault ? 1 : 0, 4);
+		psd_bacobj_put_status_flags(&b, fault);
 		psd_bactag_close(&b, 2);
 		psd_bactag_close(&b, 4);
 		r->len = 4 + s->npdu_len + b.len;
@@ -867,7 +491,7 @@ static void who_has(const struct psd_bacserve_model *m, const uint8_t *p, size_t
 	uint32_t lo, hi, type, inst;
 	int has_lo, has_hi;
 	struct psd_bactag t;
-	struct obj o;
+	struct psd_bacobj o;
 	char name[128];
 	if ((has_lo = opt_unsigned(&q, &pos, 0, &lo)) < 0 || (has_hi = opt_unsigned(&q, &pos, 1, &hi)) < 0 ||
 	    has_lo != has_hi || (has_lo && (lo > MAX_INSTANCE || hi > MAX_INSTANCE)))
@@ -877,16 +501,16 @@ static void who_has(const struct psd_bacserve_model *m, const uint8_t *p, size_t
 	if (psd_bactag_read(p, n, &pos, &t) != 0 || pos != n || !t.context || t.opening || t.closing)
 		return;
 	if (t.number == 2) {
-		if (psd_bactag_objectid(&t, &type, &inst) != 0 || find(m, type, inst, &o) != 0 ||
+		if (psd_bactag_objectid(&t, &type, &inst) != 0 || psd_bacobj_find(m, type, inst, &o) != 0 ||
 		    (o.type == PSD_BAC_DEVICE && inst != m->device))
 			return;
 	} else if (t.number == 3) { /* a character string in UTF-8 (set 0) */
-		size_t i, count = nobjects(m);
+		size_t i, count = psd_bacobj_count(m);
 		if (t.len < 1 || t.data[0] != 0)
 			return;
 		for (i = 0; i < count; i++) {
-			object_at(m, i, &o);
-			object_name(m, &o, name, sizeof name);
+			psd_bacobj_at(m, i, &o);
+			psd_bacobj_name(m, &o, name, sizeof name);
 			if (strlen(name) == t.len - 1 && memcmp(name, t.data + 1, t.len - 1) == 0)
 				break;
 		}
@@ -899,7 +523,7 @@ static void who_has(const struct psd_bacserve_model *m, const uint8_t *p, size_t
 		uint8_t h[2] = { 0x10, U_I_HAVE };
 		psd_bactag_put_raw(b, h, 2);
 	}
-	object_name(m, &o, name, sizeof name);
+	psd_bacobj_name(m, &o, name, sizeof name);
 	psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
 	psd_bactag_put_objectid(b, -1, o.type, o.instance);
 	psd_bactag_put_string(b, -1, name);

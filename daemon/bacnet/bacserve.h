@@ -3,11 +3,11 @@
  * one received datagram in, at most one datagram out.  BVLL (Annex J),
  * NPDU (clause 6, no routing: a message for another network is dropped,
  * one from another network is answered through its router), APDU (clause
- * 20) and the services Who-Is/I-Am, ReadProperty, ReadPropertyMultiple and
- * WriteProperty over a Device object, one Lighting Output per zone and
- * three Analog Inputs per zone.  No segmentation: a segmented request, or
- * an answer longer than the asker takes (or than 1476 octets), gets an
- * Abort segmentation-not-supported.
+ * 20) and the services Who-Is/I-Am, Who-Has/I-Have, ReadProperty,
+ * ReadPropertyMultiple, WriteProperty and SubscribeCOV over the objects of
+ * bacobj.c (a Device, per zone a Lighting Output and three Analog Inputs).
+ * No segmentation: a segmented request, or an answer longer than the asker
+ * takes (or than 1476 octets), gets an Abort segmentation-not-supported.
  *
  * Pure: it reads and writes only the model below, so the unit tests and
  * the fuzz target run it without a daemon; daemon/bacnet/bacnet.c fills
