@@ -1,12 +1,13 @@
 /* SPDX-License-Identifier: ISC */
-/* Fuzz psensd's BACnet/IP server (daemon/bacnet/bacserve.c, bactag.c): the
+/* Fuzz psensd's BACnet/IP server (daemon/bacnet/bacserve.c, bacobj.c, bactag.c): the
  * datagram a client sends (BVLL, NPDU, APDU) answered over a three-zone
  * model with writes on.  The first byte chooses whether it came to a
  * broadcast address; the rest is the datagram.
  * Invariants: a reply is at most PSD_BACSERVE_MAX_PACKET octets, starts
  * with a BVLL header whose length is the reply's, and is never larger than
  * 1476 octets of APDU; a datagram to a broadcast address gets at most an
- * I-Am (unconfirmed, 0x10 0x00) and never an error, reject or abort; the
+ * I-Am or an I-Have (unconfirmed, 0x10 0x00 or 0x01), never an error,
+ * reject or abort; the
  * priority arrays hold only NULL or 0-100 %; every reply's tags read back
  * to its end (each tag lies inside the reply); so do the COV
  * notifications a subscription in the datagram makes due. */
@@ -108,7 +109,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			pos += 3 + out[8] + 1;
 		if (pos > r.len || r.len - pos > PSD_BACSERVE_MAX_APDU || pos + 2 > r.len)
 			abort();
-		if (broadcast && !(out[pos] == 0x10 && out[pos + 1] == 0x00))
+		if (broadcast && !(out[pos] == 0x10 && (out[pos + 1] == 0x00 || out[pos + 1] == 0x01)))
 			abort();
 		/* the tags after the header of a complex ACK or an I-Am read back */
 		if (out[pos] == 0x30 || out[pos] == 0x10) {
