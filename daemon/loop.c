@@ -123,9 +123,14 @@ static void date_run(struct psd_daemon *d, double now)
 	}
 }
 
-/* An MQTT command or a BACnet write: the control socket's request function,
- * the same code. */
-static void front_end_request(void *user, char *line, char *reply, size_t len)
+/* An MQTT command: the control socket's request function, the same code. */
+static void mqtt_request(void *user, char *line, char *reply, size_t len)
+{
+	psd_ctlcmd_request(user, line, reply, len);
+}
+
+/* A BACnet write (an override or a release): the same function again. */
+static void bacnet_request(void *user, char *line, char *reply, size_t len)
 {
 	psd_ctlcmd_request(user, line, reply, len);
 }
@@ -192,7 +197,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	date_run(d, now);
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
-	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, front_end_request, d, err, sizeof err))) {
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		if (d->have_ctl)
 			psd_ctlsock_close(&d->ctl);
@@ -202,7 +207,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
-	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, front_end_request, d, err, sizeof err))) {
+	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, bacnet_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		psd_mqtt_close(d->mqtt);
 		d->mqtt = NULL;
@@ -234,6 +239,8 @@ int psd_loop_run(struct psd_daemon *d)
 		psd_engine_step(&d->engine, now);
 		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
 			psd_mqtt_service(d->mqtt, NULL, now);
+		if (d->bacnet)   /* COV notifications of the levels just commanded */
+			psd_bacnet_service(d->bacnet, NULL, now);
 		deadline = psd_engine_deadline(&d->engine);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
