@@ -4,7 +4,8 @@
 #   drivers/  device drivers behind one method table (libpsdrv.a); no simulation here
 #   daemon/   psensd's core (libpsd.a) and its programs psensd, psensctl in
 #             daemon/cmd/: joins sim/ and drivers/; one room per front end:
-#             daemon/mqtt/ (libpsdmqtt.a), daemon/report/ (libpsdreport.a),
+#             daemon/mqtt/ (libpsdmqtt.a), daemon/bacnet/ (libpsdbacnet.a),
+#             daemon/report/ (libpsdreport.a),
 #             daemon/psvirt/ (psvirt and its Modbus server, libpsvirt.a)
 #   tests/    unit (cmocka), system (shell, real binaries), fuzz (libFuzzer), bench
 # Every directory may add rules in its own module.mk (included below).
@@ -61,6 +62,7 @@ else
   MQTT_SRC := $(filter-out daemon/mqtt/mqtt.c,$(MQTT_SRC))
 endif
 REPORT_SRC   := $(wildcard daemon/report/*.c)
+BACNET_SRC   := $(wildcard daemon/bacnet/*.c)
 # psvirt's room: its main (psvirt.c) and the library of its Modbus server
 PSVIRT_SRC   := $(filter-out daemon/psvirt/psvirt.c,$(wildcard daemon/psvirt/*.c))
 CORE_CMDS    := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
@@ -77,10 +79,12 @@ LIBPSDRV  = $(BUILD)/lib/libpsdrv.a
 LIBPSD    = $(BUILD)/lib/libpsd.a
 LIBPSDMQTT   = $(BUILD)/lib/libpsdmqtt.a
 LIBPSDREPORT = $(BUILD)/lib/libpsdreport.a
+LIBPSDBACNET = $(BUILD)/lib/libpsdbacnet.a
 LIBPSVIRT    = $(BUILD)/lib/libpsvirt.a
-# the daemon's core with the MQTT room: config.c judges [mqtt]
-# (daemon/mqtt/mqttconf.c) and loop.c runs the client, which drives the engine
-LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+# the daemon's core with the MQTT and BACnet rooms: config.c judges [mqtt]
+# and [bacnet] (their *conf.c) and loop.c runs their sockets, which drive
+# the engine
+LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSDBACNET) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
@@ -102,7 +106,7 @@ config-status:
 # -iquote: daemon/time.h and json.h are found by #include "..." only, never
 # in place of the system's <time.h> or json-c's json.h.
 SIM_INC = $(addprefix -I,$(SIM_DIRS))
-INC_CORE = $(SIM_INC) -Idrivers -iquote daemon -iquote daemon/mqtt
+INC_CORE = $(SIM_INC) -Idrivers -iquote daemon -iquote daemon/mqtt -iquote daemon/bacnet
 INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
 $(BUILD)/obj/sim/%.o: INC = $(SIM_INC)
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
@@ -127,6 +131,9 @@ $(LIBPSDMQTT): $(call obj,$(MQTT_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 $(LIBPSDREPORT): $(call obj,$(REPORT_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+$(LIBPSDBACNET): $(call obj,$(BACNET_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 $(LIBPSVIRT): $(call obj,$(PSVIRT_SRC))
@@ -164,9 +171,16 @@ DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsyst
             libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev \
             libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core libmosquitto-dev
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
-            libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin mosquitto mosquitto-clients openssl
+            libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin mosquitto mosquitto-clients openssl \
+            nodejs
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
+	@# npm: Debian's package, unless the nodejs installed carries its own
+	@command -v npm >/dev/null 2>&1 || sh tests/deps.sh npm
+	@# the BACnet peer (tests/peers/package.json, pinned by its lock file)
+	@if [ ! -d tests/peers/node_modules ] || [ tests/peers/package-lock.json -nt tests/peers/node_modules ]; then \
+	    (cd tests/peers && npm ci --no-audit --no-fund --loglevel=error) || \
+	    echo "deps: npm ci in tests/peers failed: the BACnet peer's tests will skip" >&2; fi
 
 clean:
 	rm -rf $(BUILD) $(BUILD)-fuzz

@@ -20,6 +20,7 @@
 #include "conf.h"
 #include "control.h"
 #include "driver.h"
+#include "bacnet.h"
 #include "mqtt.h"
 
 enum {
@@ -116,6 +117,7 @@ struct psd_config {
 	char *path[PSD_MAX_DEVICES];   /* driver file options resolved against the file's directory */
 	size_t npath;
 	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqtt/mqttconf.h, through mqtt.h) */
+	struct psd_bacnet_conf bacnet;   /* [bacnet] (daemon/bacnet/bacconf.h, through bacnet.h) */
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).

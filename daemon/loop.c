@@ -147,6 +147,12 @@ static void mqtt_request(void *user, char *line, char *reply, size_t len)
 	psd_ctlcmd_request(user, line, reply, len);
 }
 
+/* A BACnet write (an override or a release): the same function again. */
+static void bacnet_request(void *user, char *line, char *reply, size_t len)
+{
+	psd_ctlcmd_request(user, line, reply, len);
+}
+
 int psd_loop_start(struct psd_daemon *d, const char *path)
 {
 	struct psd_config *cf = calloc(1, sizeof *cf);
@@ -229,6 +235,18 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
+	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, bacnet_request, d, err, sizeof err))) {
+		psd_log_errx("%s", err);
+		psd_mqtt_close(d->mqtt);
+		d->mqtt = NULL;
+		if (d->have_ctl)
+			psd_ctlsock_close(&d->ctl);
+		d->have_ctl = 0;
+		psd_engine_close(&d->engine);
+		psd_config_free(cf);
+		free(cf);
+		return -1;
+	}
 	return 0;
 }
 
@@ -283,7 +301,7 @@ int psd_loop_run(struct psd_daemon *d)
 	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
 	while (!d->stop) {
 		double now = psd_clock_now(&d->clock), deadline;
-		int n = 0, nctl, ndev, nmq = 0, timeout;
+		int n = 0, nctl, ndev, nmq = 0, nbac = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
 		if (d->wall_dated) {
@@ -293,6 +311,8 @@ int psd_loop_run(struct psd_daemon *d)
 		psd_engine_step(&d->engine, now);
 		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
 			psd_mqtt_service(d->mqtt, NULL, now);
+		if (d->bacnet)   /* COV notifications of the levels just commanded */
+			psd_bacnet_service(d->bacnet, NULL, now);
 		deadline = psd_engine_deadline(&d->engine);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
@@ -307,7 +327,9 @@ int psd_loop_run(struct psd_daemon *d)
 			if (w >= 0 && (timeout < 0 || w < timeout))
 				timeout = w;
 		}
-		if (poll(fds, (nfds_t)(n + ndev + nmq), timeout) < 0 && errno != EINTR) {
+		if (d->bacnet)
+			nbac = psd_bacnet_pollfd(d->bacnet, fds + n + ndev + nmq);
+		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac), timeout) < 0 && errno != EINTR) {
 			psd_log_err("poll");
 			break;
 		}
@@ -319,6 +341,8 @@ int psd_loop_run(struct psd_daemon *d)
 		psd_engine_service(&d->engine, now, fds + 1 + nctl, fd_dev, ndev);
 		if (d->mqtt)
 			psd_mqtt_service(d->mqtt, nmq ? fds + n + ndev : NULL, now);
+		if (d->bacnet)
+			psd_bacnet_service(d->bacnet, nbac ? fds + n + ndev + nmq : NULL, now);
 		if (d->reload) {
 			d->reload = 0;
 			psd_reload(d);
@@ -355,6 +379,8 @@ int psd_loop_safe(struct psd_daemon *d, const char *why)
 void psd_loop_stop(struct psd_daemon *d, const char *why)
 {
 	sd_notify(0, "STOPPING=1");
+	psd_bacnet_close(d->bacnet);
+	d->bacnet = NULL;
 	psd_mqtt_close(d->mqtt);   /* offline, the last acknowledgements, while the log is open */
 	d->mqtt = NULL;
 	if (d->engine.cf) {

@@ -8,6 +8,7 @@
 #include "clock.h"
 #include "ctlsock.h"
 #include "engine.h"
+#include "bacnet.h"
 #include "mqtt.h"
 #include "wallstep.h"
 
@@ -22,6 +23,7 @@ struct psd_daemon {
 	struct psd_ctlsock ctl;
 	int have_ctl;
 	struct psd_mqtt *mqtt;    /* [mqtt]: the publisher (daemon/mqtt/mqtt.h), NULL: none */
+	struct psd_bacnet *bacnet;/* [bacnet]: the BACnet/IP server (daemon/bacnet/bacnet.h), NULL: none */
 	double end;               /* simulated: stop at this time; real: INFINITY */
 	int advance_date;         /* the date is the configuration's (a set clock): when the
 	                             database already holds it, the run is dated the next

@@ -1,0 +1,229 @@
+/* SPDX-License-Identifier: ISC */
+/* BACnet/IP: the server's socket in psensd's loop (bacnet.h). */
+#include "bacnet.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <math.h>
+#include <netinet/in.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "bacserve.h"
+#include "engine.h"
+#include "errbuf.h"
+#include "log.h"
+#include "time.h"
+
+enum { BATCH = 64 };   /* datagrams answered in one turn at most */
+enum { SOURCES = 32 }; /* sources whose rate is tracked (the longest idle one makes room) */
+
+/* A token bucket per source address: `rate` a second, as many at once. */
+struct source {
+	uint32_t ip;
+	double tokens, last;
+};
+
+struct psd_bacnet {
+	int fd;
+	struct psd_bacnet_conf c;
+	struct psd_engine *e;
+	psd_bacnet_request_fn fn;
+	void *user;
+	struct psd_bacserve_zone zone[PSD_MAX_ZONES];
+	double issued[PSD_MAX_ZONES]; /* clock time of the last override sent for a zone */
+	struct psd_bacserve_model m;
+	double now;
+	struct source src[SOURCES];
+	unsigned long dropped; /* datagrams over a source's rate */
+};
+
+/* 1 when a datagram from ip may be answered now (wall seconds t). */
+static int within_rate(struct psd_bacnet *b, uint32_t ip, double t)
+{
+	struct source *s = NULL, *idle = &b->src[0];
+	for (int i = 0; i < SOURCES; i++) {
+		if (b->src[i].last > 0 && b->src[i].ip == ip) {
+			s = &b->src[i];
+			break;
+		}
+		if (b->src[i].last < idle->last)
+			idle = &b->src[i];
+	}
+	if (!s) {
+		s = idle;
+		*s = (struct source){ ip, b->c.rate, t };
+	}
+	s->tokens += (t - s->last) * b->c.rate;
+	if (s->tokens > b->c.rate)
+		s->tokens = b->c.rate;
+	s->last = t;
+	if (s->tokens < 1) {
+		if (b->dropped++ == 0)
+			psd_log_warnx("bacnet: a source sends more than %g datagrams a second: the excess is "
+			              "dropped",
+			              b->c.rate);
+		return 0;
+	}
+	s->tokens -= 1;
+	return 1;
+}
+
+/* The highest priority written, or -1 when every one is relinquished. */
+static int in_force(const struct psd_bacserve_zone *z)
+{
+	for (int i = 0; i < PSD_BACSERVE_PRIORITIES; i++)
+		if (!isnan(z->prio[i]))
+			return i;
+	return -1;
+}
+
+/* The zone's priority array to the engine: an override at the highest
+ * priority's level for `hold` seconds, or, all relinquished, release. */
+static int apply(void *user, size_t i)
+{
+	struct psd_bacnet *b = user;
+	struct psd_bacserve_zone *z = &b->zone[i];
+	char line[160], reply[600];
+	int p = in_force(z);
+	if (p >= 0)
+		snprintf(line, sizeof line, "override %s %.17g %.17g", z->name, z->prio[p] / 100, b->c.hold);
+	else
+		snprintf(line, sizeof line, "release %s", z->name);
+	b->fn(b->user, line, reply, sizeof reply);
+	b->issued[i] = b->now; /* a refusal too: tried again at the next renewal, not every turn */
+	if (strncmp(reply, "{\"ok\":true", 10) != 0) {
+		psd_log_warnx("bacnet: zone %s: %s refused: %s", z->name, line, reply);
+		return -1;
+	}
+	if (p >= 0)
+		psd_log_info("bacnet: zone %s: level %.1f %% at priority %d", z->name, z->prio[p], p + 1);
+	else
+		psd_log_info("bacnet: zone %s: every priority relinquished: daylight control resumes",
+		             z->name);
+	return 0;
+}
+
+/* The objects from the engine: a zone whose name changed (a reload) starts
+ * with its priority array relinquished. */
+static void refresh(struct psd_bacnet *b)
+{
+	struct psd_engine *e = b->e;
+	b->m.nzone = e->nzone;
+	for (size_t i = 0; i < e->nzone; i++) {
+		const struct psd_zone *z = &e->zone[i];
+		struct psd_bacserve_zone *s = &b->zone[i];
+		if (strcmp(s->name, z->zc->name) != 0) {
+			snprintf(s->name, sizeof s->name, "%s", z->zc->name);
+			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
+				s->prio[k] = NAN;
+		}
+		s->level = 100 * z->level;
+		if (!(s->level >= 0 && s->level <= 100))
+			s->level = 0;
+		s->fault = z->in_fault;
+		s->est_lux = z->last.est_task_lux;
+		s->signal = z->in_fault ? NAN : z->volts;
+		s->target = z->ctl.target_lux;
+	}
+}
+
+struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
+                                   psd_bacnet_request_fn fn, void *user, char *err, size_t errlen)
+{
+	struct psd_bacnet *b = calloc(1, sizeof *b);
+	struct sockaddr_in sa = { .sin_family = AF_INET, .sin_port = htons((uint16_t)c->port) };
+	int one = 1;
+	if (!b) {
+		psd_errbuf(err, errlen, "bacnet: %s", strerror(errno));
+		return NULL;
+	}
+	b->fd = -1;
+	b->c = *c;
+	b->e = e, b->fn = fn, b->user = user;
+	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance,
+		                            .name = b->c.name,
+		                            .vendor_id = (uint16_t)c->vendor_id,
+		                            .writes = c->writes == PSD_BACCONF_LIGHTING_OUTPUT,
+		                            .database_revision = 1,
+		                            .zone = b->zone,
+		                            .apply = apply,
+		                            .user = b };
+	if (inet_pton(AF_INET, c->bind, &sa.sin_addr) != 1 ||
+	    (b->fd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0)) < 0 ||
+	    setsockopt(b->fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) != 0 ||
+	    bind(b->fd, (struct sockaddr *)&sa, sizeof sa) != 0) {
+		psd_errbuf(err, errlen, "bacnet: udp %s:%ld: %s", c->bind, c->port, strerror(errno));
+		if (b->fd >= 0)
+			close(b->fd);
+		free(b);
+		return NULL;
+	}
+	refresh(b);
+	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s", c->instance, c->name,
+	             c->bind, c->port, e->nzone, b->m.writes ? "to the lighting outputs" : "refused");
+	return b;
+}
+
+int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd)
+{
+	*pfd = (struct pollfd){ b->fd, POLLIN, 0 };
+	return 1;
+}
+
+static void send_to(struct psd_bacnet *b, const uint8_t *out, size_t len, const uint8_t addr[6])
+{
+	struct sockaddr_in to = { .sin_family = AF_INET };
+	memcpy(&to.sin_addr, addr, 4);
+	memcpy(&to.sin_port, addr + 4, 2);
+	if (to.sin_port == 0)
+		return;
+	/* a full socket buffer drops the datagram, as UDP may: never wait */
+	(void)sendto(b->fd, out, len, MSG_DONTWAIT, (struct sockaddr *)&to, sizeof to);
+}
+
+void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double now)
+{
+	uint8_t in[PSD_BACSERVE_MAX_PACKET + 1], out[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	b->m.now = psd_time_mono(); /* subscriptions' lifetimes: seconds of real time */
+	b->now = now;
+	refresh(b);
+	for (int k = 0; pfd && (pfd->revents & POLLIN) && k < BATCH; k++) {
+		struct sockaddr_in from;
+		socklen_t fl = sizeof from;
+		uint8_t src[6];
+		ssize_t n = recvfrom(b->fd, in, sizeof in, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
+		if (n < 0)
+			break;
+		if (fl != sizeof from || from.sin_family != AF_INET || from.sin_port == 0)
+			continue;
+		if (!within_rate(b, from.sin_addr.s_addr, b->m.now))
+			continue;
+		memcpy(src, &from.sin_addr, 4);
+		memcpy(src + 4, &from.sin_port, 2);
+		psd_bacserve_handle(&b->m, in, (size_t)n, src, 0, out, &r);
+		if (r.to != PSD_BACSERVE_NONE && r.len > 0)
+			send_to(b, out, r.len, r.to == PSD_BACSERVE_TO_ADDRESS ? r.addr : src);
+	}
+	/* COV notifications: at most one per subscription a turn */
+	while (psd_bacserve_cov(&b->m, out, &r))
+		send_to(b, out, r.len, r.addr);
+	/* renew an override a BMS still holds before it runs out */
+	for (size_t i = 0; i < b->m.nzone; i++)
+		if (in_force(&b->zone[i]) >= 0 && now - b->issued[i] >= b->c.hold / 2)
+			apply(b, i);
+}
+
+void psd_bacnet_close(struct psd_bacnet *b)
+{
+	if (!b)
+		return;
+	close(b->fd);
+	free(b);
+}

@@ -1,0 +1,40 @@
+/* SPDX-License-Identifier: ISC */
+/* BACnet/IP (psensd.conf(5) [bacnet], doc/bacnet-pics.md): psensd's zones as
+ * BACnet objects for a building's BMS.
+ *
+ * One job: the server's socket.  A non-blocking UDP socket is one more
+ * descriptor in psensd's poll() (no thread); each turn reads at most a
+ * bounded number of datagrams, answers each at once (bacserve.c) and never
+ * waits to send (a reply the socket cannot take now is dropped, as UDP
+ * may).  The objects are filled from the engine before each batch.  A
+ * write to a zone's Lighting Output becomes the control socket's
+ * `override` or `release` request, through the same function
+ * (psd_ctlcmd_request), so it is judged like one and never overrides the
+ * safe level of a zone in a fault. */
+#ifndef PSD_BACNET_H
+#define PSD_BACNET_H
+
+#include <poll.h>
+#include <stddef.h>
+
+/* The room's public face is this header: the [bacnet] section the core's
+ * configuration holds and judges comes with it. */
+#include "bacconf.h"
+
+struct psd_engine;
+struct psd_bacnet;
+
+/* A control request: what psd_ctlcmd_request does. */
+typedef void (*psd_bacnet_request_fn)(void *user, char *line, char *reply, size_t len);
+
+/* Open the socket for the engine's zones.  NULL with a message in err. */
+struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
+                                   psd_bacnet_request_fn fn, void *user, char *err, size_t errlen);
+/* The socket for poll(): 1 written. */
+int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd);
+/* Answer what arrived (pfd from psd_bacnet_pollfd, or NULL), renew the
+ * overrides a BMS holds.  now: the daemon's clock. */
+void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double now);
+void psd_bacnet_close(struct psd_bacnet *b);
+
+#endif

@@ -1,0 +1,124 @@
+/* SPDX-License-Identifier: ISC */
+/* Fuzz psensd's BACnet/IP server (daemon/bacnet/bacserve.c, bacobj.c, bactag.c): the
+ * datagram a client sends (BVLL, NPDU, APDU) answered over a three-zone
+ * model with writes on.  The first byte chooses whether it came to a
+ * broadcast address; the rest is the datagram.
+ * Invariants: a reply is at most PSD_BACSERVE_MAX_PACKET octets, starts
+ * with a BVLL header whose length is the reply's, and is never larger than
+ * 1476 octets of APDU; a datagram to a broadcast address gets at most an
+ * I-Am or an I-Have (unconfirmed, 0x10 0x00 or 0x01), never an error,
+ * reject or abort; the
+ * priority arrays hold only NULL or 0-100 %; every reply's tags read back
+ * to its end (each tag lies inside the reply); so do the COV
+ * notifications a subscription in the datagram makes due. */
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bacserve.h"
+#include "bactag.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static int apply(void *user, size_t z)
+{
+	(void)user;
+	return z == 2 ? -1 : 0;   /* the third zone refuses, as the engine may */
+}
+
+/* Every COV notification due: a BVLL Original-Unicast-NPDU of its own
+ * length to a subscriber's address, an unconfirmed or confirmed COV
+ * notification whose tags read back; at most one per subscription a call. */
+static void notifications(struct psd_bacserve_model *m)
+{
+	static uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	int k = 0;
+	while (psd_bacserve_cov(m, out, &r)) {
+		size_t pos = 6;
+		struct psd_bactag t;
+		if (++k > PSD_BACSERVE_SUBS || r.to != PSD_BACSERVE_TO_ADDRESS || r.len < 8 ||
+		    ((size_t)out[2] << 8 | out[3]) != r.len || out[1] != 0x0a || out[4] != 1)
+			abort();
+		if (out[5] & 0x20)
+			pos += 3 + out[8] + 1;
+		if (out[pos] == 0x10 && out[pos + 1] == 0x02)
+			pos += 2;
+		else if (out[pos] == 0x00 && out[pos + 3] == 0x01)
+			pos += 4;
+		else
+			abort();
+		while (pos < r.len)
+			if (psd_bactag_read(out, r.len, &pos, &t) != 0)
+				abort();
+	}
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+	static struct psd_bacserve_zone zone[3];
+	static uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	static struct psd_bacserve_model m;
+	m = (struct psd_bacserve_model){ .device = 260001, .name = "fuzz", .vendor_id = 65535, .writes = 1,
+		                             .database_revision = 1, .nzone = 3, .zone = zone, .apply = apply };
+	struct psd_bacserve_reply r;
+	int broadcast;
+	if (size < 1)
+		return 0;
+	broadcast = data[0] & 1;
+	for (int i = 0; i < 3; i++) {
+		snprintf(zone[i].name, sizeof zone[i].name, "zone%d", i);
+		zone[i].level = 25.0 * i;
+		zone[i].est_lux = i == 1 ? NAN : 400;
+		zone[i].signal = 0.5;
+		zone[i].target = 500;
+		zone[i].fault = i == 1;
+		if (data[0] & 2)
+			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
+				zone[i].prio[k] = NAN;
+	}
+	static const uint8_t src[6] = { 127, 0, 0, 1, 0xba, 0xc1 };
+	m.now = 100;
+	psd_bacserve_handle(&m, data + 1, size - 1, src, broadcast, out, &r);
+	/* a subscription's first notification; then the levels move and a
+	 * lifetime of up to 50 s ends */
+	notifications(&m);
+	for (int i = 0; i < 3; i++)
+		zone[i].level = 100 - zone[i].level;
+	m.now = 150;
+	notifications(&m);
+	if (r.to == PSD_BACSERVE_NONE) {
+		if (r.len != 0)
+			abort();
+		return 0;
+	}
+	if (r.len < 6 || r.len > PSD_BACSERVE_MAX_PACKET || out[0] != 0x81 || ((size_t)out[2] << 8 | out[3]) != r.len)
+		abort();
+	for (int i = 0; i < 3; i++)
+		for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
+			if (!isnan(zone[i].prio[k]) && !(zone[i].prio[k] >= 0 && zone[i].prio[k] <= 100))
+				abort();
+	if (out[1] == 0x0a) {   /* an NPDU reply: version 1, then the APDU */
+		size_t pos = 6;
+		if (out[4] != 1)
+			abort();
+		if (out[5] & 0x20)
+			pos += 3 + out[8] + 1;
+		if (pos > r.len || r.len - pos > PSD_BACSERVE_MAX_APDU || pos + 2 > r.len)
+			abort();
+		if (broadcast && !(out[pos] == 0x10 && (out[pos + 1] == 0x00 || out[pos + 1] == 0x01)))
+			abort();
+		/* the tags after the header of a complex ACK or an I-Am read back */
+		if (out[pos] == 0x30 || out[pos] == 0x10) {
+			size_t p = out[pos] == 0x30 ? 3 : 2;
+			struct psd_bactag t;
+			while (pos + p < r.len)
+				if (psd_bactag_read(out + pos, r.len - pos, &p, &t) != 0)
+					abort();
+		}
+	}
+	return 0;
+}

@@ -1,0 +1,584 @@
+/* SPDX-License-Identifier: ISC */
+/* BACnet/IP framing and services (daemon/bacnet/bactag.c, bacserve.c)
+ * against byte strings assembled by hand from ANSI/ASHRAE 135's encoding
+ * rules: the tag octet of 20.2.1 (tag number, class, length/value/type;
+ * extended numbers and lengths; opening 6, closing 7), the primitive
+ * encodings of 20.2.2-20.2.14, the BVLL of Annex J (type 0x81, function,
+ * length), the NPDU of 6.2 (version 1, control) and the APDU headers of
+ * 20.1; the numbers of clause 21 (object types, properties, error classes
+ * and codes, reject and abort reasons). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "bacserve.h"
+#include "bactag.h"
+
+static size_t enc(void (*f)(struct psd_bacbuf *), uint8_t *out, size_t cap)
+{
+	struct psd_bacbuf b = { out, cap, 0, 0 };
+	f(&b);
+	assert_false(b.overflow);
+	return b.len;
+}
+
+#define EXPECT(f, ...)                                                     \
+	do {                                                               \
+		static const uint8_t want[] = { __VA_ARGS__ };             \
+		uint8_t got[64];                                           \
+		size_t n = enc(f, got, sizeof got);                        \
+		assert_int_equal(n, sizeof want);                          \
+		assert_memory_equal(got, want, sizeof want);               \
+	} while (0)
+
+static void u72(struct psd_bacbuf *b) { psd_bactag_put_unsigned(b, -1, 72); }
+static void u256ctx1(struct psd_bacbuf *b) { psd_bactag_put_unsigned(b, 1, 256); }
+static void real72(struct psd_bacbuf *b) { psd_bactag_put_real(b, -1, 72.0f); }
+static void bools(struct psd_bacbuf *b) { psd_bactag_put_bool(b, -1, 1); psd_bactag_put_bool(b, -1, 0); psd_bactag_put_bool(b, 2, 1); }
+static void null_and_enum(struct psd_bacbuf *b) { psd_bactag_put_null(b, -1); psd_bactag_put_enum(b, -1, 0); }
+static void objid_bi15(struct psd_bacbuf *b) { psd_bactag_put_objectid(b, -1, 3, 15); }
+static void bits10101(struct psd_bacbuf *b) { static const uint8_t v[] = { 0xa8 }; psd_bactag_put_bits(b, -1, v, 5); }
+static void open_close3(struct psd_bacbuf *b) { psd_bactag_open(b, 3); psd_bactag_close(b, 3); }
+static void ext_number(struct psd_bacbuf *b) { psd_bactag_put_unsigned(b, 18, 1); psd_bactag_open(b, 20); }
+static void ext_len(struct psd_bacbuf *b) { psd_bactag_put_tag(b, 6, 0, 5); psd_bactag_put_tag(b, 6, 0, 300); }
+static void string_bacnet(struct psd_bacbuf *b) { psd_bactag_put_string(b, -1, "This is a BACnet string!"); }
+
+static void encodings_follow_clause_20_2(void **state)
+{
+	(void)state;
+	/* unsigned 72: application tag 2, one octet */
+	EXPECT(u72, 0x21, 0x48);
+	/* context tag 1, unsigned 256: two octets */
+	EXPECT(u256ctx1, 0x1a, 0x01, 0x00);
+	/* REAL 72.0 = IEEE 754 0x42900000 */
+	EXPECT(real72, 0x44, 0x42, 0x90, 0x00, 0x00);
+	/* application booleans carry the value in the tag; a context one in an octet */
+	EXPECT(bools, 0x11, 0x10, 0x29, 0x01);
+	EXPECT(null_and_enum, 0x00, 0x91, 0x00);
+	/* (binary-input, 15): type 3 in the top 10 bits */
+	EXPECT(objid_bi15, 0xc4, 0x00, 0xc0, 0x00, 0x0f);
+	/* B'10101': 3 unused bits */
+	EXPECT(bits10101, 0x82, 0x03, 0xa8);
+	EXPECT(open_close3, 0x3e, 0x3f);
+	/* tag number 18 and 20: 15 in the tag octet, the number next */
+	EXPECT(ext_number, 0xf9, 0x12, 0x01, 0xfe, 0x14);
+	/* length 5: LVT 5 then the length; 300: 254 then two octets */
+	EXPECT(ext_len, 0x65, 0x05, 0x65, 0xfe, 0x01, 0x2c);
+	/* character set 0 (UTF-8) first: 24 characters + 1 */
+	EXPECT(string_bacnet, 0x75, 0x19, 0x00, 'T', 'h', 'i', 's', ' ', 'i', 's', ' ', 'a', ' ', 'B', 'A', 'C', 'n', 'e',
+	       't', ' ', 's', 't', 'r', 'i', 'n', 'g', '!');
+}
+
+static void decoding_reads_tags_and_stops_at_the_end(void **state)
+{
+	static const uint8_t s[] = { 0x31, 0xb8, 0x3a, 0xff, 0x38, 0xf9, 0x12, 0x07, 0x65, 0xfe, 0x00, 0x05, 1, 2, 3, 4, 5 };
+	static const uint8_t bad[][4] = { { 0x65, 0x05, 1 }, { 0xf9 }, { 0x16 }, { 0x12 } };
+	static const size_t badn[] = { 3, 1, 1, 1 };
+	struct psd_bactag t;
+	size_t pos = 0;
+	int32_t v;
+	uint32_t u;
+	(void)state;
+	/* signed -72 (0xB8), then context tag 3 with two octets 0xFF38 (-200) */
+	assert_int_equal(psd_bactag_read(s, sizeof s, &pos, &t), 0);
+	assert_int_equal(psd_bactag_signed(&t, &v), 0);
+	assert_int_equal(v, -72);
+	assert_int_equal(psd_bactag_read(s, sizeof s, &pos, &t), 0);
+	assert_true(t.context);
+	assert_int_equal(t.number, 3);
+	assert_int_equal(psd_bactag_signed(&t, &v), 0);
+	assert_int_equal(v, -200);
+	assert_int_equal(psd_bactag_read(s, sizeof s, &pos, &t), 0);
+	assert_int_equal(t.number, 18);
+	assert_int_equal(psd_bactag_unsigned(&t, &u), 0);
+	assert_int_equal(u, 7);
+	/* octet string of 5 with the length in two octets after 254 */
+	assert_int_equal(psd_bactag_read(s, sizeof s, &pos, &t), 0);
+	assert_int_equal(t.len, 5);
+	assert_int_equal(t.data[4], 5);
+	assert_int_equal(pos, sizeof s);
+	assert_int_equal(psd_bactag_read(s, sizeof s, &pos, &t), -1);
+	/* a length past the end, an extended number missing, an application
+	 * opening tag, an application boolean with LVT 2 */
+	for (size_t i = 0; i < 4; i++) {
+		pos = 0;
+		assert_int_equal(psd_bactag_read(bad[i], badn[i], &pos, &t), -1);
+	}
+}
+
+/* ---- the server over a two-zone model --------------------------------- */
+
+static struct psd_bacserve_zone zones[6];
+static const uint8_t peer[6] = { 10, 0, 0, 7, 0xba, 0xc0 };   /* 10.0.0.7:47808 */
+static struct psd_bacserve_model model;
+static int applied;
+
+static int apply(void *user, size_t z)
+{
+	(void)user;
+	applied = (int)z + 1;
+	return 0;
+}
+
+static int setup(void **state)
+{
+	(void)state;
+	memset(zones, 0, sizeof zones);
+	for (size_t i = 0; i < 6; i++) {
+		snprintf(zones[i].name, sizeof zones[i].name, "z%zu", i);
+		for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
+			zones[i].prio[k] = NAN;
+		zones[i].level = 10;
+	}
+	zones[1].signal = 72.0;
+	model = (struct psd_bacserve_model){ .device = 10, .name = "psensd", .vendor_id = 65535, .writes = 1,
+		                             .database_revision = 1, .nzone = 6, .zone = zones, .apply = apply };
+	applied = 0;
+	return 0;
+}
+
+/* send BVLL+NPDU+APDU; the reply's APDU (after 81 0A len 01 00) into *a */
+static size_t ask(const uint8_t *apdu, size_t n, uint8_t fn, uint8_t *out, const uint8_t **a)
+{
+	uint8_t in[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	in[0] = 0x81, in[1] = fn, in[2] = (uint8_t)((n + 6) >> 8), in[3] = (uint8_t)(n + 6), in[4] = 1, in[5] = 0x04;
+	memcpy(in + 6, apdu, n);
+	psd_bacserve_handle(&model, in, n + 6, peer, 0, out, &r);
+	if (r.to == PSD_BACSERVE_NONE)
+		return 0;
+	assert_int_equal(r.to, PSD_BACSERVE_TO_SENDER);
+	assert_true(r.len >= 6);
+	assert_int_equal(out[0], 0x81);
+	assert_int_equal(out[1], 0x0a);
+	assert_int_equal((size_t)out[2] << 8 | out[3], r.len);
+	assert_int_equal(out[4], 1);
+	assert_int_equal(out[5], 0);
+	*a = out + 6;
+	return r.len - 6;
+}
+
+#define ASK(fn, want_len, ...)                                                  \
+	do {                                                                    \
+		static const uint8_t want[] = { __VA_ARGS__ };                  \
+		size_t n = ask(req, sizeof req, fn, out, &a);                   \
+		assert_int_equal(n, want_len);                                  \
+		if (want_len)                                                   \
+			assert_memory_equal(a, want, sizeof want);              \
+	} while (0)
+
+static void who_is_with_a_range(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	(void)state;
+	{
+		/* Who-Is 10..10, broadcast: I-Am (device,10), 1476, no-segmentation (3), vendor 65535 */
+		static const uint8_t req[] = { 0x10, 0x08, 0x09, 0x0a, 0x19, 0x0a };
+		ASK(0x0b, 15, 0x10, 0x00, 0xc4, 0x02, 0x00, 0x00, 0x0a, 0x22, 0x05, 0xc4, 0x91, 0x03, 0x22, 0xff, 0xff);
+	}
+	{
+		static const uint8_t req[] = { 0x10, 0x08, 0x09, 0x0b, 0x1a, 0x01, 0x00 };   /* 11..256 */
+		ASK(0x0b, 0, 0);
+	}
+	{
+		static const uint8_t req[] = { 0x10, 0x08 };   /* no range */
+		ASK(0x0b, 15, 0x10, 0x00);
+	}
+	{
+		static const uint8_t req[] = { 0x10, 0x08, 0x09, 0x00 };   /* a low limit alone: malformed, silence */
+		ASK(0x0b, 0, 0);
+	}
+}
+
+static void who_has_by_identifier_and_by_name(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	(void)state;
+	{
+		/* Who-Has (7) [2] (analog-input, 5): I-Have (1), (device, 10),
+		 * (analog-input, 5), "z1 sensor signal" (16 characters + set 0) */
+		static const uint8_t req[] = { 0x10, 0x07, 0x2c, 0x00, 0x00, 0x00, 0x05 };
+		ASK(0x0b, 31, 0x10, 0x01, 0xc4, 0x02, 0x00, 0x00, 0x0a, 0xc4, 0x00, 0x00, 0x00, 0x05, 0x75, 0x11, 0x00,
+		    'z', '1', ' ', 's', 'e', 'n', 's', 'o', 'r', ' ', 's', 'i', 'g', 'n', 'a', 'l');
+	}
+	{
+		/* by name, in a range 5..15: [0] 5 [1] 15 [3] "z2 light level" */
+		static const uint8_t req[] = { 0x10, 0x07, 0x09, 0x05, 0x19, 0x0f, 0x3d, 0x0f, 0x00, 'z', '2', ' ',
+			                       'l', 'i', 'g', 'h', 't', ' ', 'l', 'e', 'v', 'e', 'l' };
+		/* (lighting-output, 3) */
+		ASK(0x0b, 29, 0x10, 0x01, 0xc4, 0x02, 0x00, 0x00, 0x0a, 0xc4, 0x0d, 0x80, 0x00, 0x03);
+	}
+	{
+		/* a range without this device, an object psensd lacks, a name
+		 * psensd lacks: silence */
+		static const uint8_t r1[] = { 0x10, 0x07, 0x09, 0x0b, 0x19, 0x0f, 0x2c, 0x00, 0x00, 0x00, 0x05 };
+		static const uint8_t r2[] = { 0x10, 0x07, 0x2c, 0x00, 0x80, 0x00, 0x01 };
+		static const uint8_t r3[] = { 0x10, 0x07, 0x3d, 0x03, 0x00, 'z', '9' };
+		assert_int_equal(ask(r1, sizeof r1, 0x0b, out, &a), 0);
+		assert_int_equal(ask(r2, sizeof r2, 0x0b, out, &a), 0);
+		assert_int_equal(ask(r3, sizeof r3, 0x0b, out, &a), 0);
+	}
+}
+
+static void read_property_and_its_errors(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	(void)state;
+	{
+		/* confirmed, max APDU 1476 (5), invoke 1, readProperty (12):
+		 * [0] (analog-input, 5) [1] present-value (85) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x01, 0x0c, 0x0c, 0x00, 0x00, 0x00, 0x05, 0x19, 0x55 };
+		/* ComplexACK, the same object and property, [3] REAL 72.0 [3] */
+		ASK(0x0a, 17, 0x30, 0x01, 0x0c, 0x0c, 0x00, 0x00, 0x00, 0x05, 0x19, 0x55, 0x3e, 0x44, 0x42, 0x90, 0x00,
+		    0x00, 0x3f);
+	}
+	{
+		/* Device 10 Object_Name: "psensd" */
+		static const uint8_t req[] = { 0x00, 0x05, 0x02, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4d };
+		ASK(0x0a, 21, 0x30, 0x02, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4d, 0x3e, 0x75, 0x07, 0x00, 'p',
+		    's', 'e', 'n', 's', 'd', 0x3f);
+	}
+	{
+		/* (analog-input, 99): Error, class object (1), unknown-object (31) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x03, 0x0c, 0x0c, 0x00, 0x00, 0x00, 0x63, 0x19, 0x55 };
+		ASK(0x0a, 7, 0x50, 0x03, 0x0c, 0x91, 0x01, 0x91, 0x1f);
+	}
+	{
+		/* Device 10 property 9999: class property (2), unknown-property (32) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x04, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x1a, 0x27, 0x0f };
+		ASK(0x0a, 7, 0x50, 0x04, 0x0c, 0x91, 0x02, 0x91, 0x20);
+	}
+	{
+		/* Object_Name [2] 1: property-is-not-an-array (50) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x05, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4d, 0x29, 0x01 };
+		ASK(0x0a, 7, 0x50, 0x05, 0x0c, 0x91, 0x02, 0x91, 0x32);
+	}
+	{
+		/* Object_List [2] 0: the count, 1 + 6 x 4 = 25 */
+		static const uint8_t req[] = { 0x00, 0x05, 0x06, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4c, 0x29, 0x00 };
+		ASK(0x0a, 16, 0x30, 0x06, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4c, 0x29, 0x00, 0x3e, 0x21, 0x19, 0x3f);
+	}
+	{
+		/* Object_List [2] 26: invalid-array-index (42) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x07, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4c, 0x29, 0x1a };
+		ASK(0x0a, 7, 0x50, 0x07, 0x0c, 0x91, 0x02, 0x91, 0x2a);
+	}
+	{
+		/* the property identifier missing: Reject missing-required-parameter (5) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x08, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a };
+		ASK(0x0a, 3, 0x60, 0x08, 0x05);
+	}
+	{
+		/* an application tag where [0] belongs: Reject invalid-tag (4) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x09, 0x0c, 0xc4, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4d };
+		ASK(0x0a, 3, 0x60, 0x09, 0x04);
+	}
+	{
+		/* a trailing tag: Reject too-many-arguments (7) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0a, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4d, 0x39, 0x01 };
+		ASK(0x0a, 3, 0x60, 0x0a, 0x07);
+	}
+	{
+		/* atomicReadFile (6), not supported: Reject unrecognized-service (9) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0b, 0x06, 0x09, 0x01 };
+		ASK(0x0a, 3, 0x60, 0x0b, 0x09);
+	}
+	{
+		/* a segmented request (SEG bit 0x08, sequence 0, window 1): Abort
+		 * from the server (0x71), segmentation-not-supported (4) */
+		static const uint8_t req[] = { 0x0c, 0x05, 0x0c, 0x00, 0x01, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a };
+		ASK(0x0a, 3, 0x71, 0x0c, 0x04);
+	}
+	{
+		/* a confirmed request sent to everyone: no answer */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0d, 0x0c, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x19, 0x4d };
+		ASK(0x0b, 0, 0);
+	}
+}
+
+static void read_property_multiple(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	(void)state;
+	{
+		/* (analog-input, 16): [1]( present-value, reliability ): the value and
+		 * [5] property unknown-property (reliability 103 is not served) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x01, 0x0e, 0x0c, 0x00, 0x00, 0x00, 0x10,
+			                       0x1e, 0x09, 0x55, 0x09, 0x67, 0x1f };
+		zones[5].est_lux = 72.0;
+		ASK(0x0a, 27, 0x30, 0x01, 0x0e, 0x0c, 0x00, 0x00, 0x00, 0x10, 0x1e, 0x29, 0x55, 0x4e, 0x44, 0x42, 0x90,
+		    0x00, 0x00, 0x4f, 0x29, 0x67, 0x5e, 0x91, 0x02, 0x91, 0x20, 0x5f, 0x1f);
+	}
+	{
+		/* (analog-value, 1) present-value: [5] object unknown-object */
+		static const uint8_t req[] = { 0x00, 0x05, 0x02, 0x0e, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x1e, 0x09, 0x55, 0x1f };
+		ASK(0x0a, 18, 0x30, 0x02, 0x0e, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x1e, 0x29, 0x55, 0x5e, 0x91, 0x01, 0x91,
+		    0x1f, 0x5f, 0x1f);
+	}
+	{
+		/* ALL on the Device with max APDU 50 (code 0): the answer would be
+		 * longer: Abort segmentation-not-supported */
+		static const uint8_t req[] = { 0x00, 0x00, 0x03, 0x0e, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x1e, 0x09, 0x08, 0x1f };
+		ASK(0x0a, 3, 0x71, 0x03, 0x04);
+	}
+	{
+		/* an empty list of properties: Reject missing-required-parameter */
+		static const uint8_t req[] = { 0x00, 0x05, 0x04, 0x0e, 0x0c, 0x02, 0x00, 0x00, 0x0a, 0x1e, 0x1f };
+		ASK(0x0a, 3, 0x60, 0x04, 0x05);
+	}
+}
+
+/* REQUIRED returns the required ones only: (analog-input, 1) has 10 */
+static void rpm_required_and_optional(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	struct psd_bactag t;
+	(void)state;
+	for (int which = 0; which < 2; which++) {
+		uint8_t req[] = { 0x00, 0x05, 0x01, 0x0e, 0x0c, 0x00, 0x00, 0x00, 0x01, 0x1e, 0x09, which ? 0x50 : 0x69, 0x1f };
+		size_t n = ask(req, sizeof req, 0x0a, out, &a), pos = 3, props = 0;
+		int depth = 0;
+		assert_true(n > 3);
+		while (pos < n) {
+			assert_int_equal(psd_bactag_read(a, n, &pos, &t), 0);
+			if (t.opening)
+				depth++;
+			else if (t.closing)
+				depth--;
+			else if (depth == 1 && t.context && t.number == 2)
+				props++;
+		}
+		/* required: object-identifier, -name, -type, present-value, status-flags,
+		 * event-state, out-of-service, units, property-list, and cov-increment
+		 * (an object that reports COV); optional: description */
+		assert_int_equal(props, which ? 1 : 10);
+	}
+}
+
+static void write_property_with_priorities(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	(void)state;
+	{
+		/* writeProperty (15) (lighting-output, 1) present-value [3] REAL 50.0 [3] [4] 8: SimpleACK */
+		static const uint8_t req[] = { 0x00, 0x05, 0x07, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x42, 0x48, 0x00, 0x00, 0x3f, 0x49, 0x08 };
+		ASK(0x0a, 3, 0x20, 0x07, 0x0f);
+		assert_true(zones[0].prio[7] == 50.0);
+		assert_int_equal(applied, 1);
+	}
+	{
+		/* NULL at 8: relinquished */
+		static const uint8_t req[] = { 0x00, 0x05, 0x08, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x00, 0x3f, 0x49, 0x08 };
+		ASK(0x0a, 3, 0x20, 0x08, 0x0f);
+		assert_true(isnan(zones[0].prio[7]));
+	}
+	{
+		/* 101 %: value-out-of-range (37) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x09, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x42, 0xca, 0x00, 0x00, 0x3f };
+		ASK(0x0a, 7, 0x50, 0x09, 0x0f, 0x91, 0x02, 0x91, 0x25);
+	}
+	{
+		/* an unsigned where a REAL belongs: invalid-data-type (9) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0a, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x21, 0x32, 0x3f };
+		ASK(0x0a, 7, 0x50, 0x0a, 0x0f, 0x91, 0x02, 0x91, 0x09);
+	}
+	{
+		/* priority 6 (minimum on/off's): write-access-denied (40) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0b, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x42, 0x48, 0x00, 0x00, 0x3f, 0x49, 0x06 };
+		ASK(0x0a, 7, 0x50, 0x0b, 0x0f, 0x91, 0x02, 0x91, 0x28);
+	}
+	{
+		/* priority 17: class services (5), parameter-out-of-range (80) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0c, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x42, 0x48, 0x00, 0x00, 0x3f, 0x49, 0x11 };
+		ASK(0x0a, 7, 0x50, 0x0c, 0x0f, 0x91, 0x05, 0x91, 0x50);
+	}
+	{
+		/* Object_Name is not writable: write-access-denied */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0d, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x4d,
+			                       0x3e, 0x75, 0x02, 0x00, 'x', 0x3f };
+		ASK(0x0a, 7, 0x50, 0x0d, 0x0f, 0x91, 0x02, 0x91, 0x28);
+	}
+	model.writes = 0;
+	{
+		/* writes off: write-access-denied, nothing applied */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0e, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x42, 0x48, 0x00, 0x00, 0x3f, 0x49, 0x08 };
+		applied = 0;
+		ASK(0x0a, 7, 0x50, 0x0e, 0x0f, 0x91, 0x02, 0x91, 0x28);
+		assert_int_equal(applied, 0);
+		assert_true(isnan(zones[0].prio[7]));
+	}
+}
+
+static void bvll_and_npdu(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	(void)state;
+	{
+		/* Register-Foreign-Device (0x05), TTL 60: BVLC-Result NAK 0x0030 */
+		static const uint8_t in[] = { 0x81, 0x05, 0x00, 0x06, 0x00, 0x3c };
+		static const uint8_t want[] = { 0x81, 0x00, 0x00, 0x06, 0x00, 0x30 };
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
+		assert_int_equal(r.len, 6);
+		assert_memory_equal(out, want, 6);
+	}
+	{
+		/* Read-Broadcast-Distribution-Table (0x02): NAK 0x0020 */
+		static const uint8_t in[] = { 0x81, 0x02, 0x00, 0x04 };
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
+		assert_int_equal(r.len, 6);
+		assert_int_equal(out[5], 0x20);
+	}
+	{
+		/* a BVLC-Result to psensd, a wrong length, a wrong type: silence */
+		static const uint8_t res[] = { 0x81, 0x00, 0x00, 0x06, 0x00, 0x00 };
+		static const uint8_t len[] = { 0x81, 0x0a, 0x00, 0x09, 0x01, 0x00, 0x10, 0x08 };
+		static const uint8_t typ[] = { 0x82, 0x0a, 0x00, 0x08, 0x01, 0x00, 0x10, 0x08 };
+		psd_bacserve_handle(&model, res, sizeof res, peer, 0, out, &r);
+		assert_int_equal(r.len, 0);
+		psd_bacserve_handle(&model, len, sizeof len, peer, 0, out, &r);
+		assert_int_equal(r.len, 0);
+		psd_bacserve_handle(&model, typ, sizeof typ, peer, 0, out, &r);
+		assert_int_equal(r.len, 0);
+	}
+	{
+		/* a network-layer message (control 0x80, Who-Is-Router-To-Network): ignored */
+		static const uint8_t in[] = { 0x81, 0x0b, 0x00, 0x07, 0x01, 0x80, 0x00 };
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
+		assert_int_equal(r.len, 0);
+	}
+	{
+		/* for network 5 (DNET 5, DLEN 0, hop 255): psensd routes nothing */
+		static const uint8_t in[] = { 0x81, 0x0a, 0x00, 0x0c, 0x01, 0x20, 0x00, 0x05, 0x00, 0xff, 0x10, 0x08 };
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
+		assert_int_equal(r.len, 0);
+	}
+	{
+		/* a global broadcast Who-Is (DNET 0xFFFF) from network 7, MAC 0x21
+		 * (SNET 7, SLEN 1): the I-Am goes back to DNET 7, DADR 0x21, hop 255 */
+		static const uint8_t in[] = { 0x81, 0x0b, 0x00, 0x10, 0x01, 0x28, 0xff, 0xff, 0x00,
+			                      0x00, 0x07, 0x01, 0x21, 0xff, 0x10, 0x08 };
+		static const uint8_t want[] = { 0x81, 0x0a, 0x00, 0x1a, 0x01, 0x20, 0x00, 0x07, 0x01, 0x21, 0xff, 0x10, 0x00 };
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
+		assert_int_equal(r.len, 0x1a);
+		assert_memory_equal(out, want, sizeof want);
+	}
+	{
+		/* Forwarded-NPDU from 192.168.1.9:47808: the I-Am to that address */
+		static const uint8_t in[] = { 0x81, 0x04, 0x00, 0x0e, 192, 168, 1, 9, 0xba, 0xc0, 0x01, 0x00, 0x10, 0x08 };
+		static const uint8_t addr[] = { 192, 168, 1, 9, 0xba, 0xc0 };
+		psd_bacserve_handle(&model, in, sizeof in, peer, 0, out, &r);
+		assert_int_equal(r.to, PSD_BACSERVE_TO_ADDRESS);
+		assert_memory_equal(r.addr, addr, 6);
+		assert_int_equal(r.len, 21);
+	}
+}
+
+static void subscribe_cov_and_notifications(void **state)
+{
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	const uint8_t *a;
+	struct psd_bacserve_reply r;
+	(void)state;
+	model.now = 1000.4;   /* 1000.4 + 60 - 1000.4 is 60.000000000000114: still 60 s left */
+	{
+		/* subscribeCOV (5): [0] process 18, [1] (lighting-output, 1),
+		 * [2] FALSE (unconfirmed), [3] lifetime 60 s: SimpleACK */
+		static const uint8_t req[] = { 0x00, 0x05, 0x0f, 0x05, 0x09, 0x12, 0x1c, 0x0d, 0x80, 0x00, 0x01,
+			                       0x29, 0x00, 0x39, 0x3c };
+		ASK(0x0a, 3, 0x20, 0x0f, 0x05);
+	}
+	{
+		/* the first notification at once: unconfirmedCOVNotification (2),
+		 * [0] 18, [1] (device, 10), [2] (lighting-output, 1), [3] 60 s left,
+		 * [4]( [0] present-value [2]( REAL 10.0 ) [0] status-flags [2]( B'0000' ) ) */
+		static const uint8_t want[] = { 0x81, 0x0a, 0x00, 0x28, 0x01, 0x00, 0x10, 0x02, 0x09, 0x12,
+			                        0x1c, 0x02, 0x00, 0x00, 0x0a, 0x2c, 0x0d, 0x80, 0x00, 0x01,
+			                        0x39, 0x3c, 0x4e, 0x09, 0x55, 0x2e, 0x44, 0x41, 0x20, 0x00,
+			                        0x00, 0x2f, 0x09, 0x6f, 0x2e, 0x82, 0x04, 0x00, 0x2f, 0x4f };
+		assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+		assert_int_equal(r.to, PSD_BACSERVE_TO_ADDRESS);
+		assert_memory_equal(r.addr, peer, 6);
+		assert_int_equal(r.len, sizeof want);
+		assert_memory_equal(out, want, sizeof want);
+	}
+	/* nothing moved: nothing; 0.5 % (under the 1 % increment): nothing */
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	zones[0].level = 10.5;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	/* 1.5 % from the last sent: a notification with 11.5 (0x41380000) */
+	zones[0].level = 11.5;
+	model.now = 1030.9;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+	assert_int_equal(out[20], 0x39);
+	assert_int_equal(out[21], 30);   /* 29.5 s left, rounded up */
+	assert_int_equal(out[27], 0x41);
+	assert_int_equal(out[28], 0x38);
+	/* the fault flag changes: a notification even without a level change */
+	zones[0].fault = 1;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+	assert_int_equal(out[r.len - 3], 0x40);
+	/* the lifetime ends: the subscription goes */
+	zones[0].level = 50;
+	model.now = 1060.4;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	{
+		/* again without a lifetime, then cancelled ([2] and [3] left out) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x10, 0x05, 0x09, 0x12, 0x1c, 0x0d, 0x80, 0x00, 0x01, 0x29, 0x01 };
+		ASK(0x0a, 3, 0x20, 0x10, 0x05);
+	}
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 1);
+	assert_int_equal(out[6], 0x00);   /* confirmed: a ConfirmedRequest, confirmedCOVNotification (1) */
+	assert_int_equal(out[9], 0x01);
+	{
+		static const uint8_t req[] = { 0x00, 0x05, 0x11, 0x05, 0x09, 0x12, 0x1c, 0x0d, 0x80, 0x00, 0x01 };
+		ASK(0x0a, 3, 0x20, 0x11, 0x05);
+	}
+	zones[0].level = 90;
+	assert_int_equal(psd_bacserve_cov(&model, out, &r), 0);
+	{
+		/* the Device: object/optional-functionality-not-supported (45) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x12, 0x05, 0x09, 0x12, 0x1c, 0x02, 0x00, 0x00, 0x0a, 0x29, 0x00 };
+		ASK(0x0a, 7, 0x50, 0x12, 0x05, 0x91, 0x01, 0x91, 0x2d);
+	}
+	{
+		/* (analog-value, 1): object/unknown-object */
+		static const uint8_t req[] = { 0x00, 0x05, 0x13, 0x05, 0x09, 0x12, 0x1c, 0x00, 0x80, 0x00, 0x01, 0x29, 0x00 };
+		ASK(0x0a, 7, 0x50, 0x13, 0x05, 0x91, 0x01, 0x91, 0x1f);
+	}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(encodings_follow_clause_20_2),
+		cmocka_unit_test(decoding_reads_tags_and_stops_at_the_end),
+		cmocka_unit_test_setup(who_is_with_a_range, setup),
+		cmocka_unit_test_setup(who_has_by_identifier_and_by_name, setup),
+		cmocka_unit_test_setup(read_property_and_its_errors, setup),
+		cmocka_unit_test_setup(read_property_multiple, setup),
+		cmocka_unit_test_setup(rpm_required_and_optional, setup),
+		cmocka_unit_test_setup(write_property_with_priorities, setup),
+		cmocka_unit_test_setup(bvll_and_npdu, setup),
+		cmocka_unit_test_setup(subscribe_cov_and_notifications, setup),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
