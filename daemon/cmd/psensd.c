@@ -97,10 +97,15 @@ static int year_report(struct psd_daemon *d, const char *png)
 	}
 	for (size_t i = 0; i < e->nzone; i++) {
 		const struct psd_zone *z = &e->zone[i];
-		struct psd_annual_opt o = { z->zc->period, e->cf->occ_from, e->cf->occ_to, 1, task, level };
-		char from[8], to[8];
+		struct psd_annual_opt o = { .period = z->zc->period, .occ_start = e->cf->occ_from,
+		                            .occ_end = e->cf->occ_to, .dated = 1, .task_img = task, .level_img = level };
+		char from[8], to[8], devices[256], err[512];
 		struct psd_annual a, b;
 		struct psd_control ctl = z->ctl;
+		if (psd_annual_devices(e->cf, z->zc, &o, devices, sizeof devices, err, sizeof err) != 0) {
+			psd_log_errx("zone %s: %s", z->zc->name, err);
+			return 1;
+		}
 		if (psd_annual_run(&e->res, &ctl, &o, &a) != 0) {
 			psd_log_errx("zone %s: the year cannot run (no electric condition?)", z->zc->name);
 			return 1;
@@ -115,8 +120,13 @@ static int year_report(struct psd_daemon *d, const char *png)
 		       "%.0f h\n", a.steps, a.seconds, 1e9 * a.seconds / a.steps, from, to, a.occ_h);
 		if (a.days != 365)
 			printf("  %d days: the weather file's year has February 29\n", a.days);
-		printf("  lighting energy %.0f full-output hours (%.1f %% of full), savings %.1f %%\n",
-		       a.energy_h, 100 * a.energy_h / a.occ_h, 100 * a.savings);
+		printf("  devices: %s\n", devices);
+		printf("  light output %.0f full-output hours (%.1f %% of full)\n", a.light_h, 100 * a.light_h / a.occ_h);
+		printf("  lighting energy %.0f full-power hours (%.1f %% of full), savings %.1f %%", a.energy_h,
+		       100 * a.energy_h / a.occ_h, 100 * a.savings);
+		if (o.watts > 0)
+			printf("; %.1f kWh at %g W", a.kwh, o.watts);
+		printf("\n");
 		printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
 		       "effectiveness %.1f %%\n", 100 * a.ideal_savings, 100 * a.effectiveness);
 		printf("  occupied hours below 90 %% of target: %.1f h (%.2f %%); over-dimmed %.1f h; "
@@ -139,7 +149,7 @@ static int year_report(struct psd_daemon *d, const char *png)
 			       k->overdim_h);
 		}
 		if (png && i == 0) {
-			char err[512], title[256];
+			char title[256];
 			int rc;
 			const char *sb = e->res.scene ? strrchr(e->res.scene, '/') : NULL;
 			const char *wb = strrchr(e->res.weather, '/');
