@@ -52,6 +52,18 @@ static double law(void *ctx, double t, double volts)
 	}
 }
 
+double psd_annual_weather_step(const struct ps_results *r)
+{
+	double step = 0;
+	for (size_t i = 1; r->have_year && i < r->year.n; i++) {
+		const struct ps_year_hour *a = &r->year.h[i - 1], *b = &r->year.h[i];
+		double d = 3600.0 * (b->hour - a->hour);
+		if (a->month == b->month && a->day == b->day && d > 0.5 && (step == 0 || d < step))
+			step = d;
+	}
+	return step;
+}
+
 double psd_annual_power(const struct psd_annual_opt *o, double y)
 {
 	double lo = o->light_min, pm = o->power_at_min;
@@ -162,9 +174,11 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 				.month = u.m + 1, .mday = d, .gain = u.c.sensor_gain, .period = o->period,
 				.level0 = u.c.level, .ballast = o->ballast, .law = law, .seen = seen, .ctx = &u,
 			};
+			double before = a->light_h;
 			u.doy++;
 			if (psd_roomsetup_play_day(r, &q) != 0)
 				return -1;
+			a->day_light_h[u.doy - 1] = a->light_h - before;
 		}
 	a->days = u.doy;
 	a->kwh = a->energy_h * o->watts / 1000.0;

@@ -61,6 +61,8 @@ struct psd_annual_month {
 struct psd_annual {
 	double occ_h, light_h, energy_h, ideal_h, below_h, overdim_h, changes;
 	double kwh;                       /* energy_h x watts / 1000 (0 without watts) */
+	double day_light_h[PSD_ANNUAL_MAX_DAYS];   /* light output over each day's occupied
+	                                              hours (day of year from 1 at [0]) */
 	double savings, ideal_savings, effectiveness, changes_per_h;
 	double est_mean[3], est_rms[3];   /* [0] mean ratio, [1] dated (typical class),
 	                                     [2] dated with the class from a rooftop
@@ -91,6 +93,11 @@ struct psd_annual_opt {
 	 * d of the year, from 1, in column d - 1), or NULL */
 	float *task_img, *level_img;
 };
+
+/* The weather's step in the results' year, s: the shortest positive gap
+ * between two steps with light on one day (3600 for an hourly file); 0
+ * when no day has two. */
+double psd_annual_weather_step(const struct ps_results *r);
 
 /* Input power (fraction of full) at light output y through o's curve. */
 double psd_annual_power(const struct psd_annual_opt *o, double y);
