@@ -4,8 +4,8 @@
  * against MF, for an upward cosine sensor under an open sky (exact
  * coefficient pictures, ps_dcpic, 128 x 128) and the example office's
  * rfluxmtx pictures (MF 1, read from disk), with the example's year
- * (config/example/ofb/weather/sf-synthetic.wea: synthetic, see its
- * README).  Goal: the year's series for one zone at MF 4 in at
+ * (config/example/ofb/weather/sf-tmy3.wea: San Francisco's TMY3 year,
+ * NREL; see its README).  Goal: the year's series for one zone at MF 4 in at
  * most 1 s once the coefficients are integrated.  The sensor and task rows
  * share the sky vectors, so a second view costs only its dot products. */
 #include <math.h>
@@ -45,7 +45,7 @@ int main(void)
 	struct ps_sky_opt o;
 	struct ps_err e;
 	char path[4096];
-	top_path(path, sizeof path, "config/example/ofb/weather/sf-synthetic.wea");
+	top_path(path, sizeof path, "config/example/ofb/weather/sf-tmy3.wea");
 	if (ps_weather_read(&w, path, 0, &e) != 0 || ps_sensor_builtin(&cos, PS_SENS_COSINE, &e) != 0) {
 		fprintf(stderr, "bench_year: %s\n", e.msg);
 		return 1;
