@@ -10,7 +10,8 @@
 # 3600 s 2.9 %: the daemon's first step and its law's idea of the level at
 # midnight differ a little).  A lamp lag of 1e6 s leaves the light near full
 # (over 95 % of full: the output never comes down from full at midnight),
-# and lag 0 well below.  The same day at 10-minute steps (the TMY3 hours
+# and lag 0 well below.  The power curve ([simulate] power_at_min,
+# lamp_watts) is named and gives kWh.  The same day at 10-minute steps (the TMY3 hours
 # interpolated to 10 minutes) is played at its own steps, and the hourly
 # file's linear interpolation moves the day's task daylight 08:00-18:00 by
 # less than 2 %.
@@ -54,6 +55,19 @@ conf hourly 0 0 > "$TMP/instant.conf"
 "$BIN/psensd" -f "$TMP/instant.conf" -Y > "$TMP/instant.out" 2>&1
 i=$(pct "$TMP/instant.out")
 check "lag 0: the light follows the law ($i % of full)" awk -v f="$i" 'BEGIN { exit !(f > 30 && f < 50) }'
+# the power curve from [simulate]: 30 % of full power at the ballast's
+# 10 % light, 40 W: the energy in full-power hours and kWh = that x 0.04
+sed 's/^\[simulate\]/[simulate]\npower_at_min = 0.3\nlamp_watts = 40/' "$TMP/instant.conf" > "$TMP/power.conf"
+"$BIN/psensd" -f "$TMP/power.conf" -Y > "$TMP/power.out" 2>&1
+check "the curve is named" grep -q "; power 0.3 of full at 0.1 light, linear to full" "$TMP/power.out"
+ph=$(sed -n 's/^  lighting energy \([0-9.]*\) full-power hours.*/\1/p' "$TMP/power.out")
+kwh=$(sed -n 's/^  lighting energy .*; \([0-9.]*\) kWh at 40 W$/\1/p' "$TMP/power.out")
+lh=$(sed -n 's/^  light output \([0-9.]*\) full-output hours.*/\1/p' "$TMP/power.out")
+check "more power than light at a dimmed level ($ph > $lh full-output hours)" awk -v p="$ph" -v l="$lh" 'BEGIN { exit !(p > l) }'
+check "$kwh kWh = $ph h x 40 W" awk -v k="$kwh" -v p="$ph" 'BEGIN { d = k - p * 0.04; exit !(d < 0.06 && d > -0.06) }'
+sed 's/^\[simulate\]/[simulate]\npower_at_min = -0.5/' "$TMP/instant.conf" > "$TMP/badpower.conf"
+"$BIN/psensd" -f "$TMP/badpower.conf" -n > "$TMP/badpower.out" 2>&1
+check "power_at_min below 0 is refused with its line" grep -q "power_at_min: a fraction 0 to 1" "$TMP/badpower.out"
 # the sub-hourly day at its own steps
 conf ten 600 0.01 > "$TMP/ten.conf"
 "$BIN/psensd" -f "$TMP/ten.conf" -Y > "$TMP/ten.out" 2>&1
