@@ -7,6 +7,8 @@
 #include <time.h>
 
 #include "canvas.h"
+#include "config.h"
+#include "dali.h"
 #include "dated.h"
 #include "falsecolor.h"
 #include "roomsetup.h"
@@ -43,10 +45,38 @@ static double law(void *ctx, double t, double volts)
 	}
 	u->dated = psd_dated_ratio(u->r, u->m + 1, t, NULL);
 	u->c.daylight_ratio = u->o->dated && u->dated > 0 ? u->dated : u->mean_ratio;
-	return psd_control_step(&u->c, volts, t);
+	{
+		double level = psd_control_step(&u->c, volts, t);
+		/* a DALI output sends the nearest arc power level */
+		return u->o->dali && level > 0 ? ps_dali_level_to_fraction(ps_dali_fraction_to_level(level)) : level;
+	}
 }
 
-static void seen(void *ctx, double t, double level, double truth, double dl, double roof)
+double psd_annual_weather_step(const struct ps_results *r)
+{
+	double step = 0;
+	for (size_t i = 1; r->have_year && i < r->year.n; i++) {
+		const struct ps_year_hour *a = &r->year.h[i - 1], *b = &r->year.h[i];
+		double d = 3600.0 * (b->hour - a->hour);
+		if (a->month == b->month && a->day == b->day && d > 0.5 && (step == 0 || d < step))
+			step = d;
+	}
+	return step;
+}
+
+double psd_annual_power(const struct psd_annual_opt *o, double y)
+{
+	double lo = o->light_min, pm = o->power_at_min;
+	if (!(y > 0))
+		return 0.0;
+	if (pm < 0 || !(lo > 0) || lo >= 1)
+		return y;
+	if (y < lo)
+		return y * pm / lo;
+	return pm + (1 - pm) * (y - lo) / (1 - lo);
+}
+
+static void seen(void *ctx, double t, double level, double output, double truth, double dl, double roof)
 {
 	struct run *u = ctx;
 	const struct psd_annual_opt *o = u->o;
@@ -65,12 +95,15 @@ static void seen(void *ctx, double t, double level, double truth, double dl, dou
 		return;
 	{
 		double h = o->period / 3600.0;
-		double ideal = clamp((c->target_lux - dl) / c->elec_task_lux, c->min_level, 1.0);
+		double ideal = psd_annual_power(o, clamp((c->target_lux - dl) / c->elec_task_lux, c->min_level, 1.0));
+		double power = psd_annual_power(o, output);
 		a->occ_h += h;
-		a->energy_h += level * h;
+		a->light_h += output * h;
+		a->energy_h += power * h;
 		a->ideal_h += ideal * h;
 		a->month[m].occ_h += h;
-		a->month[m].energy_h += level * h;
+		a->month[m].light_h += output * h;
+		a->month[m].energy_h += power * h;
 		a->month[m].ideal_h += ideal * h;
 		if (truth < 0.9 * c->target_lux) {
 			a->below_h += h;
@@ -139,13 +172,16 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 		for (int d = 1; d <= mdays[u.m] + (u.m == 1 && feb29); d++) {
 			struct psd_roomsetup_play q = {
 				.month = u.m + 1, .mday = d, .gain = u.c.sensor_gain, .period = o->period,
-				.level0 = u.c.level, .law = law, .seen = seen, .ctx = &u,
+				.level0 = u.c.level, .ballast = o->ballast, .law = law, .seen = seen, .ctx = &u,
 			};
+			double before = a->light_h;
 			u.doy++;
 			if (psd_roomsetup_play_day(r, &q) != 0)
 				return -1;
+			a->day_light_h[u.doy - 1] = a->light_h - before;
 		}
 	a->days = u.doy;
+	a->kwh = a->energy_h * o->watts / 1000.0;
 	a->savings = a->occ_h > 0 ? 1 - a->energy_h / a->occ_h : NAN;
 	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
 	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
@@ -156,6 +192,45 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 		a->est_rms[k] = a->est_n ? 100 * sqrt(ps_sum_get(&u.e2[k]) / a->est_n) : NAN;
 	}
 	a->seconds = psd_time_mono() - t0;
+	return 0;
+}
+
+int psd_annual_devices(const struct psd_config *cf, const struct psd_zone_conf *zc, struct psd_annual_opt *o,
+                       char *what, size_t whatlen, char *err, size_t errlen)
+{
+	struct psd_roomsetup_ballast *b = &o->ballast;
+	const struct psd_device_conf *dev = zc->ndim > 0 ? &cf->dev[cf->pt[zc->dim[0]].device] : NULL;
+	const char *name = dev && dev->drv ? dev->drv->name : "";
+	size_t len = 0;
+	memset(b, 0, sizeof *b);
+	o->dali = 0;
+	if (!strcmp(name, "loopback")) {
+		struct ps_opts_reader rd = { &dev->opts, dev->drv->options, PS_OPT_DEVICE, err, errlen, NULL };
+		int off = 1;
+		if (ps_opts_double(&rd, "fade_rate", &b->fade_rate) || ps_opts_double(&rd, "min_level", &b->min_level) ||
+		    ps_opts_double(&rd, "lag_tau", &b->lag_tau) || ps_opts_choice(&rd, "off_below_min", &off))
+			return -1;
+		b->off_below_min = off;
+		len = (size_t)snprintf(what, whatlen, "the loopback room's ballast: fade %g/s, minimum %g (%s), lamp lag %g s",
+		                       b->fade_rate, b->min_level, off ? "off below" : "held", b->lag_tau);
+	} else if (!strncmp(name, "dali", 4)) {
+		o->dali = 1;
+		b->min_level = ps_dali_level_to_fraction(1);
+		b->off_below_min = 0;
+		len = (size_t)snprintf(what, whatlen, "DALI: the logarithmic arc power levels, instant (fade not modelled)");
+	} else {
+		len = (size_t)snprintf(what, whatlen, "an instant ballast (%s)", *name ? name : "no dim point");
+	}
+	o->light_min = b->min_level;
+	o->power_at_min = cf->power_at_min;
+	o->watts = cf->lamp_watts;
+	if (len < whatlen) {
+		if (o->power_at_min < 0 || !(o->light_min > 0))
+			snprintf(what + len, whatlen - len, "; power proportional to light");
+		else
+			snprintf(what + len, whatlen - len, "; power %.3g of full at %.3g light, linear to full", o->power_at_min,
+			         o->light_min);
+	}
 	return 0;
 }
 

@@ -3,18 +3,27 @@
  * playing every day of the results' year (roomsetup.h, psd_roomsetup_from_year),
  * at the control period, directly (no devices, no database, no event loop:
  * the room model and the law are the same ones the daemon runs, so the
- * year's 525,600 steps at 60 s take seconds).  Sensor noise is off and the
- * ballast follows commands at once.  The lights are off outside the
+ * year's 525,600 steps at 60 s take seconds).  Sensor noise is off; the
+ * ballast is the zone's own model (psd_annual_devices): the loopback room's
+ * fade rate, minimum level and lamp lag, integrated exactly over each step,
+ * and a DALI output's commands on the logarithmic arc power levels.  The
+ * room starts each day at midnight as the loopback room does (full output,
+ * then commanded to the night's level).  The lights are off outside the
  * occupied hours (as a vacancy sensor leaves them) and the law runs inside
  * them, from off at arrival.  Every date of the weather file's year:
  * 366 days when it has February 29 (a leap year), else 365.
  *
  * Figures over the occupied hours (occ_start to occ_end every day, standard
  * time):
- *   energy          sum of the light output x time (full-output hours);
+ *   light           the lamp's light output integrated over time
+ *                   (full-output hours);
+ *   energy          the input power integrated over time (full-power hours):
+ *                   each step's mean light output through the power curve
+ *                   (psd_annual_power), x lamp watts for kWh;
  *   savings         1 - energy / occupied hours;
  *   ideal photocell DAYSIM's: the output that tops the task's true daylight
- *                   up to the target, min_level to 1, each step; its savings
+ *                   up to the target, min_level to 1, each step, through
+ *                   the same power curve; its savings
  *                   and the law's effectiveness = savings / ideal savings;
  *   below 90 %      hours with the true task lux below 0.9 x target;
  *   over-dimming    hours with the output more than 0.01 below the ideal's
@@ -33,17 +42,27 @@
 #ifndef PSD_ANNUAL_H
 #define PSD_ANNUAL_H
 
+#include <stddef.h>
+
 #include "control.h"
 #include "results.h"
+
+#include "roomsetup.h"
+
+struct psd_config;
+struct psd_zone_conf;
 
 #define PSD_ANNUAL_MAX_DAYS 366
 
 struct psd_annual_month {
-	double occ_h, energy_h, ideal_h, below_h, overdim_h;
+	double occ_h, light_h, energy_h, ideal_h, below_h, overdim_h;
 };
 
 struct psd_annual {
-	double occ_h, energy_h, ideal_h, below_h, overdim_h, changes;
+	double occ_h, light_h, energy_h, ideal_h, below_h, overdim_h, changes;
+	double kwh;                       /* energy_h x watts / 1000 (0 without watts) */
+	double day_light_h[PSD_ANNUAL_MAX_DAYS];   /* light output over each day's occupied
+	                                              hours (day of year from 1 at [0]) */
 	double savings, ideal_savings, effectiveness, changes_per_h;
 	double est_mean[3], est_rms[3];   /* [0] mean ratio, [1] dated (typical class),
 	                                     [2] dated with the class from a rooftop
@@ -61,10 +80,36 @@ struct psd_annual_opt {
 	double period;           /* control period, s */
 	double occ_start, occ_end;   /* occupied hours, s after midnight */
 	int dated;               /* the law uses the dated ratio */
+	/* the devices (psd_annual_devices): the ballast (all zero: instant,
+	 * without a minimum); dali: commands go out on DALI's logarithmic levels */
+	struct psd_roomsetup_ballast ballast;
+	int dali;
+	/* the power curve: input power (fraction of full) against light output y:
+	 * 0 when off; power_at_min + (1 - power_at_min) (y - light_min) /
+	 * (1 - light_min) from light_min to 1; proportional below light_min;
+	 * power_at_min < 0: power proportional to light throughout */
+	double light_min, power_at_min, watts;
 	/* the year as pictures, PSD_ANNUAL_MAX_DAYS x 144 (10-minute rows; day
 	 * d of the year, from 1, in column d - 1), or NULL */
 	float *task_img, *level_img;
 };
+
+/* The weather's step in the results' year, s: the shortest positive gap
+ * between two steps with light on one day (3600 for an hourly file); 0
+ * when no day has two. */
+double psd_annual_weather_step(const struct ps_results *r);
+
+/* Input power (fraction of full) at light output y through o's curve. */
+double psd_annual_power(const struct psd_annual_opt *o, double y);
+
+/* The zone's devices for the year, into o: the first dim point's
+ * device, when it is the loopback room, gives its ballast (fade_rate,
+ * min_level, lag_tau, off_below_min, with the driver's defaults); a DALI
+ * device the logarithmic levels; any other an instant ballast.  The power
+ * curve from [simulate] power_at_min and lamp_watts, its light_min the
+ * ballast's min_level.  what: one line saying so.  -1 with err. */
+int psd_annual_devices(const struct psd_config *cf, const struct psd_zone_conf *zc, struct psd_annual_opt *o,
+                       char *what, size_t whatlen, char *err, size_t errlen);
 
 /* Run the year for a law (ctl: the zone's constants, the model filled from
  * r as the engine does).  -1 when r has no year or no electric condition. */

@@ -483,6 +483,11 @@ static int load(struct psd_config *cf, int files)
 	ps_conf_bool(c, s, "year", 0, &cf->sim_year);
 	hhmm(c, s, "occupied_from", 8 * 3600.0, &cf->occ_from);
 	hhmm(c, s, "occupied_to", 18 * 3600.0, &cf->occ_to);
+	/* psensd -Y's power curve: -1 = power proportional to light */
+	ps_conf_double(c, s, "power_at_min", -1, -1, 1, &cf->power_at_min);
+	if (cf->power_at_min < 0 && cf->power_at_min != -1)
+		ps_conf_error(c, s ? line_of(s, "power_at_min") : 0, "power_at_min: a fraction 0 to 1");
+	ps_conf_double(c, s, "lamp_watts", 0, 0, 1e6, &cf->lamp_watts);
 	if (cf->occ_to <= cf->occ_from)
 		ps_conf_error(c, s ? s->line : 0, "[simulate]: occupied_to must be after occupied_from");
 	{

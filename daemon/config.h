@@ -105,6 +105,9 @@ struct psd_config {
 	double start, end, sunrise, sunset, tolerance;
 	int sim_year;             /* [simulate] year = yes: the room plays the results' year */
 	double occ_from, occ_to;  /* [simulate] occupied_from, occupied_to: psensd -Y's hours */
+	double power_at_min;      /* [simulate] input power at the lowest output, fraction
+	                             of full (-1: power proportional to light) */
+	double lamp_watts;        /* [simulate] input power at full output, W (0: no kWh) */
 	int dated_estimate;       /* [psensd] estimate = dated (or sim_year): the dated ratio */
 	struct psd_device_conf dev[PSD_MAX_DEVICES];
 	size_t ndev;

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "driver.h"
 #include "room.h"
 #include "scene.h"
 
@@ -80,18 +81,25 @@ static int from_date(const struct ps_results *r, int m, int d, struct ps_room_da
 	while (hi < r->year.n && r->year.h[hi].month == m && r->year.h[hi].day == d)
 		hi++;
 	if (hi > lo) {
-		/* dark an hour before the first hour with light and after the last */
+		/* dark a step before the first step with light and after the last:
+		 * an hour, or the file's step when it is shorter */
 		double first = 3600.0 * r->year.h[lo].hour, last = 3600.0 * r->year.h[hi - 1].hour;
-		day[n++] = (struct ps_room_daypoint){ fmax(0.0, first - 3600.0), 0.0, 0.0, 0.0 };
-		for (size_t i = lo; i < hi && n < PSD_DAY_POINTS - 1; i++) {
+		double step = 3600.0;
+		if (hi - lo > 1) {
+			double s1 = 3600.0 * (r->year.h[lo + 1].hour - r->year.h[lo].hour);
+			if (s1 > 0 && s1 < step)
+				step = s1;
+		}
+		day[n++] = (struct ps_room_daypoint){ fmax(0.0, first - step), 0.0, 0.0, 0.0 };
+		for (size_t i = lo; i < hi && n < PSD_YEAR_DAY_POINTS - 1; i++) {
 			double t = 3600.0 * r->year.h[i].hour;
 			if (t <= day[n - 1].t)
 				continue;   /* an hour at midnight's edge: keep the order strict */
 			day[n++] = (struct ps_room_daypoint){ t, r->year.h[i].sensor, r->year.h[i].task_lux,
 			                                          r->year.h[i].horiz_lux };
 		}
-		if (last + 3600.0 > day[n - 1].t && n < PSD_DAY_POINTS)
-			day[n++] = (struct ps_room_daypoint){ fmin(86400.0, last + 3600.0), 0.0, 0.0, 0.0 };
+		if (last + step > day[n - 1].t && n < PSD_YEAR_DAY_POINTS)
+			day[n++] = (struct ps_room_daypoint){ fmin(86400.0, last + step), 0.0, 0.0, 0.0 };
 	}
 	p->daylight = day;
 	p->ndaylight = n;
@@ -167,7 +175,7 @@ static int from_results(const struct ps_results *r, int doy, double sunrise, dou
 /* One block: the parameters, then the day they point to. */
 struct roomsetup {
 	struct ps_room_params p;
-	struct ps_room_daypoint day[PSD_DAY_POINTS];
+	struct ps_room_daypoint day[PSD_YEAR_DAY_POINTS];   /* a day of the scene uses the first PSD_DAY_POINTS */
 };
 
 struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char *date, double sunrise,
@@ -186,18 +194,21 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
 
 int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetup_play *q)
 {
-	struct ps_room_daypoint day[PSD_DAY_POINTS];
+	struct ps_room_daypoint day[PSD_YEAR_DAY_POINTS];
 	struct ps_room_params p;
 	struct ps_room *room;
 	int steps = (int)floor(86400.0 / q->period + 0.5);
 	if (q->period <= 0 || from_date(r, q->month, q->mday, day, &p) != 0)
 		return -1;
 	p.gain = q->gain;
+	p.ballast = (struct ps_ballast_params){ q->ballast.fade_rate, q->ballast.min_level, q->ballast.lag_tau,
+	                                        q->ballast.off_below_min };
 	if (!(room = ps_room_new(&p, 0.0)))
 		return -1;
 	ps_room_command(room, 0.0, q->level0);
 	for (int s = 0; s < steps; s++) {
 		double t = s * q->period, volts, level, dv, dl, g;
+		struct ps_truth a, b;
 		if (ps_room_sensor(room, t, &volts) != 0)
 			volts = 0;
 		level = q->law(q->ctx, t, volts);
@@ -205,8 +216,12 @@ int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetu
 		ps_room_daylight(room, t, &dv, &dl);
 		if (ps_room_rooftop(room, t, &g) != 0)
 			g = NAN;
-		/* the desk just after the command (an instant ballast has obeyed) */
-		q->seen(q->ctx, t, level, ps_room_true_task_lux(room, t + 1e-3), dl, g);
+		/* the lamp's light over the step, the ballast's own integral (looked
+		 * at on a copy: the room's clock stays at t), and the desk just
+		 * after the command */
+		ps_room_truth(room, t + 1e-3, &a);
+		ps_room_truth(room, t + q->period, &b);
+		q->seen(q->ctx, t, level, (b.energy - ps_room_energy(room, t)) / q->period, a.task_lux, dl, g);
 	}
 	ps_room_free(room);
 	return 0;

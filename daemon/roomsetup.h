@@ -12,12 +12,15 @@ struct ps_room_daypoint;
 struct ps_room_params;
 
 enum { PSD_DAY_POINTS = 97 };   /* every 15 minutes, midnight to midnight */
+/* a day of a weather file: one point a step (up to every 5 minutes) and two dark ends */
+enum { PSD_YEAR_DAY_POINTS = 24 * 12 + 2 };
 
 /* A day of the results' year (day of year doy, non-leap numbering): one
- * point per hour with light at the hour's middle as the weather file gives
- * it (standard time), the room interpolating linearly between them, and
- * zero an hour before the first and an hour after the last (a day without
- * light: no points, dark all day).  -1 when the results carry no year or no
+ * point per step with light at the time the weather file gives it (the
+ * hour's middle in an hourly file; standard time), the room interpolating
+ * linearly between them, and zero one step (an hour, or the file's step
+ * when shorter) before the first and after the last (a day without light:
+ * no points, dark all day); day holds PSD_YEAR_DAY_POINTS.  -1 when the results carry no year or no
  * electric condition. */
 int psd_roomsetup_from_year(const struct ps_results *r, int doy, struct ps_room_daypoint *day,
                        struct ps_room_params *p);
@@ -28,20 +31,32 @@ struct ps_room_params *psd_roomsetup_new(const struct ps_results *r, const char 
                                          double sunset);
 /* 1 when the results' year has February 29 (a leap year's weather file). */
 int psd_roomsetup_has_feb29(const struct ps_results *r);
+/* A ballast for a played day, as the loopback room's (drivers/room.h):
+ * all zero is an instant one without a minimum. */
+struct psd_roomsetup_ballast {
+	double fade_rate;         /* fraction of full output a second; 0: instant */
+	double min_level;         /* lowest output above off */
+	double lag_tau;           /* the lamp's time constant, s */
+	int off_below_min;        /* a command below min_level switches off */
+};
 /* A day to play on a room (psd_roomsetup_play_day). */
 struct psd_roomsetup_play {
 	int month, mday;          /* the date of the results' year */
 	double gain;              /* the sensor's volts per unit (no noise) */
 	double period;            /* s between steps, the first at midnight */
 	double level0;            /* the lights' level at midnight */
+	struct psd_roomsetup_ballast ballast;
 	/* the level to command at t for the sensor's reading */
 	double (*law)(void *ctx, double t, double volts);
-	/* the step: true task lux a millisecond after the command, true daylight
-	 * lux at the task, the rooftop's global horizontal lux or NAN */
-	void (*seen)(void *ctx, double t, double level, double task_lux, double daylight_lux, double rooftop_lux);
+	/* the step: the level commanded, the lamp's mean light output over the
+	 * step (t to t + period, the ballast's exact integral), true task lux a
+	 * millisecond after the command, true daylight lux at the task, the
+	 * rooftop's global horizontal lux or NAN */
+	void (*seen)(void *ctx, double t, double level, double output, double task_lux, double daylight_lux,
+	             double rooftop_lux);
 	void *ctx;
 };
-/* Play q's date of the results' year on a room (an instant ballast): every
+/* Play q's date of the results' year on a room (q's ballast): every
  * period seconds from midnight, law gives the level to command, then seen
  * reports the step.  The room stays inside this file (psensd -Y:
  * annual.c).  -1 when the results have no year or no electric condition,

@@ -4,8 +4,8 @@
  * against MF, for an upward cosine sensor under an open sky (exact
  * coefficient pictures, ps_dcpic, 128 x 128) and the example office's
  * rfluxmtx pictures (MF 1, read from disk), with the example's year
- * (config/example/ofb/weather/sf-synthetic.wea: synthetic, see its
- * README).  Goal: the year's series for one zone at MF 4 in at
+ * (config/example/ofb/weather/sf-tmy3.wea: San Francisco's TMY3 year,
+ * NREL; see its README).  Goal: the year's series for one zone at MF 4 in at
  * most 1 s once the coefficients are integrated.  The sensor and task rows
  * share the sky vectors, so a second view costs only its dot products. */
 #include <math.h>
@@ -36,6 +36,12 @@ static int top_path(char *buf, size_t n, const char *rel)
 	return snprintf(buf, n, "%s/%s", top ? top : ".", rel) < (int)n ? 0 : -1;
 }
 
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return x < y ? -1 : x > y;
+}
+
 int main(void)
 {
 	static const int mfs[] = { 1, 2, 4, 6 };
@@ -45,7 +51,7 @@ int main(void)
 	struct ps_sky_opt o;
 	struct ps_err e;
 	char path[4096];
-	top_path(path, sizeof path, "config/example/ofb/weather/sf-synthetic.wea");
+	top_path(path, sizeof path, "config/example/ofb/weather/sf-tmy3.wea");
 	if (ps_weather_read(&w, path, 0, &e) != 0 || ps_sensor_builtin(&cos, PS_SENS_COSINE, &e) != 0) {
 		fprintf(stderr, "bench_year: %s\n", e.msg);
 		return 1;
@@ -123,6 +129,39 @@ int main(void)
 		       "  precompute (read, weights once per view, integrate) %.1f ms; the year %.1f ms "
 		       "(%zu hours with light, %.2f us an hour)\n",
 		       1e3 * (t1 - t0), 1e3 * (t2 - t1), y.n, 1e6 * (t2 - t1) / (double)y.n);
+		{
+			/* how much an hour's task daylight hangs on how the sun is
+			 * shared at MF 1: the sun in its nearest patch against the four
+			 * nearest (gendaymtx's way), occupied hours with 50 lx or more */
+			struct ps_sky_opt o1 = o;
+			struct ps_year y1;
+			double *d = malloc(y.n * sizeof *d), s4 = 0, s1 = 0, worst = 0;
+			size_t m = 0;
+			o1.nsun = 1;
+			if (!d || ps_year_run(&s, V, &t, &w, &o1, &y1, &e) != 0 || y1.n != y.n) {
+				fprintf(stderr, "bench_year: the sun in one patch: %s\n", e.msg);
+				free(d);
+				return 1;
+			}
+			for (size_t i = 0; i < y.n; i++) {
+				if (y.h[i].hour < 8 || y.h[i].hour > 18 || y.h[i].task_lux < 50)
+					continue;
+				s4 += y.h[i].task_lux;
+				s1 += y1.h[i].task_lux;
+				d[m] = fabs(y1.h[i].task_lux / y.h[i].task_lux - 1);
+				if (d[m] > worst)
+					worst = d[m];
+				m++;
+			}
+			qsort(d, m, sizeof *d, cmp_double);
+			printf("  the sun in its nearest patch against the four nearest (MF 1), %zu occupied hours with 50 lx\n"
+			       "  or more at the task: hours' task daylight differ by up to %.0f %% (95th percentile %.1f %%,\n"
+			       "  median %.1f %%); the sum over them by %+.2f %%\n",
+			       m, 100 * worst, m ? 100 * d[(size_t)(0.95 * (double)(m - 1))] : NAN,
+			       m ? 100 * d[(m - 1) / 2] : NAN, 100 * (s1 / s4 - 1));
+			free(d);
+			ps_year_free(&y1);
+		}
 		ps_year_free(&y);
 		ps_dcset_row_free(&s);
 		ps_dcset_row_free(&t);

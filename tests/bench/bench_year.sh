@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
 # A year of control (psensd -Y): the example office's results
-# year (synthetic weather: config/example/ofb/weather/README.md), every zone,
+# year (San Francisco's TMY3 year: config/example/ofb/weather/README.md), every zone,
 # the set-point law and the four others, at control periods of 60 and 10 s:
 # steps and wall time (goal: a year at 60 s in at most 5 s), and the
 # precompute (psscene: the coefficient sets and the year).

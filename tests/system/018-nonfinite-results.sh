@@ -39,7 +39,7 @@ refused "psshare -R -G -B 1e308" "the response is" \
 printf '380 1e308\n500 1e308\n780 1e308\n' > "$TMP/big.flt"
 refused "psfilter, transmittances of 1e308" "not finite" "$BIN/psfilter" "$TMP/big.flt"
 awk 'NR <= 6 { print; next } NR == 19 { print $1, $2, $3, "1e308", "1e308"; next } NR <= 37 { print }' \
-	config/example/ofb/weather/sf-synthetic.wea > "$TMP/big.wea"
+	config/example/ofb/weather/sf-tmy3.wea > "$TMP/big.wea"
 refused "pssky, irradiances of 1e308" "big.wea:19: the sky of 1-1 12.50 h is not finite" \
 	"$BIN/pssky" -m 1 "$TMP/big.wea"
 

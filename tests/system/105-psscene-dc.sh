@@ -55,7 +55,7 @@ bad "a view that is no fisheye" "dc.scene:6: sensor_view: view type -vtv is not 
 # the year: a bad weather line is named, the results file left alone
 sed -i 's/^sensor_view.*/sensor_view = -vta -vp 1.85 2.285 2.2 -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180/; s/^mf = 0/mf = 1/' "$TMP/s/dc.scene"
 cp config/example/ofb/dc/sensor/dc_14[0-5].hdr "$TMP/s/dc/sensor/"
-head -n 20 config/example/ofb/weather/sf-synthetic.wea > "$TMP/s/w.wea"
+head -n 20 config/example/ofb/weather/sf-tmy3.wea > "$TMP/s/w.wea"
 echo "1 1 14.5 -5 100" >> "$TMP/s/w.wea"
 echo "weather = w.wea" >> "$TMP/s/dc.scene"
 bad "a negative irradiance in the weather" "w.wea:21"

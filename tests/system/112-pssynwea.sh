@@ -1,12 +1,12 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# pssynwea: the shipped example year is its output (reproducible), the
+# pssynwea: the tests' synthetic year is its output (reproducible), the
 # year reads as a weather file (pssky), every hour once, no light at night,
 # and bad options are refused.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/pssynwea" ] || skip_all "pssynwea not built"
 "$BIN/pssynwea" > "$TMP/sf.wea"
-check "the shipped example year is pssynwea's default output" cmp -s "$TMP/sf.wea" config/example/ofb/weather/sf-synthetic.wea
+check "the tests' synthetic year is pssynwea's default output" cmp -s "$TMP/sf.wea" tests/data/weather/sf-synthetic.wea
 check "8760 hours" test "$(tail -n +7 "$TMP/sf.wea" | wc -l)" = 8760
 "$BIN/pssynwea" -s 2 > "$TMP/s2.wea"
 check "another seed, another year" sh -c "! cmp -s '$TMP/sf.wea' '$TMP/s2.wea'"

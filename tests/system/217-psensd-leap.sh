@@ -15,8 +15,8 @@
 example_results
 W=$TMP/example/ofb/weather
 awk '{ print } $1 == 2 && $2 == 28 && $3 == "23.500" { for (h = 0; h < 24; h++) printf "2 29 %d.500 0 0\n", h }' \
-	"$W/sf-synthetic.wea" > "$W/leap.wea"
-check "the leap file has 8784 hours" test "$(awk 'NF == 5' "$W/leap.wea" | wc -l)" = 8784
+	"$W/sf-tmy3.wea" > "$W/leap.wea"
+check "the leap file has 8784 hours" test "$(awk 'NF == 5 && $1 ~ /^[0-9]+$/' "$W/leap.wea" | wc -l)" = 8784
 sed 's|^weather = .*|weather = ofb/weather/leap.wea|' "$TMP/example/ofb.scene" > "$TMP/example/leap.scene"
 "$BIN/psscene" -q -N -o "$TMP/state/leap.results" "$TMP/example/leap.scene"
 check "psscene runs the leap year" test $? = 0

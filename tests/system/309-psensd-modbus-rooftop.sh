@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
 # A rooftop lux meter over Modbus: psvirt plays the overcast 5 July of the
-# example's year ([simulate] year = yes) and serves the hour's global
+# synthetic year ([simulate] year = yes) and serves the hour's global
 # horizontal illuminance at holding registers 210-211 (u32); the real
 # psensd reads it through the Modbus driver as a point with role rooftop
 # and the dated estimate takes the sky class from it.  Both clocks run at
@@ -14,6 +14,12 @@
 [ -x "$BIN/psvirt" ] || skip_all "psvirt not built"
 command -v sqlite3 > /dev/null || skip_all "sqlite3 not installed"
 example_results
+# this test needs a known day shape: the synthetic year's overcast 5 July in
+# a mostly clear July (tests/data/weather/README.md), not the example's
+# measured year
+cp tests/data/weather/sf-synthetic.wea "$TMP/example/ofb/weather/"
+sed -i 's|^weather = .*|weather = ofb/weather/sf-synthetic.wea|' "$TMP/example/ofb.scene"
+"$BIN/psscene" -q -N -o "$TMP/state/ofb.results" "$TMP/example/ofb.scene"
 R=$TMP/state/ofb.results
 sed "s|^results = .*|results = $R|; s|^database = .*|database = $TMP/state/virt.db|; s|^scene = .*|scene = $TMP/example/ofb.scene|; s/^faults = .*//; s/^date = .*/date = 07-05/; s/^\[simulate\]/[simulate]\nyear = yes/" \
 	config/psensd.conf > "$TMP/virt.conf"

@@ -5,7 +5,14 @@
  *   - constant daylight (250 lx at the task for 1 unit of response, every
  *     hour of every day): output (500 - 250) / 1000 = 0.25 when occupied,
  *     the ideal photocell the same (effectiveness 100 %), the estimate exact
- *     with either ratio, no hour below target, no change after the first. */
+ *     with either ratio, no hour below target, no change after the first;
+ *   - the devices: a lamp lag of 1e6 s over a year of night, where the law
+ *     commands its floor 0.5 from 08:00 to 18:00 and 0 otherwise, gives the closed
+ *     form of the first-order lag from full output at midnight (the room's
+ *     start): the light never comes near the command; a lag, fade and
+ *     minimum of 0 give the instant ballast's numbers; the power curve's
+ *     full-power hours and kWh against a hand computation; a DALI output
+ *     gives arc power level 229's 50.53 % for a command of 0.5. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -85,11 +92,110 @@ static void constant_daylight(void **state)
 	free(r.year.h);
 }
 
+static void lag_never_dims(void **state)
+{
+	struct ps_results r;
+	struct psd_control c;
+	struct psd_annual_opt o;
+	struct psd_annual a;
+	struct psd_roomsetup_ballast b = { 0, 0, 1e6, 1 };
+	double tau = 1e6, t1 = 8 * 3600.0, D = 10 * 3600.0, y1 = exp(-t1 / tau), want;
+	(void)state;
+	base(&r, &c, &o);
+	ps_year_tabulate(&r.year);
+	/* the law held at its floor: 0.5 whatever the sensor reads */
+	c.target_lux = 0;
+	c.min_level = 0.5;
+	o.ballast = b;
+	o.power_at_min = -1;
+	assert_int_equal(psd_annual_run(&r, &c, &o, &a), 0);
+	/* y = 0.5 + (y1 - 0.5) e^{-(t - t1)/tau} over the occupied hours */
+	want = (0.5 * D + (y1 - 0.5) * tau * -expm1(-D / tau)) / D;
+	assert_true(fabs(a.light_h / a.occ_h - want) < 1e-9);
+	assert_true(want > 0.95);
+	assert_true(fabs(a.energy_h - a.light_h) < 1e-9);
+	/* the ideal photocell is the same (no devices): 0.5 */
+	assert_true(fabs(a.ideal_h / a.occ_h - 0.5) < 1e-12);
+}
+
+static void lag_zero_is_instant(void **state)
+{
+	struct ps_results r;
+	struct psd_control c;
+	struct psd_annual_opt o;
+	struct psd_annual a, i;
+	struct psd_roomsetup_ballast b = { 0, 0.1, 0, 1 };
+	static const int md[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
+	size_t n = 0;
+	(void)state;
+	base(&r, &c, &o);
+	r.year.h = calloc(8760, sizeof *r.year.h);
+	/* a day that rises and falls: the law moves every step */
+	for (int m = 1; m <= 12; m++)
+		for (int d = 1; d <= md[m - 1]; d++)
+			for (int h = 6; h < 18; h++) {
+				double s = sin(M_PI * (h + 0.5 - 6) / 12);
+				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, s, 400.0 * s, 1, 2.0, NAN };
+			}
+	r.year.n = n;
+	ps_year_tabulate(&r.year);
+	assert_int_equal(psd_annual_run(&r, &c, &o, &i), 0);
+	o.ballast = b;
+	assert_int_equal(psd_annual_run(&r, &c, &o, &a), 0);
+	assert_true(i.energy_h > 100 && fabs(a.energy_h - i.energy_h) < 1e-9 * i.energy_h);
+	assert_true(a.below_h == i.below_h && a.overdim_h == i.overdim_h && a.changes == i.changes);
+	free(r.year.h);
+}
+
+static void power_curve_kwh(void **state)
+{
+	struct ps_results r;
+	struct psd_control c;
+	struct psd_annual_opt o;
+	struct psd_annual a;
+	(void)state;
+	base(&r, &c, &o);
+	ps_year_tabulate(&r.year);
+	/* 30 % of full power at 10 % light, linear to full; 40 W */
+	o.light_min = 0.1;
+	o.power_at_min = 0.3;
+	o.watts = 40;
+	assert_true(psd_annual_power(&o, 0) == 0 && fabs(psd_annual_power(&o, 1) - 1) < 1e-15);
+	assert_true(fabs(psd_annual_power(&o, 0.05) - 0.15) < 1e-15);
+	assert_int_equal(psd_annual_run(&r, &c, &o, &a), 0);
+	/* by hand: P(0.5) = 0.3 + 0.7 x 0.4 / 0.9 = 0.61111; x 3650 h x 40 W = 89.222 kWh */
+	assert_true(fabs(a.light_h - 1825) < 1e-6);
+	assert_true(fabs(a.energy_h - 0.611111111111 * 3650) < 1e-6);
+	assert_true(fabs(a.kwh - 89.2222222222) < 1e-6);
+	assert_true(fabs(a.savings - (1 - 0.611111111111)) < 1e-9);
+}
+
+static void dali_levels(void **state)
+{
+	struct ps_results r;
+	struct psd_control c;
+	struct psd_annual_opt o;
+	struct psd_annual a;
+	(void)state;
+	base(&r, &c, &o);
+	ps_year_tabulate(&r.year);
+	o.dali = 1;
+	o.power_at_min = -1;
+	assert_int_equal(psd_annual_run(&r, &c, &o, &a), 0);
+	/* level 229: 10^((229 - 1) / (253 / 3) - 1) % = 50.53 % */
+	assert_true(fabs(a.light_h / a.occ_h - pow(10, 228 * 3.0 / 253 - 3)) < 1e-9);
+	assert_true(fabs(a.light_h / a.occ_h - 0.5053) < 5e-5);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(year_of_night),
 		cmocka_unit_test(constant_daylight),
+		cmocka_unit_test(lag_never_dims),
+		cmocka_unit_test(lag_zero_is_instant),
+		cmocka_unit_test(power_curve_kwh),
+		cmocka_unit_test(dali_levels),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
