@@ -29,6 +29,7 @@
 
 #include "cli.h"
 #include "ctlsock.h"
+#include "ctlcmd.h"
 #include "db.h"
 #include "canvas.h"
 #include "config.h"
@@ -660,7 +661,7 @@ static int export_samples(const char *sock, const char *dbpath, int timeout_ms, 
 		return 1;
 	psd_sampleout_begin(&out, stdout, format);
 	rc = psd_db_select(dbpath, zone, since, until, 0, psd_sampleout_row, &out, err, sizeof err);
-	if (psd_sampleout_end(&out) != 0 && rc == 0) {
+	if (rc == 0 && psd_sampleout_end(&out) != 0) {
 		snprintf(err, sizeof err, "standard output: write error");
 		rc = -1;
 	}
@@ -710,7 +711,8 @@ static int show_log(const char *sock, const char *dbpath, int timeout_ms, int ar
 		       text_of(o, "logged") : "-");
 	psd_sampleout_begin(&out, stdout, PSD_OUT_TABLE);
 	rc = psd_db_select(dbpath, zone, NAN, NAN, last, psd_sampleout_row, &out, err, sizeof err);
-	psd_sampleout_end(&out);
+	if (rc == 0)
+		psd_sampleout_end(&out);
 	if (rc != 0)
 		fprintf(stderr, "psensctl: %s\n", err);
 	json_object_put(o);
@@ -875,6 +877,10 @@ int main(int argc, char **argv)
 		return report(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "accept-test") == 0)
 		return accept_test(sock, dbpath, raw, timeout_ms, argc - optind - 1, argv + optind + 1);
+	if (!psd_ctlcmd_is_request(argv[optind])) {
+		fprintf(stderr, "psensctl: '%s' is not a command (psensctl --help lists them)\n", argv[optind]);
+		return 2;
+	}
 	for (int i = optind; i < argc; i++) {
 		int n = snprintf(request + used, sizeof request - used, "%s%s", i > optind ? " " : "", argv[i]);
 		if (n < 0 || (size_t)n >= sizeof request - used) {
