@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "accept.h"
 #include "cache.h"
 #include "chart.h"
 #include "db.h"
@@ -59,14 +60,15 @@ struct zone {
 	double utc0;              /* UTC of clock 0 of the first dated run (NAN: none yet) */
 	char local0[20], local1[20];     /* local date and time of the first and last sample ("" undated) */
 	struct ps_sum esum;              /* energy */
-	struct ps_sum err2;              /* squared estimate error */
-	long long nerr, nmeas;            /* estimate errors; task meter readings */
+	long long nmeas;                 /* task meter readings */
+	struct psd_accept_result verif;  /* accept-test's verification (verif.test NULL: none) */
+	char verif_why[160];             /* why there is none */
 	struct session sess[MAXSESS];
 	int nsess, checks, fails, verdict;
 	char config_sha[65], scene_sha[65];
 	/* the latest psensctl accept-test run, one row a test */
 	struct {
-		char local[20], test[40], verdict[16], measured[320];
+		char local[20], test[40], verdict[16], measured[400];
 	} acc[MAXACC];
 	int nacc, nruns;
 	double acc_utc;                  /* when the last run was stored */
@@ -107,11 +109,6 @@ static void add_sample(void *user, const struct psd_sample *row)
 		ps_sum_add(&z->esum, s->output * dt / 3600);
 	if (dt > 0 && dt <= 3600 && s->fault)
 		z->fault_s += dt;
-	if (isfinite(s->est_task_lux) && isfinite(s->task_lux) && s->task_lux >= 50) {
-		double e = (s->est_task_lux - s->task_lux) / s->task_lux;
-		ps_sum_add(&z->err2, e * e);
-		z->nerr++;
-	}
 	z->nmeas += isfinite(s->task_lux);
 	z->prev_t = s->t;
 	if (s->t < z->tmin)
@@ -273,6 +270,9 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 	psd_db_cal_sessions(db, z->name, add_session, &c, ignored, sizeof ignored);
 	psd_db_cal_hashes(db, z->name, z->config_sha, z->scene_sha);
 	psd_db_accept_results(db, z->name, add_accept_run, z, ignored, sizeof ignored);
+	/* the estimate against the meter, judged as accept-test judges it */
+	if (psd_accept_verification(db, z->name, &z->verif, z->verif_why, sizeof z->verif_why) != 0)
+		z->verif.test = NULL;
 	/* calibrated within the tolerance is not yet a zone that works: PASS
 	 * needs the acceptance tests too (psensctl accept-test), all run and
 	 * passed; a failed calibration or test fails the zone */
@@ -1173,7 +1173,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 {
 	static const char *const shead[] = { "#", "kind", "state", "started", "ended", "result",
 	                                      "against the design" };
-	char buf[400], sensor[160], a[32], b[32], what[80];
+	char buf[768], sensor[160], a[32], b[32], what[80], lo[96];
 	const struct psd_zone_conf *zc = zconf(d, z);
 	double y, bottom = FOOT_Y - 16, charts_min = 4 * 92 + 3 * 30 + 12;
 	int row = 0, acc = 0, nlines = 0;
@@ -1198,15 +1198,18 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	else
 		snprintf(buf, sizeof buf, "%lld samples, %s to %s", z->total, a, b);
 	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
-	if (z->nerr)
-		snprintf(buf, sizeof buf, "estimate against the task meter (50 lx and more): rms %.1f %% over %lld samples; %d of %d "
-		         "calibration results within %g %%; faults %.0f min; energy %.2f full-load h", 100 *
-		         sqrt(ps_sum_get(&z->err2) / z->nerr), z->nerr, z->checks - z->fails, z->checks,
-		         d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
+	if (z->verif.test && z->verif.verdict != PSD_ACCEPT_NOT_TESTED)
+		snprintf(lo, sizeof lo, "%ld in sessions or %g s after one left out",
+		         z->verif.left_out, z->verif.settle_s);
+	if (z->verif.test && z->verif.verdict != PSD_ACCEPT_NOT_TESTED)
+		snprintf(buf, sizeof buf, "verification (as accept-test): rms %.2f %% over %ld samples (%s), %s; "
+		         "%d of %d calibration results within %g %%; faults %.0f min; energy %.2f full-load h",
+		         z->verif.value, z->verif.samples, lo, psd_accept_verdict_names[z->verif.verdict + 1],
+		         z->checks - z->fails, z->checks, d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
 	else
-		snprintf(buf, sizeof buf, "no task meter readings; %d of %d calibration results within %g %%; "
-		         "faults %.0f min; energy %.2f full-load h", z->checks - z->fails, z->checks, d->o->tolerance_pct,
-		         z->fault_s / 60, z->energy_h);
+		snprintf(buf, sizeof buf, "verification: %s; %d of %d calibration results within %g %%; "
+		         "faults %.0f min; energy %.2f full-load h", z->verif.test ? z->verif.measured : z->verif_why,
+		         z->checks - z->fails, z->checks, d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
 	text_fit(d, MARGIN, MARGIN + 40, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
 	/* the tables take what they need from the bottom (up to what leaves the
 	 * charts their least height); the charts fill the rest */
