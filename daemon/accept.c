@@ -15,7 +15,7 @@ const char *const psd_accept_verdict_names[] = { "NOT TESTED", "FAIL", "PASS" };
 
 void psd_accept_defaults(struct psd_accept_params *p)
 {
-	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05, 60 };
+	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05, PSD_ACCEPT_SETTLE_S };
 }
 
 /* The spans calibration sessions held the zone's lights, each in UTC

@@ -39,6 +39,10 @@
 struct psd_db;
 
 enum { PSD_ACCEPT_NTESTS = 4 };
+/* s after a calibration session ended that no test judges (the lamps fade
+ * from the session's level to the control's); psensd's summary leaves the
+ * same span out */
+#define PSD_ACCEPT_SETTLE_S 60.0
 enum psd_accept_verdict { PSD_ACCEPT_NOT_TESTED = -1, PSD_ACCEPT_FAIL = 0, PSD_ACCEPT_PASS = 1 };
 
 struct psd_accept_params {

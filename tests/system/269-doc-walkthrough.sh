@@ -48,6 +48,13 @@ check "the day session is within the tolerance: $(grep -o 'message: done: [0-9.]
 check "both accepted" test "$(grep -c 'calibration session [0-9]* accepted' "$TMP/err")" = 2
 check "the report is written" test -s "$TMP/top/office.svg"
 check "the socket was the user's, in build/" grep -q "control socket config/example/../../build/cal.sock" "$TMP/err"
+# psensd's summary of each run names the sessions' spans and leaves them
+# (and the fade after them) out of its figures on the control
+check "the night run's summary names its session: $(grep 'calibration sessions held' "$TMP/out" | head -n 1)" \
+	grep -q "calibration sessions held the lights for [0-9]* periods .*not counted below: 2026-03-18 21:0[0-9] to 2026-03-18 21:2[0-9]" "$TMP/out"
+w=$(sed -n 's/.*estimated against true task illuminance:.*worst \([0-9.]*\) %.*/\1/p' "$TMP/out" | head -n 1)
+check "the night run's estimate worst $w % is the control's, not the session's (below 25 %)" \
+	awk -v w="$w" 'BEGIN { exit !(w != "" && w < 25) }'
 # acceptance and the record tell the same truth: the samples of the two
 # sessions and of the fade after each are no verification samples (the
 # night session ends with the lamps fading up from 0 %: a sample then reads
