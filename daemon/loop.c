@@ -137,6 +137,15 @@ static int date_run(struct psd_daemon *d, double now)
 		char text[300];
 		snprintf(text, sizeof text, "%s on a %s clock", d->config_path, d->clock.simulated ? "simulated" : "real-time");
 		psd_engine_event(&d->engine, now, NULL, "start", text);
+		/* the record tells a simulated zone from a real one by this */
+		for (size_t i = 0; i < d->engine.cf->nzone; i++) {
+			const struct psd_zone_conf *zc = &d->engine.cf->zone[i];
+			const char *sim = psd_config_zone_simulated(d->engine.cf, zc);
+			if (sim) {
+				snprintf(text, sizeof text, "the zone's devices are simulated (%s)", sim);
+				psd_engine_event(&d->engine, now, zc->name, "simulated", text);
+			}
+		}
 	}
 	return 0;
 }

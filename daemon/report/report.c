@@ -63,6 +63,7 @@ struct zone {
 	long long nmeas;                 /* task meter readings */
 	struct psd_accept_result verif;  /* accept-test's verification (verif.test NULL: none) */
 	char verif_why[160];             /* why there is none */
+	char simulated[160];             /* what simulates its devices, "" when real */
 	struct session sess[MAXSESS];
 	int nsess, checks, fails, verdict;
 	char config_sha[65], scene_sha[65];
@@ -270,6 +271,8 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 	psd_db_cal_sessions(db, z->name, add_session, &c, ignored, sizeof ignored);
 	psd_db_cal_hashes(db, z->name, z->config_sha, z->scene_sha);
 	psd_db_accept_results(db, z->name, add_accept_run, z, ignored, sizeof ignored);
+	if (psd_db_zone_simulated(db, z->name, z->simulated, sizeof z->simulated) != 1)
+		z->simulated[0] = 0;
 	/* the estimate against the meter, judged as accept-test judges it */
 	if (psd_accept_verification(db, z->name, &z->verif, z->verif_why, sizeof z->verif_why) != 0)
 		z->verif.test = NULL;
@@ -292,6 +295,7 @@ struct doc {
 	const struct psd_report_opts *o;
 	struct zone *zones;
 	int nzones;
+	int simulated;                   /* a zone's devices are simulated: the record says so */
 	char config_sha[65];
 	/* every zone's samples dated (schema 5): times shown as local dates;
 	 * the first zone's first date is its axis's day floor(t0 / 86400) */
@@ -485,7 +489,10 @@ static void end_page(struct doc *d, const char *what)
 {
 	char foot[200];
 	const char *site = d->o->site ? d->o->site : "site not named";
-	snprintf(foot, sizeof foot, "psensd commissioning record \xc2\xb7 %s \xc2\xb7 %s", site, what);
+	snprintf(foot, sizeof foot, "psensd %s record \xc2\xb7 %s \xc2\xb7 %s",
+	         d->simulated ? "SIMULATED" : "commissioning", site, what);
+	if (d->simulated)   /* every page says what it is, in its corner */
+		text(d, PAGE_W - MARGIN, MARGIN - 12, 9, 1, 1, RED, "SIMULATED \xe2\x80\x94 not a building's record");
 	hline(d, MARGIN, PAGE_W - MARGIN, FOOT_Y - 10, 0.4, GREY);
 	text_fit(d, MARGIN, FOOT_Y, PAGE_W - 2 * MARGIN - 80, 7, 5.5, 0, GREY, foot);
 	if (d->pages > 0)
@@ -552,10 +559,14 @@ static void sensor_text(const struct doc *d, const struct zone *z, char *buf, si
 	if (zc && zc->sensor >= 0) {
 		const struct psd_point_conf *p = &d->o->cf->pt[zc->sensor];
 		const struct psd_device_conf *dev = &d->o->cf->dev[p->device];
+		char kind[96];
+		/* a virtual room reads as one: psvirt's Modbus device is marked in the config */
+		snprintf(kind, sizeof kind, "%s%s%s", dev->drv ? dev->drv->name : "?",
+		         dev->simulated[0] ? ", virtual: " : "", dev->simulated);
 		if (compact)
-			snprintf(buf, n, "%s (%s)", p->name, dev->drv ? dev->drv->name : "?");
+			snprintf(buf, n, "%s (%s)", p->name, kind);
 		else
-			snprintf(buf, n, "point %s, device %s (%s)", p->name, dev->name, dev->drv ? dev->drv->name : "?");
+			snprintf(buf, n, "point %s, device %s (%s)", p->name, dev->name, kind);
 	} else {
 		snprintf(buf, n, "(no configuration given)");
 	}
@@ -680,7 +691,7 @@ static double cover_records(struct doc *d, double y, double tmin, double tmax)
 		         o->cf && o->cf->date[0] ? o->cf->date : "");
 	else
 		snprintf(buf, sizeof buf, "no samples");
-	return keyval(d, y, "Records", buf, 0);
+	return keyval(d, y, d->simulated ? "Simulated records" : "Records", buf, 0);
 }
 
 /* The facts of the record, one per line: site, zones, configuration,
@@ -688,7 +699,7 @@ static double cover_records(struct doc *d, double y, double tmin, double tmax)
 static double cover_facts(struct doc *d, double y, double tmin, double tmax)
 {
 	const struct psd_report_opts *o = d->o;
-	char buf[512], a[64], wr[64];
+	char buf[512], a[64], wr[128];
 	y = keyval(d, y, "Site", o->site ? o->site : "(not named: psensctl report --site)", 0);
 	buf[0] = 0;
 	for (int i = 0; i < d->nzones; i++)
@@ -700,7 +711,7 @@ static double cover_facts(struct doc *d, double y, double tmin, double tmax)
 	y = keyval(d, y, "Database", o->dbpath, 0);
 	y = cover_records(d, y, tmin, tmax);
 	psd_time_utc_text((double)o->written, PSD_TIME_MINUTE, a, sizeof a);
-	snprintf(wr, sizeof wr, "%.40s UTC", a);
+	snprintf(wr, sizeof wr, "%.40s UTC%s", a, d->simulated ? " (the real date; the records' dates are simulated)" : "");
 	return keyval(d, y, "Report written", wr, 0);
 }
 
@@ -795,9 +806,31 @@ static double cover_verdict(struct doc *d, double y, int v, int checks, int fail
 }
 
 /* The sign-off, at the foot of the page. */
+/* Where the sign-off begins: the simulated record's statement is shorter. */
+static double sign_off_top(const struct doc *d)
+{
+	return d->simulated ? FOOT_Y - 76 : FOOT_Y - 172;
+}
+
 static void sign_off(struct doc *d)
 {
-	double y = FOOT_Y - 172;
+	double y = sign_off_top(d);
+	if (d->simulated) {
+		char buf[900], zones[600];
+		zones[0] = 0;
+		for (int i = 0; i < d->nzones; i++)
+			if (d->zones[i].simulated[0])
+				snprintf(zones + strlen(zones), sizeof zones - strlen(zones), "%szone %s: %s",
+				         zones[0] ? "; " : "", d->zones[i].name, d->zones[i].simulated);
+		hline(d, MARGIN, PAGE_W - MARGIN, y - 16, 0.8, RED);
+		text(d, MARGIN, y, 12, 1, -1, RED, "SIMULATED: no sign-off");
+		y += 15;
+		snprintf(buf, sizeof buf, "This record was made from simulated devices (%s). It shows how psensd "
+		         "controls a simulated room, with simulated dates; it is not the commissioning of a building "
+		         "and cannot be signed off as one.", zones);
+		paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 8, 11, BLACK, buf);
+		return;
+	}
 	hline(d, MARGIN, PAGE_W - MARGIN, y - 16, 0.8, BLACK);
 	text(d, MARGIN, y, 12, 1, -1, BLACK, "Sign-off");
 	y += 15;
@@ -825,7 +858,8 @@ static void cover(struct doc *d)
 	begin_page(d);
 	if (!d->cr)
 		return;
-	text(d, MARGIN, y, 20, 1, -1, BLACK, "Commissioning record");
+	text(d, MARGIN, y, 20, 1, -1, d->simulated ? RED : BLACK,
+	     d->simulated ? "SIMULATED commissioning record" : "Commissioning record");
 	y += 18;
 	text(d, MARGIN, y, 10.5, 0, -1, GREY, "Daylight-linked lighting control (psensd): sensor calibration and performance");
 	y += 26;
@@ -841,8 +875,8 @@ static void cover(struct doc *d)
 	y += 16;
 	y = cover_verdict(d, y, v, checks, fails);
 	/* every zone's light output over the record: fills the page to the sign-off */
-	if (FOOT_Y - 172 - 44 - (y + 30) >= 60 && isfinite(tmin))
-		overview(d, y + 30, FOOT_Y - 172 - 44, tmin, tmax);
+	if (sign_off_top(d) - 44 - (y + 30) >= 60 && isfinite(tmin))
+		overview(d, y + 30, sign_off_top(d) - 44, tmin, tmax);
 	sign_off(d);
 	end_page(d, "cover");
 }
@@ -1442,6 +1476,14 @@ static int render(const struct psd_report_opts *o, FILE *fp, struct psd_report_o
 	for (int i = 0; i < d.nzones; i++)
 		if (load_zone(db, &d.zones[i], o->tolerance_pct, err, n) != 0)
 			goto out;
+	for (int i = 0; i < d.nzones; i++) {
+		struct zone *z = &d.zones[i];
+		int k = o->cf ? psd_config_zone(o->cf, z->name) : -1;
+		const char *sim = k >= 0 ? psd_config_zone_simulated(o->cf, &o->cf->zone[k]) : NULL;
+		if (!z->simulated[0] && sim)
+			snprintf(z->simulated, sizeof z->simulated, "the zone's devices are simulated (%s)", sim);
+		d.simulated |= z->simulated[0] != 0;
+	}
 	d.dated = d.nzones > 0;
 	for (int i = 0; i < d.nzones; i++)
 		d.dated &= d.zones[i].local0[0] != 0 || d.zones[i].total == 0;
