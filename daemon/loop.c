@@ -182,7 +182,11 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	/* the socket first (in real time; in a simulated day only when
 	 * configured): a second daemon on the same socket is refused before it
 	 * opens a device or commands a light */
-	if (!d->clock.simulated || cf->socket_path) {
+	if (d->dry) {   /* -Y leaves no trace: no log, no socket */
+		free(cf->database);
+		cf->database = NULL;
+		cf->mqtt.enabled = 0;
+	} else if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctlsock_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
 		                 (int)cf->max_clients, psd_ctlcmd_handle, d, err, sizeof err) != 0) {
 			if (errno == EADDRINUSE)
@@ -215,7 +219,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	 * to the engine (samples.utc = utc0 + t, and every dated row) */
 	if (!isfinite(d->clock.epoch0))
 		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
-	if (date_run(d, now) != 0) {
+	if (!d->dry && date_run(d, now) != 0) {
 		psd_loop_safe(d, "refused start");
 		if (d->have_ctl)
 			psd_ctlsock_close(&d->ctl);

@@ -402,6 +402,7 @@ int main(int argc, char **argv)
 	/* a date taken from the configuration moves on past days on record */
 	d.advance_date = (simulate || !isnan(start)) && !date;
 	d.self = argv[0];
+	d.dry = year;
 	start = psd_clock_now(&d.clock);
 	if (psd_loop_start(&d, path) != 0) {
 		psd_loop_stop(&d, NULL);   /* what it did open (the signalfd) */
