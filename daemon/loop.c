@@ -74,11 +74,9 @@ static void signals_read(struct psd_daemon *d)
 
 static const char *socket_path(const struct psd_config *cf, char *buf, size_t n)
 {
-	const char *rt = getenv("RUNTIME_DIRECTORY");   /* set by systemd's RuntimeDirectory= */
 	if (cf->socket_path)
 		return cf->socket_path;
-	snprintf(buf, n, "%s/psensd.sock", rt && *rt ? rt : "/run/psensd");
-	return buf;
+	return psd_ctlsock_default_path(1, buf, n);
 }
 
 void psd_loop_config_errors(const struct psd_config *cf)

@@ -55,7 +55,8 @@ static void usage(FILE *fp)
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
 	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
 	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n"
-	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET or /run/psensd/psensd.sock)\n"
+	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET, /run/psensd/psensd.sock\n"
+	            "              or $XDG_RUNTIME_DIR/psensd.sock)\n"
 	            "  -d FILE     the database, for export, report, log and accept-test (default: the one psensd names)\n"
 	            "  -j          replies as JSON lines\n"
 	            "  -w SECONDS  how long to wait for a reply (default 5)\n"
@@ -64,8 +65,8 @@ static void usage(FILE *fp)
 
 static const char *default_socket(void)
 {
-	const char *env = getenv("PSENSD_SOCKET");
-	return env && *env ? env : "/run/psensd/psensd.sock";
+	static char buf[600];
+	return psd_ctlsock_default_path(0, buf, sizeof buf);
 }
 
 /* One request, one reply line (malloc'd) or NULL after a message. */
