@@ -647,6 +647,8 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	psd_log_init(1, a.verbose || getenv("PSVIRT_DEBUG") ? PSD_LOG_DEBUG : PSD_LOG_WARN, "psvirt");
+	if (a.ready)   /* a ready file left by an earlier run must not say ready now */
+		unlink(a.ready);
 	a.self = argv[0];
 	if (build_rooms(&v, &a) != 0) {
 		free_rooms(&v);
