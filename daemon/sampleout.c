@@ -65,8 +65,11 @@ void psd_sampleout_time_iso(double utc, char out[32])
 		snprintf(out, 32, "-");
 }
 
-static const char csv_header[] = "zone,time,utc,t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,"
-                                 "daylight_lux,condition,ratio,fault";
+/* each number's unit in its name (output a fraction, as logged: psensctl
+ * log prints it in %); the clock's own seconds are not repeated beside
+ * utc_s and tod_s */
+static const char csv_header[] = "zone,time_local,utc_s,tod_s,sensor_v,output_fraction,est_task_lux,task_lux,"
+                                 "daylight_v,daylight_lux,condition,ratio_lux_per_unit,fault";
 
 void psd_sampleout_begin(struct psd_sampleout *o, FILE *fp, int format)
 {
@@ -105,7 +108,7 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 {
 	struct psd_sampleout *o = user;
 	char iso[32], a[32], b[32], c[32], d[32];
-	const double num[] = { s->utc, s->t, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux,
+	const double num[] = { s->utc, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux,
 	                       s->daylight_v, s->daylight_lux };
 	psd_sampleout_time_iso(s->utc, iso);
 	head(o);
