@@ -613,8 +613,11 @@ static void overview(struct doc *d, double top, double bottom, double tmin, doub
 	for (int i = 0; i < n; i++)
 		lg[i] = (struct legend){ d->zones[i].name, pal[i], 0, 1 };
 	frame(d, &c, NULL, "Light output, every zone", "light output (%)", lg, n, 1);
+	/* zones often share an output (the same room and target): each drawn
+	 * thinner than the one before, so a line under another shows as its
+	 * border instead of vanishing */
 	for (int i = 0; i < n; i++)
-		line(d, &c, &d->zones[i], d->zones[i].out, pal[i], 1.1, 0);
+		line(d, &c, &d->zones[i], d->zones[i].out, pal[i], 1.1 + 1.4 * (n - 1 - i), 0);
 }
 
 static double keyval(struct doc *d, double y, const char *key, const char *val, int mono)
@@ -935,6 +938,7 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 	struct psd_ticks tt, yt;
 	char lab[32];
 	double x, lw, avail, size = 7;
+	int midnights = 0;
 	/* shading: faults (red), calibration sessions (blue) */
 	if (!z)
 		goto unshaded;
@@ -982,6 +986,7 @@ unshaded:
 	for (double day = ceil(c->tlo / 86400) * 86400; day <= c->thi; day += 86400) {
 		if (day <= c->tlo)
 			continue;
+		midnights++;
 		x = cx(c, day);
 		cairo_save(d->cr);
 		set_rgb(d->cr, BLACK);
@@ -1001,9 +1006,10 @@ unshaded:
 	cairo_stroke(d->cr);
 	text_up(d, MARGIN + 6, (c->y0 + c->y1) / 2, 7, BLACK, ytitle);
 	if (xtitle)
-		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, d->dated ? "local time of day (hh:mm); "
-		     "a dashed line is midnight, with the new date" : "local time of day (hh:mm); day 1 is the day psensd "
-		     "started");
+		/* the dashed line is explained only where there is one */
+		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, !d->dated ? "local time of day (hh:mm); day 1 "
+		     "is the day psensd started" : midnights ? "local time of day (hh:mm); a dashed line is midnight, "
+		     "with the new date" : "local time of day (hh:mm)");
 	/* title and legend above the plot */
 	lw = text(d, c->x0, c->y0 - 4, 8.5, 1, -1, BLACK, title);
 	x = c->x0 + lw + 12;

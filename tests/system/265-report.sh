@@ -42,6 +42,8 @@ if command -v pdftotext > /dev/null; then
 	# pdftotext puts each word of a turned (y axis) title on a line of its own
 	pdftotext -raw "$TMP/r.pdf" - | tr '\n' ' ' > "$TMP/r.raw"
 	check "the axis titles with units" sh -c "for t in 'sensor signal (V)' 'task illuminance (lx)' 'light output (%)' 'energy (full-load h)' 'local time of day (hh:mm)'; do grep -qF \"\$t\" '$TMP/r.raw' || exit 1; done"
+	check "a day with no midnight on its axes says nothing of a dashed midnight line" \
+		sh -c "! grep -q 'dashed line is midnight' '$TMP/r.raw'"
 	check "round time ticks (every 2 h)" sh -c "grep -q '06:00 *08:00 *10:00 *12:00 *14:00 *16:00 *18:00' '$TMP/r.txt'"
 	check "no odd ticks (09:29 or 0.934)" sh -c "! grep -qE '09:29|0\\.934|1\\.87' '$TMP/r.txt'"
 	check "the faults: 20 min at the safe level" has "faults 20 min"

@@ -143,6 +143,13 @@ if command -v pdftotext > /dev/null; then
 	check "the sensors read as virtual rooms, not plain modbus" \
 		sh -c "grep -q 'modbus, virtual: psvirt' '$TMP/site.txt' && ! grep -q 'sensor (modbus)' '$TMP/site.txt'"
 	check "no sign-off block" sh -c "grep -q 'SIMULATED: no sign-off' '$TMP/site.txt' && ! grep -q Signature '$TMP/site.txt'"
+	# north and south share a room and a target, so the same output but for
+	# south's fault: the cover's chart must still show north's line (purple)
+	# beside south's (orange) drawn over it
+	"$BIN/psensctl" -d "$TMP/site.db" report -c config/example/site.conf --page 1 -o "$TMP/cover.png" > /dev/null 2>&1
+	set -- $(python3 tests/system/pngcolours.py "$TMP/cover.png" 115,51,153 224,122,0)
+	check "the cover's chart shows north's line under south's: $1 purple pixels, $2 orange (at least half)" \
+		test "$1" -gt 0 -a "$((2 * $1))" -ge "$2"
 else
 	skip "pdftotext not installed"
 fi
