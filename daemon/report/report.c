@@ -587,7 +587,11 @@ static int overall(const struct doc *d)
 struct chart {
 	double x0, y0, x1, y1;           /* the plot area */
 	double tlo, thi, ylo, yhi;
+	double blo, bhi;                 /* a long gap with no samples (psensd not running),
+	                                    drawn BREAK_W wide; blo >= bhi: none */
 };
+
+enum { BREAK_W = 14 };
 
 struct legend {
 	const char *label;
@@ -607,7 +611,7 @@ static void overview(struct doc *d, double top, double bottom, double tmin, doub
 {
 	static const double *const pal[] = { PURPLE, GREEN, ORANGE, BLUE, RED, BLACK };
 	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, bottom, tmin, tmax > tmin ? tmax : tmin + 3600, 0,
-		           100 };
+		           100, 0, 0 };
 	struct legend lg[PSD_MAX_ZONES] = { { 0 } };
 	int n = d->nzones < 6 ? d->nzones : 6;
 	for (int i = 0; i < n; i++)
@@ -888,7 +892,34 @@ static void cover(struct doc *d)
 
 static double cx(const struct chart *c, double t)
 {
-	return c->x0 + (c->thi > c->tlo ? (t - c->tlo) / (c->thi - c->tlo) : 0.5) * (c->x1 - c->x0);
+	double span, w;
+	if (!(c->bhi > c->blo))
+		return c->x0 + (c->thi > c->tlo ? (t - c->tlo) / (c->thi - c->tlo) : 0.5) * (c->x1 - c->x0);
+	/* the time on either side of the break shares the width less the break's */
+	span = (c->thi - c->tlo) - (c->bhi - c->blo);
+	w = c->x1 - c->x0 - BREAK_W;
+	if (t <= c->blo)
+		return c->x0 + (t - c->tlo) / span * w;
+	if (t >= c->bhi)
+		return c->x0 + (c->blo - c->tlo + t - c->bhi) / span * w + BREAK_W;
+	return c->x0 + (c->blo - c->tlo) / span * w + BREAK_W / 2.0;
+}
+
+/* The longest gap between plotted points, when it is more than 3 h and a
+ * quarter of the span: the charts leave it out (a night psensd did not run
+ * would otherwise take half of each chart). */
+static void find_break(const struct zone *z, struct chart *c)
+{
+	double best = 0;
+	c->blo = c->bhi = 0;
+	for (int i = 1; i < z->n; i++)
+		if (z->t[i] - z->t[i - 1] > best) {
+			best = z->t[i] - z->t[i - 1];
+			c->blo = z->t[i - 1];
+			c->bhi = z->t[i];
+		}
+	if (!(best > 3 * 3600 && best > 0.25 * (c->thi - c->tlo)))
+		c->blo = c->bhi = 0;
 }
 
 static double cy(const struct chart *c, double v)
@@ -970,8 +1001,12 @@ unshaded:
 			psd_chart_tick_num_label(&yt, yt.v[i], lab, sizeof lab);
 			text(d, c->x0 - 3, y + 2.5, 6.5, 0, 1, BLACK, lab);
 		}
-	/* time ticks */
-	if (psd_chart_ticks_time(c->tlo, c->thi, (int)((c->x1 - c->x0) / 45), &tt) == 0)
+	/* time ticks: on each side of a break, for its own span */
+	for (int seg = 0; seg < (c->bhi > c->blo ? 2 : 1); seg++) {
+		double lo = c->bhi > c->blo && seg ? c->bhi : c->tlo, hi = c->bhi > c->blo && !seg ? c->blo : c->thi;
+		int room = (int)((cx(c, hi) - cx(c, lo)) / 45);
+		if (hi <= lo || psd_chart_ticks_time(lo, hi, room > 1 ? room : 2, &tt) != 0)
+			continue;
 		for (int i = 0; i < tt.n; i++) {
 			x = cx(c, tt.v[i]);
 			set_rgb(d->cr, GREY);
@@ -982,6 +1017,19 @@ unshaded:
 			psd_chart_tick_time_label(tt.v[i], lab, sizeof lab);
 			text(d, x, c->y1 + 12, 6.5, 0, 0, BLACK, lab);
 		}
+	}
+	if (c->bhi > c->blo) {   /* the break: a gap in the frame's foot, two slants */
+		x = cx(c, (c->blo + c->bhi) / 2);
+		cairo_save(d->cr);
+		set_rgb(d->cr, GREY);
+		cairo_set_line_width(d->cr, 0.8);
+		for (int k = -1; k <= 1; k += 2) {
+			cairo_move_to(d->cr, x + k * 3 - 2, c->y1 + 4);
+			cairo_line_to(d->cr, x + k * 3 + 2, c->y1 - 4);
+		}
+		cairo_stroke(d->cr);
+		cairo_restore(d->cr);
+	}
 	/* day boundaries */
 	for (double day = ceil(c->tlo / 86400) * 86400; day <= c->thi; day += 86400) {
 		if (day <= c->tlo)
@@ -1047,8 +1095,9 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	double target = zc ? zc->ctl.target_lux : NAN;
 	double gap = 30, h = (bottom - top - 3 * gap - 12) / 4;
 	double tlo = z->tmin, thi = z->tmax > z->tmin ? z->tmax : z->tmin + 3600;
-	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, top + h, tlo, thi, 0, 1 };
+	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, top + h, tlo, thi, 0, 1, 0, 0 };
 	double *tl = NULL;
+	find_break(z, &c);
 	const struct legend fault = { "fault (safe level)", RED, 2, 0.22 }, cal = { "calibration", BLUE, 2, 0.16 };
 	/* sensor volts */
 	c.ylo = 0;

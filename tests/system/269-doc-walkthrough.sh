@@ -77,6 +77,12 @@ if command -v pdftotext > /dev/null; then
 else
 	skip "pdftotext not installed"
 fi
+# the record's charts leave out the night psensd did not run (21:31 to
+# 10:00): the sensor's line (blue) spans most of the page's width, not the
+# tenth its 82 minutes of samples would take of a 14-hour axis
+"$BIN/psensctl" -d "$TMP/top/build/cal.db" report office --page 2 -o "$TMP/zone.png" > /dev/null 2>&1
+share=$(python3 tests/system/pngcolours.py --columns "$TMP/zone.png" 31,79,156)
+check "the zone page's sensor line spans $share % of the page's columns (at least 60 %)" test "${share:-0}" -ge 60
 # the psfilter example names a file it makes from one the project ships:
 # its two commands, taken from doc/simulation.md, give the document's first line
 awk '/^\*\*psfilter\*\*/ { s = 1 } s && /^```/ { if (b) exit; b = 1; next }

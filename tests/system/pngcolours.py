@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: ISC
 """Count a PNG's pixels near each colour given (r,g,b 0-255, within 40 per
-channel): pngcolours.py FILE R,G,B ...  prints one count a line.  A plain
+channel): pngcolours.py FILE R,G,B ...  prints one count a line; with
+--columns first, the share (%) of the picture's columns holding the colour.  A plain
 decoder (zlib and the five PNG filters) for 8-bit RGB or RGBA, not
 interlaced, as cairo writes them: the tests need no imaging library."""
 import struct
@@ -46,13 +47,18 @@ def pixels(path):
     return out, w, bpp
 
 
-rows, w, bpp = pixels(sys.argv[1])
-for spec in sys.argv[2:]:
+args = sys.argv[1:]
+columns = args[0] == '--columns'
+if columns:
+    args = args[1:]
+rows, w, bpp = pixels(args[0])
+for spec in args[1:]:
     want = [int(v) for v in spec.split(',')]
-    n = 0
+    n, cols = 0, set()
     for line in rows:
         for x in range(w):
             p = line[x * bpp:x * bpp + 3]
             if all(abs(p[k] - want[k]) <= 40 for k in range(3)):
                 n += 1
-    print(n)
+                cols.add(x)
+    print(round(100 * len(cols) / w) if columns else n)
