@@ -606,6 +606,7 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
                   const struct legend *lg, int nlg, int xtitle);
 static void line(struct doc *d, const struct chart *c, const struct zone *z, const double *y, const double rgb[3],
                  double lw, int dashed);
+static void find_break(const struct zone *z, struct chart *c);
 
 static void overview(struct doc *d, double top, double bottom, double tmin, double tmax)
 {
@@ -616,6 +617,16 @@ static void overview(struct doc *d, double top, double bottom, double tmin, doub
 	int n = d->nzones < 6 ? d->nzones : 6;
 	for (int i = 0; i < n; i++)
 		lg[i] = (struct legend){ d->zones[i].name, pal[i], 0, 1 };
+	/* the first zone's long gap, when no other zone has a sample in it */
+	if (n > 0) {
+		find_break(&d->zones[0], &c);
+		for (int i = 1; i < n && c.bhi > c.blo; i++)
+			for (int k = 0; k < d->zones[i].n; k++)
+				if (d->zones[i].t[k] > c.blo && d->zones[i].t[k] < c.bhi) {
+					c.blo = c.bhi = 0;
+					break;
+				}
+	}
 	frame(d, &c, NULL, "Light output, every zone", "light output (%)", lg, n, 1);
 	/* zones often share an output (the same room and target): each drawn
 	 * thinner than the one before, so a line under another shows as its

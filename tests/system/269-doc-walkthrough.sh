@@ -83,6 +83,9 @@ fi
 "$BIN/psensctl" -d "$TMP/top/build/cal.db" report office --page 2 -o "$TMP/zone.png" > /dev/null 2>&1
 share=$(python3 tests/system/pngcolours.py --columns "$TMP/zone.png" 31,79,156)
 check "the zone page's sensor line spans $share % of the page's columns (at least 60 %)" test "${share:-0}" -ge 60
+"$BIN/psensctl" -d "$TMP/top/build/cal.db" report office --page 1 -o "$TMP/cover.png" > /dev/null 2>&1
+share=$(python3 tests/system/pngcolours.py --columns "$TMP/cover.png" 115,51,153)
+check "the cover's output line spans $share % of the page's columns (at least 60 %)" test "${share:-0}" -ge 60
 # the psfilter example names a file it makes from one the project ships:
 # its two commands, taken from doc/simulation.md, give the document's first line
 awk '/^\*\*psfilter\*\*/ { s = 1 } s && /^```/ { if (b) exit; b = 1; next }
