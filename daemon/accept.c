@@ -15,7 +15,7 @@ const char *const psd_accept_verdict_names[] = { "NOT TESTED", "FAIL", "PASS" };
 
 void psd_accept_defaults(struct psd_accept_params *p)
 {
-	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05 };
+	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05, PSD_ACCEPT_SETTLE_S };
 }
 
 /* The spans calibration sessions held the zone's lights, each in UTC
@@ -24,6 +24,8 @@ void psd_accept_defaults(struct psd_accept_params *p)
 struct held {
 	double (*span)[4];        /* UTC from, to; clock from, to */
 	size_t n, cap;
+	double settle;            /* s after each span's end still held */
+	long left_out;            /* samples the spans and their settling left out */
 	int failed;               /* out of memory: the run fails, no verdict */
 };
 
@@ -98,7 +100,7 @@ static int is_held(const struct held *h, const struct psd_sample *s)
 		int utc = isfinite(s->utc) && isfinite(h->span[i][0]);
 		double t = utc ? s->utc : s->t;
 		const double *sp = h->span[i] + (utc ? 0 : 2);
-		if (t >= sp[0] && t <= sp[1])
+		if (t >= sp[0] && t <= sp[1] + h->settle)
 			return 1;
 	}
 	return 0;
@@ -172,16 +174,18 @@ static void scan_sample(void *user, const struct psd_sample *s)
 		c->prev_output = NAN;   /* at the safe level: the next sample has no known level */
 		return;
 	}
-	/* a calibration session held the lights: its samples say nothing of
-	 * the control (full daylight, low daylight, cycling), but the estimate
-	 * must follow the room then too (verification) */
+	/* a calibration session held the lights, or its level is fading into
+	 * the control's: the sample judges neither the control nor its
+	 * estimate (readings at one level, the estimate made for another) */
 	held = is_held(&c->held, s);
 	if (held) {
 		c->last_level = NAN;   /* the control starts again from wherever the session left it */
 		c->last_dir = 0;
-	} else {
-		track_cycling(c, s);
+		c->prev_output = s->output;
+		c->held.left_out++;
+		return;
 	}
+	track_cycling(c, s);
 	/* a sample's readings were taken with the lights at the previous step's
 	 * output; its output is the control's answer to them */
 	prev = c->prev_output;
@@ -200,8 +204,6 @@ static void scan_sample(void *user, const struct psd_sample *s)
 		}
 		c->band[dl < 0.5 ? 0 : dl < 1.5 ? 1 : 2]++;
 	}
-	if (held)
-		return;
 	if (dl >= 1.5) {
 		c->nfull++;
 		if (s->output > c->full_max)
@@ -218,6 +220,7 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 {
 	struct scan c;
 	struct psd_accept_result *r;
+	char left[112];
 	int bands;
 	memset(&c, 0, sizeof c);
 	c.p = p;
@@ -227,6 +230,7 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	c.full_max = -INFINITY;
 	c.low_min = INFINITY;
 	c.min_gap = INFINITY;
+	c.held.settle = isfinite(p->settle_s) && p->settle_s > 0 ? p->settle_s : 0;
 	if (psd_db_cal_sessions(db, zone, add_session, &c.held, err, errlen) != 0) {
 		free(c.held.span);
 		return -1;
@@ -253,10 +257,17 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	free(c.starts.utc);
 	memset(out, 0, PSD_ACCEPT_NTESTS * sizeof *out);
 	bands = (c.band[0] > 0) + (c.band[1] > 0) + (c.band[2] > 0);
+	if (c.held.left_out)
+		snprintf(left, sizeof left, "; %ld samples in %zu calibration session%s and the %g s after each left out",
+		         c.held.left_out, c.held.n, c.held.n == 1 ? "" : "s", c.held.settle);
+	else
+		left[0] = 0;
 
 	r = &out[0];
 	r->test = "verification";
 	r->samples = c.n;
+	r->left_out = c.held.left_out;
+	r->settle_s = c.held.settle;
 	r->value = c.n ? 100 * sqrt(ps_sum_get(&c.e2) / (double)c.n) : NAN;
 	r->limit = p->rms_max;
 	if (c.n == 0) {
@@ -274,8 +285,8 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 		snprintf(r->measured, sizeof r->measured, "estimate against the meter over %ld samples (at least %ld): "
 		         "rms %.2f %% (at most %g %%), worst %.2f %% at %s (at most %g %%); daylight at the "
 		         "task below 50 %% of the target in %ld, 50-150 %% in %ld, 150 %% and more in %ld (two bands "
-		         "at least)", c.n, p->min_samples, r->value, p->rms_max, 100 * c.worst, when, p->worst_max,
-		         c.band[0], c.band[1], c.band[2]);
+		         "at least)%s", c.n, p->min_samples, r->value, p->rms_max, 100 * c.worst, when, p->worst_max,
+		         c.band[0], c.band[1], c.band[2], left);
 	}
 
 	r = &out[1];
@@ -359,6 +370,23 @@ void psd_accept_summarize(const struct psd_accept_result r[PSD_ACCEPT_NTESTS], s
 const char *psd_accept_overall(const struct psd_accept_summary *sum)
 {
 	return sum->failed ? "NOT ACCEPTED" : sum->tested == PSD_ACCEPT_NTESTS ? "ACCEPTED" : "INCOMPLETE";
+}
+
+int psd_accept_verification(struct psd_db *db, const char *zone, struct psd_accept_result *r, char *err,
+                            size_t errlen)
+{
+	struct psd_accept_params p;
+	struct psd_accept_result out[PSD_ACCEPT_NTESTS];
+	psd_accept_defaults(&p);
+	if (psd_db_zone_consts_get(db, zone, &p.target_lux, &p.elec_task_lux, &p.delay) != 0) {
+		snprintf(err, errlen, "zone %s: no design constants on record (psensd records them when it starts)",
+		         zone);
+		return -1;
+	}
+	if (psd_accept_run(db, zone, &p, out, err, errlen) != 0)
+		return -1;
+	*r = out[0];
+	return 0;
 }
 
 int psd_accept_zone(struct psd_db *db, const char *zone, struct psd_accept_params *p, double utc,

@@ -23,10 +23,14 @@
  * task_lux - elec_task_lux x output, at the output of the step before (the
  * one the lights were at when the sample's readings were taken; the
  * sample's own output is the control's answer to them).  While a
- * calibration session held the lights (its span in cal_sessions) the
- * samples count for the verification only: the functional tests judge the
- * control, and cycling starts again after the session.  A test with no
- * sample in its range is NOT TESTED, never a pass.  Each result says what it measured. */
+ * calibration session held the lights (its span in cal_sessions) and for
+ * settle_s after it ended (the lamps fading from the session's level to
+ * the control's: readings and estimate then belong to different levels)
+ * no sample counts for any test: the session judges the sensor, these tests
+ * the control; cycling starts again after it.  The verification says how
+ * many samples it left out so.  The commissioning record shows this same
+ * verification (psd_accept_verification).  A test with no sample in its
+ * range is NOT TESTED, never a pass.  Each result says what it measured. */
 #ifndef PSD_ACCEPT_H
 #define PSD_ACCEPT_H
 
@@ -35,6 +39,10 @@
 struct psd_db;
 
 enum { PSD_ACCEPT_NTESTS = 4 };
+/* s after a calibration session ended that no test judges (the lamps fade
+ * from the session's level to the control's); psensd's summary leaves the
+ * same span out */
+#define PSD_ACCEPT_SETTLE_S 60.0
 enum psd_accept_verdict { PSD_ACCEPT_NOT_TESTED = -1, PSD_ACCEPT_FAIL = 0, PSD_ACCEPT_PASS = 1 };
 
 struct psd_accept_params {
@@ -45,6 +53,7 @@ struct psd_accept_params {
 	double rms_max, worst_max;/* verification limits, % (10, 25) */
 	long min_samples;         /* verification: at least this many (30) */
 	double swing;             /* cycling: a change this large (fraction of full output, 0.05) */
+	double settle_s;          /* s after a calibration session not judged (60) */
 };
 
 struct psd_accept_result {
@@ -52,7 +61,9 @@ struct psd_accept_result {
 	int verdict;              /* enum psd_accept_verdict */
 	double value, limit;      /* the measured figure and its limit */
 	long samples;             /* samples judged */
-	char measured[320];       /* what was measured, in words */
+	long left_out;            /* verification: samples of sessions and their settling not judged */
+	double settle_s;          /* verification: the settling time after a session, s */
+	char measured[400];       /* what was measured, in words */
 };
 
 /* Defaults for what the caller does not set. */
@@ -61,6 +72,12 @@ void psd_accept_defaults(struct psd_accept_params *p);
 int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_params *p,
                    struct psd_accept_result out[PSD_ACCEPT_NTESTS], char *err, size_t errlen);
 extern const char *const psd_accept_verdict_names[];   /* indexed by verdict + 1 */
+
+/* The verification alone, as psensctl accept-test runs it with its
+ * defaults (the zone's design constants from db): what the commissioning
+ * record shows.  -1 with a message in err (the zone is not on record). */
+int psd_accept_verification(struct psd_db *db, const char *zone, struct psd_accept_result *r, char *err,
+                            size_t errlen);
 
 /* The outcome of a whole run. */
 struct psd_accept_summary {

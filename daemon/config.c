@@ -113,6 +113,19 @@ static int timezone_valid(const char *tz)
 	return strlen(tz) >= 4 && strpbrk(tz, "0123456789") != NULL && strspn(tz, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz") >= 3;
 }
 
+const char *psd_config_zone_simulated(const struct psd_config *cf, const struct psd_zone_conf *zc)
+{
+	const struct psd_device_conf *d;
+	if (zc->sensor < 0 || (size_t)zc->sensor >= cf->npt)
+		return NULL;
+	d = &cf->dev[cf->pt[zc->sensor].device];
+	if (d->simulated[0])
+		return d->simulated;
+	if (d->drv && (d->drv->truth || strcmp(d->drv->name, "replay") == 0))
+		return d->drv->name;
+	return NULL;
+}
+
 const char *psd_config_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc)
 {
 	return zc->scene ? zc->scene : zc->results ? NULL : cf->scene;
@@ -147,7 +160,7 @@ static const char *const point_keys[] = { "device", "role",       "action",
 static void load_devices(struct psd_config *cf)
 {
 	struct ps_conf *c = &cf->conf;
-	static const char *const own[] = { "driver", NULL };
+	static const char *const own[] = { "driver", "simulated", NULL };
 	for (size_t i = 0; i < c->nsec; i++) {
 		struct ps_conf_section *s = &c->sec[i];
 		const char *name = ps_conf_section_is(s, "device"), *drv;
@@ -175,6 +188,7 @@ static void load_devices(struct psd_config *cf)
 			ps_registry_names(names, sizeof names);
 			ps_conf_error(c, line_of(s, "driver"), "driver: no driver '%s' (%s)", drv, names);
 		}
+		snprintf(d->simulated, sizeof d->simulated, "%s", ps_conf_str(c, s, "simulated", ""));
 		driver_opts(cf, s, own, &d->opts);
 		check_driver_keys(cf, d->drv, &d->opts, -1, s->line);
 		cf->ndev++;

@@ -36,7 +36,9 @@ enum psd_action { PSD_ACT_NONE = 0, PSD_ACT_OCCUPANCY, PSD_ACT_OVERRIDE, PSD_ACT
 struct psd_device_conf {
 	char name[48];
 	const struct ps_driver *drv;
-	struct ps_opts opts;      /* the section's keys but `driver` */
+	struct ps_opts opts;      /* the section's keys but `driver` and `simulated` */
+	char simulated[64];       /* `simulated = WHAT`: a device that is a simulation
+	                             (psvirt's virtual rooms), "" for a real one */
 	int line;
 };
 
@@ -140,6 +142,11 @@ void psd_config_free(struct psd_config *cf);
  * named after the scene (ofb-cone.scene: ofb-cone.results). */
 const char *psd_config_zone_scene(const struct psd_config *cf, const struct psd_zone_conf *zc);
 const char *psd_config_zone_results(const struct psd_config *cf, const struct psd_zone_conf *zc);
+
+/* What simulates a zone's sensor, or NULL for a real one: "loopback" or
+ * "replay" (drivers that are simulations), or the device's `simulated =`
+ * (a Modbus device that is psvirt). */
+const char *psd_config_zone_simulated(const struct psd_config *cf, const struct psd_zone_conf *zc);
 
 /* Index of a device or zone by name, -1 if none. */
 int psd_config_zone(const struct psd_config *cf, const char *name);

@@ -29,6 +29,18 @@ static const char help_text[] =
 	"accept-test ZONE [--since YYYY-MM-DD] [--samples N] | "
 	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
 
+/* The request words psensd answers (the first word of each help_text entry). */
+static const char *const request_words[] = { "ping", "status", "target", "override", "release", "ratios", "log",
+	                                     "reload", "help", "calibrate", "accept-test", "dali", NULL };
+
+int psd_ctlcmd_is_request(const char *word)
+{
+	for (size_t i = 0; request_words[i]; i++)
+		if (strcmp(word, request_words[i]) == 0)
+			return 1;
+	return 0;
+}
+
 /* A path psensd names to a client, absolute: a relative one (from a
  * relative -f) is relative to psensd's directory, not the client's. */
 static void put_path(json_object *o, const char *key, const char *path)

@@ -9,6 +9,9 @@
 struct psd_daemon;
 struct psd_ctl_client;
 
+/* 1 when word is the first word of a request psensd answers, else 0: a
+ * client refuses a misspelt command before asking. */
+int psd_ctlcmd_is_request(const char *word);
 /* The control socket's handler (daemon/ctlcmd.c). */
 void psd_ctlcmd_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
 /* One request line, judged and answered (a JSON line in reply): what the

@@ -348,3 +348,28 @@ void psd_ctlsock_close(struct psd_ctlsock *s)
 	psd_pidlock_release(s->lockfd);   /* after the unlink: the next daemon finds no socket */
 	s->lockfd = -1;
 }
+
+const char *psd_ctlsock_default_path(int serve, char *buf, size_t n)
+{
+	static const char sys_dir[] = "/run/psensd";
+	const char *rt = getenv("RUNTIME_DIRECTORY"), *xdg = getenv("XDG_RUNTIME_DIR"), *env = getenv("PSENSD_SOCKET");
+	struct stat st;
+	int have_xdg = xdg && xdg[0] == '/';
+	snprintf(buf, n, "%s/psensd.sock", sys_dir);
+	if (serve) {
+		if (rt && *rt)
+			snprintf(buf, n, "%s/psensd.sock", rt);
+		else if (access(sys_dir, W_OK) != 0 && have_xdg && access(xdg, W_OK) == 0)
+			snprintf(buf, n, "%s/psensd.sock", xdg);
+		return buf;
+	}
+	if (env && *env)
+		snprintf(buf, n, "%s", env);
+	else if (stat(buf, &st) != 0 && have_xdg) {
+		char alt[512];
+		snprintf(alt, sizeof alt, "%s/psensd.sock", xdg);
+		if (stat(alt, &st) == 0)
+			snprintf(buf, n, "%s", alt);
+	}
+	return buf;
+}

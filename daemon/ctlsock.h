@@ -59,6 +59,14 @@ void psd_ctlsock_service(struct psd_ctlsock *s, const struct pollfd *fds, int nf
 /* Close every connection and the socket, and remove the file. */
 void psd_ctlsock_close(struct psd_ctlsock *s);
 
+/* The control socket when the configuration names none, one rule for
+ * psensd (serve 1) and its clients (serve 0): $RUNTIME_DIRECTORY
+ * (systemd's RuntimeDirectory=, psensd only), then /run/psensd when psensd
+ * can write it, else $XDG_RUNTIME_DIR (a user who is not root); a client
+ * takes $PSENSD_SOCKET, then whichever of the two holds a socket.  The
+ * path, in buf. */
+const char *psd_ctlsock_default_path(int serve, char *buf, size_t n);
+
 /* Split a request into words (spaces and tabs); words are at most
  * PSD_CTL_MAX_WORDS.  Returns the count, or -1 with a message in err for
  * control characters or too many words. */

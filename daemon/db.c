@@ -1118,6 +1118,26 @@ int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65
 	return found;
 }
 
+int psd_db_zone_simulated(struct psd_db *db, const char *zone, char *what, size_t n)
+{
+	sqlite3_stmt *st;
+	char ignored[128];
+	int found = 0;
+	what[0] = 0;
+	if (table_exists(db, "events") != 1)
+		return 0;
+	st = query(db, ignored, sizeof ignored, "SELECT text FROM events WHERE zone = ? AND kind = 'simulated'"
+	           " ORDER BY rowid DESC LIMIT 1", "t", zone);
+	if (!st)
+		return -1;
+	if (sqlite3_step(st) == SQLITE_ROW) {
+		snprintf(what, n, "%s", col_text(st, 0) ? col_text(st, 0) : "");
+		found = 1;
+	}
+	sqlite3_finalize(st);
+	return found;
+}
+
 /* ---- the MQTT publisher --------------------------------------------------------- */
 
 int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_sample_row_fn fn, void *user, char *err,

@@ -204,6 +204,9 @@ int psd_db_zones(struct psd_db *db, psd_db_name_fn fn, void *user, char *err, si
 /* The config's and the scene's SHA-256 of the zone's latest session: 1 when
  * found, 0 when none (both ""), -1 on a read error. */
 int psd_db_cal_hashes(struct psd_db *db, const char *zone, char config_sha256[65], char scene_sha256[65]);
+/* 1 when psensd recorded that zone's devices as simulated (a "simulated"
+ * event at a start; its text in what), 0 when not, -1 on a read error. */
+int psd_db_zone_simulated(struct psd_db *db, const char *zone, char *what, size_t n);
 
 /* ---- the MQTT publisher (daemon/mqtt/mqtt.c) ----------------------------- */
 

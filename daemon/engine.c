@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "accept.h"
 #include "clock.h"
 #include "errbuf.h"
 #include "log.h"
@@ -178,6 +179,7 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	}
 	z->st.energy_last = z->st.energy0;
 	z->st.since = now;
+	z->st.cal_until = -INFINITY;
 	z->st.worst_lux = INFINITY;
 	if (prev) {
 		for (size_t i = 0; i < prev->nzone; i++) {
@@ -708,6 +710,25 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 		return;
 	if (psd_engine_truth(z, now, &tr) == 0)
 		s->energy_last = tr.energy;
+	/* a calibration session's periods and the fade after it judge the
+	 * session, not the control: counted apart, with their spans */
+	if (psd_calsession_running(&z->cal)) {
+		if (!s->in_cal && s->ncal < PSD_STATS_MAX_CAL)
+			s->cal_from[s->ncal++] = now;
+		if (s->ncal > 0)
+			s->cal_to[s->ncal - 1] = now;
+		s->in_cal = 1;
+		s->cal_steps++;
+		return;
+	}
+	if (s->in_cal) {
+		s->in_cal = 0;
+		s->cal_until = now + PSD_ACCEPT_SETTLE_S;
+	}
+	if (now <= s->cal_until) {
+		s->cal_steps++;
+		return;
+	}
 	if (!z->in_fault && !isnan(z->ctl.est_task_lux) && psd_engine_truth(z, now, &tr) == 0) {
 		t = tr.task_lux;
 		if (t > 0) {

@@ -27,7 +27,14 @@ struct psd_zone_stats {
 	double energy_last;       /* the room's energy at the zone's last step */
 	double energy_prior;      /* energy used under the engines a reload replaced */
 	double since;             /* when the statistics began (kept across reloads) */
+	/* calibration sessions: the periods they held the lights and the
+	 * settling after each (PSD_ACCEPT_SETTLE_S) are counted here, not in
+	 * below nor the estimate's errors; the first PSD_STATS_MAX_CAL spans */
+	double cal_steps, cal_until;
+	double cal_from[8], cal_to[8];
+	int ncal, in_cal;
 };
+enum { PSD_STATS_MAX_CAL = 8 };
 /* The energy a zone used since its statistics began (full-output seconds),
  * given the room's energy now. */
 double psd_engine_zone_energy(const struct psd_zone_stats *s, double energy_now);

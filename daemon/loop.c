@@ -74,11 +74,9 @@ static void signals_read(struct psd_daemon *d)
 
 static const char *socket_path(const struct psd_config *cf, char *buf, size_t n)
 {
-	const char *rt = getenv("RUNTIME_DIRECTORY");   /* set by systemd's RuntimeDirectory= */
 	if (cf->socket_path)
 		return cf->socket_path;
-	snprintf(buf, n, "%s/psensd.sock", rt && *rt ? rt : "/run/psensd");
-	return buf;
+	return psd_ctlsock_default_path(1, buf, n);
 }
 
 void psd_loop_config_errors(const struct psd_config *cf)
@@ -137,6 +135,15 @@ static int date_run(struct psd_daemon *d, double now)
 		char text[300];
 		snprintf(text, sizeof text, "%s on a %s clock", d->config_path, d->clock.simulated ? "simulated" : "real-time");
 		psd_engine_event(&d->engine, now, NULL, "start", text);
+		/* the record tells a simulated zone from a real one by this */
+		for (size_t i = 0; i < d->engine.cf->nzone; i++) {
+			const struct psd_zone_conf *zc = &d->engine.cf->zone[i];
+			const char *sim = psd_config_zone_simulated(d->engine.cf, zc);
+			if (sim) {
+				snprintf(text, sizeof text, "the zone's devices are simulated (%s)", sim);
+				psd_engine_event(&d->engine, now, zc->name, "simulated", text);
+			}
+		}
 	}
 	return 0;
 }
@@ -179,7 +186,11 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	/* the socket first (in real time; in a simulated day only when
 	 * configured): a second daemon on the same socket is refused before it
 	 * opens a device or commands a light */
-	if (!d->clock.simulated || cf->socket_path) {
+	if (d->dry) {   /* -Y leaves no trace: no log, no socket */
+		free(cf->database);
+		cf->database = NULL;
+		cf->mqtt.enabled = 0;
+	} else if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctlsock_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
 		                 (int)cf->max_clients, psd_ctlcmd_handle, d, err, sizeof err) != 0) {
 			if (errno == EADDRINUSE)
@@ -212,7 +223,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	 * to the engine (samples.utc = utc0 + t, and every dated row) */
 	if (!isfinite(d->clock.epoch0))
 		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
-	if (date_run(d, now) != 0) {
+	if (!d->dry && date_run(d, now) != 0) {
 		psd_loop_safe(d, "refused start");
 		if (d->have_ctl)
 			psd_ctlsock_close(&d->ctl);

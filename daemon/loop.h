@@ -32,6 +32,8 @@ struct psd_daemon {
 	struct psd_wallstep wall; /* real time: the wall clock's steps */
 	int wall_dated;           /* the run's dates are the wall clock's (no -t, -d, -s):
 	                             they follow its steps */
+	int dry;                  /* psensd -Y: no socket, database, event, MQTT, nor a moved
+	                             date; only the results and the zones */
 	int stop;                 /* 1: SIGTERM/SIGINT seen */
 	int reload;               /* 1: SIGHUP seen */
 	unsigned long reloads, reload_failures;

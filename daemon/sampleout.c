@@ -65,20 +65,33 @@ void psd_sampleout_time_iso(double utc, char out[32])
 		snprintf(out, 32, "-");
 }
 
-static const char csv_header[] = "zone,time,utc,t,tod_s,sensor_v,output,est_task_lux,task_lux,daylight_v,"
-                                 "daylight_lux,condition,ratio,fault";
+/* each number's unit in its name (output a fraction, as logged: psensctl
+ * log prints it in %); the clock's own seconds are not repeated beside
+ * utc_s and tod_s */
+static const char csv_header[] = "zone,time_local,utc_s,tod_s,sensor_v,output_fraction,est_task_lux,task_lux,"
+                                 "daylight_v,daylight_lux,condition,ratio_lux_per_unit,fault";
 
 void psd_sampleout_begin(struct psd_sampleout *o, FILE *fp, int format)
 {
 	o->fp = fp;
 	o->format = format;
 	o->rows = 0;
-	if (format == PSD_OUT_CSV)
-		fprintf(fp, "%s\n", csv_header);
-	else if (format == PSD_OUT_JSON)
-		fputs("[", fp);
+	o->headed = 0;
+}
+
+/* The header goes out with the first row or at the end: a log that cannot be
+ * read prints its error alone, no header above it. */
+static void head(struct psd_sampleout *o)
+{
+	if (o->headed)
+		return;
+	o->headed = 1;
+	if (o->format == PSD_OUT_CSV)
+		fprintf(o->fp, "%s\n", csv_header);
+	else if (o->format == PSD_OUT_JSON)
+		fputs("[", o->fp);
 	else
-		fprintf(fp, "%-19s %-10s %7s %9s %9s %9s  %s\n", "time", "zone", "output", "sensor_v", "est_lux",
+		fprintf(o->fp, "%-19s %-10s %7s %9s %9s %9s  %s\n", "time", "zone", "output", "sensor_v", "est_lux",
 		        "task_lux", "fault");
 }
 
@@ -95,9 +108,10 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 {
 	struct psd_sampleout *o = user;
 	char iso[32], a[32], b[32], c[32], d[32];
-	const double num[] = { s->utc, s->t, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux,
+	const double num[] = { s->utc, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux,
 	                       s->daylight_v, s->daylight_lux };
 	psd_sampleout_time_iso(s->utc, iso);
+	head(o);
 	if (o->format == PSD_OUT_CSV) {
 		psd_csv_text(o->fp, s->zone);
 		fprintf(o->fp, ",%s,", isfinite(s->utc) ? iso : "");
@@ -144,6 +158,7 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 
 int psd_sampleout_end(struct psd_sampleout *o)
 {
+	head(o);
 	if (o->format == PSD_OUT_JSON)
 		fputs(o->rows ? "\n]\n" : "]\n", o->fp);
 	return fflush(o->fp) == 0 && !ferror(o->fp) ? 0 : -1;

@@ -21,13 +21,16 @@ struct psd_sampleout {
 	FILE *fp;
 	int format;       /* enum psd_sampleout_format */
 	long rows;
+	int headed;       /* the header is out */
 };
 
-/* The header (CSV, table) or the opening bracket (JSON). */
+/* Ready to write; the header (CSV, table) or the opening bracket (JSON)
+ * goes out with the first row or at psd_sampleout_end, so a caller that
+ * fails before any row and skips the end prints nothing on fp. */
 void psd_sampleout_begin(struct psd_sampleout *o, FILE *fp, int format);
 /* One sample: a psd_db_sample_fn (user is the psd_sampleout). */
 void psd_sampleout_row(void *user, const struct psd_sample *s);
-/* The closing bracket (JSON); 0, or -1 on a write error. */
+/* The header if no row came, the closing bracket (JSON); 0, or -1 on a write error. */
 int psd_sampleout_end(struct psd_sampleout *o);
 
 #endif

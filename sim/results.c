@@ -122,7 +122,7 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
 	fp = fopen(tmp, "w");
 	if (!fp)
-		return ps_err_sys(e, "%s", tmp);
+		return ps_err_sys(e, "%s", path);   /* the name asked for, not our copy beside it */
 	fprintf(fp, "; psscene results: the simulated task-sensor ratios psensd runs on.\n"
 	            "; Written by psscene; see psscene(5).\n[psresults]\nversion = %d\n",
 	        PS_RESULTS_VERSION);
@@ -167,7 +167,7 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	if (r->have_year)
 		write_year(fp, r);
 	if (fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) {
-		int rc = ps_err_sys(e, "%s: write error", tmp);
+		int rc = ps_err_sys(e, "%s: write error", path);
 		fclose(fp);
 		unlink(tmp);
 		return rc;
@@ -175,7 +175,7 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	fclose(fp);
 	/* the old file stays whole until the new one is complete */
 	if (rename(tmp, path) != 0) {
-		int rc = ps_err_sys(e, "rename %s to %s", tmp, path);
+		int rc = ps_err_sys(e, "%s", path);
 		unlink(tmp);
 		return rc;
 	}

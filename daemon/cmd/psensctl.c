@@ -29,6 +29,7 @@
 
 #include "cli.h"
 #include "ctlsock.h"
+#include "ctlcmd.h"
 #include "db.h"
 #include "canvas.h"
 #include "config.h"
@@ -54,7 +55,8 @@ static void usage(FILE *fp)
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
 	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
 	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n"
-	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET or /run/psensd/psensd.sock)\n"
+	            "  -s FILE     psensd's control socket (default $PSENSD_SOCKET, /run/psensd/psensd.sock\n"
+	            "              or $XDG_RUNTIME_DIR/psensd.sock)\n"
 	            "  -d FILE     the database, for export, report, log and accept-test (default: the one psensd names)\n"
 	            "  -j          replies as JSON lines\n"
 	            "  -w SECONDS  how long to wait for a reply (default 5)\n"
@@ -63,8 +65,8 @@ static void usage(FILE *fp)
 
 static const char *default_socket(void)
 {
-	const char *env = getenv("PSENSD_SOCKET");
-	return env && *env ? env : "/run/psensd/psensd.sock";
+	static char buf[600];
+	return psd_ctlsock_default_path(0, buf, sizeof buf);
 }
 
 /* One request, one reply line (malloc'd) or NULL after a message. */
@@ -660,7 +662,7 @@ static int export_samples(const char *sock, const char *dbpath, int timeout_ms, 
 		return 1;
 	psd_sampleout_begin(&out, stdout, format);
 	rc = psd_db_select(dbpath, zone, since, until, 0, psd_sampleout_row, &out, err, sizeof err);
-	if (psd_sampleout_end(&out) != 0 && rc == 0) {
+	if (rc == 0 && psd_sampleout_end(&out) != 0) {
 		snprintf(err, sizeof err, "standard output: write error");
 		rc = -1;
 	}
@@ -710,7 +712,8 @@ static int show_log(const char *sock, const char *dbpath, int timeout_ms, int ar
 		       text_of(o, "logged") : "-");
 	psd_sampleout_begin(&out, stdout, PSD_OUT_TABLE);
 	rc = psd_db_select(dbpath, zone, NAN, NAN, last, psd_sampleout_row, &out, err, sizeof err);
-	psd_sampleout_end(&out);
+	if (rc == 0)
+		psd_sampleout_end(&out);
 	if (rc != 0)
 		fprintf(stderr, "psensctl: %s\n", err);
 	json_object_put(o);
@@ -875,6 +878,10 @@ int main(int argc, char **argv)
 		return report(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "accept-test") == 0)
 		return accept_test(sock, dbpath, raw, timeout_ms, argc - optind - 1, argv + optind + 1);
+	if (!psd_ctlcmd_is_request(argv[optind])) {
+		fprintf(stderr, "psensctl: '%s' is not a command (psensctl --help lists them)\n", argv[optind]);
+		return 2;
+	}
 	for (int i = optind; i < argc; i++) {
 		int n = snprintf(request + used, sizeof request - used, "%s%s", i > optind ? " " : "", argv[i]);
 		if (n < 0 || (size_t)n >= sizeof request - used) {

@@ -17,6 +17,7 @@
 #include "loop.h"
 #include "annual.h"
 #include "canvas.h"
+#include "accept.h"
 #include "dated.h"
 #include "log.h"
 #include "registry.h"
@@ -35,7 +36,7 @@ static void summary(struct psd_daemon *d, double start, double end)
 		const struct psd_zone_stats *s = &z->st;
 		double hours = (end - (s->since > start ? s->since : start)) / 3600.0, used;
 		struct ps_truth t;
-		if (s->samples == 0 || psd_engine_truth(z, end, &t) != 0)
+		if ((s->samples == 0 && s->cal_steps == 0) || psd_engine_truth(z, end, &t) != 0)
 			continue;
 		/* numerator and denominator over the same span, across reloads */
 		used = psd_engine_zone_energy(s, t.energy) / 3600.0;
@@ -52,8 +53,20 @@ static void summary(struct psd_daemon *d, double start, double end)
 		else if (hours > 0)
 			printf("  energy: %.1f %% of full output (%.2f of %.2f full-output minutes)\n",
 			       100 * used / hours, 60 * used, 60 * hours);
-		printf("  time below target (by more than %.0f %%): %.1f %% (%.0f of %.0f periods; lowest %.0f lx)\n",
-		       100 * cf->tolerance, 100 * s->below / s->samples, s->below, s->samples, s->worst_lux);
+		if (s->cal_steps > 0) {
+			printf("  calibration sessions held the lights for %.0f periods (with the %g s after each), "
+			       "not counted below:", s->cal_steps, PSD_ACCEPT_SETTLE_S);
+			for (int k = 0; k < s->ncal; k++) {
+				char a[24], b[24];
+				psd_engine_stamp(e, s->cal_from[k], a, sizeof a);
+				psd_engine_stamp(e, s->cal_to[k], b, sizeof b);
+				printf("%s %s to %s", k ? "," : "", a, b);
+			}
+			printf("\n");
+		}
+		if (s->samples > 0)
+			printf("  time below target (by more than %.0f %%): %.1f %% (%.0f of %.0f periods; lowest %.0f lx)\n",
+			       100 * cf->tolerance, 100 * s->below / s->samples, s->below, s->samples, s->worst_lux);
 		if (s->err_n > 0)
 			printf("  estimated against true task illuminance: mean %+.2f %%, rms %.2f %%, worst %.2f %%\n",
 			       100 * s->err_sum / s->err_n, 100 * sqrt(s->err2_sum / s->err_n), 100 * s->err_max);
@@ -447,6 +460,7 @@ int main(int argc, char **argv)
 	/* a date taken from the configuration moves on past days on record */
 	d.advance_date = (simulate || !isnan(start)) && !date;
 	d.self = argv[0];
+	d.dry = year;
 	start = psd_clock_now(&d.clock);
 	if (psd_loop_start(&d, path) != 0) {
 		psd_loop_stop(&d, NULL);   /* what it did open (the signalfd) */

@@ -205,6 +205,33 @@ struct args {
 	size_t nopts;
 };
 
+/* One option out of range: its name and its range only (-2: no usage after). */
+static int bad_range(const char *opt, const char *range)
+{
+	fprintf(stderr, "psvirt: %s %s\n", opt, range);
+	return -2;
+}
+
+/* --tcp's port: decimal 0 to 65535 (0 picks a free one); the resolver would
+ * otherwise take 99999 modulo 65536. */
+static int tcp_port_ok(const char *tcp)
+{
+	const char *colon = strrchr(tcp, ':');
+	char *end;
+	long port;
+	if (!colon || colon == tcp) {
+		fprintf(stderr, "psvirt: --tcp: '%s' is not ADDR:PORT\n", tcp);
+		return -1;
+	}
+	errno = 0;
+	port = strtol(colon + 1, &end, 10);
+	if (!colon[1] || *end || errno || port < 0 || port > 65535 || colon[1] == '-' || colon[1] == '+') {
+		fprintf(stderr, "psvirt: --tcp: port '%s' is not 0 to 65535\n", colon + 1);
+		return -1;
+	}
+	return 0;
+}
+
 static int parse_args(struct args *a, int argc, char **argv)
 {
 	static const struct option lo[] = {
@@ -283,14 +310,24 @@ static int parse_args(struct args *a, int argc, char **argv)
 		fprintf(stderr, "psvirt: give one of --tcp ADDR:PORT or --rtu DEVICE\n");
 		return -1;
 	}
-	if (!(a->speed >= 0) || a->unit < 1 || a->unit > 247 || a->late_ms < 0 || a->late_ms > 60000 ||
-	    a->fault_count < 0 || a->fault_count > 65535 || a->zones < 0 || a->zones > PSD_VIRT_MAX_ZONES ||
-	    !(a->idle_timeout > 0) || a->max_clients < 1 || a->max_clients > 4096) {
-		fprintf(stderr, "psvirt: --speed must be >= 0, --unit 1 to 247, --late-ms 0 to 60000, "
-		                "--fault-count 0 to 65535, --zones 1 to %d, --idle-timeout > 0, "
-		                "--max-clients 1 to 4096\n", PSD_VIRT_MAX_ZONES);
-		return -1;
+	if (!(a->speed >= 0))
+		return bad_range("--speed", "must be >= 0 (0 freezes the clock)");
+	if (a->unit < 1 || a->unit > 247)
+		return bad_range("--unit", "must be 1 to 247");
+	if (a->late_ms < 0 || a->late_ms > 60000)
+		return bad_range("--late-ms", "must be 0 to 60000");
+	if (a->fault_count < 0 || a->fault_count > 65535)
+		return bad_range("--fault-count", "must be 0 to 65535");
+	if (a->zones < 0 || a->zones > PSD_VIRT_MAX_ZONES) {
+		fprintf(stderr, "psvirt: --zones must be 1 to %d\n", PSD_VIRT_MAX_ZONES);
+		return -2;
 	}
+	if (!(a->idle_timeout > 0))
+		return bad_range("--idle-timeout", "must be > 0 seconds");
+	if (a->max_clients < 1 || a->max_clients > 4096)
+		return bad_range("--max-clients", "must be 1 to 4096");
+	if (a->tcp && tcp_port_ok(a->tcp) != 0)
+		return -2;
 	return 0;
 }
 
@@ -603,11 +640,15 @@ int main(int argc, char **argv)
 	struct psd_mbserve_opts so;
 	modbus_t *line = NULL;
 	char err[512], where[300];
-	if (parse_args(&a, argc, argv) != 0) {
-		usage(stderr);
+	int rc;
+	if ((rc = parse_args(&a, argc, argv)) != 0) {
+		if (rc == -1)
+			usage(stderr);
 		return 2;
 	}
 	psd_log_init(1, a.verbose || getenv("PSVIRT_DEBUG") ? PSD_LOG_DEBUG : PSD_LOG_WARN, "psvirt");
+	if (a.ready)   /* a ready file left by an earlier run must not say ready now */
+		unlink(a.ready);
 	a.self = argv[0];
 	if (build_rooms(&v, &a) != 0) {
 		free_rooms(&v);

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "accept.h"
 #include "cache.h"
 #include "chart.h"
 #include "db.h"
@@ -59,14 +60,16 @@ struct zone {
 	double utc0;              /* UTC of clock 0 of the first dated run (NAN: none yet) */
 	char local0[20], local1[20];     /* local date and time of the first and last sample ("" undated) */
 	struct ps_sum esum;              /* energy */
-	struct ps_sum err2;              /* squared estimate error */
-	long long nerr, nmeas;            /* estimate errors; task meter readings */
+	long long nmeas;                 /* task meter readings */
+	struct psd_accept_result verif;  /* accept-test's verification (verif.test NULL: none) */
+	char verif_why[160];             /* why there is none */
+	char simulated[160];             /* what simulates its devices, "" when real */
 	struct session sess[MAXSESS];
 	int nsess, checks, fails, verdict;
 	char config_sha[65], scene_sha[65];
 	/* the latest psensctl accept-test run, one row a test */
 	struct {
-		char local[20], test[40], verdict[16], measured[320];
+		char local[20], test[40], verdict[16], measured[400];
 	} acc[MAXACC];
 	int nacc, nruns;
 	double acc_utc;                  /* when the last run was stored */
@@ -107,11 +110,6 @@ static void add_sample(void *user, const struct psd_sample *row)
 		ps_sum_add(&z->esum, s->output * dt / 3600);
 	if (dt > 0 && dt <= 3600 && s->fault)
 		z->fault_s += dt;
-	if (isfinite(s->est_task_lux) && isfinite(s->task_lux) && s->task_lux >= 50) {
-		double e = (s->est_task_lux - s->task_lux) / s->task_lux;
-		ps_sum_add(&z->err2, e * e);
-		z->nerr++;
-	}
 	z->nmeas += isfinite(s->task_lux);
 	z->prev_t = s->t;
 	if (s->t < z->tmin)
@@ -273,6 +271,11 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 	psd_db_cal_sessions(db, z->name, add_session, &c, ignored, sizeof ignored);
 	psd_db_cal_hashes(db, z->name, z->config_sha, z->scene_sha);
 	psd_db_accept_results(db, z->name, add_accept_run, z, ignored, sizeof ignored);
+	if (psd_db_zone_simulated(db, z->name, z->simulated, sizeof z->simulated) != 1)
+		z->simulated[0] = 0;
+	/* the estimate against the meter, judged as accept-test judges it */
+	if (psd_accept_verification(db, z->name, &z->verif, z->verif_why, sizeof z->verif_why) != 0)
+		z->verif.test = NULL;
 	/* calibrated within the tolerance is not yet a zone that works: PASS
 	 * needs the acceptance tests too (psensctl accept-test), all run and
 	 * passed; a failed calibration or test fails the zone */
@@ -292,6 +295,7 @@ struct doc {
 	const struct psd_report_opts *o;
 	struct zone *zones;
 	int nzones;
+	int simulated;                   /* a zone's devices are simulated: the record says so */
 	char config_sha[65];
 	/* every zone's samples dated (schema 5): times shown as local dates;
 	 * the first zone's first date is its axis's day floor(t0 / 86400) */
@@ -485,7 +489,10 @@ static void end_page(struct doc *d, const char *what)
 {
 	char foot[200];
 	const char *site = d->o->site ? d->o->site : "site not named";
-	snprintf(foot, sizeof foot, "psensd commissioning record \xc2\xb7 %s \xc2\xb7 %s", site, what);
+	snprintf(foot, sizeof foot, "psensd %s record \xc2\xb7 %s \xc2\xb7 %s",
+	         d->simulated ? "SIMULATED" : "commissioning", site, what);
+	if (d->simulated)   /* every page says what it is, in its corner */
+		text(d, PAGE_W - MARGIN, MARGIN - 12, 9, 1, 1, RED, "SIMULATED \xe2\x80\x94 not a building's record");
 	hline(d, MARGIN, PAGE_W - MARGIN, FOOT_Y - 10, 0.4, GREY);
 	text_fit(d, MARGIN, FOOT_Y, PAGE_W - 2 * MARGIN - 80, 7, 5.5, 0, GREY, foot);
 	if (d->pages > 0)
@@ -552,10 +559,14 @@ static void sensor_text(const struct doc *d, const struct zone *z, char *buf, si
 	if (zc && zc->sensor >= 0) {
 		const struct psd_point_conf *p = &d->o->cf->pt[zc->sensor];
 		const struct psd_device_conf *dev = &d->o->cf->dev[p->device];
+		char kind[96];
+		/* a virtual room reads as one: psvirt's Modbus device is marked in the config */
+		snprintf(kind, sizeof kind, "%s%s%s", dev->drv ? dev->drv->name : "?",
+		         dev->simulated[0] ? ", virtual: " : "", dev->simulated);
 		if (compact)
-			snprintf(buf, n, "%s (%s)", p->name, dev->drv ? dev->drv->name : "?");
+			snprintf(buf, n, "%s (%s)", p->name, kind);
 		else
-			snprintf(buf, n, "point %s, device %s (%s)", p->name, dev->name, dev->drv ? dev->drv->name : "?");
+			snprintf(buf, n, "point %s, device %s (%s)", p->name, dev->name, kind);
 	} else {
 		snprintf(buf, n, "(no configuration given)");
 	}
@@ -576,7 +587,11 @@ static int overall(const struct doc *d)
 struct chart {
 	double x0, y0, x1, y1;           /* the plot area */
 	double tlo, thi, ylo, yhi;
+	double blo, bhi;                 /* a long gap with no samples (psensd not running),
+	                                    drawn BREAK_W wide; blo >= bhi: none */
 };
+
+enum { BREAK_W = 14 };
 
 struct legend {
 	const char *label;
@@ -591,19 +606,33 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
                   const struct legend *lg, int nlg, int xtitle);
 static void line(struct doc *d, const struct chart *c, const struct zone *z, const double *y, const double rgb[3],
                  double lw, int dashed);
+static void find_break(const struct zone *z, struct chart *c);
 
 static void overview(struct doc *d, double top, double bottom, double tmin, double tmax)
 {
 	static const double *const pal[] = { PURPLE, GREEN, ORANGE, BLUE, RED, BLACK };
 	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, bottom, tmin, tmax > tmin ? tmax : tmin + 3600, 0,
-		           100 };
+		           100, 0, 0 };
 	struct legend lg[PSD_MAX_ZONES] = { { 0 } };
 	int n = d->nzones < 6 ? d->nzones : 6;
 	for (int i = 0; i < n; i++)
 		lg[i] = (struct legend){ d->zones[i].name, pal[i], 0, 1 };
+	/* the first zone's long gap, when no other zone has a sample in it */
+	if (n > 0) {
+		find_break(&d->zones[0], &c);
+		for (int i = 1; i < n && c.bhi > c.blo; i++)
+			for (int k = 0; k < d->zones[i].n; k++)
+				if (d->zones[i].t[k] > c.blo && d->zones[i].t[k] < c.bhi) {
+					c.blo = c.bhi = 0;
+					break;
+				}
+	}
 	frame(d, &c, NULL, "Light output, every zone", "light output (%)", lg, n, 1);
+	/* zones often share an output (the same room and target): each drawn
+	 * thinner than the one before, so a line under another shows as its
+	 * border instead of vanishing */
 	for (int i = 0; i < n; i++)
-		line(d, &c, &d->zones[i], d->zones[i].out, pal[i], 1.1, 0);
+		line(d, &c, &d->zones[i], d->zones[i].out, pal[i], 1.1 + 1.4 * (n - 1 - i), 0);
 }
 
 static double keyval(struct doc *d, double y, const char *key, const char *val, int mono)
@@ -680,7 +709,7 @@ static double cover_records(struct doc *d, double y, double tmin, double tmax)
 		         o->cf && o->cf->date[0] ? o->cf->date : "");
 	else
 		snprintf(buf, sizeof buf, "no samples");
-	return keyval(d, y, "Records", buf, 0);
+	return keyval(d, y, d->simulated ? "Simulated records" : "Records", buf, 0);
 }
 
 /* The facts of the record, one per line: site, zones, configuration,
@@ -688,7 +717,7 @@ static double cover_records(struct doc *d, double y, double tmin, double tmax)
 static double cover_facts(struct doc *d, double y, double tmin, double tmax)
 {
 	const struct psd_report_opts *o = d->o;
-	char buf[512], a[64], wr[64];
+	char buf[512], a[64], wr[128];
 	y = keyval(d, y, "Site", o->site ? o->site : "(not named: psensctl report --site)", 0);
 	buf[0] = 0;
 	for (int i = 0; i < d->nzones; i++)
@@ -700,7 +729,7 @@ static double cover_facts(struct doc *d, double y, double tmin, double tmax)
 	y = keyval(d, y, "Database", o->dbpath, 0);
 	y = cover_records(d, y, tmin, tmax);
 	psd_time_utc_text((double)o->written, PSD_TIME_MINUTE, a, sizeof a);
-	snprintf(wr, sizeof wr, "%.40s UTC", a);
+	snprintf(wr, sizeof wr, "%.40s UTC%s", a, d->simulated ? " (the real date; the records' dates are simulated)" : "");
 	return keyval(d, y, "Report written", wr, 0);
 }
 
@@ -795,9 +824,31 @@ static double cover_verdict(struct doc *d, double y, int v, int checks, int fail
 }
 
 /* The sign-off, at the foot of the page. */
+/* Where the sign-off begins: the simulated record's statement is shorter. */
+static double sign_off_top(const struct doc *d)
+{
+	return d->simulated ? FOOT_Y - 76 : FOOT_Y - 172;
+}
+
 static void sign_off(struct doc *d)
 {
-	double y = FOOT_Y - 172;
+	double y = sign_off_top(d);
+	if (d->simulated) {
+		char buf[900], zones[600];
+		zones[0] = 0;
+		for (int i = 0; i < d->nzones; i++)
+			if (d->zones[i].simulated[0])
+				snprintf(zones + strlen(zones), sizeof zones - strlen(zones), "%szone %s: %s",
+				         zones[0] ? "; " : "", d->zones[i].name, d->zones[i].simulated);
+		hline(d, MARGIN, PAGE_W - MARGIN, y - 16, 0.8, RED);
+		text(d, MARGIN, y, 12, 1, -1, RED, "SIMULATED: no sign-off");
+		y += 15;
+		snprintf(buf, sizeof buf, "This record was made from simulated devices (%s). It shows how psensd "
+		         "controls a simulated room, with simulated dates; it is not the commissioning of a building "
+		         "and cannot be signed off as one.", zones);
+		paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 8, 11, BLACK, buf);
+		return;
+	}
 	hline(d, MARGIN, PAGE_W - MARGIN, y - 16, 0.8, BLACK);
 	text(d, MARGIN, y, 12, 1, -1, BLACK, "Sign-off");
 	y += 15;
@@ -825,7 +876,8 @@ static void cover(struct doc *d)
 	begin_page(d);
 	if (!d->cr)
 		return;
-	text(d, MARGIN, y, 20, 1, -1, BLACK, "Commissioning record");
+	text(d, MARGIN, y, 20, 1, -1, d->simulated ? RED : BLACK,
+	     d->simulated ? "SIMULATED commissioning record" : "Commissioning record");
 	y += 18;
 	text(d, MARGIN, y, 10.5, 0, -1, GREY, "Daylight-linked lighting control (psensd): sensor calibration and performance");
 	y += 26;
@@ -841,8 +893,8 @@ static void cover(struct doc *d)
 	y += 16;
 	y = cover_verdict(d, y, v, checks, fails);
 	/* every zone's light output over the record: fills the page to the sign-off */
-	if (FOOT_Y - 172 - 44 - (y + 30) >= 60 && isfinite(tmin))
-		overview(d, y + 30, FOOT_Y - 172 - 44, tmin, tmax);
+	if (sign_off_top(d) - 44 - (y + 30) >= 60 && isfinite(tmin))
+		overview(d, y + 30, sign_off_top(d) - 44, tmin, tmax);
 	sign_off(d);
 	end_page(d, "cover");
 }
@@ -851,7 +903,34 @@ static void cover(struct doc *d)
 
 static double cx(const struct chart *c, double t)
 {
-	return c->x0 + (c->thi > c->tlo ? (t - c->tlo) / (c->thi - c->tlo) : 0.5) * (c->x1 - c->x0);
+	double span, w;
+	if (!(c->bhi > c->blo))
+		return c->x0 + (c->thi > c->tlo ? (t - c->tlo) / (c->thi - c->tlo) : 0.5) * (c->x1 - c->x0);
+	/* the time on either side of the break shares the width less the break's */
+	span = (c->thi - c->tlo) - (c->bhi - c->blo);
+	w = c->x1 - c->x0 - BREAK_W;
+	if (t <= c->blo)
+		return c->x0 + (t - c->tlo) / span * w;
+	if (t >= c->bhi)
+		return c->x0 + (c->blo - c->tlo + t - c->bhi) / span * w + BREAK_W;
+	return c->x0 + (c->blo - c->tlo) / span * w + BREAK_W / 2.0;
+}
+
+/* The longest gap between plotted points, when it is more than 3 h and a
+ * quarter of the span: the charts leave it out (a night psensd did not run
+ * would otherwise take half of each chart). */
+static void find_break(const struct zone *z, struct chart *c)
+{
+	double best = 0;
+	c->blo = c->bhi = 0;
+	for (int i = 1; i < z->n; i++)
+		if (z->t[i] - z->t[i - 1] > best) {
+			best = z->t[i] - z->t[i - 1];
+			c->blo = z->t[i - 1];
+			c->bhi = z->t[i];
+		}
+	if (!(best > 3 * 3600 && best > 0.25 * (c->thi - c->tlo)))
+		c->blo = c->bhi = 0;
 }
 
 static double cy(const struct chart *c, double v)
@@ -901,6 +980,7 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 	struct psd_ticks tt, yt;
 	char lab[32];
 	double x, lw, avail, size = 7;
+	int midnights = 0;
 	/* shading: faults (red), calibration sessions (blue) */
 	if (!z)
 		goto unshaded;
@@ -932,8 +1012,12 @@ unshaded:
 			psd_chart_tick_num_label(&yt, yt.v[i], lab, sizeof lab);
 			text(d, c->x0 - 3, y + 2.5, 6.5, 0, 1, BLACK, lab);
 		}
-	/* time ticks */
-	if (psd_chart_ticks_time(c->tlo, c->thi, (int)((c->x1 - c->x0) / 45), &tt) == 0)
+	/* time ticks: on each side of a break, for its own span */
+	for (int seg = 0; seg < (c->bhi > c->blo ? 2 : 1); seg++) {
+		double lo = c->bhi > c->blo && seg ? c->bhi : c->tlo, hi = c->bhi > c->blo && !seg ? c->blo : c->thi;
+		int room = (int)((cx(c, hi) - cx(c, lo)) / 45);
+		if (hi <= lo || psd_chart_ticks_time(lo, hi, room > 1 ? room : 2, &tt) != 0)
+			continue;
 		for (int i = 0; i < tt.n; i++) {
 			x = cx(c, tt.v[i]);
 			set_rgb(d->cr, GREY);
@@ -944,10 +1028,24 @@ unshaded:
 			psd_chart_tick_time_label(tt.v[i], lab, sizeof lab);
 			text(d, x, c->y1 + 12, 6.5, 0, 0, BLACK, lab);
 		}
+	}
+	if (c->bhi > c->blo) {   /* the break: a gap in the frame's foot, two slants */
+		x = cx(c, (c->blo + c->bhi) / 2);
+		cairo_save(d->cr);
+		set_rgb(d->cr, GREY);
+		cairo_set_line_width(d->cr, 0.8);
+		for (int k = -1; k <= 1; k += 2) {
+			cairo_move_to(d->cr, x + k * 3 - 2, c->y1 + 4);
+			cairo_line_to(d->cr, x + k * 3 + 2, c->y1 - 4);
+		}
+		cairo_stroke(d->cr);
+		cairo_restore(d->cr);
+	}
 	/* day boundaries */
 	for (double day = ceil(c->tlo / 86400) * 86400; day <= c->thi; day += 86400) {
 		if (day <= c->tlo)
 			continue;
+		midnights++;
 		x = cx(c, day);
 		cairo_save(d->cr);
 		set_rgb(d->cr, BLACK);
@@ -967,9 +1065,10 @@ unshaded:
 	cairo_stroke(d->cr);
 	text_up(d, MARGIN + 6, (c->y0 + c->y1) / 2, 7, BLACK, ytitle);
 	if (xtitle)
-		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, d->dated ? "local time of day (hh:mm); "
-		     "a dashed line is midnight, with the new date" : "local time of day (hh:mm); day 1 is the day psensd "
-		     "started");
+		/* the dashed line is explained only where there is one */
+		text(d, (c->x0 + c->x1) / 2, c->y1 + 22.5, 7, 0, 0, BLACK, !d->dated ? "local time of day (hh:mm); day 1 "
+		     "is the day psensd started" : midnights ? "local time of day (hh:mm); a dashed line is midnight, "
+		     "with the new date" : "local time of day (hh:mm)");
 	/* title and legend above the plot */
 	lw = text(d, c->x0, c->y0 - 4, 8.5, 1, -1, BLACK, title);
 	x = c->x0 + lw + 12;
@@ -1007,8 +1106,9 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	double target = zc ? zc->ctl.target_lux : NAN;
 	double gap = 30, h = (bottom - top - 3 * gap - 12) / 4;
 	double tlo = z->tmin, thi = z->tmax > z->tmin ? z->tmax : z->tmin + 3600;
-	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, top + h, tlo, thi, 0, 1 };
+	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, top + h, tlo, thi, 0, 1, 0, 0 };
 	double *tl = NULL;
+	find_break(z, &c);
 	const struct legend fault = { "fault (safe level)", RED, 2, 0.22 }, cal = { "calibration", BLUE, 2, 0.16 };
 	/* sensor volts */
 	c.ylo = 0;
@@ -1173,7 +1273,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 {
 	static const char *const shead[] = { "#", "kind", "state", "started", "ended", "result",
 	                                      "against the design" };
-	char buf[400], sensor[160], a[32], b[32], what[80];
+	char buf[768], sensor[160], a[32], b[32], what[80], lo[96];
 	const struct psd_zone_conf *zc = zconf(d, z);
 	double y, bottom = FOOT_Y - 16, charts_min = 4 * 92 + 3 * 30 + 12;
 	int row = 0, acc = 0, nlines = 0;
@@ -1198,15 +1298,18 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	else
 		snprintf(buf, sizeof buf, "%lld samples, %s to %s", z->total, a, b);
 	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
-	if (z->nerr)
-		snprintf(buf, sizeof buf, "estimate against the task meter (50 lx and more): rms %.1f %% over %lld samples; %d of %d "
-		         "calibration results within %g %%; faults %.0f min; energy %.2f full-load h", 100 *
-		         sqrt(ps_sum_get(&z->err2) / z->nerr), z->nerr, z->checks - z->fails, z->checks,
-		         d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
+	if (z->verif.test && z->verif.verdict != PSD_ACCEPT_NOT_TESTED)
+		snprintf(lo, sizeof lo, "%ld in sessions or %g s after one left out",
+		         z->verif.left_out, z->verif.settle_s);
+	if (z->verif.test && z->verif.verdict != PSD_ACCEPT_NOT_TESTED)
+		snprintf(buf, sizeof buf, "verification (as accept-test): rms %.2f %% over %ld samples (%s), %s; "
+		         "%d of %d calibration results within %g %%; faults %.0f min; energy %.2f full-load h",
+		         z->verif.value, z->verif.samples, lo, psd_accept_verdict_names[z->verif.verdict + 1],
+		         z->checks - z->fails, z->checks, d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
 	else
-		snprintf(buf, sizeof buf, "no task meter readings; %d of %d calibration results within %g %%; "
-		         "faults %.0f min; energy %.2f full-load h", z->checks - z->fails, z->checks, d->o->tolerance_pct,
-		         z->fault_s / 60, z->energy_h);
+		snprintf(buf, sizeof buf, "verification: %s; %d of %d calibration results within %g %%; "
+		         "faults %.0f min; energy %.2f full-load h", z->verif.test ? z->verif.measured : z->verif_why,
+		         z->checks - z->fails, z->checks, d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
 	text_fit(d, MARGIN, MARGIN + 40, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
 	/* the tables take what they need from the bottom (up to what leaves the
 	 * charts their least height); the charts fill the rest */
@@ -1439,6 +1542,14 @@ static int render(const struct psd_report_opts *o, FILE *fp, struct psd_report_o
 	for (int i = 0; i < d.nzones; i++)
 		if (load_zone(db, &d.zones[i], o->tolerance_pct, err, n) != 0)
 			goto out;
+	for (int i = 0; i < d.nzones; i++) {
+		struct zone *z = &d.zones[i];
+		int k = o->cf ? psd_config_zone(o->cf, z->name) : -1;
+		const char *sim = k >= 0 ? psd_config_zone_simulated(o->cf, &o->cf->zone[k]) : NULL;
+		if (!z->simulated[0] && sim)
+			snprintf(z->simulated, sizeof z->simulated, "the zone's devices are simulated (%s)", sim);
+		d.simulated |= z->simulated[0] != 0;
+	}
 	d.dated = d.nzones > 0;
 	for (int i = 0; i < d.nzones; i++)
 		d.dated &= d.zones[i].local0[0] != 0 || d.zones[i].total == 0;

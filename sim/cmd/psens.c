@@ -661,6 +661,8 @@ int main(int argc, char **argv)
 		}
 	}
 	if (!nsens || optind >= argc) {
+		fprintf(stderr, "psens: %s\n", !nsens ? "no sensitivity (-s FILE or -s builtin:cosine)"
+		                                        : "no picture (give one or more HDR pictures)");
 		usage(stderr);
 		return 2;
 	}

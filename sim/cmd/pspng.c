@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "cli.h"
 #include "binout.h"
@@ -19,6 +20,13 @@
 #include "picture.h"
 #include "tonemap.h"
 #include "version.h"
+
+/* An output name saying PNG: ends in .png, any case. */
+static int png_name(const char *path)
+{
+	size_t n = strlen(path);
+	return n >= 4 && strcasecmp(path + n - 4, ".png") == 0;
+}
 
 static void usage(FILE *fp)
 {
@@ -121,10 +129,18 @@ int main(int argc, char **argv)
 		}
 	}
 	if (optind != argc - 1) {
+		if (optind >= argc)
+			fprintf(stderr, "pspng: no picture (give one HDR picture)\n");
+		else
+			fprintf(stderr, "pspng: one picture at a time ('%s' is a second)\n", argv[optind + 1]);
 		usage(stderr);
 		return 2;
 	}
 	path = argv[optind];
+	if (out && !png_name(out)) {
+		fprintf(stderr, "pspng: -o: '%s' does not end in .png (pspng writes PNG only)\n", out);
+		return 2;
+	}
 	if (ps_binout_check(out, "pspng picture.hdr > picture.png", &e) != 0) {
 		fprintf(stderr, "pspng: %s\n", e.msg);
 		return 2;

@@ -98,9 +98,25 @@ int main(int argc, char **argv)
 		default: usage(stderr); return 2;
 		}
 	}
-	if (optind != argc || fabs(site.lat) > 90 || fabs(site.lon) > 180 || fabs(site.tz) > 14 ||
-	    strpbrk(site.name, " \t\n")) {
+	if (optind != argc) {
+		fprintf(stderr, "pssynwea: unexpected argument '%s'\n", argv[optind]);
 		usage(stderr);
+		return 2;
+	}
+	if (fabs(site.lat) > 90) {
+		fprintf(stderr, "pssynwea: -a: latitude %g is not -90 to 90 degrees\n", site.lat);
+		return 2;
+	}
+	if (fabs(site.lon) > 180) {
+		fprintf(stderr, "pssynwea: -o: longitude %g is not -180 to 180 degrees\n", site.lon);
+		return 2;
+	}
+	if (fabs(site.tz) > 14) {
+		fprintf(stderr, "pssynwea: -z: time zone %g is not -14 to 14 hours\n", site.tz);
+		return 2;
+	}
+	if (strpbrk(site.name, " \t\n")) {
+		fprintf(stderr, "pssynwea: -n: '%s' has a blank (a .wea place is one word)\n", site.name);
 		return 2;
 	}
 	rng_state = 0x9E3779B97F4A7C15ULL ^ (seed * 0xBF58476D1CE4E5B9ULL);

@@ -199,14 +199,15 @@ int ps_canvas_save_png(struct ps_canvas *c, const char *path, struct ps_err *e)
 	int rc;
 	if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp", path) >= sizeof tmp)
 		return ps_err_set(e, PS_EINVAL, "%.200s...: path too long", path);
+	/* errors name the file asked for: the copy beside it is ours, not the user's */
 	fp = fopen(tmp, "wb");
 	if (!fp)
-		return ps_err_sys(e, "%s", tmp);
+		return ps_err_sys(e, "%s", path);
 	rc = ps_canvas_write_png(c, fp, path, e);
 	if (fclose(fp) != 0 && rc == 0)
-		rc = ps_err_sys(e, "%s: closing", tmp);
+		rc = ps_err_sys(e, "%s: closing", path);
 	if (rc == 0 && rename(tmp, path) != 0)
-		rc = ps_err_sys(e, "%s: renaming %s", path, tmp);
+		rc = ps_err_sys(e, "%s", path);
 	if (rc != 0)
 		remove(tmp);
 	return rc;

@@ -450,6 +450,9 @@ int ps_sensor_open(struct ps_sensor *s, const char *name, struct ps_err *e)
 		return ps_sensor_builtin(s, PS_SENS_COSINE, e);
 	if (strcmp(name, "builtin:uniform") == 0)
 		return ps_sensor_builtin(s, PS_SENS_UNIFORM, e);
+	if (strncmp(name, "builtin:", 8) == 0)
+		return ps_err_set(e, PS_EINVAL, "%s: no such builtin sensor (builtin:cosine or builtin:uniform)",
+		                  name);
 	return ps_sensor_read(s, name, e);
 }
 

@@ -1,11 +1,24 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
 # make run, the README's command: quiet by default (no build commands before
-# the summary: they go to BUILD/build.log), V=1 shows the commands.
+# the summary: they go to BUILD/build.log), V=1 shows the commands.  Run in
+# a copy of the tree: make check writes nothing into the user's build/.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 make -s deps > /dev/null 2>&1 ||
 	skip_all "make run installs missing Debian packages first: not as this user"
+# make run writes the example's results and log into build/ and its build
+# into BUILD: run in a copy of the tree and of the build (times kept, so
+# nothing is rebuilt), never into the user's tree
+mkdir -p "$TMP/tree"
+git ls-files -z 2>/dev/null | xargs -0 cp -a --parents -t "$TMP/tree" 2>/dev/null ||
+	tar -cf - --exclude=./.git --exclude="./$BUILD" --exclude=./build . | tar -xf - -C "$TMP/tree"
+cp -a "$BUILD/." "$TMP/tree/b/"
+rm -f "$TMP/tree/b/build.log"
+before=$(ls -l --time-style=+%s.%N build/psensd.db build/ofb.results 2>/dev/null | md5sum)
+TOPDIR=$(pwd)
+cd "$TMP/tree"
+BUILD=b
 # as a user sees it: inside make check this make is a sub-make, which GNU
 # make announces ("Entering directory") unless told not to; MAKEFLAGS stays,
 # it carries the build's variables (SAN=1 in CI)
@@ -20,4 +33,8 @@ make --no-print-directory BUILD="$BUILD" run V=1 > "$TMP/vout" 2> "$TMP/verr"; r
 check "make run V=1: exit 0 ($rc), shows the build and the command run" \
 	sh -c "[ $rc = 0 ] && grep -q '^make all' '$TMP/vout' && grep -q '^$BUILD/bin/psensd -f config/psensd.conf -s' '$TMP/vout'"
 check "make run V=1: the summary still printed" grep -q '^psensd: simulated [0-9-]* 06:00 to' "$TMP/vout"
+check "make run ran in the copy: its log is there" test -s "$TMP/tree/build/psensd.db"
+cd "$TOPDIR"
+check "the user's build/psensd.db and build/ofb.results are untouched" \
+	test "$(ls -l --time-style=+%s.%N build/psensd.db build/ofb.results 2>/dev/null | md5sum)" = "$before"
 done_testing

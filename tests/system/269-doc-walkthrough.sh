@@ -48,6 +48,44 @@ check "the day session is within the tolerance: $(grep -o 'message: done: [0-9.]
 check "both accepted" test "$(grep -c 'calibration session [0-9]* accepted' "$TMP/err")" = 2
 check "the report is written" test -s "$TMP/top/office.svg"
 check "the socket was the user's, in build/" grep -q "control socket config/example/../../build/cal.sock" "$TMP/err"
+# psensd's summary of each run names the sessions' spans and leaves them
+# (and the fade after them) out of its figures on the control
+check "the night run's summary names its session: $(grep 'calibration sessions held' "$TMP/out" | head -n 1)" \
+	grep -q "calibration sessions held the lights for [0-9]* periods .*not counted below: 2026-03-18 21:0[0-9] to 2026-03-18 21:2[0-9]" "$TMP/out"
+w=$(sed -n 's/.*estimated against true task illuminance:.*worst \([0-9.]*\) %.*/\1/p' "$TMP/out" | head -n 1)
+check "the night run's estimate worst $w % is the control's, not the session's (below 25 %)" \
+	awk -v w="$w" 'BEGIN { exit !(w != "" && w < 25) }'
+# acceptance and the record tell the same truth: the samples of the two
+# sessions and of the fade after each are no verification samples (the
+# night session ends with the lamps fading up from 0 %: a sample then reads
+# 33 lx where the estimate, made for the new level, says 477 lx), and the
+# record's zone page shows accept-test's own figure over the same samples
+"$BIN/psensctl" -d "$TMP/top/build/cal.db" accept-test office > "$TMP/acc" 2>&1
+ver=$(grep '^  verification' "$TMP/acc")
+diag "$ver"
+worst=$(echo "$ver" | sed -n 's/.*worst \([0-9.]*\) %.*/\1/p')
+check "accept-test's worst estimate error $worst % is no fade sample's (below 25 %)" \
+	awk -v w="$worst" 'BEGIN { exit !(w != "" && w < 25) }'
+check "accept-test says which samples it left out" sh -c "echo '$ver' | grep -q 'samples in 2 calibration sessions and the 60 s after each left out'"
+check "low daylight is judged on the control, not the fade: $(grep '^  low daylight' "$TMP/acc")" \
+	grep -q '^  low daylight   PASS' "$TMP/acc"
+if command -v pdftotext > /dev/null; then
+	"$BIN/psensctl" -d "$TMP/top/build/cal.db" report office -o "$TMP/cal.pdf" > /dev/null 2>&1
+	pdftotext -layout "$TMP/cal.pdf" - | tr -s ' \n' '  ' > "$TMP/cal.txt"
+	rms=$(echo "$ver" | sed -n 's/.* over \([0-9]*\) samples .*rms \([0-9.]*\) %.*/rms \2 % over \1 samples/p')
+	check "the record's zone page shows accept-test's '$rms'" grep -qF "verification (as accept-test): $rms" "$TMP/cal.txt"
+else
+	skip "pdftotext not installed"
+fi
+# the record's charts leave out the night psensd did not run (21:31 to
+# 10:00): the sensor's line (blue) spans most of the page's width, not the
+# tenth its 82 minutes of samples would take of a 14-hour axis
+"$BIN/psensctl" -d "$TMP/top/build/cal.db" report office --page 2 -o "$TMP/zone.png" > /dev/null 2>&1
+share=$(python3 tests/system/pngcolours.py --columns "$TMP/zone.png" 31,79,156)
+check "the zone page's sensor line spans $share % of the page's columns (at least 60 %)" test "${share:-0}" -ge 60
+"$BIN/psensctl" -d "$TMP/top/build/cal.db" report office --page 1 -o "$TMP/cover.png" > /dev/null 2>&1
+share=$(python3 tests/system/pngcolours.py --columns "$TMP/cover.png" 115,51,153)
+check "the cover's output line spans $share % of the page's columns (at least 60 %)" test "${share:-0}" -ge 60
 # the psfilter example names a file it makes from one the project ships:
 # its two commands, taken from doc/simulation.md, give the document's first line
 awk '/^\*\*psfilter\*\*/ { s = 1 } s && /^```/ { if (b) exit; b = 1; next }

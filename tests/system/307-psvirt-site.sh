@@ -77,7 +77,7 @@ kill "$pv"; wait "$pv"
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 --zones 2 -D 2:gain=1 > /dev/null 2> "$TMP/e1"
 check "an -o for a zone that does not exist: $(cat "$TMP/e1")" grep -q "no zone '2'" "$TMP/e1"
 "$BIN/psvirt" --results "$TMP/ofb.results" --tcp 127.0.0.1:1 --zones 11 > /dev/null 2> "$TMP/e2"
-check "at most 10 zones: $(cat "$TMP/e2")" grep -q "zones 1 to 10" "$TMP/e2"
+check "at most 10 zones: $(cat "$TMP/e2")" grep -q -- "--zones must be 1 to 10" "$TMP/e2"
 
 # ---- the shipped example: config/example/site.conf, its paths and port
 # pointed into $TMP, 15 simulated minutes a step
@@ -130,5 +130,28 @@ check "south's open circuit at noon is a fault at the safe level" \
 check "and only south's: north and east have no fault" \
 	test "$(q "select count(*) from samples where zone in ('north', 'east') and fault is not null")" = 0
 check "south resumes by itself" grep -q "zone south: .* fault cleared: control resumes" "$TMP/psensd.err"
+# site.conf marks the Modbus device as psvirt: psensd records each zone as
+# simulated, and the record reads the sensor as virtual and says SIMULATED
+check "psensd recorded the 3 zones as simulated by psvirt" \
+	test "$(q "select count(*) from events where kind = 'simulated' and text like '%(psvirt)%'")" = 3
+if command -v pdftotext > /dev/null; then
+	"$BIN/psensctl" -d "$TMP/site.db" report -c config/example/site.conf -o "$TMP/site.pdf" > /dev/null 2>&1
+	pdftotext -layout "$TMP/site.pdf" "$TMP/site.txt"
+	pages=$(pdfinfo "$TMP/site.pdf" | awk '/^Pages:/ { print $2 }')
+	check "every page of the site's record ($pages) says SIMULATED" \
+		test "$(grep -c "SIMULATED . not a building's record" "$TMP/site.txt")" = "$pages"
+	check "the sensors read as virtual rooms, not plain modbus" \
+		sh -c "grep -q 'modbus, virtual: psvirt' '$TMP/site.txt' && ! grep -q 'sensor (modbus)' '$TMP/site.txt'"
+	check "no sign-off block" sh -c "grep -q 'SIMULATED: no sign-off' '$TMP/site.txt' && ! grep -q Signature '$TMP/site.txt'"
+	# north and south share a room and a target, so the same output but for
+	# south's fault: the cover's chart must still show north's line (purple)
+	# beside south's (orange) drawn over it
+	"$BIN/psensctl" -d "$TMP/site.db" report -c config/example/site.conf --page 1 -o "$TMP/cover.png" > /dev/null 2>&1
+	set -- $(python3 tests/system/pngcolours.py "$TMP/cover.png" 115,51,153 224,122,0)
+	check "the cover's chart shows north's line under south's: $1 purple pixels, $2 orange (at least half)" \
+		test "$1" -gt 0 -a "$((2 * $1))" -ge "$2"
+else
+	skip "pdftotext not installed"
+fi
 check "psvirt's summary per zone: $(grep -c '^psvirt: zone' "$TMP/site.out") zones" test "$(grep -c '^psvirt: zone' "$TMP/site.out")" = 3
 done_testing
