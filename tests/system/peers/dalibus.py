@@ -30,10 +30,13 @@ checksum: the answer with a non-hex digit), short (half the reply, then
 nothing), silent (no reply), collision (our frame collided: 'Z' / answer
 length 0), power (foxtron: bus power lost instead of the reply, back before
 the next one), observed (another master's frame before the reply).
+SIGUSR1 mutes the interface (frames neither reach the bus nor get a reply),
+SIGUSR2 brings it back.
 The gear's levels are written to --state FILE after every frame."""
 import argparse
 import os
 import select
+import signal
 import socket
 import sys
 import tty
@@ -224,6 +227,9 @@ def main():
     ap.add_argument("--state")
     args = ap.parse_args()
     bus = Bus(args.gear)
+    muted = [False]
+    signal.signal(signal.SIGUSR1, lambda *_: muted.__setitem__(0, True))
+    signal.signal(signal.SIGUSR2, lambda *_: muted.__setitem__(0, False))
     faults = {}
     for item in filter(None, args.faults.split(",")):
         n, what = item.split(":")
@@ -274,6 +280,8 @@ def main():
                 continue
             bits, frame, twice = req
             nframe += 1
+            if muted[0]:
+                continue
             fault = faults.get(nframe)
             # a frame that collided with another master's never reached the gear
             result = None if fault == "collision" else bus.forward(bits, frame)
