@@ -72,6 +72,11 @@ struct ps_dali_codec {
 	long baud;              /* serial speed (8N1) */
 	int replies_per_twice;  /* final replies to a frame sent twice by the interface: 1 or 2 */
 	size_t max_msg;         /* longest message: more bytes without its end are malformed */
+	/* 0: the interface says "no answer" itself.  > 0: it reports only what
+	 * it saw on the bus (an ECHO when our frame went out, a backward frame
+	 * if one came), so a query's "no answer" is no backward frame within
+	 * this many seconds of the last ECHO. */
+	double answer_window;
 	/* Encode a forward frame.  Returns the length, or -1 (the interface
 	 * cannot send this frame: a length or send-twice it lacks, or cap too small). */
 	int (*encode)(uint8_t *out, size_t cap, const struct ps_dali_frame *f);

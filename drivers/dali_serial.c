@@ -26,6 +26,9 @@ struct ps_dali_serial {
 	int replies_left;  /* final replies still to come (a frame the interface sends twice: one each) */
 	struct ps_dali_serial_result first;   /* the first of two replies */
 	double deadline;
+	int expect_answer;
+	int echoes_left;   /* an interface with an answer window: ECHOes still to come */
+	int in_window;     /* ... all came: waiting for a backward frame until deadline */
 	int stale;         /* the last transaction timed out: drop what is left before the next */
 	struct ps_dali_serial_stats st;
 };
@@ -199,6 +202,9 @@ int ps_dali_serial_send(struct ps_dali_serial *s, const struct ps_dali_frame *f,
 	}
 	s->busy = 1;
 	s->replies_left = f->twice ? s->c->replies_per_twice : 1;
+	s->expect_answer = f->expect_answer;
+	s->echoes_left = f->twice ? 2 : 1;
+	s->in_window = 0;
 	s->deadline = now + timeout;
 	s->st.frames++;
 	return 0;
@@ -216,10 +222,22 @@ static int end(struct ps_dali_serial *s, struct ps_dali_serial_result *res, int 
 }
 
 /* One message: 1 when it ended the transaction. */
-static int take(struct ps_dali_serial *s, const struct ps_dali_frame_rx *m, struct ps_dali_serial_result *res)
+static int take(struct ps_dali_serial *s, const struct ps_dali_frame_rx *m, double now,
+                struct ps_dali_serial_result *res)
 {
 	char why[160];
 	switch (m->event) {
+	case PS_DALI_EV_ECHO:
+		/* our frame went out; without an answer window it is news only */
+		if (!s->busy || s->c->answer_window <= 0 || --s->echoes_left > 0)
+			return 0;
+		if (!s->expect_answer) {
+			s->st.no_answers++;
+			return end(s, res, PS_DALI_EV_NO_ANSWER, 0, 0, "");
+		}
+		s->in_window = 1;
+		s->deadline = now + s->c->answer_window;
+		return 0;
 	case PS_DALI_EV_OBSERVED:
 		s->st.observed++;
 		s->st.last_observed = m->value;
@@ -242,7 +260,13 @@ static int take(struct ps_dali_serial *s, const struct ps_dali_frame_rx *m, stru
 	default:
 		return 0;
 	}
-	if (!s->busy) {
+	/* an interface that reports what it saw: what comes before our frame
+	 * went out is not our frame's */
+	if (!s->busy || (s->c->answer_window > 0 && !s->in_window && m->event != PS_DALI_EV_BUS_ERROR)) {
+		s->st.stray++;
+		return 0;
+	}
+	if (s->c->answer_window > 0 && !s->in_window && m->value == PS_DALI_BUS_FRAMING) {
 		s->st.stray++;
 		return 0;
 	}
@@ -288,7 +312,7 @@ int ps_dali_serial_service(struct ps_dali_serial *s, double now, struct ps_dali_
 					break;
 				memmove(s->rx, s->rx + used, s->rxlen - used);
 				s->rxlen -= used;
-				done = take(s, &m, res);
+				done = take(s, &m, now, res);
 				if (done)
 					return 1;
 			}
@@ -300,6 +324,11 @@ int ps_dali_serial_service(struct ps_dali_serial *s, double now, struct ps_dali_
 		s->busy = 0;
 		errno = ENODEV;
 		return -1;
+	}
+	if (s->busy && s->in_window && now >= s->deadline) {
+		/* our frame went out and no backward frame came in the window */
+		s->st.no_answers++;
+		return end(s, res, PS_DALI_EV_NO_ANSWER, 0, 0, "");
 	}
 	if (s->busy && now >= s->deadline) {
 		char why[160];

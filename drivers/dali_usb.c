@@ -48,6 +48,7 @@
 #include "dali_atx.h"
 #include "dali_commission.h"
 #include "dali_foxtron.h"
+#include "dali_luba.h"
 #include "dali_serial.h"
 #include "dali_transport.h"
 #include "dali_usb.h"
@@ -72,6 +73,7 @@ struct tx {
 	int tries;
 	unsigned frame;        /* TX_JOB: the commissioning job's transaction */
 	int twice;
+	int answer;            /* TX_JOB: a backward frame may come */
 };
 
 struct dpoint {
@@ -97,7 +99,7 @@ struct dali_usb {
 	long baud;                            /* serial: bits per second, 0 the codec's */
 	struct ps_dali_serial *ser;
 	int ser_dtr0_frame;                   /* the frame to send after its DTR0, -1 none */
-	int ser_twice;
+	int ser_twice, ser_answer;
 	double timeout, frame_gap, safe_level, fade_time;
 	long retries;
 
@@ -137,9 +139,9 @@ struct dali_usb {
 
 /* The interfaces, and their names for the transport key (in that order):
  * USB ones through libusb, serial and TCP ones through dali_serial.c. */
-static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL };
-static const struct ps_dali_codec *const codecs[] = { NULL, &ps_dali_atx, &ps_dali_foxtron, NULL };
-static const char *const transport_names[] = { "tridonic", "atx", "foxtron", NULL };
+static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL, NULL };
+static const struct ps_dali_codec *const codecs[] = { NULL, &ps_dali_atx, &ps_dali_foxtron, &ps_dali_luba, NULL };
+static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", NULL };
 
 /* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
 static int valid_port(const char *v, char *why, size_t n)
@@ -162,11 +164,11 @@ static const struct ps_opts_spec du_options[] = {
 	{ .key = "transport", .type = PS_OPT_ENUM, .scope = DEV, .def = "tridonic",
 	  .names = transport_names,
 	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020), atx (AtxLED DALI HAT, "
-	         "serial), foxtron (Foxtron DALI232 serial, DALInet TCP)" },
+	         "serial), foxtron (Foxtron DALI232 serial, DALInet TCP), luba (Lunatone LUBA, serial)" },
 	{ .key = "device", .type = PS_OPT_STRING, .scope = DEV,
-	  .doc = "atx, foxtron: the serial port (/dev/...) or HOST:PORT (DALInet)" },
+	  .doc = "atx, foxtron, luba: the serial port (/dev/...) or HOST:PORT (DALInet)" },
 	{ .key = "baud", .type = PS_OPT_LONG, .scope = DEV, .min = 1200, .max = 115200,
-	  .doc = "atx, foxtron: the serial speed, 8N1 (absent: 19200 for atx, 9600 for foxtron)" },
+	  .doc = "atx, foxtron, luba: the serial speed, 8N1 (absent: 19200 atx, 9600 foxtron, 38400 luba)" },
 	{ .key = "serial", .type = PS_OPT_STRING, .scope = DEV,
 	  .doc = "the interface with this USB serial number" },
 	{ .key = "port", .type = PS_OPT_STRING, .scope = DEV, .valid = valid_port,
@@ -199,7 +201,7 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 		}
 		if (!serial && dv) {
 			*line = ps_opts_line(o, "device");
-			snprintf(why, n, "device is for the serial and TCP transports (atx, foxtron), not tridonic");
+			snprintf(why, n, "device is for the serial and TCP transports (atx, foxtron, luba), not tridonic");
 			return -1;
 		}
 		return 0;
@@ -274,7 +276,7 @@ static int q_push(struct dali_usb *d, int kind, int point)
 {
 	if (d->qlen >= QCAP)
 		return -1;
-	d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ kind, point, 0, 0, 0 };
+	d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ kind, point, 0, 0, 0, 0 };
 	return 0;
 }
 
@@ -633,12 +635,15 @@ static int serial_start(struct dali_usb *d, int frame, int twice, int dtr0)
 	struct ps_dali_frame f = { .bits = 16, .data = (uint32_t)frame, .twice = twice };
 	if (frame < 0)
 		return -1;
+	f.expect_answer = d->cur.kind == TX_JOB ? d->cur.answer : ps_dali_expects_answer((unsigned)frame);
+	d->ser_answer = f.expect_answer;
 	d->ser_dtr0_frame = -1;
 	if (dtr0 >= 0) {
 		d->ser_dtr0_frame = frame;
 		d->ser_twice = twice;
 		f.data = (uint32_t)ps_dali_dtr0(dtr0);
 		f.twice = 0;
+		f.expect_answer = 0;
 	}
 	if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) == 0)
 		return 0;
@@ -657,7 +662,8 @@ static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_res
 	}
 	if (res->err == 0 && d->ser_dtr0_frame >= 0) {
 		/* DTR0 is loaded: now the command that uses it */
-		struct ps_dali_frame f = { .bits = 16, .data = (uint32_t)d->ser_dtr0_frame, .twice = d->ser_twice };
+		struct ps_dali_frame f = { .bits = 16, .data = (uint32_t)d->ser_dtr0_frame, .twice = d->ser_twice,
+			                   .expect_answer = d->ser_answer };
 		d->ser_dtr0_frame = -1;
 		if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) != 0) {
 			lost(d, "interface gone (sending)");
@@ -702,7 +708,7 @@ static void send_next(struct dali_usb *d)
 		return;
 	/* the job and the queue take turns: zones are dimmed between search frames */
 	if (have_job && (qi < 0 || !d->last_was_job)) {
-		d->cur = (struct tx){ TX_JOB, -1, 0, jt.frame, jt.twice };
+		d->cur = (struct tx){ TX_JOB, -1, 0, jt.frame, jt.twice, jt.answer };
 		d->job_busy = 1;
 	} else {
 		d->cur = q_take(d, (size_t)qi);

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# The serial DALI link (drivers/dali_serial.c) with its two codecs against
+# The serial DALI link (drivers/dali_serial.c) with its three codecs against
 # an emulated interface and bus (peers/dalibus.py, written from the
 # protocols' descriptions and IEC 62386-102, not from psensd's codecs): the
 # AtxLED HAT on a pty, the Foxtron converter on a pty and over TCP.  Answers
@@ -69,7 +69,31 @@ check "foxtron: broadcast DAPC 0 (off)" f 12 "FE00: no answer$"
 check "foxtron: now both answer 0, which superimposes into one answer" f 13 "FFA0: answer 0x00$"
 check "foxtron: the power came back" grep -q "power_lost 0" "$TMP/foxp.out"
 
-# 3. Foxtron over TCP (DALInet): answers, a silent gateway, recovery
+# 3. LUBA on a pty: no "no answer" message; the window after the sent event decides
+start_bus luba --codec luba --pty "$TMP/luba.where" --gear 1:200,2:100 \
+	--faults 4:malformed,5:checksum,6:short,8:silent,10:collision,12:observed
+wait_for 10 test -s "$TMP/luba.where" || not_ok "the luba emulator did not start"
+"$CL" luba "$(cat "$TMP/luba.where")" -t 0.3 q:03A0 q:05A0 q:07A0 q:03A0 q:03A0 q:03A0 q:03A0 q:03A0 \
+	q:03A0 q:03A0 s:0296 q:03A0 q:FFA0 t:0320 q:0391 > "$TMP/luba.out" 2>&1
+l() { grep -q "^$1 $2" "$TMP/luba.out"; }
+check "luba: short 1 answers 200" l 1 "03A0: answer 0xC8$"
+check "luba: short 2 answers 100" l 2 "05A0: answer 0x64$"
+check "luba: no backward frame within the window: no answer" l 3 "07A0: no answer$"
+check "luba: an unknown command is EPROTO" l 4 "03A0: error EPROTO: malformed"
+check "luba: a wrong XOR checksum is EPROTO, named" l 5 "03A0: error EPROTO: malformed reply from the interface: a message with a wrong checksum"
+check "luba: a reply cut short times out and says so" l 6 "03A0: error ETIMEDOUT: a reply cut short"
+check "luba: and recovers" l 7 "03A0: answer 0xC8$"
+check "luba: a silent interface times out" l 8 "03A0: error ETIMEDOUT: no reply"
+check "luba: and recovers" l 9 "03A0: answer 0xC8$"
+check "luba: a framing error after our query is EPROTO" l 10 "03A0: error EPROTO: a framing error"
+check "luba: DAPC 150 ends at its sent event" l 11 "0296: no answer$"
+check "luba: short 1 now answers 150" l 12 "03A0: answer 0x96$"
+check "luba: two gear answering different levels collide" l 13 "FFA0: error EPROTO: a framing error"
+check "luba: a frame sent twice waits for both sent events" l 14 "0320: no answer$"
+check "luba: QUERY CONTROL GEAR PRESENT is yes" l 15 "0391: answer 0xFF$"
+check "luba: another master's frame was seen and counted" grep -q "observed 1 last_observed 7F91 stray 0" "$TMP/luba.out"
+
+# 4. Foxtron over TCP (DALInet): answers, a silent gateway, recovery
 start_bus foxt --codec foxtron --tcp "$TMP/foxt.where" --gear 7:254 --faults 2:silent
 wait_for 10 test -s "$TMP/foxt.where" || not_ok "the TCP emulator did not start"
 "$CL" foxtron "127.0.0.1:$(cat "$TMP/foxt.where")" -t 0.3 q:0FA0 q:0FA0 q:0FA0 s:0E64 q:0FA0 > "$TMP/foxt.out" 2>&1
@@ -82,5 +106,5 @@ check "tcp: DAPC 100 then the query answers 100" t 5 "0FA0: answer 0x64$"
 check "tcp: nobody listening is a clear open error" grep -q "^open: 127.0.0.1:1: Connection refused" "$TMP/refused.out"
 "$CL" atx /nonexistent/tty q:0FA0 > "$TMP/nodev.out" 2>&1
 check "a missing tty is a clear open error" grep -q "^open: /nonexistent/tty: No such file or directory" "$TMP/nodev.out"
-for o in atx foxp foxt; do diag "$o: $(tail -n 1 "$TMP/$o.out")"; done
+for o in atx foxp luba foxt; do diag "$o: $(tail -n 1 "$TMP/$o.out")"; done
 done_testing

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: ISC */
-/* The serial DALI codecs (drivers/dali_atx.c, drivers/dali_foxtron.c) and the
- * frame layer's helpers, against byte strings written from the interfaces'
- * published protocol descriptions (doc/hardware.md sections 5 and 6): the
+/* The serial DALI codecs (drivers/dali_atx.c, dali_foxtron.c, dali_luba.c)
+ * and the frame layer's helpers, against byte strings written from the
+ * interfaces' published protocol descriptions (doc/hardware.md sections 5
+ * to 7): the
  * vendor's own worked example where there is one, else messages built by hand
  * with the stated checksum rule (the sums are worked in the comments).  Each
  * reply kind, and the broken ones: incomplete, overlong, bad hex, a wrong
@@ -15,6 +16,7 @@
 
 #include "dali_atx.h"
 #include "dali_foxtron.h"
+#include "dali_luba.h"
 
 static struct ps_dali_frame fr(int bits, uint32_t data, int twice)
 {
@@ -215,6 +217,91 @@ static void foxtron_decode(void **state)
 	assert_int_equal(rx.event, PS_DALI_EV_MALFORMED);
 }
 
+/* binary: decode n bytes */
+static struct ps_dali_frame_rx decb(const uint8_t *b, size_t n, size_t want_used)
+{
+	struct ps_dali_frame_rx rx;
+	assert_int_equal(ps_dali_luba.decode(b, n, &rx), want_used);
+	return rx;
+}
+
+static void luba_encode(void **state)
+{
+	uint8_t out[16];
+	struct ps_dali_frame f;
+	/* QUERY ACTUAL LEVEL of short 1 (03 A0), priority 5: checksum = 32^07^00^10^05^03^A0^00^00 = 0x83 */
+	static const uint8_t q[] = { 0x59, 0x32, 0x07, 0x00, 0x10, 0x05, 0x03, 0xA0, 0x00, 0x00, 0x83 };
+	/* DAPC short 1 level 200 (02 C8), priority 2: checksum 0xED */
+	static const uint8_t dapc[] = { 0x59, 0x32, 0x07, 0x00, 0x10, 0x02, 0x02, 0xC8, 0x00, 0x00, 0xED };
+	/* RESET to short 1 sent twice (mode 0x85): checksum 0x83 */
+	static const uint8_t twice[] = { 0x59, 0x32, 0x07, 0x00, 0x10, 0x85, 0x03, 0x20, 0x00, 0x00, 0x83 };
+	/* a 24-bit frame A1 E0 02: checksum 0x6C */
+	static const uint8_t f24[] = { 0x59, 0x32, 0x07, 0x00, 0x18, 0x02, 0xA1, 0xE0, 0x02, 0x00, 0x6C };
+	(void)state;
+	f = (struct ps_dali_frame){ .bits = 16, .data = 0x03A0, .expect_answer = 1 };
+	assert_int_equal(ps_dali_luba.encode(out, sizeof out, &f), 11);
+	assert_memory_equal(out, q, 11);
+	f = fr(16, 0x02C8, 0);
+	assert_int_equal(ps_dali_luba.encode(out, sizeof out, &f), 11);
+	assert_memory_equal(out, dapc, 11);
+	f = fr(16, 0x0320, 1);
+	assert_int_equal(ps_dali_luba.encode(out, sizeof out, &f), 11);
+	assert_memory_equal(out, twice, 11);
+	f = fr(24, 0xA1E002, 0);
+	assert_int_equal(ps_dali_luba.encode(out, sizeof out, &f), 11);
+	assert_memory_equal(out, f24, 11);
+	f = fr(8, 0xFF, 0);
+	assert_int_equal(ps_dali_luba.encode(out, sizeof out, &f), -1);
+	assert_true(ps_dali_luba.answer_window > 0);
+}
+
+static void luba_decode(void **state)
+{
+	struct ps_dali_frame_rx rx;
+	/* queued (id 7): 33^02^07^00 = 0x36 */
+	static const uint8_t acc[] = { 0x59, 0x33, 0x02, 0x07, 0x00, 0x36 };
+	/* refused (error 5): 33^01^05 = 0x37 */
+	static const uint8_t ref[] = { 0x59, 0x33, 0x01, 0x05, 0x37 };
+	/* sent: tick 00 10, line 0, status type 0, id 7, frame 03 A0: checksum 0x82 */
+	static const uint8_t sent[] = { 0x59, 0x31, 0x07, 0x00, 0x10, 0x00, 0x00, 0x07, 0x03, 0xA0, 0x82 };
+	/* seen: type 2, 8 bits (0x88), the backward frame C8: checksum 0x66 */
+	static const uint8_t ans[] = { 0x59, 0x31, 0x05, 0x00, 0x12, 0x00, 0x88, 0xC8, 0x66 };
+	/* seen: type 2, framing error (0xBF): checksum 0x99 */
+	static const uint8_t fe[] = { 0x59, 0x31, 0x04, 0x00, 0x13, 0x00, 0xBF, 0x99 };
+	/* seen: type 2, 16 bits (0x90), another master's FF 00: checksum 0x4C */
+	static const uint8_t obs[] = { 0x59, 0x31, 0x06, 0x00, 0x14, 0x00, 0x90, 0xFF, 0x00, 0x4C };
+	static const uint8_t badck[] = { 0x59, 0x31, 0x05, 0x00, 0x12, 0x00, 0x88, 0xC8, 0x67 };
+	static const uint8_t zero[] = { 0x59, 0x31, 0x00, 0x31 };
+	(void)state;
+	rx = decb(acc, sizeof acc, 6);
+	assert_int_equal(rx.event, PS_DALI_EV_IGNORE);
+	rx = decb(ref, sizeof ref, 5);
+	assert_int_equal(rx.event, PS_DALI_EV_BUS_ERROR);
+	assert_int_equal(rx.value, PS_DALI_BUS_REJECTED);
+	rx = decb(sent, sizeof sent, 11);
+	assert_int_equal(rx.event, PS_DALI_EV_ECHO);
+	assert_int_equal(rx.value, 0x03A0);
+	rx = decb(ans, sizeof ans, 9);
+	assert_int_equal(rx.event, PS_DALI_EV_ANSWER);
+	assert_int_equal(rx.value, 0xC8);
+	rx = decb(fe, sizeof fe, 8);
+	assert_int_equal(rx.event, PS_DALI_EV_BUS_ERROR);
+	assert_int_equal(rx.value, PS_DALI_BUS_FRAMING);
+	rx = decb(obs, sizeof obs, 10);
+	assert_int_equal(rx.event, PS_DALI_EV_OBSERVED);
+	assert_int_equal(rx.value, 0xFF00);
+	assert_int_equal(rx.bits, 16);
+	rx = decb(badck, sizeof badck, 9);
+	assert_int_equal(rx.event, PS_DALI_EV_MALFORMED);
+	assert_true(strstr(rx.why, "checksum") != NULL);
+	rx = decb(zero, sizeof zero, 1);
+	assert_int_equal(rx.event, PS_DALI_EV_MALFORMED);
+	rx = decb((const uint8_t *)"zzY", 3, 2);
+	assert_int_equal(rx.event, PS_DALI_EV_MALFORMED);
+	assert_int_equal(ps_dali_luba.decode(ans, 8, &rx), 0);
+	assert_int_equal(ps_dali_luba.decode(ans, 2, &rx), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -223,6 +310,8 @@ int main(void)
 		cmocka_unit_test(atx_decode),
 		cmocka_unit_test(foxtron_encode),
 		cmocka_unit_test(foxtron_decode),
+		cmocka_unit_test(luba_encode),
+		cmocka_unit_test(luba_decode),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,6 +11,9 @@ psensd's codecs:
   foxtron  the Foxtron DALI232/DALInet: SOH, hex bytes, checksum (one's
            complement of the byte sum), ETB; send 0x0B, replies 0x0D/0x0E,
            events 0x05, other masters' frames 0x04
+  luba     the Lunatone LUBA: 'Y', command, length, payload, XOR checksum;
+           queue 0x32 answered 0x33, then event 0x31 "sent" and, if one came,
+           event 0x31 "seen" with the backward frame (no answer: nothing)
 
 on a pty (--pty FILE: the slave's path is written to FILE) or on TCP
 (--tcp FILE: 127.0.0.1, the port written to FILE).
@@ -217,9 +220,65 @@ class Foxtron:
         return fox_msg([0x04, 0x10, 0x7F, 0x91])
 
 
+def luba_msg(cmd, payload, good=True):
+    body = [cmd, len(payload)] + list(payload)
+    ck = 0
+    for b in body:
+        ck ^= b
+    if not good:
+        ck ^= 0x5A
+    return bytes([0x59] + body + [ck])
+
+
+class Luba:
+    def __init__(self):
+        self.buf = b""
+        self.tick = 0
+
+    def requests(self, data):
+        self.buf += data
+        out = []
+        while True:
+            s = self.buf.find(b"Y")
+            if s < 0 or len(self.buf) < s + 3:
+                self.buf = self.buf[s:] if s >= 0 else b""
+                return out
+            n = self.buf[s + 2]
+            if len(self.buf) < s + 4 + n:
+                self.buf = self.buf[s:]
+                return out
+            m, self.buf = self.buf[s:s + 4 + n], self.buf[s + 4 + n:]
+            p = m[3:-1]
+            if m[1] == 0x32 and n == 7 and p[1] in (16, 24):
+                nb = p[1] // 8
+                out.append((p[1], int.from_bytes(p[3:3 + nb], "big"), bool(p[2] & 0x80)))
+
+    def event(self, status, data, good=True):
+        self.tick = (self.tick + 7) & 0xFFFF
+        return luba_msg(0x31, [self.tick >> 8, self.tick & 0xFF, 0, status] + list(data), good)
+
+    def reply(self, bits, frame, result, fault, twice):
+        fb = list(frame.to_bytes(bits // 8, "big"))
+        if fault == "malformed":
+            return luba_msg(0x42, [0])
+        out = luba_msg(0x33, [5, 0])
+        for _ in range(2 if twice else 1):
+            out += self.event(0x00, [5] + fb)
+        if fault == "collision":
+            return out + self.event(0x80 | 63, [])
+        if result is None:
+            return out
+        if result[0] == "garbled":
+            return out + self.event(0x80 | 63, [])
+        return out + self.event(0x80 | 8, [result[1]], good=fault != "checksum")
+
+    def observed(self):
+        return self.event(0x80 | 16, [0x7F, 0x91])
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--codec", choices=("atx", "foxtron"), required=True)
+    ap.add_argument("--codec", choices=("atx", "foxtron", "luba"), required=True)
     ap.add_argument("--pty")
     ap.add_argument("--tcp")
     ap.add_argument("--gear", default="")
@@ -234,7 +293,7 @@ def main():
     for item in filter(None, args.faults.split(",")):
         n, what = item.split(":")
         faults[int(n)] = what
-    proto = Atx() if args.codec == "atx" else Foxtron()
+    proto = {"atx": Atx, "foxtron": Foxtron, "luba": Luba}[args.codec]()
     nframe = 0
     lsock = None
     if args.pty:
@@ -285,7 +344,7 @@ def main():
             fault = faults.get(nframe)
             # a frame that collided with another master's never reached the gear
             result = None if fault == "collision" else bus.forward(bits, frame)
-            if twice and args.codec == "foxtron" and fault != "collision":
+            if twice and args.codec != "atx" and fault != "collision":
                 result = bus.forward(bits, frame)
             if fault == "observed":
                 out += proto.observed()
@@ -294,6 +353,8 @@ def main():
                 continue
             if args.codec == "atx":
                 r = proto.reply(result, fault, twice)
+            elif args.codec == "luba":
+                r = proto.reply(bits, frame, result, fault, twice)
             else:
                 r = proto.reply(bits, frame, result, fault)
             if fault == "short":

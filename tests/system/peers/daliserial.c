@@ -4,7 +4,7 @@
  * tests (tests/system/417).
  *
  *   dali-serial CODEC WHERE [-t TIMEOUT] STEP...
- *     CODEC  atx | foxtron;  WHERE  a tty path or HOST:PORT
+ *     CODEC  atx | foxtron | luba;  WHERE  a tty path or HOST:PORT
  *     STEP   q:HHHH  a 16-bit query        s:HHHH  a 16-bit command
  *            t:HHHH  sent twice            l:HHHHHH a 24-bit frame
  *
@@ -20,6 +20,7 @@
 
 #include "dali_atx.h"
 #include "dali_foxtron.h"
+#include "dali_luba.h"
 #include "dali_serial.h"
 
 static double mono(void)
@@ -43,10 +44,13 @@ int main(int argc, char **argv)
 	char err[200];
 	int i = 3, n = 0;
 	if (argc < 3) {
-		fprintf(stderr, "usage: dali-serial atx|foxtron WHERE [-t TIMEOUT] STEP...\n");
+		fprintf(stderr, "usage: dali-serial atx|foxtron|luba WHERE [-t TIMEOUT] STEP...\n");
 		return 2;
 	}
-	c = strcmp(argv[1], "atx") == 0 ? &ps_dali_atx : strcmp(argv[1], "foxtron") == 0 ? &ps_dali_foxtron : NULL;
+	c = strcmp(argv[1], "atx") == 0       ? &ps_dali_atx
+	    : strcmp(argv[1], "foxtron") == 0 ? &ps_dali_foxtron
+	    : strcmp(argv[1], "luba") == 0    ? &ps_dali_luba
+	                                      : NULL;
 	if (!c) {
 		fprintf(stderr, "no codec '%s'\n", argv[1]);
 		return 2;
