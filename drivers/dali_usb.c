@@ -1266,6 +1266,7 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	dev->priv = d;
 	d->epfd = epoll_create1(EPOLL_CLOEXEC);
 	d->safe_level = d->fade_time = -1;
+	d->ser_dtr0_frame = -1;
 	d->backoff = BACKOFF_MIN;
 	d->next_scan = -INFINITY;
 	d->seq = 0;
