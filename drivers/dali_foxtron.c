@@ -182,11 +182,24 @@ static size_t fox_decode(const uint8_t *buf, size_t len, struct ps_dali_frame_rx
 	return bad(rx, end + 1, "a message of an unknown type or the wrong length");
 }
 
+/* The configuration query for the firmware version (06 02, checksum 0xF7):
+ * what the vendor suggests to keep a DALInet connection from timing out. */
+static int fox_keepalive(uint8_t *out, size_t cap)
+{
+	static const char msg[] = "\x01" "0602F7" "\x17";
+	if (cap < sizeof msg - 1)
+		return -1;
+	memcpy(out, msg, sizeof msg - 1);
+	return (int)(sizeof msg - 1);
+}
+
 const struct ps_dali_codec ps_dali_foxtron = {
 	.name = "foxtron",
 	.baud = 9600,
 	.replies_per_twice = 1,
 	.max_msg = MAX_MSG,
+	.keepalive = 20,
+	.encode_keepalive = fox_keepalive,
 	.encode = fox_encode,
 	.decode = fox_decode,
 };

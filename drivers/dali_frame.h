@@ -77,6 +77,10 @@ struct ps_dali_codec {
 	 * if one came), so a query's "no answer" is no backward frame within
 	 * this many seconds of the last ECHO. */
 	double answer_window;
+	/* TCP gateways that drop a silent connection: a harmless request to
+	 * send after this many idle seconds (0: none), and its encoder. */
+	double keepalive;
+	int (*encode_keepalive)(uint8_t *out, size_t cap);
 	/* Encode a forward frame.  Returns the length, or -1 (the interface
 	 * cannot send this frame: a length or send-twice it lacks, or cap too small). */
 	int (*encode)(uint8_t *out, size_t cap, const struct ps_dali_frame *f);

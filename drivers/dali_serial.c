@@ -30,6 +30,8 @@ struct ps_dali_serial {
 	int echoes_left;   /* an interface with an answer window: ECHOes still to come */
 	int in_window;     /* ... all came: waiting for a backward frame until deadline */
 	int stale;         /* the last transaction timed out: drop what is left before the next */
+	double keepalive;  /* TCP: seconds of silence before a keep-alive, 0 none */
+	double last_tx;    /* when we last wrote, -1 not yet (the first service() starts the count) */
 	struct ps_dali_serial_stats st;
 };
 
@@ -152,6 +154,8 @@ struct ps_dali_serial *ps_dali_serial_open(const struct ps_dali_codec *c, const 
 	s->c = c;
 	s->fd = fd;
 	s->deadline = INFINITY;
+	s->keepalive = where[0] != '/' && c->encode_keepalive ? c->keepalive : 0;
+	s->last_tx = -1;
 	return s;
 }
 
@@ -160,9 +164,17 @@ int ps_dali_serial_fd(const struct ps_dali_serial *s)
 	return s->fd;
 }
 
+void ps_dali_serial_keepalive(struct ps_dali_serial *s, double seconds)
+{
+	s->keepalive = s->c->encode_keepalive ? seconds : 0;
+}
+
 double ps_dali_serial_deadline(const struct ps_dali_serial *s)
 {
-	return s->busy ? s->deadline : INFINITY;
+	double t = s->busy ? s->deadline : INFINITY;
+	if (s->keepalive > 0 && !s->busy && s->last_tx >= 0)
+		t = fmin(t, s->last_tx + s->keepalive);
+	return t;
 }
 
 void ps_dali_serial_stats(const struct ps_dali_serial *s, struct ps_dali_serial_stats *st)
@@ -200,6 +212,7 @@ int ps_dali_serial_send(struct ps_dali_serial *s, const struct ps_dali_frame *f,
 		errno = w < 0 && errno != EAGAIN ? errno : EIO;
 		return -1;
 	}
+	s->last_tx = now;
 	s->busy = 1;
 	s->replies_left = f->twice ? s->c->replies_per_twice : 1;
 	s->expect_answer = f->expect_answer;
@@ -324,6 +337,22 @@ int ps_dali_serial_service(struct ps_dali_serial *s, double now, struct ps_dali_
 		s->busy = 0;
 		errno = ENODEV;
 		return -1;
+	}
+	if (s->keepalive > 0 && !s->busy) {
+		if (s->last_tx < 0) {
+			s->last_tx = now;
+		} else if (now >= s->last_tx + s->keepalive) {
+			uint8_t out[32];
+			int n = s->c->encode_keepalive(out, sizeof out);
+			s->last_tx = now;
+			if (n > 0 && write(s->fd, out, (size_t)n) == n) {
+				s->st.keepalives++;
+			} else {
+				snprintf(res->why, sizeof res->why, "the interface is gone: the keep-alive could not be sent");
+				errno = ENODEV;
+				return -1;
+			}
+		}
 	}
 	if (s->busy && s->in_window && now >= s->deadline) {
 		/* our frame went out and no backward frame came in the window */

@@ -35,6 +35,7 @@ struct ps_dali_serial_stats {
 	unsigned long timeouts;
 	unsigned long observed;    /* other masters' frames seen on the bus */
 	unsigned long stray;       /* replies when no transaction was waiting */
+	unsigned long keepalives;  /* keep-alive requests sent to an idle TCP gateway */
 	unsigned last_observed;    /* the last of them */
 	int power_lost;            /* the interface last said the bus has no power */
 };
@@ -50,9 +51,13 @@ int ps_dali_serial_send(struct ps_dali_serial *s, const struct ps_dali_frame *f,
 /* Read what has arrived and move on.  1: the transaction ended (res filled
  * in); 0: nothing ended; -1: the link is gone (errno, res->why). */
 int ps_dali_serial_service(struct ps_dali_serial *s, double now, struct ps_dali_serial_result *res);
-/* When service() must run next without input: the transaction's time limit, or INFINITY. */
+/* When service() must run next without input: the transaction's time
+ * limit, the next keep-alive, or INFINITY. */
 double ps_dali_serial_deadline(const struct ps_dali_serial *s);
 void ps_dali_serial_stats(const struct ps_dali_serial *s, struct ps_dali_serial_stats *st);
+/* Over TCP, with a codec that has one: send the keep-alive request after
+ * this many idle seconds (default: the codec's; 0: never). */
+void ps_dali_serial_keepalive(struct ps_dali_serial *s, double seconds);
 void ps_dali_serial_close(struct ps_dali_serial *s);
 
 #endif

@@ -1133,6 +1133,9 @@ static double du_deadline(struct ps_dev *dev)
 			t = d->next_send;
 		if (d->job && !d->job_busy && ps_dali_commission_next(d->job, &tx, &until) == PS_DALI_NEXT_WAIT)
 			t = fmin(t, until);
+		/* a TCP gateway's keep-alive */
+		if (d->ser)
+			t = fmin(t, ps_dali_serial_deadline(d->ser));
 		/* a job that ended with points held back has their levels to send */
 		if (d->job_held && d->job && d->job->state != PS_DALI_COMMISSION_RUNNING)
 			t = -INFINITY;

@@ -102,6 +102,18 @@ check "tcp: short 7 answers 254" t 1 "0FA0: answer 0xFE$"
 check "tcp: a silent gateway times out" t 2 "0FA0: error ETIMEDOUT"
 check "tcp: and recovers" t 3 "0FA0: answer 0xFE$"
 check "tcp: DAPC 100 then the query answers 100" t 5 "0FA0: answer 0x64$"
+# a gateway that drops a connection silent for 0.5 s (DALInet: 30 s): the
+# keep-alive (the firmware-version query) holds it; without it, it is gone
+start_bus idle --codec foxtron --tcp "$TMP/idle.where" --gear 7:254 --idle-close 0.5
+wait_for 10 test -s "$TMP/idle.where" || not_ok "the idle-closing emulator did not start"
+"$CL" foxtron "127.0.0.1:$(cat "$TMP/idle.where")" -k 0.2 q:0FA0 w:1.2 q:0FA0 > "$TMP/ka.out" 2>&1
+check "tcp: with keep-alives every 0.2 s the connection outlives 1.2 s of silence" \
+	grep -q "^2 0FA0: answer 0xFE$" "$TMP/ka.out"
+check "tcp: ... at least 4 keep-alives sent: $(sed -n 's/.*keepalives //p' "$TMP/ka.out")" \
+	test "$(sed -n 's/.*keepalives //p' "$TMP/ka.out")" -ge 4
+"$CL" foxtron "127.0.0.1:$(cat "$TMP/idle.where")" -k 0 q:0FA0 w:1.2 q:0FA0 > "$TMP/noka.out" 2>&1
+check "tcp: without them the gateway closes and the link says so" \
+	grep -q "^wait: link gone: the interface is gone: end of file" "$TMP/noka.out"
 "$CL" foxtron "127.0.0.1:1" q:0FA0 > "$TMP/refused.out" 2>&1
 check "tcp: nobody listening is a clear open error" grep -q "^open: 127.0.0.1:1: Connection refused" "$TMP/refused.out"
 "$CL" atx /nonexistent/tty q:0FA0 > "$TMP/nodev.out" 2>&1

@@ -188,7 +188,9 @@ class Foxtron:
                 out.append(("event", 5))
                 continue
             p = raw[:-1]
-            if p[0] == 0x0B and len(p) >= 5:
+            if p[0] == 0x06 and len(p) == 2:
+                out.append(("conf", p[1]))
+            elif p[0] == 0x0B and len(p) >= 5:
                 nb = p[2] // 8
                 frame = int.from_bytes(p[3:3 + nb], "big")
                 out.append((p[2], frame, bool(p[3 + nb] & 1)))
@@ -284,6 +286,8 @@ def main():
     ap.add_argument("--gear", default="")
     ap.add_argument("--faults", default="")
     ap.add_argument("--state")
+    ap.add_argument("--idle-close", type=float, default=0,
+                    help="TCP: close a connection silent for this many seconds, as DALInet does")
     args = ap.parse_args()
     bus = Bus(args.gear)
     muted = [False]
@@ -319,7 +323,11 @@ def main():
             conn, _ = lsock.accept()
             conn_r = conn_w = conn.fileno()
             proto.buf = b""
-        select.select([conn_r], [], [])
+        r, _, _ = select.select([conn_r], [], [], args.idle_close if lsock is not None and args.idle_close > 0 else None)
+        if not r:
+            conn.close()
+            conn = None
+            continue
         try:
             data = os.read(conn_r, 4096)
         except OSError:
@@ -336,6 +344,9 @@ def main():
         for req in proto.requests(data):
             if req[0] == "event":
                 out += fox_msg([0x05, req[1]])
+                continue
+            if req[0] == "conf":
+                out += fox_msg([0x07, req[1], 0x04, 0x06])   # firmware 4.6
                 continue
             bits, frame, twice = req
             nframe += 1

@@ -3,10 +3,11 @@
  * frame after another, and print each transaction's result, for the system
  * tests (tests/system/417).
  *
- *   dali-serial CODEC WHERE [-t TIMEOUT] STEP...
+ *   dali-serial CODEC WHERE [-t TIMEOUT] [-k KEEPALIVE] STEP...
  *     CODEC  atx | foxtron | luba;  WHERE  a tty path or HOST:PORT
  *     STEP   q:HHHH  a 16-bit query        s:HHHH  a 16-bit command
  *            t:HHHH  sent twice            l:HHHHHH a 24-bit frame
+ *            w:SECONDS  wait, serving the link (keep-alives, other masters' frames)
  *
  * Prints "N FRAME: answer 0xHH", "N FRAME: no answer" or "N FRAME: error
  * NAME: why" per step, then one line of the link's counters. */
@@ -40,7 +41,7 @@ int main(int argc, char **argv)
 	const struct ps_dali_codec *c;
 	struct ps_dali_serial *s;
 	struct ps_dali_serial_stats st;
-	double timeout = 0.3;
+	double timeout = 0.3, keepalive = -1;
 	char err[200];
 	int i = 3, n = 0;
 	if (argc < 3) {
@@ -55,22 +56,42 @@ int main(int argc, char **argv)
 		fprintf(stderr, "no codec '%s'\n", argv[1]);
 		return 2;
 	}
-	if (i + 1 < argc && strcmp(argv[i], "-t") == 0) {
-		timeout = atof(argv[i + 1]);
+	while (i + 1 < argc && (strcmp(argv[i], "-t") == 0 || strcmp(argv[i], "-k") == 0)) {
+		if (argv[i][1] == 't')
+			timeout = atof(argv[i + 1]);
+		else
+			keepalive = atof(argv[i + 1]);
 		i += 2;
 	}
 	if (!(s = ps_dali_serial_open(c, argv[2], 0, err, sizeof err))) {
 		printf("open: %s\n", err);
 		return 1;
 	}
+	if (keepalive >= 0)
+		ps_dali_serial_keepalive(s, keepalive);
 	for (; i < argc; i++) {
 		struct ps_dali_frame f = { 0 };
 		struct ps_dali_serial_result res;
+		
 		char *end;
 		int r = 0;
 		if (strlen(argv[i]) < 3 || argv[i][1] != ':') {
 			fprintf(stderr, "bad step '%s'\n", argv[i]);
 			return 2;
+		}
+		if (argv[i][0] == 'w') {
+			double until = mono() + atof(argv[i] + 2);
+			while (mono() < until) {
+				struct pollfd p = { .fd = ps_dali_serial_fd(s), .events = POLLIN };
+				double next = fmin(until, ps_dali_serial_deadline(s)) - mono();
+				poll(&p, 1, next > 0 ? (int)(next * 1000) + 1 : 0);
+				if (ps_dali_serial_service(s, mono(), &res) < 0) {
+					printf("wait: link gone: %s\n", res.why);
+					ps_dali_serial_close(s);
+					return 1;
+				}
+			}
+			continue;
 		}
 		f.data = (uint32_t)strtoul(argv[i] + 2, &end, 16);
 		f.bits = argv[i][0] == 'l' ? 24 : 16;
@@ -101,9 +122,9 @@ int main(int argc, char **argv)
 	}
 	ps_dali_serial_stats(s, &st);
 	printf("stats frames %lu answers %lu no_answers %lu bus_errors %lu malformed %lu timeouts %lu observed %lu "
-	       "last_observed %04X stray %lu power_lost %d\n",
+	       "last_observed %04X stray %lu power_lost %d keepalives %lu\n",
 	       st.frames, st.answers, st.no_answers, st.bus_errors, st.malformed, st.timeouts, st.observed,
-	       st.last_observed, st.stray, st.power_lost);
+	       st.last_observed, st.stray, st.power_lost, st.keepalives);
 	ps_dali_serial_close(s);
 	return 0;
 }
