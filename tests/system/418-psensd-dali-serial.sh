@@ -7,7 +7,8 @@
 # an override; the interface falling silent is a fault that drives the zone
 # to its safe level, logged once; when it answers again psensd resumes by
 # itself and the override's level is back on the gear.  psensd -n refuses
-# a serial transport without its device.
+# a serial transport without its device.  Then the Foxtron transport over
+# TCP (a DALInet) drives its gear the same way.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v python3 > /dev/null || skip_all "python3 not installed"
@@ -85,4 +86,23 @@ kill -TERM "$pd"
 wait $pid
 check "SIGTERM: psensd drove the lights to the safe level" grep -q "zone office: Terminated: lights at the safe level 100 %" "$TMP/err"
 check "the gear's last state: 254 (100 %): $(levels)" at_level 254
+
+# the same driver on transport foxtron over TCP (a DALInet), gear at short 3 and 4
+python3 "$(dirname "$0")/peers/dalibus.py" --codec foxtron --tcp "$TMP/port" --gear 3:254,4:254 \
+	--state "$TMP/bus.state" > "$TMP/bus2.log" 2>&1 &
+track_pid $!
+wait_for 10 test -s "$TMP/port" || not_ok "the TCP emulator did not start"
+sed "s|^transport = atx|transport = foxtron|; s|^device = /dev.*|device = 127.0.0.1:$(cat "$TMP/port")|" \
+	"$TMP/psensd.conf" > "$TMP/tcp.conf"
+"$BIN/psensd" -f "$TMP/tcp.conf" -t 12:00 > "$TMP/out2" 2> "$TMP/err2" &
+pid=$!; track_pid $pid
+wait_for 10 ctl ping > /dev/null
+want=$(arc 0.1)
+wait_for 5 at_level "$want"
+check "foxtron over TCP: both gear at arc level $want (10 %): $(levels)" at_level "$want"
+pd=$(ctl -j ping | sed -n 's/.*"pid":\([0-9]*\).*/\1/p')
+kill -TERM "$pd"
+wait $pid
+check "foxtron over TCP: SIGTERM leaves the gear at 254: $(levels)" at_level 254
+check "foxtron over TCP: no fault on the way" sh -c "! grep -q 'fault: ' \"$TMP/err2\""
 done_testing
