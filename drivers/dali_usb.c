@@ -1321,7 +1321,7 @@ const struct ps_dali_commission *ps_dali_usb_job(struct ps_dev *dev)
 
 const struct ps_driver ps_driver_dali_usb = {
 	.name = "dali_usb",
-	.summary = "DALI ballasts through a Tridonic/Lunatone DALI USB interface (libusb)",
+	.summary = "DALI ballasts through a DALI USB (libusb), serial or TCP interface",
 	.compiled_in = 1,
 	.options = du_options,
 	.check = du_check,

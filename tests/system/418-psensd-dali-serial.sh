@@ -12,7 +12,7 @@
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v python3 > /dev/null || skip_all "python3 not installed"
-"$BIN/psensd" -L 2>/dev/null | grep -q "^dali_usb" || skip_all "the dali_usb driver is not compiled in"
+"$BIN/psensd" -L 2>/dev/null | grep -q "^dali_usb:" || skip_all "the dali_usb driver is not compiled in"
 example_results
 S="$TMP/sock"
 python3 "$(dirname "$0")/peers/dalibus.py" --codec atx --pty "$TMP/pty" --gear 1:254,2:254 \
