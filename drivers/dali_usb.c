@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: ISC */
-/* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0.
- * See psensd-dali_usb(7) for the options.
+/* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0,
+ * or through a serial or TCP interface (transport atx, foxtron, luba: the
+ * link in dali_serial.c, its descriptor in the same epoll set, its results
+ * mapped onto the same transactions).  See psensd-dali_usb(7) for the options.
  *
  * Why asynchronous: a DALI transaction takes 30 to 50 ms on the bus and the
  * interface answers in two reports (echo, then answer or "no answer"), so a
