@@ -12,22 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-enum ps_dali_event {
-	PS_DALI_EV_IGNORE = 0,   /* idle/no-op report, or not for us */
-	PS_DALI_EV_ECHO,         /* our forward frame went out on the bus (not final) */
-	PS_DALI_EV_NO_ANSWER,    /* final: done, no backward frame */
-	PS_DALI_EV_ANSWER,       /* final: backward frame in value */
-	PS_DALI_EV_BUS_ERROR,    /* final: garbled answer (collision, framing), or bus fault */
-	PS_DALI_EV_OBSERVED,     /* another master's frame seen on the bus */
-	PS_DALI_EV_INFO,         /* reply to an init request (firmware, serial) */
-	PS_DALI_EV_MALFORMED,    /* a report that does not follow the protocol */
-};
-
-struct ps_dali_reply {
-	int event;          /* enum ps_dali_event */
-	int seq;            /* sequence number the report answers, -1 if none */
-	unsigned value;     /* backward frame (ANSWER), forward frame (ECHO, OBSERVED), status code */
-};
+#include "dali_frame.h"
 
 struct ps_dali_transport {
 	const char *name;           /* "tridonic" */

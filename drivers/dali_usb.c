@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: ISC */
-/* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0.
- * See psensd-dali_usb(7) for the options.
+/* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0,
+ * or through a serial or TCP interface (transport atx, foxtron, luba: the
+ * link in dali_serial.c, its descriptor in the same epoll set, its results
+ * mapped onto the same transactions).  See psensd-dali_usb(7) for the options.
  *
  * Why asynchronous: a DALI transaction takes 30 to 50 ms on the bus and the
  * interface answers in two reports (echo, then answer or "no answer"), so a
@@ -45,7 +47,11 @@
 #include <json-c/json.h>
 
 #include "dali.h"
+#include "dali_atx.h"
 #include "dali_commission.h"
+#include "dali_foxtron.h"
+#include "dali_luba.h"
+#include "dali_serial.h"
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
@@ -69,6 +75,7 @@ struct tx {
 	int tries;
 	unsigned frame;        /* TX_JOB: the commissioning job's transaction */
 	int twice;
+	int answer;            /* TX_JOB: a backward frame may come */
 };
 
 struct dpoint {
@@ -87,8 +94,14 @@ struct dpoint {
 };
 
 struct dali_usb {
-	const struct ps_dali_transport *tp;
+	const struct ps_dali_transport *tp;   /* a USB interface, or */
+	const struct ps_dali_codec *codec;    /* a serial or TCP one */
 	char serial[64], port[32];
+	char where[256];                      /* serial, TCP: the tty or HOST:PORT */
+	long baud;                            /* serial: bits per second, 0 the codec's */
+	struct ps_dali_serial *ser;
+	int ser_dtr0_frame;                   /* the frame to send after its DTR0, -1 none */
+	int ser_twice, ser_answer;
 	double timeout, frame_gap, safe_level, fade_time;
 	long retries;
 
@@ -126,9 +139,11 @@ struct dali_usb {
 };
 
 
-/* The interfaces, and their names for the transport key (in that order). */
-static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL };
-static const char *const transport_names[] = { "tridonic", NULL };
+/* The interfaces, and their names for the transport key (in that order):
+ * USB ones through libusb, serial and TCP ones through dali_serial.c. */
+static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL, NULL };
+static const struct ps_dali_codec *const codecs[] = { NULL, &ps_dali_atx, &ps_dali_foxtron, &ps_dali_luba, NULL };
+static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", NULL };
 
 /* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
 static int valid_port(const char *v, char *why, size_t n)
@@ -150,7 +165,12 @@ static int valid_address(const char *v, char *why, size_t n)
 static const struct ps_opts_spec du_options[] = {
 	{ .key = "transport", .type = PS_OPT_ENUM, .scope = DEV, .def = "tridonic",
 	  .names = transport_names,
-	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020)" },
+	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020), atx (AtxLED DALI HAT, "
+	         "serial), foxtron (Foxtron DALI232 serial, DALInet TCP), luba (Lunatone LUBA, serial)" },
+	{ .key = "device", .type = PS_OPT_STRING, .scope = DEV,
+	  .doc = "atx, foxtron, luba: the serial port (/dev/...) or HOST:PORT (DALInet)" },
+	{ .key = "baud", .type = PS_OPT_LONG, .scope = DEV, .min = 1200, .max = 115200,
+	  .doc = "atx, foxtron, luba: the serial speed, 8N1 (absent: 19200 atx, 9600 foxtron, 38400 luba)" },
 	{ .key = "serial", .type = PS_OPT_STRING, .scope = DEV,
 	  .doc = "the interface with this USB serial number" },
 	{ .key = "port", .type = PS_OPT_STRING, .scope = DEV, .valid = valid_port,
@@ -173,7 +193,22 @@ static const struct ps_opts_spec du_options[] = {
 
 static int du_check(const struct ps_opts *o, int role, int *line, char *why, size_t n)
 {
-	if (role < 0 || role == PS_ROLE_DIM || role == PS_ROLE_RELAY)
+	if (role < 0) {
+		const char *t = ps_opts_get(o, "transport"), *dv = ps_opts_get(o, "device");
+		int serial = t && strcmp(t, "tridonic") != 0;
+		if (serial && !dv) {
+			*line = ps_opts_line(o, "transport");
+			snprintf(why, n, "transport %s needs device = (a serial port or HOST:PORT)", t);
+			return -1;
+		}
+		if (!serial && dv) {
+			*line = ps_opts_line(o, "device");
+			snprintf(why, n, "device is for the serial and TCP transports (atx, foxtron, luba), not tridonic");
+			return -1;
+		}
+		return 0;
+	}
+	if (role == PS_ROLE_DIM || role == PS_ROLE_RELAY)
 		return 0;
 	*line = ps_opts_line(o, "address");
 	snprintf(why, n, "dali_usb drives dim and relay points, not %s", ps_role_name(role));
@@ -243,7 +278,7 @@ static int q_push(struct dali_usb *d, int kind, int point)
 {
 	if (d->qlen >= QCAP)
 		return -1;
-	d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ kind, point, 0, 0, 0 };
+	d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ kind, point, 0, 0, 0, 0 };
 	return 0;
 }
 
@@ -275,7 +310,7 @@ static void lost(struct dali_usb *d, const char *why)
 	d->cur_active = 0;
 	if (d->job) {
 		char msg[480];
-		snprintf(msg, sizeof msg, "DALI USB interface: %s", why);
+		snprintf(msg, sizeof msg, "%s: %s", d->codec ? "DALI interface" : "DALI USB interface", why);
 		ps_dali_commission_fail(d->job, d->now, msg);
 	}
 	d->job_busy = 0;
@@ -285,6 +320,11 @@ static void lost(struct dali_usb *d, const char *why)
 
 static void teardown(struct dali_usb *d)
 {
+	if (d->ser) {
+		epoll_ctl(d->epfd, EPOLL_CTL_DEL, ps_dali_serial_fd(d->ser), NULL);
+		ps_dali_serial_close(d->ser);
+		d->ser = NULL;
+	}
 	if (d->h) {
 		libusb_release_interface(d->h, d->tp->interface);
 		if (d->reattach)
@@ -353,6 +393,8 @@ static void keep_cause(struct dali_usb *d)
 	snprintf(scan, sizeof scan, "%s", d->down_why);
 	snprintf(d->down_why, sizeof d->down_why, "%.159s; rescan: %.230s", d->lost_why, scan);
 }
+
+static void connected(struct dali_usb *d);
 
 /* Find, open and claim the interface.  0 ok; -1 with d->down_why. */
 static int connect_usb(struct dali_usb *d)
@@ -430,6 +472,13 @@ static int connect_usb(struct dali_usb *d)
 		errno = ENODEV;
 		return -1;
 	}
+	connected(d);
+	return 0;
+}
+
+/* The link is up: redo each point's setup and last level. */
+static void connected(struct dali_usb *d)
+{
 	d->state = ST_UP;
 	d->lost_why[0] = 0;
 	d->st.connects++;
@@ -452,7 +501,31 @@ static int connect_usb(struct dali_usb *d)
 			p->dapc_pending = 1;
 		}
 	}
+}
+
+/* Open the serial port or connect to the gateway.  0 ok; -1 with d->down_why. */
+static int connect_serial(struct dali_usb *d)
+{
+	struct epoll_event ev = { .events = EPOLLIN };
+	char err[300];
+	d->ser = ps_dali_serial_open(d->codec, d->where, d->baud, err, sizeof err);
+	if (!d->ser) {
+		int e = errno;
+		snprintf(d->down_why, sizeof d->down_why, "%s", err);
+		keep_cause(d);
+		errno = e == EINVAL ? EINVAL : ENODEV;
+		return -1;
+	}
+	ev.data.fd = ps_dali_serial_fd(d->ser);
+	epoll_ctl(d->epfd, EPOLL_CTL_ADD, ev.data.fd, &ev);
+	d->ser_dtr0_frame = -1;
+	connected(d);
 	return 0;
+}
+
+static int connect_link(struct dali_usb *d)
+{
+	return d->codec ? connect_serial(d) : connect_usb(d);
 }
 
 /* ---- one transaction ------------------------------------------------------- */
@@ -553,6 +626,77 @@ static void job_done(struct dali_usb *d, int rx, unsigned value, const char *why
 		ps_dali_commission_result(d->job, d->now, rx, value, why);
 }
 
+static void finish(struct dali_usb *d, int answer);
+static void failed_try(struct dali_usb *d, int err, const char *why);
+
+/* A serial or TCP interface: send the frame, or first its DTR0 (the
+ * Tridonic interface does both in one report; these take two frames).
+ * 0 sent, -1 the codec cannot carry it, -2 the link is gone. */
+static int serial_start(struct dali_usb *d, int frame, int twice, int dtr0)
+{
+	struct ps_dali_frame f = { .bits = 16, .data = (uint32_t)frame, .twice = twice };
+	if (frame < 0)
+		return -1;
+	f.expect_answer = d->cur.kind == TX_JOB ? d->cur.answer : ps_dali_expects_answer((unsigned)frame);
+	d->ser_answer = f.expect_answer;
+	d->ser_dtr0_frame = -1;
+	if (dtr0 >= 0) {
+		d->ser_dtr0_frame = frame;
+		d->ser_twice = twice;
+		f.data = (uint32_t)ps_dali_dtr0(dtr0);
+		f.twice = 0;
+		f.expect_answer = 0;
+	}
+	if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) == 0)
+		return 0;
+	if (errno == EINVAL)
+		return -1;
+	lost(d, "interface gone (sending)");
+	return -2;
+}
+
+/* A serial or TCP interface's transaction ended. */
+static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_result *res)
+{
+	if (!d->cur_active) {
+		d->st.stray++;
+		return;
+	}
+	if (res->err == 0 && d->ser_dtr0_frame >= 0) {
+		/* DTR0 is loaded: now the command that uses it */
+		struct ps_dali_frame f = { .bits = 16, .data = (uint32_t)d->ser_dtr0_frame, .twice = d->ser_twice,
+			                   .expect_answer = d->ser_answer };
+		d->ser_dtr0_frame = -1;
+		if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) != 0) {
+			lost(d, "interface gone (sending)");
+			return;
+		}
+		d->cur_deadline = d->now + d->timeout;
+		d->st.frames++;
+		return;
+	}
+	d->ser_dtr0_frame = -1;
+	if (res->err == 0) {
+		finish(d, res->event == PS_DALI_EV_ANSWER ? (int)res->value : -1);
+		return;
+	}
+	if (res->err == ETIMEDOUT) {
+		d->st.timeouts++;
+		failed_try(d, ETIMEDOUT, res->why);
+		return;
+	}
+	d->st.garbled++;
+	if (res->event == PS_DALI_EV_BUS_ERROR && d->cur.kind == TX_JOB &&
+	    (res->value == PS_DALI_BUS_FRAMING || res->value == PS_DALI_BUS_CHECKSUM)) {
+		/* commissioning reads a garbled backward frame: several answered */
+		d->cur_active = 0;
+		d->next_send = d->now + d->frame_gap;
+		job_done(d, PS_DALI_RX_COLLISION, 0, NULL);
+		return;
+	}
+	failed_try(d, res->err, res->why);
+}
+
 static void send_next(struct dali_usb *d)
 {
 	int frame, twice, dtr0, len, r, qi;
@@ -566,15 +710,22 @@ static void send_next(struct dali_usb *d)
 		return;
 	/* the job and the queue take turns: zones are dimmed between search frames */
 	if (have_job && (qi < 0 || !d->last_was_job)) {
-		d->cur = (struct tx){ TX_JOB, -1, 0, jt.frame, jt.twice };
+		d->cur = (struct tx){ TX_JOB, -1, 0, jt.frame, jt.twice, jt.answer };
 		d->job_busy = 1;
 	} else {
 		d->cur = q_take(d, (size_t)qi);
 	}
 	d->last_was_job = d->cur.kind == TX_JOB;
 	frame = frame_for(d, &d->cur, &twice, &dtr0);
-	d->seq = d->tp->next_seq(d->seq);
-	len = frame < 0 ? -1 : d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)frame, twice, dtr0);
+	if (d->codec) {
+		len = serial_start(d, frame, twice, dtr0);
+		if (len == -2)
+			return;   /* the link is gone */
+	} else {
+		d->seq = d->tp->next_seq(d->seq);
+		len = frame < 0 ? -1
+		                : d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)frame, twice, dtr0);
+	}
 	if (len < 0) {
 		if (d->cur.kind == TX_JOB) {
 			job_done(d, PS_DALI_RX_FAILED, 0, "a commissioning frame cannot be encoded for this interface");
@@ -585,14 +736,16 @@ static void send_next(struct dali_usb *d)
 		}
 		return;
 	}
-	libusb_fill_interrupt_transfer(d->out, d->h, d->tp->ep_out, d->outbuf, len, out_done, d,
-	                               (unsigned)(d->timeout * 1000 + 0.5));
-	r = libusb_submit_transfer(d->out);
-	if (r != 0) {
-		lost(d, r == LIBUSB_ERROR_NO_DEVICE ? "interface unplugged" : "interface gone (submit)");
-		return;
+	if (!d->codec) {
+		libusb_fill_interrupt_transfer(d->out, d->h, d->tp->ep_out, d->outbuf, len, out_done, d,
+		                               (unsigned)(d->timeout * 1000 + 0.5));
+		r = libusb_submit_transfer(d->out);
+		if (r != 0) {
+			lost(d, r == LIBUSB_ERROR_NO_DEVICE ? "interface unplugged" : "interface gone (submit)");
+			return;
+		}
+		d->out_busy = 1;
 	}
-	d->out_busy = 1;
 	d->cur_active = 1;
 	d->cur_seq = d->seq;
 	d->cur_garbled = 0;
@@ -933,12 +1086,20 @@ static int du_service(struct ps_dev *dev, double now)
 		d->next_scan = now + d->backoff;
 	}
 	if (d->state == ST_DOWN && now >= d->next_scan) {
-		if (connect_usb(d) != 0) {
+		if (connect_link(d) != 0) {
 			d->next_scan = now + d->backoff;
 			d->backoff = fmin(d->backoff * 2, BACKOFF_MAX);
 		}
 	}
-	if (d->state == ST_UP && d->cur_active && now >= d->cur_deadline) {
+	if (d->state == ST_UP && d->ser) {
+		struct ps_dali_serial_result res;
+		int r = ps_dali_serial_service(d->ser, now, &res);
+		if (r < 0)
+			lost(d, res.why);
+		else if (r == 1)
+			on_serial_result(d, &res);
+	}
+	if (d->state == ST_UP && !d->ser && d->cur_active && now >= d->cur_deadline) {
 		d->st.timeouts++;
 		failed_try(d, d->cur_garbled ? EPROTO : ETIMEDOUT,
 		           d->cur_garbled ? "garbled report from the interface" : "no reply from the interface");
@@ -974,6 +1135,9 @@ static double du_deadline(struct ps_dev *dev)
 			t = d->next_send;
 		if (d->job && !d->job_busy && ps_dali_commission_next(d->job, &tx, &until) == PS_DALI_NEXT_WAIT)
 			t = fmin(t, until);
+		/* a TCP gateway's keep-alive */
+		if (d->ser)
+			t = fmin(t, ps_dali_serial_deadline(d->ser));
 		/* a job that ended with points held back has their levels to send */
 		if (d->job_held && d->job && d->job->state != PS_DALI_COMMISSION_RUNNING)
 			t = -INFINITY;
@@ -983,7 +1147,8 @@ static double du_deadline(struct ps_dev *dev)
 
 static int gone(struct ps_dev *dev, struct dali_usb *d)
 {
-	return ps_dev_fail(dev, ENODEV, "DALI USB interface: %s (retrying in %.1f s)", d->down_why,
+	return ps_dev_fail(dev, ENODEV, "%s: %s (retrying in %.1f s)", d->codec ? "DALI interface" : "DALI USB interface",
+	                   d->down_why,
 	                   d->state == ST_DOWN ? fmax(0, d->next_scan - d->now) : d->backoff);
 }
 
@@ -1099,13 +1264,14 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 {
 	struct dali_usb *d = calloc(1, sizeof *d);
 	struct ps_opts_reader r = { o, du_options, PS_OPT_DEVICE, dev->err, sizeof dev->err, NULL };
-	const char *serial = NULL, *port = NULL;
+	const char *serial = NULL, *port = NULL, *where = NULL;
 	int transport = 0;
 	if (!d)
 		return ps_dev_fail(dev, ENOMEM, "out of memory");
 	dev->priv = d;
 	d->epfd = epoll_create1(EPOLL_CLOEXEC);
 	d->safe_level = d->fade_time = -1;
+	d->ser_dtr0_frame = -1;
 	d->backoff = BACKOFF_MIN;
 	d->next_scan = -INFINITY;
 	d->seq = 0;
@@ -1117,12 +1283,19 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	    ps_opts_double(&r, "safe_level", &d->safe_level) || ps_opts_double(&r, "fade_time", &d->fade_time))
 		return -1;
 	d->tp = transports[transport];
+	d->codec = codecs[transport];
+	if (ps_opts_string(&r, "device", &where) || ps_opts_long(&r, "baud", &d->baud))
+		return -1;
+	snprintf(d->where, sizeof d->where, "%s", where ? where : "");
+	if (d->codec && !d->where[0])
+		return ps_dev_fail(dev, EINVAL, "transport %s needs device = (a serial port or HOST:PORT)",
+		                   transport_names[transport]);
 	snprintf(d->serial, sizeof d->serial, "%s", serial ? serial : "");
 	snprintf(d->port, sizeof d->port, "%s", port ? port : "");
 	/* the device may be absent: open succeeds and reads fail with ENODEV until
 	 * it appears; only an ambiguous choice is a configuration error */
 	d->now = 0;
-	if (connect_usb(d) != 0) {
+	if (connect_link(d) != 0) {
 		if (errno == EINVAL)
 			return ps_dev_fail(dev, EINVAL, "%s", d->down_why);
 		d->next_scan = -INFINITY;
@@ -1150,7 +1323,7 @@ const struct ps_dali_commission *ps_dali_usb_job(struct ps_dev *dev)
 
 const struct ps_driver ps_driver_dali_usb = {
 	.name = "dali_usb",
-	.summary = "DALI ballasts through a Tridonic/Lunatone DALI USB interface (libusb)",
+	.summary = "DALI ballasts through a DALI USB (libusb), serial or TCP interface",
 	.compiled_in = 1,
 	.options = du_options,
 	.check = du_check,

@@ -87,3 +87,10 @@ VALGRIND_TESTS := $(wildcard tests/system/200-*.sh tests/system/210-*.sh tests/s
 check-valgrind: deps
 	$(MAKE) tests
 	BUILD=$(BUILD) BIN=$(BUILD)/bin TOP=$(CURDIR) sh tests/valgrind.sh $(VALGRIND_TESTS)
+
+# dali-serial (tests/system/peers/daliserial.c): the serial DALI link
+# against the bus emulator tests/system/peers/dalibus.py (tests/system/417).
+$(BUILD)/tests/dali-serial: $(BUILD)/obj/tests/system/peers/daliserial.o $(TEST_LIBS)
+	@mkdir -p $(dir $@)
+	$(LINK)
+tests: $(BUILD)/tests/dali-serial
