@@ -87,6 +87,7 @@ static struct entry *slot(struct psd_dbwriter *w)
 	while (w->wait && w->n == w->cap && !w->stop && !w->degraded)
 		pthread_cond_wait(&w->room, &w->mu);
 	if (w->n == w->cap) {
+		w->gap += w->ring[w->head].lost;   /* a previous run's loss goes on in the count */
 		w->head = (w->head + 1) % w->cap;
 		w->n--;
 		w->dropped++;
@@ -102,6 +103,7 @@ void psd_dbwriter_sample(struct psd_dbwriter *w, const struct psd_sample *s)
 	pthread_mutex_lock(&w->mu);
 	e = slot(w);
 	e->event = SAMPLE;
+	e->lost = 0;
 	e->s = *s;
 	e->has_zone = s->zone != NULL;
 	e->has_cond = s->condition != NULL;
@@ -190,6 +192,8 @@ static void failed(struct psd_dbwriter *w, const char *why, int kind)
 	double now = psd_time_mono();
 	w->dropped += w->nb - keep;
 	w->gap += w->nb - keep;
+	for (size_t i = 0; i < w->nb - keep; i++)
+		w->gap += w->batch[i].lost;
 	for (size_t i = 0; i < keep; i++) {
 		w->head = (w->head + w->cap - 1) % w->cap;
 		w->ring[w->head] = w->batch[w->nb - 1 - i];
