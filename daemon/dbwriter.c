@@ -2,6 +2,7 @@
 #include "dbwriter.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <pthread.h>
 #include <signal.h>
@@ -9,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "errbuf.h"
 #include "log.h"
@@ -26,7 +28,18 @@ struct entry {
 	int has_zone;
 	struct psd_sample s;      /* its strings point nowhere until written */
 	int has_cond, has_fault;
+	unsigned long lost;       /* an event recording a previous run's loss: its count */
+	double lost_last;         /* ... and its newest sample's UTC (s.utc: the oldest) */
+	long lost_pid;            /* ... and the pid that held them */
 	char zone[ZONE], word[WORD], text[TEXT];
+};
+
+/* What the state file beside the database says: the samples held in
+ * memory (and dropped, not yet recorded) that a SIGKILL would lose. */
+struct held {
+	unsigned long count;
+	double t, utc, last_utc;  /* the oldest's clock time and UTC, the newest's UTC */
+	long pid;
 };
 
 struct psd_dbwriter {
@@ -48,6 +61,9 @@ struct psd_dbwriter {
 	double since, told_at;
 	unsigned long errors_at_start, dropped_at_start;
 	char cause[320];
+	char heldpath[4112];      /* <database>.held */
+	unsigned long held_told;  /* the count in it (0: no file) */
+	int held_failed;          /* writing it failed (told once) */
 };
 
 static struct timespec abs_mono(double t)
@@ -71,11 +87,13 @@ static struct entry *slot(struct psd_dbwriter *w)
 	while (w->wait && w->n == w->cap && !w->stop && !w->degraded)
 		pthread_cond_wait(&w->room, &w->mu);
 	if (w->n == w->cap) {
+		w->gap += w->ring[w->head].lost;   /* a previous run's loss goes on in the count */
 		w->head = (w->head + 1) % w->cap;
 		w->n--;
 		w->dropped++;
 		w->gap++;
 	}
+	pthread_cond_signal(&w->wake);   /* a writer backing off updates the state file */
 	return &w->ring[(w->head + w->n++) % w->cap];
 }
 
@@ -85,6 +103,7 @@ void psd_dbwriter_sample(struct psd_dbwriter *w, const struct psd_sample *s)
 	pthread_mutex_lock(&w->mu);
 	e = slot(w);
 	e->event = SAMPLE;
+	e->lost = 0;
 	e->s = *s;
 	e->has_zone = s->zone != NULL;
 	e->has_cond = s->condition != NULL;
@@ -173,6 +192,8 @@ static void failed(struct psd_dbwriter *w, const char *why, int kind)
 	double now = psd_time_mono();
 	w->dropped += w->nb - keep;
 	w->gap += w->nb - keep;
+	for (size_t i = 0; i < w->nb - keep; i++)
+		w->gap += w->batch[i].lost;
 	for (size_t i = 0; i < keep; i++) {
 		w->head = (w->head + w->cap - 1) % w->cap;
 		w->ring[w->head] = w->batch[w->nb - 1 - i];
@@ -231,6 +252,163 @@ static void written(struct psd_dbwriter *w, long samples, double t_last)
 	}
 }
 
+/* The state file: what a SIGKILL now would lose, counted from what is
+ * held (with the lock held). */
+static void held_count(struct psd_dbwriter *w, struct held *h)
+{
+	h->count = w->gap;
+	h->t = h->utc = h->last_utc = NAN;
+	h->pid = (long)getpid();
+	for (size_t i = 0; i < w->nb + w->n; i++) {
+		const struct entry *e = i < w->nb ? &w->batch[i] : &w->ring[(w->head + i - w->nb) % w->cap];
+		double last = e->event == SAMPLE ? e->s.utc : e->lost_last;
+		if (e->event != SAMPLE && !e->lost)
+			continue;
+		h->count += e->event == SAMPLE ? 1 : e->lost;
+		if (isnan(h->utc) || e->s.utc < h->utc) {
+			h->utc = e->s.utc;
+			h->t = e->s.t;
+		}
+		if (isnan(h->last_utc) || last > h->last_utc)
+			h->last_utc = last;
+	}
+}
+
+static int held_write(const char *file, const struct held *h)
+{
+	char tmp[4128], buf[256];
+	int fd, len, ok;
+	snprintf(tmp, sizeof tmp, "%s.tmp", file);
+	len = snprintf(buf, sizeof buf, "held %lu\nclock %.3f\nutc %.3f\nlast_utc %.3f\npid %ld\n", h->count, h->t, h->utc,
+	               h->last_utc, h->pid);
+	if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)) < 0)
+		return -1;
+	ok = write(fd, buf, (size_t)len) == len;
+	if (close(fd) != 0 || !ok || rename(tmp, file) != 0) {
+		unlink(tmp);
+		return -1;
+	}
+	return 0;
+}
+
+/* Read the state file: 1 with *h, 0 when there is none, -1 with the
+ * line at fault in *line. */
+static int held_read(const char *file, struct held *h, int *line)
+{
+	static const char *const key[] = { "held", "clock", "utc", "last_utc", "pid" };
+	char buf[128];
+	FILE *f = fopen(file, "re");
+	*line = 0;
+	if (!f)
+		return errno == ENOENT ? 0 : -1;
+	for (int i = 0; i < 5; i++) {
+		char *v, *end;
+		size_t k = strlen(key[i]);
+		double d;
+		*line = i + 1;
+		if (!fgets(buf, sizeof buf, f) || strncmp(buf, key[i], k) != 0 || buf[k] != ' ')
+			goto bad;
+		v = buf + k + 1;
+		errno = 0;
+		d = strtod(v, &end);
+		if (end == v || (*end != '\n' && *end) || errno)
+			goto bad;
+		if (i == 0 || i == 4) {
+			if (!(d >= 0 && d < 1e15) || d != floor(d))
+				goto bad;
+		}
+		if (i == 0)
+			h->count = (unsigned long)d;
+		else if (i == 1)
+			h->t = d;
+		else if (i == 2)
+			h->utc = d;
+		else if (i == 3)
+			h->last_utc = d;
+		else
+			h->pid = (long)d;
+	}
+	fclose(f);
+	return 1;
+bad:
+	fclose(f);
+	return -1;
+}
+
+/* Keep the state file up to date (the writer thread, with the lock held):
+ * written while the log cannot be written and what is held changes,
+ * removed once nothing is held. */
+static void held_keep(struct psd_dbwriter *w)
+{
+	struct held h;
+	if (!w->degraded && !w->held_told)
+		return;   /* the common case: the log is written, no file */
+	held_count(w, &h);
+	if (h.count == w->held_told || (h.count && !w->degraded && !w->held_told))
+		return;
+	w->held_told = h.count;
+	pthread_mutex_unlock(&w->mu);
+	if (h.count == 0) {
+		if (unlink(w->heldpath) != 0 && errno != ENOENT)
+			psd_log_warnx("%s: %s", w->heldpath, strerror(errno));
+	} else if (held_write(w->heldpath, &h) != 0 && !w->held_failed) {
+		w->held_failed = 1;
+		psd_log_warnx("%s: %s: the count of samples held will not survive a kill", w->heldpath, strerror(errno));
+	}
+	pthread_mutex_lock(&w->mu);
+}
+
+static const char *date_of(double utc, char *buf, size_t n)
+{
+	struct tm tm;
+	time_t tt = (time_t)utc;
+	if (!isfinite(utc) || !gmtime_r(&tt, &tm) || !strftime(buf, n, "%Y-%m-%d %H:%M:%S UTC", &tm))
+		snprintf(buf, n, "an unknown date");
+	return buf;
+}
+
+/* At the start: a state file left by a run that was killed holding
+ * samples.  Told at LOG_ERR and queued as a "log gap" event; the file
+ * goes once that event is written. */
+static void held_previous(struct psd_dbwriter *w)
+{
+	struct held h = { 0, NAN, NAN, NAN, 0 };
+	int line, rc = held_read(w->heldpath, &h, &line);
+	char a[48], b[48];
+	struct entry *e;
+	if (rc == 0)
+		return;
+	if (rc < 0) {
+		if (line)
+			psd_log_errx("%s: line %d: not a count of held samples; removed", w->heldpath, line);
+		else
+			psd_log_errx("%s: %s", w->heldpath, strerror(errno));
+		unlink(w->heldpath);
+		return;
+	}
+	if (h.count == 0) {
+		unlink(w->heldpath);
+		return;
+	}
+	date_of(h.utc, a, sizeof a);
+	date_of(h.last_utc, b, sizeof b);
+	psd_log_errx("%s: %lu samples were lost: psensd (pid %ld) ended holding them in memory while the log could not "
+	             "be written, taken from %s to %s", w->path, h.count, h.pid, a, b);
+	e = &w->ring[(w->head + w->n++) % w->cap];
+	memset(e, 0, sizeof *e);
+	e->event = EVENT;
+	e->s.t = h.t;
+	e->s.utc = h.utc;
+	e->lost = h.count;
+	e->lost_last = h.last_utc;
+	e->lost_pid = h.pid;
+	e->has_fault = 1;
+	copy(e->word, sizeof e->word, "log gap");
+	snprintf(e->text, sizeof e->text, "%lu samples lost: psensd (pid %ld) ended holding them in memory, from %s to %s",
+	         h.count, h.pid, a, b);
+	w->held_told = h.count;
+}
+
 static void *run(void *arg)
 {
 	struct psd_dbwriter *w = arg;
@@ -258,6 +436,7 @@ static void *run(void *arg)
 		pthread_mutex_lock(&w->mu);
 		if (samples >= 0) {
 			written(w, samples, t_last);
+			held_keep(w);
 			backoff = BACKOFF_MIN;
 			if (w->n == 0)
 				pthread_cond_broadcast(&w->idle);
@@ -270,8 +449,9 @@ static void *run(void *arg)
 			if (w->stop && until > w->stop_at)
 				until = w->stop_at;
 			ts = abs_mono(until);
+			held_keep(w);
 			while (psd_time_mono() < until && pthread_cond_timedwait(&w->wake, &w->mu, &ts) != ETIMEDOUT)
-				;
+				held_keep(w);
 		}
 		backoff = backoff * 2 < BACKOFF_MAX ? backoff * 2 : BACKOFF_MAX;
 	}
@@ -292,6 +472,7 @@ struct psd_dbwriter *psd_dbwriter_open(const char *path, size_t hold, int wait, 
 	w->wait = wait;
 	w->epoch0 = NAN;
 	copy(w->path, sizeof w->path, path);
+	snprintf(w->heldpath, sizeof w->heldpath, "%s.held", path);
 	if (!(w->ring = calloc(w->cap, sizeof *w->ring)) || !(w->batch = calloc(BATCH, sizeof *w->batch))) {
 		psd_errbuf(err, errlen, "%s: the log's writer: no memory for %zu samples", path, w->cap);
 		goto bad;
@@ -299,6 +480,7 @@ struct psd_dbwriter *psd_dbwriter_open(const char *path, size_t hold, int wait, 
 	if (!(w->db = psd_db_open_peer(path, err, errlen)))
 		goto bad;
 	psd_db_set_busy(w->db, 100);   /* a reader's checkpoint passes; a lock held longer is a fault */
+	held_previous(w);
 	pthread_mutex_init(&w->mu, NULL);
 	pthread_condattr_init(&ca);
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
@@ -388,6 +570,25 @@ void psd_dbwriter_close(struct psd_dbwriter *w, double timeout_s)
 	if (lost)
 		psd_log_errx("%s: %zu samples held in memory could not be written before the log closed (%s): lost", w->path,
 		         lost, w->cause[0] ? w->cause : "no time left");
+	{
+		/* told: the file goes, unless a previous run's loss is still
+		 * not in the record */
+		struct held h = { 0, NAN, NAN, NAN, 0 };
+		for (size_t i = 0; i < w->nb + w->n; i++) {
+			const struct entry *e = i < w->nb ? &w->batch[i] : &w->ring[(w->head + i - w->nb) % w->cap];
+			if (e->event != SAMPLE && e->lost && !h.count) {
+				h.count = e->lost;
+				h.t = e->s.t;
+				h.utc = e->s.utc;
+				h.last_utc = e->lost_last;
+				h.pid = e->lost_pid;
+			}
+		}
+		if (h.count)
+			held_write(w->heldpath, &h);
+		else if (w->held_told)
+			unlink(w->heldpath);
+	}
 	psd_db_close(w->db);
 	pthread_mutex_destroy(&w->mu);
 	pthread_cond_destroy(&w->work);

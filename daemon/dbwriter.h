@@ -17,7 +17,15 @@
  * the log, in status, and in the record itself (an event "log gap" once
  * the database works again).  A simulated clock instead waits for room
  * while the database works: a simulated day has no lights to keep and
- * loses nothing (a failing database drops and counts, never hangs it). */
+ * loses nothing (a failing database drops and counts, never hangs it).
+ *
+ * What a SIGKILL would lose is counted: while samples are held (or
+ * dropped and not yet recorded) the thread keeps <path>.held up to date
+ * ("held N", the oldest's "clock" time and "utc", the newest's
+ * "last_utc", "pid"; written and renamed, no fsync) and removes it once
+ * they are written and at close.  psd_dbwriter_open reads one left by a
+ * killed run: one LOG_ERR line, and a "log gap" event with the count,
+ * the file removed once that event is written. */
 #ifndef PSD_DBWRITER_H
 #define PSD_DBWRITER_H
 

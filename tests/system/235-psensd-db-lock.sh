@@ -9,8 +9,13 @@
 # taken during the lock is in the log (no step of two periods between
 # consecutive samples) and `logged` moves on.  Then with
 # log_hold = 16 the oldest held samples are dropped past the bound and the
-# count is in status and in the record (an event "log gap").  Last, a start
+# count is in status and in the record (an event "log gap").  A start
 # while the lock is held runs with its log degraded until the lock goes.
+# Last, psensd killed with SIGKILL while it holds samples under the lock:
+# the next start says at LOG_ERR how many were lost and records a "log
+# gap" with that count, which is the samples taken less the rows on record
+# (bounded by the status read just before the kill: at least the samples
+# held then, at most those plus the steps the wall time since allows).
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 PY=/usr/bin/python3
@@ -127,5 +132,41 @@ check "... with its log degraded, naming the holder" sh -c "\"$BIN/psensctl\" -s
 wait "$LOCKER"
 wait_for 15 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"ok\"'"
 check "... and written once the lock goes" test "$(field "d['log']['state']") $(field "d['log']['dropped']")" = "ok 0"
+kill -TERM "$PID"; wait "$PID"
+
+# SIGKILL while samples are held
+DB="$TMP/state/kill.db"
+conf kill.db ""
+: > "$TMP/err"
+start
+hold 6
+wait_for 5 sh -c "\"$BIN/psensctl\" -s \"$S\" -j status | grep -q '\"state\":\"degraded\"'"
+sleep 1
+zones=$(field "len(d['zones'])")
+t0=$(date +%s.%N)
+set -- $(field "'%d %d' % (d['logged'], d['log']['held'])")
+kill -KILL "$PID"
+t1=$(date +%s.%N)
+wait "$PID"
+logged=$1 held=$2
+# 600x, 60 s periods: 10 steps a second of wall time a zone, one more for a
+# step under way
+most=$(awk -v a="$t0" -v b="$t1" -v z="$zones" -v h="$held" 'BEGIN { s = (b - a) * 10 * z; printf "%d", h + int(s) + 1 + z }')
+check "killed holding samples: the state file counts them ($(head -1 "$DB.held" 2>/dev/null))" \
+	awk -v h="$held" -v m="$most" '$1 == "held" { exit !($2 >= h && $2 <= m) }' "$DB.held"
+wait "$LOCKER"
+rows=$(sqlite3 "$DB" "SELECT count(*) FROM samples")
+check "killed: the rows on record are those status said were logged ($rows, $logged)" test "$rows" = "$logged"
+: > "$TMP/err"
+start
+lost=$(sed -n 's/.*: \([0-9]*\) samples were lost: psensd (pid [0-9]*) ended holding them.*/\1/p' "$TMP/err")
+diag "held $held at the status read, $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", b - a }') s before the kill; reported lost: $lost"
+check "the next start says at LOG_ERR how many were lost ($lost: at least $held held, at most $most)" \
+	sh -c "[ -n '$lost' ] && [ '$lost' -ge '$held' ] && [ '$lost' -le '$most' ]"
+check "... with their span" grep -q "samples were lost: .* taken from 20[0-9-]* [0-9:]* UTC to 20[0-9-]* [0-9:]* UTC" "$TMP/err"
+wait_for 5 sh -c "[ \$(sqlite3 \"$DB\" \"SELECT count(*) FROM events WHERE kind = 'log gap'\") -ge 1 ]"
+check "... and records a log gap with that count" \
+	test "$(sqlite3 "$DB" "SELECT count(*) FROM events WHERE kind = 'log gap' AND text LIKE '$lost samples lost%'")" = 1
+check "... and the state file is gone" test ! -e "$DB.held"
 kill -TERM "$PID"; wait "$PID"
 done_testing

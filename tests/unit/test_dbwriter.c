@@ -6,7 +6,9 @@
  * oldest are dropped and counted in the record; a waiting writer (a
  * simulated clock) loses nothing while the database works and drops
  * (counted) rather than hang while it fails; events and MQTT cursors are
- * written in order with the samples. */
+ * written in order with the samples; a writer killed while it holds
+ * samples leaves their count in a state file beside the database, which
+ * the next writer records as a "log gap" (keeping the file until it can). */
 #include <math.h>
 #include <setjmp.h>
 #include <signal.h>
@@ -31,8 +33,8 @@ static struct psd_db *owner;   /* the daemon's own connection: the schema, the l
 static void unlink_all(void)
 {
 	char f[96];
-	const char *ext[] = { "", "-wal", "-shm", ".lock" };
-	for (size_t i = 0; i < 4; i++) {
+	const char *ext[] = { "", "-wal", "-shm", ".lock", ".held" };
+	for (size_t i = 0; i < 5; i++) {
 		snprintf(f, sizeof f, "%s%s", path, ext[i]);
 		unlink(f);
 	}
@@ -196,6 +198,97 @@ static void lock_held_then_released(void **state)
 	assert_int_equal(scalar("SELECT count(*) FROM events WHERE kind = 'log gap'"), 0);
 }
 
+/* The state file's count, 0 when there is none. */
+static unsigned long held_in(const char *file)
+{
+	unsigned long c = 0;
+	FILE *f = fopen(file, "r");
+	if (f) {
+		if (fscanf(f, "held %lu", &c) != 1)
+			c = 0;
+		fclose(f);
+	}
+	return c;
+}
+
+static void slurp(const char *file, char *buf, size_t n)
+{
+	FILE *f = fopen(file, "r");
+	size_t got;
+	assert_non_null(f);
+	got = fread(buf, 1, n - 1, f);
+	buf[got] = 0;
+	fclose(f);
+}
+
+/* A writer killed holding 50 samples (a child that ends without closing
+ * it, as SIGKILL would): the state file says 50, the oldest's clock time
+ * and UTC, the newest's UTC and the child's pid.  A writer opened while
+ * the lock is still held cannot record it and keeps the file (a clean
+ * close too); once the lock goes the next one records a "log gap" with
+ * the count and the file goes.  A malformed file is removed, nothing
+ * recorded. */
+static void killed_holding(void **state)
+{
+	char err[256], held[96], want[160], got[256], like[320];
+	struct psd_dbwriter *w;
+	int stop, status;
+	pid_t pid, child;
+	(void)state;
+	snprintf(held, sizeof held, "%s.held", path);
+	pid = hold_lock(&stop);
+	child = fork();
+	assert_true(child >= 0);
+	if (child == 0) {
+		if (!(w = psd_dbwriter_open(path, 0, 0, err, sizeof err)))
+			_exit(2);
+		for (int i = 1; i <= 50; i++)
+			add(w, i);
+		for (int i = 0; i < 500 && held_in(held) != 50; i++)
+			sleep_ms(10);
+		_exit(held_in(held) == 50 ? 0 : 3);
+	}
+	assert_int_equal(waitpid(child, &status, 0), child);
+	assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+	snprintf(want, sizeof want, "held 50\nclock 1.000\nutc 1700000001.000\nlast_utc 1700000050.000\npid %ld\n",
+	         (long)child);
+	slurp(held, got, sizeof got);
+	assert_string_equal(got, want);
+
+	/* still locked: the loss cannot be recorded, the file stays */
+	w = psd_dbwriter_open(path, 0, 0, err, sizeof err);
+	assert_non_null(w);
+	assert_int_equal(psd_dbwriter_sync(w, 0.5), -1);
+	psd_dbwriter_close(w, 0.2);
+	slurp(held, got, sizeof got);
+	assert_string_equal(got, want);
+
+	release_lock(pid, stop);
+	w = psd_dbwriter_open(path, 0, 0, err, sizeof err);
+	assert_non_null(w);
+	assert_int_equal(psd_dbwriter_sync(w, 10), 0);
+	assert_int_equal(access(held, F_OK), -1);
+	psd_dbwriter_close(w, 1);
+	snprintf(like, sizeof like, "SELECT count(*) FROM events WHERE kind = 'log gap' AND text LIKE "
+	         "'50 samples lost: psensd (pid %ld) %%2023-11-14 22:13:21 UTC to 2023-11-14 22:14:10 UTC'", (long)child);
+	assert_int_equal(scalar(like), 1);
+	assert_int_equal(scalar("SELECT count(*) FROM samples"), 0);
+
+	/* malformed: removed, nothing recorded */
+	{
+		FILE *f = fopen(held, "w");
+		assert_non_null(f);
+		fputs("held 12\nclock x\n", f);
+		fclose(f);
+	}
+	w = psd_dbwriter_open(path, 0, 0, err, sizeof err);
+	assert_non_null(w);
+	assert_int_equal(psd_dbwriter_sync(w, 10), 0);
+	psd_dbwriter_close(w, 1);
+	assert_int_equal(access(held, F_OK), -1);
+	assert_int_equal(scalar("SELECT count(*) FROM events WHERE kind = 'log gap'"), 1);
+}
+
 static void past_the_bound(void **state)
 {
 	char err[256];
@@ -289,6 +382,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test_setup_teardown(all_written, setup, teardown),
 		cmocka_unit_test_setup_teardown(lock_held_then_released, setup, teardown),
+		cmocka_unit_test_setup_teardown(killed_holding, setup, teardown),
 		cmocka_unit_test_setup_teardown(past_the_bound, setup, teardown),
 		cmocka_unit_test_setup_teardown(waiting_loses_nothing, setup, teardown),
 		cmocka_unit_test_setup_teardown(waiting_drops_when_failing, setup, teardown),
