@@ -24,7 +24,6 @@ struct psd_db {
 	sqlite3_stmt *ins;    /* the sample insert (NULL when read-only) */
 	int pending;          /* samples in the open transaction */
 	int batch;
-	unsigned long committed;
 	double epoch0;        /* UTC of clock time 0 (NAN: rows carry no date) */
 	int lockfd;           /* the writer's flock on path.lock (daemon/pidlock.h), -1 none */
 };
@@ -774,7 +773,6 @@ int psd_db_commit(struct psd_db *db, char *err, size_t errlen)
 		psd_db_end(db, 0, NULL, 0);
 		return -1;
 	}
-	db->committed += (unsigned long)n;
 	return 0;
 }
 
