@@ -160,6 +160,25 @@ static void bacnet_request(void *user, char *line, char *reply, size_t len)
 	psd_ctlcmd_request(user, line, reply, len);
 }
 
+/* A start given up: the lights to their safe level when the engine has
+ * opened the devices (with the reason logged), then every front end opened
+ * so far closed and the configuration freed.  Always -1. */
+static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine_open, const char *why)
+{
+	if (engine_open && why)
+		psd_loop_safe(d, why);
+	psd_mqtt_close(d->mqtt);
+	d->mqtt = NULL;
+	if (d->have_ctl)
+		psd_ctlsock_close(&d->ctl);
+	d->have_ctl = 0;
+	if (engine_open)
+		psd_engine_close(&d->engine);
+	psd_config_free(cf);
+	free(cf);
+	return -1;
+}
+
 int psd_loop_start(struct psd_daemon *d, const char *path)
 {
 	struct psd_config *cf = calloc(1, sizeof *cf);
@@ -179,9 +198,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	}
 	if (psd_config_load(cf, path) != 0) {
 		psd_loop_config_errors(cf);
-		psd_config_free(cf);
-		free(cf);
-		return -1;
+		return abandon_start(d, cf, 0, NULL);
 	}
 	/* the socket first (in real time; in a simulated day only when
 	 * configured): a second daemon on the same socket is refused before it
@@ -198,9 +215,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 			else
 				psd_log_errx("control socket %s (set socket = in [psensd], or run under systemd "
 				          "with RuntimeDirectory=)", err);
-			psd_config_free(cf);
-			free(cf);
-			return -1;
+			return abandon_start(d, cf, 0, NULL);
 		}
 		d->have_ctl = 1;
 	}
@@ -210,12 +225,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	    psd_engine_open_io(&d->engine, cf, now = psd_clock_now(&d->clock), d->clock.simulated ? 500 : 1, NULL, &d->clock, err, sizeof err) != 0) {
 		if (d->engine.cf == NULL && err[0])
 			psd_log_errx("%s", err);
-		if (d->have_ctl)
-			psd_ctlsock_close(&d->ctl);
-		d->have_ctl = 0;
-		psd_config_free(cf);
-		free(cf);
-		return -1;
+		return abandon_start(d, cf, 0, NULL);
 	}
 	/* one date for the clock: -d, [simulate] date or run_year, today in
 	 * real time (psensd.c sets clock.epoch0); else the [simulate] date this
@@ -223,40 +233,17 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	 * to the engine (samples.utc = utc0 + t, and every dated row) */
 	if (!isfinite(d->clock.epoch0))
 		d->clock.epoch0 = utc_of_day(d->clock.simulated ? cf->date : NULL);
-	if (!d->dry && date_run(d, now) != 0) {
-		psd_loop_safe(d, "refused start");
-		if (d->have_ctl)
-			psd_ctlsock_close(&d->ctl);
-		d->have_ctl = 0;
-		psd_engine_close(&d->engine);
-		psd_config_free(cf);
-		free(cf);
-		return -1;
-	}
+	if (!d->dry && date_run(d, now) != 0)
+		return abandon_start(d, cf, 1, "refused start");
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
 	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
-		psd_loop_safe(d, "MQTT cannot start");
-		if (d->have_ctl)
-			psd_ctlsock_close(&d->ctl);
-		d->have_ctl = 0;
-		psd_engine_close(&d->engine);
-		psd_config_free(cf);
-		free(cf);
-		return -1;
+		return abandon_start(d, cf, 1, "MQTT cannot start");
 	}
 	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, bacnet_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
-		psd_mqtt_close(d->mqtt);
-		d->mqtt = NULL;
-		if (d->have_ctl)
-			psd_ctlsock_close(&d->ctl);
-		d->have_ctl = 0;
-		psd_engine_close(&d->engine);
-		psd_config_free(cf);
-		free(cf);
-		return -1;
+		return abandon_start(d, cf, 1, "BACnet cannot start");
 	}
 	return 0;
 }
