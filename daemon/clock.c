@@ -68,6 +68,32 @@ double psd_clock_tod(double t)
 	return tod < 0 ? tod + 86400.0 : tod;
 }
 
+double psd_clock_dst_shift(double utc)
+{
+	time_t t;
+	struct tm tm;
+	if (!isfinite(utc))
+		return 0;
+	t = (time_t)floor(utc);
+	tzset();   /* sets timezone: seconds west of UTC in standard time */
+	if (!localtime_r(&t, &tm) || tm.tm_isdst <= 0)
+		return 0;
+	return (double)(tm.tm_gmtoff + timezone);
+}
+
+double psd_clock_dst_shift_day(const char *mmdd, double midnight_utc)
+{
+	if (!isfinite(midnight_utc)) {
+		time_t now = time(NULL);
+		struct tm tm;
+		int m, d;
+		if (!mmdd || sscanf(mmdd, "%d-%d", &m, &d) != 2 || !localtime_r(&now, &tm) ||
+		    psd_clock_midnight(tm.tm_year + 1900, m, d, &midnight_utc) != 0)
+			return 0;
+	}
+	return psd_clock_dst_shift(midnight_utc + 43200);
+}
+
 void psd_clock_hhmm(double t, char out[8])
 {
 	int m = (int)floor(psd_clock_tod(t) / 60 + 1e-9);

@@ -34,6 +34,15 @@ void psd_clock_advance(struct psd_clock *c, double deadline);
 double psd_clock_local_tod(void);
 /* Time of day of a clock time t: seconds since midnight (t modulo a day). */
 double psd_clock_tod(double t);
+/* How far local time is ahead of standard time at utc (epoch seconds):
+ * 3600 in summer time in most zones, 0 in winter, with no date (NAN) or
+ * in a zone without summer time.  The weather's hours, the results' year
+ * and the dated ratio table are in standard time; the clock is local. */
+double psd_clock_dst_shift(double utc);
+/* The same at noon of a run's day: the local midnight midnight_utc, or
+ * when that is NAN (a run's date not yet set) the date "MM-DD" this year;
+ * 0 when neither is a date. */
+double psd_clock_dst_shift_day(const char *mmdd, double midnight_utc);
 /* "HH:MM" of a clock time t. */
 void psd_clock_hhmm(double t, char out[8]);
 /* UTC of the local midnight that starts a date; -1 when it is no date. */

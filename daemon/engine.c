@@ -50,7 +50,7 @@ static int setup_room(struct psd_engine *e, struct ps_dev *d, double now, char *
 	const char *path = NULL;
 	const struct ps_results *res = device_res(e, d, &path);
 	struct ps_room_params *room = !res ? NULL
-	                              : cf->sim_year ? psd_roomsetup_new_year(res, cf->date)
+	                              : cf->sim_year ? psd_roomsetup_new_year(res, cf->date, psd_clock_dst_shift_day(cf->date, e->utc0))
 	                                             : psd_roomsetup_new(res, cf->date, cf->sunrise, cf->sunset);
 	int rc;
 	if (!room && cf->sim_year)
@@ -635,6 +635,8 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	double q = NAN;
 	z->sky_class = -1;
+	/* the table is in the weather's standard time, the clock local */
+	double tod = psd_clock_tod(now - psd_clock_dst_shift(e->utc0 + now));
 	if (!z->res || !z->res->have_year || !e->cf->dated_estimate || z->cal_day_id)
 		return;
 	if (z->zc->rooftop >= 0) {
@@ -643,9 +645,9 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 		double lux;
 		if (d->drv->read(d, &e->pt[z->zc->rooftop], now, &lux) == 0) {
 			z->rooftop_failed = 0;
-			z->sky_class = psd_dated_rooftop_class(z->res, e->doy, psd_clock_tod(now), lux);
+			z->sky_class = psd_dated_rooftop_class(z->res, e->doy, tod, lux);
 			if (z->sky_class >= 0)
-				q = psd_dated_ratio_class(z->res, e->month, psd_clock_tod(now), z->sky_class);
+				q = psd_dated_ratio_class(z->res, e->month, tod, z->sky_class);
 			if (!(q > 0))
 				z->sky_class = -1;   /* no hour of that class there: the typical one */
 		} else if (!z->rooftop_failed++) {
@@ -654,7 +656,7 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 		}
 	}
 	if (!(q > 0))
-		q = psd_dated_ratio(z->res, e->month, psd_clock_tod(now), NULL);
+		q = psd_dated_ratio(z->res, e->month, tod, NULL);
 	if (q > 0)
 		z->ctl.daylight_ratio = q;
 }

@@ -227,7 +227,7 @@ int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetu
 	return 0;
 }
 
-struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date)
+struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date, double shift_s)
 {
 	struct roomsetup *rs;
 	int m = 0, d = 0;
@@ -240,6 +240,8 @@ struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const 
 		free(rs);
 		return NULL;
 	}
+	for (size_t i = 0; i < rs->p.ndaylight; i++)
+		rs->day[i].t += shift_s;
 	return &rs->p;
 }
 

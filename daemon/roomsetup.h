@@ -63,8 +63,10 @@ struct psd_roomsetup_play {
  * or out of memory. */
 int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetup_play *q);
 /* The same from the results' year (psd_roomsetup_from_year): [simulate] year =
- * yes; 02-29 plays February 28 when the year has no 29th. */
-struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date);
+ * yes; 02-29 plays February 28 when the year has no 29th.  The year's hours
+ * are standard time: shift_s (local minus standard on that date,
+ * psd_clock_dst_shift) moves them onto the local clock the room runs on. */
+struct ps_room_params *psd_roomsetup_new_year(const struct ps_results *r, const char *date, double shift_s);
 void psd_roomsetup_free(struct ps_room_params *p);
 /* Day of year of "MM-DD" (non-leap year); -1 if malformed. */
 int psd_roomsetup_day_of_year(const char *mmdd);

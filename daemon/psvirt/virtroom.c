@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "clock.h"
 #include "log.h"
 #include "registry.h"
 #include "roomsetup.h"
@@ -76,7 +77,7 @@ struct psd_virtroom *psd_virtroom_new(const struct psd_virtday *day, const struc
 		psd_virtroom_free(r);
 		return NULL;
 	}
-	if (!(rp = day->year ? psd_roomsetup_new_year(day->res, day->date)
+	if (!(rp = day->year ? psd_roomsetup_new_year(day->res, day->date, psd_clock_dst_shift_day(day->date, NAN))
 	                     : psd_roomsetup_new(day->res, day->date, day->sunrise, day->sunset))) {
 		snprintf(err, n, day->year ? "[simulate] year = yes: the results need a year and an "
 		                             "electric condition"

@@ -110,6 +110,36 @@ static void dates_and_stamps(void **state)
 	tzset();
 }
 
+/* Local minus standard time: the hour of summer time from the zone's own
+ * rule (CEST from the last Sunday of March, 01:00 UTC, to the last Sunday
+ * of October, 01:00 UTC), none in winter, in a zone without summer time or
+ * without a date. */
+static void summer_time_shift(void **state)
+{
+	double e;
+	(void)state;
+	setenv("TZ", "CET-1CEST,M3.5.0,M10.5.0/3", 1);
+	tzset();
+	assert_true(psd_clock_dst_shift(1782475200.0) == 3600);   /* 2026-06-26 12:00 UTC */
+	assert_true(psd_clock_dst_shift(1768478400.0) == 0);      /* 2026-01-15 12:00 UTC */
+	assert_true(psd_clock_dst_shift(1774745999.0) == 0);      /* 2026-03-29 00:59:59 UTC */
+	assert_true(psd_clock_dst_shift(1774746000.0) == 3600);   /* 01:00 UTC: summer time */
+	assert_true(psd_clock_dst_shift(NAN) == 0);
+	assert_int_equal(psd_clock_midnight(2026, 6, 26, &e), 0);
+	assert_true(psd_clock_dst_shift_day("06-26", e) == 3600);
+	assert_true(psd_clock_dst_shift_day("12-01", NAN) == 0);   /* this year's 1 December */
+	assert_true(psd_clock_dst_shift_day("07-01", NAN) == 3600);
+	assert_true(psd_clock_dst_shift_day("nonsense", NAN) == 0);
+	setenv("TZ", "JST-9", 1);   /* no summer time */
+	tzset();
+	assert_true(psd_clock_dst_shift(1782475200.0) == 0);
+	setenv("TZ", "PST8PDT,M3.2.0,M11.1.0", 1);   /* standard 8 h west: the shift is still an hour */
+	tzset();
+	assert_true(psd_clock_dst_shift(1782475200.0) == 3600);
+	unsetenv("TZ");
+	tzset();
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -118,6 +148,7 @@ int main(void)
 		cmocka_unit_test(simulated_clock_jumps),
 		cmocka_unit_test(real_clock_speed),
 		cmocka_unit_test(dates_and_stamps),
+		cmocka_unit_test(summer_time_shift),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
