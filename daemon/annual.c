@@ -234,16 +234,56 @@ int psd_annual_devices(const struct psd_config *cf, const struct psd_zone_conf *
 	return 0;
 }
 
+/* The output panel's colour: off (unoccupied, or dimmed off) a light
+ * grey apart from every lit level, which takes the task panel's colour
+ * scale on the square root of the level, so the low levels a daylit room
+ * dims to stay apart (a linear grey put 10 % and off within 20 of 255). */
+static void level_rgb(double v, uint8_t rgb[3])
+{
+	if (!(v > 0)) {
+		rgb[0] = rgb[1] = rgb[2] = 215;
+		return;
+	}
+	ps_falsecolor_rgb8(sqrt(clamp(v, 0, 1)), rgb);
+}
+
+/* A legend's swatch: a 16 x 12 box with a black frame at x, y. */
+static void swatch(struct ps_canvas *cv, int x, int y, const uint8_t rgb[3])
+{
+	static const uint8_t frame[3] = { 0, 0, 0 };
+	for (int yy = -1; yy < 13; yy++)
+		for (int xx = -1; xx < 17; xx++)
+			ps_canvas_set(cv, x + xx, y + yy, 1, yy < 0 || yy > 11 || xx < 0 || xx > 15 ? frame : rgb);
+}
+
+/* A panel's hour axis (midnight at the bottom) and month axis beneath. */
+static void axes(struct ps_canvas *cv, int left, int top, int ph, int z, const double ink[3])
+{
+	static const char *const mn[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
+	                                  "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
+	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
+	char buf[16];
+	for (int hr = 0; hr <= 24; hr += 6) {
+		snprintf(buf, sizeof buf, "%02d:00", hr);
+		ps_canvas_label(cv, left - 4, top + ph - hr * 6 * z, 10, 1, ink, 0, buf);
+	}
+	for (int mo = 0; mo < 12; mo++)
+		ps_canvas_label(cv, left + (start[mo] + 15) * z, top + ph + 12, 10, 0, ink, 0, mn[mo]);
+}
+
 int psd_annual_png(const char *path, const float *task_img, const float *level_img, int days,
                    double target, const char *title, char *err, size_t errlen)
 {
 	static const uint8_t white[3] = { 255, 255, 255 };
 	static const double ink[3] = { 0, 0, 0 };
-	const int z = 2, left = 50, top = 34, gap = 40, pw = days * z, ph = ROWS * z, lw = 230;
+	static const double levels[] = { 0, 0.1, 0.25, 0.5, 1 };
+	const int z = 2, left = 50, top = 52, gap = 62, pw = days * z, ph = ROWS * z, lw = 230;
+	const int top2 = top + ph + gap;
 	struct ps_canvas cv;
 	struct ps_err e;
 	struct ps_falsecolor_scale sc = { 100 * target, 1, 3 };   /* 0.1 to 100 x target, log */
-	int W = left + pw + lw, H = top + 2 * ph + gap + 30;
+	int W = left + pw + lw, H = top2 + ph + 30;
+	char buf[96];
 	if (ps_canvas_init(&cv, W, H, white, &e) != 0)
 		return snprintf(err, errlen, "%s", e.msg), -1;
 	ps_canvas_begin(&cv);
@@ -254,53 +294,39 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 			double v = task_img[row * DAYS + d], f = ps_falsecolor_scale_fraction(&sc, v);
 			ps_falsecolor_rgb8(clamp(f, 0, 1), rgb);
 			ps_canvas_set(&cv, left + d * z, top + y * z, z, rgb);
-			v = clamp(level_img[row * DAYS + d], 0, 1);
-			rgb[0] = rgb[1] = rgb[2] = (uint8_t)(40 + 215 * v);
-			ps_canvas_set(&cv, left + d * z, top + ph + gap + y * z, z, rgb);
+			level_rgb(level_img[row * DAYS + d], rgb);
+			ps_canvas_set(&cv, left + d * z, top2 + y * z, z, rgb);
 		}
+	for (int k = 0; k <= 3; k++) {
+		uint8_t rgb[3];
+		ps_falsecolor_rgb8(k / 3.0, rgb);
+		swatch(&cv, left + pw + 8, top + 24 + 18 * k, rgb);
+	}
+	for (int k = 0; k < 5; k++) {
+		uint8_t rgb[3];
+		level_rgb(levels[k], rgb);
+		swatch(&cv, left + pw + 8, top2 + 24 + 18 * k, rgb);
+	}
 	ps_canvas_end(&cv);
 	ps_canvas_label(&cv, left, 14, 13, -1, ink, 0, title);
-	{
-		char buf[96];
-		ps_canvas_label(&cv, left + pw + 8, top + 10, 11, -1, ink, 0, "true task lux (log scale)");
-		ps_canvas_label(&cv, left + pw + 8, top + ph + gap + 10, 11, -1, ink, 0,
-		                "light output (off when unoccupied)");
-		ps_canvas_begin(&cv);
-		for (int k = 0; k <= 3; k++) {
-			uint8_t rgb[3];
-			ps_falsecolor_rgb8(k / 3.0, rgb);
-			uint8_t grey[3], frame[3] = { 0, 0, 0 };
-			for (int yy = -1; yy < 13; yy++)
-				for (int xx = -1; xx < 17; xx++) {
-					int edge = yy < 0 || yy > 11 || xx < 0 || xx > 15;
-					grey[0] = grey[1] = grey[2] = (uint8_t)(40 + 215 * (k / 3.0));
-					ps_canvas_set(&cv, left + pw + 8 + xx, top + 24 + 18 * k + yy, 1, edge ? frame : rgb);
-					ps_canvas_set(&cv, left + pw + 8 + xx, top + ph + gap + 24 + 18 * k + yy, 1,
-					              edge ? frame : grey);
-				}
-		}
-		ps_canvas_end(&cv);
-		for (int k = 0; k <= 3; k++) {
-			snprintf(buf, sizeof buf, "%.0f lx%s", 0.1 * target * pow(10, k), k == 3 ? " and over" : "");
-			ps_canvas_label(&cv, left + pw + 30, top + 30 + 18 * k, 11, -1, ink, 0, buf);
-			snprintf(buf, sizeof buf, "%.2f", k / 3.0);
-			ps_canvas_label(&cv, left + pw + 30, top + ph + gap + 30 + 18 * k, 11, -1, ink, 0, buf);
-		}
-		for (int hr = 0; hr <= 24; hr += 6) {
-			snprintf(buf, sizeof buf, "%02d:00", hr);
-			ps_canvas_label(&cv, left - 4, top + ph - hr * 6 * z, 10, 1, ink, 0, buf);
-			ps_canvas_label(&cv, left - 4, top + ph + gap + ph - hr * 6 * z, 10, 1, ink, 0, buf);
-		}
-		for (int mo = 0; mo < 12; mo++) {
-			static const char *const mn[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
-			                                  "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
-			static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
-			ps_canvas_label(&cv, left + (start[mo] + 15) * z, top + 2 * ph + gap + 12, 10, 0, ink,
-			                0, mn[mo]);
-		}
-		ps_canvas_label(&cv, left, top + ph + gap / 2, 12, -1, ink, 0,
-		                "hour of day (standard time) against day of the year");
+	ps_canvas_label(&cv, left, top - 8, 12, -1, ink, 0,
+	                "true task illuminance (hour of day, standard time, against day of the year)");
+	ps_canvas_label(&cv, left, top2 - 8, 12, -1, ink, 0, "light output (hour of day, standard time)");
+	ps_canvas_label(&cv, left + pw + 8, top + 10, 11, -1, ink, 0, "task lux (log scale)");
+	ps_canvas_label(&cv, left + pw + 8, top2 + 10, 11, -1, ink, 0, "% of full output (square-root scale)");
+	for (int k = 0; k <= 3; k++) {
+		snprintf(buf, sizeof buf, "%.0f lx%s", 0.1 * target * pow(10, k), k == 3 ? " and over" : "");
+		ps_canvas_label(&cv, left + pw + 30, top + 30 + 18 * k, 11, -1, ink, 0, buf);
 	}
+	for (int k = 0; k < 5; k++) {
+		if (k == 0)
+			snprintf(buf, sizeof buf, "off (unoccupied, or dimmed off)");
+		else
+			snprintf(buf, sizeof buf, "%.0f %%", 100 * levels[k]);
+		ps_canvas_label(&cv, left + pw + 30, top2 + 30 + 18 * k, 11, -1, ink, 0, buf);
+	}
+	axes(&cv, left, top, ph, z, ink);
+	axes(&cv, left, top2, ph, z, ink);
 	if (ps_canvas_save_png(&cv, path, &e) != 0) {
 		ps_canvas_free(&cv);
 		return snprintf(err, errlen, "%s", e.msg), -1;

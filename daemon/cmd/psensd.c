@@ -22,6 +22,7 @@
 #include "log.h"
 #include "registry.h"
 #include "time.h"
+#include "weather.h"
 
 static void summary(struct psd_daemon *d, double start, double end)
 {
@@ -97,6 +98,24 @@ static double config_date(const struct psd_config *cf)
 
 /* -Y: the whole year of the results for every zone, its figures, the
  * algorithms side by side, and the year drawn (annual.h). */
+/* The year picture's name for its weather: the file and the place its
+ * header names, said to be synthetic when it is (pssynwea names every
+ * place it writes "..._synthetic"). */
+static void weather_title(const char *path, char *out, size_t n)
+{
+	const char *base = strrchr(path, '/');
+	struct ps_weather w = { 0 };
+	struct ps_err e;
+	base = base ? base + 1 : path;
+	if (ps_weather_read(&w, path, 0, &e) != 0) {
+		snprintf(out, n, "%s", base);
+		return;
+	}
+	snprintf(out, n, "%s: %s%s", base, w.site.name,
+	         strstr(w.site.name, "synthetic") ? ", a synthetic year, not measured weather" : "");
+	ps_weather_free(&w);
+}
+
 static int year_report(struct psd_daemon *d, const char *png)
 {
 	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
@@ -205,13 +224,13 @@ static int year_report(struct psd_daemon *d, const char *png)
 			       k->overdim_h);
 		}
 		if (png && i == 0) {
-			char title[256];
+			char title[512], wx[320];
 			int rc;
 			const char *sb = e->res.scene ? strrchr(e->res.scene, '/') : NULL;
-			const char *wb = strrchr(e->res.weather, '/');
+			weather_title(e->res.weather, wx, sizeof wx);
 			snprintf(title, sizeof title, "%s: zone %s, %s, target %g lx (%s)",
 			         sb ? sb + 1 : e->res.scene ? e->res.scene : "", z->zc->name,
-			         psd_control_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : e->res.weather);
+			         psd_control_algorithm_names[ctl.algorithm], ctl.target_lux, wx);
 			rc = psd_annual_png(png, task, level, a.days, ctl.target_lux, title, err, sizeof err);
 			ps_canvas_shutdown();   /* the fonts' caches: nothing left for leak checkers */
 			if (rc != 0) {

@@ -86,7 +86,9 @@ int main(int argc, char **argv)
 			}
 		}
 		switch (opt) {
-		case 'n': snprintf(site.name, sizeof site.name, "%s", optarg); break;
+		case 'n':   /* the place says what the year is, wherever the file goes */
+			snprintf(site.name, sizeof site.name, strstr(optarg, "synthetic") ? "%s" : "%.100s_synthetic", optarg);
+			break;
 		case 'a': site.lat = v; break;
 		case 'o': site.lon = v; break;
 		case 'z': site.tz = v; break;

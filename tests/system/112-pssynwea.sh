@@ -20,4 +20,7 @@ check "-C: the beam at noon is the clear sky's every day (over 600 W/m2)" \
 check "a latitude of 95 is refused" test $? = 2
 "$BIN/pssynwea" -s x > /dev/null 2> "$TMP/err"
 check "a bad number is named" grep -q "'x' is not a number" "$TMP/err"
+# the file says it is synthetic whatever the site is called
+check "-n Oakland writes place Oakland_synthetic" test "$("$BIN/pssynwea" -n Oakland | head -n 1)" = "place Oakland_synthetic"
+check "-n my_synthetic_site is kept" test "$("$BIN/pssynwea" -n my_synthetic_site | head -n 1)" = "place my_synthetic_site"
 done_testing

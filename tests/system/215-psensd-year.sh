@@ -23,6 +23,28 @@ for alg in setpoint closed-proportional open-proportional integral-reset switchi
 	check "the laws compared: $alg" grep -qE "^  $alg +[0-9.]+ " "$TMP/out"
 done
 check "the year drawn as a PNG" sh -c "head -c 8 '$TMP/year.png' | od -An -c | grep -q 'P   N   G'"
+# The picture's layout (annual.c): panels 2 px a day from x 50 and 2 px per
+# 10 minutes, the task panel from y 52, the output panel from y 402.  Lit
+# output and off must be told apart at a glance: 19 June at 12:00 (the
+# lights at their minimum in a daylit room) against 03:00 (off), more than
+# 100 apart in RGB; a linear grey put them 21 apart.
+px() { python3 tests/system/pngcolours.py --at "$TMP/year.png" "$1"; }
+dist() { echo "$1 $2" | awk '{ split($1, a, ","); split($2, b, ",");
+	print int(sqrt((a[1] - b[1]) ^ 2 + (a[2] - b[2]) ^ 2 + (a[3] - b[3]) ^ 2)) }'; }
+noon=$(px 390,544); night=$(px 390,652); late=$(px 390,424)
+check "the output panel: off at 03:00 ($night) and at 22:00 ($late) alike" test "$night" = "$late"
+check "the output panel: lit at noon ($noon) apart from off at 03:00 ($night)" test "$(dist "$noon" "$night")" -gt 100
+# month names under the task panel too (ink in December's label's box)
+ink=$(python3 tests/system/pngcolours.py "$TMP/year.png" 0,0,0 | head -n 1)
+dec=$(python3 - "$TMP/year.png" <<'PY'
+import subprocess, sys
+pts = ['%d,%d' % (x, y) for x in range(736, 762) for y in range(342, 356)]
+out = subprocess.run(['python3', 'tests/system/pngcolours.py', '--at', sys.argv[1]] + pts,
+                     capture_output=True, text=True).stdout.split()
+print(sum(1 for p in out if sum(int(v) for v in p.split(',')) < 300))
+PY
+)
+check "month names under the task panel (Dec: $dec dark pixels; $ink black in all)" test "$dec" -gt 5
 # the dated estimate beats the one mean ratio over the example's year
 rms() { sed -n "s/.*$1.*rms \([0-9.]*\) %.*/\1/p" "$TMP/out" | head -n 1; }
 m=$(rms "one mean ratio"); d=$(rms "dated ratio")

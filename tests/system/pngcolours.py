@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: ISC
 """Count a PNG's pixels near each colour given (r,g,b 0-255, within 40 per
 channel): pngcolours.py FILE R,G,B ...  prints one count a line; with
---columns first, the share (%) of the picture's columns holding the colour.  A plain
+--columns first, the share (%) of the picture's columns holding the colour;
+with --at first, FILE X,Y ... prints each pixel's r,g,b.  A plain
 decoder (zlib and the five PNG filters) for 8-bit RGB or RGBA, not
 interlaced, as cairo writes them: the tests need no imaging library."""
 import struct
@@ -48,6 +49,12 @@ def pixels(path):
 
 
 args = sys.argv[1:]
+if args[0] == '--at':
+    rows, w, bpp = pixels(args[1])
+    for spec in args[2:]:
+        x, y = (int(v) for v in spec.split(','))
+        print(','.join(str(v) for v in rows[y][x * bpp:x * bpp + 3]))
+    sys.exit(0)
 columns = args[0] == '--columns'
 if columns:
     args = args[1:]
