@@ -57,6 +57,8 @@ struct psd_dbwriter {
 	double stop_at;           /* monotonic: give up writing at close */
 	double epoch0;
 	unsigned long committed, dropped, errors, gap;
+	unsigned long queued;     /* what the ring's and the batch's entries would
+	                             lose to a kill (weight()), kept as they move */
 	int degraded, kind;
 	double since, told_at;
 	unsigned long errors_at_start, dropped_at_start;
@@ -79,6 +81,19 @@ static void copy(char *dst, size_t n, const char *src)
 	snprintf(dst, n, "%s", src ? src : "");
 }
 
+/* What an entry counts toward a kill's loss: a sample one, a previous
+ * run's loss its count, other events and cursors nothing. */
+static unsigned long weight(const struct entry *e)
+{
+	return e->event == SAMPLE ? 1 : e->lost;
+}
+
+/* Entry i of what is held, in queue order: the batch, then the ring. */
+static const struct entry *held_at(const struct psd_dbwriter *w, size_t i)
+{
+	return i < w->nb ? &w->batch[i] : &w->ring[(w->head + i - w->nb) % w->cap];
+}
+
 /* Room for one more entry: in real time the oldest goes (counted); a
  * waiting writer waits for room unless the database is failing (a
  * simulated day must not hang on a corrupt file: it drops and counts). */
@@ -87,6 +102,7 @@ static struct entry *slot(struct psd_dbwriter *w)
 	while (w->wait && w->n == w->cap && !w->stop && !w->degraded)
 		pthread_cond_wait(&w->room, &w->mu);
 	if (w->n == w->cap) {
+		w->queued -= weight(&w->ring[w->head]);
 		w->gap += w->ring[w->head].lost;   /* a previous run's loss goes on in the count */
 		w->head = (w->head + 1) % w->cap;
 		w->n--;
@@ -112,6 +128,7 @@ void psd_dbwriter_sample(struct psd_dbwriter *w, const struct psd_sample *s)
 	copy(e->word, sizeof e->word, s->condition);
 	copy(e->text, sizeof e->text, s->fault);
 	e->s.zone = e->s.condition = e->s.fault = e->s.local = NULL;
+	w->queued++;
 	pthread_cond_signal(&w->work);
 	pthread_mutex_unlock(&w->mu);
 }
@@ -192,8 +209,10 @@ static void failed(struct psd_dbwriter *w, const char *why, int kind)
 	double now = psd_time_mono();
 	w->dropped += w->nb - keep;
 	w->gap += w->nb - keep;
-	for (size_t i = 0; i < w->nb - keep; i++)
+	for (size_t i = 0; i < w->nb - keep; i++) {
 		w->gap += w->batch[i].lost;
+		w->queued -= weight(&w->batch[i]);
+	}
 	for (size_t i = 0; i < keep; i++) {
 		w->head = (w->head + w->cap - 1) % w->cap;
 		w->ring[w->head] = w->batch[w->nb - 1 - i];
@@ -233,6 +252,8 @@ static void written(struct psd_dbwriter *w, long samples, double t_last)
 		         w->dropped - w->dropped_at_start);
 		w->cause[0] = 0;
 	}
+	for (size_t i = 0; i < w->nb; i++)
+		w->queued -= weight(&w->batch[i]);
 	w->nb = 0;
 	if (gap) {
 		unsigned long recorded = gap;
@@ -252,25 +273,31 @@ static void written(struct psd_dbwriter *w, long samples, double t_last)
 	}
 }
 
-/* The state file: what a SIGKILL now would lose, counted from what is
- * held (with the lock held). */
+/* The state file: what a SIGKILL now would lose (with the lock held): the
+ * count kept as entries come and go, the dates from the first and the last
+ * entry that counts in queue order (samples are queued as they are taken,
+ * a previous run's loss first), so a state file costs no walk over a held
+ * queue of up to log_hold entries. */
 static void held_count(struct psd_dbwriter *w, struct held *h)
 {
-	h->count = w->gap;
+	size_t total = w->nb + w->n;
+	h->count = w->gap + w->queued;
 	h->t = h->utc = h->last_utc = NAN;
 	h->pid = (long)getpid();
-	for (size_t i = 0; i < w->nb + w->n; i++) {
-		const struct entry *e = i < w->nb ? &w->batch[i] : &w->ring[(w->head + i - w->nb) % w->cap];
-		double last = e->event == SAMPLE ? e->s.utc : e->lost_last;
-		if (e->event != SAMPLE && !e->lost)
-			continue;
-		h->count += e->event == SAMPLE ? 1 : e->lost;
-		if (isnan(h->utc) || e->s.utc < h->utc) {
+	for (size_t i = 0; i < total; i++) {
+		const struct entry *e = held_at(w, i);
+		if (weight(e)) {
 			h->utc = e->s.utc;
 			h->t = e->s.t;
+			break;
 		}
-		if (isnan(h->last_utc) || last > h->last_utc)
-			h->last_utc = last;
+	}
+	for (size_t i = total; i-- > 0;) {
+		const struct entry *e = held_at(w, i);
+		if (weight(e)) {
+			h->last_utc = e->event == SAMPLE ? e->s.utc : e->lost_last;
+			break;
+		}
 	}
 }
 
@@ -403,6 +430,7 @@ static void held_previous(struct psd_dbwriter *w)
 	e->lost_last = h.last_utc;
 	e->lost_pid = h.pid;
 	e->has_fault = 1;
+	w->queued += h.count;
 	copy(e->word, sizeof e->word, "log gap");
 	snprintf(e->text, sizeof e->text, "%lu samples lost: psensd (pid %ld) ended holding them in memory, from %s to %s",
 	         h.count, h.pid, a, b);
@@ -575,7 +603,7 @@ void psd_dbwriter_close(struct psd_dbwriter *w, double timeout_s)
 		 * not in the record */
 		struct held h = { 0, NAN, NAN, NAN, 0 };
 		for (size_t i = 0; i < w->nb + w->n; i++) {
-			const struct entry *e = i < w->nb ? &w->batch[i] : &w->ring[(w->head + i - w->nb) % w->cap];
+			const struct entry *e = held_at(w, i);
 			if (e->event != SAMPLE && e->lost && !h.count) {
 				h.count = e->lost;
 				h.t = e->s.t;
