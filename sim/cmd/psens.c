@@ -499,9 +499,9 @@ static void print_estimate(const struct opts *o, const char *path, size_t n,
 	/* not silenced by -q: the numbers above are off by more than asked */
 	if (c->estimate > c->tolerance)
 		fprintf(stderr, "psens: warning: %s: %s: the rotation scan is off by %.2e of the exact "
-		        "route at rotation %g (tolerance %g): its cells are too coarse for this "
-		        "sensitivity over these pixels; psens -r ROTATION gives the exact route\n", path,
-		        s->path, c->estimate, c->at_deg, c->tolerance);
+		        "route at rotation %g (tolerance %g)%s: psens -r ROTATION gives the exact "
+		        "route\n", path, s->path, c->estimate, c->at_deg, c->tolerance,
+		        c->refined ? ", refined" : ", and no better on finer cells");
 }
 
 /* The rotation scan: each picture projected once (sim/weights/rescan.h), every
