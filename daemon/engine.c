@@ -93,7 +93,7 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 			return psd_errbuf(err, n, "point %s: %s", p->name, d->err);
 		/* the driver's own range: a sensor reading at its input's full scale
 		 * is saturated whatever sensor_saturation says */
-		e->full_scale[i] = NAN;
+		e->full_scale[i] = NAN;   /* none (nor is 0) */
 		if (p->role == PS_ROLE_SENSOR && d->drv->full_scale &&
 		    (d->drv->full_scale(d, p, &e->full_scale[i]) != 0 || !(e->full_scale[i] > 0)))
 			e->full_scale[i] = NAN;
@@ -598,7 +598,7 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 		         pc->saturation);
 		return -1;
 	}
-	if (v >= e->full_scale[zc->sensor] * (1 - 1e-9)) {   /* false for NAN: none */
+	if (e->full_scale[zc->sensor] > 0 && v >= e->full_scale[zc->sensor] * (1 - 1e-9)) {
 		snprintf(why, n, "sensor saturated: reads %.3f V, at its input's full scale %g V (%s)", v,
 		         e->full_scale[zc->sensor], e->dev[pc->device].drv->name);
 		return -1;
