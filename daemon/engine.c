@@ -91,6 +91,12 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 		p->role = pc->role;
 		if (d->drv->add_point(d, p, &pc->opts) != 0)
 			return psd_errbuf(err, n, "point %s: %s", p->name, d->err);
+		/* the driver's own range: a sensor reading at its input's full scale
+		 * is saturated whatever sensor_saturation says */
+		e->full_scale[i] = NAN;   /* none (nor is 0) */
+		if (p->role == PS_ROLE_SENSOR && d->drv->full_scale &&
+		    (d->drv->full_scale(d, p, &e->full_scale[i]) != 0 || !(e->full_scale[i] > 0)))
+			e->full_scale[i] = NAN;
 	}
 	return 0;
 }
@@ -590,6 +596,11 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 	if (pc->saturation > 0 && v >= pc->saturation) {
 		snprintf(why, n, "sensor saturated: reads %.3f V, at or above its saturation %g V", v,
 		         pc->saturation);
+		return -1;
+	}
+	if (e->full_scale[zc->sensor] > 0 && v >= e->full_scale[zc->sensor] * (1 - 1e-9)) {
+		snprintf(why, n, "sensor saturated: reads %.3f V, at its input's full scale %g V (%s)", v,
+		         e->full_scale[zc->sensor], e->dev[pc->device].drv->name);
 		return -1;
 	}
 	if (!(v >= pc->min && v <= pc->max)) {

@@ -92,6 +92,7 @@ struct psd_engine {
 	struct ps_dev dev[PSD_MAX_DEVICES];
 	int dev_open[PSD_MAX_DEVICES];
 	struct ps_point pt[PSD_MAX_POINTS];
+	double full_scale[PSD_MAX_POINTS];  /* a sensor's full scale from its driver, NAN or 0: none */
 	struct psd_zone zone[PSD_MAX_ZONES];
 	size_t nzone;
 	struct ps_results res;    /* [psensd]'s results */

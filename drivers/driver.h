@@ -119,6 +119,13 @@ struct ps_driver {
 	 * gone). */
 	int (*command)(struct ps_dev *dev, int nwords, char **words, struct ps_point *const *pts, int npts,
 	               double now, char *out, size_t outlen);
+	/* Optional (NULL): the full scale of a reading point, the largest value
+	 * its input can give as the driver scales it (an analog input's top
+	 * code, a light-to-frequency sensor's saturation, a simulated sensor's
+	 * clipping): a reading at it says only "this much or more".  0 with
+	 * *limit; -1 when the point has none (an output, a float register with
+	 * no stated range).  Pure: no I/O. */
+	int (*full_scale)(struct ps_dev *dev, struct ps_point *pt, double *limit);
 };
 
 /* Judge a device section (role < 0) or a point section: every key against

@@ -30,6 +30,7 @@ enum { FILE_MAX_POINTS = 32 };
 struct file_point {
 	char path[300];
 	double scale;
+	double full_scale;   /* a reading's full scale, 0: none */
 };
 
 struct file_dev {
@@ -46,6 +47,10 @@ static const struct ps_opts_spec file_options[] = {
 	{ .key = "scale", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .def = "1",
 	  .min = -1e9, .max = 1e9,
 	  .doc = "a reading is the file's number times scale; an output writes its level over scale" },
+	{ .key = "full_scale", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .def = "0",
+	  .min = 0, .max = 1e15, .roles = PS_ROLE_BIT(PS_ROLE_SENSOR) | PS_ROLE_BIT(PS_ROLE_TASK_LUX),
+	  .doc = "the largest reading the source can give (after scale): a reading at it is "
+	         "saturation (0: none)" },
 	{ .key = NULL },
 };
 
@@ -97,7 +102,8 @@ static int file_add_point(struct ps_dev *dev, struct ps_point *pt, const struct 
 	if (f->npts >= FILE_MAX_POINTS)
 		return ps_dev_fail(dev, EINVAL, "file: at most %d points per device", FILE_MAX_POINTS);
 	p = &f->pts[f->npts];
-	if (ps_opts_string(&r, "path", &path) || ps_opts_double(&r, "scale", &p->scale))
+	if (ps_opts_string(&r, "path", &path) || ps_opts_double(&r, "scale", &p->scale) ||
+	    ps_opts_double(&r, "full_scale", &p->full_scale))
 		return -1;
 	if ((size_t)snprintf(p->path, sizeof p->path, "%s%s%s", path[0] == '/' ? "" : f->dir,
 	                     path[0] == '/' ? "" : "/", path) >= sizeof p->path)
@@ -154,6 +160,16 @@ static int file_write(struct ps_dev *dev, struct ps_point *pt, double now, doubl
 	return 0;
 }
 
+static int file_full_scale(struct ps_dev *dev, struct ps_point *pt, double *limit)
+{
+	const struct file_point *p = pt->priv;
+	(void)dev;
+	if (!p || !(p->full_scale > 0))
+		return -1;
+	*limit = p->full_scale;
+	return 0;
+}
+
 static void file_close(struct ps_dev *dev)
 {
 	free(dev->priv);
@@ -171,4 +187,5 @@ const struct ps_driver ps_driver_file = {
 	.read = file_read,
 	.write = file_write,
 	.close = file_close,
+	.full_scale = file_full_scale,
 };

@@ -41,6 +41,7 @@ struct gpio_point {
 	double pending_until;
 	/* frequency sensor */
 	double gate, factor, max_rate, gap;
+	double full_scale_hz;     /* the sensor's output saturation, divider 1 */
 	struct gpiod_line *s2, *s3;
 	int div;                  /* index into ps_freq_dividers */
 	int settle;               /* gates to skip after a divider change */
@@ -97,6 +98,10 @@ static const struct ps_opts_spec gpio_options[] = {
 	  .min = 1e-12, .max = 1e12, .doc = "signal units per hertz" },
 	{ .key = "max_rate", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "2000",
 	  .min = 1, .max = 1e7, .doc = "edges per second the driver takes before it raises the divider" },
+	{ .key = "full_scale_hz", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "1100000",
+	  .min = 1, .max = 1e9,
+	  .doc = "the sensor's output saturation at divider 1 (TSL230R: 1.1 MHz at least): a reading "
+	         "at it times factor is saturation" },
 	{ .key = "gap", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "3",
 	  .min = 1.1, .max = 1000,
 	  .doc = "an interval this many times the shortest in a gate means lost edges" },
@@ -213,6 +218,7 @@ static int add_frequency(struct ps_dev *dev, struct gpio_point *p, const struct 
 	struct gpiod_line *s0, *s1;
 	if (ps_opts_double(&r, "gate", &p->gate) || ps_opts_double(&r, "factor", &p->factor) ||
 	    ps_opts_double(&r, "max_rate", &p->max_rate) || ps_opts_double(&r, "gap", &p->gap) ||
+	    ps_opts_double(&r, "full_scale_hz", &p->full_scale_hz) ||
 	    ps_opts_long(&r, "sensitivity", &sens))
 		return -1;
 	if (!(p->line = get_line(dev, o, "line", &p->offset)) ||
@@ -428,6 +434,16 @@ static int gpio_read(struct ps_dev *dev, struct ps_point *pt, double now, double
 	return 0;
 }
 
+static int gpio_full_scale(struct ps_dev *dev, struct ps_point *pt, double *limit)
+{
+	const struct gpio_point *p = pt->priv;
+	(void)dev;
+	if (!p || p->role != PS_ROLE_SENSOR)
+		return -1;
+	*limit = p->full_scale_hz * p->factor;
+	return 0;
+}
+
 static int gpio_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
 {
 	struct gpio_point *p = pt->priv;
@@ -467,4 +483,5 @@ const struct ps_driver ps_driver_gpio = {
 	.deadline = gpio_deadline,
 	.service = gpio_service,
 	.close = gpio_close,
+	.full_scale = gpio_full_scale,
 };

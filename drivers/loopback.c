@@ -240,6 +240,16 @@ static int lb_service(struct ps_dev *dev, double now)
 	return 0;
 }
 
+/* The sensor clips at its saturation: the simulated input's full scale. */
+static int lb_full_scale(struct ps_dev *dev, struct ps_point *pt, double *limit)
+{
+	struct loopback *lb = dev->priv;
+	if (!lb || pt->role != PS_ROLE_SENSOR || !(lb->opts.saturation > 0))
+		return -1;
+	*limit = lb->opts.saturation;
+	return 0;
+}
+
 static int lb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
 {
 	struct loopback *lb = dev->priv;
@@ -329,4 +339,5 @@ const struct ps_driver ps_driver_loopback = {
 	.close = lb_close,
 	.setup = ps_loopback_set_room,
 	.truth = lb_truth,
+	.full_scale = lb_full_scale,
 };

@@ -393,6 +393,13 @@ static void mb_close(struct ps_dev *dev)
 	dev->priv = NULL;
 }
 
+static int mb_full_scale(struct ps_dev *dev, struct ps_point *pt, double *limit)
+{
+	const struct mb_point *p = pt->priv;
+	(void)dev;
+	return p ? ps_modbus_point_full_scale(&p->cfg, limit) : -1;
+}
+
 const struct ps_driver ps_driver_modbus = {
 	.name = "modbus",
 	.summary = "Modbus TCP and RTU (libmodbus): analog I/O modules and lux meters",
@@ -406,4 +413,5 @@ const struct ps_driver ps_driver_modbus = {
 	.deadline = mb_deadline,
 	.service = mb_service,
 	.close = mb_close,
+	.full_scale = mb_full_scale,
 };

@@ -318,6 +318,16 @@ int ps_modbus_point_value(const struct ps_modbus_point *p, const uint16_t *regs,
 	return ps_modbus_point_scale(p, raw, value, why, whylen);
 }
 
+int ps_modbus_point_full_scale(const struct ps_modbus_point *p, double *limit)
+{
+	if (p->table == PS_MB_COIL || p->table == PS_MB_DISCRETE_INPUT ||
+	    (p->type == PS_MB_F32 && fmax(fabs(p->raw_min), fabs(p->raw_max)) >= FLT_MAX))
+		return -1;
+	/* the map is linear: its largest value is at one end of the raw range */
+	*limit = fmax(p->min, p->max);
+	return 0;
+}
+
 double ps_modbus_point_encode(const struct ps_modbus_point *p, double value, uint16_t *regs)
 {
 	double vlo = fmin(p->min, p->max), vhi = fmax(p->min, p->max);

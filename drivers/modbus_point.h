@@ -71,6 +71,10 @@ const char *ps_modbus_point_table_short(int table);
 /* Both: registers -> value. */
 int ps_modbus_point_value(const struct ps_modbus_point *p, const uint16_t *regs, double *value, char *why,
                           size_t whylen);
+/* The largest value a reading can give: the scaled end of the raw range
+ * (an integer register's top code by default).  0 with *limit; -1 for a bit
+ * (coil, discrete input) and for an f32 taken as it is (no raw range). */
+int ps_modbus_point_full_scale(const struct ps_modbus_point *p, double *limit);
 /* An output: value (clamped to min..max) -> registers, rounded to the
  * nearest raw step and kept inside the raw range.  Returns the raw number. */
 double ps_modbus_point_encode(const struct ps_modbus_point *p, double value, uint16_t *regs);

@@ -19,6 +19,7 @@
 #include "picture.h"
 #include "picview.h"
 #include "rescan.h"
+#include "scancheck.h"
 #include "sensor.h"
 #include "filter.h"
 #include "stream.h"
@@ -30,9 +31,13 @@ static void usage(FILE *fp)
 {
 	fprintf(fp, "usage: psens -s sensfile [-r rotation] [-R r -G g -B b] [-m linear|cell]\n"
 	            "             [-f filter] [-c] [-j|-oa|-of|-od] [-n threads] [-C dir|-N] [-q]\n"
+	            "             [--tolerance T]\n"
 	            "             picture...\n"
 	            "  -s FILE   sensitivity table (rsensor/SPOT layout), or builtin:cosine\n"
 	            "  -r DEG    turn the sensitivity about the sensor axis (growing azimuth)\n"
+	            "  -r A:B:S  a rotation scan: rotations A, A + S, ... below B\n"
+	            "  --tolerance T  the scan's error estimate above which psens warns\n"
+	            "            (relative, default 1e-3; 0: no estimate)\n"
 	            "  -R -G -B  colour coefficients (default 0.265074126 0.670114631 0.064811243)\n"
 	            "  -f FILE   colour filter (wavelength, response): coefficients as psfilter gives\n"
 	            "  -m MODE   reading of the table: linear (default) or cell (rsensor's)\n"
@@ -194,6 +199,7 @@ struct opts {
 	int method, json, quiet, nthreads, mtx, cache_warned;
 	int scan, nrot;           /* -r a:b:s */
 	double rot_a, rot_step;
+	double tolerance;         /* --tolerance: the scan's error estimate allowed */
 	const char *cachedir;
 };
 
@@ -464,6 +470,40 @@ static int parse_scan(const char *arg, struct opts *o)
 	return 0;
 }
 
+/* The scan's error estimate: a line (or a JSON object) after its rotations,
+ * and a warning when it exceeds the tolerance. */
+static void print_estimate(const struct opts *o, const char *path, size_t n,
+                           const struct ps_sensor *s, int nsens, const struct ps_scancheck *c)
+{
+	if (o->json) {
+		printf("{\"picture\": ");
+		json_string(path);
+		printf(", \"sensor\": ");
+		json_string(s->path);
+		printf(", \"scan_error_estimate\": %.3g, \"at\": %.10g, \"tolerance\": %g, "
+		       "\"checked\": [", c->estimate, c->at_deg, c->tolerance);
+		for (int i = 0; i < c->nchecked; i++)
+			printf("%s%.10g", i ? ", " : "", c->checked_deg[i]);
+		printf("]}\n");
+	} else {
+		if (n > 1)
+			printf("%s: ", path);
+		if (nsens > 1)
+			printf("%s: ", s->path);
+		printf("Scan error estimate: %.2e at rotation %g (the exact route at", c->estimate,
+		       c->at_deg);
+		for (int i = 0; i < c->nchecked; i++)
+			printf(" %g", c->checked_deg[i]);
+		printf("; tolerance %g)\n", c->tolerance);
+	}
+	/* not silenced by -q: the numbers above are off by more than asked */
+	if (c->estimate > c->tolerance)
+		fprintf(stderr, "psens: warning: %s: %s: the rotation scan is off by %.2e of the exact "
+		        "route at rotation %g (tolerance %g)%s: psens -r ROTATION gives the exact "
+		        "route\n", path, s->path, c->estimate, c->at_deg, c->tolerance,
+		        c->refined ? ", refined" : ", and no better on finer cells");
+}
+
 /* The rotation scan: each picture projected once (sim/weights/rescan.h), every
  * sensor evaluated at every rotation from the projection. */
 static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
@@ -472,9 +512,10 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 	struct ps_sensor uni;
 	struct ps_err e;
 	int status = 0;
-	/* cells: 0.25 degrees in polar angle, at most 1 degree in azimuth and a
-	 * whole number of them per step (test_rescan: 7e-5 of the exact route) */
-	double cells = ceil(o->rot_step / 1.0 - 1e-9), dphi = o->rot_step / cells;
+	/* cells: 0.25 degrees in polar angle, at most 0.25 degree in azimuth
+	 * and a whole number of them per step (test_rescan, doc/simulation.md:
+	 * the error against the exact route; sim/weights/scancheck.h checks it) */
+	double cells = ceil(o->rot_step / 0.25 - 1e-9), dphi = o->rot_step / cells;
 	double *out = malloc((size_t)o->nrot * sizeof *out);
 	if (!out || ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0) {
 		fprintf(stderr, "psens: out of memory\n");
@@ -483,7 +524,7 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 	}
 	if (fabs(360.0 / dphi - round(360.0 / dphi)) > 1e-9) {
 		fprintf(stderr, "psens: -r: a step of %g degrees must divide 360 into whole cells of at "
-		                "most 1 degree\n", o->rot_step);
+		                "most 0.25 degree\n", o->rot_step);
 		free(out);
 		ps_sensor_free(&uni);
 		return 2;
@@ -531,8 +572,9 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 			o->cachedir = NULL;
 		}
 		for (int k = 0; k < nsens; k++) {
-			if (ps_rescan_scan_mt(&p, &sens[k], o->rot_a, o->rot_step, o->nrot, o->nthreads, out,
-			                      &e) != 0) {
+			struct ps_scancheck chk = { .tolerance = o->tolerance };
+			if (ps_scancheck_scan(&p, &om, &pic, &view, o->coef, &sens[k], o->rot_a, o->rot_step,
+			                      o->nrot, o->nthreads, &cache, out, &chk, &e) != 0) {
 				fprintf(stderr, "psens: %s: %s\n", paths[i], e.msg);
 				status = 1;
 				continue;
@@ -569,6 +611,8 @@ static int scan_route(const struct ps_sensor *sens, int nsens, struct opts *o,
 					printf("Rotation: %g Response: %.9g\n", rot, out[r]);
 				}
 			}
+			if (chk.nchecked > 0)
+				print_estimate(o, paths[i], n, &sens[k], nsens, &chk);
 		}
 		ps_rescan_free(&p);
 		ps_weights_free(&om);
@@ -592,9 +636,14 @@ int main(int argc, char **argv)
 	struct item *items;
 	size_t n;
 	struct opts o = { .rot = 0.0, .coef = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B },
-	                  .method = PS_W_EXACT, .nthreads = PS_BATCH_THREADS_DEFAULT };
+	                  .method = PS_W_EXACT, .nthreads = PS_BATCH_THREADS_DEFAULT,
+	                  .tolerance = PS_SCANCHECK_TOLERANCE };
 
-	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	enum { OPT_TOLERANCE = 1000 };
+	static const struct option longopts[] = { PS_CLI_LONGOPTS,
+	                                           { "tolerance", required_argument, NULL,
+	                                             OPT_TOLERANCE },
+	                                           { NULL, 0, NULL, 0 } };
 	while ((opt = getopt_long(argc, argv, "s:r:R:G:B:f:m:n:o:C:NcjqhV", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 's':
@@ -655,6 +704,14 @@ int main(int argc, char **argv)
 		case 'c': o.method = PS_W_CENTRE; break;
 		case 'j': o.json = 1; break;
 		case 'q': o.quiet = 1; break;
+		case OPT_TOLERANCE:
+			if (parse_num("--tolerance", optarg, &o.tolerance))
+				return 2;
+			if (o.tolerance < 0) {
+				fprintf(stderr, "psens: --tolerance: '%s' is below 0\n", optarg);
+				return 2;
+			}
+			break;
 		case 'h': usage(stdout); return 0;
 		case 'V': return ps_cli_version("psens");
 		default: usage(stderr); return 2;

@@ -18,14 +18,87 @@ void ps_rescan_free(struct ps_rescan *p)
 	memset(p, 0, sizeof *p);
 }
 
+/* Energy b from direction (th, ph) into the cells: shared between the two
+ * nearest cell centres each way, in proportion to the distance (as linear
+ * interpolation of the sensitivity between the centres would weigh it), so
+ * a pixel between two centres reads neither alone; below the first ring's
+ * centre or beyond the last one's, that ring alone.  th is below the last
+ * ring's edge. */
+static void deposit(struct ps_rescan *p, double th, double ph, double b)
+{
+	double ft = th / p->dtheta - 0.5, fp, at, ap, *r0;
+	int i0 = (int)floor(ft), m, m1;
+	at = ft - i0;
+	if (i0 < 0) {
+		i0 = 0;
+		at = 0.0;
+	}
+	if (i0 + 1 >= p->ntheta)
+		at = 0.0;
+	/* phi - phi0 is within a few turns: no integer division */
+	fp = (ph - p->phi0) * (1.0 / p->dphi) - 0.5;
+	m = (int)floor(fp);
+	ap = fp - m;
+	while (m >= p->nphi)
+		m -= p->nphi;
+	while (m < 0)
+		m += p->nphi;
+	m1 = m + 1 == p->nphi ? 0 : m + 1;
+	r0 = p->e + (size_t)i0 * (size_t)p->nphi;
+	r0[m] += b * (1.0 - at) * (1.0 - ap);
+	r0[m1] += b * (1.0 - at) * ap;
+	if (at > 0.0) {
+		r0[(size_t)p->nphi + (size_t)m] += b * at * (1.0 - ap);
+		r0[(size_t)p->nphi + (size_t)m1] += b * at * ap;
+	}
+}
+
+/* Pixel (x, row) of energy b split into sub x sub parts, each at its centre
+ * with a share of b in proportion to the solid angle per plane area there
+ * (the shares sum to b). */
+static void deposit_split(struct ps_rescan *p, const struct ps_fisheye *f, int x, int row, int sub,
+                          double b)
+{
+	double jac[64], sum = 0.0;
+	for (int pass = 0; pass < 2; pass++)
+		for (int a = 0, k = 0; a < sub; a++)
+			for (int c = 0; c < sub; c++, k++) {
+				double u = ps_fisheye_u(f, x + (c + 0.5) / sub);
+				double v = ps_fisheye_v(f, f->height - row - 1 + (a + 0.5) / sub);
+				double rho = sqrt(u * u + v * v), th;
+				if (pass == 0) {
+					double j = ps_fisheye_jacobian(f, rho);
+					jac[k] = isfinite(j) ? j : 0.0;
+					sum += jac[k];
+					continue;
+				}
+				th = ps_fisheye_theta(f, rho);
+				if (jac[k] > 0 && th < p->ntheta * p->dtheta)
+					deposit(p, th, atan2(v, u) - M_PI / 2, b * jac[k] / sum);
+			}
+}
+
 int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
                       const struct ps_picture *pic, const struct ps_view *v,
                       const double coef[3], double dtheta_deg, double dphi_deg,
                       double phi0_deg, double theta_max_deg, struct ps_err *e)
 {
+	return ps_rescan_project_split(p, omega, pic, v, coef, dtheta_deg, dphi_deg, phi0_deg,
+	                               theta_max_deg, 1, 0.0, e);
+}
+
+int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
+                            const struct ps_picture *pic, const struct ps_view *v,
+                            const double coef[3], double dtheta_deg, double dphi_deg,
+                            double phi0_deg, double theta_max_deg, int sub, double share,
+                            struct ps_err *e)
+{
 	struct ps_fisheye f;
-	double k[3][3], kc[3];
+	double k[3][3], kc[3], cut = HUGE_VAL;
 	memset(p, 0, sizeof *p);
+	if (sub < 1 || sub > 8 || !(share >= 0))
+		return ps_err_set(e, PS_EINVAL, "bad split: %d x %d parts above a share of %g", sub, sub,
+		                  share);
 	if (!(dtheta_deg > 0 && dtheta_deg <= 180) || !(dphi_deg > 0 && dphi_deg <= 360) ||
 	    !(theta_max_deg > 0) || !isfinite(phi0_deg))
 		return ps_err_set(e, PS_EINVAL, "bad grid: %g x %g degrees to %g", dtheta_deg, dphi_deg,
@@ -50,10 +123,11 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 	ps_integrate_pic_matrix(pic, k);
 	for (int c = 0; c < 3; c++)
 		kc[c] = coef[0] * k[0][c] + coef[1] * k[1][c] + coef[2] * k[2][c];
-	{
+	for (int pass = sub > 1 ? 0 : 1; pass < 2; pass++) {
 		/* pixel centres' plane coordinates once; rho by sqrt (hypot's
-		 * care for overflow is not needed within the unit square) */
-		double *uc = malloc(((size_t)pic->width + 1) * sizeof *uc), inv = 1.0 / p->dphi;
+		 * care for overflow is not needed within the unit square).  Pass
+		 * 0 (only when splitting) sums the pixels' |energy| for the cut. */
+		double *uc = malloc(((size_t)pic->width + 1) * sizeof *uc), mag = 0.0;
 		if (!uc) {
 			ps_rescan_free(p);
 			return ps_err_set(e, PS_ENOMEM, "out of memory");
@@ -65,7 +139,7 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 			const uint8_t *row = pic->pix + 4 * (size_t)run->row * (size_t)pic->width;
 			double vc = ps_fisheye_v(&f, pic->height - run->row - 0.5);
 			for (int i = 0; i < run->n; i++) {
-				int x = run->x0 + i, it, m;
+				int x = run->x0 + i, it;
 				const uint8_t *px = row + 4 * (size_t)x;
 				double th, ph, b, sc, rho;
 				if (px[3] == 0)
@@ -81,16 +155,17 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 				sc = ps_picture_rgbe_scale[px[3]];
 				b = ((px[0] + 0.5) * kc[0] + (px[1] + 0.5) * kc[1] + (px[2] + 0.5) * kc[2]) * sc *
 				    ps_weights_run_at(omega, run, i);
-				/* phi - phi0 is within a few turns: no integer division */
-				m = (int)floor((ph - p->phi0) * inv);
-				while (m >= p->nphi)
-					m -= p->nphi;
-				while (m < 0)
-					m += p->nphi;
-				p->e[(size_t)it * (size_t)p->nphi + (size_t)m] += b;
+				if (pass == 0)
+					mag += fabs(b);
+				else if (fabs(b) >= cut)
+					deposit_split(p, &f, x, run->row, sub, b);
+				else
+					deposit(p, th, ph, b);
 			}
 		}
 		free(uc);
+		if (pass == 0 && share * mag > 0)
+			cut = share * mag;
 	}
 	{
 		struct ps_sum s;

@@ -4,14 +4,17 @@
  * sensors) evaluated in one pass over the grid's cells each.
  *
  * Each pixel's exact solid angle (the weights of a uniform sensor) times
- * its (coefficients . RGB) radiance goes into the cell holding the pixel's
- * centre direction; a sensor then gives sum over cells of that energy times
- * its sensitivity at the cell's centre, turned by the rotation.  Rotations
+ * its (coefficients . RGB) radiance goes to the cells around the pixel's
+ * centre direction (shared between the two nearest cell centres in polar
+ * angle and in azimuth, in proportion to the distance); a sensor then gives
+ * sum over cells of that energy times its sensitivity at the cell's centre,
+ * turned by the rotation.  Rotations
  * that are whole numbers of cells in phi reuse one table of the sensitivity
  * at the cell centres, so a scan of n rotations costs n passes over the
  * cells.  This is an approximation of the exact route (ps_weights_build at
- * each rotation): the pixel is taken at its centre and the centre at its
- * cell's; tests/unit/test_rescan.c and make bench state its error. */
+ * each rotation): the pixel is taken at its centre and the sensitivity
+ * between cell centres as linear; tests/unit/test_rescan.c and make bench
+ * state its error, sim/weights/scancheck.h estimates it. */
 #ifndef PS_RESCAN_H
 #define PS_RESCAN_H
 
@@ -36,6 +39,17 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
                       const struct ps_picture *pic, const struct ps_view *v,
                       const double coef[3], double dtheta_deg, double dphi_deg,
                       double phi0_deg, double theta_max_deg, struct ps_err *e);
+/* The same with the brightest pixels split: a pixel carrying at least
+ * share (above 0) of the sum of the pixels' |energy| goes to the cells as
+ * sub x sub parts (1 .. 8), each at its own centre with its share of the
+ * pixel's solid angle (in proportion to the solid angle per plane area
+ * there): the refinement where a few bright pixels (a sun disc) meet an
+ * edge of the sensitivity sharper than a pixel (sim/weights/scancheck.h). */
+int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
+                            const struct ps_picture *pic, const struct ps_view *v,
+                            const double coef[3], double dtheta_deg, double dphi_deg,
+                            double phi0_deg, double theta_max_deg, int sub, double share,
+                            struct ps_err *e);
 void ps_rescan_free(struct ps_rescan *p);
 
 /* The responses of sensor s at rotations rot0 + k step (degrees), k = 0 ..

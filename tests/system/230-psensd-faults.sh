@@ -30,11 +30,6 @@ sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = s
 	config/psensd.conf > "$TMP/satmax.conf"
 "$BIN/psensd" -f "$TMP/satmax.conf" -s > "$TMP/satmax.out" 2> "$TMP/satmax.err"
 expect satmax 12:00 "sensor saturated: reads 10.000 V, at or above its saturation 10 V"
-# sensor_saturation = 0 (unknown) turns the check off: the same reading passes
-sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/satoff.db|; s|^faults = .*|faults = saturated 12:00-12:20|; s|^sensor_max = .*|sensor_max = 10\nsensor_saturation = 0|" \
-	config/psensd.conf > "$TMP/satoff.conf"
-"$BIN/psensd" -f "$TMP/satoff.conf" -s > "$TMP/satoff.out" 2> "$TMP/satoff.err"
-check "sensor_saturation = 0: no saturation check, the reading is taken" sh -c "! grep -q 'fault:' '$TMP/satoff.err'"
 printf 'sensor_saturation = 0.005\n' > "$TMP/satlow.add"
 sed "/^sensor_max = /r $TMP/satlow.add" config/psensd.conf > "$TMP/satlow.conf"
 check "psensd -n refuses a saturation below sensor_min, naming the line" \

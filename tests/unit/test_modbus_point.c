@@ -223,6 +223,42 @@ static void bits(void **state)
 	assert_true(v == 1);
 }
 
+/* The full scale: the value of the raw range's end that reads highest (the
+ * top code of an integer register by default, the configured end of an f32
+ * range); none for a bit or an f32 taken as it is. */
+static void full_scale_is_the_top_of_the_range(void **state)
+{
+	static const char *const adam[] = { "table=input_register", "address=0", NULL };
+	static const char *const twelve[] = { "table=holding_register", "address=3", "raw_max=4095", NULL };
+	static const char *const inverted[] = { "table=input_register", "address=0", "min=10", "max=0", NULL };
+	static const char *const f32[] = { "table=input_register", "address=0", "type=f32", NULL };
+	static const char *const f32r[] = { "table=input_register", "address=0", "type=f32", "raw_min=0",
+	                                    "raw_max=200000", NULL };
+	static const char *const in[] = { "table=discrete_input", "address=1", NULL };
+	struct ps_modbus_point p;
+	uint16_t r[1] = { 65535 };
+	double lim, v;
+	char why[64];
+	(void)state;
+	p = parsed(PS_ROLE_SENSOR, adam);
+	assert_int_equal(ps_modbus_point_full_scale(&p, &lim), 0);
+	assert_int_equal(ps_modbus_point_value(&p, r, &v, why, sizeof why), 0);
+	assert_true(lim == 10 && v == lim);   /* the top code reads the full scale */
+	p = parsed(PS_ROLE_SENSOR, twelve);
+	assert_int_equal(ps_modbus_point_full_scale(&p, &lim), 0);
+	assert_true(lim == 10);
+	p = parsed(PS_ROLE_SENSOR, inverted);   /* raw 0 reads 10 V */
+	assert_int_equal(ps_modbus_point_full_scale(&p, &lim), 0);
+	assert_true(lim == 10);
+	p = parsed(PS_ROLE_TASK_LUX, f32r);
+	assert_int_equal(ps_modbus_point_full_scale(&p, &lim), 0);
+	assert_true(lim == 200000);
+	p = parsed(PS_ROLE_TASK_LUX, f32);
+	assert_int_equal(ps_modbus_point_full_scale(&p, &lim), -1);
+	p = parsed(PS_ROLE_INPUT, in);
+	assert_int_equal(ps_modbus_point_full_scale(&p, &lim), -1);
+}
+
 static void expect_error(int role, const char *const *kv, const char *text)
 {
 	struct optset s;
@@ -288,6 +324,7 @@ int main(void)
 		cmocka_unit_test(dim_output_adam_6024),
 		cmocka_unit_test(one_to_ten_volt_output),
 		cmocka_unit_test(bits),
+		cmocka_unit_test(full_scale_is_the_top_of_the_range),
 		cmocka_unit_test(bad_options_name_file_and_line),
 		cmocka_unit_test(round_trip_error_is_half_a_step),
 	};

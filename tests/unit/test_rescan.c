@@ -2,7 +2,7 @@
 /* Re-evaluation without re-weighting (sim/weights/rescan.h) against the direct
  * exact route (weights built at each rotation): a 256 x 256 picture with a
  * bright window and a sensor whose sensitivity changes with azimuth, cells
- * of 0.25 x 1 degree (what psens -r a:b:s uses for steps of 1 degree).  The
+ * of 0.25 x 0.25 degree (what psens -r a:b:s uses for steps of 1 degree).  The
  * error bound asserted here is the one README and psens(1) state; the projection loses nothing (its total is the uniform sensor's
  * exact response), and a uniform picture gives pi for the cosine at every
  * rotation. */
@@ -19,12 +19,14 @@
 #include "integrate.h"
 #include "picture.h"
 #include "rescan.h"
+#include "scancheck.h"
 #include "sensor.h"
 #include "view.h"
 #include "weights.h"
 
 enum { N = 256 };
 #define BOUND 2e-4   /* the stated error of the scan against the exact route */
+#define PSENS_DPHI 0.25   /* psens -r a:b:s's cells in azimuth for steps of 1 degree */
 
 static const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 
@@ -76,7 +78,7 @@ static double exact(const struct ps_sensor *s, double rot, const struct ps_pictu
 	return r.response;
 }
 
-static void project(struct ps_rescan *p, const struct ps_picture *pic, double *total)
+static void project(struct ps_rescan *p, const struct ps_picture *pic, double dphi, double *total)
 {
 	struct ps_sensor u;
 	struct ps_view v;
@@ -86,7 +88,7 @@ static void project(struct ps_rescan *p, const struct ps_picture *pic, double *t
 	assert_int_equal(ps_sensor_builtin(&u, PS_SENS_UNIFORM, &e), 0);
 	ps_view_default_fisheye(&v);
 	assert_int_equal(ps_weights_build(&om, &u, 0, &v, N, N, PS_W_EXACT, &e), 0);
-	if (ps_rescan_project(p, &om, pic, &v, coef, 0.25, 1.0, 0, 180, &e) != 0)
+	if (ps_rescan_project(p, &om, pic, &v, coef, 0.25, dphi, 0, 180, &e) != 0)
 		fail_msg("%s", e.msg);
 	assert_int_equal(ps_integrate(&om, pic, coef, &r, &e), 0);
 	*total = r.response;
@@ -107,7 +109,7 @@ static void scan_against_exact(void **state)
 	if (ps_sensor_parse(&s, table, sizeof table - 1, "table", &e) != 0 ||
 	    ps_sensor_set_reading(&s, PS_READ_LINEAR, &e) != 0)
 		fail_msg("%s", e.msg);
-	project(&p, &pic, &total);
+	project(&p, &pic, PSENS_DPHI, &total);
 	/* nothing lost: every pixel's energy is in some cell */
 	assert_true(fabs(p.total / total - 1) < 1e-12);
 	assert_int_equal(ps_rescan_scan(&p, &s, 0, 1, 360, out, &e), 0);
@@ -116,13 +118,28 @@ static void scan_against_exact(void **state)
 		if (err > worst)
 			worst = err;
 	}
-	printf("# rescan 0.25 x 1 degree cells, 256 x 256, window: worst error %.2e\n", worst);
+	printf("# rescan 0.25 x 0.25 degree cells, 256 x 256, window: worst error %.2e\n", worst);
 	assert_true(worst <= BOUND);
 	/* shared among threads, the same numbers bit for bit */
 	for (int nt = 2; nt <= 3; nt++) {
 		double again[360];
 		assert_int_equal(ps_rescan_scan_mt(&p, &s, 0, 1, 360, nt, again, &e), 0);
 		assert_memory_equal(again, out, sizeof out);
+	}
+	/* the error estimate finds no fault here: within the tolerance and the
+	 * stated bound, checked at rotations of their own */
+	{
+		struct ps_scancheck c = { .tolerance = PS_SCANCHECK_TOLERANCE };
+		struct ps_view v;
+		double again[360];
+		ps_view_default_fisheye(&v);
+		if (ps_scancheck_scan(&p, NULL, &pic, &v, coef, &s, 0, 1, 360, 2, NULL, again, &c, &e) != 0)
+			fail_msg("%s", e.msg);
+		printf("# the window's estimate %.2e at %g (%d checked)\n", c.estimate, c.at_deg,
+		       c.nchecked);
+		assert_memory_equal(again, out, sizeof out);
+		assert_true(c.nchecked >= 3);
+		assert_true(c.estimate > 0 && c.estimate <= BOUND);
 	}
 	/* a rotation that is not a whole number of cells is refused */
 	assert_int_equal(ps_rescan_scan(&p, &s, 0.1, 1, 3, out, &e), -1);
@@ -141,7 +158,7 @@ static void uniform_cosine_is_pi(void **state)
 	(void)state;
 	picture(&pic, 0);
 	assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
-	project(&p, &pic, &total);
+	project(&p, &pic, PSENS_DPHI, &total);
 	assert_int_equal(ps_rescan_scan(&p, &s, 0, 45, 8, out, &e), 0);
 	for (int k = 0; k < 8; k++)
 		assert_true(fabs(out[k] / (M_PI * 1.00390625) - 1) < BOUND);
@@ -182,7 +199,7 @@ static void scan_equals_its_definition(void **state)
 	double out[360], total;
 	(void)state;
 	picture(&pic, 1);
-	project(&p, &pic, &total);
+	project(&p, &pic, 1.0, &total);
 	for (size_t k = 0; k < 3; k++) {
 		struct ps_sensor s;
 		if (k < 2) {
@@ -205,12 +222,144 @@ static void scan_equals_its_definition(void **state)
 	ps_picture_free(&pic);
 }
 
+/* A sun disc (a few pixels far brighter than the sky) on a sensor's sharp
+ * azimuthal edge: the sensitivity falls from 1 to a floor within 2 degrees
+ * of azimuth.  The sun sits at polar angle 40 degrees, azimuth 90 (left of
+ * the centre); turning the sensor by r reads the table at 90 - r, so the
+ * edge crosses the sun between rotations -2 and 0 and again between 178 and
+ * 180.  The exact route at every rotation near the edges is the reference. */
+static const char edge_table[] = "degrees 0 90 92 270 272\n"
+                                 "0 1 1 0.05 0.05 1\n"
+                                 "80 1 1 0.05 0.05 1\n"
+                                 "90 0 0 0 0 0\n";
+static const char steep_table[] = "degrees 0 90 90.5 270 270.5\n"
+                                  "0 1 1 0.05 0.05 1\n"
+                                  "80 1 1 0.05 0.05 1\n"
+                                  "90 0 0 0 0 0\n";
+static const char cliff_table[] = "degrees 0 90 92 270 272\n"
+                                  "0 1 1 0 0 1\n"
+                                  "80 1 1 0 0 1\n"
+                                  "90 0 0 0 0 0\n";
+
+static void sun_picture(struct ps_picture *pic, double sun)
+{
+	double *rgb = malloc(sizeof(double) * 3 * N * N);
+	char *buf = NULL;
+	size_t n = 0;
+	FILE *fp = open_memstream(&buf, &n);
+	struct ps_err e;
+	/* -vta: rho = theta / 90 degrees, azimuth 90 is -u (x below the centre) */
+	double cx = N / 2.0 - (40.0 / 90.0) * (N / 2.0), cy = N / 2.0;
+	for (int y = 0; y < N; y++)
+		for (int x = 0; x < N; x++) {
+			double *p = rgb + 3 * ((size_t)y * N + x), dx = x + 0.5 - cx, dy = y + 0.5 - cy;
+			double v = dx * dx + dy * dy <= 1.6 * 1.6 ? sun : 1.0;
+			p[0] = p[1] = p[2] = v;
+		}
+	assert_int_equal(ps_picture_write_fp(fp, "mem", N, N, rgb, "-vta -vh 180 -vv 180", NULL, &e), 0);
+	fclose(fp);
+	if (ps_picture_read_mem(pic, (uint8_t *)buf, n, "mem", &e) != 0)
+		fail_msg("%s", e.msg);
+	free(buf);
+	free(rgb);
+}
+
+/* The checked scan of the sun against an edge; *worst is its largest error
+ * against the exact route over the rotations near the edges. */
+static void sun_scan(const char *name, const char *table_text, size_t len, double sun,
+                     struct ps_scancheck *c, double *worst, double *plain_worst)
+{
+	static const int rots[] = { 355, 357, 358, 359, 0, 1, 2, 5, 90,
+	                            176, 177, 178, 179, 180, 181, 183 };
+	struct ps_picture pic;
+	struct ps_sensor s, u;
+	struct ps_rescan p;
+	struct ps_weights om;
+	struct ps_view v;
+	struct ps_err e;
+	double out[360], plain[360], total;
+	sun_picture(&pic, sun);
+	if (ps_sensor_parse(&s, table_text, len, name, &e) != 0 ||
+	    ps_sensor_set_reading(&s, PS_READ_LINEAR, &e) != 0)
+		fail_msg("%s", e.msg);
+	project(&p, &pic, PSENS_DPHI, &total);
+	ps_view_default_fisheye(&v);
+	assert_int_equal(ps_sensor_builtin(&u, PS_SENS_UNIFORM, &e), 0);
+	assert_int_equal(ps_weights_build(&om, &u, 0, &v, N, N, PS_W_EXACT, &e), 0);
+	if (ps_scancheck_scan(&p, &om, &pic, &v, coef, &s, 0, 1, 360, 1, NULL, out, c, &e) != 0)
+		fail_msg("%s", e.msg);
+	assert_int_equal(ps_rescan_scan(&p, &s, 0, 1, 360, plain, &e), 0);
+	*worst = *plain_worst = 0;
+	for (size_t k = 0; k < sizeof rots / sizeof rots[0]; k++) {
+		double want = exact(&s, rots[k], &pic);
+		*worst = fmax(*worst, fabs(out[rots[k]] / want - 1));
+		*plain_worst = fmax(*plain_worst, fabs(plain[rots[k]] / want - 1));
+	}
+	printf("# sun %g on the %s: the scan is off by %.2e, the checked scan by %.2e; "
+	       "estimate %.2e at %g (%d checked; %.2e before refining, refined %d)\n", sun, name,
+	       *plain_worst, *worst, c->estimate, c->at_deg, c->nchecked, c->first_estimate,
+	       c->refined);
+	ps_weights_free(&om);
+	ps_sensor_free(&u);
+	ps_rescan_free(&p);
+	ps_sensor_free(&s);
+	ps_picture_free(&pic);
+}
+
+static void sun_on_sharp_edge(void **state)
+{
+	struct ps_scancheck c = { .tolerance = PS_SCANCHECK_TOLERANCE };
+	double worst, plain;
+	(void)state;
+	/* a 2-degree edge: the scan is within the tolerance */
+	sun_scan("2-degree edge", edge_table, sizeof edge_table - 1, 2e4, &c, &worst, &plain);
+	assert_true(worst <= c.tolerance);
+	assert_true(c.estimate <= c.tolerance);
+	/* a half-degree edge: the scan alone is off by more than the tolerance;
+	 * the estimate finds it and the refined scan is within it */
+	sun_scan("half-degree edge", steep_table, sizeof steep_table - 1, 2e4, &c, &worst, &plain);
+	assert_true(plain > c.tolerance);
+	assert_true(c.first_estimate > c.tolerance);
+	assert_int_equal(c.refined, 1);
+	assert_true(worst <= c.tolerance);
+	assert_true(c.estimate <= c.tolerance);
+	/* down to nothing beyond the edge, a brighter sun: the checked scan is
+	 * within the tolerance or its estimate says it is not */
+	sun_scan("edge down to 0", cliff_table, sizeof cliff_table - 1, 1e6, &c, &worst, &plain);
+	assert_true(worst <= c.tolerance || c.estimate > c.tolerance);
+}
+
+/* The rotations checked: both sides of the largest jump, of the largest
+ * jump relative to the smaller response beside it, and the largest
+ * response, around the turn when the rotations close it. */
+static void pick_rotations(void **state)
+{
+	/* the largest jump 1 -> 9 between rotations 0 and 1; the largest
+	 * relative jump 0.3 -> 0.01 (29 times the smaller) between 10 and 11;
+	 * the largest response 9.5 at 2 */
+	static const double out[13] = { 1, 9, 9.5, 6, 4, 2.5, 1.5, 1, 0.6, 0.4, 0.3, 0.01, 0.1 };
+	static const int want[5] = { 1, 0, 11, 10, 2 };
+	int idx[PS_SCANCHECK_MAX];
+	(void)state;
+	assert_int_equal(ps_scancheck_pick(out, 13, 0, idx), 5);
+	assert_memory_equal(idx, want, sizeof want);
+	/* closed: the turn 0.1 -> 1 (9 times) changes nothing */
+	assert_int_equal(ps_scancheck_pick(out, 13, 1, idx), 5);
+	assert_memory_equal(idx, want, sizeof want);
+	/* one rotation: itself */
+	assert_int_equal(ps_scancheck_pick(out, 1, 0, idx), 1);
+	assert_int_equal(idx[0], 0);
+	assert_int_equal(ps_scancheck_pick(out, 0, 0, idx), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(scan_against_exact),
 		cmocka_unit_test(scan_equals_its_definition),
 		cmocka_unit_test(uniform_cosine_is_pi),
+		cmocka_unit_test(sun_on_sharp_edge),
+		cmocka_unit_test(pick_rotations),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
