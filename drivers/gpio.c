@@ -100,7 +100,7 @@ static const struct ps_opts_spec gpio_options[] = {
 	  .min = 1, .max = 1e7, .doc = "edges per second the driver takes before it raises the divider" },
 	{ .key = "full_scale_hz", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "1100000",
 	  .min = 1, .max = 1e9,
-	  .doc = "the sensor's output saturation at divider 1 (TSL230R: 1.1 MHz at least): a reading "
+	  .doc = "the sensor's output saturation at divider 1 (default about 1 MHz, unconfirmed: set it from the datasheet): a reading "
 	         "at it times factor is saturation" },
 	{ .key = "gap", .type = PS_OPT_DOUBLE, .scope = PT, .roles = SENSOR, .def = "3",
 	  .min = 1.1, .max = 1000,
