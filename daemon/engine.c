@@ -166,10 +166,13 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	z->override_level = NAN;
 	z->override_until = -INFINITY;
 	z->occupancy = -1;
-	for (int i = 0; i < zc->ninput; i++)
+	for (int i = 0; i < zc->ninput; i++) {
 		if (e->cf->pt[zc->input[i]].action == PSD_ACT_OCCUPANCY)
 			z->occupancy = 1;   /* occupied until an input says otherwise */
-	z->vacant_since = now;
+		z->occ_in[i] = -1;
+		z->occ_ok[i] = now;
+	}
+	psd_occupancy_init(&z->occ, zc->vacancy_s, zc->vacant_level, now);
 	z->verify_at = INFINITY;
 	if (sd->drv->truth) {
 		struct ps_truth t;
@@ -189,6 +192,12 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 			z->ctl.level = z->level = o->level;
 			z->override_level = o->override_level;
 			z->override_until = o->override_until;
+			if (z->occupancy >= 0 && o->occupancy >= 0) {   /* the room is as it was */
+				z->occ = o->occ;
+				z->occ.hold = zc->vacancy_s;
+				z->occ.vacant_level = zc->vacant_level;
+				z->occupancy = o->occupancy;
+			}
 			z->next = o->next;
 			if (z->ctl.target_lux == o->zc->ctl.target_lux)
 				z->ctl.target_lux = o->ctl.target_lux;   /* a target set at run time survives */
@@ -463,9 +472,12 @@ static void stop_io(struct psd_engine *e)
 static int prefetch(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
-	int pts[2 + PSD_MAX_ZONE_OUT], n = 0, pending = 0;
+	int pts[2 + 2 * PSD_MAX_ZONE_OUT], n = 0, pending = 0;
 	if (zc->task >= 0)
 		pts[n++] = zc->task;
+	for (int i = 0; i < zc->ninput; i++)
+		if (e->cf->pt[zc->input[i]].action == PSD_ACT_OCCUPANCY)
+			pts[n++] = zc->input[i];
 	pts[n++] = zc->sensor;
 	if (zc->verify_tolerance > 0 && now >= z->verify_at)
 		for (int i = 0; i < zc->ndim; i++)
@@ -790,13 +802,107 @@ static void snapshot(struct psd_zone *z, double now, double level_in, int estima
 	s->task_lux = z->task_lux;
 	s->true_task_lux = psd_engine_truth(z, now, &tr) == 0 ? tr.task_lux : NAN;
 	s->commanded = z->level;
+	s->occupied = z->occupancy;
+}
+
+/* The zone's occupancy inputs together: occupied when any reports occupied
+ * or has not reported yet, vacant when every one reports vacant. */
+static int occ_inputs(const struct psd_engine *e, const struct psd_zone *z)
+{
+	const struct psd_zone_conf *zc = z->zc;
+	for (int i = 0; i < zc->ninput; i++)
+		if (e->cf->pt[zc->input[i]].action == PSD_ACT_OCCUPANCY && z->occ_in[i] != 0)
+			return 1;
+	return 0;
+}
+
+/* The inputs' state to the state machine: a change is logged and acted on
+ * at once; an arrival ends a manual off. */
+static void occ_update(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	int first = z->occ.input < 0, ch = psd_occupancy_report(&z->occ, now, occ_inputs(e, z));
+	if (ch != 0 || (first && z->occ.input >= 0)) {
+		psd_log_info("zone %s: %s", z->zc->name, z->occ.input ? "occupied" : "vacant");
+		z->asap = 1;   /* act on it now, off the schedule */
+	}
+	if (now < z->override_until && psd_occupancy_ends_override(&z->occ, ch, z->override_level)) {
+		z->override_until = -INFINITY;
+		psd_log_info("zone %s: the manual off ends: occupied again", z->zc->name);
+	}
+	z->occupancy = psd_occupancy_occupied(&z->occ);
+}
+
+/* Each step reads the occupancy inputs too (events can be missed): a read
+ * that fails as a fault at once, or fails for stale_after, is the input's
+ * fault; the zone then counts as occupied (the daylight control runs),
+ * logged and in the events, until the input reads again. */
+static void occ_poll(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	const struct psd_zone_conf *zc = z->zc;
+	char why[256] = "", t[24];
+	int bad = 0;
+	if (z->occupancy < 0)
+		return;
+	for (int i = 0; i < zc->ninput; i++) {
+		int p = zc->input[i], rc;
+		double v = NAN;
+		if (e->cf->pt[p].action != PSD_ACT_OCCUPANCY)
+			continue;
+		rc = pt_read(e, p, now, &v);
+		if (rc == 0 && isfinite(v)) {
+			z->occ_in[i] = v > 0.5;
+			z->occ_ok[i] = now;
+			continue;
+		}
+		if (rc == 0)
+			snprintf(e->ioerr, sizeof e->ioerr, "reads %g", v);
+		if ((rc == 0 || ps_dev_fault_at_once(errno) || now - z->occ_ok[i] >= zc->stale_after) && !bad++)
+			snprintf(why, sizeof why, "occupancy input %s: %.200s", e->pt[p].name, e->ioerr);
+	}
+	if (psd_occupancy_fault(&z->occ, now, bad > 0)) {
+		psd_engine_stamp(e, now, t, sizeof t);
+		if (bad) {
+			psd_log_warnx("zone %s: %s fault: %s: taken as occupied (the daylight control runs)", zc->name, t,
+			              why);
+			snprintf(z->occ_why, sizeof z->occ_why, "%s", why);
+			event(e, now, zc->name, "fault", why);
+		} else {
+			psd_log_info("zone %s: %s fault cleared: %s", zc->name, t, z->occ_why);
+			event(e, now, zc->name, "fault cleared", z->occ_why);
+			z->occ_why[0] = 0;
+		}
+	}
+	occ_update(e, z, now);
+}
+
+/* What rules the lights after the control (or a session) gave level: an
+ * override, the occupancy, or the control itself. */
+static double decide(struct psd_zone *z, double now, double level)
+{
+	int drop, on = now < z->override_until;
+	if (psd_calsession_running(&z->cal))
+		return level;
+	if (z->occupancy < 0)
+		return on ? z->override_level : level;
+	switch (psd_occupancy_rule(&z->occ, now, on, z->override_level, &drop)) {
+	case PSD_OCC_OVERRIDE:
+		return z->override_level;
+	case PSD_OCC_VACANT:
+		if (drop) {
+			z->override_until = -INFINITY;
+			psd_log_info("zone %s: override ends: vacant for %.0f s", z->zc->name, z->occ.hold);
+		}
+		return z->occ.vacant_level;
+	default:
+		return level;
+	}
 }
 
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
 	char why[256], t[24];
-	double level, t0, level_in = z->level;
+	double level, t0, level_in = z->level, law = NAN;   /* law: the daylight control's own level */
 	int rc, estimated = 0;   /* the control estimated the task lux from this reading */
 	if (prefetch(e, z, now))
 		return;   /* woken when the I/O threads answer */
@@ -807,6 +913,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	} else {
 		z->task_lux = NAN;
 	}
+	occ_poll(e, z, now);
 	rc = read_sensor(e, z, now, why, sizeof why);
 	t0 = psd_time_mono();
 	if (rc == 0)
@@ -841,15 +948,11 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			dated_ratio(e, z, now);
 			estimated = 1;
 			level = psd_control_step(&z->ctl, z->volts, now);
+			law = level;
 		}
 		else
 			level = z->level;   /* a missed reading: hold until it is stale */
-		if (psd_calsession_running(&z->cal))
-			;
-		else if (now < z->override_until)
-			level = z->override_level;
-		else if (z->occupancy == 0 && now - z->vacant_since >= zc->vacancy_s)
-			level = 0;
+		level = decide(z, now, level);
 		z->ctl.level = level;   /* what the lights are told, whoever decided it */
 		if (level != z->level)
 			z->verify_at = now + zc->period * 0.999;
@@ -873,6 +976,8 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			}
 		}
 	}
+	if (z->occupancy >= 0)
+		psd_occupancy_account(&z->occ, now, law, z->level);
 	snapshot(z, now, level_in, estimated);
 	log_sample(e, z, now);
 	truth(e, z, now);
@@ -1017,14 +1122,9 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 				continue;
 			switch (e->cf->pt[p].action) {
 			case PSD_ACT_OCCUPANCY:
-				if (value > 0.5)
-					z->occupancy = 1;
-				else if (z->occupancy != 0) {
-					z->occupancy = 0;
-					z->vacant_since = now;
-				}
-				psd_log_info("zone %s: %s", z->zc->name, value > 0.5 ? "occupied" : "vacant");
-				z->asap = 1;   /* act on it now, off the schedule */
+				z->occ_in[k] = value > 0.5;
+				z->occ_ok[k] = now;
+				occ_update(e, z, now);
 				break;
 			case PSD_ACT_OVERRIDE:
 				if (value < 0.5)
@@ -1078,6 +1178,20 @@ int psd_engine_override(struct psd_zone *z, double level, double seconds, double
 	z->asap = 1;   /* at once, not at the next period */
 	psd_log_info("zone %s: override %.0f %% for %g s", z->zc->name, 100 * level, seconds);
 	return 0;
+}
+
+void psd_engine_off(struct psd_zone *z)
+{
+	z->override_level = 0;
+	z->override_until = INFINITY;
+	z->asap = 1;
+	psd_log_info("zone %s: off until release%s", z->zc->name,
+	             z->occupancy >= 0 ? " or the next arrival after a vacancy" : "");
+}
+
+int psd_engine_zone_occupied(const struct psd_zone *z)
+{
+	return z->occupancy;
 }
 
 void psd_engine_release(struct psd_zone *z)

@@ -2,7 +2,7 @@
 /* psensctl: talk to psensd over its control socket, and export its log.
  *
  *   psensctl [-s socket] [-j] status [ZONE] | target ZONE LUX |
- *            override ZONE LEVEL SECONDS | release ZONE | ratios | log |
+ *            override ZONE LEVEL SECONDS | off ZONE | release ZONE | ratios | log |
  *            reload | ping | help |
  *            calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort |
  *            dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|
@@ -51,7 +51,7 @@ static void usage(FILE *fp)
 	            "       psensctl [-s socket | -d database] accept-test ZONE [--since YYYY-MM-DD] [--samples N]\n"
 	            "       psensctl [-s socket] watch [ZONE] [-n count]\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
-	            "          release ZONE, ratios, reload, ping, help,\n"
+	            "          off ZONE, release ZONE, ratios, reload, ping, help,\n"
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
 	            "          dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|\n"
 	            "                      identify SHORT [SECONDS]|verify ZONE|status|abort\n"
@@ -772,6 +772,13 @@ static void watch_zone(json_object *z)
 		       fmt(a, sizeof a, 1, num_of(s, "true_task_lux")));
 	}
 	printf("  fault: %s\n", fault ? fault : "none");
+	if (member(z, "occupancy")) {
+		json_object *oc = member(z, "occupancy");
+		const char *of = text_of(oc, "fault");
+		printf("  occupancy: %s%s%s%s\n", json_object_get_boolean(member(z, "occupied")) ? "occupied" : "vacant",
+		       json_object_get_boolean(member(oc, "at_vacant_level")) ? ", lights at the vacant level" : "",
+		       of ? ", input fault: " : "", of ? of : "");
+	}
 	if (member(z, "drift"))
 		printf("  drift: %s (measured ratio %s %% off the simulated one)\n",
 		       json_object_get_boolean(member(z, "drift")) ? "FLAGGED" : "no",
