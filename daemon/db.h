@@ -15,6 +15,8 @@
  *   mqtt_cursor   per MQTT site, the last sample id the broker acknowledged
  *   mqtt_announced  per MQTT site, the zones announced to Home Assistant
  *   zone_consts, acceptance_tests  (schema 6) psensctl accept-test
+ *   samples.occupied, samples.true_task_lux  (schema 7) occupancy, the
+ *                 simulated room's truth
  *
  * Each sample row has utc (schema 4): the time its clock showed (the
  * clock's day + t), or the wall-clock time it was logged when no clock
@@ -28,7 +30,7 @@
 #include <stddef.h>
 
 /* The schema version this build writes. */
-enum { PSD_DB_SCHEMA = 6 };
+enum { PSD_DB_SCHEMA = 7 };
 /* PRAGMA application_id of a psensd file ("PSND"): a file with another
  * non-zero id is another application's and is never written. */
 enum { PSD_DB_APP_ID = 0x50534E44 };
@@ -55,6 +57,11 @@ struct psd_sample {
 	 * database was given (psd_db_set_epoch) + t, else the wall clock. */
 	double utc;
 	const char *local;
+	/* schema 7: the zone's occupancy (1 occupied, 0 vacant, -1 no
+	 * occupancy input: NULL) and a simulated room's true task lux (NAN
+	 * in a real room: NULL); -1 and NAN in a row logged before */
+	int occupied;
+	double true_task_lux;
 };
 
 struct psd_db;

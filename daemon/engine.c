@@ -695,6 +695,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : dl,
 		ratio_name(e, z), z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, e->utc0 + now, NULL,   /* utc: the clock's; local from it (db.c) */
+		z->occupancy, z->last.true_task_lux,
 	};
 	if (!e->log)
 		return;

@@ -22,7 +22,7 @@
 static void add(struct psd_db *db, double t, double output, double task, double est)
 {
 	char err[256];
-	struct psd_sample s = { t, t, 1.0, output, est, task, 0, 0, "daylight_mean", 236, NULL, "office", NAN, NULL };
+	struct psd_sample s = { t, t, 1.0, output, est, task, 0, 0, "daylight_mean", 236, NULL, "office", NAN, NULL, -1, NAN };
 	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
 }
 
