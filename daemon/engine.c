@@ -604,6 +604,14 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 		         pc->saturation);
 		return -1;
 	}
+	/* below the range with the lights commanded off (a vacancy, a manual
+	 * off): a dark room, not an open circuit, which shows when they are
+	 * next on */
+	if (v < pc->min && z->level <= 0 && isfinite(v)) {
+		z->last_ok = now;
+		z->same_since = now;
+		return 0;
+	}
 	if (!(v >= pc->min && v <= pc->max)) {
 		snprintf(why, n, "sensor reads %.3f V, outside %g to %g V", v, pc->min, pc->max);
 		return -1;
@@ -740,6 +748,12 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 	}
 	if (now <= s->cal_until) {
 		s->cal_steps++;
+		return;
+	}
+	/* a zone with occupancy is judged while occupied: an empty room's
+	 * light is nobody's (its periods counted apart) */
+	if (z->occupancy == 0) {
+		s->vacant_steps++;
 		return;
 	}
 	if (!z->in_fault && !isnan(z->ctl.est_task_lux) && psd_engine_truth(z, now, &tr) == 0) {

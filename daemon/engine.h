@@ -32,6 +32,8 @@ struct psd_zone_stats {
 	 * settling after each (PSD_ACCEPT_SETTLE_S) are counted here, not in
 	 * below nor the estimate's errors; the first PSD_STATS_MAX_CAL spans */
 	double cal_steps, cal_until;
+	double vacant_steps;      /* periods a zone's occupancy input said vacant:
+	                             not counted in below nor the estimate's errors */
 	double cal_from[8], cal_to[8];
 	int ncal, in_cal;
 };
