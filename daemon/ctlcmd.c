@@ -586,7 +586,7 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	}
 	psd_engine_stamp(e, psd_clock_now(&d->clock), stamp, sizeof stamp);
 	psd_log_info("zone %s: %s: acceptance tests: %s (%d of %d run, %d failed)", argv[1], stamp,
-	         psd_accept_overall(&sum), sum.tested, PSD_ACCEPT_NTESTS, sum.failed);
+	         psd_accept_overall(&sum), sum.tested, sum.count, sum.failed);
 	o = ok_reply();
 	a = json_object_new_object();
 	psd_json_str(a, "zone", argv[1]);
@@ -595,7 +595,10 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	psd_json_num(a, "delay", p.delay);
 	tests = json_object_new_array();
 	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
-		json_object *t = json_object_new_object();
+		json_object *t;
+		if (!r[i].test)
+			continue;   /* not the zone's */
+		t = json_object_new_object();
 		psd_json_str(t, "test", r[i].test);
 		psd_json_str(t, "verdict", psd_accept_verdict_names[r[i].verdict + 1]);
 		psd_json_num(t, "value", r[i].value);

@@ -88,9 +88,12 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	" utc REAL);",
 	/* 6 -> 7: occupancy (daemon/occupancy.h), NULL in a zone with no
 	 * occupancy input, and a simulated room's true task illuminance, NULL
-	 * in a real room; both NULL in the rows logged before */
+	 * in a real room; both NULL in the rows logged before; the zones'
+	 * occupancy constants for the acceptance test */
 	"ALTER TABLE samples ADD COLUMN occupied INTEGER;"
-	"ALTER TABLE samples ADD COLUMN true_task_lux REAL;",
+	"ALTER TABLE samples ADD COLUMN true_task_lux REAL;"
+	"ALTER TABLE zone_consts ADD COLUMN vacancy_hold REAL;"
+	"ALTER TABLE zone_consts ADD COLUMN vacant_level REAL;",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
@@ -648,8 +651,35 @@ int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind
 int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lux, double elec_task_lux,
                            double delay, char *err, size_t errlen)
 {
-	return run(db, "INSERT OR REPLACE INTO zone_consts VALUES(?, ?, ?, ?, ?)", err, errlen, "tdddd", zone,
-	           floor(psd_time_wall()), target_lux, elec_task_lux, delay);
+	return run(db, "INSERT OR REPLACE INTO zone_consts(zone, utc, target_lux, elec_task_lux, delay)"
+	           " VALUES(?, ?, ?, ?, ?)", err, errlen, "tdddd", zone, floor(psd_time_wall()), target_lux,
+	           elec_task_lux, delay);
+}
+
+int psd_db_zone_occupancy_set(struct psd_db *db, const char *zone, double hold, double vacant_level, char *err,
+                              size_t errlen)
+{
+	return run(db, "UPDATE zone_consts SET vacancy_hold = ?, vacant_level = ? WHERE zone = ?", err, errlen, "ddt",
+	           hold, vacant_level, zone);
+}
+
+int psd_db_zone_occupancy_get(struct psd_db *db, const char *zone, double *hold, double *vacant_level)
+{
+	char err[256];
+	sqlite3_stmt *st;
+	int rc;
+	if (!has_column(db, "zone_consts", "vacancy_hold"))
+		return 1;   /* a file from before schema 7, opened to read */
+	if (!(st = query(db, err, sizeof err, "SELECT vacancy_hold, vacant_level FROM zone_consts WHERE zone = ?"
+	                 " AND vacancy_hold IS NOT NULL", "t", zone)))
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW) {
+		*hold = col_num(st, 0);
+		*vacant_level = col_num(st, 1);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_ROW ? 0 : rc == SQLITE_DONE ? 1 : -1;
 }
 
 int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,

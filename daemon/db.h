@@ -116,6 +116,13 @@ int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lu
 /* 0 found, 1 none, -1 error. */
 int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
                            double *delay);
+/* A zone's occupancy constants (schema 7: vacancy_hold s and vacant_level,
+ * after psd_db_zone_consts_set, which clears them; the occupancy
+ * acceptance test judges against them).  get: 0 found, 1 none (no
+ * occupancy input, or a file from before), -1 error. */
+int psd_db_zone_occupancy_set(struct psd_db *db, const char *zone, double hold, double vacant_level, char *err,
+                              size_t errlen);
+int psd_db_zone_occupancy_get(struct psd_db *db, const char *zone, double *hold, double *vacant_level);
 /* One acceptance test's result, dated now (UTC). */
 int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const char *test, const char *verdict,
                       double value, double limit, long samples, const char *measured, char *err, size_t errlen);

@@ -219,8 +219,10 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 static void record_consts(struct psd_engine *e, const struct psd_zone *z)
 {
 	char err[512];
-	if (e->db && psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux, z->ctl.delay,
-	                                    err, sizeof err) != 0) {
+	if (e->db && (psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux,
+	                                     z->ctl.delay, err, sizeof err) != 0 ||
+	              (z->occupancy >= 0 && psd_db_zone_occupancy_set(e->db, z->zc->name, z->occ.hold,
+	                                                               z->occ.vacant_level, err, sizeof err) != 0))) {
 		e->log_errors++;   /* rare (a start, an accepted session): each said */
 		psd_log_warnx("%s: %s", e->cf->database, err);
 	}

@@ -15,7 +15,8 @@
 #  - a sensor fault in a vacant room still drives the safe level;
 #  - a manual off (psensctl off) holds while occupied and through the lunch
 #    vacancy, and ends at the next arrival;
-#  - the log's occupied and true task lux columns, and the CSV export's.
+#  - the log's occupied and true task lux columns, and the CSV export's;
+#  - accept-test's occupancy test on the day.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v sqlite3 > /dev/null || skip_all "sqlite3 not installed"
@@ -71,6 +72,10 @@ check "CSV export: occupied and simulated_true_task_lux columns, units in the na
 	sh -c "head -n 1 '$TMP/plain.csv' | grep -q ',task_lux,.*,fault,occupied,simulated_true_task_lux$'"
 check "CSV export: 12:14 vacant at the daylight level, 12:15 at the vacant level, the truth given" \
 	sh -c "sed -n 2p '$TMP/plain.csv' | grep -q ',0.1,.*,0,[0-9.]*$' && sed -n 3p '$TMP/plain.csv' | grep -q ',44100,[0-9.]*,0,.*,0,[0-9.]*$'"
+
+"$BIN/psensctl" -d "$TMP/state/plain.db" accept-test office > "$TMP/accept.out" 2>&1
+check "accept-test: the occupancy test passes, its three vacancies (06:00, 12:00, 17:30) and two arrivals judged" \
+	sh -c "grep -q '^  occupancy *PASS .* in 3 of 3 vacancies .*the lights on at 2 of 2 arrivals' '$TMP/accept.out' && grep -q ' of 5 tests run' '$TMP/accept.out'"
 
 # the input does not answer 12:20-12:40, in the lunch vacancy
 run dead "s|^absences = .*|absences = 0\ndead = 12:20-12:40|"
