@@ -66,6 +66,7 @@ struct scan {
 	int occ_prev, vac_state, have_occ;
 	double vac_from, vac_delay_max;
 	long nvac, vac_fail, narr, arr_fail;
+	long vacant;              /* samples the occupancy said vacant: no daylight test judges them */
 };
 
 /* arr (n elements of size, room for *cap) with room for one more,
@@ -214,6 +215,16 @@ static void scan_sample(void *user, const struct psd_sample *s)
 		return;
 	if (isfinite(p->vacancy_hold))
 		track_occupancy(c, s, s->fault || !isfinite(s->output) || is_held(&c->held, s));
+	if (s->occupied == 0 && !s->fault && isfinite(s->output)) {
+		/* vacant: the lights are the vacancy's, not the daylight
+		 * control's (an empty dark room's few lux judge nothing); the
+		 * control starts again at the arrival */
+		c->prev_output = s->output;
+		c->last_level = NAN;
+		c->last_dir = 0;
+		c->vacant++;
+		return;
+	}
 	if (s->fault || !isfinite(s->output)) {
 		c->prev_output = NAN;   /* at the safe level: the next sample has no known level */
 		return;
@@ -291,7 +302,7 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 {
 	struct scan c;
 	struct psd_accept_result *r;
-	char left[112];
+	char left[160];
 	int bands;
 	memset(&c, 0, sizeof c);
 	c.p = p;
@@ -334,6 +345,10 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 		         c.held.left_out, c.held.n, c.held.n == 1 ? "" : "s", c.held.settle);
 	else
 		left[0] = 0;
+	if (c.vacant) {
+		size_t k = strlen(left);
+		snprintf(left + k, sizeof left - k, "; %ld vacant samples left out", c.vacant);
+	}
 
 	r = &out[0];
 	r->test = "verification";

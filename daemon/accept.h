@@ -38,7 +38,10 @@
  * the control's: readings and estimate then belong to different levels)
  * no sample counts for any test: the session judges the sensor, these tests
  * the control; cycling starts again after it.  The verification says how
- * many samples it left out so.  The commissioning record shows this same
+ * many samples it left out so.  Samples the occupancy input said vacant
+ * (schema 7) count for none of the first four tests either: the lights
+ * are the vacancy's, not the daylight control's; the verification says
+ * how many.  The commissioning record shows this same
  * verification (psd_accept_verification).  A test with no sample in its
  * range is NOT TESTED, never a pass.  Each result says what it measured. */
 #ifndef PSD_ACCEPT_H

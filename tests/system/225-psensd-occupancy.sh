@@ -16,7 +16,7 @@
 #  - a manual off (psensctl off) holds while occupied and through the lunch
 #    vacancy, and ends at the next arrival;
 #  - the log's occupied and true task lux columns, and the CSV export's;
-#  - accept-test's occupancy test on the day.
+#  - accept-test's occupancy test on the day; the record's hours and shading.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v sqlite3 > /dev/null || skip_all "sqlite3 not installed"
@@ -76,6 +76,19 @@ check "CSV export: 12:14 vacant at the daylight level, 12:15 at the vacant level
 "$BIN/psensctl" -d "$TMP/state/plain.db" accept-test office > "$TMP/accept.out" 2>&1
 check "accept-test: the occupancy test passes, its three vacancies (06:00, 12:00, 17:30) and two arrivals judged" \
 	sh -c "grep -q '^  occupancy *PASS .* in 3 of 3 vacancies .*the lights on at 2 of 2 arrivals' '$TMP/accept.out' && grep -q ' of 5 tests run' '$TMP/accept.out'"
+
+"$BIN/psensctl" -d "$TMP/state/plain.db" report office -o "$TMP/plain.pdf" > /dev/null 2>&1
+if command -v pdftotext > /dev/null; then
+	pdftotext -layout "$TMP/plain.pdf" "$TMP/plain.txt"
+	# the record ends at the last sample (19:59): vacant 5.50 h less a minute
+	check "the record: the zone's hours occupied and vacant and the vacancies' savings" \
+		grep -q "occupied 8.50 h, vacant 5.48 h, the vacancies saved [0-9.]* full-load h" "$TMP/plain.txt"
+	check "the record: the zone table's occupied/vacant column (8.5/5.5 h)" grep -q "8.5/5.5 h, [0-9.]* flh" "$TMP/plain.txt"
+	check "the record: vacancy shaded on the zone's charts, in their legends" \
+		test "$(pdftotext -raw "$TMP/plain.pdf" - | grep -o 'vacant' | wc -l)" -ge 3
+else
+	skip "pdftotext (poppler-utils) not installed: the record's text not read"
+fi
 
 # the input does not answer 12:20-12:40, in the lunch vacancy
 run dead "s|^absences = .*|absences = 0\ndead = 12:20-12:40|"
