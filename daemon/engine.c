@@ -197,6 +197,10 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 				z->occ.hold = zc->vacancy_s;
 				z->occ.vacant_level = zc->vacant_level;
 				z->occupancy = o->occupancy;
+				if (zc->ninput == o->zc->ninput) {   /* the inputs' last reports */
+					memcpy(z->occ_in, o->occ_in, sizeof z->occ_in);
+					memcpy(z->occ_ok, o->occ_ok, sizeof z->occ_ok);
+				}
 			}
 			z->next = o->next;
 			if (z->ctl.target_lux == o->zc->ctl.target_lux)
