@@ -31,6 +31,12 @@ run() {  # run NAME [sed script]
 }
 q() { sqlite3 "$TMP/state/$1.db" "$2"; }
 
+# vacancy_delay is the same key as vacancy_hold: one of them
+conf both "s|^vacancy_hold = 900|&\nvacancy_delay = 600|"
+"$BIN/psensd" -f "$TMP/both.conf" -n > /dev/null 2> "$TMP/both.err"
+check "vacancy_hold and vacancy_delay together are refused, naming the line" \
+	grep -q "both.conf:[0-9]*: vacancy_delay: the same as vacancy_hold: give one" "$TMP/both.err"
+
 # the shipped example, with its absences
 run day
 check "the example runs (exit 0)" test -s "$TMP/day.out"
