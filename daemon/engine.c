@@ -612,8 +612,8 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 	}
 	/* below the range with the lights commanded off (a vacancy, a manual
 	 * off): a dark room, not an open circuit, which shows when they are
-	 * next on */
-	if (v < pc->min && z->level <= 0 && isfinite(v)) {
+	 * next on; off at a safe level of 0, the fault stands */
+	if (v < pc->min && z->level <= 0 && !z->in_fault && isfinite(v)) {
 		z->last_ok = now;
 		z->same_since = now;
 		return 0;

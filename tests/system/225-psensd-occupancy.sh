@@ -12,7 +12,8 @@
 #    random absences replay the same with the same seed;
 #  - an input that does not answer is a fault counted as occupied (the
 #    daylight control), and the hold starts again when it answers;
-#  - a sensor fault in a vacant room still drives the safe level;
+#  - a sensor fault in a vacant room still drives the safe level, and a
+#    fault at a safe level of 0 stays one while the lights are off for it;
 #  - a manual off (psensctl off) holds while occupied and through the lunch
 #    vacancy, and ends at the next arrival;
 #  - the log's occupied and true task lux columns, and the CSV export's;
@@ -113,6 +114,12 @@ check "a sensor fault in a vacant room drives the safe level (100 %)" \
 	sh -c "grep -q 'zone office: .*12:3[0-9] fault: no reading since' '$TMP/drop.err' && test \"\$(sqlite3 '$TMP/state/drop.db' \"select count(*) from samples where fault is not null and output = 1 and occupied = 0\")\" -ge 5"
 check "and back at the vacant level after it (12:40-12:59)" \
 	test "$(q drop "select count(*) from samples where tod_s >= 45600 and tod_s < 46800 and output > 0")" = 0
+
+# a safe level of 0: an open sensor at 12:00 stays a fault while the lights
+# are off for it (below the range is the dark room only when nothing failed)
+run safe0 "s|^absences = .*|absences = 0|; s|^safe_level = .*|safe_level = 0|; s|^lag_tau = .*|&\nfaults = open 12:00-12:20|"
+check "safe level 0: one fault 12:00-12:20, no fault and clearing each step" \
+	sh -c "test \"\$(grep -c 'fault cleared' '$TMP/safe0.err')\" = 1 && test \"\$(sqlite3 '$TMP/state/safe0.db' \"select count(distinct tod_s) from samples where fault is not null\")\" = 20"
 
 # a manual off at 11:5x, real time at 300x with the control socket
 conf off "s|^absences = .*|absences = 0|; s|^period = 60|&\nsocket = sock|"
