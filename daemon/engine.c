@@ -843,7 +843,9 @@ static void occ_update(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	int first = z->occ.input < 0, ch = psd_occupancy_report(&z->occ, now, occ_inputs(e, z));
 	if (ch != 0 || (first && z->occ.input >= 0)) {
-		psd_log_info("zone %s: %s", z->zc->name, z->occ.input ? "occupied" : "vacant");
+		char t[24];
+		psd_engine_stamp(e, now, t, sizeof t);
+		psd_log_info("zone %s: %s %s", z->zc->name, t, z->occ.input ? "occupied" : "vacant");
 		z->asap = 1;   /* act on it now, off the schedule */
 	}
 	if (now < z->override_until && psd_occupancy_ends_override(&z->occ, ch, z->override_level)) {

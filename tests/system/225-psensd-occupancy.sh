@@ -52,7 +52,7 @@ check "always at the vacant level from the hold plus one period (960 s)" \
 	test "$(q day "select count(*) from samples s where occupied = 0 and output > 0 and s.t - $VSTART >= 960")" = 0
 check "never off while occupied: the daylight control (min_level 0.1) at each arrival and after" \
 	test "$(q day "select count(*) from samples where occupied = 1 and output < 0.1")" = 0
-nv=$(grep -c 'zone office: vacant$' "$TMP/day.err")
+nv=$(grep -c 'zone office: [0-9: -]*vacant$' "$TMP/day.err")
 check "at least one absence inside the occupied times ($nv vacancies: 06:00, 12:00, 17:30 and the absences)" test "$nv" -ge 4
 check "the summary gives the occupied hours and the vacancy's savings" \
 	grep -q '^  occupancy: occupied [0-9.]* h, vacant [0-9.]* h ([0-9.]* h at the vacant level 0 %, after 900 s); the vacancy saved [0-9.]* full-output hours$' "$TMP/day.out"
