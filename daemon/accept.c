@@ -15,7 +15,7 @@ const char *const psd_accept_verdict_names[] = { "NOT TESTED", "FAIL", "PASS" };
 
 void psd_accept_defaults(struct psd_accept_params *p)
 {
-	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05, PSD_ACCEPT_SETTLE_S };
+	*p = (struct psd_accept_params){ 500, NAN, 300, NAN, 10, 25, 30, 0.05, PSD_ACCEPT_SETTLE_S, NAN, NAN };
 }
 
 /* The spans calibration sessions held the zone's lights, each in UTC
@@ -61,6 +61,12 @@ struct scan {
 	double last_level, last_swing_t, min_gap;
 	int last_dir;
 	long swings, fast;
+	/* occupancy: the last sample's occupancy (-1 none), the vacancy's start
+	 * and its state (0 none or not judged, 1 within the hold, 2 judged) */
+	int occ_prev, vac_state, have_occ;
+	double vac_from, vac_delay_max;
+	long nvac, vac_fail, narr, arr_fail;
+	long vacant;              /* samples the occupancy said vacant: no daylight test judges them */
 };
 
 /* arr (n elements of size, room for *cap) with room for one more,
@@ -157,6 +163,42 @@ static void track_cycling(struct scan *c, const struct psd_sample *s)
 	}
 }
 
+/* occupancy: each vacancy's first sample at or after its start plus the
+ * hold, and each arrival's sample (accept.h) */
+static void track_occupancy(struct scan *c, const struct psd_sample *s, int spoiled)
+{
+	const struct psd_accept_params *p = c->p;
+	int occ = s->occupied;
+	if (occ < 0) {
+		c->occ_prev = -1;
+		c->vac_state = 0;
+		return;
+	}
+	c->have_occ = 1;
+	if (occ == 0) {
+		if (c->occ_prev != 0) {   /* a vacancy starts (or the log with one) */
+			c->vac_from = s->t;
+			c->vac_state = 1;
+		}
+		if (spoiled)
+			c->vac_state = 0;   /* a fault or a session: the lights were not the vacancy's */
+		if (c->vac_state == 1 && s->t >= c->vac_from + p->vacancy_hold) {
+			c->nvac++;
+			if (s->output <= p->vacant_level + 1e-6) {
+				if (s->t - c->vac_from > c->vac_delay_max)
+					c->vac_delay_max = s->t - c->vac_from;
+			} else {
+				c->vac_fail++;
+			}
+			c->vac_state = 2;
+		}
+	} else if (c->occ_prev == 0 && !spoiled && p->vacant_level <= 0) {
+		c->narr++;   /* an arrival: the lights come on */
+		c->arr_fail += !(s->output > 0);
+	}
+	c->occ_prev = occ;
+}
+
 static void scan_sample(void *user, const struct psd_sample *s)
 {
 	struct scan *c = user;
@@ -167,9 +209,22 @@ static void scan_sample(void *user, const struct psd_sample *s)
 		c->prev_output = NAN;  /* the lights' level before a run's first sample is not known */
 		c->last_level = NAN;   /* nor is its first level an answer to the last run's */
 		c->last_dir = 0;
+		c->occ_prev = -1;      /* a run's hold starts at its start */
 	}
 	if (isfinite(p->since_utc) && !(s->utc >= p->since_utc))
 		return;
+	if (isfinite(p->vacancy_hold))
+		track_occupancy(c, s, s->fault || !isfinite(s->output) || is_held(&c->held, s));
+	if (s->occupied == 0 && !s->fault && isfinite(s->output)) {
+		/* vacant: the lights are the vacancy's, not the daylight
+		 * control's (an empty dark room's few lux judge nothing); the
+		 * control starts again at the arrival */
+		c->prev_output = s->output;
+		c->last_level = NAN;
+		c->last_dir = 0;
+		c->vacant++;
+		return;
+	}
 	if (s->fault || !isfinite(s->output)) {
 		c->prev_output = NAN;   /* at the safe level: the next sample has no known level */
 		return;
@@ -215,12 +270,39 @@ static void scan_sample(void *user, const struct psd_sample *s)
 	}
 }
 
+static void occupancy_result(const struct scan *c, struct psd_accept_result *r)
+{
+	const struct psd_accept_params *p = c->p;
+	char arr[160];
+	int hold_ok = p->vacancy_hold <= PSD_ACCEPT_HOLD_MAX_S;
+	r->test = "occupancy";
+	r->samples = c->nvac + c->narr;
+	r->limit = p->vacancy_hold;
+	r->value = c->nvac ? c->vac_delay_max : NAN;
+	if (p->vacant_level > 0)
+		snprintf(arr, sizeof arr, "arrivals not judged (a partial off at %.0f %%: the daylight control may "
+		         "ask less)", 100 * p->vacant_level);
+	else
+		snprintf(arr, sizeof arr, "the lights on at %ld of %ld arrivals", c->narr - c->arr_fail, c->narr);
+	if (c->nvac + c->narr == 0) {
+		r->verdict = PSD_ACCEPT_NOT_TESTED;
+		snprintf(r->measured, sizeof r->measured, "no vacancy longer than the hold (%g s) and no arrival",
+		         p->vacancy_hold);
+		return;
+	}
+	r->verdict = hold_ok && !c->vac_fail && !c->arr_fail ? PSD_ACCEPT_PASS : PSD_ACCEPT_FAIL;
+	snprintf(r->measured, sizeof r->measured, "at the vacant level %.0f %% by the first step after the hold "
+	         "(%g s, at most %g s) in %ld of %ld vacancies that outlasted it (the latest %.0f s after the "
+	         "vacancy); %s", 100 * p->vacant_level, p->vacancy_hold, PSD_ACCEPT_HOLD_MAX_S, c->nvac - c->vac_fail,
+	         c->nvac, c->nvac ? c->vac_delay_max : 0, arr);
+}
+
 int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_params *p,
                    struct psd_accept_result out[PSD_ACCEPT_NTESTS], char *err, size_t errlen)
 {
 	struct scan c;
 	struct psd_accept_result *r;
-	char left[112];
+	char left[160];
 	int bands;
 	memset(&c, 0, sizeof c);
 	c.p = p;
@@ -230,6 +312,7 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	c.full_max = -INFINITY;
 	c.low_min = INFINITY;
 	c.min_gap = INFINITY;
+	c.occ_prev = -1;
 	c.held.settle = isfinite(p->settle_s) && p->settle_s > 0 ? p->settle_s : 0;
 	if (psd_db_cal_sessions(db, zone, add_session, &c.held, err, errlen) != 0) {
 		free(c.held.span);
@@ -262,6 +345,10 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 		         c.held.left_out, c.held.n, c.held.n == 1 ? "" : "s", c.held.settle);
 	else
 		left[0] = 0;
+	if (c.vacant) {
+		size_t k = strlen(left);
+		snprintf(left + k, sizeof left - k, "; %ld vacant samples left out", c.vacant);
+	}
 
 	r = &out[0];
 	r->test = "verification";
@@ -334,6 +421,9 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	else
 		snprintf(r->measured, sizeof r->measured, "no reversal of the output by more than %.0f %%",
 		         100 * p->swing);
+
+	if (c.have_occ)
+		occupancy_result(&c, &out[4]);
 	return 0;
 }
 
@@ -362,6 +452,9 @@ void psd_accept_summarize(const struct psd_accept_result r[PSD_ACCEPT_NTESTS], s
 {
 	memset(sum, 0, sizeof *sum);
 	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
+		if (!r[i].test)
+			continue;
+		sum->count++;
 		sum->failed += r[i].verdict == PSD_ACCEPT_FAIL;
 		sum->tested += r[i].verdict != PSD_ACCEPT_NOT_TESTED;
 	}
@@ -369,7 +462,7 @@ void psd_accept_summarize(const struct psd_accept_result r[PSD_ACCEPT_NTESTS], s
 
 const char *psd_accept_overall(const struct psd_accept_summary *sum)
 {
-	return sum->failed ? "NOT ACCEPTED" : sum->tested == PSD_ACCEPT_NTESTS ? "ACCEPTED" : "INCOMPLETE";
+	return sum->failed ? "NOT ACCEPTED" : sum->tested == sum->count ? "ACCEPTED" : "INCOMPLETE";
 }
 
 int psd_accept_verification(struct psd_db *db, const char *zone, struct psd_accept_result *r, char *err,
@@ -383,6 +476,7 @@ int psd_accept_verification(struct psd_db *db, const char *zone, struct psd_acce
 		         zone);
 		return -1;
 	}
+	psd_db_zone_occupancy_get(db, zone, &p.vacancy_hold, &p.vacant_level);
 	if (psd_accept_run(db, zone, &p, out, err, errlen) != 0)
 		return -1;
 	*r = out[0];
@@ -402,11 +496,13 @@ int psd_accept_zone(struct psd_db *db, const char *zone, struct psd_accept_param
 		         found != 0 ? " (psensd records a zone's design constants when it starts)" : "");
 		return -1;
 	}
+	if (!isfinite(p->vacancy_hold))   /* a caller's own constants stand */
+		psd_db_zone_occupancy_get(db, zone, &p->vacancy_hold, &p->vacant_level);
 	if (psd_accept_run(db, zone, p, out, err, errlen) != 0)
 		return -1;
 	psd_accept_summarize(out, sum);
 	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++)
-		if (psd_db_accept_add(db, zone, utc, out[i].test, psd_accept_verdict_names[out[i].verdict + 1],
+		if (out[i].test && psd_db_accept_add(db, zone, utc, out[i].test, psd_accept_verdict_names[out[i].verdict + 1],
 		                      out[i].value, out[i].limit, out[i].samples, out[i].measured, err, errlen) != 0) {
 			sum->unstored = 1;
 			return -1;

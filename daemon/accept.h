@@ -18,6 +18,16 @@
  *   cycling        swings of the output (changes of more than swing of full
  *                  output, each against the last one's direction) never
  *                  closer together than the configured delay.
+ *   occupancy      only in a zone whose log has occupancy (schema 7) and
+ *                  whose occupancy constants are on record, the occupancy
+ *                  sensor's functional test (Title 24 NA7.6.2; ASHRAE 90.1
+ *                  9.4.1.1): in every vacancy that outlasted the hold, the
+ *                  first sample at or after the vacancy plus the hold is at
+ *                  the vacant level (the lights reach it within the hold and
+ *                  one period); with a vacant level of 0 the lights are on
+ *                  (output above 0) at every arrival; and the hold is at
+ *                  most the codes' 20 minutes (1200 s).  A vacancy with a
+ *                  fault or a session in it is not judged.
  *
  * Daylight at the task is what the meter measures less the electric light:
  * task_lux - elec_task_lux x output, at the output of the step before (the
@@ -28,7 +38,10 @@
  * the control's: readings and estimate then belong to different levels)
  * no sample counts for any test: the session judges the sensor, these tests
  * the control; cycling starts again after it.  The verification says how
- * many samples it left out so.  The commissioning record shows this same
+ * many samples it left out so.  Samples the occupancy input said vacant
+ * (schema 7) count for none of the first four tests either: the lights
+ * are the vacancy's, not the daylight control's; the verification says
+ * how many.  The commissioning record shows this same
  * verification (psd_accept_verification).  A test with no sample in its
  * range is NOT TESTED, never a pass.  Each result says what it measured. */
 #ifndef PSD_ACCEPT_H
@@ -38,7 +51,11 @@
 
 struct psd_db;
 
-enum { PSD_ACCEPT_NTESTS = 4 };
+/* the most tests a zone gets: the occupancy test only where it applies (a
+ * result's test is NULL where it does not) */
+enum { PSD_ACCEPT_NTESTS = 5 };
+/* codes' longest hold of an occupancy sensor, s (20 min) */
+#define PSD_ACCEPT_HOLD_MAX_S 1200.0
 /* s after a calibration session ended that no test judges (the lamps fade
  * from the session's level to the control's); psensd's summary leaves the
  * same span out */
@@ -54,10 +71,13 @@ struct psd_accept_params {
 	long min_samples;         /* verification: at least this many (30) */
 	double swing;             /* cycling: a change this large (fraction of full output, 0.05) */
 	double settle_s;          /* s after a calibration session not judged (60) */
+	double vacancy_hold;      /* occupancy: the zone's hold, s (NAN: no occupancy on record) */
+	double vacant_level;      /* occupancy: the zone's vacant level */
 };
 
 struct psd_accept_result {
-	const char *test;         /* "verification", "full daylight", "low daylight", "cycling" */
+	const char *test;         /* "verification", "full daylight", "low daylight", "cycling",
+	                             "occupancy"; NULL: the test does not apply to the zone */
 	int verdict;              /* enum psd_accept_verdict */
 	double value, limit;      /* the measured figure and its limit */
 	long samples;             /* samples judged */
@@ -81,6 +101,7 @@ int psd_accept_verification(struct psd_db *db, const char *zone, struct psd_acce
 
 /* The outcome of a whole run. */
 struct psd_accept_summary {
+	int count;                /* the tests that apply to the zone (4, or 5 with occupancy) */
 	int tested, failed;       /* tests run (not NOT TESTED), and failed */
 	int unstored;             /* the results are in out but could not be stored */
 };

@@ -388,7 +388,12 @@ static void load_zones(struct psd_config *cf)
 		ps_conf_double(c, s, "verify_tolerance", 0, 0, 1, &z->verify_tolerance);
 		ps_conf_bool(c, s, "readback", 0, &z->readback);
 		ps_conf_double(c, s, "override_time", 3600, 1, 86400 * 7, &z->override_s);
-		ps_conf_double(c, s, "vacancy_delay", 900, 0, 86400, &z->vacancy_s);
+		/* occupancy (daemon/occupancy.h): vacancy_delay is the same key */
+		if (ps_conf_kv(s, "vacancy_hold") && ps_conf_kv(s, "vacancy_delay"))
+			ps_conf_error(c, line_of(s, "vacancy_delay"), "vacancy_delay: the same as vacancy_hold: give one");
+		ps_conf_double(c, s, ps_conf_kv(s, "vacancy_delay") ? "vacancy_delay" : "vacancy_hold", 900, 0, 86400,
+		               &z->vacancy_s);
+		ps_conf_double(c, s, "vacant_level", 0, 0, 1, &z->vacant_level);
 		ps_conf_double(c, s, "cal_window", 4 * z->period, 0.001, 86400, &z->cal_window);
 		ps_conf_double(c, s, "cal_timeout", 60 * z->period, 0.001, 86400 * 7, &z->cal_timeout);
 		ps_conf_double(c, s, "cal_floor", 0.001, 0, 10, &z->cal_floor);

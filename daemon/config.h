@@ -70,7 +70,8 @@ struct psd_zone_conf {
 	                             than this one period after a command is a fault; 0: off */
 	int readback;             /* read the first dim point's actual output before each step */
 	double override_s;        /* a button's override lasts this long */
-	double vacancy_s;         /* occupancy: lights off after this long vacant */
+	double vacancy_s;         /* occupancy: vacant this long, the vacant level (vacancy_hold) */
+	double vacant_level;      /* occupancy: the light output then (0: off) */
 	/* calibration sessions and drift (psensd.conf(5)) */
 	double cal_window;        /* settling window, s */
 	double cal_timeout;       /* longest wait at one night level, s */

@@ -24,13 +24,13 @@
 #include "time.h"
 
 static const char help_text[] =
-	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | release ZONE | "
+	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | off ZONE | release ZONE | "
 	"ratios [ZONE] | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort | "
 	"accept-test ZONE [--since YYYY-MM-DD] [--samples N] | "
 	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
 
 /* The request words psensd answers (the first word of each help_text entry). */
-static const char *const request_words[] = { "ping", "status", "target", "override", "release", "ratios", "log",
+static const char *const request_words[] = { "ping", "status", "target", "override", "off", "release", "ratios", "log",
 	                                     "reload", "help", "calibrate", "accept-test", "dali", NULL };
 
 int psd_ctlcmd_is_request(const char *word)
@@ -143,8 +143,18 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	} else {
 		json_object_object_add(o, "override", NULL);
 	}
-	if (z->occupancy >= 0)
-		json_object_object_add(o, "occupied", json_object_new_boolean(z->occupancy));
+	if (psd_engine_zone_occupied(z) >= 0) {
+		/* the occupancy's state machine (daemon/occupancy.h) */
+		json_object *oc = json_object_new_object();
+		json_object_object_add(o, "occupied", json_object_new_boolean(psd_engine_zone_occupied(z)));
+		psd_json_str(oc, "input", z->occ.input < 0 ? NULL : z->occ.input ? "occupied" : "vacant");
+		psd_json_str(oc, "fault", z->occ.fault ? z->occ_why : NULL);
+		psd_json_num(oc, "vacant_s", z->occupancy ? NAN : now - z->occ.vacant_since);
+		json_object_object_add(oc, "at_vacant_level", json_object_new_boolean(psd_occupancy_vacant(&z->occ, now)));
+		psd_json_num(oc, "hold_s", z->occ.hold);
+		psd_json_num(oc, "vacant_level", z->occ.vacant_level);
+		json_object_object_add(o, "occupancy", oc);
+	}
 	json_object_object_add(o, "steps", json_object_new_int64((int64_t)z->steps));
 	json_object_object_add(o, "fault_steps", json_object_new_int64((int64_t)z->fault_steps));
 	if (z->zc->task >= 0) {
@@ -576,7 +586,7 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	}
 	psd_engine_stamp(e, psd_clock_now(&d->clock), stamp, sizeof stamp);
 	psd_log_info("zone %s: %s: acceptance tests: %s (%d of %d run, %d failed)", argv[1], stamp,
-	         psd_accept_overall(&sum), sum.tested, PSD_ACCEPT_NTESTS, sum.failed);
+	         psd_accept_overall(&sum), sum.tested, sum.count, sum.failed);
 	o = ok_reply();
 	a = json_object_new_object();
 	psd_json_str(a, "zone", argv[1]);
@@ -585,7 +595,10 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	psd_json_num(a, "delay", p.delay);
 	tests = json_object_new_array();
 	for (int i = 0; i < PSD_ACCEPT_NTESTS; i++) {
-		json_object *t = json_object_new_object();
+		json_object *t;
+		if (!r[i].test)
+			continue;   /* not the zone's */
+		t = json_object_new_object();
 		psd_json_str(t, "test", r[i].test);
 		psd_json_str(t, "verdict", psd_accept_verdict_names[r[i].verdict + 1]);
 		psd_json_num(t, "value", r[i].value);
@@ -658,6 +671,13 @@ void psd_ctlcmd_request(struct psd_daemon *d, char *line, char *reply, size_t le
 			error_reply(reply, len, "%s", err);
 		else
 			finish(ok_reply(), reply, len);
+	} else if (strcmp(argv[0], "off") == 0) {
+		if (argc != 2) {
+			error_reply(reply, len, "usage: off ZONE");
+		} else if ((z = zone_arg(d, argv[1], reply, len))) {
+			psd_engine_off(z);
+			finish(ok_reply(), reply, len);
+		}
 	} else if (strcmp(argv[0], "release") == 0) {
 		if (argc != 2) {
 			error_reply(reply, len, "usage: release ZONE");

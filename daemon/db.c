@@ -85,17 +85,29 @@ static const char *const steps[PSD_DB_SCHEMA] = {
 	"CREATE TABLE IF NOT EXISTS acceptance_tests(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, local TEXT,"
 	" test TEXT NOT NULL, verdict TEXT NOT NULL, value REAL, limit_value REAL, samples INTEGER, measured TEXT,"
 	" utc REAL);",
+	/* 6 -> 7: occupancy (daemon/occupancy.h), NULL in a zone with no
+	 * occupancy input, and a simulated room's true task illuminance, NULL
+	 * in a real room; both NULL in the rows logged before; the zones'
+	 * occupancy constants for the acceptance test */
+	"ALTER TABLE samples ADD COLUMN occupied INTEGER;"
+	"ALTER TABLE samples ADD COLUMN true_task_lux REAL;"
+	"ALTER TABLE zone_consts ADD COLUMN vacancy_hold REAL;"
+	"ALTER TABLE zone_consts ADD COLUMN vacant_level REAL;",
 };
 
 static const char sample_columns[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                     " daylight_lux, condition, ratio, fault, zone, utc, local";
+                                     " daylight_lux, condition, ratio, fault, zone, utc, local, occupied,"
+                                     " true_task_lux";
 /* What the readers select: a file opened read-only is not migrated; one
- * from schema 4 has utc but no local text, one from before has neither
- * (NULL then). */
+ * from schema 5 or 6 has no occupancy nor truth, one from schema 4 has utc
+ * but no local text either, one from before has neither (NULL then). */
+static const char sample_columns_v6[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
+                                        " daylight_lux, condition, ratio, fault, zone, utc, local, NULL, NULL";
 static const char sample_columns_v4[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                        " daylight_lux, condition, ratio, fault, zone, utc, NULL";
+                                        " daylight_lux, condition, ratio, fault, zone, utc, NULL, NULL, NULL";
 static const char sample_columns_v3[] = "t, tod_s, sensor_v, output, est_task_lux, task_lux, daylight_v,"
-                                        " daylight_lux, condition, ratio, fault, zone, NULL, NULL";
+                                        " daylight_lux, condition, ratio, fault, zone, NULL, NULL, NULL, NULL";
+enum { SAMPLE_NCOLUMNS = 16 };
 
 static int has_column(struct psd_db *db, const char *table, const char *column);
 static const char *col_text(sqlite3_stmt *st, int i);
@@ -109,8 +121,10 @@ static int has_utc(struct psd_db *db)
 /* The columns a reader selects, by the file's schema. */
 static const char *read_columns(struct psd_db *db)
 {
-	if (has_column(db, "samples", "local"))
+	if (has_column(db, "samples", "true_task_lux"))
 		return sample_columns;
+	if (has_column(db, "samples", "local"))
+		return sample_columns_v6;
 	return has_utc(db) ? sample_columns_v4 : sample_columns_v3;
 }
 
@@ -423,7 +437,7 @@ struct psd_db *psd_db_open(const char *path, char *err, size_t errlen)
 		fail(db->h, path, err, errlen);
 		goto bad;
 	}
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
 		goto bad;
@@ -440,7 +454,7 @@ struct psd_db *psd_db_open_peer(const char *path, char *err, size_t errlen)
 	char sql[256];
 	if (!db)
 		return NULL;
-	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
+	snprintf(sql, sizeof sql, "INSERT INTO samples(%s) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", sample_columns);
 	if (sqlite3_exec(db->h, "PRAGMA synchronous=NORMAL", NULL, NULL, NULL) != SQLITE_OK ||
 	    sqlite3_prepare_v2(db->h, sql, -1, &db->ins, NULL) != SQLITE_OK) {
 		fail(db->h, path, err, errlen);
@@ -636,8 +650,35 @@ int psd_db_event(struct psd_db *db, double t, const char *zone, const char *kind
 int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lux, double elec_task_lux,
                            double delay, char *err, size_t errlen)
 {
-	return run(db, "INSERT OR REPLACE INTO zone_consts VALUES(?, ?, ?, ?, ?)", err, errlen, "tdddd", zone,
-	           floor(psd_time_wall()), target_lux, elec_task_lux, delay);
+	return run(db, "INSERT OR REPLACE INTO zone_consts(zone, utc, target_lux, elec_task_lux, delay)"
+	           " VALUES(?, ?, ?, ?, ?)", err, errlen, "tdddd", zone, floor(psd_time_wall()), target_lux,
+	           elec_task_lux, delay);
+}
+
+int psd_db_zone_occupancy_set(struct psd_db *db, const char *zone, double hold, double vacant_level, char *err,
+                              size_t errlen)
+{
+	return run(db, "UPDATE zone_consts SET vacancy_hold = ?, vacant_level = ? WHERE zone = ?", err, errlen, "ddt",
+	           hold, vacant_level, zone);
+}
+
+int psd_db_zone_occupancy_get(struct psd_db *db, const char *zone, double *hold, double *vacant_level)
+{
+	char err[256];
+	sqlite3_stmt *st;
+	int rc;
+	if (!has_column(db, "zone_consts", "vacancy_hold"))
+		return 1;   /* a file from before schema 7, opened to read */
+	if (!(st = query(db, err, sizeof err, "SELECT vacancy_hold, vacant_level FROM zone_consts WHERE zone = ?"
+	                 " AND vacancy_hold IS NOT NULL", "t", zone)))
+		return -1;
+	rc = sqlite3_step(st);
+	if (rc == SQLITE_ROW) {
+		*hold = col_num(st, 0);
+		*vacant_level = col_num(st, 1);
+	}
+	sqlite3_finalize(st);
+	return rc == SQLITE_ROW ? 0 : rc == SQLITE_DONE ? 1 : -1;
 }
 
 int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
@@ -717,6 +758,11 @@ int psd_db_insert(struct psd_db *db, const struct psd_sample *s, char *err, size
 	local_time(u, local, sizeof local);
 	bind_num(db->ins, 13, u);   /* the clock's time (engine.c: its day + t) */
 	bind_text(db->ins, 14, or_null(local));
+	if (s->occupied >= 0)
+		sqlite3_bind_int(db->ins, 15, s->occupied != 0);
+	else
+		sqlite3_bind_null(db->ins, 15);
+	bind_num(db->ins, 16, s->true_task_lux);
 	rc = sqlite3_step(db->ins);
 	sqlite3_reset(db->ins);
 	return rc == SQLITE_DONE ? 0 : fail(db->h, "insert", err, errlen);
@@ -798,6 +844,7 @@ static void row_sample(sqlite3_stmt *st, struct psd_sample *s)
 		col_num(st, 0), col_num(st, 1), col_num(st, 2), col_num(st, 3), col_num(st, 4), col_num(st, 5),
 		col_num(st, 6), col_num(st, 7), col_text(st, 8), col_num(st, 9), col_text(st, 10), col_text(st, 11),
 		col_num(st, 12), col_text(st, 13),
+		sqlite3_column_type(st, 14) == SQLITE_NULL ? -1 : sqlite3_column_int(st, 14), col_num(st, 15),
 	};
 }
 
@@ -1151,7 +1198,7 @@ int psd_db_samples_after(struct psd_db *db, long long after, int limit, psd_db_s
 	while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
 		struct psd_sample s;
 		row_sample(st, &s);
-		fn(user, sqlite3_column_int64(st, 14), s.utc, &s);
+		fn(user, sqlite3_column_int64(st, SAMPLE_NCOLUMNS), s.utc, &s);
 		n++;
 	}
 	sqlite3_finalize(st);

@@ -15,6 +15,8 @@
  *   mqtt_cursor   per MQTT site, the last sample id the broker acknowledged
  *   mqtt_announced  per MQTT site, the zones announced to Home Assistant
  *   zone_consts, acceptance_tests  (schema 6) psensctl accept-test
+ *   samples.occupied, samples.true_task_lux  (schema 7) occupancy, the
+ *                 simulated room's truth
  *
  * Each sample row has utc (schema 4): the time its clock showed (the
  * clock's day + t), or the wall-clock time it was logged when no clock
@@ -28,7 +30,7 @@
 #include <stddef.h>
 
 /* The schema version this build writes. */
-enum { PSD_DB_SCHEMA = 6 };
+enum { PSD_DB_SCHEMA = 7 };
 /* PRAGMA application_id of a psensd file ("PSND"): a file with another
  * non-zero id is another application's and is never written. */
 enum { PSD_DB_APP_ID = 0x50534E44 };
@@ -55,6 +57,11 @@ struct psd_sample {
 	 * database was given (psd_db_set_epoch) + t, else the wall clock. */
 	double utc;
 	const char *local;
+	/* schema 7: the zone's occupancy (1 occupied, 0 vacant, -1 no
+	 * occupancy input: NULL) and a simulated room's true task lux (NAN
+	 * in a real room: NULL); -1 and NAN in a row logged before */
+	int occupied;
+	double true_task_lux;
 };
 
 struct psd_db;
@@ -109,6 +116,13 @@ int psd_db_zone_consts_set(struct psd_db *db, const char *zone, double target_lu
 /* 0 found, 1 none, -1 error. */
 int psd_db_zone_consts_get(struct psd_db *db, const char *zone, double *target_lux, double *elec_task_lux,
                            double *delay);
+/* A zone's occupancy constants (schema 7: vacancy_hold s and vacant_level,
+ * after psd_db_zone_consts_set, which clears them; the occupancy
+ * acceptance test judges against them).  get: 0 found, 1 none (no
+ * occupancy input, or a file from before), -1 error. */
+int psd_db_zone_occupancy_set(struct psd_db *db, const char *zone, double hold, double vacant_level, char *err,
+                              size_t errlen);
+int psd_db_zone_occupancy_get(struct psd_db *db, const char *zone, double *hold, double *vacant_level);
 /* One acceptance test's result, dated now (UTC). */
 int psd_db_accept_add(struct psd_db *db, const char *zone, double utc, const char *test, const char *verdict,
                       double value, double limit, long samples, const char *measured, char *err, size_t errlen);

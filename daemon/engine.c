@@ -172,10 +172,13 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 	z->override_level = NAN;
 	z->override_until = -INFINITY;
 	z->occupancy = -1;
-	for (int i = 0; i < zc->ninput; i++)
+	for (int i = 0; i < zc->ninput; i++) {
 		if (e->cf->pt[zc->input[i]].action == PSD_ACT_OCCUPANCY)
 			z->occupancy = 1;   /* occupied until an input says otherwise */
-	z->vacant_since = now;
+		z->occ_in[i] = -1;
+		z->occ_ok[i] = now;
+	}
+	psd_occupancy_init(&z->occ, zc->vacancy_s, zc->vacant_level, now);
 	z->verify_at = INFINITY;
 	if (sd->drv->truth) {
 		struct ps_truth t;
@@ -195,6 +198,16 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 			z->ctl.level = z->level = o->level;
 			z->override_level = o->override_level;
 			z->override_until = o->override_until;
+			if (z->occupancy >= 0 && o->occupancy >= 0) {   /* the room is as it was */
+				z->occ = o->occ;
+				z->occ.hold = zc->vacancy_s;
+				z->occ.vacant_level = zc->vacant_level;
+				z->occupancy = o->occupancy;
+				if (zc->ninput == o->zc->ninput) {   /* the inputs' last reports */
+					memcpy(z->occ_in, o->occ_in, sizeof z->occ_in);
+					memcpy(z->occ_ok, o->occ_ok, sizeof z->occ_ok);
+				}
+			}
 			z->next = o->next;
 			if (z->ctl.target_lux == o->zc->ctl.target_lux)
 				z->ctl.target_lux = o->ctl.target_lux;   /* a target set at run time survives */
@@ -216,8 +229,10 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 static void record_consts(struct psd_engine *e, const struct psd_zone *z)
 {
 	char err[512];
-	if (e->db && psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux, z->ctl.delay,
-	                                    err, sizeof err) != 0) {
+	if (e->db && (psd_db_zone_consts_set(e->db, z->zc->name, z->ctl.target_lux, z->ctl.elec_task_lux,
+	                                     z->ctl.delay, err, sizeof err) != 0 ||
+	              (z->occupancy >= 0 && psd_db_zone_occupancy_set(e->db, z->zc->name, z->occ.hold,
+	                                                               z->occ.vacant_level, err, sizeof err) != 0))) {
 		e->log_errors++;   /* rare (a start, an accepted session): each said */
 		psd_log_warnx("%s: %s", e->cf->database, err);
 	}
@@ -469,9 +484,12 @@ static void stop_io(struct psd_engine *e)
 static int prefetch(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
-	int pts[2 + PSD_MAX_ZONE_OUT], n = 0, pending = 0;
+	int pts[2 + 2 * PSD_MAX_ZONE_OUT], n = 0, pending = 0;
 	if (zc->task >= 0)
 		pts[n++] = zc->task;
+	for (int i = 0; i < zc->ninput; i++)
+		if (e->cf->pt[zc->input[i]].action == PSD_ACT_OCCUPANCY)
+			pts[n++] = zc->input[i];
 	pts[n++] = zc->sensor;
 	if (zc->verify_tolerance > 0 && now >= z->verify_at)
 		for (int i = 0; i < zc->ndim; i++)
@@ -603,6 +621,14 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 		         e->full_scale[zc->sensor], e->dev[pc->device].drv->name);
 		return -1;
 	}
+	/* below the range with the lights commanded off (a vacancy, a manual
+	 * off): a dark room, not an open circuit, which shows when they are
+	 * next on; off at a safe level of 0, the fault stands */
+	if (v < pc->min && z->level <= 0 && !z->in_fault && isfinite(v)) {
+		z->last_ok = now;
+		z->same_since = now;
+		return 0;
+	}
 	if (!(v >= pc->min && v <= pc->max)) {
 		snprintf(why, n, "sensor reads %.3f V, outside %g to %g V", v, pc->min, pc->max);
 		return -1;
@@ -696,6 +722,7 @@ static void log_sample(struct psd_engine *e, struct psd_zone *z, double now)
 		fault ? NAN : dl,
 		ratio_name(e, z), z->ctl.daylight_ratio, fault ? z->why : NULL,
 		z->zc->name, e->utc0 + now, NULL,   /* utc: the clock's; local from it (db.c) */
+		z->occupancy, z->last.true_task_lux,
 	};
 	if (!e->log)
 		return;
@@ -740,6 +767,12 @@ static void truth(struct psd_engine *e, struct psd_zone *z, double now)
 	}
 	if (now <= s->cal_until) {
 		s->cal_steps++;
+		return;
+	}
+	/* a zone with occupancy is judged while occupied: an empty room's
+	 * light is nobody's (its periods counted apart) */
+	if (z->occupancy == 0) {
+		s->vacant_steps++;
 		return;
 	}
 	if (!z->in_fault && !isnan(z->ctl.est_task_lux) && psd_engine_truth(z, now, &tr) == 0) {
@@ -803,13 +836,109 @@ static void snapshot(struct psd_zone *z, double now, double level_in, int estima
 	s->task_lux = z->task_lux;
 	s->true_task_lux = psd_engine_truth(z, now, &tr) == 0 ? tr.task_lux : NAN;
 	s->commanded = z->level;
+	s->occupied = z->occupancy;
+}
+
+/* The zone's occupancy inputs together: occupied when any reports occupied
+ * or has not reported yet, vacant when every one reports vacant. */
+static int occ_inputs(const struct psd_engine *e, const struct psd_zone *z)
+{
+	const struct psd_zone_conf *zc = z->zc;
+	for (int i = 0; i < zc->ninput; i++)
+		if (e->cf->pt[zc->input[i]].action == PSD_ACT_OCCUPANCY && z->occ_in[i] != 0)
+			return 1;
+	return 0;
+}
+
+/* The inputs' state to the state machine: a change is logged and acted on
+ * at once; an arrival ends a manual off. */
+static void occ_update(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	int first = z->occ.input < 0, ch = psd_occupancy_report(&z->occ, now, occ_inputs(e, z));
+	if (ch != 0 || (first && z->occ.input >= 0)) {
+		char t[24];
+		psd_engine_stamp(e, now, t, sizeof t);
+		psd_log_info("zone %s: %s %s", z->zc->name, t, z->occ.input ? "occupied" : "vacant");
+		z->asap = 1;   /* act on it now, off the schedule */
+	}
+	if (now < z->override_until && psd_occupancy_ends_override(&z->occ, ch, z->override_level)) {
+		z->override_until = -INFINITY;
+		psd_log_info("zone %s: the manual off ends: occupied again", z->zc->name);
+	}
+	z->occupancy = psd_occupancy_occupied(&z->occ);
+}
+
+/* Each step reads the occupancy inputs too (events can be missed): a read
+ * that fails as a fault at once, or fails for stale_after, is the input's
+ * fault; the zone then counts as occupied (the daylight control runs),
+ * logged and in the events, until the input reads again. */
+static void occ_poll(struct psd_engine *e, struct psd_zone *z, double now)
+{
+	const struct psd_zone_conf *zc = z->zc;
+	char why[256] = "", t[24];
+	int bad = 0;
+	if (z->occupancy < 0)
+		return;
+	for (int i = 0; i < zc->ninput; i++) {
+		int p = zc->input[i], rc;
+		double v = NAN;
+		if (e->cf->pt[p].action != PSD_ACT_OCCUPANCY)
+			continue;
+		rc = pt_read(e, p, now, &v);
+		if (rc == 0 && isfinite(v)) {
+			z->occ_in[i] = v > 0.5;
+			z->occ_ok[i] = now;
+			continue;
+		}
+		if (rc == 0)
+			snprintf(e->ioerr, sizeof e->ioerr, "reads %g", v);
+		if ((rc == 0 || ps_dev_fault_at_once(errno) || now - z->occ_ok[i] >= zc->stale_after) && !bad++)
+			snprintf(why, sizeof why, "occupancy input %s: %.200s", e->pt[p].name, e->ioerr);
+	}
+	if (psd_occupancy_fault(&z->occ, now, bad > 0)) {
+		psd_engine_stamp(e, now, t, sizeof t);
+		if (bad) {
+			psd_log_warnx("zone %s: %s fault: %s: taken as occupied (the daylight control runs)", zc->name, t,
+			              why);
+			snprintf(z->occ_why, sizeof z->occ_why, "%s", why);
+			event(e, now, zc->name, "fault", why);
+		} else {
+			psd_log_info("zone %s: %s fault cleared: %s", zc->name, t, z->occ_why);
+			event(e, now, zc->name, "fault cleared", z->occ_why);
+			z->occ_why[0] = 0;
+		}
+	}
+	occ_update(e, z, now);
+}
+
+/* What rules the lights after the control (or a session) gave level: an
+ * override, the occupancy, or the control itself. */
+static double decide(struct psd_zone *z, double now, double level)
+{
+	int drop, on = now < z->override_until;
+	if (psd_calsession_running(&z->cal))
+		return level;
+	if (z->occupancy < 0)
+		return on ? z->override_level : level;
+	switch (psd_occupancy_rule(&z->occ, now, on, z->override_level, &drop)) {
+	case PSD_OCC_OVERRIDE:
+		return z->override_level;
+	case PSD_OCC_VACANT:
+		if (drop) {
+			z->override_until = -INFINITY;
+			psd_log_info("zone %s: override ends: vacant for %.0f s", z->zc->name, z->occ.hold);
+		}
+		return z->occ.vacant_level;
+	default:
+		return level;
+	}
 }
 
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
 	char why[256], t[24];
-	double level, t0, level_in = z->level;
+	double level, t0, level_in = z->level, law = NAN;   /* law: the daylight control's own level */
 	int rc, estimated = 0;   /* the control estimated the task lux from this reading */
 	if (prefetch(e, z, now))
 		return;   /* woken when the I/O threads answer */
@@ -820,6 +949,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	} else {
 		z->task_lux = NAN;
 	}
+	occ_poll(e, z, now);
 	rc = read_sensor(e, z, now, why, sizeof why);
 	t0 = psd_time_mono();
 	if (rc == 0)
@@ -854,15 +984,11 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			dated_ratio(e, z, now);
 			estimated = 1;
 			level = psd_control_step(&z->ctl, z->volts, now);
+			law = level;
 		}
 		else
 			level = z->level;   /* a missed reading: hold until it is stale */
-		if (psd_calsession_running(&z->cal))
-			;
-		else if (now < z->override_until)
-			level = z->override_level;
-		else if (z->occupancy == 0 && now - z->vacant_since >= zc->vacancy_s)
-			level = 0;
+		level = decide(z, now, level);
 		z->ctl.level = level;   /* what the lights are told, whoever decided it */
 		if (level != z->level)
 			z->verify_at = now + zc->period * 0.999;
@@ -886,6 +1012,8 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			}
 		}
 	}
+	if (z->occupancy >= 0)
+		psd_occupancy_account(&z->occ, now, law, z->level);
 	snapshot(z, now, level_in, estimated);
 	log_sample(e, z, now);
 	truth(e, z, now);
@@ -1030,14 +1158,9 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 				continue;
 			switch (e->cf->pt[p].action) {
 			case PSD_ACT_OCCUPANCY:
-				if (value > 0.5)
-					z->occupancy = 1;
-				else if (z->occupancy != 0) {
-					z->occupancy = 0;
-					z->vacant_since = now;
-				}
-				psd_log_info("zone %s: %s", z->zc->name, value > 0.5 ? "occupied" : "vacant");
-				z->asap = 1;   /* act on it now, off the schedule */
+				z->occ_in[k] = value > 0.5;
+				z->occ_ok[k] = now;
+				occ_update(e, z, now);
 				break;
 			case PSD_ACT_OVERRIDE:
 				if (value < 0.5)
@@ -1091,6 +1214,20 @@ int psd_engine_override(struct psd_zone *z, double level, double seconds, double
 	z->asap = 1;   /* at once, not at the next period */
 	psd_log_info("zone %s: override %.0f %% for %g s", z->zc->name, 100 * level, seconds);
 	return 0;
+}
+
+void psd_engine_off(struct psd_zone *z)
+{
+	z->override_level = 0;
+	z->override_until = INFINITY;
+	z->asap = 1;
+	psd_log_info("zone %s: off until release%s", z->zc->name,
+	             z->occupancy >= 0 ? " or the next arrival after a vacancy" : "");
+}
+
+int psd_engine_zone_occupied(const struct psd_zone *z)
+{
+	return z->occupancy;
 }
 
 void psd_engine_release(struct psd_zone *z)

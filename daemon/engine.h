@@ -17,6 +17,7 @@
 #include "dbwriter.h"
 #include "devio.h"
 #include "driver.h"
+#include "occupancy.h"
 #include "results.h"
 
 /* What a simulated zone's truth says about the control, for the summary. */
@@ -31,6 +32,8 @@ struct psd_zone_stats {
 	 * settling after each (PSD_ACCEPT_SETTLE_S) are counted here, not in
 	 * below nor the estimate's errors; the first PSD_STATS_MAX_CAL spans */
 	double cal_steps, cal_until;
+	double vacant_steps;      /* periods a zone's occupancy input said vacant:
+	                             not counted in below nor the estimate's errors */
 	double cal_from[8], cal_to[8];
 	int ncal, in_cal;
 };
@@ -49,6 +52,7 @@ struct psd_zone_sample {
 	double est_task_lux;      /* estimated from this reading (NAN in a fault) */
 	double task_lux;          /* the task meter at this step (NAN: none) */
 	double true_task_lux;     /* the simulated room's truth at t (NAN: a real room) */
+	int occupied;             /* the occupancy at t: -1 no input, 0 vacant, 1 occupied */
 	double commanded;         /* the level this step commanded */
 	int fault;                /* the step ended in a fault */
 };
@@ -70,8 +74,15 @@ struct psd_zone {
 	double volts, task_lux;   /* last readings (NAN if none) */
 	double level;             /* last commanded output */
 	double override_level, override_until;   /* override: level until a time */
-	int occupancy;            /* -1 no occupancy input, 0 vacant, 1 occupied */
-	double vacant_since;
+	/* occupancy (daemon/occupancy.h): the zone's state machine, each input's
+	 * last report (-1 none yet), its last good read and its fault */
+	int occupancy;            /* -1 no occupancy input, 0 vacant, 1 occupied (a
+	                             fault counted occupied): psd_engine_zone_occupied */
+	struct psd_occupancy occ;
+	int occ_in[PSD_MAX_ZONE_OUT];
+	double occ_ok[PSD_MAX_ZONE_OUT];
+	int occ_bad[PSD_MAX_ZONE_OUT];
+	char occ_why[256];        /* the input's fault, when occ.fault */
 	double verify_at;         /* when the dim points should show `level` */
 	unsigned long steps, fault_steps;
 	struct ps_dev *sim;       /* the sensor's device when it is simulated (has a truth hook) */
@@ -165,9 +176,16 @@ int psd_engine_truth(const struct psd_zone *z, double now, struct ps_truth *t);
  * once; the actions below take the zone). */
 struct psd_zone *psd_engine_zone(struct psd_engine *e, const char *name);
 
+/* The zone's occupancy now: -1 it has no occupancy input, 0 vacant, 1
+ * occupied (an input in a fault counts as occupied: daemon/occupancy.h). */
+int psd_engine_zone_occupied(const struct psd_zone *z);
+
 /* Control-socket actions; -1 with a message in err. */
 int psd_engine_set_target(struct psd_zone *z, double lux, char *err, size_t n);
 int psd_engine_override(struct psd_zone *z, double level, double seconds, double now, char *err, size_t n);
+/* A manual off: the lights off until release, or in a zone with an
+ * occupancy input until the next change from vacant to occupied. */
+void psd_engine_off(struct psd_zone *z);
 void psd_engine_release(struct psd_zone *z);
 
 /* Calibration sessions (daemon/calsession.h) on a zone.  Each -1 with a

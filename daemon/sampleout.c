@@ -67,9 +67,12 @@ void psd_sampleout_time_iso(double utc, char out[32])
 
 /* each number's unit in its name (output a fraction, as logged: psensctl
  * log prints it in %); the clock's own seconds are not repeated beside
- * utc_s and tod_s */
+ * utc_s and tod_s; task_lux is a task meter's (measured), the simulated
+ * room's true task illuminance its own column (empty in a real room), and
+ * occupied 1 or 0 (empty: the zone has no occupancy input) */
 static const char csv_header[] = "zone,time_local,utc_s,tod_s,sensor_v,output_fraction,est_task_lux,task_lux,"
-                                 "daylight_v,daylight_lux,condition,ratio_lux_per_unit,fault";
+                                 "daylight_v,daylight_lux,condition,ratio_lux_per_unit,fault,occupied,"
+                                 "simulated_true_task_lux";
 
 void psd_sampleout_begin(struct psd_sampleout *o, FILE *fp, int format)
 {
@@ -91,8 +94,8 @@ static void head(struct psd_sampleout *o)
 	else if (o->format == PSD_OUT_JSON)
 		fputs("[", o->fp);
 	else
-		fprintf(o->fp, "%-19s %-10s %7s %9s %9s %9s  %s\n", "time", "zone", "output", "sensor_v", "est_lux",
-		        "task_lux", "fault");
+		fprintf(o->fp, "%-19s %-10s %7s %9s %9s %9s %9s %4s  %s\n", "time", "zone", "output", "sensor_v",
+		        "est_lux", "task_lux", "true_lux", "occ", "fault");
 }
 
 static const char *cell(char *buf, size_t n, int prec, double v)
@@ -107,7 +110,7 @@ static const char *cell(char *buf, size_t n, int prec, double v)
 void psd_sampleout_row(void *user, const struct psd_sample *s)
 {
 	struct psd_sampleout *o = user;
-	char iso[32], a[32], b[32], c[32], d[32];
+	char iso[32], a[32], b[32], c[32], d[32], e[32];
 	const double num[] = { s->utc, s->tod_s, s->sensor_v, s->output, s->est_task_lux, s->task_lux,
 	                       s->daylight_v, s->daylight_lux };
 	psd_sampleout_time_iso(s->utc, iso);
@@ -124,6 +127,8 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 		psd_csv_num(o->fp, s->ratio);
 		fputc(',', o->fp);
 		psd_csv_text(o->fp, s->fault);
+		fputs(s->occupied < 0 ? ",," : s->occupied ? ",1," : ",0,", o->fp);
+		psd_csv_num(o->fp, s->true_task_lux);
 		fputc('\n', o->fp);
 	} else if (o->format == PSD_OUT_JSON) {
 		json_object *j = json_object_new_object();
@@ -141,6 +146,8 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 		psd_json_str(j, "condition", s->condition);
 		psd_json_num(j, "ratio", s->ratio);
 		psd_json_str(j, "fault", s->fault);
+		json_object_object_add(j, "occupied", s->occupied < 0 ? NULL : json_object_new_boolean(s->occupied));
+		psd_json_num(j, "simulated_true_task_lux", s->true_task_lux);
 		fprintf(o->fp, "%s\n  %s", o->rows ? "," : "", psd_json_text(j, 15));
 		json_object_put(j);
 	} else {
@@ -148,9 +155,10 @@ void psd_sampleout_row(void *user, const struct psd_sample *s)
 			long t = (long)floor(s->tod_s + 0.5);
 			snprintf(iso, sizeof iso, "%02ld:%02ld:%02ld", t / 3600 % 24, t / 60 % 60, t % 60);
 		}
-		fprintf(o->fp, "%-19s %-10s %6s%% %9s %9s %9s  %s\n", iso, s->zone ? s->zone : "-",
+		fprintf(o->fp, "%-19s %-10s %6s%% %9s %9s %9s %9s %4s  %s\n", iso, s->zone ? s->zone : "-",
 		        cell(a, sizeof a, 1, 100 * s->output), cell(b, sizeof b, 4, s->sensor_v),
 		        cell(c, sizeof c, 1, s->est_task_lux), cell(d, sizeof d, 1, s->task_lux),
+		        cell(e, sizeof e, 1, s->true_task_lux), s->occupied < 0 ? "-" : s->occupied ? "yes" : "no",
 		        s->fault ? s->fault : "");
 	}
 	o->rows++;

@@ -5,8 +5,10 @@
  * for the daemon to find.  Points: role sensor (volts), task (lux), dim
  * (light output; read back gives the ballast's output), relay (the room's
  * lights are the fraction of relays closed when no dim point drives them: a
- * stepped system), input (an occupancy sensor with `occupied`, its changes
- * delivered as events through deadline/service). */
+ * stepped system), input (an occupancy sensor with `occupied`, optional
+ * random short `absences` inside those times drawn from the device's seed,
+ * one draw per day so a day replays the same, and `dead` times when it does
+ * not answer; its changes delivered as events through deadline/service). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -16,7 +18,7 @@
 #include "loopback.h"
 #include "replay.h"
 
-enum { LB_MAX_RELAYS = 8, LB_MAX_INPUTS = 4, LB_MAX_WINDOWS = 8 };
+enum { LB_MAX_RELAYS = 8, LB_MAX_INPUTS = 4, LB_MAX_WINDOWS = 8, LB_MAX_ABSENCES = 16 };
 
 struct loopback {
 	struct ps_room_params opts;   /* from the device options */
@@ -28,7 +30,11 @@ struct loopback {
 	struct lb_input {
 		struct ps_point *pt;
 		double win[LB_MAX_WINDOWS][2];   /* occupied from, to (time of day) */
-		int nwin, state;                 /* state: -1 not reported yet */
+		double dead[LB_MAX_WINDOWS][2];  /* not answering from, to */
+		int nwin, ndead, state;          /* state: -1 not reported yet */
+		long absences;                   /* short absences a day */
+		double absence_s;                /* the longest, s (each from half of it) */
+		uint64_t seed;
 	} input[LB_MAX_INPUTS];
 	int ninput;
 	double serviced;                     /* inputs are reported up to here */
@@ -69,6 +75,15 @@ static const struct ps_opts_spec lb_options[] = {
 	{ .key = "occupied", .type = PS_OPT_WINDOWS, .scope = PS_OPT_POINT,
 	  .roles = PS_ROLE_BIT(PS_ROLE_INPUT), .min = 0, .max = LB_MAX_WINDOWS,
 	  .doc = "an occupancy input's occupied times: HH:MM-HH:MM, ..." },
+	{ .key = "absences", .type = PS_OPT_LONG, .scope = PS_OPT_POINT, .roles = PS_ROLE_BIT(PS_ROLE_INPUT),
+	  .def = "0", .min = 0, .max = LB_MAX_ABSENCES,
+	  .doc = "short absences a day at random times inside the occupied times (the device's seed)" },
+	{ .key = "absence_length", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .roles = PS_ROLE_BIT(PS_ROLE_INPUT),
+	  .def = "1200", .min = 1, .max = 86400,
+	  .doc = "the longest absence, s: each lasts between half of it and it" },
+	{ .key = "dead", .type = PS_OPT_WINDOWS, .scope = PS_OPT_POINT, .roles = PS_ROLE_BIT(PS_ROLE_INPUT),
+	  .min = 0, .max = LB_MAX_WINDOWS,
+	  .doc = "times the input does not answer (a device gone): HH:MM-HH:MM, ..." },
 	{ .key = NULL },
 };
 #undef DEV
@@ -151,6 +166,14 @@ static int read_windows(struct ps_dev *dev, struct lb_input *in, const struct ps
 		in->win[i][1] = w[i].end;
 	}
 	in->nwin = (int)n;
+	if (ps_opts_windows(&r, "dead", w, &n) != 0 || ps_opts_long(&r, "absences", &in->absences) != 0 ||
+	    ps_opts_double(&r, "absence_length", &in->absence_s) != 0)
+		return -1;
+	for (size_t i = 0; i < n; i++) {
+		in->dead[i][0] = w[i].start;
+		in->dead[i][1] = w[i].end;
+	}
+	in->ndead = (int)n;
 	return 0;
 }
 
@@ -177,6 +200,7 @@ static int lb_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 		memset(in, 0, sizeof *in);
 		in->pt = pt;
 		in->state = -1;
+		in->seed = lb->opts.seed ^ (0xd1b54a32d192ed03ULL * (uint64_t)(lb->ninput + 1));
 		if (read_windows(dev, in, o) != 0)
 			return -1;
 		pt->priv = in;
@@ -188,15 +212,79 @@ static int lb_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 	}
 }
 
-static int occupied(const struct lb_input *in, double now)
+static uint64_t splitmix64(uint64_t *s)
 {
-	double tod = ps_room_tod(now);
-	for (int i = 0; i < in->nwin; i++) {
-		double a = in->win[i][0], b = in->win[i][1];
+	uint64_t z = (*s += 0x9e3779b97f4a7c15ULL);
+	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+	z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+	return z ^ (z >> 31);
+}
+
+static int in_windows(const double (*win)[2], int n, double tod)
+{
+	for (int i = 0; i < n; i++) {
+		double a = win[i][0], b = win[i][1];
 		if (a <= b ? (tod >= a && tod < b) : (tod >= a || tod < b))   /* across midnight */
 			return 1;
 	}
 	return 0;
+}
+
+/* The absences of the day starting at day0 (clock seconds of its midnight),
+ * as times of day from, to: each starts uniformly in the day's occupied time
+ * (its windows laid end to end) and lasts uniformly half the longest to
+ * the longest, cut at midnight.  The draw depends only on the seed and the
+ * day, so every call gives the same. */
+static int absences_of_day(const struct lb_input *in, double day0, double out[][2])
+{
+	double total = 0;
+	uint64_t st = in->seed ^ (0x9e3779b97f4a7c15ULL * (uint64_t)(int64_t)floor(day0 / 86400.0 + 0.5));
+	int n = 0;
+	for (int i = 0; i < in->nwin; i++)
+		total += in->win[i][0] <= in->win[i][1] ? in->win[i][1] - in->win[i][0]
+		                                        : 86400 - in->win[i][0] + in->win[i][1];
+	if (!(total > 0))
+		return 0;
+	for (long k = 0; k < in->absences; k++) {
+		double pos = (splitmix64(&st) >> 11) * 0x1p-53 * total;
+		double len = in->absence_s * (0.5 + 0.5 * (splitmix64(&st) >> 11) * 0x1p-53), from = 0;
+		for (int i = 0; i < in->nwin; i++) {
+			double a = in->win[i][0], b = in->win[i][1], w = a <= b ? b - a : 86400 - a + b;
+			if (pos < w || i == in->nwin - 1) {
+				from = fmod(a + pos, 86400.0);
+				break;
+			}
+			pos -= w;
+		}
+		out[n][0] = from;
+		out[n][1] = from + len < 86400 ? from + len : 86400;
+		n++;
+	}
+	return n;
+}
+
+static int dead(const struct lb_input *in, double now)
+{
+	return in_windows(in->dead, in->ndead, ps_room_tod(now));
+}
+
+static int occupied(const struct lb_input *in, double now)
+{
+	double tod = ps_room_tod(now), ab[LB_MAX_ABSENCES][2];
+	int n;
+	if (!in_windows(in->win, in->nwin, tod))
+		return 0;
+	n = absences_of_day(in, now - tod, ab);
+	for (int i = 0; i < n; i++)
+		if (tod >= ab[i][0] && tod < ab[i][1])
+			return 0;
+	return 1;
+}
+
+static void earliest_after(double t, double after, double *next)
+{
+	if (t > after && t < *next)
+		*next = t;
 }
 
 /* The next change of any input after the last service (INFINITY: none). */
@@ -207,17 +295,24 @@ static double lb_deadline(struct ps_dev *dev)
 	if (!lb || !lb->room || lb->ninput == 0)
 		return INFINITY;
 	for (int i = 0; i < lb->ninput; i++)
-		if (lb->input[i].state < 0)
+		if (lb->input[i].state < 0 && !dead(&lb->input[i], lb->serviced))
 			return lb->serviced;   /* the first state is reported at once */
 	day0 = lb->serviced - ps_room_tod(lb->serviced);
-	for (int i = 0; i < lb->ninput; i++)
-		for (int w = 0; w < lb->input[i].nwin; w++)
-			for (int e = 0; e < 2; e++)
-				for (int d = 0; d < 2; d++) {
-					double t = day0 + d * 86400.0 + lb->input[i].win[w][e];
-					if (t > lb->serviced && t < next)
-						next = t;
-				}
+	for (int i = 0; i < lb->ninput; i++) {
+		const struct lb_input *in = &lb->input[i];
+		for (int d = 0; d < 2; d++) {
+			double dd = day0 + d * 86400.0, ab[LB_MAX_ABSENCES][2];
+			int n = absences_of_day(in, dd, ab);
+			for (int e = 0; e < 2; e++) {
+				for (int w = 0; w < in->nwin; w++)
+					earliest_after(dd + in->win[w][e], lb->serviced, &next);
+				for (int w = 0; w < in->ndead; w++)
+					earliest_after(dd + in->dead[w][e], lb->serviced, &next);
+				for (int w = 0; w < n; w++)
+					earliest_after(dd + ab[w][e], lb->serviced, &next);
+			}
+		}
+	}
 	return next;
 }
 
@@ -229,6 +324,10 @@ static int lb_service(struct ps_dev *dev, double now)
 	for (int i = 0; i < lb->ninput; i++) {
 		struct lb_input *in = &lb->input[i];
 		int st = occupied(in, now);
+		if (dead(in, now)) {
+			in->state = -1;   /* silent; reported afresh when it answers */
+			continue;
+		}
 		if (st != in->state) {
 			in->state = st;
 			if (dev->on_event)
@@ -274,6 +373,8 @@ static int lb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 		return 0;
 	}
 	if (pt->role == PS_ROLE_INPUT) {
+		if (dead(pt->priv, now))
+			return ps_dev_fail(dev, ENODEV, "loopback %s: input %s does not answer", dev->name, pt->name);
 		*value = occupied(pt->priv, now);
 		return 0;
 	}

@@ -37,7 +37,7 @@ static void summary(struct psd_daemon *d, double start, double end)
 		const struct psd_zone_stats *s = &z->st;
 		double hours = (end - (s->since > start ? s->since : start)) / 3600.0, used;
 		struct ps_truth t;
-		if ((s->samples == 0 && s->cal_steps == 0) || psd_engine_truth(z, end, &t) != 0)
+		if ((s->samples == 0 && s->cal_steps == 0 && s->vacant_steps == 0) || psd_engine_truth(z, end, &t) != 0)
 			continue;
 		/* numerator and denominator over the same span, across reloads */
 		used = psd_engine_zone_energy(s, t.energy) / 3600.0;
@@ -65,9 +65,17 @@ static void summary(struct psd_daemon *d, double start, double end)
 			}
 			printf("\n");
 		}
+		if (z->occupancy >= 0) {
+			struct psd_occupancy occ = z->occ, *o = &occ;
+			psd_occupancy_account(o, end, NAN, NAN);   /* to the end of the run */
+			printf("  occupancy: occupied %.2f h, vacant %.2f h (%.2f h at the vacant level %.0f %%, after %.0f s); "
+			       "the vacancy saved %.2f full-output hours\n", o->occupied_s / 3600, o->vacant_s / 3600,
+			       o->held_s / 3600, 100 * o->vacant_level, o->hold, o->saved / 3600);
+		}
 		if (s->samples > 0)
-			printf("  time below target (by more than %.0f %%): %.1f %% (%.0f of %.0f periods; lowest %.0f lx)\n",
-			       100 * cf->tolerance, 100 * s->below / s->samples, s->below, s->samples, s->worst_lux);
+			printf("  time below target (by more than %.0f %%): %.1f %% (%.0f of %.0f %speriods; lowest %.0f lx)\n",
+			       100 * cf->tolerance, 100 * s->below / s->samples, s->below, s->samples,
+			       z->occupancy >= 0 ? "occupied " : "", s->worst_lux);
 		if (s->err_n > 0)
 			printf("  estimated against true task illuminance: mean %+.2f %%, rms %.2f %%, worst %.2f %%\n",
 			       100 * s->err_sum / s->err_n, 100 * sqrt(s->err2_sum / s->err_n), 100 * s->err_max);

@@ -52,7 +52,7 @@ struct zone {
 	int ci;                          /* index in the config, -1 when none */
 	/* plotted points, thinned evenly */
 	double *t, *v, *lux, *est, *out, *energy;
-	unsigned char *fault;
+	unsigned char *fault, *vacant;   /* vacant: the occupancy input said so */
 	int n;
 	/* over every sample */
 	long long total, seen;
@@ -60,6 +60,12 @@ struct zone {
 	double utc0;              /* UTC of clock 0 of the first dated run (NAN: none yet) */
 	char local0[20], local1[20];     /* local date and time of the first and last sample ("" undated) */
 	struct ps_sum esum;              /* energy */
+	/* occupancy (schema 7): the hours occupied and vacant, and the energy
+	 * the vacancies saved (full-load h): the daylight control's level,
+	 * from the logged daylight estimate and the zone's constants on
+	 * record, less the output; the last sample's for the interval after it */
+	int has_occ, prev_occ;
+	double occ_s, vac_s, saved_h, prev_out, prev_dl, target, elec;
 	long long nmeas;                 /* task meter readings */
 	struct psd_accept_result verif;  /* accept-test's verification (verif.test NULL: none) */
 	char verif_why[160];             /* why there is none */
@@ -110,6 +116,17 @@ static void add_sample(void *user, const struct psd_sample *row)
 		ps_sum_add(&z->esum, s->output * dt / 3600);
 	if (dt > 0 && dt <= 3600 && s->fault)
 		z->fault_s += dt;
+	if (dt > 0 && dt <= 3600 && z->prev_occ >= 0) {
+		double want = (z->target - z->prev_dl) / z->elec;
+		*(z->prev_occ ? &z->occ_s : &z->vac_s) += dt;
+		want = want < 0 ? 0 : want > 1 ? 1 : want;
+		if (!z->prev_occ && isfinite(want) && want > z->prev_out)
+			z->saved_h += (want - z->prev_out) * dt / 3600;
+	}
+	z->has_occ |= s->occupied >= 0;
+	z->prev_occ = s->occupied;
+	z->prev_out = s->output;
+	z->prev_dl = s->daylight_lux;
 	z->nmeas += isfinite(s->task_lux);
 	z->prev_t = s->t;
 	if (s->t < z->tmin)
@@ -125,6 +142,7 @@ static void add_sample(void *user, const struct psd_sample *row)
 		z->out[i] = isfinite(s->output) ? 100 * s->output : NAN;
 		z->energy[i] = ps_sum_get(&z->esum);
 		z->fault[i] = s->fault != NULL;
+		z->vacant[i] = s->occupied == 0;
 		if (isfinite(s->sensor_v) && s->sensor_v > z->vmax)
 			z->vmax = s->sensor_v;
 		if (isfinite(s->task_lux) && s->task_lux > z->luxmax)
@@ -232,7 +250,8 @@ static int accept_state(const struct zone *z)
 static int zone_alloc(struct zone *z)
 {
 	double *p = calloc((size_t)MAXPTS * 6, sizeof *p);
-	z->fault = calloc(MAXPTS, 1);
+	z->fault = calloc(2 * MAXPTS, 1);
+	z->vacant = z->fault ? z->fault + MAXPTS : NULL;
 	if (!p || !z->fault) {
 		free(p);
 		free(z->fault);
@@ -262,6 +281,9 @@ static int load_zone(struct psd_db *db, struct zone *z, double tol, char *err, s
 	z->tmin = INFINITY;
 	z->utc0 = NAN;
 	z->tmax = -INFINITY;
+	z->prev_occ = -1;
+	if (psd_db_zone_consts_get(db, z->name, &z->target, &z->elec, &(double){ 0 }) != 0 || !(z->elec > 0))
+		z->target = z->elec = NAN;   /* no savings can be estimated */
 	if ((z->total = psd_db_zone_count(db, z->name, err, n)) < 0)
 		return -1;
 	if (psd_db_zone_samples(db, z->name, add_sample, z, err, n) != 0)
@@ -758,6 +780,14 @@ static void zone_cell(struct doc *d, struct zone *z, int c, char *buf, size_t n)
 		break;
 	case 5: snprintf(buf, n, "%.0f min", z->fault_s / 60); break;
 	case 6: snprintf(buf, n, "%.2f flh", z->energy_h); break;
+	case 7:
+		if (!z->has_occ)
+			snprintf(buf, n, "-");
+		else if (isfinite(z->elec))
+			snprintf(buf, n, "%.1f/%.1f h, %.2f flh", z->occ_s / 3600, z->vac_s / 3600, z->saved_h);
+		else
+			snprintf(buf, n, "%.1f/%.1f h", z->occ_s / 3600, z->vac_s / 3600);
+		break;
 	default: snprintf(buf, n, "%s", verdict_word(z->verdict)); break;
 	}
 }
@@ -765,22 +795,22 @@ static void zone_cell(struct doc *d, struct zone *z, int c, char *buf, size_t n)
 /* The zones' table, then what its columns mean. */
 static double cover_zones(struct doc *d, double y)
 {
-	static const double cols[] = { 0, 55, 180, 220, 260, 355, 393, 438 };
+	static const double cols[] = { 0, 55, 145, 180, 220, 305, 340, 382, 452 };
 	static const char *const head[] = { "zone", "sensor", "target", "samples", "recorded", "faults",
-	                                    "energy", "verdict" };
+	                                    "energy", "occupied/vacant", "verdict" };
 	char buf[512];
 	text(d, MARGIN, y, 12, 1, -1, BLACK, "Zones");
 	y += 16;
-	for (int c = 0; c < 8; c++)
+	for (int c = 0; c < 9; c++)
 		text(d, MARGIN + cols[c], y, 7.5, 1, -1, BLACK, head[c]);
 	hline(d, MARGIN, PAGE_W - MARGIN, y + 3, 0.5, BLACK);
 	y += 13;
 	for (int i = 0; i < d->nzones; i++) {
 		struct zone *z = &d->zones[i];
-		for (int c = 0; c < 8; c++) {
-			double colw = (c < 7 ? cols[c + 1] : PAGE_W - 2 * MARGIN) - cols[c] - 6;
+		for (int c = 0; c < 9; c++) {
+			double colw = (c < 8 ? cols[c + 1] : PAGE_W - 2 * MARGIN) - cols[c] - 6;
 			zone_cell(d, z, c, buf, sizeof buf);
-			text_fit(d, MARGIN + cols[c], y, colw, 7.5, 5.5, c == 7, c == 7 ? verdict_rgb(z->verdict) : BLACK,
+			text_fit(d, MARGIN + cols[c], y, colw, 7.5, 5.5, c == 8, c == 8 ? verdict_rgb(z->verdict) : BLACK,
 			         buf);
 		}
 		y += 12;
@@ -789,10 +819,14 @@ static double cover_zones(struct doc *d, double y)
 	y = paragraph(d, MARGIN, y, PAGE_W - 2 * MARGIN, 7, 9, GREY,
 	              d->dated ? "target: the task illuminance the zone holds; recorded: first and last sample (local "
 	              "date and time); faults: time at the safe level; energy: lighting energy in full-load hours "
-	              "(hours at full output; power taken as proportional to the output)." :
+	              "(hours at full output; power taken as proportional to the output); occupied/vacant: the "
+	              "hours the occupancy input said so, and the energy the vacancies saved (the daylight "
+	              "control's level from the logged daylight estimate, less the output; - no input)." :
 	              "target: the task illuminance the zone holds; recorded: first and last sample (day 1 is the "
 	              "day psensd started); faults: time at the safe level; energy: lighting energy in full-load "
-	              "hours (hours at full output; power taken as proportional to the output).");
+	              "hours (hours at full output; power taken as proportional to the output); occupied/vacant: "
+	              "the hours the occupancy input said so, and the energy the vacancies saved (the daylight "
+	              "control's level from the logged daylight estimate, less the output; - no input).");
 	return y;
 }
 
@@ -994,6 +1028,13 @@ static void frame(struct doc *d, const struct chart *c, const struct zone *z, co
 		}
 	cairo_set_source_rgba(d->cr, RED[0], RED[1], RED[2], 0.22);
 	cairo_fill(d->cr);
+	for (int i = 0; i < z->n; i++)
+		if (z->vacant[i]) {
+			double a = cx(c, z->t[i]), b = i + 1 < z->n && z->t[i + 1] > z->t[i] ? cx(c, z->t[i + 1]) : a + 1;
+			cairo_rectangle(d->cr, a, c->y0, fmax(b - a, 0.8), c->y1 - c->y0);
+		}
+	cairo_set_source_rgba(d->cr, GREY[0], GREY[1], GREY[2], 0.14);
+	cairo_fill(d->cr);
 	for (int i = 0; i < z->nsess; i++) {
 		double a = z->sess[i].started, b = isfinite(z->sess[i].ended) ? z->sess[i].ended : z->tmax;
 		if (!isfinite(a))
@@ -1109,18 +1150,21 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	struct chart c = { MARGIN + 34, top, PAGE_W - MARGIN - 4, top + h, tlo, thi, 0, 1, 0, 0 };
 	double *tl = NULL;
 	find_break(z, &c);
-	const struct legend fault = { "fault (safe level)", RED, 2, 0.22 }, cal = { "calibration", BLUE, 2, 0.16 };
+	const struct legend fault = { "fault (safe level)", RED, 2, 0.22 }, cal = { "calibration", BLUE, 2, 0.16 },
+	                    vacant = { "vacant", GREY, 2, 0.14 };
 	/* sensor volts */
 	c.ylo = 0;
 	c.yhi = z->vmax > 0 ? z->vmax : 1;
 	psd_chart_ticks_round_range(&c.ylo, &c.yhi, 6);
 	{
-		struct legend lg[3] = { { "sensor signal", BLUE, 0, 1 } };
+		struct legend lg[4] = { { "sensor signal", BLUE, 0, 1 } };
 		int k = 1;
 		if (z->fault_s > 0)
 			lg[k++] = fault;
 		if (z->nsess)
 			lg[k++] = cal;
+		if (z->vac_s > 0)
+			lg[k++] = vacant;
 		frame(d, &c, z, "Sensor", "sensor signal (V)", lg, k, 0);
 	}
 	line(d, &c, z, z->v, BLUE, 1.1, 0);
@@ -1133,7 +1177,7 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 		c.yhi = 100;
 	psd_chart_ticks_round_range(&c.ylo, &c.yhi, 6);
 	{
-		struct legend lg[5] = { { "estimated", ORANGE, 1, 1 } };
+		struct legend lg[6] = { { "estimated", ORANGE, 1, 1 } };
 		int k = 1;
 		if (z->nmeas)
 			lg[k++] = (struct legend){ "measured", GREEN, 0, 1 };
@@ -1143,6 +1187,8 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 			lg[k++] = fault;
 		if (z->nsess)
 			lg[k++] = cal;
+		if (z->vac_s > 0)
+			lg[k++] = vacant;
 		frame(d, &c, z, "Task illuminance", "task illuminance (lx)", lg, k, 0);
 	}
 	line(d, &c, z, z->lux, GREEN, 1.1, 0);
@@ -1159,12 +1205,14 @@ static void charts(struct doc *d, const struct zone *z, double top, double botto
 	c.ylo = 0;
 	c.yhi = 100;
 	{
-		struct legend lg[3] = { { "light output", PURPLE, 0, 1 } };
+		struct legend lg[4] = { { "light output", PURPLE, 0, 1 } };
 		int k = 1;
 		if (z->fault_s > 0)
 			lg[k++] = fault;
 		if (z->nsess)
 			lg[k++] = cal;
+		if (z->vac_s > 0)
+			lg[k++] = vacant;
 		frame(d, &c, z, "Dimming level", "light output (%)", lg, k, 0);
 	}
 	line(d, &c, z, z->out, PURPLE, 1.1, 0);
@@ -1297,6 +1345,13 @@ static void zone_pages(struct doc *d, const struct zone *z)
 		         z->total, a, b);
 	else
 		snprintf(buf, sizeof buf, "%lld samples, %s to %s", z->total, a, b);
+	if (z->has_occ) {
+		size_t k = strlen(buf);
+		snprintf(buf + k, sizeof buf - k, "; occupied %.2f h, vacant %.2f h", z->occ_s / 3600, z->vac_s / 3600);
+		k = strlen(buf);
+		if (isfinite(z->elec))
+			snprintf(buf + k, sizeof buf - k, ", the vacancies saved %.2f full-load h", z->saved_h);
+	}
 	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
 	if (z->verif.test && z->verif.verdict != PSD_ACCEPT_NOT_TESTED)
 		snprintf(lo, sizeof lo, "%ld in sessions or %g s after one left out",

@@ -22,7 +22,7 @@
 static void add(struct psd_db *db, double t, double output, double task, double est)
 {
 	char err[256];
-	struct psd_sample s = { t, t, 1.0, output, est, task, 0, 0, "daylight_mean", 236, NULL, "office", NAN, NULL };
+	struct psd_sample s = { t, t, 1.0, output, est, task, 0, 0, "daylight_mean", 236, NULL, "office", NAN, NULL, -1, NAN };
 	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
 }
 
@@ -230,12 +230,75 @@ static void runs_apart(void **state)
 	psd_db_close(db);
 }
 
+static void add_occ(struct psd_db *db, double t, double output, int occupied)
+{
+	char err[256];
+	struct psd_sample s = { t, t, 1.0, output, 500, 500, 0, 0, "daylight_mean", 236, NULL, "office", NAN, NULL,
+		                occupied, NAN };
+	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+}
+
+/* The occupancy test (hold 900 s, vacant level 0, steps every 60 s): a
+ * vacancy at 1000 s is judged at the first sample at or after 1900 s, an
+ * arrival by its own sample; a zone with no occupancy in its log has no
+ * such test (four apply), one with it five.  The failing log keeps the
+ * lights at 0.4 at the first step after the hold, and leaves them off at
+ * an arrival; a hold of 1500 s is past the codes' 20 minutes. */
+static void occupancy(void **state)
+{
+	char err[256];
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err), *bad = psd_db_open(":memory:", err, sizeof err);
+	struct psd_accept_params p;
+	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
+	struct psd_accept_summary sum;
+	(void)state;
+	assert_non_null(db);
+	assert_non_null(bad);
+	for (double t = 0; t <= 4000; t += 60) {
+		int occ = !(t >= 1000 && t < 3000);
+		/* the vacancy's own sample at 1000 s, off from 1900 s, on at the arrival */
+		add_occ(db, t, occ ? 0.4 : t >= 1900 ? 0 : 0.4, occ);
+		add_occ(bad, t, occ ? (t >= 3000 && t < 3100 ? 0 : 0.4) : t >= 1960 ? 0 : 0.4, occ);
+		if (t == 960) {
+			add_occ(db, 1000, 0.4, 0);
+			add_occ(bad, 1000, 0.4, 0);
+		}
+	}
+	psd_db_commit(db, err, sizeof err);
+	psd_db_commit(bad, err, sizeof err);
+	params(&p);
+	/* no occupancy constants: no occupancy test, whatever the log */
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_null(r[4].test);
+	psd_accept_summarize(r, &sum);
+	assert_int_equal(sum.count, 4);
+	p.vacancy_hold = 900;
+	p.vacant_level = 0;
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_string_equal(r[4].test, "occupancy");
+	assert_int_equal(r[4].verdict, PSD_ACCEPT_PASS);
+	assert_near(r[4].value, 1900 - 1000 + 20, 1e-9);   /* first sample at or after 1900: 1920 */
+	assert_int_equal(r[4].samples, 2);                  /* one vacancy, one arrival */
+	psd_accept_summarize(r, &sum);
+	assert_int_equal(sum.count, 5);
+	assert_int_equal(psd_accept_run(bad, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[4].verdict, PSD_ACCEPT_FAIL);
+	assert_non_null(strstr(r[4].measured, "in 0 of 1 vacancies"));
+	assert_non_null(strstr(r[4].measured, "the lights on at 0 of 1 arrivals"));
+	p.vacancy_hold = 1500;   /* judged at 2520: off, but the hold is too long */
+	assert_int_equal(psd_accept_run(db, "office", &p, r, err, sizeof err), 0);
+	assert_int_equal(r[4].verdict, PSD_ACCEPT_FAIL);
+	psd_db_close(db);
+	psd_db_close(bad);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(passes),
 		cmocka_unit_test(fails),
 		cmocka_unit_test(not_tested),
+		cmocka_unit_test(occupancy),
 		cmocka_unit_test(sessions_left_out),
 		cmocka_unit_test(runs_apart),
 	};

@@ -101,7 +101,7 @@ static void from_version_2(void **state)
 	char err[256];
 	struct psd_db *db;
 	struct psd_sample s = { 30000, 30000, 1.2, 0.5, 510, NAN, 0.9, 212, "daylight_mean", 236, NULL, "office",
-	                        NAN, NULL };
+	                        NAN, NULL, -1, NAN };
 	(void)state;
 	exec(v1);
 	exec("ALTER TABLE samples ADD COLUMN zone TEXT; UPDATE meta SET value = '2' WHERE key = 'schema';"
@@ -143,7 +143,7 @@ static void from_version_3(void **state)
 	char err[256];
 	struct psd_db *db;
 	struct psd_sample s = { 36000, 36000, 1.0, 0.4, 505, 498, 0.8, 200, "daylight_mean", 236, NULL, "office",
-	                        NAN, NULL };
+	                        NAN, NULL, -1, NAN };
 	const double epoch0 = 1773792000;   /* 2026-03-18 00:00 UTC */
 	(void)state;
 	exec(v1);
@@ -186,6 +186,98 @@ static void from_version_3(void **state)
 	                        " FROM samples WHERE t = 36000"), 1);
 	assert_int_equal(scalar("SELECT count(*) FROM events WHERE kind = 'fault' AND utc = 1773792000 + 43200"), 1);
 	assert_int_equal(scalar("SELECT value FROM meta WHERE key = 'schema'"), PSD_DB_SCHEMA);
+}
+
+/* What version 6 wrote: every table to the acceptance tests, samples
+ * with dates but neither occupancy nor truth. */
+static const char v6[] =
+	"CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT);"
+	"INSERT INTO meta VALUES('schema', '6');"
+	"CREATE TABLE samples(t REAL NOT NULL, tod_s REAL, sensor_v REAL, output REAL, est_task_lux REAL,"
+	" task_lux REAL, daylight_v REAL, daylight_lux REAL, condition TEXT, ratio REAL, fault TEXT, zone TEXT,"
+	" utc REAL, local TEXT);"
+	"CREATE INDEX samples_t ON samples(t); CREATE INDEX samples_utc ON samples(utc);"
+	"CREATE TABLE cal_sessions(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, kind TEXT NOT NULL,"
+	" state TEXT NOT NULL, started REAL, ended REAL, config_sha256 TEXT, scene_sha256 TEXT, results TEXT,"
+	" note TEXT, started_utc REAL, started_local TEXT, ended_utc REAL, ended_local TEXT);"
+	"CREATE TABLE cal_samples(session INTEGER NOT NULL REFERENCES cal_sessions(id), seq INTEGER NOT NULL,"
+	" t REAL, level REAL, volts REAL, volts_se REAL, lux REAL, source TEXT, utc REAL, local TEXT,"
+	" PRIMARY KEY(session, seq));"
+	"CREATE TABLE events(t REAL, utc REAL, local TEXT, zone TEXT, kind TEXT NOT NULL, text TEXT);"
+	"CREATE TABLE mqtt_cursor(site TEXT PRIMARY KEY, sample INTEGER NOT NULL);"
+	"CREATE TABLE mqtt_announced(site TEXT NOT NULL, zone TEXT NOT NULL, PRIMARY KEY(site, zone));"
+	"CREATE TABLE zone_consts(zone TEXT PRIMARY KEY, utc REAL, target_lux REAL, elec_task_lux REAL, delay REAL);"
+	"CREATE TABLE acceptance_tests(id INTEGER PRIMARY KEY, zone TEXT NOT NULL, local TEXT, test TEXT NOT NULL,"
+	" verdict TEXT NOT NULL, value REAL, limit_value REAL, samples INTEGER, measured TEXT, utc REAL);"
+	"INSERT INTO samples VALUES(30000, 30000, 1.2, 0.5, 510, 498, 0.9, 212, 'daylight_mean', 236, NULL,"
+	" 'office', 1773822000, '2026-03-18 08:20:00');"
+	"INSERT INTO samples VALUES(30060, 30060, 1.3, 0.4, 520, 505, 1.0, 236, 'daylight_mean', 236, NULL,"
+	" 'office', 1773822060, '2026-03-18 08:21:00');"
+	"INSERT INTO zone_consts VALUES('office', 1773822000, 500, 1265.4, 300);";
+
+struct rows {
+	int n, occupied[4];
+	double est[4], truth[4];
+};
+
+static void take_row(void *user, const struct psd_sample *s)
+{
+	struct rows *r = user;
+	if (r->n < 4) {
+		r->occupied[r->n] = s->occupied;
+		r->est[r->n] = s->est_task_lux;
+		r->truth[r->n] = s->true_task_lux;
+	}
+	r->n++;
+}
+
+/* Version 6 to 7: a reader of the old file sees no occupancy and no truth
+ * (-1, NAN); opened to write, the file gains both columns, every row and
+ * value kept with NULL in them, and the rows logged after carry them. */
+static void from_version_6(void **state)
+{
+	char err[256];
+	struct psd_db *db;
+	struct rows r = { 0 };
+	struct psd_sample s = { 30120, 30120, 1.4, 0, 515, 510, 1.1, 260, "daylight_mean", 236, NULL, "office",
+	                        1773822120, NULL, 0, 512.5 };
+	double target, elec, delay;
+	(void)state;
+	exec(v6);
+	db = psd_db_open_readonly(path, err, sizeof err);
+	assert_non_null(db);
+	assert_int_equal(psd_db_zone_samples(db, "office", take_row, &r, err, sizeof err), 0);
+	psd_db_close(db);
+	assert_int_equal(r.n, 2);
+	assert_int_equal(r.occupied[0], -1);
+	assert_true(isnan(r.truth[1]));
+	assert_int_equal(scalar("SELECT value FROM meta WHERE key = 'schema'"), 6);   /* a reader migrates nothing */
+	db = psd_db_open(path, err, sizeof err);
+	assert_non_null(db);
+	assert_int_equal(psd_db_schema(db), 7);
+	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+	s.t = s.tod_s = 30180;
+	s.utc += 60;
+	s.occupied = -1;
+	s.true_task_lux = NAN;
+	assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
+	assert_int_equal(psd_db_commit(db, err, sizeof err), 0);
+	assert_int_equal(psd_db_zone_consts_get(db, "office", &target, &elec, &delay), 0);
+	assert_true(target == 500 && elec == 1265.4 && delay == 300);
+	r.n = 0;
+	assert_int_equal(psd_db_zone_samples(db, "office", take_row, &r, err, sizeof err), 0);
+	psd_db_close(db);
+	assert_int_equal(r.n, 4);
+	assert_true(r.est[0] == 510 && r.est[1] == 520);
+	assert_int_equal(r.occupied[1], -1);
+	assert_int_equal(r.occupied[2], 0);
+	assert_true(r.truth[2] == 512.5);
+	assert_int_equal(r.occupied[3], -1);
+	assert_true(isnan(r.truth[3]));
+	assert_int_equal(scalar("SELECT count(*) FROM samples"), 4);
+	assert_int_equal(scalar("SELECT count(*) FROM samples WHERE occupied IS NULL AND true_task_lux IS NULL"), 3);
+	assert_int_equal(scalar("SELECT count(*) FROM samples WHERE local = '2026-03-18 08:21:00' AND output = 0.4"), 1);
+	assert_int_equal(scalar("SELECT value FROM meta WHERE key = 'schema'"), 7);
 }
 
 /* A file from a newer psensd is not touched. */
@@ -299,6 +391,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(from_version_2, setup, teardown),
 		cmocka_unit_test_setup_teardown(from_version_3, setup, teardown),
 		cmocka_unit_test_setup_teardown(from_version_4, setup, teardown),
+		cmocka_unit_test_setup_teardown(from_version_6, setup, teardown),
 		cmocka_unit_test_setup_teardown(newer_refused, setup, teardown),
 		cmocka_unit_test_setup_teardown(new_file, setup, teardown),
 		cmocka_unit_test_setup_teardown(reader_names_the_file, setup, teardown),

@@ -79,7 +79,7 @@ static long long scalar(const char *sql)
 static void add(struct psd_dbwriter *w, int i)
 {
 	struct psd_sample s = { (double)i, (double)i, 1.5, 0.5, 300, NAN, 0.1, 200, "daylight_mean", 2.0, NULL, "office",
-	                        1.7e9 + i, NULL };
+	                        1.7e9 + i, NULL, -1, NAN };
 	psd_dbwriter_sample(w, &s);
 }
 

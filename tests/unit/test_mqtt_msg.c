@@ -138,7 +138,7 @@ static void conf_commands(void **state)
 static void state_json(void **state)
 {
 	char buf[2048];
-	struct psd_sample s = { 30000, 30000, 2.5, 0.25, 410, NAN, 1.2, 300, "daylight_mean", 250, NULL, "a", NAN, NULL };
+	struct psd_sample s = { 30000, 30000, 2.5, 0.25, 410, NAN, 1.2, 300, "daylight_mean", 250, NULL, "a", NAN, NULL, -1, NAN };
 	json_object *o, *v;
 	(void)state;
 	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 77, 1700000000.25, &s, NULL) > 0);
@@ -218,7 +218,7 @@ static void db_cursor(void **state)
 {
 	char err[256];
 	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
-	struct psd_sample s = { 0, 0, 1, 0.5, 100, NAN, 0, 0, NULL, 1, NULL, "a", NAN, NULL };
+	struct psd_sample s = { 0, 0, 1, 0.5, 100, NAN, 0, 0, NULL, 1, NULL, "a", NAN, NULL, -1, NAN };
 	(void)state;
 	assert_non_null(db);
 	psd_db_set_batch(db, 1);

@@ -43,7 +43,7 @@ static void make_db(void)
 				struct psd_sample s = { t, tod, fault ? 0 : 0.05 + 3 * sun, fault ? 1 : fmax(0.1, 1 - 2 * sun),
 					                fault ? NAN : 500 + 1500 * sun, 505 + 1490 * sun, 3 * sun, 1500 * sun,
 					                "clear", 470, fault ? "sensor reads 0.000 V" : NULL,
-					                z ? "corridor" : "office", NAN, NULL };
+					                z ? "corridor" : "office", NAN, NULL, -1, NAN };
 				assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
 			}
 		}
@@ -357,7 +357,7 @@ static void pass_needs_acceptance(void **state)
 	assert_non_null(db);
 	psd_db_set_epoch(db, 1773792000.0);
 	for (double t = 6 * 3600; t < 8 * 3600; t += 600) {
-		struct psd_sample s = { t, t, 1, 0.5, 600, 600, 0.5, 100, "clear", 470, NULL, "hall", NAN, NULL };
+		struct psd_sample s = { t, t, 1, 0.5, 600, 600, 0.5, 100, "clear", 470, NULL, "hall", NAN, NULL, -1, NAN };
 		assert_int_equal(psd_db_add(db, &s, err, sizeof err), 0);
 	}
 	id = psd_db_cal_begin(db, "hall", "day", 7 * 3600, "a1", "b2", err, sizeof err);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 /* The virtual room: daylight interpolation, fault windows (also across
- * midnight), and the sensor's faults. */
+ * midnight), the sensor's faults, and the loopback's occupancy input. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -117,6 +117,95 @@ static void truth_names_the_fault(void **state)
 	dev.drv->close(&dev);
 }
 
+struct events {
+	int n, value[64];
+	double t[64];
+};
+
+static void take_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value)
+{
+	struct events *ev = user;
+	(void)dev;
+	(void)pt;
+	if (ev->n < 64) {
+		ev->t[ev->n] = now;
+		ev->value[ev->n] = value > 0.5;
+	}
+	ev->n++;
+}
+
+/* The loopback's occupancy input over a day, its events taken at its
+ * deadlines: occupied 08:00-12:00 with 3 absences of 600 to 1200 s, and no
+ * answer 14:00-15:00.  The reports alternate and agree with a read at the
+ * same time; the absences fall inside the occupied times and last, in all,
+ * between one shortest absence (600 s, when they overlap) and three longest
+ * (3600 s); the input is vacant outside the window and fails as a device
+ * gone while dead, with no event then, and reports afresh at 15:00; the
+ * same seed replays the same day. */
+static void occupancy_input_day(void **state)
+{
+	struct ps_opt dopt[] = { { "seed", "7", 1, 0 } };
+	struct ps_opt popt[] = { { "occupied", "08:00-12:00", 2, 0 }, { "absences", "3", 3, 0 },
+		                 { "absence_length", "1200", 4, 0 }, { "dead", "14:00-15:00", 5, 0 } };
+	struct ps_opts dopts = { dopt, 1, "test.conf" }, popts = { popt, 4, "test.conf" };
+	struct ps_room_params p = { 0 };
+	struct ps_dev dev = { 0 };
+	struct ps_point pt = { "pir", PS_ROLE_INPUT, NULL };
+	struct events ev = { 0 }, again = { 0 };
+	double v, away = 0;
+	(void)state;
+	p.gain = 1;
+	p.saturation = 10;
+	dev.drv = &ps_driver_loopback;
+	dev.on_event = take_event;
+	for (int run = 0; run < 2; run++) {
+		struct events *e = run ? &again : &ev;
+		dev.event_user = e;
+		assert_int_equal(dev.drv->open(&dev, &dopts), 0);
+		assert_int_equal(dev.drv->setup(&dev, &p, 0), 0);
+		assert_int_equal(dev.drv->add_point(&dev, &pt, &popts), 0);
+		for (double t = 0; t < 86400;) {
+			dev.drv->service(&dev, t);
+			t = dev.drv->deadline(&dev);
+			assert_true(t > 0);
+		}
+		dev.drv->close(&dev);
+		if (!run) {   /* reads checked on a fresh device at the reports' times */
+			assert_int_equal(dev.drv->open(&dev, &dopts), 0);
+			assert_int_equal(dev.drv->setup(&dev, &p, 0), 0);
+			assert_int_equal(dev.drv->add_point(&dev, &pt, &popts), 0);
+			for (int i = 0; i < ev.n && i < 64; i++) {
+				assert_int_equal(dev.drv->read(&dev, &pt, ev.t[i], &v), 0);
+				assert_int_equal((int)v, ev.value[i]);
+			}
+			assert_int_equal(dev.drv->read(&dev, &pt, 7 * 3600, &v), 0);
+			assert_true(v == 0);
+			assert_int_equal(dev.drv->read(&dev, &pt, 13 * 3600, &v), 0);
+			assert_true(v == 0);
+			errno = 0;
+			assert_int_equal(dev.drv->read(&dev, &pt, 14.5 * 3600, &v), -1);
+			assert_int_equal(errno, ENODEV);
+			dev.drv->close(&dev);
+		}
+	}
+	assert_true(ev.n >= 4 && ev.n <= 64);   /* vacant at 0, the window, at least one absence */
+	assert_int_equal(ev.value[0], 0);
+	assert_true(ev.t[1] == 8 * 3600 && ev.value[1] == 1);
+	for (int i = 1; i < ev.n; i++) {
+		if (ev.t[i] == 15 * 3600)   /* answering again: its state afresh */
+			assert_int_equal(ev.value[i], 0);
+		else
+			assert_int_equal(ev.value[i], !ev.value[i - 1]);
+		assert_false(ev.t[i] > 14 * 3600 && ev.t[i] < 15 * 3600);   /* dead: silent */
+		if (ev.value[i] == 0 && ev.t[i] < 12 * 3600)
+			away += (i + 1 < ev.n ? ev.t[i + 1] : 86400) - ev.t[i];
+	}
+	assert_true(away >= 600 && away <= 3600);
+	assert_int_equal(again.n, ev.n);
+	for (int i = 0; i < ev.n; i++)
+		assert_true(again.t[i] == ev.t[i] && again.value[i] == ev.value[i]);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -124,6 +213,7 @@ int main(void)
 		cmocka_unit_test(fault_windows),
 		cmocka_unit_test(truth_ahead_does_not_move_the_room),
 		cmocka_unit_test(truth_names_the_fault),
+		cmocka_unit_test(occupancy_input_day),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

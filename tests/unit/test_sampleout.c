@@ -114,27 +114,37 @@ static void old_log(void **state)
 
 /* The CSV export: each column's unit in its name, no column repeating
  * another (the clock's seconds beside tod_s), the output as logged (a
- * fraction, so named), every number round-tripping, nothing before the
- * first row is asked for. */
+ * fraction, so named), the measured task lux and the simulated room's
+ * truth each in its own named column, occupancy 1, 0 or empty (no input),
+ * every number round-tripping, nothing before the first row is asked for. */
 static void csv_form(void **state)
 {
 	char buf[1024];
 	FILE *fp = fmemopen(buf, sizeof buf, "w");
 	struct psd_sampleout o;
 	struct psd_sample s = { 43260.5, 43260.5, 3.6878, 0.1, 1842.4, 1820.2, 3.6331, 1715.9, "daylight_mean", 236.15,
-	                        NULL, "office", 1773835530, NULL };
+	                        NULL, "office", 1773835530, NULL, 1, 1817.25 };
 	(void)state;
 	assert_non_null(fp);
 	zone("UTC0");
 	psd_sampleout_begin(&o, fp, PSD_OUT_CSV);
 	assert_int_equal(ftell(fp), 0);
 	psd_sampleout_row(&o, &s);
+	s.occupied = 0;
+	psd_sampleout_row(&o, &s);
+	s.occupied = -1;
+	s.true_task_lux = NAN;
+	psd_sampleout_row(&o, &s);
 	assert_int_equal(psd_sampleout_end(&o), 0);
 	fclose(fp);
 	assert_string_equal(buf, "zone,time_local,utc_s,tod_s,sensor_v,output_fraction,est_task_lux,task_lux,daylight_v,"
-	                         "daylight_lux,condition,ratio_lux_per_unit,fault\n"
+	                         "daylight_lux,condition,ratio_lux_per_unit,fault,occupied,simulated_true_task_lux\n"
 	                         "office,2026-03-18T12:05:30,1773835530,43260.5,3.6878,0.1,1842.4,1820.2,3.6331,1715.9,"
-	                         "daylight_mean,236.15,\n");
+	                         "daylight_mean,236.15,,1,1817.25\n"
+	                         "office,2026-03-18T12:05:30,1773835530,43260.5,3.6878,0.1,1842.4,1820.2,3.6331,1715.9,"
+	                         "daylight_mean,236.15,,0,1817.25\n"
+	                         "office,2026-03-18T12:05:30,1773835530,43260.5,3.6878,0.1,1842.4,1820.2,3.6331,1715.9,"
+	                         "daylight_mean,236.15,,,\n");
 }
 
 int main(void)
