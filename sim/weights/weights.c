@@ -1062,3 +1062,128 @@ oom:
 	ps_weights_free(w);
 	return ps_err_set(e, PS_ENOMEM, "out of memory building %d x %d weights", width, height);
 }
+
+/* ---- pieces for routes that take the exact weights of some pixels only ---- */
+
+struct ps_weights_exact {
+	struct edge_ctx c;
+	double *u;
+};
+
+int ps_weights_exact_open(struct ps_weights_exact **out, const struct ps_sensor *s,
+                          double rotation_deg, const struct ps_view *v, int width, int height,
+                          struct ps_err *e)
+{
+	struct ps_weights_exact *x = calloc(1, sizeof *x);
+	*out = NULL;
+	if (!x)
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
+	if (ctx_init(&x->c, s, rotation_deg, v, width, height, e) != 0) {
+		free(x);
+		return -1;
+	}
+	x->u = malloc(((size_t)width + 1) * sizeof *x->u);
+	if (!x->u) {
+		ctx_free(&x->c);
+		free(x);
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
+	}
+	for (int k = 0; k <= width; k++)
+		x->u[k] = ps_fisheye_u(&x->c.f, k);
+	*out = x;
+	return 0;
+}
+
+double ps_weights_exact_hedge(const struct ps_weights_exact *x, int px, int line)
+{
+	double v = ps_fisheye_v(&x->c.f, line);
+	return edge_hv(&x->c, x->u[px], v, x->u[px + 1], v);
+}
+
+double ps_weights_exact_vedge(const struct ps_weights_exact *x, int col, int jb)
+{
+	return edge_hv(&x->c, x->u[col], ps_fisheye_v(&x->c.f, jb), x->u[col], ps_fisheye_v(&x->c.f, jb + 1));
+}
+
+double ps_weights_exact_pixel(double bottom, double right, double top, double left)
+{
+	struct ps_sum ps;
+	double wt;
+	ps_sum_init(&ps);
+	ps_sum_add(&ps, bottom);
+	ps_sum_add(&ps, right);
+	ps_sum_add(&ps, -top);
+	ps_sum_add(&ps, -left);
+	wt = ps_sum_get(&ps);
+	return wt < 0 && wt > -1e-15 ? 0.0 : wt;
+}
+
+void ps_weights_exact_close(struct ps_weights_exact *x)
+{
+	if (!x)
+		return;
+	ctx_free(&x->c);
+	free(x->u);
+	free(x);
+}
+
+int ps_weights_layout(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                      const struct ps_view *v, int width, int height, struct ps_err *e)
+{
+	struct ps_fisheye f;
+	size_t cap = 0;
+	double R;
+	memset(w, 0, sizeof *w);
+	if (width <= 0 || height <= 0)
+		return ps_err_set(e, PS_EINVAL, "bad picture size %d x %d", width, height);
+	if (!isfinite(rotation_deg))
+		return ps_err_set(e, PS_EINVAL, "rotation %g is not a finite angle", rotation_deg);
+	if (ps_view_check_fisheye(v, "view", e) != 0)
+		return -1;
+	w->width = width;
+	w->height = height;
+	w->method = PS_W_EXACT;
+	ps_weights_key(s, rotation_deg, v, width, height, PS_W_EXACT, w->key, sizeof w->key);
+	ps_fisheye_init(&f, v, width, height);
+	/* as ps_weights_build_ex's full map */
+	R = ps_fisheye_rho(&f, fmin(ps_sensor_extent(s), f.theta_field));
+	if (ps_sensor_extent(s) >= f.theta_field)
+		R = 1.0;
+	R *= 1.0 + 1e-12;
+	for (int j = 0; j < height; j++) {
+		int lo, hi;
+		row_range(&f, j, R, &lo, &hi);
+		if (lo > hi)
+			continue;
+		if (push_run(w, &cap, height - 1 - j, lo, hi - lo + 1, w->nw) != 0)
+			goto oom;
+		w->nw += (size_t)(hi - lo + 1);
+	}
+	w->npix = w->nw;
+	{
+		/* a large map in huge pages where the system lends them on request:
+		 * the first touch of 100 MB costs 50 faults instead of 25000 */
+		size_t bytes = (w->nw ? w->nw : 1) * sizeof *w->w, huge = (size_t)2 << 20;
+		void *p = NULL;
+		if (bytes >= 4 * huge) {
+			if (posix_memalign(&p, huge, bytes) != 0)
+				p = NULL;
+#ifdef MADV_HUGEPAGE
+			else
+				madvise(p, bytes & ~(huge - 1), MADV_HUGEPAGE);
+#endif
+		} else {
+			p = malloc(bytes);
+		}
+		w->w = p;
+	}
+	if (!w->w)
+		goto oom;
+	w->sens_full = ps_sensor_integral(s);
+	w->solid_angle = ps_weights_rect_solid_angle(f.type, ps_fisheye_u(&f, 0), ps_fisheye_v(&f, 0),
+	                                             ps_fisheye_u(&f, width), ps_fisheye_v(&f, height));
+	return 0;
+oom:
+	ps_weights_free(w);
+	return ps_err_set(e, PS_ENOMEM, "out of memory laying out %d x %d weights", width, height);
+}
