@@ -146,15 +146,15 @@ static void *fill_run(void *arg)
 		for (size_t ri = r0; ri < r0 + CHUNK && ri < w->nruns; ri++) {
 			const struct ps_weights_run *run = &w->runs[ri];
 			int j = w->height - 1 - run->row, x0 = run->x0, x1 = run->x0 + run->n - 1;
-			int oi = jb->orun[run->row], below = prev_j == j - 1, in_cell = 0, prev_x = -2;
+			int oi = jb->orun[run->row], below = prev_j == j - 1, prev_x = -2;
 			const struct ps_weights_run *orun = oi >= 0 ? &jb->omega->runs[oi] : NULL;
 			unsigned char *mark = b.mark[cur], *mark_b = b.mark[1 - cur];
 			double *ht = b.htop[cur], *hb_prev = b.htop[1 - cur];
-			double *out = w->w + run->off, sens = 0.0, vright = 0.0;
+			double *out = w->w + run->off, vright = 0.0;
 			struct ps_sum rs;   /* local: the stores to out cannot alias it */
 			mark_row(jb, mark, x0, x1, ps_fisheye_v(&jb->f, j), ps_fisheye_v(&jb->f, j + 1));
 			ps_sum_init(&rs);
-			for (int x = x0; x <= x1; x++) {
+			for (int x = x0; x <= x1;) {
 				double wt;
 				if (!orun || x < orun->x0 || x >= orun->x0 + orun->n)
 					mark[x] = 1;   /* no solid angle to scale: the edge route */
@@ -169,16 +169,26 @@ static void *fill_run(void *arg)
 					prev_x = x;
 					wt = ps_weights_exact_pixel(hb, vright, ht[x], vl);
 					nexact++;
-					in_cell = 0;
+					out[x - x0] = wt;
+					ps_sum_add(&rs, wt);
+					x++;
 				} else {
-					/* unmarked neighbours share an edge inside one cell */
-					if (!in_cell)
-						sens = cell_value(jb, x, j);
-					in_cell = 1;
-					wt = sens * ps_weights_run_at(jb->omega, orun, x - orun->x0);
+					/* a stretch of unmarked pixels: neighbours that share an
+					 * edge inside one cell, so all in the first one's cell */
+					int xe = x, o0 = orun->x0, oe = orun->x0 + orun->n;
+					double sens = cell_value(jb, x, j), lane[4] = { 0, 0, 0, 0 };
+					while (xe < x1 && xe + 1 < oe && !mark[xe + 1])
+						xe++;
+					/* four lanes of plain sums (one sign, at most a row's
+					 * pixels: each within 1e-13), then one compensated add */
+					for (int q = x; q <= xe; q++) {
+						double wq = sens * ps_weights_run_at(jb->omega, orun, q - o0);
+						out[q - x0] = wq;
+						lane[(q - x) & 3] += wq;
+					}
+					ps_sum_add(&rs, (lane[0] + lane[1]) + (lane[2] + lane[3]));
+					x = xe + 1;
 				}
-				out[x - x0] = wt;
-				ps_sum_add(&rs, wt);
 			}
 			jb->rowsum[ri] = rs;
 			b.x0[cur] = x0;
