@@ -67,6 +67,9 @@ struct edge_ctx {
 	double z2_min[13];       /* edge_fast: z^2 from which n points meet the bound */
 	int nrho;
 	int use_phi_breaks;
+	int sa_n;                /* > 0: solid angles by the sa_n x sa_n rule over the pixel (sa_pixel) */
+	double sa_coef[18];      /* the solid angle's density as a polynomial in rho^2 */
+	int sa_terms;            /* its terms in use */
 	struct gl_rule gl[GL_RULES];
 	struct gl_rule glf[13];  /* glf[n]: n points, for edge_fast */
 };
@@ -505,6 +508,117 @@ static void order_thresholds(struct edge_ctx *c)
 	}
 }
 
+/* The uniform sensor on the angular projection: a pixel's weight is its
+ * solid angle, the integral over the pixel of the density
+ * J = pi sin(pi rho) / rho = pi^2 sum_k (-pi^2 rho^2)^k / (2k + 1)!, an
+ * entire function of u and v (no singularity at the zenith: that is the
+ * edge route's), so the n x n Gauss-Legendre rule over the pixel
+ * converges as fast as n grows.  Its error (Trefethen, ATAP, theorem 19.3,
+ * per coordinate, with the Bernstein ellipse of parameter 1 / h, h the
+ * pixel's side in plane units: semi-axes below h / 4 x (1 / h) = 1/4, so
+ * |rho^2| <= 2 x 1.25^2 in it and |J| <= pi^2 e^(pi 1.77) < 2600) is below
+ * 1110 h^(2n + 2) of the largest weight pi^2 h^2; n is the smallest with
+ * 4000 h^(2n + 2) <= 1e-17 (2 at 4000 x 4000 on a 180-degree field, 3 at
+ * 1000 x 1000, 4 at 256 x 256), none when no n up to 8 meets it.  The
+ * pixel must lie inside the field (rho <= 1 at its farthest corner).  No
+ * four edge integrals cancel: the weight is exact to its rounding. */
+static void solid_angle_rule(struct edge_ctx *c)
+{
+	double h = fmax(c->f.su / c->f.width, c->f.sv / c->f.height), t = M_PI * M_PI;
+	c->sa_n = 0;
+	if (c->s->kind != PS_SENS_UNIFORM || c->f.type != PS_VT_ANGULAR || !(h < 0.01))
+		return;
+	for (int n = 2; n <= 8 && !c->sa_n; n++)
+		if (4000.0 * pow(h, 2.0 * n + 2.0) <= 1e-17)
+			c->sa_n = n;
+	/* pi^2 (-pi^2)^k / (2k + 1)!, up to the first term below 1e-20 of
+	 * pi^2 at the picture's largest rho^2 inside the field (the rest,
+	 * alternating and falling, is smaller still; at rho^2 = 1 that is
+	 * k = 15) */
+	{
+		double u1 = c->f.u0 + c->f.su, v1 = c->f.v0 + c->f.sv;
+		double zmax = fmin(1.0, fmax(c->f.u0 * c->f.u0, u1 * u1) + fmax(c->f.v0 * c->f.v0, v1 * v1));
+		double term = 1.0;
+		c->sa_terms = 18;
+		for (int k = 0; k < 18; k++) {
+			c->sa_coef[k] = t;
+			t *= -M_PI * M_PI / ((2.0 * k + 2.0) * (2.0 * k + 3.0));
+			term *= M_PI * M_PI * zmax / ((2.0 * k + 2.0) * (2.0 * k + 3.0));
+			if (term < 1e-20) {
+				c->sa_terms = k + 2;   /* coefficients 0 .. k + 1 */
+				c->sa_coef[k + 1] = t;
+				break;
+			}
+		}
+	}
+}
+
+/* The solid angles of pixels xs..xe between lines vb and vt by the
+ * sa_n-point rule (inside the field: solid_angle_rule) into out[x - lo];
+ * four pixels' nodes at a time, their polynomials side by side (the
+ * evaluations are independent: the sums wait on no one). */
+static void sa_row(const struct edge_ctx *c, const double *u, int xs, int xe, int lo, double vb,
+                   double vt, double *out)
+{
+	enum { B = 4 };
+	const struct gl_rule *g = &c->glf[c->sa_n];
+	int n = g->n, nn = n * n, nt = c->sa_terms;
+	double vm = 0.5 * (vb + vt), vh = 0.5 * (vt - vb), v2[8];
+	for (int b = 0; b < n; b++) {
+		double vq = vm + vh * g->x[b];
+		v2[b] = vq * vq;
+	}
+	for (int x0 = xs; x0 <= xe; x0 += B) {
+		double z[B * 64 + 8], p[B * 64 + 8];
+		int m = xe - x0 + 1 < B ? xe - x0 + 1 : B, nz = m * nn;
+		for (int i = 0; i < m; i++) {
+			double um = 0.5 * (u[x0 + i] + u[x0 + i + 1]), uh = 0.5 * (u[x0 + i + 1] - u[x0 + i]);
+			for (int a = 0; a < n; a++) {
+				double uq = um + uh * g->x[a], u2 = uq * uq;
+				for (int b = 0; b < n; b++)
+					z[i * nn + b * n + a] = u2 + v2[b];
+			}
+		}
+		for (int q = nz; q % 8; q++)
+			z[q] = 0.0;   /* padding: eight values a pass, in registers */
+		for (int q0 = 0; q0 < nz; q0 += 8) {
+			double z0 = z[q0], z1 = z[q0 + 1], z2 = z[q0 + 2], z3 = z[q0 + 3];
+			double z4 = z[q0 + 4], z5 = z[q0 + 5], z6 = z[q0 + 6], z7 = z[q0 + 7];
+			double ck = c->sa_coef[nt - 1];
+			double p0 = ck, p1 = ck, p2 = ck, p3 = ck, p4 = ck, p5 = ck, p6 = ck, p7 = ck;
+			for (int k = nt - 2; k >= 0; k--) {
+				ck = c->sa_coef[k];
+				p0 = p0 * z0 + ck;
+				p1 = p1 * z1 + ck;
+				p2 = p2 * z2 + ck;
+				p3 = p3 * z3 + ck;
+				p4 = p4 * z4 + ck;
+				p5 = p5 * z5 + ck;
+				p6 = p6 * z6 + ck;
+				p7 = p7 * z7 + ck;
+			}
+			p[q0] = p0;
+			p[q0 + 1] = p1;
+			p[q0 + 2] = p2;
+			p[q0 + 3] = p3;
+			p[q0 + 4] = p4;
+			p[q0 + 5] = p5;
+			p[q0 + 6] = p6;
+			p[q0 + 7] = p7;
+		}
+		for (int i = 0; i < m; i++) {
+			double sum = 0.0, uh = 0.5 * (u[x0 + i + 1] - u[x0 + i]);
+			for (int b = 0; b < n; b++) {
+				double row = 0.0;
+				for (int a = 0; a < n; a++)
+					row += g->w[a] * p[i * nn + b * n + a];
+				sum += g->w[b] * row;
+			}
+			out[x0 + i - lo] = sum * uh * vh;
+		}
+	}
+}
+
 static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_deg,
                     const struct ps_view *v, int width, int height, struct ps_err *e)
 {
@@ -543,6 +657,7 @@ static int ctx_init(struct edge_ctx *c, const struct ps_sensor *s, double rot_de
 		c->rho2_breaks[i] = c->rho_breaks[i] * c->rho_breaks[i];
 	order_thresholds(c);
 	c->use_phi_breaks = s->kind == PS_SENS_TABLE;
+	solid_angle_rule(c);
 	return 0;
 }
 
@@ -716,6 +831,15 @@ static void *band_run(void *arg)
 			 * transposing, from the diagonal on */
 			int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
 			int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
+			/* the solid angles by the rule over each pixel: when the row's
+			 * pixels lie inside the field (no edges, none to reuse) */
+			int by_rule = b->method == PS_W_EXACT && c->sa_n > 0 && xs <= xe &&
+			              fmax(vb * vb, vt * vt) + fmax(u[xs] * u[xs], u[xe + 1] * u[xe + 1]) <= 1.0;
+			if (by_rule) {
+				sa_row(c, u, xs, xe, lo, vb, vt, out);
+				prev = -2;
+				goto mirror;
+			}
 			if (b->method == PS_W_EXACT) {
 				/* bottom line: reuse what the row below computed, where it did */
 				for (int x = xs; x <= xe; x++)
@@ -751,6 +875,7 @@ static void *band_run(void *arg)
 				}
 				out[x - lo] = wt;
 			}
+mirror:
 			/* the right half: the left half mirrored (after the transposes,
 			 * when there are some: ps_weights_build) */
 			for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose && !b->compact;
