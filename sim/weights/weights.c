@@ -67,9 +67,10 @@ struct edge_ctx {
 	double z2_min[13];       /* edge_fast: z^2 from which n points meet the bound */
 	int nrho;
 	int use_phi_breaks;
-	int sa_n;                /* > 0: solid angles by the sa_n x sa_n rule over the pixel (sa_pixel) */
-	double sa_coef[18];      /* the solid angle's density as a polynomial in rho^2 */
+	int sa_n;                /* > 0: builtins' weights by the sa_n x sa_n rule over the pixel (sa_row) */
+	double sa_coef[20];      /* the weight's density as a polynomial in rho^2 */
 	int sa_terms;            /* its terms in use */
+	double sa_r2;            /* the rule for pixels whose corners are all within rho^2 <= sa_r2 */
 	struct gl_rule gl[GL_RULES];
 	struct gl_rule glf[13];  /* glf[n]: n points, for edge_fast */
 };
@@ -508,42 +509,50 @@ static void order_thresholds(struct edge_ctx *c)
 	}
 }
 
-/* The uniform sensor on the angular projection: a pixel's weight is its
- * solid angle, the integral over the pixel of the density
- * J = pi sin(pi rho) / rho = pi^2 sum_k (-pi^2 rho^2)^k / (2k + 1)!, an
- * entire function of u and v (no singularity at the zenith: that is the
- * edge route's), so the n x n Gauss-Legendre rule over the pixel
- * converges as fast as n grows.  Its error (Trefethen, ATAP, theorem 19.3,
- * per coordinate, with the Bernstein ellipse of parameter 1 / h, h the
- * pixel's side in plane units: semi-axes below h / 4 x (1 / h) = 1/4, so
- * |rho^2| <= 2 x 1.25^2 in it and |J| <= pi^2 e^(pi 1.77) < 2600) is below
- * 1110 h^(2n + 2) of the largest weight pi^2 h^2; n is the smallest with
- * 4000 h^(2n + 2) <= 1e-17 (2 at 4000 x 4000 on a 180-degree field, 3 at
- * 1000 x 1000, 4 at 256 x 256), none when no n up to 8 meets it.  The
- * pixel must lie inside the field (rho <= 1 at its farthest corner).  No
- * four edge integrals cancel: the weight is exact to its rounding. */
+/* The builtins on the angular projection (theta = pi rho): a pixel's
+ * weight is the integral over it of S(theta) times the solid angle's
+ * density pi sin(pi rho) / rho, for the uniform sensor
+ *   J = pi sin(pi rho) / rho = pi^2 sum_k (-pi^2 rho^2)^k / (2k + 1)!
+ * and inside 90 degrees (rho <= 1/2) for the cosine
+ *   J = (pi / 2) sin(2 pi rho) / rho = pi^2 sum_k (-4 pi^2 rho^2)^k / (2k + 1)!,
+ * entire functions of u and v (no singularity at the zenith: that is the
+ * edge route's), so the n x n Gauss-Legendre rule over a pixel inside that
+ * disc converges as fast as n grows.  Its error (Trefethen, ATAP, theorem
+ * 19.3, per coordinate, with the Bernstein ellipse of parameter 1 / h, h the
+ * pixel's side in plane units: semi-axes below h / 4 x (1 / h) = 1/4, so in
+ * it |rho| <= 1.77 for the uniform sensor's disc, |J| <= pi^2 e^(pi 1.77) <
+ * 259 pi^2, and |rho| <= 1.07 for the cosine's, |J| <= pi^2 e^(2 pi 1.07) <
+ * 787 pi^2) is below 2 x 2.13 x 787 h^(2n + 2) < 3400 h^(2n + 2) of the
+ * largest weight pi^2 h^2; n is the smallest with 4000 h^(2n + 2) <= 1e-17
+ * (2 at 4000 x 4000 on a 180-degree field, 3 at 1000 x 1000, 4 at
+ * 256 x 256), none when no n up to 8 meets it.  No four edge integrals
+ * cancel: the weight is exact to its rounding.  Pixels reaching past the
+ * disc (the field's edge, the cosine's 90 degrees) keep the edge route. */
 static void solid_angle_rule(struct edge_ctx *c)
 {
-	double h = fmax(c->f.su / c->f.width, c->f.sv / c->f.height), t = M_PI * M_PI;
+	double h = fmax(c->f.su / c->f.width, c->f.sv / c->f.height), t = M_PI * M_PI, q;
 	c->sa_n = 0;
-	if (c->s->kind != PS_SENS_UNIFORM || c->f.type != PS_VT_ANGULAR || !(h < 0.01))
+	if ((c->s->kind != PS_SENS_UNIFORM && c->s->kind != PS_SENS_COSINE) ||
+	    c->f.type != PS_VT_ANGULAR || !(h < 0.01))
 		return;
 	for (int n = 2; n <= 8 && !c->sa_n; n++)
 		if (4000.0 * pow(h, 2.0 * n + 2.0) <= 1e-17)
 			c->sa_n = n;
-	/* pi^2 (-pi^2)^k / (2k + 1)!, up to the first term below 1e-20 of
-	 * pi^2 at the picture's largest rho^2 inside the field (the rest,
-	 * alternating and falling, is smaller still; at rho^2 = 1 that is
-	 * k = 15) */
+	c->sa_r2 = c->s->kind == PS_SENS_UNIFORM ? 1.0 : 0.25;
+	q = c->s->kind == PS_SENS_UNIFORM ? M_PI * M_PI : 4.0 * M_PI * M_PI;
+	/* pi^2 (-q)^k / (2k + 1)!, up to the first term below 1e-20 of pi^2
+	 * at the picture's largest rho^2 inside the disc (the rest,
+	 * alternating and falling, is smaller still; q rho^2 <= pi^2: that
+	 * is k = 15 at most) */
 	{
 		double u1 = c->f.u0 + c->f.su, v1 = c->f.v0 + c->f.sv;
-		double zmax = fmin(1.0, fmax(c->f.u0 * c->f.u0, u1 * u1) + fmax(c->f.v0 * c->f.v0, v1 * v1));
+		double zmax = fmin(c->sa_r2, fmax(c->f.u0 * c->f.u0, u1 * u1) + fmax(c->f.v0 * c->f.v0, v1 * v1));
 		double term = 1.0;
 		c->sa_terms = 18;
 		for (int k = 0; k < 18; k++) {
 			c->sa_coef[k] = t;
-			t *= -M_PI * M_PI / ((2.0 * k + 2.0) * (2.0 * k + 3.0));
-			term *= M_PI * M_PI * zmax / ((2.0 * k + 2.0) * (2.0 * k + 3.0));
+			t *= -q / ((2.0 * k + 2.0) * (2.0 * k + 3.0));
+			term *= q * zmax / ((2.0 * k + 2.0) * (2.0 * k + 3.0));
 			if (term < 1e-20) {
 				c->sa_terms = k + 2;   /* coefficients 0 .. k + 1 */
 				c->sa_coef[k + 1] = t;
@@ -831,30 +840,38 @@ static void *band_run(void *arg)
 			 * transposing, from the diagonal on */
 			int xe = b->mirror_x && (width - 1) / 2 < hi ? (width - 1) / 2 : hi;
 			int xs = b->transpose && j > lo ? (j <= xe ? j : xe + 1) : lo;
-			/* the solid angles by the rule over each pixel: when the row's
-			 * pixels lie inside the field (no edges, none to reuse) */
-			int by_rule = b->method == PS_W_EXACT && c->sa_n > 0 && xs <= xe &&
-			              fmax(vb * vb, vt * vt) + fmax(u[xs] * u[xs], u[xe + 1] * u[xe + 1]) <= 1.0;
-			if (by_rule) {
-				sa_row(c, u, xs, xe, lo, vb, vt, out);
-				prev = -2;
-				goto mirror;
+			/* pixels [xa, xb] inside the rule's disc (solid_angle_rule): by
+			 * the rule, the rest by their edges; the disc's pixels are one
+			 * stretch (the farthest corner's radius falls, then grows) */
+			int xa = 1, xb = 0;
+			if (b->method == PS_W_EXACT && c->sa_n > 0) {
+				double vv = fmax(vb * vb, vt * vt);
+				for (xa = xs; xa <= xe && vv + fmax(u[xa] * u[xa], u[xa + 1] * u[xa + 1]) > c->sa_r2; xa++)
+					;
+				for (xb = xe; xb >= xa && vv + fmax(u[xb] * u[xb], u[xb + 1] * u[xb + 1]) > c->sa_r2; xb--)
+					;
+				if (xa <= xb)
+					sa_row(c, u, xa, xb, lo, vb, vt, out);
 			}
 			if (b->method == PS_W_EXACT) {
 				/* bottom line: reuse what the row below computed, where it did */
 				for (int x = xs; x <= xe; x++)
-					if (prev != j - 1 || x < clo || x > chi)
+					if ((x < xa || x > xb) && (prev != j - 1 || x < clo || x > chi))
 						hb[x] = edge_hv(c, u[x], vb, u[x + 1], vb);
 				for (int x = xs; x <= xe; x++)
-					ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
+					if (x < xa || x > xb)
+						ht[x] = edge_hv(c, u[x], vt, u[x + 1], vt);
 				for (int x = xs; x <= xe + 1; x++)
-					vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
+					if (x <= xa || x > xb)
+						vrow[x] = edge_hv(c, u[x], vb, u[x], vt);
 			}
 			clo = xs;
 			chi = xe;
-			prev = j;
+			prev = xa <= xb ? -2 : j;   /* the top line is whole only without the rule */
 			for (int x = xs; x <= xe; x++) {
 				double wt;
+				if (x >= xa && x <= xb)
+					continue;
 				if (b->method == PS_W_EXACT) {
 					/* counter-clockwise: bottom, right, top (reversed), left (reversed) */
 					struct ps_sum ps;
@@ -875,7 +892,6 @@ static void *band_run(void *arg)
 				}
 				out[x - lo] = wt;
 			}
-mirror:
 			/* the right half: the left half mirrored (after the transposes,
 			 * when there are some: ps_weights_build) */
 			for (int x = xe + 1; x <= hi && b->method == PS_W_EXACT && !b->transpose && !b->compact;
