@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "cache.h"
+#include "cellmap.h"
 
 enum { FIXED = 64, RUN = 16 };
 
@@ -277,6 +278,35 @@ static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct ps_
 	                           PS_WB_COMPACT, e);
 }
 
+/* A cell-reading table that changes with azimuth: its map from the uniform
+ * sensor's (sim/weights/cellmap.h), which the cache keeps; the map itself
+ * is not stored (building it from the solid angles costs less than storing
+ * and reading its full size).  *how is the solid-angle map's: PS_WC_HIT
+ * when it came from the cache. */
+static int get_cellmap(struct ps_weights *w, const struct ps_wcache_key *k,
+                       const struct ps_wcache_dir *cache, int *how, struct ps_err *warn,
+                       struct ps_err *e)
+{
+	struct ps_sensor uni;
+	struct ps_weights omega;
+	struct ps_wcache_store *pending = NULL;
+	struct ps_wcache_key ok;
+	int rc;
+	if (ps_sensor_builtin(&uni, PS_SENS_UNIFORM, e) != 0)
+		return -1;
+	ok = (struct ps_wcache_key){ &uni, 0.0, k->view, k->width, k->height, PS_W_EXACT };
+	if (get(&omega, &ok, cache, how, warn, &pending, e) != 0) {
+		ps_sensor_free(&uni);
+		return -1;
+	}
+	/* a new solid-angle map is stored while the cells are filled */
+	rc = ps_cellmap_build(w, k->sensor, k->rotation_deg, k->view, k->width, k->height, &omega, e);
+	ps_wcache_store_finish(pending, how, warn);
+	ps_weights_free(&omega);
+	ps_sensor_free(&uni);
+	return rc;
+}
+
 static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct ps_wcache_dir *cache,
                int *how, struct ps_err *warn, struct ps_wcache_store **pending, struct ps_err *e)
 {
@@ -287,6 +317,8 @@ static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct
 	struct ps_err ce;
 	int got, rebuilt = 0;
 	*how = PS_WC_BUILT;
+	if (ps_cellmap_fits(k->sensor, k->method))
+		return get_cellmap(w, k, cache, how, warn, e);
 	if (!dir)
 		return build(w, k, e);
 	ps_wcache_key_hex(k, hex);

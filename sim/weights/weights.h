@@ -103,4 +103,26 @@ void ps_weights_key(const struct ps_sensor *s, double rotation_deg, const struct
  * field (for tests and the total). */
 double ps_weights_rect_solid_angle(int type, double u0, double v0, double u1, double v1);
 
+/* Routes that compute the exact weights of some pixels only
+ * (sim/weights/cellmap.c): an evaluator of one pixel's exact weight (its
+ * four edges, the general route: the same numbers as ps_weights_build's up
+ * to the rounding of edges it shares), and the runs of a full map as
+ * ps_weights_build lays them out (w->w allocated, not filled; sens_sum and
+ * coverage left to the caller, sens_full and solid_angle set). */
+struct ps_weights_exact;
+int ps_weights_exact_open(struct ps_weights_exact **out, const struct ps_sensor *s,
+                          double rotation_deg, const struct ps_view *v, int width, int height,
+                          struct ps_err *e);
+/* The edge integral along line `line` (0..height from the bottom) across
+ * pixel column px, left to right; along column line col (0..width) across
+ * bottom-based row jb (the run's row is height - 1 - jb), upwards. */
+double ps_weights_exact_hedge(const struct ps_weights_exact *x, int px, int line);
+double ps_weights_exact_vedge(const struct ps_weights_exact *x, int col, int jb);
+/* A pixel's weight from its four edges as above (compensated, counter-
+ * clockwise; rounding below 1e-15 on a pixel the sensor barely sees is 0). */
+double ps_weights_exact_pixel(double bottom, double right, double top, double left);
+void ps_weights_exact_close(struct ps_weights_exact *x);
+int ps_weights_layout(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                      const struct ps_view *v, int width, int height, struct ps_err *e);
+
 #endif

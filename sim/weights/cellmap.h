@@ -1,0 +1,38 @@
+/* SPDX-License-Identifier: ISC */
+/* Exact weights of a table sensor under the cell reading from the
+ * picture's solid-angle map.  Under the cell reading the sensitivity is
+ * constant in each cell (between two circles of constant polar angle and
+ * two rays of constant azimuth), so a pixel whose footprint lies inside one
+ * cell weighs that cell's value times the pixel's solid angle: exactly the
+ * same integral as ps_weights_build's, without its edge integrals.  Only
+ * the pixels that a cell's circle or ray, the table's end or the field's
+ * edge meets or touches (found per row from where those curves cross the
+ * row's band) take the exact edge route.
+ *
+ * The solid angles are the exact map of the uniform sensor (builtin:uniform,
+ * rotation 0, the same view and size): the map the weight cache keeps and
+ * mirrors (a quarter of it stored, an eighth computed on a square picture),
+ * shared by every sensor and rotation of that view and size.  The result is
+ * a full map laid out as ps_weights_build's; every weight agrees with it to
+ * rounding (tests/unit/test_cellmap.c).  The work is shared by every core. */
+#ifndef PS_CELLMAP_H
+#define PS_CELLMAP_H
+
+#include "err.h"
+#include "sensor.h"
+#include "view.h"
+#include "weights.h"
+
+/* 1 when this route gives s's exact map (method exact, a table under the
+ * cell reading whose values change with azimuth: a table the same at every
+ * azimuth has the mirrored route of ps_weights_build_ex, cheaper still). */
+int ps_cellmap_fits(const struct ps_sensor *s, int method);
+
+/* Build s's exact map (rotation in degrees, view v, width x height) from
+ * omega, the uniform sensor's exact map of the same view and size (full or
+ * compact). */
+int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                     const struct ps_view *v, int width, int height,
+                     const struct ps_weights *omega, struct ps_err *e);
+
+#endif
