@@ -84,6 +84,8 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 	struct psd_control *c = &u->c;
 	int m = u->m;
 	a->steps++;
+	if (o->step)
+		o->step(o->step_ctx, u->doy, t, level, output, truth, dl);
 	if (o->task_img) {
 		int row = (int)(t / 600.0);
 		if (row < ROWS && fmod(t, 600.0) < o->period) {
