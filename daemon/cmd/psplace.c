@@ -102,6 +102,8 @@ struct search {
 	int nposes;
 	struct ps_sensor *sens;
 	int npatch, mf;
+	double cell_theta;         /* degrees: the projection's cells in polar angle */
+	double theta_max;          /* degrees: the projection's extent (the sensors') */
 	struct hours hrs;
 	double elec_task;          /* the grid's figure at full electric output */
 	struct psd_annual_opt ao;
@@ -253,7 +255,7 @@ static int scan_picture(const struct search *s, const struct ps_weights *om, con
 			coef[c] = 1;
 		else
 			memcpy(coef, V, sizeof coef);
-		if (ps_rescan_project(&pr, om, pic, v, coef, s->o->cell_theta, cell_phi(s), 0, 90.0 + s->o->cell_theta,
+		if (ps_rescan_project(&pr, om, pic, v, coef, s->cell_theta, cell_phi(s), 0, s->theta_max,
 		                      &e) != 0) {
 			free(tmp);
 			return snprintf(err, errlen, "%s", e.msg), -1;
@@ -694,27 +696,23 @@ static void spread(const struct ps_results *r, struct combo *k)
 	}
 }
 
-/* Run combination k from its row; w (may be NULL) gathers the hours. */
-static int run_combo(const struct search *s, struct combo *k, const double *row, double elec, struct watch *wx)
+/* Run combination k's law on results r (its row's); w (may be NULL)
+ * gathers the hours. */
+static int run_law(const struct search *s, struct combo *k, const struct ps_results *r, struct watch *wx)
 {
-	struct ps_results r;
 	struct psd_control c;
 	struct psd_annual_opt o = s->ao;
 	struct watch w0, *w = wx ? wx : &w0;
 	if (!wx)
 		memset(&w0, 0, sizeof w0);
-	if (make_results(s, row, elec, &s->sens[k->sens], &r, &k->sensor_sum) != 0)
-		return -1;
-	law_for(s, &r, s->o->laws[k->law], &c);
-	spread(&r, k);
+	law_for(s, r, s->o->laws[k->law], &c);
 	w->o = &o;
 	w->c = &c;
 	w->day = 0;
 	w->last_swing_t = -1e30;
 	o.step = step_hook;
 	o.step_ctx = w;
-	if (psd_annual_run(&r, &c, &o, &k->a) != 0) {
-		results_release(&r);
+	if (psd_annual_run(r, &c, &o, &k->a) != 0) {
 		k->fail = 1;
 		return -1;
 	}
@@ -723,8 +721,25 @@ static int run_combo(const struct search *s, struct combo *k, const double *row,
 	k->over_h = w->over_h;
 	k->days = w->days;
 	k->days_pass = w->days_pass;
-	results_release(&r);
 	return 0;
+}
+
+/* Run the laws of combinations k[0 .. n-1], which share one row. */
+static int run_row(const struct search *s, struct combo *k, int n, const double *row, double elec, struct watch *wx)
+{
+	struct ps_results r;
+	int rc = 0;
+	double sum;
+	if (make_results(s, row, elec, &s->sens[k[0].sens], &r, &sum) != 0)
+		return -1;
+	for (int i = 0; i < n; i++) {
+		k[i].sensor_sum = sum;
+		spread(&r, &k[i]);
+		if (run_law(s, &k[i], &r, wx) != 0)
+			rc = -1;
+	}
+	results_release(&r);
+	return rc;
 }
 
 static const double *combo_row(const struct search *s, const struct combo *k)
@@ -742,14 +757,16 @@ static double combo_elec(const struct search *s, const struct combo *k)
 static void *worker(void *arg)
 {
 	struct search *s = arg;
+	size_t nl = (size_t)s->o->nlaws;
 	for (;;) {
 		size_t i;
 		pthread_mutex_lock(&s->lock);
-		i = s->next++;
+		i = s->next;
+		s->next += nl;
 		pthread_mutex_unlock(&s->lock);
 		if (i >= s->nc)
 			break;
-		if (run_combo(s, &s->c[i], combo_row(s, &s->c[i]), combo_elec(s, &s->c[i]), NULL) != 0) {
+		if (run_row(s, &s->c[i], (int)nl, combo_row(s, &s->c[i]), combo_elec(s, &s->c[i]), NULL) != 0) {
 			pthread_mutex_lock(&s->lock);
 			s->failed++;
 			pthread_mutex_unlock(&s->lock);
@@ -912,7 +929,7 @@ static int exports(const struct search *s, const struct combo *k0, char *err, si
 	w.hour_power = power;
 	w.hour_level = level;
 	w.hour_steps = steps;
-	if (run_combo(s, &k, combo_row(s, &k), combo_elec(s, &k), &w) != 0)
+	if (run_row(s, &k, 1, combo_row(s, &k), combo_elec(s, &k), &w) != 0)
 		return snprintf(err, errlen, "the chosen combination's year did not run"), -1;
 	days = k.a.days;
 	if (o->schedule || o->csv) {
@@ -1142,6 +1159,21 @@ int main(int argc, char **argv)
 			goto out;
 		}
 	}
+	/* cells in polar angle no coarser than half a table's finest step (a
+	 * scan spreads each cell ring over two rows of every table step) */
+	s.cell_theta = o.cell_theta;
+	s.theta_max = 0;
+	for (int k = 0; k < o.nsens; k++)
+		if (ps_sensor_extent(&s.sens[k]) * 180.0 / M_PI > s.theta_max)
+			s.theta_max = ps_sensor_extent(&s.sens[k]) * 180.0 / M_PI;
+	s.theta_max = s.theta_max + o.cell_theta > 180 ? 180 : s.theta_max + o.cell_theta;
+	for (int k = 0; k < o.nsens; k++)
+		if (s.sens[k].kind == PS_SENS_TABLE)
+			for (int i = 0; i < s.sens[k].nt; i++) {
+				double half = 0.5 * (s.sens[k].tb[i + 1] - s.sens[k].tb[i]) * 180.0 / M_PI;
+				if (half > 0 && half < s.cell_theta)
+					s.cell_theta = half;
+			}
 	{
 		struct ps_err e;
 		double *lux, *scratch;
@@ -1227,7 +1259,7 @@ int main(int argc, char **argv)
 			continue;
 		}
 		x = *k;
-		if (run_combo(&s, &x, row, elec, NULL) == 0) {
+		if (run_row(&s, &x, 1, row, elec, NULL) == 0) {
 			k->exact = 1;
 			k->exact_sensor_err = 100 * (k->sensor_sum / x.sensor_sum - 1);
 			k->exact_energy_err = 100 * (k->a.energy_h - x.a.energy_h) / k->a.occ_h;
