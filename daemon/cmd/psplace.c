@@ -27,9 +27,11 @@
 #include <strings.h>
 
 #include "annual.h"
+#include "canvas.h"
 #include "config.h"
 #include "scene.h"
 #include "control.h"
+#include "falsecolor.h"
 #include "gridmtx.h"
 #include "integrate.h"
 #include "json.h"
@@ -86,7 +88,7 @@ struct combo {
 
 struct opts {
 	const char *conf, *zone, *cands, *dir, *grid, *elec, *weather, *stat;
-	const char *json_out, *results_out, *schedule, *csv, *zone_out;
+	const char *json_out, *results_out, *schedule, *csv, *zone_out, *plan;
 	const char *sens[MAX_LIST];
 	int nsens;
 	int laws[PSD_ALG_COUNT], nlaws;
@@ -119,7 +121,7 @@ static void usage(FILE *fp)
 	fprintf(fp, "usage: psplace -f psensd.conf [-z zone] -c candidates.txt [-d dir] -g grid.mtx -e grid_elec.dat\n"
 	            "               -w weather [-s sensor]... [-a law]... [-r rotations] [-t statistic]\n"
 	            "               [-T top] [-j threads] [-p period] [-u max_below_h] [-J] [-o out.json]\n"
-	            "               [-x results] [-E schedule.csv] [-C year.csv] [-Z zone.conf] [-q]\n"
+	            "               [-x results] [-E schedule.csv] [-C year.csv] [-Z zone.conf] [-P plan.png] [-q]\n"
 	            "see psplace(1)\n");
 }
 
@@ -991,6 +993,106 @@ static int exports(const struct search *s, const struct combo *k0, char *err, si
 	return 0;
 }
 
+/* ---- the plan ------------------------------------------------------ */
+
+/* The room's plan seen from above (x across, y up the picture): each pose
+ * a disc coloured by its best combination's energy (blue least, red most,
+ * grey when none stays within the under-lighting allowed), its aim's
+ * horizontal part an arrow, the winner ringed. */
+static int plan_png(const struct search *s, const char *path, char *err, size_t errlen)
+{
+	static const uint8_t white[3] = { 255, 255, 255 };
+	static const double ink[3] = { 0, 0, 0 };
+	const int W = 640, H = 560, top = 50, side = 60;
+	double x0 = 1e30, x1 = -1e30, y0 = 1e30, y1 = -1e30, emin = 1e30, emax = -1e30, scale;
+	double *best = calloc((size_t)s->nposes, sizeof *best);
+	int *have = calloc((size_t)s->nposes, sizeof *have);
+	struct ps_canvas cv;
+	struct ps_err e;
+	char buf[160];
+	if (!best || !have) {
+		free(best);
+		free(have);
+		return snprintf(err, errlen, "out of memory"), -1;
+	}
+	for (size_t i = 0; i < s->nc; i++) {
+		const struct combo *k = &s->c[i];
+		if (k->fail || have[k->pose])
+			continue;
+		have[k->pose] = k->a.below_h <= s->o->max_below ? 1 : 2;
+		best[k->pose] = 100 * k->a.energy_h / k->a.occ_h;
+		if (have[k->pose] == 1) {
+			emin = fmin(emin, best[k->pose]);
+			emax = fmax(emax, best[k->pose]);
+		}
+	}
+	for (int i = 0; i < s->nposes; i++) {
+		x0 = fmin(x0, s->poses[i].view.vp[0]);
+		x1 = fmax(x1, s->poses[i].view.vp[0]);
+		y0 = fmin(y0, s->poses[i].view.vp[1]);
+		y1 = fmax(y1, s->poses[i].view.vp[1]);
+	}
+	x0 -= 0.6, x1 += 0.6, y0 -= 0.6, y1 += 0.6;
+	scale = fmin((W - 2 * side) / (x1 - x0), (H - top - side) / (y1 - y0));
+	if (ps_canvas_init(&cv, W, H, white, &e) != 0) {
+		free(best);
+		free(have);
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	}
+	{
+		cairo_t *cr = cv.cr;
+		double px0 = side, py0 = top + (y1 - y0) * scale;
+		cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
+		cairo_set_line_width(cr, 1.0);
+		cairo_rectangle(cr, px0, top, (x1 - x0) * scale, (y1 - y0) * scale);
+		cairo_stroke(cr);
+		for (int i = 0; i < s->nposes; i++) {
+			const struct ps_view *v = &s->poses[i].view;
+			double px = px0 + (v->vp[0] - x0) * scale, py = py0 - (v->vp[1] - y0) * scale, r = 16;
+			double hx = v->vd[0], hy = v->vd[1], hl = sqrt(hx * hx + hy * hy);
+			uint8_t rgb[3] = { 170, 170, 170 };
+			if (have[i] == 1)
+				ps_falsecolor_rgb8(emax > emin ? (best[i] - emin) / (emax - emin) : 0.0, rgb);
+			/* tilted poses sit beside the ones at the same point */
+			if (hl > 1e-6) {
+				px += 3.2 * r * hx / hl;
+				py -= 3.2 * r * hy / hl;
+			}
+			cairo_set_source_rgb(cr, rgb[0] / 255.0, rgb[1] / 255.0, rgb[2] / 255.0);
+			cairo_arc(cr, px, py, r, 0, 2 * M_PI);
+			cairo_fill_preserve(cr);
+			cairo_set_source_rgb(cr, 0, 0, 0);
+			cairo_set_line_width(cr, s->nc && s->c[0].pose == i ? 4.0 : 1.0);
+			cairo_stroke(cr);
+			if (hl > 1e-6) {
+				cairo_set_line_width(cr, 2.0);
+				cairo_move_to(cr, px, py);
+				cairo_line_to(cr, px + 1.5 * r * hx / hl, py - 1.5 * r * hy / hl);
+				cairo_stroke(cr);
+			}
+			snprintf(buf, sizeof buf, "%s %s", s->poses[i].id, have[i] ? "" : "(no year)");
+			if (have[i])
+				snprintf(buf, sizeof buf, "%s %.1f%%", s->poses[i].id, best[i]);
+			ps_canvas_label(&cv, px, py + r + 9, 10, 0, ink, 0, buf);
+		}
+	}
+	ps_canvas_label(&cv, 10, 16, 13, -1, ink, 0, "psplace: candidate poses, plan (x across, y up; metres)");
+	snprintf(buf, sizeof buf, "colour: the pose's best energy, blue %.1f %% to red %.1f %%; grey: under-lit; ringed: the best",
+	         emin < 1e29 ? emin : 0.0, emax > -1e29 ? emax : 0.0);
+	ps_canvas_label(&cv, 10, 34, 10, -1, ink, 0, buf);
+	snprintf(buf, sizeof buf, "x %.2f to %.2f m, y %.2f to %.2f m", x0, x1, y0, y1);
+	ps_canvas_label(&cv, 10, H - 14, 10, -1, ink, 0, buf);
+	free(best);
+	free(have);
+	if (ps_canvas_save_png(&cv, path, &e) != 0) {
+		ps_canvas_free(&cv);
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	}
+	ps_canvas_free(&cv);
+	ps_canvas_shutdown();
+	return 0;
+}
+
 /* ---- main ---------------------------------------------------------- */
 
 static int parse_law(const char *name)
@@ -1037,7 +1139,7 @@ int main(int argc, char **argv)
 	char err[1024], what[256];
 	double t0 = psd_time_mono(), t_sky, t_proj, t_run;
 	int ch, status = 1;
-	while ((ch = getopt(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:j:p:u:Jo:x:E:C:Z:R:qh")) != -1) {
+	while ((ch = getopt(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:j:p:u:Jo:x:E:C:Z:R:P:qh")) != -1) {
 		switch (ch) {
 		case 'f': o.conf = optarg; break;
 		case 'z': o.zone = optarg; break;
@@ -1105,6 +1207,7 @@ int main(int argc, char **argv)
 		case 'E': o.schedule = optarg; break;
 		case 'C': o.csv = optarg; break;
 		case 'Z': o.zone_out = optarg; break;
+		case 'P': o.plan = optarg; break;
 		case 'q': o.quiet = 1; break;
 		case 'h': usage(stdout); return 0;
 		default: usage(stderr); return 2;
@@ -1297,6 +1400,10 @@ int main(int argc, char **argv)
 	if (s.failed)
 		fprintf(stderr, "psplace: %d combination(s) could not run the year\n", s.failed);
 	if (s.nc && !s.c[0].fail && exports(&s, &s.c[0], err, sizeof err) != 0) {
+		fprintf(stderr, "psplace: %s\n", err);
+		goto out;
+	}
+	if (o.plan && plan_png(&s, o.plan, err, sizeof err) != 0) {
 		fprintf(stderr, "psplace: %s\n", err);
 		goto out;
 	}

@@ -13,6 +13,7 @@
 #     measured up to 0.14 % and 0.001 points);
 #   - an asymmetric sensor gives different rotations different signals, a
 #     cosine sensor the same;
+#   - the plan of the poses is a PNG;
 #   - the schedule: 8760 hourly power fractions in [0, 1] whose sum over the
 #     occupied hours is the year's energy (an independent summation);
 #   - a candidate with a missing patch or a mismatched picture, a grid with
@@ -39,7 +40,7 @@ sed "s|^database = .*|database = $TMP/psensd.db|; s|^scene = .*|scene = $TOP/con
 
 "$BIN/psplace" -f "$TMP/psensd.conf" -c "$TMP/cands.txt" -d "$TMP/poses" -g "$D/grid_mf1.mtx" -e "$D/grid_elec.dat" \
 	-w "$W" -s builtin:cosine -s "$TMP/lopsided.sen" -r 4 -T 4 -o "$TMP/out.json" -x "$TMP/best.results" \
-	-E "$TMP/sched.csv" -C "$TMP/year.csv" -Z "$TMP/zone.conf" > "$TMP/out" 2> "$TMP/err"
+	-E "$TMP/sched.csv" -C "$TMP/year.csv" -Z "$TMP/zone.conf" -P "$TMP/plan.png" > "$TMP/out" 2> "$TMP/err"
 check "psplace runs" test $? = 0
 check "4 poses x 4 rotations x 2 sensors x 5 laws = 160 combinations" grep -q "= 160 combinations" "$TMP/out"
 check "a ranked table" grep -qE "^   1 (p01|p07|p09|ex) " "$TMP/out"
@@ -109,6 +110,7 @@ rows = [l.split(',') for l in open('$TMP/year.csv').read().split()[1:]]
 p = [float(r[4]) for r in rows]
 occ = sum(float(r[4]) for r in rows if 9 <= int(r[2]) <= 18)
 sys.exit(not (min(p) >= 0 and max(p) <= 1 and abs(occ - best['energy_h']) < 0.01))"
+check "the plan drawn as a PNG" sh -c "head -c 8 '$TMP/plan.png' | od -An -c | grep -q 'P   N   G'"
 check "the zone section names the law" grep -qE "^algorithm = (setpoint|closed-proportional|open-proportional|integral-reset|switching)$" "$TMP/zone.conf"
 
 # refusals
