@@ -28,6 +28,7 @@
 
 #include "annual.h"
 #include "canvas.h"
+#include "cli.h"
 #include "config.h"
 #include "scene.h"
 #include "control.h"
@@ -93,6 +94,7 @@ struct opts {
 	int nsens;
 	int laws[PSD_ALG_COUNT], nlaws;
 	int nrot, top, threads, quiet, json;
+	double rot_step;
 	double period, cell_theta, max_below;
 };
 
@@ -118,11 +120,35 @@ struct search {
 
 static void usage(FILE *fp)
 {
-	fprintf(fp, "usage: psplace -f psensd.conf [-z zone] -c candidates.txt [-d dir] -g grid.mtx -e grid_elec.dat\n"
-	            "               -w weather [-s sensor]... [-a law]... [-r rotations] [-t statistic]\n"
-	            "               [-T top] [-j threads] [-p period] [-u max_below_h] [-J] [-o out.json]\n"
-	            "               [-x results] [-E schedule.csv] [-C year.csv] [-Z zone.conf] [-P plan.png] [-q]\n"
-	            "see psplace(1)\n");
+	fprintf(fp, "usage: psplace -f psensd.conf [-z zone] -c candidates.txt [-d dir] -g grid.mtx\n"
+	            "               -e grid_elec.dat -w weather [-s sensor]... [-a law]... [-r step]\n"
+	            "               [-t figure] [-T top] [-n threads] [-p period] [-u hours] [-k deg]\n"
+	            "               [-j] [-o out.json] [-x results] [-E schedule.csv] [-y year.csv]\n"
+	            "               [-Z zone.conf] [-P plan.png] [-q]\n"
+	            "  -f FILE   psensd.conf: the zone's law, devices and [simulate] power curve\n"
+	            "  -z ZONE   the zone (default the first)\n"
+	            "  -c FILE   candidate poses: an id and a Radiance view a line\n"
+	            "  -d DIR    where each pose's DIR/id/dc_%%03d.hdr and elec.hdr are (default .)\n"
+	            "  -g FILE   the work-plane grid's coefficients (rfluxmtx -I+ matrix)\n"
+	            "  -e FILE   the grid's electric irradiance (rtrace -I+ lines)\n"
+	            "  -w FILE   the weather (.wea or .epw)\n"
+	            "  -s FILE   a sensor: a table or builtin:cosine, builtin:uniform (repeat)\n"
+	            "  -a LAW    a control law (repeat; default all five)\n"
+	            "  -r DEG    the rotation step about the sensor axis (default 10: 36 rotations)\n"
+	            "  -t FIG    the grid's figure: min, mean (default), pNN, points:i,j,...\n"
+	            "  -T N      re-check the best N by the exact route (default 3)\n"
+	            "  -n N      threads for the years (default 2)\n"
+	            "  -p S      control period, s (default the zone's)\n"
+	            "  -u H      hours below 90 %% of the target still ranked by energy\n"
+	            "  -k DEG    the projection's cells in polar angle (default 2)\n"
+	            "  -j        the whole table as JSON;  -o FILE  the JSON to a file\n"
+	            "  -x FILE   the winner's results for psensd\n"
+	            "  -E FILE   the winner's year as an EnergyPlus Schedule:File CSV\n"
+	            "  -y FILE   the winner's year as a plain CSV\n"
+	            "  -Z FILE   the winner's settings as a psensd.conf zone section\n"
+	            "  -P FILE   the plan of the poses as a PNG\n"
+	            "  -q        only the best 10 rows\n"
+	            "  -h, --help     this help;  -V, --version  the version\n");
 }
 
 /* ---- reading the candidates ---------------------------------------- */
@@ -1132,14 +1158,15 @@ static void search_free(struct search *s)
 int main(int argc, char **argv)
 {
 	static struct psd_config cf;
-	struct opts o = { .stat = "mean", .nrot = 36, .top = 3, .threads = 2, .cell_theta = 2.0, .dir = ".",
-	                  .max_below = -1 };
+	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	struct opts o = { .stat = "mean", .nrot = 36, .rot_step = 10, .top = 3, .threads = 2, .cell_theta = 2.0,
+	                  .dir = ".", .max_below = -1 };
 	struct search s;
 	struct ps_gridmtx g;
 	char err[1024], what[256];
 	double t0 = psd_time_mono(), t_sky, t_proj, t_run;
 	int ch, status = 1;
-	while ((ch = getopt(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:j:p:u:Jo:x:E:C:Z:R:P:qh")) != -1) {
+	while ((ch = getopt_long(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:n:p:u:k:jo:x:E:y:Z:P:qhV", longopts, NULL)) != -1) {
 		switch (ch) {
 		case 'f': o.conf = optarg; break;
 		case 'z': o.zone = optarg; break;
@@ -1165,12 +1192,17 @@ int main(int argc, char **argv)
 			o.laws[o.nlaws++] = a;
 			break;
 		}
-		case 'r':
-			if (positive_int(optarg, 1, 3600, &o.nrot) != 0) {
-				fprintf(stderr, "psplace: -r %s: rotations, 1 to 3600\n", optarg);
+		case 'r': {
+			char *end;
+			double v = strtod(optarg, &end), n = v > 0 ? 360.0 / v : 0;
+			if (end == optarg || *end || !(v > 0) || v > 360 || fabs(n - round(n)) > 1e-9) {
+				fprintf(stderr, "psplace: -r %s: a rotation step that divides 360 degrees\n", optarg);
 				return 2;
 			}
+			o.rot_step = v;
+			o.nrot = (int)round(n);
 			break;
+		}
 		case 't': o.stat = optarg; break;
 		case 'T':
 			if (positive_int(optarg, 0, 1000, &o.top) != 0) {
@@ -1178,15 +1210,15 @@ int main(int argc, char **argv)
 				return 2;
 			}
 			break;
-		case 'j':
+		case 'n':
 			if (positive_int(optarg, 1, 256, &o.threads) != 0) {
-				fprintf(stderr, "psplace: -j %s: 1 to 256 threads\n", optarg);
+				fprintf(stderr, "psplace: -n %s: 1 to 256 threads\n", optarg);
 				return 2;
 			}
 			break;
 		case 'p':
 		case 'u':
-		case 'R': {
+		case 'k': {
 			char *end;
 			double v = strtod(optarg, &end);
 			if (end == optarg || *end || !(v > 0) || v > 86400) {
@@ -1201,15 +1233,16 @@ int main(int argc, char **argv)
 				o.cell_theta = v;
 			break;
 		}
-		case 'J': o.json = 1; break;
+		case 'j': o.json = 1; break;
 		case 'o': o.json_out = optarg; break;
 		case 'x': o.results_out = optarg; break;
 		case 'E': o.schedule = optarg; break;
-		case 'C': o.csv = optarg; break;
+		case 'y': o.csv = optarg; break;
 		case 'Z': o.zone_out = optarg; break;
 		case 'P': o.plan = optarg; break;
 		case 'q': o.quiet = 1; break;
 		case 'h': usage(stdout); return 0;
+		case 'V': return ps_cli_version("psplace");
 		default: usage(stderr); return 2;
 		}
 	}
@@ -1228,7 +1261,7 @@ int main(int argc, char **argv)
 	s.o = &o;
 	s.cf = &cf;
 	pthread_mutex_init(&s.lock, NULL);
-	if (psd_config_load(&cf, o.conf) != 0) {
+	if (psd_config_load_keys(&cf, o.conf) != 0) {
 		for (size_t i = 0; i < cf.conf.nerrors; i++)
 			fprintf(stderr, "psplace: %s\n", cf.conf.errors[i]);
 		psd_config_free(&cf);

@@ -33,7 +33,7 @@ run() {
 	echo "$what:"
 	sed -n 's/^psplace: zone [^,]*, \(.*combinations\),$/  \1/p; s/^\(time: .*\)$/  \1/p; s/^\(exact route, rank 1: .*\)$/  \1/p' "$tmp/out"
 }
-run "a year at the zone's period (60 s: 525,600 steps), 4 rotations, one sensor" -r 4 -s builtin:cosine
-run "the example office, hourly steps" -r 36 -s builtin:cosine -s $S/cone.sen -s "$tmp/lopsided.sen" -p 3600
-run "about 10,000 combinations, hourly steps" -r 36 -s builtin:cosine -s $S/cone.sen -s "$tmp/lopsided.sen" \
+run "a year at the zone's period (60 s: 525,600 steps), 4 rotations, one sensor" -r 90 -s builtin:cosine
+run "the example office, hourly steps" -r 10 -s builtin:cosine -s $S/cone.sen -s "$tmp/lopsided.sen" -p 3600
+run "about 10,000 combinations, hourly steps" -r 10 -s builtin:cosine -s $S/cone.sen -s "$tmp/lopsided.sen" \
 	-s $S/cosine.sen -s builtin:uniform -p 3600

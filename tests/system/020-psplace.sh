@@ -39,8 +39,8 @@ sed "s|^database = .*|database = $TMP/psensd.db|; s|^scene = .*|scene = $TOP/con
 	"$TOP/config/psensd.conf" > "$TMP/psensd.conf"
 
 "$BIN/psplace" -f "$TMP/psensd.conf" -c "$TMP/cands.txt" -d "$TMP/poses" -g "$D/grid_mf1.mtx" -e "$D/grid_elec.dat" \
-	-w "$W" -s builtin:cosine -s "$TMP/lopsided.sen" -r 4 -T 4 -o "$TMP/out.json" -x "$TMP/best.results" \
-	-E "$TMP/sched.csv" -C "$TMP/year.csv" -Z "$TMP/zone.conf" -P "$TMP/plan.png" > "$TMP/out" 2> "$TMP/err"
+	-w "$W" -s builtin:cosine -s "$TMP/lopsided.sen" -r 90 -T 4 -o "$TMP/out.json" -x "$TMP/best.results" \
+	-E "$TMP/sched.csv" -y "$TMP/year.csv" -Z "$TMP/zone.conf" -P "$TMP/plan.png" > "$TMP/out" 2> "$TMP/err"
 check "psplace runs" test $? = 0
 check "4 poses x 4 rotations x 2 sensors x 5 laws = 160 combinations" grep -q "= 160 combinations" "$TMP/out"
 check "a ranked table" grep -qE "^   1 (p01|p07|p09|ex) " "$TMP/out"
@@ -81,7 +81,7 @@ check "the five laws' scores are psensd -Y's ($(tail -n 1 "$TMP/cmp"))" test $? 
 # four rotations of the tilted pose (the best four of that search)
 echo "p09 $(sed -n 's/^p09 //p' "$D/candidates.txt")" > "$TMP/c-p09.txt"
 "$BIN/psplace" -f "$TMP/psensd.conf" -c "$TMP/c-p09.txt" -d "$TMP/poses" -g "$D/grid_mf1.mtx" -e "$D/grid_elec.dat" \
-	-w "$W" -s "$TMP/lopsided.sen" -a setpoint -r 4 -T 4 > "$TMP/rot.out" 2> "$TMP/err"
+	-w "$W" -s "$TMP/lopsided.sen" -a setpoint -r 90 -T 4 > "$TMP/rot.out" 2> "$TMP/err"
 n=$(grep -c "^exact route, rank" "$TMP/rot.out")
 check "four rotations re-checked by the exact route" test "$n" = 4
 check "the projection's sensor signal within 0.5 % of the exact route's" awk '
@@ -114,7 +114,7 @@ check "the plan drawn as a PNG" sh -c "head -c 8 '$TMP/plan.png' | od -An -c | g
 check "the zone section names the law" grep -qE "^algorithm = (setpoint|closed-proportional|open-proportional|integral-reset|switching)$" "$TMP/zone.conf"
 
 # refusals
-run() { "$BIN/psplace" -f "$TMP/psensd.conf" -w "$W" -r 1 -T 0 "$@" > /dev/null 2> "$TMP/err"; }
+run() { "$BIN/psplace" -f "$TMP/psensd.conf" -w "$W" -r 360 -T 0 "$@" > /dev/null 2> "$TMP/err"; }
 cp -r "$TMP/poses/p07" "$TMP/poses/p07m"
 rm "$TMP/poses/p07m/dc_050.hdr"
 echo "p07m -vta -vp 1.85 3.80 2.2 -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180" > "$TMP/c-missing.txt"
