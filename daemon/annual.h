@@ -97,6 +97,7 @@ struct psd_annual_opt {
 	 * output, true task lux, its daylight part), or step NULL */
 	void (*step)(void *step_ctx, int doy, double t, double level, double output, double truth, double dl);
 	void *step_ctx;
+	int no_estimate;         /* 1: leave the estimate error out (est_* NAN): faster */
 };
 
 /* The weather's step in the results' year, s: the shortest positive gap

@@ -1281,6 +1281,7 @@ int main(int argc, char **argv)
 	s.ao.occ_start = cf.occ_from;
 	s.ao.occ_end = cf.occ_to;
 	s.ao.dated = 1;
+	s.ao.no_estimate = 1;   /* the estimate's error statistics are not scored */
 	if (psd_annual_devices(&cf, s.zc, &s.ao, what, sizeof what, err, sizeof err) != 0) {
 		fprintf(stderr, "psplace: zone %s: %s\n", s.zc->name, err);
 		goto out;
