@@ -6,7 +6,8 @@
 #             daemon/cmd/: joins sim/ and drivers/; one room per front end:
 #             daemon/mqtt/ (libpsdmqtt.a), daemon/bacnet/ (libpsdbacnet.a),
 #             daemon/report/ (libpsdreport.a),
-#             daemon/psvirt/ (psvirt and its Modbus server, libpsvirt.a)
+#             daemon/psvirt/ (psvirt and its Modbus server, libpsvirt.a),
+#             daemon/place/ (psplace, the pose search, libpsdplace.a)
 #   tests/    unit (cmocka), system (shell, real binaries), fuzz (libFuzzer), bench
 # Every directory may add rules in its own module.mk (included below).
 #
@@ -65,8 +66,10 @@ REPORT_SRC   := $(wildcard daemon/report/*.c)
 BACNET_SRC   := $(wildcard daemon/bacnet/*.c)
 # psvirt's room: its main (psvirt.c) and the library of its Modbus server
 PSVIRT_SRC   := $(filter-out daemon/psvirt/psvirt.c,$(wildcard daemon/psvirt/*.c))
+# psplace's room: its main (psplace.c) and the library of the pose search
+PLACE_SRC    := $(filter-out daemon/place/psplace.c,$(wildcard daemon/place/*.c))
 CORE_CMDS    := $(patsubst daemon/cmd/%.c,%,$(wildcard daemon/cmd/*.c))
-DAEMON_CMDS  := $(CORE_CMDS)
+DAEMON_CMDS  := $(CORE_CMDS) psplace
 # psvirt serves the virtual room over Modbus: it needs libmodbus.
 ifeq ($(HAVE_MODBUS),yes)
   DAEMON_CMDS += psvirt
@@ -81,6 +84,7 @@ LIBPSDMQTT   = $(BUILD)/lib/libpsdmqtt.a
 LIBPSDREPORT = $(BUILD)/lib/libpsdreport.a
 LIBPSDBACNET = $(BUILD)/lib/libpsdbacnet.a
 LIBPSVIRT    = $(BUILD)/lib/libpsvirt.a
+LIBPSDPLACE  = $(BUILD)/lib/libpsdplace.a
 # the daemon's core with the MQTT and BACnet rooms: config.c judges [mqtt]
 # and [bacnet] (their *conf.c) and loop.c runs their sockets, which drive
 # the engine
@@ -113,6 +117,7 @@ $(BUILD)/obj/drivers/%.o: INC = -Idrivers
 $(BUILD)/obj/daemon/%.o: INC = $(INC_CORE)
 $(BUILD)/obj/daemon/report/%.o: INC = $(INC_CORE) -iquote daemon/report
 $(BUILD)/obj/daemon/psvirt/%.o: INC = $(INC_CORE) -iquote daemon/psvirt
+$(BUILD)/obj/daemon/place/%.o: INC = $(INC_CORE) -iquote daemon/place
 $(BUILD)/obj/daemon/cmd/%.o: INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -139,6 +144,9 @@ $(LIBPSDBACNET): $(call obj,$(BACNET_SRC))
 $(LIBPSVIRT): $(call obj,$(PSVIRT_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
+$(LIBPSDPLACE): $(call obj,$(PLACE_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
 
 # Link $@ from the objects and archives among its prerequisites.  The
 # archives are one group: the core and the MQTT room use each other.
@@ -157,6 +165,10 @@ $(addprefix $(BUILD)/bin/,$(CORE_CMDS)): $(BUILD)/bin/%: $(BUILD)/obj/daemon/cmd
 	$(LINK)
 $(BUILD)/bin/psensctl: $(LIBPSDREPORT)
 $(BUILD)/bin/psvirt: $(BUILD)/obj/daemon/psvirt/psvirt.o $(LIBPSVIRT) $(LIBPSD_CORE)
+	@mkdir -p $(dir $@)
+	$(LINK)
+# psplace: its room (the pose search) and the core (the laws and devices).
+$(BUILD)/bin/psplace: $(BUILD)/obj/daemon/place/psplace.o $(LIBPSDPLACE) $(LIBPSD_CORE)
 	@mkdir -p $(dir $@)
 	$(LINK)
 

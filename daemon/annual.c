@@ -84,6 +84,8 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 	struct psd_control *c = &u->c;
 	int m = u->m;
 	a->steps++;
+	if (o->step)
+		o->step(o->step_ctx, u->doy, t, level, output, truth, dl);
 	if (o->task_img) {
 		int row = (int)(t / 600.0);
 		if (row < ROWS && fmod(t, 600.0) < o->period) {
@@ -117,7 +119,7 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 		if (fabs(level - u->prev) > 0.005 && t - o->period >= o->occ_start)
 			a->changes++;
 	}
-	if (dl >= 50) {
+	if (dl >= 50 && !o->no_estimate) {
 		/* the law's daylight estimate with each ratio */
 		double resp = c->daylight_volts / c->sensor_gain;
 		double typical = u->dated > 0 ? u->dated : u->mean_ratio, q = NAN;

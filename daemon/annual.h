@@ -92,6 +92,12 @@ struct psd_annual_opt {
 	/* the year as pictures, PSD_ANNUAL_MAX_DAYS x 144 (10-minute rows; day
 	 * d of the year, from 1, in column d - 1), or NULL */
 	float *task_img, *level_img;
+	/* every control step (occupied or not) handed to step(step_ctx, day of
+	 * the year from 1, seconds after midnight, commanded level, light
+	 * output, true task lux, its daylight part), or step NULL */
+	void (*step)(void *step_ctx, int doy, double t, double level, double output, double truth, double dl);
+	void *step_ctx;
+	int no_estimate;         /* 1: leave the estimate error out (est_* NAN): faster */
 };
 
 /* The weather's step in the results' year, s: the shortest positive gap

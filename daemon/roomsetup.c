@@ -73,10 +73,17 @@ static int from_date(const struct ps_results *r, int m, int d, struct ps_room_da
 	memset(p, 0, sizeof *p);
 	if (!r->have_year || isnan(r->electric_sensor_response) || m < 1 || m > 12 || d < 1 || d > 31)
 		return -1;
-	/* the hours are in file order: find the date's run */
-	while (lo < r->year.n && (r->year.h[lo].month < m ||
-	                          (r->year.h[lo].month == m && r->year.h[lo].day < d)))
-		lo++;
+	/* the hours are in file order: find the date's run (the first hour not
+	 * before the date, by bisection: a year plays every day) */
+	hi = r->year.n;
+	while (lo < hi) {
+		size_t mid = lo + (hi - lo) / 2;
+		const struct ps_year_hour *h = &r->year.h[mid];
+		if (h->month < m || (h->month == m && h->day < d))
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
 	hi = lo;
 	while (hi < r->year.n && r->year.h[hi].month == m && r->year.h[hi].day == d)
 		hi++;

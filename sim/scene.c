@@ -31,6 +31,8 @@ void ps_scene_free(struct ps_scene *s)
 	}
 	free(s->dc.sensor_pattern);
 	free(s->dc.task_pattern);
+	free(s->dc.task_matrix);
+	free(s->dc.task_points);
 	free(s->dc.weather);
 	free(s->var);
 	free(s->cond);
@@ -191,11 +193,34 @@ static void read_dc(struct ps_scene *s, struct ps_conf *c, struct ps_conf_sectio
 	ps_conf_int(c, sec, "mf", 0, 0, 64, &mf);
 	d->mf = (int)mf;
 	ps_conf_required(c, sec, "sensor_pictures");
-	ps_conf_required(c, sec, "task_pictures");
 	d->sensor_pattern = ps_conf_path(c, sec, "sensor_pictures");
-	d->task_pattern = ps_conf_path(c, sec, "task_pictures");
 	read_dcview(c, sec, "sensor_view", &d->sensor_view);
-	read_dcview(c, sec, "task_view", &d->task_view);
+	/* the task: its pictures, or a work-plane grid's matrix */
+	d->task_matrix = ps_conf_path(c, sec, "task_matrix");
+	if (d->task_matrix) {
+		const char *pts = ps_conf_str(c, sec, "task_points", NULL);
+		if (ps_conf_kv(sec, "task_pictures") || ps_conf_kv(sec, "task_view"))
+			ps_conf_error(c, ps_conf_kv(sec, "task_matrix")->line,
+			              "task_matrix: the task is a grid or pictures, not both (task_pictures, task_view)");
+		if (pts) {
+			const char *q = pts;
+			while (*q) {
+				char *end;
+				long i = strtol(q, &end, 10);
+				if (end == q || i < 1 || (*end && *end != ',')) {
+					ps_conf_error(c, ps_conf_kv(sec, "task_points")->line,
+					              "task_points: '%s' is not a list of rows from 1 (1,4,7)", pts);
+					break;
+				}
+				q = *end ? end + 1 : end;
+			}
+			d->task_points = strdup(pts);
+		}
+	} else {
+		ps_conf_required(c, sec, "task_pictures");
+		d->task_pattern = ps_conf_path(c, sec, "task_pictures");
+		read_dcview(c, sec, "task_view", &d->task_view);
+	}
 	d->weather = ps_conf_path(c, sec, "weather");
 	ps_conf_bool(c, sec, "weather_illuminance", 0, &d->weather_illum);
 	read_vec(c, sec, "ground_reflectance", ground, d->ground, NULL);

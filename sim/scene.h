@@ -51,6 +51,9 @@ struct ps_dcspec {
 	int mf;                  /* 0: from the pictures' count */
 	char *sensor_pattern, *task_pattern;   /* resolved printf patterns */
 	struct ps_view sensor_view, task_view;
+	char *task_matrix;       /* a work-plane grid (gridmtx.h) instead of the task's
+	                            pictures: resolved, or NULL */
+	char *task_points;       /* its rows the task averages ("1,4": from 1), NULL: all */
 	char *weather;           /* resolved .wea or .epw, or NULL */
 	int weather_illum;       /* take an .epw's illuminances */
 	double ground[3];        /* ground reflectance for the year's skies */

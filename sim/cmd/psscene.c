@@ -17,6 +17,7 @@
 #include "cli.h"
 #include "cache.h"
 #include "dcset.h"
+#include "gridmtx.h"
 #include "integrate.h"
 #include "picture.h"
 #include "render.h"
@@ -298,6 +299,64 @@ static int print_variants(struct run *r, const struct ps_scene *sc, const struct
 	return 0;
 }
 
+/* The task's row from a work-plane grid (gridmtx.h): the mean of the rows
+ * task_points names (all when it names none); a mean of rows is a row, so
+ * the year's task is exactly the points' mean illuminance. */
+static int grid_row(const struct ps_dcspec *d, struct ps_dcset_row *row, struct ps_err *e)
+{
+	struct ps_gridmtx g;
+	int n = 0;
+	memset(row, 0, sizeof *row);
+	if (ps_gridmtx_read(&g, d->task_matrix, e) != 0)
+		return -1;
+	if (d->mf && g.mf != d->mf) {
+		ps_gridmtx_free(&g);
+		return ps_err_set(e, PS_EFORMAT, "%s: %d columns (MF %d) where the scene says MF %d", d->task_matrix,
+		                  g.npatch, g.mf, d->mf);
+	}
+	row->c = calloc((size_t)g.npatch * 3, sizeof *row->c);
+	if (!row->c) {
+		ps_gridmtx_free(&g);
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
+	}
+	for (int i = 0; i < g.npoints; i++) {
+		int want = !d->task_points;
+		const char *q = d->task_points;
+		while (q && *q && !want) {
+			char *end;
+			want = strtol(q, &end, 10) == i + 1;
+			q = *end ? end + 1 : end;
+		}
+		if (!want)
+			continue;
+		for (int k = 0; k < g.npatch * 3; k++)
+			row->c[k] += g.c[(size_t)i * (size_t)g.npatch * 3 + (size_t)k];
+		n++;
+	}
+	{
+		/* every named row must be in the grid */
+		const char *q = d->task_points;
+		while (q && *q) {
+			char *end;
+			long i = strtol(q, &end, 10);
+			if (i > g.npoints) {
+				int np = g.npoints;
+				ps_gridmtx_free(&g);
+				ps_dcset_row_free(row);
+				return ps_err_set(e, PS_ERANGE, "%s: task_points names row %ld of %d", d->task_matrix, i, np);
+			}
+			q = *end ? end + 1 : end;
+		}
+	}
+	for (int k = 0; k < g.npatch * 3; k++)
+		row->c[k] /= n;
+	row->mf = g.mf;
+	row->n = g.npatch;
+	row->coverage = 1.0;
+	ps_gridmtx_free(&g);
+	return 0;
+}
+
 /* The daylight-coefficient rows of both views (the scene's
  * [daylight_coefficients]): the sensor's with its sensitivity, rotation and
  * colour coefficients, the task's with a cosine. */
@@ -307,14 +366,15 @@ static int dc_rows(struct run *r, struct ps_dcset_row *srow, struct ps_dcset_row
 	if (ps_dcset_row(d->sensor_pattern, &d->sensor_view, d->mf, &r->sensor, r->sc->rotation, srow,
 	                 e) != 0)
 		return -1;
-	if (ps_dcset_row(d->task_pattern, &d->task_view, d->mf, &r->cosine, 0.0, trow, e) != 0) {
+	if ((d->task_matrix ? grid_row(d, trow, e) : ps_dcset_row(d->task_pattern, &d->task_view, d->mf, &r->cosine,
+	                                                          0.0, trow, e)) != 0) {
 		ps_dcset_row_free(srow);
 		return -1;
 	}
 	if (srow->n != trow->n) {
 		ps_err_set(e, PS_EFORMAT, "%s: %d patches (MF %d), but %s has %d (MF %d): one subdivision for "
-		           "both views", d->sensor_pattern, srow->n, srow->mf, d->task_pattern, trow->n,
-		           trow->mf);
+		           "both views", d->sensor_pattern, srow->n, srow->mf,
+		           d->task_matrix ? d->task_matrix : d->task_pattern, trow->n, trow->mf);
 		ps_dcset_row_free(srow);
 		ps_dcset_row_free(trow);
 		return -1;

@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
 # Commands that agree: every program (sim/cmd/*.c, daemon/cmd/*.c,
-# daemon/psvirt/psvirt.c) takes -h/--help (usage on standard output, exit 0)
+# daemon/place/psplace.c, daemon/psvirt/psvirt.c) takes -h/--help (usage on standard output, exit 0)
 # and -V/--version (the version of sim/version.h); its --help and its man
 # page name the same options (tests/system/opts.py); the old spellings still
 # work, with a warning; no option is silently ignored.
@@ -9,7 +9,7 @@
 version=$(sed -n 's/^#define PS_VERSION "\(.*\)"$/\1/p' sim/version.h)
 [ -n "$version" ] || skip_all "no PS_VERSION in sim/version.h"
 
-for src in sim/cmd/*.c daemon/cmd/*.c daemon/psvirt/psvirt.c; do
+for src in sim/cmd/*.c daemon/cmd/*.c daemon/place/psplace.c daemon/psvirt/psvirt.c; do
 	p=$(basename "$src" .c)
 	if [ ! -x "$BIN/$p" ]; then
 		skip "$p not built"

@@ -1,0 +1,264 @@
+/* SPDX-License-Identifier: ISC */
+#include "placeset.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dcset.h"
+#include "integrate.h"
+#include "picture.h"
+#include "rescan.h"
+#include "weights.h"
+
+#define LINE 4096
+
+static const double V[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
+
+int psd_placeset_read(struct search *s, char *err, size_t errlen)
+{
+	FILE *fp = fopen(s->o->cands, "r");
+	char line[LINE];
+	int ln = 0;
+	if (!fp)
+		return snprintf(err, errlen, "%s: %s", s->o->cands, strerror(errno)), -1;
+	while (fgets(line, sizeof line, fp)) {
+		char *p = line + strspn(line, " \t"), *q;
+		struct pose *np;
+		struct ps_err e;
+		ln++;
+		p[strcspn(p, "\r\n")] = 0;
+		if (!*p || *p == '#')
+			continue;
+		q = p + strcspn(p, " \t");
+		if (!*q || (size_t)(q - p) >= sizeof np->id) {
+			fclose(fp);
+			return snprintf(err, errlen, "%s:%d: expected an id and a view", s->o->cands, ln), -1;
+		}
+		np = realloc(s->poses, (size_t)(s->nposes + 1) * sizeof *np);
+		if (!np) {
+			fclose(fp);
+			return snprintf(err, errlen, "out of memory"), -1;
+		}
+		s->poses = np;
+		np = &s->poses[s->nposes];
+		memset(np, 0, sizeof *np);
+		memcpy(np->id, p, (size_t)(q - p));
+		q += strspn(q, " \t");
+		snprintf(np->view_text, sizeof np->view_text, "%s", q);
+		{
+			char where[600];
+			snprintf(where, sizeof where, "%s:%d", s->o->cands, ln);
+			if (ps_view_parse(&np->view, q, where, &e) != 0) {
+				fclose(fp);
+				return snprintf(err, errlen, "%s", e.msg), -1;
+			}
+		}
+		s->nposes++;
+	}
+	fclose(fp);
+	if (!s->nposes)
+		return snprintf(err, errlen, "%s: no candidate", s->o->cands), -1;
+	return 0;
+}
+
+static void pose_path(const struct search *s, const struct pose *p, const char *name, char *out, size_t n)
+{
+	snprintf(out, n, "%s/%s/%s", s->o->dir, p->id, name);
+}
+
+/* The pose's pictures, in memory: npatch coefficient pictures and the
+ * electric one.  Every error names the candidate. */
+static int load_pictures(const struct search *s, const struct pose *p, struct ps_picture *pics,
+                         struct ps_picture *elec, char *err, size_t errlen)
+{
+	char path[LINE + 128];
+	struct ps_err e;
+	int i;
+	memset(pics, 0, (size_t)s->npatch * sizeof *pics);
+	memset(elec, 0, sizeof *elec);
+	for (i = 0; i < s->npatch; i++) {
+		char name[32];
+		snprintf(name, sizeof name, "dc_%03d.hdr", i);
+		pose_path(s, p, name, path, sizeof path);
+		if (ps_picture_read(&pics[i], path, &e) != 0) {
+			snprintf(err, errlen, "candidate %s: patch %d of %d: %s", p->id, i, s->npatch, e.msg);
+			goto bad;
+		}
+		if (pics[i].width != pics[0].width || pics[i].height != pics[0].height) {
+			snprintf(err, errlen, "candidate %s: %.600s is %d x %d where dc_000.hdr is %d x %d: a mismatched set",
+			         p->id, path, pics[i].width, pics[i].height, pics[0].width, pics[0].height);
+			i++;
+			goto bad;
+		}
+	}
+	{
+		char name[32];
+		snprintf(name, sizeof name, "dc_%03d.hdr", s->npatch);
+		pose_path(s, p, name, path, sizeof path);
+		FILE *fp = fopen(path, "rb");
+		if (fp) {
+			fclose(fp);
+			snprintf(err, errlen, "candidate %s: %.600s exists: more pictures than the grid's %d patches (MF %d)",
+			         p->id, path, s->npatch, s->mf);
+			goto bad;
+		}
+	}
+	pose_path(s, p, "elec.hdr", path, sizeof path);
+	if (ps_picture_read(elec, path, &e) != 0) {
+		char alt[LINE + 128];
+		struct ps_err e2;
+		pose_path(s, p, "elec_128.hdr", alt, sizeof alt);
+		if (ps_picture_read(elec, alt, &e2) != 0) {
+			snprintf(err, errlen, "candidate %s: no electric picture: %s", p->id, e.msg);
+			goto bad;
+		}
+	}
+	return 0;
+bad:
+	for (int k = 0; k < i && k < s->npatch; k++)
+		ps_picture_free(&pics[k]);
+	return -1;
+}
+
+/* cells: cell_theta degrees in polar angle; in azimuth the rotation step
+ * split into whole cells of at most 10 degrees */
+static double cell_phi(const struct search *s)
+{
+	double step = 360.0 / s->o->nrot;
+	return step / ceil(step / 10.0 - 1e-9);
+}
+
+/* project one picture per channel and read every sensor at every rotation */
+static int scan_picture(const struct search *s, const struct ps_weights *om, const struct ps_picture *pic,
+                        const struct ps_view *v, int channels, double *out, size_t stride, char *err,
+                        size_t errlen)
+{
+	struct ps_err e;
+	double *tmp = malloc((size_t)s->o->nrot * sizeof *tmp);
+	if (!tmp)
+		return snprintf(err, errlen, "out of memory"), -1;
+	for (int c = 0; c < channels; c++) {
+		double coef[3] = { 0, 0, 0 };
+		struct ps_rescan pr;
+		if (channels == 3)
+			coef[c] = 1;
+		else
+			memcpy(coef, V, sizeof coef);
+		if (ps_rescan_project(&pr, om, pic, v, coef, s->cell_theta, cell_phi(s), 0, s->theta_max,
+		                      &e) != 0) {
+			free(tmp);
+			return snprintf(err, errlen, "%s", e.msg), -1;
+		}
+		for (int k = 0; k < s->o->nsens; k++) {
+			if (ps_rescan_scan(&pr, &s->sens[k], 0, 360.0 / s->o->nrot, s->o->nrot, tmp, &e) != 0) {
+				ps_rescan_free(&pr);
+				free(tmp);
+				return snprintf(err, errlen, "%s", e.msg), -1;
+			}
+			for (int r = 0; r < s->o->nrot; r++)
+				out[((size_t)r * (size_t)s->o->nsens + (size_t)k) * stride + (size_t)c] = tmp[r];
+		}
+		ps_rescan_free(&pr);
+	}
+	free(tmp);
+	return 0;
+}
+
+int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t errlen)
+{
+	struct ps_picture *pics = calloc((size_t)s->npatch, sizeof *pics), elec;
+	struct ps_sensor uni;
+	struct ps_weights om, ome;
+	struct ps_err e;
+	int rc = -1;
+	size_t nrs = (size_t)s->o->nrot * (size_t)s->o->nsens;
+	if (!pics)
+		return snprintf(err, errlen, "out of memory"), -1;
+	if (load_pictures(s, p, pics, &elec, err, errlen) != 0) {
+		free(pics);
+		return -1;
+	}
+	p->row = calloc(nrs * (size_t)s->npatch * 3, sizeof *p->row);
+	p->elec = calloc(nrs, sizeof *p->elec);
+	memset(&om, 0, sizeof om);
+	memset(&ome, 0, sizeof ome);
+	if (!p->row || !p->elec || ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0) {
+		snprintf(err, errlen, "out of memory");
+		goto out;
+	}
+	if (ps_weights_build(&om, &uni, 0, &p->view, pics[0].width, pics[0].height, PS_W_EXACT, &e) != 0 ||
+	    ps_weights_build(&ome, &uni, 0, &p->view, elec.width, elec.height, PS_W_EXACT, &e) != 0) {
+		snprintf(err, errlen, "candidate %s: %s", p->id, e.msg);
+		ps_sensor_free(&uni);
+		goto out;
+	}
+	ps_sensor_free(&uni);
+	for (int i = 0; i < s->npatch; i++) {
+		/* row[((r nsens + k) npatch + i) 3 + c] */
+		double *tmp = malloc(nrs * 3 * sizeof *tmp);
+		if (!tmp) {
+			snprintf(err, errlen, "out of memory");
+			goto out;
+		}
+		if (scan_picture(s, &om, &pics[i], &p->view, 3, tmp, 3, err, errlen) != 0) {
+			free(tmp);
+			goto out;
+		}
+		for (size_t rk = 0; rk < nrs; rk++)
+			for (int c = 0; c < 3; c++)
+				p->row[(rk * (size_t)s->npatch + (size_t)i) * 3 + (size_t)c] = tmp[rk * 3 + (size_t)c];
+		free(tmp);
+	}
+	if (scan_picture(s, &ome, &elec, &p->view, 1, p->elec, 1, err, errlen) != 0)
+		goto out;
+	rc = 0;
+out:
+	ps_weights_free(&om);
+	ps_weights_free(&ome);
+	for (int i = 0; i < s->npatch; i++)
+		ps_picture_free(&pics[i]);
+	ps_picture_free(&elec);
+	free(pics);
+	return rc;
+}
+
+/* The exact route for one pose, sensor and rotation: the coefficient row
+ * (npatch x 3, ps_dcset_row) and the electric response. */
+int psd_placeset_exact(const struct search *s, const struct pose *p, int k, double rot, double *row, double *elec,
+                     char *err, size_t errlen)
+{
+	char pattern[LINE + 128], path[LINE + 128];
+	struct ps_dcset_row dr;
+	struct ps_picture ep;
+	struct ps_weights we;
+	struct ps_response r;
+	struct ps_err e;
+	pose_path(s, p, "dc_%03d.hdr", pattern, sizeof pattern);
+	if (ps_dcset_row(pattern, &p->view, s->mf, &s->sens[k], rot, &dr, &e) != 0)
+		return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;
+	memcpy(row, dr.c, (size_t)dr.n * 3 * sizeof *row);
+	ps_dcset_row_free(&dr);
+	pose_path(s, p, "elec.hdr", path, sizeof path);
+	if (ps_picture_read(&ep, path, &e) != 0) {
+		pose_path(s, p, "elec_128.hdr", path, sizeof path);
+		if (ps_picture_read(&ep, path, &e) != 0)
+			return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;
+	}
+	if (ps_weights_build(&we, &s->sens[k], rot, &p->view, ep.width, ep.height, PS_W_EXACT, &e) != 0) {
+		ps_picture_free(&ep);
+		return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;
+	}
+	if (ps_integrate(&we, &ep, V, &r, &e) != 0) {
+		ps_weights_free(&we);
+		ps_picture_free(&ep);
+		return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;
+	}
+	*elec = r.response;
+	ps_weights_free(&we);
+	ps_picture_free(&ep);
+	return 0;
+}
+

@@ -1,0 +1,24 @@
+/* SPDX-License-Identifier: ISC */
+/* The candidate poses: the list (an id and a Radiance view a line), each
+ * pose's coefficient pictures and electric picture read and projected once
+ * per channel (rescan.h) with every sensor read at every rotation, and the
+ * exact route (ps_dcset_row at one rotation) for the re-check.  Errors name
+ * the candidate (and its file). */
+#ifndef PSD_PLACESET_H
+#define PSD_PLACESET_H
+
+#include <stddef.h>
+
+#include "place.h"
+
+/* Read s->o->cands into s->poses.  -1 with err. */
+int psd_placeset_read(struct search *s, char *err, size_t errlen);
+/* Read and project pose p: p->row (rotations x sensors x patches x 3) and
+ * p->elec.  -1 with err naming the candidate. */
+int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t errlen);
+/* The exact route for pose p, sensor k at rot degrees: row (patches x 3)
+ * and the electric response. */
+int psd_placeset_exact(const struct search *s, const struct pose *p, int k, double rot, double *row, double *elec,
+                       char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,28 @@
+/* SPDX-License-Identifier: ISC */
+/* The year every combination shares: the sky vector of each hour with
+ * light (the Perez sky, as gendaymtx) and the work-plane grid's figure of
+ * its daylight (min, mean, pNN, points:i,j,...); and one combination's
+ * results (psscene's format: the hours with its sensor signal, a daylight
+ * and an electric condition) for the year's engine. */
+#ifndef PSD_PLACEYEAR_H
+#define PSD_PLACEYEAR_H
+
+#include <stddef.h>
+
+#include "gridmtx.h"
+#include "place.h"
+#include "results.h"
+
+/* The grid's figure stat of the points' lux v[n] (scratch: n doubles). */
+double psd_placeyear_stat(const char *stat, const double *v, int n, double *scratch);
+/* 0, or -1 with err: stat names a figure of an n-point grid. */
+int psd_placeyear_check(const char *stat, int n, char *err, size_t errlen);
+/* The hours of s->o->weather with their sky vectors and the grid's figure. */
+int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err, size_t errlen);
+/* The results of one row (patches x 3) and electric response; the year's
+ * summed signal into *sensor_sum.  -1: out of memory. */
+int psd_placeyear_results(const struct search *s, const double *row, double elec, const struct ps_sensor *sens,
+                          struct ps_results *r, double *sensor_sum);
+void psd_placeyear_release(struct ps_results *r);
+
+#endif
