@@ -261,8 +261,11 @@ int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, doub
 		double *re = calloc((size_t)nrow * (size_t)np + 1, sizeof *re);
 		int *used = calloc((size_t)nrow + 1, sizeof *used);
 		rings = malloc(((size_t)nrow + 1) * sizeof *rings);
-		nz = malloc((ncells + 1) * sizeof *nz);
-		ez = malloc((ncells + 1) * sizeof *ez);
+		/* a row's np cells for every row used: up to two rows a polar
+		 * cell, so more than the cells when the table's steps are finer */
+		size_t nrowcells = (size_t)nrow * (size_t)np;
+		nz = malloc((nrowcells + 1) * sizeof *nz);
+		ez = malloc((nrowcells + 1) * sizeof *ez);
 		sg = malloc(((size_t)nrow * 2 * (size_t)np + 1) * sizeof *sg);
 		if (!re || !used || !rings || !nz || !ez || !sg) {
 			free(re);
