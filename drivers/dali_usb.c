@@ -1157,8 +1157,8 @@ static double du_deadline(struct ps_dev *dev)
 
 static int gone(struct ps_dev *dev, struct dali_usb *d)
 {
-	return ps_dev_fail(dev, ENODEV, "%s: %s (retrying in %.1f s)", d->codec ? "DALI interface" : "DALI USB interface",
-	                   d->down_why,
+	return ps_dev_fail(dev, ENODEV, "%s%s: %s (retrying in %.1f s)", d->codec ? "DALI interface " : "DALI USB interface",
+	                   d->codec ? d->codec->name : "", d->down_why,
 	                   d->state == ST_DOWN ? fmax(0, d->next_scan - d->now) : d->backoff);
 }
 
