@@ -209,6 +209,12 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 			snprintf(why, n, "transport daliserver is reached over TCP: device = HOST:PORT (port 55825 by default)");
 			return -1;
 		}
+		if (t && strcmp(t, "daliserver") == 0 && (ps_opts_get(o, "safe_level") || ps_opts_get(o, "fade_time"))) {
+			const char *k = ps_opts_get(o, "safe_level") ? "safe_level" : "fade_time";
+			*line = ps_opts_line(o, k);
+			snprintf(why, n, "%s is programmed with a frame sent twice, which daliserver cannot send", k);
+			return -1;
+		}
 		if (!serial && dv) {
 			*line = ps_opts_line(o, "device");
 			snprintf(why, n, "device is for the serial and TCP transports (atx, foxtron, luba), not tridonic");

@@ -11,7 +11,9 @@
 # (replies with an unknown status, replies cut short, a silent server, the
 # server gone) is a fault naming the transport that drives the zone to its
 # safe level, and psensd resumes by itself when the server is back.  psensd
-# -n refuses the transport without a device and with a serial port.
+# -n refuses the transport without a device, with a serial port, and with
+# safe_level (programmed with a frame sent twice, which daliserver cannot
+# send).
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v python3 > /dev/null || skip_all "python3 not installed"
@@ -66,6 +68,11 @@ sed 's|^device = 127.*|device = /dev/ttyS0|' "$TMP/psensd.conf" > "$TMP/tty.conf
 "$BIN/psensd" -n -f "$TMP/tty.conf" > "$TMP/t.out" 2>&1
 check "psensd -n: transport daliserver on a serial port is refused: $(head -n 1 "$TMP/t.out" | cut -c1-90)" \
 	grep -q "tty.conf:[0-9]*: .*daliserver is reached over TCP: device = HOST:PORT" "$TMP/t.out"
+
+sed 's|^timeout = 0.1|safe_level = 0.5|' "$TMP/psensd.conf" > "$TMP/sfl.conf"
+"$BIN/psensd" -n -f "$TMP/sfl.conf" > "$TMP/s.out" 2>&1
+check "psensd -n: safe_level (a frame sent twice) refused with daliserver: $(head -n 1 "$TMP/s.out" | cut -c1-90)" \
+	grep -q "sfl.conf:[0-9]*: .*safe_level is programmed with a frame sent twice, which daliserver cannot send" "$TMP/s.out"
 
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 12:00 > "$TMP/out" 2> "$TMP/err" &
 pid=$!; track_pid $pid
