@@ -48,6 +48,7 @@
 
 #include "dali.h"
 #include "dali_atx.h"
+#include "dali_daliserver.h"
 #include "dali_commission.h"
 #include "dali_foxtron.h"
 #include "dali_luba.h"
@@ -141,9 +142,10 @@ struct dali_usb {
 
 /* The interfaces, and their names for the transport key (in that order):
  * USB ones through libusb, serial and TCP ones through dali_serial.c. */
-static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL, NULL };
-static const struct ps_dali_codec *const codecs[] = { NULL, &ps_dali_atx, &ps_dali_foxtron, &ps_dali_luba, NULL };
-static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", NULL };
+static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL, NULL, NULL };
+static const struct ps_dali_codec *const codecs[] = { NULL,           &ps_dali_atx, &ps_dali_foxtron, &ps_dali_luba,
+                                                       &ps_dali_daliserver, NULL };
+static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", "daliserver", NULL };
 
 /* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
 static int valid_port(const char *v, char *why, size_t n)
@@ -166,9 +168,10 @@ static const struct ps_opts_spec du_options[] = {
 	{ .key = "transport", .type = PS_OPT_ENUM, .scope = DEV, .def = "tridonic",
 	  .names = transport_names,
 	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020), atx (AtxLED DALI HAT, "
-	         "serial), foxtron (Foxtron DALI232 serial, DALInet TCP), luba (Lunatone LUBA, serial)" },
+	         "serial), foxtron (Foxtron DALI232 serial, DALInet TCP), luba (Lunatone LUBA, serial), "
+	         "daliserver (a Tridonic DALI USB shared by daliserver, TCP)" },
 	{ .key = "device", .type = PS_OPT_STRING, .scope = DEV,
-	  .doc = "atx, foxtron, luba: the serial port (/dev/...) or HOST:PORT (DALInet)" },
+	  .doc = "atx, foxtron, luba: the serial port (/dev/...) or HOST:PORT (DALInet); daliserver: HOST:PORT" },
 	{ .key = "baud", .type = PS_OPT_LONG, .scope = DEV, .min = 1200, .max = 115200,
 	  .doc = "atx, foxtron, luba: the serial speed, 8N1 (absent: 19200 atx, 9600 foxtron, 38400 luba)" },
 	{ .key = "serial", .type = PS_OPT_STRING, .scope = DEV,
@@ -199,6 +202,17 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 		if (serial && !dv) {
 			*line = ps_opts_line(o, "transport");
 			snprintf(why, n, "transport %s needs device = (a serial port or HOST:PORT)", t);
+			return -1;
+		}
+		if (t && strcmp(t, "daliserver") == 0 && dv && dv[0] == '/') {
+			*line = ps_opts_line(o, "device");
+			snprintf(why, n, "transport daliserver is reached over TCP: device = HOST:PORT (port 55825 by default)");
+			return -1;
+		}
+		if (t && strcmp(t, "daliserver") == 0 && (ps_opts_get(o, "safe_level") || ps_opts_get(o, "fade_time"))) {
+			const char *k = ps_opts_get(o, "safe_level") ? "safe_level" : "fade_time";
+			*line = ps_opts_line(o, k);
+			snprintf(why, n, "%s is programmed with a frame sent twice, which daliserver cannot send", k);
 			return -1;
 		}
 		if (!serial && dv) {
@@ -658,6 +672,7 @@ static int serial_start(struct dali_usb *d, int frame, int twice, int dtr0)
 /* A serial or TCP interface's transaction ended. */
 static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_result *res)
 {
+	char why[200];
 	if (!d->cur_active) {
 		d->st.stray++;
 		return;
@@ -680,9 +695,10 @@ static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_res
 		finish(d, res->event == PS_DALI_EV_ANSWER ? (int)res->value : -1);
 		return;
 	}
+	snprintf(why, sizeof why, "%s: %s", d->codec->name, res->why);
 	if (res->err == ETIMEDOUT) {
 		d->st.timeouts++;
-		failed_try(d, ETIMEDOUT, res->why);
+		failed_try(d, ETIMEDOUT, why);
 		return;
 	}
 	d->st.garbled++;
@@ -694,7 +710,7 @@ static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_res
 		job_done(d, PS_DALI_RX_COLLISION, 0, NULL);
 		return;
 	}
-	failed_try(d, res->err, res->why);
+	failed_try(d, res->err, why);
 }
 
 static void send_next(struct dali_usb *d)
@@ -1147,8 +1163,8 @@ static double du_deadline(struct ps_dev *dev)
 
 static int gone(struct ps_dev *dev, struct dali_usb *d)
 {
-	return ps_dev_fail(dev, ENODEV, "%s: %s (retrying in %.1f s)", d->codec ? "DALI interface" : "DALI USB interface",
-	                   d->down_why,
+	return ps_dev_fail(dev, ENODEV, "%s%s: %s (retrying in %.1f s)", d->codec ? "DALI interface " : "DALI USB interface",
+	                   d->codec ? d->codec->name : "", d->down_why,
 	                   d->state == ST_DOWN ? fmax(0, d->next_scan - d->now) : d->backoff);
 }
 
@@ -1290,6 +1306,8 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	if (d->codec && !d->where[0])
 		return ps_dev_fail(dev, EINVAL, "transport %s needs device = (a serial port or HOST:PORT)",
 		                   transport_names[transport]);
+	if (d->codec == &ps_dali_daliserver && d->where[0] == '/')
+		return ps_dev_fail(dev, EINVAL, "transport daliserver is reached over TCP: device = HOST:PORT");
 	snprintf(d->serial, sizeof d->serial, "%s", serial ? serial : "");
 	snprintf(d->port, sizeof d->port, "%s", port ? port : "");
 	/* the device may be absent: open succeeds and reads fail with ENODEV until
