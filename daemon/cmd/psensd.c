@@ -413,6 +413,13 @@ int main(int argc, char **argv)
 			rc = -1;
 		}
 #endif
+#ifndef PS_WITH_WEB
+		if (rc == 0 && cf.web.enabled) {   /* it would be refused at start */
+			psd_log_errx("%s:%d: [web]: this psensd was built without the web console (WITH_WEB=no or no "
+			             "libmicrohttpd)", path, cf.web.line);
+			rc = -1;
+		}
+#endif
 		if (rc == 0)
 			printf("%s: configuration OK (%zu device(s), %zu point(s), %zu zone(s))\n", path, cf.ndev,
 			       cf.npt, cf.nzone);

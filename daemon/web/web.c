@@ -1,0 +1,505 @@
+/* SPDX-License-Identifier: ISC */
+/* The web console's HTTP server (web.h): routes, login, the live stream. */
+#include "web.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <math.h>
+#include <microhttpd.h>
+#include <netinet/in.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ctlsock.h"
+#include "engine.h"
+#include "errbuf.h"
+#include "json.h"
+#include "log.h"
+#include "time.h"
+#include "webasset.h"
+#include "webreq.h"
+#include "websess.h"
+
+enum { BODY_MAX = 4096, HIST = 2048, HIST_HOURS = 4 };
+static const char cookie_name[] = "psd_session";
+
+/* A live stream (GET /api/events): what is still to be sent. */
+struct sse {
+	struct sse *next, **pprev;
+	struct psd_web *w;
+	struct MHD_Connection *conn;
+	char *buf;
+	size_t len, off;
+	int suspended;
+};
+
+/* One zone's chart: a ring of its samples, at most one every
+ * HIST_HOURS h / HIST apart. */
+struct hist {
+	char name[64];
+	size_t n, head;
+	double last_t;
+	struct { double t, tod, level, est, meas; } p[HIST];
+};
+
+struct psd_web {
+	struct psd_web_conf c;
+	struct psd_engine *e;
+	psd_web_request_fn fn;
+	void *user;
+	struct MHD_Daemon *mhd;
+	struct psd_websess sess;
+	struct sse *streams;
+	int closing;
+	double next_update;   /* monotonic s */
+	struct hist hist[PSD_MAX_ZONES];
+	char reply[PSD_CTL_MAX_OUT];
+};
+
+/* A request's state across MHD's calls: its body so far. */
+struct req {
+	char body[BODY_MAX];
+	size_t len;
+	int too_long;
+};
+
+static enum MHD_Result send_text(struct MHD_Connection *conn, unsigned status, const char *type, const char *text,
+                                 const char *cookie)
+{
+	struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), (void *)text, MHD_RESPMEM_MUST_COPY);
+	enum MHD_Result rc;
+	if (!r)
+		return MHD_NO;
+	MHD_add_response_header(r, "Content-Type", type);
+	MHD_add_response_header(r, "Cache-Control", "no-store");
+	MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+	MHD_add_response_header(r, "X-Frame-Options", "DENY");
+	if (cookie)
+		MHD_add_response_header(r, "Set-Cookie", cookie);
+	rc = MHD_queue_response(conn, status, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
+/* {"ok":false,"error":msg} */
+static enum MHD_Result send_error(struct MHD_Connection *conn, unsigned status, const char *msg)
+{
+	json_object *o = json_object_new_object();
+	enum MHD_Result rc;
+	json_object_object_add(o, "ok", json_object_new_boolean(0));
+	psd_json_str(o, "error", msg);
+	rc = send_text(conn, status, "application/json", psd_json_text(o, 10), NULL);
+	json_object_put(o);
+	return rc;
+}
+
+static const char *client_addr(struct MHD_Connection *conn, char *buf, size_t n)
+{
+	const union MHD_ConnectionInfo *ci = MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+	const struct sockaddr *sa = ci ? ci->client_addr : NULL;
+	snprintf(buf, n, "?");
+	if (sa && sa->sa_family == AF_INET)
+		inet_ntop(AF_INET, &((const struct sockaddr_in *)(const void *)sa)->sin_addr, buf, (socklen_t)n);
+	else if (sa && sa->sa_family == AF_INET6)
+		inet_ntop(AF_INET6, &((const struct sockaddr_in6 *)(const void *)sa)->sin6_addr, buf, (socklen_t)n);
+	return buf;
+}
+
+/* 1 when the request carries a valid session; else 0 with why. */
+static int authorized(struct psd_web *w, struct MHD_Connection *conn, const char **why)
+{
+	const char *h = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Cookie");
+	char token[PSD_WEBSESS_TOKEN];
+	*why = "not logged in";
+	if (!h || psd_webreq_cookie(h, cookie_name, token, sizeof token) != 0)
+		return 0;
+	return psd_websess_valid(&w->sess, token, psd_time_wall(), why);
+}
+
+static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, const struct req *q)
+{
+	char pw[256], addr[64], msg[160], token[PSD_WEBSESS_TOKEN], cookie[PSD_WEBSESS_TOKEN + 128];
+	double now = psd_time_wall(), wait;
+	int ok;
+	client_addr(conn, addr, sizeof addr);
+	if ((wait = psd_websess_wait(&w->sess, addr, now)) > 0) {
+		snprintf(msg, sizeof msg, "too many failed logins from this address: try again in %.0f s", ceil(wait));
+		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
+	}
+	if (psd_webreq_form(q->body, "password", pw, sizeof pw) != 0)
+		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no password given");
+	ok = psd_webpass_check(w->c.hash, pw);
+	memset(pw, 0, sizeof pw);
+	psd_websess_outcome(&w->sess, addr, ok, now);
+	if (!ok) {
+		psd_log_warnx("web: a failed login from %s", addr);
+		return send_error(conn, MHD_HTTP_UNAUTHORIZED, "wrong password");
+	}
+	if (psd_websess_issue(&w->sess, now, token, sizeof token) != 0)
+		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no random bytes for a session");
+	psd_log_info("web: login from %s", addr);
+	snprintf(cookie, sizeof cookie, "%s=%s; Path=/; HttpOnly; SameSite=Strict; Max-Age=%.0f", cookie_name, token,
+	         w->c.session);
+	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
+}
+
+static enum MHD_Result logout(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *h = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Cookie");
+	char token[PSD_WEBSESS_TOKEN], cookie[128];
+	if (h && psd_webreq_cookie(h, cookie_name, token, sizeof token) == 0)
+		psd_websess_revoke(&w->sess, token, psd_time_wall());
+	snprintf(cookie, sizeof cookie, "%s=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0", cookie_name);
+	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
+}
+
+/* POST /api/request line=...: the control request, answered as the socket
+ * answers it. */
+static enum MHD_Result request(struct psd_web *w, struct MHD_Connection *conn, const struct req *q)
+{
+	char line[PSD_CTL_MAX_LINE], err[200], addr[64];
+	if (psd_webreq_form(q->body, "line", line, sizeof line) != 0)
+		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no request line given (or longer than the control socket takes)");
+	if (psd_webreq_line_ok(line, err, sizeof err) != 0)
+		return send_error(conn, MHD_HTTP_OK, err);
+	if (strncmp(line, "status", 6) != 0)
+		psd_log_info("web: %s asks: %s", client_addr(conn, addr, sizeof addr), line);
+	w->fn(w->user, line, w->reply, sizeof w->reply);
+	return send_text(conn, MHD_HTTP_OK, "application/json", w->reply, NULL);
+}
+
+/* The charts: a zone's ring, the last HIST_HOURS h of its samples. */
+static void hist_record(struct psd_web *w)
+{
+	for (size_t i = 0; i < w->e->nzone && i < PSD_MAX_ZONES; i++) {
+		const struct psd_zone *z = &w->e->zone[i];
+		struct hist *h = &w->hist[i];
+		double t = z->last.t;
+		if (strcmp(h->name, z->zc->name) != 0) {   /* a new zone in this slot (a reload) */
+			memset(h, 0, sizeof *h);
+			snprintf(h->name, sizeof h->name, "%s", z->zc->name);
+			h->last_t = -INFINITY;
+		}
+		if (!isfinite(t) || t < h->last_t + HIST_HOURS * 3600.0 / HIST)
+			continue;
+		h->p[h->head].t = t;
+		h->p[h->head].tod = psd_clock_tod(t);
+		h->p[h->head].level = z->last.level;
+		h->p[h->head].est = z->last.est_task_lux;
+		h->p[h->head].meas = z->last.task_lux;
+		h->head = (h->head + 1) % HIST;
+		if (h->n < HIST)
+			h->n++;
+		h->last_t = t;
+	}
+}
+
+static enum MHD_Result history(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
+	json_object *o, *t, *tod, *lv, *est, *meas;
+	enum MHD_Result rc;
+	const struct hist *h = NULL;
+	for (size_t i = 0; zone && i < w->e->nzone && i < PSD_MAX_ZONES; i++)
+		if (strcmp(w->hist[i].name, zone) == 0)
+			h = &w->hist[i];
+	if (!h)
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
+	o = json_object_new_object();
+	t = json_object_new_array();
+	tod = json_object_new_array();
+	lv = json_object_new_array();
+	est = json_object_new_array();
+	meas = json_object_new_array();
+	for (size_t k = 0; k < h->n; k++) {
+		size_t j = (h->head + HIST - h->n + k) % HIST;
+		if (h->p[j].t < h->last_t - HIST_HOURS * 3600.0)
+			continue;
+		json_object_array_add(t, json_object_new_double(h->p[j].t));
+		json_object_array_add(tod, json_object_new_double(h->p[j].tod));
+		json_object_array_add(lv, json_object_new_double(h->p[j].level));
+		json_object_array_add(est, isfinite(h->p[j].est) ? json_object_new_double(h->p[j].est) : NULL);
+		json_object_array_add(meas, isfinite(h->p[j].meas) ? json_object_new_double(h->p[j].meas) : NULL);
+	}
+	json_object_object_add(o, "ok", json_object_new_boolean(1));
+	psd_json_str(o, "zone", h->name);
+	json_object_object_add(o, "t", t);
+	json_object_object_add(o, "tod_s", tod);
+	json_object_object_add(o, "level", lv);
+	json_object_object_add(o, "est_task_lux", est);
+	json_object_object_add(o, "task_lux", meas);
+	rc = send_text(conn, MHD_HTTP_OK, "application/json", psd_json_text(o, 6), NULL);
+	json_object_put(o);
+	return rc;
+}
+
+/* The live stream: MHD asks for more; what is queued goes, else the
+ * connection waits (suspended) for the next update. */
+static ssize_t sse_read(void *cls, uint64_t pos, char *buf, size_t max)
+{
+	struct sse *s = cls;
+	size_t n;
+	(void)pos;
+	if (s->w->closing)
+		return MHD_CONTENT_READER_END_OF_STREAM;
+	if (s->off >= s->len) {
+		MHD_suspend_connection(s->conn);
+		s->suspended = 1;
+		return 0;
+	}
+	n = s->len - s->off < max ? s->len - s->off : max;
+	memcpy(buf, s->buf + s->off, n);
+	s->off += n;
+	return (ssize_t)n;
+}
+
+static void sse_free(void *cls)
+{
+	struct sse *s = cls;
+	*s->pprev = s->next;
+	if (s->next)
+		s->next->pprev = s->pprev;
+	free(s->buf);
+	free(s);
+}
+
+/* Queue text on a stream (dropped when the client has not taken the last
+ * update yet: a slow client gets the newest state, not a backlog). */
+static void sse_queue(struct sse *s, const char *text)
+{
+	size_t n = strlen(text);
+	char *b;
+	if (s->off < s->len)
+		return;
+	if (!(b = realloc(s->buf, n + 1)))
+		return;
+	memcpy(b, text, n + 1);
+	s->buf = b;
+	s->len = n;
+	s->off = 0;
+	if (s->suspended) {
+		s->suspended = 0;
+		MHD_resume_connection(s->conn);
+	}
+}
+
+/* The update every stream gets: the status reply as one event. */
+static char *status_event(struct psd_web *w)
+{
+	char line[] = "status";
+	size_t n;
+	char *ev;
+	w->fn(w->user, line, w->reply, sizeof w->reply);
+	n = strlen(w->reply);
+	if (!(ev = malloc(n + 32)))
+		return NULL;
+	snprintf(ev, n + 32, "event: status\ndata: %s\n\n", w->reply);
+	return ev;
+}
+
+static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn)
+{
+	struct sse *s = calloc(1, sizeof *s);
+	struct MHD_Response *r;
+	enum MHD_Result rc;
+	char *ev = status_event(w);
+	size_t n = ev ? strlen(ev) + 16 : 0;
+	if (!s || !ev || !(s->buf = malloc(n))) {
+		free(s);
+		free(ev);
+		return MHD_NO;
+	}
+	/* the reconnection delay a browser keeps, and the first update */
+	snprintf(s->buf, n, "retry: 2000\n%s", ev);
+	s->len = strlen(s->buf);
+	free(ev);
+	s->w = w;
+	s->conn = conn;
+	s->next = w->streams;
+	s->pprev = &w->streams;
+	if (s->next)
+		s->next->pprev = &s->next;
+	w->streams = s;
+	if (!(r = MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 16384, sse_read, s, sse_free))) {
+		sse_free(s);
+		return MHD_NO;
+	}
+	MHD_add_response_header(r, "Content-Type", "text/event-stream");
+	MHD_add_response_header(r, "Cache-Control", "no-store");
+	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
+static enum MHD_Result asset(struct MHD_Connection *conn, const char *url)
+{
+	const struct psd_webasset *a = psd_webasset_find(strcmp(url, "/") == 0 ? "/index.html" : url);
+	struct MHD_Response *r;
+	enum MHD_Result rc;
+	if (!a)
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such page");
+	if (!(r = MHD_create_response_from_buffer(a->len, (void *)a->data, MHD_RESPMEM_PERSISTENT)))
+		return MHD_NO;
+	MHD_add_response_header(r, "Content-Type", a->type);
+	MHD_add_response_header(r, "Cache-Control", "no-cache");
+	MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+	MHD_add_response_header(r, "X-Frame-Options", "DENY");
+	MHD_add_response_header(r, "Content-Security-Policy",
+	                        "default-src 'self'; img-src 'self' data:; style-src 'self'; script-src 'self'");
+	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
+static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, const char *url, const char *method,
+                             const struct req *q)
+{
+	int post = strcmp(method, "POST") == 0, get = strcmp(method, "GET") == 0 || strcmp(method, "HEAD") == 0;
+	const char *why;
+	if (strncmp(url, "/api/", 5) != 0)
+		return get ? asset(conn, url) : send_error(conn, MHD_HTTP_METHOD_NOT_ALLOWED, "GET only");
+	if (q->too_long)
+		return send_error(conn, MHD_HTTP_CONTENT_TOO_LARGE, "the request's body is too long");
+	/* a page of another site cannot set this header without the browser
+	 * asking first (CORS), which this server never allows */
+	if (post && !MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "X-PSD"))
+		return send_error(conn, MHD_HTTP_FORBIDDEN, "a console request carries the X-PSD header");
+	if (post && strcmp(url, "/api/login") == 0)
+		return login(w, conn, q);
+	if (post && strcmp(url, "/api/logout") == 0)
+		return logout(w, conn);
+	if (!authorized(w, conn, &why)) {
+		char msg[80];
+		snprintf(msg, sizeof msg, "session %s: log in", why);
+		return send_error(conn, MHD_HTTP_UNAUTHORIZED, msg);
+	}
+	if (get && strcmp(url, "/api/session") == 0)
+		return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", NULL);
+	if (post && strcmp(url, "/api/request") == 0)
+		return request(w, conn, q);
+	if (get && strcmp(url, "/api/events") == 0)
+		return events(w, conn);
+	if (get && strcmp(url, "/api/history") == 0)
+		return history(w, conn);
+	return send_error(conn, MHD_HTTP_NOT_FOUND, "no such request");
+}
+
+static enum MHD_Result access_cb(void *cls, struct MHD_Connection *conn, const char *url, const char *method,
+                                 const char *version, const char *upload, size_t *upload_size, void **ctx)
+{
+	struct psd_web *w = cls;
+	struct req *q = *ctx;
+	(void)version;
+	if (!q) {
+		if (!(q = calloc(1, sizeof *q)))
+			return MHD_NO;
+		*ctx = q;
+		return MHD_YES;
+	}
+	if (*upload_size) {
+		if (q->len + *upload_size < sizeof q->body) {
+			memcpy(q->body + q->len, upload, *upload_size);
+			q->len += *upload_size;
+			q->body[q->len] = 0;
+		} else {
+			q->too_long = 1;
+		}
+		*upload_size = 0;
+		return MHD_YES;
+	}
+	return route(w, conn, url, method, q);
+}
+
+static void done_cb(void *cls, struct MHD_Connection *conn, void **ctx, enum MHD_RequestTerminationCode toe)
+{
+	(void)cls;
+	(void)conn;
+	(void)toe;
+	free(*ctx);
+	*ctx = NULL;
+}
+
+struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e, psd_web_request_fn fn, void *user,
+                             char *err, size_t errlen)
+{
+	struct psd_web *w = calloc(1, sizeof *w);
+	struct sockaddr_in sa = { .sin_family = AF_INET };
+	if (!w) {
+		psd_errbuf(err, errlen, "[web]: out of memory");
+		return NULL;
+	}
+	w->c = *c;
+	w->e = e;
+	w->fn = fn;
+	w->user = user;
+	psd_websess_init(&w->sess, c->hash, c->session);
+	sa.sin_port = htons((uint16_t)c->port);
+	inet_pton(AF_INET, c->addr, &sa.sin_addr);
+	w->mhd = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, (uint16_t)c->port, NULL,
+	                          NULL, access_cb, w, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&sa,
+	                          MHD_OPTION_NOTIFY_COMPLETED, done_cb, w, MHD_OPTION_CONNECTION_LIMIT, 64u,
+	                          MHD_OPTION_PER_IP_CONNECTION_LIMIT, 16u, MHD_OPTION_CONNECTION_TIMEOUT, 120u,
+	                          MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)65536, MHD_OPTION_END);
+	if (!w->mhd) {
+		psd_errbuf(err, errlen, "[web]: cannot listen on %s:%ld: %s", c->addr, c->port, strerror(errno));
+		free(w);
+		return NULL;
+	}
+	psd_log_info("web console on http://%s:%ld/", c->addr, c->port);
+	return w;
+}
+
+int psd_web_pollfd(struct psd_web *w, struct pollfd *pfd)
+{
+	const union MHD_DaemonInfo *i = MHD_get_daemon_info(w->mhd, MHD_DAEMON_INFO_EPOLL_FD);
+	if (!i)
+		return 0;
+	*pfd = (struct pollfd){ i->epoll_fd, POLLIN, 0 };
+	return 1;
+}
+
+void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
+{
+	double now = psd_time_mono();
+	(void)pfd;   /* MHD_run reads its epoll set without waiting, whatever poll() said */
+	hist_record(w);
+	if (w->streams && now >= w->next_update) {
+		char *ev = status_event(w);
+		for (struct sse *s = w->streams; ev && s; s = s->next)
+			sse_queue(s, ev);
+		free(ev);
+		w->next_update = now + w->c.update;
+	}
+	MHD_run(w->mhd);
+}
+
+int psd_web_wait_ms(const struct psd_web *w)
+{
+	MHD_UNSIGNED_LONG_LONG t;
+	int ms = -1;
+	if (MHD_get_timeout(w->mhd, &t) == MHD_YES)
+		ms = t > 60000 ? 60000 : (int)t;
+	if (w->streams) {
+		double left = (w->next_update - psd_time_mono()) * 1000;
+		int u = left <= 0 ? 0 : (int)ceil(left);
+		if (ms < 0 || u < ms)
+			ms = u;
+	}
+	return ms;
+}
+
+void psd_web_close(struct psd_web *w)
+{
+	if (!w)
+		return;
+	w->closing = 1;
+	for (struct sse *s = w->streams; s; s = s->next)
+		if (s->suspended) {
+			s->suspended = 0;
+			MHD_resume_connection(s->conn);
+		}
+	MHD_run(w->mhd);
+	MHD_stop_daemon(w->mhd);
+	free(w);
+}
