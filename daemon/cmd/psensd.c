@@ -279,6 +279,11 @@ static void usage(FILE *fp)
 #else
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
 #endif
+#ifdef PS_WITH_WEB
+	fprintf(fp, "web: [web], the on-site console (psensd.conf(5))\n");
+#else
+	fprintf(fp, "web: [web], the on-site console (psensd.conf(5)) (not compiled in)\n");
+#endif
 	fprintf(fp, "drivers:\n");
 	for (int i = 0; ps_registry_drivers[i]; i++)
 		fprintf(fp, "  %-9s %s%s\n", ps_registry_drivers[i]->name, ps_registry_drivers[i]->summary,

@@ -32,6 +32,8 @@ struct sse {
 	char *buf;
 	size_t len, off;
 	int suspended;
+	double expiry;   /* wall s: its login's end, when the stream ends too */
+	int ended;
 };
 
 /* One zone's chart: a ring of its samples, at most one every
@@ -106,15 +108,18 @@ static const char *client_addr(struct MHD_Connection *conn, char *buf, size_t n)
 	return buf;
 }
 
-/* 1 when the request carries a valid session; else 0 with why. */
-static int authorized(struct psd_web *w, struct MHD_Connection *conn, const char **why)
+/* 1 when the request carries a valid session (its end in *expiry); else
+ * 0 with why. */
+static int authorized(struct psd_web *w, struct MHD_Connection *conn, const char **why, double *expiry)
 {
 	const char *h = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Cookie");
 	char token[PSD_WEBSESS_TOKEN];
 	*why = "not logged in";
-	if (!h || psd_webreq_cookie(h, cookie_name, token, sizeof token) != 0)
+	if (!h || psd_webreq_cookie(h, cookie_name, token, sizeof token) != 0 ||
+	    !psd_websess_valid(&w->sess, token, psd_time_wall(), why))
 		return 0;
-	return psd_websess_valid(&w->sess, token, psd_time_wall(), why);
+	*expiry = (double)strtoll(token, NULL, 10);
+	return 1;
 }
 
 static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, const struct req *q)
@@ -139,8 +144,10 @@ static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, con
 	if (psd_websess_issue(&w->sess, now, token, sizeof token) != 0)
 		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no random bytes for a session");
 	psd_log_info("web: login from %s", addr);
+	/* the browser keeps the cookie an hour past the session, so that a
+	 * request then is told the session expired, not that there is none */
 	snprintf(cookie, sizeof cookie, "%s=%s; Path=/; HttpOnly; SameSite=Strict; Max-Age=%.0f", cookie_name, token,
-	         w->c.session);
+	         w->c.session + 3600);
 	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
 }
 
@@ -241,7 +248,7 @@ static ssize_t sse_read(void *cls, uint64_t pos, char *buf, size_t max)
 	struct sse *s = cls;
 	size_t n;
 	(void)pos;
-	if (s->w->closing)
+	if (s->w->closing || (s->ended && s->off >= s->len))
 		return MHD_CONTENT_READER_END_OF_STREAM;
 	if (s->off >= s->len) {
 		MHD_suspend_connection(s->conn);
@@ -298,7 +305,7 @@ static char *status_event(struct psd_web *w)
 	return ev;
 }
 
-static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn)
+static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn, double expiry)
 {
 	struct sse *s = calloc(1, sizeof *s);
 	struct MHD_Response *r;
@@ -316,6 +323,7 @@ static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn)
 	free(ev);
 	s->w = w;
 	s->conn = conn;
+	s->expiry = expiry;
 	s->next = w->streams;
 	s->pprev = &w->streams;
 	if (s->next)
@@ -357,6 +365,7 @@ static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, con
 {
 	int post = strcmp(method, "POST") == 0, get = strcmp(method, "GET") == 0 || strcmp(method, "HEAD") == 0;
 	const char *why;
+	double expiry;
 	if (strncmp(url, "/api/", 5) != 0)
 		return get ? asset(conn, url) : send_error(conn, MHD_HTTP_METHOD_NOT_ALLOWED, "GET only");
 	if (q->too_long)
@@ -369,7 +378,7 @@ static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, con
 		return login(w, conn, q);
 	if (post && strcmp(url, "/api/logout") == 0)
 		return logout(w, conn);
-	if (!authorized(w, conn, &why)) {
+	if (!authorized(w, conn, &why, &expiry)) {
 		char msg[80];
 		snprintf(msg, sizeof msg, "session %s: log in", why);
 		return send_error(conn, MHD_HTTP_UNAUTHORIZED, msg);
@@ -379,7 +388,7 @@ static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, con
 	if (post && strcmp(url, "/api/request") == 0)
 		return request(w, conn, q);
 	if (get && strcmp(url, "/api/events") == 0)
-		return events(w, conn);
+		return events(w, conn, expiry);
 	if (get && strcmp(url, "/api/history") == 0)
 		return history(w, conn);
 	return send_error(conn, MHD_HTTP_NOT_FOUND, "no such request");
@@ -466,8 +475,18 @@ void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
 	hist_record(w);
 	if (w->streams && now >= w->next_update) {
 		char *ev = status_event(w);
-		for (struct sse *s = w->streams; ev && s; s = s->next)
-			sse_queue(s, ev);
+		double wall = psd_time_wall();
+		for (struct sse *s = w->streams; ev && s; s = s->next) {
+			if (wall >= s->expiry && !s->ended) {   /* the login is over: so is its stream */
+				s->ended = 1;
+				if (s->suspended) {
+					s->suspended = 0;
+					MHD_resume_connection(s->conn);
+				}
+			}
+			if (!s->ended)
+				sse_queue(s, ev);
+		}
 		free(ev);
 		w->next_update = now + w->c.update;
 	}
