@@ -122,7 +122,7 @@ static int web_passwd(int argc, char **argv)
 		unlink(tmp);
 		return 1;
 	}
-	printf("%s: the web console's password hash (mode 0600); psensd reads it at start and on reload\n", argv[0]);
+	printf("%s: the web console's password hash (mode 0600); psensd reads it when it starts\n", argv[0]);
 	return 0;
 }
 
