@@ -94,10 +94,10 @@ LIBPSDREPORT = $(BUILD)/lib/libpsdreport.a
 LIBPSDBACNET = $(BUILD)/lib/libpsdbacnet.a
 LIBPSDWEB    = $(BUILD)/lib/libpsdweb.a
 LIBPSVIRT    = $(BUILD)/lib/libpsvirt.a
-# the daemon's core with the MQTT and BACnet rooms: config.c judges [mqtt]
-# and [bacnet] (their *conf.c) and loop.c runs their sockets, which drive
-# the engine
-LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSDBACNET) $(LIBPSDWEB) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+# the daemon's core with the MQTT, BACnet and web rooms: config.c judges
+# [mqtt], [bacnet] and [web] (their *conf.c) and loop.c runs their sockets,
+# which drive the engine; the web console serves the record (report room)
+LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSDBACNET) $(LIBPSDWEB) $(LIBPSDREPORT) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
@@ -127,7 +127,7 @@ $(BUILD)/obj/drivers/%.o: INC = -Idrivers
 $(BUILD)/obj/daemon/%.o: INC = $(INC_CORE)
 $(BUILD)/obj/daemon/report/%.o: INC = $(INC_CORE) -iquote daemon/report
 $(BUILD)/obj/daemon/psvirt/%.o: INC = $(INC_CORE) -iquote daemon/psvirt
-$(BUILD)/obj/daemon/web/%.o: INC = $(INC_CORE) -iquote $(BUILD)/gen/web
+$(BUILD)/obj/daemon/web/%.o: INC = $(INC_CORE) -iquote daemon/report -iquote $(BUILD)/gen/web
 # the console's pages, built in (daemon/web/genassets.sh: od and sed)
 WEB_ASSETS := $(sort $(wildcard daemon/web/assets/*))
 $(BUILD)/gen/web/webassets.inc: daemon/web/genassets.sh $(WEB_ASSETS)

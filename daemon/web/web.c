@@ -10,12 +10,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "ctlsock.h"
 #include "engine.h"
 #include "errbuf.h"
 #include "json.h"
 #include "log.h"
+#include "report.h"
 #include "time.h"
 #include "webasset.h"
 #include "webreq.h"
@@ -340,6 +344,62 @@ static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn, do
 	return rc;
 }
 
+/* GET /api/record.pdf[?zone=Z]: the commissioning record, as psensctl
+ * report draws it, from the log's committed samples.  Drawn in the loop's
+ * turn (a second or so for a day's record: the control waits that long). */
+static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
+	struct psd_report_opts ro = { .tolerance_pct = 25, .format = PSD_REPORT_PDF };
+	struct psd_report_out res = { 0 };
+	struct MHD_Response *r;
+	enum MHD_Result rc;
+	char dir[] = "/tmp/psensd-web.XXXXXX", path[64], err[512], disp[128];
+	struct stat st;
+	unsigned char *pdf = NULL;
+	FILE *fp = NULL;
+	if (zone && !psd_engine_zone(w->e, zone))
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
+	if (!w->e->cf->database)
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "psensd keeps no database: the record is drawn from its log");
+	if (!mkdtemp(dir))
+		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no temporary directory for the record");
+	snprintf(path, sizeof path, "%s/record.pdf", dir);
+	ro.dbpath = w->e->cf->database;
+	ro.zone = zone;
+	ro.config_path = w->e->cf->conf.path;
+	ro.cf = w->e->cf;
+	ro.written = time(NULL);
+	err[0] = 0;
+	if (psd_report_write(&ro, path, &res, err, sizeof err) == 0 && (fp = fopen(path, "rb")) &&
+	    fstat(fileno(fp), &st) == 0 && st.st_size > 0 && (pdf = malloc((size_t)st.st_size)) &&
+	    fread(pdf, 1, (size_t)st.st_size, fp) != (size_t)st.st_size) {
+		free(pdf);
+		pdf = NULL;
+	}
+	psd_report_out_free(&res);
+	if (fp)
+		fclose(fp);
+	unlink(path);
+	rmdir(dir);
+	if (!pdf) {
+		char msg[600];
+		snprintf(msg, sizeof msg, "the record: %s", err[0] ? err : "cannot be read back");
+		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, msg);
+	}
+	if (!(r = MHD_create_response_from_buffer((size_t)st.st_size, pdf, MHD_RESPMEM_MUST_FREE))) {
+		free(pdf);
+		return MHD_NO;
+	}
+	snprintf(disp, sizeof disp, "attachment; filename=\"psensd-record%s%s.pdf\"", zone ? "-" : "", zone ? zone : "");
+	MHD_add_response_header(r, "Content-Type", "application/pdf");
+	MHD_add_response_header(r, "Content-Disposition", disp);
+	MHD_add_response_header(r, "Cache-Control", "no-store");
+	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
 static enum MHD_Result asset(struct MHD_Connection *conn, const char *url)
 {
 	const struct psd_webasset *a = psd_webasset_find(strcmp(url, "/") == 0 ? "/index.html" : url);
@@ -391,6 +451,8 @@ static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, con
 		return events(w, conn, expiry);
 	if (get && strcmp(url, "/api/history") == 0)
 		return history(w, conn);
+	if (get && strcmp(url, "/api/record.pdf") == 0)
+		return record(w, conn);
 	return send_error(conn, MHD_HTTP_NOT_FOUND, "no such request");
 }
 

@@ -177,7 +177,20 @@ async function shot(page, name) {
     await until(() => b.$('a[data-zone="office"]'), 5000);
     await shot(b, 'desktop-zones');
 
-    // 10. logging out
+    // 10. the record, as psensctl report draws it
+    const href = await a.$eval('#record-zone', (e) => e.getAttribute('href'));
+    const pdf = await a.evaluate(async (h) => {
+      const r = await fetch(h);
+      const b = new Uint8Array(await r.arrayBuffer());
+      return { type: r.headers.get('Content-Type'), disp: r.headers.get('Content-Disposition'),
+               head: String.fromCharCode(...b.slice(0, 5)), len: b.length };
+    }, href);
+    ok(href === '/api/record.pdf?zone=office' && pdf.type === 'application/pdf' && pdf.head === '%PDF-',
+       'the zone\'s record downloads as a PDF: ' + href + ', ' + pdf.type + ', ' + pdf.len + ' bytes, "' + pdf.head + '", ' + pdf.disp);
+    require('fs').writeFileSync(path.join(artefacts, 'record-office.pdf'), Buffer.from(await a.evaluate(async (h) =>
+      Array.from(new Uint8Array(await (await fetch(h)).arrayBuffer())), href)));
+
+    // 11. logging out
     await a.click('#logout');
     ok(await until(() => visible(a, '#login'), 5000), 'log out returns to the login');
   } catch (e) {

@@ -11,7 +11,7 @@
 # accepted, a second agent at the same zone seeing the override live and
 # refused a second session, psensd restarted under the page (reconnecting,
 # then live), a day session with the lux readings typed in, the acceptance
-# tests run and shown; screenshots at phone and desktop sizes kept in
+# tests run and shown, the record downloaded as a PDF; screenshots at phone and desktop sizes kept in
 # $BUILD/artefacts/web/.  Then, without the browser: the password file's
 # checks, a [web] without bind, the guard after failed logins, a request
 # without the console's header, and psensctl web-passwd's file.
@@ -97,6 +97,7 @@ grep '^not ok' "$TMP/peer" | while read -r l; do diag "$l"; done
 for s in phone-zones phone-zone phone-night phone-accept desktop-zone desktop-zones; do
 	check "screenshot $s.png kept" sh -c "head -c 8 '$ART/$s.png' | od -An -c | grep -q 'P   N   G'"
 done
+check "the record the console served is a PDF of the zone's pages" sh -c "pdftotext '$ART/record-office.pdf' - | grep -q 'office'"
 check "psensd logged the console's actions" sh -c "grep -q 'web: .* asks: override office 0.5 36000' '$TMP/err' && grep -q 'web: .* asks: release office' '$TMP/err'"
 check "and the failed login" grep -q "web: a failed login from 127.0.0.1" "$TMP/err"
 

@@ -280,7 +280,8 @@ function drawChart() {
     if (pts) out.push(el('polyline', { points: pts, class: cls }));
     return out;
   };
-  kids.push(...line(hist.level, yp, 'l-level'), ...line(hist.meas, yl, 'l-meas'), ...line(hist.est, yl, 'l-est'));
+  // the estimate wide and pale under the measured line: both show where they agree
+  kids.push(...line(hist.level, yp, 'l-level'), ...line(hist.est, yl, 'l-est'), ...line(hist.meas, yl, 'l-meas'));
   svg.replaceChildren(...kids);
   $('chart-span').textContent = hhmm(hist.tod[0] + (t0 - hist.t[0])) + '–' + hhmm(hist.tod[n - 1]);
 }
@@ -352,6 +353,8 @@ function go(name) {
     $('cal-box').hidden = true;
     $('accept-box').hidden = true;
     calRunning = false;
+    $('record-zone').href = '/api/record.pdf?zone=' + encodeURIComponent(name);
+    $('record-zone').setAttribute('download', 'psensd-record-' + name + '.pdf');
     hist = null;
     loadHistory(name);
     request('calibrate ' + name + ' status').then((o) => {
