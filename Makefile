@@ -74,6 +74,10 @@ else
   WEB_SRC := $(filter-out daemon/web/web.c,$(WEB_SRC))
 endif
 REPORT_SRC   := $(wildcard daemon/report/*.c)
+# The record's QR codes to the web console ([web] url): WITH_QRENCODE =
+# auto | yes | no; without libqrencode the record has none.
+WITH_QRENCODE ?= auto
+$(eval $(call feature,QRENCODE,libqrencode,PS_WITH_QRENCODE))
 BACNET_SRC   := $(wildcard daemon/bacnet/*.c)
 # psvirt's room: its main (psvirt.c) and the library of its Modbus server
 PSVIRT_SRC   := $(filter-out daemon/psvirt/psvirt.c,$(wildcard daemon/psvirt/*.c))
@@ -109,7 +113,7 @@ drivers: $(LIBPSDRV)
 daemon: $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS))
 
 config-status:
-	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) web=$(HAVE_WEB) cc=$(CC) build=$(BUILD) san=$(SAN)"
+	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) web=$(HAVE_WEB) qrencode=$(HAVE_QRENCODE) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
 # drivers/ (SIM_INC: sim/ and each of its folders); the daemon's core sees sim/, drivers/, itself and MQTT's public
@@ -197,7 +201,7 @@ DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsyst
             libmicrohttpd-dev libqrencode-dev
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
             libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin mosquitto mosquitto-clients openssl \
-            nodejs chromium
+            nodejs chromium zbar-tools
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
 	@# npm: Debian's package, unless the nodejs installed carries its own

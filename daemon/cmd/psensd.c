@@ -279,6 +279,9 @@ static void usage(FILE *fp)
 #else
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
 #endif
+#ifndef PS_WITH_QRENCODE
+	fprintf(fp, "qrencode: not compiled in (the record has no QR codes to the console)\n");
+#endif
 #ifdef PS_WITH_WEB
 	fprintf(fp, "web: [web], the on-site console (psensd.conf(5))\n");
 #else

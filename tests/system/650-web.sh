@@ -11,7 +11,8 @@
 # accepted, a second agent at the same zone seeing the override live and
 # refused a second session, psensd restarted under the page (reconnecting,
 # then live), a day session with the lux readings typed in, the acceptance
-# tests run and shown, the record downloaded as a PDF; screenshots at phone and desktop sizes kept in
+# tests run and shown, the record downloaded as a PDF, with a QR code on
+# the zone's page that opens it in the console ([web] url); screenshots at phone and desktop sizes kept in
 # $BUILD/artefacts/web/.  Then, without the browser: the password file's
 # checks, a [web] without bind, the guard after failed logins, a request
 # without the console's header, and psensctl web-passwd's file.
@@ -69,6 +70,7 @@ bind = 127.0.0.1:$PORT
 password_file = web.pass
 session = $1
 update = 0.2
+url = https://console.site.test/psensd/
 EOC
 }
 conf 10 > "$TMP/short.conf"
@@ -98,6 +100,16 @@ for s in phone-zones phone-zone phone-night phone-accept desktop-zone desktop-zo
 	check "screenshot $s.png kept" sh -c "head -c 8 '$ART/$s.png' | od -An -c | grep -q 'P   N   G'"
 done
 check "the record the console served is a PDF of the zone's pages" sh -c "pdftotext '$ART/record-office.pdf' - | grep -q 'office'"
+if ! command -v zbarimg > /dev/null || ! command -v pdftoppm > /dev/null; then
+	skip "the record's QR code: zbarimg or pdftoppm is not installed (make deps: zbar-tools, poppler-utils)"
+elif "$BIN/psensd" -h 2>&1 | grep -q "qrencode: not compiled in"; then
+	skip "the record's QR code: psensd is built without libqrencode"
+else
+	pdftoppm -r 150 -png "$ART/record-office.pdf" "$TMP/rec"
+	zbarimg -q --raw "$TMP"/rec-*.png > "$TMP/qr" 2> /dev/null
+	check "the zone's page has a QR code that opens it in the console: $(cat "$TMP/qr")" \
+		test "$(cat "$TMP/qr")" = "https://console.site.test/psensd/#zone=office"
+fi
 check "psensd logged the console's actions" sh -c "grep -q 'web: .* asks: override office 0.5 36000' '$TMP/err' && grep -q 'web: .* asks: release office' '$TMP/err'"
 check "and the failed login" grep -q "web: a failed login from 127.0.0.1" "$TMP/err"
 
