@@ -5,6 +5,7 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <microhttpd.h>
 #include <netinet/in.h>
 #include <stdio.h>
@@ -14,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "canvas.h"
 #include "ctlsock.h"
 #include "engine.h"
 #include "errbuf.h"
@@ -58,6 +60,7 @@ struct psd_web {
 	struct psd_websess sess;
 	struct sse *streams;
 	int closing;
+	int drew;             /* a record was drawn: cairo's and fontconfig's caches are filled */
 	double next_update;   /* monotonic s */
 	struct hist hist[PSD_MAX_ZONES];
 	char reply[PSD_CTL_MAX_OUT];
@@ -371,6 +374,7 @@ static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
 	ro.cf = w->e->cf;
 	ro.written = time(NULL);
 	err[0] = 0;
+	w->drew = 1;
 	if (psd_report_write(&ro, path, &res, err, sizeof err) == 0 && (fp = fopen(path, "rb")) &&
 	    fstat(fileno(fp), &st) == 0 && st.st_size > 0 && (pdf = malloc((size_t)st.st_size)) &&
 	    fread(pdf, 1, (size_t)st.st_size, fp) != (size_t)st.st_size) {
@@ -491,6 +495,20 @@ static void done_cb(void *cls, struct MHD_Connection *conn, void **ctx, enum MHD
 	*ctx = NULL;
 }
 
+/* libmicrohttpd's own messages (a client gone mid-stream, a bad request):
+ * through psensd's log, as debug messages. */
+static void mhd_log(void *cls, const char *fmt, va_list ap) __attribute__((format(printf, 2, 0)));
+static void mhd_log(void *cls, const char *fmt, va_list ap)
+{
+	char msg[300];
+	size_t n;
+	(void)cls;
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	n = strcspn(msg, "\n");
+	msg[n] = 0;
+	psd_log_debug("web: %s", msg);
+}
+
 struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e, psd_web_request_fn fn, void *user,
                              char *err, size_t errlen)
 {
@@ -511,7 +529,8 @@ struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e,
 	                          NULL, access_cb, w, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&sa,
 	                          MHD_OPTION_NOTIFY_COMPLETED, done_cb, w, MHD_OPTION_CONNECTION_LIMIT, 64u,
 	                          MHD_OPTION_PER_IP_CONNECTION_LIMIT, 16u, MHD_OPTION_CONNECTION_TIMEOUT, 120u,
-	                          MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)65536, MHD_OPTION_END);
+	                          MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)65536,
+	                          MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);
 	if (!w->mhd) {
 		psd_errbuf(err, errlen, "[web]: cannot listen on %s:%ld: %s", c->addr, c->port, strerror(errno));
 		free(w);
@@ -582,5 +601,7 @@ void psd_web_close(struct psd_web *w)
 		}
 	MHD_run(w->mhd);
 	MHD_stop_daemon(w->mhd);
+	if (w->drew)   /* the fonts' caches: nothing left for leak checkers */
+		ps_canvas_shutdown();
 	free(w);
 }
