@@ -15,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "annual.h"
 #include "canvas.h"
 #include "ctlsock.h"
 #include "engine.h"
@@ -347,6 +348,43 @@ static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn, do
 	return rc;
 }
 
+/* Serve the file at path (made in the temporary directory dir; made is
+ * NULL when making it failed, with why in err), then remove both. */
+static enum MHD_Result serve_file(struct MHD_Connection *conn, const char *made, const char *dir, const char *path,
+                                  const char *type, const char *disp, const char *what, const char *err)
+{
+	struct MHD_Response *r;
+	enum MHD_Result rc;
+	struct stat st;
+	unsigned char *buf = NULL;
+	FILE *fp = made ? fopen(path, "rb") : NULL;
+	if (fp && fstat(fileno(fp), &st) == 0 && st.st_size > 0 && (buf = malloc((size_t)st.st_size)) &&
+	    fread(buf, 1, (size_t)st.st_size, fp) != (size_t)st.st_size) {
+		free(buf);
+		buf = NULL;
+	}
+	if (fp)
+		fclose(fp);
+	unlink(path);
+	rmdir(dir);
+	if (!buf) {
+		char msg[600];
+		snprintf(msg, sizeof msg, "%s: %s", what, made ? "cannot be read back" : err);
+		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, msg);
+	}
+	if (!(r = MHD_create_response_from_buffer((size_t)st.st_size, buf, MHD_RESPMEM_MUST_FREE))) {
+		free(buf);
+		return MHD_NO;
+	}
+	MHD_add_response_header(r, "Content-Type", type);
+	if (disp)
+		MHD_add_response_header(r, "Content-Disposition", disp);
+	MHD_add_response_header(r, "Cache-Control", "no-store");
+	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
 /* GET /api/record.pdf[?zone=Z]: the commissioning record, as psensctl
  * report draws it, from the log's committed samples.  Drawn in the loop's
  * turn (a second or so for a day's record: the control waits that long). */
@@ -355,12 +393,8 @@ static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
 	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
 	struct psd_report_opts ro = { .tolerance_pct = 25, .format = PSD_REPORT_PDF };
 	struct psd_report_out res = { 0 };
-	struct MHD_Response *r;
-	enum MHD_Result rc;
 	char dir[] = "/tmp/psensd-web.XXXXXX", path[64], err[512], disp[128];
-	struct stat st;
-	unsigned char *pdf = NULL;
-	FILE *fp = NULL;
+	int rc;
 	if (zone && !psd_engine_zone(w->e, zone))
 		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
 	if (!w->e->cf->database)
@@ -375,33 +409,57 @@ static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
 	ro.written = time(NULL);
 	err[0] = 0;
 	w->drew = 1;
-	if (psd_report_write(&ro, path, &res, err, sizeof err) == 0 && (fp = fopen(path, "rb")) &&
-	    fstat(fileno(fp), &st) == 0 && st.st_size > 0 && (pdf = malloc((size_t)st.st_size)) &&
-	    fread(pdf, 1, (size_t)st.st_size, fp) != (size_t)st.st_size) {
-		free(pdf);
-		pdf = NULL;
-	}
+	rc = psd_report_write(&ro, path, &res, err, sizeof err);
 	psd_report_out_free(&res);
-	if (fp)
-		fclose(fp);
-	unlink(path);
-	rmdir(dir);
-	if (!pdf) {
-		char msg[600];
-		snprintf(msg, sizeof msg, "the record: %s", err[0] ? err : "cannot be read back");
-		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, msg);
-	}
-	if (!(r = MHD_create_response_from_buffer((size_t)st.st_size, pdf, MHD_RESPMEM_MUST_FREE))) {
-		free(pdf);
-		return MHD_NO;
-	}
 	snprintf(disp, sizeof disp, "attachment; filename=\"psensd-record%s%s.pdf\"", zone ? "-" : "", zone ? zone : "");
-	MHD_add_response_header(r, "Content-Type", "application/pdf");
-	MHD_add_response_header(r, "Content-Disposition", disp);
-	MHD_add_response_header(r, "Cache-Control", "no-store");
-	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
-	MHD_destroy_response(r);
-	return rc;
+	return serve_file(conn, rc == 0 ? dir : NULL, dir, path, "application/pdf", disp, "the record", err);
+}
+
+/* GET /api/year.png?zone=Z: the zone's year in the results' weather (psensd
+ * -Y -P's picture: task lux and light output, hour of day against day of
+ * the year), run with the zone's constants in force.  Drawn in the loop's
+ * turn (about half a second). */
+static enum MHD_Result year(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
+	const struct psd_zone *z = zone ? psd_engine_zone(w->e, zone) : NULL;
+	const struct ps_results *r;
+	struct psd_annual_opt o = { .dated = 1 };
+	struct psd_annual *a = NULL;
+	struct psd_control ctl;
+	char dir[] = "/tmp/psensd-web.XXXXXX", path[64], err[512] = "", devices[256], title[256];
+	int ok = 0;
+	if (!z)
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
+	r = z->res ? z->res : w->e->have_res ? &w->e->res : NULL;
+	if (!r || !r->have_year)
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "the zone's results have no year: give the scene a weather file "
+		                  "(psscene(5), [daylight_coefficients] weather =)");
+	if (!mkdtemp(dir))
+		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no temporary directory for the picture");
+	snprintf(path, sizeof path, "%s/year.png", dir);
+	o.period = z->zc->period;
+	o.occ_start = w->e->cf->occ_from;
+	o.occ_end = w->e->cf->occ_to;
+	ctl = z->ctl;
+	w->drew = 1;
+	if (!(a = calloc(1, sizeof *a)) || !(o.task_img = calloc(PSD_ANNUAL_MAX_DAYS * 144, sizeof(float))) ||
+	    !(o.level_img = calloc(PSD_ANNUAL_MAX_DAYS * 144, sizeof(float))))
+		snprintf(err, sizeof err, "out of memory");
+	else if (psd_annual_devices(w->e->cf, z->zc, &o, devices, sizeof devices, err, sizeof err) != 0)
+		;
+	else if (psd_annual_run(r, &ctl, &o, a) != 0)
+		snprintf(err, sizeof err, "the year cannot run (no electric condition?)");
+	else {
+		const char *wb = strrchr(r->weather, '/');
+		snprintf(title, sizeof title, "zone %s, %s, target %g lx (%s)", z->zc->name,
+		         psd_control_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : r->weather);
+		ok = psd_annual_png(path, o.task_img, o.level_img, a->days, ctl.target_lux, title, err, sizeof err) == 0;
+	}
+	free(a);
+	free(o.task_img);
+	free(o.level_img);
+	return serve_file(conn, ok ? dir : NULL, dir, path, "image/png", NULL, "the year", err);
 }
 
 static enum MHD_Result asset(struct MHD_Connection *conn, const char *url)
@@ -457,6 +515,8 @@ static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, con
 		return history(w, conn);
 	if (get && strcmp(url, "/api/record.pdf") == 0)
 		return record(w, conn);
+	if (get && strcmp(url, "/api/year.png") == 0)
+		return year(w, conn);
 	return send_error(conn, MHD_HTTP_NOT_FOUND, "no such request");
 }
 

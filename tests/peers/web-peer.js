@@ -190,7 +190,15 @@ async function shot(page, name) {
     require('fs').writeFileSync(path.join(artefacts, 'record-office.pdf'), Buffer.from(await a.evaluate(async (h) =>
       Array.from(new Uint8Array(await (await fetch(h)).arrayBuffer())), href)));
 
-    // 11. logging out
+    // 11. the year, as psensd -Y -P draws it
+    await a.click('#year-show');
+    const yr = await until(() => a.$eval('#year', (e) => !e.hidden && e.complete && e.naturalWidth > 0 &&
+      [e.naturalWidth, e.naturalHeight]).catch(() => null), 10000);
+    ok(yr && yr[0] >= 730, 'the zone\'s year is drawn: ' + (yr ? yr.join(' x ') + ' px' : 'no picture'));
+    await a.$eval('#year', (e) => e.scrollIntoView());
+    await a.screenshot({ path: path.join(artefacts, 'phone-year.png') });
+
+    // 12. logging out
     await a.click('#logout');
     ok(await until(() => visible(a, '#login'), 5000), 'log out returns to the login');
   } catch (e) {

@@ -12,7 +12,8 @@
 # refused a second session, psensd restarted under the page (reconnecting,
 # then live), a day session with the lux readings typed in, the acceptance
 # tests run and shown, the record downloaded as a PDF, with a QR code on
-# the zone's page that opens it in the console ([web] url); screenshots at phone and desktop sizes kept in
+# the zone's page that opens it in the console ([web] url), the zone's
+# year drawn; screenshots at phone and desktop sizes kept in
 # $BUILD/artefacts/web/.  Then, without the browser: the password file's
 # checks, a [web] without bind, the guard after failed logins, a request
 # without the console's header, and psensctl web-passwd's file.
@@ -96,7 +97,7 @@ sed -n 's/^\(not \)\{0,1\}ok [0-9]* - /browser: /p; /^# /p' "$TMP/peer" | while 
 check "the browser's checks all pass ($(grep -c '^ok' "$TMP/peer") ok, $(grep -c '^not ok' "$TMP/peer") not ok)" \
 	test "$rc" = 0 -a "$(grep -c '^not ok' "$TMP/peer")" = 0 -a "$(grep -c '^ok' "$TMP/peer")" -ge 20
 grep '^not ok' "$TMP/peer" | while read -r l; do diag "$l"; done
-for s in phone-zones phone-zone phone-night phone-accept desktop-zone desktop-zones; do
+for s in phone-zones phone-zone phone-night phone-accept phone-year desktop-zone desktop-zones; do
 	check "screenshot $s.png kept" sh -c "head -c 8 '$ART/$s.png' | od -An -c | grep -q 'P   N   G'"
 done
 check "the record the console served is a PDF of the zone's pages" sh -c "pdftotext '$ART/record-office.pdf' - | grep -q 'office'"

@@ -352,6 +352,7 @@ function go(name) {
     show('zone');
     $('cal-box').hidden = true;
     $('accept-box').hidden = true;
+    $('year').hidden = true;
     calRunning = false;
     $('record-zone').href = '/api/record.pdf?zone=' + encodeURIComponent(name);
     $('record-zone').setAttribute('download', 'psensd-record-' + name + '.pdf');
@@ -416,6 +417,17 @@ $('cal-finish').addEventListener('click', () => cal('finish'));
 $('cal-accept').addEventListener('click', () => cal('accept'));
 $('cal-abort').addEventListener('click', () => cal('abort'));
 $('accept-run').addEventListener('click', runAccept);
+$('year-show').addEventListener('click', () => {
+  const img = $('year');
+  img.onerror = async () => {
+    img.hidden = true;
+    const r = await fetch(img.src).catch(() => null);
+    const o = r ? await r.json().catch(() => ({})) : {};
+    toast(o.error || 'the year cannot be drawn', true);
+  };
+  img.onload = () => { img.hidden = false; };
+  img.src = '/api/year.png?zone=' + encodeURIComponent(zone) + '&t=' + Date.now();
+});
 window.addEventListener('hashchange', route);
 window.addEventListener('resize', () => { if (hist) drawChart(); });
 start();
