@@ -25,10 +25,11 @@
 #include "report.h"
 #include "time.h"
 #include "webasset.h"
+#include "webhist.h"
 #include "webreq.h"
 #include "websess.h"
 
-enum { BODY_MAX = 4096, HIST = 2048, HIST_HOURS = 4 };
+enum { BODY_MAX = 4096 };
 static const char cookie_name[] = "psd_session";
 
 /* A live stream (GET /api/events): what is still to be sent. */
@@ -43,15 +44,6 @@ struct sse {
 	int ended;
 };
 
-/* One zone's chart: a ring of its samples, at most one every
- * HIST_HOURS h / HIST apart. */
-struct hist {
-	char name[64];
-	size_t n, head;
-	double last_t;
-	struct { double t, tod, level, est, meas; } p[HIST];
-};
-
 struct psd_web {
 	struct psd_web_conf c;
 	struct psd_engine *e;
@@ -63,7 +55,7 @@ struct psd_web {
 	int closing;
 	int drew;             /* a record was drawn: cairo's and fontconfig's caches are filled */
 	double next_update;   /* monotonic s */
-	struct hist hist[PSD_MAX_ZONES];
+	struct psd_webhist hist;
 	char reply[PSD_CTL_MAX_OUT];
 };
 
@@ -184,68 +176,16 @@ static enum MHD_Result request(struct psd_web *w, struct MHD_Connection *conn, c
 	return send_text(conn, MHD_HTTP_OK, "application/json", w->reply, NULL);
 }
 
-/* The charts: a zone's ring, the last HIST_HOURS h of its samples. */
-static void hist_record(struct psd_web *w)
-{
-	for (size_t i = 0; i < w->e->nzone && i < PSD_MAX_ZONES; i++) {
-		const struct psd_zone *z = &w->e->zone[i];
-		struct hist *h = &w->hist[i];
-		double t = z->last.t;
-		if (strcmp(h->name, z->zc->name) != 0) {   /* a new zone in this slot (a reload) */
-			memset(h, 0, sizeof *h);
-			snprintf(h->name, sizeof h->name, "%s", z->zc->name);
-			h->last_t = -INFINITY;
-		}
-		if (!isfinite(t) || t < h->last_t + HIST_HOURS * 3600.0 / HIST)
-			continue;
-		h->p[h->head].t = t;
-		h->p[h->head].tod = psd_clock_tod(t);
-		h->p[h->head].level = z->last.level;
-		h->p[h->head].est = z->last.est_task_lux;
-		h->p[h->head].meas = z->last.task_lux;
-		h->head = (h->head + 1) % HIST;
-		if (h->n < HIST)
-			h->n++;
-		h->last_t = t;
-	}
-}
-
+/* GET /api/history?zone=Z: the zone's chart (webhist.h). */
 static enum MHD_Result history(struct psd_web *w, struct MHD_Connection *conn)
 {
 	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
-	json_object *o, *t, *tod, *lv, *est, *meas;
+	char *text = zone ? psd_webhist_json(&w->hist, zone) : NULL;
 	enum MHD_Result rc;
-	const struct hist *h = NULL;
-	for (size_t i = 0; zone && i < w->e->nzone && i < PSD_MAX_ZONES; i++)
-		if (strcmp(w->hist[i].name, zone) == 0)
-			h = &w->hist[i];
-	if (!h)
+	if (!text)
 		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
-	o = json_object_new_object();
-	t = json_object_new_array();
-	tod = json_object_new_array();
-	lv = json_object_new_array();
-	est = json_object_new_array();
-	meas = json_object_new_array();
-	for (size_t k = 0; k < h->n; k++) {
-		size_t j = (h->head + HIST - h->n + k) % HIST;
-		if (h->p[j].t < h->last_t - HIST_HOURS * 3600.0)
-			continue;
-		json_object_array_add(t, json_object_new_double(h->p[j].t));
-		json_object_array_add(tod, json_object_new_double(h->p[j].tod));
-		json_object_array_add(lv, json_object_new_double(h->p[j].level));
-		json_object_array_add(est, isfinite(h->p[j].est) ? json_object_new_double(h->p[j].est) : NULL);
-		json_object_array_add(meas, isfinite(h->p[j].meas) ? json_object_new_double(h->p[j].meas) : NULL);
-	}
-	json_object_object_add(o, "ok", json_object_new_boolean(1));
-	psd_json_str(o, "zone", h->name);
-	json_object_object_add(o, "t", t);
-	json_object_object_add(o, "tod_s", tod);
-	json_object_object_add(o, "level", lv);
-	json_object_object_add(o, "est_task_lux", est);
-	json_object_object_add(o, "task_lux", meas);
-	rc = send_text(conn, MHD_HTTP_OK, "application/json", psd_json_text(o, 6), NULL);
-	json_object_put(o);
+	rc = send_text(conn, MHD_HTTP_OK, "application/json", text, NULL);
+	free(text);
 	return rc;
 }
 
@@ -613,7 +553,7 @@ void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
 {
 	double now = psd_time_mono();
 	(void)pfd;   /* MHD_run reads its epoll set without waiting, whatever poll() said */
-	hist_record(w);
+	psd_webhist_record(&w->hist, w->e);
 	if (w->streams && now >= w->next_update) {
 		char *ev = status_event(w);
 		double wall = psd_time_wall();

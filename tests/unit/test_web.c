@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: ISC */
 /* The web console's checks (daemon/web/): the password hash against
  * Python's hashlib.pbkdf2_hmac, a login token's signature, expiry and
- * revocation, the growing wait after failed logins, and the parsing of what
+ * revocation, the growing wait after failed logins, the parsing of what
  * a request carries (form fields, the cookie, the control line a page may
- * send). */
+ * send), and the charts' ring (spacing, the window, a renamed zone). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,6 +13,11 @@
 
 #include <cmocka.h>
 
+#include <json-c/json.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "webhist.h"
 #include "webpass.h"
 #include "webreq.h"
 #include "websess.h"
@@ -184,12 +189,92 @@ static void lines(void **state)
 	assert_non_null(strstr(err, "at most 1023"));
 }
 
+/* The chart's arrays of a zone, parsed back. */
+static json_object *chart(const struct psd_webhist *h, const char *zone)
+{
+	char *text = psd_webhist_json(h, zone);
+	json_object *o;
+	assert_non_null(text);
+	o = json_tokener_parse(text);
+	free(text);
+	assert_non_null(o);
+	return o;
+}
+
+static double at(json_object *o, const char *key, size_t i)
+{
+	json_object *a, *v;
+	assert_true(json_object_object_get_ex(o, key, &a));
+	v = json_object_array_get_idx(a, i);
+	return v ? json_object_get_double(v) : NAN;
+}
+
+static size_t count(json_object *o)
+{
+	json_object *a;
+	assert_true(json_object_object_get_ex(o, "t", &a));
+	return json_object_array_length(a);
+}
+
+static void step(struct psd_webhist *h, struct psd_engine *e, double t, double level, double est, double meas)
+{
+	e->zone[0].last.t = t;
+	e->zone[0].last.level = level;
+	e->zone[0].last.est_task_lux = est;
+	e->zone[0].last.task_lux = meas;
+	psd_webhist_record(h, e);
+}
+
+static void charts(void **state)
+{
+	static struct psd_engine e;
+	static struct psd_zone_conf zc = { .name = "office" };
+	static struct psd_webhist h;
+	const double gap = PSD_WEBHIST_HOURS * 3600.0 / PSD_WEBHIST_POINTS;   /* 7.03 s */
+	json_object *o;
+	(void)state;
+	e.nzone = 1;
+	e.zone[0].zc = &zc;
+	e.zone[0].last.t = NAN;
+	psd_webhist_record(&h, &e);   /* no sample yet: nothing kept */
+	o = chart(&h, "office");
+	assert_int_equal(count(o), 0);
+	json_object_put(o);
+	assert_null(psd_webhist_json(&h, "hall"));
+	step(&h, &e, 36000, 0.5, 480, 490);
+	step(&h, &e, 36000 + gap / 2, 0.6, 470, 480);   /* too soon after it: skipped */
+	step(&h, &e, 36000 + gap, 0.7, NAN, 500);     /* a fault: no estimate */
+	o = chart(&h, "office");
+	assert_int_equal(count(o), 2);
+	assert_true(at(o, "t", 0) == 36000 && at(o, "level", 0) == 0.5 && at(o, "est_task_lux", 0) == 480);
+	assert_true(at(o, "level", 1) == 0.7 && isnan(at(o, "est_task_lux", 1)) && at(o, "task_lux", 1) == 500);
+	assert_true(at(o, "tod_s", 1) == 36000 + gap);
+	json_object_put(o);
+	/* five hours on, a point a minute: the last four hours are shown */
+	for (int m = 1; m <= 300; m++)
+		step(&h, &e, 36000 + gap + 60 * m, 0.5, 500, 500);
+	o = chart(&h, "office");
+	assert_int_equal(count(o), 241);   /* minutes 60 to 300 */
+	assert_true(at(o, "t", 0) == 36000 + gap + 3600);
+	json_object_put(o);
+	/* the zone renamed by a reload: its slot starts again; one gone, freed */
+	strcpy(zc.name, "hall");
+	step(&h, &e, 60000, 0.2, 300, 310);
+	assert_null(psd_webhist_json(&h, "office"));
+	o = chart(&h, "hall");
+	assert_int_equal(count(o), 1);
+	json_object_put(o);
+	e.nzone = 0;
+	psd_webhist_record(&h, &e);
+	assert_null(psd_webhist_json(&h, "hall"));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(pass_known),   cmocka_unit_test(pass_made),   cmocka_unit_test(pass_malformed),
 		cmocka_unit_test(session_expiry), cmocka_unit_test(session_guard), cmocka_unit_test(form_fields),
-		cmocka_unit_test(cookies),      cmocka_unit_test(lines),
+		cmocka_unit_test(cookies),      cmocka_unit_test(lines),       cmocka_unit_test(charts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
