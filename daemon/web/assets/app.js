@@ -68,7 +68,10 @@ function loggedOut(why) {
   if (es) { es.close(); es = null; }
   clearTimeout(retry);
   setConn('off', 'logged out');
-  $('login-msg').textContent = why ? why.replace(/^session (\w+): log in$/, 'Your session is $1: log in again.') : '';
+  $('login-msg').textContent = !why ? ''
+    : /expired/.test(why) ? 'Your session has expired: log in again.'
+    : /invalid/.test(why) ? 'Your session is no longer valid (logged out, or a new password): log in again.'
+    : /not logged in/.test(why) ? 'Log in to go on.' : why;
   show('login');
   $('password').focus();
 }
