@@ -327,7 +327,7 @@ static enum MHD_Result serve_file(struct MHD_Connection *conn, const char *made,
 
 /* GET /api/record.pdf[?zone=Z]: the commissioning record, as psensctl
  * report draws it, from the log's committed samples.  Drawn in the loop's
- * turn (a second or so for a day's record: the control waits that long). */
+ * turn: the control waits for it (doc/console.md gives the times). */
 static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
 {
 	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
@@ -358,7 +358,7 @@ static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
 /* GET /api/year.png?zone=Z: the zone's year in the results' weather (psensd
  * -Y -P's picture: task lux and light output, hour of day against day of
  * the year), run with the zone's constants in force.  Drawn in the loop's
- * turn (about half a second). */
+ * turn, as the record. */
 static enum MHD_Result year(struct psd_web *w, struct MHD_Connection *conn)
 {
 	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
