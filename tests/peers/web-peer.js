@@ -185,7 +185,7 @@ async function shot(page, name) {
       return { type: r.headers.get('Content-Type'), disp: r.headers.get('Content-Disposition'),
                head: String.fromCharCode(...b.slice(0, 5)), len: b.length };
     }, href);
-    ok(href === '/api/record.pdf?zone=office' && pdf.type === 'application/pdf' && pdf.head === '%PDF-',
+    ok(href === 'api/record.pdf?zone=office' && pdf.type === 'application/pdf' && pdf.head === '%PDF-',
        'the zone\'s record downloads as a PDF: ' + href + ', ' + pdf.type + ', ' + pdf.len + ' bytes, "' + pdf.head + '", ' + pdf.disp);
     require('fs').writeFileSync(path.join(artefacts, 'record-office.pdf'), Buffer.from(await a.evaluate(async (h) =>
       Array.from(new Uint8Array(await (await fetch(h)).arrayBuffer())), href)));

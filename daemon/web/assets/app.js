@@ -47,7 +47,7 @@ async function post(path, fields) {
 async function request(line) {
   let r;
   try {
-    r = await post('/api/request', { line });
+    r = await post('api/request', { line });
   } catch (e) {
     toast('psensd does not answer: ' + e.message, true);
     return null;
@@ -79,7 +79,7 @@ function loggedOut(why) {
 // ---- the live stream ------------------------------------------------------
 function connect() {
   if (es) es.close();
-  es = new EventSource('/api/events');
+  es = new EventSource('api/events');
   es.addEventListener('status', (e) => {
     setConn('live', 'live');
     let o;
@@ -99,7 +99,7 @@ function connect() {
 async function recheck() {
   let r;
   try {
-    r = await fetch('/api/session', { credentials: 'same-origin' });
+    r = await fetch('api/session', { credentials: 'same-origin' });
   } catch (e) {
     setConn('reconnecting', 'reconnecting…');
     retry = setTimeout(recheck, 1500);
@@ -220,7 +220,7 @@ function guide(z) {
 async function loadHistory(name) {
   hist = { t: [], tod: [], level: [], est: [], meas: [] };
   let r;
-  try { r = await fetch('/api/history?zone=' + encodeURIComponent(name), { credentials: 'same-origin' }); }
+  try { r = await fetch('api/history?zone=' + encodeURIComponent(name), { credentials: 'same-origin' }); }
   catch (e) { return; }
   if (!r.ok) return;
   const o = await r.json();
@@ -357,7 +357,7 @@ function go(name) {
     $('accept-box').hidden = true;
     $('year').hidden = true;
     calRunning = false;
-    $('record-zone').href = '/api/record.pdf?zone=' + encodeURIComponent(name);
+    $('record-zone').href = 'api/record.pdf?zone=' + encodeURIComponent(name);
     $('record-zone').setAttribute('download', 'psensd-record-' + name + '.pdf');
     hist = null;
     loadHistory(name);
@@ -377,7 +377,7 @@ function route() {
 
 async function start() {
   let r;
-  try { r = await fetch('/api/session', { credentials: 'same-origin' }); }
+  try { r = await fetch('api/session', { credentials: 'same-origin' }); }
   catch (e) { setConn('reconnecting', 'reconnecting…'); retry = setTimeout(start, 1500); return; }
   if (r.status === 401) { loggedOut(''); return; }
   route();
@@ -388,7 +388,7 @@ $('login-form').addEventListener('submit', async (e) => {
   e.preventDefault();
   $('login-msg').textContent = '';
   let r;
-  try { r = await post('/api/login', { password: $('password').value }); }
+  try { r = await post('api/login', { password: $('password').value }); }
   catch (err) { $('login-msg').textContent = 'psensd does not answer: ' + err.message; return; }
   const o = await r.json().catch(() => ({}));
   if (!r.ok) {
@@ -399,7 +399,7 @@ $('login-form').addEventListener('submit', async (e) => {
   start();
 });
 $('logout').addEventListener('click', async () => {
-  await post('/api/logout', {}).catch(() => null);
+  await post('api/logout', {}).catch(() => null);
   loggedOut('');
 });
 $('override-form').addEventListener('submit', async (e) => {
@@ -429,7 +429,7 @@ $('year-show').addEventListener('click', () => {
     toast(o.error || 'the year cannot be drawn', true);
   };
   img.onload = () => { img.hidden = false; };
-  img.src = '/api/year.png?zone=' + encodeURIComponent(zone) + '&t=' + Date.now();
+  img.src = 'api/year.png?zone=' + encodeURIComponent(zone) + '&t=' + Date.now();
 });
 window.addEventListener('hashchange', route);
 window.addEventListener('resize', () => { if (hist) drawChart(); });
