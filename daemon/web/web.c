@@ -11,20 +11,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <time.h>
-#include <unistd.h>
 
-#include "annual.h"
 #include "canvas.h"
 #include "ctlsock.h"
 #include "engine.h"
 #include "errbuf.h"
 #include "json.h"
 #include "log.h"
-#include "report.h"
 #include "time.h"
 #include "webasset.h"
+#include "webdoc.h"
 #include "webhist.h"
 #include "webreq.h"
 #include "websess.h"
@@ -288,31 +284,16 @@ static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn, do
 	return rc;
 }
 
-/* Serve the file at path (made in the temporary directory dir; made is
- * NULL when making it failed, with why in err), then remove both. */
-static enum MHD_Result serve_file(struct MHD_Connection *conn, const char *made, const char *dir, const char *path,
-                                  const char *type, const char *disp, const char *what, const char *err)
+/* A document (webdoc.h) as the reply, or the error it gave. */
+static enum MHD_Result send_doc(struct psd_web *w, struct MHD_Connection *conn, int rc, unsigned char *buf,
+                                size_t len, const char *type, const char *disp, const char *err)
 {
 	struct MHD_Response *r;
-	enum MHD_Result rc;
-	struct stat st;
-	unsigned char *buf = NULL;
-	FILE *fp = made ? fopen(path, "rb") : NULL;
-	if (fp && fstat(fileno(fp), &st) == 0 && st.st_size > 0 && (buf = malloc((size_t)st.st_size)) &&
-	    fread(buf, 1, (size_t)st.st_size, fp) != (size_t)st.st_size) {
-		free(buf);
-		buf = NULL;
-	}
-	if (fp)
-		fclose(fp);
-	unlink(path);
-	rmdir(dir);
-	if (!buf) {
-		char msg[600];
-		snprintf(msg, sizeof msg, "%s: %s", what, made ? "cannot be read back" : err);
-		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, msg);
-	}
-	if (!(r = MHD_create_response_from_buffer((size_t)st.st_size, buf, MHD_RESPMEM_MUST_FREE))) {
+	enum MHD_Result mr;
+	w->drew = 1;
+	if (rc != 0)
+		return send_error(conn, rc == PSD_WEBDOC_NONE ? MHD_HTTP_NOT_FOUND : MHD_HTTP_INTERNAL_SERVER_ERROR, err);
+	if (!(r = MHD_create_response_from_buffer(len, buf, MHD_RESPMEM_MUST_FREE))) {
 		free(buf);
 		return MHD_NO;
 	}
@@ -320,86 +301,37 @@ static enum MHD_Result serve_file(struct MHD_Connection *conn, const char *made,
 	if (disp)
 		MHD_add_response_header(r, "Content-Disposition", disp);
 	MHD_add_response_header(r, "Cache-Control", "no-store");
-	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	mr = MHD_queue_response(conn, MHD_HTTP_OK, r);
 	MHD_destroy_response(r);
-	return rc;
+	return mr;
 }
 
 /* GET /api/record.pdf[?zone=Z]: the commissioning record, as psensctl
- * report draws it, from the log's committed samples.  Drawn in the loop's
- * turn: the control waits for it (doc/console.md gives the times). */
+ * report draws it.  Drawn in the loop's turn: the control waits for it
+ * (doc/console.md gives the times). */
 static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
 {
 	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
-	struct psd_report_opts ro = { .tolerance_pct = 25, .format = PSD_REPORT_PDF };
-	struct psd_report_out res = { 0 };
-	char dir[] = "/tmp/psensd-web.XXXXXX", path[64], err[512], disp[128];
-	int rc;
-	if (zone && !psd_engine_zone(w->e, zone))
-		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
-	if (!w->e->cf->database)
-		return send_error(conn, MHD_HTTP_NOT_FOUND, "psensd keeps no database: the record is drawn from its log");
-	if (!mkdtemp(dir))
-		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no temporary directory for the record");
-	snprintf(path, sizeof path, "%s/record.pdf", dir);
-	ro.dbpath = w->e->cf->database;
-	ro.zone = zone;
-	ro.config_path = w->e->cf->conf.path;
-	ro.cf = w->e->cf;
-	ro.written = time(NULL);
-	err[0] = 0;
-	w->drew = 1;
-	rc = psd_report_write(&ro, path, &res, err, sizeof err);
-	psd_report_out_free(&res);
-	snprintf(disp, sizeof disp, "attachment; filename=\"psensd-record%s%s.pdf\"", zone ? "-" : "", zone ? zone : "");
-	return serve_file(conn, rc == 0 ? dir : NULL, dir, path, "application/pdf", disp, "the record", err);
+	unsigned char *buf = NULL;
+	size_t len = 0;
+	char err[512] = "", disp[128];
+	int rc = psd_webdoc_record(w->e, zone, &buf, &len, err, sizeof err);
+	snprintf(disp, sizeof disp, "attachment; filename=\"psensd-record%s%.60s.pdf\"", zone ? "-" : "", zone ? zone : "");
+	return send_doc(w, conn, rc, buf, len, "application/pdf", disp, err);
 }
 
-/* GET /api/year.png?zone=Z: the zone's year in the results' weather (psensd
- * -Y -P's picture: task lux and light output, hour of day against day of
- * the year), run with the zone's constants in force.  Drawn in the loop's
- * turn, as the record. */
+/* GET /api/year.png?zone=Z: the zone's year, as psensd -Y -P draws it;
+ * in the loop's turn, as the record. */
 static enum MHD_Result year(struct psd_web *w, struct MHD_Connection *conn)
 {
 	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
-	const struct psd_zone *z = zone ? psd_engine_zone(w->e, zone) : NULL;
-	const struct ps_results *r;
-	struct psd_annual_opt o = { .dated = 1 };
-	struct psd_annual *a = NULL;
-	struct psd_control ctl;
-	char dir[] = "/tmp/psensd-web.XXXXXX", path[64], err[512] = "", devices[256], title[256];
-	int ok = 0;
-	if (!z)
-		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
-	r = z->res ? z->res : w->e->have_res ? &w->e->res : NULL;
-	if (!r || !r->have_year)
-		return send_error(conn, MHD_HTTP_NOT_FOUND, "the zone's results have no year: give the scene a weather file "
-		                  "(psscene(5), [daylight_coefficients] weather =)");
-	if (!mkdtemp(dir))
-		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no temporary directory for the picture");
-	snprintf(path, sizeof path, "%s/year.png", dir);
-	o.period = z->zc->period;
-	o.occ_start = w->e->cf->occ_from;
-	o.occ_end = w->e->cf->occ_to;
-	ctl = z->ctl;
-	w->drew = 1;
-	if (!(a = calloc(1, sizeof *a)) || !(o.task_img = calloc(PSD_ANNUAL_MAX_DAYS * 144, sizeof(float))) ||
-	    !(o.level_img = calloc(PSD_ANNUAL_MAX_DAYS * 144, sizeof(float))))
-		snprintf(err, sizeof err, "out of memory");
-	else if (psd_annual_devices(w->e->cf, z->zc, &o, devices, sizeof devices, err, sizeof err) != 0)
-		;
-	else if (psd_annual_run(r, &ctl, &o, a) != 0)
-		snprintf(err, sizeof err, "the year cannot run (no electric condition?)");
-	else {
-		const char *wb = strrchr(r->weather, '/');
-		snprintf(title, sizeof title, "zone %s, %s, target %g lx (%s)", z->zc->name,
-		         psd_control_algorithm_names[ctl.algorithm], ctl.target_lux, wb ? wb + 1 : r->weather);
-		ok = psd_annual_png(path, o.task_img, o.level_img, a->days, ctl.target_lux, title, err, sizeof err) == 0;
-	}
-	free(a);
-	free(o.task_img);
-	free(o.level_img);
-	return serve_file(conn, ok ? dir : NULL, dir, path, "image/png", NULL, "the year", err);
+	unsigned char *buf = NULL;
+	size_t len = 0;
+	char err[512] = "";
+	int rc = zone ? psd_webdoc_year(w->e, zone, &buf, &len, err, sizeof err) : PSD_WEBDOC_NONE;
+	if (!zone)
+		snprintf(err, sizeof err, "the year of which zone? (?zone=NAME)");
+	return send_doc(w, conn, rc, buf, len, "image/png", NULL, err);
 }
 
 static enum MHD_Result asset(struct MHD_Connection *conn, const char *url)
