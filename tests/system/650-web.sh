@@ -132,7 +132,10 @@ check "a request the console does not send is refused" sh -c \
 	"curl -s -H 'X-PSD: 1' -b '$TMP/cj' --data-urlencode 'line=reload' '$U/api/request' | grep -q \"'reload' is not a request the web console sends\""
 check "the same error as the control socket for an unknown zone" sh -c \
 	"[ \"\$(curl -s -H 'X-PSD: 1' -b '$TMP/cj' --data-urlencode 'line=release nosuch' '$U/api/request')\" = \"\$('$BIN/psensctl' -s '$S' -j release nosuch 2>/dev/null)\" ]"
-kill -TERM "$(cat "$TMP/pid")"; wait "$(cat "$TMP/pid")" 2> /dev/null
+kill -TERM "$(cat "$TMP/pid")"
+i=0; while kill -0 "$(cat "$TMP/pid")" 2> /dev/null && [ $i -lt 200 ]; do i=$((i + 1)); sleep 0.05; done
+check "psensd stopped on SIGTERM, its log without a sanitizer's report" \
+	sh -c "! kill -0 $(cat "$TMP/pid") 2> /dev/null && ! grep -E 'Sanitizer|runtime error' '$TMP/err'"
 
 # the configuration's checks
 sed 's/^bind = .*//' "$TMP/long.conf" > "$TMP/nobind.conf"
