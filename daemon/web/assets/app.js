@@ -191,6 +191,7 @@ function renderZone(z) {
     $('cal-state').textContent = 'running';
     $('cal-state').className = 'badge';
     if (z.calibration.message) $('cal-msg').textContent = z.calibration.message;
+    calSteps(z.calibration.kind, 'running');
     calRunning = true;
   } else if (calRunning) {   // it ended: its outcome, from the session itself
     calRunning = false;
@@ -304,7 +305,17 @@ function table(t, head, rows) {
   t.replaceChildren(tr(head, 'th'), ...rows.map((r) => tr(r, 'td')));
 }
 
+// The steps a session in this kind and state takes: readings typed in and
+// finish while a day session runs, abort while any runs, accept when done.
+function calSteps(kind, state) {
+  $('lux-form').hidden = !(kind === 'day' && state === 'running');
+  $('cal-finish').hidden = !(kind === 'day' && state === 'running');
+  $('cal-abort').hidden = state !== 'running';
+  $('cal-accept').hidden = state !== 'done';
+}
+
 function renderCal(c) {
+  calSteps(c.kind, c.state);
   $('cal-box').hidden = false;
   $('cal-title').textContent = c.kind + ' session' + (c.session ? ' ' + c.session : '');
   const st = $('cal-state');
