@@ -5,14 +5,15 @@
 #   daemon/   psensd's core (libpsd.a) and its programs psensd, psensctl in
 #             daemon/cmd/: joins sim/ and drivers/; one room per front end:
 #             daemon/mqtt/ (libpsdmqtt.a), daemon/bacnet/ (libpsdbacnet.a),
-#             daemon/report/ (libpsdreport.a),
+#             daemon/report/ (libpsdreport.a), daemon/web/ (libpsdweb.a),
 #             daemon/psvirt/ (psvirt and its Modbus server, libpsvirt.a),
 #             daemon/place/ (psplace, the pose search, libpsdplace.a)
 #   tests/    unit (cmocka), system (shell, real binaries), fuzz (libFuzzer), bench
 # Every directory may add rules in its own module.mk (included below).
 #
 # Optional drivers: WITH_MODBUS / WITH_USB / WITH_GPIOD = auto | yes | no
-# (and WITH_MQTT, the daemon's MQTT publisher, the same way)
+# (and WITH_MQTT, the daemon's MQTT publisher, and WITH_WEB, its web
+# console, the same way)
 # (drivers/module.mk).  auto drops a driver whose library pkg-config cannot
 # find; yes makes that an error.
 
@@ -62,7 +63,22 @@ ifeq ($(HAVE_MQTT),yes)
 else
   MQTT_SRC := $(filter-out daemon/mqtt/mqtt.c,$(MQTT_SRC))
 endif
+# The web console (daemon/web/, doc/console.md): WITH_WEB = auto | yes | no.
+# Without libmicrohttpd daemon/web/web_off.c stands in: [web] is still
+# judged, and a configured one is refused at start.
+WITH_WEB ?= auto
+$(eval $(call feature,WEB,libmicrohttpd,PS_WITH_WEB))
+WEB_SRC      := $(wildcard daemon/web/*.c)
+ifeq ($(HAVE_WEB),yes)
+  WEB_SRC := $(filter-out daemon/web/web_off.c,$(WEB_SRC))
+else
+  WEB_SRC := $(filter-out daemon/web/web.c,$(WEB_SRC))
+endif
 REPORT_SRC   := $(wildcard daemon/report/*.c)
+# The record's QR codes to the web console ([web] url): WITH_QRENCODE =
+# auto | yes | no; without libqrencode the record has none.
+WITH_QRENCODE ?= auto
+$(eval $(call feature,QRENCODE,libqrencode,PS_WITH_QRENCODE))
 BACNET_SRC   := $(wildcard daemon/bacnet/*.c)
 # psvirt's room: its main (psvirt.c) and the library of its Modbus server
 PSVIRT_SRC   := $(filter-out daemon/psvirt/psvirt.c,$(wildcard daemon/psvirt/*.c))
@@ -83,12 +99,13 @@ LIBPSD    = $(BUILD)/lib/libpsd.a
 LIBPSDMQTT   = $(BUILD)/lib/libpsdmqtt.a
 LIBPSDREPORT = $(BUILD)/lib/libpsdreport.a
 LIBPSDBACNET = $(BUILD)/lib/libpsdbacnet.a
+LIBPSDWEB    = $(BUILD)/lib/libpsdweb.a
 LIBPSVIRT    = $(BUILD)/lib/libpsvirt.a
 LIBPSDPLACE  = $(BUILD)/lib/libpsdplace.a
-# the daemon's core with the MQTT and BACnet rooms: config.c judges [mqtt]
-# and [bacnet] (their *conf.c) and loop.c runs their sockets, which drive
-# the engine
-LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSDBACNET) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+# the daemon's core with the MQTT, BACnet and web rooms: config.c judges
+# [mqtt], [bacnet] and [web] (their *conf.c) and loop.c runs their sockets,
+# which drive the engine; the web console serves the record (report room)
+LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSDBACNET) $(LIBPSDWEB) $(LIBPSDREPORT) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
@@ -100,7 +117,7 @@ drivers: $(LIBPSDRV)
 daemon: $(addprefix $(BUILD)/bin/,$(DAEMON_CMDS))
 
 config-status:
-	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) cc=$(CC) build=$(BUILD) san=$(SAN)"
+	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) web=$(HAVE_WEB) qrencode=$(HAVE_QRENCODE) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
 # drivers/ (SIM_INC: sim/ and each of its folders); the daemon's core sees sim/, drivers/, itself and MQTT's public
@@ -110,7 +127,8 @@ config-status:
 # -iquote: daemon/time.h and json.h are found by #include "..." only, never
 # in place of the system's <time.h> or json-c's json.h.
 SIM_INC = $(addprefix -I,$(SIM_DIRS))
-INC_CORE = $(SIM_INC) -Idrivers -iquote daemon -iquote daemon/mqtt -iquote daemon/bacnet
+INC_CORE = $(SIM_INC) -Idrivers -iquote daemon -iquote daemon/mqtt -iquote daemon/bacnet \
+           -iquote daemon/web
 INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
 $(BUILD)/obj/sim/%.o: INC = $(SIM_INC)
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
@@ -118,6 +136,13 @@ $(BUILD)/obj/daemon/%.o: INC = $(INC_CORE)
 $(BUILD)/obj/daemon/report/%.o: INC = $(INC_CORE) -iquote daemon/report
 $(BUILD)/obj/daemon/psvirt/%.o: INC = $(INC_CORE) -iquote daemon/psvirt
 $(BUILD)/obj/daemon/place/%.o: INC = $(INC_CORE) -iquote daemon/place
+$(BUILD)/obj/daemon/web/%.o: INC = $(INC_CORE) -iquote daemon/report -iquote $(BUILD)/gen/web
+# the console's pages, built in (daemon/web/genassets.sh: od and sed)
+WEB_ASSETS := $(sort $(wildcard daemon/web/assets/*))
+$(BUILD)/gen/web/webassets.inc: daemon/web/genassets.sh $(WEB_ASSETS)
+	@mkdir -p $(dir $@)
+	sh daemon/web/genassets.sh $(WEB_ASSETS) > $@.tmp && mv $@.tmp $@
+$(BUILD)/obj/daemon/web/webasset.o: $(BUILD)/gen/web/webassets.inc
 $(BUILD)/obj/daemon/cmd/%.o: INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -139,6 +164,9 @@ $(LIBPSDREPORT): $(call obj,$(REPORT_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 $(LIBPSDBACNET): $(call obj,$(BACNET_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+$(LIBPSDWEB): $(call obj,$(WEB_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 $(LIBPSVIRT): $(call obj,$(PSVIRT_SRC))
@@ -181,18 +209,20 @@ $(BUILD)/bin/psplace: $(BUILD)/obj/daemon/place/psplace.o $(LIBPSDPLACE) $(LIBPS
 # client and server modules import it: deps.sh installs no recommends.)
 DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsystemd-dev nettle-dev \
             libcmocka-dev libjson-c-dev libmodbus-dev libusb-1.0-0-dev libgpiod-dev \
-            libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core libmosquitto-dev
+            libcairo2-dev libpng-dev libfontconfig-dev fonts-dejavu-core libmosquitto-dev \
+            libmicrohttpd-dev libqrencode-dev
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
             libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin mosquitto mosquitto-clients openssl \
-            nodejs tzdata
+            nodejs tzdata chromium zbar-tools
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
 	@# npm: Debian's package, unless the nodejs installed carries its own
 	@command -v npm >/dev/null 2>&1 || sh tests/deps.sh npm
-	@# the BACnet peer (tests/peers/package.json, pinned by its lock file)
+	@# the BACnet peer and the browser's driver (tests/peers/package.json,
+	@# pinned by its lock file; puppeteer-core downloads no browser)
 	@if [ ! -d tests/peers/node_modules ] || [ tests/peers/package-lock.json -nt tests/peers/node_modules ]; then \
 	    (cd tests/peers && npm ci --no-audit --no-fund --loglevel=error) || \
-	    echo "deps: npm ci in tests/peers failed: the BACnet peer's tests will skip" >&2; fi
+	    echo "deps: npm ci in tests/peers failed: the BACnet and web console tests will skip" >&2; fi
 
 clean:
 	rm -rf $(BUILD) $(BUILD)-fuzz

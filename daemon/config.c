@@ -525,6 +525,7 @@ static int load(struct psd_config *cf, int files)
 	check_sharing(cf);
 	psd_mqttconf_load(&cf->mqtt, c);
 	psd_bacconf_load(&cf->bacnet, c);
+	psd_webconf_load(&cf->web, c);
 	if (cf->mqtt.enabled && !cf->database)
 		ps_conf_error(c, cf->mqtt.line, "[mqtt] publishes the sample log: set database in [psensd]");
 	psd_confcheck_ranges(cf);

@@ -22,6 +22,7 @@
 #include "driver.h"
 #include "bacnet.h"
 #include "mqtt.h"
+#include "web.h"
 
 enum {
 	PSD_MAX_DEVICES = 16,
@@ -124,6 +125,7 @@ struct psd_config {
 	size_t npath;
 	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqtt/mqttconf.h, through mqtt.h) */
 	struct psd_bacnet_conf bacnet;   /* [bacnet] (daemon/bacnet/bacconf.h, through bacnet.h) */
+	struct psd_web_conf web;   /* [web] (daemon/web/webconf.h, through web.h) */
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).

@@ -167,6 +167,8 @@ static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine
 {
 	if (engine_open && why)
 		psd_loop_safe(d, why);
+	psd_bacnet_close(d->bacnet);
+	d->bacnet = NULL;
 	psd_mqtt_close(d->mqtt);
 	d->mqtt = NULL;
 	if (d->have_ctl)
@@ -177,6 +179,12 @@ static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine
 	psd_config_free(cf);
 	free(cf);
 	return -1;
+}
+
+/* A web console's action or live update: the same function again. */
+static void web_request(void *user, char *line, char *reply, size_t len)
+{
+	psd_ctlcmd_request(user, line, reply, len);
 }
 
 int psd_loop_start(struct psd_daemon *d, const char *path)
@@ -207,6 +215,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		free(cf->database);
 		cf->database = NULL;
 		cf->mqtt.enabled = 0;
+		cf->web.enabled = 0;
 	} else if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctlsock_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
 		                 (int)cf->max_clients, psd_ctlcmd_handle, d, err, sizeof err) != 0) {
@@ -244,6 +253,10 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, bacnet_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "BACnet cannot start");
+	}
+	if (cf->web.enabled && !(d->web = psd_web_open(&cf->web, &d->engine, web_request, d, err, sizeof err))) {
+		psd_log_errx("%s", err);
+		return abandon_start(d, cf, 1, "the web console cannot start");
 	}
 	return 0;
 }
@@ -299,7 +312,7 @@ int psd_loop_run(struct psd_daemon *d)
 	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
 	while (!d->stop) {
 		double now = psd_clock_now(&d->clock), deadline;
-		int n = 0, nctl, ndev, nmq = 0, nbac = 0, timeout;
+		int n = 0, nctl, ndev, nmq = 0, nbac = 0, nweb = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
 		if (d->wall_dated) {
@@ -327,7 +340,13 @@ int psd_loop_run(struct psd_daemon *d)
 		}
 		if (d->bacnet)
 			nbac = psd_bacnet_pollfd(d->bacnet, fds + n + ndev + nmq);
-		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac), timeout) < 0 && errno != EINTR) {
+		if (d->web) {
+			int w = psd_web_wait_ms(d->web);
+			nweb = psd_web_pollfd(d->web, fds + n + ndev + nmq + nbac);
+			if (w >= 0 && (timeout < 0 || w < timeout))
+				timeout = w;
+		}
+		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac + nweb), timeout) < 0 && errno != EINTR) {
 			psd_log_err("poll");
 			break;
 		}
@@ -341,6 +360,8 @@ int psd_loop_run(struct psd_daemon *d)
 			psd_mqtt_service(d->mqtt, nmq ? fds + n + ndev : NULL, now);
 		if (d->bacnet)
 			psd_bacnet_service(d->bacnet, nbac ? fds + n + ndev + nmq : NULL, now);
+		if (d->web)
+			psd_web_service(d->web, nweb ? fds + n + ndev + nmq + nbac : NULL);
 		if (d->reload) {
 			d->reload = 0;
 			psd_reload(d);
@@ -377,6 +398,8 @@ int psd_loop_safe(struct psd_daemon *d, const char *why)
 void psd_loop_stop(struct psd_daemon *d, const char *why)
 {
 	sd_notify(0, "STOPPING=1");
+	psd_web_close(d->web);
+	d->web = NULL;
 	psd_bacnet_close(d->bacnet);
 	d->bacnet = NULL;
 	psd_mqtt_close(d->mqtt);   /* offline, the last acknowledgements, while the log is open */

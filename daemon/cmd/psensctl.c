@@ -23,7 +23,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/un.h>
+#include <termios.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -38,6 +41,7 @@
 #include "clock.h"
 #include "sampleout.h"
 #include "time.h"
+#include "web.h"
 
 static void usage(FILE *fp)
 {
@@ -50,6 +54,7 @@ static void usage(FILE *fp)
 	            "                [--boxes FILE]\n"
 	            "       psensctl [-s socket | -d database] accept-test ZONE [--since YYYY-MM-DD] [--samples N]\n"
 	            "       psensctl [-s socket] watch [ZONE] [-n count]\n"
+	            "       psensctl web-passwd FILE   (the web console's password, read from stdin, hashed)\n"
 	            "commands: status [ZONE], target ZONE LUX, override ZONE LEVEL SECONDS,\n"
 	            "          off ZONE, release ZONE, ratios, reload, ping, help,\n"
 	            "          calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort,\n"
@@ -61,6 +66,64 @@ static void usage(FILE *fp)
 	            "  -j          replies as JSON lines\n"
 	            "  -w SECONDS  how long to wait for a reply (default 5)\n"
 	            "  -h, --help  this help;  -V, --version  the version\n");
+}
+
+/* web-passwd FILE: the web console's password (psensd.conf(5) [web]),
+ * read from standard input (without echo on a terminal), written to FILE
+ * as a salted hash, mode 0600, through a temporary file renamed over it. */
+static int web_passwd(int argc, char **argv)
+{
+	char pw[256], line[PSD_WEBPASS_LINE], tmp[4096];
+	struct termios t0, t1;
+	int tty = isatty(0), fd, rc = 1;
+	size_t n;
+	if (argc != 1) {
+		fprintf(stderr, "usage: psensctl web-passwd FILE\n");
+		return 2;
+	}
+	if (tty) {
+		fprintf(stderr, "the web console's password: ");
+		tcgetattr(0, &t0);
+		t1 = t0;
+		t1.c_lflag &= ~(tcflag_t)ECHO;
+		tcsetattr(0, TCSAFLUSH, &t1);
+	}
+	if (!fgets(pw, sizeof pw, stdin))
+		pw[0] = 0;
+	if (tty) {
+		tcsetattr(0, TCSAFLUSH, &t0);
+		fputc('\n', stderr);
+	}
+	n = strcspn(pw, "\r\n");
+	pw[n] = 0;
+	if (n < 8) {
+		fprintf(stderr, "psensctl: web-passwd: the password is %zu characters: give at least 8\n", n);
+		return 1;
+	}
+	if (psd_webpass_make(pw, PSD_WEBPASS_ITER, line, sizeof line) != 0) {
+		fprintf(stderr, "psensctl: web-passwd: %s\n", strerror(errno));
+		return 1;
+	}
+	memset(pw, 0, sizeof pw);
+	snprintf(tmp, sizeof tmp, "%s.XXXXXX", argv[0]);
+	if ((fd = mkstemp(tmp)) < 0) {
+		fprintf(stderr, "psensctl: web-passwd: %s: %s\n", argv[0], strerror(errno));
+		return 1;
+	}
+	if (fchmod(fd, 0600) == 0 && dprintf(fd, "%s\n", line) > 0 && fsync(fd) == 0 && close(fd) == 0) {
+		fd = -1;
+		if (rename(tmp, argv[0]) == 0)
+			rc = 0;
+	}
+	if (rc != 0) {
+		fprintf(stderr, "psensctl: web-passwd: %s: %s\n", argv[0], strerror(errno));
+		if (fd >= 0)
+			close(fd);
+		unlink(tmp);
+		return 1;
+	}
+	printf("%s: the web console's password hash (mode 0600); psensd reads it when it starts\n", argv[0]);
+	return 0;
 }
 
 static const char *default_socket(void)
@@ -877,6 +940,8 @@ int main(int argc, char **argv)
 	}
 	if (timeout_ms <= 0)
 		timeout_ms = 5000;
+	if (strcmp(argv[optind], "web-passwd") == 0)
+		return web_passwd(argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "export") == 0)
 		return export_samples(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "log") == 0)

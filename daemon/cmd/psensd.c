@@ -306,6 +306,14 @@ static void usage(FILE *fp)
 #else
 	fprintf(fp, "mqtt: [mqtt], psensd-mqtt(7) (not compiled in)\n");
 #endif
+#ifndef PS_WITH_QRENCODE
+	fprintf(fp, "qrencode: not compiled in (the record has no QR codes to the console)\n");
+#endif
+#ifdef PS_WITH_WEB
+	fprintf(fp, "web: [web], the on-site console (psensd.conf(5))\n");
+#else
+	fprintf(fp, "web: [web], the on-site console (psensd.conf(5)) (not compiled in)\n");
+#endif
 	fprintf(fp, "drivers:\n");
 	for (int i = 0; ps_registry_drivers[i]; i++)
 		fprintf(fp, "  %-9s %s%s\n", ps_registry_drivers[i]->name, ps_registry_drivers[i]->summary,
@@ -437,6 +445,13 @@ int main(int argc, char **argv)
 		if (rc == 0 && cf.mqtt.enabled) {   /* it would be refused at start */
 			psd_log_errx("%s:%d: [mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)",
 			         path, cf.mqtt.line);
+			rc = -1;
+		}
+#endif
+#ifndef PS_WITH_WEB
+		if (rc == 0 && cf.web.enabled) {   /* it would be refused at start */
+			psd_log_errx("%s:%d: [web]: this psensd was built without the web console (WITH_WEB=no or no "
+			             "libmicrohttpd)", path, cf.web.line);
 			rc = -1;
 		}
 #endif

@@ -1,4 +1,7 @@
 /* SPDX-License-Identifier: ISC */
+#ifdef PS_WITH_QRENCODE
+#include <qrencode.h>
+#endif
 #include "report.h"
 
 #include <cairo-pdf.h>
@@ -1317,6 +1320,48 @@ static double acc_row(struct doc *d, double y, const struct zone *z, int r)
 	return fmax(y + ROW_H, end + 2.5);
 }
 
+/* With [web] url: a QR code of the link that opens the zone in the web
+ * console (URL#zone=NAME), size pt square, its top right corner at x, y.
+ * The size it took (0: none, or built without libqrencode). */
+static double zone_qr(struct doc *d, const struct zone *z, double x, double y, double size)
+{
+#ifdef PS_WITH_QRENCODE
+	const char *url = d->o->cf ? d->o->cf->web.url : "";
+	char link[512];
+	size_t k;
+	QRcode *q;
+	double m;
+	if (!url[0] || !d->cr)
+		return 0;
+	k = (size_t)snprintf(link, sizeof link, "%s%s#zone=", url, url[strlen(url) - 1] == '/' ? "" : "/");
+	for (const char *p = z->name; *p && k + 4 < sizeof link; p++)   /* the name, percent-encoded */
+		k += (size_t)(strchr("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-._~", *p) ?
+		              snprintf(link + k, sizeof link - k, "%c", *p) :
+		              snprintf(link + k, sizeof link - k, "%%%02X", (unsigned char)*p));
+	if (!(q = QRcode_encodeString(link, 0, QR_ECLEVEL_M, QR_MODE_8, 1)))
+		return 0;
+	m = size / (q->width + 8);   /* and the quiet zone of four modules each side */
+	cairo_set_source_rgb(d->cr, 1, 1, 1);
+	cairo_rectangle(d->cr, x - size, y, size, size);
+	cairo_fill(d->cr);
+	set_rgb(d->cr, BLACK);
+	for (int r = 0; r < q->width; r++)
+		for (int c = 0; c < q->width; c++)
+			if (q->data[r * q->width + c] & 1)
+				cairo_rectangle(d->cr, x - size + (c + 4) * m, y + (r + 4) * m, m, m);
+	cairo_fill(d->cr);
+	QRcode_free(q);
+	return size;
+#else
+	(void)d;
+	(void)z;
+	(void)x;
+	(void)y;
+	(void)size;
+	return 0;
+#endif
+}
+
 static void zone_pages(struct doc *d, const struct zone *z)
 {
 	static const char *const shead[] = { "#", "kind", "state", "started", "ended", "result",
@@ -1325,7 +1370,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	const struct psd_zone_conf *zc = zconf(d, z);
 	double y, bottom = FOOT_Y - 16, charts_min = 4 * 92 + 3 * 30 + 12;
 	int row = 0, acc = 0, nlines = 0;
-	double tables_h, top = MARGIN + 52, room = bottom - top - charts_min - 24;
+	double tables_h, top = MARGIN + 52, room = bottom - top - charts_min - 24, qr;
 	char l1[200], l2[200];
 	snprintf(what, sizeof what, "zone %s", z->name);
 	begin_page(d);
@@ -1337,6 +1382,10 @@ static void zone_pages(struct doc *d, const struct zone *z)
 	snprintf(buf, sizeof buf, "Zone %s", z->name);
 	text_fit(d, MARGIN, MARGIN + 14, PAGE_W - 2 * MARGIN - 170, 16, 9, 1, BLACK, buf);
 	text(d, PAGE_W - MARGIN, MARGIN + 14, 16, 1, 1, verdict_rgb(z->verdict), verdict_word(z->verdict));
+	if ((qr = zone_qr(d, z, PAGE_W - MARGIN, MARGIN + 20, 64)) > 0) {
+		top += qr - 30;   /* the charts start below it, the tables keep their room */
+		room -= qr - 30;
+	}
 	sensor_text(d, z, sensor, sizeof sensor, 0);
 	when_z(z, 0, a, sizeof a);
 	when_z(z, 1, b, sizeof b);
@@ -1352,7 +1401,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 		if (isfinite(z->elec))
 			snprintf(buf + k, sizeof buf - k, ", the vacancies saved %.2f full-load h", z->saved_h);
 	}
-	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
+	text_fit(d, MARGIN, MARGIN + 29, PAGE_W - 2 * MARGIN - (qr > 0 ? qr + 8 : 0), 8, 5.5, 0, GREY, buf);
 	if (z->verif.test && z->verif.verdict != PSD_ACCEPT_NOT_TESTED)
 		snprintf(lo, sizeof lo, "%ld in sessions or %g s after one left out",
 		         z->verif.left_out, z->verif.settle_s);
@@ -1365,7 +1414,7 @@ static void zone_pages(struct doc *d, const struct zone *z)
 		snprintf(buf, sizeof buf, "verification: %s; %d of %d calibration results within %g %%; "
 		         "faults %.0f min; energy %.2f full-load h", z->verif.test ? z->verif.measured : z->verif_why,
 		         z->checks - z->fails, z->checks, d->o->tolerance_pct, z->fault_s / 60, z->energy_h);
-	text_fit(d, MARGIN, MARGIN + 40, PAGE_W - 2 * MARGIN, 8, 5.5, 0, GREY, buf);
+	text_fit(d, MARGIN, MARGIN + 40, PAGE_W - 2 * MARGIN - (qr > 0 ? qr + 8 : 0), 8, 5.5, 0, GREY, buf);
 	/* the tables take what they need from the bottom (up to what leaves the
 	 * charts their least height); the charts fill the rest */
 	if (tables_h > room)

@@ -11,7 +11,7 @@
 # - cycle: no files of libpsim, libpsdrv or the daemon's libraries use each
 #   other's symbols, directly or round a longer cycle;
 # - room: the daemon's core includes a front end's room (daemon/mqtt/,
-#   daemon/bacnet/, daemon/report/, daemon/psvirt/) only through its public header, a room
+#   daemon/bacnet/, daemon/report/, daemon/web/, daemon/psvirt/) only through its public header, a room
 #   includes no other room's private header, and psvirt's room is not in
 #   the core's library (libpsd.a);
 # and, on the sources: daemon/ reaches devices only through the driver
@@ -47,7 +47,7 @@ S=$(dirname "$0")/structure.py
 # leaves its callees' symbols unused and its own violations absent: the
 # unused and stale rules judge only a build with every part.
 partial=""
-for m in libpsdrv.a:modbus.o libpsdrv.a:dali_usb.o libpsdrv.a:gpio.o libpsdmqtt.a:mqtt.o; do
+for m in libpsdrv.a:modbus.o libpsdrv.a:dali_usb.o libpsdrv.a:gpio.o libpsdmqtt.a:mqtt.o libpsdweb.a:web.o; do
 	ar t "$BUILD/lib/${m%%:*}" 2> /dev/null | grep -qx "${m#*:}" || partial="$partial ${m#*:}"
 done
 for rule in prefix basename header unused cycle room stale; do

@@ -4,12 +4,12 @@
 # ISC" in its first 5 lines (C and headers, shell, Python, Makefile and
 # module.mk files).  The data directories that keep their own licences
 # (sim/data/cie, tests/data/gendaymtx: see README.md, "Licence") hold no such
-# files; build trees and .git are skipped.
+# files; build trees, .git and npm's node_modules are skipped.
 . "$(dirname "$0")/lib.sh"
 cd "$TOP" || skip_all "no source tree at $TOP"
 [ -f LICENSE ] || skip_all "not a source tree (no LICENSE) at $TOP"
 
-find . \( -name .git -o -name 'build*' -o -name '.cache' \) -prune -o -type f \
+find . \( -name .git -o -name 'build*' -o -name '.cache' -o -name node_modules \) -prune -o -type f \
 	\( -name '*.c' -o -name '*.h' -o -name '*.sh' -o -name '*.py' -o -name Makefile \
 	   -o -name module.mk \) -print | sed 's|^\./||' | sort > "$TMP/files"
 n=$(wc -l < "$TMP/files")

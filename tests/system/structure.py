@@ -32,13 +32,14 @@ import sys
 
 LIBS = {  # archive -> library name (the cycle rule is judged per library)
     "libpsim.a": "sim", "libpsdrv.a": "drivers", "libpsd.a": "daemon",
-    "libpsdmqtt.a": "daemon", "libpsdbacnet.a": "daemon", "libpsdreport.a": "daemon",
+    "libpsdmqtt.a": "daemon", "libpsdbacnet.a": "daemon", "libpsdreport.a": "daemon", "libpsdweb.a": "daemon",
     "libpsvirt.a": "daemon", "libpsdplace.a": "daemon",
 }
-ROOMS = {"mqtt": "mqtt.h", "bacnet": "bacnet.h", "report": "report.h", "psvirt": None, "place": None}   # room -> its public header
+ROOMS = {"mqtt": "mqtt.h", "bacnet": "bacnet.h", "report": "report.h", "web": "web.h", "psvirt": None,
+         "place": None}   # room -> its public header
 # a stand-in, built instead of X.c when X's library is left out, defines
 # X.c's functions (declared in X.h): it takes X's prefix and header
-STANDINS = {"mqtt_off": "mqtt"}
+STANDINS = {"mqtt_off": "mqtt", "web_off": "web"}
 EXPORTED = set("TDBRCGSV")
 
 

@@ -1,0 +1,539 @@
+/* SPDX-License-Identifier: ISC */
+/* The web console's HTTP server (web.h): routes, login, the live stream. */
+#include "web.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <microhttpd.h>
+#include <netinet/in.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "canvas.h"
+#include "ctlsock.h"
+#include "engine.h"
+#include "errbuf.h"
+#include "json.h"
+#include "log.h"
+#include "time.h"
+#include "webasset.h"
+#include "webdoc.h"
+#include "webhist.h"
+#include "webreq.h"
+#include "websess.h"
+
+enum { BODY_MAX = 4096 };
+static const char cookie_name[] = "psd_session";
+
+/* A live stream (GET /api/events): what is still to be sent. */
+struct sse {
+	struct sse *next, **pprev;
+	struct psd_web *w;
+	struct MHD_Connection *conn;
+	char *buf;
+	size_t len, off;
+	int suspended;
+	double expiry;   /* wall s: its login's end, when the stream ends too */
+	int ended;
+};
+
+struct psd_web {
+	struct psd_web_conf c;
+	struct psd_engine *e;
+	psd_web_request_fn fn;
+	void *user;
+	struct MHD_Daemon *mhd;
+	struct psd_websess sess;
+	struct sse *streams;
+	int closing;
+	int drew;             /* a record was drawn: cairo's and fontconfig's caches are filled */
+	double next_update;   /* monotonic s */
+	struct psd_webhist hist;
+	char reply[PSD_CTL_MAX_OUT];
+};
+
+/* A request's state across MHD's calls: its body so far. */
+struct req {
+	char body[BODY_MAX];
+	size_t len;
+	int too_long;
+};
+
+static enum MHD_Result send_text(struct MHD_Connection *conn, unsigned status, const char *type, const char *text,
+                                 const char *cookie)
+{
+	struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), (void *)text, MHD_RESPMEM_MUST_COPY);
+	enum MHD_Result rc;
+	if (!r)
+		return MHD_NO;
+	MHD_add_response_header(r, "Content-Type", type);
+	MHD_add_response_header(r, "Cache-Control", "no-store");
+	MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+	MHD_add_response_header(r, "X-Frame-Options", "DENY");
+	if (cookie)
+		MHD_add_response_header(r, "Set-Cookie", cookie);
+	rc = MHD_queue_response(conn, status, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
+/* {"ok":false,"error":msg} */
+static enum MHD_Result send_error(struct MHD_Connection *conn, unsigned status, const char *msg)
+{
+	json_object *o = json_object_new_object();
+	enum MHD_Result rc;
+	json_object_object_add(o, "ok", json_object_new_boolean(0));
+	psd_json_str(o, "error", msg);
+	rc = send_text(conn, status, "application/json", psd_json_text(o, 10), NULL);
+	json_object_put(o);
+	return rc;
+}
+
+static const char *client_addr(struct MHD_Connection *conn, char *buf, size_t n)
+{
+	const union MHD_ConnectionInfo *ci = MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+	const struct sockaddr *sa = ci ? ci->client_addr : NULL;
+	snprintf(buf, n, "?");
+	if (sa && sa->sa_family == AF_INET)
+		inet_ntop(AF_INET, &((const struct sockaddr_in *)(const void *)sa)->sin_addr, buf, (socklen_t)n);
+	else if (sa && sa->sa_family == AF_INET6)
+		inet_ntop(AF_INET6, &((const struct sockaddr_in6 *)(const void *)sa)->sin6_addr, buf, (socklen_t)n);
+	return buf;
+}
+
+/* 1 when the request carries a valid session (its end in *expiry); else
+ * 0 with why. */
+static int authorized(struct psd_web *w, struct MHD_Connection *conn, const char **why, double *expiry)
+{
+	const char *h = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Cookie");
+	char token[PSD_WEBSESS_TOKEN];
+	*why = "not logged in";
+	if (!h || psd_webreq_cookie(h, cookie_name, token, sizeof token) != 0 ||
+	    !psd_websess_valid(&w->sess, token, psd_time_wall(), why))
+		return 0;
+	*expiry = (double)strtoll(token, NULL, 10);
+	return 1;
+}
+
+static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, const struct req *q)
+{
+	char pw[256], addr[64], msg[160], token[PSD_WEBSESS_TOKEN], cookie[PSD_WEBSESS_TOKEN + 128];
+	double now = psd_time_wall(), wait;
+	int ok;
+	client_addr(conn, addr, sizeof addr);
+	if ((wait = psd_websess_wait(&w->sess, addr, now)) > 0) {
+		snprintf(msg, sizeof msg, "too many failed logins from this address: try again in %.0f s", ceil(wait));
+		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
+	}
+	if (psd_webreq_form(q->body, "password", pw, sizeof pw) != 0)
+		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no password given");
+	ok = psd_webpass_check(w->c.hash, pw);
+	memset(pw, 0, sizeof pw);
+	psd_websess_outcome(&w->sess, addr, ok, now);
+	if (!ok) {
+		psd_log_warnx("web: a failed login from %s", addr);
+		return send_error(conn, MHD_HTTP_UNAUTHORIZED, "wrong password");
+	}
+	if (psd_websess_issue(&w->sess, now, token, sizeof token) != 0)
+		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no random bytes for a session");
+	psd_log_info("web: login from %s", addr);
+	/* the browser keeps the cookie an hour past the session, so that a
+	 * request then is told the session expired, not that there is none */
+	snprintf(cookie, sizeof cookie, "%s=%s; Path=/; HttpOnly; SameSite=Strict; Max-Age=%.0f", cookie_name, token,
+	         w->c.session + 3600);
+	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
+}
+
+static enum MHD_Result logout(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *h = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Cookie");
+	char token[PSD_WEBSESS_TOKEN], cookie[128];
+	if (h && psd_webreq_cookie(h, cookie_name, token, sizeof token) == 0)
+		psd_websess_revoke(&w->sess, token, psd_time_wall());
+	snprintf(cookie, sizeof cookie, "%s=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0", cookie_name);
+	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
+}
+
+/* POST /api/request line=...: the control request, answered as the socket
+ * answers it. */
+static enum MHD_Result request(struct psd_web *w, struct MHD_Connection *conn, const struct req *q)
+{
+	char line[PSD_CTL_MAX_LINE], err[200], addr[64];
+	if (psd_webreq_form(q->body, "line", line, sizeof line) != 0)
+		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no request line given (or longer than the control socket takes)");
+	if (psd_webreq_line_ok(line, err, sizeof err) != 0)
+		return send_error(conn, MHD_HTTP_OK, err);
+	if (strncmp(line, "status", 6) != 0)
+		psd_log_info("web: %s asks: %s", client_addr(conn, addr, sizeof addr), line);
+	w->fn(w->user, line, w->reply, sizeof w->reply);
+	return send_text(conn, MHD_HTTP_OK, "application/json", w->reply, NULL);
+}
+
+/* GET /api/history?zone=Z: the zone's chart (webhist.h). */
+static enum MHD_Result history(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
+	char *text = zone ? psd_webhist_json(&w->hist, zone) : NULL;
+	enum MHD_Result rc;
+	if (!text)
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such zone");
+	rc = send_text(conn, MHD_HTTP_OK, "application/json", text, NULL);
+	free(text);
+	return rc;
+}
+
+/* The live stream: MHD asks for more; what is queued goes, else the
+ * connection waits (suspended) for the next update. */
+static ssize_t sse_read(void *cls, uint64_t pos, char *buf, size_t max)
+{
+	struct sse *s = cls;
+	size_t n;
+	(void)pos;
+	if (s->w->closing || (s->ended && s->off >= s->len))
+		return MHD_CONTENT_READER_END_OF_STREAM;
+	if (s->off >= s->len) {
+		MHD_suspend_connection(s->conn);
+		s->suspended = 1;
+		return 0;
+	}
+	n = s->len - s->off < max ? s->len - s->off : max;
+	memcpy(buf, s->buf + s->off, n);
+	s->off += n;
+	return (ssize_t)n;
+}
+
+static void sse_free(void *cls)
+{
+	struct sse *s = cls;
+	*s->pprev = s->next;
+	if (s->next)
+		s->next->pprev = s->pprev;
+	free(s->buf);
+	free(s);
+}
+
+/* Queue text on a stream (dropped when the client has not taken the last
+ * update yet: a slow client gets the newest state, not a backlog). */
+static void sse_queue(struct sse *s, const char *text)
+{
+	size_t n = strlen(text);
+	char *b;
+	if (s->off < s->len)
+		return;
+	if (!(b = realloc(s->buf, n + 1)))
+		return;
+	memcpy(b, text, n + 1);
+	s->buf = b;
+	s->len = n;
+	s->off = 0;
+	if (s->suspended) {
+		s->suspended = 0;
+		MHD_resume_connection(s->conn);
+	}
+}
+
+/* The update every stream gets: the status reply as one event. */
+static char *status_event(struct psd_web *w)
+{
+	char line[] = "status";
+	size_t n;
+	char *ev;
+	w->fn(w->user, line, w->reply, sizeof w->reply);
+	n = strlen(w->reply);
+	if (!(ev = malloc(n + 32)))
+		return NULL;
+	snprintf(ev, n + 32, "event: status\ndata: %s\n\n", w->reply);
+	return ev;
+}
+
+static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn, double expiry)
+{
+	struct sse *s = calloc(1, sizeof *s);
+	struct MHD_Response *r;
+	enum MHD_Result rc;
+	char *ev = status_event(w);
+	size_t n = ev ? strlen(ev) + 16 : 0;
+	if (!s || !ev || !(s->buf = malloc(n))) {
+		free(s);
+		free(ev);
+		return MHD_NO;
+	}
+	/* the reconnection delay a browser keeps, and the first update */
+	snprintf(s->buf, n, "retry: 2000\n%s", ev);
+	s->len = strlen(s->buf);
+	free(ev);
+	s->w = w;
+	s->conn = conn;
+	s->expiry = expiry;
+	s->next = w->streams;
+	s->pprev = &w->streams;
+	if (s->next)
+		s->next->pprev = &s->next;
+	w->streams = s;
+	if (!(r = MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 16384, sse_read, s, sse_free))) {
+		sse_free(s);
+		return MHD_NO;
+	}
+	MHD_add_response_header(r, "Content-Type", "text/event-stream");
+	MHD_add_response_header(r, "Cache-Control", "no-store");
+	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
+/* A document (webdoc.h) as the reply, or the error it gave. */
+static enum MHD_Result send_doc(struct psd_web *w, struct MHD_Connection *conn, int rc, unsigned char *buf,
+                                size_t len, const char *type, const char *disp, const char *err)
+{
+	struct MHD_Response *r;
+	enum MHD_Result mr;
+	w->drew = 1;
+	if (rc != 0)
+		return send_error(conn, rc == PSD_WEBDOC_NONE ? MHD_HTTP_NOT_FOUND : MHD_HTTP_INTERNAL_SERVER_ERROR, err);
+	if (!(r = MHD_create_response_from_buffer(len, buf, MHD_RESPMEM_MUST_FREE))) {
+		free(buf);
+		return MHD_NO;
+	}
+	MHD_add_response_header(r, "Content-Type", type);
+	if (disp)
+		MHD_add_response_header(r, "Content-Disposition", disp);
+	MHD_add_response_header(r, "Cache-Control", "no-store");
+	mr = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return mr;
+}
+
+/* GET /api/record.pdf[?zone=Z]: the commissioning record, as psensctl
+ * report draws it.  Drawn in the loop's turn: the control waits for it
+ * (doc/console.md gives the times). */
+static enum MHD_Result record(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
+	unsigned char *buf = NULL;
+	size_t len = 0;
+	char err[512] = "", disp[128];
+	int rc = psd_webdoc_record(w->e, zone, &buf, &len, err, sizeof err);
+	snprintf(disp, sizeof disp, "attachment; filename=\"psensd-record%s%.60s.pdf\"", zone ? "-" : "", zone ? zone : "");
+	return send_doc(w, conn, rc, buf, len, "application/pdf", disp, err);
+}
+
+/* GET /api/year.png?zone=Z: the zone's year, as psensd -Y -P draws it;
+ * in the loop's turn, as the record. */
+static enum MHD_Result year(struct psd_web *w, struct MHD_Connection *conn)
+{
+	const char *zone = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "zone");
+	unsigned char *buf = NULL;
+	size_t len = 0;
+	char err[512] = "";
+	int rc = zone ? psd_webdoc_year(w->e, zone, &buf, &len, err, sizeof err) : PSD_WEBDOC_NONE;
+	if (!zone)
+		snprintf(err, sizeof err, "the year of which zone? (?zone=NAME)");
+	return send_doc(w, conn, rc, buf, len, "image/png", NULL, err);
+}
+
+static enum MHD_Result asset(struct MHD_Connection *conn, const char *url)
+{
+	const struct psd_webasset *a = psd_webasset_find(strcmp(url, "/") == 0 ? "/index.html" : url);
+	struct MHD_Response *r;
+	enum MHD_Result rc;
+	if (!a)
+		return send_error(conn, MHD_HTTP_NOT_FOUND, "no such page");
+	if (!(r = MHD_create_response_from_buffer(a->len, (void *)a->data, MHD_RESPMEM_PERSISTENT)))
+		return MHD_NO;
+	MHD_add_response_header(r, "Content-Type", a->type);
+	MHD_add_response_header(r, "Cache-Control", "no-cache");
+	MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+	MHD_add_response_header(r, "X-Frame-Options", "DENY");
+	MHD_add_response_header(r, "Content-Security-Policy",
+	                        "default-src 'self'; img-src 'self' data:; style-src 'self'; script-src 'self'");
+	rc = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return rc;
+}
+
+static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, const char *url, const char *method,
+                             const struct req *q)
+{
+	int post = strcmp(method, "POST") == 0, get = strcmp(method, "GET") == 0 || strcmp(method, "HEAD") == 0;
+	const char *why;
+	double expiry;
+	if (strncmp(url, "/api/", 5) != 0)
+		return get ? asset(conn, url) : send_error(conn, MHD_HTTP_METHOD_NOT_ALLOWED, "GET only");
+	if (q->too_long)
+		return send_error(conn, MHD_HTTP_CONTENT_TOO_LARGE, "the request's body is too long");
+	/* a page of another site cannot set this header without the browser
+	 * asking first (CORS), which this server never allows */
+	if (post && !MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "X-PSD"))
+		return send_error(conn, MHD_HTTP_FORBIDDEN, "a console request carries the X-PSD header");
+	if (post && strcmp(url, "/api/login") == 0)
+		return login(w, conn, q);
+	if (post && strcmp(url, "/api/logout") == 0)
+		return logout(w, conn);
+	if (!authorized(w, conn, &why, &expiry)) {
+		char msg[80];
+		snprintf(msg, sizeof msg, "session %s: log in", why);
+		return send_error(conn, MHD_HTTP_UNAUTHORIZED, msg);
+	}
+	if (get && strcmp(url, "/api/session") == 0)
+		return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", NULL);
+	if (post && strcmp(url, "/api/request") == 0)
+		return request(w, conn, q);
+	if (get && strcmp(url, "/api/events") == 0)
+		return events(w, conn, expiry);
+	if (get && strcmp(url, "/api/history") == 0)
+		return history(w, conn);
+	if (get && strcmp(url, "/api/record.pdf") == 0)
+		return record(w, conn);
+	if (get && strcmp(url, "/api/year.png") == 0)
+		return year(w, conn);
+	return send_error(conn, MHD_HTTP_NOT_FOUND, "no such request");
+}
+
+static enum MHD_Result access_cb(void *cls, struct MHD_Connection *conn, const char *url, const char *method,
+                                 const char *version, const char *upload, size_t *upload_size, void **ctx)
+{
+	struct psd_web *w = cls;
+	struct req *q = *ctx;
+	(void)version;
+	if (!q) {
+		if (!(q = calloc(1, sizeof *q)))
+			return MHD_NO;
+		*ctx = q;
+		return MHD_YES;
+	}
+	if (*upload_size) {
+		if (q->len + *upload_size < sizeof q->body) {
+			memcpy(q->body + q->len, upload, *upload_size);
+			q->len += *upload_size;
+			q->body[q->len] = 0;
+		} else {
+			q->too_long = 1;
+		}
+		*upload_size = 0;
+		return MHD_YES;
+	}
+	return route(w, conn, url, method, q);
+}
+
+static void done_cb(void *cls, struct MHD_Connection *conn, void **ctx, enum MHD_RequestTerminationCode toe)
+{
+	(void)cls;
+	(void)conn;
+	(void)toe;
+	free(*ctx);
+	*ctx = NULL;
+}
+
+/* libmicrohttpd's own messages (a client gone mid-stream, a bad request):
+ * through psensd's log, as debug messages. */
+static void mhd_log(void *cls, const char *fmt, va_list ap) __attribute__((format(printf, 2, 0)));
+static void mhd_log(void *cls, const char *fmt, va_list ap)
+{
+	char msg[300];
+	size_t n;
+	(void)cls;
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	n = strcspn(msg, "\n");
+	msg[n] = 0;
+	psd_log_debug("web: %s", msg);
+}
+
+struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e, psd_web_request_fn fn, void *user,
+                             char *err, size_t errlen)
+{
+	struct psd_web *w = calloc(1, sizeof *w);
+	struct sockaddr_in sa = { .sin_family = AF_INET };
+	if (!w) {
+		psd_errbuf(err, errlen, "[web]: out of memory");
+		return NULL;
+	}
+	w->c = *c;
+	w->e = e;
+	w->fn = fn;
+	w->user = user;
+	psd_websess_init(&w->sess, c->hash, c->session);
+	sa.sin_port = htons((uint16_t)c->port);
+	inet_pton(AF_INET, c->addr, &sa.sin_addr);
+	w->mhd = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, (uint16_t)c->port, NULL,
+	                          NULL, access_cb, w, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&sa,
+	                          MHD_OPTION_NOTIFY_COMPLETED, done_cb, w, MHD_OPTION_CONNECTION_LIMIT, 64u,
+	                          MHD_OPTION_PER_IP_CONNECTION_LIMIT, 16u, MHD_OPTION_CONNECTION_TIMEOUT, 120u,
+	                          MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)65536,
+	                          MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);
+	if (!w->mhd) {
+		psd_errbuf(err, errlen, "[web]: cannot listen on %s:%ld: %s", c->addr, c->port, strerror(errno));
+		free(w);
+		return NULL;
+	}
+	psd_log_info("web console on http://%s:%ld/", c->addr, c->port);
+	return w;
+}
+
+int psd_web_pollfd(struct psd_web *w, struct pollfd *pfd)
+{
+	const union MHD_DaemonInfo *i = MHD_get_daemon_info(w->mhd, MHD_DAEMON_INFO_EPOLL_FD);
+	if (!i)
+		return 0;
+	*pfd = (struct pollfd){ i->epoll_fd, POLLIN, 0 };
+	return 1;
+}
+
+void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
+{
+	double now = psd_time_mono();
+	(void)pfd;   /* MHD_run reads its epoll set without waiting, whatever poll() said */
+	psd_webhist_record(&w->hist, w->e);
+	if (w->streams && now >= w->next_update) {
+		char *ev = status_event(w);
+		double wall = psd_time_wall();
+		for (struct sse *s = w->streams; ev && s; s = s->next) {
+			if (wall >= s->expiry && !s->ended) {   /* the login is over: so is its stream */
+				s->ended = 1;
+				if (s->suspended) {
+					s->suspended = 0;
+					MHD_resume_connection(s->conn);
+				}
+			}
+			if (!s->ended)
+				sse_queue(s, ev);
+		}
+		free(ev);
+		w->next_update = now + w->c.update;
+	}
+	MHD_run(w->mhd);
+}
+
+int psd_web_wait_ms(const struct psd_web *w)
+{
+	MHD_UNSIGNED_LONG_LONG t;
+	int ms = -1;
+	if (MHD_get_timeout(w->mhd, &t) == MHD_YES)
+		ms = t > 60000 ? 60000 : (int)t;
+	if (w->streams) {
+		double left = (w->next_update - psd_time_mono()) * 1000;
+		int u = left <= 0 ? 0 : (int)ceil(left);
+		if (ms < 0 || u < ms)
+			ms = u;
+	}
+	return ms;
+}
+
+void psd_web_close(struct psd_web *w)
+{
+	if (!w)
+		return;
+	w->closing = 1;
+	for (struct sse *s = w->streams; s; s = s->next)
+		if (s->suspended) {
+			s->suspended = 0;
+			MHD_resume_connection(s->conn);
+		}
+	MHD_run(w->mhd);
+	MHD_stop_daemon(w->mhd);
+	if (w->drew)   /* the fonts' caches: nothing left for leak checkers */
+		ps_canvas_shutdown();
+	free(w);
+}
