@@ -235,7 +235,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 	}
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
-	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, &d->points, mqtt_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		psd_loop_safe(d, "MQTT cannot start");
 		if (d->have_ctl)
@@ -246,7 +246,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		free(cf);
 		return -1;
 	}
-	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, bacnet_request, d, err, sizeof err))) {
+	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, &d->points, bacnet_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		psd_mqtt_close(d->mqtt);
 		d->mqtt = NULL;
@@ -320,6 +320,7 @@ int psd_loop_run(struct psd_daemon *d)
 			follow_date(d, now);
 		}
 		psd_engine_step(&d->engine, now);
+		psd_points_update(&d->points, &d->engine, now);
 		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
 			psd_mqtt_service(d->mqtt, NULL, now);
 		if (d->bacnet)   /* COV notifications of the levels just commanded */

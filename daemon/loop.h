@@ -10,6 +10,7 @@
 #include "engine.h"
 #include "bacnet.h"
 #include "mqtt.h"
+#include "points.h"
 #include "wallstep.h"
 
 /* Descriptors one turn of the loop polls: the signals, the control socket's
@@ -24,6 +25,7 @@ struct psd_daemon {
 	int have_ctl;
 	struct psd_mqtt *mqtt;    /* [mqtt]: the publisher (daemon/mqtt/mqtt.h), NULL: none */
 	struct psd_bacnet *bacnet;/* [bacnet]: the BACnet/IP server (daemon/bacnet/bacnet.h), NULL: none */
+	struct psd_points points; /* the point model's own state: energy, acceptance (points.h) */
 	double end;               /* simulated: stop at this time; real: INFINITY */
 	int advance_date;         /* the date is the configuration's (a set clock): when the
 	                             database already holds it, the run is dated the next

@@ -18,6 +18,7 @@
 #include "engine.h"
 #include "errbuf.h"
 #include "log.h"
+#include "points.h"
 #include "time.h"
 
 enum { BATCH = 64 };   /* datagrams answered in one turn at most */
@@ -33,6 +34,7 @@ struct psd_bacnet {
 	int fd;
 	struct psd_bacnet_conf c;
 	struct psd_engine *e;
+	const struct psd_points *pts;
 	psd_bacnet_request_fn fn;
 	void *user;
 	struct psd_bacserve_zone zone[PSD_MAX_ZONES];
@@ -127,14 +129,15 @@ static void refresh(struct psd_bacnet *b)
 		if (!(s->level >= 0 && s->level <= 100))
 			s->level = 0;
 		s->fault = z->in_fault;
-		s->est_lux = z->last.est_task_lux;
-		s->signal = z->in_fault ? NAN : z->volts;
-		s->target = z->ctl.target_lux;
+		for (size_t k = 0; k < PSD_BACSERVE_POINTS; k++)
+			s->has[k] = k < psd_points_count() &&
+			            psd_points_value(b->pts, e, i, k, b->now, &s->pv[k]) == 0;
 	}
 }
 
 struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                   psd_bacnet_request_fn fn, void *user, char *err, size_t errlen)
+                                   const struct psd_points *pts, psd_bacnet_request_fn fn, void *user, char *err,
+                                   size_t errlen)
 {
 	struct psd_bacnet *b = calloc(1, sizeof *b);
 	struct sockaddr_in sa = { .sin_family = AF_INET, .sin_port = htons((uint16_t)c->port) };
@@ -145,7 +148,7 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 	}
 	b->fd = -1;
 	b->c = *c;
-	b->e = e, b->fn = fn, b->user = user;
+	b->e = e, b->pts = pts, b->fn = fn, b->user = user;
 	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance,
 		                            .name = b->c.name,
 		                            .vendor_id = (uint16_t)c->vendor_id,

@@ -23,13 +23,15 @@
 
 struct psd_engine;
 struct psd_bacnet;
+struct psd_points;
 
 /* A control request: what psd_ctlcmd_request does. */
 typedef void (*psd_bacnet_request_fn)(void *user, char *line, char *reply, size_t len);
 
-/* Open the socket for the engine's zones.  NULL with a message in err. */
+/* Open the socket for the engine's zones, their points read through pts
+ * (points.h).  NULL with a message in err. */
 struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                   psd_bacnet_request_fn fn, void *user, char *err, size_t errlen);
+                                   const struct psd_points *pts, psd_bacnet_request_fn fn, void *user, char *err, size_t errlen);
 /* The socket for poll(): 1 written. */
 int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd);
 /* Answer what arrived (pfd from psd_bacnet_pollfd, or NULL), renew the

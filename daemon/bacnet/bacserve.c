@@ -450,7 +450,7 @@ int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacs
 		psd_bactag_open(&b, 4);
 		psd_bactag_put_enum(&b, 0, P_PRESENT_VALUE);
 		psd_bactag_open(&b, 2);
-		psd_bactag_put_real(&b, -1, pv);
+		psd_bacobj_put_present_value(m, &o, &b);
 		psd_bactag_close(&b, 2);
 		psd_bactag_put_enum(&b, 0, P_STATUS_FLAGS);
 		psd_bactag_open(&b, 2);

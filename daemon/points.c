@@ -1,0 +1,358 @@
+/* SPDX-License-Identifier: ISC */
+/* The point model (points.h). */
+#include "points.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "annual.h"
+#include "engine.h"
+#include "json.h"
+
+static const char *const control_states[] = { "auto", "override", "calibrating", "fault", "safe", NULL };
+static const char *const ratio_sources[] = { "scene", "dated", "sky class", "calibrated", NULL };
+static const char *const verdicts[] = { "none", "accepted", "not accepted", "incomplete", NULL };
+
+/* What a point needs of a zone. */
+enum { NEED_NONE, NEED_METER, NEED_OCCUPANCY, NEED_POWER, NEED_RESULTS };
+
+/* BACnetEngineeringUnits */
+enum { U_HOURS = 71, U_KWH = 19, U_LUXES = 37, U_VOLTS = 5, U_PERCENT = 98, U_NONE = 95 };
+
+/* The order is BACnet's instance numbering (bacobj.c): append, never insert. */
+static const struct {
+	struct psd_points_def d;
+	int need;
+} table[] = {
+	{ { "est_task_lux", "task lux estimate", "lx", PSD_POINTS_ANALOG, 0,
+	    "the task illuminance estimated from the sensor at this step", NULL, U_LUXES, "illuminance" },
+	  NEED_NONE },
+	{ { "sensor_v", "sensor signal", "V", PSD_POINTS_ANALOG, 0, "the photosensor's signal", NULL, U_VOLTS,
+	    "voltage" },
+	  NEED_NONE },
+	{ { "target_lux", "target lux", "lx", PSD_POINTS_ANALOG, 1, "the task illuminance the control holds", NULL,
+	    U_LUXES, "illuminance" },
+	  NEED_NONE },
+	{ { "level", "light level", "%", PSD_POINTS_ANALOG, 1, "the light output commanded", NULL, U_PERCENT,
+	    NULL },
+	  NEED_NONE },
+	{ { "level_actual", "actual light level", "%", PSD_POINTS_ANALOG, 0,
+	    "the light output while the sensor was read", NULL, U_PERCENT, NULL },
+	  NEED_NONE },
+	{ { "task_lux", "measured task lux", "lx", PSD_POINTS_ANALOG, 0, "the task meter's illuminance", NULL,
+	    U_LUXES, "illuminance" },
+	  NEED_METER },
+	{ { "ratio", "daylight ratio", "lx", PSD_POINTS_ANALOG, 0,
+	    "the simulated task lux per unit of sensor response in force", NULL, U_LUXES, NULL },
+	  NEED_RESULTS },
+	{ { "drift_pct", "drift", "%", PSD_POINTS_ANALOG, 0, "the measured ratio against the simulated one",
+	    NULL, U_PERCENT, NULL },
+	  NEED_METER },
+	{ { "output_hours", "light-output hours", "h", PSD_POINTS_ANALOG, 0,
+	    "hours at full output since psensd started", NULL, U_HOURS, NULL },
+	  NEED_NONE },
+	{ { "energy_kwh", "energy", "kWh", PSD_POINTS_ANALOG, 0,
+	    "input energy since psensd started, through the power curve", NULL, U_KWH, "energy" },
+	  NEED_POWER },
+	{ { "fault", "fault", NULL, PSD_POINTS_BINARY, 0, "the zone is at its safe level on a fault", NULL, 0,
+	    "problem" },
+	  NEED_NONE },
+	{ { "drift", "drift flag", NULL, PSD_POINTS_BINARY, 0, "the drift held out of bounds past its hold",
+	    NULL, 0, "problem" },
+	  NEED_METER },
+	{ { "occupied", "occupancy", NULL, PSD_POINTS_BINARY, 0, "the occupancy input's state", NULL, 0,
+	    "occupancy" },
+	  NEED_OCCUPANCY },
+	{ { "state", "control state", NULL, PSD_POINTS_MULTISTATE, 0, "what holds the light level",
+	    control_states, 0, "enum" },
+	  NEED_NONE },
+	{ { "ratio_source", "ratio source", NULL, PSD_POINTS_MULTISTATE, 0, "where the ratio in force comes from",
+	    ratio_sources, 0, "enum" },
+	  NEED_RESULTS },
+	{ { "acceptance", "acceptance verdict", NULL, PSD_POINTS_MULTISTATE, 0,
+	    "the last acceptance run's verdict since psensd started", verdicts, 0, "enum" },
+	  NEED_METER },
+};
+#define NPOINTS (sizeof table / sizeof table[0])
+
+size_t psd_points_count(void)
+{
+	return NPOINTS;
+}
+
+const struct psd_points_def *psd_points_def(size_t i)
+{
+	return i < NPOINTS ? &table[i].d : NULL;
+}
+
+int psd_points_find(const char *key)
+{
+	for (size_t i = 0; i < NPOINTS; i++)
+		if (strcmp(table[i].d.key, key) == 0)
+			return (int)i;
+	return -1;
+}
+
+size_t psd_points_nstates(size_t i)
+{
+	size_t n = 0;
+	if (i < NPOINTS && table[i].d.states)
+		while (table[i].d.states[n])
+			n++;
+	return n;
+}
+
+int psd_points_occupancy(const struct psd_zone *z)
+{
+	return z->occupancy;
+}
+
+int psd_points_has(const struct psd_engine *e, size_t zi, size_t i)
+{
+	const struct psd_zone *z = &e->zone[zi];
+	if (i >= NPOINTS || zi >= e->nzone)
+		return 0;
+	switch (table[i].need) {
+	case NEED_METER: return z->zc->task >= 0;
+	case NEED_OCCUPANCY: return psd_points_occupancy(z) >= 0;
+	case NEED_POWER: return e->cf->lamp_watts > 0;
+	case NEED_RESULTS: return z->res != NULL;
+	default: return 1;
+	}
+}
+
+/* The control state, 1-based in control_states. */
+static int control_state(const struct psd_zone *z, double now)
+{
+	if (z->in_fault)
+		return 4;
+	if (psd_calsession_running(&z->cal))
+		return 3;
+	if (now < z->override_until)
+		return 2;
+	if (z->steps == 0)
+		return 5; /* held at the safe level until the first step */
+	return 1;
+}
+
+/* The ratio's source, 1-based in ratio_sources (the engine's rule: a day
+ * calibration's own ratio, else the dated estimate by sky class or typical,
+ * else the scene's mean). */
+static int ratio_source(const struct psd_engine *e, const struct psd_zone *z)
+{
+	if (z->cal_day_id)
+		return 4;
+	if (!(z->res->have_year && e->cf->dated_estimate))
+		return 1;
+	return z->sky_class >= 0 ? 3 : 2;
+}
+
+static const struct psd_points_zone *state_of(const struct psd_points *p, const char *name)
+{
+	for (size_t i = 0; p && i < PSD_MAX_ZONES; i++)
+		if (strcmp(p->zone[i].name, name) == 0)
+			return &p->zone[i];
+	return NULL;
+}
+
+int psd_points_value(const struct psd_points *p, const struct psd_engine *e, size_t zi, size_t i, double now,
+                     double *v)
+{
+	const struct psd_zone *z;
+	const struct psd_points_zone *s;
+	const char *key;
+	if (!psd_points_has(e, zi, i))
+		return -1;
+	z = &e->zone[zi];
+	s = state_of(p, z->zc->name);
+	key = table[i].d.key;
+	*v = NAN;
+	if (!strcmp(key, "est_task_lux"))
+		*v = z->in_fault ? NAN : z->last.est_task_lux;
+	else if (!strcmp(key, "sensor_v"))
+		*v = z->volts;
+	else if (!strcmp(key, "target_lux"))
+		*v = z->ctl.target_lux;
+	else if (!strcmp(key, "level"))
+		*v = 100 * z->level;
+	else if (!strcmp(key, "level_actual"))
+		*v = 100 * z->last.level;
+	else if (!strcmp(key, "task_lux"))
+		*v = z->task_lux;
+	else if (!strcmp(key, "ratio"))
+		*v = z->ctl.daylight_ratio;
+	else if (!strcmp(key, "drift_pct"))
+		*v = 100 * (exp(z->drift.last_ln) - 1);
+	else if (!strcmp(key, "output_hours") || !strcmp(key, "energy_kwh") || !strcmp(key, "acceptance")) {
+		if (!s)
+			return -1;
+		*v = key[0] == 'o' ? s->output_h : key[0] == 'e' ? s->kwh : s->verdict + 1;
+	} else if (!strcmp(key, "fault"))
+		*v = z->in_fault != 0;
+	else if (!strcmp(key, "drift"))
+		*v = z->drift.flagged != 0;
+	else if (!strcmp(key, "occupied"))
+		*v = psd_points_occupancy(z) == 1;
+	else if (!strcmp(key, "state"))
+		*v = control_state(z, now);
+	else if (!strcmp(key, "ratio_source"))
+		*v = ratio_source(e, z);
+	return 0;
+}
+
+static int in_engine(const struct psd_engine *e, const char *name)
+{
+	for (size_t i = 0; i < e->nzone; i++)
+		if (strcmp(e->zone[i].zc->name, name) == 0)
+			return 1;
+	return 0;
+}
+
+void psd_points_update(struct psd_points *p, const struct psd_engine *e, double now)
+{
+	for (size_t i = 0; i < e->nzone; i++) {
+		const struct psd_zone *z = &e->zone[i];
+		struct psd_points_zone *s = (struct psd_points_zone *)state_of(p, z->zc->name);
+		double level = z->level, dt;
+		if (!s) { /* a new zone: the slot of one gone, or a free one */
+			size_t k;
+			for (k = 0; k < PSD_MAX_ZONES && p->zone[k].name[0]; k++)
+				if (!in_engine(e, p->zone[k].name))
+					break;
+			if (k == PSD_MAX_ZONES)
+				continue;
+			s = &p->zone[k];
+			*s = (struct psd_points_zone){ .t = now };
+			snprintf(s->name, sizeof s->name, "%s", z->zc->name);
+			continue;
+		}
+		dt = now - s->t;
+		s->t = now;
+		if (!(dt > 0) || !(level >= 0 && level <= 1))
+			continue;
+		s->output_h += level * dt / 3600;
+		if (e->cf->lamp_watts > 0) {
+			struct psd_annual_opt o;
+			char what[200], err[200];
+			if (psd_annual_devices(e->cf, z->zc, &o, what, sizeof what, err, sizeof err) == 0)
+				s->kwh += psd_annual_power(&o, level) * o.watts * dt / 3600 / 1000;
+		}
+	}
+}
+
+void psd_points_set_verdict(struct psd_points *p, const char *zone, const char *overall)
+{
+	struct psd_points_zone *s = (struct psd_points_zone *)state_of(p, zone);
+	if (!s)
+		return;
+	s->verdict = !strcmp(overall, "ACCEPTED") ? 1 : !strcmp(overall, "NOT ACCEPTED") ? 2 : 3;
+}
+
+json_object *psd_points_json(const struct psd_points *p, const struct psd_engine *e, size_t zi, double now)
+{
+	json_object *o = json_object_new_object();
+	for (size_t i = 0; i < NPOINTS; i++) {
+		const struct psd_points_def *d = &table[i].d;
+		double v;
+		if (psd_points_value(p, e, zi, i, now, &v) != 0)
+			continue;
+		if (d->kind == PSD_POINTS_BINARY)
+			json_object_object_add(o, d->key, isnan(v) ? NULL : json_object_new_boolean(v != 0));
+		else if (d->kind == PSD_POINTS_MULTISTATE)
+			psd_json_str(o, d->key, v >= 1 && v <= (double)psd_points_nstates(i) ? d->states[(int)v - 1] : NULL);
+		else
+			psd_json_num(o, d->key, v);
+	}
+	return o;
+}
+
+/* A growing string. */
+struct text {
+	char *s;
+	size_t len, cap;
+	int failed;
+};
+
+static void add(struct text *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+static void add(struct text *t, const char *fmt, ...)
+{
+	va_list ap;
+	int n;
+	if (t->failed)
+		return;
+	for (;;) {
+		va_start(ap, fmt);
+		n = vsnprintf(t->s ? t->s + t->len : NULL, t->s ? t->cap - t->len : 0, fmt, ap);
+		va_end(ap);
+		if (n < 0) {
+			t->failed = 1;
+			return;
+		}
+		if (t->s && t->len + (size_t)n < t->cap) {
+			t->len += (size_t)n;
+			return;
+		}
+		{
+			size_t cap = (t->cap ? 2 * t->cap : 4096) + (size_t)n;
+			char *s = realloc(t->s, cap);
+			if (!s) {
+				t->failed = 1;
+				return;
+			}
+			t->s = s, t->cap = cap;
+		}
+	}
+}
+
+/* A label value: backslash, quote and newline escaped (the format's rule). */
+static void add_label(struct text *t, const char *v)
+{
+	for (; *v; v++) {
+		if (*v == '\\' || *v == '"')
+			add(t, "\\%c", *v);
+		else if (*v == '\n')
+			add(t, "\\n");
+		else
+			add(t, "%c", *v);
+	}
+}
+
+char *psd_points_prometheus(const struct psd_points *p, const struct psd_engine *e, double now)
+{
+	struct text t = { 0 };
+	for (size_t i = 0; i < NPOINTS; i++) {
+		const struct psd_points_def *d = &table[i].d;
+		add(&t, "# HELP psensd_%s %s: %s%s%s%s\n", d->key, d->name, d->description, d->unit ? " (" : "",
+		    d->unit ? d->unit : "", d->unit ? ")" : "");
+		add(&t, "# TYPE psensd_%s gauge\n", d->key);
+		for (size_t zi = 0; zi < e->nzone; zi++) {
+			double v;
+			if (psd_points_value(p, e, zi, i, now, &v) != 0 || isnan(v))
+				continue;
+			if (d->kind == PSD_POINTS_MULTISTATE) {
+				for (size_t k = 0; k < psd_points_nstates(i); k++) {
+					add(&t, "psensd_%s{zone=\"", d->key);
+					add_label(&t, e->zone[zi].zc->name);
+					add(&t, "\",state=\"%s\"} %d\n", d->states[k], (int)v == (int)k + 1);
+				}
+				continue;
+			}
+			add(&t, "psensd_%s{zone=\"", d->key);
+			add_label(&t, e->zone[zi].zc->name);
+			add(&t, "\"} %.17g\n", isinf(v) ? (v > 0 ? 1e308 : -1e308) : v);
+		}
+	}
+	if (!t.s && !t.failed)
+		add(&t, "%s", "");
+	if (t.failed) {
+		free(t.s);
+		errno = ENOMEM;
+		return NULL;
+	}
+	return t.s;
+}
