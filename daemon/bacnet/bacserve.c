@@ -103,42 +103,69 @@ static int opt_unsigned(const struct req *q, size_t *pos, uint32_t num, uint32_t
 	return psd_bactag_unsigned(&t, v) == 0 ? 1 : -1;
 }
 
+/* The head of a ReadProperty or WriteProperty: [0] object, [1] property,
+ * [2] optional array index; with the object it names. */
+struct target {
+	uint32_t type, inst, prop, idx;
+	int has_idx;
+	struct psd_bacobj o;
+};
+
+/* Decode the head at *pos into t: 0, or a reject reason. */
+static int decode_target(const struct req *q, size_t *pos, struct target *t)
+{
+	int rc;
+	if ((rc = need_objectid(q, pos, 0, &t->type, &t->inst)) || (rc = need_unsigned(q, pos, 1, &t->prop)))
+		return rc;
+	t->idx = 0;
+	if ((t->has_idx = opt_unsigned(q, pos, 2, &t->idx)) < 0)
+		return R_INVALID_TAG;
+	return 0;
+}
+
+/* The object t names, and its property: 0, or -1 with the Error
+ * (unknown-object, unknown-property) written. */
+static int resolve_target(const struct psd_bacserve_model *m, const struct req *q, struct target *t,
+                          struct psd_bacbuf *b)
+{
+	if (psd_bacobj_find(m, t->type, t->inst, &t->o) != 0) {
+		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
+		return -1;
+	}
+	if (!psd_bacobj_has(&t->o, t->prop)) { /* ALL, REQUIRED, OPTIONAL too: RPM only (15.5.1.1.2) */
+		put_error(b, q, EC_PROPERTY, E_UNKNOWN_PROPERTY);
+		return -1;
+	}
+	return 0;
+}
+
 static void read_property(const struct psd_bacserve_model *m, const struct req *q, struct psd_bacbuf *b)
 {
 	size_t pos = 0, mark;
-	uint32_t type, inst, prop, idx = 0, ec, code;
-	int rc, has_idx;
-	struct psd_bacobj o;
-	if ((rc = need_objectid(q, &pos, 0, &type, &inst)) || (rc = need_unsigned(q, &pos, 1, &prop))) {
+	uint32_t ec, code;
+	int rc;
+	struct target t;
+	if ((rc = decode_target(q, &pos, &t))) {
 		put_reject(b, q->invoke, (uint8_t)rc);
-		return;
-	}
-	if ((has_idx = opt_unsigned(q, &pos, 2, &idx)) < 0) {
-		put_reject(b, q->invoke, R_INVALID_TAG);
 		return;
 	}
 	if (pos != q->n) {
 		put_reject(b, q->invoke, R_TOO_MANY_ARGUMENTS);
 		return;
 	}
-	if (psd_bacobj_find(m, type, inst, &o) != 0) {
-		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
+	if (resolve_target(m, q, &t, b) != 0)
 		return;
-	}
 	{
 		uint8_t h[3] = { 0x30, q->invoke, q->service };
 		psd_bactag_put_raw(b, h, 3);
 	}
-	psd_bactag_put_objectid(b, 0, o.type, o.instance);
-	psd_bactag_put_enum(b, 1, prop);
-	if (has_idx)
-		psd_bactag_put_unsigned(b, 2, idx);
+	psd_bactag_put_objectid(b, 0, t.o.type, t.o.instance);
+	psd_bactag_put_enum(b, 1, t.prop);
+	if (t.has_idx)
+		psd_bactag_put_unsigned(b, 2, t.idx);
 	psd_bactag_open(b, 3);
 	mark = b->len;
-	if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL ||
-	    psd_bacobj_read(m, &o, prop, has_idx, idx, b, &ec, &code) != 0) {
-		if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL) /* RPM only (15.5.1.1.2) */
-			ec = EC_PROPERTY, code = E_UNKNOWN_PROPERTY;
+	if (psd_bacobj_read(m, &t.o, t.prop, t.has_idx, t.idx, b, &ec, &code) != 0) {
 		b->len = mark;
 		put_error(b, q, ec, code);
 		return;
@@ -234,17 +261,17 @@ static void read_property_multiple(const struct psd_bacserve_model *m, const str
 static void write_property(struct psd_bacserve_model *m, const struct req *q, struct psd_bacbuf *b)
 {
 	size_t pos = 0;
-	uint32_t type, inst, prop, idx = 0, prio = 16;
-	int rc, has_idx, is_null = 0;
+	uint32_t prio = 16;
+	int rc, is_null = 0;
 	float v = 0;
 	struct psd_bactag t, val;
-	struct psd_bacobj o;
-	if ((rc = need_objectid(q, &pos, 0, &type, &inst)) || (rc = need_unsigned(q, &pos, 1, &prop))) {
+	struct target w;
+	if ((rc = decode_target(q, &pos, &w)) != 0 && rc != R_INVALID_TAG) {
 		put_reject(b, q->invoke, (uint8_t)rc);
 		return;
 	}
-	if ((has_idx = opt_unsigned(q, &pos, 2, &idx)) < 0 || psd_bactag_read(q->p, q->n, &pos, &t) != 0 ||
-	    !t.context || !t.opening || t.number != 3) {
+	/* a malformed tag, or no [3] value: missing when the request ended */
+	if (rc || psd_bactag_read(q->p, q->n, &pos, &t) != 0 || !t.context || !t.opening || t.number != 3) {
 		put_reject(b, q->invoke, pos >= q->n ? R_MISSING_PARAMETER : R_INVALID_TAG);
 		return;
 	}
@@ -276,19 +303,13 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 		put_reject(b, q->invoke, R_TOO_MANY_ARGUMENTS);
 		return;
 	}
-	if (psd_bacobj_find(m, type, inst, &o) != 0) {
-		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
+	if (resolve_target(m, q, &w, b) != 0)
 		return;
-	}
-	if (!psd_bacobj_has(&o, prop)) {
-		put_error(b, q, EC_PROPERTY, E_UNKNOWN_PROPERTY);
-		return;
-	}
-	if (!(o.type == PSD_BAC_LO && prop == P_PRESENT_VALUE) || !m->writes) {
+	if (!(w.o.type == PSD_BAC_LO && w.prop == P_PRESENT_VALUE) || !m->writes) {
 		put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
 		return;
 	}
-	if (has_idx) {
+	if (w.has_idx) {
 		put_error(b, q, EC_PROPERTY, E_NOT_AN_ARRAY);
 		return;
 	}
@@ -311,10 +332,10 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 		return;
 	}
 	{
-		struct psd_bacserve_zone *z = &m->zone[o.zone];
+		struct psd_bacserve_zone *z = &m->zone[w.o.zone];
 		double was = z->prio[prio - 1];
 		z->prio[prio - 1] = is_null ? NAN : (double)v;
-		if (m->apply && m->apply(m->user, o.zone) != 0) {
+		if (m->apply && m->apply(m->user, w.o.zone) != 0) {
 			z->prio[prio - 1] = was;
 			put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
 			return;
