@@ -124,6 +124,7 @@ static void refresh(struct psd_bacnet *b)
 			snprintf(s->name, sizeof s->name, "%s", z->zc->name);
 			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
 				s->prio[k] = NAN;
+			s->lc_op = 0;
 		}
 		s->level = 100 * z->level;
 		if (!(s->level >= 0 && s->level <= 100))

@@ -244,6 +244,28 @@ void psd_bacobj_put_present_value(const struct psd_bacserve_model *m, const stru
 		psd_bactag_put_real(b, -1, v);
 }
 
+double psd_bacobj_actual_level(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
+{
+	static int actual = -2;
+	const struct psd_bacserve_zone *z = &m->zone[o->zone];
+	if (actual == -2)
+		actual = psd_points_find("level_actual");
+	return actual >= 0 && actual < PSD_BACSERVE_POINTS && z->has[actual] && isfinite(z->pv[actual])
+	               ? z->pv[actual]
+	               : z->level;
+}
+
+/* In_Progress: a fade-to or ramp-to whose level the lamps have not reached
+ * (within 0.5 %) */
+static uint32_t in_progress(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
+{
+	const struct psd_bacserve_zone *z = &m->zone[o->zone];
+	if ((z->lc_op != LC_FADE_TO && z->lc_op != LC_RAMP_TO) || !(fabs(z->prio[z->lc_prio - 1] - z->lc_target) < 1e-9) ||
+	    fabs(psd_bacobj_actual_level(m, o) - z->lc_target) < 0.5)
+		return IP_IDLE;
+	return z->lc_op == LC_FADE_TO ? IP_FADE_ACTIVE : IP_RAMP_ACTIVE;
+}
+
 /* Status_Flags' fault: the zone at its safe level, or a reading missing */
 int psd_bacobj_fault(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
 {
@@ -379,12 +401,14 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		psd_bactag_put_unsigned(b, -1, (uint32_t)psd_points_nstates((size_t)o->point));
 		break;
 	case P_RELINQUISH_DEFAULT: psd_bactag_put_real(b, -1, (float)z->level); break;
-	case P_LIGHTING_COMMAND:
-		psd_bactag_put_enum(b, 0, 0); /* BACnetLightingCommand, operation none */
+	case P_LIGHTING_COMMAND: /* the last one taken (none at first) */
+		psd_bactag_put_enum(b, 0, z->lc_op);
+		if (z->lc_op == LC_FADE_TO || z->lc_op == LC_RAMP_TO)
+			psd_bactag_put_real(b, 1, (float)z->lc_target);
+		if (z->lc_op != LC_NONE)
+			psd_bactag_put_unsigned(b, 5, z->lc_prio);
 		break;
-	case P_IN_PROGRESS:
-		psd_bactag_put_enum(b, -1, 0); /* idle */
-		break;
+	case P_IN_PROGRESS: psd_bactag_put_enum(b, -1, in_progress(m, o)); break;
 	case P_STATUS_FLAGS: psd_bacobj_put_status_flags(b, psd_bacobj_fault(m, o)); break;
 	case P_EVENT_STATE:
 		psd_bactag_put_enum(b, -1, 0); /* normal */

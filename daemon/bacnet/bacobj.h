@@ -82,6 +82,18 @@ enum {
 	E_PARAMETER_OUT_OF_RANGE = 80,
 };
 enum { PROTOCOL_REVISION = 14, MAX_INSTANCE = 4194303 };
+/* BACnetLightingOperation (12.54.8) and BACnetLightingInProgress */
+enum {
+	LC_NONE = 0,
+	LC_FADE_TO = 1,
+	LC_RAMP_TO = 2,
+	LC_STEP_UP = 3,
+	LC_STEP_DOWN = 4,
+	LC_STEP_ON = 5,
+	LC_STEP_OFF = 6,
+	LC_STOP = 10
+};
+enum { IP_IDLE = 0, IP_FADE_ACTIVE = 1, IP_RAMP_ACTIVE = 2 };
 
 struct psd_bacobj_prop {
 	uint32_t id;
@@ -117,6 +129,9 @@ void psd_bacobj_put_present_value(const struct psd_bacserve_model *m, const stru
                                   struct psd_bacbuf *b);
 float psd_bacobj_cov_increment(const struct psd_bacobj *o);
 int psd_bacobj_fault(const struct psd_bacserve_model *m, const struct psd_bacobj *o);
+/* A Lighting Output's zone's light level as the lamps have it (the point
+ * model's actual level; the commanded one when the zone has none), %. */
+double psd_bacobj_actual_level(const struct psd_bacserve_model *m, const struct psd_bacobj *o);
 /* Status_Flags: in-alarm, fault, overridden, out-of-service (fault alone set or not). */
 void psd_bacobj_put_status_flags(struct psd_bacbuf *b, int fault);
 /* Encode the value of o's property (the whole array, or with has_idx

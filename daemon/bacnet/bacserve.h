@@ -43,6 +43,9 @@ struct psd_bacserve_zone {
 	unsigned char has[PSD_BACSERVE_POINTS];
 	double pv[PSD_BACSERVE_POINTS];
 	double prio[PSD_BACSERVE_PRIORITIES]; /* the BACnet priority array, % (NAN: relinquished) */
+	/* the last Lighting_Command taken: its operation, the level it set, its priority */
+	uint32_t lc_op, lc_prio;
+	double lc_target;
 };
 
 /* A COV subscription (SubscribeCOV): who, what, until when, what was sent. */
