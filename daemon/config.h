@@ -95,6 +95,8 @@ struct psd_zone_conf {
 struct psd_config {
 	struct ps_conf conf;      /* owns every string the options point into */
 	char *results, *scene, *database, *socket_path;
+	char *prom_textfile;      /* [prometheus] textfile: the point model's .prom file, NULL: none */
+	double prom_interval;     /* [prometheus] interval: seconds between its writes */
 	const char *timezone;     /* the site's time zone (TZ: a zoneinfo name or a POSIX rule), NULL: the process's */
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;

@@ -264,6 +264,27 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 /* A step of the wall clock (NTP, settimeofday): logged with its size; a
  * run dated by the wall clock moves its dates with it (the samples' utc and
  * local columns), while periods and timeouts keep to the monotonic clock. */
+/* [prometheus]: the point model into its textfile every interval (real
+ * seconds, whatever the clock's speed). */
+static void prom_write(struct psd_daemon *d, double now)
+{
+	const struct psd_config *cf = d->engine.cf;
+	double t = psd_time_mono();
+	char *text;
+	if (!cf || !cf->prom_textfile || d->dry || t < d->prom_next)
+		return;
+	d->prom_next = t + cf->prom_interval;
+	text = psd_points_prometheus(&d->points, &d->engine, now);
+	if (!text || psd_points_write_file(cf->prom_textfile, text) != 0) {
+		if (!d->prom_failing++)
+			psd_log_err("prometheus: %s", cf->prom_textfile);
+	} else if (d->prom_failing) {
+		psd_log_info("prometheus: %s written again", cf->prom_textfile);
+		d->prom_failing = 0;
+	}
+	free(text);
+}
+
 static void follow_wall(struct psd_daemon *d, double now)
 {
 	double step = psd_wallstep_check(&d->wall);
@@ -325,6 +346,7 @@ int psd_loop_run(struct psd_daemon *d)
 			psd_mqtt_service(d->mqtt, NULL, now);
 		if (d->bacnet)   /* COV notifications of the levels just commanded */
 			psd_bacnet_service(d->bacnet, NULL, now);
+		prom_write(d, now);
 		deadline = psd_engine_deadline(&d->engine);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
@@ -341,6 +363,13 @@ int psd_loop_run(struct psd_daemon *d)
 		}
 		if (d->bacnet)
 			nbac = psd_bacnet_pollfd(d->bacnet, fds + n + ndev + nmq);
+		if (d->engine.cf && d->engine.cf->prom_textfile && !d->dry) {   /* the textfile's next write */
+			int w = (int)ceil((d->prom_next - psd_time_mono()) * 1000);
+			if (w < 0)
+				w = 0;
+			if (timeout < 0 || w < timeout)
+				timeout = w;
+		}
 		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac), timeout) < 0 && errno != EINTR) {
 			psd_log_err("poll");
 			break;

@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "annual.h"
 #include "engine.h"
@@ -52,7 +54,7 @@ static const struct {
 	{ { "drift_pct", "drift", "%", PSD_POINTS_ANALOG, 0, "the measured ratio against the simulated one",
 	    NULL, U_PERCENT, NULL },
 	  NEED_METER },
-	{ { "output_hours", "light-output hours", "h", PSD_POINTS_ANALOG, 0,
+	{ { "output_h", "light-output hours", "h", PSD_POINTS_ANALOG, 0,
 	    "hours at full output since psensd started", NULL, U_HOURS, NULL },
 	  NEED_NONE },
 	{ { "energy_kwh", "energy", "kWh", PSD_POINTS_ANALOG, 0,
@@ -187,7 +189,7 @@ int psd_points_value(const struct psd_points *p, const struct psd_engine *e, siz
 		*v = z->ctl.daylight_ratio;
 	else if (!strcmp(key, "drift_pct"))
 		*v = 100 * (exp(z->drift.last_ln) - 1);
-	else if (!strcmp(key, "output_hours") || !strcmp(key, "energy_kwh") || !strcmp(key, "acceptance")) {
+	else if (!strcmp(key, "output_h") || !strcmp(key, "energy_kwh") || !strcmp(key, "acceptance")) {
 		if (!s)
 			return -1;
 		*v = key[0] == 'o' ? s->output_h : key[0] == 'e' ? s->kwh : s->verdict + 1;
@@ -322,27 +324,44 @@ static void add_label(struct text *t, const char *v)
 	}
 }
 
+/* Point i's metric name (Prometheus' base units: a point in hours, key
+ * X_h, is psensd_X_seconds) and the factor from the point's unit. */
+static double metric_name(const struct psd_points_def *d, char *name, size_t n)
+{
+	size_t len = strlen(d->key);
+	if (d->unit && !strcmp(d->unit, "h") && len > 2 && !strcmp(d->key + len - 2, "_h")) {
+		snprintf(name, n, "psensd_%.*s_seconds", (int)(len - 2), d->key);
+		return 3600;
+	}
+	snprintf(name, n, "psensd_%s", d->key);
+	return 1;
+}
+
 char *psd_points_prometheus(const struct psd_points *p, const struct psd_engine *e, double now)
 {
 	struct text t = { 0 };
 	for (size_t i = 0; i < NPOINTS; i++) {
 		const struct psd_points_def *d = &table[i].d;
-		add(&t, "# HELP psensd_%s %s: %s%s%s%s\n", d->key, d->name, d->description, d->unit ? " (" : "",
-		    d->unit ? d->unit : "", d->unit ? ")" : "");
-		add(&t, "# TYPE psensd_%s gauge\n", d->key);
+		char name[80];
+		double scale = metric_name(d, name, sizeof name);
+		const char *unit = scale == 3600 ? "s" : d->unit;
+		add(&t, "# HELP %s %s: %s%s%s%s\n", name, d->name, d->description, unit ? " (" : "", unit ? unit : "",
+		    unit ? ")" : "");
+		add(&t, "# TYPE %s gauge\n", name);
 		for (size_t zi = 0; zi < e->nzone; zi++) {
 			double v;
 			if (psd_points_value(p, e, zi, i, now, &v) != 0 || isnan(v))
 				continue;
 			if (d->kind == PSD_POINTS_MULTISTATE) {
 				for (size_t k = 0; k < psd_points_nstates(i); k++) {
-					add(&t, "psensd_%s{zone=\"", d->key);
+					add(&t, "%s{zone=\"", name);
 					add_label(&t, e->zone[zi].zc->name);
 					add(&t, "\",state=\"%s\"} %d\n", d->states[k], (int)v == (int)k + 1);
 				}
 				continue;
 			}
-			add(&t, "psensd_%s{zone=\"", d->key);
+			v *= scale;
+			add(&t, "%s{zone=\"", name);
 			add_label(&t, e->zone[zi].zc->name);
 			add(&t, "\"} %.17g\n", isinf(v) ? (v > 0 ? 1e308 : -1e308) : v);
 		}
@@ -355,4 +374,31 @@ char *psd_points_prometheus(const struct psd_points *p, const struct psd_engine 
 		return NULL;
 	}
 	return t.s;
+}
+
+int psd_points_write_file(const char *path, const char *text)
+{
+	char tmp[4096];
+	size_t len = strlen(text);
+	int fd, saved;
+	if ((size_t)snprintf(tmp, sizeof tmp, "%s.XXXXXX", path) >= sizeof tmp) {
+		errno = ENAMETOOLONG;
+		return -1;
+	}
+	if ((fd = mkstemp(tmp)) < 0)
+		return -1;
+	if (fchmod(fd, 0644) != 0 || write(fd, text, len) != (ssize_t)len || fsync(fd) != 0) {
+		saved = errno ? errno : EIO;
+		close(fd);
+		unlink(tmp);
+		errno = saved;
+		return -1;
+	}
+	if (close(fd) != 0 || rename(tmp, path) != 0) {
+		saved = errno;
+		unlink(tmp);
+		errno = saved;
+		return -1;
+	}
+	return 0;
 }

@@ -82,9 +82,14 @@ void psd_points_set_verdict(struct psd_points *p, const char *zone, const char *
  * binary as true/false, a multi-state as its state's name. */
 json_object *psd_points_json(const struct psd_points *p, const struct psd_engine *e, size_t zi, double now);
 /* Every zone's points in the Prometheus text exposition format (# HELP,
- * # TYPE, psensd_<key>{zone="..."}; a multi-state point one series per
- * state, 1 for the one in force).  A string to free(), NULL (errno) when
+ * # TYPE, psensd_<key>{zone="..."}, a gauge each; a point in hours, key
+ * X_h, in Prometheus' base unit as psensd_X_seconds; a multi-state point
+ * one series per state, 1 for the one in force).  A string to free(), NULL (errno) when
  * memory ran out. */
 char *psd_points_prometheus(const struct psd_points *p, const struct psd_engine *e, double now);
+
+/* Write text to path atomically (a temporary file beside it, renamed over
+ * it: node-exporter never reads half a file).  0, or -1 with errno. */
+int psd_points_write_file(const char *path, const char *text);
 
 #endif

@@ -182,7 +182,7 @@ int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const cha
 		json_object_object_add(o, "options", opt);
 	} else if (strcmp(component, "sensor") == 0) {
 		psd_json_str(o, "state_class",
-		             !strcmp(key, "output_hours") || !strcmp(key, "energy_kwh") ? "total_increasing" : "measurement");
+		             !strcmp(key, "output_h") || !strcmp(key, "energy_kwh") ? "total_increasing" : "measurement");
 	}
 	if (number) {
 		snprintf(text, sizeof text, "%s/set/override", base);

@@ -9,7 +9,8 @@
  * Object_List (asked over UDP, every object's Object_Name read back and
  * matched to "<zone> <point name>").  Then the Prometheus text: its
  * series against the status values, and the energy against the
- * integral of the level over an hour. */
+ * integral of the level over an hour (light-output hours as seconds,
+ * Prometheus' base unit). */
 #include <arpa/inet.h>
 #include <json-c/json.h>
 #include <math.h>
@@ -322,7 +323,7 @@ static void prometheus_matches_status(void **state)
 	/* an hour at the level: level/100 light-output hours; kWh through the
 	 * power curve 0.2 at the file driver's least level (instant ballast:
 	 * proportional to light), 40 W */
-	hours = series(text, "psensd_output_hours{zone=\"office\"} ");
+	hours = series(text, "psensd_output_seconds{zone=\"office\"} ") / 3600;
 	near(hours, level / 100, 1e-9);
 	near(series(text, "psensd_energy_kwh{zone=\"office\"} "), hours * 40 / 1000, 1e-9);
 	free(text);
