@@ -361,8 +361,12 @@ int psd_loop_run(struct psd_daemon *d)
 			if (w >= 0 && (timeout < 0 || w < timeout))
 				timeout = w;
 		}
-		if (d->bacnet)
+		if (d->bacnet) {
+			int w = psd_bacnet_wait_ms(d->bacnet);
 			nbac = psd_bacnet_pollfd(d->bacnet, fds + n + ndev + nmq);
+			if (w >= 0 && (timeout < 0 || w < timeout))
+				timeout = w;
+		}
 		if (d->engine.cf && d->engine.cf->prom_textfile && !d->dry) {   /* the textfile's next write */
 			int w = (int)ceil((d->prom_next - psd_time_mono()) * 1000);
 			if (w < 0)

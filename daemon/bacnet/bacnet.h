@@ -37,6 +37,9 @@ int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd);
 /* Answer what arrived (pfd from psd_bacnet_pollfd, or NULL), renew the
  * overrides a BMS holds.  now: the daemon's clock. */
 void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double now);
+/* Wall milliseconds until the server wants a turn of its own (a
+ * foreign-device registration due), -1 never. */
+int psd_bacnet_wait_ms(const struct psd_bacnet *b);
 void psd_bacnet_close(struct psd_bacnet *b);
 
 #endif

@@ -639,6 +639,27 @@ static void who_has(const struct psd_bacserve_model *m, const uint8_t *p, size_t
 	psd_bactag_put_string(b, -1, name);
 }
 
+static void put_i_am(const struct psd_bacserve_model *m, struct psd_bacbuf *b)
+{
+	uint8_t h[2] = { 0x10, U_I_AM };
+	psd_bactag_put_raw(b, h, 2);
+	psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
+	psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
+	psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
+	psd_bactag_put_unsigned(b, -1, m->vendor_id);
+}
+
+size_t psd_bacserve_i_am(const struct psd_bacserve_model *m, uint8_t fn, uint8_t *out)
+{
+	struct psd_bacbuf b = { out + 6, PSD_BACSERVE_MAX_APDU, 0, 0 };
+	size_t len;
+	put_i_am(m, &b);
+	len = 6 + b.len;
+	out[0] = 0x81, out[1] = fn, out[2] = (uint8_t)(len >> 8), out[3] = (uint8_t)len;
+	out[4] = 1, out[5] = 0; /* NPDU version 1, no addresses, no reply expected */
+	return len;
+}
+
 /* The largest APDU the asker accepts (20.1.2.5); reserved codes: the least. */
 static size_t max_apdu(uint8_t code)
 {
@@ -657,14 +678,9 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 		return;
 	type = a[0] >> 4;
 	if (type == 1) { /* unconfirmed request */
-		if (a[1] == U_WHO_IS && who_is_me(m, a + 2, n - 2) == 1) {
-			uint8_t h[2] = { 0x10, U_I_AM };
-			psd_bactag_put_raw(b, h, 2);
-			psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
-			psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
-			psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
-			psd_bactag_put_unsigned(b, -1, m->vendor_id);
-		} else if (a[1] == U_WHO_HAS) {
+		if (a[1] == U_WHO_IS && who_is_me(m, a + 2, n - 2) == 1)
+			put_i_am(m, b);
+		else if (a[1] == U_WHO_HAS) {
 			who_has(m, a + 2, n - 2, b);
 		}
 		return;

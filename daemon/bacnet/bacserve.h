@@ -96,6 +96,10 @@ struct psd_bacserve_reply {
  * address (then only Who-Is is answered). */
 void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t n, const uint8_t src[6],
                          int broadcast, uint8_t *out, struct psd_bacserve_reply *r);
+/* An I-Am of this device, whole with its BVLL function fn (0x0b
+ * Original-Broadcast-NPDU, 0x09 Distribute-Broadcast-To-Network): its
+ * length in out (at least PSD_BACSERVE_MAX_PACKET octets). */
+size_t psd_bacserve_i_am(const struct psd_bacserve_model *m, uint8_t fn, uint8_t *out);
 /* The next COV notification due (a new subscription's first, or a value
  * moved by its increment or a fault flag changed), into out and r (to an
  * address): 1, or 0 when none is due.  Drops subscriptions whose lifetime
