@@ -25,10 +25,10 @@
 
 enum {
 	PSD_MAX_DEVICES = 16,
-	PSD_MAX_POINTS = 64,
-	PSD_MAX_ZONES = 16,
+	PSD_MAX_POINTS = 512,
+	PSD_MAX_ZONES = 128,
 	PSD_MAX_ZONE_OUT = 8,     /* dim, relay or input points of one zone */
-	PSD_MAX_OPTS = 512,       /* driver options, all devices and points together */
+	PSD_MAX_OPTS = 4096,      /* driver options, all devices and points together */
 };
 
 enum psd_action { PSD_ACT_NONE = 0, PSD_ACT_OCCUPANCY, PSD_ACT_OVERRIDE, PSD_ACT_CALIBRATE };
