@@ -320,8 +320,8 @@ static void discovery(struct psd_mqtt *m, const char *zone, const struct zone_of
 /* Announce the configured zones; remove the announced ones that left. */
 static void announce(struct psd_mqtt *m)
 {
-	char names[64][PSD_MQTT_NAME], err[256];
-	struct names l = { names, 0, 64 };
+	char names[MAX_SEEN][PSD_MQTT_NAME], err[256]; /* every zone, and as many that left */
+	struct names l = { names, 0, MAX_SEEN };
 	if (!m->e->db)
 		return;
 	psd_db_mqtt_announced(m->e->db, m->site, add_name, &l);
