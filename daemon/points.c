@@ -25,59 +25,90 @@ enum { NEED_NONE, NEED_METER, NEED_OCCUPANCY, NEED_POWER, NEED_RESULTS };
 /* BACnetEngineeringUnits */
 enum { U_HOURS = 71, U_KWH = 19, U_LUXES = 37, U_VOLTS = 5, U_PERCENT = 98, U_NONE = 95 };
 
+/* What a point's value is read from: the zone, its engine, the model's
+ * own state of the zone (NULL: none yet), the clock. */
+struct at {
+	const struct psd_engine *e;
+	const struct psd_zone *z;
+	const struct psd_points_zone *s;
+	double now;
+};
+
+static int control_state(const struct psd_zone *z, double now);
+static int ratio_source(const struct psd_engine *e, const struct psd_zone *z);
+
+static double est_task_lux(const struct at *a) { return a->z->in_fault ? NAN : a->z->last.est_task_lux; }
+static double sensor_v(const struct at *a) { return a->z->volts; }
+static double target_lux(const struct at *a) { return a->z->ctl.target_lux; }
+static double level(const struct at *a) { return 100 * a->z->level; }
+static double level_actual(const struct at *a) { return 100 * a->z->last.level; }
+static double task_lux(const struct at *a) { return a->z->task_lux; }
+static double ratio(const struct at *a) { return a->z->ctl.daylight_ratio; }
+static double drift_pct(const struct at *a) { return 100 * (exp(a->z->drift.last_ln) - 1); }
+static double output_h(const struct at *a) { return a->s->output_h; }
+static double energy_kwh(const struct at *a) { return a->s->kwh; }
+static double fault(const struct at *a) { return a->z->in_fault != 0; }
+static double drift(const struct at *a) { return a->z->drift.flagged != 0; }
+static double occupied(const struct at *a) { return psd_points_occupancy(a->z) == 1; }
+static double state(const struct at *a) { return control_state(a->z, a->now); }
+static double source(const struct at *a) { return ratio_source(a->e, a->z); }
+static double acceptance(const struct at *a) { return a->s->verdict + 1; }
+
 /* The order is BACnet's instance numbering (bacobj.c): append, never insert. */
 static const struct {
 	struct psd_points_def d;
 	int need;
+	double (*get)(const struct at *a);
+	int stateful; /* read from the model's own state of the zone */
 } table[] = {
 	{ { "est_task_lux", "task lux estimate", "lx", PSD_POINTS_ANALOG, 0,
 	    "the task illuminance estimated from the sensor at this step", NULL, U_LUXES, "illuminance" },
-	  NEED_NONE },
+	  NEED_NONE, est_task_lux, 0 },
 	{ { "sensor_v", "sensor signal", "V", PSD_POINTS_ANALOG, 0, "the photosensor's signal", NULL, U_VOLTS,
 	    "voltage" },
-	  NEED_NONE },
+	  NEED_NONE, sensor_v, 0 },
 	{ { "target_lux", "target lux", "lx", PSD_POINTS_ANALOG, 1, "the task illuminance the control holds", NULL,
 	    U_LUXES, "illuminance" },
-	  NEED_NONE },
+	  NEED_NONE, target_lux, 0 },
 	{ { "level", "light level", "%", PSD_POINTS_ANALOG, 1, "the light output commanded", NULL, U_PERCENT,
 	    NULL },
-	  NEED_NONE },
+	  NEED_NONE, level, 0 },
 	{ { "level_actual", "actual light level", "%", PSD_POINTS_ANALOG, 0,
 	    "the light output while the sensor was read", NULL, U_PERCENT, NULL },
-	  NEED_NONE },
+	  NEED_NONE, level_actual, 0 },
 	{ { "task_lux", "measured task lux", "lx", PSD_POINTS_ANALOG, 0, "the task meter's illuminance", NULL,
 	    U_LUXES, "illuminance" },
-	  NEED_METER },
+	  NEED_METER, task_lux, 0 },
 	{ { "ratio", "daylight ratio", "lx", PSD_POINTS_ANALOG, 0,
 	    "the simulated task lux per unit of sensor response in force", NULL, U_LUXES, NULL },
-	  NEED_RESULTS },
+	  NEED_RESULTS, ratio, 0 },
 	{ { "drift_pct", "drift", "%", PSD_POINTS_ANALOG, 0, "the measured ratio against the simulated one",
 	    NULL, U_PERCENT, NULL },
-	  NEED_METER },
+	  NEED_METER, drift_pct, 0 },
 	{ { "output_h", "light-output hours", "h", PSD_POINTS_ANALOG, 0,
 	    "hours at full output since psensd started", NULL, U_HOURS, NULL },
-	  NEED_NONE },
+	  NEED_NONE, output_h, 1 },
 	{ { "energy_kwh", "energy", "kWh", PSD_POINTS_ANALOG, 0,
 	    "input energy since psensd started, through the power curve", NULL, U_KWH, "energy" },
-	  NEED_POWER },
+	  NEED_POWER, energy_kwh, 1 },
 	{ { "fault", "fault", NULL, PSD_POINTS_BINARY, 0, "the zone is at its safe level on a fault", NULL, 0,
 	    "problem" },
-	  NEED_NONE },
+	  NEED_NONE, fault, 0 },
 	{ { "drift", "drift flag", NULL, PSD_POINTS_BINARY, 0, "the drift held out of bounds past its hold",
 	    NULL, 0, "problem" },
-	  NEED_METER },
+	  NEED_METER, drift, 0 },
 	{ { "occupied", "occupancy", NULL, PSD_POINTS_BINARY, 0, "the occupancy input's state", NULL, 0,
 	    "occupancy" },
-	  NEED_OCCUPANCY },
+	  NEED_OCCUPANCY, occupied, 0 },
 	{ { "state", "control state", NULL, PSD_POINTS_MULTISTATE, 0, "what holds the light level",
 	    control_states, 0, "enum" },
-	  NEED_NONE },
+	  NEED_NONE, state, 0 },
 	{ { "ratio_source", "ratio source", NULL, PSD_POINTS_MULTISTATE, 0, "where the ratio in force comes from",
 	    ratio_sources, 0, "enum" },
-	  NEED_RESULTS },
+	  NEED_RESULTS, source, 0 },
 	{ { "acceptance", "acceptance verdict", NULL, PSD_POINTS_MULTISTATE, 0,
 	    "the last acceptance run's verdict since psensd started", verdicts, 0, "enum" },
-	  NEED_METER },
+	  NEED_METER, acceptance, 1 },
 };
 #define NPOINTS (sizeof table / sizeof table[0])
 
@@ -164,45 +195,13 @@ static const struct psd_points_zone *state_of(const struct psd_points *p, const 
 int psd_points_value(const struct psd_points *p, const struct psd_engine *e, size_t zi, size_t i, double now,
                      double *v)
 {
-	const struct psd_zone *z;
-	const struct psd_points_zone *s;
-	const char *key;
+	struct at a;
 	if (!psd_points_has(e, zi, i))
 		return -1;
-	z = &e->zone[zi];
-	s = state_of(p, z->zc->name);
-	key = table[i].d.key;
-	*v = NAN;
-	if (!strcmp(key, "est_task_lux"))
-		*v = z->in_fault ? NAN : z->last.est_task_lux;
-	else if (!strcmp(key, "sensor_v"))
-		*v = z->volts;
-	else if (!strcmp(key, "target_lux"))
-		*v = z->ctl.target_lux;
-	else if (!strcmp(key, "level"))
-		*v = 100 * z->level;
-	else if (!strcmp(key, "level_actual"))
-		*v = 100 * z->last.level;
-	else if (!strcmp(key, "task_lux"))
-		*v = z->task_lux;
-	else if (!strcmp(key, "ratio"))
-		*v = z->ctl.daylight_ratio;
-	else if (!strcmp(key, "drift_pct"))
-		*v = 100 * (exp(z->drift.last_ln) - 1);
-	else if (!strcmp(key, "output_h") || !strcmp(key, "energy_kwh") || !strcmp(key, "acceptance")) {
-		if (!s)
-			return -1;
-		*v = key[0] == 'o' ? s->output_h : key[0] == 'e' ? s->kwh : s->verdict + 1;
-	} else if (!strcmp(key, "fault"))
-		*v = z->in_fault != 0;
-	else if (!strcmp(key, "drift"))
-		*v = z->drift.flagged != 0;
-	else if (!strcmp(key, "occupied"))
-		*v = psd_points_occupancy(z) == 1;
-	else if (!strcmp(key, "state"))
-		*v = control_state(z, now);
-	else if (!strcmp(key, "ratio_source"))
-		*v = ratio_source(e, z);
+	a = (struct at){ e, &e->zone[zi], state_of(p, e->zone[zi].zc->name), now };
+	if (table[i].stateful && !a.s)
+		return -1;
+	*v = table[i].get(&a);
 	return 0;
 }
 
