@@ -161,6 +161,14 @@ static void state_json(void **state)
 	assert_int_equal(psd_mqttmsg_state_json(buf, 20, "b1", 77, 0, &s, NULL, NULL), -1);   /* does not fit */
 	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 78, 0, &s, NULL, NULL) > 0);
 	assert_non_null(strstr(buf, "\"fault\":\"sensor: stale\""));
+	assert_null(strstr(buf, "\"points\""));   /* none given: none published */
+	{   /* the point model's object, as given, under "points" */
+		json_object *pts = json_object_new_object();
+		json_object_object_add(pts, "level", json_object_new_double(42.5));
+		json_object_object_add(pts, "state", json_object_new_string("override"));
+		assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 79, 0, &s, NULL, pts) > 0);
+		assert_non_null(strstr(buf, "\"points\":{\"level\":42.5,\"state\":\"override\"}"));
+	}
 }
 
 /* The zone of the discovery test has every point but the task meter's lux. */
