@@ -186,10 +186,20 @@ static int ratio_source(const struct psd_engine *e, const struct psd_zone *z)
 
 static const struct psd_points_zone *state_of(const struct psd_points *p, const char *name)
 {
-	for (size_t i = 0; p && i < PSD_MAX_ZONES; i++)
+	for (size_t i = 0; p && i < PSD_MAX_ZONES && p->zone[i].name[0]; i++)
 		if (strcmp(p->zone[i].name, name) == 0)
 			return &p->zone[i];
 	return NULL;
+}
+
+/* The state of the engine's zone zi: where psd_points_update last put it,
+ * else by name. */
+static const struct psd_points_zone *state_for(const struct psd_points *p, const struct psd_engine *e, size_t zi)
+{
+	int k = p ? p->slot[zi] - 1 : -1;
+	if (k >= 0 && strcmp(p->zone[k].name, e->zone[zi].zc->name) == 0)
+		return &p->zone[k];
+	return state_of(p, e->zone[zi].zc->name);
 }
 
 int psd_points_value(const struct psd_points *p, const struct psd_engine *e, size_t zi, size_t i, double now,
@@ -198,7 +208,7 @@ int psd_points_value(const struct psd_points *p, const struct psd_engine *e, siz
 	struct at a;
 	if (!psd_points_has(e, zi, i))
 		return -1;
-	a = (struct at){ e, &e->zone[zi], state_of(p, e->zone[zi].zc->name), now };
+	a = (struct at){ e, &e->zone[zi], state_for(p, e, zi), now };
 	if (table[i].stateful && !a.s)
 		return -1;
 	*v = table[i].get(&a);
@@ -217,7 +227,7 @@ void psd_points_update(struct psd_points *p, const struct psd_engine *e, double 
 {
 	for (size_t i = 0; i < e->nzone; i++) {
 		const struct psd_zone *z = &e->zone[i];
-		struct psd_points_zone *s = (struct psd_points_zone *)state_of(p, z->zc->name);
+		struct psd_points_zone *s = (struct psd_points_zone *)state_for(p, e, i);
 		double level = z->level, dt;
 		if (!s) { /* a new zone: the slot of one gone, or a free one */
 			size_t k;
@@ -229,18 +239,24 @@ void psd_points_update(struct psd_points *p, const struct psd_engine *e, double 
 			s = &p->zone[k];
 			*s = (struct psd_points_zone){ .t = now };
 			snprintf(s->name, sizeof s->name, "%s", z->zc->name);
+			p->slot[i] = (int)k + 1;
 			continue;
 		}
+		p->slot[i] = (int)(s - p->zone) + 1;
 		dt = now - s->t;
 		s->t = now;
 		if (!(dt > 0) || !(level >= 0 && level <= 1))
 			continue;
 		s->output_h += level * dt / 3600;
 		if (e->cf->lamp_watts > 0) {
-			struct psd_annual_opt o;
-			char what[200], err[200];
-			if (psd_annual_devices(e->cf, z->zc, &o, what, sizeof what, err, sizeof err) == 0)
-				s->kwh += psd_annual_power(&o, level) * o.watts * dt / 3600 / 1000;
+			if (s->curve_of != e->cf) { /* read once per configuration */
+				char what[200], err[200];
+				s->curve_of = e->cf;
+				s->have_curve = psd_annual_devices(e->cf, z->zc, &s->curve, what, sizeof what, err,
+				                                   sizeof err) == 0;
+			}
+			if (s->have_curve)
+				s->kwh += psd_annual_power(&s->curve, level) * s->curve.watts * dt / 3600 / 1000;
 		}
 	}
 }

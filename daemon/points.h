@@ -20,6 +20,7 @@
 #include <json-c/json.h>
 #include <stddef.h>
 
+#include "annual.h"
 #include "config.h"
 
 struct psd_engine;
@@ -48,9 +49,13 @@ struct psd_points_zone {
 	double output_h;   /* light-output hours (hours at full output) */
 	double kwh;        /* with a power curve */
 	int verdict;       /* 0 none, else a state of the acceptance point (1-based) */
+	const struct psd_config *curve_of; /* the configuration curve was read from */
+	struct psd_annual_opt curve;       /* its power curve (kWh) */
+	int have_curve;
 };
 struct psd_points {
-	struct psd_points_zone zone[PSD_MAX_ZONES];
+	struct psd_points_zone zone[PSD_MAX_ZONES]; /* the slots in use first */
+	int slot[PSD_MAX_ZONES];                    /* the engine's zone i's slot + 1 (0: unknown) */
 };
 
 /* The table: psd_points_count() entries. */
