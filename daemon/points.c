@@ -11,13 +11,21 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "accept.h"
 #include "annual.h"
+#include "db.h"
 #include "engine.h"
 #include "json.h"
 
 static const char *const control_states[] = { "auto", "override", "calibrating", "fault", "safe", NULL };
 static const char *const ratio_sources[] = { "scene", "dated", "sky class", "calibrated", NULL };
 static const char *const verdicts[] = { "none", "accepted", "not accepted", "incomplete", NULL };
+
+/* psd_accept_overall's text as the acceptance point's state less one */
+static int verdict_of(const char *overall)
+{
+	return !strcmp(overall, "ACCEPTED") ? 1 : !strcmp(overall, "NOT ACCEPTED") ? 2 : 3;
+}
 
 /* What a point needs of a zone. */
 enum { NEED_NONE, NEED_METER, NEED_OCCUPANCY, NEED_POWER, NEED_RESULTS };
@@ -107,7 +115,7 @@ static const struct {
 	    ratio_sources, 0, "enum" },
 	  NEED_RESULTS, source, 0 },
 	{ { "acceptance", "acceptance verdict", NULL, PSD_POINTS_MULTISTATE, 0,
-	    "the last acceptance run's verdict since psensd started", verdicts, 0, "enum" },
+	    "the verdict of the zone's last acceptance run in the log", verdicts, 0, "enum" },
 	  NEED_METER, acceptance, 1 },
 };
 #define NPOINTS (sizeof table / sizeof table[0])
@@ -215,6 +223,33 @@ int psd_points_value(const struct psd_points *p, const struct psd_engine *e, siz
 	return 0;
 }
 
+/* The last acceptance run on record (the results sharing the latest time). */
+struct last_run {
+	double utc;
+	int tested, failed;
+};
+
+static void accept_row(void *user, const struct psd_db_accept *a)
+{
+	struct last_run *r = user;
+	if (a->utc != r->utc)
+		*r = (struct last_run){ a->utc, 0, 0 };
+	r->tested += strcmp(a->verdict, psd_accept_verdict_names[0]) != 0; /* not NOT TESTED */
+	r->failed += strcmp(a->verdict, psd_accept_verdict_names[1]) == 0; /* FAIL */
+}
+
+/* The verdict of the zone's last acceptance run in the log: 0 none. */
+static int logged_verdict(const struct psd_engine *e, const char *zone)
+{
+	struct last_run r = { NAN, 0, 0 };
+	struct psd_accept_summary sum;
+	char err[256];
+	if (!e->db || psd_db_accept_results(e->db, zone, accept_row, &r, err, sizeof err) != 0 || isnan(r.utc))
+		return 0;
+	sum = (struct psd_accept_summary){ r.tested, r.failed, 0 };
+	return verdict_of(psd_accept_overall(&sum));
+}
+
 static int in_engine(const struct psd_engine *e, const char *name)
 {
 	for (size_t i = 0; i < e->nzone; i++)
@@ -237,7 +272,7 @@ void psd_points_update(struct psd_points *p, const struct psd_engine *e, double 
 			if (k == PSD_MAX_ZONES)
 				continue;
 			s = &p->zone[k];
-			*s = (struct psd_points_zone){ .t = now };
+			*s = (struct psd_points_zone){ .t = now, .verdict = logged_verdict(e, z->zc->name) };
 			snprintf(s->name, sizeof s->name, "%s", z->zc->name);
 			p->slot[i] = (int)k + 1;
 			continue;
@@ -266,7 +301,7 @@ void psd_points_set_verdict(struct psd_points *p, const char *zone, const char *
 	struct psd_points_zone *s = (struct psd_points_zone *)state_of(p, zone);
 	if (!s)
 		return;
-	s->verdict = !strcmp(overall, "ACCEPTED") ? 1 : !strcmp(overall, "NOT ACCEPTED") ? 2 : 3;
+	s->verdict = verdict_of(overall);
 }
 
 json_object *psd_points_json(const struct psd_points *p, const struct psd_engine *e, size_t zi, double now)

@@ -42,7 +42,8 @@ struct psd_points_def {
 
 /* The zone-level state the engine does not keep: the energy integrated
  * since psensd started (over reloads, by zone name) and the verdict of
- * the last acceptance run. */
+ * the last acceptance run (read from the log when the zone first appears,
+ * then set by each accept-test). */
 struct psd_points_zone {
 	char name[48];      /* the zone's name (psd_zone_conf) */
 	double t;          /* clock time of the last integration; NAN: none yet */
