@@ -213,7 +213,7 @@ DEB_BUILD = gcc clang make pkg-config libsqlite3-dev sqlite3 libinih-dev libsyst
             libmicrohttpd-dev libqrencode-dev
 DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-serial-asyncio mbpoll socat valgrind libxml2-utils \
             libclang-rt-14-dev systemd pngcheck poppler-utils librsvg2-bin mosquitto mosquitto-clients openssl \
-            nodejs tzdata chromium zbar-tools
+            nodejs tzdata chromium zbar-tools prometheus tshark
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
 	@# npm: Debian's package, unless the nodejs installed carries its own

@@ -26,10 +26,10 @@
 
 enum {
 	PSD_MAX_DEVICES = 16,
-	PSD_MAX_POINTS = 64,
-	PSD_MAX_ZONES = 16,
+	PSD_MAX_POINTS = 512,
+	PSD_MAX_ZONES = 128,
 	PSD_MAX_ZONE_OUT = 8,     /* dim, relay or input points of one zone */
-	PSD_MAX_OPTS = 512,       /* driver options, all devices and points together */
+	PSD_MAX_OPTS = 4096,      /* driver options, all devices and points together */
 };
 
 enum psd_action { PSD_ACT_NONE = 0, PSD_ACT_OCCUPANCY, PSD_ACT_OVERRIDE, PSD_ACT_CALIBRATE };
@@ -97,6 +97,8 @@ struct psd_zone_conf {
 struct psd_config {
 	struct ps_conf conf;      /* owns every string the options point into */
 	char *results, *scene, *database, *socket_path;
+	char *prom_textfile;      /* [prometheus] textfile: the point model's .prom file, NULL: none */
+	double prom_interval;     /* [prometheus] interval: seconds between its writes */
 	const char *timezone;     /* the site's time zone (TZ: a zoneinfo name or a POSIX rule), NULL: the process's */
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;

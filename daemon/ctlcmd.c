@@ -21,6 +21,7 @@
 #include "errbuf.h"
 #include "json.h"
 #include "log.h"
+#include "points.h"
 #include "time.h"
 
 static const char help_text[] =
@@ -122,7 +123,8 @@ static json_object *sample_json(const struct psd_zone *z)
 	return o;
 }
 
-static json_object *zone_json(const struct psd_engine *e, const struct psd_zone *z, double now)
+static json_object *zone_json(const struct psd_points *pts, const struct psd_engine *e, const struct psd_zone *z,
+                              double now)
 {
 	json_object *o = json_object_new_object();
 	const struct psd_config *cf = e->cf;
@@ -183,6 +185,8 @@ static json_object *zone_json(const struct psd_engine *e, const struct psd_zone 
 	} else {
 		json_object_object_add(o, "calibration", NULL);
 	}
+	/* the point model (points.h): every point the zone has, in its unit */
+	json_object_object_add(o, "points", psd_points_json(pts, e, (size_t)(z - e->zone), now));
 	return o;
 }
 
@@ -459,7 +463,7 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 	}
 	for (size_t i = 0; i < e->nzone; i++)
 		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
-			json_object_array_add(zones, zone_json(e, &e->zone[i], now));
+			json_object_array_add(zones, zone_json(&d->points, e, &e->zone[i], now));
 	json_object_object_add(o, "zones", zones);
 	finish(o, reply, len);
 }
@@ -584,6 +588,7 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 		error_reply(reply, len, "accept-test %s: %s", argv[1], err);
 		return;
 	}
+	psd_points_set_verdict(&d->points, argv[1], psd_accept_overall(&sum));
 	psd_engine_stamp(e, psd_clock_now(&d->clock), stamp, sizeof stamp);
 	psd_log_info("zone %s: %s: acceptance tests: %s (%d of %d run, %d failed)", argv[1], stamp,
 	         psd_accept_overall(&sum), sum.tested, sum.count, sum.failed);

@@ -246,11 +246,11 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		return abandon_start(d, cf, 1, "refused start");
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
-	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, mqtt_request, d, err, sizeof err))) {
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, &d->points, mqtt_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "MQTT cannot start");
 	}
-	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, bacnet_request, d, err, sizeof err))) {
+	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, &d->points, bacnet_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "BACnet cannot start");
 	}
@@ -264,6 +264,27 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 /* A step of the wall clock (NTP, settimeofday): logged with its size; a
  * run dated by the wall clock moves its dates with it (the samples' utc and
  * local columns), while periods and timeouts keep to the monotonic clock. */
+/* [prometheus]: the point model into its textfile every interval (real
+ * seconds, whatever the clock's speed). */
+static void prom_write(struct psd_daemon *d, double now)
+{
+	const struct psd_config *cf = d->engine.cf;
+	double t = psd_time_mono();
+	char *text;
+	if (!cf || !cf->prom_textfile || d->dry || t < d->prom_next)
+		return;
+	d->prom_next = t + cf->prom_interval;
+	text = psd_points_prometheus(&d->points, &d->engine, now);
+	if (!text || psd_points_write_file(cf->prom_textfile, text) != 0) {
+		if (!d->prom_failing++)
+			psd_log_err("prometheus: %s", cf->prom_textfile);
+	} else if (d->prom_failing) {
+		psd_log_info("prometheus: %s written again", cf->prom_textfile);
+		d->prom_failing = 0;
+	}
+	free(text);
+}
+
 static void follow_wall(struct psd_daemon *d, double now)
 {
 	double step = psd_wallstep_check(&d->wall);
@@ -320,10 +341,12 @@ int psd_loop_run(struct psd_daemon *d)
 			follow_date(d, now);
 		}
 		psd_engine_step(&d->engine, now);
+		psd_points_update(&d->points, &d->engine, now);
 		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
 			psd_mqtt_service(d->mqtt, NULL, now);
 		if (d->bacnet)   /* COV notifications of the levels just commanded */
 			psd_bacnet_service(d->bacnet, NULL, now);
+		prom_write(d, now);
 		deadline = psd_engine_deadline(&d->engine);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
@@ -338,12 +361,23 @@ int psd_loop_run(struct psd_daemon *d)
 			if (w >= 0 && (timeout < 0 || w < timeout))
 				timeout = w;
 		}
-		if (d->bacnet)
+		if (d->bacnet) {
+			int w = psd_bacnet_wait_ms(d->bacnet);
 			nbac = psd_bacnet_pollfd(d->bacnet, fds + n + ndev + nmq);
+			if (w >= 0 && (timeout < 0 || w < timeout))
+				timeout = w;
+		}
 		if (d->web) {
 			int w = psd_web_wait_ms(d->web);
 			nweb = psd_web_pollfd(d->web, fds + n + ndev + nmq + nbac);
 			if (w >= 0 && (timeout < 0 || w < timeout))
+				timeout = w;
+		}
+		if (d->engine.cf && d->engine.cf->prom_textfile && !d->dry) {   /* the textfile's next write */
+			int w = (int)ceil((d->prom_next - psd_time_mono()) * 1000);
+			if (w < 0)
+				w = 0;
+			if (timeout < 0 || w < timeout)
 				timeout = w;
 		}
 		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac + nweb), timeout) < 0 && errno != EINTR) {

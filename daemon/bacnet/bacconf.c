@@ -4,6 +4,7 @@
 
 #include <arpa/inet.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static int line_of(struct ps_conf_section *s, const char *key)
@@ -46,4 +47,22 @@ void psd_bacconf_load(struct psd_bacnet_conf *b, struct ps_conf *c)
 	ps_conf_enum(c, s, "writes", writes, PSD_BACCONF_NONE, &b->writes);
 	ps_conf_double(c, s, "hold", 3600, 60, 7 * 86400, &b->hold);
 	ps_conf_double(c, s, "rate", 100, 1, 100000, &b->rate);
+	ps_conf_int(c, s, "bbmd_ttl", 600, 10, 65535, &b->bbmd_ttl);
+	if ((v = ps_conf_str(c, s, "bbmd", NULL))) {
+		const char *colon = strchr(v, ':');
+		size_t hl = colon ? (size_t)(colon - v) : strlen(v);
+		char *end = NULL;
+		long port = colon ? strtol(colon + 1, &end, 10) : 47808;
+		if (hl == 0 || hl >= sizeof b->bbmd_host || (colon && (!colon[1] || *end || port < 1 || port > 65535))) {
+			ps_conf_error(c, line_of(s, "bbmd"), "bbmd: '%s' is not IPV4-ADDRESS[:PORT]", v);
+			return;
+		}
+		memcpy(b->bbmd_host, v, hl);
+		b->bbmd_host[hl] = 0;
+		if (inet_pton(AF_INET, b->bbmd_host, &a) != 1) {
+			ps_conf_error(c, line_of(s, "bbmd"), "bbmd: '%s' is not an IPv4 address", b->bbmd_host);
+			return;
+		}
+		b->bbmd = 1, b->bbmd_port = port;
+	}
 }

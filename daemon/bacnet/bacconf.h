@@ -22,6 +22,10 @@ struct psd_bacnet_conf {
 	int writes;     /* PSD_BACCONF_NONE or _LIGHTING_OUTPUT */
 	double hold;    /* s: a written level's override lasts this long, renewed while written */
 	double rate;    /* datagrams a second one source may send (and as many at once) */
+	int bbmd;       /* register as a foreign device with a BBMD */
+	char bbmd_host[64]; /* its IPv4 address */
+	long bbmd_port; /* its UDP port, default 47808 */
+	long bbmd_ttl;  /* s: the registration's Time-to-Live, renewed at half of it */
 };
 
 /* Read [bacnet] of c into b (errors go to c). */

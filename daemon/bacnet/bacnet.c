@@ -18,9 +18,15 @@
 #include "engine.h"
 #include "errbuf.h"
 #include "log.h"
+#include "points.h"
 #include "time.h"
 
 enum { BATCH = 64 };   /* datagrams answered in one turn at most */
+/* foreign-device registration: s to wait for the BBMD's BVLC-Result, and
+ * the first and the longest wait before trying again */
+#define FD_ANSWER_S 3.0
+#define FD_BACKOFF_MIN_S 1.0
+#define FD_BACKOFF_MAX_S 60.0
 enum { SOURCES = 32 }; /* sources whose rate is tracked (the longest idle one makes room) */
 
 /* A token bucket per source address: `rate` a second, as many at once. */
@@ -33,6 +39,7 @@ struct psd_bacnet {
 	int fd;
 	struct psd_bacnet_conf c;
 	struct psd_engine *e;
+	const struct psd_points *pts;
 	psd_bacnet_request_fn fn;
 	void *user;
 	struct psd_bacserve_zone zone[PSD_MAX_ZONES];
@@ -41,6 +48,17 @@ struct psd_bacnet {
 	double now;
 	struct source src[SOURCES];
 	unsigned long dropped; /* datagrams over a source's rate */
+	/* [bacnet] bbmd: psensd as a foreign device of that BBMD (Annex J.5.2): its registration */
+	struct {
+		uint8_t addr[6];    /* the BBMD's B/IP address */
+		int registered;     /* its last BVLC-Result was a success, TTL not run out */
+		int pending;        /* a Register-Foreign-Device awaits its result */
+		double next;        /* monotonic s: the next registration */
+		double answer_by;   /* the pending one's result is due */
+		double expires;     /* the registration runs out */
+		double backoff;     /* s before the next try after a failure */
+		unsigned long fails; /* failures in a row (the first is logged, then every tenth) */
+	} fdr;
 };
 
 /* 1 when a datagram from ip may be answered now (wall seconds t). */
@@ -122,19 +140,96 @@ static void refresh(struct psd_bacnet *b)
 			snprintf(s->name, sizeof s->name, "%s", z->zc->name);
 			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
 				s->prio[k] = NAN;
+			s->lc_op = 0;
 		}
 		s->level = 100 * z->level;
 		if (!(s->level >= 0 && s->level <= 100))
 			s->level = 0;
 		s->fault = z->in_fault;
-		s->est_lux = z->last.est_task_lux;
-		s->signal = z->in_fault ? NAN : z->volts;
-		s->target = z->ctl.target_lux;
+		for (size_t k = 0; k < PSD_BACSERVE_POINTS; k++)
+			s->has[k] = k < psd_points_count() &&
+			            psd_points_value(b->pts, e, i, k, b->now, &s->pv[k]) == 0;
 	}
 }
 
+/* ---- foreign-device registration (Annex J.5.2) ----------------------- */
+
+static void send_to(struct psd_bacnet *b, const uint8_t *out, size_t len, const uint8_t addr[6]);
+
+static void fd_register(struct psd_bacnet *b, double t)
+{
+	/* Register-Foreign-Device: BVLL 0x81 0x05, length 6, Time-to-Live */
+	uint8_t req[6] = { 0x81, 0x05, 0x00, 0x06, (uint8_t)(b->c.bbmd_ttl >> 8), (uint8_t)b->c.bbmd_ttl };
+	send_to(b, req, sizeof req, b->fdr.addr);
+	b->fdr.pending = 1;
+	b->fdr.answer_by = t + FD_ANSWER_S;
+}
+
+/* A try failed (why): again after the backoff, doubled up to its most. */
+static void fd_failed(struct psd_bacnet *b, double t, const char *why)
+{
+	b->fdr.pending = 0;
+	if (b->fdr.registered && t >= b->fdr.expires)
+		b->fdr.registered = 0;
+	if (b->fdr.fails++ % 10 == 0)
+		psd_log_warnx("bacnet: BBMD %s:%ld: %s; registering again in %g s (%lu failure(s) in a row)",
+		              b->c.bbmd_host, b->c.bbmd_port, why, b->fdr.backoff, b->fdr.fails);
+	b->fdr.next = t + b->fdr.backoff;
+	b->fdr.backoff = b->fdr.backoff * 2 > FD_BACKOFF_MAX_S ? FD_BACKOFF_MAX_S : b->fdr.backoff * 2;
+}
+
+/* A BVLC-Result from the BBMD. */
+static void fd_result(struct psd_bacnet *b, const uint8_t *in, size_t n, double t)
+{
+	unsigned code;
+	if (n != 6 || !b->fdr.pending)
+		return;
+	code = (unsigned)in[4] << 8 | in[5];
+	if (code != 0) {
+		char why[80];
+		snprintf(why, sizeof why, "Register-Foreign-Device refused (BVLC-Result 0x%04x)", code);
+		fd_failed(b, t, why);
+		return;
+	}
+	if (!b->fdr.registered || b->fdr.fails)
+		psd_log_info("bacnet: registered as a foreign device with BBMD %s:%ld for %ld s", b->c.bbmd_host,
+		             b->c.bbmd_port, b->c.bbmd_ttl);
+	if (!b->fdr.registered) { /* announce the device to the BBMD's networks */
+		uint8_t out[PSD_BACSERVE_MAX_PACKET];
+		size_t len = psd_bacserve_i_am(&b->m, 0x09, out);
+		send_to(b, out, len, b->fdr.addr);
+	}
+	b->fdr.pending = 0, b->fdr.fails = 0, b->fdr.registered = 1;
+	b->fdr.backoff = FD_BACKOFF_MIN_S;
+	b->fdr.expires = t + (double)b->c.bbmd_ttl;
+	b->fdr.next = t + (double)b->c.bbmd_ttl / 2; /* renewed well before the TTL runs out */
+}
+
+static void fd_service(struct psd_bacnet *b, double t)
+{
+	if (!b->c.bbmd)
+		return;
+	if (b->fdr.pending && t >= b->fdr.answer_by)
+		fd_failed(b, t, "no answer to Register-Foreign-Device");
+	if (b->fdr.registered && t >= b->fdr.expires)
+		b->fdr.registered = 0;
+	if (!b->fdr.pending && t >= b->fdr.next)
+		fd_register(b, t);
+}
+
+int psd_bacnet_wait_ms(const struct psd_bacnet *b)
+{
+	double t, due;
+	if (!b->c.bbmd)
+		return -1;
+	t = psd_time_mono();
+	due = b->fdr.pending ? b->fdr.answer_by : b->fdr.next;
+	return due <= t ? 0 : (int)ceil((due - t) * 1000);
+}
+
 struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                   psd_bacnet_request_fn fn, void *user, char *err, size_t errlen)
+                                   const struct psd_points *pts, psd_bacnet_request_fn fn, void *user, char *err,
+                                   size_t errlen)
 {
 	struct psd_bacnet *b = calloc(1, sizeof *b);
 	struct sockaddr_in sa = { .sin_family = AF_INET, .sin_port = htons((uint16_t)c->port) };
@@ -145,7 +240,7 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 	}
 	b->fd = -1;
 	b->c = *c;
-	b->e = e, b->fn = fn, b->user = user;
+	b->e = e, b->pts = pts, b->fn = fn, b->user = user;
 	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance,
 		                            .name = b->c.name,
 		                            .vendor_id = (uint16_t)c->vendor_id,
@@ -164,9 +259,19 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 		free(b);
 		return NULL;
 	}
+	if (c->bbmd) {
+		struct in_addr ba;
+		uint16_t bp = htons((uint16_t)c->bbmd_port);
+		inet_pton(AF_INET, c->bbmd_host, &ba);
+		memcpy(b->fdr.addr, &ba, 4);
+		memcpy(b->fdr.addr + 4, &bp, 2);
+		b->fdr.backoff = FD_BACKOFF_MIN_S;
+		b->fdr.next = 0; /* at the first turn */
+	}
 	refresh(b);
-	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s", c->instance, c->name,
-	             c->bind, c->port, e->nzone, b->m.writes ? "to the lighting outputs" : "refused");
+	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s%s%s", c->instance, c->name,
+	             c->bind, c->port, e->nzone, b->m.writes ? "to the lighting outputs" : "refused",
+	             c->bbmd ? ", a foreign device of BBMD " : "", c->bbmd ? c->bbmd_host : "");
 	return b;
 }
 
@@ -207,10 +312,22 @@ void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double n
 			continue;
 		memcpy(src, &from.sin_addr, 4);
 		memcpy(src + 4, &from.sin_port, 2);
+		if (b->c.bbmd && memcmp(src, b->fdr.addr, 6) == 0 && n >= 4 && in[0] == 0x81 && in[1] == 0x00) {
+			fd_result(b, in, (size_t)n, b->m.now);
+			continue;
+		}
 		psd_bacserve_handle(&b->m, in, (size_t)n, src, 0, out, &r);
-		if (r.to != PSD_BACSERVE_NONE && r.len > 0)
-			send_to(b, out, r.len, r.to == PSD_BACSERVE_TO_ADDRESS ? r.addr : src);
+		if (r.to == PSD_BACSERVE_NONE || r.len == 0)
+			continue;
+		if (b->fdr.registered && r.len > 7 && out[1] == 0x0a && out[5] == 0 && out[6] == 0x10 && out[7] == 0x00) {
+			/* an I-Am of a foreign device: broadcast through the BBMD */
+			out[1] = 0x09;
+			send_to(b, out, r.len, b->fdr.addr);
+			continue;
+		}
+		send_to(b, out, r.len, r.to == PSD_BACSERVE_TO_ADDRESS ? r.addr : src);
 	}
+	fd_service(b, b->m.now);
 	/* COV notifications: at most one per subscription a turn */
 	while (psd_bacserve_cov(&b->m, out, &r))
 		send_to(b, out, r.len, r.addr);

@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "points.h"
+
 /* the properties of each object type; 1: required, 0: optional */
 static const struct psd_bacobj_prop device_props[] = {
 	{ P_OBJECT_ID, 1 },
@@ -46,42 +48,122 @@ static const struct psd_bacobj_prop ai_props[] = {
 	{ P_STATUS_FLAGS, 1 },  { P_EVENT_STATE, 1 },   { P_OUT_OF_SERVICE, 1 }, { P_UNITS, 1 },
 	{ P_PROPERTY_LIST, 1 }, { P_COV_INCREMENT, 1 }, { P_DESCRIPTION, 0 },
 };
+static const struct psd_bacobj_prop bi_props[] = {
+	{ P_OBJECT_ID, 1 },      { P_OBJECT_NAME, 1 }, { P_OBJECT_TYPE, 1 },   { P_PRESENT_VALUE, 1 },
+	{ P_STATUS_FLAGS, 1 },   { P_EVENT_STATE, 1 }, { P_OUT_OF_SERVICE, 1 }, { P_POLARITY, 1 },
+	{ P_PROPERTY_LIST, 1 },  { P_DESCRIPTION, 0 },
+};
+static const struct psd_bacobj_prop msi_props[] = {
+	{ P_OBJECT_ID, 1 },        { P_OBJECT_NAME, 1 },   { P_OBJECT_TYPE, 1 },    { P_PRESENT_VALUE, 1 },
+	{ P_STATUS_FLAGS, 1 },     { P_EVENT_STATE, 1 },   { P_OUT_OF_SERVICE, 1 }, { P_NUMBER_OF_STATES, 1 },
+	{ P_PROPERTY_LIST, 1 },    { P_STATE_TEXT, 0 },    { P_DESCRIPTION, 0 },
+};
 #define NPROPS(a) (sizeof(a) / sizeof(a)[0])
 
-static const char *const ai_what[PSD_BACSERVE_AI_PER_ZONE] = { "estimated task illuminance", "sensor signal",
-	                                                       "target task illuminance" };
-static const uint32_t ai_units[PSD_BACSERVE_AI_PER_ZONE] = { 37 /* luxes */, 5 /* volts */, 37 };
+/* The point the Lighting Output shows: the commanded level. */
+static int lo_point(void)
+{
+	static int p = -2;
+	if (p == -2)
+		p = psd_points_find("level");
+	return p;
+}
 
-/* COV_Increment: a Lighting Output's 1 %, the Analog Inputs' 10 lx, 0.01 V, 1 lx */
+/* The BACnet type of point i. */
+static uint32_t type_of(size_t i)
+{
+	const struct psd_points_def *d = psd_points_def(i);
+	if ((int)i == lo_point())
+		return PSD_BAC_LO;
+	return d->kind == PSD_POINTS_BINARY ? PSD_BAC_BI : d->kind == PSD_POINTS_MULTISTATE ? PSD_BAC_MSI : PSD_BAC_AI;
+}
+
+/* Point i's place among the points of its type (0-based). */
+static uint32_t place_of(size_t i)
+{
+	uint32_t k = 0;
+	for (size_t j = 0; j < i; j++)
+		k += type_of(j) == type_of(i);
+	return k;
+}
+
+static size_t npoints(void)
+{
+	size_t n = psd_points_count();
+	return n < PSD_BACSERVE_POINTS ? n : PSD_BACSERVE_POINTS;
+}
+
+/* COV_Increment by unit: 1 %, 10 lx, 0.01 V, 0.1 h or kWh; 0 for a
+ * binary or multi-state point (every change) */
 float psd_bacobj_cov_increment(const struct psd_bacobj *o)
 {
-	static const float ai[PSD_BACSERVE_AI_PER_ZONE] = { 10.0f, 0.01f, 1.0f };
-	return o->type == PSD_BAC_LO ? 1.0f : ai[o->ai];
+	const struct psd_points_def *d = psd_points_def((size_t)o->point);
+	if (o->type == PSD_BAC_LO)
+		return 1.0f;
+	if (!d || !d->unit)
+		return 0.0f;
+	return !strcmp(d->unit, "lx") ? 10.0f : !strcmp(d->unit, "V") ? 0.01f : !strcmp(d->unit, "%") ? 1.0f : 0.1f;
+}
+
+/* Objects a zone has: its Lighting Output and one per other point. */
+static size_t zone_objects(const struct psd_bacserve_zone *z)
+{
+	size_t n = 1;
+	for (size_t i = 0; i < npoints(); i++)
+		n += z->has[i] && (int)i != lo_point();
+	return n;
 }
 
 size_t psd_bacobj_count(const struct psd_bacserve_model *m)
 {
-	return 1 + m->nzone * (1 + PSD_BACSERVE_AI_PER_ZONE);
+	size_t n = 1;
+	for (size_t z = 0; z < m->nzone; z++)
+		n += zone_objects(&m->zone[z]);
+	return n;
 }
 
-/* The i-th object of Object_List (0: the Device). */
+static void set(struct psd_bacobj *o, size_t zone, size_t point)
+{
+	memset(o, 0, sizeof *o);
+	o->zone = zone, o->point = (int)point, o->type = type_of(point);
+	switch (o->type) {
+	case PSD_BAC_LO:
+		o->instance = (uint32_t)zone + 1, o->props = lo_props, o->nprops = NPROPS(lo_props);
+		return;
+	case PSD_BAC_BI: o->props = bi_props, o->nprops = NPROPS(bi_props); break;
+	case PSD_BAC_MSI: o->props = msi_props, o->nprops = NPROPS(msi_props); break;
+	default: o->props = ai_props, o->nprops = NPROPS(ai_props); break;
+	}
+	o->instance = (uint32_t)(zone * PSD_BACSERVE_STRIDE + place_of(point) + 1);
+}
+
+/* The i-th object of Object_List (0: the Device; per zone its Lighting
+ * Output, then its points in the table's order). */
 void psd_bacobj_at(const struct psd_bacserve_model *m, size_t i, struct psd_bacobj *o)
 {
 	memset(o, 0, sizeof *o);
+	o->point = -1;
 	if (i == 0) {
 		o->type = PSD_BAC_DEVICE, o->instance = m->device, o->props = device_props;
 		o->nprops = NPROPS(device_props);
 		return;
 	}
-	o->zone = (i - 1) / (1 + PSD_BACSERVE_AI_PER_ZONE);
-	size_t k = (i - 1) % (1 + PSD_BACSERVE_AI_PER_ZONE);
-	if (k == 0) {
-		o->type = PSD_BAC_LO, o->instance = (uint32_t)o->zone + 1, o->props = lo_props;
-		o->nprops = NPROPS(lo_props);
-	} else {
-		o->ai = (int)k - 1;
-		o->type = PSD_BAC_AI, o->instance = (uint32_t)(o->zone * PSD_BACSERVE_AI_PER_ZONE + k);
-		o->props = ai_props, o->nprops = NPROPS(ai_props);
+	i--;
+	for (size_t z = 0; z < m->nzone; z++) {
+		size_t n = zone_objects(&m->zone[z]);
+		if (i >= n) {
+			i -= n;
+			continue;
+		}
+		if (i == 0) {
+			set(o, z, (size_t)lo_point());
+			return;
+		}
+		for (size_t p = 0; p < npoints(); p++)
+			if (m->zone[z].has[p] && (int)p != lo_point() && --i == 0) {
+				set(o, z, p);
+				return;
+			}
 	}
 }
 
@@ -89,20 +171,27 @@ void psd_bacobj_at(const struct psd_bacserve_model *m, size_t i, struct psd_baco
 int psd_bacobj_find(const struct psd_bacserve_model *m, uint32_t type, uint32_t instance,
                     struct psd_bacobj *o)
 {
+	size_t z, k;
 	if (type == PSD_BAC_DEVICE && (instance == m->device || instance == MAX_INSTANCE)) {
 		psd_bacobj_at(m, 0, o);
 		return 0;
 	}
 	if (type == PSD_BAC_LO && instance >= 1 && instance <= m->nzone) {
-		psd_bacobj_at(m, 1 + (instance - 1) * (1 + PSD_BACSERVE_AI_PER_ZONE), o);
+		set(o, instance - 1, (size_t)lo_point());
 		return 0;
 	}
-	if (type == PSD_BAC_AI && instance >= 1 && instance <= m->nzone * PSD_BACSERVE_AI_PER_ZONE) {
-		size_t z = (instance - 1) / PSD_BACSERVE_AI_PER_ZONE,
-		       k = (instance - 1) % PSD_BACSERVE_AI_PER_ZONE;
-		psd_bacobj_at(m, 1 + z * (1 + PSD_BACSERVE_AI_PER_ZONE) + 1 + k, o);
-		return 0;
-	}
+	if ((type != PSD_BAC_AI && type != PSD_BAC_BI && type != PSD_BAC_MSI) || instance < 1)
+		return -1;
+	z = (instance - 1) / PSD_BACSERVE_STRIDE, k = (instance - 1) % PSD_BACSERVE_STRIDE;
+	if (z >= m->nzone)
+		return -1;
+	for (size_t p = 0; p < npoints(); p++)
+		if (type_of(p) == type && place_of(p) == k) {
+			if (!m->zone[z].has[p])
+				return -1;
+			set(o, z, p);
+			return 0;
+		}
 	return -1;
 }
 
@@ -131,32 +220,57 @@ void psd_bacobj_put_status_flags(struct psd_bacbuf *b, int fault)
 
 void psd_bacobj_name(const struct psd_bacserve_model *m, const struct psd_bacobj *o, char *s, size_t n)
 {
-	static const char *const ai_name[PSD_BACSERVE_AI_PER_ZONE] = { "task lux estimate", "sensor signal",
-		                                                       "target lux" };
 	if (o->type == PSD_BAC_DEVICE)
 		snprintf(s, n, "%s", m->name);
-	else if (o->type == PSD_BAC_LO)
-		snprintf(s, n, "%s light level", m->zone[o->zone].name);
 	else
-		snprintf(s, n, "%s %s", m->zone[o->zone].name, ai_name[o->ai]);
-}
-
-static float ai_value(const struct psd_bacserve_zone *z, int ai)
-{
-	return (float)(ai == 0 ? z->est_lux : ai == 1 ? z->signal : z->target);
+		snprintf(s, n, "%s %s", m->zone[o->zone].name, psd_points_def((size_t)o->point)->name);
 }
 
 float psd_bacobj_present_value(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
 {
 	const struct psd_bacserve_zone *z = &m->zone[o->zone];
-	return o->type == PSD_BAC_LO ? (float)z->level : ai_value(z, o->ai);
+	return o->type == PSD_BAC_LO ? (float)z->level : (float)z->pv[o->point];
+}
+
+void psd_bacobj_put_present_value(const struct psd_bacserve_model *m, const struct psd_bacobj *o,
+                                  struct psd_bacbuf *b)
+{
+	float v = psd_bacobj_present_value(m, o);
+	if (o->type == PSD_BAC_BI)
+		psd_bactag_put_enum(b, -1, v == 1.0f); /* BACnetBinaryPV: inactive 0, active 1 */
+	else if (o->type == PSD_BAC_MSI)
+		psd_bactag_put_unsigned(b, -1, v >= 1.0f ? (uint32_t)v : 1);
+	else
+		psd_bactag_put_real(b, -1, v);
+}
+
+double psd_bacobj_actual_level(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
+{
+	static int actual = -2;
+	const struct psd_bacserve_zone *z = &m->zone[o->zone];
+	if (actual == -2)
+		actual = psd_points_find("level_actual");
+	return actual >= 0 && actual < PSD_BACSERVE_POINTS && z->has[actual] && isfinite(z->pv[actual])
+	               ? z->pv[actual]
+	               : z->level;
+}
+
+/* In_Progress: a fade-to or ramp-to whose level the lamps have not reached
+ * (within 0.5 %) */
+static uint32_t in_progress(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
+{
+	const struct psd_bacserve_zone *z = &m->zone[o->zone];
+	if ((z->lc_op != LC_FADE_TO && z->lc_op != LC_RAMP_TO) || !(fabs(z->prio[z->lc_prio - 1] - z->lc_target) < 1e-9) ||
+	    fabs(psd_bacobj_actual_level(m, o) - z->lc_target) < 0.5)
+		return IP_IDLE;
+	return z->lc_op == LC_FADE_TO ? IP_FADE_ACTIVE : IP_RAMP_ACTIVE;
 }
 
 /* Status_Flags' fault: the zone at its safe level, or a reading missing */
 int psd_bacobj_fault(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
 {
 	const struct psd_bacserve_zone *z = &m->zone[o->zone];
-	return z->fault || (o->type == PSD_BAC_AI && o->ai < 2 && !isfinite(ai_value(z, o->ai)));
+	return z->fault || (o->type != PSD_BAC_LO && isnan(z->pv[o->point]));
 }
 
 /* Encode one array element (idx 1..) or, idx 0, the whole array; -1 when idx
@@ -166,6 +280,7 @@ static int put_array(const struct psd_bacserve_model *m, const struct psd_bacobj
 {
 	size_t count = prop == P_OBJECT_LIST      ? psd_bacobj_count(m)
 	               : prop == P_PRIORITY_ARRAY ? PSD_BACSERVE_PRIORITIES
+	               : prop == P_STATE_TEXT     ? psd_points_nstates((size_t)o->point)
 	                                          : 0;
 	size_t from = 0, to;
 	if (prop == P_PROPERTY_LIST)
@@ -192,6 +307,8 @@ static int put_array(const struct psd_bacserve_model *m, const struct psd_bacobj
 				psd_bactag_put_null(b, -1);
 			else
 				psd_bactag_put_real(b, -1, (float)v);
+		} else if (prop == P_STATE_TEXT) {
+			psd_bactag_put_string(b, -1, psd_points_def((size_t)o->point)->states[i]);
 		} else {
 			size_t k = 0;
 			for (size_t j = 0; j < o->nprops; j++) {
@@ -218,7 +335,7 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		*ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY;
 		return -1;
 	}
-	if (prop == P_OBJECT_LIST || prop == P_PRIORITY_ARRAY || prop == P_PROPERTY_LIST) {
+	if (prop == P_OBJECT_LIST || prop == P_PRIORITY_ARRAY || prop == P_PROPERTY_LIST || prop == P_STATE_TEXT) {
 		if (put_array(m, o, prop, has_idx, idx, b) == 0)
 			return 0;
 		*ec = EC_PROPERTY, *code = E_INVALID_ARRAY_INDEX;
@@ -239,10 +356,9 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		if (o->type == PSD_BAC_DEVICE)
 			snprintf(name, sizeof name, "psensd: daylight-linked lighting control, %zu zone(s)",
 			         m->nzone);
-		else if (o->type == PSD_BAC_LO)
-			snprintf(name, sizeof name, "zone %s: the light output in force, %%", z->name);
 		else
-			snprintf(name, sizeof name, "zone %s: %s", z->name, ai_what[o->ai]);
+			snprintf(name, sizeof name, "zone %s: %s", z->name,
+			         psd_points_def((size_t)o->point)->description);
 		psd_bactag_put_string(b, -1, name);
 		break;
 	case P_SYSTEM_STATUS:
@@ -264,8 +380,9 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		break;
 	}
 	case P_OBJECT_TYPES_SUPPORTED: {
-		/* analog-input 0, device 8, lighting-output 54; 55 bits at revision 14 */
-		static const unsigned t[] = { PSD_BAC_AI, PSD_BAC_DEVICE, PSD_BAC_LO };
+		/* analog-input 0, binary-input 3, device 8, multi-state-input 13,
+		 * lighting-output 54; 55 bits at revision 14 */
+		static const unsigned t[] = { PSD_BAC_AI, PSD_BAC_BI, PSD_BAC_DEVICE, PSD_BAC_MSI, PSD_BAC_LO };
 		put_bits(b, t, NPROPS(t), 55);
 		break;
 	}
@@ -278,14 +395,20 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 	case P_DEVICE_ADDRESS_BINDING: break; /* an empty list: psensd binds to no other device */
 	case P_DATABASE_REVISION: psd_bactag_put_unsigned(b, -1, m->database_revision); break;
 	case P_PRESENT_VALUE:
-	case P_TRACKING_VALUE: psd_bactag_put_real(b, -1, psd_bacobj_present_value(m, o)); break;
+	case P_TRACKING_VALUE: psd_bacobj_put_present_value(m, o, b); break;
+	case P_POLARITY: psd_bactag_put_enum(b, -1, 0); break; /* normal */
+	case P_NUMBER_OF_STATES:
+		psd_bactag_put_unsigned(b, -1, (uint32_t)psd_points_nstates((size_t)o->point));
+		break;
 	case P_RELINQUISH_DEFAULT: psd_bactag_put_real(b, -1, (float)z->level); break;
-	case P_LIGHTING_COMMAND:
-		psd_bactag_put_enum(b, 0, 0); /* BACnetLightingCommand, operation none */
+	case P_LIGHTING_COMMAND: /* the last one taken (none at first) */
+		psd_bactag_put_enum(b, 0, z->lc_op);
+		if (z->lc_op == LC_FADE_TO || z->lc_op == LC_RAMP_TO)
+			psd_bactag_put_real(b, 1, (float)z->lc_target);
+		if (z->lc_op != LC_NONE)
+			psd_bactag_put_unsigned(b, 5, z->lc_prio);
 		break;
-	case P_IN_PROGRESS:
-		psd_bactag_put_enum(b, -1, 0); /* idle */
-		break;
+	case P_IN_PROGRESS: psd_bactag_put_enum(b, -1, in_progress(m, o)); break;
 	case P_STATUS_FLAGS: psd_bacobj_put_status_flags(b, psd_bacobj_fault(m, o)); break;
 	case P_EVENT_STATE:
 		psd_bactag_put_enum(b, -1, 0); /* normal */
@@ -304,7 +427,7 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		psd_bactag_put_real(b, -1, 1.0f); /* % */
 		break;
 	case P_LIGHTING_COMMAND_DEFAULT_PRIORITY: psd_bactag_put_unsigned(b, -1, 16); break;
-	case P_UNITS: psd_bactag_put_enum(b, -1, ai_units[o->ai]); break;
+	case P_UNITS: psd_bactag_put_enum(b, -1, psd_points_def((size_t)o->point)->bacnet_units); break;
 	case P_COV_INCREMENT: psd_bactag_put_real(b, -1, psd_bacobj_cov_increment(o)); break;
 	default: *ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY; return -1;
 	}

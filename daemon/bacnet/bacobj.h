@@ -1,8 +1,12 @@
 /* SPDX-License-Identifier: ISC */
 /* The BACnet objects psensd serves (doc/bacnet-pics.md): the Device, per
- * zone a Lighting Output and three Analog Inputs, their properties (which
- * are required, which optional) and the encoding of each property's value
- * from the model (bacserve.h).  The numbers are ANSI/ASHRAE 135's: object
+ * zone a Lighting Output (the point model's "level") and one object per
+ * other point the zone has (daemon/points.h): an Analog Input for an
+ * analog point, a Binary Input for a binary one, a Multi-state Input for a
+ * multi-state one, instance 100 x zone index + the point's place among
+ * the points of its kind; their properties (which are required, which
+ * optional) and the encoding of each property's value from the model
+ * (bacserve.h).  The numbers are ANSI/ASHRAE 135's: object
  * types, property identifiers, error classes and codes (clauses 18, 21). */
 #ifndef PSD_BACOBJ_H
 #define PSD_BACOBJ_H
@@ -25,6 +29,7 @@ enum {
 	P_ALL = 8,
 	P_MAX_APDU = 62,
 	P_MODEL_NAME = 70,
+	P_NUMBER_OF_STATES = 74,
 	P_APDU_RETRIES = 73,
 	P_OBJECT_ID = 75,
 	P_OBJECT_LIST = 76,
@@ -32,6 +37,7 @@ enum {
 	P_OBJECT_TYPE = 79,
 	P_OPTIONAL = 80,
 	P_OUT_OF_SERVICE = 81,
+	P_POLARITY = 84,
 	P_PRESENT_VALUE = 85,
 	P_PRIORITY_ARRAY = 87,
 	P_OBJECT_TYPES_SUPPORTED = 96,
@@ -40,6 +46,7 @@ enum {
 	P_RELINQUISH_DEFAULT = 104,
 	P_REQUIRED = 105,
 	P_SEGMENTATION = 107,
+	P_STATE_TEXT = 110,
 	P_STATUS_FLAGS = 111,
 	P_SYSTEM_STATUS = 112,
 	P_UNITS = 117,
@@ -75,17 +82,29 @@ enum {
 	E_PARAMETER_OUT_OF_RANGE = 80,
 };
 enum { PROTOCOL_REVISION = 14, MAX_INSTANCE = 4194303 };
+/* BACnetLightingOperation (12.54.8) and BACnetLightingInProgress */
+enum {
+	LC_NONE = 0,
+	LC_FADE_TO = 1,
+	LC_RAMP_TO = 2,
+	LC_STEP_UP = 3,
+	LC_STEP_DOWN = 4,
+	LC_STEP_ON = 5,
+	LC_STEP_OFF = 6,
+	LC_STOP = 10
+};
+enum { IP_IDLE = 0, IP_FADE_ACTIVE = 1, IP_RAMP_ACTIVE = 2 };
 
 struct psd_bacobj_prop {
 	uint32_t id;
 	int required;
 };
 
-/* An object of the model: its type, instance, zone (for LO, AI) and which AI. */
+/* An object of the model: its type, instance, zone and point. */
 struct psd_bacobj {
 	uint32_t type, instance;
 	size_t zone;
-	int ai; /* 0 estimated task lux, 1 sensor signal, 2 target */
+	int point; /* the point model's index (psd_points_def); -1: the Device */
 	const struct psd_bacobj_prop *props;
 	size_t nprops;
 };
@@ -101,10 +120,18 @@ int psd_bacobj_find(const struct psd_bacserve_model *m, uint32_t type, uint32_t 
 int psd_bacobj_has(const struct psd_bacobj *o, uint32_t id);
 /* Its Object_Name into s. */
 void psd_bacobj_name(const struct psd_bacserve_model *m, const struct psd_bacobj *o, char *s, size_t n);
-/* A zone object's Present_Value, COV_Increment, and Status_Flags' fault. */
+/* A zone object's Present_Value (a Binary Input's 0 or 1, a Multi-state
+ * Input's state 1..n), COV_Increment (0: any change), and Status_Flags'
+ * fault. */
 float psd_bacobj_present_value(const struct psd_bacserve_model *m, const struct psd_bacobj *o);
+/* Its Present_Value encoded as the type has it (REAL, enumerated, unsigned). */
+void psd_bacobj_put_present_value(const struct psd_bacserve_model *m, const struct psd_bacobj *o,
+                                  struct psd_bacbuf *b);
 float psd_bacobj_cov_increment(const struct psd_bacobj *o);
 int psd_bacobj_fault(const struct psd_bacserve_model *m, const struct psd_bacobj *o);
+/* A Lighting Output's zone's light level as the lamps have it (the point
+ * model's actual level; the commanded one when the zone has none), %. */
+double psd_bacobj_actual_level(const struct psd_bacserve_model *m, const struct psd_bacobj *o);
 /* Status_Flags: in-alarm, fault, overridden, out-of-service (fault alone set or not). */
 void psd_bacobj_put_status_flags(struct psd_bacbuf *b, int fault);
 /* Encode the value of o's property (the whole array, or with has_idx

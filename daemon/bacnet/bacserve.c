@@ -103,42 +103,69 @@ static int opt_unsigned(const struct req *q, size_t *pos, uint32_t num, uint32_t
 	return psd_bactag_unsigned(&t, v) == 0 ? 1 : -1;
 }
 
+/* The head of a ReadProperty or WriteProperty: [0] object, [1] property,
+ * [2] optional array index; with the object it names. */
+struct target {
+	uint32_t type, inst, prop, idx;
+	int has_idx;
+	struct psd_bacobj o;
+};
+
+/* Decode the head at *pos into t: 0, or a reject reason. */
+static int decode_target(const struct req *q, size_t *pos, struct target *t)
+{
+	int rc;
+	if ((rc = need_objectid(q, pos, 0, &t->type, &t->inst)) || (rc = need_unsigned(q, pos, 1, &t->prop)))
+		return rc;
+	t->idx = 0;
+	if ((t->has_idx = opt_unsigned(q, pos, 2, &t->idx)) < 0)
+		return R_INVALID_TAG;
+	return 0;
+}
+
+/* The object t names, and its property: 0, or -1 with the Error
+ * (unknown-object, unknown-property) written. */
+static int resolve_target(const struct psd_bacserve_model *m, const struct req *q, struct target *t,
+                          struct psd_bacbuf *b)
+{
+	if (psd_bacobj_find(m, t->type, t->inst, &t->o) != 0) {
+		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
+		return -1;
+	}
+	if (!psd_bacobj_has(&t->o, t->prop)) { /* ALL, REQUIRED, OPTIONAL too: RPM only (15.5.1.1.2) */
+		put_error(b, q, EC_PROPERTY, E_UNKNOWN_PROPERTY);
+		return -1;
+	}
+	return 0;
+}
+
 static void read_property(const struct psd_bacserve_model *m, const struct req *q, struct psd_bacbuf *b)
 {
 	size_t pos = 0, mark;
-	uint32_t type, inst, prop, idx = 0, ec, code;
-	int rc, has_idx;
-	struct psd_bacobj o;
-	if ((rc = need_objectid(q, &pos, 0, &type, &inst)) || (rc = need_unsigned(q, &pos, 1, &prop))) {
+	uint32_t ec, code;
+	int rc;
+	struct target t;
+	if ((rc = decode_target(q, &pos, &t))) {
 		put_reject(b, q->invoke, (uint8_t)rc);
-		return;
-	}
-	if ((has_idx = opt_unsigned(q, &pos, 2, &idx)) < 0) {
-		put_reject(b, q->invoke, R_INVALID_TAG);
 		return;
 	}
 	if (pos != q->n) {
 		put_reject(b, q->invoke, R_TOO_MANY_ARGUMENTS);
 		return;
 	}
-	if (psd_bacobj_find(m, type, inst, &o) != 0) {
-		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
+	if (resolve_target(m, q, &t, b) != 0)
 		return;
-	}
 	{
 		uint8_t h[3] = { 0x30, q->invoke, q->service };
 		psd_bactag_put_raw(b, h, 3);
 	}
-	psd_bactag_put_objectid(b, 0, o.type, o.instance);
-	psd_bactag_put_enum(b, 1, prop);
-	if (has_idx)
-		psd_bactag_put_unsigned(b, 2, idx);
+	psd_bactag_put_objectid(b, 0, t.o.type, t.o.instance);
+	psd_bactag_put_enum(b, 1, t.prop);
+	if (t.has_idx)
+		psd_bactag_put_unsigned(b, 2, t.idx);
 	psd_bactag_open(b, 3);
 	mark = b->len;
-	if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL ||
-	    psd_bacobj_read(m, &o, prop, has_idx, idx, b, &ec, &code) != 0) {
-		if (prop == P_ALL || prop == P_REQUIRED || prop == P_OPTIONAL) /* RPM only (15.5.1.1.2) */
-			ec = EC_PROPERTY, code = E_UNKNOWN_PROPERTY;
+	if (psd_bacobj_read(m, &t.o, t.prop, t.has_idx, t.idx, b, &ec, &code) != 0) {
 		b->len = mark;
 		put_error(b, q, ec, code);
 		return;
@@ -231,42 +258,139 @@ static void read_property_multiple(const struct psd_bacserve_model *m, const str
 	}
 }
 
+/* An optional [num] REAL: 0 absent, 1 present, -1 malformed. */
+static int opt_real(const struct req *q, size_t *pos, uint32_t num, float *v)
+{
+	struct psd_bactag t;
+	int rc = ctx_tag(q, pos, num, &t);
+	if (rc != 0)
+		return rc < 0 ? -1 : 0;
+	return psd_bactag_real(&t, v) == 0 ? 1 : -1;
+}
+
+/* Set priority prio (1-16) of zone's array to level (NAN: relinquish) and
+ * apply it: 0, or -1 with the Error written and the array as it was. */
+static int set_priority(struct psd_bacserve_model *m, const struct req *q, size_t zone, uint32_t prio, double level,
+                        struct psd_bacbuf *b)
+{
+	struct psd_bacserve_zone *z = &m->zone[zone];
+	double was;
+	if (prio < 1 || prio > PSD_BACSERVE_PRIORITIES) {
+		put_error(b, q, EC_SERVICES, E_PARAMETER_OUT_OF_RANGE);
+		return -1;
+	}
+	if (prio == 6) { /* reserved for minimum on/off (19.2.1.1) */
+		put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
+		return -1;
+	}
+	was = z->prio[prio - 1];
+	z->prio[prio - 1] = level;
+	if (m->apply && m->apply(m->user, zone) != 0) {
+		z->prio[prio - 1] = was;
+		put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
+		return -1;
+	}
+	return 0;
+}
+
+/* A Lighting_Command (BACnetLightingCommand, 12.54.8) in q->p[from..to):
+ * [0] operation, [1] target level, [2] ramp rate, [3] step increment,
+ * [4] fade time, [5] priority.  The operations psensd does (PICS): fade-to
+ * and ramp-to (the target level; psensd's lamps fade at their own rate),
+ * step-up, step-down, step-on, step-off (by the step increment, 1 %
+ * unless given) and stop (the level the lamps have reached); each a level
+ * at the command's priority (default 16), as a Present_Value write. */
+static void lighting_command(struct psd_bacserve_model *m, const struct req *q, const struct psd_bacobj *o,
+                             size_t from, size_t to, struct psd_bacbuf *b)
+{
+	struct req v = { q->p + from, to - from, q->invoke, q->service };
+	struct psd_bacserve_zone *z = &m->zone[o->zone];
+	size_t pos = 0;
+	uint32_t op, prio = 16, fade = 0;
+	float target = NAN, ramp = 0, step = 1.0f;
+	double level = z->level, now_level;
+	if (need_unsigned(&v, &pos, 0, &op) != 0 || opt_real(&v, &pos, 1, &target) < 0 ||
+	    opt_real(&v, &pos, 2, &ramp) < 0 || opt_real(&v, &pos, 3, &step) < 0 ||
+	    opt_unsigned(&v, &pos, 4, &fade) < 0 || opt_unsigned(&v, &pos, 5, &prio) < 0 || pos != v.n) {
+		put_error(b, q, EC_PROPERTY, E_INVALID_DATA_TYPE);
+		return;
+	}
+	(void)ramp, (void)fade;
+	if (!(step > 0.0f && step <= 100.0f)) {
+		put_error(b, q, EC_PROPERTY, E_VALUE_OUT_OF_RANGE);
+		return;
+	}
+	switch (op) {
+	case LC_FADE_TO:
+	case LC_RAMP_TO:
+		if (!(target >= 0.0f && target <= 100.0f)) {
+			put_error(b, q, EC_PROPERTY, E_VALUE_OUT_OF_RANGE);
+			return;
+		}
+		now_level = target;
+		break;
+	case LC_STEP_UP: now_level = level > 0 ? fmin(100, level + step) : level; break;
+	case LC_STEP_DOWN: now_level = level > 0 ? fmax(1, level - step) : level; break;
+	case LC_STEP_ON: now_level = fmin(100, level + step); break;
+	case LC_STEP_OFF: now_level = level - step >= 1 ? level - step : 0; break;
+	case LC_STOP: now_level = psd_bacobj_actual_level(m, o); break;
+	default: /* none, the warnings, proprietary ones */
+		put_error(b, q, EC_PROPERTY, op > LC_STOP ? E_VALUE_OUT_OF_RANGE : E_NOT_SUPPORTED);
+		return;
+	}
+	if (set_priority(m, q, o->zone, prio, now_level, b) != 0)
+		return;
+	z->lc_op = op, z->lc_target = now_level, z->lc_prio = prio;
+	{
+		uint8_t h[3] = { 0x20, q->invoke, q->service };
+		psd_bactag_put_raw(b, h, 3);
+	}
+}
+
 static void write_property(struct psd_bacserve_model *m, const struct req *q, struct psd_bacbuf *b)
 {
 	size_t pos = 0;
-	uint32_t type, inst, prop, idx = 0, prio = 16;
-	int rc, has_idx, is_null = 0;
+	uint32_t prio = 16;
+	int rc, is_null = 0;
 	float v = 0;
-	struct psd_bactag t, val;
-	struct psd_bacobj o;
-	if ((rc = need_objectid(q, &pos, 0, &type, &inst)) || (rc = need_unsigned(q, &pos, 1, &prop))) {
+	struct psd_bactag t, val = { 0 };
+	struct target w;
+	size_t vstart, vend = 0;
+	if ((rc = decode_target(q, &pos, &w)) != 0 && rc != R_INVALID_TAG) {
 		put_reject(b, q->invoke, (uint8_t)rc);
 		return;
 	}
-	if ((has_idx = opt_unsigned(q, &pos, 2, &idx)) < 0 || psd_bactag_read(q->p, q->n, &pos, &t) != 0 ||
-	    !t.context || !t.opening || t.number != 3) {
+	/* a malformed tag, or no [3] value: missing when the request ended */
+	if (rc || psd_bactag_read(q->p, q->n, &pos, &t) != 0 || !t.context || !t.opening || t.number != 3) {
 		put_reject(b, q->invoke, pos >= q->n ? R_MISSING_PARAMETER : R_INVALID_TAG);
 		return;
 	}
-	/* the value: one application-tagged datum, then [3] closing */
-	if (psd_bactag_read(q->p, q->n, &pos, &val) != 0 || psd_bactag_read(q->p, q->n, &pos, &t) != 0) {
-		put_reject(b, q->invoke, R_INVALID_TAG);
-		return;
-	}
-	if (!(t.context && t.closing && t.number == 3)) {
-		/* a constructed value: no property here takes one */
-		int depth = 1;
-		while (depth > 0 && !(t.context && t.closing && t.number == 3 && depth == 1)) {
-			if (t.opening)
-				depth++;
-			else if (t.closing)
-				depth--;
+	vstart = pos;
+	/* the value, vstart up to its [3] closing at vend */
+	{
+		int depth = 0;
+		for (;;) {
+			size_t at = pos;
 			if (psd_bactag_read(q->p, q->n, &pos, &t) != 0) {
 				put_reject(b, q->invoke, R_INVALID_TAG);
 				return;
 			}
+			if (t.context && t.opening) {
+				depth++;
+			} else if (t.context && t.closing && depth-- == 0) {
+				if (t.number != 3) {
+					put_reject(b, q->invoke, R_INVALID_TAG);
+					return;
+				}
+				vend = at;
+				break;
+			}
 		}
-		val.context = 1; /* judged below as the wrong type */
+	}
+	{ /* one application-tagged datum, or (judged below as the wrong type) not */
+		size_t p2 = vstart;
+		if (psd_bactag_read(q->p, vend, &p2, &val) != 0 || p2 != vend)
+			val.context = 1;
 	}
 	if ((rc = opt_unsigned(q, &pos, 4, &prio)) < 0) {
 		put_reject(b, q->invoke, R_INVALID_TAG);
@@ -276,28 +400,22 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 		put_reject(b, q->invoke, R_TOO_MANY_ARGUMENTS);
 		return;
 	}
-	if (psd_bacobj_find(m, type, inst, &o) != 0) {
-		put_error(b, q, EC_OBJECT, E_UNKNOWN_OBJECT);
+	if (resolve_target(m, q, &w, b) != 0)
 		return;
-	}
-	if (!psd_bacobj_has(&o, prop)) {
-		put_error(b, q, EC_PROPERTY, E_UNKNOWN_PROPERTY);
-		return;
-	}
-	if (!(o.type == PSD_BAC_LO && prop == P_PRESENT_VALUE) || !m->writes) {
+	if (w.o.type != PSD_BAC_LO || (w.prop != P_PRESENT_VALUE && w.prop != P_LIGHTING_COMMAND) || !m->writes) {
 		put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
 		return;
 	}
-	if (has_idx) {
+	if (w.has_idx) {
 		put_error(b, q, EC_PROPERTY, E_NOT_AN_ARRAY);
+		return;
+	}
+	if (w.prop == P_LIGHTING_COMMAND) { /* its priority is its own [5], not the service's */
+		lighting_command(m, q, &w.o, vstart, vend, b);
 		return;
 	}
 	if (prio < 1 || prio > PSD_BACSERVE_PRIORITIES) {
 		put_error(b, q, EC_SERVICES, E_PARAMETER_OUT_OF_RANGE);
-		return;
-	}
-	if (prio == 6) { /* reserved for minimum on/off (19.2.1.1) */
-		put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
 		return;
 	}
 	if (!val.context && val.number == PSD_BACTAG_NULL && val.len == 0)
@@ -310,16 +428,8 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 		put_error(b, q, EC_PROPERTY, E_VALUE_OUT_OF_RANGE);
 		return;
 	}
-	{
-		struct psd_bacserve_zone *z = &m->zone[o.zone];
-		double was = z->prio[prio - 1];
-		z->prio[prio - 1] = is_null ? NAN : (double)v;
-		if (m->apply && m->apply(m->user, o.zone) != 0) {
-			z->prio[prio - 1] = was;
-			put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
-			return;
-		}
-	}
+	if (set_priority(m, q, w.o.zone, prio, is_null ? NAN : (double)v, b) != 0)
+		return;
 	{
 		uint8_t h[3] = { 0x20, q->invoke, q->service };
 		psd_bactag_put_raw(b, h, 3);
@@ -450,7 +560,7 @@ int psd_bacserve_cov(struct psd_bacserve_model *m, uint8_t *out, struct psd_bacs
 		psd_bactag_open(&b, 4);
 		psd_bactag_put_enum(&b, 0, P_PRESENT_VALUE);
 		psd_bactag_open(&b, 2);
-		psd_bactag_put_real(&b, -1, pv);
+		psd_bacobj_put_present_value(m, &o, &b);
 		psd_bactag_close(&b, 2);
 		psd_bactag_put_enum(&b, 0, P_STATUS_FLAGS);
 		psd_bactag_open(&b, 2);
@@ -529,6 +639,27 @@ static void who_has(const struct psd_bacserve_model *m, const uint8_t *p, size_t
 	psd_bactag_put_string(b, -1, name);
 }
 
+static void put_i_am(const struct psd_bacserve_model *m, struct psd_bacbuf *b)
+{
+	uint8_t h[2] = { 0x10, U_I_AM };
+	psd_bactag_put_raw(b, h, 2);
+	psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
+	psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
+	psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
+	psd_bactag_put_unsigned(b, -1, m->vendor_id);
+}
+
+size_t psd_bacserve_i_am(const struct psd_bacserve_model *m, uint8_t fn, uint8_t *out)
+{
+	struct psd_bacbuf b = { out + 6, PSD_BACSERVE_MAX_APDU, 0, 0 };
+	size_t len;
+	put_i_am(m, &b);
+	len = 6 + b.len;
+	out[0] = 0x81, out[1] = fn, out[2] = (uint8_t)(len >> 8), out[3] = (uint8_t)len;
+	out[4] = 1, out[5] = 0; /* NPDU version 1, no addresses, no reply expected */
+	return len;
+}
+
 /* The largest APDU the asker accepts (20.1.2.5); reserved codes: the least. */
 static size_t max_apdu(uint8_t code)
 {
@@ -547,14 +678,9 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 		return;
 	type = a[0] >> 4;
 	if (type == 1) { /* unconfirmed request */
-		if (a[1] == U_WHO_IS && who_is_me(m, a + 2, n - 2) == 1) {
-			uint8_t h[2] = { 0x10, U_I_AM };
-			psd_bactag_put_raw(b, h, 2);
-			psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
-			psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
-			psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
-			psd_bactag_put_unsigned(b, -1, m->vendor_id);
-		} else if (a[1] == U_WHO_HAS) {
+		if (a[1] == U_WHO_IS && who_is_me(m, a + 2, n - 2) == 1)
+			put_i_am(m, b);
+		else if (a[1] == U_WHO_HAS) {
 			who_has(m, a + 2, n - 2, b);
 		}
 		return;

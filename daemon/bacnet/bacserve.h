@@ -5,7 +5,9 @@
  * one from another network is answered through its router), APDU (clause
  * 20) and the services Who-Is/I-Am, Who-Has/I-Have, ReadProperty,
  * ReadPropertyMultiple, WriteProperty and SubscribeCOV over the objects of
- * bacobj.c (a Device, per zone a Lighting Output and three Analog Inputs).
+ * bacobj.c (a Device; per zone a Lighting Output and an Analog Input,
+ * Binary Input or Multi-state Input per point of the point model,
+ * daemon/points.h).
  * No segmentation: a segmented request, or an answer longer than the asker
  * takes (or than 1476 octets), gets an Abort segmentation-not-supported.
  *
@@ -24,21 +26,26 @@ enum {
 	PSD_BACSERVE_MAX_APDU = 1476,   /* the largest APDU over BACnet/IP (B/IP, Annex J) */
 	PSD_BACSERVE_MAX_PACKET = 1497, /* BVLL 4 + NPDU (at most 17 here) + APDU */
 	PSD_BACSERVE_PRIORITIES = 16,
-	PSD_BACSERVE_AI_PER_ZONE = 3, /* estimated task lux, sensor signal, target */
+	PSD_BACSERVE_POINTS = 32,     /* the point model's points at most (points.h) */
+	PSD_BACSERVE_STRIDE = 100,    /* a zone's objects of one type: instances 100 x zone + 1 ... */
 	PSD_BACSERVE_SUBS = 64,       /* COV subscriptions at most */
 };
 
 /* object types (clause 21, BACnetObjectType) */
-enum { PSD_BAC_AI = 0, PSD_BAC_DEVICE = 8, PSD_BAC_LO = 54 };
+enum { PSD_BAC_AI = 0, PSD_BAC_BI = 3, PSD_BAC_DEVICE = 8, PSD_BAC_MSI = 13, PSD_BAC_LO = 54 };
 
 struct psd_bacserve_zone {
 	char name[48];
 	double level;   /* the output in force, 0-100 % (Present_Value, Tracking_Value) */
-	double est_lux; /* estimated task illuminance, lx (NAN: none) */
-	double signal;  /* the sensor's signal, V (NAN: none) */
-	double target;  /* the target task illuminance, lx */
 	int fault;      /* the zone is at its safe level */
+	/* point i of the point model (psd_points_def(i)): has[i] the zone has
+	 * it, pv[i] its value in its unit (NAN: no reading) */
+	unsigned char has[PSD_BACSERVE_POINTS];
+	double pv[PSD_BACSERVE_POINTS];
 	double prio[PSD_BACSERVE_PRIORITIES]; /* the BACnet priority array, % (NAN: relinquished) */
+	/* the last Lighting_Command taken: its operation, the level it set, its priority */
+	uint32_t lc_op, lc_prio;
+	double lc_target;
 };
 
 /* A COV subscription (SubscribeCOV): who, what, until when, what was sent. */
@@ -89,6 +96,10 @@ struct psd_bacserve_reply {
  * address (then only Who-Is is answered). */
 void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t n, const uint8_t src[6],
                          int broadcast, uint8_t *out, struct psd_bacserve_reply *r);
+/* An I-Am of this device, whole with its BVLL function fn (0x0b
+ * Original-Broadcast-NPDU, 0x09 Distribute-Broadcast-To-Network): its
+ * length in out (at least PSD_BACSERVE_MAX_PACKET octets). */
+size_t psd_bacserve_i_am(const struct psd_bacserve_model *m, uint8_t fn, uint8_t *out);
 /* The next COV notification due (a new subscription's first, or a value
  * moved by its increment or a fault flag changed), into out and r (to an
  * address): 1, or 0 when none is due.  Drops subscriptions whose lifetime

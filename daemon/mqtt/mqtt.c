@@ -18,6 +18,7 @@
 #include "mqttcmd.h"
 #include "mqttconf.h"
 #include "mqttmsg.h"
+#include "points.h"
 #include "time.h"
 
 enum { BATCH = 64, MSG = 4096, TOPIC = 256, MAX_SEEN = 2 * PSD_MAX_ZONES };
@@ -42,6 +43,7 @@ struct seen {
 struct psd_mqtt {
 	struct mosquitto *mosq;
 	struct psd_engine *e;
+	const struct psd_points *pts; /* the point model's state: the state's "points" */
 	psd_mqtt_request_fn fn;
 	void *user;
 	char site[PSD_MQTT_NAME], prefix[64], status_topic[TOPIC];
@@ -179,7 +181,8 @@ static void row(void *user, long long id, double utc, const struct psd_sample *s
 	}
 	if ((z = psd_engine_zone(m->e, s->zone)) && !(s->t >= m->now - 2 * z->zc->period))
 		z = NULL;         /* live fields only for a sample just logged */
-	if (psd_mqttmsg_state_json(buf, sizeof buf, m->site, id, utc, s, z) < 0) {
+	if (psd_mqttmsg_state_json(buf, sizeof buf, m->site, id, utc, s, z,
+	                           z ? psd_points_json(m->pts, m->e, (size_t)(z - m->e->zone), m->now) : NULL) < 0) {
 		m->sent = id;
 		return;
 	}
@@ -292,35 +295,48 @@ static void add_name(void *user, const char *name)
 		snprintf(l->v[l->n++], PSD_MQTT_NAME, "%s", name);
 }
 
-static void discovery(struct psd_mqtt *m, const char *zone, int has_task, int remove)
+/* 1 when the zone (user: its index, or NULL for one that left) has point i. */
+struct zone_of {
+	const struct psd_engine *e;
+	size_t zi;
+};
+
+static int zone_has(void *user, size_t i)
+{
+	const struct zone_of *z = user;
+	return z ? psd_points_has(z->e, z->zi, i) : 1;
+}
+
+static void discovery(struct psd_mqtt *m, const char *zone, const struct zone_of *z, int remove)
 {
 	char topic[TOPIC], payload[MSG];
-	int mid;
-	for (int k = 0; psd_mqttmsg_discovery(k, m->prefix, m->site, zone, has_task,
+	int mid, pt;
+	for (int k = 0; psd_mqttmsg_discovery(k, m->prefix, m->site, zone, zone_has, (void *)z,
 	                                   m->commands >= PSD_MQTT_COMMANDS_OVERRIDE, topic, sizeof topic, payload,
-	                                   sizeof payload) == 0; k++)
+	                                   sizeof payload, &pt) == 0; k++)
 		publish(m, topic, remove ? "" : payload, 1, &mid);
 }
 
 /* Announce the configured zones; remove the announced ones that left. */
 static void announce(struct psd_mqtt *m)
 {
-	char names[64][PSD_MQTT_NAME], err[256];
-	struct names l = { names, 0, 64 };
+	char names[MAX_SEEN][PSD_MQTT_NAME], err[256]; /* every zone, and as many that left */
+	struct names l = { names, 0, MAX_SEEN };
 	if (!m->e->db)
 		return;
 	psd_db_mqtt_announced(m->e->db, m->site, add_name, &l);
 	for (size_t i = 0; i < l.n; i++) {
 		if (m->discovery && psd_engine_zone(m->e, names[i]))
 			continue;
-		discovery(m, names[i], 1, 1);
+		discovery(m, names[i], NULL, 1);
 		if (psd_db_mqtt_announce(m->e->db, m->site, names[i], 0, err, sizeof err) != 0)
 			psd_log_warnx("mqtt: %s", err);
 		psd_log_info("mqtt: zone %s removed from Home Assistant discovery", names[i]);
 	}
 	for (size_t i = 0; m->discovery && i < m->e->nzone; i++) {
 		const struct psd_zone *z = &m->e->zone[i];
-		discovery(m, z->zc->name, z->zc->task >= 0, 0);
+		struct zone_of zo = { m->e, i };
+		discovery(m, z->zc->name, &zo, 0);
 		if (psd_db_mqtt_announce(m->e->db, m->site, z->zc->name, 1, err, sizeof err) != 0)
 			psd_log_warnx("mqtt: %s", err);
 	}
@@ -486,8 +502,8 @@ static void try_connect(struct psd_mqtt *m)
 	lost(m, "connect");
 }
 
-struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, psd_mqtt_request_fn fn,
-                               void *user, char *err, size_t errlen)
+struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
+                               psd_mqtt_request_fn fn, void *user, char *err, size_t errlen)
 {
 	struct psd_mqtt *m;
 	char id[128];
@@ -503,6 +519,7 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	}
 	m->qcap = (size_t)c->inflight + 2;
 	m->e = e;
+	m->pts = pts;
 	m->fn = fn;
 	m->user = user;
 	snprintf(m->site, sizeof m->site, "%s", c->site);

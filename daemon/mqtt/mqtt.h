@@ -28,6 +28,7 @@
 
 struct psd_engine;
 struct psd_mqtt;
+struct psd_points;
 
 /* A control request: what psd_ctlcmd_request does. */
 typedef void (*psd_mqtt_request_fn)(void *user, char *line, char *reply, size_t len);
@@ -42,9 +43,10 @@ struct psd_mqtt_stats {
 };
 
 /* Start the client for the engine's log (the engine must have a database);
- * it connects in the background.  NULL with a message in err. */
-struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, psd_mqtt_request_fn fn,
-                               void *user, char *err, size_t errlen);
+ * it connects in the background.  pts: the point model's state (points.h)
+ * the state messages' "points" read.  NULL with a message in err. */
+struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
+                               psd_mqtt_request_fn fn, void *user, char *err, size_t errlen);
 /* The broker's descriptor for poll(): 1 written, 0 none now. */
 int psd_mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd);
 /* Do what is due: the socket's I/O (pfd from psd_mqtt_pollfd, or NULL),

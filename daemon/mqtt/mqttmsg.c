@@ -8,6 +8,7 @@
 
 #include "engine.h"
 #include "json.h"
+#include "points.h"
 #include "time.h"
 
 static int emit(json_object *o, char *buf, size_t n)
@@ -32,7 +33,7 @@ void psd_mqttmsg_iso8601(double t, char *buf, size_t n)
 }
 
 int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, double utc,
-                        const struct psd_sample *s, const struct psd_zone *z)
+                        const struct psd_sample *s, const struct psd_zone *z, json_object *points)
 {
 	json_object *o = json_object_new_object();
 	char iso[40];
@@ -68,6 +69,8 @@ int psd_mqttmsg_state_json(char *buf, size_t n, const char *site, long long id, 
 		}
 		psd_json_num(o, "target_lux", z->ctl.target_lux);
 	}
+	if (points)
+		json_object_object_add(o, "points", points);
 	return emit(o, buf, n);
 }
 
@@ -80,57 +83,108 @@ static void node_id(char *out, size_t n, const char *a, const char *b)
 			*c = '_';
 }
 
+/* The entities whose key and template predate the point model: their
+ * unique ids stay; name and unit come from the point of the same key. */
 struct entity {
-	const char *component, *key, *name, *unit, *device_class, *template;
-	int task_only, number;
+	const char *component, *key, *template;
 };
 
-static const struct entity entities[] = {
-	{ "sensor", "est_task_lux", "estimated task illuminance", "lx", "illuminance",
-	  "{{ value_json.est_task_lux }}", 0, 0 },
-	{ "sensor", "task_lux", "measured task illuminance", "lx", "illuminance", "{{ value_json.task_lux }}", 1, 0 },
-	{ "sensor", "sensor_v", "photosensor", "V", "voltage", "{{ value_json.sensor_v }}", 0, 0 },
-	{ "sensor", "level", "light level", "%", NULL, "{{ (value_json.level * 100) | round(1) }}", 0, 0 },
-	{ "binary_sensor", "fault", "fault", NULL, "problem", "{{ 'ON' if value_json.fault else 'OFF' }}", 0, 0 },
-	{ "number", "override", "override level", NULL, NULL, "{{ value_json.level }}", 0, 1 },
+static const struct entity fixed[] = {
+	{ "sensor", "est_task_lux", "{{ value_json.est_task_lux }}" },
+	{ "sensor", "task_lux", "{{ value_json.task_lux }}" },
+	{ "sensor", "sensor_v", "{{ value_json.sensor_v }}" },
+	{ "sensor", "level", "{{ (value_json.level * 100) | round(1) }}" },
+	{ "binary_sensor", "fault", "{{ 'ON' if value_json.fault else 'OFF' }}" },
+	{ "number", "override", "{{ value_json.level }}" },
 };
+enum { NFIXED = sizeof fixed / sizeof fixed[0] };
 
-int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone, int has_task, int commands,
-                       char *topic, size_t topiclen, char *payload, size_t paylen)
+static int is_fixed(const char *key)
 {
-	const struct entity *en;
+	for (size_t i = 0; i < NFIXED; i++)
+		if (strcmp(fixed[i].key, key) == 0)
+			return 1;
+	return 0;
+}
+
+/* The point of the k-th entity past the fixed ones, -1 past the last. */
+static int point_of(int k)
+{
+	for (size_t i = 0; i < psd_points_count(); i++)
+		if (!is_fixed(psd_points_def(i)->key) && k-- == 0)
+			return (int)i;
+	return -1;
+}
+
+int psd_mqttmsg_discovery(int k, const char *prefix, const char *site, const char *zone,
+                       int (*has)(void *user, size_t i), void *user, int commands, char *topic, size_t topiclen,
+                       char *payload, size_t paylen, int *point)
+{
+	const struct psd_points_def *d = NULL;
+	const char *component, *key;
 	json_object *o, *dev, *ids;
 	char node[128], uid[192], base[160], text[256];
-	if (k < 0 || (size_t)k >= sizeof entities / sizeof entities[0])
+	int pt = -1, number = 0;
+	if (k < 0)
 		return -1;
-	en = &entities[k];
+	if (k < NFIXED) {
+		component = fixed[k].component, key = fixed[k].key;
+		number = strcmp(key, "override") == 0;
+		pt = psd_points_find(key);
+	} else if ((pt = point_of(k - NFIXED)) >= 0) {
+		d = psd_points_def((size_t)pt);
+		key = d->key;
+		component = d->kind == PSD_POINTS_BINARY ? "binary_sensor" : "sensor";
+	} else {
+		return -1;
+	}
+	if (pt >= 0)
+		d = psd_points_def((size_t)pt);
+	*point = pt;
 	node_id(node, sizeof node, site, zone);
-	snprintf(topic, topiclen, "%s/%s/%s/%s/config", prefix, en->component, node, en->key);
-	if ((en->task_only && !has_task) || (en->number && !commands)) {
+	snprintf(topic, topiclen, "%s/%s/%s/%s/config", prefix, component, node, key);
+	if ((pt >= 0 && !has(user, (size_t)pt)) || (number && !commands)) {
 		payload[0] = 0;     /* not this zone's: an empty config removes it */
 		return 0;
 	}
 	snprintf(base, sizeof base, "psensd/%s/%s", site, zone);
-	snprintf(uid, sizeof uid, "%s_%s", node, en->key);
+	snprintf(uid, sizeof uid, "%s_%s", node, key);
 	o = json_object_new_object();
-	snprintf(text, sizeof text, "%s %s", zone, en->name);
+	snprintf(text, sizeof text, "%s %s", zone, d ? d->name : "override level");
 	psd_json_str(o, "name", text);
 	psd_json_str(o, "unique_id", uid);
 	psd_json_str(o, "object_id", uid);
 	snprintf(text, sizeof text, "%s/state", base);
 	psd_json_str(o, "state_topic", text);
-	psd_json_str(o, "value_template", en->template);
+	if (k < NFIXED)
+		psd_json_str(o, "value_template", fixed[k].template);
+	else if (d->kind == PSD_POINTS_BINARY)
+		snprintf(text, sizeof text,
+		         "{%% if value_json.points is defined %%}{{ 'ON' if value_json.points.%s else 'OFF' }}{%% endif %%}",
+		         key);
+	else
+		snprintf(text, sizeof text, "{%% if value_json.points is defined %%}{{ value_json.points.%s }}{%% endif %%}",
+		         key);
+	if (k >= NFIXED)
+		psd_json_str(o, "value_template", text);
 	snprintf(text, sizeof text, "psensd/%s/status", site);
 	psd_json_str(o, "availability_topic", text);
 	psd_json_str(o, "payload_available", "online");
 	psd_json_str(o, "payload_not_available", "offline");
-	if (en->unit)
-		psd_json_str(o, "unit_of_measurement", en->unit);
-	if (en->device_class)
-		psd_json_str(o, "device_class", en->device_class);
-	if (strcmp(en->component, "sensor") == 0)
-		psd_json_str(o, "state_class", "measurement");
-	if (en->number) {
+	if (d && d->unit && !number)
+		psd_json_str(o, "unit_of_measurement", d->unit);
+	if (d && d->ha_class && !number)
+		psd_json_str(o, "device_class", d->ha_class);
+	if (d && d->kind == PSD_POINTS_MULTISTATE) {
+		json_object *opt = json_object_new_array();
+		for (size_t i = 0; d->states[i]; i++)
+			json_object_array_add(opt, json_object_new_string(d->states[i]));
+		json_object_object_add(o, "options", opt);
+	} else if (strcmp(component, "sensor") == 0) {
+		psd_json_str(o, "state_class",
+		             !strcmp(key, "output_h") || !strcmp(key, "energy_kwh") ? "total_increasing" : "measurement");
+	}
+	if (number) {
 		snprintf(text, sizeof text, "%s/set/override", base);
 		psd_json_str(o, "command_topic", text);
 		psd_json_num(o, "min", 0);

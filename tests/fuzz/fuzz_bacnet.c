@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "bacserve.h"
+#include "points.h"
 #include "bactag.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -72,9 +73,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	for (int i = 0; i < 3; i++) {
 		snprintf(zone[i].name, sizeof zone[i].name, "zone%d", i);
 		zone[i].level = 25.0 * i;
-		zone[i].est_lux = i == 1 ? NAN : 400;
-		zone[i].signal = 0.5;
-		zone[i].target = 500;
+		/* every point but zone 2's last ones, values on each side of an
+		 * increment, a missing one in zone 1 */
+		for (size_t k = 0; k < PSD_BACSERVE_POINTS; k++) {
+			zone[i].has[k] = k < psd_points_count() && !(i == 2 && k + 3 >= psd_points_count());
+			zone[i].pv[k] = i == 1 && k == 0 ? NAN : 1.0 + (double)k;
+		}
 		zone[i].fault = i == 1;
 		if (data[0] & 2)
 			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)

@@ -106,7 +106,13 @@ async function main() {
 	ok(count.values[0].value === objs.length, `Object_List[0] is its length (${count.values[0].value})`);
 	const los = objs.filter((o) => o.type === ObjectType.LIGHTING_OUTPUT);
 	const ais = objs.filter((o) => o.type === ObjectType.ANALOG_INPUT);
-	ok(los.length >= 1 && ais.length === 3 * los.length, `${los.length} Lighting Output(s), ${ais.length} Analog Inputs`);
+	const bis = objs.filter((o) => o.type === ObjectType.BINARY_INPUT);
+	const msis = objs.filter((o) => o.type === ObjectType.MULTI_STATE_INPUT);
+	// the point model: per zone at least the estimate, signal, target, actual level, hours (AI),
+	// the fault (BI), the control state (MSI)
+	ok(los.length >= 1 && ais.length >= 5 * los.length && bis.length >= los.length && msis.length >= los.length &&
+		objs.length === 1 + los.length + ais.length + bis.length + msis.length,
+		`${los.length} Lighting Output(s), ${ais.length} Analog, ${bis.length} Binary, ${msis.length} Multi-state Inputs`);
 
 	// every object's properties, one ReadPropertyMultiple (ALL) each
 	let props = 0, errs = 0;

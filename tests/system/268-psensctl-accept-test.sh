@@ -89,6 +89,10 @@ sed 's|^period = 300|period = 300\nsocket = state/a.sock|' "$TMP/a.conf" > "$TMP
 ABSBIN=$(cd "$BIN" && pwd)
 (cd "$TMP" && exec "$ABSBIN/psensd" -f live.conf -t 10:00 -x 600 2> "$TMP/live.err") & LIVE=$!
 wait_for 20 "$BIN/psensctl" -s "$TMP/state/a.sock" ping
+# the point model's acceptance: the last run on record when psensd started
+acc() { "$BIN/psensctl" -s "$TMP/state/a.sock" -j status "$1" | /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin)["zones"][0]["points"].get("acceptance"))'; }
+ag=$(acc good); ab=$(acc bad)
+check "status' acceptance point: the verdicts on record (good $ag, bad $ab)" test "$ag" = accepted -a "$ab" = "not accepted"
 (cd / && "$ABSBIN/psensctl" -s "$TMP/state/a.sock" log good -n 2) > "$TMP/log.out" 2>&1; rc=$?
 diag "$(cat "$TMP/log.out")"
 check "psensctl in another directory reads the log psensd names (exit $rc)" \

@@ -19,6 +19,7 @@
 #include "db.h"
 #include "mqttcmd.h"
 #include "mqttmsg.h"
+#include "points.h"
 
 static struct psd_config cf;
 static const char base[] = "[psensd]\nresults = r\ndatabase = d.db\n[device io]\ndriver = loopback\n"
@@ -141,7 +142,7 @@ static void state_json(void **state)
 	struct psd_sample s = { 30000, 30000, 2.5, 0.25, 410, NAN, 1.2, 300, "daylight_mean", 250, NULL, "a", NAN, NULL, -1, NAN };
 	json_object *o, *v;
 	(void)state;
-	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 77, 1700000000.25, &s, NULL) > 0);
+	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 77, 1700000000.25, &s, NULL, NULL) > 0);
 	assert_non_null(o = json_tokener_parse(buf));
 	assert_true(json_object_object_get_ex(o, "id", &v));
 	assert_int_equal(json_object_get_int64(v), 77);
@@ -157,19 +158,34 @@ static void state_json(void **state)
 	assert_null(v);
 	json_object_put(o);
 	s.fault = "sensor: stale";
-	assert_int_equal(psd_mqttmsg_state_json(buf, 20, "b1", 77, 0, &s, NULL), -1);   /* does not fit */
-	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 78, 0, &s, NULL) > 0);
+	assert_int_equal(psd_mqttmsg_state_json(buf, 20, "b1", 77, 0, &s, NULL, NULL), -1);   /* does not fit */
+	assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 78, 0, &s, NULL, NULL) > 0);
 	assert_non_null(strstr(buf, "\"fault\":\"sensor: stale\""));
+	assert_null(strstr(buf, "\"points\""));   /* none given: none published */
+	{   /* the point model's object, as given, under "points" */
+		json_object *pts = json_object_new_object();
+		json_object_object_add(pts, "level", json_object_new_double(42.5));
+		json_object_object_add(pts, "state", json_object_new_string("override"));
+		assert_true(psd_mqttmsg_state_json(buf, sizeof buf, "b1", 79, 0, &s, NULL, pts) > 0);
+		assert_non_null(strstr(buf, "\"points\":{\"level\":42.5,\"state\":\"override\"}"));
+	}
+}
+
+/* The zone of the discovery test has every point but the task meter's lux. */
+static int has_but_task_lux(void *user, size_t i)
+{
+	(void)user;
+	return i != (size_t)psd_points_find("task_lux");
 }
 
 static void discovery(void **state)
 {
 	char topic[256], payload[2048];
 	json_object *o;
-	int k, n = 0, empty = 0;
+	int k, n = 0, empty = 0, pt;
 	(void)state;
-	for (k = 0; psd_mqttmsg_discovery(k, "homeassistant", "b.1", "a", 0, 1, topic, sizeof topic, payload,
-	                               sizeof payload) == 0; k++) {
+	for (k = 0; psd_mqttmsg_discovery(k, "homeassistant", "b.1", "a", has_but_task_lux, NULL, 1, topic,
+	                               sizeof topic, payload, sizeof payload, &pt) == 0; k++) {
 		assert_int_equal(strncmp(topic, "homeassistant/", 14), 0);
 		assert_non_null(strstr(topic, "/psensd_b_1_a/"));   /* '.' is not in an HA node id */
 		if (!payload[0]) {
@@ -184,14 +200,22 @@ static void discovery(void **state)
 		assert_non_null(strstr(payload, "\"availability_topic\":\"psensd/b.1/status\""));
 		assert_non_null(strstr(payload, "\"state_topic\":\"psensd/b.1/a/state\""));
 	}
-	assert_int_equal(k, 6);
-	assert_int_equal(n, 5);
+	/* one entity per point of the point model, and the override's number */
+	assert_int_equal(k, (int)psd_points_count() + 1);
+	assert_int_equal(n, k - 1);
 	assert_int_equal(empty, 1);
-	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", 1, 1, topic, sizeof topic, payload, sizeof payload), 0);
+	/* the entities that predate the point model keep their topics */
+	assert_int_equal(psd_mqttmsg_discovery(0, "ha", "s", "z", has_but_task_lux, NULL, 1, topic, sizeof topic, payload,
+	                                    sizeof payload, &pt), 0);
+	assert_string_equal(topic, "ha/sensor/psensd_s_z/est_task_lux/config");
+	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", has_but_task_lux, NULL, 1, topic, sizeof topic, payload,
+	                                    sizeof payload, &pt), 0);
 	assert_string_equal(topic, "ha/number/psensd_s_z/override/config");
+	assert_int_equal(pt, -1);
 	assert_non_null(strstr(payload, "\"command_topic\":\"psensd/s/z/set/override\""));
 	/* without commands over MQTT the override entity is removed (an empty config) */
-	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", 1, 0, topic, sizeof topic, payload, sizeof payload), 0);
+	assert_int_equal(psd_mqttmsg_discovery(5, "ha", "s", "z", has_but_task_lux, NULL, 0, topic, sizeof topic, payload,
+	                                    sizeof payload, &pt), 0);
 	assert_string_equal(topic, "ha/number/psensd_s_z/override/config");
 	assert_string_equal(payload, "");
 }
