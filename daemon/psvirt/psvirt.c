@@ -27,12 +27,15 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <modbus.h>
 
 #include "cli.h"
 #include "clock.h"
 #include "config.h"
+#include "dalibus.h"
+#include "daliserve.h"
 #include "refresh.h"
 #include "time.h"
 #include "log.h"
@@ -48,9 +51,13 @@ enum {
 	REG_FAULT_COUNT = 901,        /* requests to affect, 0: until cleared */
 	REG_LATE_MS = 902,
 	REG_EXCEPTION = 903,
+	REG_DALI_FAULT = 904,         /* the DALI bus's fault: 0 none, 1 silent, 2 collision, 3 short */
+	REG_DALI_TARGET = 905,        /* its target: gear short address, 100 + device, 255 every */
 };
 enum { FAULT_NONE, FAULT_LATE, FAULT_EXCEPTION, FAULT_GARBAGE, FAULT_DISCONNECT, FAULT_COUNT };
 static const char *const fault_names[] = { "none", "late", "exception", "garbage", "disconnect", NULL };
+static const char *const dali_fault_names[] = { "none", "silent", "collision", "short", NULL };
+#define MAX_OCC 8
 
 #define MAX_OPTS 64
 #define FRAME_TIMEOUT 1.0   /* s, from a frame's first byte (psvirt(1)) */
@@ -64,14 +71,22 @@ struct virt {
 	unsigned unit;
 	double start, speed, t0;
 	long requests, faulted;
+	/* the DALI bus (psvirt(1), DALI BUS) */
+	struct psd_dalibus bus;
+	struct psd_daliserve *dali;
+	double occ[MAX_OCC][2];   /* occupied from, to (seconds of the day) */
+	int nocc, dali_fault, dali_target, power_on;
+	double out[PSD_VIRT_MAX_ZONES];
 };
 
-static volatile sig_atomic_t stop;
+static volatile sig_atomic_t stop, dali_armed = -1;
 
 static void on_signal(int sig)
 {
-	(void)sig;
-	stop = 1;
+	if (sig == SIGUSR1 || sig == SIGUSR2)
+		dali_armed = sig == SIGUSR1;
+	else
+		stop = 1;
 }
 
 static double room_now(const struct virt *v)
@@ -189,8 +204,12 @@ static void usage(FILE *fp)
 	        "              [--stop-bits 1|2]) [--unit N] [--ready-file FILE]\n"
 	        "              [--idle-timeout S] [--max-clients N] [-v]\n"
 	        "              [--fault late|exception|garbage|disconnect] [--fault-count N] [--late-ms N]\n"
+	        "              [--dali-tcp ADDR:PORT] [--dali-pty FILE] [--dali-protocol foxtron|atx]\n"
+	        "              [--dali-gear N] [--dali-unaddressed] [--dali-occupancy HH:MM-HH:MM,...]\n"
+	        "              [--dali-fault silent|collision|short] [--dali-target N|dN|all]\n"
 	        "The virtual room of each zone as one Modbus 0-10 V I/O module with a lux meter\n"
-	        "per zone; see psvirt(1).\n"
+	        "per zone, and/or as a DALI bus (gear and a DALI-2 multisensor per zone) behind\n"
+	        "a Foxtron or AtxLED interface; see psvirt(1).\n"
 	        "  -D [ZONE:]KEY=VALUE  a room option (-o, its old spelling, goes in the next release)\n"
 	        "  -h, --help  this help;  -V, --version  the version\n");
 }
@@ -198,9 +217,10 @@ static void usage(FILE *fp)
 struct args {
 	const char *conf, *results, *date, *sunrise, *sunset, *start, *tcp, *rtu, *ready, *parity;
 	const char *self;         /* argv[0]: psscene is looked for beside it */
+	const char *dali_tcp, *dali_pty, *dali_occ;
 	double speed, idle_timeout;
-	long unit, baud, stop_bits, fault_count, late_ms, zones, max_clients;
-	int fault, verbose;
+	long unit, baud, stop_bits, fault_count, late_ms, zones, max_clients, dali_gear;
+	int fault, verbose, dali_protocol, dali_unaddressed, dali_fault, dali_target;
 	struct ps_opt opts[MAX_OPTS];   /* -o: key may be ZONE:KEY */
 	size_t nopts;
 };
@@ -241,7 +261,11 @@ static int parse_args(struct args *a, int argc, char **argv)
 		{ "parity", 1, NULL, 'p' }, { "stop-bits", 1, NULL, 'B' }, { "unit", 1, NULL, 'U' },
 		{ "ready-file", 1, NULL, 'y' }, { "fault", 1, NULL, 'F' }, { "fault-count", 1, NULL, 'C' },
 		{ "late-ms", 1, NULL, 'L' }, { "zones", 1, NULL, 'z' }, { "idle-timeout", 1, NULL, 'I' },
-		{ "max-clients", 1, NULL, 'M' }, PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 }
+		{ "max-clients", 1, NULL, 'M' }, { "dali-tcp", 1, NULL, 1000 }, { "dali-pty", 1, NULL, 1001 },
+		{ "dali-protocol", 1, NULL, 1002 }, { "dali-gear", 1, NULL, 1003 },
+		{ "dali-unaddressed", 0, NULL, 1004 }, { "dali-occupancy", 1, NULL, 1005 },
+		{ "dali-fault", 1, NULL, 1006 }, { "dali-target", 1, NULL, 1007 }, PS_CLI_LONGOPTS,
+		{ NULL, 0, NULL, 0 }
 	};
 	int c;
 	memset(a, 0, sizeof *a);
@@ -253,6 +277,9 @@ static int parse_args(struct args *a, int argc, char **argv)
 	a->parity = "none";
 	a->idle_timeout = 300;
 	a->max_clients = 32;
+	a->dali_gear = 2;
+	a->dali_target = PSD_DALIBUS_EVERY;
+	a->dali_occ = "08:00-12:00,13:00-18:00";
 	while ((c = getopt_long(argc, argv, "f:D:o:hVv", lo, NULL)) != -1) {
 		char *end = NULL;
 		switch (c) {
@@ -276,6 +303,40 @@ static int parse_args(struct args *a, int argc, char **argv)
 		case 'I': a->idle_timeout = strtod(optarg, &end); break;
 		case 'M': a->max_clients = strtol(optarg, &end, 10); break;
 		case 'v': a->verbose = 1; break;
+		case 1000: a->dali_tcp = optarg; break;
+		case 1001: a->dali_pty = optarg; break;
+		case 1002:
+			if (strcmp(optarg, "foxtron") && strcmp(optarg, "atx")) {
+				fprintf(stderr, "psvirt: --dali-protocol: '%s' is not foxtron or atx\n", optarg);
+				return -1;
+			}
+			a->dali_protocol = strcmp(optarg, "atx") == 0 ? PSD_DALISERVE_ATX : PSD_DALISERVE_FOXTRON;
+			break;
+		case 1003: a->dali_gear = strtol(optarg, &end, 10); break;
+		case 1004: a->dali_unaddressed = 1; break;
+		case 1005: a->dali_occ = optarg; break;
+		case 1006:
+			for (a->dali_fault = 1; dali_fault_names[a->dali_fault] && strcmp(dali_fault_names[a->dali_fault], optarg);
+			     a->dali_fault++)
+				;
+			if (!dali_fault_names[a->dali_fault]) {
+				fprintf(stderr, "psvirt: --dali-fault: '%s' is not silent, collision or short\n", optarg);
+				return -1;
+			}
+			break;
+		case 1007:
+			if (strcmp(optarg, "all") == 0) {
+				a->dali_target = PSD_DALIBUS_EVERY;
+				break;
+			}
+			a->dali_target = (int)strtol(optarg + (optarg[0] == 'd'), &end, 10);
+			if (*end || end == optarg + (optarg[0] == 'd') || a->dali_target < 0 || a->dali_target > 63) {
+				fprintf(stderr, "psvirt: --dali-target: '%s' is not a gear 0-63, a device d0-d63 or all\n", optarg);
+				return -2;
+			}
+			a->dali_target += optarg[0] == 'd' ? PSD_DALIBUS_DEVICE : 0;
+			end = NULL;
+			break;
 		case 'F':
 			for (a->fault = 1; fault_names[a->fault] && strcmp(fault_names[a->fault], optarg); a->fault++)
 				;
@@ -306,10 +367,14 @@ static int parse_args(struct args *a, int argc, char **argv)
 			return -1;
 		}
 	}
-	if (optind != argc || !a->tcp == !a->rtu) {
-		fprintf(stderr, "psvirt: give one of --tcp ADDR:PORT or --rtu DEVICE\n");
+	if (optind != argc || (a->tcp && a->rtu) || (!a->tcp && !a->rtu && !a->dali_tcp && !a->dali_pty)) {
+		fprintf(stderr, "psvirt: give one of --tcp ADDR:PORT or --rtu DEVICE, and/or --dali-tcp or --dali-pty\n");
 		return -1;
 	}
+	if (a->dali_gear < 1 || a->dali_gear > 6)
+		return bad_range("--dali-gear", "must be 1 to 6 (gear per zone)");
+	if (a->dali_tcp && tcp_port_ok(a->dali_tcp) != 0)
+		return -2;
 	if (!(a->speed >= 0))
 		return bad_range("--speed", "must be >= 0 (0 freezes the clock)");
 	if (a->unit < 1 || a->unit > 247)
@@ -605,9 +670,133 @@ static void summary(struct virt *v)
 		sum += end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0;
 	printf("psvirt: %ld requests (%ld faulted); room time %s to %s; light output %.1f %% of full on average\n",
 	       v->requests, v->faulted, from, to, sum / v->nzone);
+	if (v->dali)
+		printf("psvirt: %ld DALI frames\n", v->bus.frames);
 	for (int z = 0; v->nzone > 1 && z < v->nzone; z++)
 		printf("psvirt: zone %d %s: light output %.1f %% of full on average\n", z, v->zone[z],
 		       end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0);
+}
+
+/* --dali-occupancy: "always", "never" or HH:MM-HH:MM[,HH:MM-HH:MM]... of
+ * the room's day.  -1 after saying why. */
+static int parse_occupancy(struct virt *v, const char *spec)
+{
+	char buf[256], *save = NULL, *tok;
+	v->nocc = 0;
+	if (strcmp(spec, "never") == 0)
+		return 0;
+	if (strcmp(spec, "always") == 0) {
+		v->occ[0][0] = 0;
+		v->occ[0][1] = 86400;
+		v->nocc = 1;
+		return 0;
+	}
+	snprintf(buf, sizeof buf, "%s", spec);
+	for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+		char *dash = strchr(tok, '-');
+		if (!dash || v->nocc >= MAX_OCC)
+			goto bad;
+		*dash = 0;
+		if (psd_time_hhmm(tok, &v->occ[v->nocc][0]) != 0 || psd_time_hhmm(dash + 1, &v->occ[v->nocc][1]) != 0 ||
+		    v->occ[v->nocc][1] <= v->occ[v->nocc][0])
+			goto bad;
+		v->nocc++;
+	}
+	if (v->nocc)
+		return 0;
+bad:
+	psd_log_errx("--dali-occupancy: '%s' is not always, never or up to %d HH:MM-HH:MM spans", spec, MAX_OCC);
+	return -1;
+}
+
+static int occupied(const struct virt *v, double tod)
+{
+	for (int i = 0; i < v->nocc; i++)
+		if (tod >= v->occ[i][0] && tod < v->occ[i][1])
+			return 1;
+	return 0;
+}
+
+/* The DALI bus's interfaces: TCP (Foxtron) and the pty.  -1 after saying
+ * why. */
+static int dali_open(struct virt *v, const struct args *a, char *where, size_t wlen)
+{
+	char err[512], path[256];
+	size_t k = strlen(where);
+	psd_dalibus_init(&v->bus, (int)a->dali_gear * v->nzone, v->nzone, !a->dali_unaddressed,
+	                 (uint32_t)getpid());
+	if (!(v->dali = psd_daliserve_new(&v->bus, getenv("PSVIRT_DEBUG") != NULL))) {
+		psd_log_errx("out of memory");
+		return -1;
+	}
+	v->power_on = 1;
+	v->dali_fault = a->dali_fault;
+	v->dali_target = a->dali_target;
+	if (a->dali_tcp) {
+		char host[256];
+		const char *colon = strrchr(a->dali_tcp, ':');
+		int port;
+		snprintf(host, sizeof host, "%.*s", (int)(colon - a->dali_tcp), a->dali_tcp);
+		if ((port = psd_daliserve_tcp(v->dali, host, colon + 1, err, sizeof err)) < 0) {
+			psd_log_errx("--dali-tcp: cannot listen: %s", err);
+			return -1;
+		}
+		printf("psvirt: DALI bus (Foxtron DALInet) on port %d\n", port);
+		k += (size_t)snprintf(where + k, wlen - k, "%sdali-tcp %d", k ? "\n" : "", port);
+	}
+	if (a->dali_pty) {
+		const char *proto = a->dali_protocol == PSD_DALISERVE_ATX ? "AtxLED HAT" : "Foxtron DALI232";
+		if (psd_daliserve_pty(v->dali, a->dali_protocol, path, sizeof path, err, sizeof err) != 0 ||
+		    write_ready(a->dali_pty, path) != 0) {
+			psd_log_errx("--dali-pty %s: %s", a->dali_pty, err);
+			return -1;
+		}
+		printf("psvirt: DALI bus (%s) on %s\n", proto, path);
+		k += (size_t)snprintf(where + k, wlen - k, "%sdali-pty %s", k ? "\n" : "", path);
+	}
+	fflush(stdout);
+	return 0;
+}
+
+/* One turn of the DALI bus: the fault from the signals and registers 904
+ * and 905, the sensors and occupancy from the rooms, the traffic, the
+ * gear's output into the rooms. */
+static int dali_turn(struct virt *v, double max_wait)
+{
+	double mono = psd_time_mono(), now = room_now(v);
+	int fault = v->map.hr[REG_DALI_FAULT], target = v->map.hr[REG_DALI_TARGET];
+	if (dali_armed >= 0) {   /* SIGUSR1 arms the --dali-fault, SIGUSR2 clears it */
+		fault = dali_armed ? (v->dali_fault ? v->dali_fault : PSD_DALIBUS_SILENT) : PSD_DALIBUS_OK;
+		v->map.hr[REG_DALI_FAULT] = (uint16_t)fault;
+		dali_armed = -1;
+	}
+	v->bus.fault = fault < PSD_DALIBUS_NFAULT ? fault : PSD_DALIBUS_OK;
+	v->bus.target = target;
+	if (v->power_on != (v->bus.fault != PSD_DALIBUS_SHORT)) {
+		v->power_on = !v->power_on;
+		psd_log_info("DALI bus power %s", v->power_on ? "back" : "lost (a short)");
+		psd_daliserve_power(v->dali, v->power_on);
+	}
+	for (int z = 0; z < v->nzone; z++) {
+		double volts;
+		int state;
+		if (psd_virtroom_sensor(v->room[z], now, &volts, &state) == 0) {
+			double x = volts / 10 * 1023;
+			psd_dalibus_sense(&v->bus, z, x <= 0 ? 0 : x >= 1023 ? 1023 : (unsigned)lround(x),
+			                  occupied(v, psd_virtroom_tod(now)));
+		}
+	}
+	if (psd_daliserve_step(v->dali, mono, max_wait) != 0)
+		return -1;
+	mono = psd_time_mono();
+	for (int z = 0; z < v->nzone; z++) {
+		double out = psd_dalibus_output(&v->bus, z, mono);
+		if (out != v->out[z]) {
+			v->out[z] = out;
+			psd_virtroom_command(v->room[z], room_now(v), out);
+		}
+	}
+	return 0;
 }
 
 /* The serial line, opened and configured by libmodbus; NULL on failure. */
@@ -636,10 +825,10 @@ int main(int argc, char **argv)
 	static struct virt v;
 	struct args a;
 	struct sigaction sa;
-	struct psd_mbserve *srv;
+	struct psd_mbserve *srv = NULL;
 	struct psd_mbserve_opts so;
 	modbus_t *line = NULL;
-	char err[512], where[300];
+	char err[512], where[600] = "", mbwhere[300];
 	int rc;
 	if ((rc = parse_args(&a, argc, argv)) != 0) {
 		if (rc == -1)
@@ -658,6 +847,10 @@ int main(int argc, char **argv)
 	v.unit = (unsigned)a.unit;
 	so = (struct psd_mbserve_opts){ a.idle_timeout, FRAME_TIMEOUT, (int)a.max_clients, a.baud,
 	                                getenv("PSVIRT_DEBUG") != NULL };
+	if (parse_occupancy(&v, a.dali_occ) != 0) {
+		free_rooms(&v);
+		return 2;
+	}
 	if (a.tcp) {
 		char host[256];
 		const char *colon = strrchr(a.tcp, ':');
@@ -669,13 +862,13 @@ int main(int argc, char **argv)
 		snprintf(host, sizeof host, "%.*s", (int)(colon - a.tcp), a.tcp);
 		srv = psd_mbserve_tcp(host, colon + 1, &so, on_request, &v, err, sizeof err);
 		snprintf(where, sizeof where, "%d", srv ? psd_mbserve_port(srv) : 0);
-	} else {
+	} else if (a.rtu) {
 		int fd = -1;
 		v.rtu = 1;
 		srv = (line = open_line(&a, &fd)) ? psd_mbserve_rtu(fd, &so, on_request, &v, err, sizeof err) : NULL;
 		snprintf(where, sizeof where, "%s", a.rtu);
 	}
-	if (!srv) {
+	if (!srv && (a.tcp || a.rtu)) {
 		if (a.tcp || line)
 			psd_log_errx("cannot %s: %s", a.tcp ? "listen" : "serve the line", err);
 		if (line) {
@@ -690,15 +883,28 @@ int main(int argc, char **argv)
 	v.map.hr[REG_FAULT_COUNT] = (uint16_t)a.fault_count;
 	v.map.hr[REG_LATE_MS] = (uint16_t)a.late_ms;
 	v.map.hr[REG_EXCEPTION] = PSD_MBX_DEVICE_FAILURE;
+	v.map.hr[REG_DALI_FAULT] = (uint16_t)a.dali_fault;
+	v.map.hr[REG_DALI_TARGET] = (uint16_t)a.dali_target;
+	for (int z = 0; z < v.nzone; z++)
+		v.out[z] = 1;   /* the rooms start at full output, as the gear do */
+	snprintf(mbwhere, sizeof mbwhere, "%s", where);
+	if ((a.dali_tcp || a.dali_pty) && dali_open(&v, &a, where, sizeof where) != 0) {
+		psd_daliserve_free(v.dali);
+		psd_mbserve_free(srv);
+		free_rooms(&v);
+		return 1;
+	}
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigaction(SIGTERM, &sa, NULL);
 	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGUSR1, &sa, NULL);
+	sigaction(SIGUSR2, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
 	v.t0 = psd_time_mono();
 	psd_virtmap_refresh(&v.map, v.start);
-	if (v.nzone > 1) {
-		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", where, v.unit);
+	if (v.nzone > 1 && srv) {
+		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", mbwhere, v.unit);
 		for (int z = 0; z < v.nzone; z++)
 			printf("%s %d %s (AI%d, AO%d at %d, lux at %d)", z ? "," : "", z, v.zone[z], z, z,
 			       PSD_VIRT_AO + z, PSD_VIRT_METER + 10 * z);
@@ -707,16 +913,18 @@ int main(int argc, char **argv)
 	}
 	if (a.ready && write_ready(a.ready, where) != 0) {
 		psd_log_err("%s", a.ready);
+		psd_daliserve_free(v.dali);
 		psd_mbserve_free(srv);
 		free_rooms(&v);
 		return 1;
 	}
 	while (!stop)
-		if (psd_mbserve_step(srv, 1.0) != 0) {
+		if ((srv && psd_mbserve_step(srv, v.dali ? 0 : 1.0) != 0) || (v.dali && dali_turn(&v, 0.02) != 0)) {
 			psd_log_err("poll");
 			break;
 		}
 	summary(&v);
+	psd_daliserve_free(v.dali);
 	psd_mbserve_free(srv);
 	if (line) {
 		modbus_close(line);
