@@ -883,7 +883,6 @@ int main(int argc, char **argv)
 	v.map.hr[REG_FAULT_COUNT] = (uint16_t)a.fault_count;
 	v.map.hr[REG_LATE_MS] = (uint16_t)a.late_ms;
 	v.map.hr[REG_EXCEPTION] = PSD_MBX_DEVICE_FAILURE;
-	v.map.hr[REG_DALI_FAULT] = (uint16_t)a.dali_fault;
 	v.map.hr[REG_DALI_TARGET] = (uint16_t)a.dali_target;
 	for (int z = 0; z < v.nzone; z++)
 		v.out[z] = 1;   /* the rooms start at full output, as the gear do */
