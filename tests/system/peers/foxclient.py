@@ -15,6 +15,11 @@ COMMAND is one of
   raw HEXBYTES            sends SOH HEX + checksum ETB with the checksum worked
                           here, prints the reply's bytes as hex
   badsum HEXBYTES         the same with a wrong checksum
+  search103 FIRST         commissions the unaddressed control devices (IEC
+                          62386-103): INITIALISE, RANDOMISE, then for each a
+                          binary search with COMPARE, PROGRAM SHORT ADDRESS
+                          FIRST, FIRST + 1, ..., WITHDRAW; prints "device
+                          RANDOM short N" for each
 Several commands may follow one another, separated by ';'."""
 import os
 import select
@@ -92,6 +97,39 @@ class Link:
             # 0x03/0x04: another master's traffic (an input device's event): skip
 
 
+def search103(link, first):
+    def ask(f, twice=False):
+        return link.send(24, f, twice)
+
+    def search_addr(a):
+        ask(0xC10500 | a >> 16)
+        ask(0xC10600 | (a >> 8 & 0xFF))
+        ask(0xC10700 | (a & 0xFF))
+
+    ask(0xC1017F, True)    # INITIALISE the devices without a short address
+    ask(0xC10200, True)    # RANDOMISE
+    short = first
+    while True:
+        lo, hi = 0, 0xFFFFFF
+        search_addr(hi)
+        if ask(0xC10300) == "none":
+            break
+        while lo < hi:
+            mid = (lo + hi) // 2
+            search_addr(mid)
+            if ask(0xC10300) != "none":   # a yes, or several (garbled)
+                hi = mid
+            else:
+                lo = mid + 1
+        search_addr(lo)
+        ask(0xC10800 | short)          # PROGRAM SHORT ADDRESS
+        ok = ask(0xC10900 | short)     # VERIFY SHORT ADDRESS
+        print("device %06X short %d %s" % (lo, short, "verified" if ok == "answer FF" else ok))
+        ask(0xC10400)                  # WITHDRAW
+        short += 1
+    ask(0xC10000)                      # TERMINATE
+
+
 def main():
     link = Link(sys.argv[1])
     words = " ".join(sys.argv[2:]).split(";")
@@ -110,6 +148,8 @@ def main():
                 m = link.message(end - time.monotonic())
                 if m and m[0] == 0x04 and m[1] == 24:
                     print("frame %s" % m[2:5].hex().upper())
+        elif w[0] == "search103":
+            search103(link, int(w[1]))
         elif w[0] in ("raw", "badsum"):
             link.write(message(list(bytes.fromhex(w[1])), bad=w[0] == "badsum"))
             m = link.message()
