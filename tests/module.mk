@@ -74,7 +74,7 @@ $(FUZZ_BINS): $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(TEST_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -fsanitize=fuzzer,address,undefined -o $@ $(filter-out %.a,$^) \
 	    -Wl,--start-group $(filter %.a,$^) -Wl,--end-group $(LIBS)
-$(BUILD)/fuzz/fuzz_mbframe: $(LIBPSVIRT)
+$(BUILD)/fuzz/fuzz_mbframe $(BUILD)/fuzz/fuzz_dalibus: $(LIBPSVIRT)
 -include tests/emu/module.mk
 
 # The daemon's system tests once under valgrind (memcheck, leaks, descriptors

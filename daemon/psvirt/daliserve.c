@@ -48,15 +48,22 @@ struct psd_daliserve *psd_daliserve_new(struct psd_dalibus *b, int trace)
 	return s;
 }
 
-static void add_conn(struct psd_daliserve *s, int fd, int protocol, int tcp)
+static int add_conn(struct psd_daliserve *s, int fd, int protocol, int tcp)
 {
 	if (s->nc >= MAX_CONN) {
 		psd_log_warnx("DALI: more than %d connections: one refused", MAX_CONN);
 		close(fd);
-		return;
+		return -1;
 	}
 	s->c[s->nc] = (struct conn){ .fd = fd, .protocol = protocol, .tcp = tcp, .last = s->now };
 	s->nc++;
+	return 0;
+}
+
+int psd_daliserve_fd(struct psd_daliserve *s, int fd, int protocol)
+{
+	fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+	return add_conn(s, fd, protocol, 1);
 }
 
 static void drop(struct psd_daliserve *s, int i, const char *why)

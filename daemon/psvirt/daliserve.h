@@ -37,6 +37,9 @@ int psd_daliserve_tcp(struct psd_daliserve *s, const char *host, const char *por
 /* A pseudo-terminal speaking protocol (PSD_DALISERVE_FOXTRON or _ATX); its
  * slave's path in path.  0, or -1 with the reason in err. */
 int psd_daliserve_pty(struct psd_daliserve *s, int protocol, char *path, size_t pathlen, char *err, size_t n);
+/* Serve an open descriptor (a socketpair's end, in tests) speaking
+ * protocol; the server closes it.  0, or -1 when it has no room. */
+int psd_daliserve_fd(struct psd_daliserve *s, int fd, int protocol);
 /* One turn at time now (monotonic seconds): wait at most max_wait for
  * traffic, answer it, send the devices' events.  0, or -1 when poll
  * failed. */

@@ -26,7 +26,8 @@ awk '/^## A DALI site dry run/ { s = 1; next } /^## / { s = 0 }
 	-e '/^timeout 8 /q' > "$TMP/dali.sh"
 sed -i -e "s/^port = 1502/port = $mb/" -e "s/127.0.0.1:1523/127.0.0.1:$dali/" "$TMP/top/config/example/dali-virtual.conf"
 diag "$(cat "$TMP/dali.sh")"
-check "the walk-through waits for psvirt's ready file" grep -q '^until \[ -s build/psvirt-dali.ready \]' "$TMP/dali.sh"
+check "the walk-through removes an earlier ready file" grep -q '^rm -f build/psvirt-dali.ready$' "$TMP/dali.sh"
+check "... and waits for psvirt's" grep -q '^until \[ -s build/psvirt-dali.ready \]' "$TMP/dali.sh"
 check "... and ends psensd's run with a timeout" grep -q '^timeout 8 build/bin/psensd -f config/example/dali-virtual.conf' "$TMP/dali.sh"
 echo 1 > "$TMP/top/build/psvirt-dali.ready"   # an earlier run's
 (cd "$TMP/top" && setsid sh -c '. "$1"' sh "$TMP/dali.sh") > "$TMP/out" 2> "$TMP/err" &
