@@ -6,7 +6,9 @@
 # DALInet, psensd dims the two virtual ballasts through its DALI driver.
 # Checked: psvirt says where its DALInet listens; psensd starts only once
 # psvirt is ready and runs without a fault; the gear were dimmed (samples
-# below full output) and psvirt counted the DALI frames.  The ports are free
+# below full output) and psvirt counted the DALI frames.  Then the section's
+# second block, commissioning unaddressed gear with psensctl dali, as
+# written: the three gear found and listed.  The ports are free
 # ones instead of 1502 and 1523 (in the copied configuration too) and psensd
 # runs 8 s of the document's 86.
 . "$(dirname "$0")/lib.sh"
@@ -42,4 +44,21 @@ check "no connection refused and no fault: $(grep -m 1 -i 'fault\|refused' "$TMP
 n=$(sqlite3 "$TMP/top/build/dali-virtual.db" "select count(*) from samples where output < 0.99")
 check "the ballasts were dimmed over DALI ($n samples below full output)" test "${n:-0}" -gt 10
 check "psvirt counted the DALI frames: $(grep 'DALI frames' "$TMP/out")" grep -Eq '^psvirt: [1-9][0-9]* DALI frames$' "$TMP/out"
+
+# the second block: commissioning the unaddressed gear, run with bash (its
+# kill %2 needs a job table); psvirt's and psensd's ports as above
+command -v bash > /dev/null || { done_testing; exit; }
+awk '/^## A DALI site dry run/ { s = 1; next } /^## / { s = 0 }
+     s && /^```/ { n++; next }
+     s && n == 3 && /^\$ / { c = 1; sub(/^\$ /, "") } s && n == 3 && c { print; c = /\\$/ }' doc/site.md |
+	sed -e "s/1502/$mb/g" -e "s/1523/$dali/g" > "$TMP/commission.sh"
+diag "$(cat "$TMP/commission.sh")"
+check "the commissioning block starts psvirt with its gear unaddressed" grep -q -- '--dali-unaddressed' "$TMP/commission.sh"
+(cd "$TMP/top" && timeout 120 setsid bash "$TMP/commission.sh") > "$TMP/out2" 2> "$TMP/err2"
+diag "$(cat "$TMP/out2")"
+check "psensctl dali address found the three gear" \
+	grep -q "^dali address done in .*: 3 ballasts found: 3 new short addresses" "$TMP/out2"
+check "psensctl dali scan lists them at short addresses 0 to 2" \
+	grep -q "^dali scan done in .*: 3 short addresses answer; gear without a short address: none" "$TMP/out2"
+check "psvirt ended with its summary" grep -Eq '^psvirt: [1-9][0-9]* DALI frames$' "$TMP/out2"
 done_testing
