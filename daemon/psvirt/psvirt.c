@@ -94,12 +94,12 @@ static double room_now(const struct virt *v)
 	return v->start + v->speed * (psd_time_mono() - v->t0);
 }
 
-/* Requests that only touch 900-903 always get through (psvirt(1)). */
+/* Requests that only touch 900-905 always get through (psvirt(1)). */
 static int fault_registers_only(const struct psd_mbspan *sp, int nsp)
 {
 	for (int i = 0; i < nsp; i++)
 		if (sp[i].table != PSD_MB_HOLDING || sp[i].addr < REG_FAULT ||
-		    (unsigned long)sp[i].addr + sp[i].count > REG_EXCEPTION + 1)
+		    (unsigned long)sp[i].addr + sp[i].count > REG_DALI_TARGET + 1)
 			return 0;
 	return nsp > 0;
 }
