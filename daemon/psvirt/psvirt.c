@@ -58,6 +58,8 @@ enum { FAULT_NONE, FAULT_LATE, FAULT_EXCEPTION, FAULT_GARBAGE, FAULT_DISCONNECT,
 static const char *const fault_names[] = { "none", "late", "exception", "garbage", "disconnect", NULL };
 static const char *const dali_fault_names[] = { "none", "silent", "collision", "short", NULL };
 #define MAX_OCC 8
+#define SENSE_EVERY 0.02   /* s: the 304s and 303s follow the rooms this often */
+#define BOTH_WAIT 0.002    /* s: each server's wait when Modbus and DALI share the loop */
 
 #define MAX_OPTS 64
 #define FRAME_TIMEOUT 1.0   /* s, from a frame's first byte (psvirt(1)) */
@@ -76,7 +78,7 @@ struct virt {
 	struct psd_daliserve *dali;
 	double occ[MAX_OCC][2];   /* occupied from, to (seconds of the day) */
 	int nocc, dali_fault, dali_target, power_on;
-	double out[PSD_VIRT_MAX_ZONES];
+	double out[PSD_VIRT_MAX_ZONES], sensed;   /* the zones' outputs; when the inputs were last set */
 };
 
 static volatile sig_atomic_t stop, dali_armed = -1;
@@ -777,9 +779,11 @@ static int dali_turn(struct virt *v, double max_wait)
 		psd_log_info("DALI bus power %s", v->power_on ? "back" : "lost (a short)");
 		psd_daliserve_power(v->dali, v->power_on);
 	}
-	for (int z = 0; z < v->nzone; z++) {
+	for (int z = 0; z < v->nzone && mono - v->sensed >= SENSE_EVERY; z++) {
 		double volts;
 		int state;
+		if (z == v->nzone - 1)
+			v->sensed = mono;
 		if (psd_virtroom_sensor(v->room[z], now, &volts, &state) == 0) {
 			double x = volts / 10 * 1023;
 			psd_dalibus_sense(&v->bus, z, x <= 0 ? 0 : x >= 1023 ? 1023 : (unsigned)lround(x),
@@ -918,7 +922,8 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	while (!stop)
-		if ((srv && psd_mbserve_step(srv, v.dali ? 0 : 1.0) != 0) || (v.dali && dali_turn(&v, 0.02) != 0)) {
+		if ((srv && psd_mbserve_step(srv, v.dali ? BOTH_WAIT : 1.0) != 0) ||
+		    (v.dali && dali_turn(&v, srv ? BOTH_WAIT : SENSE_EVERY) != 0)) {
 			psd_log_err("poll");
 			break;
 		}
