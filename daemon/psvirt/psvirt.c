@@ -7,7 +7,10 @@
  * only part that knows the room); virtmap.c lays the zones out as an
  * ADAM-6024-style 0-10 V module with a lux meter per zone; mbpdu.c answers
  * the Modbus requests from that map; mbframe.c and mbserve.c frame them on
- * TCP or RTU and serve every client without blocking.  This file reads the
+ * TCP or RTU and serve every client without blocking; dalibus.c (the gear
+ * and the DALI-2 multisensors), daliserve.c (a Foxtron or AtxLED interface
+ * on TCP or a pty) and virtdali.c (joining them to the rooms) serve the same
+ * rooms as a DALI bus, beside Modbus or alone.  This file reads the
  * options and the configuration, and misbehaves on request (late reply,
  * exception, garbage, disconnect: the fault registers 900-903).  psvirt(1)
  * has the register map.  Time: the rooms' clock is --start plus --speed
@@ -34,8 +37,7 @@
 #include "cli.h"
 #include "clock.h"
 #include "config.h"
-#include "dalibus.h"
-#include "daliserve.h"
+#include "virtdali.h"
 #include "refresh.h"
 #include "time.h"
 #include "log.h"
@@ -57,8 +59,7 @@ enum {
 enum { FAULT_NONE, FAULT_LATE, FAULT_EXCEPTION, FAULT_GARBAGE, FAULT_DISCONNECT, FAULT_COUNT };
 static const char *const fault_names[] = { "none", "late", "exception", "garbage", "disconnect", NULL };
 static const char *const dali_fault_names[] = { "none", "silent", "collision", "short", NULL };
-#define MAX_OCC 8
-#define SENSE_EVERY 0.02   /* s: the 304s and 303s follow the rooms this often */
+#define DALI_WAIT 0.02     /* s: the DALI bus's wait when it is alone */
 #define BOTH_WAIT 0.002    /* s: each server's wait when Modbus and DALI share the loop */
 
 #define MAX_OPTS 64
@@ -73,12 +74,8 @@ struct virt {
 	unsigned unit;
 	double start, speed, t0;
 	long requests, faulted;
-	/* the DALI bus (psvirt(1), DALI BUS) */
-	struct psd_dalibus bus;
-	struct psd_daliserve *dali;
-	double occ[MAX_OCC][2];   /* occupied from, to (seconds of the day) */
-	int nocc, dali_fault, dali_target, power_on;
-	double out[PSD_VIRT_MAX_ZONES], sensed;   /* the zones' outputs; when the inputs were last set */
+	struct psd_virtdali dali;   /* the DALI bus (psvirt(1), DALI BUS), dali.serve NULL when off */
+	int dali_fault;             /* the fault SIGUSR1 arms */
 };
 
 static volatile sig_atomic_t stop, dali_armed = -1;
@@ -672,135 +669,23 @@ static void summary(struct virt *v)
 		sum += end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0;
 	printf("psvirt: %ld requests (%ld faulted); room time %s to %s; light output %.1f %% of full on average\n",
 	       v->requests, v->faulted, from, to, sum / v->nzone);
-	if (v->dali)
-		printf("psvirt: %ld DALI frames\n", v->bus.frames);
+	if (v->dali.serve)
+		printf("psvirt: %ld DALI frames\n", v->dali.bus.frames);
 	for (int z = 0; v->nzone > 1 && z < v->nzone; z++)
 		printf("psvirt: zone %d %s: light output %.1f %% of full on average\n", z, v->zone[z],
 		       end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0);
 }
 
-/* --dali-occupancy: "always", "never" or HH:MM-HH:MM[,HH:MM-HH:MM]... of
- * the room's day.  -1 after saying why. */
-static int parse_occupancy(struct virt *v, const char *spec)
-{
-	char buf[256], *save = NULL, *tok;
-	v->nocc = 0;
-	if (strcmp(spec, "never") == 0)
-		return 0;
-	if (strcmp(spec, "always") == 0) {
-		v->occ[0][0] = 0;
-		v->occ[0][1] = 86400;
-		v->nocc = 1;
-		return 0;
-	}
-	snprintf(buf, sizeof buf, "%s", spec);
-	for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-		char *dash = strchr(tok, '-');
-		if (!dash || v->nocc >= MAX_OCC)
-			goto bad;
-		*dash = 0;
-		if (psd_time_hhmm(tok, &v->occ[v->nocc][0]) != 0 || psd_time_hhmm(dash + 1, &v->occ[v->nocc][1]) != 0 ||
-		    v->occ[v->nocc][1] <= v->occ[v->nocc][0])
-			goto bad;
-		v->nocc++;
-	}
-	if (v->nocc)
-		return 0;
-bad:
-	psd_log_errx("--dali-occupancy: '%s' is not always, never or up to %d HH:MM-HH:MM spans", spec, MAX_OCC);
-	return -1;
-}
-
-static int occupied(const struct virt *v, double tod)
-{
-	for (int i = 0; i < v->nocc; i++)
-		if (tod >= v->occ[i][0] && tod < v->occ[i][1])
-			return 1;
-	return 0;
-}
-
-/* The DALI bus's interfaces: TCP (Foxtron) and the pty.  -1 after saying
- * why. */
-static int dali_open(struct virt *v, const struct args *a, char *where, size_t wlen)
-{
-	char err[512], path[256];
-	size_t k = strlen(where);
-	psd_dalibus_init(&v->bus, (int)a->dali_gear * v->nzone, v->nzone, !a->dali_unaddressed,
-	                 (uint32_t)getpid());
-	if (!(v->dali = psd_daliserve_new(&v->bus, getenv("PSVIRT_DEBUG") != NULL))) {
-		psd_log_errx("out of memory");
-		return -1;
-	}
-	v->power_on = 1;
-	v->dali_fault = a->dali_fault;
-	v->dali_target = a->dali_target;
-	if (a->dali_tcp) {
-		char host[256];
-		const char *colon = strrchr(a->dali_tcp, ':');
-		int port;
-		snprintf(host, sizeof host, "%.*s", (int)(colon - a->dali_tcp), a->dali_tcp);
-		if ((port = psd_daliserve_tcp(v->dali, host, colon + 1, err, sizeof err)) < 0) {
-			psd_log_errx("--dali-tcp: cannot listen: %s", err);
-			return -1;
-		}
-		printf("psvirt: DALI bus (Foxtron DALInet) on port %d\n", port);
-		k += (size_t)snprintf(where + k, wlen - k, "%sdali-tcp %d", k ? "\n" : "", port);
-	}
-	if (a->dali_pty) {
-		const char *proto = a->dali_protocol == PSD_DALISERVE_ATX ? "AtxLED HAT" : "Foxtron DALI232";
-		if (psd_daliserve_pty(v->dali, a->dali_protocol, path, sizeof path, err, sizeof err) != 0 ||
-		    write_ready(a->dali_pty, path) != 0) {
-			psd_log_errx("--dali-pty %s: %s", a->dali_pty, err);
-			return -1;
-		}
-		printf("psvirt: DALI bus (%s) on %s\n", proto, path);
-		k += (size_t)snprintf(where + k, wlen - k, "%sdali-pty %s", k ? "\n" : "", path);
-	}
-	fflush(stdout);
-	return 0;
-}
-
-/* One turn of the DALI bus: the fault from the signals and registers 904
- * and 905, the sensors and occupancy from the rooms, the traffic, the
- * gear's output into the rooms. */
+/* One turn of the DALI bus with the fault of the signals (SIGUSR1 arms
+ * --dali-fault, SIGUSR2 clears it) and registers 904 and 905. */
 static int dali_turn(struct virt *v, double max_wait)
 {
-	double mono = psd_time_mono(), now = room_now(v);
-	int fault = v->map.hr[REG_DALI_FAULT], target = v->map.hr[REG_DALI_TARGET];
-	if (dali_armed >= 0) {   /* SIGUSR1 arms the --dali-fault, SIGUSR2 clears it */
-		fault = dali_armed ? (v->dali_fault ? v->dali_fault : PSD_DALIBUS_SILENT) : PSD_DALIBUS_OK;
-		v->map.hr[REG_DALI_FAULT] = (uint16_t)fault;
+	if (dali_armed >= 0) {
+		v->map.hr[REG_DALI_FAULT] =
+		        (uint16_t)(dali_armed ? (v->dali_fault ? v->dali_fault : PSD_DALIBUS_SILENT) : PSD_DALIBUS_OK);
 		dali_armed = -1;
 	}
-	v->bus.fault = fault < PSD_DALIBUS_NFAULT ? fault : PSD_DALIBUS_OK;
-	v->bus.target = target;
-	if (v->power_on != (v->bus.fault != PSD_DALIBUS_SHORT)) {
-		v->power_on = !v->power_on;
-		psd_log_info("DALI bus power %s", v->power_on ? "back" : "lost (a short)");
-		psd_daliserve_power(v->dali, v->power_on);
-	}
-	for (int z = 0; z < v->nzone && mono - v->sensed >= SENSE_EVERY; z++) {
-		double volts;
-		int state;
-		if (z == v->nzone - 1)
-			v->sensed = mono;
-		if (psd_virtroom_sensor(v->room[z], now, &volts, &state) == 0) {
-			double x = volts / 10 * 1023;
-			psd_dalibus_sense(&v->bus, z, x <= 0 ? 0 : x >= 1023 ? 1023 : (unsigned)lround(x),
-			                  occupied(v, psd_virtroom_tod(now)));
-		}
-	}
-	if (psd_daliserve_step(v->dali, mono, max_wait) != 0)
-		return -1;
-	mono = psd_time_mono();
-	for (int z = 0; z < v->nzone; z++) {
-		double out = psd_dalibus_output(&v->bus, z, mono);
-		if (out != v->out[z]) {
-			v->out[z] = out;
-			psd_virtroom_command(v->room[z], room_now(v), out);
-		}
-	}
-	return 0;
+	return psd_virtdali_turn(&v->dali, v->map.hr[REG_DALI_FAULT], v->map.hr[REG_DALI_TARGET], max_wait);
 }
 
 /* The serial line, opened and configured by libmodbus; NULL on failure. */
@@ -851,7 +736,7 @@ int main(int argc, char **argv)
 	v.unit = (unsigned)a.unit;
 	so = (struct psd_mbserve_opts){ a.idle_timeout, FRAME_TIMEOUT, (int)a.max_clients, a.baud,
 	                                getenv("PSVIRT_DEBUG") != NULL };
-	if (parse_occupancy(&v, a.dali_occ) != 0) {
+	if (psd_virtdali_occupancy(&v.dali, a.dali_occ) != 0) {
 		free_rooms(&v);
 		return 2;
 	}
@@ -888,11 +773,14 @@ int main(int argc, char **argv)
 	v.map.hr[REG_LATE_MS] = (uint16_t)a.late_ms;
 	v.map.hr[REG_EXCEPTION] = PSD_MBX_DEVICE_FAILURE;
 	v.map.hr[REG_DALI_TARGET] = (uint16_t)a.dali_target;
-	for (int z = 0; z < v.nzone; z++)
-		v.out[z] = 1;   /* the rooms start at full output, as the gear do */
+	v.dali_fault = a.dali_fault;
 	snprintf(mbwhere, sizeof mbwhere, "%s", where);
-	if ((a.dali_tcp || a.dali_pty) && dali_open(&v, &a, where, sizeof where) != 0) {
-		psd_daliserve_free(v.dali);
+	if ((a.dali_tcp || a.dali_pty) &&
+	    psd_virtdali_open(&v.dali,
+	                      &(struct psd_virtdali_opts){ a.dali_tcp, a.dali_pty, a.dali_protocol, (int)a.dali_gear,
+	                                                   a.dali_unaddressed, a.dali_occ, getenv("PSVIRT_DEBUG") != NULL },
+	                      v.room, v.nzone, where, sizeof where) != 0) {
+		psd_virtdali_free(&v.dali);
 		psd_mbserve_free(srv);
 		free_rooms(&v);
 		return 1;
@@ -905,6 +793,9 @@ int main(int argc, char **argv)
 	sigaction(SIGUSR2, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
 	v.t0 = psd_time_mono();
+	v.dali.start = v.start;   /* the DALI bus's rooms keep the same clock */
+	v.dali.speed = v.speed;
+	v.dali.t0 = v.t0;
 	psd_virtmap_refresh(&v.map, v.start);
 	if (v.nzone > 1 && srv) {
 		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", mbwhere, v.unit);
@@ -916,19 +807,19 @@ int main(int argc, char **argv)
 	}
 	if (a.ready && write_ready(a.ready, where) != 0) {
 		psd_log_err("%s", a.ready);
-		psd_daliserve_free(v.dali);
+		psd_virtdali_free(&v.dali);
 		psd_mbserve_free(srv);
 		free_rooms(&v);
 		return 1;
 	}
 	while (!stop)
-		if ((srv && psd_mbserve_step(srv, v.dali ? BOTH_WAIT : 1.0) != 0) ||
-		    (v.dali && dali_turn(&v, srv ? BOTH_WAIT : SENSE_EVERY) != 0)) {
+		if ((srv && psd_mbserve_step(srv, v.dali.serve ? BOTH_WAIT : 1.0) != 0) ||
+		    (v.dali.serve && dali_turn(&v, srv ? BOTH_WAIT : DALI_WAIT) != 0)) {
 			psd_log_err("poll");
 			break;
 		}
 	summary(&v);
-	psd_daliserve_free(v.dali);
+	psd_virtdali_free(&v.dali);
 	psd_mbserve_free(srv);
 	if (line) {
 		modbus_close(line);
