@@ -10,7 +10,7 @@ BENCH_BINS := $(patsubst tests/bench/%.c,$(BUILD)/bench/%,$(BENCH_SRC))
 TEST_LIBS   = $(LIBPSD_CORE)
 # the tests of a room link its library too
 ROOM_TESTS_REPORT = $(BUILD)/tests/test_report $(BUILD)/tests/test_chart
-ROOM_TESTS_PSVIRT = $(BUILD)/tests/test_mbframe $(BUILD)/tests/test_mbpdu
+ROOM_TESTS_PSVIRT = $(BUILD)/tests/test_mbframe $(BUILD)/tests/test_mbpdu $(BUILD)/tests/test_dalibus
 
 $(UNIT_BINS): $(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(call obj,$(UNIT_HELP)) $(TEST_LIBS)
 	@mkdir -p $(dir $@)
@@ -74,7 +74,7 @@ $(FUZZ_BINS): $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(TEST_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_ALL) -fsanitize=fuzzer,address,undefined -o $@ $(filter-out %.a,$^) \
 	    -Wl,--start-group $(filter %.a,$^) -Wl,--end-group $(LIBS)
-$(BUILD)/fuzz/fuzz_mbframe: $(LIBPSVIRT)
+$(BUILD)/fuzz/fuzz_mbframe $(BUILD)/fuzz/fuzz_dalibus: $(LIBPSVIRT)
 -include tests/emu/module.mk
 
 # The daemon's system tests once under valgrind (memcheck, leaks, descriptors

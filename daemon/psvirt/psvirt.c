@@ -7,7 +7,10 @@
  * only part that knows the room); virtmap.c lays the zones out as an
  * ADAM-6024-style 0-10 V module with a lux meter per zone; mbpdu.c answers
  * the Modbus requests from that map; mbframe.c and mbserve.c frame them on
- * TCP or RTU and serve every client without blocking.  This file reads the
+ * TCP or RTU and serve every client without blocking; dalibus.c (the gear
+ * and the DALI-2 multisensors), daliserve.c (a Foxtron or AtxLED interface
+ * on TCP or a pty) and virtdali.c (joining them to the rooms) serve the same
+ * rooms as a DALI bus, beside Modbus or alone.  This file reads the
  * options and the configuration, and misbehaves on request (late reply,
  * exception, garbage, disconnect: the fault registers 900-903).  psvirt(1)
  * has the register map.  Time: the rooms' clock is --start plus --speed
@@ -27,12 +30,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <modbus.h>
 
 #include "cli.h"
 #include "clock.h"
 #include "config.h"
+#include "virtdali.h"
 #include "refresh.h"
 #include "time.h"
 #include "log.h"
@@ -48,9 +53,14 @@ enum {
 	REG_FAULT_COUNT = 901,        /* requests to affect, 0: until cleared */
 	REG_LATE_MS = 902,
 	REG_EXCEPTION = 903,
+	REG_DALI_FAULT = 904,         /* the DALI bus's fault: 0 none, 1 silent, 2 collision, 3 short */
+	REG_DALI_TARGET = 905,        /* its target: gear short address, 100 + device, 255 every */
 };
 enum { FAULT_NONE, FAULT_LATE, FAULT_EXCEPTION, FAULT_GARBAGE, FAULT_DISCONNECT, FAULT_COUNT };
 static const char *const fault_names[] = { "none", "late", "exception", "garbage", "disconnect", NULL };
+static const char *const dali_fault_names[] = { "none", "silent", "collision", "short", NULL };
+#define DALI_WAIT 0.02     /* s: the DALI bus's wait when it is alone */
+#define BOTH_WAIT 0.002    /* s: each server's wait when Modbus and DALI share the loop */
 
 #define MAX_OPTS 64
 #define FRAME_TIMEOUT 1.0   /* s, from a frame's first byte (psvirt(1)) */
@@ -64,14 +74,18 @@ struct virt {
 	unsigned unit;
 	double start, speed, t0;
 	long requests, faulted;
+	struct psd_virtdali dali;   /* the DALI bus (psvirt(1), DALI BUS), dali.serve NULL when off */
+	int dali_fault;             /* the fault SIGUSR1 arms */
 };
 
-static volatile sig_atomic_t stop;
+static volatile sig_atomic_t stop, dali_armed = -1;
 
 static void on_signal(int sig)
 {
-	(void)sig;
-	stop = 1;
+	if (sig == SIGUSR1 || sig == SIGUSR2)
+		dali_armed = sig == SIGUSR1;
+	else
+		stop = 1;
 }
 
 static double room_now(const struct virt *v)
@@ -79,12 +93,12 @@ static double room_now(const struct virt *v)
 	return v->start + v->speed * (psd_time_mono() - v->t0);
 }
 
-/* Requests that only touch 900-903 always get through (psvirt(1)). */
+/* Requests that only touch 900-905 always get through (psvirt(1)). */
 static int fault_registers_only(const struct psd_mbspan *sp, int nsp)
 {
 	for (int i = 0; i < nsp; i++)
 		if (sp[i].table != PSD_MB_HOLDING || sp[i].addr < REG_FAULT ||
-		    (unsigned long)sp[i].addr + sp[i].count > REG_EXCEPTION + 1)
+		    (unsigned long)sp[i].addr + sp[i].count > REG_DALI_TARGET + 1)
 			return 0;
 	return nsp > 0;
 }
@@ -185,12 +199,16 @@ static void usage(FILE *fp)
 	        "usage: psvirt [-f psensd.conf] [--results FILE] [--date MM-DD] [--sunrise HH:MM]\n"
 	        "              [--sunset HH:MM] [--start HH:MM] [--speed F] [--zones N]\n"
 	        "              [-D [ZONE:]KEY=VALUE]...\n"
-	        "              (--tcp ADDR:PORT | --rtu DEVICE [--baud N] [--parity none|even|odd]\n"
-	        "              [--stop-bits 1|2]) [--unit N] [--ready-file FILE]\n"
+	        "              [--tcp ADDR:PORT | --rtu DEVICE [--baud N] [--parity none|even|odd]\n"
+	        "              [--stop-bits 1|2]] [--unit N] [--ready-file FILE]\n"
 	        "              [--idle-timeout S] [--max-clients N] [-v]\n"
 	        "              [--fault late|exception|garbage|disconnect] [--fault-count N] [--late-ms N]\n"
+	        "              [--dali-tcp ADDR:PORT] [--dali-pty FILE] [--dali-protocol foxtron|atx]\n"
+	        "              [--dali-gear N] [--dali-unaddressed] [--dali-occupancy HH:MM-HH:MM,...]\n"
+	        "              [--dali-fault silent|collision|short] [--dali-target N|dN|all]\n"
 	        "The virtual room of each zone as one Modbus 0-10 V I/O module with a lux meter\n"
-	        "per zone; see psvirt(1).\n"
+	        "per zone, and/or as a DALI bus (gear and a DALI-2 multisensor per zone) behind\n"
+	        "a Foxtron or AtxLED interface; see psvirt(1).\n"
 	        "  -D [ZONE:]KEY=VALUE  a room option (-o, its old spelling, goes in the next release)\n"
 	        "  -h, --help  this help;  -V, --version  the version\n");
 }
@@ -198,9 +216,10 @@ static void usage(FILE *fp)
 struct args {
 	const char *conf, *results, *date, *sunrise, *sunset, *start, *tcp, *rtu, *ready, *parity;
 	const char *self;         /* argv[0]: psscene is looked for beside it */
+	const char *dali_tcp, *dali_pty, *dali_occ;
 	double speed, idle_timeout;
-	long unit, baud, stop_bits, fault_count, late_ms, zones, max_clients;
-	int fault, verbose;
+	long unit, baud, stop_bits, fault_count, late_ms, zones, max_clients, dali_gear;
+	int fault, verbose, dali_protocol, dali_unaddressed, dali_fault, dali_target;
 	struct ps_opt opts[MAX_OPTS];   /* -o: key may be ZONE:KEY */
 	size_t nopts;
 };
@@ -241,7 +260,11 @@ static int parse_args(struct args *a, int argc, char **argv)
 		{ "parity", 1, NULL, 'p' }, { "stop-bits", 1, NULL, 'B' }, { "unit", 1, NULL, 'U' },
 		{ "ready-file", 1, NULL, 'y' }, { "fault", 1, NULL, 'F' }, { "fault-count", 1, NULL, 'C' },
 		{ "late-ms", 1, NULL, 'L' }, { "zones", 1, NULL, 'z' }, { "idle-timeout", 1, NULL, 'I' },
-		{ "max-clients", 1, NULL, 'M' }, PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 }
+		{ "max-clients", 1, NULL, 'M' }, { "dali-tcp", 1, NULL, 1000 }, { "dali-pty", 1, NULL, 1001 },
+		{ "dali-protocol", 1, NULL, 1002 }, { "dali-gear", 1, NULL, 1003 },
+		{ "dali-unaddressed", 0, NULL, 1004 }, { "dali-occupancy", 1, NULL, 1005 },
+		{ "dali-fault", 1, NULL, 1006 }, { "dali-target", 1, NULL, 1007 }, PS_CLI_LONGOPTS,
+		{ NULL, 0, NULL, 0 }
 	};
 	int c;
 	memset(a, 0, sizeof *a);
@@ -253,6 +276,9 @@ static int parse_args(struct args *a, int argc, char **argv)
 	a->parity = "none";
 	a->idle_timeout = 300;
 	a->max_clients = 32;
+	a->dali_gear = 2;
+	a->dali_target = PSD_DALIBUS_EVERY;
+	a->dali_occ = "08:00-12:00,13:00-18:00";
 	while ((c = getopt_long(argc, argv, "f:D:o:hVv", lo, NULL)) != -1) {
 		char *end = NULL;
 		switch (c) {
@@ -276,6 +302,40 @@ static int parse_args(struct args *a, int argc, char **argv)
 		case 'I': a->idle_timeout = strtod(optarg, &end); break;
 		case 'M': a->max_clients = strtol(optarg, &end, 10); break;
 		case 'v': a->verbose = 1; break;
+		case 1000: a->dali_tcp = optarg; break;
+		case 1001: a->dali_pty = optarg; break;
+		case 1002:
+			if (strcmp(optarg, "foxtron") && strcmp(optarg, "atx")) {
+				fprintf(stderr, "psvirt: --dali-protocol: '%s' is not foxtron or atx\n", optarg);
+				return -1;
+			}
+			a->dali_protocol = strcmp(optarg, "atx") == 0 ? PSD_DALISERVE_ATX : PSD_DALISERVE_FOXTRON;
+			break;
+		case 1003: a->dali_gear = strtol(optarg, &end, 10); break;
+		case 1004: a->dali_unaddressed = 1; break;
+		case 1005: a->dali_occ = optarg; break;
+		case 1006:
+			for (a->dali_fault = 1; dali_fault_names[a->dali_fault] && strcmp(dali_fault_names[a->dali_fault], optarg);
+			     a->dali_fault++)
+				;
+			if (!dali_fault_names[a->dali_fault]) {
+				fprintf(stderr, "psvirt: --dali-fault: '%s' is not silent, collision or short\n", optarg);
+				return -1;
+			}
+			break;
+		case 1007:
+			if (strcmp(optarg, "all") == 0) {
+				a->dali_target = PSD_DALIBUS_EVERY;
+				break;
+			}
+			a->dali_target = (int)strtol(optarg + (optarg[0] == 'd'), &end, 10);
+			if (*end || end == optarg + (optarg[0] == 'd') || a->dali_target < 0 || a->dali_target > 63) {
+				fprintf(stderr, "psvirt: --dali-target: '%s' is not a gear 0-63, a device d0-d63 or all\n", optarg);
+				return -2;
+			}
+			a->dali_target += optarg[0] == 'd' ? PSD_DALIBUS_DEVICE : 0;
+			end = NULL;
+			break;
 		case 'F':
 			for (a->fault = 1; fault_names[a->fault] && strcmp(fault_names[a->fault], optarg); a->fault++)
 				;
@@ -306,10 +366,14 @@ static int parse_args(struct args *a, int argc, char **argv)
 			return -1;
 		}
 	}
-	if (optind != argc || !a->tcp == !a->rtu) {
-		fprintf(stderr, "psvirt: give one of --tcp ADDR:PORT or --rtu DEVICE\n");
+	if (optind != argc || (a->tcp && a->rtu) || (!a->tcp && !a->rtu && !a->dali_tcp && !a->dali_pty)) {
+		fprintf(stderr, "psvirt: give one of --tcp ADDR:PORT or --rtu DEVICE, and/or --dali-tcp or --dali-pty\n");
 		return -1;
 	}
+	if (a->dali_gear < 1 || a->dali_gear > 6)
+		return bad_range("--dali-gear", "must be 1 to 6 (gear per zone)");
+	if (a->dali_tcp && tcp_port_ok(a->dali_tcp) != 0)
+		return -2;
 	if (!(a->speed >= 0))
 		return bad_range("--speed", "must be >= 0 (0 freezes the clock)");
 	if (a->unit < 1 || a->unit > 247)
@@ -605,9 +669,23 @@ static void summary(struct virt *v)
 		sum += end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0;
 	printf("psvirt: %ld requests (%ld faulted); room time %s to %s; light output %.1f %% of full on average\n",
 	       v->requests, v->faulted, from, to, sum / v->nzone);
+	if (v->dali.serve)
+		printf("psvirt: %ld DALI frames\n", v->dali.bus.frames);
 	for (int z = 0; v->nzone > 1 && z < v->nzone; z++)
 		printf("psvirt: zone %d %s: light output %.1f %% of full on average\n", z, v->zone[z],
 		       end > v->start ? 100 * psd_virtroom_energy(v->room[z], end) / (end - v->start) : 100.0);
+}
+
+/* One turn of the DALI bus with the fault of the signals (SIGUSR1 arms
+ * --dali-fault, SIGUSR2 clears it) and registers 904 and 905. */
+static int dali_turn(struct virt *v, double max_wait)
+{
+	if (dali_armed >= 0) {
+		v->map.hr[REG_DALI_FAULT] =
+		        (uint16_t)(dali_armed ? (v->dali_fault ? v->dali_fault : PSD_DALIBUS_SILENT) : PSD_DALIBUS_OK);
+		dali_armed = -1;
+	}
+	return psd_virtdali_turn(&v->dali, v->map.hr[REG_DALI_FAULT], v->map.hr[REG_DALI_TARGET], max_wait);
 }
 
 /* The serial line, opened and configured by libmodbus; NULL on failure. */
@@ -636,10 +714,10 @@ int main(int argc, char **argv)
 	static struct virt v;
 	struct args a;
 	struct sigaction sa;
-	struct psd_mbserve *srv;
+	struct psd_mbserve *srv = NULL;
 	struct psd_mbserve_opts so;
 	modbus_t *line = NULL;
-	char err[512], where[300];
+	char err[512], where[600] = "", mbwhere[300];
 	int rc;
 	if ((rc = parse_args(&a, argc, argv)) != 0) {
 		if (rc == -1)
@@ -658,6 +736,10 @@ int main(int argc, char **argv)
 	v.unit = (unsigned)a.unit;
 	so = (struct psd_mbserve_opts){ a.idle_timeout, FRAME_TIMEOUT, (int)a.max_clients, a.baud,
 	                                getenv("PSVIRT_DEBUG") != NULL };
+	if (psd_virtdali_occupancy(&v.dali, a.dali_occ) != 0) {
+		free_rooms(&v);
+		return 2;
+	}
 	if (a.tcp) {
 		char host[256];
 		const char *colon = strrchr(a.tcp, ':');
@@ -669,13 +751,13 @@ int main(int argc, char **argv)
 		snprintf(host, sizeof host, "%.*s", (int)(colon - a.tcp), a.tcp);
 		srv = psd_mbserve_tcp(host, colon + 1, &so, on_request, &v, err, sizeof err);
 		snprintf(where, sizeof where, "%d", srv ? psd_mbserve_port(srv) : 0);
-	} else {
+	} else if (a.rtu) {
 		int fd = -1;
 		v.rtu = 1;
 		srv = (line = open_line(&a, &fd)) ? psd_mbserve_rtu(fd, &so, on_request, &v, err, sizeof err) : NULL;
 		snprintf(where, sizeof where, "%s", a.rtu);
 	}
-	if (!srv) {
+	if (!srv && (a.tcp || a.rtu)) {
 		if (a.tcp || line)
 			psd_log_errx("cannot %s: %s", a.tcp ? "listen" : "serve the line", err);
 		if (line) {
@@ -690,15 +772,33 @@ int main(int argc, char **argv)
 	v.map.hr[REG_FAULT_COUNT] = (uint16_t)a.fault_count;
 	v.map.hr[REG_LATE_MS] = (uint16_t)a.late_ms;
 	v.map.hr[REG_EXCEPTION] = PSD_MBX_DEVICE_FAILURE;
+	v.map.hr[REG_DALI_TARGET] = (uint16_t)a.dali_target;
+	v.dali_fault = a.dali_fault;
+	snprintf(mbwhere, sizeof mbwhere, "%s", where);
+	if ((a.dali_tcp || a.dali_pty) &&
+	    psd_virtdali_open(&v.dali,
+	                      &(struct psd_virtdali_opts){ a.dali_tcp, a.dali_pty, a.dali_protocol, (int)a.dali_gear,
+	                                                   a.dali_unaddressed, a.dali_occ, getenv("PSVIRT_DEBUG") != NULL },
+	                      v.room, v.nzone, where, sizeof where) != 0) {
+		psd_virtdali_free(&v.dali);
+		psd_mbserve_free(srv);
+		free_rooms(&v);
+		return 1;
+	}
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigaction(SIGTERM, &sa, NULL);
 	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGUSR1, &sa, NULL);
+	sigaction(SIGUSR2, &sa, NULL);
 	signal(SIGPIPE, SIG_IGN);
 	v.t0 = psd_time_mono();
+	v.dali.start = v.start;   /* the DALI bus's rooms keep the same clock */
+	v.dali.speed = v.speed;
+	v.dali.t0 = v.t0;
 	psd_virtmap_refresh(&v.map, v.start);
-	if (v.nzone > 1) {
-		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", where, v.unit);
+	if (v.nzone > 1 && srv) {
+		printf("psvirt: %d zones on %s%s, unit %u:", v.nzone, a.tcp ? "port " : "", mbwhere, v.unit);
 		for (int z = 0; z < v.nzone; z++)
 			printf("%s %d %s (AI%d, AO%d at %d, lux at %d)", z ? "," : "", z, v.zone[z], z, z,
 			       PSD_VIRT_AO + z, PSD_VIRT_METER + 10 * z);
@@ -707,16 +807,19 @@ int main(int argc, char **argv)
 	}
 	if (a.ready && write_ready(a.ready, where) != 0) {
 		psd_log_err("%s", a.ready);
+		psd_virtdali_free(&v.dali);
 		psd_mbserve_free(srv);
 		free_rooms(&v);
 		return 1;
 	}
 	while (!stop)
-		if (psd_mbserve_step(srv, 1.0) != 0) {
+		if ((srv && psd_mbserve_step(srv, v.dali.serve ? BOTH_WAIT : 1.0) != 0) ||
+		    (v.dali.serve && dali_turn(&v, srv ? BOTH_WAIT : DALI_WAIT) != 0)) {
 			psd_log_err("poll");
 			break;
 		}
 	summary(&v);
+	psd_virtdali_free(&v.dali);
 	psd_mbserve_free(srv);
 	if (line) {
 		modbus_close(line);

@@ -59,7 +59,7 @@ check "the replay that does not parse, at its line and the CSV's" \
 check "the missing replay, at its line" grep -q "bad.conf:12: replay: .*sub/missing.csv" "$TMP/bad.out"
 check "all five at once" test "$(grep -c 'bad.conf:[0-9]*:' "$TMP/bad.out")" -ge 5
 # the shipped configurations pass
-for f in config/psensd.conf config/example/site.conf; do
+for f in config/psensd.conf config/example/site.conf config/example/dali-virtual.conf; do
 	check "$f passes -n" "$BIN/psensd" -n -f "$f"
 done
 done_testing
