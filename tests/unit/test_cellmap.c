@@ -208,6 +208,73 @@ static void cells_smaller_than_pixels(void **state)
 	ps_sensor_free(&s);
 }
 
+/* The linear reading: the moments' route against the exact edge route. */
+static void linear_equals_exact_route(void **state)
+{
+	static const int sizes[] = { 64, 101, 256, 512, 401 };
+	static const double rots[] = { 10.0, 0.0, 22.5, 7.0, 45.0 };
+	struct ps_sensor s;
+	(void)state;
+	load(&s, PS_READ_LINEAR);
+	for (int k = 0; k < 5; k++) {
+		struct ps_view v;
+		ps_view_default_fisheye(&v);
+		compare(&s, rots[k], &v, sizes[k], 1, "8 x 6 linear table");
+	}
+	{
+		struct ps_view v;   /* the hemispherical projection: every pixel by its edges */
+		ps_view_default_fisheye(&v);
+		v.type = PS_VT_HEMI;
+		compare(&s, 10.0, &v, 101, 1, "8 x 6 linear table");
+	}
+	ps_sensor_free(&s);
+}
+
+static void linear_shifted_and_small_cells(void **state)
+{
+	struct ps_sensor s;
+	struct ps_view v;
+	size_t len;
+	char *t;
+	(void)state;
+	load(&s, PS_READ_LINEAR);
+	ps_view_default_fisheye(&v);
+	v.vs = 0.1;
+	v.vl = -0.05;
+	compare(&s, 30.0, &v, 300, 1, "linear, shifted view");
+	compare(&s, 30.0, &v, 301, 0, "linear, shifted view");
+	ps_sensor_free(&s);
+	t = fine_table(&len);
+	load_text(&s, t, len, PS_READ_LINEAR);
+	free(t);
+	ps_view_default_fisheye(&v);
+	for (int n = 63; n <= 64; n++)
+		compare(&s, 5.0, &v, n, 1, "linear 0.5 x 1 degree cells");
+	compare(&s, 5.0, &v, 400, 1, "linear 0.5 x 1 degree cells");
+	ps_sensor_free(&s);
+}
+
+/* The linear table's total is its integral over the sphere (the table ends
+ * at 90 degrees, inside the 180-degree picture). */
+static void linear_total_is_the_integral(void **state)
+{
+	struct ps_sensor s;
+	struct ps_view v;
+	struct ps_weights om, w;
+	struct ps_err e;
+	(void)state;
+	load(&s, PS_READ_LINEAR);
+	ps_view_default_fisheye(&v);
+	omega_map(&om, &v, 600, 1);
+	if (ps_cellmap_build(&w, &s, 33.0, &v, 600, 600, &om, &e) != 0)
+		fail_msg("%s", e.msg);
+	if (fabs(w.sens_sum / ps_sensor_integral(&s) - 1) > 1e-12)
+		fail_msg("total %.17g, integral %.17g", w.sens_sum, ps_sensor_integral(&s));
+	ps_weights_free(&w);
+	ps_weights_free(&om);
+	ps_sensor_free(&s);
+}
+
 static void which_sensors(void **state)
 {
 	struct ps_sensor s, c;
@@ -215,12 +282,14 @@ static void which_sensors(void **state)
 	static const char sym[] = "degrees 0 90 180 270\n0 1 1 1 1\n45 0.5 0.5 0.5 0.5\n90 0 0 0 0\n";
 	(void)state;
 	load(&s, PS_READ_LINEAR);
-	assert_int_equal(ps_cellmap_fits(&s, PS_W_EXACT), 0);
+	assert_int_equal(ps_cellmap_fits(&s, PS_W_EXACT), PS_CELLMAP_LINEAR);
 	assert_int_equal(ps_sensor_set_reading(&s, PS_READ_CELL, &e), 0);
-	assert_int_equal(ps_cellmap_fits(&s, PS_W_EXACT), 1);
+	assert_int_equal(ps_cellmap_fits(&s, PS_W_EXACT), PS_CELLMAP_CELL);
 	assert_int_equal(ps_cellmap_fits(&s, PS_W_CENTRE), 0);
 	ps_sensor_free(&s);
 	load_text(&s, sym, sizeof sym - 1, PS_READ_CELL);   /* the same at every azimuth: mirrored instead */
+	assert_int_equal(ps_cellmap_fits(&s, PS_W_EXACT), 0);
+	assert_int_equal(ps_sensor_set_reading(&s, PS_READ_LINEAR, &e), 0);
 	assert_int_equal(ps_cellmap_fits(&s, PS_W_EXACT), 0);
 	ps_sensor_free(&s);
 	assert_int_equal(ps_sensor_builtin(&c, PS_SENS_COSINE, &e), 0);
@@ -298,6 +367,9 @@ int main(void)
 		cmocka_unit_test(totals_are_the_integral),
 		cmocka_unit_test(shifted_view_full_omega),
 		cmocka_unit_test(cells_smaller_than_pixels),
+		cmocka_unit_test(linear_equals_exact_route),
+		cmocka_unit_test(linear_shifted_and_small_cells),
+		cmocka_unit_test(linear_total_is_the_integral),
 		cmocka_unit_test(which_sensors),
 		cmocka_unit_test(wrong_omega_refused),
 		cmocka_unit_test(through_the_cache),
