@@ -329,28 +329,73 @@ static double cell_value(const struct job *jb, int x, int j)
 	return i >= s->nt ? 0.0 : s->val[(size_t)i * (size_t)s->nphi + (size_t)k];
 }
 
-/* A linear-reading pixel inside one patch (x on bottom-based row j):
- * S_c omega + S_t M_t + S_p M_p + S_tp M_tp (the moments m, dp's sign sg). */
-static double lin_weight(const struct job *jb, int x, int j, double omega, const double *m, double sg)
+/* The linear reading's patch of a stretch: its corners, breakpoints, and
+ * the turn from the plane azimuth to the sensor's phi in it. */
+struct patch {
+	const double *c;
+	double t0, p0, p1, dt, dp, idt, idp, off;
+	double ua, va, pa;   /* the last pixel centre whose phi came from atan2, and that phi */
+	int anchored;
+};
+
+static void lin_patch(const struct job *jb, int x, int j, struct patch *P)
 {
 	const struct ps_sensor *s = jb->s;
 	double uc = ps_fisheye_u(&jb->f, x + 0.5), vc = ps_fisheye_v(&jb->f, j + 0.5);
-	double th = M_PI * hypot(uc, vc), ph = atan2(vc, uc) - M_PI / 2 - jb->rot;
-	double dt, dp, t, w, sc, st, sp, stp;
-	const double *c;
+	double raw = atan2(vc, uc) - M_PI / 2 - jb->rot, ph = raw;
 	int i, k;
-	ps_sensor_locate(s, th, &ph, &i, &k);
+	ps_sensor_locate(s, M_PI * sqrt(uc * uc + vc * vc), &ph, &i, &k);
 	if (i >= s->nt)
+		i = s->nt - 1;   /* beyond the table's end: S = 0 (lin_weight) */
+	P->c = s->corner + 4 * ((size_t)i * (size_t)s->np + (size_t)k);
+	P->t0 = s->tb[i];
+	P->dt = s->tb[i + 1] - s->tb[i];
+	P->p0 = s->pb[k];
+	P->p1 = s->pb[k + 1];
+	P->dp = s->pb[k + 1] - s->pb[k];
+	P->idt = 1.0 / P->dt;
+	P->idp = 1.0 / P->dp;
+	P->off = ph - raw;
+	P->anchored = 0;
+}
+
+/* A linear-reading pixel inside patch P (x on bottom-based row j):
+ * S_c omega + S_t M_t + S_p M_p + S_tp M_tp (the moments m, dp's sign sg). */
+static double lin_weight(const struct job *jb, struct patch *P, int x, int j, double omega,
+                         const double *m, double sg)
+{
+	double uc = ps_fisheye_u(&jb->f, x + 0.5), vc = ps_fisheye_v(&jb->f, j + 0.5);
+	double th = M_PI * sqrt(uc * uc + vc * vc), ph, t, w, sc, st, sp, stp;
+	const double *c = P->c;
+	if (th >= jb->s->theta_end)
 		return 0.0;
-	c = s->corner + 4 * ((size_t)i * (size_t)s->np + (size_t)k);
-	dt = s->tb[i + 1] - s->tb[i];
-	dp = s->pb[k + 1] - s->pb[k];
-	t = (th - s->tb[i]) / dt;
-	w = (ph - s->pb[k]) / dp;
+	{
+		/* phi from the anchor's by atan's series while the turn is small
+		 * (|ratio| <= 0.05: atan_small), else afresh from atan2 */
+		double den = P->ua * uc + P->va * vc, num = P->ua * vc - P->va * uc;
+		if (P->anchored && den > 0 && fabs(num) <= 0.05 * den) {
+			ph = P->pa + atan_small(num / den);
+		} else {
+			ph = atan2(vc, uc) - M_PI / 2 - jb->rot + P->off;
+			P->ua = uc;
+			P->va = vc;
+			P->pa = ph;
+			P->anchored = 1;
+		}
+	}
+	if (ph < P->p0 - 1e-9 || ph > P->p1 + 1e-9) {
+		/* atan2's cut inside the stretch: phi reduced afresh */
+		int i, k;
+		ph = atan2(vc, uc) - M_PI / 2 - jb->rot;
+		ps_sensor_locate(jb->s, th, &ph, &i, &k);
+		P->anchored = 0;
+	}
+	t = (th - P->t0) * P->idt;
+	w = (ph - P->p0) * P->idp;
 	sc = (1 - w) * ((1 - t) * c[0] + t * c[1]) + w * ((1 - t) * c[2] + t * c[3]);
-	st = ((1 - w) * (c[1] - c[0]) + w * (c[3] - c[2])) / dt;
-	sp = ((1 - t) * (c[2] - c[0]) + t * (c[3] - c[1])) / dp;
-	stp = (c[0] - c[1] - c[2] + c[3]) / (dt * dp);
+	st = ((1 - w) * (c[1] - c[0]) + w * (c[3] - c[2])) * P->idt;
+	sp = ((1 - t) * (c[2] - c[0]) + t * (c[3] - c[1])) * P->idp;
+	stp = (c[0] - c[1] - c[2] + c[3]) * (P->idt * P->idp);
 	return sc * omega + st * m[0] + sg * (sp * m[1] + stp * m[2]);
 }
 
@@ -403,21 +448,31 @@ static void *fill_run(void *arg)
 				    (!jb->lin && jb->s->reading != PS_READ_CELL))
 					mark[x] = 1;   /* no solid angle to scale, no moments: the edge route */
 				if (!mark[x] && jb->lin) {
-					/* the linear reading: pixel by pixel from the moments */
-					double mm[3], sg = 1.0;
-					const double *m = mm;
-					if (jb->lin->mirror)
-						m = lin_at(jb->lin, w->width, w->height, x, j, &sg);
-					else if (lin_moments(jb->lin, &jb->f, x, j, mm) != 0)
-						mm[0] = NAN;
-					if (isnan(m[0])) {
-						mark[x] = 1;   /* near the zenith or the field's edge */
-						continue;
+					/* the linear reading: a stretch of unmarked pixels, all in
+					 * the first one's patch, from the moments */
+					int xe = x, oe = orun->x0 + orun->n, q;
+					double lane[4] = { 0, 0, 0, 0 };
+					struct patch P;
+					while (xe < x1 && xe + 1 < oe && !mark[xe + 1])
+						xe++;
+					lin_patch(jb, x, j, &P);
+					for (q = x; q <= xe; q++) {
+						double mm[3], sg = 1.0, wq;
+						const double *m = mm;
+						if (jb->lin->mirror)
+							m = lin_at(jb->lin, w->width, w->height, q, j, &sg);
+						else if (lin_moments(jb->lin, &jb->f, q, j, mm) != 0)
+							mm[0] = NAN;
+						if (isnan(m[0])) {
+							mark[q] = 1;   /* near the zenith or the field's edge */
+							break;
+						}
+						wq = lin_weight(jb, &P, q, j, ps_weights_run_at(jb->omega, orun, q - orun->x0), m, sg);
+						out[q - x0] = wq;
+						lane[(q - x) & 3] += wq;
 					}
-					wt = lin_weight(jb, x, j, ps_weights_run_at(jb->omega, orun, x - orun->x0), m, sg);
-					out[x - x0] = wt;
-					ps_sum_add(&rs, wt);
-					x++;
+					ps_sum_add(&rs, (lane[0] + lane[1]) + (lane[2] + lane[3]));
+					x = q;
 				} else if (mark[x]) {
 					double hb, vl;
 					hb = below && x >= b.x0[1 - cur] && x <= b.x1[1 - cur] && mark_b[x]
