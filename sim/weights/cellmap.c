@@ -53,6 +53,17 @@ int ps_cellmap_fits(const struct ps_sensor *s, int method)
  * dp changes sign under each reflection). */
 enum { LIN_MAXN = 8, LIN_ZENITH = 20, LIN_JSTEPS = 64 };
 
+/* ps_fisheye_u and ps_fisheye_v, inline (taken at every pixel) */
+static inline double plane_u(const struct ps_fisheye *f, double x)
+{
+	return f->u0 + (x / f->width) * f->su;
+}
+
+static inline double plane_v(const struct ps_fisheye *f, double j)
+{
+	return f->v0 + (j / f->height) * f->sv;
+}
+
 struct gl {
 	int n;
 	double x[LIN_MAXN], w[LIN_MAXN];
@@ -91,11 +102,16 @@ static void gl_rule(struct gl *r, int n)
 	}
 }
 
-/* atan(x) for |x| <= 0.05 by its series to x^17 (the first omitted term
- * below 1e-22 of x). */
-static double atan_small(double x)
+/* atan(x) for |x| <= 0.05 by its series: to x^7 below |x| = 1e-3, to x^11
+ * below 1e-2, else to x^17 (the first omitted term below 1e-22 of x). */
+static inline double atan_small(double x)
 {
 	double x2 = x * x;
+	if (x2 < 1e-6)
+		return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7))));
+	if (x2 < 1e-4)
+		return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 +
+		       x2 * (-1.0 / 11))))));
 	return x * (1 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 +
 	       x2 * (-1.0 / 11 + x2 * (1.0 / 13 + x2 * (-1.0 / 15 + x2 * (1.0 / 17)))))))));
 }
@@ -128,8 +144,8 @@ static void lin_slopes(const struct ps_sensor *s, double *gt, double *gp, double
 /* The centred moments of pixel x on bottom-based row j; -1: the exact route. */
 static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, int j, double m[3])
 {
-	double u0 = ps_fisheye_u(f, x), u1 = ps_fisheye_u(f, x + 1);
-	double v0 = ps_fisheye_v(f, j), v1 = ps_fisheye_v(f, j + 1);
+	double u0 = plane_u(f, x), u1 = plane_u(f, x + 1);
+	double v0 = plane_v(f, j), v1 = plane_v(f, j + 1);
 	double du = u0 > 0 ? u0 : u1 < 0 ? -u1 : 0.0, dv = v0 > 0 ? v0 : v1 < 0 ? -v1 : 0.0;
 	double rmin = hypot(du, dv), umax = fmax(fabs(u0), fabs(u1)), vmax = fmax(fabs(v0), fabs(v1));
 	double R, b, um, uh, vm, vh, uc, vc, rc2, rc, mt = 0, mp = 0, mtp = 0;
@@ -364,16 +380,16 @@ static void lin_patch(const struct job *jb, int x, int j, struct patch *P)
 static double lin_weight(const struct job *jb, struct patch *P, int x, int j, double omega,
                          const double *m, double sg)
 {
-	double uc = ps_fisheye_u(&jb->f, x + 0.5), vc = ps_fisheye_v(&jb->f, j + 0.5);
+	double uc = plane_u(&jb->f, x + 0.5), vc = plane_v(&jb->f, j + 0.5);
 	double th = M_PI * sqrt(uc * uc + vc * vc), ph, t, w, sc, st, sp, stp;
 	const double *c = P->c;
 	if (th >= jb->s->theta_end)
 		return 0.0;
 	{
 		/* phi from the anchor's by atan's series while the turn is small
-		 * (|ratio| <= 0.05: atan_small), else afresh from atan2 */
+		 * (|ratio| <= 0.01: atan_small to x^11), else afresh from atan2 */
 		double den = P->ua * uc + P->va * vc, num = P->ua * vc - P->va * uc;
-		if (P->anchored && den > 0 && fabs(num) <= 0.05 * den) {
+		if (P->anchored && den > 0 && fabs(num) <= 0.01 * den) {
 			ph = P->pa + atan_small(num / den);
 		} else {
 			ph = atan2(vc, uc) - M_PI / 2 - jb->rot + P->off;

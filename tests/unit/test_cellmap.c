@@ -10,7 +10,11 @@
  * integrals; 3e-12 on the hemispherical projection, see tolerance), the totals within 1e-12 of each other and of the table's
  * integral over the sphere where the picture sees all of it.  Then the
  * route through the weight cache (the solid-angle map stored once, found
- * again; the result the same) and which sensors the route takes. */
+ * again; the result the same) and which sensors the route takes.
+ * The linear reading the same way (from the solid angles and the pixels'
+ * moments), on the angular projection where the moments' route runs and
+ * on the hemispherical where every pixel takes the edge route; through the
+ * cache cold, warm and without one. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -360,6 +364,39 @@ static void through_the_cache(void **state)
 	assert_int_equal(system(cmd), 0);
 }
 
+/* The linear reading through the cache: its map stored, found again, and
+ * built without a cache, each the exact route's to 1e-12. */
+static void linear_through_the_cache(void **state)
+{
+	struct ps_sensor s;
+	struct ps_view v;
+	struct ps_weights ex, w;
+	struct ps_err e, warn;
+	char dir[] = "/tmp/test_cellmapXXXXXX", cmd[128];
+	static const int want[3] = { PS_WC_STORED, PS_WC_HIT, PS_WC_BUILT };
+	static const char *what[3] = { "linear, cold cache", "linear, warm cache", "linear, no cache" };
+	(void)state;
+	assert_non_null(mkdtemp(dir));
+	load(&s, PS_READ_LINEAR);
+	ps_view_default_fisheye(&v);
+	if (ps_weights_build(&ex, &s, 12.0, &v, 301, 301, PS_W_EXACT, &e) != 0)
+		fail_msg("%s", e.msg);
+	for (int k = 0; k < 3; k++) {
+		struct ps_wcache_key key = { &s, 12.0, &v, 301, 301, PS_W_EXACT };
+		struct ps_wcache_dir c = { dir, 0 };
+		int how;
+		if (ps_wcache_get(&w, &key, k < 2 ? &c : NULL, &how, &warn, &e) != 0)
+			fail_msg("%s", e.msg);
+		assert_int_equal(how, want[k]);
+		same_as_exact(&w, &ex, what[k]);
+		ps_weights_free(&w);
+	}
+	ps_weights_free(&ex);
+	ps_sensor_free(&s);
+	snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+	assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -373,6 +410,7 @@ int main(void)
 		cmocka_unit_test(which_sensors),
 		cmocka_unit_test(wrong_omega_refused),
 		cmocka_unit_test(through_the_cache),
+		cmocka_unit_test(linear_through_the_cache),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
