@@ -272,13 +272,15 @@ int ps_wcache_get_async(struct ps_weights *w, const struct ps_wcache_key *k,
 	return get(w, k, cache, how, warn, pending, e);
 }
 
-/* A linear-reading table that changes with azimuth: from the solid-angle
- * map by sim/weights/cellmap.c (the solid angles built here, not stored:
- * on an empty cache building them costs less than storing them); the map
- * itself is then stored as any other. */
+/* A linear-reading table that changes with azimuth on the angular
+ * projection: from the solid-angle map by sim/weights/cellmap.c (the solid
+ * angles built here, not stored: on an empty cache building them costs
+ * less than storing them); the map itself is then stored as any other.
+ * On the hemispherical projection that route has no moments: the edge
+ * route's map. */
 static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct ps_err *e)
 {
-	if (ps_cellmap_fits(k->sensor, k->method) == PS_CELLMAP_LINEAR) {
+	if (ps_cellmap_fits(k->sensor, k->method) == PS_CELLMAP_LINEAR && k->view->type == PS_VT_ANGULAR) {
 		struct ps_sensor uni;
 		struct ps_weights omega;
 		int rc;
