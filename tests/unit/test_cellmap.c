@@ -74,14 +74,19 @@ static char *fine_table(size_t *len)
 }
 
 /* The uniform sensor's exact map: the solid angles. */
-static void omega_map(struct ps_weights *om, const struct ps_view *v, int n, int compact)
+static void omega_map_wh(struct ps_weights *om, const struct ps_view *v, int nw, int nh, int compact)
 {
 	struct ps_sensor u;
 	struct ps_err e;
 	if (ps_sensor_builtin(&u, PS_SENS_UNIFORM, &e) != 0 ||
-	    ps_weights_build_ex(om, &u, 0.0, v, n, n, PS_W_EXACT, compact ? PS_WB_COMPACT : 0, &e) != 0)
+	    ps_weights_build_ex(om, &u, 0.0, v, nw, nh, PS_W_EXACT, compact ? PS_WB_COMPACT : 0, &e) != 0)
 		fail_msg("%s", e.msg);
 	ps_sensor_free(&u);
+}
+
+static void omega_map(struct ps_weights *om, const struct ps_view *v, int n, int compact)
+{
+	omega_map_wh(om, v, n, n, compact);
 }
 
 /* fast against exact: the same layout, every weight, the totals */
@@ -128,23 +133,29 @@ static double tolerance(const struct ps_view *v)
 	return v->type == PS_VT_HEMI ? 3e-12 : 1e-12;
 }
 
-static void compare(const struct ps_sensor *s, double rot, const struct ps_view *v, int n,
-                    int compact, const char *what)
+static void compare_wh(const struct ps_sensor *s, double rot, const struct ps_view *v, int nw,
+                       int nh, int compact, const char *what)
 {
 	struct ps_weights om, fast, ex;
 	struct ps_err e;
 	char name[160];
-	omega_map(&om, v, n, compact);
-	if (ps_cellmap_build(&fast, s, rot, v, n, n, &om, &e) != 0)
+	omega_map_wh(&om, v, nw, nh, compact);
+	if (ps_cellmap_build(&fast, s, rot, v, nw, nh, &om, &e) != 0)
 		fail_msg("%s", e.msg);
-	if (ps_weights_build(&ex, s, rot, v, n, n, PS_W_EXACT, &e) != 0)
+	if (ps_weights_build(&ex, s, rot, v, nw, nh, PS_W_EXACT, &e) != 0)
 		fail_msg("%s", e.msg);
-	snprintf(name, sizeof name, "%s, %d x %d, rotation %g, type %c, vs %g", what, n, n, rot, v->type,
-	         v->vs);
+	snprintf(name, sizeof name, "%s, %d x %d, rotation %g, type %c, vs %g", what, nw, nh, rot,
+	         v->type, v->vs);
 	same_as_exact_tol(&fast, &ex, name, tolerance(v));
 	ps_weights_free(&fast);
 	ps_weights_free(&ex);
 	ps_weights_free(&om);
+}
+
+static void compare(const struct ps_sensor *s, double rot, const struct ps_view *v, int n,
+                    int compact, const char *what)
+{
+	compare_wh(s, rot, v, n, n, compact, what);
 }
 
 static void equals_exact_route(void **state)
@@ -224,6 +235,13 @@ static void linear_equals_exact_route(void **state)
 		struct ps_view v;
 		ps_view_default_fisheye(&v);
 		compare(&s, rots[k], &v, sizes[k], 1, "8 x 6 linear table");
+	}
+	{
+		struct ps_view v;   /* not square: mirrored in x and y, not in the diagonal */
+		ps_view_default_fisheye(&v);
+		compare_wh(&s, 15.0, &v, 320, 257, 1, "8 x 6 linear table");
+		v.vv = 120.0;   /* square, a narrower field up: no diagonal either */
+		compare_wh(&s, 15.0, &v, 300, 300, 1, "8 x 6 linear table, -vv 120");
 	}
 	{
 		struct ps_view v;   /* the hemispherical projection: every pixel by its edges */
