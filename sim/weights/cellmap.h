@@ -14,7 +14,18 @@
  * mirrors (a quarter of it stored, an eighth computed on a square picture),
  * shared by every sensor and rotation of that view and size.  The result is
  * a full map laid out as ps_weights_build's; every weight agrees with it to
- * rounding (tests/unit/test_cellmap.c).  The work is shared by every core. */
+ * rounding (tests/unit/test_cellmap.c).  The work is shared by every core.
+ *
+ * The linear reading is bilinear in theta and phi inside each patch of the
+ * table (between two rows and two columns): a pixel inside one patch weighs
+ * the sensitivity at its centre times its solid angle plus the slopes
+ * there times the pixel's moments of (theta - theta_c), (phi - phi_c) and
+ * their product over its solid angle.  On the angular projection the
+ * moments come from a Gauss-Legendre rule per pixel sized from an error
+ * bound (computed for a quadrant and mirrored on a view not shifted); the
+ * pixels the patches' circles and rays, the zenith's neighbourhood, the
+ * table's end or the field's edge touch take the exact edge route, and on
+ * the hemispherical projection every pixel does. */
 #ifndef PS_CELLMAP_H
 #define PS_CELLMAP_H
 
@@ -23,9 +34,12 @@
 #include "view.h"
 #include "weights.h"
 
-/* 1 when this route gives s's exact map (method exact, a table under the
- * cell reading whose values change with azimuth: a table the same at every
- * azimuth has the mirrored route of ps_weights_build_ex, cheaper still). */
+/* Non-zero when this route gives s's exact map (method exact, a table
+ * whose values change with azimuth: a table the same at every azimuth has
+ * the mirrored route of ps_weights_build_ex, cheaper still):
+ * PS_CELLMAP_CELL under the cell reading, PS_CELLMAP_LINEAR under the
+ * linear one. */
+enum { PS_CELLMAP_CELL = 1, PS_CELLMAP_LINEAR = 2 };
 int ps_cellmap_fits(const struct ps_sensor *s, int method);
 
 /* Build s's exact map (rotation in degrees, view v, width x height) from

@@ -272,8 +272,29 @@ int ps_wcache_get_async(struct ps_weights *w, const struct ps_wcache_key *k,
 	return get(w, k, cache, how, warn, pending, e);
 }
 
+/* A linear-reading table that changes with azimuth on the angular
+ * projection: from the solid-angle map by sim/weights/cellmap.c (the solid
+ * angles built here, not stored: on an empty cache building them costs
+ * less than storing them); the map itself is then stored as any other.
+ * On the hemispherical projection that route has no moments: the edge
+ * route's map. */
 static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct ps_err *e)
 {
+	if (ps_cellmap_fits(k->sensor, k->method) == PS_CELLMAP_LINEAR && k->view->type == PS_VT_ANGULAR) {
+		struct ps_sensor uni;
+		struct ps_weights omega;
+		int rc;
+		if (ps_sensor_builtin(&uni, PS_SENS_UNIFORM, e) != 0)
+			return -1;
+		rc = ps_weights_build_ex(&omega, &uni, 0.0, k->view, k->width, k->height, PS_W_EXACT,
+		                         PS_WB_COMPACT, e);
+		ps_sensor_free(&uni);
+		if (rc != 0)
+			return -1;
+		rc = ps_cellmap_build(w, k->sensor, k->rotation_deg, k->view, k->width, k->height, &omega, e);
+		ps_weights_free(&omega);
+		return rc;
+	}
 	return ps_weights_build_ex(w, k->sensor, k->rotation_deg, k->view, k->width, k->height, k->method,
 	                           PS_WB_COMPACT, e);
 }
@@ -317,7 +338,7 @@ static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct
 	struct ps_err ce;
 	int got, rebuilt = 0;
 	*how = PS_WC_BUILT;
-	if (ps_cellmap_fits(k->sensor, k->method))
+	if (ps_cellmap_fits(k->sensor, k->method) == PS_CELLMAP_CELL)
 		return get_cellmap(w, k, cache, how, warn, e);
 	if (!dir)
 		return build(w, k, e);

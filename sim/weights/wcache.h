@@ -16,11 +16,12 @@
 
 /* Bump when ps_weights_build's numbers change: older entries are then never
  * found again (and age out). */
-#define PS_WEIGHTS_ALGO_VERSION 7   /* 2: symmetric maps mirrored; 3: and transposed;
+#define PS_WEIGHTS_ALGO_VERSION 8   /* 2: symmetric maps mirrored; 3: and transposed;
                                       * 4: compact symmetric maps; 5: M without
                                       * cancellation near the axis; 6: the uniform
                                       * sensor's angular map by a rule over each pixel;
-                                      * 7: and the cosine's */
+                                      * 7: and the cosine's; 8: an azimuthal
+                                      * table's linear reading from moments */
 
 /* What a weight map is of: everything its numbers depend on, so the content
  * its cache entry is found by. */

@@ -5,7 +5,8 @@
  *    with azimuth on a 180-degree angular fisheye: the exact edge route
  *    (both readings, cold) and the cell reading's route from the
  *    solid-angle map (sim/weights/cellmap.h), with the solid angles built
- *    (an empty cache) and given (a warm one).  Error: the largest
+ *    (an empty cache) and given (a warm one), and the linear reading's
+ *    route from the solid angles and the pixels' moments.  Error: the largest
  *    difference of a weight from the exact route's, over the largest
  *    weight, at 1000 x 1000; at 4000 x 4000 the map's total against the
  *    sensitivity's integral over the sphere (the table ends inside the
@@ -109,6 +110,27 @@ static void weights_part(struct ps_sensor *s, const struct ps_view *v)
 			       n <= 1000 ? max_diff(&fast, &ex[1]) : fast.sens_sum / fast.sens_full - 1,
 			       1e3 * (t2 - t0), 1e3 * (c2 - c0));
 			snprintf(name, sizeof name, "%dx%d cell route, solid angles given (warm)", n, n);
+			printf("%-52s %10s %10.1f %10.1f\n", name, "same", 1e3 * (t2 - t1), 1e3 * (c2 - c1));
+		}
+		ps_weights_free(&fast);
+		ps_weights_free(&om);
+		/* the linear reading from the solid angles and the moments */
+		{
+			double t0 = psd_time_mono(), t1, t2, c0 = cpu_now(), c1, c2;
+			if (ps_sensor_set_reading(s, PS_READ_LINEAR, &e) != 0 ||
+			    ps_weights_build_ex(&om, &uni, 0.0, v, n, n, PS_W_EXACT, PS_WB_COMPACT, &e) != 0)
+				exit(1);
+			t1 = psd_time_mono();
+			c1 = cpu_now();
+			if (ps_cellmap_build(&fast, s, 10.0, v, n, n, &om, &e) != 0)
+				exit(1);
+			t2 = psd_time_mono();
+			c2 = cpu_now();
+			snprintf(name, sizeof name, "%dx%d linear route, solid angles built (cold)", n, n);
+			printf("%-52s %10.2e %10.1f %10.1f\n", name,
+			       n <= 1000 ? max_diff(&fast, &ex[0]) : fast.sens_sum / fast.sens_full - 1,
+			       1e3 * (t2 - t0), 1e3 * (c2 - c0));
+			snprintf(name, sizeof name, "%dx%d linear route, solid angles given", n, n);
 			printf("%-52s %10s %10.1f %10.1f\n", name, "same", 1e3 * (t2 - t1), 1e3 * (c2 - c1));
 		}
 		ps_weights_free(&fast);

@@ -21,6 +21,7 @@
 #include <cmocka.h>
 
 #include "cache.h"
+#include "cellmap.h"
 #include "sensor.h"
 #include "view.h"
 #include "wcache.h"
@@ -90,13 +91,22 @@ static int get(struct ps_weights *w, const struct ps_sensor *s, double rot, cons
 	return how;
 }
 
+/* The map as the builder gives it: the table changes with azimuth, so from
+ * the solid angles (sim/weights/cellmap.h). */
 static void built(struct ps_weights *w, const struct ps_sensor *s, double rot)
 {
 	struct ps_view v;
 	struct ps_err e;
+	struct ps_sensor uni;
+	struct ps_weights om;
 	ps_view_default_fisheye(&v);
-	if (ps_weights_build(w, s, rot, &v, N, N, PS_W_EXACT, &e) != 0)
+	assert_int_equal(ps_cellmap_fits(s, PS_W_EXACT), PS_CELLMAP_LINEAR);
+	if (ps_sensor_builtin(&uni, PS_SENS_UNIFORM, &e) != 0 ||
+	    ps_weights_build_ex(&om, &uni, 0.0, &v, N, N, PS_W_EXACT, PS_WB_COMPACT, &e) != 0 ||
+	    ps_cellmap_build(w, s, rot, &v, N, N, &om, &e) != 0)
 		fail_msg("%s", e.msg);
+	ps_weights_free(&om);
+	ps_sensor_free(&uni);
 }
 
 /* The entry file of (s, rot). */
