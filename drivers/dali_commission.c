@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "dali_commission.h"
+#include "dali_device.h"
 
 #define RANDOMISE_WAIT 0.1      /* the new random address within 100 ms */
 #define INIT_REFRESH 720.0      /* INITIALISE again after 12 of its 15 minutes */
@@ -26,7 +27,7 @@
 
 enum {
 	PC_END = 0,
-	SC_PRESENT, SC_DETAIL, SC_UNADDR,
+	SC_PRESENT, SC_DETAIL, SC_UNADDR, SC_DEV, SC_DEV_TYPE, SC_DEV_UNADDR,
 	AD_PRESENT, AD_UNADDR, AD_TERMINATE, AD_INIT, AD_INIT_DUP, AD_RANDOMISE, AD_FIRST,
 	AD_BIN, AD_BIN_CMP, AD_CONFIRM, AD_QUERY, AD_PROGRAM, AD_VERIFY, AD_UNPROGRAM, AD_CLASH, AD_WITHDRAW, AD_FINAL,
 	PC_SEARCH,
@@ -321,9 +322,44 @@ static int scan_run(struct ps_dali_commission *c, double now)
 		step(c, "scan: gear without a short address?");
 		emit(c, (PS_DALI_UNADDRESSED << 8) | PS_DALI_QUERY_GEAR_PRESENT, 0, 1);
 		return 0;
+	case SC_DEV:
+		step(c, "scan: control device %d of 63", c->i);
+		emit(c, (unsigned)ps_dali_device_cmd(c->i, PS_DALI_DEVICE_QUERY_NUMBER_OF_INSTANCES), 0, 1);
+		return 0;
+	case SC_DEV_TYPE:
+		step(c, "scan: control device %d, instance %d", c->i, c->k);
+		emit(c, (unsigned)ps_dali_device_inst_cmd(c->i, c->k, PS_DALI_DEVICE_QUERY_INSTANCE_TYPE), 0, 1);
+		return 0;
+	case SC_DEV_UNADDR:
+		step(c, "scan: control devices without a short address?");
+		emit(c, (unsigned)ps_dali_device_frame(PS_DALI_DEVICE_UNADDRESSED, PS_DALI_DEVICE_SELF,
+		                                       PS_DALI_DEVICE_QUERY_NUMBER_OF_INSTANCES), 0, 1);
+		return 0;
 	default:
 		return internal(c, now);
 	}
+}
+
+static void scan_done(struct ps_dali_commission *c, double now)
+{
+	int n = 0, several = 0, nd = 0;
+	for (int a = 0; a < 64; a++) {
+		n += c->gear[a].present != 0;
+		several += c->gear[a].present == 2;
+		nd += c->devices[a].present != 0;
+	}
+	if (!c->with_devices) {
+		end(c, now, PS_DALI_COMMISSION_DONE, "%d short addresses answer%s; gear without a short address: %s", n,
+		    several ? ", some by several ballasts at once" : "",
+		    c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "yes" : "several");
+		return;
+	}
+	end(c, now, PS_DALI_COMMISSION_DONE,
+	    "%d short addresses answer%s; gear without a short address: %s; %d control devices, without a short "
+	    "address: %s",
+	    n, several ? ", some by several ballasts at once" : "",
+	    c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "yes" : "several", nd,
+	    c->dev_unaddressed == 0 ? "none" : c->dev_unaddressed == 1 ? "yes" : "several");
 }
 
 static int scan_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
@@ -347,18 +383,37 @@ static int scan_result(struct ps_dali_commission *c, double now, int rx, unsigne
 		c->scanned = ++c->i;
 		c->pc = c->i < 64 ? SC_PRESENT : SC_UNADDR;
 		return 1;
-	case SC_UNADDR: {
-		int n = 0, several = 0;
+	case SC_UNADDR:
 		c->unaddressed = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
-		for (int a = 0; a < 64; a++) {
-			n += c->gear[a].present != 0;
-			several += c->gear[a].present == 2;
+		if (c->with_devices) {
+			c->i = 0;
+			c->pc = SC_DEV;
+			return 1;
 		}
-		end(c, now, PS_DALI_COMMISSION_DONE, "%d short addresses answer%s; gear without a short address: %s", n,
-		    several ? ", some by several ballasts at once" : "",
-		    c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "yes" : "several");
+		scan_done(c, now);
 		return 0;
+	case SC_DEV: {
+		struct ps_dali_ctl_device *d = &c->devices[c->i];
+		d->present = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
+		d->instances = rx == PS_DALI_RX_ANSWER ? (int)(value > 32 ? 32 : value) : 0;
+		if (d->instances > 0) {
+			c->k = 0;
+			c->pc = SC_DEV_TYPE;
+			return 1;
+		}
+		c->pc = ++c->i < 64 ? SC_DEV : SC_DEV_UNADDR;
+		return 1;
 	}
+	case SC_DEV_TYPE:
+		c->devices[c->i].type[c->k] = (signed char)(rx == PS_DALI_RX_ANSWER && value < 32 ? (int)value : -1);
+		if (++c->k < c->devices[c->i].instances)
+			return 1;
+		c->pc = ++c->i < 64 ? SC_DEV : SC_DEV_UNADDR;
+		return 1;
+	case SC_DEV_UNADDR:
+		c->dev_unaddressed = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
+		scan_done(c, now);
+		return 0;
 	}
 	return 1;
 }
@@ -987,6 +1042,14 @@ int ps_dali_commission_scan(struct ps_dali_commission *c, double now)
 	return 0;
 }
 
+int ps_dali_commission_scan_devices(struct ps_dali_commission *c, double now)
+{
+	start(c, PS_DALI_COMMISSION_SCAN, SC_PRESENT, now);
+	c->with_devices = 1;
+	run(c, now);
+	return 0;
+}
+
 int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double now)
 {
 	if (mode != PS_DALI_ADDRESS_NEW && mode != PS_DALI_ADDRESS_ALL) {
@@ -1115,6 +1178,35 @@ static void scan_json(const struct ps_dali_commission *c, json_object *o)
 	json_object_object_add(o, "ballasts", list);
 	json_object_object_add(o, "unaddressed", c->unaddressed < 0 ? NULL :
 	                       json_object_new_string(c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "one" : "several"));
+	if (!c->with_devices)
+		return;
+	list = json_object_new_array();
+	for (int a = 0; a < 64; a++) {
+		const struct ps_dali_ctl_device *d = &c->devices[a];
+		json_object *b, *insts;
+		if (!d->present)
+			continue;
+		b = json_object_new_object();
+		insts = json_object_new_array();
+		json_object_object_add(b, "address", json_object_new_int(a));
+		json_object_object_add(b, "devices", json_object_new_string(d->present == 2 ? "several" : "one"));
+		for (int k = 0; k < d->instances; k++) {
+			json_object *x = json_object_new_object();
+			const char *kind = d->type[k] == PS_DALI_TYPE_LIGHT ? "light sensor (304)"
+			                 : d->type[k] == PS_DALI_TYPE_OCCUPANCY ? "occupancy sensor (303)"
+			                 : d->type[k] == PS_DALI_TYPE_PUSH_BUTTON ? "push button (301)" : NULL;
+			json_object_object_add(x, "number", json_object_new_int(k));
+			put_int(x, "type", d->type[k]);
+			json_object_object_add(x, "kind", kind ? json_object_new_string(kind) : NULL);
+			json_object_array_add(insts, x);
+		}
+		json_object_object_add(b, "instances", insts);
+		json_object_array_add(list, b);
+	}
+	json_object_object_add(o, "devices", list);
+	json_object_object_add(o, "devices_unaddressed",
+	                       json_object_new_string(c->dev_unaddressed == 0 ? "none" : c->dev_unaddressed == 1 ? "one"
+	                                                                                                        : "several"));
 }
 
 static void address_json(const struct ps_dali_commission *c, json_object *o)

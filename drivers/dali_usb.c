@@ -1089,7 +1089,8 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 	long n, g;
 	int rc;
 	if (strcmp(w[0], "scan") == 0 && nw == 1) {
-		rc = ps_dali_commission_scan(c, now);
+		/* control devices too where the interface carries 24-bit frames */
+		rc = d->codec ? ps_dali_commission_scan_devices(c, now) : ps_dali_commission_scan(c, now);
 	} else if (strcmp(w[0], "address") == 0 && nw <= 2) {
 		int all = nw == 2 && strcmp(w[1], "all") == 0;
 		if (nw == 2 && !all && strcmp(w[1], "new") != 0)
