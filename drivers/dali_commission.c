@@ -77,8 +77,43 @@ static int short_of(unsigned data)
 	return (data & 0x81) == 0x01 ? (int)(data >> 1) : -1;
 }
 
+/* The address job in the control-device space (IEC 62386-103): the same
+ * search with 103's special commands (address byte 0xC1, the command in the
+ * instance byte; short addresses as 0..63, not 0AAAAAA1), QUERY DEVICE
+ * STATUS for "is anyone there". */
+static unsigned device_frame(unsigned frame)
+{
+	static const struct { int gear, dev; } map[] = {
+		{ PS_DALI_TERMINATE, PS_DALI_DEVICE_TERMINATE }, { PS_DALI_INITIALISE, PS_DALI_DEVICE_INITIALISE },
+		{ PS_DALI_RANDOMISE, PS_DALI_DEVICE_RANDOMISE }, { PS_DALI_COMPARE, PS_DALI_DEVICE_COMPARE },
+		{ PS_DALI_WITHDRAW, PS_DALI_DEVICE_WITHDRAW }, { PS_DALI_SEARCHADDRH, PS_DALI_DEVICE_SEARCHADDRH },
+		{ PS_DALI_SEARCHADDRM, PS_DALI_DEVICE_SEARCHADDRM }, { PS_DALI_SEARCHADDRL, PS_DALI_DEVICE_SEARCHADDRL },
+		{ PS_DALI_PROGRAM_SHORT_ADDRESS, PS_DALI_DEVICE_PROGRAM_SHORT_ADDRESS },
+		{ PS_DALI_VERIFY_SHORT_ADDRESS, PS_DALI_DEVICE_VERIFY_SHORT_ADDRESS },
+		{ PS_DALI_QUERY_SHORT_ADDRESS, PS_DALI_DEVICE_QUERY_SHORT_ADDRESS },
+	};
+	int ab = (int)(frame >> 8), data = (int)(frame & 0xFF);
+	if (frame == (PS_DALI_UNADDRESSED << 8 | PS_DALI_QUERY_GEAR_PRESENT))
+		return (unsigned)ps_dali_device_frame(PS_DALI_DEVICE_UNADDRESSED, PS_DALI_DEVICE_SELF,
+		                                      PS_DALI_DEVICE_QUERY_STATUS);
+	if (!(ab & 0x80) && data == PS_DALI_QUERY_GEAR_PRESENT)
+		return (unsigned)ps_dali_device_cmd(ab >> 1, PS_DALI_DEVICE_QUERY_STATUS);
+	for (size_t i = 0; i < sizeof map / sizeof map[0]; i++) {
+		if (map[i].gear != ab)
+			continue;
+		if (ab == PS_DALI_INITIALISE)
+			data = data == 0x00 ? PS_DALI_DEVICE_INIT_ALL : data == 0xFF ? PS_DALI_DEVICE_INIT_UNADDRESSED : data >> 1;
+		else if (ab == PS_DALI_PROGRAM_SHORT_ADDRESS || ab == PS_DALI_VERIFY_SHORT_ADDRESS)
+			data = data == 0xFF ? 0xFF : data >> 1;
+		return (unsigned)ps_dali_device_special(map[i].dev, data);
+	}
+	return frame;
+}
+
 static void emit(struct ps_dali_commission *c, unsigned frame, int twice, int answer)
 {
+	if (c->devices_space)
+		frame = device_frame(frame);
 	c->tx = (struct ps_dali_tx){ frame, twice, answer };
 	c->have_tx = 1;
 }
@@ -224,9 +259,9 @@ static void verify_judge(struct ps_dali_commission *c, double now)
 static void address_done(struct ps_dali_commission *c, double now)
 {
 	end(c, now, PS_DALI_COMMISSION_DONE,
-	    "%d ballasts found: %d new short addresses, %d kept theirs%s; %d random-address clashes separated, "
+	    "%d %s found: %d new short addresses, %d kept theirs%s; %d random-address clashes separated, "
 	    "%d searches restarted, %d lost%s",
-	    c->nfound, c->programmed, c->kept, c->no_free ? ", some left without (no free address)" : "",
+	    c->nfound, c->devices_space ? "control devices" : "ballasts", c->programmed, c->kept, c->no_free ? ", some left without (no free address)" : "",
 	    c->clashes, c->restarts, c->lost, c->inits > 1 ? ", INITIALISE renewed" : "");
 }
 
@@ -976,6 +1011,10 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 		return;
 	c->have_tx = 0;
 	c->frames++;
+	/* a control device answers QUERY SHORT ADDRESS with 0..63 */
+	if (c->devices_space && rx == PS_DALI_RX_ANSWER && value <= 63 &&
+	    c->tx.frame == (unsigned)ps_dali_device_special(PS_DALI_DEVICE_QUERY_SHORT_ADDRESS, 0))
+		value = value << 1 | 1;
 	if (rx == PS_DALI_RX_FAILED) {
 		end(c, now, PS_DALI_COMMISSION_FAILED, "%s", why && *why ? why : "the interface did not answer");
 		return;
@@ -1050,16 +1089,27 @@ int ps_dali_commission_scan_devices(struct ps_dali_commission *c, double now)
 	return 0;
 }
 
-int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double now)
+static int address_start(struct ps_dali_commission *c, int mode, int devices, double now)
 {
 	if (mode != PS_DALI_ADDRESS_NEW && mode != PS_DALI_ADDRESS_ALL) {
 		snprintf(c->msg, sizeof c->msg, "address: the mode is new or all");
 		return -1;
 	}
 	start(c, PS_DALI_COMMISSION_ADDRESS, AD_PRESENT, now);
+	c->devices_space = devices;
 	c->mode = mode;
 	run(c, now);
 	return 0;
+}
+
+int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double now)
+{
+	return address_start(c, mode, 0, now);
+}
+
+int ps_dali_commission_address_devices(struct ps_dali_commission *c, int mode, double now)
+{
+	return address_start(c, mode, 1, now);
 }
 
 int ps_dali_commission_group(struct ps_dali_commission *c, const struct ps_dali_addr *a, int group, int add,

@@ -130,6 +130,7 @@ struct ps_dali_commission {
 	int scanned;             /* short addresses scanned */
 	int unaddressed;         /* gear without a short address: 0 none, 1, 2 several, -1 not asked */
 	int with_devices;        /* scan: control devices too (24-bit frames) */
+	int devices_space;       /* address: among control devices, not gear */
 	struct ps_dali_ctl_device devices[64];
 	int dev_unaddressed;     /* control devices without a short address: 0 none, 1, 2 several */
 	struct ps_dali_found found[64];
@@ -165,6 +166,9 @@ int ps_dali_commission_scan(struct ps_dali_commission *c, double now);
  * 0xFFFF), and whether devices without a short address are on the bus. */
 int ps_dali_commission_scan_devices(struct ps_dali_commission *c, double now);
 int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double now);
+/* The same search among DALI-2 control devices: 103's special commands
+ * (24-bit frames) and short addresses of the device space. */
+int ps_dali_commission_address_devices(struct ps_dali_commission *c, int mode, double now);
 int ps_dali_commission_group(struct ps_dali_commission *c, const struct ps_dali_addr *a, int group, int add,
                              double now);
 int ps_dali_commission_identify(struct ps_dali_commission *c, int short_addr, double seconds, double now);

@@ -1077,7 +1077,7 @@ static int word_long(const char *w, long min, long max, long *out)
 }
 
 static const char command_usage[] =
-	"scan | address [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | verify ZONE | status | abort";
+	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | verify ZONE | status | abort";
 
 /* Start a job from the request's words; 0, or -1 with errno and dev->err. */
 static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, struct ps_point *const *pts, int npts,
@@ -1091,6 +1091,14 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 	if (strcmp(w[0], "scan") == 0 && nw == 1) {
 		/* control devices too where the interface carries 24-bit frames */
 		rc = d->codec ? ps_dali_commission_scan_devices(c, now) : ps_dali_commission_scan(c, now);
+	} else if (strcmp(w[0], "address") == 0 && nw >= 2 && nw <= 3 && strcmp(w[1], "devices") == 0) {
+		int all = nw == 3 && strcmp(w[2], "all") == 0;
+		if (nw == 3 && !all && strcmp(w[2], "new") != 0)
+			return ps_dev_fail(dev, EINVAL, "address devices new|all: '%s' is neither", w[2]);
+		if (!d->codec)
+			return ps_dev_fail(dev, EINVAL, "address devices: this interface carries no 24-bit frames "
+			                                "(control devices need transport atx, foxtron or luba)");
+		rc = ps_dali_commission_address_devices(c, all ? PS_DALI_ADDRESS_ALL : PS_DALI_ADDRESS_NEW, now);
 	} else if (strcmp(w[0], "address") == 0 && nw <= 2) {
 		int all = nw == 2 && strcmp(w[1], "all") == 0;
 		if (nw == 2 && !all && strcmp(w[1], "new") != 0)
