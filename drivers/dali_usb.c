@@ -940,8 +940,9 @@ static void failed_try(struct dali_usb *d, int err, const char *why)
 	}
 	p = &d->pts[t.point];
 	if (t.kind == TX_INPUT) {
+		/* a garbled answer after every try: the device answers, badly */
 		p->input_pending = 0;
-		ps_dali_input_result(p->in, d->now, PS_DALI_RX_FAILED, 0);
+		ps_dali_input_result(p->in, d->now, err == EPROTO ? PS_DALI_RX_COLLISION : PS_DALI_RX_FAILED, 0);
 		return;
 	}
 	p->err = err;
