@@ -32,7 +32,7 @@ enum {
 	AD_BIN, AD_BIN_CMP, AD_CONFIRM, AD_QUERY, AD_PROGRAM, AD_VERIFY, AD_UNPROGRAM, AD_CLASH, AD_WITHDRAW, AD_FINAL,
 	PC_SEARCH,
 	GR_CMD, GR_Q0, GR_Q1,
-	ID_QUERY, ID_G0, ID_G1, ID_FLASH, ID_RESTORE,
+	ID_QUERY, ID_G0, ID_G1, ID_FLASH, ID_RESTORE, ID_DEVICE, ID_DEVICE_CHECK,
 	VE_PRESENT, VE_INFO, VE_CMD, VE_QUERY,
 	AB_TERMINATE, AB_RESTORE,
 };
@@ -799,6 +799,14 @@ static int group_result(struct ps_dali_commission *c, double now, int rx, unsign
 static int identify_run(struct ps_dali_commission *c, double now)
 {
 	switch (c->pc) {
+	case ID_DEVICE_CHECK:
+		step(c, "identify: control device %d there?", c->target.n);
+		emit(c, (unsigned)ps_dali_device_cmd(c->target.n, PS_DALI_DEVICE_QUERY_STATUS), 0, 1);
+		return 0;
+	case ID_DEVICE:
+		step(c, "identify: control device %d", c->target.n);
+		emit(c, (unsigned)ps_dali_device_cmd(c->target.n, PS_DALI_DEVICE_IDENTIFY), 1, 0);
+		return 0;
 	case ID_QUERY:
 		step(c, "identify: short address %d, its level", c->target.n);
 		emit(c, short_frame(c->target.n, PS_DALI_QUERY_ACTUAL_LEVEL), 0, 1);
@@ -839,6 +847,19 @@ static int identify_result(struct ps_dali_commission *c, double now, int rx, uns
 {
 	int v = value_of(rx, value);
 	switch (c->pc) {
+	case ID_DEVICE_CHECK:
+		if (rx == PS_DALI_RX_NONE) {
+			end(c, now, PS_DALI_COMMISSION_FAILED, "no control device answers at short address %d",
+			    c->target.n);
+			return 0;
+		}
+		c->pc = ID_DEVICE;
+		return 1;
+	case ID_DEVICE:
+		end(c, now, PS_DALI_COMMISSION_DONE,
+		    "control device %d told to identify itself (IDENTIFY DEVICE: its own signal, about 10 s)",
+		    c->target.n);
+		return 0;
 	case ID_QUERY:
 		if (rx == PS_DALI_RX_NONE) {
 			end(c, now, PS_DALI_COMMISSION_FAILED, "no ballast answers at short address %d", c->target.n);
@@ -1136,6 +1157,18 @@ int ps_dali_commission_identify(struct ps_dali_commission *c, int short_addr, do
 	start(c, PS_DALI_COMMISSION_IDENTIFY, ID_QUERY, now);
 	c->target = (struct ps_dali_addr){ PS_DALI_SHORT, short_addr };
 	c->seconds = seconds;
+	run(c, now);
+	return 0;
+}
+
+int ps_dali_commission_identify_device(struct ps_dali_commission *c, int short_addr, double now)
+{
+	if (short_addr < 0 || short_addr > 63) {
+		snprintf(c->msg, sizeof c->msg, "identify device: a short address 0 to 63");
+		return -1;
+	}
+	start(c, PS_DALI_COMMISSION_IDENTIFY, ID_DEVICE_CHECK, now);
+	c->target = (struct ps_dali_addr){ PS_DALI_SHORT, short_addr };
 	run(c, now);
 	return 0;
 }

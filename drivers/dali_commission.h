@@ -172,6 +172,10 @@ int ps_dali_commission_address_devices(struct ps_dali_commission *c, int mode, d
 int ps_dali_commission_group(struct ps_dali_commission *c, const struct ps_dali_addr *a, int group, int add,
                              double now);
 int ps_dali_commission_identify(struct ps_dali_commission *c, int short_addr, double seconds, double now);
+/* A DALI-2 control device at short address short_addr of the device space:
+ * QUERY DEVICE STATUS (is it there?), then IDENTIFY DEVICE (sent twice): the
+ * device shows itself its own way for about 10 s (IEC 62386-103). */
+int ps_dali_commission_identify_device(struct ps_dali_commission *c, int short_addr, double now);
 /* targets: the addresses a zone's outputs use (names for the report);
  * level1, level2: arc levels to command in turn. */
 int ps_dali_commission_verify(struct ps_dali_commission *c, const struct ps_dali_addr *targets,

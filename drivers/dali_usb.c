@@ -1078,7 +1078,7 @@ static int word_long(const char *w, long min, long max, long *out)
 }
 
 static const char command_usage[] =
-	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | verify ZONE | status | abort";
+	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | identify device SHORT | verify ZONE | status | abort";
 
 /* Start a job from the request's words; 0, or -1 with errno and dev->err. */
 static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, struct ps_point *const *pts, int npts,
@@ -1113,6 +1113,13 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 		if (word_long(w[3], 0, 15, &g) != 0)
 			return ps_dev_fail(dev, EINVAL, "group: '%s' is not a group 0 to 15", w[3]);
 		rc = ps_dali_commission_group(c, &a, (int)g, strcmp(w[2], "add") == 0, now);
+	} else if (strcmp(w[0], "identify") == 0 && nw == 3 && strcmp(w[1], "device") == 0) {
+		if (word_long(w[2], 0, 63, &n) != 0)
+			return ps_dev_fail(dev, EINVAL, "identify device: '%s' is not a short address 0 to 63", w[2]);
+		if (!d->codec)
+			return ps_dev_fail(dev, EINVAL, "identify device: this interface carries no 24-bit frames "
+			                                "(control devices need transport atx, foxtron or luba)");
+		rc = ps_dali_commission_identify_device(c, (int)n, now);
 	} else if (strcmp(w[0], "identify") == 0 && (nw == 2 || nw == 3)) {
 		if (word_long(w[1], 0, 63, &n) != 0)
 			return ps_dev_fail(dev, EINVAL, "identify: '%s' is not a short address 0 to 63", w[1]);

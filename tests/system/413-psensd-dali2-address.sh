@@ -8,7 +8,9 @@
 # at 5, gear at short 1.  Checks: the two new devices get 0 and 1 (the
 # lowest free, in the order of the random addresses they drew), device 5 keeps its address, the gear keep theirs; the
 # emulator's own state says so (not psensd's report); a scan then lists the
-# three devices and none without an address; a second run has nothing to do.
+# three devices and none without an address; a second run has nothing to do;
+# identify device sends IDENTIFY DEVICE twice, which the device obeys once,
+# and names a short address where no device answers.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v python3 > /dev/null || skip_all "python3 not installed"
@@ -61,6 +63,12 @@ check "scan: three control devices, none without an address" \
 check "scan: each listed with its instances" test "$(grep -cE '^ +[015] +one +0: 3 ' "$TMP/scan")" = 3
 ctl dali dali address devices > "$TMP/addr2" 2> /dev/null
 check "a second run: nothing to do" grep -q "nothing to do" "$TMP/addr2"
+ctl dali dali identify device 5 > "$TMP/id" 2> /dev/null
+check "identify device 5: done" grep -q "identify done .*: control device 5 told to identify itself" "$TMP/id"
+check "... the device obeyed IDENTIFY DEVICE once (sent twice, as 103 asks)" \
+	test "$(awk '$1 == "device" && $4 == 5 { print $10 }' "$TMP/bus.state")" = 1
+ctl dali dali identify device 33 > "$TMP/id2" 2> /dev/null
+check "identify device 33: nobody there, said so" grep -q "no control device answers at short address 33" "$TMP/id2"
 ctl dali dali address devices sideways > "$TMP/bad" 2>&1
 check "a bad mode names the problem" grep -q "address devices new|all: 'sideways' is neither" "$TMP/bad"
 pd=$(ctl -j ping | sed -n 's/.*"pid":\([0-9]*\).*/\1/p')

@@ -54,7 +54,8 @@ again when it changes) sets them: lines "light I VALUE", "occupied I 0|1",
 "silent I 0|1" (the device neither answers nor reports), "garbage I 0|1"
 (its answers come garbled), I the device's place in --devices.  Their
 addresses and the QUERY INPUT VALUE frames each answered go to the --state
-file as "device I short S random R polls N".  --no-events: an interface
+file as "device I short S random R polls N identified K" (K: IDENTIFY
+DEVICE commands it obeyed).  --no-events: an interface
 that does not pass bus traffic (the host must poll)."""
 import argparse
 import os
@@ -143,7 +144,7 @@ class Bus:
             for s in sorted(self.gear):
                 f.write("short %d level %d\n" % (s, self.gear[s].level))
             for n, d in enumerate(self.devices.devs):
-                f.write("device %d short %s random 0x%06X polls %d\n" % (n, "-" if d.short is None else d.short, d.random, d.polls))
+                f.write("device %d short %s random 0x%06X polls %d identified %d\n" % (n, "-" if d.short is None else d.short, d.random, d.polls, d.identify))
         os.replace(path + ".tmp", path)
 
 
@@ -280,7 +281,7 @@ class Devices:
             out = []
             for d in devs:
                 if op == 0x00:
-                    d.identify = 10
+                    d.identify += 1
                 elif op == 0x14:
                     d.short = None if self.dtr[0] == 0xFF else self.dtr[0] & 0x3F
                 elif op == 0x30:
