@@ -1150,6 +1150,37 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 	return 0;
 }
 
+/* The bus counters and each control-device input's state, for psensctl. */
+static void bus_json(const struct dali_usb *d, double now, json_object *o)
+{
+	json_object *b = json_object_new_object(), *list = json_object_new_array();
+	json_object_object_add(b, "frames", json_object_new_int64((int64_t)d->st.frames));
+	json_object_object_add(b, "device_transactions", json_object_new_int64((int64_t)d->st.input_frames));
+	json_object_object_add(b, "events", json_object_new_int64((int64_t)d->st.events));
+	json_object_object_add(b, "collisions", json_object_new_int64((int64_t)d->st.collisions));
+	json_object_object_add(b, "garbled", json_object_new_int64((int64_t)d->st.garbled));
+	for (int i = 0; i < d->npts; i++) {
+		const struct ps_dali_input *in = d->pts[i].in;
+		json_object *x;
+		if (!in)
+			continue;
+		x = json_object_new_object();
+		json_object_object_add(x, "point", json_object_new_string(d->pts[i].pt->name));
+		json_object_object_add(x, "device_address", json_object_new_int(in->c.address));
+		json_object_object_add(x, "instance", json_object_new_int(in->c.instance));
+		json_object_object_add(x, "type", json_object_new_int(in->c.type));
+		json_object_object_add(x, "value", isfinite(in->last) ? json_object_new_int64(in->value) : NULL);
+		json_object_object_add(x, "age_s", isfinite(in->last) ? json_object_new_double(now - in->last) : NULL);
+		json_object_object_add(x, "configured", json_object_new_boolean(in->icfg >= in->ncfg));
+		json_object_object_add(x, "transactions", json_object_new_int64((int64_t)in->frames));
+		json_object_object_add(x, "polls", json_object_new_int64((int64_t)in->polls));
+		json_object_object_add(x, "events", json_object_new_int64((int64_t)in->events));
+		json_object_array_add(list, x);
+	}
+	json_object_object_add(b, "inputs", list);
+	json_object_object_add(o, "bus", b);
+}
+
 static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *const *pts, int npts, double now,
                       char *out, size_t outlen)
 {
@@ -1195,6 +1226,7 @@ static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *con
 		ps_dali_commission_json(d->job, now, o);
 	else
 		json_object_object_add(o, "job", NULL);
+	bus_json(d, now, o);
 	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
 	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
 	if (strlen(text) >= outlen) {

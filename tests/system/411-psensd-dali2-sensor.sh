@@ -90,6 +90,9 @@ check "the light changes to 700: the point follows: $(sensor_v)" reads 700
 sleep 3
 check "... by the sensor's events: no QUERY INPUT VALUE after the first reading ($p0 then $(polls))" \
 	test "$(polls)" = "$p0"
+ctl -j dali dali status > "$TMP/bus.json"
+check "psensctl dali status counts the sensor's events taken: $(grep -o '"inputs":\[{[^}]*}' "$TMP/bus.json" | cut -c1-160)" \
+	grep -Eq '"inputs":\[\{"point":"light","device_address":5,"instance":1,"type":4,"value":700,.*"configured":true,.*"events":[1-9]' "$TMP/bus.json"
 echo "occupied 0 1" > "$TMP/ctl"
 wait_for 10 grep -q "zone office: occupied" "$TMP/err"
 check "the 303 instance reports occupied: the zone is occupied" grep -q "zone office: occupied" "$TMP/err"
