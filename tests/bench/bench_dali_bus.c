@@ -13,7 +13,8 @@
  * zone and the bus time they take, at T_report 30 s with events and by
  * polling, and during a night calibration session (six levels, 20 s each,
  * the zone stepping every 2 s); the configuration at connect apart;
- * the sensor event to gear command latency in bus frames and time. */
+ * the sensor event to gear command latency in bus frames and time; the
+ * time from a lost sensor's last value until the zone reads the loss. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -143,6 +144,45 @@ static void report_load(const char *what, const struct load *l, double seconds)
 	       100 * l->busy / seconds);
 }
 
+/* A sensor that falls silent at a random moment after its last report:
+ * seconds from that report until a zone stepping every period reads the
+ * loss, worst over many phases. */
+static double lost_after(double report, double period, int events)
+{
+	double worst = 0;
+	for (int ph = 0; ph < 97; ph++) {
+		struct ps_dali_input in;
+		struct ps_dali_input_tx tx;
+		double due, v, last = 0, step = 100 + period * ph / 97.0;
+		int err;
+		char why[200];
+		conf(&in, PS_DALI_TYPE_LIGHT, events, report);
+		for (long k = 0;; k++) {
+			double t = k * 0.05;
+			if (t < 100 && events && k % lround(report / 0.05) == 0) {
+				ps_dali_input_event(&in, t, 5u << 17 | 1u << 15 | 1u << 10 | 500);
+				last = t;
+			}
+			while (ps_dali_input_next(&in, t, &tx, &due) == 1) {
+				int alive = t < 100;
+				ps_dali_input_result(&in, t, alive ? (tx.answer ? 1 : 0) : 3, 0x80);
+				if (alive && tx.answer && (tx.frame & 0xFF) == 0x8D)
+					last = t;
+			}
+			if (t >= step) {
+				step += period;
+				if (ps_dali_input_value(&in, t, &v, &err, why, sizeof why) != 0) {
+					worst = fmax(worst, t - last);
+					break;
+				}
+			}
+			if (t > 1000)
+				break;   /* not reached: the loss is read by 100 + 2 x T_report + period */
+		}
+	}
+	return worst;
+}
+
 int main(void)
 {
 	struct load l;
@@ -158,6 +198,10 @@ int main(void)
 	report_load("night session (6 levels x 20 s), events, period 2 s:", &l, 120);
 	run(&l, 0, 30, 120, 2, 1);
 	report_load("night session (6 levels x 20 s), polling, period 2 s:", &l, 120);
+	printf("a lost sensor, T_report 30 s: the zone reads the loss at most %.1f s after its last value (events, "
+	       "period 1 s), %.1f s (polling, period 1 s), %.1f s (events, period 60 s): 2 x T_report, then the zone's "
+	       "next step\n",
+	       lost_after(30, 1, 1), lost_after(30, 1, 0), lost_after(30, 60, 1));
 	/* an event, then the command: nothing of ours in between */
 	printf("sensor event to gear command: 1 bus frame after the event (the DAPC is the next frame psensd sends); "
 	       "bus time %.1f ms (event %.1f + settling %.1f + DAPC %.1f), once the zone steps\n",
