@@ -33,7 +33,13 @@
  * whose transactions take turns with the queue's, so zones keep being
  * dimmed between the frames of a search.  While a job moves the light of
  * some ballasts (identify, verify), frames to the points that reach them
- * wait in the queue; when it ends those points get their level again. */
+ * wait in the queue; when it ends those points get their level again.
+ *
+ * DALI-2 control devices (IEC 62386-103) are sensor and input points:
+ * dali_input.c says which 24-bit frames each instance needs (its
+ * configuration, polls) and takes the event messages the serial and TCP
+ * interfaces report among the frames they see on the bus; their
+ * transactions share the queue with the gear's. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
