@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "dali_commission.h"
+#include "dali_device.h"
 
 #define RANDOMISE_WAIT 0.1      /* the new random address within 100 ms */
 #define INIT_REFRESH 720.0      /* INITIALISE again after 12 of its 15 minutes */
@@ -26,12 +27,12 @@
 
 enum {
 	PC_END = 0,
-	SC_PRESENT, SC_DETAIL, SC_UNADDR,
+	SC_PRESENT, SC_DETAIL, SC_UNADDR, SC_DEV, SC_DEV_TYPE, SC_DEV_UNADDR,
 	AD_PRESENT, AD_UNADDR, AD_TERMINATE, AD_INIT, AD_INIT_DUP, AD_RANDOMISE, AD_FIRST,
 	AD_BIN, AD_BIN_CMP, AD_CONFIRM, AD_QUERY, AD_PROGRAM, AD_VERIFY, AD_UNPROGRAM, AD_CLASH, AD_WITHDRAW, AD_FINAL,
 	PC_SEARCH,
 	GR_CMD, GR_Q0, GR_Q1,
-	ID_QUERY, ID_G0, ID_G1, ID_FLASH, ID_RESTORE,
+	ID_QUERY, ID_G0, ID_G1, ID_FLASH, ID_RESTORE, ID_DEVICE, ID_DEVICE_CHECK,
 	VE_PRESENT, VE_INFO, VE_CMD, VE_QUERY,
 	AB_TERMINATE, AB_RESTORE,
 };
@@ -76,8 +77,43 @@ static int short_of(unsigned data)
 	return (data & 0x81) == 0x01 ? (int)(data >> 1) : -1;
 }
 
+/* The address job in the control-device space (IEC 62386-103): the same
+ * search with 103's special commands (address byte 0xC1, the command in the
+ * instance byte; short addresses as 0..63, not 0AAAAAA1), QUERY DEVICE
+ * STATUS for "is anyone there". */
+static unsigned device_frame(unsigned frame)
+{
+	static const struct { int gear, dev; } map[] = {
+		{ PS_DALI_TERMINATE, PS_DALI_DEVICE_TERMINATE }, { PS_DALI_INITIALISE, PS_DALI_DEVICE_INITIALISE },
+		{ PS_DALI_RANDOMISE, PS_DALI_DEVICE_RANDOMISE }, { PS_DALI_COMPARE, PS_DALI_DEVICE_COMPARE },
+		{ PS_DALI_WITHDRAW, PS_DALI_DEVICE_WITHDRAW }, { PS_DALI_SEARCHADDRH, PS_DALI_DEVICE_SEARCHADDRH },
+		{ PS_DALI_SEARCHADDRM, PS_DALI_DEVICE_SEARCHADDRM }, { PS_DALI_SEARCHADDRL, PS_DALI_DEVICE_SEARCHADDRL },
+		{ PS_DALI_PROGRAM_SHORT_ADDRESS, PS_DALI_DEVICE_PROGRAM_SHORT_ADDRESS },
+		{ PS_DALI_VERIFY_SHORT_ADDRESS, PS_DALI_DEVICE_VERIFY_SHORT_ADDRESS },
+		{ PS_DALI_QUERY_SHORT_ADDRESS, PS_DALI_DEVICE_QUERY_SHORT_ADDRESS },
+	};
+	int ab = (int)(frame >> 8), data = (int)(frame & 0xFF);
+	if (frame == (PS_DALI_UNADDRESSED << 8 | PS_DALI_QUERY_GEAR_PRESENT))
+		return (unsigned)ps_dali_device_frame(PS_DALI_DEVICE_UNADDRESSED, PS_DALI_DEVICE_SELF,
+		                                      PS_DALI_DEVICE_QUERY_STATUS);
+	if (!(ab & 0x80) && data == PS_DALI_QUERY_GEAR_PRESENT)
+		return (unsigned)ps_dali_device_cmd(ab >> 1, PS_DALI_DEVICE_QUERY_STATUS);
+	for (size_t i = 0; i < sizeof map / sizeof map[0]; i++) {
+		if (map[i].gear != ab)
+			continue;
+		if (ab == PS_DALI_INITIALISE)
+			data = data == 0x00 ? PS_DALI_DEVICE_INIT_ALL : data == 0xFF ? PS_DALI_DEVICE_INIT_UNADDRESSED : data >> 1;
+		else if (ab == PS_DALI_PROGRAM_SHORT_ADDRESS || ab == PS_DALI_VERIFY_SHORT_ADDRESS)
+			data = data == 0xFF ? 0xFF : data >> 1;
+		return (unsigned)ps_dali_device_special(map[i].dev, data);
+	}
+	return frame;
+}
+
 static void emit(struct ps_dali_commission *c, unsigned frame, int twice, int answer)
 {
+	if (c->devices_space)
+		frame = device_frame(frame);
 	c->tx = (struct ps_dali_tx){ frame, twice, answer };
 	c->have_tx = 1;
 }
@@ -223,9 +259,9 @@ static void verify_judge(struct ps_dali_commission *c, double now)
 static void address_done(struct ps_dali_commission *c, double now)
 {
 	end(c, now, PS_DALI_COMMISSION_DONE,
-	    "%d ballasts found: %d new short addresses, %d kept theirs%s; %d random-address clashes separated, "
+	    "%d %s found: %d new short addresses, %d kept theirs%s; %d random-address clashes separated, "
 	    "%d searches restarted, %d lost%s",
-	    c->nfound, c->programmed, c->kept, c->no_free ? ", some left without (no free address)" : "",
+	    c->nfound, c->devices_space ? "control devices" : "ballasts", c->programmed, c->kept, c->no_free ? ", some left without (no free address)" : "",
 	    c->clashes, c->restarts, c->lost, c->inits > 1 ? ", INITIALISE renewed" : "");
 }
 
@@ -321,9 +357,44 @@ static int scan_run(struct ps_dali_commission *c, double now)
 		step(c, "scan: gear without a short address?");
 		emit(c, (PS_DALI_UNADDRESSED << 8) | PS_DALI_QUERY_GEAR_PRESENT, 0, 1);
 		return 0;
+	case SC_DEV:
+		step(c, "scan: control device %d of 63", c->i);
+		emit(c, (unsigned)ps_dali_device_cmd(c->i, PS_DALI_DEVICE_QUERY_NUMBER_OF_INSTANCES), 0, 1);
+		return 0;
+	case SC_DEV_TYPE:
+		step(c, "scan: control device %d, instance %d", c->i, c->k);
+		emit(c, (unsigned)ps_dali_device_inst_cmd(c->i, c->k, PS_DALI_DEVICE_QUERY_INSTANCE_TYPE), 0, 1);
+		return 0;
+	case SC_DEV_UNADDR:
+		step(c, "scan: control devices without a short address?");
+		emit(c, (unsigned)ps_dali_device_frame(PS_DALI_DEVICE_UNADDRESSED, PS_DALI_DEVICE_SELF,
+		                                       PS_DALI_DEVICE_QUERY_NUMBER_OF_INSTANCES), 0, 1);
+		return 0;
 	default:
 		return internal(c, now);
 	}
+}
+
+static void scan_done(struct ps_dali_commission *c, double now)
+{
+	int n = 0, several = 0, nd = 0;
+	for (int a = 0; a < 64; a++) {
+		n += c->gear[a].present != 0;
+		several += c->gear[a].present == 2;
+		nd += c->devices[a].present != 0;
+	}
+	if (!c->with_devices) {
+		end(c, now, PS_DALI_COMMISSION_DONE, "%d short addresses answer%s; gear without a short address: %s", n,
+		    several ? ", some by several ballasts at once" : "",
+		    c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "yes" : "several");
+		return;
+	}
+	end(c, now, PS_DALI_COMMISSION_DONE,
+	    "%d short addresses answer%s; gear without a short address: %s; %d control devices, without a short "
+	    "address: %s",
+	    n, several ? ", some by several ballasts at once" : "",
+	    c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "yes" : "several", nd,
+	    c->dev_unaddressed == 0 ? "none" : c->dev_unaddressed == 1 ? "yes" : "several");
 }
 
 static int scan_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
@@ -347,18 +418,37 @@ static int scan_result(struct ps_dali_commission *c, double now, int rx, unsigne
 		c->scanned = ++c->i;
 		c->pc = c->i < 64 ? SC_PRESENT : SC_UNADDR;
 		return 1;
-	case SC_UNADDR: {
-		int n = 0, several = 0;
+	case SC_UNADDR:
 		c->unaddressed = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
-		for (int a = 0; a < 64; a++) {
-			n += c->gear[a].present != 0;
-			several += c->gear[a].present == 2;
+		if (c->with_devices) {
+			c->i = 0;
+			c->pc = SC_DEV;
+			return 1;
 		}
-		end(c, now, PS_DALI_COMMISSION_DONE, "%d short addresses answer%s; gear without a short address: %s", n,
-		    several ? ", some by several ballasts at once" : "",
-		    c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "yes" : "several");
+		scan_done(c, now);
 		return 0;
+	case SC_DEV: {
+		struct ps_dali_ctl_device *d = &c->devices[c->i];
+		d->present = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
+		d->instances = rx == PS_DALI_RX_ANSWER ? (int)(value > 32 ? 32 : value) : 0;
+		if (d->instances > 0) {
+			c->k = 0;
+			c->pc = SC_DEV_TYPE;
+			return 1;
+		}
+		c->pc = ++c->i < 64 ? SC_DEV : SC_DEV_UNADDR;
+		return 1;
 	}
+	case SC_DEV_TYPE:
+		c->devices[c->i].type[c->k] = (signed char)(rx == PS_DALI_RX_ANSWER && value < 32 ? (int)value : -1);
+		if (++c->k < c->devices[c->i].instances)
+			return 1;
+		c->pc = ++c->i < 64 ? SC_DEV : SC_DEV_UNADDR;
+		return 1;
+	case SC_DEV_UNADDR:
+		c->dev_unaddressed = rx == PS_DALI_RX_ANSWER ? 1 : rx == PS_DALI_RX_COLLISION ? 2 : 0;
+		scan_done(c, now);
+		return 0;
 	}
 	return 1;
 }
@@ -709,6 +799,14 @@ static int group_result(struct ps_dali_commission *c, double now, int rx, unsign
 static int identify_run(struct ps_dali_commission *c, double now)
 {
 	switch (c->pc) {
+	case ID_DEVICE_CHECK:
+		step(c, "identify: control device %d there?", c->target.n);
+		emit(c, (unsigned)ps_dali_device_cmd(c->target.n, PS_DALI_DEVICE_QUERY_STATUS), 0, 1);
+		return 0;
+	case ID_DEVICE:
+		step(c, "identify: control device %d", c->target.n);
+		emit(c, (unsigned)ps_dali_device_cmd(c->target.n, PS_DALI_DEVICE_IDENTIFY), 1, 0);
+		return 0;
 	case ID_QUERY:
 		step(c, "identify: short address %d, its level", c->target.n);
 		emit(c, short_frame(c->target.n, PS_DALI_QUERY_ACTUAL_LEVEL), 0, 1);
@@ -749,6 +847,19 @@ static int identify_result(struct ps_dali_commission *c, double now, int rx, uns
 {
 	int v = value_of(rx, value);
 	switch (c->pc) {
+	case ID_DEVICE_CHECK:
+		if (rx == PS_DALI_RX_NONE) {
+			end(c, now, PS_DALI_COMMISSION_FAILED, "no control device answers at short address %d",
+			    c->target.n);
+			return 0;
+		}
+		c->pc = ID_DEVICE;
+		return 1;
+	case ID_DEVICE:
+		end(c, now, PS_DALI_COMMISSION_DONE,
+		    "control device %d told to identify itself (IDENTIFY DEVICE: its own signal, about 10 s)",
+		    c->target.n);
+		return 0;
 	case ID_QUERY:
 		if (rx == PS_DALI_RX_NONE) {
 			end(c, now, PS_DALI_COMMISSION_FAILED, "no ballast answers at short address %d", c->target.n);
@@ -921,6 +1032,10 @@ void ps_dali_commission_result(struct ps_dali_commission *c, double now, int rx,
 		return;
 	c->have_tx = 0;
 	c->frames++;
+	/* a control device answers QUERY SHORT ADDRESS with 0..63 */
+	if (c->devices_space && rx == PS_DALI_RX_ANSWER && value <= 63 &&
+	    c->tx.frame == (unsigned)ps_dali_device_special(PS_DALI_DEVICE_QUERY_SHORT_ADDRESS, 0))
+		value = value << 1 | 1;
 	if (rx == PS_DALI_RX_FAILED) {
 		end(c, now, PS_DALI_COMMISSION_FAILED, "%s", why && *why ? why : "the interface did not answer");
 		return;
@@ -987,16 +1102,35 @@ int ps_dali_commission_scan(struct ps_dali_commission *c, double now)
 	return 0;
 }
 
-int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double now)
+int ps_dali_commission_scan_devices(struct ps_dali_commission *c, double now)
+{
+	start(c, PS_DALI_COMMISSION_SCAN, SC_PRESENT, now);
+	c->with_devices = 1;
+	run(c, now);
+	return 0;
+}
+
+static int address_start(struct ps_dali_commission *c, int mode, int devices, double now)
 {
 	if (mode != PS_DALI_ADDRESS_NEW && mode != PS_DALI_ADDRESS_ALL) {
 		snprintf(c->msg, sizeof c->msg, "address: the mode is new or all");
 		return -1;
 	}
 	start(c, PS_DALI_COMMISSION_ADDRESS, AD_PRESENT, now);
+	c->devices_space = devices;
 	c->mode = mode;
 	run(c, now);
 	return 0;
+}
+
+int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double now)
+{
+	return address_start(c, mode, 0, now);
+}
+
+int ps_dali_commission_address_devices(struct ps_dali_commission *c, int mode, double now)
+{
+	return address_start(c, mode, 1, now);
 }
 
 int ps_dali_commission_group(struct ps_dali_commission *c, const struct ps_dali_addr *a, int group, int add,
@@ -1023,6 +1157,18 @@ int ps_dali_commission_identify(struct ps_dali_commission *c, int short_addr, do
 	start(c, PS_DALI_COMMISSION_IDENTIFY, ID_QUERY, now);
 	c->target = (struct ps_dali_addr){ PS_DALI_SHORT, short_addr };
 	c->seconds = seconds;
+	run(c, now);
+	return 0;
+}
+
+int ps_dali_commission_identify_device(struct ps_dali_commission *c, int short_addr, double now)
+{
+	if (short_addr < 0 || short_addr > 63) {
+		snprintf(c->msg, sizeof c->msg, "identify device: a short address 0 to 63");
+		return -1;
+	}
+	start(c, PS_DALI_COMMISSION_IDENTIFY, ID_DEVICE_CHECK, now);
+	c->target = (struct ps_dali_addr){ PS_DALI_SHORT, short_addr };
 	run(c, now);
 	return 0;
 }
@@ -1115,6 +1261,35 @@ static void scan_json(const struct ps_dali_commission *c, json_object *o)
 	json_object_object_add(o, "ballasts", list);
 	json_object_object_add(o, "unaddressed", c->unaddressed < 0 ? NULL :
 	                       json_object_new_string(c->unaddressed == 0 ? "none" : c->unaddressed == 1 ? "one" : "several"));
+	if (!c->with_devices)
+		return;
+	list = json_object_new_array();
+	for (int a = 0; a < 64; a++) {
+		const struct ps_dali_ctl_device *d = &c->devices[a];
+		json_object *b, *insts;
+		if (!d->present)
+			continue;
+		b = json_object_new_object();
+		insts = json_object_new_array();
+		json_object_object_add(b, "address", json_object_new_int(a));
+		json_object_object_add(b, "devices", json_object_new_string(d->present == 2 ? "several" : "one"));
+		for (int k = 0; k < d->instances; k++) {
+			json_object *x = json_object_new_object();
+			const char *kind = d->type[k] == PS_DALI_TYPE_LIGHT ? "light sensor (304)"
+			                 : d->type[k] == PS_DALI_TYPE_OCCUPANCY ? "occupancy sensor (303)"
+			                 : d->type[k] == PS_DALI_TYPE_PUSH_BUTTON ? "push button (301)" : NULL;
+			json_object_object_add(x, "number", json_object_new_int(k));
+			put_int(x, "type", d->type[k]);
+			json_object_object_add(x, "kind", kind ? json_object_new_string(kind) : NULL);
+			json_object_array_add(insts, x);
+		}
+		json_object_object_add(b, "instances", insts);
+		json_object_array_add(list, b);
+	}
+	json_object_object_add(o, "devices", list);
+	json_object_object_add(o, "devices_unaddressed",
+	                       json_object_new_string(c->dev_unaddressed == 0 ? "none" : c->dev_unaddressed == 1 ? "one"
+	                                                                                                        : "several"));
 }
 
 static void address_json(const struct ps_dali_commission *c, json_object *o)

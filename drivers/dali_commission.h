@@ -67,7 +67,7 @@ enum ps_dali_rx {
 
 /* One transaction asked of the driver. */
 struct ps_dali_tx {
-	unsigned frame;          /* 16-bit forward frame */
+	unsigned frame;          /* forward frame: 16 bits, or 24 (> 0xFFFF) for a control device */
 	int twice;               /* send twice within 100 ms (configuration, INITIALISE, RANDOMISE) */
 	int answer;              /* a backward frame may come (queries, COMPARE, VERIFY) */
 };
@@ -83,6 +83,14 @@ struct ps_dali_gear {
 	int present;             /* 0 none, 1 one ballast, 2 several (their answers collide) */
 	int device_type, phys_min, min_level, max_level, fade, sfl, power_on, status, actual;
 	int groups;              /* bit g: member of group g; < 0 unknown */
+};
+
+/* One control device (IEC 62386-103) a scan found at a short address of
+ * the device space. */
+struct ps_dali_ctl_device {
+	int present;             /* 0 none, 1 one device, 2 several (their answers collide) */
+	int instances;           /* QUERY NUMBER OF INSTANCES */
+	signed char type[32];    /* each instance's QUERY INSTANCE TYPE, -1 no answer */
 };
 
 /* One ballast the search found. */
@@ -121,6 +129,10 @@ struct ps_dali_commission {
 	struct ps_dali_gear gear[64];
 	int scanned;             /* short addresses scanned */
 	int unaddressed;         /* gear without a short address: 0 none, 1, 2 several, -1 not asked */
+	int with_devices;        /* scan: control devices too (24-bit frames) */
+	int devices_space;       /* address: among control devices, not gear */
+	struct ps_dali_ctl_device devices[64];
+	int dev_unaddressed;     /* control devices without a short address: 0 none, 1, 2 several */
 	struct ps_dali_found found[64];
 	int nfound, kept, programmed, clashes, restarts, lost, no_free, inits;
 	int groups_after;        /* group: the ballast's groups afterwards, < 0 unknown */
@@ -149,10 +161,21 @@ struct ps_dali_commission {
 /* Start a job at time now (the job is reset first).  0, or -1 with a reason
  * in c->msg for bad parameters. */
 int ps_dali_commission_scan(struct ps_dali_commission *c, double now);
+/* A scan that then asks the 64 short addresses of the control-device space
+ * for their instances and each instance's type (24-bit frames: tx.frame >
+ * 0xFFFF), and whether devices without a short address are on the bus. */
+int ps_dali_commission_scan_devices(struct ps_dali_commission *c, double now);
 int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double now);
+/* The same search among DALI-2 control devices: 103's special commands
+ * (24-bit frames) and short addresses of the device space. */
+int ps_dali_commission_address_devices(struct ps_dali_commission *c, int mode, double now);
 int ps_dali_commission_group(struct ps_dali_commission *c, const struct ps_dali_addr *a, int group, int add,
                              double now);
 int ps_dali_commission_identify(struct ps_dali_commission *c, int short_addr, double seconds, double now);
+/* A DALI-2 control device at short address short_addr of the device space:
+ * QUERY DEVICE STATUS (is it there?), then IDENTIFY DEVICE (sent twice): the
+ * device shows itself its own way for about 10 s (IEC 62386-103). */
+int ps_dali_commission_identify_device(struct ps_dali_commission *c, int short_addr, double now);
 /* targets: the addresses a zone's outputs use (names for the report);
  * level1, level2: arc levels to command in turn. */
 int ps_dali_commission_verify(struct ps_dali_commission *c, const struct ps_dali_addr *targets,

@@ -17,6 +17,8 @@
 #define RXCAP 512
 #define CONNECT_MS 2000
 
+#define OBSCAP 32
+
 struct ps_dali_serial {
 	const struct ps_dali_codec *c;
 	int fd;
@@ -33,6 +35,10 @@ struct ps_dali_serial {
 	double keepalive;  /* TCP: seconds of silence before a keep-alive, 0 none */
 	double last_tx;    /* when we last wrote, -1 not yet (the first service() starts the count) */
 	struct ps_dali_serial_stats st;
+	/* other masters' and devices' frames not yet taken by the caller */
+	uint32_t obs[OBSCAP];
+	int obs_bits[OBSCAP];
+	size_t obs_head, obs_len;
 };
 
 static speed_t speed_of(long baud)
@@ -254,6 +260,13 @@ static int take(struct ps_dali_serial *s, const struct ps_dali_frame_rx *m, doub
 	case PS_DALI_EV_OBSERVED:
 		s->st.observed++;
 		s->st.last_observed = m->value;
+		if (s->obs_len == OBSCAP) {   /* the caller fell behind: the oldest goes */
+			s->obs_head = (s->obs_head + 1) % OBSCAP;
+			s->obs_len--;
+		}
+		s->obs[(s->obs_head + s->obs_len) % OBSCAP] = m->value;
+		s->obs_bits[(s->obs_head + s->obs_len) % OBSCAP] = m->bits;
+		s->obs_len++;
 		return 0;
 	case PS_DALI_EV_POWER:
 		s->st.power_lost = !m->value;
@@ -370,4 +383,15 @@ int ps_dali_serial_service(struct ps_dali_serial *s, double now, struct ps_dali_
 		return end(s, res, PS_DALI_EV_IGNORE, 0, ETIMEDOUT, why);
 	}
 	return 0;
+}
+
+int ps_dali_serial_observed(struct ps_dali_serial *s, uint32_t *frame, int *bits)
+{
+	if (!s->obs_len)
+		return 0;
+	*frame = s->obs[s->obs_head];
+	*bits = s->obs_bits[s->obs_head];
+	s->obs_head = (s->obs_head + 1) % OBSCAP;
+	s->obs_len--;
+	return 1;
 }

@@ -58,6 +58,10 @@ void ps_dali_serial_stats(const struct ps_dali_serial *s, struct ps_dali_serial_
 /* Over TCP, with a codec that has one: send the keep-alive request after
  * this many idle seconds (default: the codec's; 0: never). */
 void ps_dali_serial_keepalive(struct ps_dali_serial *s, double seconds);
+/* Take the oldest frame seen on the bus from someone else (another
+ * master's command, a control device's event message): 1 with frame and
+ * its bits, 0 none.  The last 32 are kept. */
+int ps_dali_serial_observed(struct ps_dali_serial *s, uint32_t *frame, int *bits);
 void ps_dali_serial_close(struct ps_dali_serial *s);
 
 #endif

@@ -33,7 +33,13 @@
  * whose transactions take turns with the queue's, so zones keep being
  * dimmed between the frames of a search.  While a job moves the light of
  * some ballasts (identify, verify), frames to the points that reach them
- * wait in the queue; when it ends those points get their level again. */
+ * wait in the queue; when it ends those points get their level again.
+ *
+ * DALI-2 control devices (IEC 62386-103) are sensor and input points:
+ * dali_input.c says which 24-bit frames each instance needs (its
+ * configuration, polls) and takes the event messages the serial and TCP
+ * interfaces report among the frames they see on the bus; their
+ * transactions share the queue with the gear's. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -50,7 +56,9 @@
 #include "dali_atx.h"
 #include "dali_daliserver.h"
 #include "dali_commission.h"
+#include "dali_device.h"
 #include "dali_foxtron.h"
+#include "dali_input.h"
 #include "dali_luba.h"
 #include "dali_serial.h"
 #include "dali_transport.h"
@@ -68,15 +76,15 @@
 
 enum { ST_DOWN = 0, ST_UP, ST_CLOSING };
 
-enum tx_kind { TX_DAPC, TX_QUERY_ACTUAL, TX_QUERY_PHYS_MIN, TX_QUERY_SFL, TX_SET_SFL, TX_SET_FADE, TX_JOB };
+enum tx_kind { TX_DAPC, TX_QUERY_ACTUAL, TX_QUERY_PHYS_MIN, TX_QUERY_SFL, TX_SET_SFL, TX_SET_FADE, TX_JOB, TX_INPUT };
 
 struct tx {
 	int kind;
 	int point;             /* -1 for TX_JOB */
 	int tries;
-	unsigned frame;        /* TX_JOB: the commissioning job's transaction */
+	unsigned frame;        /* TX_JOB, TX_INPUT: the transaction's frame (> 0xFFFF: 24 bits) */
 	int twice;
-	int answer;            /* TX_JOB: a backward frame may come */
+	int answer;            /* TX_JOB, TX_INPUT: a backward frame may come */
 };
 
 struct dpoint {
@@ -92,6 +100,10 @@ struct dpoint {
 	int held;          /* a commissioning job held its frames back */
 	int err;           /* an asynchronous failure to report on the next call */
 	char errmsg[200];
+	struct ps_dali_input *in;   /* a control device's input instance (sensor, input points), else NULL */
+	int input_pending;          /* its transaction is queued or on the bus */
+	double input_due;           /* when it has one next */
+	double reported;            /* input points: the value last handed to on_event, NAN none */
 };
 
 struct dali_usb {
@@ -103,6 +115,7 @@ struct dali_usb {
 	struct ps_dali_serial *ser;
 	int ser_dtr0_frame;                   /* the frame to send after its DTR0, -1 none */
 	int ser_twice, ser_answer;
+	int ser_repeat;                       /* a 24-bit frame to send once more (the codec has no send-twice for it), -1 none */
 	double timeout, frame_gap, safe_level, fade_time;
 	long retries;
 
@@ -137,6 +150,8 @@ struct dali_usb {
 	int job_busy;          /* its transaction is on the bus or queued for a retry */
 	int last_was_job;      /* the last SEND was the job's: the queue's turn */
 	int job_held;          /* points were held back while it ran */
+	int collisions;        /* our frames that collided in a row: the random wait grows */
+	uint32_t rnd;          /* the random wait's generator */
 };
 
 
@@ -190,6 +205,20 @@ static const struct ps_opts_spec du_options[] = {
 	  .doc = "program each ballast's fade time, seconds (absent: leave it)" },
 	{ .key = "address", .type = PS_OPT_STRING, .scope = PS_OPT_POINT, .def = "broadcast",
 	  .valid = valid_address, .doc = "the ballasts: a short address 0 to 63, group N or broadcast" },
+	{ .key = "device_address", .type = PS_OPT_LONG, .scope = PS_OPT_POINT, .min = 0, .max = 63,
+	  .doc = "sensor, input: the DALI-2 control device's short address (0 to 63, the device space)" },
+	{ .key = "instance", .type = PS_OPT_LONG, .scope = PS_OPT_POINT, .min = 0, .max = 31,
+	  .doc = "sensor, input: the instance number (absent: 1 for sensor, 0 for input)" },
+	{ .key = "report_time", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .def = "30", .min = 1, .max = 255,
+	  .doc = "sensor, input: T_report, seconds; the value is lost after 2 x report_time without one" },
+	{ .key = "deadtime", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .min = 0, .max = 12.75,
+	  .doc = "sensor, input: T_deadtime, seconds in 50 ms steps (absent: leave it)" },
+	{ .key = "hysteresis", .type = PS_OPT_LONG, .scope = PS_OPT_POINT, .min = 0, .max = 25,
+	  .doc = "sensor: the light sensor's hysteresis, percent (absent: leave it)" },
+	{ .key = "hysteresis_min", .type = PS_OPT_LONG, .scope = PS_OPT_POINT, .min = 0, .max = 255,
+	  .doc = "sensor: the light sensor's minimum hysteresis, in reading units (absent: leave it)" },
+	{ .key = "hold", .type = PS_OPT_DOUBLE, .scope = PS_OPT_POINT, .min = 10, .max = 2550,
+	  .doc = "input: the occupancy sensor's hold time, seconds in 10 s steps (absent: leave it)" },
 	{ .key = NULL },
 };
 #undef DEV
@@ -222,10 +251,34 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 		}
 		return 0;
 	}
-	if (role == PS_ROLE_DIM || role == PS_ROLE_RELAY)
+	if (role == PS_ROLE_DIM || role == PS_ROLE_RELAY) {
+		static const char *const dev_keys[] = { "device_address", "instance", "report_time", "deadtime",
+			                                "hysteresis", "hysteresis_min", "hold", NULL };
+		for (int i = 0; dev_keys[i]; i++)
+			if (ps_opts_get(o, dev_keys[i])) {
+				*line = ps_opts_line(o, dev_keys[i]);
+				snprintf(why, n, "%s is for sensor and input points (DALI-2 control devices)", dev_keys[i]);
+				return -1;
+			}
 		return 0;
+	}
+	if (role == PS_ROLE_SENSOR || role == PS_ROLE_INPUT) {
+		if (!ps_opts_get(o, "device_address")) {
+			*line = ps_opts_line(o, "report_time");
+			snprintf(why, n, "a %s point on dali_usb needs device_address = (the control device, 0 to 63)",
+			         ps_role_name(role));
+			return -1;
+		}
+		if (ps_opts_get(o, "address")) {
+			*line = ps_opts_line(o, "address");
+			snprintf(why, n, "address is the gear's; a control device's is device_address");
+			return -1;
+		}
+		return 0;
+	}
 	*line = ps_opts_line(o, "address");
-	snprintf(why, n, "dali_usb drives dim and relay points, not %s", ps_role_name(role));
+	snprintf(why, n, "dali_usb drives dim and relay points and reads sensor and input points, not %s",
+	         ps_role_name(role));
 	return -1;
 }
 
@@ -329,7 +382,7 @@ static void lost(struct dali_usb *d, const char *why)
 	}
 	d->job_busy = 0;
 	for (int i = 0; i < d->npts; i++)
-		d->pts[i].dapc_pending = d->pts[i].query_pending = 0;
+		d->pts[i].dapc_pending = d->pts[i].query_pending = d->pts[i].input_pending = 0;
 }
 
 static void teardown(struct dali_usb *d)
@@ -503,7 +556,12 @@ static void connected(struct dali_usb *d)
 	for (int i = 0; i < d->npts; i++) {
 		struct dpoint *p = &d->pts[i];
 		p->sent = -1;
-		p->dapc_pending = p->query_pending = 0;
+		p->dapc_pending = p->query_pending = p->input_pending = 0;
+		if (p->in) {
+			ps_dali_input_connected(p->in, d->now);
+			p->input_due = d->now;
+			continue;
+		}
 		if (p->addr.kind == PS_DALI_SHORT)
 			q_push(d, TX_QUERY_PHYS_MIN, i);
 		if (d->fade_time >= 0)
@@ -564,7 +622,7 @@ static int frame_for(struct dali_usb *d, const struct tx *t, int *twice, int *dt
 	int level;
 	*twice = 0;
 	*dtr0 = -1;
-	if (!p) {
+	if (!p || t->kind == TX_INPUT) {
 		*twice = t->twice;
 		return (int)t->frame;
 	}
@@ -598,7 +656,7 @@ static const char *tx_name(int kind)
 {
 	static const char *const names[] = { "DAPC", "QUERY ACTUAL LEVEL", "QUERY PHYSICAL MINIMUM",
 		                             "QUERY SYSTEM FAILURE LEVEL", "SET SYSTEM FAILURE LEVEL",
-		                             "SET FADE TIME", "commissioning" };
+		                             "SET FADE TIME", "commissioning", "control device" };
 	return names[kind];
 }
 
@@ -608,7 +666,8 @@ static int sendable(struct dali_usb *d)
 {
 	for (size_t i = 0; i < d->qlen; i++) {
 		const struct tx *t = &d->q[(d->qhead + i) % QCAP];
-		if (t->kind == TX_JOB || !d->job || !ps_dali_commission_holds(d->job, &d->pts[t->point].addr))
+		if (t->kind == TX_JOB || t->kind == TX_INPUT || !d->job ||
+		    !ps_dali_commission_holds(d->job, &d->pts[t->point].addr))
 			return (int)i;
 	}
 	return -1;
@@ -643,15 +702,28 @@ static void job_done(struct dali_usb *d, int rx, unsigned value, const char *why
 static void finish(struct dali_usb *d, int answer);
 static void failed_try(struct dali_usb *d, int err, const char *why);
 
+/* After our frame collided: a random wait of 0 to 2^k priority-window
+ * widths (1.6 ms, the spacing of 101's priorities 2 to 5), k the
+ * collisions in a row (at most 4), so that two masters that collided
+ * do not start together again. */
+static double collision_wait(struct dali_usb *d)
+{
+	int k = d->collisions < 4 ? d->collisions : 4;
+	d->collisions++;
+	d->rnd = d->rnd * 1664525u + 1013904223u;
+	return (double)(d->rnd >> 8) / (double)(1u << 24) * 0.0016 * (double)(1 << k);
+}
+
 /* A serial or TCP interface: send the frame, or first its DTR0 (the
  * Tridonic interface does both in one report; these take two frames).
  * 0 sent, -1 the codec cannot carry it, -2 the link is gone. */
 static int serial_start(struct dali_usb *d, int frame, int twice, int dtr0)
 {
-	struct ps_dali_frame f = { .bits = 16, .data = (uint32_t)frame, .twice = twice };
+	struct ps_dali_frame f = { .bits = frame > 0xFFFF ? 24 : 16, .data = (uint32_t)frame, .twice = twice };
 	if (frame < 0)
 		return -1;
-	f.expect_answer = d->cur.kind == TX_JOB ? d->cur.answer : ps_dali_expects_answer((unsigned)frame);
+	f.expect_answer = d->cur.kind == TX_JOB || d->cur.kind == TX_INPUT ? d->cur.answer
+	                                                                   : ps_dali_expects_answer((unsigned)frame);
 	d->ser_answer = f.expect_answer;
 	d->ser_dtr0_frame = -1;
 	if (dtr0 >= 0) {
@@ -661,8 +733,17 @@ static int serial_start(struct dali_usb *d, int frame, int twice, int dtr0)
 		f.twice = 0;
 		f.expect_answer = 0;
 	}
+	d->ser_repeat = -1;
 	if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) == 0)
 		return 0;
+	if (errno == EINVAL && f.twice && f.bits == 24) {
+		/* an interface with send-twice for 16-bit frames only: two frames,
+		 * each a transaction of about 30 ms, well inside the 100 ms */
+		f.twice = 0;
+		d->ser_repeat = frame;
+		if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) == 0)
+			return 0;
+	}
 	if (errno == EINVAL)
 		return -1;
 	lost(d, "interface gone (sending)");
@@ -679,7 +760,8 @@ static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_res
 	}
 	if (res->err == 0 && d->ser_dtr0_frame >= 0) {
 		/* DTR0 is loaded: now the command that uses it */
-		struct ps_dali_frame f = { .bits = 16, .data = (uint32_t)d->ser_dtr0_frame, .twice = d->ser_twice,
+		struct ps_dali_frame f = { .bits = d->ser_dtr0_frame > 0xFFFF ? 24 : 16,
+			                   .data = (uint32_t)d->ser_dtr0_frame, .twice = d->ser_twice,
 			                   .expect_answer = d->ser_answer };
 		d->ser_dtr0_frame = -1;
 		if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) != 0) {
@@ -691,6 +773,18 @@ static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_res
 		return;
 	}
 	d->ser_dtr0_frame = -1;
+	if (res->err == 0 && d->ser_repeat >= 0) {
+		struct ps_dali_frame f = { .bits = 24, .data = (uint32_t)d->ser_repeat, .expect_answer = d->ser_answer };
+		d->ser_repeat = -1;
+		if (ps_dali_serial_send(d->ser, &f, d->now, d->timeout) != 0) {
+			lost(d, "interface gone (sending)");
+			return;
+		}
+		d->cur_deadline = d->now + d->timeout;
+		d->st.frames++;
+		return;
+	}
+	d->ser_repeat = -1;
 	if (res->err == 0) {
 		finish(d, res->event == PS_DALI_EV_ANSWER ? (int)res->value : -1);
 		return;
@@ -702,6 +796,16 @@ static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_res
 		return;
 	}
 	d->st.garbled++;
+	if (res->event == PS_DALI_EV_BUS_ERROR && res->value == PS_DALI_BUS_SEND_COLLISION) {
+		/* another master sent at the same moment: both stop; waiting the same
+		 * settling time again would collide again, so wait a random part of
+		 * the priority windows on top (IEC 62386-101's collision recovery) */
+		d->st.collisions++;
+		failed_try(d, res->err, res->why);
+		d->next_send += collision_wait(d);
+		return;
+	}
+	d->collisions = 0;
 	if (res->event == PS_DALI_EV_BUS_ERROR && d->cur.kind == TX_JOB &&
 	    (res->value == PS_DALI_BUS_FRAMING || res->value == PS_DALI_BUS_CHECKSUM)) {
 		/* commissioning reads a garbled backward frame: several answered */
@@ -745,6 +849,11 @@ static void send_next(struct dali_usb *d)
 	if (len < 0) {
 		if (d->cur.kind == TX_JOB) {
 			job_done(d, PS_DALI_RX_FAILED, 0, "a commissioning frame cannot be encoded for this interface");
+		} else if (d->cur.kind == TX_INPUT) {
+			struct dpoint *p = &d->pts[d->cur.point];
+			p->input_pending = 0;
+			ps_dali_input_result(p->in, d->now, PS_DALI_RX_FAILED, 0);
+			snprintf(p->in->why, sizeof p->in->why, "this interface cannot send 24-bit frames");
 		} else {
 			struct dpoint *p = &d->pts[d->cur.point];
 			p->err = EINVAL;
@@ -784,6 +893,12 @@ static void finish(struct dali_usb *d, int answer)
 		return;
 	}
 	p = &d->pts[t.point];
+	if (t.kind == TX_INPUT) {
+		p->input_pending = 0;
+		ps_dali_input_result(p->in, d->now, answer < 0 ? PS_DALI_RX_NONE : PS_DALI_RX_ANSWER,
+		                     answer < 0 ? 0 : (unsigned)answer);
+		return;
+	}
 	switch (t.kind) {
 	case TX_DAPC: {
 		int twice, dtr0;
@@ -835,7 +950,10 @@ static void failed_try(struct dali_usb *d, int err, const char *why)
 	}
 	d->st.failed++;
 	f = frame_for(d, &t, &twice, &dtr0);
-	ps_dali_describe((unsigned)f, desc, sizeof desc);
+	if (f > 0xFFFF)
+		ps_dali_device_describe((uint32_t)f, desc, sizeof desc);
+	else
+		ps_dali_describe((unsigned)f, desc, sizeof desc);
 	if (t.kind == TX_JOB) {
 		char msg[200];
 		snprintf(msg, sizeof msg, "%s: %s after %d tries", desc, why, t.tries);
@@ -843,6 +961,12 @@ static void failed_try(struct dali_usb *d, int err, const char *why)
 		return;
 	}
 	p = &d->pts[t.point];
+	if (t.kind == TX_INPUT) {
+		/* a garbled answer after every try: the device answers, badly */
+		p->input_pending = 0;
+		ps_dali_input_result(p->in, d->now, err == EPROTO ? PS_DALI_RX_COLLISION : PS_DALI_RX_FAILED, 0);
+		return;
+	}
 	p->err = err;
 	snprintf(p->errmsg, sizeof p->errmsg, "%s: %s after %d tries", desc, why, t.tries);
 	if (t.kind == TX_DAPC) {
@@ -976,7 +1100,7 @@ static int word_long(const char *w, long min, long max, long *out)
 }
 
 static const char command_usage[] =
-	"scan | address [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | verify ZONE | status | abort";
+	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | identify device SHORT | verify ZONE | status | abort";
 
 /* Start a job from the request's words; 0, or -1 with errno and dev->err. */
 static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, struct ps_point *const *pts, int npts,
@@ -988,7 +1112,16 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 	long n, g;
 	int rc;
 	if (strcmp(w[0], "scan") == 0 && nw == 1) {
-		rc = ps_dali_commission_scan(c, now);
+		/* control devices too where the interface carries 24-bit frames */
+		rc = d->codec ? ps_dali_commission_scan_devices(c, now) : ps_dali_commission_scan(c, now);
+	} else if (strcmp(w[0], "address") == 0 && nw >= 2 && nw <= 3 && strcmp(w[1], "devices") == 0) {
+		int all = nw == 3 && strcmp(w[2], "all") == 0;
+		if (nw == 3 && !all && strcmp(w[2], "new") != 0)
+			return ps_dev_fail(dev, EINVAL, "address devices new|all: '%s' is neither", w[2]);
+		if (!d->codec)
+			return ps_dev_fail(dev, EINVAL, "address devices: this interface carries no 24-bit frames "
+			                                "(control devices need transport atx, foxtron or luba)");
+		rc = ps_dali_commission_address_devices(c, all ? PS_DALI_ADDRESS_ALL : PS_DALI_ADDRESS_NEW, now);
 	} else if (strcmp(w[0], "address") == 0 && nw <= 2) {
 		int all = nw == 2 && strcmp(w[1], "all") == 0;
 		if (nw == 2 && !all && strcmp(w[1], "new") != 0)
@@ -1002,6 +1135,13 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 		if (word_long(w[3], 0, 15, &g) != 0)
 			return ps_dev_fail(dev, EINVAL, "group: '%s' is not a group 0 to 15", w[3]);
 		rc = ps_dali_commission_group(c, &a, (int)g, strcmp(w[2], "add") == 0, now);
+	} else if (strcmp(w[0], "identify") == 0 && nw == 3 && strcmp(w[1], "device") == 0) {
+		if (word_long(w[2], 0, 63, &n) != 0)
+			return ps_dev_fail(dev, EINVAL, "identify device: '%s' is not a short address 0 to 63", w[2]);
+		if (!d->codec)
+			return ps_dev_fail(dev, EINVAL, "identify device: this interface carries no 24-bit frames "
+			                                "(control devices need transport atx, foxtron or luba)");
+		rc = ps_dali_commission_identify_device(c, (int)n, now);
 	} else if (strcmp(w[0], "identify") == 0 && (nw == 2 || nw == 3)) {
 		if (word_long(w[1], 0, 63, &n) != 0)
 			return ps_dev_fail(dev, EINVAL, "identify: '%s' is not a short address 0 to 63", w[1]);
@@ -1030,6 +1170,37 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 	if (rc != 0)
 		return ps_dev_fail(dev, EINVAL, "%s", c->msg);
 	return 0;
+}
+
+/* The bus counters and each control-device input's state, for psensctl. */
+static void bus_json(const struct dali_usb *d, double now, json_object *o)
+{
+	json_object *b = json_object_new_object(), *list = json_object_new_array();
+	json_object_object_add(b, "frames", json_object_new_int64((int64_t)d->st.frames));
+	json_object_object_add(b, "device_transactions", json_object_new_int64((int64_t)d->st.input_frames));
+	json_object_object_add(b, "events", json_object_new_int64((int64_t)d->st.events));
+	json_object_object_add(b, "collisions", json_object_new_int64((int64_t)d->st.collisions));
+	json_object_object_add(b, "garbled", json_object_new_int64((int64_t)d->st.garbled));
+	for (int i = 0; i < d->npts; i++) {
+		const struct ps_dali_input *in = d->pts[i].in;
+		json_object *x;
+		if (!in)
+			continue;
+		x = json_object_new_object();
+		json_object_object_add(x, "point", json_object_new_string(d->pts[i].pt->name));
+		json_object_object_add(x, "device_address", json_object_new_int(in->c.address));
+		json_object_object_add(x, "instance", json_object_new_int(in->c.instance));
+		json_object_object_add(x, "type", json_object_new_int(in->c.type));
+		json_object_object_add(x, "value", isfinite(in->last) ? json_object_new_int64(in->value) : NULL);
+		json_object_object_add(x, "age_s", isfinite(in->last) ? json_object_new_double(now - in->last) : NULL);
+		json_object_object_add(x, "configured", json_object_new_boolean(in->icfg >= in->ncfg));
+		json_object_object_add(x, "transactions", json_object_new_int64((int64_t)in->frames));
+		json_object_object_add(x, "polls", json_object_new_int64((int64_t)in->polls));
+		json_object_object_add(x, "events", json_object_new_int64((int64_t)in->events));
+		json_object_array_add(list, x);
+	}
+	json_object_object_add(b, "inputs", list);
+	json_object_object_add(o, "bus", b);
 }
 
 static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *const *pts, int npts, double now,
@@ -1077,6 +1248,7 @@ static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *con
 		ps_dali_commission_json(d->job, now, o);
 	else
 		json_object_object_add(o, "job", NULL);
+	bus_json(d, now, o);
 	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
 	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
 	if (strlen(text) >= outlen) {
@@ -1089,6 +1261,53 @@ static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *con
 }
 
 /* ---- the driver methods ---------------------------------------------------- */
+
+/* Event messages among the frames seen on the bus: each to the input
+ * instance it names. */
+static void take_observed(struct dali_usb *d)
+{
+	uint32_t f;
+	int bits;
+	while (ps_dali_serial_observed(d->ser, &f, &bits))
+		if (bits == 24)
+			for (int i = 0; i < d->npts; i++)
+				if (d->pts[i].in && ps_dali_input_event(d->pts[i].in, d->now, f))
+					d->st.events++;
+}
+
+/* Queue the input instances' transactions that are due. */
+static void input_service(struct dali_usb *d)
+{
+	for (int i = 0; i < d->npts; i++) {
+		struct dpoint *p = &d->pts[i];
+		struct ps_dali_input_tx tx;
+		if (!p->in || p->input_pending || d->qlen >= QCAP)
+			continue;
+		if (ps_dali_input_next(p->in, d->now, &tx, &p->input_due)) {
+			d->q[(d->qhead + d->qlen++) % QCAP] = (struct tx){ TX_INPUT, i, 0, tx.frame, tx.twice, tx.answer };
+			p->input_pending = 1;
+			p->input_due = INFINITY;
+			d->st.input_frames++;
+		}
+	}
+}
+
+/* An occupancy input that changed (by an event or a poll) goes to the
+ * daemon as an input event. */
+static void input_events(struct ps_dev *dev, struct dali_usb *d)
+{
+	for (int i = 0; i < d->npts; i++) {
+		struct dpoint *p = &d->pts[i];
+		char why[200];
+		double v;
+		int err;
+		if (!p->in || p->pt->role != PS_ROLE_INPUT || !dev->on_event ||
+		    ps_dali_input_value(p->in, d->now, &v, &err, why, sizeof why) != 0 || v == p->reported)
+			continue;
+		p->reported = v;
+		dev->on_event(dev->event_user, dev, p->pt, d->now, v);
+	}
+}
 
 static int du_service(struct ps_dev *dev, double now)
 {
@@ -1114,6 +1333,8 @@ static int du_service(struct ps_dev *dev, double now)
 			lost(d, res.why);
 		else if (r == 1)
 			on_serial_result(d, &res);
+		if (d->ser)
+			take_observed(d);
 	}
 	if (d->state == ST_UP && !d->ser && d->cur_active && now >= d->cur_deadline) {
 		d->st.timeouts++;
@@ -1121,7 +1342,10 @@ static int du_service(struct ps_dev *dev, double now)
 		           d->cur_garbled ? "garbled report from the interface" : "no reply from the interface");
 	}
 	job_service(d);
+	if (d->state == ST_UP)
+		input_service(d);
 	send_next(d);
+	input_events(dev, d);
 	return 0;
 }
 
@@ -1151,6 +1375,10 @@ static double du_deadline(struct ps_dev *dev)
 			t = d->next_send;
 		if (d->job && !d->job_busy && ps_dali_commission_next(d->job, &tx, &until) == PS_DALI_NEXT_WAIT)
 			t = fmin(t, until);
+		/* an input instance's next configuration frame or poll */
+		for (int i = 0; i < d->npts; i++)
+			if (d->pts[i].in && !d->pts[i].input_pending)
+				t = fmin(t, d->pts[i].input_due);
 		/* a TCP gateway's keep-alive */
 		if (d->ser)
 			t = fmin(t, ps_dali_serial_deadline(d->ser));
@@ -1181,6 +1409,8 @@ static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 	struct dpoint *p = pt ? pt->priv : NULL;
 	if (!d || !p)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: point not added");
+	if (p->in)
+		return ps_dev_fail(dev, EINVAL, "%s: a control device's input cannot be written", pt->name);
 	if (!(value >= 0 && value <= 1))
 		return ps_dev_fail(dev, EINVAL, "%s: light output %g is outside 0 to 1", pt->name, value);
 	/* remembered even while the interface is gone: sent on reconnect */
@@ -1208,6 +1438,13 @@ static int du_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 	du_service(dev, now);
 	if (d->state != ST_UP)
 		return gone(dev, d);
+	if (p->in) {
+		char why[240];
+		int err;
+		if (ps_dali_input_value(p->in, now, value, &err, why, sizeof why) != 0)
+			return ps_dev_fail(dev, err, "%s: %s", pt->name, why);
+		return 0;
+	}
 	if (!p->query_pending && q_push(d, TX_QUERY_ACTUAL, (int)(p - d->pts)) == 0) {
 		p->query_pending = 1;
 		send_next(d);
@@ -1237,6 +1474,36 @@ static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 		return ps_dev_fail(dev, EINVAL, "%s: more than %d points on one interface", pt->name, MAX_POINTS);
 	p = &d->pts[d->npts];
 	memset(p, 0, sizeof *p);
+	if (pt->role == PS_ROLE_SENSOR || pt->role == PS_ROLE_INPUT) {
+		int light = pt->role == PS_ROLE_SENSOR;
+		struct ps_dali_input_conf c = { .type = light ? PS_DALI_TYPE_LIGHT : PS_DALI_TYPE_OCCUPANCY,
+			                        .deadtime = -1, .hold = -1, .events = d->codec != NULL };
+		long addr = -1, inst = light ? 1 : 0, hyst = -1, hmin = -1;
+		if (ps_opts_long(&r, "device_address", &addr) || ps_opts_long(&r, "instance", &inst) ||
+		    ps_opts_double(&r, "report_time", &c.report) || ps_opts_double(&r, "deadtime", &c.deadtime) ||
+		    ps_opts_long(&r, "hysteresis", &hyst) || ps_opts_long(&r, "hysteresis_min", &hmin) ||
+		    ps_opts_double(&r, "hold", &c.hold))
+			return -1;
+		c.address = (int)addr;
+		c.instance = (int)inst;
+		c.hysteresis = (int)hyst;
+		c.hysteresis_min = (int)hmin;
+		p->in = malloc(sizeof *p->in);
+		if (!p->in)
+			return ps_dev_fail(dev, ENOMEM, "out of memory");
+		if (ps_dali_input_init(p->in, &c, why, sizeof why) != 0) {
+			free(p->in);
+			p->in = NULL;
+			return ps_dev_fail(dev, EINVAL, "%s: %s", pt->name, why);
+		}
+		p->pt = pt;
+		p->want = p->sent = p->actual = -1;
+		p->reported = NAN;
+		pt->priv = p;
+		d->npts++;
+		ps_dali_input_connected(p->in, d->now);
+		return 0;
+	}
 	if (ps_dali_addr_parse(a, &p->addr, why, sizeof why) != 0)
 		return ps_dev_fail(dev, EINVAL, "%s: %s", a, why);
 	p->pt = pt;
@@ -1271,6 +1538,8 @@ static void du_close(struct ps_dev *dev)
 	teardown(d);
 	if (d->epfd >= 0)
 		close(d->epfd);
+	for (int i = 0; i < d->npts; i++)
+		free(d->pts[i].in);
 	free(d->job);
 	free(d);
 	dev->priv = NULL;
@@ -1287,10 +1556,11 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	dev->priv = d;
 	d->epfd = epoll_create1(EPOLL_CLOEXEC);
 	d->safe_level = d->fade_time = -1;
-	d->ser_dtr0_frame = -1;
+	d->ser_dtr0_frame = d->ser_repeat = -1;
 	d->backoff = BACKOFF_MIN;
 	d->next_scan = -INFINITY;
 	d->seq = 0;
+	d->rnd = (uint32_t)(uintptr_t)d ^ (uint32_t)getpid();
 	if (d->epfd < 0)
 		return ps_dev_fail(dev, errno, "epoll: %s", strerror(errno));
 	if (ps_opts_choice(&r, "transport", &transport) || ps_opts_string(&r, "serial", &serial) ||

@@ -15,6 +15,9 @@ struct ps_dali_usb_stats {
 	unsigned long failed;       /* transactions given up after all retries */
 	unsigned long connects;     /* successful connects (1 + replugs) */
 	unsigned long stray;        /* reports for no outstanding sequence number */
+	unsigned long collisions;   /* our frames that collided with another master's */
+	unsigned long input_frames; /* transactions for control devices' inputs (configuration, polls) */
+	unsigned long events;       /* control devices' event messages taken by an input point */
 	int connected;              /* 1 while the interface is claimed */
 	int pending;                /* transactions queued or in flight */
 	int job_running;            /* a commissioning job runs */

@@ -299,6 +299,23 @@ static void dali_show(json_object *r)
 			       cell(x, "status", l, sizeof l), cell(x, "actual_level", m, sizeof m));
 		}
 		printf("  gear without a short address: %s\n", cell(r, "unaddressed", a, sizeof a));
+		if ((list = member(r, "devices"))) {
+			printf("  control devices (IEC 62386-103):\n  short devices instances (number: type kind)\n");
+			for (size_t n = 0; n < json_object_array_length(list); n++) {
+				json_object *x = json_object_array_get_idx(list, n), *in = member(x, "instances");
+				printf("  %5s %-7s", cell(x, "address", a, sizeof a), cell(x, "devices", b, sizeof b));
+				for (size_t q = 0; in && q < json_object_array_length(in); q++) {
+					json_object *y = json_object_array_get_idx(in, q);
+					const char *kind = text_of(y, "kind");
+					printf(" %s: %s%s%s%s", cell(y, "number", c, sizeof c), cell(y, "type", d, sizeof d),
+					       kind ? " " : "", kind ? kind : "",
+					       q + 1 < json_object_array_length(in) ? ";" : "");
+				}
+				printf("\n");
+			}
+			printf("  control devices without a short address: %s\n",
+			       cell(r, "devices_unaddressed", a, sizeof a));
+		}
 	} else if (strcmp(job, "address") == 0 && (list = member(r, "found"))) {
 		printf("  random    short  was\n");
 		for (size_t n = 0; n < json_object_array_length(list); n++) {
