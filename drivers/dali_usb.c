@@ -1102,6 +1102,15 @@ static int word_long(const char *w, long min, long max, long *out)
 static const char command_usage[] =
 	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | identify device SHORT | verify ZONE | status | abort";
 
+/* Whether the serial or TCP interface can send a 24-bit forward frame (a
+ * control device's): daliserver, for one, carries 16-bit frames only. */
+static int carries_24bit(const struct ps_dali_codec *codec)
+{
+	uint8_t buf[64];
+	struct ps_dali_frame f = { .bits = 24, .data = 0xFFFE30, .twice = 0 };   /* a broadcast query */
+	return codec && codec->encode(buf, sizeof buf, &f) >= 0;
+}
+
 /* Start a job from the request's words; 0, or -1 with errno and dev->err. */
 static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, struct ps_point *const *pts, int npts,
                      double now)
@@ -1113,7 +1122,7 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 	int rc;
 	if (strcmp(w[0], "scan") == 0 && nw == 1) {
 		/* control devices too where the interface carries 24-bit frames */
-		rc = d->codec ? ps_dali_commission_scan_devices(c, now) : ps_dali_commission_scan(c, now);
+		rc = carries_24bit(d->codec) ? ps_dali_commission_scan_devices(c, now) : ps_dali_commission_scan(c, now);
 	} else if (strcmp(w[0], "address") == 0 && nw >= 2 && nw <= 3 && strcmp(w[1], "devices") == 0) {
 		int all = nw == 3 && strcmp(w[2], "all") == 0;
 		if (nw == 3 && !all && strcmp(w[2], "new") != 0)

@@ -94,11 +94,11 @@ ctl -j dali dali status > "$TMP/bus.json"
 check "psensctl dali status counts the sensor's events taken: $(grep -o '"inputs":\[{[^}]*}' "$TMP/bus.json" | cut -c1-160)" \
 	grep -Eq '"inputs":\[\{"point":"light","device_address":5,"instance":1,"type":4,"value":700,.*"configured":true,.*"events":[1-9]' "$TMP/bus.json"
 echo "occupied 0 1" > "$TMP/ctl"
-wait_for 10 grep -q "zone office: occupied" "$TMP/err"
-check "the 303 instance reports occupied: the zone is occupied" grep -q "zone office: occupied" "$TMP/err"
+wait_for 10 grep -q "zone office: .*occupied$" "$TMP/err"
+check "the 303 instance reports occupied: the zone is occupied" grep -q "zone office: .*occupied$" "$TMP/err"
 echo "occupied 0 0" > "$TMP/ctl"
-wait_for 10 sh -c "grep 'zone office: \(occupied\|vacant\)' \"$TMP/err\" | tail -n 1 | grep -q vacant"
-check "... then vacant" sh -c "grep 'zone office: \(occupied\|vacant\)' \"$TMP/err\" | tail -n 1 | grep -q vacant"
+wait_for 10 sh -c "grep 'zone office: .*\(occupied\|vacant\)$' \"$TMP/err\" | tail -n 1 | grep -q vacant"
+check "... then vacant" sh -c "grep 'zone office: .*\(occupied\|vacant\)$' \"$TMP/err\" | tail -n 1 | grep -q vacant"
 ctl override office 0.3 600 > /dev/null
 want=$(arc 0.3)
 wait_for 5 sh -c "[ \"\$(awk '\$1 == \"short\" { print \$4 }' \"$TMP/bus.state\" | sort -u)\" = $want ]"
@@ -118,7 +118,9 @@ check "... the zone at its safe level, the fault in its status" grep -Eq '"level
 echo "silent 0 0" > "$TMP/ctl"
 wait_for 15 grep -q "fault cleared: control resumes" "$TMP/err"
 check "the sensor back: control resumes by itself" grep -q "fault cleared: control resumes" "$TMP/err"
-check "the fault was reported once" test "$(grep -c 'zone office: .* fault: ' "$TMP/err")" = 1
+check "the sensor's fault was reported once" test "$(grep -c 'zone office: .* fault: light: ' "$TMP/err")" = 1
+# (the occupancy instance's silence may be seen too, as its own fault
+# taken as occupied: not the sensor's, and not counted here)
 pd=$(ctl -j ping | sed -n 's/.*"pid":\([0-9]*\).*/\1/p')
 kill -TERM "$pd"
 wait $pid

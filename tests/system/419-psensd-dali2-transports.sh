@@ -59,8 +59,8 @@ EOC
 	wait_for 10 reads 800
 	check "$codec over $link: ... and a change: $(sensor_v)" reads 800
 	echo "occupied 0 1" >> "$TMP/ctl"
-	wait_for 10 grep -q "zone office: occupied" "$TMP/err-$codec"
-	check "$codec over $link: occupied reported" grep -q "zone office: occupied" "$TMP/err-$codec"
+	wait_for 10 grep -q "zone office: .*occupied$" "$TMP/err-$codec"
+	check "$codec over $link: occupied reported" grep -q "zone office: .*occupied$" "$TMP/err-$codec"
 	ctl override office 0.5 600 > /dev/null
 	want=$(arc 0.5)
 	wait_for 5 sh -c "[ \"\$(awk '\$1 == \"short\" { print \$4 }' \"$TMP/bus.state\" | sort -u)\" = $want ]"
