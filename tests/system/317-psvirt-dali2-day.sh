@@ -1,0 +1,102 @@
+#!/bin/sh
+# SPDX-License-Identifier: ISC
+# A DALI-2 morning with no hardware: psvirt's virtual bus behind a Foxtron
+# DALInet carries the room's multisensor (a 304 light sensor, instance 1,
+# the room's ceiling signal at 1023 = 10 V; a 303 occupancy sensor,
+# instance 0, occupied from 08:00) and its two ballasts; psensd reads the
+# 304 as the zone's sensor and the 303 as its occupancy input, both over
+# the bus, and dims the gear (the task meter stays on psvirt's Modbus
+# module, for the log's truth).  The room at 30x real time from 07:52 to
+# about 08:08, every 10 s: the bus keeps real time (T_report, events), so
+# a faster clock would outrun the sensor's reports.  Checked: the
+# occupancy reaches the log (vacant before 08:00, occupied after), the
+# lights go off once the room has been vacant for the hold and come back
+# under daylight control at 08:00, the 304 sees the lights go out, the
+# light sensor is never lost, and the record of the run says SIMULATED.
+. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/peers/common.sh"
+[ -x "$BIN/psvirt" ] && [ -x "$BIN/psensd" ] || skip_all "psvirt or psensd not built"
+"$BIN/psensd" -L 2>/dev/null | grep -q "^dali_usb:" || skip_all "the dali_usb driver is not compiled in"
+command -v sqlite3 > /dev/null || skip_all "sqlite3 not installed"
+make_results
+mb=$(free_port)
+"$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$mb" --dali-tcp 127.0.0.1:0 --ready-file "$TMP/ready" \
+	--date 03-18 --sunrise 06:00 --sunset 18:30 --start 07:52 --speed 30 --dali-occupancy 08:00-12:00 \
+	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 -D lag_tau=0 \
+	> "$TMP/pv.out" 2> "$TMP/pv.err" &
+pv=$!; track_pid $pv
+wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
+port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+{ printf '[psensd]\nresults = ofb.results\ndatabase = day.db\nsocket = sock\nperiod = 10\n'
+cat <<EOF2
+[device io]
+driver = modbus
+simulated = psvirt
+host = 127.0.0.1
+port = $mb
+timeout = 0.5
+[device dali]
+driver = dali_usb
+simulated = psvirt
+transport = foxtron
+device = 127.0.0.1:$port
+timeout = 0.5
+[point light]
+device = dali
+role = sensor
+device_address = 0
+report_time = 5
+valid_max = 1023
+sensor_saturation = 1023
+[point occupancy]
+device = dali
+role = input
+action = occupancy
+device_address = 0
+report_time = 5
+[point lux]
+device = io
+role = task
+table = holding_register
+address = 100
+type = u32
+[point ballasts]
+device = dali
+role = dim
+address = broadcast
+[zone office]
+sensor = light
+task = lux
+dim = ballasts
+input = occupancy
+algorithm = setpoint
+target_lux = 500
+min_level = 0.1
+sensor_gain = 51.15
+vacancy_hold = 120
+EOF2
+} > "$TMP/day.conf"
+timeout 33 "$BIN/psensd" -f "$TMP/day.conf" -t 07:52 -x 30 > "$TMP/out" 2> "$TMP/err"
+q() { sqlite3 "$TMP/day.db" "$1"; }
+n=$(q "select count(*) from samples")
+check "a quarter of an hour logged every 10 s: $n samples" test "$n" -ge 80
+vac=$(q "select count(*) from samples where tod_s between 28440 and 28740 and occupied = 0")
+all=$(q "select count(*) from samples where tod_s between 28440 and 28740")
+check "the 303's vacancy logged 07:54-07:59 ($vac of $all samples)" test "$vac" -ge 25 -a "$vac" = "$all"
+occ=$(q "select count(*) from samples where tod_s between 28860 and 29220 and occupied = 1")
+all=$(q "select count(*) from samples where tod_s between 28860 and 29220")
+check "the 303's occupancy logged 08:01-08:07 ($occ of $all samples)" test "$occ" -ge 30 -a "$occ" = "$all"
+off=$(q "select count(*) from samples where tod_s between 28500 and 28740 and output > 0")
+check "vacant past the 2 min hold: the lights off 07:55-07:59 ($off samples lit)" test "$off" = 0
+lit=$(q "select count(*) from samples where tod_s between 28860 and 29220 and output >= 0.099")
+check "occupied: under daylight control, at 10 % or more ($lit of $all samples)" test "$lit" = "$all"
+# the loop closes through the bus: the 304 sees the gear's light go out
+# although the daylight rises (psvirt's ceiling signal, 1023 = 10 V)
+on=$(q "select avg(sensor_v) from samples where tod_s between 28380 and 28430")
+dark=$(q "select avg(sensor_v) from samples where tod_s between 28500 and 28560")
+check "the 304 sees the lights go out: $on counts lit at 07:53, $dark dark at 07:55" \
+	awk -v a="$on" -v b="$dark" 'BEGIN { exit !(a > 50 && b < a - 2 && b > 0.9 * a) }'
+check "the light sensor never lost" sh -c "! grep -q 'fault: light' '$TMP/err'"
+"$BIN/psensctl" -d "$TMP/day.db" report -o "$TMP/rec.pdf" > /dev/null 2>&1
+check "the record of the run says SIMULATED" sh -c "pdftotext '$TMP/rec.pdf' - 2>/dev/null | grep -q SIMULATED"
+done_testing
