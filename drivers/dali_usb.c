@@ -263,15 +263,15 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 		return 0;
 	}
 	if (role == PS_ROLE_SENSOR || role == PS_ROLE_INPUT) {
-		if (!ps_opts_get(o, "device_address")) {
-			*line = ps_opts_line(o, "report_time");
-			snprintf(why, n, "a %s point on dali_usb needs device_address = (the control device, 0 to 63)",
-			         ps_role_name(role));
-			return -1;
-		}
 		if (ps_opts_get(o, "address")) {
 			*line = ps_opts_line(o, "address");
 			snprintf(why, n, "address is the gear's; a control device's is device_address");
+			return -1;
+		}
+		if (!ps_opts_get(o, "device_address")) {
+			*line = o->n ? o->v[0].line : 0;   /* the key is missing: a line of the point's section */
+			snprintf(why, n, "a %s point on dali_usb needs device_address = (the control device, 0 to 63)",
+			         ps_role_name(role));
 			return -1;
 		}
 		return 0;

@@ -613,10 +613,16 @@ static void bad_options_name_file_and_line(void **state)
 	p.role = PS_ROLE_DIM;
 	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), -1);
 	assert_non_null(strstr(f->dev.err, "test.conf:33: address: 'group 16'"));
+	/* a sensor is a DALI-2 control device's instance: a gear address on it
+	 * is refused, naming the key it should have been */
 	p.role = PS_ROLE_SENSOR;
 	o.value = "1";
 	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), -1);
-	assert_non_null(strstr(f->dev.err, "dim and relay"));
+	assert_non_null(strstr(f->dev.err, "test.conf:33: address is the gear's; a control device's is device_address"));
+	/* a role the driver has no use for */
+	p.role = PS_ROLE_TASK_LUX;
+	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), -1);
+	assert_non_null(strstr(f->dev.err, "dim and relay points and reads sensor and input points, not task"));
 	p.role = PS_ROLE_DIM;
 	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), 0);
 	assert_int_equal(f->dev.drv->write(&f->dev, &p, psd_time_mono(), 1.5), -1);
