@@ -22,6 +22,7 @@ cp -R config/example/ofb/img "$W/img"
 cp tests/data/gendaymtx/test.wea "$W/"
 cp -R config/example/ofb/dc/sensor "$W/dc"   # psens(1)'s dc/dc_*.hdr
 cp config/example/ofb/img/day_*_sensor_256.hdr "$W/"
+mkdir -p "$W/tests/data" && cp -R tests/data/ofb-place "$W/tests/data/"   # psplace(1)'s poses and grid
 "$BIN/psscene" -q -N -o "$W/ofb.results" "$W/config/example/ofb.scene"
 cp "$W/ofb.results" "$W/build/ofb.results"   # config/psensd.conf's results (make run makes it)
 PORT=$(free_port)

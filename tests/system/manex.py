@@ -11,7 +11,7 @@
 import re, sys
 
 PROGRAMS = {'psens', 'mksens', 'psfilter', 'psscene', 'pssky', 'pspng', 'psshare',
-            'psensd', 'psensctl', 'psvirt', 'mbpoll', 'socat'}
+            'psensd', 'psensctl', 'psvirt', 'psplace', 'mbpoll', 'socat', 'mkdir'}
 
 def unroff(line):
     line = line.replace('\\\\', '\x00').replace('\\-', '-').replace('\\e', '\\').replace('\\&', '')
