@@ -20,6 +20,7 @@ awk '/^## A site dry run/ { s = 1; next } /^## / { s = 0 }
 sed -i "s/^port = 1502/port = $port/" "$TMP/top/config/example/site.conf"
 diag "$(cat "$TMP/site.sh")"
 check "the walk-through waits for psvirt's ready file" grep -q '^until \[ -s build/psvirt.ready \]' "$TMP/site.sh"
+check "... after removing an earlier run's" grep -q '^rm -f build/psvirt.ready' "$TMP/site.sh"
 echo 1 > "$TMP/top/build/psvirt.ready"   # an earlier run's
 # psvirt started in the script is killed by it (kill $!); the whole group is ended after
 (cd "$TMP/top" && setsid sh -c '. "$1"' sh "$TMP/site.sh") > "$TMP/out" 2> "$TMP/err" &
