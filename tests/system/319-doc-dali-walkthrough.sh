@@ -24,7 +24,7 @@ dali=$(free_port)
 awk '/^## A DALI site dry run/ { s = 1; next } /^## / { s = 0 }
      s && /^```/ { if (b) exit; b = 1; next }
      s && b && /^\$ / { c = 1; sub(/^\$ /, "") } s && b && c { print; c = /\\$/ }' doc/site.md |
-	sed -e "s/1502/$mb/g" -e "s/1523/$dali/g" -e 's/^timeout 86 /timeout 8 /' -e 's/; kill %1$/; kill $!/' \
+	sed -e "s/1502/$mb/g" -e "s/1523/$dali/g" -e 's/^timeout 86 /timeout 8 /' -e 's/; kill %1; wait %1$/; kill $!; wait $!/' \
 	-e '/^timeout 8 /q' > "$TMP/dali.sh"
 sed -i -e "s/^port = 1502/port = $mb/" -e "s/127.0.0.1:1523/127.0.0.1:$dali/" "$TMP/top/config/example/dali-virtual.conf"
 diag "$(cat "$TMP/dali.sh")"
