@@ -45,6 +45,7 @@ int psd_placeset_read(struct search *s, char *err, size_t errlen)
 		s->poses = np;
 		np = &s->poses[s->nposes];
 		memset(np, 0, sizeof *np);
+		ps_view_default(&np->view);   /* what a candidate's line leaves out: Radiance's defaults */
 		memcpy(np->id, p, (size_t)(q - p));
 		q += strspn(q, " \t");
 		snprintf(np->view_text, sizeof np->view_text, "%s", q);

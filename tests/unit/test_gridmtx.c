@@ -176,6 +176,7 @@ static void grid_route_against_pictures(void **state)
 	data_path(path, sizeof path, "config/example/ofb/dc/points_mf1.mtx");
 	assert_int_equal(ps_gridmtx_read(&m, path, &e), 0);
 	ps_gridmtx_row(&m, 1, &grid);   /* the task point, facing up */
+	ps_view_default(&v);   /* the options not given keep Radiance's defaults */
 	assert_int_equal(ps_view_parse(&v, "-vta -vp 1.85 2.285 0.762 -vd 0 0 1 -vu 0 1 0 -vh 180 -vv 180", "task", &e),
 	                 0);
 	assert_int_equal(ps_sensor_builtin(&cos, PS_SENS_COSINE, &e), 0);
