@@ -56,7 +56,9 @@ struct combo {
 struct opts {
 	const char *conf, *zone, *cands, *dir, *grid, *elec, *weather, *stat;
 	const char *json_out, *results_out, *schedule, *csv, *zone_out, *plan;
-	const char *sens[PSD_PLACE_MAX_LIST];
+	const char *sens[PSD_PLACE_MAX_LIST];       /* as given: a sensor, @ and its filter */
+	char sens_path[PSD_PLACE_MAX_LIST][1024];   /* the sensor's table or builtin */
+	double coef[PSD_PLACE_MAX_LIST][3];          /* its colour weights (R, G, B) */
 	int nsens;
 	int laws[PSD_ALG_COUNT], nlaws;
 	int nrot, top, threads, quiet, json;

@@ -19,7 +19,7 @@ void psd_placeout_table(const struct search *s, size_t rows)
 	for (size_t i = 0; i < rows && i < s->nc; i++) {
 		const struct combo *k = &s->c[i];
 		char sname[64];
-		snprintf(sname, sizeof sname, "%s", s->sens[k->sens].path ? s->sens[k->sens].path : "?");
+		snprintf(sname, sizeof sname, "%s", s->o->sens[k->sens]);
 		if (k->fail) {
 			printf("%4zu %-8s %6.1f %-24.24s %-20s  (the year did not run)\n", i + 1, s->poses[k->pose].id,
 			       psd_placerun_rot_deg(s, k->rot), sname, psd_control_algorithm_names[s->o->laws[k->law]]);
@@ -41,7 +41,7 @@ static json_object *combo_json(const struct search *s, const struct combo *k, si
 	psd_json_str(o, "pose", s->poses[k->pose].id);
 	psd_json_str(o, "view", s->poses[k->pose].view_text);
 	psd_json_num(o, "rotation", psd_placerun_rot_deg(s, k->rot));
-	psd_json_str(o, "sensor", s->sens[k->sens].path);
+	psd_json_str(o, "sensor", s->o->sens[k->sens]);
 	psd_json_str(o, "law", psd_control_algorithm_names[s->o->laws[k->law]]);
 	psd_json_num(o, "occupied_h", k->a.occ_h);
 	psd_json_num(o, "energy_pct", 100 * k->a.energy_h / k->a.occ_h);
@@ -167,7 +167,7 @@ int psd_placeout_exports(const struct search *s, const struct combo *k0, char *e
 		            "; about its axis; over the year: %.1f %% energy, %.1f h below 90 %% of the target.\n"
 		            "; Merge into the zone's section of psensd.conf (its points stay as they are).\n"
 		            "[zone %s]\nalgorithm = %s\ntarget_lux = %g\nmin_level = %g\n",
-		        s->zc->name, s->poses[k.pose].id, s->poses[k.pose].view_text, s->sens[k.sens].path,
+		        s->zc->name, s->poses[k.pose].id, s->poses[k.pose].view_text, o->sens[k.sens],
 		        psd_placerun_rot_deg(s, k.rot), 100 * k.a.energy_h / k.a.occ_h, k.a.below_h, s->zc->name,
 		        psd_control_algorithm_names[o->laws[k.law]], c->target_lux, c->min_level);
 		if (o->results_out)

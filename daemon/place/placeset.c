@@ -15,8 +15,6 @@
 
 #define LINE 4096
 
-static const double V[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
-
 int psd_placeset_read(struct search *s, char *err, size_t errlen)
 {
 	FILE *fp = fopen(s->o->cands, "r");
@@ -132,22 +130,20 @@ static double cell_phi(const struct search *s)
 	return step / ceil(step / 10.0 - 1e-9);
 }
 
-/* project one picture per channel and read every sensor at every rotation */
+/* project one picture per colour channel and read every sensor at every
+ * rotation: out[(r nsens + k) stride + c] */
 static int scan_picture(const struct search *s, const struct ps_weights *om, const struct ps_picture *pic,
-                        const struct ps_view *v, int channels, double *out, size_t stride, char *err,
+                        const struct ps_view *v, double *out, size_t stride, char *err,
                         size_t errlen)
 {
 	struct ps_err e;
 	double *tmp = malloc((size_t)s->o->nrot * sizeof *tmp);
 	if (!tmp)
 		return snprintf(err, errlen, "out of memory"), -1;
-	for (int c = 0; c < channels; c++) {
+	for (int c = 0; c < 3; c++) {
 		double coef[3] = { 0, 0, 0 };
 		struct ps_rescan pr;
-		if (channels == 3)
-			coef[c] = 1;
-		else
-			memcpy(coef, V, sizeof coef);
+		coef[c] = 1;
 		if (ps_rescan_project(&pr, om, pic, v, coef, s->cell_theta, cell_phi(s), 0, s->theta_max,
 		                      &e) != 0) {
 			free(tmp);
@@ -204,7 +200,7 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 			snprintf(err, errlen, "out of memory");
 			goto out;
 		}
-		if (scan_picture(s, &om, &pics[i], &p->view, 3, tmp, 3, err, errlen) != 0) {
+		if (scan_picture(s, &om, &pics[i], &p->view, tmp, 3, err, errlen) != 0) {
 			free(tmp);
 			goto out;
 		}
@@ -213,8 +209,23 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 				p->row[(rk * (size_t)s->npatch + (size_t)i) * 3 + (size_t)c] = tmp[rk * 3 + (size_t)c];
 		free(tmp);
 	}
-	if (scan_picture(s, &ome, &elec, &p->view, 1, p->elec, 1, err, errlen) != 0)
-		goto out;
+	{
+		/* the electric picture per channel, weighed by each sensor's colour weights */
+		double *tmp = malloc(nrs * 3 * sizeof *tmp);
+		if (!tmp) {
+			snprintf(err, errlen, "out of memory");
+			goto out;
+		}
+		if (scan_picture(s, &ome, &elec, &p->view, tmp, 3, err, errlen) != 0) {
+			free(tmp);
+			goto out;
+		}
+		for (size_t rk = 0; rk < nrs; rk++) {
+			const double *w = s->o->coef[rk % (size_t)s->o->nsens];
+			p->elec[rk] = w[0] * tmp[rk * 3] + w[1] * tmp[rk * 3 + 1] + w[2] * tmp[rk * 3 + 2];
+		}
+		free(tmp);
+	}
 	rc = 0;
 out:
 	ps_weights_free(&om);
@@ -252,7 +263,7 @@ int psd_placeset_exact(const struct search *s, const struct pose *p, int k, doub
 		ps_picture_free(&ep);
 		return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;
 	}
-	if (ps_integrate(&we, &ep, V, &r, &e) != 0) {
+	if (ps_integrate(&we, &ep, s->o->coef[k], &r, &e) != 0) {
 		ps_weights_free(&we);
 		ps_picture_free(&ep);
 		return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;

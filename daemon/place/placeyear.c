@@ -157,6 +157,7 @@ int psd_placeyear_results(const struct search *s, const double *row, double elec
                         struct ps_results *r, double *sensor_sum)
 {
 	const struct hours *H = &s->hrs;
+	const double *w = s->o->coef[sens - s->sens];   /* the sensor's colour weights */
 	double ssum = 0, tsum = 0;
 	memset(r, 0, sizeof *r);
 	r->version = PS_RESULTS_VERSION;
@@ -172,7 +173,7 @@ int psd_placeyear_results(const struct search *s, const double *row, double elec
 		double v = 0;
 		for (int p = 0; p < H->npatch; p++)
 			for (int c = 0; c < 3; c++)
-				v += V[c] * row[3 * p + c] * sky[3 * p + c];
+				v += w[c] * row[3 * p + c] * sky[3 * p + c];
 		r->year.h[i] = H->h[i];
 		r->year.h[i].sensor = v;
 		r->year.h[i].task_lux = H->task[i];
@@ -192,7 +193,7 @@ int psd_placeyear_results(const struct search *s, const double *row, double elec
 	r->weather = (char *)s->o->weather;
 	r->sensitivity = sens->path;
 	r->reading = (char *)"linear";
-	memcpy(r->rgb, V, sizeof r->rgb);
+	memcpy(r->rgb, w, sizeof r->rgb);
 	r->scene = (char *)s->o->cands;
 	r->scene_hash = (char *)"";
 	r->ncond = 2;

@@ -30,7 +30,9 @@
 
 #include "cli.h"
 #include "control.h"
+#include "filter.h"
 #include "gridmtx.h"
+#include "integrate.h"
 #include "log.h"
 #include "place.h"
 #include "placeout.h"
@@ -53,7 +55,9 @@ static void usage(FILE *fp)
 	            "  -g FILE   the work-plane grid's coefficients (rfluxmtx -I+ matrix)\n"
 	            "  -e FILE   the grid's electric irradiance (rtrace -I+ lines)\n"
 	            "  -w FILE   the weather (.wea or .epw)\n"
-	            "  -s FILE   a sensor: a table or builtin:cosine, builtin:uniform (repeat)\n"
+	            "  -s FILE   a sensor: a table or builtin:cosine, builtin:uniform (repeat);\n"
+	            "            FILE@FILTER with its colour filter (wavelength, response; as\n"
+	            "            psens -f), FILE@R,G,B with colour weights (as psens -R -G -B)\n"
 	            "  -a LAW    a control law (repeat; default all five)\n"
 	            "  -r DEG    the rotation step about the sensor axis (default 10: 36 rotations)\n"
 	            "  -t FIG    the grid's figure: min, mean (default), pNN, points:i,j,...\n"
@@ -88,6 +92,56 @@ static int positive_int(const char *v, int lo, int hi, int *out)
 	if (end == v || *end || x < lo || x > hi)
 		return -1;
 	*out = (int)x;
+	return 0;
+}
+
+/* A sensor as -s gives it: the table (or builtin), and after the last '@'
+ * its colour filter file or its R,G,B weights; without one the luminous
+ * weights.  -1 with err naming the filter's file and line. */
+static int parse_sensor(struct opts *o, int k, char *err, size_t errlen)
+{
+	const char *spec = o->sens[k], *at = strrchr(spec, '@');
+	double *w = o->coef[k];
+	w[0] = PS_RGB_DEFAULT_R;
+	w[1] = PS_RGB_DEFAULT_G;
+	w[2] = PS_RGB_DEFAULT_B;
+	if (!at) {
+		snprintf(o->sens_path[k], sizeof o->sens_path[k], "%s", spec);
+		return 0;
+	}
+	if ((size_t)(at - spec) >= sizeof o->sens_path[k] || at == spec)
+		return snprintf(err, errlen, "-s %s: expected SENSOR@FILTER or SENSOR@R,G,B", spec), -1;
+	memcpy(o->sens_path[k], spec, (size_t)(at - spec));
+	o->sens_path[k][at - spec] = 0;
+	{
+		/* three numbers separated by commas: the weights */
+		const char *q = at + 1;
+		char *end;
+		int n = 0;
+		double v[3];
+		while (n < 3) {
+			v[n] = strtod(q, &end);
+			if (end == q || !isfinite(v[n]))
+				break;
+			n++;
+			q = end;
+			if (n < 3 && *q != ',')
+				break;
+			if (n < 3)
+				q++;
+		}
+		if (n == 3 && !*q) {
+			if (!(v[0] >= 0 && v[1] >= 0 && v[2] >= 0) || v[0] + v[1] + v[2] <= 0)
+				return snprintf(err, errlen, "-s %s: colour weights are not negative and not all 0", spec), -1;
+			memcpy(w, v, sizeof v);
+			return 0;
+		}
+	}
+	{
+		struct ps_err e;
+		if (ps_filter_rgb(at + 1, w, &e) != 0)
+			return snprintf(err, errlen, "-s %s: %s", spec, e.msg), -1;
+	}
 	return 0;
 }
 
@@ -243,7 +297,11 @@ int main(int argc, char **argv)
 		goto oom;
 	for (int k = 0; k < o.nsens; k++) {
 		struct ps_err e;
-		if (ps_sensor_open(&s.sens[k], o.sens[k], &e) != 0) {
+		if (parse_sensor(&o, k, err, sizeof err) != 0) {
+			fprintf(stderr, "psplace: %s\n", err);
+			goto out;
+		}
+		if (ps_sensor_open(&s.sens[k], o.sens_path[k], &e) != 0) {
 			fprintf(stderr, "psplace: -s %s: %s\n", o.sens[k], e.msg);
 			goto out;
 		}
