@@ -26,6 +26,8 @@ struct pose {
 	struct ps_view view;
 	double *row;       /* nrot x nsens x npatch x 3 (projection route), per channel */
 	double *elec;      /* nrot x nsens: the response to the electric picture */
+	char dcdir[4096];  /* rendered: the cache's folder of its coefficient pictures */
+	char elecfile[4096];   /* rendered: the cache's electric picture */
 };
 
 /* the year's hours with light, shared by every combination */
@@ -56,6 +58,10 @@ struct combo {
 struct opts {
 	const char *conf, *zone, *cands, *dir, *grid, *elec, *weather, *stat;
 	const char *json_out, *results_out, *schedule, *csv, *zone_out, *plan;
+	/* rendering (placerender.h): rfluxmtx's octree and sky patches, rpict's
+	 * octree, their options and sizes, the cache, renderers at once */
+	const char *dc_octree, *receiver, *elec_octree, *dc_options, *elec_options, *cache;
+	int dc_size, elec_size, jobs;
 	const char *sens[PSD_PLACE_MAX_LIST];       /* as given: a sensor, @ and its filter */
 	char sens_path[PSD_PLACE_MAX_LIST][1024];   /* the sensor's table or builtin */
 	double coef[PSD_PLACE_MAX_LIST][3];          /* its colour weights (R, G, B) */

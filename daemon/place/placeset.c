@@ -63,9 +63,15 @@ int psd_placeset_read(struct search *s, char *err, size_t errlen)
 	return 0;
 }
 
+/* a pose's picture: the rendered one in the cache, else DIR/id/name */
 static void pose_path(const struct search *s, const struct pose *p, const char *name, char *out, size_t n)
 {
-	snprintf(out, n, "%s/%s/%s", s->o->dir, p->id, name);
+	if (p->dcdir[0] && !strncmp(name, "dc_", 3))
+		snprintf(out, n, "%s/%s", p->dcdir, name);
+	else if (p->elecfile[0] && !strncmp(name, "elec", 4))
+		snprintf(out, n, "%s", p->elecfile);
+	else
+		snprintf(out, n, "%s/%s/%s", s->o->dir, p->id, name);
 }
 
 /* The pose's pictures, in memory: npatch coefficient pictures and the

@@ -27,6 +27,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "control.h"
@@ -36,6 +37,7 @@
 #include "log.h"
 #include "place.h"
 #include "placeout.h"
+#include "placerender.h"
 #include "placerun.h"
 #include "placeset.h"
 #include "placeyear.h"
@@ -48,6 +50,8 @@ static void usage(FILE *fp)
 	            "               [-t figure] [-T top] [-n threads] [-p period] [-u hours] [-k deg]\n"
 	            "               [-j] [-o out.json] [-x results] [-E schedule.csv] [-y year.csv]\n"
 	            "               [-Z zone.conf] [-P plan.png] [-q]\n"
+	            "               [-M room.oct -K skydome.rad] [-L lamps.oct] [-J jobs] [-C cachedir]\n"
+	            "               [--dc-options O] [--elec-options O] [--dc-size N] [--elec-size N]\n"
 	            "  -f FILE   psensd.conf: the zone's law, devices and [simulate] power curve\n"
 	            "  -z ZONE   the zone (default the first)\n"
 	            "  -c FILE   candidate poses: an id and a Radiance view a line\n"
@@ -73,6 +77,15 @@ static void usage(FILE *fp)
 	            "  -Z FILE   the winner's settings as a psensd.conf zone section\n"
 	            "  -P FILE   the plan of the poses as a PNG\n"
 	            "  -q        only the best 10 rows\n"
+	            "  rendering the missing pictures with Radiance, into the cache:\n"
+	            "  -M OCT    the room's octree (lamps off) for rfluxmtx's coefficient pictures\n"
+	            "  -K FILE   the sky patches' receiver file (#@rfluxmtx h=u / h=r1 lines)\n"
+	            "  -L OCT    the room's octree with the lamps on, no daylight, for rpict\n"
+	            "  -J N, --jobs N  renderers at once (default the cores)\n"
+	            "  -C DIR    the cache (default $XDG_CACHE_HOME/psensd or ~/.cache/psensd)\n"
+	            "  --dc-options O    rfluxmtx's options (default " PSD_PLACERENDER_DC_OPTIONS ")\n"
+	            "  --elec-options O  rpict's options (default " PSD_PLACERENDER_ELEC_OPTIONS ")\n"
+	            "  --dc-size N, --elec-size N  the pictures' size (default 64 and 128)\n"
 	            "  -h, --help     this help;  -V, --version  the version\n");
 }
 
@@ -164,15 +177,25 @@ static void search_free(struct search *s)
 int main(int argc, char **argv)
 {
 	static struct psd_config cf;
-	static const struct option longopts[] = { PS_CLI_LONGOPTS, { NULL, 0, NULL, 0 } };
+	enum { OPT_DC_OPTIONS = 1000, OPT_ELEC_OPTIONS, OPT_DC_SIZE, OPT_ELEC_SIZE };
+	static const struct option longopts[] = { PS_CLI_LONGOPTS,
+		                                   { "jobs", required_argument, NULL, 'J' },
+		                                   { "dc-options", required_argument, NULL, OPT_DC_OPTIONS },
+		                                   { "elec-options", required_argument, NULL, OPT_ELEC_OPTIONS },
+		                                   { "dc-size", required_argument, NULL, OPT_DC_SIZE },
+		                                   { "elec-size", required_argument, NULL, OPT_ELEC_SIZE },
+		                                   { NULL, 0, NULL, 0 } };
 	struct opts o = { .stat = "mean", .nrot = 36, .rot_step = 10, .top = 3, .threads = 2, .cell_theta = 2.0,
-	                  .dir = ".", .max_below = -1 };
+	                  .dir = ".", .max_below = -1, .dc_options = PSD_PLACERENDER_DC_OPTIONS,
+	                  .elec_options = PSD_PLACERENDER_ELEC_OPTIONS, .dc_size = 64, .elec_size = 128 };
+	struct psd_placerender_count rn;
+	long cores = sysconf(_SC_NPROCESSORS_ONLN);
 	struct search s;
 	struct ps_gridmtx g;
 	char err[1024], what[256];
 	double t0 = psd_time_mono(), t_sky, t_proj, t_run;
 	int ch, status = 1;
-	while ((ch = getopt_long(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:n:p:u:k:jo:x:E:y:Z:P:qhV", longopts, NULL)) != -1) {
+	while ((ch = getopt_long(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:n:p:u:k:jo:x:E:y:Z:P:qM:K:L:J:C:hV", longopts, NULL)) != -1) {
 		switch (ch) {
 		case 'f': o.conf = optarg; break;
 		case 'z': o.zone = optarg; break;
@@ -247,6 +270,24 @@ int main(int argc, char **argv)
 		case 'Z': o.zone_out = optarg; break;
 		case 'P': o.plan = optarg; break;
 		case 'q': o.quiet = 1; break;
+		case 'M': o.dc_octree = optarg; break;
+		case 'K': o.receiver = optarg; break;
+		case 'L': o.elec_octree = optarg; break;
+		case 'C': o.cache = optarg; break;
+		case OPT_DC_OPTIONS: o.dc_options = optarg; break;
+		case OPT_ELEC_OPTIONS: o.elec_options = optarg; break;
+		case 'J':
+		case OPT_DC_SIZE:
+		case OPT_ELEC_SIZE: {
+			int v;
+			if (positive_int(optarg, 1, ch == 'J' ? 256 : 8192, &v) != 0) {
+				fprintf(stderr, "psplace: %s %s: 1 to %d\n", ch == 'J' ? "-J" : ch == OPT_DC_SIZE ? "--dc-size"
+				        : "--elec-size", optarg, ch == 'J' ? 256 : 8192);
+				return 2;
+			}
+			*(ch == 'J' ? &o.jobs : ch == OPT_DC_SIZE ? &o.dc_size : &o.elec_size) = v;
+			break;
+		}
 		case 'h': usage(stdout); return 0;
 		case 'V': return ps_cli_version("psplace");
 		default: usage(stderr); return 2;
@@ -258,6 +299,8 @@ int main(int argc, char **argv)
 	}
 	if (!o.nsens)
 		o.sens[o.nsens++] = "builtin:cosine";
+	if (!o.jobs)
+		o.jobs = cores > 0 ? (cores > 256 ? 256 : (int)cores) : 1;
 	if (!o.nlaws)
 		for (int a = 0; a < PSD_ALG_COUNT; a++)
 			o.laws[o.nlaws++] = a;
@@ -355,6 +398,13 @@ int main(int argc, char **argv)
 		fprintf(stderr, "psplace: %s\n", err);
 		goto out;
 	}
+	if (psd_placerender_all(&s, &rn, err, sizeof err) != 0) {
+		fprintf(stderr, "psplace: %s\n", err);
+		goto out;
+	}
+	if (o.dc_octree || o.elec_octree)
+		fprintf(stderr, "psplace: rendered %d coefficient set(s) and %d electric picture(s) with %d job(s); "
+		        "%d and %d from the cache\n", rn.dc_rendered, rn.elec_rendered, o.jobs, rn.dc_cached, rn.elec_cached);
 	if (psd_placeyear_hours(&s, &g, err, sizeof err) != 0) {
 		fprintf(stderr, "psplace: %s\n", err);
 		goto out;
