@@ -57,7 +57,7 @@ struct combo {
 
 struct opts {
 	const char *conf, *zone, *cands, *dir, *grid, *elec, *weather, *stat;
-	const char *json_out, *results_out, *schedule, *csv, *zone_out, *plan;
+	const char *json_out, *results_out, *schedule, *csv, *zone_out, *plan, *fisheye;
 	/* rendering (placerender.h): rfluxmtx's octree and sky patches, rpict's
 	 * octree, their options and sizes, the cache, renderers at once */
 	const char *dc_octree, *receiver, *elec_octree, *dc_options, *elec_options, *cache;

@@ -7,10 +7,16 @@
 #include <string.h>
 
 #include "canvas.h"
+#include "contour.h"
 #include "falsecolor.h"
 #include "json.h"
+#include "lum.h"
+#include "marks.h"
 #include "placerun.h"
+#include "placeset.h"
 #include "placeyear.h"
+#include "tonemap.h"
+#include "version.h"
 
 void psd_placeout_table(const struct search *s, size_t rows)
 {
@@ -278,3 +284,109 @@ int psd_placeout_plan(const struct search *s, const char *path, char *err, size_
 	return 0;
 }
 
+
+/* ---- the best pose's sensitivity over its fisheye ------------------- */
+
+/* Contours of the sensitivity at 10, 50 and 90 % of its peak, labelled
+ * where they cross azimuth 320 degrees (as mksens --overlay draws them). */
+static int fisheye_contours(struct ps_canvas *c, const struct ps_marks_place *pl, const double *grid, int nx,
+                            int ny, double font)
+{
+	static const double levels[3] = { 10, 50, 90 };
+	double lx, ly, xc, yc, xe, ye, rgb[3] = { 0.55, 0.88, 1 };
+	ps_marks_place_point(pl, 0, 0, &xc, &yc);
+	ps_marks_place_point(pl, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
+	lx = xc + 4 * (xe - xc);
+	ly = yc + 4 * (ye - yc);
+	for (int k = 0; k < 3; k++) {
+		char lab[32];
+		snprintf(lab, sizeof lab, "%g %%", levels[k]);
+		struct ps_contour_style st = { .ox = pl->ox, .oy = pl->oy, .step = 1.0, .rgb = rgb,
+		                               .width = 2.0, .label = lab, .font = font, .lx = lx, .ly = ly };
+		ps_contour_draw(c, grid, nx, ny, levels[k] / 100.0, &st);
+	}
+	return 0;
+}
+
+int psd_placeout_fisheye(const struct search *s, const struct combo *k, const char *path, char *err, size_t errlen)
+{
+	static const uint8_t bg[3] = { 28, 28, 28 };
+	static const double fg[3] = { 0.92, 0.92, 0.92 };
+	const struct pose *p = &s->poses[k->pose];
+	const struct ps_sensor *sens = &s->sens[k->sens];
+	double rot = psd_placerun_rot_deg(s, k->rot), font, *grid;
+	struct ps_picture pic;
+	struct ps_canvas c;
+	struct ps_marks_place pl;
+	struct ps_tonemap t;
+	struct ps_err e;
+	char caption[700];
+	int w, h, zoom, margin, nx, ny;
+	if (psd_placeset_elec_read(s, p, &pic, err, errlen) != 0)
+		return -1;
+	w = pic.width;
+	h = pic.height;
+	zoom = (511 + (w > h ? w : h)) / (w > h ? w : h);
+	zoom = zoom < 1 ? 1 : zoom > 4 ? 4 : zoom;
+	font = h * zoom >= 480 ? 13.0 : 11.0;
+	margin = (int)(3.0 * font);
+	if (ps_canvas_init(&c, 2 * margin + w * zoom, 3 * margin + h * zoom, bg, &e) != 0) {
+		ps_picture_free(&pic);
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	}
+	ps_marks_place_init(&pl, &p->view, w, h, margin, margin, zoom);
+	grid = ps_marks_place_sensitivity(&pl, sens, rot, &nx, &ny);
+	if (!grid) {
+		ps_canvas_free(&c);
+		ps_picture_free(&pic);
+		return snprintf(err, errlen, "out of memory"), -1;
+	}
+	/* the picture in grey (its luminance, tone mapped), tinted in false
+	 * colour by the sensitivity at each pixel's centre where it is above
+	 * 0.5 % of its peak; outside the fisheye the background */
+	ps_tonemap_init(&t, &pic, PS_TONE_REINHARD, 0, 2.2, 0);
+	ps_canvas_begin(&c);
+	for (int row = 0; row < h; row++)
+		for (int x = 0; x < w; x++) {
+			double th, ph, rgb[3], y, v;
+			uint8_t out[3], fc[3];
+			size_t at = (size_t)(row * zoom + zoom / 2) * (size_t)nx + (size_t)(x * zoom + zoom / 2);
+			if (ps_fisheye_pixel_dir(&pl.f, x, row, &th, &ph) != 0)
+				continue;
+			ps_lum_rgb(&t.lum, &pic, x, row, rgb);
+			y = ps_lum_y(&t.lum, rgb);
+			rgb[0] = rgb[1] = rgb[2] = y;
+			ps_tonemap_rgb(&t, rgb, out);
+			out[0] = out[2] = out[1];
+			v = grid[at];
+			if (isfinite(v) && v > 0.005) {
+				ps_falsecolor_rgb8(v, fc);
+				for (int i = 0; i < 3; i++)
+					out[i] = (uint8_t)lround(0.4 * out[i] + 0.6 * fc[i]);
+			}
+			ps_canvas_set(&c, margin + zoom * x, margin + zoom * row, zoom, out);
+		}
+	ps_canvas_end(&c);
+	ps_marks_draw(&c, &pl, PS_MARK_RINGS | PS_MARK_AZIMUTH | PS_MARK_SENSOR, rot, font);
+	fisheye_contours(&c, &pl, grid, nx, ny, font);
+	free(grid);
+	{
+		const char *name = strrchr(s->o->sens[k->sens], '/');
+		snprintf(caption, sizeof caption, "pose %s, %.200s turned %g\xc2\xb0, over its electric picture", p->id,
+		         name ? name + 1 : s->o->sens[k->sens], rot);
+	}
+	ps_canvas_label(&c, margin, margin + h * zoom + 0.9 * margin, font, -1, fg, 0, caption);
+	ps_canvas_label(&c, margin, margin + h * zoom + 1.6 * margin, font, -1, fg, 0,
+	                "colour and contours: the sensitivity in % of its peak");
+	snprintf(caption, sizeof caption, "%.600s", p->view_text);
+	ps_canvas_text_chunk(&c, "Software", "psplace (psensd) " PS_VERSION);
+	ps_canvas_text_chunk(&c, "Comment", caption);
+	ps_picture_free(&pic);
+	if (ps_canvas_save_png(&c, path, &e) != 0) {
+		ps_canvas_free(&c);
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	}
+	ps_canvas_free(&c);
+	ps_canvas_shutdown();
+	return 0;
+}

@@ -74,6 +74,20 @@ static void pose_path(const struct search *s, const struct pose *p, const char *
 		snprintf(out, n, "%s/%s/%s", s->o->dir, p->id, name);
 }
 
+int psd_placeset_elec_read(const struct search *s, const struct pose *p, struct ps_picture *pic, char *err,
+                           size_t errlen)
+{
+	char path[LINE + 128], alt[LINE + 128];
+	struct ps_err e, e2;
+	pose_path(s, p, "elec.hdr", path, sizeof path);
+	if (ps_picture_read(pic, path, &e) == 0)
+		return 0;
+	pose_path(s, p, "elec_128.hdr", alt, sizeof alt);
+	if (ps_picture_read(pic, alt, &e2) == 0)
+		return 0;
+	return snprintf(err, errlen, "candidate %s: no electric picture: %s", p->id, e.msg), -1;
+}
+
 /* The pose's pictures, in memory: npatch coefficient pictures and the
  * electric one.  Every error names the candidate. */
 static int load_pictures(const struct search *s, const struct pose *p, struct ps_picture *pics,
@@ -111,16 +125,8 @@ static int load_pictures(const struct search *s, const struct pose *p, struct ps
 			goto bad;
 		}
 	}
-	pose_path(s, p, "elec.hdr", path, sizeof path);
-	if (ps_picture_read(elec, path, &e) != 0) {
-		char alt[LINE + 128];
-		struct ps_err e2;
-		pose_path(s, p, "elec_128.hdr", alt, sizeof alt);
-		if (ps_picture_read(elec, alt, &e2) != 0) {
-			snprintf(err, errlen, "candidate %s: no electric picture: %s", p->id, e.msg);
-			goto bad;
-		}
-	}
+	if (psd_placeset_elec_read(s, p, elec, err, errlen) != 0)
+		goto bad;
 	return 0;
 bad:
 	for (int k = 0; k < i && k < s->npatch; k++)
@@ -248,7 +254,7 @@ out:
 int psd_placeset_exact(const struct search *s, const struct pose *p, int k, double rot, double *row, double *elec,
                      char *err, size_t errlen)
 {
-	char pattern[LINE + 128], path[LINE + 128];
+	char pattern[LINE + 128];
 	struct ps_dcset_row dr;
 	struct ps_picture ep;
 	struct ps_weights we;
@@ -259,12 +265,8 @@ int psd_placeset_exact(const struct search *s, const struct pose *p, int k, doub
 		return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;
 	memcpy(row, dr.c, (size_t)dr.n * 3 * sizeof *row);
 	ps_dcset_row_free(&dr);
-	pose_path(s, p, "elec.hdr", path, sizeof path);
-	if (ps_picture_read(&ep, path, &e) != 0) {
-		pose_path(s, p, "elec_128.hdr", path, sizeof path);
-		if (ps_picture_read(&ep, path, &e) != 0)
-			return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;
-	}
+	if (psd_placeset_elec_read(s, p, &ep, err, errlen) != 0)
+		return -1;
 	if (ps_weights_build(&we, &s->sens[k], rot, &p->view, ep.width, ep.height, PS_W_EXACT, &e) != 0) {
 		ps_picture_free(&ep);
 		return snprintf(err, errlen, "candidate %s: %s", p->id, e.msg), -1;

@@ -9,10 +9,15 @@
 
 #include <stddef.h>
 
+#include "picture.h"
 #include "place.h"
 
 /* Read s->o->cands into s->poses.  -1 with err. */
 int psd_placeset_read(struct search *s, char *err, size_t errlen);
+/* Read pose p's electric picture (DIR/id/elec.hdr or elec_128.hdr, or the
+ * rendered one).  -1 with err naming the candidate. */
+int psd_placeset_elec_read(const struct search *s, const struct pose *p, struct ps_picture *pic, char *err,
+                           size_t errlen);
 /* Read and project pose p: p->row (rotations x sensors x patches x 3) and
  * p->elec.  -1 with err naming the candidate. */
 int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t errlen);

@@ -49,7 +49,7 @@ static void usage(FILE *fp)
 	            "               -e grid_elec.dat -w weather [-s sensor]... [-a law]... [-r step]\n"
 	            "               [-t figure] [-T top] [-n threads] [-p period] [-u hours] [-k deg]\n"
 	            "               [-j] [-o out.json] [-x results] [-E schedule.csv] [-y year.csv]\n"
-	            "               [-Z zone.conf] [-P plan.png] [-q]\n"
+	            "               [-Z zone.conf] [-P plan.png] [-F fisheye.png] [-q]\n"
 	            "               [-M room.oct -K skydome.rad] [-L lamps.oct] [-J jobs] [-C cachedir]\n"
 	            "               [--dc-options O] [--elec-options O] [--dc-size N] [--elec-size N]\n"
 	            "  -f FILE   psensd.conf: the zone's law, devices and [simulate] power curve\n"
@@ -76,6 +76,7 @@ static void usage(FILE *fp)
 	            "  -y FILE   the winner's year as a plain CSV\n"
 	            "  -Z FILE   the winner's settings as a psensd.conf zone section\n"
 	            "  -P FILE   the plan of the poses as a PNG\n"
+	            "  -F FILE   the best sensor's sensitivity over its pose's fisheye, a PNG\n"
 	            "  -q        only the best 10 rows\n"
 	            "  rendering the missing pictures with Radiance, into the cache:\n"
 	            "  -M OCT    the room's octree (lamps off) for rfluxmtx's coefficient pictures\n"
@@ -195,7 +196,7 @@ int main(int argc, char **argv)
 	char err[1024], what[256];
 	double t0 = psd_time_mono(), t_sky, t_proj, t_run;
 	int ch, status = 1;
-	while ((ch = getopt_long(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:n:p:u:k:jo:x:E:y:Z:P:qM:K:L:J:C:hV", longopts, NULL)) != -1) {
+	while ((ch = getopt_long(argc, argv, "f:z:c:d:g:e:w:s:a:r:t:T:n:p:u:k:jo:x:E:y:Z:P:F:qM:K:L:J:C:hV", longopts, NULL)) != -1) {
 		switch (ch) {
 		case 'f': o.conf = optarg; break;
 		case 'z': o.zone = optarg; break;
@@ -269,6 +270,7 @@ int main(int argc, char **argv)
 		case 'y': o.csv = optarg; break;
 		case 'Z': o.zone_out = optarg; break;
 		case 'P': o.plan = optarg; break;
+		case 'F': o.fisheye = optarg; break;
 		case 'q': o.quiet = 1; break;
 		case 'M': o.dc_octree = optarg; break;
 		case 'K': o.receiver = optarg; break;
@@ -483,6 +485,10 @@ int main(int argc, char **argv)
 	if (s.failed)
 		fprintf(stderr, "psplace: %d combination(s) could not run the year\n", s.failed);
 	if (s.nc && !s.c[0].fail && psd_placeout_exports(&s, &s.c[0], err, sizeof err) != 0) {
+		fprintf(stderr, "psplace: %s\n", err);
+		goto out;
+	}
+	if (o.fisheye && s.nc && psd_placeout_fisheye(&s, &s.c[0], o.fisheye, err, sizeof err) != 0) {
 		fprintf(stderr, "psplace: %s\n", err);
 		goto out;
 	}
