@@ -61,6 +61,7 @@ struct opts {
 	/* rendering (placerender.h): rfluxmtx's octree and sky patches, rpict's
 	 * octree, their options and sizes, the cache, renderers at once */
 	const char *dc_octree, *receiver, *elec_octree, *dc_options, *elec_options, *cache;
+	const char *ceiling, *aims;   /* poses made on a ceiling grid, with their aims */
 	int dc_size, elec_size, jobs;
 	const char *sens[PSD_PLACE_MAX_LIST];       /* as given: a sensor, @ and its filter */
 	char sens_path[PSD_PLACE_MAX_LIST][1024];   /* the sensor's table or builtin */

@@ -75,7 +75,7 @@ static json_object *combo_json(const struct search *s, const struct combo *k, si
 int psd_placeout_json(const struct search *s, FILE *fp, double seconds)
 {
 	json_object *root = json_object_new_object(), *arr = json_object_new_array();
-	psd_json_str(root, "candidates", s->o->cands);
+	psd_json_str(root, "candidates", s->o->cands ? s->o->cands : s->o->ceiling);
 	psd_json_str(root, "grid", s->o->grid);
 	psd_json_str(root, "statistic", s->o->stat);
 	psd_json_str(root, "weather", s->o->weather);

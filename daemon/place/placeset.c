@@ -63,6 +63,107 @@ int psd_placeset_read(struct search *s, char *err, size_t errlen)
 	return 0;
 }
 
+/* one more pose: id and view text (parsed onto Radiance's defaults) */
+static int add_pose(struct search *s, const char *id, const char *view, const char *where, char *err, size_t errlen)
+{
+	struct pose *np = realloc(s->poses, (size_t)(s->nposes + 1) * sizeof *np);
+	struct ps_err e;
+	if (!np)
+		return snprintf(err, errlen, "out of memory"), -1;
+	s->poses = np;
+	np = &s->poses[s->nposes];
+	memset(np, 0, sizeof *np);
+	ps_view_default(&np->view);
+	snprintf(np->id, sizeof np->id, "%s", id);
+	snprintf(np->view_text, sizeof np->view_text, "%s", view);
+	if (ps_view_parse(&np->view, view, where, &e) != 0)
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	s->nposes++;
+	return 0;
+}
+
+static int numbers(const char *text, double *v, int n)
+{
+	int k = 0;
+	while (k < n) {
+		char *end;
+		v[k] = strtod(text, &end);
+		if (end == text || !isfinite(v[k]))
+			return -1;
+		k++;
+		text = end;
+		if (k < n && *text++ != ',')
+			return -1;
+	}
+	return *text ? -1 : 0;
+}
+
+int psd_placeset_grid(struct search *s, char *err, size_t errlen)
+{
+	const char *aims = s->o->aims ? s->o->aims : "down";
+	double g[7], tilt[32], az[32];
+	int naim = 0, nx, ny;
+	if (numbers(s->o->ceiling, g, 7) != 0 || g[2] < 1 || g[5] < 1 || g[2] > 100 || g[5] > 100 ||
+	    g[2] != floor(g[2]) || g[5] != floor(g[5]))
+		return snprintf(err, errlen, "--ceiling %s: expected X0,X1,NX,Y0,Y1,NY,Z (NX and NY 1 to 100)",
+		                s->o->ceiling), -1;
+	nx = (int)g[2];
+	ny = (int)g[5];
+	for (const char *a = aims; *a;) {
+		size_t n = strcspn(a, ",");
+		char w[64];
+		snprintf(w, sizeof w, "%.*s", (int)(n < sizeof w ? n : sizeof w - 1), a);
+		if (naim == 32)
+			return snprintf(err, errlen, "--aims %s: at most 32 aims", aims), -1;
+		if (!strcmp(w, "down")) {
+			tilt[naim] = az[naim] = 0;
+		} else {
+			char *at = strchr(w, '@'), *end;
+			if (!at)
+				return snprintf(err, errlen, "--aims: '%s' is not down or TILT@AZIMUTH", w), -1;
+			*at = 0;
+			tilt[naim] = strtod(w, &end);
+			if (end == w || *end || !(tilt[naim] >= 0 && tilt[naim] < 90))
+				return snprintf(err, errlen, "--aims: tilt '%s' is not 0 to below 90 degrees", w), -1;
+			az[naim] = strtod(at + 1, &end);
+			if (end == at + 1 || *end || !isfinite(az[naim]))
+				return snprintf(err, errlen, "--aims: azimuth '%s' is not a number", at + 1), -1;
+		}
+		naim++;
+		a += n + (a[n] == ',');
+	}
+	if (!naim)
+		return snprintf(err, errlen, "--aims: no aim"), -1;
+	for (int j = 0; j < ny; j++)
+		for (int i = 0; i < nx; i++)
+			for (int k = 0; k < naim; k++) {
+				double x = nx > 1 ? g[0] + (g[1] - g[0]) * i / (nx - 1) : g[0];
+				double y = ny > 1 ? g[3] + (g[4] - g[3]) * j / (ny - 1) : g[3];
+				double t = tilt[k] * M_PI / 180, a = az[k] * M_PI / 180;
+				double hx = sin(a), hy = cos(a), d[3], u[3];
+				char id[64], view[400];
+				if (tilt[k] == 0) {
+					/* straight down, +y up in the picture */
+					d[0] = d[1] = 0, d[2] = -1;
+					u[0] = 0, u[1] = 1, u[2] = 0;
+				} else {
+					/* tilted: +x up in the picture, +y when it tilts along x */
+					d[0] = sin(t) * hx, d[1] = sin(t) * hy, d[2] = -cos(t);
+					if (fabs(hy) < 1e-9)
+						u[0] = 0, u[1] = 1, u[2] = 0;
+					else
+						u[0] = 1, u[1] = 0, u[2] = 0;
+				}
+				snprintf(id, sizeof id, naim > 1 ? "g%02d-%d" : "g%02d", j * nx + i, k + 1);
+				snprintf(view, sizeof view, "-vta -vp %.10g %.10g %.10g -vd %.10g %.10g %.10g -vu %g %g %g "
+				         "-vh 180 -vv 180", x, y, g[6], fabs(d[0]) < 1e-12 ? 0 : d[0], fabs(d[1]) < 1e-12 ? 0 : d[1],
+				         d[2], u[0], u[1], u[2]);
+				if (add_pose(s, id, view, "--ceiling", err, errlen) != 0)
+					return -1;
+			}
+	return 0;
+}
+
 /* a pose's picture: the rendered one in the cache, else DIR/id/name */
 static void pose_path(const struct search *s, const struct pose *p, const char *name, char *out, size_t n)
 {

@@ -14,6 +14,12 @@
 
 /* Read s->o->cands into s->poses.  -1 with err. */
 int psd_placeset_read(struct search *s, char *err, size_t errlen);
+/* Add the poses of s->o->ceiling ("X0,X1,NX,Y0,Y1,NY,Z": NX x NY points at
+ * height Z) with each aim of s->o->aims ("down", or "TILT@AZIMUTH": tilted
+ * TILT degrees from straight down toward the plan azimuth AZIMUTH, degrees
+ * from +y toward +x; default "down").  Ids g00, g01 ... (x fastest), with
+ * -A for the aim A (from 1) when there are several.  -1 with err. */
+int psd_placeset_grid(struct search *s, char *err, size_t errlen);
 /* Read pose p's electric picture (DIR/id/elec.hdr or elec_128.hdr, or the
  * rendered one).  -1 with err naming the candidate. */
 int psd_placeset_elec_read(const struct search *s, const struct pose *p, struct ps_picture *pic, char *err,

@@ -45,7 +45,8 @@
 
 static void usage(FILE *fp)
 {
-	fprintf(fp, "usage: psplace -f psensd.conf [-z zone] -c candidates.txt [-d dir] -g grid.mtx\n"
+	fprintf(fp, "usage: psplace -f psensd.conf [-z zone] {-c candidates.txt | --ceiling X0,X1,NX,Y0,Y1,NY,Z\n"
+	            "               [--aims A,...]} [-d dir] -g grid.mtx\n"
 	            "               -e grid_elec.dat -w weather [-s sensor]... [-a law]... [-r step]\n"
 	            "               [-t figure] [-T top] [-n threads] [-p period] [-u hours] [-k deg]\n"
 	            "               [-j] [-o out.json] [-x results] [-E schedule.csv] [-y year.csv]\n"
@@ -55,6 +56,9 @@ static void usage(FILE *fp)
 	            "  -f FILE   psensd.conf: the zone's law, devices and [simulate] power curve\n"
 	            "  -z ZONE   the zone (default the first)\n"
 	            "  -c FILE   candidate poses: an id and a Radiance view a line\n"
+	            "  --ceiling X0,X1,NX,Y0,Y1,NY,Z  candidate poses on a grid (with or instead of -c)\n"
+	            "  --aims A,...  their aims: down (default) or TILT@AZIMUTH (degrees; the azimuth\n"
+	            "            in the plan from +y toward +x)\n"
 	            "  -d DIR    where each pose's DIR/id/dc_%%03d.hdr and elec.hdr are (default .)\n"
 	            "  -g FILE   the work-plane grid's coefficients (rfluxmtx -I+ matrix)\n"
 	            "  -e FILE   the grid's electric irradiance (rtrace -I+ lines)\n"
@@ -178,13 +182,15 @@ static void search_free(struct search *s)
 int main(int argc, char **argv)
 {
 	static struct psd_config cf;
-	enum { OPT_DC_OPTIONS = 1000, OPT_ELEC_OPTIONS, OPT_DC_SIZE, OPT_ELEC_SIZE };
+	enum { OPT_DC_OPTIONS = 1000, OPT_ELEC_OPTIONS, OPT_DC_SIZE, OPT_ELEC_SIZE, OPT_CEILING, OPT_AIMS };
 	static const struct option longopts[] = { PS_CLI_LONGOPTS,
 		                                   { "jobs", required_argument, NULL, 'J' },
 		                                   { "dc-options", required_argument, NULL, OPT_DC_OPTIONS },
 		                                   { "elec-options", required_argument, NULL, OPT_ELEC_OPTIONS },
 		                                   { "dc-size", required_argument, NULL, OPT_DC_SIZE },
 		                                   { "elec-size", required_argument, NULL, OPT_ELEC_SIZE },
+		                                   { "ceiling", required_argument, NULL, OPT_CEILING },
+		                                   { "aims", required_argument, NULL, OPT_AIMS },
 		                                   { NULL, 0, NULL, 0 } };
 	struct opts o = { .stat = "mean", .nrot = 36, .rot_step = 10, .top = 3, .threads = 2, .cell_theta = 2.0,
 	                  .dir = ".", .max_below = -1, .dc_options = PSD_PLACERENDER_DC_OPTIONS,
@@ -278,6 +284,8 @@ int main(int argc, char **argv)
 		case 'C': o.cache = optarg; break;
 		case OPT_DC_OPTIONS: o.dc_options = optarg; break;
 		case OPT_ELEC_OPTIONS: o.elec_options = optarg; break;
+		case OPT_CEILING: o.ceiling = optarg; break;
+		case OPT_AIMS: o.aims = optarg; break;
 		case 'J':
 		case OPT_DC_SIZE:
 		case OPT_ELEC_SIZE: {
@@ -295,7 +303,7 @@ int main(int argc, char **argv)
 		default: usage(stderr); return 2;
 		}
 	}
-	if (optind != argc || !o.conf || !o.cands || !o.grid || !o.elec || !o.weather) {
+	if (optind != argc || !o.conf || (!o.cands && !o.ceiling) || !o.grid || !o.elec || !o.weather) {
 		usage(stderr);
 		return 2;
 	}
@@ -396,7 +404,8 @@ int main(int argc, char **argv)
 		s.npatch = g.npatch;
 		s.mf = g.mf;
 	}
-	if (psd_placeset_read(&s, err, sizeof err) != 0) {
+	if ((o.cands && psd_placeset_read(&s, err, sizeof err) != 0) ||
+	    (o.ceiling && psd_placeset_grid(&s, err, sizeof err) != 0)) {
 		fprintf(stderr, "psplace: %s\n", err);
 		goto out;
 	}

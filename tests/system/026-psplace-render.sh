@@ -10,6 +10,8 @@
 #   - only missing pictures are rendered: a rerun renders none, a removed
 #     set is rendered again alone;
 #   - -J 2 runs two renderers at once, -J 1 one;
+#   - poses on a ceiling grid (--ceiling, --aims) where the fixture's are
+#     score as the fixture's;
 #   - a failing renderer is reported naming the candidate and the command,
 #     and leaves no partial picture in the cache; a receiver file with the
 #     wrong patches is refused; without Radiance on PATH, a clear error.
@@ -76,6 +78,30 @@ rm -f "$TMP/log/calls"
 render -C "$TMP/cache1" -J 1 > /dev/null 2> "$TMP/err"
 check "-J 1: six renders, one at a time" sh -c "test \"$(calls rfluxmtx)/$(calls rpict)\" = 3/3 &&
 	awk '\$3 != 1 { bad = 1 } END { exit bad }' '$TMP/log/calls'"
+
+# candidates on a ceiling grid with their aims, rendered: two points facing
+# down where p01 and p07 are, and the room's centre tilted 45 degrees toward
+# the window (azimuth 180: -y) where p09 is, score as those poses
+rm -f "$TMP/log/calls"
+PATH="$TMP/bin:$PATH" "$BIN/psplace" -f "$TMP/psensd.conf" --ceiling 1.85,1.85,1,0.8,3.8,2,2.2 \
+	-g "$D/grid_mf1.mtx" -e "$D/grid_elec.dat" -w "$W" -r 120 -a setpoint -a switching -T 0 -q -d "$TMP/none" \
+	-M "$TMP/day.oct" -K "$TMP/skydome.rad" -L "$TMP/lamps.oct" -C "$TMP/cache" -o "$TMP/g.json" > /dev/null 2> "$TMP/err"
+check "a ceiling grid facing down: rendered from the cache ($(tail -n 1 "$TMP/err"))" \
+	grep -q "rendered 0 coefficient set(s) and 0 electric picture(s) with .* 2 and 2 from the cache" "$TMP/err"
+PATH="$TMP/bin:$PATH" "$BIN/psplace" -f "$TMP/psensd.conf" --ceiling 1.85,1.85,1,2.285,2.285,1,2.2 --aims 45@180 \
+	-g "$D/grid_mf1.mtx" -e "$D/grid_elec.dat" -w "$W" -r 120 -a setpoint -a switching -T 0 -q -d "$TMP/none" \
+	-M "$TMP/day.oct" -K "$TMP/skydome.rad" -L "$TMP/lamps.oct" -C "$TMP/cache" -o "$TMP/t.json" > /dev/null 2> "$TMP/err"
+check "a tilted aim runs" test $? = 0
+{ energies "$TMP/g.json" | sed 's/^g00 /p01 /; s/^g01 /p07 /'; energies "$TMP/t.json" | sed 's/^g00 /p09 /'; } |
+	sort > "$TMP/g.txt"
+sort "$TMP/ref.txt" > "$TMP/refs.txt"
+check "the grid's poses score as p01, p07 and p09 ($(wc -l < "$TMP/g.txt") combinations)" cmp -s "$TMP/refs.txt" "$TMP/g.txt"
+"$BIN/psplace" -f "$TMP/psensd.conf" --ceiling 1,2,3 -g "$D/grid_mf1.mtx" -e "$D/grid_elec.dat" -w "$W" \
+	> /dev/null 2> "$TMP/err"
+check "a bad ceiling grid refused" grep -q "\-\-ceiling 1,2,3: expected X0,X1,NX,Y0,Y1,NY,Z" "$TMP/err"
+"$BIN/psplace" -f "$TMP/psensd.conf" --ceiling 1,2,2,1,2,2,2.2 --aims down,95@0 -g "$D/grid_mf1.mtx" \
+	-e "$D/grid_elec.dat" -w "$W" > /dev/null 2> "$TMP/err"
+check "a bad aim refused" grep -q "tilt '95' is not 0 to below 90 degrees" "$TMP/err"
 
 # failures
 STUB_FAIL=p07 render -C "$TMP/cache2" -J 2 > /dev/null 2> "$TMP/err"
