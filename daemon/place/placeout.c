@@ -18,6 +18,20 @@
 #include "tonemap.h"
 #include "version.h"
 
+/* a sensor as -s gave it, each file by its base name (cone.sen@blue.txt) */
+static void short_sensor(const char *spec, char *out, size_t n)
+{
+	const char *at = strrchr(spec, '@'), *a = spec, *b = at ? at + 1 : NULL;
+	size_t la = at ? (size_t)(at - spec) : strlen(spec);
+	for (const char *q = spec; q < spec + la; q++)
+		if (*q == '/')
+			a = q + 1;
+	la -= (size_t)(a - spec);
+	if (b && strrchr(b, '/'))
+		b = strrchr(b, '/') + 1;
+	snprintf(out, n, "%.*s%s%s", (int)la, a, b ? "@" : "", b ? b : "");
+}
+
 void psd_placeout_table(const struct search *s, size_t rows)
 {
 	printf("%4s %-8s %6s %-24s %-20s %8s %8s %8s %9s %8s %7s %7s %6s %s\n", "rank", "pose", "rot", "sensor", "law",
@@ -25,7 +39,7 @@ void psd_placeout_table(const struct search *s, size_t rows)
 	for (size_t i = 0; i < rows && i < s->nc; i++) {
 		const struct combo *k = &s->c[i];
 		char sname[64];
-		snprintf(sname, sizeof sname, "%s", s->o->sens[k->sens]);
+		short_sensor(s->o->sens[k->sens], sname, sizeof sname);
 		if (k->fail) {
 			printf("%4zu %-8s %6.1f %-24.24s %-20s  (the year did not run)\n", i + 1, s->poses[k->pose].id,
 			       psd_placerun_rot_deg(s, k->rot), sname, psd_control_algorithm_names[s->o->laws[k->law]]);
@@ -371,9 +385,10 @@ int psd_placeout_fisheye(const struct search *s, const struct combo *k, const ch
 	fisheye_contours(&c, &pl, grid, nx, ny, font);
 	free(grid);
 	{
-		const char *name = strrchr(s->o->sens[k->sens], '/');
-		snprintf(caption, sizeof caption, "pose %s, %.200s turned %g\xc2\xb0, over its electric picture", p->id,
-		         name ? name + 1 : s->o->sens[k->sens], rot);
+		char name[200];
+		short_sensor(s->o->sens[k->sens], name, sizeof name);
+		snprintf(caption, sizeof caption, "pose %s, %s turned %g\xc2\xb0, over its electric picture", p->id, name,
+		         rot);
 	}
 	ps_canvas_label(&c, margin, margin + h * zoom + 0.9 * margin, font, -1, fg, 0, caption);
 	ps_canvas_label(&c, margin, margin + h * zoom + 1.6 * margin, font, -1, fg, 0,
