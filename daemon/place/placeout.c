@@ -97,6 +97,19 @@ int psd_placeout_json(const struct search *s, FILE *fp, double seconds)
 	psd_json_num(root, "grid_electric_lux", s->elec_task);
 	psd_json_num(root, "period_s", s->ao.period);
 	psd_json_num(root, "seconds", seconds);
+	{
+		/* the sensors as given, with the colour weights applied */
+		json_object *sa = json_object_new_array();
+		for (int k = 0; k < s->o->nsens; k++) {
+			json_object *so = json_object_new_object(), *w = json_object_new_array();
+			psd_json_str(so, "sensor", s->o->sens[k]);
+			for (int c = 0; c < 3; c++)
+				json_object_array_add(w, json_object_new_double(s->o->coef[k][c]));
+			json_object_object_add(so, "rgb", w);
+			json_object_array_add(sa, so);
+		}
+		json_object_object_add(root, "sensors", sa);
+	}
 	for (size_t i = 0; i < s->nc; i++)
 		json_object_array_add(arr, combo_json(s, &s->c[i], i + 1));
 	json_object_object_add(root, "combinations", arr);

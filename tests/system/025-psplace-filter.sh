@@ -29,7 +29,7 @@ place() {
 }
 elec_of() { sed -n 's/^electric_sensor_response = //p' "$1"; }
 
-place -s "builtin:cosine@$TMP/blue.txt" -x "$TMP/blue.results" > "$TMP/out" 2> "$TMP/err"
+place -s "builtin:cosine@$TMP/blue.txt" -x "$TMP/blue.results" -o "$TMP/blue.json" > "$TMP/out" 2> "$TMP/err"
 check "psplace runs with a filtered sensor" test $? = 0
 check "the table names the sensor with its filter" grep -q "builtin:cosine@" "$TMP/out"
 place -s builtin:cosine -x "$TMP/plain.results" > /dev/null 2> "$TMP/err"
@@ -46,6 +46,9 @@ check "the filter changes the response ($pb against $pp)" awk -v a="$pb" -v b="$
 want=$("$BIN/psfilter" "$TMP/blue.txt" | head -n 1 | awk '{ print $2, $4, $6 }')
 got=$(sed -n 's/^rgb = //p' "$TMP/blue.results" | awk '{ printf "%.6f %.6f %.6f\n", $1, $2, $3 }')
 check "the results' weights are psfilter's ($got; $want)" test "$got" = "$want"
+got=$(python3 -c "import json; d = json.load(open('$TMP/blue.json'))['sensors'][0]
+print('%.6f %.6f %.6f' % tuple(d['rgb']))")
+check "and the JSON's ($got)" test "$got" = "$want"
 
 # twice V(lambda)'s weights: twice every hour's signal
 place -s "builtin:cosine@0.530148252,1.340229262,0.129622486" -x "$TMP/twice.results" > /dev/null 2> "$TMP/err"
