@@ -358,6 +358,16 @@ static void *worker(void *arg0)
 	}
 }
 
+/* 1 when a job already renders path (two candidates with the same view) */
+static int queued(const struct search *s, const struct ctx *c, const char *path, int elec)
+{
+	for (int j = 0; j < c->n; j++)
+		if (c->jobs[j].elec == elec &&
+		    !strcmp(elec ? s->poses[c->jobs[j].pose].elecfile : s->poses[c->jobs[j].pose].dcdir, path))
+			return 1;
+	return 0;
+}
+
 static int need(const char *prog, const char *what, char *out, char *err, size_t errlen)
 {
 	if (ps_render_find(prog, out, PATHLEN) == 0)
@@ -414,7 +424,7 @@ int psd_placerender_all(struct search *s, struct psd_placerender_count *n, char 
 			snprintf(p->dcdir, sizeof p->dcdir, "%.3900s/dc-%s", dir, hex);
 			if (set_complete(p->dcdir, s->npatch))
 				n->dc_cached++;
-			else
+			else if (!queued(s, &c, p->dcdir, 0))
 				c.jobs[c.n++] = (struct job){ .pose = i, .elec = 0 };
 		}
 		if (o->elec_octree) {
@@ -424,7 +434,7 @@ int psd_placerender_all(struct search *s, struct psd_placerender_count *n, char 
 			snprintf(p->elecfile, sizeof p->elecfile, "%.3900s/elec-%s.hdr", dir, hex);
 			if (exists(p->elecfile))
 				n->elec_cached++;
-			else
+			else if (!queued(s, &c, p->elecfile, 1))
 				c.jobs[c.n++] = (struct job){ .pose = i, .elec = 1 };
 		}
 	}

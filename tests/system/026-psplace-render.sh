@@ -8,7 +8,7 @@
 #   - rendered pictures give the scores the same pictures give unpacked
 #     (-d): the plumbing loses nothing;
 #   - only missing pictures are rendered: a rerun renders none, a removed
-#     set is rendered again alone;
+#     set is rendered again alone, two candidates with one view once;
 #   - -J 2 runs two renderers at once, -J 1 one;
 #   - poses on a ceiling grid (--ceiling, --aims) where the fixture's are
 #     score as the fixture's;
@@ -102,6 +102,15 @@ check "a bad ceiling grid refused" grep -q "\-\-ceiling 1,2,3: expected X0,X1,NX
 "$BIN/psplace" -f "$TMP/psensd.conf" --ceiling 1,2,2,1,2,2,2.2 --aims down,95@0 -g "$D/grid_mf1.mtx" \
 	-e "$D/grid_elec.dat" -w "$W" > /dev/null 2> "$TMP/err"
 check "a bad aim refused" grep -q "tilt '95' is not 0 to below 90 degrees" "$TMP/err"
+
+# two candidates with the same view: rendered once
+{ cat "$D/candidates.txt"; sed -n 's/^p07 /again /p' "$D/candidates.txt"; } > "$TMP/twice.txt"
+rm -f "$TMP/log/calls"
+PATH="$TMP/bin:$PATH" "$BIN/psplace" -f "$TMP/psensd.conf" -c "$TMP/twice.txt" -g "$D/grid_mf1.mtx" \
+	-e "$D/grid_elec.dat" -w "$W" -r 360 -a setpoint -T 0 -q -d "$TMP/none" -M "$TMP/day.oct" -K "$TMP/skydome.rad" \
+	-L "$TMP/lamps.oct" -C "$TMP/cache6" -J 4 > /dev/null 2> "$TMP/err"
+check "two candidates with one view: each picture rendered once" sh -c "grep -q 'rendered 3 coefficient set(s) and 3 electric' '$TMP/err' &&
+	test \"$(calls rfluxmtx)/$(calls rpict)\" = 3/3"
 
 # failures
 STUB_FAIL=p07 render -C "$TMP/cache2" -J 2 > /dev/null 2> "$TMP/err"
