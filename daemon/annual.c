@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -335,4 +336,61 @@ int psd_annual_png(const char *path, const float *task_img, const float *level_i
 	}
 	ps_canvas_free(&cv);
 	return 0;
+}
+
+static int cmp_double(const void *x, const void *y)
+{
+	double a = *(const double *)x, b = *(const double *)y;
+	return a < b ? -1 : a > b;
+}
+
+int psd_annual_sunbar(const struct ps_results *r, const struct psd_control *ctl,
+                      const struct psd_annual_opt *o, struct psd_annual_sunbar *b)
+{
+	struct ps_results q;
+	struct psd_annual_opt oq = *o;
+	struct ps_sum s0, s1;
+	double *d, t0 = psd_time_mono();
+	size_t m = 0;
+	int rc;
+	memset(b, 0, sizeof *b);
+	if (!r->have_year || !r->year.have_alt || r->year.n == 0)
+		return -1;
+	q = *r;   /* the same results but for the hours (read only: not freed) */
+	q.year.h = malloc(r->year.n * sizeof *q.year.h);
+	d = malloc(r->year.n * sizeof *d);
+	if (!q.year.h || !d) {
+		free(q.year.h);
+		free(d);
+		return -1;
+	}
+	ps_sum_init(&s0);
+	ps_sum_init(&s1);
+	for (size_t i = 0; i < r->year.n; i++) {
+		const struct ps_year_hour *k = &r->year.h[i];
+		double t = 3600.0 * k->hour;
+		q.year.h[i] = *k;
+		q.year.h[i].sensor = k->sensor_alt;
+		q.year.h[i].task_lux = k->task_alt;
+		if (t >= o->occ_start && t < o->occ_end && k->task_lux >= 50) {
+			ps_sum_add(&s0, k->task_lux);
+			ps_sum_add(&s1, k->task_alt);
+			d[m++] = fabs(k->task_alt / k->task_lux - 1);
+		}
+	}
+	ps_year_tabulate(&q.year);
+	oq.task_img = oq.level_img = NULL;
+	oq.step = NULL;
+	oq.no_estimate = 1;
+	rc = psd_annual_run(&q, ctl, &oq, &b->alt);
+	free(q.year.h);
+	qsort(d, m, sizeof *d, cmp_double);
+	b->hours = (double)m;
+	b->task_max = m ? d[m - 1] : NAN;
+	b->task_p95 = m ? d[(size_t)(0.95 * (double)(m - 1))] : NAN;
+	b->task_median = m ? d[(m - 1) / 2] : NAN;
+	b->task_sum = m ? ps_sum_get(&s1) / ps_sum_get(&s0) - 1 : NAN;
+	free(d);
+	b->seconds = psd_time_mono() - t0;
+	return rc;
 }

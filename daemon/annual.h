@@ -122,6 +122,25 @@ int psd_annual_devices(const struct psd_config *cf, const struct psd_zone_conf *
 int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
                    const struct psd_annual_opt *o, struct psd_annual *a);
 
+/* The sun's discretisation error, estimated for this scene: the year run
+ * again with every hour's sensor response and task illuminance as they are
+ * with the sun's light in its nearest patch instead of shared among the
+ * four nearest (the results' sensor_alt, task_alt: psscene computes both
+ * from the same coefficients), the dated table recomputed from them, the
+ * same law and devices.  Over the occupied hours with 50 lx or more of task
+ * daylight in the year as run: |alt / main - 1| per hour (largest, 95th
+ * percentile, median) and the sum's relative change; the year's energy,
+ * savings and hours below 90 % with the sun so placed.  -1 when the results
+ * carry no alternative placement (or as psd_annual_run). */
+struct psd_annual_sunbar {
+	double hours;                       /* hours compared */
+	double task_max, task_p95, task_median, task_sum;   /* fractions */
+	struct psd_annual alt;              /* the year with the sun in its nearest patch */
+	double seconds;                     /* the estimate's cost, wall time */
+};
+int psd_annual_sunbar(const struct ps_results *r, const struct psd_control *ctl,
+                      const struct psd_annual_opt *o, struct psd_annual_sunbar *b);
+
 /* Draw the year's first `days` days (hour of day up, day of year across:
  * task lux and light output) into a PNG, 2 pixels a day. */
 int psd_annual_png(const char *path, const float *task_img, const float *level_img, int days,

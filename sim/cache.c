@@ -159,7 +159,92 @@ int ps_cache_put(const char *dir, const char *key, const double *v, int n, struc
 
 /* ---- binary entries ------------------------------------------------------- */
 
-static const char blob_magic[8] = { 'P', 'S', 'C', 'B', 'L', 'O', 'B', '1' };
+static const char blob_magic[8] = { 'P', 'S', 'C', 'B', 'L', 'O', 'B', '2' };
+static const char blob_magic_old[8] = { 'P', 'S', 'C', 'B', 'L', 'O', 'B', '1' };
+
+/* The payload's checksum: a 64-bit sum that catches a truncated, altered or
+ * shuffled entry (not an adversary: the cache is the user's own).  Four
+ * lanes take the payload's 64-bit words in turn, each lane
+ * rotl(lane ^ word, 29) x an odd constant (a bijection of the word, so
+ * changing any one word always changes its lane), the tail's bytes
+ * zero-padded to a word; the lanes and the length are then mixed into one
+ * word.  It takes about a third of the time a SHA-256 does. */
+struct sum64 {
+	uint64_t lane[4];
+	uint8_t buf[32];
+	size_t nbuf;
+	uint64_t total;
+};
+
+static const uint64_t sum_k[4] = { 0x9e3779b97f4a7c15ull, 0xc2b2ae3d27d4eb4full, 0x165667b19e3779f9ull,
+                                   0xd6e8feb86659fd93ull };
+
+static uint64_t rotl64(uint64_t x, int r)
+{
+	return x << r | x >> (64 - r);
+}
+
+static void sum_init(struct sum64 *c)
+{
+	for (int i = 0; i < 4; i++)
+		c->lane[i] = sum_k[3 - i];
+	c->nbuf = 0;
+	c->total = 0;
+}
+
+static void sum_block(uint64_t lane[4], const uint8_t *p)
+{
+	for (int i = 0; i < 4; i++) {
+		uint64_t v;
+		memcpy(&v, p + 8 * i, 8);
+		lane[i] = rotl64(lane[i] ^ v, 29) * sum_k[i];
+	}
+}
+
+static void sum_update(struct sum64 *c, const void *data, size_t n)
+{
+	const uint8_t *p = data;
+	uint64_t lane[4];
+	c->total += n;
+	if (c->nbuf) {
+		size_t k = 32 - c->nbuf < n ? 32 - c->nbuf : n;
+		memcpy(c->buf + c->nbuf, p, k);
+		c->nbuf += k;
+		p += k;
+		n -= k;
+		if (c->nbuf < 32)
+			return;
+		sum_block(c->lane, c->buf);
+		c->nbuf = 0;
+	}
+	memcpy(lane, c->lane, sizeof lane);
+	for (; n >= 32; p += 32, n -= 32)
+		sum_block(lane, p);
+	memcpy(c->lane, lane, sizeof lane);
+	memcpy(c->buf, p, n);
+	c->nbuf = n;
+}
+
+static uint64_t sum_mix(uint64_t x)
+{
+	x ^= x >> 31;
+	x *= 0xbf58476d1ce4e5b9ull;
+	x ^= x >> 29;
+	x *= 0x94d049bb133111ebull;
+	return x ^ x >> 32;
+}
+
+static uint64_t sum_final(struct sum64 *c)
+{
+	uint64_t h = c->total;
+	if (c->nbuf) {
+		memset(c->buf + c->nbuf, 0, 32 - c->nbuf);
+		sum_block(c->lane, c->buf);
+	}
+	for (int i = 0; i < 4; i++)
+		h = sum_mix(h ^ c->lane[i]) * sum_k[i];
+	return sum_mix(h);
+}
 
 void ps_cache_default_dir(char *buf, size_t len)
 {
@@ -243,14 +328,16 @@ static int blob_check(const void *file, size_t len, const char *hexkey, const ch
                       int drop, struct ps_err *e)
 {
 	const uint8_t *h = file;
-	uint8_t key[32], sum[SHA256_DIGEST_SIZE];
-	struct sha256_ctx ctx;
+	uint8_t key[32];
+	struct sum64 ctx;
 	uint64_t plen;
 	if (!hex_ok(hexkey))
 		return ps_err_set(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
 	if (len < PS_CACHE_BLOB_HEADER)
 		return ps_err_set(e, PS_EFORMAT, "%s: byte %zu: shorter than its %d-byte header: cache "
 		                  "entry removed", name, len, PS_CACHE_BLOB_HEADER);
+	if (memcmp(h, blob_magic_old, sizeof blob_magic_old) == 0)
+		return ps_err_set(e, PS_EFORMAT, "%s: byte 0: an entry of an older format: removed", name);
 	if (memcmp(h, blob_magic, sizeof blob_magic) != 0)
 		return ps_err_set(e, PS_EFORMAT, "%s: byte 0: not a cache entry (bad magic): removed", name);
 	from_hex(hexkey, key);
@@ -262,26 +349,25 @@ static int blob_check(const void *file, size_t len, const char *hexkey, const ch
 		                  "cache entry removed", name, len,
 		                  plen > (uint64_t)(len - PS_CACHE_BLOB_HEADER) ? "truncated" : "overlong",
 		                  (unsigned long long)plen);
-	sha256_init(&ctx);
+	sum_init(&ctx);
 	{
 		const size_t chunk = (size_t)4 << 20;   /* a multiple of any page size */
 		size_t at = 0;
 		while (at < len) {
 			size_t n = len - at < chunk ? len - at : chunk;
 			if (at == 0) {   /* the header is not hashed */
-				sha256_update(&ctx, n - PS_CACHE_BLOB_HEADER, h + PS_CACHE_BLOB_HEADER);
+				sum_update(&ctx, h + PS_CACHE_BLOB_HEADER, n - PS_CACHE_BLOB_HEADER);
 			} else {
-				sha256_update(&ctx, n, h + at);
+				sum_update(&ctx, h + at, n);
 			}
 			if (drop)
 				madvise((void *)(uintptr_t)(h + at), n, MADV_DONTNEED);
 			at += n;
 		}
 	}
-	sha256_digest(&ctx, sizeof sum, sum);
-	if (memcmp(sum, h + 48, sizeof sum) != 0)
+	if (sum_final(&ctx) != get_le64(h + 48))
 		return ps_err_set(e, PS_EFORMAT, "%s: checksum mismatch: cache entry removed", name);
-	for (int i = 80; i < PS_CACHE_BLOB_HEADER; i++)
+	for (int i = 56; i < PS_CACHE_BLOB_HEADER; i++)
 		if (h[i])
 			return ps_err_set(e, PS_EFORMAT, "%s: byte %d: reserved header byte not zero: "
 			                  "cache entry removed", name, i);
@@ -365,7 +451,7 @@ int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *co
 	static unsigned long counter;   /* temp names: pid + a per-call number */
 	char path[4096], tmp[4200], *slash;
 	uint8_t h[PS_CACHE_BLOB_HEADER];
-	struct sha256_ctx ctx;
+	struct sum64 ctx;
 	uint64_t total = 0;
 	unsigned long k;
 	int fd;
@@ -380,13 +466,13 @@ int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *co
 	memset(h, 0, sizeof h);
 	memcpy(h, blob_magic, sizeof blob_magic);
 	from_hex(hexkey, h + 16);
-	sha256_init(&ctx);
+	sum_init(&ctx);
 	for (int i = 0; i < n; i++) {
-		sha256_update(&ctx, len[i], ptr[i]);
+		sum_update(&ctx, ptr[i], len[i]);
 		total += len[i];
 	}
 	put_le64(h + 8, total);
-	sha256_digest(&ctx, SHA256_DIGEST_SIZE, h + 48);
+	put_le64(h + 48, sum_final(&ctx));
 	k = __atomic_add_fetch(&counter, 1, __ATOMIC_RELAXED);
 	snprintf(tmp, sizeof tmp, "%s.tmp.%ld.%lu", path, (long)getpid(), k);
 	fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);

@@ -27,11 +27,12 @@ int ps_cache_put(const char *dir, const char *key, const double *v, int n, struc
  * A blob is a payload of bytes under a 64-hex key (a SHA-256 of whatever
  * identifies it), kept as DIR/blobs/kk/<62 hex> (kk: the key's first two
  * digits):
- *   bytes 0-7     "PSCBLOB1"
+ *   bytes 0-7     "PSCBLOB2"
  *   bytes 8-15    payload length, little-endian
  *   bytes 16-47   the key (32 bytes)
- *   bytes 48-79   SHA-256 of the payload
- *   bytes 80-127  zero
+ *   bytes 48-55   the payload's 64-bit checksum, little-endian (cache.c:
+ *                 four lanes of rotate-multiply over its words, mixed)
+ *   bytes 56-127  zero
  *   bytes 128-    the payload (page-aligned in the map: 8-byte aligned)
  * Written to a temporary file in the same directory and renamed into place,
  * so a reader sees a whole entry or none, whatever other processes do; a

@@ -90,15 +90,17 @@ static void write_year(FILE *fp, const struct ps_results *r)
 		fprintf(fp, "latitude = %.17g\nlongitude = %.17g\ntimezone = %.17g\n", y->site.lat,
 		        y->site.lon, y->site.tz);
 	fprintf(fp, "\n; month day hour(standard time) sensor_response task_lux sky_class epsilon "
-	            "horizontal_lux\n[year_hours]\n");
+	            "horizontal_lux [sensor_response task_lux with the sun in its nearest patch]\n"
+	            "[year_hours]\n");
 	for (size_t i = 0; i < y->n; i++) {
 		const struct ps_year_hour *k = &y->h[i];
 		fprintf(fp, "h%zu = %d %d %.17g %.17g %.17g %d %.17g", i + 1, k->month, k->day, k->hour,
 		        k->sensor, k->task_lux, k->sky_class, k->epsilon);
-		if (isnan(k->horiz_lux))
-			fputc('\n', fp);
-		else
-			fprintf(fp, " %.17g\n", k->horiz_lux);
+		if (!isnan(k->horiz_lux))
+			fprintf(fp, " %.17g", k->horiz_lux);
+		if (y->have_alt && !isnan(k->horiz_lux))
+			fprintf(fp, " %.17g %.17g", k->sensor_alt, k->task_alt);
+		fputc('\n', fp);
 	}
 	fprintf(fp, "\n; task lux per unit of sensor response by month and hour (0 to 23,\n"
 	            "; standard time) and sky class; derived from [year_hours], recomputed by readers\n"
@@ -220,6 +222,7 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 	struct ps_conf_section *s = ps_conf_section(c, "year"), *hs, *t;
 	struct ps_year *y = &r->year;
 	long v;
+	size_t alt = 0;
 	r->have_year = 1;
 	r->weather = strdup(ps_conf_str(c, s, "weather", ""));
 	ps_conf_int(c, s, "mf", 1, 1, 64, &v);
@@ -265,14 +268,28 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 			ps_conf_error(c, kv->line, "'%s' where %s was due", kv->key, want);
 			return;
 		}
-		k->horiz_lux = NAN;
+		k->horiz_lux = k->sensor_alt = k->task_alt = NAN;
 		if (sscanf(kv->value, "%d %d %lf %lf %lf %d %lf %n", &k->month, &k->day, &k->hour,
-		           &k->sensor, &k->task_lux, &k->sky_class, &k->epsilon, &n7) == 7 && kv->value[n7] &&
-		    (sscanf(kv->value + n7, "%lf %n", &k->horiz_lux, &n) != 1 ||
-		     !(k->horiz_lux >= 0 && k->horiz_lux < 1e30)))
-			n = -1;   /* an eighth field that is no illuminance */
-		else
-			n += n7;
+		           &k->sensor, &k->task_lux, &k->sky_class, &k->epsilon, &n7) == 7) {
+			/* then horizontal lux, and the sensor and task with the sun
+			 * in its nearest patch (both or neither), all optional */
+			double *opt[3] = { &k->horiz_lux, &k->sensor_alt, &k->task_alt };
+			int nf = 0;
+			n = n7;
+			while (kv->value[n] && nf < 3) {
+				int m = 0;
+				if (sscanf(kv->value + n, "%lf %n", opt[nf], &m) != 1 || !(*opt[nf] >= 0 && *opt[nf] < 1e30)) {
+					n = -1;   /* a field that is no illuminance or response */
+					break;
+				}
+				n += m;
+				nf++;
+			}
+			if (nf == 2)
+				n = -1;   /* a sensor with the sun moved and no task */
+			if (nf == 3)
+				alt++;
+		}
 		if (n < 0 || sscanf(kv->value, "%d %d %lf %lf %lf %d %lf", &k->month, &k->day, &k->hour,
 		                    &k->sensor, &k->task_lux, &k->sky_class, &k->epsilon) != 7 ||
 		    kv->value[n] != '\0' || k->month < 1 || k->month > 12 || k->day < 1 || k->day > 31 ||
@@ -280,11 +297,12 @@ static void read_year(struct ps_conf *c, struct ps_results *r)
 		    !(k->task_lux >= 0 && k->task_lux < 1e30) || k->sky_class < 0 ||
 		    k->sky_class >= PS_SKY_NCLASS || !(k->epsilon >= 0 && k->epsilon < 1e6)) {
 			ps_conf_error(c, kv->line, "%s: '%s' is not month day hour sensor task_lux "
-			              "class epsilon [horizontal_lux]", kv->key, kv->value);
+			              "class epsilon [horizontal_lux [sensor_alt task_alt]]", kv->key, kv->value);
 			return;
 		}
 	}
 	y->n = (size_t)v;
+	y->have_alt = y->n > 0 && alt == y->n;
 	if ((t = ps_conf_section(c, "ratio_table")))
 		for (size_t j = 0; j < t->nkv; j++)
 			t->kv[j].used = 1;   /* derived: recomputed, not trusted */

@@ -192,11 +192,25 @@ static int year_report(struct psd_daemon *d, const char *png)
 				       "    hours (rms 8.1 %% a step), energy -0.8 %%, over-dimmed hours 16.9 against 3.7\n");
 			else if (step > 0)
 				printf("  daylight inside each step: linear between the weather's steps of %.0f min\n", step / 60);
-			if (e->res.year.patches == 146)
-				printf("  the sun over four patches (MF 1), an error bar on hourly figures, not on the year's: on\n"
-				       "    the example office an independent MF 4 route moves single hours' task daylight by up\n"
-				       "    to 80 %% (95th percentile 33 %%), the year's sum by 1.6 %%; the sun in one patch instead\n"
-				       "    of four, up to 94 %% (95th percentile 26 %%), the sum by 0.17 %% (make bench)\n");
+		}
+		{
+			/* the sun's discretisation error, estimated on this scene's own
+			 * coefficients (annual.h, psd_annual_sunbar) */
+			struct psd_annual_sunbar sb;
+			if (psd_annual_sunbar(&e->res, &ctl, &o, &sb) == 0 && sb.hours > 0)
+				printf("  the sun's placement (its light shared among the four nearest patches, MF %d),\n"
+				       "    an estimate of its error from this scene's coefficients: the year again with\n"
+				       "    the sun in its nearest patch moves occupied hours' task daylight by up to %.0f %%\n"
+				       "    (95th percentile %.1f %%, median %.1f %%; %.0f hours with 50 lx or more), their sum\n"
+				       "    by %+.2f %%; energy %.2f full-power hours (%+.2f h), savings %.1f %% (%+.3f points),\n"
+				       "    below 90 %% %.1f h (%+.1f h); %.2f s\n",
+				       e->res.year_mf, 100 * sb.task_max, 100 * sb.task_p95, 100 * sb.task_median, sb.hours,
+				       100 * sb.task_sum, sb.alt.energy_h, sb.alt.energy_h - a.energy_h,
+				       100 * sb.alt.savings, 100 * (sb.alt.savings - a.savings), sb.alt.below_h,
+				       sb.alt.below_h - a.below_h, sb.seconds);
+			else if (!e->res.year.have_alt && e->res.year.patches > 0)
+				printf("  the sun's placement: no estimate of its error (results without the sun in its\n"
+				       "    nearest patch: a 5-phase sun, or written by an older psscene)\n");
 		}
 		if (isfinite(a.effectiveness))
 			printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "

@@ -89,15 +89,18 @@ int ps_sky_step(struct ps_sky *s, const struct ps_weather *w, size_t i, const st
 	return 0;
 }
 
-static void add_sun(const struct ps_sky *s, const struct ps_patches *P, double *rgb)
+int ps_sky_sun_patches(const struct ps_sky *s, const struct ps_patches *P, int idx[4], double v[4],
+                       double *v1)
 {
 	int nsun = s->opt.sun_disc > 0 ? 1 : s->opt.nsun < 1 ? 1 : s->opt.nsun > 4 ? 4 : s->opt.nsun;
-	double best[4], wt[4], wsum = 0.0, disc = 0.0;
-	int idx[4] = { 0, 0, 0, 0 };
-	if (s->dir_lum <= SKY_DARK || ps_sky_bright(s->opt.sun_color) <= SKY_DARK)
-		return;
-	for (int k = 0; k < nsun; k++)
+	double best[4], wt[4], wsum = 0.0, disc = 0.0, total;
+	*v1 = 0.0;
+	if (s->dark || s->dir_lum <= SKY_DARK || ps_sky_bright(s->opt.sun_color) <= SKY_DARK)
+		return 0;
+	for (int k = 0; k < nsun; k++) {
 		best[k] = -1.0;
+		idx[k] = 0;
+	}
 	/* the nsun nearest centres; on a tie the lower patch number comes first */
 	for (int p = 1; p < P->n; p++) {
 		const double *d = P->dir + 3 * p;
@@ -121,12 +124,21 @@ static void add_sun(const struct ps_sky *s, const struct ps_patches *P, double *
 		double r = 0.5 * s->opt.sun_disc * DEG;
 		disc = M_PI * r * r;
 	}
-	for (int k = 0; k < nsun; k++) {
-		double v = wt[k] / wsum * s->dir_lum / PS_WHITE_EFFICACY;
-		v /= disc > 0 ? disc : P->omega[idx[k]];
+	total = s->dir_lum / PS_WHITE_EFFICACY;
+	for (int k = 0; k < nsun; k++)
+		v[k] = wt[k] / wsum * total / (disc > 0 ? disc : P->omega[idx[k]]);
+	*v1 = total / (disc > 0 ? disc : P->omega[idx[0]]);
+	return nsun;
+}
+
+static void add_sun(const struct ps_sky *s, const struct ps_patches *P, double *rgb)
+{
+	int idx[4];
+	double v[4], v1;
+	int n = ps_sky_sun_patches(s, P, idx, v, &v1);
+	for (int k = 0; k < n; k++)
 		for (int c = 0; c < 3; c++)
-			rgb[3 * idx[k] + c] += v * s->opt.sun_color[c];
-	}
+			rgb[3 * idx[k] + c] += v[k] * s->opt.sun_color[c];
 }
 
 double ps_sky_table_sin(double x)

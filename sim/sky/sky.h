@@ -100,6 +100,13 @@ int ps_sky_step(struct ps_sky *s, const struct ps_weather *w, size_t i, const st
 /* The patch radiances (3 per patch, P->n patches) of the parts asked for. */
 void ps_sky_vector(const struct ps_sky *s, const struct ps_patches *P, unsigned parts, double *rgb);
 
+/* The sun's patches as ps_sky_vector puts it: the nearest centres first
+ * (as many as the options share it among), their radiance per unit of sun
+ * colour in v, and in v1 the radiance of the nearest one if it held the
+ * sun alone.  Returns how many (0: no sun). */
+int ps_sky_sun_patches(const struct ps_sky *s, const struct ps_patches *P, int idx[4], double v[4],
+                       double *v1);
+
 /* Normalise the continuous sky (reltol: the quadrature's relative tolerance,
  * e.g. 1e-10).  Returns -1 if the quadrature did not converge. */
 int ps_sky_normalise(struct ps_sky *s, double reltol, struct ps_err *e);

@@ -73,8 +73,9 @@ int ps_year_run(const struct ps_dcset_row *srow, const double scoef[3], const st
 {
 	static const double vl[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 	struct ps_patches P;
-	double *sky;
+	double *sky, sv[4], v1;
 	int *list, nlist = 0;
+	int alt = o->sun_disc <= 0 && o->nsun > 1;
 	memset(y, 0, sizeof *y);
 	if (srow->n != trow->n || srow->mf != trow->mf)
 		return ps_err_set(e, PS_EINVAL, "year: the rows have %d and %d patches", srow->n, trow->n);
@@ -103,6 +104,7 @@ int ps_year_run(const struct ps_dcset_row *srow, const double scoef[3], const st
 	y->site = w->site;
 	y->have_site = 1;
 	y->leap = w->leap;
+	y->have_alt = alt;
 	for (size_t i = 0; i < w->n; i++) {
 		struct ps_sky s;
 		struct ps_year_hour *k;
@@ -127,6 +129,21 @@ int ps_year_run(const struct ps_dcset_row *srow, const double scoef[3], const st
 		k->epsilon = s.model.epsilon;
 		k->sky_class = ps_year_class(s.model.epsilon);
 		k->horiz_lux = s.model.dif_lux + (s.sun_alt > 0 ? s.model.dir_lux * sin(s.sun_alt) : 0.0);
+		k->sensor_alt = k->task_alt = NAN;
+		if (alt) {
+			/* the hour again with the sun's light all in its nearest
+			 * patch instead of shared: only those patches change */
+			int idx[4], nk = ps_sky_sun_patches(&s, &P, idx, sv, &v1);
+			double ds = 0, dt = 0;
+			for (int q = 0; q < nk; q++)
+				for (int c = 0; c < 3; c++) {
+					double dv = ((q == 0 ? v1 : 0.0) - sv[q]) * s.opt.sun_color[c];
+					ds += scoef[c] * srow->c[3 * idx[q] + c] * dv;
+					dt += vl[c] * trow->c[3 * idx[q] + c] * dv;
+				}
+			k->sensor_alt = fmax(k->sensor + ds, 0.0);   /* rounding of a sun that is all one patch */
+			k->task_alt = fmax(k->task_lux + PS_YEAR_LUX_PER_WM2 * dt, 0.0);
+		}
 	}
 	free(sky);
 	free(list);

@@ -37,6 +37,12 @@ struct ps_year_hour {
 	double horiz_lux;     /* global horizontal illuminance (Perez 1990 efficacy):
 	                         what a rooftop sensor reads; NAN when a results
 	                         file older than the column gives none */
+	double sensor_alt;    /* the same hour with the sun's light in its nearest
+	                         patch instead of shared among the four nearest
+	                         (an equally defensible placement on the same
+	                         coefficients: their difference estimates the sun's
+	                         discretisation error); NAN when not computed */
+	double task_alt;
 };
 
 struct ps_year {
@@ -45,6 +51,7 @@ struct ps_year {
 	size_t steps;         /* steps in the weather file */
 	size_t dark;          /* steps skipped as dark */
 	int patches, used;    /* patches in the rows, and those with a non-zero coefficient */
+	int have_alt;         /* every hour has sensor_alt and task_alt */
 	double ratio[12][24][PS_SKY_NCLASS];   /* task lux per unit response; NAN when empty */
 	int count[12][24][PS_SKY_NCLASS];
 	double mean_ratio;    /* sum task lux / sum response over the year */
@@ -59,7 +66,9 @@ const char *ps_year_class_name(int c);
 
 /* Run the year: srow with the sensor's colour coefficients scoef, trow with
  * V(lambda) (the task).  o: the sky options (ground reflectance, ...); the
- * rows' MF sets the patches. */
+ * rows' MF sets the patches.  When o shares the sun among more than one
+ * patch (gendaymtx's way, no 5-phase disc), every hour also gets its
+ * sensor_alt and task_alt with the sun in its nearest patch (have_alt). */
 int ps_year_run(const struct ps_dcset_row *srow, const double scoef[3], const struct ps_dcset_row *trow,
                 const struct ps_weather *w, const struct ps_sky_opt *o, struct ps_year *y,
                 struct ps_err *e);

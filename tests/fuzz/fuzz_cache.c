@@ -2,7 +2,7 @@
 /* Fuzz the weight cache's readers: a whole entry file (sim/cache.c's
  * header checks: size, magic, key, checksum) and a weight-map payload
  * (sim/weights/wcache.c), which is parsed directly too since the fuzzer rarely
- * forges a SHA-256.  Every accepted map is walked in full. */
+ * forges a checksum.  Every accepted map is walked in full. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>

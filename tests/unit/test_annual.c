@@ -12,7 +12,13 @@
  *     start): the light never comes near the command; a lag, fade and
  *     minimum of 0 give the instant ballast's numbers; the power curve's
  *     full-power hours and kWh against a hand computation; a DALI output
- *     gives arc power level 229's 50.53 % for a command of 0.5. */
+ *     gives arc power level 229's 50.53 % for a command of 0.5;
+ *   - the sun's discretisation error bar is the scene's own: two scenes of
+ *     constant daylight 250 lx whose sun, moved to its nearest patch, gives
+ *     300 lx (x 1.2) in one and 200 lx (x 0.8) in the other (sensor alike)
+ *     give bars of +20 % and -20 % on the hours and energy 20 % and 30 % of
+ *     full against 25 % (the law's closed form (500 - daylight) / 1000); a
+ *     results file without the moved sun gives no bar. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -73,7 +79,7 @@ static void constant_daylight(void **state)
 	for (int m = 1; m <= 12; m++)
 		for (int d = 1; d <= md[m - 1]; d++)
 			for (int h = 0; h < 24; h++)
-				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, 1.0, 250.0, 1, 2.0, NAN };
+				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, 1.0, 250.0, 1, 2.0, NAN, NAN, NAN };
 	r.year.n = n;
 	ps_year_tabulate(&r.year);
 	assert_true(r.year.mean_ratio == 250.0);
@@ -135,7 +141,7 @@ static void lag_zero_is_instant(void **state)
 		for (int d = 1; d <= md[m - 1]; d++)
 			for (int h = 6; h < 18; h++) {
 				double s = sin(M_PI * (h + 0.5 - 6) / 12);
-				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, s, 400.0 * s, 1, 2.0, NAN };
+				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, s, 400.0 * s, 1, 2.0, NAN, NAN, NAN };
 			}
 	r.year.n = n;
 	ps_year_tabulate(&r.year);
@@ -187,6 +193,44 @@ static void dali_levels(void **state)
 	assert_true(fabs(a.light_h / a.occ_h - 0.5053) < 5e-5);
 }
 
+static void sun_bar_per_scene(void **state)
+{
+	static const int md[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
+	static const double factor[2] = { 1.2, 0.8 };
+	(void)state;
+	for (int scene = 0; scene < 2; scene++) {
+		struct ps_results r;
+		struct psd_control c;
+		struct psd_annual_opt o;
+		struct psd_annual a;
+		struct psd_annual_sunbar b;
+		double f = factor[scene];
+		size_t n = 0;
+		base(&r, &c, &o);
+		r.year.h = calloc(8760, sizeof *r.year.h);
+		for (int m = 1; m <= 12; m++)
+			for (int d = 1; d <= md[m - 1]; d++)
+				for (int h = 0; h < 24; h++)
+					r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, 1.0, 250.0, 1, 2.0, NAN,
+					                                       f, 250.0 * f };
+		r.year.n = n;
+		ps_year_tabulate(&r.year);
+		assert_int_equal(psd_annual_sunbar(&r, &c, &o, &b), -1);   /* no moved sun */
+		r.year.have_alt = 1;
+		assert_int_equal(psd_annual_run(&r, &c, &o, &a), 0);
+		assert_int_equal(psd_annual_sunbar(&r, &c, &o, &b), 0);
+		assert_true(b.hours == 3650);   /* 08:30 to 17:30, every day */
+		assert_true(fabs(b.task_max - fabs(f - 1)) < 1e-12 && fabs(b.task_p95 - fabs(f - 1)) < 1e-12 &&
+		            fabs(b.task_median - fabs(f - 1)) < 1e-12);
+		assert_true(fabs(b.task_sum - (f - 1)) < 1e-12);
+		assert_true(fabs(a.energy_h / a.occ_h - 0.25) < 1e-9);
+		assert_true(fabs(b.alt.energy_h / b.alt.occ_h - (500 - 250 * f) / 1000) < 1e-9);
+		assert_true(fabs(b.alt.savings - (1 - (500 - 250 * f) / 1000)) < 1e-9);
+		assert_true(b.seconds >= 0);
+		free(r.year.h);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -196,6 +240,7 @@ int main(void)
 		cmocka_unit_test(lag_zero_is_instant),
 		cmocka_unit_test(power_curve_kwh),
 		cmocka_unit_test(dali_levels),
+		cmocka_unit_test(sun_bar_per_scene),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

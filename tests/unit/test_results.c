@@ -110,9 +110,9 @@ static void year_round_trip(void **state)
 	struct ps_results r, back;
 	struct ps_err e;
 	struct ps_year_hour h[3] = {
-		{ 1, 1, 8.5, 2.0, 400.0, PS_SKY_OVERCAST, 1.1, 5000.0 },
-		{ 1, 2, 8.5, 2.0, 600.0, PS_SKY_OVERCAST, 1.2, NAN },   /* a file before the column */
-		{ 7, 4, 12.5, 10.0, 2000.0, PS_SKY_CLEAR, 6.0, 98765.5 },
+		{ 1, 1, 8.5, 2.0, 400.0, PS_SKY_OVERCAST, 1.1, 5000.0, NAN, NAN },
+		{ 1, 2, 8.5, 2.0, 600.0, PS_SKY_OVERCAST, 1.2, NAN, NAN, NAN },   /* a file before the column */
+		{ 7, 4, 12.5, 10.0, 2000.0, PS_SKY_CLEAR, 6.0, 98765.5, NAN, NAN },
 	};
 	char path[] = "/tmp/psresXXXXXX";
 	int fd = mkstemp(path);
@@ -182,6 +182,33 @@ static void year_round_trip(void **state)
 	fclose(fp);
 	assert_int_equal(ps_results_read(&back, path, &e), -1);
 	assert_non_null(strstr(e.msg, ":9: h1: '1 1 9.5 2 400 2 1.1 7 8' is not month day hour"));
+	/* the sun in its nearest patch: sensor and task, both on every hour, or none */
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 2\nrgb = 1 1 1\nrotation = 0\n[year]\nhours = 2\n"
+	      "mean_ratio = 1\n[year_hours]\nh1 = 1 1 8.5 2 400 2 1.1 7 3 600\nh2 = 1 1 9.5 2 400 2 1.1 7 1 200\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), 0);
+	assert_int_equal(back.year.have_alt, 1);
+	assert_true(back.year.h[0].sensor_alt == 3 && back.year.h[0].task_alt == 600 &&
+	            back.year.h[1].sensor_alt == 1 && back.year.h[1].task_alt == 200);
+	assert_int_equal(ps_results_write(&back, path, &e), 0);
+	ps_results_free(&back);
+	assert_int_equal(ps_results_read(&back, path, &e), 0);
+	assert_true(back.year.have_alt == 1 && back.year.h[1].task_alt == 200);
+	ps_results_free(&back);
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 2\nrgb = 1 1 1\nrotation = 0\n[year]\nhours = 2\n"
+	      "mean_ratio = 1\n[year_hours]\nh1 = 1 1 8.5 2 400 2 1.1 7 3 600\nh2 = 1 1 9.5 2 400 2 1.1 7\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), 0);
+	assert_int_equal(back.year.have_alt, 0);   /* not every hour: no alternative year */
+	ps_results_free(&back);
+	fp = fopen(path, "w");
+	fputs("[psresults]\nversion = 2\nrgb = 1 1 1\nrotation = 0\n[year]\nhours = 1\n"
+	      "mean_ratio = 1\n[year_hours]\nh1 = 1 1 9.5 2 400 2 1.1 7 3 600 9\n", fp);
+	fclose(fp);
+	assert_int_equal(ps_results_read(&back, path, &e), -1);
+	assert_non_null(strstr(e.msg, ":9: h1: '1 1 9.5 2 400 2 1.1 7 3 600 9' is not month day hour"));
 	/* version 1: no year */
 	fp = fopen(path, "w");
 	fputs("[psresults]\nversion = 1\nrgb = 1 1 1\nrotation = 0\n[condition a]\nkind = daylight\n"

@@ -2,8 +2,9 @@
 /* The weight cache (sim/cache.c blobs, sim/weights/wcache.c): a stored map comes
  * back bit for bit; the key is the content (the same table under another
  * file name hits, another rotation misses); a truncated entry, a flipped
- * byte anywhere, or a checksummed payload that is not a map are rebuilt and
- * never trusted; a cache that cannot be written works uncached; eviction
+ * byte anywhere, two payload words swapped, an entry of the older format
+ * (SHA-256 in its header), or a checksummed payload that is not a map are
+ * rebuilt and never trusted; a cache that cannot be written works uncached; eviction
  * removes the least recently used first and keeps the bound; processes
  * sharing one cache at once all get the exact map. */
 #include <setjmp.h>
@@ -203,6 +204,38 @@ static void flip(const char *path, off_t size, long at)
 	close(fd);
 }
 
+/* two neighbouring 8-byte words of the payload that differ (the last such
+ * pair: two weights) swapped */
+static void swap_words(const char *path, off_t size, long unused)
+{
+	int fd = open(path, O_RDWR);
+	uint8_t a[8], b[8];
+	off_t at = size - 16;
+	(void)unused;
+	assert_true(fd >= 0);
+	for (; at >= 128; at -= 8) {
+		assert_int_equal(pread(fd, a, 8, at), 8);
+		assert_int_equal(pread(fd, b, 8, at + 8), 8);
+		if (memcmp(a, b, 8) != 0)
+			break;
+	}
+	assert_true(at >= 128);
+	assert_int_equal(pwrite(fd, b, 8, at), 8);
+	assert_int_equal(pwrite(fd, a, 8, at + 8), 8);
+	close(fd);
+}
+
+/* the older format's magic, "PSCBLOB1" */
+static void old_magic(const char *path, off_t size, long unused)
+{
+	int fd = open(path, O_RDWR);
+	(void)size;
+	(void)unused;
+	assert_true(fd >= 0);
+	assert_int_equal(pwrite(fd, "1", 1, 7), 1);
+	close(fd);
+}
+
 static void truncated_entries_are_rebuilt(void **state)
 {
 	char c[128];
@@ -229,6 +262,8 @@ static void one_flipped_byte_is_rebuilt(void **state)
 	snprintf(c, sizeof c, "%s/flip", dir);
 	for (size_t i = 0; i < sizeof where / sizeof where[0]; i++)
 		corrupt_and_check(c, flip, where[i].at, where[i].says);
+	corrupt_and_check(c, swap_words, 0, "checksum");
+	corrupt_and_check(c, old_magic, 0, "older format");
 }
 
 /* A sound entry (right key, right checksum) whose payload is no map of the
