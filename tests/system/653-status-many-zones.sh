@@ -1,0 +1,49 @@
+#!/bin/sh
+# SPDX-License-Identifier: ISC
+# The control socket's status of every zone at the size psensd is built
+# for: 128 zones on the file driver (the most a configuration holds).  The
+# reply is one JSON line of some hundred kilobytes, larger than any fixed
+# buffer the socket once had; psensctl must print it whole, with every
+# zone's name in order, and psensd must stay up and answer a ping after it.
+# The request is then repeated while a second client sits idle, so the
+# reply is built again rather than served from anything kept.
+. "$(dirname "$0")/lib.sh"
+[ -x "$BIN/psensd" ] || skip_all "psensd not built"
+example_results
+S="$TMP/sock"
+mkdir -p "$TMP/files"
+{
+	printf '[psensd]\nresults = state/ofb.results\nsocket = sock\nperiod = 60\nsafe_level = 1\n'
+	z=0
+	while [ $z -lt 128 ]; do   # 15 zones a device: the file driver takes 32 points
+		[ $((z % 15)) = 0 ] && printf '[device files%d]\ndriver = file\ndir = files\n' $((z / 15))
+		echo "1.$z" > "$TMP/files/s$z"
+		printf '[point s%d]\ndevice = files%d\nrole = sensor\npath = s%d\n' $z $((z / 15)) $z
+		printf '[point d%d]\ndevice = files%d\nrole = dim\npath = d%d\n' $z $((z / 15)) $z
+		printf '[zone z%d]\nsensor = s%d\ndim = d%d\ntarget_lux = 500\nsensor_gain = 0.5\n' $z $z $z
+		z=$((z + 1))
+	done
+} > "$TMP/many.conf"
+"$BIN/psensd" -f "$TMP/many.conf" -t 08:00 -x 10 > "$TMP/out" 2> "$TMP/err" &
+PID=$!; track_pid $PID
+wait_for 10 "$BIN/psensctl" -s "$S" ping > /dev/null
+"$BIN/psensctl" -s "$S" -j status > "$TMP/status.json" 2> "$TMP/status.err"
+check "psensctl -j status of 128 zones succeeds ($(head -c 200 "$TMP/status.err"))" test $? = 0
+n=$(wc -c < "$TMP/status.json")
+diag "status reply: $n bytes"
+check "the reply is larger than 64 KiB ($n bytes)" test "$n" -gt 65536
+/usr/bin/python3 - "$TMP/status.json" > "$TMP/names" 2>&1 <<'EOP'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["ok"] is True, d
+print(" ".join(z["name"] for z in d["zones"]))
+EOP
+check "the reply is JSON with ok true ($(head -c 200 "$TMP/names"))" test $? = 0
+want=$(z=0; while [ $z -lt 128 ]; do printf 'z%d ' $z; z=$((z + 1)); done)
+check "every zone, in order" test "$(cat "$TMP/names") " = "$want"
+"$BIN/psensctl" -s "$S" status > "$TMP/status.txt" 2> "$TMP/status2.err"
+check "psensctl status (text) succeeds ($(head -c 200 "$TMP/status2.err"))" test $? = 0
+check "the text names the last zone" grep -q "z127" "$TMP/status.txt"
+check "psensd still answers" "$BIN/psensctl" -s "$S" ping
+kill $PID; wait $PID 2> /dev/null
+done_testing
