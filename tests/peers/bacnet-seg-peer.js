@@ -47,6 +47,14 @@ async function main() {
 	const vals = new Map(all.values[0].values.map((v) => [v.id, v.value]));
 	const list = vals.get(P.OBJECT_LIST) || [];
 	ok(list.length === count, `ReadPropertyMultiple ALL on the Device: its Object_List of ${list.length} inside`);
+	// ALL of the first 60 objects in one ReadPropertyMultiple: many kB, in segments
+	const objs = (await client.readProperty(server, dev, P.OBJECT_LIST)).values.map((v) => v.value).slice(0, 60);
+	const many = await client.readPropertyMultiple(server,
+		objs.map((o) => ({ objectId: o, properties: [{ id: P.ALL, index: 0xffffffff }] })));
+	const named = many.values.filter((r, i) => key(r.objectId) === key(objs[i]) &&
+		r.values.some((v) => v.id === P.OBJECT_NAME && typeof v.value[0].value === 'string'));
+	ok(many.values.length === 60 && named.length === 60,
+		`ReadPropertyMultiple ALL of 60 objects at once: ${many.values.length} results, ${named.length} named in order`);
 	const seg = vals.get(P.SEGMENTATION_SUPPORTED), mseg = vals.get(P.MAX_SEGMENTS_ACCEPTED), tseg = vals.get(P.APDU_SEGMENT_TIMEOUT);
 	ok(seg && seg[0].value === 1, `Segmentation_Supported: segmented-transmit (${seg ? seg[0].value : '-'})`);
 	ok(mseg && mseg[0].value === 1, `Max_Segments_Accepted: 1, segmented requests refused (${mseg ? mseg[0].value : '-'})`);

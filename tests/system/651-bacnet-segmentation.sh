@@ -6,7 +6,8 @@
 # peer, @bacnet-js/client (tests/peers/bacnet-seg-peer.js), reads the whole
 # Object_List in one ReadProperty at max-APDU 1476 and 480 (it acks the
 # segments itself) and must get the list it reads an element at a time;
-# RPM ALL on the Device; the segmentation properties; Abort buffer-overflow
+# RPM ALL on the Device and on 60 objects at once; the segmentation
+# properties; Abort buffer-overflow
 # for a client taking 2 segments.  Then a client written here at the
 # BVLL/APDU level: SA clear gets Abort segmentation-not-supported, a
 # segmented request too; a window of 3 acked, then the ack withheld: the

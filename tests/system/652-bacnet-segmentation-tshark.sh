@@ -4,7 +4,8 @@
 # BACnet dissector (tshark, Debian's package) on a capture of the outside
 # peer (tests/peers/bacnet-seg-peer.js) reading the whole Object_List of a
 # 100-zone psensd (1001 objects) in one ReadProperty at max-APDU 1476 and
-# 480, with RPM ALL on the Device and a 2-segment refusal.  tshark must
+# 480, with RPM ALL on the Device and on 60 objects, and a 2-segment
+# refusal.  tshark must
 # find no malformed packet and no error in its expert info, see segmented
 # ComplexACKs and SegmentACKs, reassemble the segments into whole
 # messages, and decode in them the first and the last object identifier
