@@ -57,20 +57,17 @@ static void put_path(json_object *o, const char *key, const char *path)
 		psd_json_str(o, key, path);
 }
 
-static void finish(json_object *o, char *reply, size_t len)
+static void finish(json_object *o, struct psd_ctl_reply *reply)
 {
 	const char *text;
 	/* 10 significant digits: 0.3 reads 0.3, not 0.29999999999999999 */
 	text = psd_json_text(o, 10);
-	if (strlen(text) >= len)
-		snprintf(reply, len, "{\"ok\":false,\"error\":\"reply too long\"}");
-	else
-		snprintf(reply, len, "%s", text);
+	psd_ctlsock_reply_set(reply, text);
 	json_object_put(o);
 }
 
-static void error_reply(char *reply, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void error_reply(char *reply, size_t len, const char *fmt, ...)
+static void error_reply(struct psd_ctl_reply *reply, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void error_reply(struct psd_ctl_reply *reply, const char *fmt, ...)
 {
 	char msg[512];
 	va_list ap;
@@ -80,7 +77,7 @@ static void error_reply(char *reply, size_t len, const char *fmt, ...)
 	va_end(ap);
 	json_object_object_add(o, "ok", json_object_new_boolean(0));
 	psd_json_str(o, "error", msg);
-	finish(o, reply, len);
+	finish(o, reply);
 }
 
 static json_object *ok_reply(void)
@@ -267,17 +264,17 @@ static json_object *cal_json(const struct psd_zone *z, double now)
 }
 
 /* The zone a request names, resolved once; NULL after the error reply. */
-static struct psd_zone *zone_arg(struct psd_daemon *d, const char *name, char *reply, size_t len)
+static struct psd_zone *zone_arg(struct psd_daemon *d, const char *name, struct psd_ctl_reply *reply)
 {
 	struct psd_zone *z = psd_engine_zone(&d->engine, name);
 	if (!z)
-		error_reply(reply, len, "no zone '%s'", name);
+		error_reply(reply, "no zone '%s'", name);
 	return z;
 }
 
 static const char cal_usage[] = "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort";
 
-static void calibrate(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+static void calibrate(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
 	struct psd_zone *z;
@@ -285,24 +282,24 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, char *reply, 
 	char err[512], *end;
 	int rc = 0;
 	if (argc < 3) {
-		error_reply(reply, len, "%s", cal_usage);
+		error_reply(reply, "%s", cal_usage);
 		return;
 	}
-	if (!(z = zone_arg(d, argv[1], reply, len)))
+	if (!(z = zone_arg(d, argv[1], reply)))
 		return;
 	if (strcmp(argv[2], "night") == 0 && argc == 3) {
 		rc = psd_engine_cal_start(e, z, PSD_CAL_NIGHT, 0, now, err, sizeof err);
 	} else if (strcmp(argv[2], "day") == 0 && argc <= 4) {
 		a = z->level;
 		if (argc == 4 && (a = strtod(argv[3], &end), *end || end == argv[3])) {
-			error_reply(reply, len, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
+			error_reply(reply, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
 			return;
 		}
 		rc = psd_engine_cal_start(e, z, PSD_CAL_DAY, a, now, err, sizeof err);
 	} else if (strcmp(argv[2], "lux") == 0 && argc == 4) {
 		a = strtod(argv[3], &end);
 		if (*end || end == argv[3]) {
-			error_reply(reply, len, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
+			error_reply(reply, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
 			return;
 		}
 		rc = psd_engine_cal_lux(e, z, a, now, err, sizeof err);
@@ -313,34 +310,34 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, char *reply, 
 	} else if (strcmp(argv[2], "abort") == 0 && argc == 3) {
 		rc = psd_engine_cal_abort(e, z, now, "by request", err, sizeof err);
 	} else if (strcmp(argv[2], "status") != 0 || argc != 3) {
-		error_reply(reply, len, "%s", cal_usage);
+		error_reply(reply, "%s", cal_usage);
 		return;
 	}
 	if (rc != 0) {
-		error_reply(reply, len, "%s", err);
+		error_reply(reply, "%s", err);
 		return;
 	}
 	{
 		json_object *o = ok_reply();
 		json_object_object_add(o, "calibration", cal_json(z, psd_clock_now(&d->clock)));
-		finish(o, reply, len);
+		finish(o, reply);
 	}
 }
 
 /* dali DEVICE REQUEST...: a DALI interface's own requests (commissioning),
  * answered by its driver's command method; verify ZONE hands it the zone's
  * outputs on that interface. */
-static void dali(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
 	struct ps_dev *dev = NULL;
 	struct ps_point *pts[2 * PSD_MAX_ZONE_OUT];
 	int npts = 0, di = -1;
-	size_t outlen = len > 64 ? len - 64 : len;   /* room for {"ok":true,"dali":...} */
+	size_t outlen = (size_t)1 << 16;   /* a driver's reply: a bus scan's 64 devices fit */
 	char *out;
 	json_object *o, *res;
 	if (argc < 3) {
-		error_reply(reply, len, "usage: dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|"
+		error_reply(reply, "usage: dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|"
 		                        "identify SHORT [SECONDS]|verify ZONE|status|abort");
 		return;
 	}
@@ -348,16 +345,16 @@ static void dali(struct psd_daemon *d, int argc, char **argv, char *reply, size_
 		if (e->dev_open[i] && strcmp(e->dev[i].name, argv[1]) == 0)
 			di = (int)i;
 	if (di < 0) {
-		error_reply(reply, len, "no device '%s'", argv[1]);
+		error_reply(reply, "no device '%s'", argv[1]);
 		return;
 	}
 	dev = &e->dev[di];
 	if (!dev->drv->command || strncmp(dev->drv->name, "dali", 4) != 0) {
-		error_reply(reply, len, "device %s (driver %s) is not a DALI interface", argv[1], dev->drv->name);
+		error_reply(reply, "device %s (driver %s) is not a DALI interface", argv[1], dev->drv->name);
 		return;
 	}
 	if (strcmp(argv[2], "verify") == 0 && argc == 4) {
-		const struct psd_zone *z = zone_arg(d, argv[3], reply, len);
+		const struct psd_zone *z = zone_arg(d, argv[3], reply);
 		const struct psd_zone_conf *zc;
 		if (!z)
 			return;
@@ -368,23 +365,23 @@ static void dali(struct psd_daemon *d, int argc, char **argv, char *reply, size_
 				pts[npts++] = &e->pt[p];
 		}
 		if (!npts) {
-			error_reply(reply, len, "zone %s has no outputs on %s", argv[3], argv[1]);
+			error_reply(reply, "zone %s has no outputs on %s", argv[3], argv[1]);
 			return;
 		}
 	}
 	if (!(out = malloc(outlen))) {
-		error_reply(reply, len, "out of memory");
+		error_reply(reply, "out of memory");
 		return;
 	}
 	if (dev->drv->command(dev, argc - 2, argv + 2, pts, npts, psd_clock_now(&d->clock), out, outlen) != 0) {
-		error_reply(reply, len, "%s", dev->err);
+		error_reply(reply, "%s", dev->err);
 		free(out);
 		return;
 	}
 	res = json_tokener_parse(out);
 	free(out);
 	if (!res) {
-		error_reply(reply, len, "device %s: its driver's reply is not JSON", argv[1]);
+		error_reply(reply, "device %s: its driver's reply is not JSON", argv[1]);
 		return;
 	}
 	if (strcmp(argv[2], "status") != 0) {
@@ -396,20 +393,20 @@ static void dali(struct psd_daemon *d, int argc, char **argv, char *reply, size_
 	}
 	o = ok_reply();
 	json_object_object_add(o, "dali", res);
-	finish(o, reply, len);
+	finish(o, reply);
 }
 
-static void status(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+static void status(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
 	double now = psd_clock_now(&d->clock);
 	json_object *o, *zones;
 	char t[8];
 	if (argc > 2) {
-		error_reply(reply, len, "usage: status [ZONE]");
+		error_reply(reply, "usage: status [ZONE]");
 		return;
 	}
-	if (argc == 2 && !zone_arg(d, argv[1], reply, len))
+	if (argc == 2 && !zone_arg(d, argv[1], reply))
 		return;
 	o = ok_reply();
 	zones = json_object_new_array();
@@ -465,11 +462,11 @@ static void status(struct psd_daemon *d, int argc, char **argv, char *reply, siz
 		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
 			json_object_array_add(zones, zone_json(&d->points, e, &e->zone[i], now));
 	json_object_object_add(o, "zones", zones);
-	finish(o, reply, len);
+	finish(o, reply);
 }
 
 /* ratios [ZONE]: [psensd]'s results, or the zone's own simulation. */
-static void ratios(struct psd_daemon *d, const char *zone, char *reply, size_t len)
+static void ratios(struct psd_daemon *d, const char *zone, struct psd_ctl_reply *reply)
 {
 	const struct ps_results *r = d->engine.have_res ? &d->engine.res : NULL;
 	const char *path = d->engine.cf->results;
@@ -477,14 +474,14 @@ static void ratios(struct psd_daemon *d, const char *zone, char *reply, size_t l
 	if (zone) {
 		struct psd_zone *z = psd_engine_zone(&d->engine, zone);
 		if (!z) {
-			error_reply(reply, len, "no zone '%s'", zone);
+			error_reply(reply, "no zone '%s'", zone);
 			return;
 		}
 		r = z->res;
 		path = psd_config_zone_results(d->engine.cf, z->zc);
 	}
 	if (!r) {
-		error_reply(reply, len, "no results loaded");
+		error_reply(reply, "no results loaded");
 		return;
 	}
 	o = ok_reply();
@@ -508,7 +505,7 @@ static void ratios(struct psd_daemon *d, const char *zone, char *reply, size_t l
 		json_object_array_add(conds, c);
 	}
 	json_object_object_add(o, "conditions", conds);
-	finish(o, reply, len);
+	finish(o, reply);
 }
 
 static int number(const char *text, double *out)
@@ -521,19 +518,19 @@ static int number(const char *text, double *out)
 
 /* reload: now, and the outcome in the reply: ok, or ok false with the
  * reasons (each file:line) and the running configuration kept. */
-static void reload(struct psd_daemon *d, char *reply, size_t len)
+static void reload(struct psd_daemon *d, struct psd_ctl_reply *reply)
 {
 	struct psd_reload_why *w = malloc(sizeof *w);   /* 6 kB: not on the handler's stack */
 	json_object *o, *arr;
 	char msg[512];
 	if (!w) {
-		error_reply(reply, len, "reload: out of memory");
+		error_reply(reply, "reload: out of memory");
 		return;
 	}
 	if (psd_reload_explain(d, w) == 0) {
 		o = ok_reply();
 		put_path(o, "reloaded", d->config_path);
-		finish(o, reply, len);
+		finish(o, reply);
 		free(w);
 		return;
 	}
@@ -546,7 +543,7 @@ static void reload(struct psd_daemon *d, char *reply, size_t len)
 	for (int i = 0; i < w->n; i++)
 		json_object_array_add(arr, json_object_new_string(w->line[i]));
 	json_object_object_add(o, "reasons", arr);
-	finish(o, reply, len);
+	finish(o, reply);
 	free(w);
 }
 
@@ -557,7 +554,7 @@ static const char accept_usage[] = "usage: accept-test ZONE [--since YYYY-MM-DD]
  * them.  psensd runs them because it is the log's one writer: its open
  * batch holds the newest samples, and psensctl -d could not write beside
  * it. */
-static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply, size_t len)
+static void accept_test(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
 	struct psd_accept_params p;
@@ -567,25 +564,25 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	char err[512], stamp[24];
 	psd_accept_defaults(&p);
 	if (argc < 2) {
-		error_reply(reply, len, "%s", accept_usage);
+		error_reply(reply, "%s", accept_usage);
 		return;
 	}
 	for (int i = 2; i < argc; i += 2) {
 		int rc = i + 1 < argc ? psd_accept_option(&p, argv[i], argv[i + 1], err, sizeof err) : 0;
 		if (rc <= 0) {
-			error_reply(reply, len, "%s", rc < 0 ? err : accept_usage);
+			error_reply(reply, "%s", rc < 0 ? err : accept_usage);
 			return;
 		}
 	}
-	if (!zone_arg(d, argv[1], reply, len))
+	if (!zone_arg(d, argv[1], reply))
 		return;
 	if (!e->db) {
-		error_reply(reply, len, "psensd keeps no database: the acceptance tests judge its log");
+		error_reply(reply, "psensd keeps no database: the acceptance tests judge its log");
 		return;
 	}
 	if (psd_accept_zone(e->db, argv[1], &p, floor(psd_time_wall()), r, &sum, err, sizeof err) != 0 ||
 	    psd_db_commit(e->db, err, sizeof err) != 0) {
-		error_reply(reply, len, "accept-test %s: %s", argv[1], err);
+		error_reply(reply, "accept-test %s: %s", argv[1], err);
 		return;
 	}
 	psd_points_set_verdict(&d->points, argv[1], psd_accept_overall(&sum));
@@ -617,16 +614,16 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, char *reply
 	json_object_object_add(a, "tested", json_object_new_int(sum.tested));
 	json_object_object_add(a, "failed", json_object_new_int(sum.failed));
 	json_object_object_add(o, "accept", a);
-	finish(o, reply, len);
+	finish(o, reply);
 }
 
-void psd_ctlcmd_handle(void *user, const struct psd_ctl_client *c, char *line, char *reply, size_t len)
+void psd_ctlcmd_handle(void *user, const struct psd_ctl_client *c, char *line, struct psd_ctl_reply *reply)
 {
 	(void)c;
-	psd_ctlcmd_request(user, line, reply, len);
+	psd_ctlcmd_request(user, line, reply);
 }
 
-void psd_ctlcmd_request(struct psd_daemon *d, char *line, char *reply, size_t len)
+void psd_ctlcmd_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
 	struct psd_zone *z;
@@ -634,73 +631,73 @@ void psd_ctlcmd_request(struct psd_daemon *d, char *line, char *reply, size_t le
 	int argc = psd_ctlsock_split(line, argv, err, sizeof err);
 	double a, b;
 	if (argc < 0) {
-		error_reply(reply, len, "%s", err);
+		error_reply(reply, "%s", err);
 		return;
 	}
 	if (argc == 0) {
-		error_reply(reply, len, "empty request; try help");
+		error_reply(reply, "empty request; try help");
 		return;
 	}
 	if (strcmp(argv[0], "ping") == 0 && argc == 1) {
 		json_object *o = ok_reply();
 		json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
-		finish(o, reply, len);
+		finish(o, reply);
 	} else if (strcmp(argv[0], "help") == 0) {
 		json_object *o = ok_reply();
 		psd_json_str(o, "commands", help_text);
-		finish(o, reply, len);
+		finish(o, reply);
 	} else if (strcmp(argv[0], "status") == 0) {
-		status(d, argc, argv, reply, len);
+		status(d, argc, argv, reply);
 	} else if (strcmp(argv[0], "ratios") == 0 && argc <= 2) {
-		ratios(d, argc == 2 ? argv[1] : NULL, reply, len);
+		ratios(d, argc == 2 ? argv[1] : NULL, reply);
 	} else if (strcmp(argv[0], "log") == 0 && argc == 1) {
 		json_object *o = ok_reply();
 		put_path(o, "database", e->cf->database);
 		json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
-		finish(o, reply, len);
+		finish(o, reply);
 	} else if (strcmp(argv[0], "target") == 0) {
 		if (argc != 3 || number(argv[2], &a) != 0)
-			error_reply(reply, len, "usage: target ZONE LUX");
-		else if (!(z = zone_arg(d, argv[1], reply, len)))
+			error_reply(reply, "usage: target ZONE LUX");
+		else if (!(z = zone_arg(d, argv[1], reply)))
 			;
 		else if (psd_engine_set_target(z, a, err, sizeof err) != 0)
-			error_reply(reply, len, "%s", err);
+			error_reply(reply, "%s", err);
 		else
-			finish(ok_reply(), reply, len);
+			finish(ok_reply(), reply);
 	} else if (strcmp(argv[0], "override") == 0) {
 		if (argc != 4 || number(argv[2], &a) != 0 || number(argv[3], &b) != 0)
-			error_reply(reply, len, "usage: override ZONE LEVEL SECONDS (level 0 to 1)");
-		else if (!(z = zone_arg(d, argv[1], reply, len)))
+			error_reply(reply, "usage: override ZONE LEVEL SECONDS (level 0 to 1)");
+		else if (!(z = zone_arg(d, argv[1], reply)))
 			;
 		else if (psd_engine_override(z, a, b, psd_clock_now(&d->clock), err, sizeof err) != 0)
-			error_reply(reply, len, "%s", err);
+			error_reply(reply, "%s", err);
 		else
-			finish(ok_reply(), reply, len);
+			finish(ok_reply(), reply);
 	} else if (strcmp(argv[0], "off") == 0) {
 		if (argc != 2) {
-			error_reply(reply, len, "usage: off ZONE");
-		} else if ((z = zone_arg(d, argv[1], reply, len))) {
+			error_reply(reply, "usage: off ZONE");
+		} else if ((z = zone_arg(d, argv[1], reply))) {
 			psd_engine_off(z);
-			finish(ok_reply(), reply, len);
+			finish(ok_reply(), reply);
 		}
 	} else if (strcmp(argv[0], "release") == 0) {
 		if (argc != 2) {
-			error_reply(reply, len, "usage: release ZONE");
-		} else if ((z = zone_arg(d, argv[1], reply, len))) {
+			error_reply(reply, "usage: release ZONE");
+		} else if ((z = zone_arg(d, argv[1], reply))) {
 			psd_engine_release(z);
-			finish(ok_reply(), reply, len);
+			finish(ok_reply(), reply);
 		}
 	} else if (strcmp(argv[0], "accept-test") == 0) {
-		accept_test(d, argc, argv, reply, len);
+		accept_test(d, argc, argv, reply);
 	} else if (strcmp(argv[0], "calibrate") == 0) {
-		calibrate(d, argc, argv, reply, len);
+		calibrate(d, argc, argv, reply);
 	} else if (strcmp(argv[0], "dali") == 0) {
-		dali(d, argc, argv, reply, len);
+		dali(d, argc, argv, reply);
 	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
-		reload(d, reply, len);
+		reload(d, reply);
 	} else {
 		char shown[64];
 		snprintf(shown, sizeof shown, "%s", argv[0]);
-		error_reply(reply, len, "unknown request '%s' or wrong arguments; try help", shown);
+		error_reply(reply, "unknown request '%s' or wrong arguments; try help", shown);
 	}
 }

@@ -8,14 +8,16 @@
 
 struct psd_daemon;
 struct psd_ctl_client;
+struct psd_ctl_reply;
 
 /* 1 when word is the first word of a request psensd answers, else 0: a
  * client refuses a misspelt command before asking. */
 int psd_ctlcmd_is_request(const char *word);
 /* The control socket's handler (daemon/ctlcmd.c). */
-void psd_ctlcmd_handle(void *daemon, const struct psd_ctl_client *c, char *line, char *reply, size_t len);
-/* One request line, judged and answered (a JSON line in reply): what the
+void psd_ctlcmd_handle(void *daemon, const struct psd_ctl_client *c, char *line, struct psd_ctl_reply *reply);
+/* One request line, judged and answered (a JSON line in reply, grown as it needs up to
+ * PSD_CTL_MAX_REPLY; the caller frees it with psd_ctlsock_reply_free): what the
  * socket's handler and MQTT's set/ topics (daemon/mqtt/mqtt.c) both call. */
-void psd_ctlcmd_request(struct psd_daemon *d, char *line, char *reply, size_t len);
+void psd_ctlcmd_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *reply);
 
 #endif

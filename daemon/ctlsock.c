@@ -158,6 +158,38 @@ static void drop(struct psd_ctlsock *s, int i)
 	memset(&s->cl[s->ncl], 0, sizeof s->cl[s->ncl]);
 }
 
+int psd_ctlsock_reply_set(struct psd_ctl_reply *r, const char *text)
+{
+	static const char too_long[] = "{\"ok\":false,\"error\":\"reply too long\"}";
+	static const char no_mem[] = "{\"ok\":false,\"error\":\"out of memory\"}";
+	size_t n = strlen(text);
+	if (n >= PSD_CTL_MAX_REPLY) {
+		psd_ctlsock_reply_free(r);
+		r->text = (char *)too_long;
+		return -1;
+	}
+	if (n + 1 > r->cap) {
+		char *grown = realloc(r->cap ? r->text : NULL, n + 1);
+		if (!grown) {
+			psd_ctlsock_reply_free(r);
+			r->text = (char *)no_mem;
+			return -1;
+		}
+		r->text = grown;
+		r->cap = n + 1;
+	}
+	memcpy(r->text, text, n + 1);
+	return 0;
+}
+
+void psd_ctlsock_reply_free(struct psd_ctl_reply *r)
+{
+	if (r->cap)
+		free(r->text);
+	r->text = NULL;
+	r->cap = 0;
+}
+
 /* Queue text and a newline; a client that stops reading is dropped. */
 static int queue(struct psd_ctl_client *c, const char *text)
 {
@@ -231,21 +263,21 @@ static void accept_all(struct psd_ctlsock *s)
 /* Handle every complete line in the input buffer. */
 static void lines(struct psd_ctlsock *s, struct psd_ctl_client *c)
 {
-	char reply[PSD_CTL_MAX_OUT / 2];
+	struct psd_ctl_reply reply = { 0 };
 	char *nl;
 	while (!c->closing && (nl = memchr(c->in, '\n', c->nin))) {
 		size_t len = (size_t)(nl - c->in), eff = len;
 		*nl = '\0';
 		if (eff && c->in[eff - 1] == '\r')
 			c->in[--eff] = '\0';
-		reply[0] = '\0';
 		s->requests++;
 		if (strlen(c->in) != eff)
-			snprintf(reply, sizeof reply, "{\"ok\":false,\"error\":\"NUL byte in the request\"}");
+			psd_ctlsock_reply_set(&reply, "{\"ok\":false,\"error\":\"NUL byte in the request\"}");
 		else
-			s->handler(s->user, c, c->in, reply, sizeof reply);
-		if (queue(c, reply) != 0)
+			s->handler(s->user, c, c->in, &reply);
+		if (queue(c, reply.text ? reply.text : "{\"ok\":false,\"error\":\"no reply\"}") != 0)
 			c->closing = 1;
+		psd_ctlsock_reply_free(&reply);
 		memmove(c->in, nl + 1, c->nin - len - 1);
 		c->nin -= len + 1;
 	}

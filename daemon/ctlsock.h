@@ -6,7 +6,9 @@
  * reply and the connection is closed; at most max_clients connections
  * (one more is told "too many clients" and closed); a client idle for
  * PSD_CTL_IDLE_S or not reading its replies (more than PSD_CTL_MAX_OUT
- * queued) is dropped; peers are checked by SO_PEERCRED: root, the daemon's
+ * queued) is dropped; a reply grows as it needs, up to PSD_CTL_MAX_REPLY
+ * bytes (1 MiB: the status of 128 zones is some 95 kB), past which it is
+ * an error reply; peers are checked by SO_PEERCRED: root, the daemon's
  * user, or members of the daemon's group. */
 #ifndef PSD_CTLSOCK_H
 #define PSD_CTLSOCK_H
@@ -15,7 +17,23 @@
 #include <stddef.h>
 #include <sys/types.h>
 
-enum { PSD_CTL_MAX_LINE = 1024, PSD_CTL_MAX_OUT = 1 << 16, PSD_CTL_IDLE_S = 120 };
+enum { PSD_CTL_MAX_LINE = 1024, PSD_CTL_MAX_REPLY = 1 << 20, PSD_CTL_MAX_OUT = 2 * PSD_CTL_MAX_REPLY,
+       PSD_CTL_IDLE_S = 120 };
+
+/* One reply line (without its newline), on the heap, grown as it needs:
+ * text is never NULL once set (an error reply when memory or the limit
+ * runs out).  Zero-initialise; free with psd_ctlsock_reply_free. */
+struct psd_ctl_reply {
+	char *text;
+	size_t cap;           /* bytes allocated for text, 0 when text is static */
+};
+
+/* Set the reply to text (a copy).  A text of PSD_CTL_MAX_REPLY bytes or
+ * more becomes the error reply "reply too long"; without memory, "out of
+ * memory".  0, or -1 when the reply is one of those errors. */
+int psd_ctlsock_reply_set(struct psd_ctl_reply *r, const char *text);
+/* Free the text; the reply is empty again. */
+void psd_ctlsock_reply_free(struct psd_ctl_reply *r);
 
 struct psd_ctl_client {
 	int fd;
@@ -30,8 +48,8 @@ struct psd_ctl_client {
 };
 
 /* handler: reply (a line without its newline) for one request line. */
-typedef void (*psd_ctl_handler)(void *user, const struct psd_ctl_client *c, char *line, char *reply,
-                                size_t replylen);
+typedef void (*psd_ctl_handler)(void *user, const struct psd_ctl_client *c, char *line,
+                                struct psd_ctl_reply *reply);
 
 struct psd_ctlsock {
 	int lfd;

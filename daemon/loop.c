@@ -148,16 +148,29 @@ static int date_run(struct psd_daemon *d, double now)
 	return 0;
 }
 
+/* The control socket's request function, its reply copied into a fixed
+ * buffer (an error reply when it does not fit). */
+static void fixed_request(void *user, char *line, char *reply, size_t len)
+{
+	struct psd_ctl_reply r = { 0 };
+	psd_ctlcmd_request(user, line, &r);
+	if (strlen(r.text) >= len)
+		snprintf(reply, len, "{\"ok\":false,\"error\":\"reply too long\"}");
+	else
+		snprintf(reply, len, "%s", r.text);
+	psd_ctlsock_reply_free(&r);
+}
+
 /* An MQTT command: the control socket's request function, the same code. */
 static void mqtt_request(void *user, char *line, char *reply, size_t len)
 {
-	psd_ctlcmd_request(user, line, reply, len);
+	fixed_request(user, line, reply, len);
 }
 
 /* A BACnet write (an override or a release): the same function again. */
 static void bacnet_request(void *user, char *line, char *reply, size_t len)
 {
-	psd_ctlcmd_request(user, line, reply, len);
+	fixed_request(user, line, reply, len);
 }
 
 /* A start given up: the lights to their safe level when the engine has
@@ -182,9 +195,9 @@ static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine
 }
 
 /* A web console's action or live update: the same function again. */
-static void web_request(void *user, char *line, char *reply, size_t len)
+static void web_request(void *user, char *line, struct psd_ctl_reply *reply)
 {
-	psd_ctlcmd_request(user, line, reply, len);
+	psd_ctlcmd_request(user, line, reply);
 }
 
 int psd_loop_start(struct psd_daemon *d, const char *path)

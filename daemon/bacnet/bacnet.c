@@ -219,12 +219,13 @@ static void fd_service(struct psd_bacnet *b, double t)
 
 int psd_bacnet_wait_ms(const struct psd_bacnet *b)
 {
-	double t, due;
+	double t = psd_time_mono(), due, seg = psd_bacseg_due(&b->m.seg, t);
+	int ms = seg < 0 ? -1 : (int)ceil(seg * 1000);
 	if (!b->c.bbmd)
-		return -1;
-	t = psd_time_mono();
+		return ms;
 	due = b->fdr.pending ? b->fdr.answer_by : b->fdr.next;
-	return due <= t ? 0 : (int)ceil((due - t) * 1000);
+	due = due <= t ? 0 : ceil((due - t) * 1000);
+	return ms >= 0 && ms < due ? ms : (int)due;
 }
 
 struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
@@ -327,6 +328,14 @@ void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double n
 		}
 		send_to(b, out, r.len, r.to == PSD_BACSERVE_TO_ADDRESS ? r.addr : src);
 	}
+	/* an answer's segments queued by the datagrams above or due again
+	 * after their timeout: at most a window a transaction */
+	{
+		uint8_t to[6];
+		size_t len;
+		while ((len = psd_bacseg_next(&b->m.seg, b->m.now, out, to)))
+			send_to(b, out, len, to);
+	}
 	fd_service(b, b->m.now);
 	/* COV notifications: at most one per subscription a turn */
 	while (psd_bacserve_cov(&b->m, out, &r))
@@ -341,6 +350,7 @@ void psd_bacnet_close(struct psd_bacnet *b)
 {
 	if (!b)
 		return;
+	psd_bacseg_free(&b->m.seg);
 	close(b->fd);
 	free(b);
 }

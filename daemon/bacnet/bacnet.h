@@ -6,7 +6,9 @@
  * descriptor in psensd's poll() (no thread); each turn reads at most a
  * bounded number of datagrams, answers each at once (bacserve.c) and never
  * waits to send (a reply the socket cannot take now is dropped, as UDP
- * may).  The objects are filled from the engine before each batch.  A
+ * may).  An answer in segments (bacseg.h) goes out a window at a time from
+ * the same turns, its retry timer part of the loop's poll timeout.  The
+ * objects are filled from the engine before each batch.  A
  * write to a zone's Lighting Output becomes the control socket's
  * `override` or `release` request, through the same function
  * (psd_ctlcmd_request), so it is judged like one and never overrides the

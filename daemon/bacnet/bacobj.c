@@ -26,6 +26,8 @@ static const struct psd_bacobj_prop device_props[] = {
 	{ P_OBJECT_LIST, 1 },
 	{ P_MAX_APDU, 1 },
 	{ P_SEGMENTATION, 1 },
+	{ P_MAX_SEGMENTS_ACCEPTED, 1 },
+	{ P_APDU_SEGMENT_TIMEOUT, 1 },
 	{ P_APDU_TIMEOUT, 1 },
 	{ P_APDU_RETRIES, 1 },
 	{ P_DEVICE_ADDRESS_BINDING, 1 },
@@ -388,10 +390,13 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 	}
 	case P_MAX_APDU: psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU); break;
 	case P_SEGMENTATION:
-		psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
+		psd_bactag_put_enum(b, -1, 1); /* segmented-transmit (bacseg.h) */
 		break;
+	/* segmented requests are refused: one segment, the whole APDU */
+	case P_MAX_SEGMENTS_ACCEPTED: psd_bactag_put_unsigned(b, -1, 1); break;
+	case P_APDU_SEGMENT_TIMEOUT: psd_bactag_put_unsigned(b, -1, PSD_BACSEG_TIMEOUT_MS); break;
 	case P_APDU_TIMEOUT: psd_bactag_put_unsigned(b, -1, 3000); break;
-	case P_APDU_RETRIES: psd_bactag_put_unsigned(b, -1, 3); break;
+	case P_APDU_RETRIES: psd_bactag_put_unsigned(b, -1, PSD_BACSEG_RETRIES); break;
 	case P_DEVICE_ADDRESS_BINDING: break; /* an empty list: psensd binds to no other device */
 	case P_DATABASE_REVISION: psd_bactag_put_unsigned(b, -1, m->database_revision); break;
 	case P_PRESENT_VALUE:

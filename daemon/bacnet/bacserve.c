@@ -13,7 +13,7 @@
 
 /* reject and abort reasons (clause 18.8, 18.9) */
 enum { R_INVALID_TAG = 4, R_MISSING_PARAMETER = 5, R_TOO_MANY_ARGUMENTS = 7, R_UNRECOGNIZED_SERVICE = 9 };
-enum { A_SEGMENTATION_NOT_SUPPORTED = 4 };
+enum { A_SEGMENTATION_NOT_SUPPORTED = PSD_BACSEG_SEGMENTATION_NOT_SUPPORTED };
 
 /* services (BACnetConfirmedServiceChoice, BACnetUnconfirmedServiceChoice) */
 enum {
@@ -645,7 +645,7 @@ static void put_i_am(const struct psd_bacserve_model *m, struct psd_bacbuf *b)
 	psd_bactag_put_raw(b, h, 2);
 	psd_bactag_put_objectid(b, -1, PSD_BAC_DEVICE, m->device);
 	psd_bactag_put_unsigned(b, -1, PSD_BACSERVE_MAX_APDU);
-	psd_bactag_put_enum(b, -1, 3); /* no-segmentation */
+	psd_bactag_put_enum(b, -1, 1); /* segmented-transmit */
 	psd_bactag_put_unsigned(b, -1, m->vendor_id);
 }
 
@@ -667,6 +667,47 @@ static size_t max_apdu(uint8_t code)
 	return code < 6 ? len[code] : 50;
 }
 
+/* The confirmed service q into b. */
+static void service(struct psd_bacserve_model *m, const struct req *q, const uint8_t *src, const uint8_t *npdu,
+                    size_t npdu_len, struct psd_bacbuf *b)
+{
+	switch (q->service) {
+	case S_READ_PROPERTY: read_property(m, q, b); break;
+	case S_READ_PROPERTY_MULTIPLE: read_property_multiple(m, q, b); break;
+	case S_WRITE_PROPERTY: write_property(m, q, b); break;
+	case S_SUBSCRIBE_COV: subscribe_cov(m, q, src, npdu, npdu_len, b); break;
+	default: put_reject(b, q->invoke, R_UNRECOGNIZED_SERVICE); break;
+	}
+}
+
+/* A confirmed request whose asker takes a segmented answer (SA): the
+ * answer built whole in the segmenter's scratch buffer, then sent as it
+ * is when it fits the asker's max-APDU, else in segments (nothing in b
+ * then), else the Abort the segmenter names.  -1: no scratch memory. */
+static int segmentable(struct psd_bacserve_model *m, const struct req *q, uint8_t accepts, const uint8_t *src,
+                       const uint8_t *npdu, size_t npdu_len, struct psd_bacbuf *b)
+{
+	uint8_t *scratch = psd_bacseg_scratch(&m->seg);
+	struct psd_bacbuf big = { scratch, PSD_BACSEG_MAX_LEN, 0, 0 };
+	int rc;
+	if (!scratch)
+		return -1;
+	service(m, q, src, npdu, npdu_len, &big);
+	if (big.overflow) {
+		put_abort(b, q->invoke, PSD_BACSEG_APDU_TOO_LONG);
+	} else if (big.len <= max_apdu(accepts & 15) && big.len <= b->cap) {
+		b->len = 0;
+		psd_bactag_put_raw(b, scratch, big.len);
+	} else if (big.len < 3 || scratch[0] != 0x30) { /* only a ComplexACK is long */
+		put_abort(b, q->invoke, A_SEGMENTATION_NOT_SUPPORTED);
+	} else if ((rc = psd_bacseg_start(&m->seg, src, npdu, npdu_len, accepts, scratch, big.len, m->now))) {
+		put_abort(b, q->invoke, (uint8_t)rc);
+	} else {
+		b->len = 0; /* queued: psd_bacseg_next sends it */
+	}
+	return 0;
+}
+
 /* The APDU apdu[0..n): the reply's APDU into b (nothing: b->len 0). */
 static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int broadcast, const uint8_t *src,
                  const uint8_t *npdu, size_t npdu_len, struct psd_bacbuf *b)
@@ -685,9 +726,22 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 		}
 		return;
 	}
+	if (broadcast)
+		return;
+	if (type == 4) { /* a SegmentACK for an answer in segments */
+		int rc = psd_bacseg_ack(&m->seg, src, npdu, npdu_len, a, n, m->now);
+		if (rc > 0 && n >= 2)
+			put_abort(b, a[1], (uint8_t)rc);
+		return;
+	}
+	if (type == 7) { /* an Abort from a client ends its answer's transaction */
+		if (n == 3 && !(a[0] & 0x01))
+			psd_bacseg_cancel(&m->seg, src, npdu, npdu_len, a[1]);
+		return;
+	}
 	/* only a confirmed request is answered; one sent to everyone is not
 	 * (no amplified replies to a forged broadcast) */
-	if (type != 0 || broadcast || n < 3)
+	if (type != 0 || n < 3)
 		return;
 	if (a[0] & 0x08) { /* segmented: refused (20.1.2.1), whatever follows */
 		put_abort(b, a[2], A_SEGMENTATION_NOT_SUPPORTED);
@@ -696,16 +750,14 @@ static void apdu(struct psd_bacserve_model *m, const uint8_t *a, size_t n, int b
 	if (n < 4)
 		return;
 	q = (struct req){ a + 4, n - 4, a[2], a[3] };
+	if (psd_bacseg_busy(&m->seg, src, npdu, npdu_len, q.invoke))
+		return; /* a repeat of a request being answered in segments */
+	if ((a[0] & 0x02) && segmentable(m, &q, a[1], src, npdu, npdu_len, b) == 0)
+		return;
 	if (max_apdu(a[1] & 15) < cap)
 		b->cap = max_apdu(a[1] & 15);
-	switch (q.service) {
-	case S_READ_PROPERTY: read_property(m, &q, b); break;
-	case S_READ_PROPERTY_MULTIPLE: read_property_multiple(m, &q, b); break;
-	case S_WRITE_PROPERTY: write_property(m, &q, b); break;
-	case S_SUBSCRIBE_COV: subscribe_cov(m, &q, src, npdu, npdu_len, b); break;
-	default: put_reject(b, q.invoke, R_UNRECOGNIZED_SERVICE); break;
-	}
-	if (b->overflow) { /* longer than the asker takes: no segmentation */
+	service(m, &q, src, npdu, npdu_len, b);
+	if (b->overflow) { /* longer than the asker takes, and it takes no segments */
 		b->cap = cap;
 		put_abort(b, q.invoke, A_SEGMENTATION_NOT_SUPPORTED);
 	}

@@ -8,8 +8,11 @@
  * bacobj.c (a Device; per zone a Lighting Output and an Analog Input,
  * Binary Input or Multi-state Input per point of the point model,
  * daemon/points.h).
- * No segmentation: a segmented request, or an answer longer than the asker
- * takes (or than 1476 octets), gets an Abort segmentation-not-supported.
+ * Segmentation (bacseg.h): an answer longer than the asker's max-APDU is
+ * sent in segments when its request's SA bit says it takes them, within
+ * its max-segments-accepted; else Abort segmentation-not-supported (SA
+ * clear) or buffer-overflow (too many segments).  A segmented request is
+ * refused with Abort segmentation-not-supported.
  *
  * Pure: it reads and writes only the model below, so the unit tests and
  * the fuzz target run it without a daemon; daemon/bacnet/bacnet.c fills
@@ -21,6 +24,8 @@
 
 #include <stddef.h>
 #include <stdint.h>
+
+#include "bacseg.h"
 
 enum {
 	PSD_BACSERVE_MAX_APDU = 1476,   /* the largest APDU over BACnet/IP (B/IP, Annex J) */
@@ -79,6 +84,7 @@ struct psd_bacserve_model {
 	double now; /* seconds on a monotonic clock: subscriptions' lifetimes */
 	struct psd_bacserve_sub sub[PSD_BACSERVE_SUBS];
 	uint8_t invoke; /* the next confirmed notification's invoke ID */
+	struct psd_bacseg seg; /* segmented answers in progress (free with psd_bacseg_free) */
 };
 
 /* Where the reply goes. */
@@ -93,7 +99,9 @@ struct psd_bacserve_reply {
 /* Judge one datagram in[0..n) from B/IP address src (IPv4 and port, network
  * order) and write the reply, if any, into out (at least
  * PSD_BACSERVE_MAX_PACKET octets).  `broadcast`: it came to a broadcast
- * address (then only Who-Is is answered). */
+ * address (then only Who-Is is answered).  An answer sent in segments is
+ * not in out: it is queued in m->seg, its datagrams from psd_bacseg_next
+ * (m->now is the segment timers' clock). */
 void psd_bacserve_handle(struct psd_bacserve_model *m, const uint8_t *in, size_t n, const uint8_t src[6],
                          int broadcast, uint8_t *out, struct psd_bacserve_reply *r);
 /* An I-Am of this device, whole with its BVLL function fn (0x0b

@@ -52,7 +52,7 @@ struct psd_web {
 	int drew;             /* a record was drawn: cairo's and fontconfig's caches are filled */
 	double next_update;   /* monotonic s */
 	struct psd_webhist hist;
-	char reply[PSD_CTL_MAX_OUT];
+	struct psd_ctl_reply reply;   /* the last control request's, kept for its buffer */
 };
 
 /* A request's state across MHD's calls: its body so far. */
@@ -168,8 +168,8 @@ static enum MHD_Result request(struct psd_web *w, struct MHD_Connection *conn, c
 		return send_error(conn, MHD_HTTP_OK, err);
 	if (strncmp(line, "status", 6) != 0)
 		psd_log_info("web: %s asks: %s", client_addr(conn, addr, sizeof addr), line);
-	w->fn(w->user, line, w->reply, sizeof w->reply);
-	return send_text(conn, MHD_HTTP_OK, "application/json", w->reply, NULL);
+	w->fn(w->user, line, &w->reply);
+	return send_text(conn, MHD_HTTP_OK, "application/json", w->reply.text, NULL);
 }
 
 /* GET /api/history?zone=Z: the zone's chart (webhist.h). */
@@ -241,11 +241,11 @@ static char *status_event(struct psd_web *w)
 	char line[] = "status";
 	size_t n;
 	char *ev;
-	w->fn(w->user, line, w->reply, sizeof w->reply);
-	n = strlen(w->reply);
+	w->fn(w->user, line, &w->reply);
+	n = strlen(w->reply.text);
 	if (!(ev = malloc(n + 32)))
 		return NULL;
-	snprintf(ev, n + 32, "event: status\ndata: %s\n\n", w->reply);
+	snprintf(ev, n + 32, "event: status\ndata: %s\n\n", w->reply.text);
 	return ev;
 }
 
@@ -535,5 +535,6 @@ void psd_web_close(struct psd_web *w)
 	MHD_stop_daemon(w->mhd);
 	if (w->drew)   /* the fonts' caches: nothing left for leak checkers */
 		ps_canvas_shutdown();
+	psd_ctlsock_reply_free(&w->reply);
 	free(w);
 }

@@ -23,9 +23,11 @@
 
 struct psd_engine;
 struct psd_web;
+struct psd_ctl_reply;
 
-/* A control request: what psd_ctlcmd_request does. */
-typedef void (*psd_web_request_fn)(void *user, char *line, char *reply, size_t len);
+/* A control request: what psd_ctlcmd_request does (the reply grows as it
+ * needs, up to the control socket's PSD_CTL_MAX_REPLY). */
+typedef void (*psd_web_request_fn)(void *user, char *line, struct psd_ctl_reply *reply);
 
 /* Listen on the configured address for the engine's zones.  NULL with a
  * message in err. */

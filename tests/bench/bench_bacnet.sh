@@ -62,8 +62,8 @@ else:
 EOP
 }
 
-# judge WHAT LINE SOCK PERIOD ZONE: the goals for one case (status of one
-# zone: a hundred zones' would not fit a reply)
+# judge WHAT LINE SOCK PERIOD ZONE: the goals for one case (the status of
+# one zone holds the control's lateness)
 judge() {
 	late=$("$BIN/psensctl" -s "$3" -j status "$5" | /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin)["late_max_s"])')
 	echo "  $1: $2"

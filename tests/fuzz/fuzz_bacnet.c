@@ -10,7 +10,15 @@
  * reject or abort; the
  * priority arrays hold only NULL or 0-100 %; every reply's tags read back
  * to its end (each tag lies inside the reply); so do the COV
- * notifications a subscription in the datagram makes due. */
+ * notifications a subscription in the datagram makes due.
+ * With bit 2 of the first byte, a segmented answer is in progress before
+ * the datagram (a ReadProperty of the Object_List with SA set and max-APDU
+ * 50, its first segment sent): the datagram may ack it, abort it or
+ * repeat it.  Then every segment due is read, the clock moved past every
+ * timeout: each is a ComplexACK segment within 1476 octets of APDU (50 for
+ * the answer started here) with
+ * the BVLL length its own, their number bounded (a window per ack, the
+ * retries), and no transaction outlives its retries. */
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -58,11 +66,32 @@ static void notifications(struct psd_bacserve_model *m)
 	}
 }
 
+/* Every segment due at the model's time: a BVLL Original-Unicast-NPDU of
+ * its own length holding a ComplexACK segment within max_apdu octets. */
+static size_t segments(struct psd_bacserve_model *m, size_t max_apdu)
+{
+	static uint8_t out[4 + PSD_BACSEG_NPDU + 1476];
+	uint8_t to[6];
+	size_t len, k = 0;
+	while ((len = psd_bacseg_next(&m->seg, m->now, out, to))) {
+		size_t pos = 6;
+		if (++k > PSD_BACSEG_MAX_TX * PSD_BACSEG_WINDOW || len < 11 || ((size_t)out[2] << 8 | out[3]) != len ||
+		    out[0] != 0x81 || out[1] != 0x0a || out[4] != 1)
+			abort();
+		if (out[5] & 0x20)
+			pos += 3 + out[8] + 1;
+		if (pos + 5 > len || (out[pos] & 0xfb) != 0x38 || len - pos > max_apdu)
+			abort();
+	}
+	return k;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	static struct psd_bacserve_zone zone[3];
 	static uint8_t out[PSD_BACSERVE_MAX_PACKET];
 	static struct psd_bacserve_model m;
+	psd_bacseg_free(&m.seg);
 	m = (struct psd_bacserve_model){ .device = 260001, .name = "fuzz", .vendor_id = 65535, .writes = 1,
 		                             .database_revision = 1, .nzone = 3, .zone = zone, .apply = apply };
 	struct psd_bacserve_reply r;
@@ -86,7 +115,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	}
 	static const uint8_t src[6] = { 127, 0, 0, 1, 0xba, 0xc1 };
 	m.now = 100;
+	if (data[0] & 4) { /* (device, 260001) Object_List, SA, max-APDU 50, invoke 0x21 */
+		static const uint8_t rp[] = { 0x81, 0x0a, 0x00, 0x11, 0x01, 0x04, 0x02, 0x00,
+			                      0x21, 0x0c, 0x0c, 0x02, 0x03, 0xf7, 0xa1, 0x19, 0x4c };
+		struct psd_bacserve_reply r0;
+		psd_bacserve_handle(&m, rp, sizeof rp, src, 0, out, &r0);
+		if (r0.len != 0 || segments(&m, 50) != 1)
+			abort();
+	}
 	psd_bacserve_handle(&m, data + 1, size - 1, src, broadcast, out, &r);
+	{ /* the segments due now, then at each timeout until none is left */
+		size_t total = segments(&m, PSD_BACSERVE_MAX_APDU);
+		for (int k = 0; k <= PSD_BACSEG_RETRIES + 1; k++) {
+			m.now += PSD_BACSEG_TIMEOUT_MS / 1000.0;
+			total += segments(&m, PSD_BACSERVE_MAX_APDU);
+		}
+		if (total > (size_t)PSD_BACSEG_MAX_TX * PSD_BACSEG_WINDOW * (PSD_BACSEG_RETRIES + 1) ||
+		    psd_bacseg_due(&m.seg, m.now) >= 0)
+			abort();
+		m.now = 100;
+	}
 	/* a subscription's first notification; then the levels move and a
 	 * lifetime of up to 50 s ends */
 	notifications(&m);
@@ -124,5 +172,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 					abort();
 		}
 	}
+	psd_bacseg_free(&m.seg);
 	return 0;
 }

@@ -59,7 +59,8 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	static char reply[PSD_CTL_MAX_OUT / 2];
+	struct psd_ctl_reply r = { 0 };
+	const char *reply;
 	char line[PSD_CTL_MAX_LINE];
 	struct psd_ctl_client c = { .fd = -1 };
 	json_object *o, *ok;
@@ -68,10 +69,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	line[n] = '\0';
 	if (strlen(line) != n || memchr(line, '\n', n))
 		return 0;   /* the socket splits lines and refuses NUL before the handler */
-	psd_ctlcmd_handle(&d, &c, line, reply, sizeof reply);
-	if (strchr(reply, '\n') || !(o = json_tokener_parse(reply)) || !json_object_object_get_ex(o, "ok", &ok))
+	psd_ctlcmd_handle(&d, &c, line, &r);
+	reply = r.text;
+	if (!reply || strchr(reply, '\n') || !(o = json_tokener_parse(reply)) || !json_object_object_get_ex(o, "ok", &ok))
 		abort();
 	json_object_put(o);
+	psd_ctlsock_reply_free(&r);
 	psd_clock_advance(&d.clock, psd_clock_now(&d.clock) + 1);
 	psd_engine_step(&d.engine, psd_clock_now(&d.clock));
 	d.reload = 0;

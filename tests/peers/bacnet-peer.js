@@ -90,8 +90,8 @@ async function main() {
 		return fault();
 	const hit = await whoIs(device, device);
 	ok(hit.length === 1 && hit[0].deviceId === device, `Who-Is ${device}-${device}: one I-Am from device ${device}`);
-	ok(hit.length === 1 && hit[0].maxApdu === 1476 && hit[0].segmentation === 3,
-		`I-Am: max APDU 1476, no-segmentation (${hit.length ? hit[0].maxApdu + ', ' + hit[0].segmentation : 'none'})`);
+	ok(hit.length === 1 && hit[0].maxApdu === 1476 && hit[0].segmentation === 1,
+		`I-Am: max APDU 1476, segmented-transmit (${hit.length ? hit[0].maxApdu + ', ' + hit[0].segmentation : 'none'})`);
 	const miss = await whoIs(device + 1, device + 10);
 	ok(miss.length === 0, `Who-Is ${device + 1}-${device + 10}: no I-Am (${miss.length})`);
 	const all = await whoIs();
@@ -141,8 +141,8 @@ async function main() {
 		{ id: P.PROTOCOL_VERSION, index: 0xffffffff }, { id: P.PROTOCOL_REVISION, index: 0xffffffff },
 		{ id: P.MAX_APDU_LENGTH_ACCEPTED, index: 0xffffffff }, { id: P.SEGMENTATION_SUPPORTED, index: 0xffffffff }] }]);
 	const dv = devr.values[0].values.map((v) => v.value[0].value);
-	ok(dv[0] === 1 && dv[1] === 14 && dv[2] === 1476 && dv[3] === 3,
-		`Device: Protocol_Version 1, Protocol_Revision 14, Max_APDU 1476, no-segmentation (${dv.join(' ')})`);
+	ok(dv[0] === 1 && dv[1] === 14 && dv[2] === 1476 && dv[3] === 1,
+		`Device: Protocol_Version 1, Protocol_Revision 14, Max_APDU 1476, segmented-transmit (${dv.join(' ')})`);
 
 	// ReadProperty round trips: Present_Value of the first Lighting Output
 	const lo = los[0];

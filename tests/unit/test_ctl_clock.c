@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: ISC */
-/* The control protocol's word splitter and the daemon's clock. */
+/* The control protocol's word splitter, its growing reply and the daemon's
+ * clock. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -35,6 +36,36 @@ static void split_refuses(void **state)
 	assert_int_equal(psd_ctlsock_split(many, argv, err, sizeof err), -1);
 	assert_string_equal(err, "more than 8 words");
 	assert_int_equal(psd_ctlsock_split(empty, argv, err, sizeof err), 0);
+}
+
+/* A reply grows to what it holds (200 kB, past any one buffer), is
+ * replaced whole by a shorter one, and one of PSD_CTL_MAX_REPLY octets or
+ * more becomes the error reply. */
+static void reply_grows_to_its_limit(void **state)
+{
+	struct psd_ctl_reply r = { 0 };
+	size_t n = 200000;
+	char *big = malloc(PSD_CTL_MAX_REPLY + 1);
+	(void)state;
+	assert_non_null(big);
+	memset(big, 'x', n);
+	big[n] = '\0';
+	assert_int_equal(psd_ctlsock_reply_set(&r, big), 0);
+	assert_int_equal(strlen(r.text), n);
+	assert_true(r.cap >= n + 1);
+	assert_int_equal(psd_ctlsock_reply_set(&r, "{\"ok\":true}"), 0);
+	assert_string_equal(r.text, "{\"ok\":true}");
+	memset(big, 'x', PSD_CTL_MAX_REPLY - 1);
+	big[PSD_CTL_MAX_REPLY - 1] = '\0';
+	assert_int_equal(psd_ctlsock_reply_set(&r, big), 0);   /* the most: one octet short of the limit */
+	assert_int_equal(strlen(r.text), PSD_CTL_MAX_REPLY - 1);
+	big[PSD_CTL_MAX_REPLY - 1] = 'x';
+	big[PSD_CTL_MAX_REPLY] = '\0';
+	assert_int_equal(psd_ctlsock_reply_set(&r, big), -1);
+	assert_string_equal(r.text, "{\"ok\":false,\"error\":\"reply too long\"}");
+	psd_ctlsock_reply_free(&r);
+	assert_null(r.text);
+	free(big);
 }
 
 static void simulated_clock_jumps(void **state)
@@ -145,6 +176,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(split_words),
 		cmocka_unit_test(split_refuses),
+		cmocka_unit_test(reply_grows_to_its_limit),
 		cmocka_unit_test(simulated_clock_jumps),
 		cmocka_unit_test(real_clock_speed),
 		cmocka_unit_test(dates_and_stamps),

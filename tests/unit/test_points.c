@@ -144,11 +144,12 @@ static void the_zones_differ(void **state)
 
 static json_object *status(void)
 {
-	static char reply[65536];
+	struct psd_ctl_reply reply = { 0 };
 	char line[] = "status";
 	json_object *o;
-	psd_ctlcmd_request(&d, line, reply, sizeof reply);
-	o = json_tokener_parse(reply);
+	psd_ctlcmd_request(&d, line, &reply);
+	o = json_tokener_parse(reply.text);
+	psd_ctlsock_reply_free(&reply);
 	assert_non_null(o);
 	return o;
 }
