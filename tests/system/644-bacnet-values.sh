@@ -12,7 +12,8 @@
 # electric task lux at full output and follows a new target; every write
 # reaches the engine and is logged.  With the Lighting Output alone opened,
 # the Values are write-access-denied.  A zone in a sensor fault stays at
-# its safe level whatever is written.  A word `writes` does not know is
+# its safe level whatever is written.  A reload that changes the
+# configured target keeps a written one (the priority array outlives it).  A word `writes` does not know is
 # refused with its line.  Written values are not kept across
 # a restart: psensd starts from the configured target.
 . "$(dirname "$0")/lib.sh"
@@ -75,6 +76,12 @@ check "psensd still answers the control socket" sh -c "\"$BIN/psensctl\" -s \"$S
 # a write left in force is not kept across a restart
 peer 3
 check "status shows the written target while it is in force" test "$(status_of points.target_lux)" = 321
+sed -i 's/^target_lux = 500$/target_lux = 450/' "$TMP/psensd.conf"
+ctl reload > "$TMP/reload.out"
+wait_for 10 sh -c "grep -q 'bacnet: zone office: target_lux 321 at priority 16' '$TMP/err1' &&
+	test \"\$(grep -c 'bacnet: zone office: target_lux 321 at priority 16' '$TMP/err1')\" -ge 2"
+check "a reload with a new configured target (450): the priority array puts 321 back" \
+	test "$(status_of points.target_lux)" = 321 -a "$(grep -c 'bacnet: zone office: target_lux 321 at priority 16' "$TMP/err1")" = 2
 kill "$PID"; wait "$PID" 2> /dev/null
 start 1
 check "after a restart the configured target holds again" test "$(status_of points.target_lux)" = 500
