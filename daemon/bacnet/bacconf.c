@@ -69,6 +69,11 @@ void psd_bacconf_load(struct psd_bacnet_conf *b, struct ps_conf *c)
 		}
 	}
 	ps_conf_double(c, s, "hold", 3600, 60, 7 * 86400, &b->hold);
+	ps_conf_double(c, s, "target_min", 0, 0, 5000, &b->target_min);
+	ps_conf_double(c, s, "target_max", 5000, 0, 5000, &b->target_max);
+	if (b->target_max <= b->target_min)
+		ps_conf_error(c, line_of(s, ps_conf_kv(s, "target_max") ? "target_max" : "target_min"),
+		              "target_max (%g lx) must be above target_min (%g lx)", b->target_max, b->target_min);
 	ps_conf_double(c, s, "rate", 100, 1, 100000, &b->rate);
 	ps_conf_int(c, s, "bbmd_ttl", 600, 10, 65535, &b->bbmd_ttl);
 	if ((v = ps_conf_str(c, s, "bbmd", NULL))) {

@@ -28,6 +28,7 @@ struct psd_bacnet_conf {
 	long vendor_id; /* Vendor_Identifier, default 65535 (none assigned) */
 	int writes;     /* PSD_BACCONF_* bits */
 	double hold;    /* s: a written level's override lasts this long, renewed while written */
+	double target_min, target_max; /* lx: the target lux a BMS may write */
 	double rate;    /* datagrams a second one source may send (and as many at once) */
 	int bbmd;       /* register as a foreign device with a BBMD */
 	char bbmd_host[64]; /* its IPv4 address */

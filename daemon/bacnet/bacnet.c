@@ -296,6 +296,8 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 		                            .name = b->c.name,
 		                            .vendor_id = (uint16_t)c->vendor_id,
 		                            .writes = c->writes,
+		                            .target_min = c->target_min,
+		                            .target_max = c->target_max,
 		                            .database_revision = 1,
 		                            .zone = b->zone,
 		                            .apply = apply,

@@ -335,6 +335,18 @@ int psd_bacobj_fault(const struct psd_bacserve_model *m, const struct psd_bacobj
 	return z->fault || (o->type != PSD_BAC_LO && isnan(z->pv[o->point]));
 }
 
+/* The range a write to point i's Value must keep to: the point's, the
+ * target's narrowed by the configuration. */
+static void range_of(const struct psd_bacserve_model *m, size_t i, double *lo, double *hi)
+{
+	const struct psd_points_def *d = psd_points_def(i);
+	*lo = d->min, *hi = d->max;
+	if (write_bit(i) == PSD_BACCONF_TARGET && m->target_max > m->target_min) {
+		*lo = fmax(*lo, m->target_min);
+		*hi = fmin(*hi, m->target_max);
+	}
+}
+
 /* Encode one array element (idx 1..) or, idx 0, the whole array; -1 when idx
  * is past its end. */
 static int put_array(const struct psd_bacserve_model *m, const struct psd_bacobj *o, uint32_t prop,
@@ -471,8 +483,13 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		else
 			psd_bactag_put_real(b, -1, (float)z->level);
 		break;
-	case P_MIN_PRES_VALUE: psd_bactag_put_real(b, -1, (float)psd_points_def((size_t)o->point)->min); break;
-	case P_MAX_PRES_VALUE: psd_bactag_put_real(b, -1, (float)psd_points_def((size_t)o->point)->max); break;
+	case P_MIN_PRES_VALUE:
+	case P_MAX_PRES_VALUE: {
+		double lo, hi;
+		range_of(m, (size_t)o->point, &lo, &hi);
+		psd_bactag_put_real(b, -1, (float)(prop == P_MIN_PRES_VALUE ? lo : hi));
+		break;
+	}
 	case P_LIGHTING_COMMAND: /* the last one taken (none at first) */
 		psd_bactag_put_enum(b, 0, z->lc_op);
 		if (z->lc_op == LC_FADE_TO || z->lc_op == LC_RAMP_TO)
@@ -509,10 +526,9 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj *o, uint32_t prop, int has_idx,
                            uint32_t prio, const struct psd_bactag *val, uint32_t *ec, uint32_t *code)
 {
-	const struct psd_points_def *d;
 	struct psd_bacserve_zone *z;
 	int slot = o->point >= 0 ? psd_bacobj_value_slot((size_t)o->point) : -1;
-	double v = NAN, was;
+	double v = NAN, was, lo, hi;
 	uint32_t u;
 	float f;
 	*ec = EC_PROPERTY;
@@ -532,7 +548,6 @@ int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj
 		*code = E_WRITE_ACCESS_DENIED;
 		return -1;
 	}
-	d = psd_points_def((size_t)o->point);
 	*code = E_INVALID_DATA_TYPE;
 	if (!val->context && val->number == PSD_BACTAG_NULL && val->len == 0)
 		v = NAN; /* relinquish */
@@ -551,7 +566,8 @@ int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj
 			return -1;
 		v = u;
 	}
-	if (!isnan(v) && !(v >= d->min && v <= d->max)) {
+	range_of(m, (size_t)o->point, &lo, &hi);
+	if (!isnan(v) && !(v >= lo && v <= hi)) {
 		*code = E_VALUE_OUT_OF_RANGE;
 		return -1;
 	}

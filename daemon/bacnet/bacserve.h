@@ -88,6 +88,9 @@ struct psd_bacserve_model {
 	uint32_t device;  /* the Device object's instance (0 - 4194302) */
 	const char *name; /* its Object_Name */
 	uint16_t vendor_id;
+	/* the target lux a BMS may write ([bacnet] target_min, target_max),
+	 * within the point's range; both 0: the point's range */
+	double target_min, target_max;
 	int writes; /* bits (bacconf.h): 1 a Lighting Output's Present_Value is writable; 2, 4, 8 the
 	               target's, daylighting's, vacancy hold's Value */
 	uint32_t database_revision;

@@ -6,7 +6,8 @@
 // usage: node bacnet-values-peer.js SERVER_PORT DEVICE_INSTANCE MODE E_LUX
 //   MODE 1: writes = lighting-output target daylighting.  Priority_Array and
 //     Relinquish_Default read back; writes at priorities 12 and 8, each
-//     relinquished (Present_Value follows the highest); out-of-range writes
+//     relinquished (Present_Value follows the highest); writes outside
+//     target_min 50 .. target_max 1500 (the test's [bacnet]) and other out-of-range writes
 //     refused; a write to an Analog Input denied; with daylight control off,
 //     the Lighting Output's level is target / E_LUX (the electric task lux at
 //     full output) and follows a new target.
@@ -66,8 +67,10 @@ async function main() {
 	ok(rd === 500 && pa.length === 16 && pa.every((v) => v.type === 0),
 		`target: Relinquish_Default ${rd} (the configured 500), Priority_Array 16 NULLs (${pa.length})`);
 	const units = (await read(target, P.UNITS))[0].value;
+	const min = (await read(target, P.MIN_PRES_VALUE))[0].value;
 	const max = (await read(target, P.MAX_PRES_VALUE))[0].value;
-	ok(units === 37 && max === 5000, `target: Units luxes (${units}), Max_Pres_Value ${max}`);
+	ok(units === 37 && min === 50 && max === 1500,
+		`target: Units luxes (${units}), Min_Pres_Value ${min}, Max_Pres_Value ${max} ([bacnet] target_min, target_max)`);
 	const drd = (await read(day, P.RELINQUISH_DEFAULT))[0].value;
 	ok(drd === 1 && (await pv(day)) === 1, `daylight control: Relinquish_Default active (${drd}), Present_Value active`);
 
@@ -124,10 +127,10 @@ async function main() {
 	const r12 = await errorOf(client.writeProperty(server, target, P.PRESENT_VALUE, nul, { priority: 12 }));
 	ok(r12 === 'none' && (await until(target, (v) => v === 500)) === 500, `relinquish 12: Relinquish_Default 500 (${r12})`);
 
-	const big = await errorOf(client.writeProperty(server, target, P.PRESENT_VALUE, real(6000), { priority: 8 }));
-	ok(OUT_OF_RANGE.test(big), `6000 lx (past 5000) refused: ${big}`);
-	const neg = await errorOf(client.writeProperty(server, target, P.PRESENT_VALUE, real(-1), { priority: 8 }));
-	ok(OUT_OF_RANGE.test(neg), `-1 lx refused: ${neg}`);
+	const big = await errorOf(client.writeProperty(server, target, P.PRESENT_VALUE, real(1600), { priority: 8 }));
+	ok(OUT_OF_RANGE.test(big), `1600 lx (past target_max 1500) refused: ${big}`);
+	const low = await errorOf(client.writeProperty(server, target, P.PRESENT_VALUE, real(40), { priority: 8 }));
+	ok(OUT_OF_RANGE.test(low), `40 lx (below target_min 50) refused: ${low}`);
 	const two = await errorOf(client.writeProperty(server, day, P.PRESENT_VALUE, enumv(2), { priority: 8 }));
 	ok(OUT_OF_RANGE.test(two), `daylight control 2 (not a BACnetBinaryPV) refused: ${two}`);
 	const ai = await errorOf(client.writeProperty(server, signal, P.PRESENT_VALUE, real(1), { priority: 8 }));

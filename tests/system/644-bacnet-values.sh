@@ -7,8 +7,8 @@
 # target daylighting: the target lux (Analog Value) and daylight control
 # (Binary Value) read with their Priority_Array and Relinquish_Default,
 # written at priorities 12 and 8 and relinquished (Present_Value follows
-# the highest), out-of-range and not-writable writes refused with their
-# errors, and with daylight control off the light level is target / the
+# the highest), writes outside [bacnet] target_min and target_max (50 and
+# 1500 lx) and not-writable writes refused with their errors, and with daylight control off the light level is target / the
 # electric task lux at full output and follows a new target; every write
 # reaches the engine and is logged.  With the Lighting Output alone opened,
 # the Values are write-access-denied.  A zone in a sensor fault stays at
@@ -42,7 +42,7 @@ start() {
 	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd$1.db\nsocket = sock|; $f" \
 		config/psensd.conf > "$TMP/psensd.conf"
 	w="lighting-output target daylighting"; [ "$1" = 0 ] && w=lighting-output
-	printf '\n[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 2644\nwrites = %s\nrate = 100000\n' \
+	printf '\n[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 2644\nwrites = %s\nrate = 100000\ntarget_min = 50\ntarget_max = 1500\n' \
 		"$port" "$w" >> "$TMP/psensd.conf"
 	"$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > "$TMP/out$1" 2>> "$TMP/err$1" &
 	PID=$!; track_pid $PID
@@ -101,6 +101,10 @@ kill "$PID"; wait "$PID" 2> /dev/null
 
 sed 's/^writes = .*/writes = lighting-output everything/' "$TMP/psensd.conf" > "$TMP/bad.conf"
 "$BIN/psensd" -n -f "$TMP/bad.conf" > "$TMP/bad.out" 2>&1
+sed 's/^target_max = .*/target_max = 40/' "$TMP/psensd.conf" > "$TMP/bad2.conf"
+"$BIN/psensd" -n -f "$TMP/bad2.conf" > "$TMP/bad2.out" 2>&1
+check "target_max below target_min is refused with its line" \
+	grep -q "bad2.conf:[0-9]*: target_max (40 lx) must be above target_min (50 lx)" "$TMP/bad2.out"
 check "a word [bacnet] writes does not know is refused with its line" \
 	grep -q "bad.conf:[0-9]*: writes: 'everything' is not one of none, lighting-output, target, daylighting, vacancy-hold" "$TMP/bad.out"
 done_testing
