@@ -16,6 +16,8 @@
 //   MODE 2: MODE 1's writes, the zone in a sensor fault at its safe level of
 //     100 %: the writes are taken, the light stays at 100 %.
 //   MODE 3: MODE 1's writes: 321 lx at priority 16, left in force.
+//   MODE 4: writes = vacancy-hold, a zone with an occupancy input: its
+//     vacancy hold (Analog Value 2) read and written, 120 s at priority 8.
 'use strict';
 const Bacnet = require('@bacnet-js/client').default;
 const { ObjectType, PropertyIdentifier: P } = require('@bacnet-js/client');
@@ -81,6 +83,21 @@ async function main() {
 		ok(DENIED.test(w2), `daylight control not opened: ${w2}`);
 		const p8 = (await read(target, P.PRIORITY_ARRAY, 8))[0];
 		ok(p8.type === 0 && (await pv(target)) === 500, `nothing written: Priority_Array[8] NULL, Present_Value 500`);
+		return;
+	}
+
+	if (mode === 4) { // the vacancy hold of a zone with an occupancy input
+		const hold = named['office vacancy hold'];
+		ok(hold && hold.type === ObjectType.ANALOG_VALUE && hold.instance === 2,
+			`'office vacancy hold' is Analog Value 2 (${JSON.stringify(hold)})`);
+		if (!hold) return;
+		const hrd = (await read(hold, P.RELINQUISH_DEFAULT))[0].value;
+		const hu = (await read(hold, P.UNITS))[0].value;
+		ok(hrd === 900 && hu === 73, `vacancy hold: Relinquish_Default ${hrd} (the configured 900), Units seconds (${hu})`);
+		const big = await errorOf(client.writeProperty(server, hold, P.PRESENT_VALUE, real(90000), { priority: 8 }));
+		ok(OUT_OF_RANGE.test(big), `90000 s (past a day) refused: ${big}`);
+		const w = await errorOf(client.writeProperty(server, hold, P.PRESENT_VALUE, real(120), { priority: 8 }));
+		ok(w === 'none' && (await until(hold, (v) => v === 120)) === 120, `120 s at priority 8: Present_Value 120 (${w})`);
 		return;
 	}
 
