@@ -377,7 +377,9 @@ static int put_array(const struct psd_bacserve_model *m, const struct psd_bacobj
 			psd_bactag_put_objectid(b, -1, e.type, e.instance);
 		} else if (prop == P_PRIORITY_ARRAY) {
 			int slot = psd_bacobj_value_slot((size_t)o->point);
-			double v = slot >= 0 ? m->zone[o->zone].vprio[slot][i] : m->zone[o->zone].prio[i];
+			double v = o->type == PSD_BAC_LO ? m->zone[o->zone].prio[i]
+			           : slot >= 0          ? m->zone[o->zone].vprio[slot][i]
+			                                : NAN;
 			if (isnan(v))
 				psd_bactag_put_null(b, -1);
 			else
@@ -478,9 +480,10 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		psd_bactag_put_unsigned(b, -1, (uint32_t)psd_points_nstates((size_t)o->point));
 		break;
 	case P_RELINQUISH_DEFAULT:
-		if (is_value(o->type))
-			put_typed(b, o->type, z->vdef[psd_bacobj_value_slot((size_t)o->point)]);
-		else
+		if (is_value(o->type)) {
+			int slot = psd_bacobj_value_slot((size_t)o->point);
+			put_typed(b, o->type, slot >= 0 ? z->vdef[slot] : z->pv[o->point]);
+		} else
 			psd_bactag_put_real(b, -1, (float)z->level);
 		break;
 	case P_MIN_PRES_VALUE:

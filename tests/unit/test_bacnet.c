@@ -725,6 +725,10 @@ static void writable_values(void **state)
 	const uint8_t *a;
 	size_t target = (size_t)psd_points_find("target_lux"), day = (size_t)psd_points_find("daylighting");
 	(void)state;
+	/* every writable point but the level has a priority array of its own */
+	for (size_t i = 0, k = 0; i < psd_points_count(); i++)
+		if (psd_points_def(i)->writable && strcmp(psd_points_def(i)->key, "level") != 0)
+			assert_int_equal(psd_bacobj_value_slot(i), (int)k++);
 	model.writes = PSD_BACCONF_TARGET | PSD_BACCONF_DAYLIGHTING;
 	model.apply_value = apply_value;
 	zones[0].vdef[psd_bacobj_value_slot(target)] = 500;
