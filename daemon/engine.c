@@ -198,6 +198,7 @@ static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd
 			z->ctl.level = z->level = o->level;
 			z->override_level = o->override_level;
 			z->override_until = o->override_until;
+			z->daylight_off = o->daylight_off;
 			if (z->occupancy >= 0 && o->occupancy >= 0) {   /* the room is as it was */
 				z->occ = o->occ;
 				z->occ.hold = zc->vacancy_s;
@@ -934,6 +935,15 @@ static double decide(struct psd_zone *z, double now, double level)
 	}
 }
 
+/* Daylight control off: the level that meets the target with no daylight. */
+static double fixed_level(const struct psd_zone *z)
+{
+	double u = z->ctl.target_lux / z->ctl.elec_task_lux;
+	if (!(z->ctl.elec_task_lux > 0) || !isfinite(u) || u > 1)
+		return 1;
+	return u < z->ctl.min_level ? z->ctl.min_level : u;
+}
+
 static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 {
 	const struct psd_zone_conf *zc = z->zc;
@@ -984,6 +994,8 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			dated_ratio(e, z, now);
 			estimated = 1;
 			level = psd_control_step(&z->ctl, z->volts, now);
+			if (z->daylight_off)
+				level = fixed_level(z);
 			law = level;
 		}
 		else
@@ -1228,6 +1240,25 @@ void psd_engine_off(struct psd_zone *z)
 int psd_engine_zone_occupied(const struct psd_zone *z)
 {
 	return z->occupancy;
+}
+
+void psd_engine_set_daylighting(struct psd_zone *z, int on)
+{
+	if (z->daylight_off == !on)
+		return;
+	z->daylight_off = !on;
+	z->asap = 1;
+	psd_log_info("zone %s: daylight control %s", z->zc->name,
+	             on ? "on" : "off: the level that meets the target without daylight");
+}
+
+int psd_engine_set_vacancy_hold(struct psd_zone *z, double seconds, char *err, size_t n)
+{
+	if (!(seconds >= 0 && seconds <= 86400))
+		return psd_errbuf(err, n, "vacancy hold %g s is outside 0 to 86400", seconds);
+	z->occ.hold = seconds;
+	psd_log_info("zone %s: vacancy hold %g s", z->zc->name, seconds);
+	return 0;
 }
 
 void psd_engine_release(struct psd_zone *z)

@@ -74,6 +74,8 @@ struct psd_zone {
 	double volts, task_lux;   /* last readings (NAN if none) */
 	double level;             /* last commanded output */
 	double override_level, override_until;   /* override: level until a time */
+	int daylight_off;         /* daylight control off: the level that meets the target
+	                             without daylight (psd_engine_set_daylighting) */
 	/* occupancy (daemon/occupancy.h): the zone's state machine, each input's
 	 * last report (-1 none yet), its last good read and its fault */
 	int occupancy;            /* -1 no occupancy input, 0 vacant, 1 occupied (a
@@ -187,6 +189,14 @@ int psd_engine_override(struct psd_zone *z, double level, double seconds, double
  * occupancy input until the next change from vacant to occupied. */
 void psd_engine_off(struct psd_zone *z);
 void psd_engine_release(struct psd_zone *z);
+/* Daylight control on (the control law holds the target with the
+ * daylight) or off (the zone holds the level that meets the target with
+ * no daylight: target / electric task lux at full output, within the
+ * zone's minimum and 1; full output when that is unknown).  A fault's safe
+ * level, an override and the occupancy rule over it as over the control. */
+void psd_engine_set_daylighting(struct psd_zone *z, int on);
+/* The occupancy's vacancy hold, s (0 to 86400). */
+int psd_engine_set_vacancy_hold(struct psd_zone *z, double seconds, char *err, size_t n);
 
 /* Calibration sessions (daemon/calsession.h) on a zone.  Each -1 with a
  * message in err. */

@@ -15,6 +15,7 @@
 #include "annual.h"
 #include "db.h"
 #include "engine.h"
+#include "errbuf.h"
 #include "json.h"
 
 static const char *const control_states[] = { "auto", "override", "calibrating", "fault", "safe", NULL };
@@ -31,7 +32,7 @@ static int verdict_of(const char *overall)
 enum { NEED_NONE, NEED_METER, NEED_OCCUPANCY, NEED_POWER, NEED_RESULTS };
 
 /* BACnetEngineeringUnits */
-enum { U_HOURS = 71, U_KWH = 19, U_LUXES = 37, U_VOLTS = 5, U_PERCENT = 98, U_NONE = 95 };
+enum { U_HOURS = 71, U_KWH = 19, U_LUXES = 37, U_VOLTS = 5, U_PERCENT = 98, U_NONE = 95, U_SECONDS = 73 };
 
 /* What a point's value is read from: the zone, its engine, the model's
  * own state of the zone (NULL: none yet), the clock. */
@@ -61,6 +62,8 @@ static double occupied(const struct at *a) { return psd_points_occupancy(a->z) =
 static double state(const struct at *a) { return control_state(a->z, a->now); }
 static double source(const struct at *a) { return ratio_source(a->e, a->z); }
 static double acceptance(const struct at *a) { return a->s->verdict + 1; }
+static double daylighting(const struct at *a) { return !a->z->daylight_off; }
+static double vacancy_hold(const struct at *a) { return a->z->occ.hold; }
 
 /* The order is BACnet's instance numbering (bacobj.c): append, never insert. */
 static const struct {
@@ -70,53 +73,61 @@ static const struct {
 	int stateful; /* read from the model's own state of the zone */
 } table[] = {
 	{ { "est_task_lux", "task lux estimate", "lx", PSD_POINTS_ANALOG, 0,
-	    "the task illuminance estimated from the sensor at this step", NULL, U_LUXES, "illuminance" },
+	    "the task illuminance estimated from the sensor at this step", NULL, U_LUXES, "illuminance", 0, 0 },
 	  NEED_NONE, est_task_lux, 0 },
 	{ { "sensor_v", "sensor signal", "V", PSD_POINTS_ANALOG, 0, "the photosensor's signal", NULL, U_VOLTS,
-	    "voltage" },
+	    "voltage", 0, 0 },
 	  NEED_NONE, sensor_v, 0 },
 	{ { "target_lux", "target lux", "lx", PSD_POINTS_ANALOG, 1, "the task illuminance the control holds", NULL,
-	    U_LUXES, "illuminance" },
+	    U_LUXES, "illuminance", 0, 5000 },
 	  NEED_NONE, target_lux, 0 },
 	{ { "level", "light level", "%", PSD_POINTS_ANALOG, 1, "the light output commanded", NULL, U_PERCENT,
-	    NULL },
+	    NULL, 0, 0 },
 	  NEED_NONE, level, 0 },
 	{ { "level_actual", "actual light level", "%", PSD_POINTS_ANALOG, 0,
-	    "the light output while the sensor was read", NULL, U_PERCENT, NULL },
+	    "the light output while the sensor was read", NULL, U_PERCENT, NULL, 0, 0 },
 	  NEED_NONE, level_actual, 0 },
 	{ { "task_lux", "measured task lux", "lx", PSD_POINTS_ANALOG, 0, "the task meter's illuminance", NULL,
-	    U_LUXES, "illuminance" },
+	    U_LUXES, "illuminance", 0, 0 },
 	  NEED_METER, task_lux, 0 },
 	{ { "ratio", "daylight ratio", "lx", PSD_POINTS_ANALOG, 0,
-	    "the simulated task lux per unit of sensor response in force", NULL, U_LUXES, NULL },
+	    "the simulated task lux per unit of sensor response in force", NULL, U_LUXES, NULL, 0, 0 },
 	  NEED_RESULTS, ratio, 0 },
 	{ { "drift_pct", "drift", "%", PSD_POINTS_ANALOG, 0, "the measured ratio against the simulated one",
-	    NULL, U_PERCENT, NULL },
+	    NULL, U_PERCENT, NULL, 0, 0 },
 	  NEED_METER, drift_pct, 0 },
 	{ { "output_h", "light-output hours", "h", PSD_POINTS_ANALOG, 0,
-	    "hours at full output since psensd started", NULL, U_HOURS, NULL },
+	    "hours at full output since psensd started", NULL, U_HOURS, NULL, 0, 0 },
 	  NEED_NONE, output_h, 1 },
 	{ { "energy_kwh", "energy", "kWh", PSD_POINTS_ANALOG, 0,
-	    "input energy since psensd started, through the power curve", NULL, U_KWH, "energy" },
+	    "input energy since psensd started, through the power curve", NULL, U_KWH, "energy", 0, 0 },
 	  NEED_POWER, energy_kwh, 1 },
 	{ { "fault", "fault", NULL, PSD_POINTS_BINARY, 0, "the zone is at its safe level on a fault", NULL, 0,
-	    "problem" },
+	    "problem", 0, 0 },
 	  NEED_NONE, fault, 0 },
 	{ { "drift", "drift flag", NULL, PSD_POINTS_BINARY, 0, "the drift held out of bounds past its hold",
-	    NULL, 0, "problem" },
+	    NULL, 0, "problem", 0, 0 },
 	  NEED_METER, drift, 0 },
 	{ { "occupied", "occupancy", NULL, PSD_POINTS_BINARY, 0, "the occupancy input's state", NULL, 0,
-	    "occupancy" },
+	    "occupancy", 0, 0 },
 	  NEED_OCCUPANCY, occupied, 0 },
 	{ { "state", "control state", NULL, PSD_POINTS_MULTISTATE, 0, "what holds the light level",
-	    control_states, 0, "enum" },
+	    control_states, 0, "enum", 0, 0 },
 	  NEED_NONE, state, 0 },
 	{ { "ratio_source", "ratio source", NULL, PSD_POINTS_MULTISTATE, 0, "where the ratio in force comes from",
-	    ratio_sources, 0, "enum" },
+	    ratio_sources, 0, "enum", 0, 0 },
 	  NEED_RESULTS, source, 0 },
 	{ { "acceptance", "acceptance verdict", NULL, PSD_POINTS_MULTISTATE, 0,
-	    "the verdict of the zone's last acceptance run in the log", verdicts, 0, "enum" },
+	    "the verdict of the zone's last acceptance run in the log", verdicts, 0, "enum", 0, 0 },
 	  NEED_METER, acceptance, 1 },
+	{ { "daylighting", "daylight control", NULL, PSD_POINTS_BINARY, 1,
+	    "on: the control holds the target with the daylight; off: the level that meets the target "
+	    "without daylight",
+	    NULL, 0, NULL, 0, 1 },
+	  NEED_NONE, daylighting, 0 },
+	{ { "vacancy_hold", "vacancy hold", "s", PSD_POINTS_ANALOG, 1,
+	    "vacant this long, the zone goes to its vacant level", NULL, U_SECONDS, "duration", 0, 86400 },
+	  NEED_OCCUPANCY, vacancy_hold, 0 },
 };
 #define NPOINTS (sizeof table / sizeof table[0])
 
@@ -221,6 +232,42 @@ int psd_points_value(const struct psd_points *p, const struct psd_engine *e, siz
 		return -1;
 	*v = table[i].get(&a);
 	return 0;
+}
+
+int psd_points_default(const struct psd_engine *e, size_t zi, size_t i, double *v)
+{
+	const struct psd_zone_conf *zc;
+	if (!psd_points_has(e, zi, i) || !table[i].d.writable)
+		return -1;
+	zc = e->zone[zi].zc;
+	if (table[i].get == target_lux)
+		*v = zc->ctl.target_lux;
+	else if (table[i].get == daylighting)
+		*v = 1;
+	else if (table[i].get == vacancy_hold)
+		*v = zc->vacancy_s;
+	else
+		return -1;
+	return 0;
+}
+
+int psd_points_write(struct psd_engine *e, size_t zi, size_t i, double v, char *err, size_t n)
+{
+	const struct psd_points_def *d = psd_points_def(i);
+	double was;
+	if (!psd_points_has(e, zi, i) || psd_points_default(e, zi, i, &was) != 0) {
+		return psd_errbuf(err, n, "%s is not a point zone %zu can be written", d ? d->key : "?", zi);
+	}
+	if (!(v >= d->min && v <= d->max) || (d->kind != PSD_POINTS_ANALOG && v != floor(v))) {
+		return psd_errbuf(err, n, "%s %g is outside %g to %g", d->key, v, d->min, d->max);
+	}
+	if (table[i].get == target_lux)
+		return psd_engine_set_target(&e->zone[zi], v, err, n);
+	if (table[i].get == daylighting) {
+		psd_engine_set_daylighting(&e->zone[zi], v != 0);
+		return 0;
+	}
+	return psd_engine_set_vacancy_hold(&e->zone[zi], v, err, n);
 }
 
 /* The last acceptance run on record (the results sharing the latest time). */

@@ -38,6 +38,9 @@ struct psd_points_def {
 	const char *const *states;  /* multi-state: the state names, NULL-terminated */
 	unsigned bacnet_units;      /* analog: BACnetEngineeringUnits */
 	const char *ha_class;       /* Home Assistant device_class, NULL: none */
+	/* a writable point other than the level (a BACnet Value, commandable):
+	 * the range a write must keep to, in the unit */
+	double min, max;
 };
 
 /* The zone-level state the engine does not keep: the energy integrated
@@ -74,6 +77,16 @@ int psd_points_has(const struct psd_engine *e, size_t zi, size_t i);
  * verdict are then absent). */
 int psd_points_value(const struct psd_points *p, const struct psd_engine *e, size_t zi, size_t i, double now,
                      double *v);
+/* A writable point's configured value (what holds when no one commands
+ * it: BACnet's Relinquish_Default): 0, or -1 when zone zi lacks point i or
+ * the point is not a writable one other than the level. */
+int psd_points_default(const struct psd_engine *e, size_t zi, size_t i, double *v);
+/* Command writable point i of zone zi to v (the target lux, daylight
+ * control on 1 or off 0, the vacancy hold in s), logged by the engine: 0,
+ * or -1 with a message in err (no such point in the zone, not writable
+ * this way, v outside [min, max]).  The level is commanded as an override
+ * instead (psd_engine_override). */
+int psd_points_write(struct psd_engine *e, size_t zi, size_t i, double v, char *err, size_t n);
 /* The zone's occupancy: -1 no occupancy input, 0 vacant, 1 occupied. */
 int psd_points_occupancy(const struct psd_zone *z);
 

@@ -15,7 +15,9 @@ static int line_of(struct ps_conf_section *s, const char *key)
 
 void psd_bacconf_load(struct psd_bacnet_conf *b, struct ps_conf *c)
 {
-	static const char *const writes[] = { "none", "lighting-output", NULL };
+	/* the words of `writes`, bit i - 1 for word i */
+	static const char *const writes[] = { "none", "lighting-output", "target", "daylighting", "vacancy-hold",
+		                              NULL };
 	struct ps_conf_section *s = ps_conf_section(c, "bacnet");
 	struct in_addr a;
 	const char *v;
@@ -44,8 +46,34 @@ void psd_bacconf_load(struct psd_bacnet_conf *b, struct ps_conf *c)
 	else
 		snprintf(b->name, sizeof b->name, "%s", v);
 	ps_conf_int(c, s, "vendor_id", 65535, 0, 65535, &b->vendor_id);
-	ps_conf_enum(c, s, "writes", writes, PSD_BACCONF_NONE, &b->writes);
+	if ((v = ps_conf_str(c, s, "writes", "none"))) {
+		char word[32];
+		const char *p = v;
+		size_t len;
+		while (*(p += strspn(p, " ,\t"))) {
+			int k;
+			len = strcspn(p, " ,\t");
+			snprintf(word, sizeof word, "%.*s", (int)(len < sizeof word ? len : sizeof word - 1), p);
+			for (k = 0; writes[k] && (len >= sizeof word || strcmp(writes[k], word) != 0); k++)
+				;
+			if (!writes[k]) {
+				ps_conf_error(c, line_of(s, "writes"),
+				              "writes: '%s' is not one of none, lighting-output, target, daylighting, "
+				              "vacancy-hold",
+				              word);
+				break;
+			}
+			if (k > 0)
+				b->writes |= 1 << (k - 1);
+			p += len;
+		}
+	}
 	ps_conf_double(c, s, "hold", 3600, 60, 7 * 86400, &b->hold);
+	ps_conf_double(c, s, "target_min", 0, 0, 5000, &b->target_min);
+	ps_conf_double(c, s, "target_max", 5000, 0, 5000, &b->target_max);
+	if (b->target_max <= b->target_min)
+		ps_conf_error(c, line_of(s, ps_conf_kv(s, "target_max") ? "target_max" : "target_min"),
+		              "target_max (%g lx) must be above target_min (%g lx)", b->target_max, b->target_min);
 	ps_conf_double(c, s, "rate", 100, 1, 100000, &b->rate);
 	ps_conf_int(c, s, "bbmd_ttl", 600, 10, 65535, &b->bbmd_ttl);
 	if ((v = ps_conf_str(c, s, "bbmd", NULL))) {

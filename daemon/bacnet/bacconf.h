@@ -9,7 +9,14 @@
 
 #include "conf.h"
 
-enum { PSD_BACCONF_NONE = 0, PSD_BACCONF_LIGHTING_OUTPUT = 1 };
+/* what a BMS may write (`writes`, any of them): bits */
+enum {
+	PSD_BACCONF_NONE = 0,
+	PSD_BACCONF_LIGHTING_OUTPUT = 1, /* the Lighting Outputs' level */
+	PSD_BACCONF_TARGET = 2,          /* the target lux (Analog Value) */
+	PSD_BACCONF_DAYLIGHTING = 4,     /* daylight control on or off (Binary Value) */
+	PSD_BACCONF_VACANCY_HOLD = 8,    /* the vacancy hold, s (Analog Value) */
+};
 
 struct psd_bacnet_conf {
 	int enabled;    /* a [bacnet] section is there */
@@ -19,8 +26,9 @@ struct psd_bacnet_conf {
 	long instance;  /* the Device object's instance, 0 - 4194302 */
 	char name[64];  /* its Object_Name */
 	long vendor_id; /* Vendor_Identifier, default 65535 (none assigned) */
-	int writes;     /* PSD_BACCONF_NONE or _LIGHTING_OUTPUT */
+	int writes;     /* PSD_BACCONF_* bits */
 	double hold;    /* s: a written level's override lasts this long, renewed while written */
+	double target_min, target_max; /* lx: the target lux a BMS may write */
 	double rate;    /* datagrams a second one source may send (and as many at once) */
 	int bbmd;       /* register as a foreign device with a BBMD */
 	char bbmd_host[64]; /* its IPv4 address */

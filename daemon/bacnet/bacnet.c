@@ -14,6 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bacobj.h"
 #include "bacserve.h"
 #include "engine.h"
 #include "errbuf.h"
@@ -127,6 +128,44 @@ static int apply(void *user, size_t i)
 	return 0;
 }
 
+/* The value a Value's priority array gives: the highest priority written,
+ * else Relinquish_Default; *p its priority (0: the default). */
+static double value_in_force(const struct psd_bacserve_zone *z, int slot, int *p)
+{
+	for (int i = 0; i < PSD_BACSERVE_PRIORITIES; i++)
+		if (!isnan(z->vprio[slot][i])) {
+			*p = i + 1;
+			return z->vprio[slot][i];
+		}
+	*p = 0;
+	return z->vdef[slot];
+}
+
+/* A Value's priority array to the engine (psd_points_write): the value in
+ * force, logged with its priority. */
+static int apply_value(void *user, size_t i, size_t point)
+{
+	struct psd_bacnet *b = user;
+	struct psd_bacserve_zone *z = &b->zone[i];
+	int slot = psd_bacobj_value_slot(point), p;
+	double v;
+	char err[256];
+	if (slot < 0 || i >= b->e->nzone)
+		return -1;
+	v = value_in_force(z, slot, &p);
+	if (psd_points_write(b->e, i, point, v, err, sizeof err) != 0) {
+		psd_log_warnx("bacnet: zone %s: %s %g refused: %s", z->name, psd_points_def(point)->key, v, err);
+		return -1;
+	}
+	z->pv[point] = v;
+	if (p)
+		psd_log_info("bacnet: zone %s: %s %g at priority %d", z->name, psd_points_def(point)->key, v, p);
+	else
+		psd_log_info("bacnet: zone %s: %s: every priority relinquished: %g (the configured value)",
+		             z->name, psd_points_def(point)->key, v);
+	return 0;
+}
+
 /* The objects from the engine: a zone whose name changed (a reload) starts
  * with its priority array relinquished. */
 static void refresh(struct psd_bacnet *b)
@@ -138,17 +177,29 @@ static void refresh(struct psd_bacnet *b)
 		struct psd_bacserve_zone *s = &b->zone[i];
 		if (strcmp(s->name, z->zc->name) != 0) {
 			snprintf(s->name, sizeof s->name, "%s", z->zc->name);
-			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
+			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++) {
 				s->prio[k] = NAN;
+				for (int v = 0; v < PSD_BACSERVE_VALUES; v++)
+					s->vprio[v][k] = NAN;
+			}
 			s->lc_op = 0;
 		}
 		s->level = 100 * z->level;
 		if (!(s->level >= 0 && s->level <= 100))
 			s->level = 0;
 		s->fault = z->in_fault;
-		for (size_t k = 0; k < PSD_BACSERVE_POINTS; k++)
+		for (size_t k = 0; k < PSD_BACSERVE_POINTS; k++) {
+			int slot = psd_bacobj_value_slot(k), p;
 			s->has[k] = k < psd_points_count() &&
 			            psd_points_value(b->pts, e, i, k, b->now, &s->pv[k]) == 0;
+			if (slot < 0 || !s->has[k] || psd_points_default(e, i, k, &s->vdef[slot]) != 0)
+				continue;
+			/* a written value the engine lost (a reload, another front
+			 * end): the priority array still rules */
+			value_in_force(s, slot, &p);
+			if (p && b->m.apply_value && s->pv[k] != s->vprio[slot][p - 1])
+				apply_value(b, i, k);
+		}
 	}
 }
 
@@ -245,10 +296,13 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance,
 		                            .name = b->c.name,
 		                            .vendor_id = (uint16_t)c->vendor_id,
-		                            .writes = c->writes == PSD_BACCONF_LIGHTING_OUTPUT,
+		                            .writes = c->writes,
+		                            .target_min = c->target_min,
+		                            .target_max = c->target_max,
 		                            .database_revision = 1,
 		                            .zone = b->zone,
 		                            .apply = apply,
+		                            .apply_value = apply_value,
 		                            .user = b };
 	if (inet_pton(AF_INET, c->bind, &sa.sin_addr) != 1 ||
 	    (b->fd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0)) < 0 ||
@@ -270,8 +324,12 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 		b->fdr.next = 0; /* at the first turn */
 	}
 	refresh(b);
-	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s%s%s", c->instance, c->name,
-	             c->bind, c->port, e->nzone, b->m.writes ? "to the lighting outputs" : "refused",
+	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s%s%s%s%s%s%s", c->instance, c->name,
+	             c->bind, c->port, e->nzone, !b->m.writes ? "refused" : "to:",
+	             c->writes & PSD_BACCONF_LIGHTING_OUTPUT ? " the lighting outputs" : "",
+	             c->writes & PSD_BACCONF_TARGET ? " the target" : "",
+	             c->writes & PSD_BACCONF_DAYLIGHTING ? " daylighting" : "",
+	             c->writes & PSD_BACCONF_VACANCY_HOLD ? " the vacancy hold" : "",
 	             c->bbmd ? ", a foreign device of BBMD " : "", c->bbmd ? c->bbmd_host : "");
 	return b;
 }

@@ -12,7 +12,10 @@
  * write to a zone's Lighting Output becomes the control socket's
  * `override` or `release` request, through the same function
  * (psd_ctlcmd_request), so it is judged like one and never overrides the
- * safe level of a zone in a fault. */
+ * safe level of a zone in a fault.  A write to a Value (the target lux,
+ * daylight control, the vacancy hold) becomes the point model's write
+ * (psd_points_write), again whenever the engine lost the value in force
+ * (a reload), and likewise never moves a zone off its safe level. */
 #ifndef PSD_BACNET_H
 #define PSD_BACNET_H
 

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bacconf.h"
 #include "points.h"
 
 /* the properties of each object type; 1: required, 0: optional */
@@ -60,6 +61,24 @@ static const struct psd_bacobj_prop msi_props[] = {
 	{ P_STATUS_FLAGS, 1 },     { P_EVENT_STATE, 1 },   { P_OUT_OF_SERVICE, 1 }, { P_NUMBER_OF_STATES, 1 },
 	{ P_PROPERTY_LIST, 1 },    { P_STATE_TEXT, 0 },    { P_DESCRIPTION, 0 },
 };
+/* the Values: commandable (Priority_Array, Relinquish_Default, 19.2) */
+static const struct psd_bacobj_prop av_props[] = {
+	{ P_OBJECT_ID, 1 },        { P_OBJECT_NAME, 1 },        { P_OBJECT_TYPE, 1 },    { P_PRESENT_VALUE, 1 },
+	{ P_STATUS_FLAGS, 1 },     { P_EVENT_STATE, 1 },        { P_OUT_OF_SERVICE, 1 }, { P_UNITS, 1 },
+	{ P_PRIORITY_ARRAY, 1 },   { P_RELINQUISH_DEFAULT, 1 }, { P_PROPERTY_LIST, 1 },  { P_COV_INCREMENT, 0 },
+	{ P_MIN_PRES_VALUE, 0 },   { P_MAX_PRES_VALUE, 0 },     { P_DESCRIPTION, 0 },
+};
+static const struct psd_bacobj_prop bv_props[] = {
+	{ P_OBJECT_ID, 1 },      { P_OBJECT_NAME, 1 },        { P_OBJECT_TYPE, 1 },   { P_PRESENT_VALUE, 1 },
+	{ P_STATUS_FLAGS, 1 },   { P_EVENT_STATE, 1 },        { P_OUT_OF_SERVICE, 1 }, { P_PRIORITY_ARRAY, 1 },
+	{ P_RELINQUISH_DEFAULT, 1 }, { P_PROPERTY_LIST, 1 },  { P_DESCRIPTION, 0 },
+};
+static const struct psd_bacobj_prop msv_props[] = {
+	{ P_OBJECT_ID, 1 },        { P_OBJECT_NAME, 1 },   { P_OBJECT_TYPE, 1 },    { P_PRESENT_VALUE, 1 },
+	{ P_STATUS_FLAGS, 1 },     { P_EVENT_STATE, 1 },   { P_OUT_OF_SERVICE, 1 }, { P_NUMBER_OF_STATES, 1 },
+	{ P_PRIORITY_ARRAY, 1 },   { P_RELINQUISH_DEFAULT, 1 }, { P_PROPERTY_LIST, 1 }, { P_STATE_TEXT, 0 },
+	{ P_DESCRIPTION, 0 },
+};
 #define NPROPS(a) (sizeof(a) / sizeof(a)[0])
 
 /* The point the Lighting Output shows: the commanded level. */
@@ -71,13 +90,47 @@ static int lo_point(void)
 	return p;
 }
 
-/* The BACnet type of point i. */
+/* The BACnet type of point i: a writable one a Value, else an Input. */
 static uint32_t type_of(size_t i)
 {
 	const struct psd_points_def *d = psd_points_def(i);
 	if ((int)i == lo_point())
 		return PSD_BAC_LO;
+	if (d->writable)
+		return d->kind == PSD_POINTS_BINARY       ? PSD_BAC_BV
+		       : d->kind == PSD_POINTS_MULTISTATE ? PSD_BAC_MSV
+		                                          : PSD_BAC_AV;
 	return d->kind == PSD_POINTS_BINARY ? PSD_BAC_BI : d->kind == PSD_POINTS_MULTISTATE ? PSD_BAC_MSI : PSD_BAC_AI;
+}
+
+static int is_value(uint32_t type)
+{
+	return type == PSD_BAC_AV || type == PSD_BAC_BV || type == PSD_BAC_MSV;
+}
+
+int psd_bacobj_value_slot(size_t point)
+{
+	int k = 0;
+	if (point >= psd_points_count() || !is_value(type_of(point)))
+		return -1;
+	for (size_t j = 0; j < point; j++)
+		k += is_value(type_of(j));
+	return k < PSD_BACSERVE_VALUES ? k : -1;
+}
+
+/* The [bacnet] writes bit that opens point i's Value to writes (0: none). */
+static int write_bit(size_t i)
+{
+	static const struct {
+		const char *key;
+		int bit;
+	} bits[] = { { "target_lux", PSD_BACCONF_TARGET },
+		     { "daylighting", PSD_BACCONF_DAYLIGHTING },
+		     { "vacancy_hold", PSD_BACCONF_VACANCY_HOLD } };
+	for (size_t k = 0; k < sizeof bits / sizeof bits[0]; k++)
+		if (!strcmp(psd_points_def(i)->key, bits[k].key))
+			return bits[k].bit;
+	return 0;
 }
 
 /* Point i's place among the points of its type (0-based). */
@@ -134,6 +187,9 @@ static void set(struct psd_bacobj *o, size_t zone, size_t point)
 		return;
 	case PSD_BAC_BI: o->props = bi_props, o->nprops = NPROPS(bi_props); break;
 	case PSD_BAC_MSI: o->props = msi_props, o->nprops = NPROPS(msi_props); break;
+	case PSD_BAC_AV: o->props = av_props, o->nprops = NPROPS(av_props); break;
+	case PSD_BAC_BV: o->props = bv_props, o->nprops = NPROPS(bv_props); break;
+	case PSD_BAC_MSV: o->props = msv_props, o->nprops = NPROPS(msv_props); break;
 	default: o->props = ai_props, o->nprops = NPROPS(ai_props); break;
 	}
 	o->instance = (uint32_t)(zone * PSD_BACSERVE_STRIDE + place_of(point) + 1);
@@ -182,7 +238,7 @@ int psd_bacobj_find(const struct psd_bacserve_model *m, uint32_t type, uint32_t 
 		set(o, instance - 1, (size_t)lo_point());
 		return 0;
 	}
-	if ((type != PSD_BAC_AI && type != PSD_BAC_BI && type != PSD_BAC_MSI) || instance < 1)
+	if ((type != PSD_BAC_AI && type != PSD_BAC_BI && type != PSD_BAC_MSI && !is_value(type)) || instance < 1)
 		return -1;
 	z = (instance - 1) / PSD_BACSERVE_STRIDE, k = (instance - 1) % PSD_BACSERVE_STRIDE;
 	if (z >= m->nzone)
@@ -234,16 +290,22 @@ float psd_bacobj_present_value(const struct psd_bacserve_model *m, const struct 
 	return o->type == PSD_BAC_LO ? (float)z->level : (float)z->pv[o->point];
 }
 
+/* A value of type's Present_Value (and of its Priority_Array, Relinquish_Default). */
+static void put_typed(struct psd_bacbuf *b, uint32_t type, double v)
+{
+	if (type == PSD_BAC_BI || type == PSD_BAC_BV)
+		psd_bactag_put_enum(b, -1, v == 1.0); /* BACnetBinaryPV: inactive 0, active 1 */
+	else if (type == PSD_BAC_MSI || type == PSD_BAC_MSV)
+		psd_bactag_put_unsigned(b, -1, v >= 1.0 && v < 4294967295.0 ? (uint32_t)v : 1);
+	else
+		psd_bactag_put_real(b, -1, (float)v);
+}
+
 void psd_bacobj_put_present_value(const struct psd_bacserve_model *m, const struct psd_bacobj *o,
                                   struct psd_bacbuf *b)
 {
 	float v = psd_bacobj_present_value(m, o);
-	if (o->type == PSD_BAC_BI)
-		psd_bactag_put_enum(b, -1, v == 1.0f); /* BACnetBinaryPV: inactive 0, active 1 */
-	else if (o->type == PSD_BAC_MSI)
-		psd_bactag_put_unsigned(b, -1, v >= 1.0f ? (uint32_t)v : 1);
-	else
-		psd_bactag_put_real(b, -1, v);
+	put_typed(b, o->type, v);
 }
 
 double psd_bacobj_actual_level(const struct psd_bacserve_model *m, const struct psd_bacobj *o)
@@ -275,6 +337,18 @@ int psd_bacobj_fault(const struct psd_bacserve_model *m, const struct psd_bacobj
 	return z->fault || (o->type != PSD_BAC_LO && isnan(z->pv[o->point]));
 }
 
+/* The range a write to point i's Value must keep to: the point's, the
+ * target's narrowed by the configuration. */
+static void range_of(const struct psd_bacserve_model *m, size_t i, double *lo, double *hi)
+{
+	const struct psd_points_def *d = psd_points_def(i);
+	*lo = d->min, *hi = d->max;
+	if (write_bit(i) == PSD_BACCONF_TARGET && m->target_max > m->target_min) {
+		*lo = fmax(*lo, m->target_min);
+		*hi = fmin(*hi, m->target_max);
+	}
+}
+
 /* Encode one array element (idx 1..) or, idx 0, the whole array; -1 when idx
  * is past its end. */
 static int put_array(const struct psd_bacserve_model *m, const struct psd_bacobj *o, uint32_t prop,
@@ -304,11 +378,14 @@ static int put_array(const struct psd_bacserve_model *m, const struct psd_bacobj
 			psd_bacobj_at(m, i, &e);
 			psd_bactag_put_objectid(b, -1, e.type, e.instance);
 		} else if (prop == P_PRIORITY_ARRAY) {
-			double v = m->zone[o->zone].prio[i];
+			int slot = psd_bacobj_value_slot((size_t)o->point);
+			double v = o->type == PSD_BAC_LO ? m->zone[o->zone].prio[i]
+			           : slot >= 0          ? m->zone[o->zone].vprio[slot][i]
+			                                : NAN;
 			if (isnan(v))
 				psd_bactag_put_null(b, -1);
 			else
-				psd_bactag_put_real(b, -1, (float)v);
+				put_typed(b, o->type, v);
 		} else if (prop == P_STATE_TEXT) {
 			psd_bactag_put_string(b, -1, psd_points_def((size_t)o->point)->states[i]);
 		} else {
@@ -382,9 +459,11 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 		break;
 	}
 	case P_OBJECT_TYPES_SUPPORTED: {
-		/* analog-input 0, binary-input 3, device 8, multi-state-input 13,
+		/* analog-input 0, analog-value 2, binary-input 3, binary-value 5,
+		 * device 8, multi-state-input 13, multi-state-value 19,
 		 * lighting-output 54; 55 bits at revision 14 */
-		static const unsigned t[] = { PSD_BAC_AI, PSD_BAC_BI, PSD_BAC_DEVICE, PSD_BAC_MSI, PSD_BAC_LO };
+		static const unsigned t[] = { PSD_BAC_AI,  PSD_BAC_AV,  PSD_BAC_BI, PSD_BAC_BV,
+			                      PSD_BAC_DEVICE, PSD_BAC_MSI, PSD_BAC_MSV, PSD_BAC_LO };
 		put_bits(b, t, NPROPS(t), 55);
 		break;
 	}
@@ -405,7 +484,20 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 	case P_NUMBER_OF_STATES:
 		psd_bactag_put_unsigned(b, -1, (uint32_t)psd_points_nstates((size_t)o->point));
 		break;
-	case P_RELINQUISH_DEFAULT: psd_bactag_put_real(b, -1, (float)z->level); break;
+	case P_RELINQUISH_DEFAULT:
+		if (is_value(o->type)) {
+			int slot = psd_bacobj_value_slot((size_t)o->point);
+			put_typed(b, o->type, slot >= 0 ? z->vdef[slot] : z->pv[o->point]);
+		} else
+			psd_bactag_put_real(b, -1, (float)z->level);
+		break;
+	case P_MIN_PRES_VALUE:
+	case P_MAX_PRES_VALUE: {
+		double lo, hi;
+		range_of(m, (size_t)o->point, &lo, &hi);
+		psd_bactag_put_real(b, -1, (float)(prop == P_MIN_PRES_VALUE ? lo : hi));
+		break;
+	}
 	case P_LIGHTING_COMMAND: /* the last one taken (none at first) */
 		psd_bactag_put_enum(b, 0, z->lc_op);
 		if (z->lc_op == LC_FADE_TO || z->lc_op == LC_RAMP_TO)
@@ -435,6 +527,65 @@ int psd_bacobj_read(const struct psd_bacserve_model *m, const struct psd_bacobj 
 	case P_UNITS: psd_bactag_put_enum(b, -1, psd_points_def((size_t)o->point)->bacnet_units); break;
 	case P_COV_INCREMENT: psd_bactag_put_real(b, -1, psd_bacobj_cov_increment(o)); break;
 	default: *ec = EC_PROPERTY, *code = E_UNKNOWN_PROPERTY; return -1;
+	}
+	return 0;
+}
+
+int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj *o, uint32_t prop, int has_idx,
+                           uint32_t prio, const struct psd_bactag *val, uint32_t *ec, uint32_t *code)
+{
+	struct psd_bacserve_zone *z;
+	int slot = o->point >= 0 ? psd_bacobj_value_slot((size_t)o->point) : -1;
+	double v = NAN, was, lo, hi;
+	uint32_t u;
+	float f;
+	*ec = EC_PROPERTY;
+	if (slot < 0 || prop != P_PRESENT_VALUE || !(m->writes & write_bit((size_t)o->point))) {
+		*code = E_WRITE_ACCESS_DENIED;
+		return -1;
+	}
+	if (has_idx) {
+		*code = E_NOT_AN_ARRAY;
+		return -1;
+	}
+	if (prio < 1 || prio > PSD_BACSERVE_PRIORITIES) {
+		*ec = EC_SERVICES, *code = E_PARAMETER_OUT_OF_RANGE;
+		return -1;
+	}
+	if (prio == 6 && o->type == PSD_BAC_BV) { /* minimum on/off's (19.2.1.1): psensd has none */
+		*code = E_WRITE_ACCESS_DENIED;
+		return -1;
+	}
+	*code = E_INVALID_DATA_TYPE;
+	if (!val->context && val->number == PSD_BACTAG_NULL && val->len == 0)
+		v = NAN; /* relinquish */
+	else if (val->context)
+		return -1;
+	else if (o->type == PSD_BAC_AV) {
+		if (val->number != PSD_BACTAG_REAL || psd_bactag_real(val, &f) != 0)
+			return -1;
+		v = f;
+	} else if (o->type == PSD_BAC_BV) {
+		if (val->number != PSD_BACTAG_ENUM || psd_bactag_unsigned(val, &u) != 0)
+			return -1;
+		v = u;
+	} else {
+		if (val->number != PSD_BACTAG_UNSIGNED || psd_bactag_unsigned(val, &u) != 0)
+			return -1;
+		v = u;
+	}
+	range_of(m, (size_t)o->point, &lo, &hi);
+	if (!isnan(v) && !(v >= lo && v <= hi)) {
+		*code = E_VALUE_OUT_OF_RANGE;
+		return -1;
+	}
+	z = &m->zone[o->zone];
+	was = z->vprio[slot][prio - 1];
+	z->vprio[slot][prio - 1] = v;
+	if (m->apply_value && m->apply_value(m->user, o->zone, (size_t)o->point) != 0) {
+		z->vprio[slot][prio - 1] = was;
+		*code = E_WRITE_ACCESS_DENIED;
+		return -1;
 	}
 	return 0;
 }

@@ -3,8 +3,9 @@
  * zone a Lighting Output (the point model's "level") and one object per
  * other point the zone has (daemon/points.h): an Analog Input for an
  * analog point, a Binary Input for a binary one, a Multi-state Input for a
- * multi-state one, instance 100 x zone index + the point's place among
- * the points of its kind; their properties (which are required, which
+ * multi-state one, and for a writable point the Value of its kind
+ * (commandable: a priority array), instance 100 x zone index + the point's
+ * place among the points of its BACnet type + 1; their properties (which are required, which
  * optional) and the encoding of each property's value from the model
  * (bacserve.h).  The numbers are ANSI/ASHRAE 135's: object
  * types, property identifiers, error classes and codes (clauses 18, 21). */
@@ -29,6 +30,8 @@ enum {
 	P_FIRMWARE_REVISION = 44,
 	P_ALL = 8,
 	P_MAX_APDU = 62,
+	P_MAX_PRES_VALUE = 65,
+	P_MIN_PRES_VALUE = 69,
 	P_MODEL_NAME = 70,
 	P_NUMBER_OF_STATES = 74,
 	P_APDU_RETRIES = 73,
@@ -134,6 +137,18 @@ int psd_bacobj_fault(const struct psd_bacserve_model *m, const struct psd_bacobj
 /* A Lighting Output's zone's light level as the lamps have it (the point
  * model's actual level; the commanded one when the zone has none), %. */
 double psd_bacobj_actual_level(const struct psd_bacserve_model *m, const struct psd_bacobj *o);
+/* Point i's place among the Values (their priority arrays in the model's
+ * zones, bacserve.h), -1 when it is not a Value. */
+int psd_bacobj_value_slot(size_t point);
+/* A WriteProperty of prop of o (a Value), array index or not (has_idx), at
+ * priority prio (1-16) of the one application-tagged datum val (NULL:
+ * relinquish): the priority array set and applied (m->apply_value): 0, or
+ * -1 with the error class and code (write-access-denied: not a Value's
+ * Present_Value, not opened by [bacnet] writes, priority 6 of a Binary
+ * Value, or the engine refused; value-out-of-range: outside the point's
+ * range; invalid-data-type) and nothing changed. */
+int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj *o, uint32_t prop, int has_idx,
+                           uint32_t prio, const struct psd_bactag *val, uint32_t *ec, uint32_t *code);
 /* Status_Flags: in-alarm, fault, overridden, out-of-service (fault alone set or not). */
 void psd_bacobj_put_status_flags(struct psd_bacbuf *b, int fault);
 /* Encode the value of o's property (the whole array, or with has_idx

@@ -402,7 +402,18 @@ static void write_property(struct psd_bacserve_model *m, const struct req *q, st
 	}
 	if (resolve_target(m, q, &w, b) != 0)
 		return;
-	if (w.o.type != PSD_BAC_LO || (w.prop != P_PRESENT_VALUE && w.prop != P_LIGHTING_COMMAND) || !m->writes) {
+	if (w.o.type == PSD_BAC_AV || w.o.type == PSD_BAC_BV || w.o.type == PSD_BAC_MSV) {
+		uint32_t ec, code;
+		if (psd_bacobj_write_value(m, &w.o, w.prop, w.has_idx, prio, &val, &ec, &code) != 0) {
+			put_error(b, q, ec, code);
+		} else {
+			uint8_t h[3] = { 0x20, q->invoke, q->service };
+			psd_bactag_put_raw(b, h, 3);
+		}
+		return;
+	}
+	if (w.o.type != PSD_BAC_LO || (w.prop != P_PRESENT_VALUE && w.prop != P_LIGHTING_COMMAND) ||
+	    !(m->writes & 1)) {
 		put_error(b, q, EC_PROPERTY, E_WRITE_ACCESS_DENIED);
 		return;
 	}

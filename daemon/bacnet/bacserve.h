@@ -6,8 +6,9 @@
  * 20) and the services Who-Is/I-Am, Who-Has/I-Have, ReadProperty,
  * ReadPropertyMultiple, WriteProperty and SubscribeCOV over the objects of
  * bacobj.c (a Device; per zone a Lighting Output and an Analog Input,
- * Binary Input or Multi-state Input per point of the point model,
- * daemon/points.h).
+ * Binary Input or Multi-state Input per read-only point of the point
+ * model, daemon/points.h, and an Analog, Binary or Multi-state Value,
+ * commandable, per writable one).
  * Segmentation (bacseg.h): an answer longer than the asker's max-APDU is
  * sent in segments when its request's SA bit says it takes them, within
  * its max-segments-accepted; else Abort segmentation-not-supported (SA
@@ -34,10 +35,20 @@ enum {
 	PSD_BACSERVE_POINTS = 32,     /* the point model's points at most (points.h) */
 	PSD_BACSERVE_STRIDE = 100,    /* a zone's objects of one type: instances 100 x zone + 1 ... */
 	PSD_BACSERVE_SUBS = 64,       /* COV subscriptions at most */
+	PSD_BACSERVE_VALUES = 4,      /* writable points other than the level (Values) at most */
 };
 
 /* object types (clause 21, BACnetObjectType) */
-enum { PSD_BAC_AI = 0, PSD_BAC_BI = 3, PSD_BAC_DEVICE = 8, PSD_BAC_MSI = 13, PSD_BAC_LO = 54 };
+enum {
+	PSD_BAC_AI = 0,
+	PSD_BAC_AV = 2,
+	PSD_BAC_BI = 3,
+	PSD_BAC_BV = 5,
+	PSD_BAC_DEVICE = 8,
+	PSD_BAC_MSI = 13,
+	PSD_BAC_MSV = 19,
+	PSD_BAC_LO = 54
+};
 
 struct psd_bacserve_zone {
 	char name[48];
@@ -51,6 +62,11 @@ struct psd_bacserve_zone {
 	/* the last Lighting_Command taken: its operation, the level it set, its priority */
 	uint32_t lc_op, lc_prio;
 	double lc_target;
+	/* the Values (a writable point other than the level, by its place
+	 * among them, bacobj.c): priority arrays (NAN: relinquished) and
+	 * Relinquish_Default, in the point's unit */
+	double vprio[PSD_BACSERVE_VALUES][PSD_BACSERVE_PRIORITIES];
+	double vdef[PSD_BACSERVE_VALUES];
 };
 
 /* A COV subscription (SubscribeCOV): who, what, until when, what was sent. */
@@ -70,16 +86,23 @@ struct psd_bacserve_sub {
 
 /* The result of applying a zone's priority array: 0 done, -1 refused. */
 typedef int (*psd_bacserve_apply_fn)(void *user, size_t zone);
+/* The same for the priority array of a zone's Value of point `point`. */
+typedef int (*psd_bacserve_apply_value_fn)(void *user, size_t zone, size_t point);
 
 struct psd_bacserve_model {
 	uint32_t device;  /* the Device object's instance (0 - 4194302) */
 	const char *name; /* its Object_Name */
 	uint16_t vendor_id;
-	int writes; /* 1: a Lighting Output's Present_Value is writable */
+	/* the target lux a BMS may write ([bacnet] target_min, target_max),
+	 * within the point's range; both 0: the point's range */
+	double target_min, target_max;
+	int writes; /* bits (bacconf.h): 1 a Lighting Output's Present_Value is writable; 2, 4, 8 the
+	               target's, daylighting's, vacancy hold's Value */
 	uint32_t database_revision;
 	size_t nzone;
 	struct psd_bacserve_zone *zone;
 	psd_bacserve_apply_fn apply; /* after a write changed a zone's priority array */
+	psd_bacserve_apply_value_fn apply_value; /* after a write changed a Value's */
 	void *user;
 	double now; /* seconds on a monotonic clock: subscriptions' lifetimes */
 	struct psd_bacserve_sub sub[PSD_BACSERVE_SUBS];

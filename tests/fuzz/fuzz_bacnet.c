@@ -1,14 +1,15 @@
 /* SPDX-License-Identifier: ISC */
 /* Fuzz psensd's BACnet/IP server (daemon/bacnet/bacserve.c, bacobj.c, bactag.c): the
  * datagram a client sends (BVLL, NPDU, APDU) answered over a three-zone
- * model with writes on.  The first byte chooses whether it came to a
+ * model with every write on (the Lighting Outputs and the Values).  The first byte chooses whether it came to a
  * broadcast address; the rest is the datagram.
  * Invariants: a reply is at most PSD_BACSERVE_MAX_PACKET octets, starts
  * with a BVLL header whose length is the reply's, and is never larger than
  * 1476 octets of APDU; a datagram to a broadcast address gets at most an
  * I-Am or an I-Have (unconfirmed, 0x10 0x00 or 0x01), never an error,
  * reject or abort; the
- * priority arrays hold only NULL or 0-100 %; every reply's tags read back
+ * priority arrays hold only NULL or 0-100 %, a Value's only NULL or its
+ * point's range; every reply's tags read back
  * to its end (each tag lies inside the reply); so do the COV
  * notifications a subscription in the datagram makes due.
  * With bit 2 of the first byte, a segmented answer is in progress before
@@ -26,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bacobj.h"
 #include "bacserve.h"
 #include "points.h"
 #include "bactag.h"
@@ -36,6 +38,12 @@ static int apply(void *user, size_t z)
 {
 	(void)user;
 	return z == 2 ? -1 : 0;   /* the third zone refuses, as the engine may */
+}
+
+static int apply_value(void *user, size_t z, size_t point)
+{
+	(void)user, (void)point;
+	return z == 2 ? -1 : 0;
 }
 
 /* Every COV notification due: a BVLL Original-Unicast-NPDU of its own
@@ -92,8 +100,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	static uint8_t out[PSD_BACSERVE_MAX_PACKET];
 	static struct psd_bacserve_model m;
 	psd_bacseg_free(&m.seg);
-	m = (struct psd_bacserve_model){ .device = 260001, .name = "fuzz", .vendor_id = 65535, .writes = 1,
-		                             .database_revision = 1, .nzone = 3, .zone = zone, .apply = apply };
+	m = (struct psd_bacserve_model){ .device = 260001, .name = "fuzz", .vendor_id = 65535, .writes = 15,
+		                             .database_revision = 1, .nzone = 3, .zone = zone, .apply = apply,
+		                             .apply_value = apply_value };
 	struct psd_bacserve_reply r;
 	int broadcast;
 	if (size < 1)
@@ -110,8 +119,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		}
 		zone[i].fault = i == 1;
 		if (data[0] & 2)
-			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
+			for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++) {
 				zone[i].prio[k] = NAN;
+				for (int v = 0; v < PSD_BACSERVE_VALUES; v++)
+					zone[i].vprio[v][k] = NAN;
+			}
 	}
 	static const uint8_t src[6] = { 127, 0, 0, 1, 0xba, 0xc1 };
 	m.now = 100;
@@ -149,6 +161,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	}
 	if (r.len < 6 || r.len > PSD_BACSERVE_MAX_PACKET || out[0] != 0x81 || ((size_t)out[2] << 8 | out[3]) != r.len)
 		abort();
+	for (int i = 0; i < 3; i++)
+		for (size_t p = 0; p < psd_points_count(); p++) {
+			int slot = psd_bacobj_value_slot(p);
+			for (int k = 0; slot >= 0 && k < PSD_BACSERVE_PRIORITIES; k++) {
+				double v = zone[i].vprio[slot][k];
+				if (!isnan(v) && !(v >= psd_points_def(p)->min && v <= psd_points_def(p)->max))
+					abort();
+			}
+		}
 	for (int i = 0; i < 3; i++)
 		for (int k = 0; k < PSD_BACSERVE_PRIORITIES; k++)
 			if (!isnan(zone[i].prio[k]) && !(zone[i].prio[k] >= 0 && zone[i].prio[k] <= 100))

@@ -108,11 +108,15 @@ async function main() {
 	const ais = objs.filter((o) => o.type === ObjectType.ANALOG_INPUT);
 	const bis = objs.filter((o) => o.type === ObjectType.BINARY_INPUT);
 	const msis = objs.filter((o) => o.type === ObjectType.MULTI_STATE_INPUT);
-	// the point model: per zone at least the estimate, signal, target, actual level, hours (AI),
-	// the fault (BI), the control state (MSI)
-	ok(los.length >= 1 && ais.length >= 5 * los.length && bis.length >= los.length && msis.length >= los.length &&
-		objs.length === 1 + los.length + ais.length + bis.length + msis.length,
-		`${los.length} Lighting Output(s), ${ais.length} Analog, ${bis.length} Binary, ${msis.length} Multi-state Inputs`);
+	const avs = objs.filter((o) => o.type === ObjectType.ANALOG_VALUE);
+	const bvs = objs.filter((o) => o.type === ObjectType.BINARY_VALUE);
+	// the point model: per zone at least the estimate, signal, actual level, hours (AI),
+	// the fault (BI), the control state (MSI); the target (AV) and daylight control (BV)
+	ok(los.length >= 1 && ais.length >= 4 * los.length && bis.length >= los.length && msis.length >= los.length &&
+		avs.length >= los.length && bvs.length === los.length &&
+		objs.length === 1 + los.length + ais.length + bis.length + msis.length + avs.length + bvs.length,
+		`${los.length} Lighting Output(s), ${ais.length} Analog, ${bis.length} Binary, ${msis.length} Multi-state Inputs, ` +
+		`${avs.length} Analog and ${bvs.length} Binary Values`);
 
 	// every object's properties, one ReadPropertyMultiple (ALL) each
 	let props = 0, errs = 0;

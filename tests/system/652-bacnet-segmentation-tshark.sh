@@ -3,14 +3,14 @@
 # psensd's segmented answers read by an independent decoder: Wireshark's
 # BACnet dissector (tshark, Debian's package) on a capture of the outside
 # peer (tests/peers/bacnet-seg-peer.js) reading the whole Object_List of a
-# 100-zone psensd (1001 objects) in one ReadProperty at max-APDU 1476 and
+# 100-zone psensd (1101 objects) in one ReadProperty at max-APDU 1476 and
 # 480, with RPM ALL on the Device and on 60 objects, and a 2-segment
 # refusal.  tshark must
 # find no malformed packet and no error in its expert info, see segmented
 # ComplexACKs and SegmentACKs, reassemble the segments into whole
 # messages, and decode in them the first and the last object identifier
-# of the list (device, 652) and (multi-state-input, 9902: the 100th zone's
-# last point) at the end of a reassembled list.  Capturing on the loopback needs root (or dumpcap's
+# of the list (device, 652) and (binary-value, 9901: the 100th zone's
+# last object) at the end of a reassembled list.  Capturing on the loopback needs root (or dumpcap's
 # capabilities): the test is skipped without tshark or that right.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
@@ -65,7 +65,7 @@ reas=$(grep -c 'Reassembled BACapp length' "$TMP/v.txt")
 check "messages reassembled from their segments ($reas)" test "$reas" -ge 3
 has() { grep -q -- "$1" "$TMP/v.txt"; }
 check "the device (device, 652) in the list" has 'ObjectIdentifier: device, 652$'
-check "the 100th zone's last point (multi-state-input, 9902) ends a reassembled list" \
-	sh -c "grep -B8 'Message fragments' '$TMP/v.txt' | grep -q 'Instance Number: 9902$'"
+check "the 100th zone's last object (binary-value, 9901) ends a reassembled list" \
+	sh -c "grep -B8 'Message fragments' '$TMP/v.txt' | grep -A2 'binary-value' | grep -q 'Instance Number: 9901$'"
 check "the Abort buffer-overflow" grep -qi 'abort.*buffer.overflow\|buffer-overflow' "$TMP/v.txt"
 done_testing

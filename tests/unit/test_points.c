@@ -10,7 +10,8 @@
  * matched to "<zone> <point name>").  Then the Prometheus text: its
  * series against the status values, and the energy against the
  * integral of the level over an hour (light-output hours as seconds,
- * Prometheus' base unit). */
+ * Prometheus' base unit).  Last, the writable points' writes reach the
+ * engine's control. */
 #include <arpa/inet.h>
 #include <json-c/json.h>
 #include <math.h>
@@ -331,6 +332,54 @@ static void prometheus_matches_status(void **state)
 	json_object_put(o);
 }
 
+/* The writable points: the configured value, a write that moves the
+ * engine, the range refused.  Daylight control off holds the level that
+ * meets the target with no daylight: target / the electric task lux at
+ * full output (the results' electric condition: 1253 lx), whatever the
+ * daylight. */
+static void writes_reach_the_engine(void **state)
+{
+	int target = psd_points_find("target_lux"), day = psd_points_find("daylighting");
+	int hold = psd_points_find("vacancy_hold"), level = psd_points_find("level");
+	struct psd_zone *hall = &d.engine.zone[1];
+	char err[256];
+	double v;
+	(void)state;
+	assert_true(target >= 0 && day >= 0 && hold >= 0 && level >= 0);
+	assert_int_equal(psd_points_default(&d.engine, 1, (size_t)target, &v), 0);
+	near(v, 300, 0);
+	assert_int_equal(psd_points_default(&d.engine, 1, (size_t)day, &v), 0);
+	near(v, 1, 0);
+	assert_int_equal(psd_points_default(&d.engine, 1, (size_t)level, &v), -1);
+	/* the hall has no occupancy input: no vacancy hold to write */
+	assert_int_equal(psd_points_write(&d.engine, 1, (size_t)hold, 600, err, sizeof err), -1);
+	assert_int_equal(psd_points_write(&d.engine, 0, (size_t)hold, 600, err, sizeof err), 0);
+	near(d.engine.zone[0].occ.hold, 600, 0);
+	assert_int_equal(psd_points_write(&d.engine, 0, (size_t)hold, 90000, err, sizeof err), -1);
+	assert_non_null(strstr(err, "outside 0 to 86400"));
+	/* the target: out of range refused, in range the control's */
+	assert_int_equal(psd_points_write(&d.engine, 1, (size_t)target, 5001, err, sizeof err), -1);
+	near(hall->ctl.target_lux, 300, 0);
+	assert_int_equal(psd_points_write(&d.engine, 1, (size_t)target, 420, err, sizeof err), 0);
+	assert_int_equal(psd_points_value(&d.points, &d.engine, 1, (size_t)target, 3600, &v), 0);
+	near(v, 420, 0);
+	/* daylight control off: 420 / 1253 at the next step */
+	near(hall->ctl.elec_task_lux, 1253, 1e-9);
+	assert_int_equal(psd_points_write(&d.engine, 1, (size_t)day, 2, err, sizeof err), -1);
+	assert_int_equal(psd_points_write(&d.engine, 1, (size_t)day, 0, err, sizeof err), 0);
+	assert_int_equal(psd_points_value(&d.points, &d.engine, 1, (size_t)day, 3600, &v), 0);
+	near(v, 0, 0);
+	psd_engine_step(&d.engine, 3660);
+	near(hall->level, 420.0 / 1253, 1e-12);
+	assert_int_equal(psd_points_write(&d.engine, 1, (size_t)target, 630, err, sizeof err), 0);
+	psd_engine_step(&d.engine, 3720);
+	near(hall->level, 630.0 / 1253, 1e-12);
+	/* on again: the control's own level (the daylight meets more of it) */
+	assert_int_equal(psd_points_write(&d.engine, 1, (size_t)day, 1, err, sizeof err), 0);
+	psd_engine_step(&d.engine, 3780);
+	assert_true(hall->level < 630.0 / 1253 - 0.01);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -339,6 +388,7 @@ int main(void)
 		cmocka_unit_test(discovery_lists_the_points),
 		cmocka_unit_test(bacnet_lists_the_points),
 		cmocka_unit_test(prometheus_matches_status),
+		cmocka_unit_test(writes_reach_the_engine),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }
