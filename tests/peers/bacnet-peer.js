@@ -21,7 +21,7 @@ const { ObjectType, PropertyIdentifier: P, ErrorClass, ErrorCode } = require('@b
 
 const [port, device, writes] = process.argv.slice(2).map(Number);
 const server = { address: `127.0.0.1:${port}` };
-const client = new Bacnet({ port: 0, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 2000 });
+const client = new Bacnet({ port: 0, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 6000 });
 let n = 0, failed = 0;
 const ok = (cond, what) => { n++; if (!cond) failed++; console.log(`${cond ? 'ok' : 'not ok'} ${n} - ${what}`); };
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -32,7 +32,7 @@ function whoIs(low, high) {
 		const on = (msg) => seen.push(msg.payload);
 		client.on('iAm', on);
 		client.whoIs(server, { lowLimit: low, highLimit: high });
-		setTimeout(() => { client.removeListener('iAm', on); resolve(seen); }, 500);
+		setTimeout(() => { client.removeListener('iAm', on); resolve(seen); }, 1500);
 	});
 }
 
@@ -80,7 +80,7 @@ function whoHas(objectId, objectName) {
 		buf.offset = 8;
 		WhoHas.encode(buf, -1, -1, objectId, objectName);
 		client.sendBvlc(server, buf);
-		setTimeout(() => { client.removeListener('iHave', on); resolve(seen); }, 500);
+		setTimeout(() => { client.removeListener('iHave', on); resolve(seen); }, 1500);
 	});
 }
 

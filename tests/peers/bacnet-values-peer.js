@@ -24,7 +24,7 @@ const { ObjectType, PropertyIdentifier: P } = require('@bacnet-js/client');
 
 const [port, device, mode, elux] = process.argv.slice(2).map(Number);
 const server = { address: `127.0.0.1:${port}` };
-const client = new Bacnet({ port: 0, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 2000 });
+const client = new Bacnet({ port: 0, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 6000 });
 let n = 0, failed = 0;
 const ok = (cond, what) => { n++; if (!cond) failed++; console.log(`${cond ? 'ok' : 'not ok'} ${n} - ${what}`); };
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
