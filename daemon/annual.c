@@ -76,6 +76,12 @@ double psd_annual_power(const struct psd_annual_opt *o, double y)
 	return pm + (1 - pm) * (y - lo) / (1 - lo);
 }
 
+/* the room need not be looked at outside the occupied hours */
+static int lean(const struct psd_annual_opt *o)
+{
+	return o->occupied_only && o->no_estimate && !o->task_img;
+}
+
 static void seen(void *ctx, double t, double level, double output, double truth, double dl, double roof)
 {
 	struct run *u = ctx;
@@ -84,6 +90,8 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 	struct psd_control *c = &u->c;
 	int m = u->m;
 	a->steps++;
+	if (lean(o) && !(t >= o->occ_start && t < o->occ_end))
+		return;   /* a lean step: the room was not looked at */
 	if (o->step)
 		o->step(o->step_ctx, u->doy, t, level, output, truth, dl);
 	if (o->task_img) {
@@ -175,6 +183,7 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 			struct psd_roomsetup_play q = {
 				.month = u.m + 1, .mday = d, .gain = u.c.sensor_gain, .period = o->period,
 				.level0 = u.c.level, .ballast = o->ballast, .law = law, .seen = seen, .ctx = &u,
+				.lean = lean(o), .busy_from = o->occ_start, .busy_to = o->occ_end,
 			};
 			double before = a->light_h;
 			u.doy++;

@@ -98,6 +98,10 @@ struct psd_annual_opt {
 	void (*step)(void *step_ctx, int doy, double t, double level, double output, double truth, double dl);
 	void *step_ctx;
 	int no_estimate;         /* 1: leave the estimate error out (est_* NAN): faster */
+	/* 1 (with no_estimate and without task_img): step is called for the
+	 * occupied steps only, and the unoccupied ones run the law and the
+	 * ballast without looking at the room (the same figures, faster) */
+	int occupied_only;
 };
 
 /* The weather's step in the results' year, s: the shortest positive gap

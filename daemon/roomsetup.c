@@ -216,12 +216,18 @@ int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetu
 	for (int s = 0; s < steps; s++) {
 		double t = s * q->period, volts, level, dv, dl, g;
 		struct ps_truth a, b;
+		if (q->lean && !(t >= q->busy_from && t < q->busy_to)) {
+			level = q->law(q->ctx, t, NAN);
+			ps_room_command(room, t, level);
+			q->seen(q->ctx, t, level, NAN, NAN, NAN, NAN);
+			continue;
+		}
 		if (ps_room_sensor(room, t, &volts) != 0)
 			volts = 0;
 		level = q->law(q->ctx, t, volts);
 		ps_room_command(room, t, level);
 		ps_room_daylight(room, t, &dv, &dl);
-		if (ps_room_rooftop(room, t, &g) != 0)
+		if (q->lean || ps_room_rooftop(room, t, &g) != 0)
 			g = NAN;
 		/* the lamp's light over the step, the ballast's own integral (looked
 		 * at on a copy: the room's clock stays at t), and the desk just

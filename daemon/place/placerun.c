@@ -127,6 +127,7 @@ static int run_law(const struct search *s, struct combo *k, const struct ps_resu
 	w->day = 0;
 	w->last_swing_t = -1e30;
 	o.step = step_hook;
+	o.occupied_only = !w->hour_power;   /* the hook looks at the occupied steps only */
 	o.step_ctx = w;
 	if (psd_annual_run(r, &c, &o, &k->a) != 0) {
 		k->fail = 1;
@@ -140,13 +141,15 @@ static int run_law(const struct search *s, struct combo *k, const struct ps_resu
 	return 0;
 }
 
-/* Run the laws of combinations k[0 .. n-1], which share one row. */
-int psd_placerun_row(const struct search *s, struct combo *k, int n, const double *row, double elec, struct watch *wx)
+/* Run the laws of combinations k[0 .. n-1], which share one row whose
+ * year's signals are sig. */
+static int row_of_signals(const struct search *s, struct combo *k, int n, const double *sig, double elec,
+                          struct watch *wx)
 {
 	struct ps_results r;
 	int rc = 0;
 	double sum;
-	if (psd_placeyear_results(s, row, elec, &s->sens[k[0].sens], &r, &sum) != 0)
+	if (psd_placeyear_results_of(s, sig, elec, &s->sens[k[0].sens], &r, &sum) != 0)
 		return -1;
 	for (int i = 0; i < n; i++) {
 		k[i].sensor_sum = sum;
@@ -155,6 +158,17 @@ int psd_placerun_row(const struct search *s, struct combo *k, int n, const doubl
 			rc = -1;
 	}
 	psd_placeyear_release(&r);
+	return rc;
+}
+
+/* Run the laws of combinations k[0 .. n-1], which share one row. */
+int psd_placerun_row(const struct search *s, struct combo *k, int n, const double *row, double elec, struct watch *wx)
+{
+	double *sig = malloc((s->hrs.n ? s->hrs.n : 1) * sizeof *sig);
+	int rc = -1;
+	if (sig && psd_placeyear_signals(s, &row, 1, sig) == 0)
+		rc = row_of_signals(s, k, n, sig, elec, wx);
+	free(sig);
 	return rc;
 }
 
@@ -170,27 +184,43 @@ double psd_placerun_elec_of(const struct search *s, const struct combo *k)
 	return s->poses[k->pose].elec[(size_t)k->rot * (size_t)s->o->nsens + (size_t)k->sens];
 }
 
+/* rows a worker takes at once: their signals are made together */
+#define WORK_ROWS 4
+
 static void *worker(void *arg)
 {
 	struct search *s = arg;
 	size_t nl = (size_t)s->o->nlaws;
+	double *sig = malloc(WORK_ROWS * (s->hrs.n ? s->hrs.n : 1) * sizeof *sig);
 	for (;;) {
 		size_t i;
+		int nr, bad = 0;
+		const double *rows[WORK_ROWS];
 		pthread_mutex_lock(&s->lock);
 		i = s->next;
-		s->next += nl;
+		s->next += WORK_ROWS * nl;
 		pthread_mutex_unlock(&s->lock);
 		if (i >= s->nc)
 			break;
-		if (psd_placerun_row(s, &s->c[i], (int)nl, psd_placerun_row_of(s, &s->c[i]), psd_placerun_elec_of(s, &s->c[i]), NULL) != 0) {
+		nr = (int)((s->nc - i) / nl < WORK_ROWS ? (s->nc - i) / nl : WORK_ROWS);
+		for (int j = 0; j < nr; j++)
+			rows[j] = psd_placerun_row_of(s, &s->c[i + j * nl]);
+		if (!sig || psd_placeyear_signals(s, rows, nr, sig) != 0)
+			bad = nr;
+		for (int j = 0; j < nr && !bad; j++) {
+			struct combo *k = &s->c[i + j * nl];
+			if (row_of_signals(s, k, (int)nl, sig + (size_t)j * s->hrs.n, psd_placerun_elec_of(s, k), NULL) != 0)
+				bad++;
+		}
+		if (bad) {
 			pthread_mutex_lock(&s->lock);
-			s->failed++;
+			s->failed += bad;
 			pthread_mutex_unlock(&s->lock);
 		}
 	}
+	free(sig);
 	return NULL;
 }
-
 
 void psd_placerun_all(struct search *s)
 {

@@ -150,11 +150,67 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 	return 0;
 }
 
+/* The year's sensor signals of rows rows[0 .. nrow - 1] (each npatch x 3,
+ * per channel) into sig[j * hours + i]: a block of rows at a time, each
+ * row's sum taken in the one order (patch, then channel) and each term as
+ * (V[c] x row) x sky, so a row's signals are the same in any block. */
+#define SIG_BLOCK 4
+int psd_placeyear_signals(const struct search *s, const double *const *rows, int nrow, double *sig)
+{
+	const struct hours *H = &s->hrs;
+	size_t m = (size_t)H->npatch * 3;
+	double *rv = malloc(SIG_BLOCK * m * sizeof *rv);
+	if (!rv)
+		return -1;
+	for (int j0 = 0; j0 < nrow; j0 += SIG_BLOCK) {
+		int nb = nrow - j0 < SIG_BLOCK ? nrow - j0 : SIG_BLOCK;
+		for (int b = 0; b < SIG_BLOCK; b++) {
+			const double *row = rows[j0 + (b < nb ? b : 0)];
+			for (size_t k = 0; k < m; k++)
+				rv[b * m + k] = V[k % 3] * row[k];
+		}
+		for (size_t i = 0; i < H->n; i++) {
+			const double *sky = H->sky + i * m;
+			const double *r0 = rv, *r1 = rv + m, *r2 = rv + 2 * m, *r3 = rv + 3 * m;
+			double v0 = 0, v1 = 0, v2 = 0, v3 = 0;
+			for (size_t k = 0; k < m; k++) {
+				double x = sky[k];
+				v0 += r0[k] * x;
+				v1 += r1[k] * x;
+				v2 += r2[k] * x;
+				v3 += r3[k] * x;
+			}
+			{
+				double v[SIG_BLOCK] = { v0, v1, v2, v3 };
+				for (int b = 0; b < nb; b++)
+					sig[(size_t)(j0 + b) * H->n + i] = v[b];
+			}
+		}
+	}
+	free(rv);
+	return 0;
+}
+
 /* The results psensd would read for one combination: the year's hours
  * with this sensor's signal, a daylight condition holding the year's mean
  * ratio (the year's mean signals, at noon of any day) and the electric one.  row: npatch x 3 per channel. */
 int psd_placeyear_results(const struct search *s, const double *row, double elec, const struct ps_sensor *sens,
-                        struct ps_results *r, double *sensor_sum)
+                          struct ps_results *r, double *sensor_sum)
+{
+	double *sig = malloc((s->hrs.n ? s->hrs.n : 1) * sizeof *sig);
+	int rc;
+	if (!sig || psd_placeyear_signals(s, &row, 1, sig) != 0) {
+		free(sig);
+		memset(r, 0, sizeof *r);
+		return -1;
+	}
+	rc = psd_placeyear_results_of(s, sig, elec, sens, r, sensor_sum);
+	free(sig);
+	return rc;
+}
+
+int psd_placeyear_results_of(const struct search *s, const double *sig, double elec, const struct ps_sensor *sens,
+                             struct ps_results *r, double *sensor_sum)
 {
 	const struct hours *H = &s->hrs;
 	double ssum = 0, tsum = 0;
@@ -168,11 +224,7 @@ int psd_placeyear_results(const struct search *s, const double *row, double elec
 		return -1;
 	}
 	for (size_t i = 0; i < H->n; i++) {
-		const double *sky = H->sky + i * (size_t)H->npatch * 3;
-		double v = 0;
-		for (int p = 0; p < H->npatch; p++)
-			for (int c = 0; c < 3; c++)
-				v += V[c] * row[3 * p + c] * sky[3 * p + c];
+		double v = sig[i];
 		r->year.h[i] = H->h[i];
 		r->year.h[i].sensor = v;
 		r->year.h[i].task_lux = H->task[i];

@@ -23,6 +23,13 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
  * summed signal into *sensor_sum.  -1: out of memory. */
 int psd_placeyear_results(const struct search *s, const double *row, double elec, const struct ps_sensor *sens,
                           struct ps_results *r, double *sensor_sum);
+/* The year's sensor signals of rows[0 .. nrow - 1] into sig[j x hours + i]
+ * (the same numbers psd_placeyear_results puts in the year).  -1: out of
+ * memory. */
+int psd_placeyear_signals(const struct search *s, const double *const *rows, int nrow, double *sig);
+/* psd_placeyear_results from a row's signals sig[hours]. */
+int psd_placeyear_results_of(const struct search *s, const double *sig, double elec, const struct ps_sensor *sens,
+                             struct ps_results *r, double *sensor_sum);
 void psd_placeyear_release(struct ps_results *r);
 
 #endif
