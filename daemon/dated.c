@@ -8,13 +8,22 @@
 #include "skyclass.h"
 #include "time.h"
 
+/* fmod(fmod(tod_s, 86400) + 86400, 86400), the same number without the
+ * calls when tod_s is within the day: the sum is in (0, 172800], where
+ * fmod is a subtraction (exact: Sterbenz) or nothing */
+static double day_mod(double tod_s)
+{
+	double x = (tod_s >= 0 && tod_s < 86400.0 ? tod_s : fmod(tod_s, 86400.0)) + 86400.0;
+	return x >= 172800.0 ? x - 172800.0 : x >= 86400.0 ? x - 86400.0 : x;
+}
+
 double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int *cls)
 {
 	const struct ps_year *y = &r->year;
 	int h, best = -1, most = 0;
 	if (!r->have_year || month < 1 || month > 12 || !isfinite(tod_s))
 		return NAN;
-	h = (int)floor(fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0);
+	h = (int)floor(day_mod(tod_s) / 3600.0);
 	if (h > 23)
 		h = 23;
 	for (int c = 0; c < PS_SKY_NCLASS; c++)
@@ -31,7 +40,7 @@ double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int 
 
 static int hour_of(double tod_s)
 {
-	int h = (int)floor(fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0);
+	int h = (int)floor(day_mod(tod_s) / 3600.0);
 	return h > 23 ? 23 : h;
 }
 
@@ -48,7 +57,7 @@ int psd_dated_rooftop_class(const struct ps_results *r, int doy, double tod_s, d
 {
 	if (!r->have_year || !r->year.have_site || !isfinite(tod_s))
 		return -1;
-	return ps_skyclass_from_global(&r->year.site, doy, fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0,
+	return ps_skyclass_from_global(&r->year.site, doy, day_mod(tod_s) / 3600.0,
 	                               lux, NULL, NULL);
 }
 

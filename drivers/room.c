@@ -36,7 +36,10 @@ static double gauss(uint64_t *s)
 
 double ps_room_tod(double now)
 {
-	double t = fmod(now, 86400.0);
+	double t;
+	if (now >= 0 && now < 86400.0)
+		return now;   /* fmod's answer, without the call */
+	t = fmod(now, 86400.0);
 	return t < 0 ? t + 86400.0 : t;
 }
 
