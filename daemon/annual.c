@@ -76,6 +76,12 @@ double psd_annual_power(const struct psd_annual_opt *o, double y)
 	return pm + (1 - pm) * (y - lo) / (1 - lo);
 }
 
+static double task_of(void *ctx, double t, double lamp)
+{
+	struct run *u = ctx;
+	return u->o->task(u->o->task_ctx, u->doy, t, lamp);
+}
+
 /* the room need not be looked at outside the occupied hours */
 static int lean(const struct psd_annual_opt *o)
 {
@@ -184,6 +190,7 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 				.month = u.m + 1, .mday = d, .gain = u.c.sensor_gain, .period = o->period,
 				.level0 = u.c.level, .ballast = o->ballast, .law = law, .seen = seen, .ctx = &u,
 				.lean = lean(o), .busy_from = o->occ_start, .busy_to = o->occ_end,
+				.task = o->task ? task_of : NULL,
 			};
 			double before = a->light_h;
 			u.doy++;

@@ -234,6 +234,8 @@ int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetu
 		 * after the command */
 		ps_room_truth(room, t + 1e-3, &a);
 		ps_room_truth(room, t + q->period, &b);
+		if (q->task)
+			a.task_lux = q->task(q->ctx, t + 1e-3, a.output);
 		q->seen(q->ctx, t, level, (b.energy - ps_room_energy(room, t)) / q->period, a.task_lux, dl, g);
 	}
 	ps_room_free(room);

@@ -62,6 +62,9 @@ struct psd_roomsetup_play {
 	 * same either way. */
 	int lean;
 	double busy_from, busy_to;
+	/* the true task lux at time t for the lamps' light output lamp (0..1),
+	 * or NULL: the room's (its daylight plus lamp x electric task lux) */
+	double (*task)(void *ctx, double t, double lamp);
 };
 /* Play q's date of the results' year on a room (q's ballast): every
  * period seconds from midnight, law gives the level to command, then seen

@@ -121,7 +121,19 @@ static int run_law(const struct search *s, struct combo *k, const struct ps_resu
 	struct watch w0, *w = wx ? wx : &w0;
 	if (!wx)
 		memset(&w0, 0, sizeof w0);
+	struct psd_placeyear_task tk;
+	int rc = 0;
 	law_for(s, r, s->o->laws[k->law], &c);
+	if (s->hrs.pt_day) {
+		/* the grid's figure point by point: its daylight and electric
+		 * light are not a figure's sum */
+		if (psd_placeyear_task_init(&tk, s) != 0) {
+			k->fail = 1;
+			return -1;
+		}
+		o.task = psd_placeyear_task;
+		o.task_ctx = &tk;
+	}
 	w->o = &o;
 	w->c = &c;
 	w->day = 0;
@@ -131,8 +143,12 @@ static int run_law(const struct search *s, struct combo *k, const struct ps_resu
 	o.step_ctx = w;
 	if (psd_annual_run(r, &c, &o, &k->a) != 0) {
 		k->fail = 1;
-		return -1;
+		rc = -1;
 	}
+	if (s->hrs.pt_day)
+		psd_placeyear_task_free(&tk);
+	if (rc)
+		return rc;
 	day_close(w);
 	k->deficit_lxh = w->deficit_lxh;
 	k->over_h = w->over_h;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "dcset.h"
+#include "roomsetup.h"
 #include "integrate.h"
 #include "patches.h"
 #include "scene.h"
@@ -84,6 +85,20 @@ int psd_placeyear_check(const char *stat, int n, char *err, size_t errlen)
 	                stat), -1;
 }
 
+/* 1: the figure stat is not linear in the points (min, pNN): the task is
+ * judged point by point (psd_placeyear_task) */
+static int exact_figure(const char *stat)
+{
+	return !strcmp(stat, "min") || (stat[0] == 'p' && stat[1] != 'o');
+}
+
+/* day of year (from 1) of a date of the weather's year */
+static int doy_of(int month, int day, int leap)
+{
+	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
+	return start[month - 1] + day + (leap && month > 2);
+}
+
 int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err, size_t errlen)
 {
 	struct ps_weather w;
@@ -105,6 +120,13 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 	}
 	ps_sky_opt_default(&so);
 	H->npatch = P.n;
+	H->npoints = g->npoints;
+	if (exact_figure(s->o->stat) && !(H->pt_day = malloc((w.n ? w.n : 1) * (size_t)g->npoints * sizeof *H->pt_day))) {
+		free(lux);
+		ps_weather_free(&w);
+		ps_patches_free(&P);
+		return snprintf(err, errlen, "out of memory for %zu hours", w.n), -1;
+	}
 	H->h = calloc(w.n ? w.n : 1, sizeof *H->h);
 	H->sky = malloc((w.n ? w.n : 1) * (size_t)P.n * 3 * sizeof *H->sky);
 	H->task = malloc((w.n ? w.n : 1) * sizeof *H->task);
@@ -142,7 +164,21 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 			lux[pt] = PS_YEAR_LUX_PER_WM2 * ps_dcset_row_apply(&row, V, sky);
 		}
 		H->task[H->n] = psd_placeyear_stat(s->o->stat, lux, g->npoints, lux + g->npoints);
+		if (H->pt_day)
+			memcpy(H->pt_day + H->n * (size_t)g->npoints, lux, (size_t)g->npoints * sizeof *lux);
 		H->n++;
+	}
+	{
+		/* the hours of each day (file order); a leap year as the annual run plays it */
+		int leap = H->leap, d = 1;
+		for (size_t i = 0; i < H->n; i++)
+			leap |= H->h[i].month == 2 && H->h[i].day == 29;
+		H->day_first[1] = 0;
+		for (size_t i = 0; i <= H->n; i++) {
+			int di = i < H->n ? doy_of(H->h[i].month, H->h[i].day, leap) : 367;
+			while (d < di && d < 367)
+				H->day_first[++d] = i;
+		}
 	}
 	free(lux);
 	ps_weather_free(&w);
@@ -259,6 +295,135 @@ int psd_placeyear_results_of(const struct search *s, const double *sig, double e
 	}
 	ps_results_summarise(r);
 	return 0;
+}
+
+/* the k-th smallest (from 0) of v[0 .. n-1], reordering v */
+static double kth(double *v, int n, int k)
+{
+	int lo = 0, hi = n - 1;
+	while (lo < hi) {
+		double pivot = v[(lo + hi) / 2];
+		int i = lo, j = hi;
+		while (i <= j) {
+			while (v[i] < pivot)
+				i++;
+			while (v[j] > pivot)
+				j--;
+			if (i <= j) {
+				double x = v[i];
+				v[i++] = v[j];
+				v[j--] = x;
+			}
+		}
+		if (k <= j)
+			hi = j;
+		else if (k >= i)
+			lo = i;
+		else
+			return v[k];
+	}
+	return v[k];
+}
+
+/* day of year doy's points as the room makes them (roomsetup's from_date):
+ * the hours with light, dark a step before the first and after the last */
+static void task_day(struct psd_placeyear_task *k, int doy)
+{
+	const struct hours *H = &k->s->hrs;
+	size_t lo = doy >= 1 && doy <= 366 ? H->day_first[doy] : 0, hi = doy >= 1 && doy <= 366 ? H->day_first[doy + 1] : 0;
+	int n = 0;
+	k->doy = doy;
+	if (hi > lo) {
+		double first = 3600.0 * H->h[lo].hour, last = 3600.0 * H->h[hi - 1].hour, step = 3600.0;
+		if (hi - lo > 1) {
+			double s1 = 3600.0 * (H->h[lo + 1].hour - H->h[lo].hour);
+			if (s1 > 0 && s1 < step)
+				step = s1;
+		}
+		k->t[n] = fmax(0.0, first - step);
+		k->at[n++] = -1;
+		for (size_t i = lo; i < hi && n < PSD_YEAR_DAY_POINTS - 1; i++) {
+			double t = 3600.0 * H->h[i].hour;
+			if (t <= k->t[n - 1])
+				continue;
+			k->t[n] = t;
+			k->at[n++] = (long)i;
+		}
+		if (last + step > k->t[n - 1] && n < PSD_YEAR_DAY_POINTS) {
+			k->t[n] = fmin(86400.0, last + step);
+			k->at[n++] = -1;
+		}
+	}
+	k->n = n;
+}
+
+double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
+{
+	struct psd_placeyear_task *k = ctx;
+	const struct hours *H = &k->s->hrs;
+	int np = H->npoints, i;
+	double tod = t >= 0 && t < 86400.0 ? t : fmod(t, 86400.0), w = 0, *v = k->v;   /* the room's clock */
+	const double *a = NULL, *b = NULL, *e = H->pt_elec;
+	if (tod < 0)
+		tod += 86400.0;
+	if (doy != k->doy)
+		task_day(k, doy);
+	if (k->n && tod >= k->t[0] && tod <= k->t[k->n - 1]) {
+		/* the last point at or before tod, and the weight to the next (the room's day_at) */
+		int lo = 0, hi = k->n - 1;
+		while (lo < hi) {
+			int mid = (lo + hi + 1) / 2;
+			if (k->t[mid] <= tod)
+				lo = mid;
+			else
+				hi = mid - 1;
+		}
+		i = lo;
+		a = k->at[i] >= 0 ? H->pt_day + (size_t)k->at[i] * (size_t)np : NULL;
+		if (i + 1 < k->n && k->t[i + 1] > k->t[i]) {
+			w = (tod - k->t[i]) / (k->t[i + 1] - k->t[i]);
+			b = k->at[i + 1] >= 0 ? H->pt_day + (size_t)k->at[i + 1] * (size_t)np : NULL;
+			for (int p = 0; p < np; p++) {
+				double x = a ? a[p] : 0.0, y = b ? b[p] : 0.0;
+				v[p] = x + w * (y - x) + lamp * e[p];
+			}
+		} else {
+			for (int p = 0; p < np; p++)
+				v[p] = (a ? a[p] : 0.0) + lamp * e[p];
+		}
+	} else {
+		for (int p = 0; p < np; p++)
+			v[p] = 0.0 + lamp * e[p];
+	}
+	if (k->q < 0) {
+		double m = v[0];
+		for (int p = 1; p < np; p++)
+			m = v[p] < m ? v[p] : m;
+		return m;
+	}
+	return kth(v, np, k->q);
+}
+
+int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s)
+{
+	const char *stat = s->o->stat;
+	memset(k, 0, sizeof *k);
+	k->s = s;
+	k->doy = -1;
+	if (!strcmp(stat, "min"))
+		k->q = -1;
+	else {
+		int n = s->hrs.npoints, q = (int)ceil(atof(stat + 1) / 100.0 * n) - 1;
+		k->q = q < 0 ? 0 : q >= n ? n - 1 : q;
+	}
+	k->v = malloc((size_t)(s->hrs.npoints > 0 ? s->hrs.npoints : 1) * sizeof *k->v);
+	return k->v ? 0 : -1;
+}
+
+void psd_placeyear_task_free(struct psd_placeyear_task *k)
+{
+	free(k->v);
+	k->v = NULL;
 }
 
 void psd_placeyear_release(struct ps_results *r)

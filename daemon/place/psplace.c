@@ -104,6 +104,8 @@ static void search_free(struct search *s)
 	free(s->hrs.h);
 	free(s->hrs.sky);
 	free(s->hrs.task);
+	free(s->hrs.pt_day);
+	free(s->hrs.pt_elec);
 	free(s->c);
 }
 
@@ -288,7 +290,7 @@ int main(int argc, char **argv)
 			goto out;
 		}
 		s.elec_task = psd_placeyear_stat(o.stat, lux, g.npoints, scratch);
-		free(lux);
+		s.hrs.pt_elec = lux;
 		free(scratch);
 		s.npatch = g.npatch;
 		s.mf = g.mf;
