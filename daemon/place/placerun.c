@@ -2,9 +2,11 @@
 #include "placerun.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "placeset.h"
 #include "placeyear.h"
 
 static void day_close(struct watch *w)
@@ -236,6 +238,61 @@ static void *worker(void *arg)
 	}
 	free(sig);
 	return NULL;
+}
+
+/* the poses' projections, a pose at a time from a shared counter */
+struct proj_job {
+	struct search *s;
+	pthread_mutex_t lock;
+	int next;
+	int *rc;
+	char (*err)[1024];
+};
+
+static void *project_run(void *arg)
+{
+	struct proj_job *j = arg;
+	for (;;) {
+		int i;
+		pthread_mutex_lock(&j->lock);
+		i = j->next++;
+		pthread_mutex_unlock(&j->lock);
+		if (i >= j->s->nposes)
+			break;
+		j->rc[i] = psd_placeset_project(j->s, &j->s->poses[i], j->err[i], sizeof j->err[i]);
+	}
+	return NULL;
+}
+
+int psd_placerun_project(struct search *s, char *err, size_t errlen)
+{
+	struct proj_job j = { .s = s, .next = 0 };
+	pthread_t th[256];
+	int n = 0, rc = 0;
+	j.rc = calloc((size_t)(s->nposes > 0 ? s->nposes : 1), sizeof *j.rc);
+	j.err = calloc((size_t)(s->nposes > 0 ? s->nposes : 1), sizeof *j.err);
+	if (!j.rc || !j.err) {
+		free(j.rc);
+		free(j.err);
+		return snprintf(err, errlen, "out of memory"), -1;
+	}
+	pthread_mutex_init(&j.lock, NULL);
+	for (int i = 1; i < s->o->threads && i < 256 && i < s->nposes; i++)
+		if (pthread_create(&th[n], NULL, project_run, &j) == 0)
+			n++;
+	project_run(&j);
+	for (int i = 0; i < n; i++)
+		pthread_join(th[i], NULL);
+	pthread_mutex_destroy(&j.lock);
+	/* the first pose that failed, in the candidates' order */
+	for (int i = 0; i < s->nposes && !rc; i++)
+		if (j.rc[i] != 0) {
+			snprintf(err, errlen, "%s", j.err[i]);
+			rc = -1;
+		}
+	free(j.rc);
+	free(j.err);
+	return rc;
 }
 
 void psd_placerun_all(struct search *s)

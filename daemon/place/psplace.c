@@ -304,11 +304,10 @@ int main(int argc, char **argv)
 		goto out;
 	}
 	t_sky = psd_time_mono();
-	for (int i = 0; i < s.nposes; i++)
-		if (psd_placeset_project(&s, &s.poses[i], err, sizeof err) != 0) {
-			fprintf(stderr, "psplace: %s\n", err);
-			goto out;
-		}
+	if (psd_placerun_project(&s, err, sizeof err) != 0) {
+		fprintf(stderr, "psplace: %s\n", err);
+		goto out;
+	}
 	t_proj = psd_time_mono();
 	s.nc = (size_t)s.nposes * (size_t)o.nrot * (size_t)o.nsens * (size_t)o.nlaws;
 	s.c = calloc(s.nc, sizeof *s.c);
