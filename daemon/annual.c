@@ -32,6 +32,7 @@ struct run {
 	struct ps_sum em[3], e2[3];
 	int m, doy;
 	double mean_ratio, dated, prev;
+	double dated_at[12][24];   /* psd_dated_ratio by month and hour (it depends on nothing else) */
 };
 
 static double law(void *ctx, double t, double volts)
@@ -43,7 +44,7 @@ static double law(void *ctx, double t, double volts)
 		u->c.pending_dir = 0;
 		return 0;
 	}
-	u->dated = psd_dated_ratio(u->r, u->m + 1, t, NULL);
+	u->dated = isfinite(t) ? u->dated_at[u->m][psd_dated_hour(t)] : NAN;
 	u->c.daylight_ratio = u->o->dated && u->dated > 0 ? u->dated : u->mean_ratio;
 	{
 		double level = psd_control_step(&u->c, volts, t);
@@ -179,6 +180,9 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.mean_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio
 	               : ctl->daylight_ratio > 0 ? ctl->daylight_ratio : 1.0;
 	u.c.daylight_ratio = u.mean_ratio;
+	for (int m = 0; m < 12; m++)
+		for (int h = 0; h < 24; h++)
+			u.dated_at[m][h] = psd_dated_ratio(r, m + 1, 3600.0 * h, NULL);
 	u.c.level = 0.0;
 	u.c.pending_since = -1;
 	/* every date of the year, February 29 when the weather file has it */

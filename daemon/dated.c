@@ -17,15 +17,19 @@ static double day_mod(double tod_s)
 	return x >= 172800.0 ? x - 172800.0 : x >= 86400.0 ? x - 86400.0 : x;
 }
 
+int psd_dated_hour(double tod_s)
+{
+	int h = (int)floor(day_mod(tod_s) / 3600.0);
+	return h > 23 ? 23 : h;
+}
+
 double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int *cls)
 {
 	const struct ps_year *y = &r->year;
 	int h, best = -1, most = 0;
 	if (!r->have_year || month < 1 || month > 12 || !isfinite(tod_s))
 		return NAN;
-	h = (int)floor(day_mod(tod_s) / 3600.0);
-	if (h > 23)
-		h = 23;
+	h = psd_dated_hour(tod_s);
 	for (int c = 0; c < PS_SKY_NCLASS; c++)
 		if (y->count[month - 1][h][c] > most) {
 			most = y->count[month - 1][h][c];
@@ -38,18 +42,13 @@ double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int 
 	return y->ratio[month - 1][h][best];
 }
 
-static int hour_of(double tod_s)
-{
-	int h = (int)floor(day_mod(tod_s) / 3600.0);
-	return h > 23 ? 23 : h;
-}
 
 double psd_dated_ratio_class(const struct ps_results *r, int month, double tod_s, int cls)
 {
 	int h;
 	if (!r->have_year || month < 1 || month > 12 || !isfinite(tod_s) || cls < 0 || cls >= PS_SKY_NCLASS)
 		return NAN;
-	h = hour_of(tod_s);
+	h = psd_dated_hour(tod_s);
 	return r->year.count[month - 1][h][cls] > 0 ? r->year.ratio[month - 1][h][cls] : NAN;
 }
 
