@@ -203,7 +203,7 @@ double psd_placerun_elec_of(const struct search *s, const struct combo *k)
 }
 
 /* rows a worker takes at once: their signals are made together */
-#define WORK_ROWS 4
+#define WORK_ROWS 32
 
 static void *worker(void *arg)
 {

@@ -187,39 +187,54 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 }
 
 /* The year's sensor signals of rows rows[0 .. nrow - 1] (each npatch x 3,
- * per channel) into sig[j * hours + i]: a block of rows at a time, each
- * row's sum taken in the one order (patch, then channel) and each term as
- * (V[c] x row) x sky, so a row's signals are the same in any block. */
-#define SIG_BLOCK 4
+ * per channel) into sig[j * hours + i]: eight rows at a time (eight sums
+ * in flight) over a tile of hours (which stays in cache for every block
+ * of rows), each row's sum taken in the one order (patch, then channel)
+ * and each term as (V[c] x row) x sky, so a row's signals are the same
+ * whatever rows it goes with. */
+#define SIG_BLOCK 8
+#define SIG_TILE 64
+typedef double sig_v2 __attribute__((vector_size(16)));
 int psd_placeyear_signals(const struct search *s, const double *const *rows, int nrow, double *sig)
 {
 	const struct hours *H = &s->hrs;
 	size_t m = (size_t)H->npatch * 3;
-	double *rv = malloc(SIG_BLOCK * m * sizeof *rv);
+	int nblock = (nrow + SIG_BLOCK - 1) / SIG_BLOCK;
+	/* block b's rows interleaved: rv[(b m + k) SIG_BLOCK + j], row j's term k */
+	double *rv = malloc((size_t)(nblock > 0 ? nblock : 1) * SIG_BLOCK * m * sizeof *rv);
 	if (!rv)
 		return -1;
-	for (int j0 = 0; j0 < nrow; j0 += SIG_BLOCK) {
-		int nb = nrow - j0 < SIG_BLOCK ? nrow - j0 : SIG_BLOCK;
-		for (int b = 0; b < SIG_BLOCK; b++) {
-			const double *row = rows[j0 + (b < nb ? b : 0)];
-			for (size_t k = 0; k < m; k++)
-				rv[b * m + k] = V[k % 3] * row[k];
-		}
-		for (size_t i = 0; i < H->n; i++) {
-			const double *sky = H->sky + i * m;
-			const double *r0 = rv, *r1 = rv + m, *r2 = rv + 2 * m, *r3 = rv + 3 * m;
-			double v0 = 0, v1 = 0, v2 = 0, v3 = 0;
-			for (size_t k = 0; k < m; k++) {
-				double x = sky[k];
-				v0 += r0[k] * x;
-				v1 += r1[k] * x;
-				v2 += r2[k] * x;
-				v3 += r3[k] * x;
-			}
-			{
-				double v[SIG_BLOCK] = { v0, v1, v2, v3 };
+	for (int j = 0; j < nblock * SIG_BLOCK; j++) {
+		const double *row = rows[j < nrow ? j : 0];
+		double *r = rv + (size_t)(j / SIG_BLOCK) * SIG_BLOCK * m + j % SIG_BLOCK;
+		for (size_t k = 0; k < m; k++)
+			r[k * SIG_BLOCK] = V[k % 3] * row[k];
+	}
+	for (size_t i0 = 0; i0 < H->n; i0 += SIG_TILE) {
+		size_t i1 = H->n - i0 < SIG_TILE ? H->n : i0 + SIG_TILE;
+		for (int b0 = 0; b0 < nblock; b0++) {
+			const double *r = rv + (size_t)b0 * SIG_BLOCK * m;
+			int nb = nrow - b0 * SIG_BLOCK < SIG_BLOCK ? nrow - b0 * SIG_BLOCK : SIG_BLOCK;
+			for (size_t i = i0; i < i1; i++) {
+				const double *sky = H->sky + i * m;
+				/* two rows a lane pair (gcc's and clang's vector extension):
+				 * each lane one row's sum, in its own order */
+				sig_v2 a0 = { 0, 0 }, a1 = { 0, 0 }, a2 = { 0, 0 }, a3 = { 0, 0 };
+				double v[SIG_BLOCK];
+				for (size_t k = 0; k < m; k++) {
+					const sig_v2 *rk = (const sig_v2 *)(r + k * SIG_BLOCK);
+					sig_v2 x = { sky[k], sky[k] };
+					a0 += rk[0] * x;
+					a1 += rk[1] * x;
+					a2 += rk[2] * x;
+					a3 += rk[3] * x;
+				}
+				memcpy(v, &a0, sizeof a0);
+				memcpy(v + 2, &a1, sizeof a1);
+				memcpy(v + 4, &a2, sizeof a2);
+				memcpy(v + 6, &a3, sizeof a3);
 				for (int b = 0; b < nb; b++)
-					sig[(size_t)(j0 + b) * H->n + i] = v[b];
+					sig[(size_t)(b0 * SIG_BLOCK + b) * H->n + i] = v[b];
 			}
 		}
 	}

@@ -223,8 +223,8 @@ static void lean_is_the_same(void **state)
 	for (int m = 1; m <= 12; m++)
 		for (int d = 1; d <= md[m - 1]; d++)
 			for (int h = 6; h < 19; h++) {
-				double s = (1 + sin(0.7 * n)) * (h - 5) * (19 - h) / 36.0;
-				r.year.h[n++] = (struct ps_year_hour){ m, d, h, s, 300.0 * s * (1 + 0.3 * cos(0.3 * n)), 1, 2.0, NAN };
+				double s = (1 + sin(0.7 * n)) * (h - 5) * (19 - h) / 36.0, lux = 300.0 * s * (1 + 0.3 * cos(0.3 * (n + 1)));
+				r.year.h[n++] = (struct ps_year_hour){ m, d, h, s, lux, 1, 2.0, NAN };
 			}
 	r.year.n = n;
 	ps_year_tabulate(&r.year);
