@@ -376,15 +376,16 @@ double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
 {
 	struct psd_placeyear_task *k = ctx;
 	const struct hours *H = &k->s->hrs;
-	int np = H->npoints, i;
+	int np = H->npoints;
 	double tod = t >= 0 && t < 86400.0 ? t : fmod(t, 86400.0), w = 0, *v = k->v;   /* the room's clock */
-	const double *a = NULL, *b = NULL, *e = H->pt_elec;
+	const double *a = k->zero, *b = k->zero, *e = H->pt_elec;
 	if (tod < 0)
 		tod += 86400.0;
 	if (doy != k->doy)
 		task_day(k, doy);
 	if (k->n && tod >= k->t[0] && tod <= k->t[k->n - 1]) {
-		/* the last point at or before tod, and the weight to the next (the room's day_at) */
+		/* the last point at or before tod, and the weight to the next (the
+		 * room's day_at; a dark point reads zeros) */
 		int lo = 0, hi = k->n - 1;
 		while (lo < hi) {
 			int mid = (lo + hi + 1) / 2;
@@ -393,29 +394,36 @@ double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
 			else
 				hi = mid - 1;
 		}
-		i = lo;
-		a = k->at[i] >= 0 ? H->pt_day + (size_t)k->at[i] * (size_t)np : NULL;
-		if (i + 1 < k->n && k->t[i + 1] > k->t[i]) {
-			w = (tod - k->t[i]) / (k->t[i + 1] - k->t[i]);
-			b = k->at[i + 1] >= 0 ? H->pt_day + (size_t)k->at[i + 1] * (size_t)np : NULL;
-			for (int p = 0; p < np; p++) {
-				double x = a ? a[p] : 0.0, y = b ? b[p] : 0.0;
-				v[p] = x + w * (y - x) + lamp * e[p];
+		if (k->at[lo] >= 0)
+			a = H->pt_day + (size_t)k->at[lo] * (size_t)np;
+		if (lo + 1 < k->n && k->t[lo + 1] > k->t[lo]) {
+			w = (tod - k->t[lo]) / (k->t[lo + 1] - k->t[lo]);
+			if (k->at[lo + 1] >= 0)
+				b = H->pt_day + (size_t)k->at[lo + 1] * (size_t)np;
+			if (k->q < 0) {
+				double m = INFINITY;
+				for (int p = 0; p < np; p++) {
+					double x = a[p] + w * (b[p] - a[p]) + lamp * e[p];
+					m = x < m ? x : m;
+				}
+				return m;
 			}
-		} else {
 			for (int p = 0; p < np; p++)
-				v[p] = (a ? a[p] : 0.0) + lamp * e[p];
+				v[p] = a[p] + w * (b[p] - a[p]) + lamp * e[p];
+			return kth(v, np, k->q);
 		}
-	} else {
-		for (int p = 0; p < np; p++)
-			v[p] = 0.0 + lamp * e[p];
 	}
+	/* at a point (or outside the day: zeros) */
 	if (k->q < 0) {
-		double m = v[0];
-		for (int p = 1; p < np; p++)
-			m = v[p] < m ? v[p] : m;
+		double m = INFINITY;
+		for (int p = 0; p < np; p++) {
+			double x = a[p] + lamp * e[p];
+			m = x < m ? x : m;
+		}
 		return m;
 	}
+	for (int p = 0; p < np; p++)
+		v[p] = a[p] + lamp * e[p];
 	return kth(v, np, k->q);
 }
 
@@ -432,13 +440,19 @@ int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s
 		k->q = q < 0 ? 0 : q >= n ? n - 1 : q;
 	}
 	k->v = malloc((size_t)(s->hrs.npoints > 0 ? s->hrs.npoints : 1) * sizeof *k->v);
-	return k->v ? 0 : -1;
+	k->zero = calloc((size_t)(s->hrs.npoints > 0 ? s->hrs.npoints : 1), sizeof *k->zero);
+	if (!k->v || !k->zero) {
+		psd_placeyear_task_free(k);
+		return -1;
+	}
+	return 0;
 }
 
 void psd_placeyear_task_free(struct psd_placeyear_task *k)
 {
 	free(k->v);
-	k->v = NULL;
+	free(k->zero);
+	k->v = k->zero = NULL;
 }
 
 void psd_placeyear_release(struct ps_results *r)

@@ -41,6 +41,7 @@ struct psd_placeyear_task {
 	double t[PSD_YEAR_DAY_POINTS];
 	long at[PSD_YEAR_DAY_POINTS];   /* the hour of each point, -1: dark */
 	double *v;                 /* npoints: scratch */
+	double *zero;              /* npoints zeros: a dark point */
 };
 int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s);
 double psd_placeyear_task(void *ctx, int doy, double t, double lamp);
