@@ -65,6 +65,10 @@ void ps_ballast_advance(struct ps_ballast *b, double t)
 	double target = effective(&b->p, b->command), h = t - b->t;
 	if (!(h > 0))
 		return;
+	if (target == 0 && b->fade == 0 && b->output == 0) {
+		b->t = t;   /* off and settled: the lag's step gives 0 and adds 0 */
+		return;
+	}
 	if (b->p.fade_rate > 0 && b->fade != target) {
 		double dir = target > b->fade ? 1.0 : -1.0;
 		double reach = fabs(target - b->fade) / b->p.fade_rate;   /* seconds to the target */
