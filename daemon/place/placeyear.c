@@ -201,7 +201,7 @@ int psd_placeyear_signals(const struct search *s, const double *const *rows, int
 	size_t m = (size_t)H->npatch * 3;
 	int nblock = (nrow + SIG_BLOCK - 1) / SIG_BLOCK;
 	/* block b's rows interleaved: rv[(b m + k) SIG_BLOCK + j], row j's term k */
-	double *rv = malloc((size_t)(nblock > 0 ? nblock : 1) * SIG_BLOCK * m * sizeof *rv);
+	double *rv = aligned_alloc(sizeof(sig_v2), (size_t)(nblock > 0 ? nblock : 1) * SIG_BLOCK * m * sizeof *rv);
 	if (!rv)
 		return -1;
 	for (int j = 0; j < nblock * SIG_BLOCK; j++) {
