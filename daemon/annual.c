@@ -33,6 +33,7 @@ struct run {
 	struct ps_sum em[3], e2[3];
 	int m, doy;
 	double mean_ratio, dated, prev;
+	double dated_at[12][24];   /* psd_dated_ratio by month and hour (it depends on nothing else) */
 };
 
 static double law(void *ctx, double t, double volts)
@@ -44,7 +45,7 @@ static double law(void *ctx, double t, double volts)
 		u->c.pending_dir = 0;
 		return 0;
 	}
-	u->dated = psd_dated_ratio(u->r, u->m + 1, t, NULL);
+	u->dated = isfinite(t) ? u->dated_at[u->m][psd_dated_hour(t)] : NAN;
 	u->c.daylight_ratio = u->o->dated && u->dated > 0 ? u->dated : u->mean_ratio;
 	{
 		double level = psd_control_step(&u->c, volts, t);
@@ -77,6 +78,18 @@ double psd_annual_power(const struct psd_annual_opt *o, double y)
 	return pm + (1 - pm) * (y - lo) / (1 - lo);
 }
 
+static double task_of(void *ctx, double t, double lamp)
+{
+	struct run *u = ctx;
+	return u->o->task(u->o->task_ctx, u->doy, t, lamp);
+}
+
+/* the room need not be looked at outside the occupied hours */
+static int lean(const struct psd_annual_opt *o)
+{
+	return o->occupied_only && o->no_estimate && !o->task_img;
+}
+
 static void seen(void *ctx, double t, double level, double output, double truth, double dl, double roof)
 {
 	struct run *u = ctx;
@@ -85,6 +98,8 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 	struct psd_control *c = &u->c;
 	int m = u->m;
 	a->steps++;
+	if (lean(o) && !(t >= o->occ_start && t < o->occ_end))
+		return;   /* a lean step: the room was not looked at */
 	if (o->step)
 		o->step(o->step_ctx, u->doy, t, level, output, truth, dl);
 	if (o->task_img) {
@@ -166,6 +181,9 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	u.mean_ratio = r->year.mean_ratio > 0 ? r->year.mean_ratio
 	               : ctl->daylight_ratio > 0 ? ctl->daylight_ratio : 1.0;
 	u.c.daylight_ratio = u.mean_ratio;
+	for (int m = 0; m < 12; m++)
+		for (int h = 0; h < 24; h++)
+			u.dated_at[m][h] = psd_dated_ratio(r, m + 1, 3600.0 * h, NULL);
 	u.c.level = 0.0;
 	u.c.pending_since = -1;
 	/* every date of the year, February 29 when the weather file has it */
@@ -176,6 +194,8 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 			struct psd_roomsetup_play q = {
 				.month = u.m + 1, .mday = d, .gain = u.c.sensor_gain, .period = o->period,
 				.level0 = u.c.level, .ballast = o->ballast, .law = law, .seen = seen, .ctx = &u,
+				.lean = lean(o), .busy_from = o->occ_start, .busy_to = o->occ_end,
+				.task = o->task ? task_of : NULL,
 			};
 			double before = a->light_h;
 			u.doy++;

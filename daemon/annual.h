@@ -98,6 +98,17 @@ struct psd_annual_opt {
 	void (*step)(void *step_ctx, int doy, double t, double level, double output, double truth, double dl);
 	void *step_ctx;
 	int no_estimate;         /* 1: leave the estimate error out (est_* NAN): faster */
+	/* 1 (with no_estimate and without task_img): step is called for the
+	 * occupied steps only, and the unoccupied ones run the law and the
+	 * ballast without looking at the room (the same figures, faster) */
+	int occupied_only;
+	/* the true task lux at time t (s after midnight) of day doy (from 1)
+	 * for the lamps' light output lamp (0..1), in place of the room's
+	 * (the results' task daylight + lamp x electric task lux): a task
+	 * whose figure is not linear in its points (a grid's minimum); NULL:
+	 * the room's.  The law does not see it; the figures on the truth do. */
+	double (*task)(void *task_ctx, int doy, double t, double lamp);
+	void *task_ctx;
 };
 
 /* The weather's step in the results' year, s: the shortest positive gap

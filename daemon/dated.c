@@ -8,15 +8,28 @@
 #include "skyclass.h"
 #include "time.h"
 
+/* fmod(fmod(tod_s, 86400) + 86400, 86400), the same number without the
+ * calls when tod_s is within the day: the sum is in (0, 172800], where
+ * fmod is a subtraction (exact: Sterbenz) or nothing */
+static double day_mod(double tod_s)
+{
+	double x = (tod_s >= 0 && tod_s < 86400.0 ? tod_s : fmod(tod_s, 86400.0)) + 86400.0;
+	return x >= 172800.0 ? x - 172800.0 : x >= 86400.0 ? x - 86400.0 : x;
+}
+
+int psd_dated_hour(double tod_s)
+{
+	int h = (int)floor(day_mod(tod_s) / 3600.0);
+	return h > 23 ? 23 : h;
+}
+
 double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int *cls)
 {
 	const struct ps_year *y = &r->year;
 	int h, best = -1, most = 0;
 	if (!r->have_year || month < 1 || month > 12 || !isfinite(tod_s))
 		return NAN;
-	h = (int)floor(fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0);
-	if (h > 23)
-		h = 23;
+	h = psd_dated_hour(tod_s);
 	for (int c = 0; c < PS_SKY_NCLASS; c++)
 		if (y->count[month - 1][h][c] > most) {
 			most = y->count[month - 1][h][c];
@@ -29,18 +42,13 @@ double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int 
 	return y->ratio[month - 1][h][best];
 }
 
-static int hour_of(double tod_s)
-{
-	int h = (int)floor(fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0);
-	return h > 23 ? 23 : h;
-}
 
 double psd_dated_ratio_class(const struct ps_results *r, int month, double tod_s, int cls)
 {
 	int h;
 	if (!r->have_year || month < 1 || month > 12 || !isfinite(tod_s) || cls < 0 || cls >= PS_SKY_NCLASS)
 		return NAN;
-	h = hour_of(tod_s);
+	h = psd_dated_hour(tod_s);
 	return r->year.count[month - 1][h][cls] > 0 ? r->year.ratio[month - 1][h][cls] : NAN;
 }
 
@@ -48,7 +56,7 @@ int psd_dated_rooftop_class(const struct ps_results *r, int doy, double tod_s, d
 {
 	if (!r->have_year || !r->year.have_site || !isfinite(tod_s))
 		return -1;
-	return ps_skyclass_from_global(&r->year.site, doy, fmod(fmod(tod_s, 86400.0) + 86400.0, 86400.0) / 3600.0,
+	return ps_skyclass_from_global(&r->year.site, doy, day_mod(tod_s) / 3600.0,
 	                               lux, NULL, NULL);
 }
 

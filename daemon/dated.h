@@ -14,6 +14,8 @@
  * time); *cls gets the sky class used.  NAN when the results have no year
  * or the year has no hour with light in that month and hour. */
 double psd_dated_ratio(const struct ps_results *r, int month, double tod_s, int *cls);
+/* The hour of the day (0-23) the dated ratios file tod_s under (finite). */
+int psd_dated_hour(double tod_s);
 /* Month of "MM-DD", or of today (local time) when mmdd is NULL; 0 if malformed. */
 int psd_dated_month(const char *mmdd);
 /* Day of the year (1-365, February 29 counting as March 1st) of "MM-DD",

@@ -214,21 +214,31 @@ int psd_roomsetup_play_day(const struct ps_results *r, const struct psd_roomsetu
 		return -1;
 	ps_room_command(room, 0.0, q->level0);
 	for (int s = 0; s < steps; s++) {
-		double t = s * q->period, volts, level, dv, dl, g;
-		struct ps_truth a, b;
+		double t = s * q->period, volts, level, dv, dl, g, e0, e1;
+		struct ps_truth a;
+		if (q->lean && !(t >= q->busy_from && t < q->busy_to)) {
+			level = q->law(q->ctx, t, NAN);
+			ps_room_command(room, t, level);
+			q->seen(q->ctx, t, level, NAN, NAN, NAN, NAN);
+			continue;
+		}
 		if (ps_room_sensor(room, t, &volts) != 0)
 			volts = 0;
 		level = q->law(q->ctx, t, volts);
 		ps_room_command(room, t, level);
 		ps_room_daylight(room, t, &dv, &dl);
-		if (ps_room_rooftop(room, t, &g) != 0)
+		if (q->lean || ps_room_rooftop(room, t, &g) != 0)
 			g = NAN;
-		/* the lamp's light over the step, the ballast's own integral (looked
-		 * at on a copy: the room's clock stays at t), and the desk just
-		 * after the command */
+		/* the desk just after the command (looked at on a copy: the room's
+		 * clock stays at t), and the lamp's light over the step, the
+		 * ballast's own integral: the room run on to the next step, where
+		 * the next reading would take it (nothing happens in between) */
 		ps_room_truth(room, t + 1e-3, &a);
-		ps_room_truth(room, t + q->period, &b);
-		q->seen(q->ctx, t, level, (b.energy - ps_room_energy(room, t)) / q->period, a.task_lux, dl, g);
+		e0 = ps_room_energy(room, t);
+		e1 = ps_room_energy(room, t + q->period);
+		if (q->task)
+			a.task_lux = q->task(q->ctx, t + 1e-3, a.output);
+		q->seen(q->ctx, t, level, (e1 - e0) / q->period, a.task_lux, dl, g);
 	}
 	ps_room_free(room);
 	return 0;

@@ -55,6 +55,16 @@ struct psd_roomsetup_play {
 	void (*seen)(void *ctx, double t, double level, double output, double task_lux, double daylight_lux,
 	             double rooftop_lux);
 	void *ctx;
+	/* lean: a step outside [busy_from, busy_to) only asks the law (with a
+	 * reading of NAN) and commands the ballast, and seen is told NAN for
+	 * the output, task, daylight and rooftop lux (the room is not looked
+	 * at); inside, the rooftop is NAN (not read).  The ballast runs the
+	 * same either way. */
+	int lean;
+	double busy_from, busy_to;
+	/* the true task lux at time t for the lamps' light output lamp (0..1),
+	 * or NULL: the room's (its daylight plus lamp x electric task lux) */
+	double (*task)(void *ctx, double t, double lamp);
 };
 /* Play q's date of the results' year on a room (q's ballast): every
  * period seconds from midnight, law gives the level to command, then seen

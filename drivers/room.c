@@ -17,6 +17,9 @@ struct ps_room {
 	uint64_t rng;         /* splitmix64 state: reproducible noise */
 	double last_volts;    /* for the stuck sensor */
 	int have_last;
+	size_t *hint;         /* the day's point last looked up (time moves on: the next
+	                         look-up starts there); points at hint_at */
+	size_t hint_at;
 };
 
 static uint64_t splitmix64(uint64_t *s)
@@ -36,7 +39,10 @@ static double gauss(uint64_t *s)
 
 double ps_room_tod(double now)
 {
-	double t = fmod(now, 86400.0);
+	double t;
+	if (now >= 0 && now < 86400.0)
+		return now;   /* fmod's answer, without the call */
+	t = fmod(now, 86400.0);
 	return t < 0 ? t + 86400.0 : t;
 }
 
@@ -60,6 +66,7 @@ struct ps_room *ps_room_new(const struct ps_room_params *p, double t0)
 	}
 	r->p.daylight = r->day;
 	r->p.faults = r->faults;
+	r->hint = &r->hint_at;
 	r->rng = p->seed;
 	ps_ballast_init(&r->ballast, &p->ballast, t0, 1.0);
 	return r;
@@ -103,7 +110,13 @@ static void day_at(const struct ps_room *r, double now, double *s, double *l, do
 	if (n && tod >= d[0].t && tod <= d[n - 1].t) {
 		/* the last point at or before tod (binary search: replays hold a
 		 * point per logged period) */
-		size_t lo = 0, hi = n - 1, i;
+		size_t lo = 0, hi = n - 1, i = *r->hint;
+		/* the last point at or before tod: the one looked up last, or the
+		 * next, when it is (the day's points are in order) */
+		if (i + 1 < n && d[i + 1].t <= tod && (i + 2 == n || d[i + 2].t > tod))
+			lo = hi = i + 1;
+		else if (i < n && d[i].t <= tod && (i + 1 == n || d[i + 1].t > tod))
+			lo = hi = i;
 		while (lo < hi) {
 			size_t mid = (lo + hi + 1) / 2;
 			if (d[mid].t <= tod)
@@ -111,7 +124,7 @@ static void day_at(const struct ps_room *r, double now, double *s, double *l, do
 			else
 				hi = mid - 1;
 		}
-		i = lo;
+		i = *r->hint = lo;
 		if (i + 1 < n && d[i + 1].t > d[i].t) {
 			double w = (tod - d[i].t) / (d[i + 1].t - d[i].t);
 			*s = d[i].sensor + w * (d[i + 1].sensor - d[i].sensor);

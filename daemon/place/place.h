@@ -38,6 +38,12 @@ struct hours {
 	double *task;             /* n: the grid's figure of daylight lux */
 	int npatch, leap;
 	struct ps_site site;
+	/* the grid point by point, for a figure that is not linear in its
+	 * points (min, pNN) */
+	int npoints;
+	double *pt_day;           /* n x npoints: each point's daylight lux (NULL: the figure is linear) */
+	double *pt_elec;          /* npoints: each point's electric lux at full output */
+	size_t day_first[368];    /* the hours of day of year d (from 1): day_first[d] to day_first[d + 1] */
 };
 
 struct combo {

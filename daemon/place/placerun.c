@@ -2,9 +2,11 @@
 #include "placerun.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "placeset.h"
 #include "placeyear.h"
 
 static void day_close(struct watch *w)
@@ -121,17 +123,34 @@ static int run_law(const struct search *s, struct combo *k, const struct ps_resu
 	struct watch w0, *w = wx ? wx : &w0;
 	if (!wx)
 		memset(&w0, 0, sizeof w0);
+	struct psd_placeyear_task tk;
+	int rc = 0;
 	law_for(s, r, s->o->laws[k->law], &c);
+	if (s->hrs.pt_day) {
+		/* the grid's figure point by point: its daylight and electric
+		 * light are not a figure's sum */
+		if (psd_placeyear_task_init(&tk, s) != 0) {
+			k->fail = 1;
+			return -1;
+		}
+		o.task = psd_placeyear_task;
+		o.task_ctx = &tk;
+	}
 	w->o = &o;
 	w->c = &c;
 	w->day = 0;
 	w->last_swing_t = -1e30;
 	o.step = step_hook;
+	o.occupied_only = !w->hour_power;   /* the hook looks at the occupied steps only */
 	o.step_ctx = w;
 	if (psd_annual_run(r, &c, &o, &k->a) != 0) {
 		k->fail = 1;
-		return -1;
+		rc = -1;
 	}
+	if (s->hrs.pt_day)
+		psd_placeyear_task_free(&tk);
+	if (rc)
+		return rc;
 	day_close(w);
 	k->deficit_lxh = w->deficit_lxh;
 	k->over_h = w->over_h;
@@ -140,13 +159,15 @@ static int run_law(const struct search *s, struct combo *k, const struct ps_resu
 	return 0;
 }
 
-/* Run the laws of combinations k[0 .. n-1], which share one row. */
-int psd_placerun_row(const struct search *s, struct combo *k, int n, const double *row, double elec, struct watch *wx)
+/* Run the laws of combinations k[0 .. n-1], which share one row whose
+ * year's signals are sig. */
+static int row_of_signals(const struct search *s, struct combo *k, int n, const double *sig, double elec,
+                          struct watch *wx)
 {
 	struct ps_results r;
 	int rc = 0;
 	double sum;
-	if (psd_placeyear_results(s, row, elec, &s->sens[k[0].sens], &r, &sum) != 0)
+	if (psd_placeyear_results_of(s, sig, elec, &s->sens[k[0].sens], &r, &sum) != 0)
 		return -1;
 	for (int i = 0; i < n; i++) {
 		k[i].sensor_sum = sum;
@@ -155,6 +176,18 @@ int psd_placerun_row(const struct search *s, struct combo *k, int n, const doubl
 			rc = -1;
 	}
 	psd_placeyear_release(&r);
+	return rc;
+}
+
+/* Run the laws of combinations k[0 .. n-1], which share one row. */
+int psd_placerun_row(const struct search *s, struct combo *k, int n, const double *row, double elec, struct watch *wx)
+{
+	double *sig = malloc((s->hrs.n ? s->hrs.n : 1) * sizeof *sig);
+	const double *w = s->o->coef[k[0].sens];
+	int rc = -1;
+	if (sig && psd_placeyear_signals(s, &row, &w, 1, sig) == 0)
+		rc = row_of_signals(s, k, n, sig, elec, wx);
+	free(sig);
 	return rc;
 }
 
@@ -170,27 +203,100 @@ double psd_placerun_elec_of(const struct search *s, const struct combo *k)
 	return s->poses[k->pose].elec[(size_t)k->rot * (size_t)s->o->nsens + (size_t)k->sens];
 }
 
+/* rows a worker takes at once: their signals are made together */
+#define WORK_ROWS 32
+
 static void *worker(void *arg)
 {
 	struct search *s = arg;
 	size_t nl = (size_t)s->o->nlaws;
+	double *sig = malloc(WORK_ROWS * (s->hrs.n ? s->hrs.n : 1) * sizeof *sig);
 	for (;;) {
 		size_t i;
+		int nr, bad = 0;
+		const double *rows[WORK_ROWS], *wts[WORK_ROWS];
 		pthread_mutex_lock(&s->lock);
 		i = s->next;
-		s->next += nl;
+		s->next += WORK_ROWS * nl;
 		pthread_mutex_unlock(&s->lock);
 		if (i >= s->nc)
 			break;
-		if (psd_placerun_row(s, &s->c[i], (int)nl, psd_placerun_row_of(s, &s->c[i]), psd_placerun_elec_of(s, &s->c[i]), NULL) != 0) {
+		nr = (int)((s->nc - i) / nl < WORK_ROWS ? (s->nc - i) / nl : WORK_ROWS);
+		for (int j = 0; j < nr; j++) {
+			rows[j] = psd_placerun_row_of(s, &s->c[i + j * nl]);
+			wts[j] = s->o->coef[s->c[i + j * nl].sens];
+		}
+		if (!sig || psd_placeyear_signals(s, rows, wts, nr, sig) != 0)
+			bad = nr;
+		for (int j = 0; j < nr && !bad; j++) {
+			struct combo *k = &s->c[i + j * nl];
+			if (row_of_signals(s, k, (int)nl, sig + (size_t)j * s->hrs.n, psd_placerun_elec_of(s, k), NULL) != 0)
+				bad++;
+		}
+		if (bad) {
 			pthread_mutex_lock(&s->lock);
-			s->failed++;
+			s->failed += bad;
 			pthread_mutex_unlock(&s->lock);
 		}
+	}
+	free(sig);
+	return NULL;
+}
+
+/* the poses' projections, a pose at a time from a shared counter */
+struct proj_job {
+	struct search *s;
+	pthread_mutex_t lock;
+	int next;
+	int *rc;
+	char (*err)[1024];
+};
+
+static void *project_run(void *arg)
+{
+	struct proj_job *j = arg;
+	for (;;) {
+		int i;
+		pthread_mutex_lock(&j->lock);
+		i = j->next++;
+		pthread_mutex_unlock(&j->lock);
+		if (i >= j->s->nposes)
+			break;
+		j->rc[i] = psd_placeset_project(j->s, &j->s->poses[i], j->err[i], sizeof j->err[i]);
 	}
 	return NULL;
 }
 
+int psd_placerun_project(struct search *s, char *err, size_t errlen)
+{
+	struct proj_job j = { .s = s, .next = 0 };
+	pthread_t th[256];
+	int n = 0, rc = 0;
+	j.rc = calloc((size_t)(s->nposes > 0 ? s->nposes : 1), sizeof *j.rc);
+	j.err = calloc((size_t)(s->nposes > 0 ? s->nposes : 1), sizeof *j.err);
+	if (!j.rc || !j.err) {
+		free(j.rc);
+		free(j.err);
+		return snprintf(err, errlen, "out of memory"), -1;
+	}
+	pthread_mutex_init(&j.lock, NULL);
+	for (int i = 1; i < s->o->threads && i < 256 && i < s->nposes; i++)
+		if (pthread_create(&th[n], NULL, project_run, &j) == 0)
+			n++;
+	project_run(&j);
+	for (int i = 0; i < n; i++)
+		pthread_join(th[i], NULL);
+	pthread_mutex_destroy(&j.lock);
+	/* the first pose that failed, in the candidates' order */
+	for (int i = 0; i < s->nposes && !rc; i++)
+		if (j.rc[i] != 0) {
+			snprintf(err, errlen, "%s", j.err[i]);
+			rc = -1;
+		}
+	free(j.rc);
+	free(j.err);
+	return rc;
+}
 
 void psd_placerun_all(struct search *s)
 {

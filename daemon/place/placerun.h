@@ -34,6 +34,9 @@ const double *psd_placerun_row_of(const struct search *s, const struct combo *k)
 double psd_placerun_elec_of(const struct search *s, const struct combo *k);
 /* Rotation r's angle, degrees. */
 double psd_placerun_rot_deg(const struct search *s, int r);
+/* Project every pose (psd_placeset_project) on s->o->threads threads;
+ * -1 with the first failing pose's error. */
+int psd_placerun_project(struct search *s, char *err, size_t errlen);
 /* Run every combination of s on s->o->threads threads. */
 void psd_placerun_all(struct search *s);
 /* Rank s->c and mark the Pareto front. */

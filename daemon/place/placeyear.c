@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "dcset.h"
+#include "roomsetup.h"
 #include "integrate.h"
 #include "patches.h"
 #include "scene.h"
@@ -84,6 +85,20 @@ int psd_placeyear_check(const char *stat, int n, char *err, size_t errlen)
 	                stat), -1;
 }
 
+/* 1: the figure stat is not linear in the points (min, pNN): the task is
+ * judged point by point (psd_placeyear_task) */
+static int exact_figure(const char *stat)
+{
+	return !strcmp(stat, "min") || (stat[0] == 'p' && stat[1] != 'o');
+}
+
+/* day of year (from 1) of a date of the weather's year */
+static int doy_of(int month, int day, int leap)
+{
+	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
+	return start[month - 1] + day + (leap && month > 2);
+}
+
 int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err, size_t errlen)
 {
 	struct ps_weather w;
@@ -105,6 +120,13 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 	}
 	ps_sky_opt_default(&so);
 	H->npatch = P.n;
+	H->npoints = g->npoints;
+	if (exact_figure(s->o->stat) && !(H->pt_day = malloc((w.n ? w.n : 1) * (size_t)g->npoints * sizeof *H->pt_day))) {
+		free(lux);
+		ps_weather_free(&w);
+		ps_patches_free(&P);
+		return snprintf(err, errlen, "out of memory for %zu hours", w.n), -1;
+	}
 	H->h = calloc(w.n ? w.n : 1, sizeof *H->h);
 	H->sky = malloc((w.n ? w.n : 1) * (size_t)P.n * 3 * sizeof *H->sky);
 	H->task = malloc((w.n ? w.n : 1) * sizeof *H->task);
@@ -142,7 +164,21 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 			lux[pt] = PS_YEAR_LUX_PER_WM2 * ps_dcset_row_apply(&row, V, sky);
 		}
 		H->task[H->n] = psd_placeyear_stat(s->o->stat, lux, g->npoints, lux + g->npoints);
+		if (H->pt_day)
+			memcpy(H->pt_day + H->n * (size_t)g->npoints, lux, (size_t)g->npoints * sizeof *lux);
 		H->n++;
+	}
+	{
+		/* the hours of each day (file order); a leap year as the annual run plays it */
+		int leap = H->leap, d = 1;
+		for (size_t i = 0; i < H->n; i++)
+			leap |= H->h[i].month == 2 && H->h[i].day == 29;
+		H->day_first[1] = 0;
+		for (size_t i = 0; i <= H->n; i++) {
+			int di = i < H->n ? doy_of(H->h[i].month, H->h[i].day, leap) : 367;
+			while (d < di && d < 367)
+				H->day_first[++d] = i;
+		}
 	}
 	free(lux);
 	ps_weather_free(&w);
@@ -150,11 +186,85 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 	return 0;
 }
 
+/* The year's sensor signals of rows rows[0 .. nrow - 1] (each npatch x 3,
+ * per channel), row j weighed by its sensor's colour weights wts[j], into
+ * sig[j * hours + i]: eight rows at a time (eight sums
+ * in flight) over a tile of hours (which stays in cache for every block
+ * of rows), each row's sum taken in the one order (patch, then channel)
+ * and each term as (w[c] x row) x sky, so a row's signals are the same
+ * whatever rows it goes with. */
+#define SIG_BLOCK 8
+#define SIG_TILE 64
+typedef double sig_v2 __attribute__((vector_size(16)));
+int psd_placeyear_signals(const struct search *s, const double *const *rows, const double *const *wts, int nrow,
+                          double *sig)
+{
+	const struct hours *H = &s->hrs;
+	size_t m = (size_t)H->npatch * 3;
+	int nblock = (nrow + SIG_BLOCK - 1) / SIG_BLOCK;
+	/* block b's rows interleaved: rv[(b m + k) SIG_BLOCK + j], row j's term k */
+	double *rv = aligned_alloc(sizeof(sig_v2), (size_t)(nblock > 0 ? nblock : 1) * SIG_BLOCK * m * sizeof *rv);
+	if (!rv)
+		return -1;
+	for (int j = 0; j < nblock * SIG_BLOCK; j++) {
+		const double *row = rows[j < nrow ? j : 0], *w = wts[j < nrow ? j : 0];
+		double *r = rv + (size_t)(j / SIG_BLOCK) * SIG_BLOCK * m + j % SIG_BLOCK;
+		for (size_t k = 0; k < m; k++)
+			r[k * SIG_BLOCK] = w[k % 3] * row[k];
+	}
+	for (size_t i0 = 0; i0 < H->n; i0 += SIG_TILE) {
+		size_t i1 = H->n - i0 < SIG_TILE ? H->n : i0 + SIG_TILE;
+		for (int b0 = 0; b0 < nblock; b0++) {
+			const double *r = rv + (size_t)b0 * SIG_BLOCK * m;
+			int nb = nrow - b0 * SIG_BLOCK < SIG_BLOCK ? nrow - b0 * SIG_BLOCK : SIG_BLOCK;
+			for (size_t i = i0; i < i1; i++) {
+				const double *sky = H->sky + i * m;
+				/* two rows a lane pair (gcc's and clang's vector extension):
+				 * each lane one row's sum, in its own order */
+				sig_v2 a0 = { 0, 0 }, a1 = { 0, 0 }, a2 = { 0, 0 }, a3 = { 0, 0 };
+				double v[SIG_BLOCK];
+				for (size_t k = 0; k < m; k++) {
+					const sig_v2 *rk = (const sig_v2 *)(r + k * SIG_BLOCK);
+					sig_v2 x = { sky[k], sky[k] };
+					a0 += rk[0] * x;
+					a1 += rk[1] * x;
+					a2 += rk[2] * x;
+					a3 += rk[3] * x;
+				}
+				memcpy(v, &a0, sizeof a0);
+				memcpy(v + 2, &a1, sizeof a1);
+				memcpy(v + 4, &a2, sizeof a2);
+				memcpy(v + 6, &a3, sizeof a3);
+				for (int b = 0; b < nb; b++)
+					sig[(size_t)(b0 * SIG_BLOCK + b) * H->n + i] = v[b];
+			}
+		}
+	}
+	free(rv);
+	return 0;
+}
+
 /* The results psensd would read for one combination: the year's hours
  * with this sensor's signal, a daylight condition holding the year's mean
  * ratio (the year's mean signals, at noon of any day) and the electric one.  row: npatch x 3 per channel. */
 int psd_placeyear_results(const struct search *s, const double *row, double elec, const struct ps_sensor *sens,
-                        struct ps_results *r, double *sensor_sum)
+                          struct ps_results *r, double *sensor_sum)
+{
+	double *sig = malloc((s->hrs.n ? s->hrs.n : 1) * sizeof *sig);
+	int rc;
+	const double *w = s->o->coef[sens - s->sens];
+	if (!sig || psd_placeyear_signals(s, &row, &w, 1, sig) != 0) {
+		free(sig);
+		memset(r, 0, sizeof *r);
+		return -1;
+	}
+	rc = psd_placeyear_results_of(s, sig, elec, sens, r, sensor_sum);
+	free(sig);
+	return rc;
+}
+
+int psd_placeyear_results_of(const struct search *s, const double *sig, double elec, const struct ps_sensor *sens,
+                             struct ps_results *r, double *sensor_sum)
 {
 	const struct hours *H = &s->hrs;
 	const double *w = s->o->coef[sens - s->sens];   /* the sensor's colour weights */
@@ -169,11 +279,7 @@ int psd_placeyear_results(const struct search *s, const double *row, double elec
 		return -1;
 	}
 	for (size_t i = 0; i < H->n; i++) {
-		const double *sky = H->sky + i * (size_t)H->npatch * 3;
-		double v = 0;
-		for (int p = 0; p < H->npatch; p++)
-			for (int c = 0; c < 3; c++)
-				v += w[c] * row[3 * p + c] * sky[3 * p + c];
+		double v = sig[i];
 		r->year.h[i] = H->h[i];
 		r->year.h[i].sensor = v;
 		r->year.h[i].task_lux = H->task[i];
@@ -208,6 +314,149 @@ int psd_placeyear_results(const struct search *s, const double *row, double elec
 	}
 	ps_results_summarise(r);
 	return 0;
+}
+
+/* the k-th smallest (from 0) of v[0 .. n-1], reordering v */
+static double kth(double *v, int n, int k)
+{
+	int lo = 0, hi = n - 1;
+	while (lo < hi) {
+		double pivot = v[(lo + hi) / 2];
+		int i = lo, j = hi;
+		while (i <= j) {
+			while (v[i] < pivot)
+				i++;
+			while (v[j] > pivot)
+				j--;
+			if (i <= j) {
+				double x = v[i];
+				v[i++] = v[j];
+				v[j--] = x;
+			}
+		}
+		if (k <= j)
+			hi = j;
+		else if (k >= i)
+			lo = i;
+		else
+			return v[k];
+	}
+	return v[k];
+}
+
+/* day of year doy's points as the room makes them (roomsetup's from_date):
+ * the hours with light, dark a step before the first and after the last */
+static void task_day(struct psd_placeyear_task *k, int doy)
+{
+	const struct hours *H = &k->s->hrs;
+	size_t lo = doy >= 1 && doy <= 366 ? H->day_first[doy] : 0, hi = doy >= 1 && doy <= 366 ? H->day_first[doy + 1] : 0;
+	int n = 0;
+	k->doy = doy;
+	if (hi > lo) {
+		double first = 3600.0 * H->h[lo].hour, last = 3600.0 * H->h[hi - 1].hour, step = 3600.0;
+		if (hi - lo > 1) {
+			double s1 = 3600.0 * (H->h[lo + 1].hour - H->h[lo].hour);
+			if (s1 > 0 && s1 < step)
+				step = s1;
+		}
+		k->t[n] = fmax(0.0, first - step);
+		k->at[n++] = -1;
+		for (size_t i = lo; i < hi && n < PSD_YEAR_DAY_POINTS - 1; i++) {
+			double t = 3600.0 * H->h[i].hour;
+			if (t <= k->t[n - 1])
+				continue;
+			k->t[n] = t;
+			k->at[n++] = (long)i;
+		}
+		if (last + step > k->t[n - 1] && n < PSD_YEAR_DAY_POINTS) {
+			k->t[n] = fmin(86400.0, last + step);
+			k->at[n++] = -1;
+		}
+	}
+	k->n = n;
+}
+
+double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
+{
+	struct psd_placeyear_task *k = ctx;
+	const struct hours *H = &k->s->hrs;
+	int np = H->npoints;
+	double tod = t >= 0 && t < 86400.0 ? t : fmod(t, 86400.0), w = 0, *v = k->v;   /* the room's clock */
+	const double *a = k->zero, *b = k->zero, *e = H->pt_elec;
+	if (tod < 0)
+		tod += 86400.0;
+	if (doy != k->doy)
+		task_day(k, doy);
+	if (k->n && tod >= k->t[0] && tod <= k->t[k->n - 1]) {
+		/* the last point at or before tod, and the weight to the next (the
+		 * room's day_at; a dark point reads zeros) */
+		int lo = 0, hi = k->n - 1;
+		while (lo < hi) {
+			int mid = (lo + hi + 1) / 2;
+			if (k->t[mid] <= tod)
+				lo = mid;
+			else
+				hi = mid - 1;
+		}
+		if (k->at[lo] >= 0)
+			a = H->pt_day + (size_t)k->at[lo] * (size_t)np;
+		if (lo + 1 < k->n && k->t[lo + 1] > k->t[lo]) {
+			w = (tod - k->t[lo]) / (k->t[lo + 1] - k->t[lo]);
+			if (k->at[lo + 1] >= 0)
+				b = H->pt_day + (size_t)k->at[lo + 1] * (size_t)np;
+			if (k->q < 0) {
+				double m = INFINITY;
+				for (int p = 0; p < np; p++) {
+					double x = a[p] + w * (b[p] - a[p]) + lamp * e[p];
+					m = x < m ? x : m;
+				}
+				return m;
+			}
+			for (int p = 0; p < np; p++)
+				v[p] = a[p] + w * (b[p] - a[p]) + lamp * e[p];
+			return kth(v, np, k->q);
+		}
+	}
+	/* at a point (or outside the day: zeros) */
+	if (k->q < 0) {
+		double m = INFINITY;
+		for (int p = 0; p < np; p++) {
+			double x = a[p] + lamp * e[p];
+			m = x < m ? x : m;
+		}
+		return m;
+	}
+	for (int p = 0; p < np; p++)
+		v[p] = a[p] + lamp * e[p];
+	return kth(v, np, k->q);
+}
+
+int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s)
+{
+	const char *stat = s->o->stat;
+	memset(k, 0, sizeof *k);
+	k->s = s;
+	k->doy = -1;
+	if (!strcmp(stat, "min"))
+		k->q = -1;
+	else {
+		int n = s->hrs.npoints, q = (int)ceil(atof(stat + 1) / 100.0 * n) - 1;
+		k->q = q < 0 ? 0 : q >= n ? n - 1 : q;
+	}
+	k->v = malloc((size_t)(s->hrs.npoints > 0 ? s->hrs.npoints : 1) * sizeof *k->v);
+	k->zero = calloc((size_t)(s->hrs.npoints > 0 ? s->hrs.npoints : 1), sizeof *k->zero);
+	if (!k->v || !k->zero) {
+		psd_placeyear_task_free(k);
+		return -1;
+	}
+	return 0;
+}
+
+void psd_placeyear_task_free(struct psd_placeyear_task *k)
+{
+	free(k->v);
+	free(k->zero);
+	k->v = k->zero = NULL;
 }
 
 void psd_placeyear_release(struct ps_results *r)

@@ -12,6 +12,7 @@
 #include "gridmtx.h"
 #include "place.h"
 #include "results.h"
+#include "roomsetup.h"
 
 /* The grid's figure stat of the points' lux v[n] (scratch: n doubles). */
 double psd_placeyear_stat(const char *stat, const double *v, int n, double *scratch);
@@ -23,6 +24,29 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
  * summed signal into *sensor_sum.  -1: out of memory. */
 int psd_placeyear_results(const struct search *s, const double *row, double elec, const struct ps_sensor *sens,
                           struct ps_results *r, double *sensor_sum);
+/* The year's sensor signals of rows[0 .. nrow - 1] into sig[j x hours + i]
+ * (the same numbers psd_placeyear_results puts in the year).  -1: out of
+ * memory. */
+int psd_placeyear_signals(const struct search *s, const double *const *rows, const double *const *wts, int nrow,
+                          double *sig);
+/* psd_placeyear_results from a row's signals sig[hours]. */
+int psd_placeyear_results_of(const struct search *s, const double *sig, double elec, const struct ps_sensor *sens,
+                             struct ps_results *r, double *sensor_sum);
+/* The grid's figure of the points' true lux, each its daylight at the
+ * time (linear between the hours, as the room's day) plus the lamps'
+ * output x its electric lux, for the annual run's task hook. */
+struct psd_placeyear_task {
+	const struct search *s;
+	int q;                     /* the rank the figure takes (from 0); -1: the minimum */
+	int doy, n;                /* the day whose points t, at are */
+	double t[PSD_YEAR_DAY_POINTS];
+	long at[PSD_YEAR_DAY_POINTS];   /* the hour of each point, -1: dark */
+	double *v;                 /* npoints: scratch */
+	double *zero;              /* npoints zeros: a dark point */
+};
+int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s);
+double psd_placeyear_task(void *ctx, int doy, double t, double lamp);
+void psd_placeyear_task_free(struct psd_placeyear_task *k);
 void psd_placeyear_release(struct ps_results *r);
 
 #endif

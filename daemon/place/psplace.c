@@ -176,6 +176,8 @@ static void search_free(struct search *s)
 	free(s->hrs.h);
 	free(s->hrs.sky);
 	free(s->hrs.task);
+	free(s->hrs.pt_day);
+	free(s->hrs.pt_elec);
 	free(s->c);
 }
 
@@ -399,7 +401,7 @@ int main(int argc, char **argv)
 			goto out;
 		}
 		s.elec_task = psd_placeyear_stat(o.stat, lux, g.npoints, scratch);
-		free(lux);
+		s.hrs.pt_elec = lux;
 		free(scratch);
 		s.npatch = g.npatch;
 		s.mf = g.mf;
@@ -421,11 +423,10 @@ int main(int argc, char **argv)
 		goto out;
 	}
 	t_sky = psd_time_mono();
-	for (int i = 0; i < s.nposes; i++)
-		if (psd_placeset_project(&s, &s.poses[i], err, sizeof err) != 0) {
-			fprintf(stderr, "psplace: %s\n", err);
-			goto out;
-		}
+	if (psd_placerun_project(&s, err, sizeof err) != 0) {
+		fprintf(stderr, "psplace: %s\n", err);
+		goto out;
+	}
 	t_proj = psd_time_mono();
 	s.nc = (size_t)s.nposes * (size_t)o.nrot * (size_t)o.nsens * (size_t)o.nlaws;
 	s.c = calloc(s.nc, sizeof *s.c);

@@ -18,7 +18,12 @@
  *     300 lx (x 1.2) in one and 200 lx (x 0.8) in the other (sensor alike)
  *     give bars of +20 % and -20 % on the hours and energy 20 % and 30 % of
  *     full against 25 % (the law's closed form (500 - daylight) / 1000); a
- *     results file without the moved sun gives no bar. */
+ *     results file without the moved sun gives no bar;
+ *   - the lean run (occupied_only: the unoccupied steps run the law and the
+ *     ballast without looking at the room) gives every figure of the full
+ *     run bit for bit, and the same occupied steps to the step hook, for
+ *     every law over a year of changing daylight with a fading, lagging
+ *     ballast (the ballast must run the same however the room is looked at). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -231,6 +236,68 @@ static void sun_bar_per_scene(void **state)
 	}
 }
 
+/* what the step hook saw of the occupied hours */
+struct seen_sum {
+	double n, t, level, output, truth, dl;
+};
+
+static void sum_step(void *ctx, int doy, double t, double level, double output, double truth, double dl)
+{
+	struct seen_sum *s = ctx;
+	if (t < 8 * 3600.0 || t >= 18 * 3600.0)
+		return;
+	s->n++;
+	s->t += doy * 86400.0 + t;
+	s->level += level;
+	s->output += output;
+	s->truth += truth;
+	s->dl += dl;
+}
+
+static void lean_is_the_same(void **state)
+{
+	static const int md[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
+	struct ps_results r;
+	struct psd_control c;
+	struct psd_annual_opt o;
+	size_t n = 0;
+	(void)state;
+	base(&r, &c, &o);
+	r.year.h = calloc(8760, sizeof *r.year.h);
+	for (int m = 1; m <= 12; m++)
+		for (int d = 1; d <= md[m - 1]; d++)
+			for (int h = 6; h < 19; h++) {
+				double s = (1 + sin(0.7 * n)) * (h - 5) * (19 - h) / 36.0, lux = 300.0 * s * (1 + 0.3 * cos(0.3 * (n + 1)));
+				r.year.h[n++] = (struct ps_year_hour){ m, d, h, s, lux, 1, 2.0, NAN, NAN, NAN };
+			}
+	r.year.n = n;
+	ps_year_tabulate(&r.year);
+	o.period = 600;
+	o.no_estimate = 1;
+	o.ballast = (struct psd_roomsetup_ballast){ .fade_rate = 0.002, .min_level = 0.1, .lag_tau = 300 };
+	o.light_min = 0.1;
+	o.power_at_min = 0.2;
+	o.step = sum_step;
+	for (int alg = 0; alg < PSD_ALG_COUNT; alg++) {
+		struct psd_annual a[2];
+		struct seen_sum s[2];
+		c.algorithm = alg;
+		c.s_on = 100;
+		c.s_off = 400;
+		for (int lean = 0; lean < 2; lean++) {
+			memset(&s[lean], 0, sizeof s[lean]);
+			o.step_ctx = &s[lean];
+			o.occupied_only = lean;
+			assert_int_equal(psd_annual_run(&r, &c, &o, &a[lean]), 0);
+			a[lean].seconds = 0;
+		}
+		assert_true(a[0].energy_h > 0 && a[0].energy_h < a[0].occ_h && s[0].n > 0);
+		assert_memory_equal(&a[0], &a[1], sizeof a[0]);
+		assert_memory_equal(&s[0], &s[1], sizeof s[0]);
+	}
+	free(r.year.h);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -241,6 +308,7 @@ int main(void)
 		cmocka_unit_test(power_curve_kwh),
 		cmocka_unit_test(dali_levels),
 		cmocka_unit_test(sun_bar_per_scene),
+		cmocka_unit_test(lean_is_the_same),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
