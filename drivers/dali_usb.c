@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: ISC */
-/* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0,
+/* The DALI USB driver: DALI ballasts through a USB interface with libusb-1.0
  * (transport tridonic or hasseb), or through a serial or TCP interface
  * (transport atx, foxtron, luba, daliserver: the
  * link in dali_serial.c, its descriptor in the same epoll set, its results

@@ -28,6 +28,7 @@
 #define T_IN_TX 0.0135          /* between the frames of one transaction (priority 1) */
 #define IN_STEP_MS 0.0833       /* answers this close add up to one clean frame */
 #define OTHER_FRAME 0x7F90u     /* another master's frame: QUERY STATUS to short address 63 */
+#define STALE_ANSWER 0x55       /* the answer a stale report carries */
 
 struct ballast {
 	struct psemu_ballast s;
@@ -606,6 +607,9 @@ static void firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len,
 		report(f, 0x12, 0x77, 3, seq, t);
 		f->last_final = t;
 		break;
+	case PSEMU_FAULT_STALE:
+		report(f, 0x12, 0x72, STALE_ANSWER, (uint8_t)(seq - 1), t);
+		break;
 	case PSEMU_FAULT_UNPLUG:
 		unplug_now(f);
 		return;
@@ -711,6 +715,9 @@ static void hasseb_firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size
 	case PSEMU_FAULT_GARBLED:
 		hb_report(f, seq, HB_INVALID, -1, t);
 		f->last_final = t;
+		break;
+	case PSEMU_FAULT_STALE:
+		hb_report(f, seq == 1 ? 255 : (uint8_t)(seq - 1), HB_ANSWER, STALE_ANSWER, t);
 		break;
 	case PSEMU_FAULT_UNPLUG:
 		unplug_now(f);

@@ -54,7 +54,10 @@
  * the transfer (after the echo; hasseb: after the frame), and another
  * master's frame on the bus before ours (a query to short address 63, which
  * no ballast of the tests has), reported as another master's traffic (0x11;
- * hasseb: its two bytes sniffed, with sequence number 0).  Unplug/replug at any time; a replugged interface
+ * hasseb: its two bytes sniffed, with sequence number 0), and a stale
+ * report: the final report of the SEND is lost and an answer 0x55 under the
+ * previous sequence number comes in its place (a late report of the
+ * transaction before).  Unplug/replug at any time; a replugged interface
  * gets a new device number, as after a real replug.  Per ballast: dead after
  * it has answered N more backward frames (it then ignores the bus).
  *
@@ -75,6 +78,7 @@ enum psemu_fault {
 	PSEMU_FAULT_MALFORMED,    /* one report of garbage instead of the echo and answer */
 	PSEMU_FAULT_UNPLUG,       /* unplugged after the echo, before the answer */
 	PSEMU_FAULT_OTHER_MASTER, /* another master's frame on the bus before ours */
+	PSEMU_FAULT_STALE,        /* our final report is lost; an answer 0x55 for the previous sequence number comes instead */
 };
 
 enum psemu_model { PSEMU_TRIDONIC = 0, PSEMU_HASSEB };

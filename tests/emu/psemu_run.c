@@ -16,8 +16,9 @@
  * -u writes the testbed's UMOCKDEV_DIR to FILE, so that another program
  *    (run with the preload and that UMOCKDEV_DIR) reaches the same devices.
  * -c names a control FIFO, one command a line:
- *      unplug I | replug I | fault I none|noanswer|garbled|malformed|unplug|other COUNT | dump
- *    (other: another master's frame on the bus before ours)
+ *      unplug I | replug I | fault I none|noanswer|garbled|malformed|unplug|other|stale COUNT | dump
+ *    (other: another master's frame on the bus before ours; stale: a report
+ *    for the previous sequence number instead of ours)
  * -s: after each command and at the end, the ballasts' state is written there
  *     (psemu_dump lines), atomically.
  * -t: kill the child after this many seconds (default 60).
@@ -57,7 +58,7 @@ static void write_state(void)
 
 static int fault_kind(const char *s)
 {
-	static const char *const names[] = { "none", "noanswer", "garbled", "malformed", "unplug", "other", NULL };
+	static const char *const names[] = { "none", "noanswer", "garbled", "malformed", "unplug", "other", "stale", NULL };
 	for (int i = 0; names[i]; i++)
 		if (strcmp(s, names[i]) == 0)
 			return i;

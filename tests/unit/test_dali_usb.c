@@ -821,6 +821,31 @@ static void another_masters_frame_is_not_an_answer(void **state)
 	assert_int_equal(st.garbled, 0);
 }
 
+/* A report under the previous sequence number (a late one of the last
+ * transaction) in place of the query's own: not taken for its answer; the
+ * query times out and its retry reads the ballast. */
+static void a_stale_report_is_not_an_answer(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dali_usb_stats st;
+	double v = -1;
+	assert_int_equal(open_dev(f, "timeout", "0.05", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(170)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	fade_clock += 10;
+	psemu_fault(f->emu, 0, PSEMU_FAULT_STALE, 1);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 170);   /* not 0x55 = 85 */
+	st = stats(f);
+	assert_int_equal(st.stray, 1);
+	assert_int_equal(st.timeouts, 1);
+	assert_int_equal(st.retries, 1);
+	assert_int_equal(st.failed, 0);
+}
+
 int main(int argc, char **argv)
 {
 	const struct CMUnitTest tests[] = {
@@ -843,6 +868,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(bad_options_name_file_and_line, setup, teardown),
 		cmocka_unit_test_setup_teardown(a_simulated_day_with_the_control_law, setup, teardown),
 		cmocka_unit_test_setup_teardown(another_masters_frame_is_not_an_answer, setup, teardown),
+		cmocka_unit_test_setup_teardown(a_stale_report_is_not_an_answer, setup, teardown),
 		/* the same cases on the hasseb DALI Master */
 		cmocka_unit_test_setup_teardown(opens_detaches_and_claims, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(levels_reach_the_ballasts, setup_hasseb, teardown),
@@ -860,6 +886,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(a_second_claim_is_refused, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(a_simulated_day_with_the_control_law, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(another_masters_frame_is_not_an_answer, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(a_stale_report_is_not_an_answer, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_sequence_numbers_wrap_past_255, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_dtr0_is_a_frame_of_its_own, setup_hasseb, teardown),
 	};
