@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: ISC */
-/* The DALI USB driver: DALI ballasts through a USB interface, with libusb-1.0,
- * or through a serial or TCP interface (transport atx, foxtron, luba: the
+/* The DALI USB driver: DALI ballasts through a USB interface with libusb-1.0
+ * (transport tridonic or hasseb), or through a serial or TCP interface
+ * (transport atx, foxtron, luba, daliserver: the
  * link in dali_serial.c, its descriptor in the same epoll set, its results
  * mapped onto the same transactions).  See psensd-dali_usb(7) for the options.
  *
@@ -18,7 +19,10 @@
  * after the last one's final report (the bus's settling time before a new
  * forward frame is at most 21.2 ms, priority 5).  Reports are matched on the
  * sequence number; reports for other numbers (another master repeating our
- * last frame, a late answer after a timeout) are ignored.
+ * last frame, a late answer after a timeout) are ignored.  An interface
+ * without the DTR0 prefix (hasseb) gets the DTR0 of a configuration command
+ * as a frame of its own under its own sequence number, and the command
+ * follows in the same transaction 13.5 ms after DTR0's final report.
  *
  * Unplug: any NO_DEVICE/IO error closes the interface and the driver rescans
  * with a backoff of 0.5 s doubling to 8 s from service(), read() and write();
@@ -64,6 +68,7 @@
 #include "dali_transport.h"
 #include "dali_usb.h"
 #include "driver.h"
+#include "usb_hasseb.h"
 #include "usb_tridonic.h"
 
 #define MAX_POINTS 64
@@ -73,6 +78,7 @@
 #define BACKOFF_MAX 8.0
 #define CLOSE_WAIT 1.0      /* seconds to wait for cancelled transfers */
 #define SERIAL_TIMEOUT_MS 50
+#define IN_TX_GAP 0.0135    /* between the frames of one transaction (101's priority 1) */
 
 enum { ST_DOWN = 0, ST_UP, ST_CLOSING };
 
@@ -116,6 +122,8 @@ struct dali_usb {
 	int ser_dtr0_frame;                   /* the frame to send after its DTR0, -1 none */
 	int ser_twice, ser_answer;
 	int ser_repeat;                       /* a 24-bit frame to send once more (the codec has no send-twice for it), -1 none */
+	int usb_then, usb_then_twice;         /* USB without a DTR0 prefix: the frame after its DTR0, -1 none */
+	int usb_then_go;                      /* DTR0 is through: send usb_then at cur_deadline */
 	double timeout, frame_gap, safe_level, fade_time;
 	long retries;
 
@@ -157,10 +165,20 @@ struct dali_usb {
 
 /* The interfaces, and their names for the transport key (in that order):
  * USB ones through libusb, serial and TCP ones through dali_serial.c. */
-static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL, NULL, NULL };
+static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL, NULL,
+	                                                       &ps_usb_hasseb, NULL };
 static const struct ps_dali_codec *const codecs[] = { NULL,           &ps_dali_atx, &ps_dali_foxtron, &ps_dali_luba,
-                                                       &ps_dali_daliserver, NULL };
-static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", "daliserver", NULL };
+                                                       &ps_dali_daliserver, NULL, NULL };
+static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", "daliserver", "hasseb", NULL };
+
+/* A transport name that is a USB interface (no device = key). */
+static int usb_transport(const char *name)
+{
+	for (int i = 0; transport_names[i]; i++)
+		if (strcmp(name, transport_names[i]) == 0)
+			return transports[i] != NULL;
+	return 0;
+}
 
 /* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
 static int valid_port(const char *v, char *why, size_t n)
@@ -182,9 +200,9 @@ static int valid_address(const char *v, char *why, size_t n)
 static const struct ps_opts_spec du_options[] = {
 	{ .key = "transport", .type = PS_OPT_ENUM, .scope = DEV, .def = "tridonic",
 	  .names = transport_names,
-	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020), atx (AtxLED DALI HAT, "
-	         "serial), foxtron (Foxtron DALI232 serial, DALInet TCP), luba (Lunatone LUBA, serial), "
-	         "daliserver (a Tridonic DALI USB shared by daliserver, TCP)" },
+	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020), hasseb (hasseb DALI "
+	         "Master, 04cc:0802), atx (AtxLED DALI HAT, serial), foxtron (Foxtron DALI232 serial, DALInet "
+	         "TCP), luba (Lunatone LUBA, serial), daliserver (a Tridonic DALI USB shared by daliserver, TCP)" },
 	{ .key = "device", .type = PS_OPT_STRING, .scope = DEV,
 	  .doc = "atx, foxtron, luba: the serial port (/dev/...) or HOST:PORT (DALInet); daliserver: HOST:PORT" },
 	{ .key = "baud", .type = PS_OPT_LONG, .scope = DEV, .min = 1200, .max = 115200,
@@ -227,7 +245,7 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 {
 	if (role < 0) {
 		const char *t = ps_opts_get(o, "transport"), *dv = ps_opts_get(o, "device");
-		int serial = t && strcmp(t, "tridonic") != 0;
+		int serial = t && !usb_transport(t);
 		if (serial && !dv) {
 			*line = ps_opts_line(o, "transport");
 			snprintf(why, n, "transport %s needs device = (a serial port or HOST:PORT)", t);
@@ -246,7 +264,8 @@ static int du_check(const struct ps_opts *o, int role, int *line, char *why, siz
 		}
 		if (!serial && dv) {
 			*line = ps_opts_line(o, "device");
-			snprintf(why, n, "device is for the serial and TCP transports (atx, foxtron, luba), not tridonic");
+			snprintf(why, n, "device is for the serial and TCP transports (atx, foxtron, luba), not %s",
+			         t ? t : "tridonic");
 			return -1;
 		}
 		return 0;
@@ -616,6 +635,60 @@ static void out_done(struct libusb_transfer *t)
 		d->cur_deadline = d->now;   /* the interface did not take the report: retry */
 }
 
+/* Send the OUT report of len bytes in outbuf.  0 ok; -1 the link is lost. */
+static int usb_submit(struct dali_usb *d, int len)
+{
+	int r;
+	libusb_fill_interrupt_transfer(d->out, d->h, d->tp->ep_out, d->outbuf, len, out_done, d,
+	                               (unsigned)(d->timeout * 1000 + 0.5));
+	r = libusb_submit_transfer(d->out);
+	if (r != 0) {
+		lost(d, r == LIBUSB_ERROR_NO_DEVICE ? "interface unplugged" : "interface gone (submit)");
+		return -1;
+	}
+	d->out_busy = 1;
+	return 0;
+}
+
+/* A USB interface: encode the frame under the next sequence number; one
+ * without a DTR0 prefix (hasseb) gets DTR0 as a frame of its own first and
+ * the frame is kept for usb_then_send.  The report's length, -1 if the
+ * interface cannot carry it. */
+static int usb_encode(struct dali_usb *d, int frame, int twice, int dtr0)
+{
+	int len;
+	d->usb_then = -1;
+	d->usb_then_go = 0;
+	d->seq = d->tp->next_seq(d->seq);
+	if (frame < 0)
+		return -1;
+	len = d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)frame, twice, dtr0);
+	if (len >= 0 || dtr0 < 0 || frame > 0xFFFF)
+		return len;
+	len = d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)ps_dali_dtr0(dtr0), 0, -1);
+	if (len >= 0) {
+		d->usb_then = frame;
+		d->usb_then_twice = twice;
+	}
+	return len;
+}
+
+/* DTR0 went out: now the command that uses it, under a sequence number of its own. */
+static void usb_then_send(struct dali_usb *d)
+{
+	int len;
+	d->usb_then_go = 0;
+	d->seq = d->tp->next_seq(d->seq);
+	len = d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)d->usb_then, d->usb_then_twice, -1);
+	d->usb_then = -1;
+	if (len < 0 || usb_submit(d, len) != 0)
+		return;   /* cannot happen for a frame whose DTR0 was encoded; or the link is gone */
+	d->cur_seq = d->seq;
+	d->cur_garbled = 0;
+	d->cur_deadline = d->now + d->timeout;
+	d->st.frames++;
+}
+
 static int frame_for(struct dali_usb *d, const struct tx *t, int *twice, int *dtr0)
 {
 	struct dpoint *p = t->kind == TX_JOB ? NULL : &d->pts[t->point];
@@ -819,7 +892,7 @@ static void on_serial_result(struct dali_usb *d, const struct ps_dali_serial_res
 
 static void send_next(struct dali_usb *d)
 {
-	int frame, twice, dtr0, len, r, qi;
+	int frame, twice, dtr0, len, qi;
 	struct ps_dali_tx jt;
 	int have_job;
 	if (d->state != ST_UP || d->cur_active || d->out_busy || d->now < d->next_send)
@@ -842,9 +915,7 @@ static void send_next(struct dali_usb *d)
 		if (len == -2)
 			return;   /* the link is gone */
 	} else {
-		d->seq = d->tp->next_seq(d->seq);
-		len = frame < 0 ? -1
-		                : d->tp->encode_send(d->outbuf, sizeof d->outbuf, d->seq, (unsigned)frame, twice, dtr0);
+		len = usb_encode(d, frame, twice, dtr0);
 	}
 	if (len < 0) {
 		if (d->cur.kind == TX_JOB) {
@@ -861,16 +932,8 @@ static void send_next(struct dali_usb *d)
 		}
 		return;
 	}
-	if (!d->codec) {
-		libusb_fill_interrupt_transfer(d->out, d->h, d->tp->ep_out, d->outbuf, len, out_done, d,
-		                               (unsigned)(d->timeout * 1000 + 0.5));
-		r = libusb_submit_transfer(d->out);
-		if (r != 0) {
-			lost(d, r == LIBUSB_ERROR_NO_DEVICE ? "interface unplugged" : "interface gone (submit)");
-			return;
-		}
-		d->out_busy = 1;
-	}
+	if (!d->codec && usb_submit(d, len) != 0)
+		return;
 	d->cur_active = 1;
 	d->cur_seq = d->seq;
 	d->cur_garbled = 0;
@@ -999,10 +1062,14 @@ static void on_report(struct dali_usb *d, const uint8_t *buf, size_t len)
 	case PS_DALI_EV_ECHO:
 		break;
 	case PS_DALI_EV_NO_ANSWER:
-		finish(d, -1);
-		break;
 	case PS_DALI_EV_ANSWER:
-		finish(d, (int)r.value);
+		if (d->usb_then >= 0) {
+			/* DTR0 is loaded; the command follows within the transaction */
+			d->usb_then_go = 1;
+			d->cur_deadline = d->now + IN_TX_GAP;
+			break;
+		}
+		finish(d, r.event == PS_DALI_EV_ANSWER ? (int)r.value : -1);
 		break;
 	case PS_DALI_EV_BUS_ERROR:
 		d->st.garbled++;
@@ -1345,6 +1412,9 @@ static int du_service(struct ps_dev *dev, double now)
 		if (d->ser)
 			take_observed(d);
 	}
+	if (d->state == ST_UP && !d->ser && d->cur_active && d->usb_then_go && now >= d->cur_deadline &&
+	    !d->out_busy)
+		usb_then_send(d);
 	if (d->state == ST_UP && !d->ser && d->cur_active && now >= d->cur_deadline) {
 		d->st.timeouts++;
 		failed_try(d, d->cur_garbled ? EPROTO : ETIMEDOUT,
@@ -1565,7 +1635,7 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	dev->priv = d;
 	d->epfd = epoll_create1(EPOLL_CLOEXEC);
 	d->safe_level = d->fade_time = -1;
-	d->ser_dtr0_frame = d->ser_repeat = -1;
+	d->ser_dtr0_frame = d->ser_repeat = d->usb_then = -1;
 	d->backoff = BACKOFF_MIN;
 	d->next_scan = -INFINITY;
 	d->seq = 0;

@@ -25,10 +25,13 @@
 #define REP_TX 0x07
 #define TWICE_MS 10
 
-/* Queries of control gear, and the special commands that answer */
+/* Queries of control gear (also broadcast to unaddressed gear, address
+ * byte 0xFD), and the special commands that answer */
 static int answers(unsigned frame)
 {
-	unsigned a = frame >> 8;
+	unsigned a = frame >> 8, op = frame & 0xFF;
+	if (a == 0xFD && op >= 0x90 && op <= 0xC5)
+		return 1;
 	return ps_dali_expects_answer(frame) || a == PS_DALI_COMPARE || a == PS_DALI_VERIFY_SHORT_ADDRESS ||
 	       a == PS_DALI_QUERY_SHORT_ADDRESS;
 }

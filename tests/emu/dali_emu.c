@@ -27,6 +27,8 @@
 #define T_NO_ANSWER (0.0105 + BIT)   /* the latest answer's start bit would be over */
 #define T_IN_TX 0.0135          /* between the frames of one transaction (priority 1) */
 #define IN_STEP_MS 0.0833       /* answers this close add up to one clean frame */
+#define OTHER_FRAME 0x7F90u     /* another master's frame: QUERY STATUS to short address 63 */
+#define STALE_ANSWER 0x55       /* the answer a stale report carries */
 
 struct ballast {
 	struct psemu_ballast s;
@@ -46,10 +48,12 @@ struct delayed {
 	double due;                 /* real time */
 	struct vusb *usb;
 	uint8_t r[REPORT];
+	size_t len;
 };
 
 struct iface {
 	struct psemu *e;
+	int model;                       /* enum psemu_model */
 	int index, port, next_devnum;
 	char serial[64];
 	struct vusb *usb;                /* NULL while unplugged */
@@ -436,9 +440,28 @@ static void bus_down(struct iface *f)
 
 /* Queue a report due at real time `due`: at once without bus timing, else
  * by the delivery thread.  Caller holds the lock. */
-static void report(struct iface *f, uint8_t mode, uint8_t type, unsigned frame, uint8_t seq, double due)
+static void queue_report(struct iface *f, const uint8_t *r, size_t len, double due)
 {
 	struct psemu *e = f->e;
+	struct delayed *d;
+	if (!f->usb)
+		return;
+	if (!e->timing) {
+		vusb_queue_in(f->usb, r, len);
+		return;
+	}
+	d = g_new(struct delayed, 1);
+	d->due = due;
+	d->usb = f->usb;
+	d->len = len < sizeof d->r ? len : sizeof d->r;
+	memcpy(d->r, r, d->len);
+	g_queue_push_tail(&e->later, d);
+	g_cond_signal(&e->later_cond);
+}
+
+/* A report of the Tridonic interface (doc/hardware.md section 1). */
+static void report(struct iface *f, uint8_t mode, uint8_t type, unsigned frame, uint8_t seq, double due)
+{
 	uint8_t r[REPORT] = { 0 };
 	r[0] = mode;
 	r[1] = type;
@@ -447,20 +470,7 @@ static void report(struct iface *f, uint8_t mode, uint8_t type, unsigned frame, 
 	r[6] = 0x00;
 	r[7] = type == 0x73 ? 0xF5 : 0x8A;   /* the undocumented "interval" field */
 	r[8] = seq;
-	if (!f->usb)
-		return;
-	if (!e->timing) {
-		vusb_queue_in(f->usb, r, sizeof r);
-		return;
-	}
-	{
-		struct delayed *d = g_new(struct delayed, 1);
-		d->due = due;
-		d->usb = f->usb;
-		memcpy(d->r, r, sizeof r);
-		g_queue_push_tail(&e->later, d);
-		g_cond_signal(&e->later_cond);
-	}
+	queue_report(f, r, sizeof r, due);
 }
 
 /* The delivery thread of the bus timing: each report when it is due. */
@@ -482,11 +492,48 @@ static gpointer deliver(gpointer user)
 		}
 		g_queue_pop_head(&e->later);
 		/* an unplugged device drops it; freed devices are only freed after this thread */
-		vusb_queue_in(d->usb, d->r, sizeof d->r);
+		vusb_queue_in(d->usb, d->r, d->len);
 		g_free(d);
 	}
 	g_mutex_unlock(&e->lock);
 	return NULL;
+}
+
+/* A SEND arrived at `now`: count it, check the gap since the last final
+ * report, and take the fault it meets.  Caller holds the lock. */
+static int take_send(struct iface *f, double now)
+{
+	int fault = PSEMU_FAULT_NONE;
+	f->st.sends++;
+	if (f->last_final >= 0 && f->have_prev && f->prev_frame >> 8 == 0xA3) {
+		/* the command after its DTR0, one transaction: priority 1's settling time */
+		if (now - f->last_final < T_IN_TX)
+			f->st.gap_violations++;
+	} else if (f->last_final >= 0) {
+		double gap = now - f->last_final;
+		if (gap < f->st.min_gap)
+			f->st.min_gap = gap;
+		if (gap < SETTLE_P5)
+			f->st.gap_violations++;
+	}
+	if (f->fault_count > 0) {
+		fault = f->fault;
+		f->fault_count--;
+	}
+	return fault;
+}
+
+/* Unplugged in the middle of a transaction; called with the lock, returns without it. */
+static void unplug_now(struct iface *f)
+{
+	struct vusb *u = f->usb;
+	if (f->nold < MAX_OLD)
+		f->old[f->nold++] = u;
+	f->usb = NULL;
+	f->st.plugged = 0;
+	bus_down(f);
+	g_mutex_unlock(&f->e->lock);
+	vusb_unplug(u);
 }
 
 static void firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len, void *user)
@@ -505,19 +552,9 @@ static void firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len,
 		g_mutex_unlock(&e->lock);
 		return;
 	}
-	f->st.sends++;
-	if (f->last_final >= 0) {
-		double gap = now - f->last_final;
-		if (gap < f->st.min_gap)
-			f->st.min_gap = gap;
-		if (gap < SETTLE_P5)
-			f->st.gap_violations++;
-	}
-	if (f->fault_count > 0) {
-		fault = f->fault;
-		f->fault_count--;
-	}
+	fault = take_send(f, now);
 	seq = p[1];
+	f->st.last_seq = seq;
 	twice = (p[2] & 0x20) != 0;
 	dtr0 = (p[2] & 0x10) ? p[8] : -1;
 	frame = (unsigned)p[6] << 8 | p[7];
@@ -540,6 +577,11 @@ static void firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len,
 	}
 	/* t: when each frame of the transaction ends on the bus */
 	t = now;
+	if (fault == PSEMU_FAULT_OTHER_MASTER) {
+		bus_frame(f, OTHER_FRAME);
+		t += T_FORWARD + T_NO_ANSWER + SETTLE_P5;
+		report(f, 0x11, 0x73, OTHER_FRAME, 0, t);
+	}
 	if (dtr0 >= 0) {
 		bus_frame(f, 0xA300u | (unsigned)dtr0);
 		t += T_FORWARD;
@@ -565,16 +607,12 @@ static void firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len,
 		report(f, 0x12, 0x77, 3, seq, t);
 		f->last_final = t;
 		break;
-	case PSEMU_FAULT_UNPLUG: {
-		struct vusb *u = f->usb;
-		f->old[f->nold++] = u;
-		f->usb = NULL;
-		f->st.plugged = 0;
-		bus_down(f);
-		g_mutex_unlock(&e->lock);
-		vusb_unplug(u);
+	case PSEMU_FAULT_STALE:
+		report(f, 0x12, 0x72, STALE_ANSWER, (uint8_t)(seq - 1), t);
+		break;
+	case PSEMU_FAULT_UNPLUG:
+		unplug_now(f);
 		return;
-	}
 	default:
 		if (ans.value == NO_ANSWER)
 			report(f, 0x12, 0x71, 0, seq, t);
@@ -582,6 +620,115 @@ static void firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len,
 			report(f, 0x12, 0x77, 3, seq, t);
 		else
 			report(f, 0x12, 0x72, (unsigned)ans.value, seq, t);
+		f->last_final = t;
+		break;
+	}
+	g_mutex_unlock(&e->lock);
+}
+
+/* ---- the hasseb DALI Master's firmware ----------------------------------------- */
+
+/* Written from the protocol table of doc/hardware.md section 1.2 (the maker's
+ * "hasseb USB DALI Master protocol"), not from the driver's codec. */
+#define HB_LEN 10
+#define HB_PREAMBLE 0xAA
+#define HB_SEND 0x07
+#define HB_EP_OUT 0x01
+enum { HB_NO_ANSWER = 1, HB_ANSWER = 2, HB_INVALID = 3, HB_SNIFFED = 5 };
+
+/* A transmission report: AA 07 seq status length data 0 0 0 0 */
+static void hb_report(struct iface *f, uint8_t seq, uint8_t status, int value, double due)
+{
+	uint8_t r[HB_LEN] = { HB_PREAMBLE, HB_SEND, seq, status, 0, 0, 0, 0, 0, 0 };
+	if (value >= 0) {
+		r[4] = 1;
+		r[5] = (uint8_t)value;
+	}
+	queue_report(f, r, sizeof r, due);
+}
+
+static void hasseb_firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len, void *user)
+{
+	struct iface *f = user;
+	struct psemu *e = f->e;
+	double now = real_now(), t;
+	struct answer ans;
+	int fault, bits, expect, delay_ms;
+	unsigned frame;
+	uint8_t seq;
+	g_mutex_lock(&e->lock);
+	if (dev != f->usb) {
+		g_mutex_unlock(&e->lock);
+		return;
+	}
+	if (ep != HB_EP_OUT || !p || len != HB_LEN || p[0] != HB_PREAMBLE || p[1] != HB_SEND || p[2] == 0) {
+		f->st.rejected++;   /* not the protocol: the device does nothing */
+		g_mutex_unlock(&e->lock);
+		return;
+	}
+	fault = take_send(f, now);
+	seq = p[2];
+	f->st.last_seq = seq;
+	bits = p[3];
+	expect = p[4] != 0;
+	delay_ms = p[6];
+	frame = (unsigned)p[7] << 8 | p[8];
+	if (bits != 16) {                        /* only 16-bit frames in this model */
+		hb_report(f, seq, HB_INVALID, -1, now);
+		f->last_final = now;
+		g_mutex_unlock(&e->lock);
+		return;
+	}
+	if (fault == PSEMU_FAULT_MALFORMED) {
+		const uint8_t shortr[6] = { HB_PREAMBLE, HB_SEND, seq, HB_ANSWER, 1, 0x5A };
+		vusb_queue_in(f->usb, shortr, sizeof shortr);
+		g_mutex_unlock(&e->lock);
+		return;
+	}
+	t = now;
+	if (fault == PSEMU_FAULT_OTHER_MASTER) {
+		/* sniffed bytes carry sequence number 0, one report per byte */
+		bus_frame(f, OTHER_FRAME);
+		t += T_FORWARD;
+		hb_report(f, 0, HB_SNIFFED, (int)(OTHER_FRAME >> 8), t);
+		hb_report(f, 0, HB_SNIFFED, (int)(OTHER_FRAME & 0xFF), t);
+		t += T_NO_ANSWER + SETTLE_P5;
+	}
+	ans = bus_frame(f, frame);
+	t += T_FORWARD;
+	if (delay_ms) {
+		/* the second frame delay_ms after the first: a pair for the
+		 * ballasts only if it comes within their 100 ms */
+		f->prev_frame_t -= T_FORWARD + delay_ms / 1000.0;
+		ans = bus_frame(f, frame);
+		t += delay_ms / 1000.0 + T_FORWARD;
+	}
+	if (!expect)
+		ans.value = NO_ANSWER;              /* it does not listen for one */
+	t += ans.value == NO_ANSWER ? T_NO_ANSWER : ans.first_ms / 1000 + T_BACKWARD;
+	f->st.bus_time += t - now;
+	if (!e->timing)
+		t = now;
+	switch (fault) {
+	case PSEMU_FAULT_NO_ANSWER:
+		break;
+	case PSEMU_FAULT_GARBLED:
+		hb_report(f, seq, HB_INVALID, -1, t);
+		f->last_final = t;
+		break;
+	case PSEMU_FAULT_STALE:
+		hb_report(f, seq == 1 ? 255 : (uint8_t)(seq - 1), HB_ANSWER, STALE_ANSWER, t);
+		break;
+	case PSEMU_FAULT_UNPLUG:
+		unplug_now(f);
+		return;
+	default:
+		if (ans.value == NO_ANSWER)
+			hb_report(f, seq, HB_NO_ANSWER, -1, t);
+		else if (ans.value == COLLISION)
+			hb_report(f, seq, HB_INVALID, -1, t);
+		else
+			hb_report(f, seq, HB_ANSWER, ans.value, t);
 		f->last_final = t;
 		break;
 	}
@@ -616,8 +763,16 @@ struct psemu *psemu_new(char *err, size_t errlen)
 
 static int plug(struct iface *f, char *err, size_t errlen)
 {
-	struct vusb_desc d = { 0x17B5, 0x0020, f->port, f->next_devnum++, f->serial, REPORT };
-	struct vusb *u = vusb_new(f->e->tb, &d, firmware, f, err, errlen);
+	struct vusb_desc d = { 0x17B5, 0x0020, f->port, f->next_devnum++, f->serial, REPORT, 0, NULL, NULL };
+	struct vusb *u;
+	if (f->model == PSEMU_HASSEB) {
+		d.vid = 0x04CC;
+		d.pid = 0x0802;
+		d.ep_out = HB_EP_OUT;
+		d.maker = "hasseb (emulated)";
+		d.product = "DALI Master (emulated)";
+	}
+	u = vusb_new(f->e->tb, &d, f->model == PSEMU_HASSEB ? hasseb_firmware : firmware, f, err, errlen);
 	if (!u)
 		return -1;
 	g_mutex_lock(&f->e->lock);
@@ -631,7 +786,17 @@ static int plug(struct iface *f, char *err, size_t errlen)
 
 int psemu_add(struct psemu *e, int port, const char *serial, int nballasts, char *err, size_t errlen)
 {
+	return psemu_add_model(e, PSEMU_TRIDONIC, port, serial, nballasts, err, errlen);
+}
+
+int psemu_add_model(struct psemu *e, int model, int port, const char *serial, int nballasts, char *err,
+                    size_t errlen)
+{
 	struct iface *f;
+	if (model != PSEMU_TRIDONIC && model != PSEMU_HASSEB) {
+		snprintf(err, errlen, "psemu: no such interface model %d", model);
+		return -1;
+	}
 	if (e->n >= PSEMU_MAX_IFACES || nballasts < 0 || nballasts > PSEMU_MAX_BALLASTS || port < 1) {
 		snprintf(err, errlen, "psemu: too many interfaces or ballasts");
 		return -1;
@@ -639,6 +804,7 @@ int psemu_add(struct psemu *e, int port, const char *serial, int nballasts, char
 	f = &e->ifc[e->n];
 	memset(f, 0, sizeof *f);
 	f->e = e;
+	f->model = model;
 	f->index = e->n;
 	f->port = port;
 	f->next_devnum = 2 + 10 * e->n;

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: ISC */
-/* psemu: an emulated Tridonic/Lunatone DALI USB interface (17b5:0020) with
- * DALI ballasts on its bus, behind real libusb through libumockdev (vusb.h).
+/* psemu: an emulated Tridonic/Lunatone DALI USB interface (17b5:0020), or
+ * hasseb DALI Master (04cc:0802), with DALI ballasts on its bus, behind real
+ * libusb through libumockdev (vusb.h).
  *
  * The interface model answers SEND reports as doc/hardware.md section 1 describes
  * (echo 0x73, then 0x71 no answer / 0x72 answer / 0x77 bus status), performs
@@ -35,9 +36,28 @@
  * a send-twice or DTR0 transaction.  Either way stats.bus_time adds those
  * durations up.
  *
- * Faults, each for the next N SEND reports: no answer (echo only), garbled
- * answer (bus status 3), a malformed report, and unplug in the middle of the
- * transfer (after the echo).  Unplug/replug at any time; a replugged interface
+ * The hasseb DALI Master (doc/hardware.md section 1.2, written from its
+ * firmware's published protocol): 10-byte reports starting with 0xAA on
+ * endpoints 0x81 IN and 0x01 OUT.  It takes "send" (0x07) with a sequence
+ * number 1-255, the frame length in bits (16 only), an "expect an answer"
+ * flag and a send-twice delay in ms; it has no echo and no DTR0 prefix, and
+ * answers with one transmission report for that sequence number: status 1
+ * no answer, 2 an answer, 3 invalid data (a garbled answer).  Without the
+ * expect-answer flag it does not listen for a backward frame (status 1
+ * whatever the ballasts said): an assumption of this model, as the protocol
+ * does not say.  Reports that break the protocol (sequence 0, wrong length,
+ * preamble or endpoint) are dropped and counted in stats.rejected.
+ *
+ * Faults, each for the next N SEND reports: no answer (echo only; hasseb:
+ * nothing at all), garbled answer (bus status 3; hasseb: status 3), a
+ * malformed report (hasseb: a short one of 6 bytes), unplug in the middle of
+ * the transfer (after the echo; hasseb: after the frame), and another
+ * master's frame on the bus before ours (a query to short address 63, which
+ * no ballast of the tests has), reported as another master's traffic (0x11;
+ * hasseb: its two bytes sniffed, with sequence number 0), and a stale
+ * report: the final report of the SEND is lost and an answer 0x55 under the
+ * previous sequence number comes in its place (a late report of the
+ * transaction before).  Unplug/replug at any time; a replugged interface
  * gets a new device number, as after a real replug.  Per ballast: dead after
  * it has answered N more backward frames (it then ignores the bus).
  *
@@ -57,7 +77,11 @@ enum psemu_fault {
 	PSEMU_FAULT_GARBLED,      /* the answer is a framing error (bus status 3) */
 	PSEMU_FAULT_MALFORMED,    /* one report of garbage instead of the echo and answer */
 	PSEMU_FAULT_UNPLUG,       /* unplugged after the echo, before the answer */
+	PSEMU_FAULT_OTHER_MASTER, /* another master's frame on the bus before ours */
+	PSEMU_FAULT_STALE,        /* our final report is lost; an answer 0x55 for the previous sequence number comes instead */
 };
+
+enum psemu_model { PSEMU_TRIDONIC = 0, PSEMU_HASSEB };
 
 enum psemu_init { PSEMU_INIT_DISABLED = 0, PSEMU_INIT_ENABLED, PSEMU_INIT_WITHDRAWN };
 
@@ -86,10 +110,13 @@ struct psemu_ballast {
 
 struct psemu_stats {
 	unsigned sends;           /* SEND reports received */
+	unsigned rejected;        /* OUT reports that broke the protocol (dropped) */
+	unsigned last_seq;        /* the sequence number of the last SEND */
 	unsigned bus_frames;      /* forward frames put on the bus (twice counts 2) */
 	unsigned collisions;      /* queries answered by ballasts that disagreed */
 	double min_gap;           /* shortest time from a final report to the next SEND, s */
-	unsigned gap_violations;  /* SENDs sooner than 21.2 ms after the last final report */
+	unsigned gap_violations;  /* SENDs sooner than 21.2 ms after the last final report
+	                           * (a command after its DTR0 frame: sooner than 13.5 ms) */
 	unsigned last_frame;      /* the last forward frame put on the bus */
 	unsigned early_compares;  /* COMPAREs within 100 ms of a RANDOMISE */
 	unsigned specials;        /* special commands (INITIALISE, COMPARE, ...) on the bus */
@@ -108,6 +135,9 @@ void psemu_free(struct psemu *e);
  * slots 0..n-1, each at the short address of its slot, random address
  * 0xFFFFFF.  Returns the interface index, -1 on failure. */
 int psemu_add(struct psemu *e, int port, const char *serial, int nballasts, char *err, size_t errlen);
+/* The same for either model (enum psemu_model). */
+int psemu_add_model(struct psemu *e, int model, int port, const char *serial, int nballasts, char *err,
+                    size_t errlen);
 
 /* Unplug (the bus loses power: ballasts go to their system failure level);
  * replug (a new device number). 0 ok, -1 on failure. */

@@ -3,11 +3,12 @@
  * program as a child, whose real libusb reaches them through umockdev
  * (doc/emulation.md 2.4).  Run with libumockdev-preload.so.0 preloaded:
  *
- *   LD_PRELOAD=libumockdev-preload.so.0 psemu-run [-i PORT:SERIAL:N [-b SPEC]...]...
+ *   LD_PRELOAD=libumockdev-preload.so.0 psemu-run [-i PORT:SERIAL:N[:MODEL] [-b SPEC]...]...
  *       [-c FIFO] [-s STATEFILE] [-u FILE] [-t SECONDS] -- PROGRAM ARGS...
  *
  * -i adds an interface at USB port 1-PORT with N ballasts (default 1:A1:4),
- *    in slots 0..N-1 at short addresses 0..N-1.
+ *    in slots 0..N-1 at short addresses 0..N-1; MODEL tridonic (the default,
+ *    17b5:0020) or hasseb (the hasseb DALI Master, 04cc:0802).
  * -b sets up one ballast of the last interface:
  *      SLOT:short=A|none,random=0xR,draw=0xR,reply=MS,groups=0xG,phys=N,dead=N
  *    (any of the keys; draw: what its next RANDOMISE draws; reply: its
@@ -15,7 +16,9 @@
  * -u writes the testbed's UMOCKDEV_DIR to FILE, so that another program
  *    (run with the preload and that UMOCKDEV_DIR) reaches the same devices.
  * -c names a control FIFO, one command a line:
- *      unplug I | replug I | fault I none|noanswer|garbled|malformed|unplug COUNT | dump
+ *      unplug I | replug I | fault I none|noanswer|garbled|malformed|unplug|other|stale COUNT | dump
+ *    (other: another master's frame on the bus before ours; stale: a report
+ *    for the previous sequence number instead of ours)
  * -s: after each command and at the end, the ballasts' state is written there
  *     (psemu_dump lines), atomically.
  * -t: kill the child after this many seconds (default 60).
@@ -55,7 +58,7 @@ static void write_state(void)
 
 static int fault_kind(const char *s)
 {
-	static const char *const names[] = { "none", "noanswer", "garbled", "malformed", "unplug", NULL };
+	static const char *const names[] = { "none", "noanswer", "garbled", "malformed", "unplug", "other", "stale", NULL };
 	for (int i = 0; names[i]; i++)
 		if (strcmp(s, names[i]) == 0)
 			return i;
@@ -158,15 +161,23 @@ int main(int argc, char **argv)
 	while ((opt = getopt(argc, argv, "i:b:c:s:u:t:")) != -1) {
 		switch (opt) {
 		case 'i': {
-			int port, n, k = 0;
+			int port, n, k = 0, model = PSEMU_TRIDONIC;
 			char serial[64];
 			if (!emu && !(emu = psemu_new(err, sizeof err))) {
 				printf("psemu-run: %s\n", err);
 				return 77;
 			}
-			if (sscanf(optarg, "%d:%63[^:]:%d%n", &port, serial, &n, &k) != 3 || optarg[k] ||
-			    psemu_add(emu, port, serial, n, err, sizeof err) < 0) {
-				fprintf(stderr, "psemu-run: -i %s: want PORT:SERIAL:N (%s)\n", optarg, err);
+			err[0] = 0;
+			if (sscanf(optarg, "%d:%63[^:]:%d%n", &port, serial, &n, &k) == 3 && strcmp(optarg + k, ":hasseb") == 0) {
+				model = PSEMU_HASSEB;
+				k = (int)strlen(optarg);
+			} else if (sscanf(optarg, "%d:%63[^:]:%d%n", &port, serial, &n, &k) == 3 &&
+			           strcmp(optarg + k, ":tridonic") == 0) {
+				k = (int)strlen(optarg);
+			}
+			if (sscanf(optarg, "%d:%63[^:]:%d", &port, serial, &n) != 3 || optarg[k] ||
+			    psemu_add_model(emu, model, port, serial, n, err, sizeof err) < 0) {
+				fprintf(stderr, "psemu-run: -i %s: want PORT:SERIAL:N[:tridonic|:hasseb] (%s)\n", optarg, err);
 				return 2;
 			}
 			nif++;
@@ -184,7 +195,7 @@ int main(int argc, char **argv)
 		case 's': state_path = optarg; break;
 		case 't': limit = atof(optarg); break;
 		default:
-			fprintf(stderr, "usage: psemu-run [-i PORT:SERIAL:N [-b SPEC]...]... [-c FIFO] [-s FILE] [-u FILE] [-t S] "
+			fprintf(stderr, "usage: psemu-run [-i PORT:SERIAL:N[:MODEL] [-b SPEC]...]... [-c FIFO] [-s FILE] [-u FILE] [-t S] "
 			                "-- PROG ARGS...\n");
 			return 2;
 		}

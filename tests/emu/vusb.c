@@ -49,6 +49,7 @@ static void build_descriptors(struct vusb *d)
 {
 	uint16_t vid = d->desc.vid, pid = d->desc.pid;
 	uint8_t mps = (uint8_t)d->desc.report_len;
+	uint8_t ep_out = d->desc.ep_out ? d->desc.ep_out : 0x02;
 	const uint8_t dev[18] = { 18, 1, 0x10, 0x01, 0, 0, 0, 8, vid & 0xff, vid >> 8, pid & 0xff, pid >> 8,
 		                  0x00, 0x01, 1, 2, 3, 1 };
 	const uint8_t cfg[41] = {
@@ -56,14 +57,15 @@ static void build_descriptors(struct vusb *d)
 		9, 4, 0, 0, 2, 3, 0, 0, 0,                                  /* interface 0, HID */
 		9, 0x21, 0x11, 0x01, 0, 1, 0x22, sizeof hid_report_desc, 0,
 		7, 5, 0x81, 3, mps, 0, 1,                                   /* EP1 IN interrupt */
-		7, 5, 0x02, 3, mps, 0, 1 };                                 /* EP2 OUT interrupt */
+		7, 5, ep_out, 3, mps, 0, 1 };                               /* OUT interrupt */
 	memcpy(d->dev_desc, dev, sizeof dev);
 	memcpy(d->cfg_desc, cfg, sizeof cfg);
 }
 
 static size_t string_desc(struct vusb *d, unsigned idx, uint8_t *out)
 {
-	const char *s[] = { NULL, "Lunatone (emulated)", "DALI USB (emulated)", d->serial };
+	const char *s[] = { NULL, d->desc.maker ? d->desc.maker : "Lunatone (emulated)",
+		            d->desc.product ? d->desc.product : "DALI USB (emulated)", d->serial };
 	size_t n;
 	if (idx == 0) {
 		out[0] = 4; out[1] = 3; out[2] = 0x09; out[3] = 0x04;

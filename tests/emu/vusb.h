@@ -29,6 +29,8 @@ struct vusb_desc {
 	int devnum;               /* 2.. : /dev/bus/usb/001/<devnum>; new on every plug */
 	const char *serial;       /* iSerialNumber string */
 	int report_len;           /* wMaxPacketSize of both endpoints */
+	uint8_t ep_out;           /* the OUT endpoint's address; 0: 0x02 (the IN one is 0x81) */
+	const char *maker, *product;   /* string descriptors 1 and 2; NULL: the DALI USB's */
 };
 
 /* NULL with a message in err on failure. */

@@ -5,8 +5,10 @@
  * search with unaddressed ballasts, two that drew the same random address,
  * one that goes quiet mid-search, ballasts sharing a short address,
  * INITIALISE's 15-minute window, groups, identify, verify, abort and
- * unplug, and zones dimmed between the search's frames.  Every outcome is
- * read from the emulator's ballasts, not from the code under test. */
+ * unplug, and zones dimmed between the search's frames; the scan, the
+ * search and a colliding pair again on the emulated hasseb DALI Master.
+ * Every outcome is read from the emulator's ballasts, not from the code
+ * under test. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -53,26 +55,38 @@ struct fx {
 	struct ps_opt po[4];
 	struct ps_opts popts[4];
 	int open;
+	int model;   /* enum psemu_model of the emulated interface */
 	char out[32768];
 };
 
 static struct fx F;
 
 /* an interface with n ballasts, all at short addresses 0..n-1 to begin with */
-static int setup_n(void **state, int n)
+static int setup_model(void **state, int n, int model)
 {
 	char err[256];
 	memset(&F, 0, sizeof F);
+	F.model = model;
 	F.emu = psemu_new(err, sizeof err);
 	if (!F.emu)
 		fail_msg("%s", err);
-	if (psemu_add(F.emu, 1, "A1", n, err, sizeof err) != 0)
+	if (psemu_add_model(F.emu, model, 1, "A1", n, err, sizeof err) != 0)
 		fail_msg("%s", err);
 	fade_clock = 1000;
 	skew = 0;
 	psemu_set_clock(F.emu, get_fade_clock, NULL);
 	*state = &F;
 	return 0;
+}
+
+static int setup_n(void **state, int n)
+{
+	return setup_model(state, n, PSEMU_TRIDONIC);
+}
+
+static int setup6_hasseb(void **state)
+{
+	return setup_model(state, 6, PSEMU_HASSEB);
 }
 
 static int setup6(void **state)
@@ -112,6 +126,11 @@ static void open_dev(struct fx *f, ...)
 	va_start(ap, f);
 	opts = ps_test_vopts(&f->o, "test.conf", 10, ap);
 	va_end(ap);
+	if (f->model == PSEMU_HASSEB) {
+		assert_true(f->o.o.n < PS_TEST_OPTS_MAX);
+		f->o.v[f->o.o.n] = (struct ps_opt){ "transport", "hasseb", 9, 0 };
+		f->o.o.n++;
+	}
 	if (f->dev.drv->open(&f->dev, opts) != 0)
 		fail_msg("open: %s", f->dev.err);
 	f->open = 1;
@@ -707,6 +726,10 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(scan_reads_every_setting, setup6, teardown),
 		cmocka_unit_test_setup_teardown(address_new_at_the_bus_rate, setup6, teardown),
 		cmocka_unit_test_setup_teardown(colliding_random_addresses_are_separated, setup6, teardown),
+		/* the same on the hasseb DALI Master */
+		cmocka_unit_test_setup_teardown(scan_reads_every_setting, setup6_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(address_new_at_the_bus_rate, setup6_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(colliding_random_addresses_are_separated, setup6_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(twins_in_step_need_address_all, setup6, teardown),
 		cmocka_unit_test_setup_teardown(a_ballast_going_quiet_mid_search, setup6, teardown),
 		cmocka_unit_test_setup_teardown(shared_short_addresses_are_split, setup6, teardown),

@@ -1,10 +1,13 @@
 /* SPDX-License-Identifier: ISC */
 /* The DALI USB driver through the driver.h table, with real libusb against the
- * emulated Tridonic interface and its ballasts (tests/emu, libumockdev):
+ * emulated Tridonic interface and its ballasts (tests/emu, libumockdev), and
+ * the same cases again against the emulated hasseb DALI Master (transport
+ * hasseb: no echo, DTR0 as a frame of its own, sequence numbers 1-255):
  * the transport's bytes against the worked examples of doc/hardware.md,
  * finding and claiming the interface, levels on the ballasts, query answers,
  * fades, the physical minimum, the safe level, faults, unplug and replug,
- * the choice between two interfaces and the bus's frame rate. */
+ * the choice between two interfaces and the bus's frame rate; for the hasseb,
+ * also its sequence numbers and the frames of another master. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -116,18 +119,20 @@ struct fx {
 	struct ps_opt po[4];
 	struct ps_opts popts[4];
 	int open;
+	int model;   /* enum psemu_model of the emulated interfaces */
 };
 
-static int setup_n(void **state, int nifaces)
+static int setup_n(void **state, int nifaces, int model)
 {
 	static struct fx f;
 	char err[256];
 	memset(&f, 0, sizeof f);
+	f.model = model;
 	f.emu = psemu_new(err, sizeof err);
 	if (!f.emu)
 		fail_msg("%s", err);
 	for (int i = 0; i < nifaces; i++)
-		if (psemu_add(f.emu, i + 1, i ? "B2" : "A1", 4, err, sizeof err) != i)
+		if (psemu_add_model(f.emu, model, i + 1, i ? "B2" : "A1", 4, err, sizeof err) != i)
 			fail_msg("%s", err);
 	fade_clock = 1000;
 	psemu_set_clock(f.emu, get_fade_clock, NULL);
@@ -137,12 +142,27 @@ static int setup_n(void **state, int nifaces)
 
 static int setup(void **state)
 {
-	return setup_n(state, 1);
+	return setup_n(state, 1, PSEMU_TRIDONIC);
 }
 
 static int setup_two(void **state)
 {
-	return setup_n(state, 2);
+	return setup_n(state, 2, PSEMU_TRIDONIC);
+}
+
+static int setup_hasseb(void **state)
+{
+	return setup_n(state, 1, PSEMU_HASSEB);
+}
+
+static int setup_two_hasseb(void **state)
+{
+	return setup_n(state, 2, PSEMU_HASSEB);
+}
+
+static const char *model_name(const struct fx *f)
+{
+	return f->model == PSEMU_HASSEB ? "hasseb" : "tridonic";
 }
 
 static int teardown(void **state)
@@ -154,7 +174,7 @@ static int teardown(void **state)
 	return 0;
 }
 
-/* open dali_usb with key, value, ..., NULL */
+/* open dali_usb with key, value, ..., NULL (and transport = hasseb on the hasseb) */
 static int open_dev(struct fx *f, ...)
 {
 	va_list ap;
@@ -167,6 +187,11 @@ static int open_dev(struct fx *f, ...)
 	va_start(ap, f);
 	opts = ps_test_vopts(&f->o, "test.conf", 10, ap);
 	va_end(ap);
+	if (f->model == PSEMU_HASSEB) {
+		assert_true(f->o.o.n < PS_TEST_OPTS_MAX);
+		f->o.v[f->o.o.n] = (struct ps_opt){ "transport", "hasseb", 9, 0 };
+		f->o.o.n++;
+	}
 	if (f->dev.drv->open(&f->dev, opts) != 0) {
 		int e = errno;
 		f->dev.drv->close(&f->dev);
@@ -476,7 +501,8 @@ static void safe_level_unplug_and_replug(void **state)
 	assert_false(run_until(f, is_connected, 0.7));
 	assert_int_equal(dwrite(f, 0, 0.3), -1);
 	assert_int_equal(errno, ENODEV);
-	assert_non_null(strstr(f->dev.err, "no tridonic DALI USB interface"));
+	assert_non_null(strstr(f->dev.err, f->model == PSEMU_HASSEB ? "no hasseb DALI USB interface 04cc:0802"
+	                                                            : "no tridonic DALI USB interface 17b5:0020"));
 	/* the cause stays in front of the rescan's words: a log of this fault
 	 * says what happened (500-fault-table greps the samples for it) */
 	assert_non_null(strstr(f->dev.err, "interface unplugged; rescan: "));
@@ -535,7 +561,8 @@ static void two_interfaces_need_a_choice(void **state)
 	struct fx *f = *state;
 	assert_int_equal(open_dev(f, NULL), -1);
 	assert_int_equal(errno, EINVAL);
-	assert_non_null(strstr(f->dev.err, "2 tridonic interfaces found"));
+	assert_non_null(strstr(f->dev.err, f->model == PSEMU_HASSEB ? "2 hasseb interfaces found"
+	                                                            : "2 tridonic interfaces found"));
 	assert_int_equal(open_dev(f, "serial", "B2", NULL), 0);
 	add_point(f, 0, PS_ROLE_DIM, "1");
 	assert_int_equal(dwrite(f, 0, 0.5), 0);
@@ -570,7 +597,8 @@ static void a_second_claim_is_refused(void **state)
 	struct ps_point pt = { "other", PS_ROLE_DIM, NULL };
 	struct ps_opt o = { "address", "1", 40, 0 };
 	struct ps_opts po = { &o, 1, "other.conf" };
-	struct ps_opts none = { NULL, 0, "other.conf" };
+	struct ps_opt model = { "transport", model_name(f), 1, 0 };
+	struct ps_opts none = { &model, 1, "other.conf" };
 	assert_int_equal(open_dev(f, NULL), 0);
 	add_point(f, 0, PS_ROLE_DIM, "1");
 	other.drv = f->dev.drv;
@@ -607,8 +635,8 @@ static void bad_options_name_file_and_line(void **state)
 	assert_non_null(strstr(f->dev.err, "test.conf:10: timeout"));
 	assert_int_equal(open_dev(f, "port", "usb1", NULL), -1);
 	assert_non_null(strstr(f->dev.err, "test.conf:10: port"));
-	assert_int_equal(open_dev(f, "transport", "hasseb", NULL), -1);
-	assert_non_null(strstr(f->dev.err, "test.conf:10: transport: 'hasseb' is not one of tridonic"));
+	assert_int_equal(open_dev(f, "transport", "lunatone", NULL), -1);
+	assert_non_null(strstr(f->dev.err, "test.conf:10: transport: 'lunatone' is not one of tridonic"));
 	assert_int_equal(open_dev(f, NULL), 0);
 	p.role = PS_ROLE_DIM;
 	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), -1);
@@ -713,6 +741,111 @@ static void a_simulated_day_with_the_control_law(void **state)
 	assert_int_equal(stats(f).connects, 2);
 }
 
+/* ---- the hasseb DALI Master's own paths ---------------------------------------------- */
+
+/* Its sequence numbers run 1..255 and never 0 (the emulator drops a report
+ * with 0, which would then time out); every report is answered under the
+ * number it was sent with, so after N SENDs the last one carries
+ * (N - 1) mod 255 + 1. */
+static void hasseb_sequence_numbers_wrap_past_255(void **state)
+{
+	struct fx *f = *state;
+	struct psemu_stats es;
+	struct ps_dali_usb_stats st;
+	assert_int_equal(open_dev(f, "frame_gap", "0", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	assert_true(run_until(f, is_idle, 3));
+	for (int k = 0; k < 300; k++) {
+		assert_int_equal(dwrite(f, 0, k % 2 ? 0.5 : 0.25), 0);
+		assert_true(run_until(f, is_idle, 3));
+	}
+	assert_int_equal(ballast(f, 0, 0).level, ps_dali_fraction_to_level(0.5));
+	assert_int_equal(psemu_stats(f->emu, 0, &es), 0);
+	st = stats(f);
+	print_message("# %s: %u SENDs, last sequence number %u\n", model_name(f), es.sends, es.last_seq);
+	assert_int_equal(es.sends, 301);          /* QUERY PHYSICAL MINIMUM and 300 DAPC */
+	assert_int_equal(st.frames, es.sends);
+	assert_int_equal(es.rejected, 0);
+	assert_int_equal(es.last_seq, (301 - 1) % 255 + 1);
+	assert_int_equal(st.timeouts, 0);
+	assert_int_equal(st.failed, 0);
+}
+
+/* No DTR0 prefix: FADE TIME 2 s is DTR0 = 4 as a transaction of its own,
+ * then SET FADE TIME sent twice (10 ms apart, inside the ballast's 100 ms),
+ * 13.5 ms or more after DTR0's report. */
+static void hasseb_dtr0_is_a_frame_of_its_own(void **state)
+{
+	struct fx *f = *state;
+	struct psemu_stats es;
+	struct psemu_ballast b;
+	assert_int_equal(open_dev(f, "fade_time", "2", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	b = ballast(f, 0, 0);
+	assert_int_equal(b.fade_time, 4);
+	assert_int_equal(b.config_writes, 1);
+	assert_int_equal(b.target, 229);
+	assert_int_equal(psemu_stats(f->emu, 0, &es), 0);
+	/* QUERY PHYSICAL MINIMUM, DTR0, SET FADE TIME (twice in one report), DAPC */
+	assert_int_equal(es.sends, 4);
+	assert_int_equal(es.bus_frames, 5);
+	assert_int_equal(stats(f).frames, 4);
+	assert_int_equal(es.gap_violations, 0);
+	assert_int_equal(es.rejected, 0);
+	assert_int_equal(stats(f).failed, 0);
+}
+
+/* Another master's frame on the bus before ours: the hasseb reports its
+ * bytes sniffed under sequence number 0, the Tridonic as traffic of
+ * another master; neither is taken for the answer to our query. */
+static void another_masters_frame_is_not_an_answer(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dali_usb_stats st;
+	double v = -1;
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(170)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	fade_clock += 10;
+	psemu_fault(f->emu, 0, PSEMU_FAULT_OTHER_MASTER, 2);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 170);
+	st = stats(f);
+	assert_int_equal(st.retries, 0);
+	assert_int_equal(st.failed, 0);
+	assert_int_equal(st.garbled, 0);
+}
+
+/* A report under the previous sequence number (a late one of the last
+ * transaction) in place of the query's own: not taken for its answer; the
+ * query times out and its retry reads the ballast. */
+static void a_stale_report_is_not_an_answer(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dali_usb_stats st;
+	double v = -1;
+	assert_int_equal(open_dev(f, "timeout", "0.05", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(170)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	fade_clock += 10;
+	psemu_fault(f->emu, 0, PSEMU_FAULT_STALE, 1);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 170);   /* not 0x55 = 85 */
+	st = stats(f);
+	assert_int_equal(st.stray, 1);
+	assert_int_equal(st.timeouts, 1);
+	assert_int_equal(st.retries, 1);
+	assert_int_equal(st.failed, 0);
+}
+
 int main(int argc, char **argv)
 {
 	const struct CMUnitTest tests[] = {
@@ -734,6 +867,28 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(a_second_claim_is_refused, setup, teardown),
 		cmocka_unit_test_setup_teardown(bad_options_name_file_and_line, setup, teardown),
 		cmocka_unit_test_setup_teardown(a_simulated_day_with_the_control_law, setup, teardown),
+		cmocka_unit_test_setup_teardown(another_masters_frame_is_not_an_answer, setup, teardown),
+		cmocka_unit_test_setup_teardown(a_stale_report_is_not_an_answer, setup, teardown),
+		/* the same cases on the hasseb DALI Master */
+		cmocka_unit_test_setup_teardown(opens_detaches_and_claims, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(levels_reach_the_ballasts, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(the_latest_write_wins_and_frames_keep_the_bus_rate, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(query_answers_follow_the_fade, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(physical_minimum_is_respected, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(relay_points_switch, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(broadcast_query_collides, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(faults_are_retried, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(silence_fails_after_the_retries, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(safe_level_unplug_and_replug, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(unplug_in_the_middle_of_a_transfer, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(absent_at_open_then_found, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(two_interfaces_need_a_choice, setup_two_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(a_second_claim_is_refused, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(a_simulated_day_with_the_control_law, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(another_masters_frame_is_not_an_answer, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(a_stale_report_is_not_an_answer, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(hasseb_sequence_numbers_wrap_past_255, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(hasseb_dtr0_is_a_frame_of_its_own, setup_hasseb, teardown),
 	};
 	(void)argc;
 	ps_test_need_umockdev(argv);

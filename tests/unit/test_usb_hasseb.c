@@ -2,7 +2,7 @@
 /* The hasseb DALI Master's codec (drivers/usb_hasseb.c) against reports
  * written from the firmware's published protocol (doc/hardware.md section
  * 1.2): 10 bytes starting 0xAA; a send report with the answer flag set for
- * queries and COMPARE, the send-twice delay, no DTR0 prefix; transmission
+ * queries (also to unaddressed gear) and COMPARE, the send-twice delay, no DTR0 prefix; transmission
  * reports for each status, the sequence number rule, and broken reports. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -34,6 +34,12 @@ static void encode(void **state)
 	assert_memory_equal(out, twice, 10);
 	assert_int_equal(ps_usb_hasseb.encode_send(out, sizeof out, 3, 0xA900, 0, -1), 10);
 	assert_memory_equal(out, cmp, 10);
+	/* QUERY CONTROL GEAR PRESENT to unaddressed gear (FD 91): an answer may come */
+	assert_int_equal(ps_usb_hasseb.encode_send(out, sizeof out, 4, 0xFD91, 0, -1), 10);
+	assert_int_equal(out[4], 1);
+	/* OFF to unaddressed gear (FD 00): none */
+	assert_int_equal(ps_usb_hasseb.encode_send(out, sizeof out, 4, 0xFD00, 0, -1), 10);
+	assert_int_equal(out[4], 0);
 	/* no DTR0 prefix, no sequence number 0, no room */
 	assert_int_equal(ps_usb_hasseb.encode_send(out, sizeof out, 4, 0x0B2C, 1, 170), -1);
 	assert_int_equal(ps_usb_hasseb.encode_send(out, sizeof out, 0, 0x0BA0, 0, -1), -1);
