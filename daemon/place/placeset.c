@@ -244,10 +244,13 @@ static double cell_phi(const struct search *s)
 }
 
 /* project one picture per colour channel and read every sensor at every
- * rotation: out[(r nsens + k) stride + c] */
+ * rotation: out[(r nsens + k) stride + c].  tab[nsens]: the sensors'
+ * sensitivity on the cells, made at the first projection (tab[0].nphi 0)
+ * and read by every later one (the pose's cells are the same for all its
+ * pictures) */
 static int scan_picture(const struct search *s, const struct ps_weights *om, const struct ps_picture *pic,
-                        const struct ps_view *v, double *out, size_t stride, char *err,
-                        size_t errlen)
+                        const struct ps_view *v, struct ps_rescan_sens *tab, double *out, size_t stride,
+                        char *err, size_t errlen)
 {
 	struct ps_err e;
 	double *tmp = malloc((size_t)s->o->nrot * sizeof *tmp);
@@ -262,8 +265,16 @@ static int scan_picture(const struct search *s, const struct ps_weights *om, con
 			free(tmp);
 			return snprintf(err, errlen, "%s", e.msg), -1;
 		}
+		for (int k = 0, first = tab[0].nphi == 0; k < s->o->nsens && first; k++)
+			if (ps_rescan_sens_init(&tab[k], &pr, &s->sens[k], 0, &e) != 0) {
+				for (int j = 0; j < k; j++)
+					ps_rescan_sens_free(&tab[j]);
+				ps_rescan_free(&pr);
+				free(tmp);
+				return snprintf(err, errlen, "%s", e.msg), -1;
+			}
 		for (int k = 0; k < s->o->nsens; k++) {
-			if (ps_rescan_scan(&pr, &s->sens[k], 0, 360.0 / s->o->nrot, s->o->nrot, tmp, &e) != 0) {
+			if (ps_rescan_scan_sens(&pr, &tab[k], 360.0 / s->o->nrot, s->o->nrot, 1, tmp, &e) != 0) {
 				ps_rescan_free(&pr);
 				free(tmp);
 				return snprintf(err, errlen, "%s", e.msg), -1;
@@ -282,13 +293,18 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 	struct ps_picture *pics = calloc((size_t)s->npatch, sizeof *pics), elec;
 	struct ps_sensor uni;
 	struct ps_weights om, ome;
+	struct ps_rescan_sens *tab = calloc((size_t)s->o->nsens, sizeof *tab);
 	struct ps_err e;
 	int rc = -1;
 	size_t nrs = (size_t)s->o->nrot * (size_t)s->o->nsens;
-	if (!pics)
+	if (!pics || !tab) {
+		free(pics);
+		free(tab);
 		return snprintf(err, errlen, "out of memory"), -1;
+	}
 	if (load_pictures(s, p, pics, &elec, err, errlen) != 0) {
 		free(pics);
+		free(tab);
 		return -1;
 	}
 	p->row = calloc(nrs * (size_t)s->npatch * 3, sizeof *p->row);
@@ -313,7 +329,7 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 			snprintf(err, errlen, "out of memory");
 			goto out;
 		}
-		if (scan_picture(s, &om, &pics[i], &p->view, tmp, 3, err, errlen) != 0) {
+		if (scan_picture(s, &om, &pics[i], &p->view, tab, tmp, 3, err, errlen) != 0) {
 			free(tmp);
 			goto out;
 		}
@@ -329,7 +345,7 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 			snprintf(err, errlen, "out of memory");
 			goto out;
 		}
-		if (scan_picture(s, &ome, &elec, &p->view, tmp, 3, err, errlen) != 0) {
+		if (scan_picture(s, &ome, &elec, &p->view, tab, tmp, 3, err, errlen) != 0) {
 			free(tmp);
 			goto out;
 		}
@@ -341,6 +357,9 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 	}
 	rc = 0;
 out:
+	for (int k = 0; k < s->o->nsens; k++)
+		ps_rescan_sens_free(&tab[k]);
+	free(tab);
 	ps_weights_free(&om);
 	ps_weights_free(&ome);
 	for (int i = 0; i < s->npatch; i++)

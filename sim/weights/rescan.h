@@ -62,4 +62,30 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
 int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
                       double step_deg, int n, int nthreads, double *out, struct ps_err *e);
 
+/* What a scan reads of a sensor on a projection's cells, turned by rot0:
+ * each ring's row and weights and the rows' sensitivity at the cell
+ * centres.  It depends on the sensor and the cells only (ntheta, nphi,
+ * dtheta, dphi, phi0), not on the picture: made once, it serves every
+ * projection on the same cells (the pictures and channels of a pose). */
+struct ps_rescan_sens {
+	int ntheta, nphi;
+	double dtheta, dphi, phi0;   /* the cells it is for */
+	double rot0;                 /* degrees */
+	int nrow;                    /* rows the rings collapse onto */
+	int *row;                    /* ntheta: ring it's row (weight wa), row + 1 (wb); -1: none */
+	double *wa, *wb;
+	int *used;                   /* nrow: 1 where some ring falls */
+	int nused;
+	double *sg;                  /* nused x 2 nphi: the used rows' sensitivity, doubled */
+};
+/* The table of sensor s at rotation rot0_deg for p's cells; rot0 - phi0
+ * must be a whole number of cells (else PS_EINVAL). */
+int ps_rescan_sens_init(struct ps_rescan_sens *t, const struct ps_rescan *p, const struct ps_sensor *s,
+                        double rot0_deg, struct ps_err *e);
+void ps_rescan_sens_free(struct ps_rescan_sens *t);
+/* ps_rescan_scan_mt with the table t (made for p's cells: PS_EINVAL if
+ * not): the same numbers, bit for bit, as a scan with the sensor. */
+int ps_rescan_scan_sens(const struct ps_rescan *p, const struct ps_rescan_sens *t, double step_deg, int n,
+                        int nthreads, double *out, struct ps_err *e);
+
 #endif
