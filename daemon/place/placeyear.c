@@ -376,20 +376,22 @@ static void task_day(struct psd_placeyear_task *k, int doy)
 	k->n = n;
 }
 
-double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
+/* The points' daylight at time t of day doy: rows *a and *b (a dark point
+ * reads zeros) and the weight *w to *b, each point a[p] + w (b[p] - a[p])
+ * (the room's day_at: linear between the day's points) */
+static void day_rows(struct psd_placeyear_task *k, int doy, double t, const double **a, const double **b, double *w)
 {
-	struct psd_placeyear_task *k = ctx;
 	const struct hours *H = &k->s->hrs;
-	int np = H->npoints;
-	double tod = t >= 0 && t < 86400.0 ? t : fmod(t, 86400.0), w = 0, *v = k->v;   /* the room's clock */
-	const double *a = k->zero, *b = k->zero, *e = H->pt_elec;
+	size_t np = (size_t)H->npoints;
+	double tod = t >= 0 && t < 86400.0 ? t : fmod(t, 86400.0);   /* the room's clock */
+	*a = *b = k->zero;
+	*w = 0;
 	if (tod < 0)
 		tod += 86400.0;
 	if (doy != k->doy)
 		task_day(k, doy);
 	if (k->n && tod >= k->t[0] && tod <= k->t[k->n - 1]) {
-		/* the last point at or before tod, and the weight to the next (the
-		 * room's day_at; a dark point reads zeros) */
+		/* the last point at or before tod, and the weight to the next */
 		int lo = 0, hi = k->n - 1;
 		while (lo < hi) {
 			int mid = (lo + hi + 1) / 2;
@@ -399,36 +401,62 @@ double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
 				hi = mid - 1;
 		}
 		if (k->at[lo] >= 0)
-			a = H->pt_day + (size_t)k->at[lo] * (size_t)np;
+			*a = *b = H->pt_day + (size_t)k->at[lo] * np;
 		if (lo + 1 < k->n && k->t[lo + 1] > k->t[lo]) {
-			w = (tod - k->t[lo]) / (k->t[lo + 1] - k->t[lo]);
-			if (k->at[lo + 1] >= 0)
-				b = H->pt_day + (size_t)k->at[lo + 1] * (size_t)np;
-			if (k->q < 0) {
-				double m = INFINITY;
-				for (int p = 0; p < np; p++) {
-					double x = a[p] + w * (b[p] - a[p]) + lamp * e[p];
-					m = x < m ? x : m;
-				}
-				return m;
-			}
-			for (int p = 0; p < np; p++)
-				v[p] = a[p] + w * (b[p] - a[p]) + lamp * e[p];
-			return kth(v, np, k->q);
+			*w = (tod - k->t[lo]) / (k->t[lo + 1] - k->t[lo]);
+			*b = k->at[lo + 1] >= 0 ? H->pt_day + (size_t)k->at[lo + 1] * np : k->zero;
 		}
 	}
-	/* at a point (or outside the day: zeros) */
+}
+
+double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
+{
+	struct psd_placeyear_task *k = ctx;
+	const struct hours *H = &k->s->hrs;
+	int np = H->npoints;
+	const double *a, *b, *e = H->pt_elec;
+	double w, *v = k->v;
+	day_rows(k, doy, t, &a, &b, &w);
 	if (k->q < 0) {
 		double m = INFINITY;
 		for (int p = 0; p < np; p++) {
-			double x = a[p] + lamp * e[p];
+			double x = a[p] + w * (b[p] - a[p]) + lamp * e[p];
 			m = x < m ? x : m;
 		}
 		return m;
 	}
 	for (int p = 0; p < np; p++)
-		v[p] = a[p] + lamp * e[p];
+		v[p] = a[p] + w * (b[p] - a[p]) + lamp * e[p];
 	return kth(v, np, k->q);
+}
+
+/* The ideal photocell's light output: the smallest at which the figure
+ * reaches the target.  Point p reaches it from its threshold (target -
+ * daylight_p) / electric_p on; a point without electric light (electric_p
+ * 0 or less) at any output when its daylight reaches the target (threshold
+ * -infinity), at none when not (+infinity).  The figure of rank q (from 0,
+ * the minimum's 0) reaches the target when n - q points do: at the
+ * (n - q)-th smallest threshold.  Unclamped (the caller clamps to the
+ * law's range); the last answer kept, as the year asks twice a step. */
+double psd_placeyear_ideal(void *ctx, int doy, double t, double target)
+{
+	struct psd_placeyear_task *k = ctx;
+	const struct hours *H = &k->s->hrs;
+	int np = H->npoints, q = k->q < 0 ? 0 : k->q;
+	const double *a, *b, *e = H->pt_elec;
+	double w, *v = k->v;
+	if (doy == k->ideal_doy && t == k->ideal_t && target == k->ideal_target)
+		return k->ideal;
+	day_rows(k, doy, t, &a, &b, &w);
+	for (int p = 0; p < np; p++) {
+		double d = a[p] + w * (b[p] - a[p]);
+		v[p] = e[p] > 0 ? (target - d) / e[p] : d >= target ? -INFINITY : INFINITY;
+	}
+	k->ideal_doy = doy;
+	k->ideal_t = t;
+	k->ideal_target = target;
+	k->ideal = np > 0 ? kth(v, np, np - 1 - q) : -INFINITY;
+	return k->ideal;
 }
 
 int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s)
@@ -437,6 +465,7 @@ int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s
 	memset(k, 0, sizeof *k);
 	k->s = s;
 	k->doy = -1;
+	k->ideal_doy = -1;
 	if (!strcmp(stat, "min"))
 		k->q = -1;
 	else {
