@@ -92,6 +92,8 @@ static int exact_figure(const char *stat)
 	return !strcmp(stat, "min") || (stat[0] == 'p' && stat[1] != 'o');
 }
 
+static int ideal_table(struct search *s);
+
 /* day of year (from 1) of a date of the weather's year */
 static int doy_of(int month, int day, int leap)
 {
@@ -183,6 +185,8 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 	free(lux);
 	ps_weather_free(&w);
 	ps_patches_free(&P);
+	if (ideal_table(s) != 0)
+		return snprintf(err, errlen, "out of memory for the year's steps"), -1;
 	return 0;
 }
 
@@ -437,26 +441,72 @@ double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
  * -infinity), at none when not (+infinity).  The figure of rank q (from 0,
  * the minimum's 0) reaches the target when n - q points do: at the
  * (n - q)-th smallest threshold.  Unclamped (the caller clamps to the
- * law's range); the last answer kept, as the year asks twice a step. */
-double psd_placeyear_ideal(void *ctx, int doy, double t, double target)
+ * law's range). */
+static double ideal_of(struct psd_placeyear_task *k, int doy, double t, double target)
 {
-	struct psd_placeyear_task *k = ctx;
 	const struct hours *H = &k->s->hrs;
 	int np = H->npoints, q = k->q < 0 ? 0 : k->q;
 	const double *a, *b, *e = H->pt_elec;
 	double w, *v = k->v;
-	if (doy == k->ideal_doy && t == k->ideal_t && target == k->ideal_target)
-		return k->ideal;
 	day_rows(k, doy, t, &a, &b, &w);
 	for (int p = 0; p < np; p++) {
 		double d = a[p] + w * (b[p] - a[p]);
 		v[p] = e[p] > 0 ? (target - d) / e[p] : d >= target ? -INFINITY : INFINITY;
 	}
+	return np > 0 ? kth(v, np, np - 1 - q) : -INFINITY;
+}
+
+/* From the year's table when it holds the step (it depends on nothing a
+ * combination chooses), else made and kept (the year asks twice a step). */
+double psd_placeyear_ideal(void *ctx, int doy, double t, double target)
+{
+	struct psd_placeyear_task *k = ctx;
+	const struct hours *H = &k->s->hrs;
+	if (H->ideal && target == H->ideal_target && doy >= 1 && doy <= 366) {
+		double i = floor(t / H->ideal_period + 0.5);
+		if (i >= 0 && i < (double)H->ideal_steps && (long)i * H->ideal_period == t) {
+			double x = H->ideal[(size_t)(doy - 1) * (size_t)H->ideal_steps + (size_t)i];
+			if (!isnan(x))
+				return x;
+		}
+	}
+	if (doy == k->ideal_doy && t == k->ideal_t && target == k->ideal_target)
+		return k->ideal;
 	k->ideal_doy = doy;
 	k->ideal_t = t;
 	k->ideal_target = target;
-	k->ideal = np > 0 ? kth(v, np, np - 1 - q) : -INFINITY;
+	k->ideal = ideal_of(k, doy, t, target);
 	return k->ideal;
+}
+
+/* the year's table of the ideal output at the occupied steps (the annual
+ * run's step times, s x period), when the grid's figure is taken point by
+ * point and the table is not too large; 0, or -1: out of memory */
+#define IDEAL_MAX_CELLS 4000000L
+static int ideal_table(struct search *s)
+{
+	struct hours *H = &s->hrs;
+	struct psd_placeyear_task k;
+	double period = s->ao.period, target = s->zc->ctl.target_lux;
+	long steps = period > 0 ? (long)floor(86400.0 / period + 0.5) : 0;
+	if (!H->pt_day || steps <= 0 || steps > IDEAL_MAX_CELLS / 366)
+		return 0;
+	if (!(H->ideal = malloc((size_t)steps * 366 * sizeof *H->ideal)) || psd_placeyear_task_init(&k, s) != 0) {
+		free(H->ideal);
+		H->ideal = NULL;
+		return -1;
+	}
+	for (int d = 1; d <= 366; d++)
+		for (long i = 0; i < steps; i++) {
+			double t = (int)i * period;
+			H->ideal[(size_t)(d - 1) * (size_t)steps + (size_t)i] =
+				t >= s->ao.occ_start && t < s->ao.occ_end ? ideal_of(&k, d, t, target) : NAN;
+		}
+	psd_placeyear_task_free(&k);
+	H->ideal_steps = steps;
+	H->ideal_period = period;
+	H->ideal_target = target;
+	return 0;
 }
 
 int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s)
