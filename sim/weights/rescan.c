@@ -87,15 +87,19 @@ int ps_rescan_project(struct ps_rescan *p, const struct ps_weights *omega,
 	                               theta_max_deg, 1, 0.0, e);
 }
 
-int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
-                            const struct ps_picture *pic, const struct ps_view *v,
-                            const double coef[3], double dtheta_deg, double dphi_deg,
-                            double phi0_deg, double theta_max_deg, int sub, double share,
-                            struct ps_err *e)
+/* n projections of one picture, projection c with coefficients coef[c],
+ * each pixel's direction found once for all: every projection the same,
+ * bit for bit, as made alone */
+static int project_n(struct ps_rescan *p, int n, const double (*coef)[3], const struct ps_weights *omega,
+                     const struct ps_picture *pic, const struct ps_view *v, double dtheta_deg, double dphi_deg,
+                     double phi0_deg, double theta_max_deg, int sub, double share, struct ps_err *e)
 {
 	struct ps_fisheye f;
-	double k[3][3], kc[3], cut = HUGE_VAL;
-	memset(p, 0, sizeof *p);
+	double k[3][3], kc[PS_RESCAN_MAX_COEF][3], cut[PS_RESCAN_MAX_COEF], mag[PS_RESCAN_MAX_COEF];
+	if (n < 1 || n > PS_RESCAN_MAX_COEF)
+		return ps_err_set(e, PS_EINVAL, "%d projections at once: 1 to %d", n, PS_RESCAN_MAX_COEF);
+	for (int c = 0; c < n; c++)
+		memset(&p[c], 0, sizeof p[c]);
 	if (sub < 1 || sub > 8 || !(share >= 0))
 		return ps_err_set(e, PS_EINVAL, "bad split: %d x %d parts above a share of %g", sub, sub,
 		                  share);
@@ -108,28 +112,41 @@ int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
 		                  pic->width, pic->height, omega->width, omega->height);
 	if (theta_max_deg > 180)
 		theta_max_deg = 180;
-	p->dtheta = dtheta_deg * DEG;
-	p->dphi = dphi_deg * DEG;
-	p->phi0 = phi0_deg * DEG;
-	p->ntheta = (int)ceil(theta_max_deg / dtheta_deg - 1e-9);
-	p->nphi = (int)lround(360.0 / dphi_deg);
-	if (fabs(p->nphi * dphi_deg - 360.0) > 1e-9 * 360.0)
-		return ps_err_set(e, PS_EINVAL, "%g degrees does not divide 360", dphi_deg);
-	p->e = calloc((size_t)p->ntheta * (size_t)p->nphi, sizeof *p->e);
-	if (!p->e)
-		return ps_err_set(e, PS_ENOMEM, "out of memory for %d x %d cells", p->ntheta, p->nphi);
+	for (int c = 0; c < n; c++) {
+		struct ps_rescan *q = &p[c];
+		q->dtheta = dtheta_deg * DEG;
+		q->dphi = dphi_deg * DEG;
+		q->phi0 = phi0_deg * DEG;
+		q->ntheta = (int)ceil(theta_max_deg / dtheta_deg - 1e-9);
+		q->nphi = (int)lround(360.0 / dphi_deg);
+		if (fabs(q->nphi * dphi_deg - 360.0) > 1e-9 * 360.0) {
+			for (int j = 0; j < c; j++)
+				ps_rescan_free(&p[j]);
+			return ps_err_set(e, PS_EINVAL, "%g degrees does not divide 360", dphi_deg);
+		}
+		q->e = calloc((size_t)q->ntheta * (size_t)q->nphi, sizeof *q->e);
+		if (!q->e) {
+			for (int j = 0; j <= c; j++)
+				ps_rescan_free(&p[j]);
+			return ps_err_set(e, PS_ENOMEM, "out of memory for %d x %d cells", q->ntheta, q->nphi);
+		}
+		cut[c] = HUGE_VAL;
+		mag[c] = 0.0;
+	}
 	ps_fisheye_init(&f, v, pic->width, pic->height);
 	/* stored channels -> response per unit of decoded (m + 0.5) 2^(e-136) */
 	ps_integrate_pic_matrix(pic, k);
-	for (int c = 0; c < 3; c++)
-		kc[c] = coef[0] * k[0][c] + coef[1] * k[1][c] + coef[2] * k[2][c];
+	for (int c = 0; c < n; c++)
+		for (int ch = 0; ch < 3; ch++)
+			kc[c][ch] = coef[c][0] * k[0][ch] + coef[c][1] * k[1][ch] + coef[c][2] * k[2][ch];
 	for (int pass = sub > 1 ? 0 : 1; pass < 2; pass++) {
 		/* pixel centres' plane coordinates once; rho by sqrt (hypot's
 		 * care for overflow is not needed within the unit square).  Pass
 		 * 0 (only when splitting) sums the pixels' |energy| for the cut. */
-		double *uc = malloc(((size_t)pic->width + 1) * sizeof *uc), mag = 0.0;
+		double *uc = malloc(((size_t)pic->width + 1) * sizeof *uc);
 		if (!uc) {
-			ps_rescan_free(p);
+			for (int c = 0; c < n; c++)
+				ps_rescan_free(&p[c]);
 			return ps_err_set(e, PS_ENOMEM, "out of memory");
 		}
 		for (int x = 0; x < pic->width; x++)
@@ -141,40 +158,61 @@ int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
 			for (int i = 0; i < run->n; i++) {
 				int x = run->x0 + i, it;
 				const uint8_t *px = row + 4 * (size_t)x;
-				double th, ph, b, sc, rho;
+				double th, ph, sc, rho, w;
 				if (px[3] == 0)
 					continue;
 				rho = sqrt(uc[x] * uc[x] + vc * vc);
 				if (rho > 1.0)
 					continue;
 				th = ps_fisheye_theta(&f, rho);
-				it = (int)(th / p->dtheta);
-				if (it >= p->ntheta)
+				it = (int)(th / p[0].dtheta);
+				if (it >= p[0].ntheta)
 					continue;
 				ph = atan2(vc, uc[x]) - M_PI / 2;
 				sc = ps_picture_rgbe_scale[px[3]];
-				b = ((px[0] + 0.5) * kc[0] + (px[1] + 0.5) * kc[1] + (px[2] + 0.5) * kc[2]) * sc *
-				    ps_weights_run_at(omega, run, i);
-				if (pass == 0)
-					mag += fabs(b);
-				else if (fabs(b) >= cut)
-					deposit_split(p, &f, x, run->row, sub, b);
-				else
-					deposit(p, th, ph, b);
+				w = ps_weights_run_at(omega, run, i);
+				for (int c = 0; c < n; c++) {
+					double b = ((px[0] + 0.5) * kc[c][0] + (px[1] + 0.5) * kc[c][1] + (px[2] + 0.5) * kc[c][2]) *
+					           sc * w;
+					if (pass == 0)
+						mag[c] += fabs(b);
+					else if (fabs(b) >= cut[c])
+						deposit_split(&p[c], &f, x, run->row, sub, b);
+					else
+						deposit(&p[c], th, ph, b);
+				}
 			}
 		}
 		free(uc);
-		if (pass == 0 && share * mag > 0)
-			cut = share * mag;
+		for (int c = 0; c < n && pass == 0; c++)
+			if (share * mag[c] > 0)
+				cut[c] = share * mag[c];
 	}
-	{
+	for (int c = 0; c < n; c++) {
 		struct ps_sum s;
 		ps_sum_init(&s);
-		for (size_t i = 0; i < (size_t)p->ntheta * (size_t)p->nphi; i++)
-			ps_sum_add(&s, p->e[i]);
-		p->total = ps_sum_get(&s);
+		for (size_t i = 0; i < (size_t)p[c].ntheta * (size_t)p[c].nphi; i++)
+			ps_sum_add(&s, p[c].e[i]);
+		p[c].total = ps_sum_get(&s);
 	}
 	return 0;
+}
+
+int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
+                            const struct ps_picture *pic, const struct ps_view *v,
+                            const double coef[3], double dtheta_deg, double dphi_deg,
+                            double phi0_deg, double theta_max_deg, int sub, double share,
+                            struct ps_err *e)
+{
+	const double (*c)[3] = (const double (*)[3])coef;
+	return project_n(p, 1, c, omega, pic, v, dtheta_deg, dphi_deg, phi0_deg, theta_max_deg, sub, share, e);
+}
+
+int ps_rescan_project_many(struct ps_rescan *p, int n, const double (*coef)[3], const struct ps_weights *omega,
+                           const struct ps_picture *pic, const struct ps_view *v, double dtheta_deg,
+                           double dphi_deg, double phi0_deg, double theta_max_deg, struct ps_err *e)
+{
+	return project_n(p, n, coef, omega, pic, v, dtheta_deg, dphi_deg, phi0_deg, theta_max_deg, 1, 0.0, e);
 }
 
 /* A row's energies and where its sensitivity starts in sg[] (the rings

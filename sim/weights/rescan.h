@@ -50,6 +50,14 @@ int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
                             const double coef[3], double dtheta_deg, double dphi_deg,
                             double phi0_deg, double theta_max_deg, int sub, double share,
                             struct ps_err *e);
+/* n (1 to PS_RESCAN_MAX_COEF) projections of one picture at once,
+ * p[c] with the coefficients coef[c] (a colour channel each, say): each
+ * pixel's direction is found once for all, and each p[c] is bit for bit
+ * what ps_rescan_project would make with coef[c]. */
+#define PS_RESCAN_MAX_COEF 4
+int ps_rescan_project_many(struct ps_rescan *p, int n, const double (*coef)[3], const struct ps_weights *omega,
+                           const struct ps_picture *pic, const struct ps_view *v, double dtheta_deg,
+                           double dphi_deg, double phi0_deg, double theta_max_deg, struct ps_err *e);
 void ps_rescan_free(struct ps_rescan *p);
 
 /* The responses of sensor s at rotations rot0 + k step (degrees), k = 0 ..
