@@ -113,7 +113,9 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 		return;
 	{
 		double h = o->period / 3600.0;
-		double ideal = psd_annual_power(o, clamp((c->target_lux - dl) / c->elec_task_lux, c->min_level, 1.0));
+		double want = o->ideal ? o->ideal(o->task_ctx, u->doy, t, c->target_lux)
+		                       : (c->target_lux - dl) / c->elec_task_lux;
+		double ideal = psd_annual_power(o, clamp(want, c->min_level, 1.0));
 		double power = psd_annual_power(o, output);
 		a->occ_h += h;
 		a->light_h += output * h;

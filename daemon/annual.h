@@ -109,6 +109,11 @@ struct psd_annual_opt {
 	 * the room's.  The law does not see it; the figures on the truth do. */
 	double (*task)(void *task_ctx, int doy, double t, double lamp);
 	void *task_ctx;
+	/* the ideal photocell's light output at time t (s after midnight, the
+	 * step's) of day doy for the target (before clamping to min_level..1),
+	 * in place of (target - task daylight) / electric task lux: a task
+	 * whose figure is not linear in its points; NULL: the room's */
+	double (*ideal)(void *task_ctx, int doy, double t, double target);
 };
 
 /* The weather's step in the results' year, s: the shortest positive gap

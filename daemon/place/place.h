@@ -44,6 +44,13 @@ struct hours {
 	double *pt_day;           /* n x npoints: each point's daylight lux (NULL: the figure is linear) */
 	double *pt_elec;          /* npoints: each point's electric lux at full output */
 	size_t day_first[368];    /* the hours of day of year d (from 1): day_first[d] to day_first[d + 1] */
+	/* the ideal photocell's output (psd_placeyear_ideal) at every occupied
+	 * step of the year, the same for every combination: 366 x ideal_steps
+	 * (day d's step i at [(d - 1) ideal_steps + i], NAN where not made), or
+	 * NULL */
+	double *ideal;
+	long ideal_steps;
+	double ideal_period, ideal_target;
 };
 
 struct combo {

@@ -49,7 +49,7 @@ static void step_hook(void *ctx, int doy, double t, double level, double output,
 	if (truth < c->target_lux)
 		w->deficit_lxh += (c->target_lux - truth) * h;
 	{
-		double ideal = (c->target_lux - dl) / c->elec_task_lux;
+		double ideal = o->ideal ? o->ideal(o->task_ctx, doy, t, c->target_lux) : (c->target_lux - dl) / c->elec_task_lux;
 		ideal = ideal < c->min_level ? c->min_level : ideal > 1 ? 1 : ideal;
 		if (output > ideal + 0.01)
 			w->over_h += h;
@@ -134,6 +134,7 @@ static int run_law(const struct search *s, struct combo *k, const struct ps_resu
 			return -1;
 		}
 		o.task = psd_placeyear_task;
+		o.ideal = psd_placeyear_ideal;
 		o.task_ctx = &tk;
 	}
 	w->o = &o;

@@ -244,37 +244,47 @@ static double cell_phi(const struct search *s)
 }
 
 /* project one picture per colour channel and read every sensor at every
- * rotation: out[(r nsens + k) stride + c] */
+ * rotation: out[(r nsens + k) stride + c].  tab[nsens]: the sensors'
+ * sensitivity on the cells, made at the first projection (tab[0].nphi 0)
+ * and read by every later one (the pose's cells are the same for all its
+ * pictures) */
 static int scan_picture(const struct search *s, const struct ps_weights *om, const struct ps_picture *pic,
-                        const struct ps_view *v, double *out, size_t stride, char *err,
-                        size_t errlen)
+                        const struct ps_view *v, struct ps_rescan_sens *tab, double *out, size_t stride,
+                        char *err, size_t errlen)
 {
+	static const double unit[3][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
 	struct ps_err e;
+	struct ps_rescan pr[3];
 	double *tmp = malloc((size_t)s->o->nrot * sizeof *tmp);
+	int rc = 0;
 	if (!tmp)
 		return snprintf(err, errlen, "out of memory"), -1;
-	for (int c = 0; c < 3; c++) {
-		double coef[3] = { 0, 0, 0 };
-		struct ps_rescan pr;
-		coef[c] = 1;
-		if (ps_rescan_project(&pr, om, pic, v, coef, s->cell_theta, cell_phi(s), 0, s->theta_max,
-		                      &e) != 0) {
-			free(tmp);
-			return snprintf(err, errlen, "%s", e.msg), -1;
+	/* the three channels projected together (each pixel's direction once) */
+	if (ps_rescan_project_many(pr, 3, unit, om, pic, v, s->cell_theta, cell_phi(s), 0, s->theta_max, &e) != 0) {
+		free(tmp);
+		return snprintf(err, errlen, "%s", e.msg), -1;
+	}
+	for (int k = 0, first = tab[0].nphi == 0; k < s->o->nsens && first && !rc; k++)
+		if (ps_rescan_sens_init(&tab[k], &pr[0], &s->sens[k], 0, &e) != 0) {
+			for (int j = 0; j < k; j++)
+				ps_rescan_sens_free(&tab[j]);
+			rc = -1;
 		}
-		for (int k = 0; k < s->o->nsens; k++) {
-			if (ps_rescan_scan(&pr, &s->sens[k], 0, 360.0 / s->o->nrot, s->o->nrot, tmp, &e) != 0) {
-				ps_rescan_free(&pr);
-				free(tmp);
-				return snprintf(err, errlen, "%s", e.msg), -1;
+	for (int c = 0; c < 3 && !rc; c++)
+		for (int k = 0; k < s->o->nsens && !rc; k++) {
+			if (ps_rescan_scan_sens(&pr[c], &tab[k], 360.0 / s->o->nrot, s->o->nrot, 1, tmp, &e) != 0) {
+				rc = -1;
+				break;
 			}
 			for (int r = 0; r < s->o->nrot; r++)
 				out[((size_t)r * (size_t)s->o->nsens + (size_t)k) * stride + (size_t)c] = tmp[r];
 		}
-		ps_rescan_free(&pr);
-	}
+	for (int c = 0; c < 3; c++)
+		ps_rescan_free(&pr[c]);
 	free(tmp);
-	return 0;
+	if (rc)
+		snprintf(err, errlen, "%s", e.msg);
+	return rc;
 }
 
 int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t errlen)
@@ -282,13 +292,18 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 	struct ps_picture *pics = calloc((size_t)s->npatch, sizeof *pics), elec;
 	struct ps_sensor uni;
 	struct ps_weights om, ome;
+	struct ps_rescan_sens *tab = calloc((size_t)s->o->nsens, sizeof *tab);
 	struct ps_err e;
 	int rc = -1;
 	size_t nrs = (size_t)s->o->nrot * (size_t)s->o->nsens;
-	if (!pics)
+	if (!pics || !tab) {
+		free(pics);
+		free(tab);
 		return snprintf(err, errlen, "out of memory"), -1;
+	}
 	if (load_pictures(s, p, pics, &elec, err, errlen) != 0) {
 		free(pics);
+		free(tab);
 		return -1;
 	}
 	p->row = calloc(nrs * (size_t)s->npatch * 3, sizeof *p->row);
@@ -313,7 +328,7 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 			snprintf(err, errlen, "out of memory");
 			goto out;
 		}
-		if (scan_picture(s, &om, &pics[i], &p->view, tmp, 3, err, errlen) != 0) {
+		if (scan_picture(s, &om, &pics[i], &p->view, tab, tmp, 3, err, errlen) != 0) {
 			free(tmp);
 			goto out;
 		}
@@ -329,7 +344,7 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 			snprintf(err, errlen, "out of memory");
 			goto out;
 		}
-		if (scan_picture(s, &ome, &elec, &p->view, tmp, 3, err, errlen) != 0) {
+		if (scan_picture(s, &ome, &elec, &p->view, tab, tmp, 3, err, errlen) != 0) {
 			free(tmp);
 			goto out;
 		}
@@ -341,6 +356,9 @@ int psd_placeset_project(struct search *s, struct pose *p, char *err, size_t err
 	}
 	rc = 0;
 out:
+	for (int k = 0; k < s->o->nsens; k++)
+		ps_rescan_sens_free(&tab[k]);
+	free(tab);
 	ps_weights_free(&om);
 	ps_weights_free(&ome);
 	for (int i = 0; i < s->npatch; i++)

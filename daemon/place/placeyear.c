@@ -92,6 +92,8 @@ static int exact_figure(const char *stat)
 	return !strcmp(stat, "min") || (stat[0] == 'p' && stat[1] != 'o');
 }
 
+static int ideal_table(struct search *s);
+
 /* day of year (from 1) of a date of the weather's year */
 static int doy_of(int month, int day, int leap)
 {
@@ -183,6 +185,8 @@ int psd_placeyear_hours(struct search *s, const struct ps_gridmtx *g, char *err,
 	free(lux);
 	ps_weather_free(&w);
 	ps_patches_free(&P);
+	if (ideal_table(s) != 0)
+		return snprintf(err, errlen, "out of memory for the year's steps"), -1;
 	return 0;
 }
 
@@ -376,20 +380,22 @@ static void task_day(struct psd_placeyear_task *k, int doy)
 	k->n = n;
 }
 
-double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
+/* The points' daylight at time t of day doy: rows *a and *b (a dark point
+ * reads zeros) and the weight *w to *b, each point a[p] + w (b[p] - a[p])
+ * (the room's day_at: linear between the day's points) */
+static void day_rows(struct psd_placeyear_task *k, int doy, double t, const double **a, const double **b, double *w)
 {
-	struct psd_placeyear_task *k = ctx;
 	const struct hours *H = &k->s->hrs;
-	int np = H->npoints;
-	double tod = t >= 0 && t < 86400.0 ? t : fmod(t, 86400.0), w = 0, *v = k->v;   /* the room's clock */
-	const double *a = k->zero, *b = k->zero, *e = H->pt_elec;
+	size_t np = (size_t)H->npoints;
+	double tod = t >= 0 && t < 86400.0 ? t : fmod(t, 86400.0);   /* the room's clock */
+	*a = *b = k->zero;
+	*w = 0;
 	if (tod < 0)
 		tod += 86400.0;
 	if (doy != k->doy)
 		task_day(k, doy);
 	if (k->n && tod >= k->t[0] && tod <= k->t[k->n - 1]) {
-		/* the last point at or before tod, and the weight to the next (the
-		 * room's day_at; a dark point reads zeros) */
+		/* the last point at or before tod, and the weight to the next */
 		int lo = 0, hi = k->n - 1;
 		while (lo < hi) {
 			int mid = (lo + hi + 1) / 2;
@@ -399,36 +405,108 @@ double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
 				hi = mid - 1;
 		}
 		if (k->at[lo] >= 0)
-			a = H->pt_day + (size_t)k->at[lo] * (size_t)np;
+			*a = *b = H->pt_day + (size_t)k->at[lo] * np;
 		if (lo + 1 < k->n && k->t[lo + 1] > k->t[lo]) {
-			w = (tod - k->t[lo]) / (k->t[lo + 1] - k->t[lo]);
-			if (k->at[lo + 1] >= 0)
-				b = H->pt_day + (size_t)k->at[lo + 1] * (size_t)np;
-			if (k->q < 0) {
-				double m = INFINITY;
-				for (int p = 0; p < np; p++) {
-					double x = a[p] + w * (b[p] - a[p]) + lamp * e[p];
-					m = x < m ? x : m;
-				}
-				return m;
-			}
-			for (int p = 0; p < np; p++)
-				v[p] = a[p] + w * (b[p] - a[p]) + lamp * e[p];
-			return kth(v, np, k->q);
+			*w = (tod - k->t[lo]) / (k->t[lo + 1] - k->t[lo]);
+			*b = k->at[lo + 1] >= 0 ? H->pt_day + (size_t)k->at[lo + 1] * np : k->zero;
 		}
 	}
-	/* at a point (or outside the day: zeros) */
+}
+
+double psd_placeyear_task(void *ctx, int doy, double t, double lamp)
+{
+	struct psd_placeyear_task *k = ctx;
+	const struct hours *H = &k->s->hrs;
+	int np = H->npoints;
+	const double *a, *b, *e = H->pt_elec;
+	double w, *v = k->v;
+	day_rows(k, doy, t, &a, &b, &w);
 	if (k->q < 0) {
 		double m = INFINITY;
 		for (int p = 0; p < np; p++) {
-			double x = a[p] + lamp * e[p];
+			double x = a[p] + w * (b[p] - a[p]) + lamp * e[p];
 			m = x < m ? x : m;
 		}
 		return m;
 	}
 	for (int p = 0; p < np; p++)
-		v[p] = a[p] + lamp * e[p];
+		v[p] = a[p] + w * (b[p] - a[p]) + lamp * e[p];
 	return kth(v, np, k->q);
+}
+
+/* The ideal photocell's light output: the smallest at which the figure
+ * reaches the target.  Point p reaches it from its threshold (target -
+ * daylight_p) / electric_p on; a point without electric light (electric_p
+ * 0 or less) at any output when its daylight reaches the target (threshold
+ * -infinity), at none when not (+infinity).  The figure of rank q (from 0,
+ * the minimum's 0) reaches the target when n - q points do: at the
+ * (n - q)-th smallest threshold.  Unclamped (the caller clamps to the
+ * law's range). */
+static double ideal_of(struct psd_placeyear_task *k, int doy, double t, double target)
+{
+	const struct hours *H = &k->s->hrs;
+	int np = H->npoints, q = k->q < 0 ? 0 : k->q;
+	const double *a, *b, *e = H->pt_elec;
+	double w, *v = k->v;
+	day_rows(k, doy, t, &a, &b, &w);
+	for (int p = 0; p < np; p++) {
+		double d = a[p] + w * (b[p] - a[p]);
+		v[p] = e[p] > 0 ? (target - d) / e[p] : d >= target ? -INFINITY : INFINITY;
+	}
+	return np > 0 ? kth(v, np, np - 1 - q) : -INFINITY;
+}
+
+/* From the year's table when it holds the step (it depends on nothing a
+ * combination chooses), else made and kept (the year asks twice a step). */
+double psd_placeyear_ideal(void *ctx, int doy, double t, double target)
+{
+	struct psd_placeyear_task *k = ctx;
+	const struct hours *H = &k->s->hrs;
+	if (H->ideal && target == H->ideal_target && doy >= 1 && doy <= 366) {
+		double i = floor(t / H->ideal_period + 0.5);
+		if (i >= 0 && i < (double)H->ideal_steps && (long)i * H->ideal_period == t) {
+			double x = H->ideal[(size_t)(doy - 1) * (size_t)H->ideal_steps + (size_t)i];
+			if (!isnan(x))
+				return x;
+		}
+	}
+	if (doy == k->ideal_doy && t == k->ideal_t && target == k->ideal_target)
+		return k->ideal;
+	k->ideal_doy = doy;
+	k->ideal_t = t;
+	k->ideal_target = target;
+	k->ideal = ideal_of(k, doy, t, target);
+	return k->ideal;
+}
+
+/* the year's table of the ideal output at the occupied steps (the annual
+ * run's step times, s x period), when the grid's figure is taken point by
+ * point and the table is not too large; 0, or -1: out of memory */
+#define IDEAL_MAX_CELLS 4000000L
+static int ideal_table(struct search *s)
+{
+	struct hours *H = &s->hrs;
+	struct psd_placeyear_task k;
+	double period = s->ao.period, target = s->zc->ctl.target_lux;
+	long steps = period > 0 ? (long)floor(86400.0 / period + 0.5) : 0;
+	if (!H->pt_day || steps <= 0 || steps > IDEAL_MAX_CELLS / 366)
+		return 0;
+	if (!(H->ideal = malloc((size_t)steps * 366 * sizeof *H->ideal)) || psd_placeyear_task_init(&k, s) != 0) {
+		free(H->ideal);
+		H->ideal = NULL;
+		return -1;
+	}
+	for (int d = 1; d <= 366; d++)
+		for (long i = 0; i < steps; i++) {
+			double t = (int)i * period;
+			H->ideal[(size_t)(d - 1) * (size_t)steps + (size_t)i] =
+				t >= s->ao.occ_start && t < s->ao.occ_end ? ideal_of(&k, d, t, target) : NAN;
+		}
+	psd_placeyear_task_free(&k);
+	H->ideal_steps = steps;
+	H->ideal_period = period;
+	H->ideal_target = target;
+	return 0;
 }
 
 int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s)
@@ -437,6 +515,7 @@ int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s
 	memset(k, 0, sizeof *k);
 	k->s = s;
 	k->doy = -1;
+	k->ideal_doy = -1;
 	if (!strcmp(stat, "min"))
 		k->q = -1;
 	else {

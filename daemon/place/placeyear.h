@@ -43,9 +43,15 @@ struct psd_placeyear_task {
 	long at[PSD_YEAR_DAY_POINTS];   /* the hour of each point, -1: dark */
 	double *v;                 /* npoints: scratch */
 	double *zero;              /* npoints zeros: a dark point */
+	int ideal_doy;             /* the last ideal output asked for (-1: none) */
+	double ideal_t, ideal_target, ideal;
 };
 int psd_placeyear_task_init(struct psd_placeyear_task *k, const struct search *s);
 double psd_placeyear_task(void *ctx, int doy, double t, double lamp);
+/* The ideal photocell's light output at time t of day doy, unclamped: the
+ * smallest at which the grid's figure of the points' daylight plus the
+ * output x their electric light reaches target (psd_annual_opt's ideal). */
+double psd_placeyear_ideal(void *ctx, int doy, double t, double target);
 void psd_placeyear_task_free(struct psd_placeyear_task *k);
 void psd_placeyear_release(struct ps_results *r);
 

@@ -178,6 +178,7 @@ static void search_free(struct search *s)
 	free(s->hrs.task);
 	free(s->hrs.pt_day);
 	free(s->hrs.pt_elec);
+	free(s->hrs.ideal);
 	free(s->c);
 }
 

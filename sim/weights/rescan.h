@@ -50,6 +50,14 @@ int ps_rescan_project_split(struct ps_rescan *p, const struct ps_weights *omega,
                             const double coef[3], double dtheta_deg, double dphi_deg,
                             double phi0_deg, double theta_max_deg, int sub, double share,
                             struct ps_err *e);
+/* n (1 to PS_RESCAN_MAX_COEF) projections of one picture at once,
+ * p[c] with the coefficients coef[c] (a colour channel each, say): each
+ * pixel's direction is found once for all, and each p[c] is bit for bit
+ * what ps_rescan_project would make with coef[c]. */
+#define PS_RESCAN_MAX_COEF 4
+int ps_rescan_project_many(struct ps_rescan *p, int n, const double (*coef)[3], const struct ps_weights *omega,
+                           const struct ps_picture *pic, const struct ps_view *v, double dtheta_deg,
+                           double dphi_deg, double phi0_deg, double theta_max_deg, struct ps_err *e);
 void ps_rescan_free(struct ps_rescan *p);
 
 /* The responses of sensor s at rotations rot0 + k step (degrees), k = 0 ..
@@ -61,5 +69,31 @@ int ps_rescan_scan(const struct ps_rescan *p, const struct ps_sensor *s, double 
  * do not depend on how many). */
 int ps_rescan_scan_mt(const struct ps_rescan *p, const struct ps_sensor *s, double rot0_deg,
                       double step_deg, int n, int nthreads, double *out, struct ps_err *e);
+
+/* What a scan reads of a sensor on a projection's cells, turned by rot0:
+ * each ring's row and weights and the rows' sensitivity at the cell
+ * centres.  It depends on the sensor and the cells only (ntheta, nphi,
+ * dtheta, dphi, phi0), not on the picture: made once, it serves every
+ * projection on the same cells (the pictures and channels of a pose). */
+struct ps_rescan_sens {
+	int ntheta, nphi;
+	double dtheta, dphi, phi0;   /* the cells it is for */
+	double rot0;                 /* degrees */
+	int nrow;                    /* rows the rings collapse onto */
+	int *row;                    /* ntheta: ring it's row (weight wa), row + 1 (wb); -1: none */
+	double *wa, *wb;
+	int *used;                   /* nrow: 1 where some ring falls */
+	int nused;
+	double *sg;                  /* nused x 2 nphi: the used rows' sensitivity, doubled */
+};
+/* The table of sensor s at rotation rot0_deg for p's cells; rot0 - phi0
+ * must be a whole number of cells (else PS_EINVAL). */
+int ps_rescan_sens_init(struct ps_rescan_sens *t, const struct ps_rescan *p, const struct ps_sensor *s,
+                        double rot0_deg, struct ps_err *e);
+void ps_rescan_sens_free(struct ps_rescan_sens *t);
+/* ps_rescan_scan_mt with the table t (made for p's cells: PS_EINVAL if
+ * not): the same numbers, bit for bit, as a scan with the sensor. */
+int ps_rescan_scan_sens(const struct ps_rescan *p, const struct ps_rescan_sens *t, double step_deg, int n,
+                        int nthreads, double *out, struct ps_err *e);
 
 #endif

@@ -222,6 +222,93 @@ static void scan_equals_its_definition(void **state)
 	ps_picture_free(&pic);
 }
 
+/* A sensor's table made on one picture's projection serves another
+ * projected on the same cells: the other picture's scan equals its own
+ * definition (cell by cell) and the scan made with the sensor itself, bit
+ * for bit, for a table and a builtin; a projection on other cells is
+ * refused. */
+static void table_shared_between_pictures(void **state)
+{
+	static const int rots[] = { 0, 7, 90, 200, 359 };
+	struct ps_picture pic0, pic1;
+	struct ps_rescan p0, p1, p2;
+	struct ps_err e;
+	double out[360], fresh[360], total;
+	(void)state;
+	picture(&pic0, 0);
+	picture(&pic1, 1);
+	project(&p0, &pic0, 1.0, &total);
+	project(&p1, &pic1, 1.0, &total);
+	project(&p2, &pic1, 2.0, &total);
+	for (int k = 0; k < 2; k++) {
+		struct ps_sensor s;
+		struct ps_rescan_sens t;
+		if (k == 0) {
+			if (ps_sensor_parse(&s, table, sizeof table - 1, "table", &e) != 0)
+				fail_msg("%s", e.msg);
+		} else {
+			assert_int_equal(ps_sensor_builtin(&s, PS_SENS_COSINE, &e), 0);
+		}
+		assert_int_equal(ps_rescan_sens_init(&t, &p0, &s, 0, &e), 0);
+		assert_int_equal(ps_rescan_scan_sens(&p1, &t, 1, 360, 2, out, &e), 0);
+		assert_int_equal(ps_rescan_scan(&p1, &s, 0, 1, 360, fresh, &e), 0);
+		assert_memory_equal(out, fresh, sizeof out);
+		for (size_t r = 0; r < sizeof rots / sizeof rots[0]; r++) {
+			double want = by_definition(&p1, &s, rots[r]);
+			if (fabs(out[rots[r]] / want - 1) > 1e-12)
+				fail_msg("sensor %d, rotation %d: shared table %.17g, definition %.17g", k, rots[r],
+				         out[rots[r]], want);
+		}
+		/* cells of 2 degrees: not the table's */
+		assert_int_equal(ps_rescan_scan_sens(&p2, &t, 2, 180, 1, out, &e), -1);
+		assert_int_equal(e.code, PS_EINVAL);
+		ps_rescan_sens_free(&t);
+		ps_sensor_free(&s);
+	}
+	ps_rescan_free(&p0);
+	ps_rescan_free(&p1);
+	ps_rescan_free(&p2);
+	ps_picture_free(&pic0);
+	ps_picture_free(&pic1);
+}
+
+/* Three projections of one picture made together (each pixel's direction
+ * found once) are each the projection made alone, cell for cell, bit for
+ * bit; and they sum to the picture's integral with those coefficients. */
+static void projections_together(void **state)
+{
+	static const double co[3][3] = { { 1, 0, 0 }, { 0.2, 0.7, 0.1 }, { 0, 0, 1 } };
+	struct ps_picture pic;
+	struct ps_sensor u;
+	struct ps_view v;
+	struct ps_weights om;
+	struct ps_rescan many[3], one;
+	struct ps_err e;
+	(void)state;
+	picture(&pic, 1);
+	assert_int_equal(ps_sensor_builtin(&u, PS_SENS_UNIFORM, &e), 0);
+	ps_view_default_fisheye(&v);
+	assert_int_equal(ps_weights_build(&om, &u, 0, &v, N, N, PS_W_EXACT, &e), 0);
+	assert_int_equal(ps_rescan_project_many(many, 3, co, &om, &pic, &v, 2, 5, 0, 180, &e), 0);
+	for (int c = 0; c < 3; c++) {
+		struct ps_response r;
+		assert_int_equal(ps_rescan_project(&one, &om, &pic, &v, co[c], 2, 5, 0, 180, &e), 0);
+		assert_int_equal(one.ntheta, many[c].ntheta);
+		assert_int_equal(one.nphi, many[c].nphi);
+		assert_memory_equal(one.e, many[c].e, (size_t)one.ntheta * (size_t)one.nphi * sizeof *one.e);
+		assert_memory_equal(&one.total, &many[c].total, sizeof one.total);
+		assert_int_equal(ps_integrate(&om, &pic, co[c], &r, &e), 0);
+		assert_true(fabs(many[c].total / r.response - 1) < 1e-12 || r.response == 0);
+		ps_rescan_free(&one);
+		ps_rescan_free(&many[c]);
+	}
+	/* more at once than it takes: refused */
+	assert_int_equal(ps_rescan_project_many(many, PS_RESCAN_MAX_COEF + 1, co, &om, &pic, &v, 2, 5, 0, 180, &e), -1);
+	ps_weights_free(&om);
+	ps_sensor_free(&u);
+	ps_picture_free(&pic);
+}
+
 /* A sun disc (a few pixels far brighter than the sky) on a sensor's sharp
  * azimuthal edge: the sensitivity falls from 1 to a floor within 2 degrees
  * of azimuth.  The sun sits at polar angle 40 degrees, azimuth 90 (left of
@@ -402,6 +489,8 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(scan_against_exact),
 		cmocka_unit_test(scan_equals_its_definition),
+		cmocka_unit_test(table_shared_between_pictures),
+		cmocka_unit_test(projections_together),
 		cmocka_unit_test(uniform_cosine_is_pi),
 		cmocka_unit_test(sun_on_sharp_edge),
 		cmocka_unit_test(coarse_cells_fine_table),
