@@ -115,7 +115,7 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 		double h = o->period / 3600.0;
 		double want = o->ideal ? o->ideal(o->task_ctx, u->doy, t, c->target_lux)
 		                       : (c->target_lux - dl) / c->elec_task_lux;
-		double ideal = psd_annual_power(o, clamp(want, c->min_level, 1.0));
+		double ideal_level = clamp(want, c->min_level, 1.0), ideal = psd_annual_power(o, ideal_level);
 		double power = psd_annual_power(o, output);
 		a->occ_h += h;
 		a->light_h += output * h;
@@ -129,7 +129,9 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 			a->below_h += h;
 			a->month[m].below_h += h;
 		}
-		if (level < ideal - 0.01 && truth < c->target_lux) {
+		/* over-dimmed is a question of light: the level against the
+		 * ideal's level, not its power */
+		if (level < ideal_level - 0.01 && truth < c->target_lux) {
 			a->overdim_h += h;
 			a->month[m].overdim_h += h;
 		}
