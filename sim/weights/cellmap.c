@@ -401,6 +401,7 @@ static double cell_value(const struct job *jb, int x, int j)
 struct patch {
 	const double *c;
 	double t0, p0, p1, dt, dp, idt, idp, off;
+	double c0, dT, dP, dTP, stp;   /* c[0] and the differences of the corners */
 	double ua, va, pa;   /* the last pixel centre whose phi came from atan2, and that phi */
 	int anchored;
 };
@@ -422,6 +423,11 @@ static void lin_patch(const struct job *jb, int x, int j, struct patch *P)
 	P->dp = s->pb[k + 1] - s->pb[k];
 	P->idt = 1.0 / P->dt;
 	P->idp = 1.0 / P->dp;
+	P->c0 = P->c[0];
+	P->dT = P->c[1] - P->c[0];
+	P->dP = P->c[2] - P->c[0];
+	P->dTP = P->c[0] - P->c[1] - P->c[2] + P->c[3];
+	P->stp = P->dTP * (P->idt * P->idp);
 	P->off = ph - raw;
 	P->anchored = 0;
 }
@@ -433,7 +439,6 @@ static double lin_weight(const struct job *jb, struct patch *P, int x, int j, do
 {
 	double uc = plane_u(&jb->f, x + 0.5), vc = plane_v(&jb->f, j + 0.5);
 	double th = M_PI * sqrt(uc * uc + vc * vc), ph, t, w, sc, st, sp, stp;
-	const double *c = P->c;
 	if (th >= jb->s->theta_end)
 		return 0.0;
 	{
@@ -459,10 +464,12 @@ static double lin_weight(const struct job *jb, struct patch *P, int x, int j, do
 	}
 	t = (th - P->t0) * P->idt;
 	w = (ph - P->p0) * P->idp;
-	sc = (1 - w) * ((1 - t) * c[0] + t * c[1]) + w * ((1 - t) * c[2] + t * c[3]);
-	st = ((1 - w) * (c[1] - c[0]) + w * (c[3] - c[2])) * P->idt;
-	sp = ((1 - t) * (c[2] - c[0]) + t * (c[3] - c[1])) * P->idp;
-	stp = (c[0] - c[1] - c[2] + c[3]) * (P->idt * P->idp);
+	/* the patch c0 + t dT + w dP + t w dTP in its fractions t, w */
+	sp = P->dP + t * P->dTP;
+	sc = P->c0 + t * P->dT + w * sp;
+	st = (P->dT + w * P->dTP) * P->idt;
+	sp *= P->idp;
+	stp = P->stp;
 	return sc * omega + st * m[0] + sg * (sp * m[1] + stp * m[2]);
 }
 
