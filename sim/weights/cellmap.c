@@ -189,7 +189,7 @@ static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, i
 	double u0 = plane_u(f, x), u1 = plane_u(f, x + 1);
 	double v0 = plane_v(f, j), v1 = plane_v(f, j + 1);
 	double du = u0 > 0 ? u0 : u1 < 0 ? -u1 : 0.0, dv = v0 > 0 ? v0 : v1 < 0 ? -v1 : 0.0;
-	double rmin = hypot(du, dv), umax = fmax(fabs(u0), fabs(u1)), vmax = fmax(fabs(v0), fabs(v1));
+	double rmin = sqrt(du * du + dv * dv), umax = fmax(fabs(u0), fabs(u1)), vmax = fmax(fabs(v0), fabs(v1));
 	double R, b, um, uh, vm, vh, uc, vc, rc2, rc, mt = 0, mp = 0, mtp = 0, sc = 0, cc = 0;
 	const struct gl *g;
 	int n;
@@ -230,9 +230,11 @@ static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, i
 		double v = vm + vh * g->x[bq], st = 0, sp = 0, stp = 0;
 		for (int a = 0; a < n; a++) {
 			double u = um + uh * g->x[a], r2 = u * u + v * v, r = sqrt(r2);
-			double dt = M_PI * (r2 - rc2) / (r + rc);
+			double q = 1.0 / (r * (r + rc));   /* one division for 1/r and 1/(r + rc) */
+			double dt = M_PI * (r2 - rc2) * (q * r);
 			double J = (L->series == 2 ? sin_near_short(sc, cc, dt)
-			            : L->series ? sin_near(sc, cc, dt) : sin(M_PI * r)) * (M_PI / r) * g->w[a];
+			            : L->series ? sin_near(sc, cc, dt) : sin(M_PI * r)) * (M_PI * (q * (r + rc))) *
+			           g->w[a];
 			double dp = atan_small((uc * v - vc * u) / (uc * u + vc * v));
 			st += J * dt;
 			sp += J * dp;
