@@ -598,6 +598,14 @@ int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rot
                      const struct ps_view *v, int width, int height,
                      const struct ps_weights *omega, struct ps_err *e)
 {
+	return ps_cellmap_build_placed(w, s, rotation_deg, v, width, height, omega, NULL, NULL, e);
+}
+
+int ps_cellmap_build_placed(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                            const struct ps_view *v, int width, int height,
+                            const struct ps_weights *omega, ps_cellmap_place_fn *place, void *ctx,
+                            struct ps_err *e)
+{
 	struct job jb;
 	struct ps_weights_exact *ex = NULL;
 	double *radius = NULL, *ray = NULL;
@@ -613,6 +621,16 @@ int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 		                  omega->width, omega->height, width, height);
 	if (ps_weights_layout(w, s, rotation_deg, v, width, height, e) != 0)
 		return -1;
+	if (place) {
+		/* the layout's own block is not touched yet: freeing it costs nothing */
+		double *p;
+		w->map = NULL;
+		p = place(ctx, w);
+		if (p) {
+			free(w->w);
+			w->w = p;
+		}
+	}
 	memset(&jb, 0, sizeof jb);
 	jb.s = s;
 	jb.rot = rotation_deg * M_PI / 180.0;

@@ -7,6 +7,7 @@
  * rebuilt and never trusted; a cache that cannot be written works uncached; eviction
  * removes the least recently used first and keeps the bound; processes
  * sharing one cache at once all get the exact map. */
+#include <dirent.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -133,7 +134,28 @@ static void stored_then_hit_bit_for_bit(void **state)
 	built(&ref, &s, 15);
 	assert_int_equal(get(&w, &s, 15, c, 0, &warn), PS_WC_STORED);
 	same_map(&w, &ref);
-	assert_null(w.map);
+	/* built straight into the new entry's mapping, renamed into place
+	 * whole: the entry alone in its directory, no temporary file left */
+	assert_non_null(w.map);
+	{
+		char path[512], *slash;
+		struct stat st;
+		DIR *d;
+		struct dirent *de;
+		int files = 0;
+		entry(&s, 15, c, path, sizeof path);
+		assert_int_equal(stat(path, &st), 0);
+		assert_true((size_t)st.st_size == w.maplen);
+		slash = strrchr(path, '/');
+		*slash = '\0';
+		d = opendir(path);
+		assert_non_null(d);
+		while ((de = readdir(d)))
+			if (de->d_name[0] != '.')
+				files++;
+		closedir(d);
+		assert_int_equal(files, 1);
+	}
 	ps_weights_free(&w);
 	assert_int_equal(get(&w, &s, 15, c, 0, &warn), PS_WC_HIT);
 	assert_non_null(w.map);
