@@ -317,6 +317,7 @@ struct job {
 	int nradius;
 	const double *ray_c, *ray_s;     /* the rays' directions in the plane */
 	double tmax;                     /* beyond the picture's farthest corner from the zenith */
+	double du, dv;                   /* a pixel's sides in the plane */
 	int nray;
 	struct ps_sum *rowsum;           /* per run */
 	const struct lin *lin;           /* the linear reading's moments; NULL: the cell reading */
@@ -439,7 +440,8 @@ static void lin_patch(const struct job *jb, int x, int j, struct patch *P)
 static double lin_weight(const struct job *jb, struct patch *P, int x, int j, double omega,
                          const double *m, double sg)
 {
-	double uc = plane_u(&jb->f, x + 0.5), vc = plane_v(&jb->f, j + 0.5);
+	/* the centre by the pixel's step: no division at every pixel */
+	double uc = jb->f.u0 + (x + 0.5) * jb->du, vc = jb->f.v0 + (j + 0.5) * jb->dv;
 	double th = M_PI * sqrt(uc * uc + vc * vc), ph, t, w, sc, st, sp, stp;
 	if (th >= jb->s->theta_end)
 		return 0.0;
@@ -637,6 +639,8 @@ int ps_cellmap_build_placed(struct ps_weights *w, const struct ps_sensor *s, dou
 	jb.omega = omega;
 	jb.w = w;
 	ps_fisheye_init(&jb.f, v, width, height);
+	jb.du = jb.f.su / width;
+	jb.dv = jb.f.sv / height;
 	radius = malloc(((size_t)s->nt + 2) * sizeof *radius);
 	ray = malloc(2 * ((size_t)s->np + 1) * sizeof *ray);
 	orun = malloc((size_t)height * sizeof *orun);

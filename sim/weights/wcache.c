@@ -284,12 +284,6 @@ int ps_wcache_get_async(struct ps_weights *w, const struct ps_wcache_key *k,
 	return get(w, k, cache, how, warn, pending, e);
 }
 
-/* A linear-reading table that changes with azimuth on the angular
- * projection: from the solid-angle map by sim/weights/cellmap.c (the solid
- * angles built here, not stored: on an empty cache building them costs
- * less than storing them); the map itself is then stored as any other.
- * On the hemispherical projection that route has no moments: the edge
- * route's map. */
 struct place {
 	const char *dir;
 	const char *hex;
@@ -313,6 +307,13 @@ static double *place_in_entry(void *arg, struct ps_weights *w)
 	return (double *)(void *)((uint8_t *)pl->out.payload + head);
 }
 
+/* A linear-reading table that changes with azimuth on the angular
+ * projection: from the solid-angle map by sim/weights/cellmap.c (the solid
+ * angles built here, not stored: on an empty cache building them costs
+ * less than storing them); with pl, the map is built in its new entry's
+ * mapping (pl->placed), else stored afterwards as any other.  On the
+ * hemispherical projection that route has no moments: the edge route's
+ * map. */
 static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct place *pl,
                  struct ps_err *e)
 {
