@@ -70,17 +70,6 @@ int ps_cellmap_fits(const struct ps_sensor *s, int method)
  * dp changes sign under each reflection). */
 enum { LIN_MAXN = 8, LIN_ZENITH = 20, LIN_JSTEPS = 64 };
 
-/* ps_fisheye_u and ps_fisheye_v, inline (taken at every pixel) */
-static inline double plane_u(const struct ps_fisheye *f, double x)
-{
-	return f->u0 + (x / f->width) * f->su;
-}
-
-static inline double plane_v(const struct ps_fisheye *f, double j)
-{
-	return f->v0 + (j / f->height) * f->sv;
-}
-
 struct gl {
 	int n;
 	double x[LIN_MAXN], w[LIN_MAXN];
@@ -164,6 +153,7 @@ struct lin {
 	double *mom;         /* qw x qh x 3: M_t, M_p, M_tp; NaN: the exact route */
 	int transpose;       /* and symmetric in the diagonal: x >= j only */
 	double h, kbound;    /* pixel side; the bound's constant over the tolerance */
+	double du, dv;       /* a pixel's sides in the plane */
 	double jbound[2 * LIN_JSTEPS + 1];   /* pi sinh(pi r) / r at r = k / LIN_JSTEPS */
 	struct gl gl[LIN_MAXN + 1];
 	int next;
@@ -186,8 +176,8 @@ static void lin_slopes(const struct ps_sensor *s, double *gt, double *gp, double
 /* The centred moments of pixel x on bottom-based row j; -1: the exact route. */
 static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, int j, double m[3])
 {
-	double u0 = plane_u(f, x), u1 = plane_u(f, x + 1);
-	double v0 = plane_v(f, j), v1 = plane_v(f, j + 1);
+	double u0 = f->u0 + x * L->du, u1 = f->u0 + (x + 1) * L->du;
+	double v0 = f->v0 + j * L->dv, v1 = f->v0 + (j + 1) * L->dv;
 	double du = u0 > 0 ? u0 : u1 < 0 ? -u1 : 0.0, dv = v0 > 0 ? v0 : v1 < 0 ? -v1 : 0.0;
 	double rmin = sqrt(du * du + dv * dv), umax = fmax(fabs(u0), fabs(u1)), vmax = fmax(fabs(v0), fabs(v1));
 	double R, b, um, uh, vm, vh, uc, vc, rc2, rc, mt = 0, mp = 0, mtp = 0, sc = 0, cc = 0;
@@ -684,6 +674,8 @@ int ps_cellmap_build_placed(struct ps_weights *w, const struct ps_sensor *s, dou
 			goto oom;
 		lin_slopes(s, &gt, &gp, &gtp);
 		lin->h = fmax(jb.f.su / width, jb.f.sv / height);
+		lin->du = jb.du;
+		lin->dv = jb.dv;
 		/* a node lies at most h / sqrt(2) from its pixel's centre */
 		lin->series = M_PI * lin->h * M_SQRT1_2 <= LIN_SHORT    ? 2
 		              : M_PI * lin->h * M_SQRT1_2 <= LIN_SERIES ? 1
