@@ -146,7 +146,12 @@ static inline double sin_near(double sc, double cc, double d)
 	return sc * cd + cc * sd;
 }
 
+/* sin and cos of pi k / LIN_TAB, k = 0 .. LIN_TAB (a moment pixel's centre
+ * lies inside the unit circle) */
+#define LIN_TAB 1024
+
 struct lin {
+	double tsin[LIN_TAB + 1], tcos[LIN_TAB + 1];
 	int series;          /* the nodes' sines from the centre's: 2 sin_near_short, 1 sin_near, 0 sin */
 	int qw, qh;          /* the moments' columns [0, qw), bottom-based rows [0, qh) */
 	int mirror;          /* 1: a quadrant, mirrored; 0: every pixel */
@@ -213,8 +218,13 @@ static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, i
 	rc2 = uc * uc + vc * vc;
 	rc = sqrt(rc2);
 	if (L->series) {
-		sc = sin(M_PI * rc);
-		cc = cos(M_PI * rc);
+		/* from the table's nearest point: |d| <= pi / (2 LIN_TAB) < LIN_SHORT */
+		int k = (int)(rc * LIN_TAB + 0.5);
+		double d = M_PI * (rc - (double)k / LIN_TAB), d2 = d * d;
+		double sd = d * (1 + d2 * (-1.0 / 6 + d2 * (1.0 / 120)));
+		double cd = 1 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720)));
+		sc = L->tsin[k] * cd + L->tcos[k] * sd;
+		cc = L->tcos[k] * cd - L->tsin[k] * sd;
 	}
 	for (int bq = 0; bq < n; bq++) {
 		double v = vm + vh * g->x[bq], st = 0, sp = 0, stp = 0;
@@ -680,6 +690,10 @@ int ps_cellmap_build_placed(struct ps_weights *w, const struct ps_sensor *s, dou
 		lin->series = M_PI * lin->h * M_SQRT1_2 <= LIN_SHORT    ? 2
 		              : M_PI * lin->h * M_SQRT1_2 <= LIN_SERIES ? 1
 		                                                        : 0;
+		for (int k = 0; k <= LIN_TAB; k++) {
+			lin->tsin[k] = sin(M_PI * k / LIN_TAB);
+			lin->tcos[k] = cos(M_PI * k / LIN_TAB);
+		}
 		lin->kbound = 2.0 * 64.0 / 15.0 * (1.1 * gt + 0.5 * gp + 0.55 * gtp) / (1e-14 * s->max_value);
 		for (int n = 2; n <= LIN_MAXN; n++)
 			gl_rule(&lin->gl[n], n);
