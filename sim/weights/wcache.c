@@ -304,6 +304,7 @@ static double *place_in_entry(void *arg, struct ps_weights *w)
 	pl->placed = 1;
 	w->map = pl->out.map;
 	w->maplen = pl->out.maplen;
+	w->built_in_map = 1;
 	return (double *)(void *)((uint8_t *)pl->out.payload + head);
 }
 
