@@ -503,6 +503,93 @@ fail:
 	}
 }
 
+/* ---- an entry written in place ---------------------------------------- */
+
+int ps_cache_blob_create(const char *dir, const char *hexkey, size_t len, struct ps_cache_blob_out *o,
+                         struct ps_err *e)
+{
+	static unsigned long counter;
+	char *slash;
+	size_t total = PS_CACHE_BLOB_HEADER + len;
+	unsigned long k;
+	memset(o, 0, sizeof *o);
+	o->fd = -1;
+	if (!hex_ok(hexkey))
+		return ps_err_set(e, PS_EINVAL, "cache key '%.80s' is not 64 hex digits", hexkey);
+	blob_path(dir, hexkey, o->path, sizeof o->path);
+	slash = strrchr(o->path, '/');
+	*slash = '\0';
+	if (mkdir_p(o->path) != 0)
+		return ps_err_sys(e, "%s", o->path);
+	*slash = '/';
+	k = __atomic_add_fetch(&counter, 1, __ATOMIC_RELAXED);
+	snprintf(o->tmp, sizeof o->tmp, "%s.tmp.%ld.m%lu", o->path, (long)getpid(), k);
+	o->fd = open(o->tmp, O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+	if (o->fd < 0)
+		return ps_err_sys(e, "%s", o->tmp);
+	/* the blocks reserved before the first store through the map: a full
+	 * disk is this error, never a SIGBUS in the middle of the fill; a file
+	 * system without fallocate says so here too (not posix_fallocate,
+	 * which would write the zeros itself) */
+	if (fallocate(o->fd, 0, 0, (off_t)total) != 0)
+		goto fail;
+	o->map = mmap(NULL, total, PROT_READ | PROT_WRITE, MAP_SHARED, o->fd, 0);
+	if (o->map == MAP_FAILED) {
+		o->map = NULL;
+		goto fail;
+	}
+#ifdef MADV_HUGEPAGE
+	madvise(o->map, total, MADV_HUGEPAGE);
+#endif
+	o->maplen = total;
+	o->len = len;
+	o->payload = (uint8_t *)o->map + PS_CACHE_BLOB_HEADER;
+	memcpy(o->hex, hexkey, 64);
+	o->hex[64] = '\0';
+	return 0;
+fail:
+	{
+		int rc = ps_err_sys(e, "%s", o->tmp);
+		close(o->fd);
+		unlink(o->tmp);
+		o->fd = -1;
+		return rc;
+	}
+}
+
+int ps_cache_blob_commit(struct ps_cache_blob_out *o, const char *dir, size_t max_bytes,
+                         struct ps_err *e)
+{
+	uint8_t *h = o->map;
+	struct sum64 ctx;
+	int rc = 0;
+	memset(h, 0, PS_CACHE_BLOB_HEADER);
+	sum_init(&ctx);
+	sum_update(&ctx, o->payload, o->len);
+	put_le64(h + 48, sum_final(&ctx));
+	put_le64(h + 8, o->len);
+	from_hex(o->hex, h + 16);
+	/* the magic last: a header without it is never a whole entry */
+	memcpy(h, blob_magic, sizeof blob_magic);
+	if (close(o->fd) != 0 || rename(o->tmp, o->path) != 0) {
+		rc = ps_err_sys(e, "%s", o->tmp);
+		unlink(o->tmp);
+	} else if (max_bytes > 0) {
+		ps_cache_blob_evict(dir, max_bytes, o->hex);
+	}
+	o->fd = -1;
+	return rc;
+}
+
+void ps_cache_blob_abort(struct ps_cache_blob_out *o)
+{
+	if (o->fd >= 0) {
+		close(o->fd);
+		unlink(o->tmp);
+	}
+	o->fd = -1;
+}
+
 struct blob_file {
 	char path[4200];
 	off_t size;

@@ -65,6 +65,31 @@ int ps_cache_blob_check(const void *file, size_t len, const char *hexkey, const 
  * the directory cannot be written; callers go on uncached. */
 int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *const *ptr,
                       const size_t *len, size_t max_bytes, struct ps_err *e);
+/* An entry written in place: a temporary file in the entry's directory,
+ * its blocks reserved (posix_fallocate: a full disk or a file system
+ * without it is an error here, and the caller takes ps_cache_blob_put's
+ * route) and mapped shared, so a payload built at o->payload reaches the
+ * page cache once.  ps_cache_blob_commit writes the checksum and the
+ * header, closes and renames it into place (readers see a whole entry or
+ * none) and evicts as ps_cache_blob_put does; ps_cache_blob_abort removes
+ * the temporary file.  Either way the mapping (o->map, o->maplen) stays
+ * the caller's to unmap, valid after the rename. */
+struct ps_cache_blob_out {
+	void *map;            /* the whole file */
+	size_t maplen;
+	void *payload;        /* len bytes, 128 into the map */
+	size_t len;
+	int fd;
+	char hex[65];
+	char path[4096], tmp[4200];
+};
+
+int ps_cache_blob_create(const char *dir, const char *hexkey, size_t len, struct ps_cache_blob_out *o,
+                         struct ps_err *e);
+int ps_cache_blob_commit(struct ps_cache_blob_out *o, const char *dir, size_t max_bytes,
+                         struct ps_err *e);
+void ps_cache_blob_abort(struct ps_cache_blob_out *o);
+
 /* The cache directory psscene and psens share: $XDG_CACHE_HOME/psensd,
  * else $HOME/.cache/psensd (/tmp/.cache/psensd without a HOME). */
 void ps_cache_default_dir(char *buf, size_t len);

@@ -5,12 +5,29 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdint.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "fisheye.h"
 #include "sum.h"
 
 enum { MAX_THREADS = 8, CHUNK = 16 };
+
+/* Large arrays filled once and read across rows (the moments' mirrored
+ * reads stride a whole quadrant row): huge pages where the kernel offers
+ * them, for fewer faults and TLB misses; a refusal only costs time. */
+static void advise_huge(void *p, size_t n)
+{
+	long pg = sysconf(_SC_PAGESIZE);
+	uintptr_t a, b;
+	if (pg <= 0 || n < ((size_t)4 << 20))
+		return;
+	a = ((uintptr_t)p + (uintptr_t)pg - 1) & ~((uintptr_t)pg - 1);
+	b = ((uintptr_t)p + n) & ~((uintptr_t)pg - 1);
+	if (b > a)
+		madvise((void *)a, b - a, MADV_HUGEPAGE);
+}
 
 int ps_cellmap_fits(const struct ps_sensor *s, int method)
 {
@@ -52,17 +69,6 @@ int ps_cellmap_fits(const struct ps_sensor *s, int method)
  * they are computed for the lower left quadrant and mirrored (dt the same,
  * dp changes sign under each reflection). */
 enum { LIN_MAXN = 8, LIN_ZENITH = 20, LIN_JSTEPS = 64 };
-
-/* ps_fisheye_u and ps_fisheye_v, inline (taken at every pixel) */
-static inline double plane_u(const struct ps_fisheye *f, double x)
-{
-	return f->u0 + (x / f->width) * f->su;
-}
-
-static inline double plane_v(const struct ps_fisheye *f, double j)
-{
-	return f->v0 + (j / f->height) * f->sv;
-}
 
 struct gl {
 	int n;
@@ -116,12 +122,43 @@ static inline double atan_small(double x)
 	       x2 * (-1.0 / 11 + x2 * (1.0 / 13 + x2 * (-1.0 / 15 + x2 * (1.0 / 17)))))))));
 }
 
+/* sin(pi rc + d) from sc = sin(pi rc), cc = cos(pi rc) and |d| <= LIN_SERIES:
+ * sin(d) to d^9 and cos(d) to d^10 (the first omitted terms below 2e-23 and
+ * 3e-26 of 1 at 0.05), so one sine and cosine per pixel, not one per node;
+ * for |d| <= LIN_SHORT (pixels under 1/700 of the plane's unit) sin(d) to
+ * d^5 and cos(d) to d^6 (the first omitted terms below 3e-23 and 7e-27). */
+#define LIN_SERIES 0.05
+#define LIN_SHORT 2e-3
+static inline double sin_near_short(double sc, double cc, double d)
+{
+	double d2 = d * d;
+	double sd = d * (1 + d2 * (-1.0 / 6 + d2 * (1.0 / 120)));
+	double cd = 1 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720)));
+	return sc * cd + cc * sd;
+}
+
+static inline double sin_near(double sc, double cc, double d)
+{
+	double d2 = d * d;
+	double sd = d * (1 + d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040 + d2 * (1.0 / 362880)))));
+	double cd = 1 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (1.0 / 40320 +
+	            d2 * (-1.0 / 3628800)))));
+	return sc * cd + cc * sd;
+}
+
+/* sin and cos of pi k / LIN_TAB, k = 0 .. LIN_TAB (a moment pixel's centre
+ * lies inside the unit circle) */
+#define LIN_TAB 1024
+
 struct lin {
+	double tsin[LIN_TAB + 1], tcos[LIN_TAB + 1];
+	int series;          /* the nodes' sines from the centre's: 2 sin_near_short, 1 sin_near, 0 sin */
 	int qw, qh;          /* the moments' columns [0, qw), bottom-based rows [0, qh) */
 	int mirror;          /* 1: a quadrant, mirrored; 0: every pixel */
 	double *mom;         /* qw x qh x 3: M_t, M_p, M_tp; NaN: the exact route */
 	int transpose;       /* and symmetric in the diagonal: x >= j only */
 	double h, kbound;    /* pixel side; the bound's constant over the tolerance */
+	double du, dv;       /* a pixel's sides in the plane */
 	double jbound[2 * LIN_JSTEPS + 1];   /* pi sinh(pi r) / r at r = k / LIN_JSTEPS */
 	struct gl gl[LIN_MAXN + 1];
 	int next;
@@ -144,11 +181,11 @@ static void lin_slopes(const struct ps_sensor *s, double *gt, double *gp, double
 /* The centred moments of pixel x on bottom-based row j; -1: the exact route. */
 static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, int j, double m[3])
 {
-	double u0 = plane_u(f, x), u1 = plane_u(f, x + 1);
-	double v0 = plane_v(f, j), v1 = plane_v(f, j + 1);
+	double u0 = f->u0 + x * L->du, u1 = f->u0 + (x + 1) * L->du;
+	double v0 = f->v0 + j * L->dv, v1 = f->v0 + (j + 1) * L->dv;
 	double du = u0 > 0 ? u0 : u1 < 0 ? -u1 : 0.0, dv = v0 > 0 ? v0 : v1 < 0 ? -v1 : 0.0;
-	double rmin = hypot(du, dv), umax = fmax(fabs(u0), fabs(u1)), vmax = fmax(fabs(v0), fabs(v1));
-	double R, b, um, uh, vm, vh, uc, vc, rc2, rc, mt = 0, mp = 0, mtp = 0;
+	double rmin = sqrt(du * du + dv * dv), umax = fmax(fabs(u0), fabs(u1)), vmax = fmax(fabs(v0), fabs(v1));
+	double R, b, um, uh, vm, vh, uc, vc, rc2, rc, mt = 0, mp = 0, mtp = 0, sc = 0, cc = 0;
 	const struct gl *g;
 	int n;
 	if (umax * umax + vmax * vmax >= 1.0 || !(rmin >= LIN_ZENITH * L->h))
@@ -158,12 +195,16 @@ static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, i
 		/* |J| on the ellipse: at most pi sinh(pi r) / r (growing with r),
 		 * r bounding |rho| there, taken at the next 64th up */
 		double r = sqrt(umax * umax + vmax * vmax) + 0.5 * rmin;
-		b = L->kbound * L->jbound[(int)ceil(r * LIN_JSTEPS)] / ((R * R - 1.0) * R * R);
+		b = L->kbound * L->jbound[(int)ceil(r * LIN_JSTEPS)];
 	}
-	for (n = 2; n <= LIN_MAXN; n++) {
-		b /= R * R;
-		if (b <= 1.0)
-			break;
+	{
+		/* the bound b / ((R^2 - 1) R^(2n)) <= 1, without a division */
+		double R2 = R * R, t = (R2 - 1.0) * R2;
+		for (n = 2; n <= LIN_MAXN; n++) {
+			t *= R2;
+			if (b <= t)
+				break;
+		}
 	}
 	if (n > LIN_MAXN)
 		return -1;
@@ -176,12 +217,24 @@ static int lin_moments(const struct lin *L, const struct ps_fisheye *f, int x, i
 	vc = vm;
 	rc2 = uc * uc + vc * vc;
 	rc = sqrt(rc2);
+	if (L->series) {
+		/* from the table's nearest point: |d| <= pi / (2 LIN_TAB) < LIN_SHORT */
+		int k = (int)(rc * LIN_TAB + 0.5);
+		double d = M_PI * (rc - (double)k / LIN_TAB), d2 = d * d;
+		double sd = d * (1 + d2 * (-1.0 / 6 + d2 * (1.0 / 120)));
+		double cd = 1 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720)));
+		sc = L->tsin[k] * cd + L->tcos[k] * sd;
+		cc = L->tcos[k] * cd - L->tsin[k] * sd;
+	}
 	for (int bq = 0; bq < n; bq++) {
 		double v = vm + vh * g->x[bq], st = 0, sp = 0, stp = 0;
 		for (int a = 0; a < n; a++) {
 			double u = um + uh * g->x[a], r2 = u * u + v * v, r = sqrt(r2);
-			double J = M_PI * sin(M_PI * r) / r * g->w[a];
-			double dt = M_PI * (r2 - rc2) / (r + rc);
+			double q = 1.0 / (r * (r + rc));   /* one division for 1/r and 1/(r + rc) */
+			double dt = M_PI * (r2 - rc2) * (q * r);
+			double J = (L->series == 2 ? sin_near_short(sc, cc, dt)
+			            : L->series ? sin_near(sc, cc, dt) : sin(M_PI * r)) * (M_PI * (q * (r + rc))) *
+			           g->w[a];
 			double dp = atan_small((uc * v - vc * u) / (uc * u + vc * v));
 			st += J * dt;
 			sp += J * dp;
@@ -264,6 +317,7 @@ struct job {
 	int nradius;
 	const double *ray_c, *ray_s;     /* the rays' directions in the plane */
 	double tmax;                     /* beyond the picture's farthest corner from the zenith */
+	double du, dv;                   /* a pixel's sides in the plane */
 	int nray;
 	struct ps_sum *rowsum;           /* per run */
 	const struct lin *lin;           /* the linear reading's moments; NULL: the cell reading */
@@ -350,6 +404,7 @@ static double cell_value(const struct job *jb, int x, int j)
 struct patch {
 	const double *c;
 	double t0, p0, p1, dt, dp, idt, idp, off;
+	double c0, dT, dP, dTP, stp;   /* c[0] and the differences of the corners */
 	double ua, va, pa;   /* the last pixel centre whose phi came from atan2, and that phi */
 	int anchored;
 };
@@ -371,6 +426,11 @@ static void lin_patch(const struct job *jb, int x, int j, struct patch *P)
 	P->dp = s->pb[k + 1] - s->pb[k];
 	P->idt = 1.0 / P->dt;
 	P->idp = 1.0 / P->dp;
+	P->c0 = P->c[0];
+	P->dT = P->c[1] - P->c[0];
+	P->dP = P->c[2] - P->c[0];
+	P->dTP = P->c[0] - P->c[1] - P->c[2] + P->c[3];
+	P->stp = P->dTP * (P->idt * P->idp);
 	P->off = ph - raw;
 	P->anchored = 0;
 }
@@ -380,9 +440,9 @@ static void lin_patch(const struct job *jb, int x, int j, struct patch *P)
 static double lin_weight(const struct job *jb, struct patch *P, int x, int j, double omega,
                          const double *m, double sg)
 {
-	double uc = plane_u(&jb->f, x + 0.5), vc = plane_v(&jb->f, j + 0.5);
+	/* the centre by the pixel's step: no division at every pixel */
+	double uc = jb->f.u0 + (x + 0.5) * jb->du, vc = jb->f.v0 + (j + 0.5) * jb->dv;
 	double th = M_PI * sqrt(uc * uc + vc * vc), ph, t, w, sc, st, sp, stp;
-	const double *c = P->c;
 	if (th >= jb->s->theta_end)
 		return 0.0;
 	{
@@ -408,10 +468,12 @@ static double lin_weight(const struct job *jb, struct patch *P, int x, int j, do
 	}
 	t = (th - P->t0) * P->idt;
 	w = (ph - P->p0) * P->idp;
-	sc = (1 - w) * ((1 - t) * c[0] + t * c[1]) + w * ((1 - t) * c[2] + t * c[3]);
-	st = ((1 - w) * (c[1] - c[0]) + w * (c[3] - c[2])) * P->idt;
-	sp = ((1 - t) * (c[2] - c[0]) + t * (c[3] - c[1])) * P->idp;
-	stp = (c[0] - c[1] - c[2] + c[3]) * (P->idt * P->idp);
+	/* the patch c0 + t dT + w dP + t w dTP in its fractions t, w */
+	sp = P->dP + t * P->dTP;
+	sc = P->c0 + t * P->dT + w * sp;
+	st = (P->dT + w * P->dTP) * P->idt;
+	sp *= P->idp;
+	stp = P->stp;
 	return sc * omega + st * m[0] + sg * (sp * m[1] + stp * m[2]);
 }
 
@@ -538,6 +600,14 @@ int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rot
                      const struct ps_view *v, int width, int height,
                      const struct ps_weights *omega, struct ps_err *e)
 {
+	return ps_cellmap_build_placed(w, s, rotation_deg, v, width, height, omega, NULL, NULL, e);
+}
+
+int ps_cellmap_build_placed(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                            const struct ps_view *v, int width, int height,
+                            const struct ps_weights *omega, ps_cellmap_place_fn *place, void *ctx,
+                            struct ps_err *e)
+{
 	struct job jb;
 	struct ps_weights_exact *ex = NULL;
 	double *radius = NULL, *ray = NULL;
@@ -553,12 +623,24 @@ int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 		                  omega->width, omega->height, width, height);
 	if (ps_weights_layout(w, s, rotation_deg, v, width, height, e) != 0)
 		return -1;
+	if (place) {
+		/* the layout's own block is not touched yet: freeing it costs nothing */
+		double *p;
+		w->map = NULL;
+		p = place(ctx, w);
+		if (p) {
+			free(w->w);
+			w->w = p;
+		}
+	}
 	memset(&jb, 0, sizeof jb);
 	jb.s = s;
 	jb.rot = rotation_deg * M_PI / 180.0;
 	jb.omega = omega;
 	jb.w = w;
 	ps_fisheye_init(&jb.f, v, width, height);
+	jb.du = jb.f.su / width;
+	jb.dv = jb.f.sv / height;
 	radius = malloc(((size_t)s->nt + 2) * sizeof *radius);
 	ray = malloc(2 * ((size_t)s->np + 1) * sizeof *ray);
 	orun = malloc((size_t)height * sizeof *orun);
@@ -602,6 +684,16 @@ int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			goto oom;
 		lin_slopes(s, &gt, &gp, &gtp);
 		lin->h = fmax(jb.f.su / width, jb.f.sv / height);
+		lin->du = jb.du;
+		lin->dv = jb.dv;
+		/* a node lies at most h / sqrt(2) from its pixel's centre */
+		lin->series = M_PI * lin->h * M_SQRT1_2 <= LIN_SHORT    ? 2
+		              : M_PI * lin->h * M_SQRT1_2 <= LIN_SERIES ? 1
+		                                                        : 0;
+		for (int k = 0; k <= LIN_TAB; k++) {
+			lin->tsin[k] = sin(M_PI * k / LIN_TAB);
+			lin->tcos[k] = cos(M_PI * k / LIN_TAB);
+		}
 		lin->kbound = 2.0 * 64.0 / 15.0 * (1.1 * gt + 0.5 * gp + 0.55 * gtp) / (1e-14 * s->max_value);
 		for (int n = 2; n <= LIN_MAXN; n++)
 			gl_rule(&lin->gl[n], n);
@@ -619,6 +711,7 @@ int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rot
 			lin->mom = malloc((size_t)lin->qw * (size_t)lin->qh * 3 * sizeof *lin->mom);
 			if (!lin->mom)
 				goto oom;
+			advise_huge(lin->mom, (size_t)lin->qw * (size_t)lin->qh * 3 * sizeof *lin->mom);
 			for (int t = 1; t < nthreads; t++)
 				if (pthread_create(&tid[t], NULL, lin_run, &lj) == 0)
 					started |= 1 << t;

@@ -49,4 +49,15 @@ int ps_cellmap_build(struct ps_weights *w, const struct ps_sensor *s, double rot
                      const struct ps_view *v, int width, int height,
                      const struct ps_weights *omega, struct ps_err *e);
 
+/* The same with the weights stored where place says: once the runs are
+ * laid out (w->nruns, w->nw known), place(ctx, w) returns memory for the
+ * w->nw weights (8-byte aligned) and sets w->map and w->maplen to the
+ * mapping that holds it (ps_weights_free unmaps it), or returns NULL for
+ * the route's own allocation. */
+typedef double *ps_cellmap_place_fn(void *ctx, struct ps_weights *w);
+int ps_cellmap_build_placed(struct ps_weights *w, const struct ps_sensor *s, double rotation_deg,
+                            const struct ps_view *v, int width, int height,
+                            const struct ps_weights *omega, ps_cellmap_place_fn *place, void *ctx,
+                            struct ps_err *e);
+
 #endif

@@ -155,21 +155,15 @@ int ps_wcache_from_payload(struct ps_weights *w, const void *data, size_t len, i
 	return 0;
 }
 
-static int store(const struct ps_weights *w, const char *dir, const char *hex, size_t max_bytes,
-                 struct ps_err *e)
+/* The payload's header and runs into fixed (FIXED bytes) and runs
+ * (nruns x RUN bytes). */
+static int encode(const struct ps_weights *w, uint8_t *fixed, uint8_t *runs, struct ps_err *e)
 {
-	uint8_t fixed[FIXED];
-	uint8_t *runs = malloc((w->nruns ? w->nruns : 1) * RUN);
 	uint32_t version = PS_WEIGHTS_ALGO_VERSION;
 	int32_t hw = w->width, hh = w->height, hm = w->method;
 	uint64_t nruns = w->nruns, nw = w->nw;
 	double f[4] = { w->solid_angle, w->sens_sum, w->sens_full, w->coverage };
-	const void *ptr[3];
-	size_t len[3];
-	int rc;
-	if (!runs)
-		return ps_err_set(e, PS_ENOMEM, "out of memory");
-	memset(fixed, 0, sizeof fixed);
+	memset(fixed, 0, FIXED);
 	memcpy(fixed, &version, 4);
 	memcpy(fixed + 4, &hw, 4);
 	memcpy(fixed + 8, &hh, 4);
@@ -202,14 +196,29 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 				for (size_t q = 0; q < i && k == i; q++)
 					if (w->runs[q].off == w->runs[i].off && w->runs[q].n == w->runs[i].n)
 						k = q;
-				if (k == i) {
-					free(runs);
+				if (k == i)
 					return ps_err_set(e, PS_EINVAL, "run %zu shares no earlier run's weights", i);
-				}
 				r[3] = (int32_t)(k + 1);
 			}
 			memcpy(runs + i * RUN, r, sizeof r);
 		}
+	}
+	return 0;
+}
+
+static int store(const struct ps_weights *w, const char *dir, const char *hex, size_t max_bytes,
+                 struct ps_err *e)
+{
+	uint8_t fixed[FIXED];
+	uint8_t *runs = malloc((w->nruns ? w->nruns : 1) * RUN);
+	const void *ptr[3];
+	size_t len[3];
+	int rc;
+	if (!runs)
+		return ps_err_set(e, PS_ENOMEM, "out of memory");
+	if (encode(w, fixed, runs, e) != 0) {
+		free(runs);
+		return -1;
 	}
 	ptr[0] = fixed;
 	len[0] = FIXED;
@@ -225,6 +234,8 @@ static int store(const struct ps_weights *w, const char *dir, const char *hex, s
 struct ps_wcache_store {
 	pthread_t tid;
 	const struct ps_weights *w;
+	struct ps_cache_blob_out out;   /* placed: the entry to commit */
+	int placed;
 	char *dir;
 	char hex[65];
 	size_t max_bytes;
@@ -236,7 +247,8 @@ static void *store_run(void *arg)
 {
 	struct ps_wcache_store *p = arg;
 	struct ps_err ce;
-	p->rc = store(p->w, p->dir, p->hex, p->max_bytes, &ce);
+	p->rc = p->placed ? ps_cache_blob_commit(&p->out, p->dir, p->max_bytes, &ce)
+	                  : store(p->w, p->dir, p->hex, p->max_bytes, &ce);
 	if (p->rc != 0)
 		p->warn = ce;
 	return NULL;
@@ -272,13 +284,39 @@ int ps_wcache_get_async(struct ps_weights *w, const struct ps_wcache_key *k,
 	return get(w, k, cache, how, warn, pending, e);
 }
 
+struct place {
+	const char *dir;
+	const char *hex;
+	struct ps_cache_blob_out out;
+	int placed;   /* out holds the map's entry, not committed yet */
+};
+
+/* The weights straight into a new cache entry's mapping, after the room
+ * for the payload's header and runs; NULL (the route's own memory, stored
+ * afterwards) when the entry cannot be made. */
+static double *place_in_entry(void *arg, struct ps_weights *w)
+{
+	struct place *pl = arg;
+	struct ps_err ce;
+	size_t head = FIXED + w->nruns * RUN;
+	if (ps_cache_blob_create(pl->dir, pl->hex, head + w->nw * sizeof(double), &pl->out, &ce) != 0)
+		return NULL;
+	pl->placed = 1;
+	w->map = pl->out.map;
+	w->maplen = pl->out.maplen;
+	w->built_in_map = 1;
+	return (double *)(void *)((uint8_t *)pl->out.payload + head);
+}
+
 /* A linear-reading table that changes with azimuth on the angular
  * projection: from the solid-angle map by sim/weights/cellmap.c (the solid
  * angles built here, not stored: on an empty cache building them costs
- * less than storing them); the map itself is then stored as any other.
- * On the hemispherical projection that route has no moments: the edge
- * route's map. */
-static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct ps_err *e)
+ * less than storing them); with pl, the map is built in its new entry's
+ * mapping (pl->placed), else stored afterwards as any other.  On the
+ * hemispherical projection that route has no moments: the edge route's
+ * map. */
+static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct place *pl,
+                 struct ps_err *e)
 {
 	if (ps_cellmap_fits(k->sensor, k->method) == PS_CELLMAP_LINEAR && k->view->type == PS_VT_ANGULAR) {
 		struct ps_sensor uni;
@@ -291,8 +329,17 @@ static int build(struct ps_weights *w, const struct ps_wcache_key *k, struct ps_
 		ps_sensor_free(&uni);
 		if (rc != 0)
 			return -1;
-		rc = ps_cellmap_build(w, k->sensor, k->rotation_deg, k->view, k->width, k->height, &omega, e);
+		rc = ps_cellmap_build_placed(w, k->sensor, k->rotation_deg, k->view, k->width, k->height,
+		                             &omega, pl ? place_in_entry : NULL, pl, e);
 		ps_weights_free(&omega);
+		if (pl && pl->placed) {
+			/* the payload's header and runs before the weights */
+			struct ps_err ce;
+			if (rc != 0 || encode(w, pl->out.payload, (uint8_t *)pl->out.payload + FIXED, &ce) != 0) {
+				ps_cache_blob_abort(&pl->out);
+				pl->placed = 0;
+			}
+		}
 		return rc;
 	}
 	return ps_weights_build_ex(w, k->sensor, k->rotation_deg, k->view, k->width, k->height, k->method,
@@ -336,12 +383,13 @@ static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct
 	char hex[65];
 	struct ps_cache_blob b;
 	struct ps_err ce;
+	struct place pl;
 	int got, rebuilt = 0;
 	*how = PS_WC_BUILT;
 	if (ps_cellmap_fits(k->sensor, k->method) == PS_CELLMAP_CELL)
 		return get_cellmap(w, k, cache, how, warn, e);
 	if (!dir)
-		return build(w, k, e);
+		return build(w, k, NULL, e);
 	ps_wcache_key_hex(k, hex);
 	got = ps_cache_blob_get(dir, hex, &b, &ce);
 	if (got == 1) {
@@ -364,13 +412,18 @@ static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct
 		if (warn)
 			*warn = ce;
 	}
-	if (build(w, k, e) != 0)
+	pl.dir = dir;
+	pl.hex = hex;
+	pl.placed = 0;
+	if (build(w, k, &pl, e) != 0)
 		return -1;
 	if (pending) {
 		/* stored by a thread; a thread that cannot start: stored here */
 		struct ps_wcache_store *p = calloc(1, sizeof *p);
 		if (p && (p->dir = strdup(dir)) != NULL) {
 			p->w = w;
+			p->out = pl.out;
+			p->placed = pl.placed;
 			memcpy(p->hex, hex, sizeof p->hex);
 			p->max_bytes = max_bytes;
 			p->rebuilt = rebuilt;
@@ -385,7 +438,8 @@ static int get(struct ps_weights *w, const struct ps_wcache_key *k, const struct
 		}
 		free(p);
 	}
-	if (store(w, dir, hex, max_bytes, &ce) != 0) {
+	if (pl.placed ? ps_cache_blob_commit(&pl.out, dir, max_bytes, &ce) != 0
+	              : store(w, dir, hex, max_bytes, &ce) != 0) {
 		*how = PS_WC_UNWRITABLE;
 		if (warn)
 			*warn = ce;

@@ -55,8 +55,10 @@ struct ps_weights {
 	double sens_full;    /* the sensitivity's integral over the whole sphere */
 	double coverage;     /* sens_sum / sens_full: below 1 when the picture misses part */
 	char key[512];       /* equal keys give equal maps */
-	void *map;           /* non-NULL: w lives in this read-only file map (wcache.c) */
+	void *map;           /* non-NULL: w lives in this file map (wcache.c) */
 	size_t maplen;
+	int built_in_map;    /* the map was filled here (a new cache entry's): its pages
+	                      * are resident already and stay, not released row by row */
 };
 
 /* A compact symmetric map (mirror = 1, from ps_weights_build_ex with

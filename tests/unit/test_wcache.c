@@ -7,6 +7,7 @@
  * rebuilt and never trusted; a cache that cannot be written works uncached; eviction
  * removes the least recently used first and keeps the bound; processes
  * sharing one cache at once all get the exact map. */
+#include <dirent.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -16,6 +17,8 @@
 #include <string.h>
 #include <math.h>
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -133,7 +136,28 @@ static void stored_then_hit_bit_for_bit(void **state)
 	built(&ref, &s, 15);
 	assert_int_equal(get(&w, &s, 15, c, 0, &warn), PS_WC_STORED);
 	same_map(&w, &ref);
-	assert_null(w.map);
+	/* built straight into the new entry's mapping, renamed into place
+	 * whole: the entry alone in its directory, no temporary file left */
+	assert_non_null(w.map);
+	{
+		char path[512], *slash;
+		struct stat st;
+		DIR *d;
+		struct dirent *de;
+		int files = 0;
+		entry(&s, 15, c, path, sizeof path);
+		assert_int_equal(stat(path, &st), 0);
+		assert_true((size_t)st.st_size == w.maplen);
+		slash = strrchr(path, '/');
+		*slash = '\0';
+		d = opendir(path);
+		assert_non_null(d);
+		while ((de = readdir(d)))
+			if (de->d_name[0] != '.')
+				files++;
+		closedir(d);
+		assert_int_equal(files, 1);
+	}
 	ps_weights_free(&w);
 	assert_int_equal(get(&w, &s, 15, c, 0, &warn), PS_WC_HIT);
 	assert_non_null(w.map);
@@ -438,6 +462,57 @@ static void concurrent_processes_share_it(void **state)
  * once, the entry is there after ps_wcache_store_finish and gives the same
  * map on the next run; a cache that cannot be written says so at the
  * finish, and the map stays good. */
+/* A disk with no room for the entry (a file size limit stands in for it):
+ * the entry's blocks are refused before the map is filled in place, so the
+ * map is built in memory, the store's error names the cache, and no
+ * temporary file or partial entry is left; never a SIGBUS. */
+static void full_disk_builds_uncached(void **state)
+{
+	struct ps_sensor s;
+	struct ps_weights ref, w;
+	struct ps_err warn;
+	struct rlimit old, small;
+	char c[128], path[512], *slash;
+	DIR *d;
+	struct dirent *de;
+	int files = 0, how;
+	void (*was)(int);
+	(void)state;
+	snprintf(c, sizeof c, "%s/full", dir);
+	sensor(&s, "a.sen");
+	built(&ref, &s, 7);
+	assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+	small = old;
+	small.rlim_cur = 4096;   /* below the 48 x 48 map's 18 kB */
+	was = signal(SIGXFSZ, SIG_IGN);
+	assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+	how = get(&w, &s, 7, c, 0, &warn);
+	assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+	signal(SIGXFSZ, was);
+	assert_int_equal(how, PS_WC_UNWRITABLE);
+	assert_non_null(strstr(warn.msg, c));
+	assert_null(w.map);
+	same_map(&w, &ref);
+	ps_weights_free(&w);
+	entry(&s, 7, c, path, sizeof path);
+	slash = strrchr(path, '/');
+	*slash = '\0';
+	d = opendir(path);
+	assert_non_null(d);
+	while ((de = readdir(d)))
+		if (de->d_name[0] != '.')
+			files++;
+	closedir(d);
+	assert_int_equal(files, 0);
+	/* with room again: stored in place */
+	assert_int_equal(get(&w, &s, 7, c, 0, &warn), PS_WC_STORED);
+	assert_non_null(w.map);
+	same_map(&w, &ref);
+	ps_weights_free(&w);
+	ps_weights_free(&ref);
+	ps_sensor_free(&s);
+}
+
 static void stored_by_a_thread(void **state)
 {
 	struct ps_sensor s;
@@ -500,6 +575,7 @@ int main(void)
 		cmocka_unit_test(least_recently_used_go_first),
 		cmocka_unit_test(concurrent_processes_share_it),
 		cmocka_unit_test(stored_by_a_thread),
+		cmocka_unit_test(full_disk_builds_uncached),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }
