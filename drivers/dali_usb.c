@@ -10,8 +10,11 @@
  * contract allows.  Instead an IN transfer is always pending, the SEND report
  * goes out as an asynchronous OUT transfer, and everything else happens in
  * service(): libusb's file descriptors are gathered in one epoll descriptor
- * (fd()), timeouts and the frame rate are deadlines on the daemon's clock
- * (deadline()).  read() and write() also run service(), so a caller that only
+ * (fd()), timeouts and the frame rate are deadlines on the monotonic clock
+ * (deadline()'s *mono): all bus timing (reply timeouts, frame gaps, retries,
+ * back-off, control-device report ages and polls, commissioning waits) runs
+ * on `mono`, so a bus keeps its real speed under psensd -x; only the input
+ * events handed to the daemon carry the daemon's clock.  read() and write() also run service(), so a caller that only
  * writes still makes progress.
  *
  * One transaction is on the bus at a time; the next SEND waits frame_gap
@@ -130,7 +133,8 @@ struct dali_usb {
 	uint8_t inbuf[64], outbuf[64];
 
 	int state;
-	double now;
+	double now;            /* the monotonic clock at the last service: all bus timing */
+	double clock;          /* the daemon's clock then: the time of input events */
 	double next_scan, backoff, closing_until;
 	char down_why[400];
 	char lost_why[160];   /* why the link last went down; kept across failed rescans */
@@ -1052,7 +1056,7 @@ static void in_done(struct libusb_transfer *t)
 
 /* ---- commissioning ------------------------------------------------------------ */
 
-static int du_service(struct ps_dev *dev, double now);
+static int du_service(struct ps_dev *dev, double clock, double now);
 static int gone(struct ps_dev *dev, struct dali_usb *d);
 
 /* Move the job's waits on; while it runs, note the points it holds back;
@@ -1212,8 +1216,8 @@ static void bus_json(const struct dali_usb *d, double now, json_object *o)
 	json_object_object_add(o, "bus", b);
 }
 
-static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *const *pts, int npts, double now,
-                      char *out, size_t outlen)
+static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *const *pts, int npts, double clock,
+                      double now, char *out, size_t outlen)
 {
 	struct dali_usb *d = dev->priv;
 	json_object *o;
@@ -1223,7 +1227,7 @@ static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *con
 		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
 	if (nw < 1)
 		return ps_dev_fail(dev, EINVAL, "usage: dali %s %s", dev->name, command_usage);
-	du_service(dev, now);
+	du_service(dev, clock, now);
 	if (strcmp(w[0], "abort") == 0 && nw == 1) {
 		if (!d->job || d->job->state != PS_DALI_COMMISSION_RUNNING)
 			return ps_dev_fail(dev, EINVAL, "%s: no commissioning job is running", dev->name);
@@ -1314,16 +1318,18 @@ static void input_events(struct ps_dev *dev, struct dali_usb *d)
 		    ps_dali_input_value(p->in, d->now, &v, &err, why, sizeof why) != 0 || v == p->reported)
 			continue;
 		p->reported = v;
-		dev->on_event(dev->event_user, dev, p->pt, d->now, v);
+		dev->on_event(dev->event_user, dev, p->pt, d->clock, v);
 	}
 }
 
-static int du_service(struct ps_dev *dev, double now)
+/* now is the monotonic clock (the bus's), clock the daemon's */
+static int du_service(struct ps_dev *dev, double clock, double now)
 {
 	struct dali_usb *d = dev->priv;
 	if (!d)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
 	d->now = now;
+	d->clock = clock;
 	pump_events(d);
 	if (d->state == ST_CLOSING && ((!d->in_busy && !d->out_busy) || now >= d->closing_until)) {
 		teardown(d);
@@ -1364,7 +1370,8 @@ static int du_fd(struct ps_dev *dev)
 	return d ? d->epfd : -1;
 }
 
-static double du_deadline(struct ps_dev *dev)
+/* The next time service() is due, on the monotonic clock. */
+static double du_due(struct ps_dev *dev)
 {
 	struct dali_usb *d = dev->priv;
 	if (!d)
@@ -1398,6 +1405,13 @@ static double du_deadline(struct ps_dev *dev)
 	}
 }
 
+/* Every due time of the driver is on the monotonic clock. */
+static double du_deadline(struct ps_dev *dev, double *mono)
+{
+	*mono = du_due(dev);
+	return INFINITY;
+}
+
 static int gone(struct ps_dev *dev, struct dali_usb *d)
 {
 	return ps_dev_fail(dev, ENODEV, "%s%s: %s (retrying in %.1f s)", d->codec ? "DALI interface " : "DALI USB interface",
@@ -1412,7 +1426,7 @@ static int take_error(struct ps_dev *dev, struct dpoint *p)
 	return ps_dev_fail(dev, err, "%s", p->errmsg);
 }
 
-static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+static int du_write(struct ps_dev *dev, struct ps_point *pt, double clock, double now, double value)
 {
 	struct dali_usb *d = dev->priv;
 	struct dpoint *p = pt ? pt->priv : NULL;
@@ -1424,7 +1438,7 @@ static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 		return ps_dev_fail(dev, EINVAL, "%s: light output %g is outside 0 to 1", pt->name, value);
 	/* remembered even while the interface is gone: sent on reconnect */
 	p->want = pt->role == PS_ROLE_RELAY ? (value >= 0.5) : ps_dali_fraction_to_level(value);
-	du_service(dev, now);
+	du_service(dev, clock, now);
 	if (d->state != ST_UP)
 		return gone(dev, d);
 	if (!p->dapc_pending) {
@@ -1438,13 +1452,13 @@ static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 	return 0;
 }
 
-static int du_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+static int du_read(struct ps_dev *dev, struct ps_point *pt, double clock, double now, double *value)
 {
 	struct dali_usb *d = dev->priv;
 	struct dpoint *p = pt ? pt->priv : NULL;
 	if (!d || !p)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: point not added");
-	du_service(dev, now);
+	du_service(dev, clock, now);
 	if (d->state != ST_UP)
 		return gone(dev, d);
 	if (p->in) {
