@@ -1151,7 +1151,9 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 	return failed;
 }
 
-/* Inputs: occupancy sensors and buttons (override, calibration step). */
+/* Inputs (occupancy sensors and buttons: override, calibration step), and
+ * a sensor that reports a new reading by itself (a DALI-2 light sensor's
+ * event): its zone acts on it at once instead of at its next period. */
 static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value)
 {
 	struct psd_engine *e = user;
@@ -1161,6 +1163,8 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 		return;
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
+		if (z->zc->sensor == p)
+			z->asap = 1;
 		for (int k = 0; k < z->zc->ninput; k++) {
 			if (z->zc->input[k] != p)
 				continue;

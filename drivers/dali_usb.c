@@ -1306,7 +1306,9 @@ static void input_service(struct dali_usb *d)
 }
 
 /* An occupancy input that changed (by an event or a poll) goes to the
- * daemon as an input event. */
+ * daemon as an input event; so does a light sensor's new reading, so that
+ * its zone acts on it at once (the gear's command is then the next frame
+ * the driver sends). */
 static void input_events(struct ps_dev *dev, struct dali_usb *d)
 {
 	for (int i = 0; i < d->npts; i++) {
@@ -1314,7 +1316,7 @@ static void input_events(struct ps_dev *dev, struct dali_usb *d)
 		char why[200];
 		double v;
 		int err;
-		if (!p->in || p->pt->role != PS_ROLE_INPUT || !dev->on_event ||
+		if (!p->in || (p->pt->role != PS_ROLE_INPUT && p->pt->role != PS_ROLE_SENSOR) || !dev->on_event ||
 		    ps_dali_input_value(p->in, d->now, &v, &err, why, sizeof why) != 0 || v == p->reported)
 			continue;
 		p->reported = v;
