@@ -67,7 +67,6 @@ write_conf
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 sensor_v() { ctl -j status | sed -n 's/.*"sensor_v":\([0-9.]*\).*/\1/p'; }
 reads() { [ "$(sensor_v)" = "$1" ] || [ "$(sensor_v)" = "$1.0" ]; }
-arc() { awk -v u="$1" 'BEGIN { n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); print int(n + 0.5) }'; }
 levels() { awk '$1 == "short" { print $4 }' "$TMP/bus.state" | sort -u | tr '\n' ' ' | sed 's/ $//'; }
 polls() { awk '$1 == "device" && $2 == 0 { print $8 }' "$TMP/bus.state"; }
 
@@ -100,7 +99,7 @@ echo "occupied 0 0" > "$TMP/ctl"
 wait_for 10 sh -c "grep 'zone office: .*\(occupied\|vacant\)$' \"$TMP/err\" | tail -n 1 | grep -q vacant"
 check "... then vacant" sh -c "grep 'zone office: .*\(occupied\|vacant\)$' \"$TMP/err\" | tail -n 1 | grep -q vacant"
 ctl override office 0.3 600 > /dev/null
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 5 sh -c "[ \"\$(awk '\$1 == \"short\" { print \$4 }' \"$TMP/bus.state\" | sort -u)\" = $want ]"
 check "override 30 %: the gear at arc level $want while the sensor is read: $(levels)" test "$(levels)" = "$want"
 ctl override office off > /dev/null 2>&1
