@@ -19,12 +19,8 @@
 make_results
 S="$TMP/sock"
 mb=$(free_port)
-"$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$mb" --dali-tcp 127.0.0.1:0 \
-	--dali-fault silent --start 12:00 --ready-file "$TMP/ready" -D gain=0.5 -D noise=0 -D lag_tau=0 \
-	> "$TMP/pv.out" 2> "$TMP/pv.err" &
-pv=$!; track_pid $pv
-wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
-port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+psvirt_dali --tcp "127.0.0.1:$mb" \
+	--dali-fault silent --start 12:00 -D gain=0.5 -D noise=0 -D lag_tau=0
 check "psvirt says where its DALInet listens (port $port)" grep -q "DALI bus (Foxtron DALInet) on port $port" "$TMP/pv.out"
 { printf '[psensd]\nresults = ofb.results\ndatabase = psensd.db\nsocket = sock\nperiod = 0.5\nstale_after = 2\n'
 cat <<EOF

@@ -27,14 +27,9 @@ ES=$(summary electric_sensor_response)
 S="$TMP/sock"
 mb=$(free_port)
 virt() {  # virt START: psvirt's room from START at 300x
-	rm -f "$TMP/ready"
-	"$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$mb" --dali-tcp 127.0.0.1:0 --ready-file "$TMP/ready" \
+	psvirt_dali --tcp "127.0.0.1:$mb" \
 		--date 03-18 --sunrise 06:00 --sunset 18:30 --start "$1" --speed 300 --dali-occupancy 00:00-23:59 \
-		-D gain=0.5 -D offset=0.05 -D noise=0 -D task_noise=2 -D seed=7 -D lag_tau=0 -D fade_rate=0 \
-		> "$TMP/pv.out" 2> "$TMP/pv.err" &
-	pv=$!; track_pid $pv
-	wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
-	port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+		-D gain=0.5 -D offset=0.05 -D noise=0 -D task_noise=2 -D seed=7 -D lag_tau=0 -D fade_rate=0
 }
 conf() {
 	cat <<EOF2

@@ -62,6 +62,19 @@ psensd_section() {
 	[ $# -lt 2 ] || printf 'stale_after = %s\n' "$2"
 }
 
+# psvirt_dali ARGS...: psvirt with its virtual DALI-2 bus on a TCP port the
+# kernel picks (a Foxtron DALInet), the room from $TMP/ofb.results
+# (peers/common.sh: make_results), its other options ARGS; waits until it
+# serves and sets pv (its pid, stopped on exit) and port (the bus's port)
+psvirt_dali() {
+	rm -f "$TMP/ready"
+	"$BIN/psvirt" --results "$TMP/ofb.results" --dali-tcp 127.0.0.1:0 --ready-file "$TMP/ready" "$@" \
+		> "$TMP/pv.out" 2> "$TMP/pv.err" &
+	pv=$!; track_pid $pv
+	wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
+	port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+}
+
 # DALI tests: dali_arc U prints the arc power level for a light output U
 # (0..1) by the standard logarithmic curve (IEC 62386-102; doc/hardware.md
 # section 2), nearest in ratio, 0 for off, clamped to 1..254.
