@@ -23,11 +23,8 @@ example_results
 S="$TMP/sock"
 echo "light 0 400" > "$TMP/ctl"
 start_bus() {
-	rm -f "$TMP/pty"
-	python3 "$(dirname "$0")/peers/dalibus.py" --codec foxtron --pty "$TMP/pty" --gear 1:254,2:254 \
-		--devices 5:0x123456 --control "$TMP/ctl" --state "$TMP/bus.state" "$@" > "$TMP/bus.log" 2>&1 &
-	bus=$!; track_pid $bus
-	wait_for 10 test -s "$TMP/pty" || not_ok "the emulator did not start"
+	dalibus_pty "$TMP/bus.log" --codec foxtron --gear 1:254,2:254 \
+		--devices 5:0x123456 --control "$TMP/ctl" --state "$TMP/bus.state" "$@"
 }
 start_bus
 write_conf() {

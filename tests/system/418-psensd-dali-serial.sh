@@ -15,10 +15,8 @@ command -v python3 > /dev/null || skip_all "python3 not installed"
 "$BIN/psensd" -L 2>/dev/null | grep -q "^dali_usb:" || skip_all "the dali_usb driver is not compiled in"
 example_results
 S="$TMP/sock"
-python3 "$(dirname "$0")/peers/dalibus.py" --codec atx --pty "$TMP/pty" --gear 1:254,2:254 \
-	--state "$TMP/bus.state" > "$TMP/bus.log" 2>&1 &
-bus=$!; track_pid $bus
-wait_for 10 test -s "$TMP/pty" || not_ok "the emulator did not start"
+dalibus_pty "$TMP/bus.log" --codec atx --gear 1:254,2:254 \
+	--state "$TMP/bus.state"
 dev=$(cat "$TMP/pty")
 { psensd_section 0.5 2; dali_room; cat <<EOF
 [device dali]

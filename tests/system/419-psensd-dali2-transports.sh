@@ -70,10 +70,8 @@ EOC
 }
 
 echo "light 0 450" > "$TMP/ctl"
-python3 "$(dirname "$0")/peers/dalibus.py" --codec luba --pty "$TMP/pty" --gear 1:254,2:254 \
-	--devices 7:0x010203 --control "$TMP/ctl" --state "$TMP/bus.state" > "$TMP/bus1.log" 2>&1 &
-bus=$!; track_pid $bus
-wait_for 10 test -s "$TMP/pty" || not_ok "the LUBA emulator did not start"
+dalibus_pty "$TMP/bus1.log" --codec luba --gear 1:254,2:254 \
+	--devices 7:0x010203 --control "$TMP/ctl" --state "$TMP/bus.state"
 one luba pty "$(cat "$TMP/pty")"
 kill $bus; wait $bus 2>/dev/null
 

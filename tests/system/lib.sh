@@ -75,6 +75,19 @@ psvirt_dali() {
 	port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
 }
 
+# dalibus_pty LOG ARGS...: the emulated DALI bus (peers/dalibus.py, written
+# from the standards' facts) behind an interface on a pty, its path in
+# $TMP/pty, its output in LOG, its other options ARGS (--codec, --gear,
+# --devices, ...); waits until the pty is there and sets bus (its pid,
+# stopped on exit)
+dalibus_pty() {
+	_log=$1; shift
+	rm -f "$TMP/pty"
+	python3 "$(dirname "$0")/peers/dalibus.py" --pty "$TMP/pty" "$@" > "$_log" 2>&1 &
+	bus=$!; track_pid $bus
+	wait_for 10 test -s "$TMP/pty" || not_ok "the DALI bus emulator did not start"
+}
+
 # DALI tests: dali_arc U prints the arc power level for a light output U
 # (0..1) by the standard logarithmic curve (IEC 62386-102; doc/hardware.md
 # section 2), nearest in ratio, 0 for off, clamped to 1..254.
