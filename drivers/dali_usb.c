@@ -1104,7 +1104,8 @@ static int word_long(const char *w, long min, long max, long *out)
 }
 
 static const char command_usage[] =
-	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | identify device SHORT | verify ZONE | status | abort";
+	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | group device SHORT add|remove GROUP | "
+	"identify SHORT [SECONDS] | identify device SHORT | verify ZONE | status | abort";
 
 /* Whether the serial or TCP interface can send a 24-bit forward frame (a
  * control device's): daliserver, for one, carries 16-bit frames only. */
@@ -1140,6 +1141,17 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 		if (nw == 2 && !all && strcmp(w[1], "new") != 0)
 			return ps_dev_fail(dev, EINVAL, "address new|all: '%s' is neither", w[1]);
 		rc = ps_dali_commission_address(c, all ? PS_DALI_ADDRESS_ALL : PS_DALI_ADDRESS_NEW, now);
+	} else if (strcmp(w[0], "group") == 0 && nw == 5 && strcmp(w[1], "device") == 0) {
+		if (word_long(w[2], 0, 63, &n) != 0)
+			return ps_dev_fail(dev, EINVAL, "group device: '%s' is not a short address 0 to 63", w[2]);
+		if (strcmp(w[3], "add") != 0 && strcmp(w[3], "remove") != 0)
+			return ps_dev_fail(dev, EINVAL, "group device SHORT add|remove GROUP: '%s' is neither", w[3]);
+		if (word_long(w[4], 0, 31, &g) != 0)
+			return ps_dev_fail(dev, EINVAL, "group device: '%s' is not a device group 0 to 31", w[4]);
+		if (!d->codec)
+			return ps_dev_fail(dev, EINVAL, "group device: this interface carries no 24-bit frames "
+			                                "(control devices need transport atx, foxtron or luba)");
+		rc = ps_dali_commission_group_device(c, (int)n, (int)g, strcmp(w[3], "add") == 0, now);
 	} else if (strcmp(w[0], "group") == 0 && nw == 4) {
 		if (dali_addr_of_word(w[1], &a, why, sizeof why) != 0)
 			return ps_dev_fail(dev, EINVAL, "group: '%s': %s", w[1], why);
