@@ -373,7 +373,8 @@ static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_rep
 		error_reply(reply, "out of memory");
 		return;
 	}
-	if (dev->drv->command(dev, argc - 2, argv + 2, pts, npts, psd_clock_now(&d->clock), out, outlen) != 0) {
+	if (dev->drv->command(dev, argc - 2, argv + 2, pts, npts, psd_clock_now(&d->clock), psd_time_mono(), out,
+	                      outlen) != 0) {
 		error_reply(reply, "%s", dev->err);
 		free(out);
 		return;

@@ -79,13 +79,16 @@ static void queue_event(void *user, struct ps_dev *dev, struct ps_point *pt, dou
 	wake_loop(io);
 }
 
-/* Wait on the condition until the clock reaches deadline (at most 1 s). */
-static void wait_until(struct psd_devio *io, double deadline, double now)
+/* Wait on the condition until the clock reaches deadline or the monotonic
+ * clock mono_deadline (at most 1 s). */
+static void wait_until(struct psd_devio *io, double deadline, double now, double mono_deadline, double mono)
 {
 	struct timespec ts;
 	double wall = 1.0, t;
 	if (isfinite(deadline) && deadline > now)
 		wall = fmin(1.0, (deadline - now) / io->clock.speed);
+	if (mono_deadline < mono + wall)
+		wall = fmax(0, mono_deadline - mono);
 	clock_gettime(CLOCK_MONOTONIC, &ts);
 	t = (double)ts.tv_nsec * 1e-9 + wall;
 	ts.tv_sec += (time_t)t;
@@ -99,7 +102,7 @@ static void *worker(void *arg)
 	struct ps_dev *dev = io->dev;
 	pthread_mutex_lock(&io->mu);
 	while (!io->stop) {
-		double now = psd_clock_now(&io->clock), v = NAN, dl;
+		double now = psd_clock_now(&io->clock), mono = psd_time_mono(), v = NAN, dl, m = INFINITY;
 		size_t i, w = io->npts, r = io->npts;
 		int rc, e;
 		for (i = 0; i < io->npts && w == io->npts; i++)
@@ -114,7 +117,7 @@ static void *worker(void *arg)
 			s->write_want = 0;
 			io->busy_since = psd_time_mono();
 			pthread_mutex_unlock(&io->mu);
-			rc = dev->drv->write(dev, &io->pts[w], now, value);
+			rc = dev->drv->write(dev, &io->pts[w], now, mono, value);
 			e = errno;
 			pthread_mutex_lock(&io->mu);
 			s->wdone = 1;
@@ -127,7 +130,7 @@ static void *worker(void *arg)
 			s->read_busy = 1;
 			io->busy_since = psd_time_mono();
 			pthread_mutex_unlock(&io->mu);
-			rc = dev->drv->read(dev, &io->pts[r], now, &v);
+			rc = dev->drv->read(dev, &io->pts[r], now, mono, &v);
 			e = errno;
 			pthread_mutex_lock(&io->mu);
 			s->read_busy = 0;
@@ -137,18 +140,19 @@ static void *worker(void *arg)
 			s->value = v;
 			snprintf(s->msg, sizeof s->msg, "%s", rc ? dev->err : "");
 		} else if (dev->drv->service &&
-		           (dl = dev->drv->deadline ? dev->drv->deadline(dev) : INFINITY) <= now) {
+		           ((dl = dev->drv->deadline ? dev->drv->deadline(dev, &m) : INFINITY) <= now || m <= mono)) {
 			char msg[256];
 			io->busy_since = psd_time_mono();
 			pthread_mutex_unlock(&io->mu);
-			rc = dev->drv->service(dev, now);
+			rc = dev->drv->service(dev, now, mono);
 			snprintf(msg, sizeof msg, "%s", rc ? dev->err : "");
 			pthread_mutex_lock(&io->mu);
 			if (rc)
 				psd_log_debug("device %s: %s", dev->name, msg);
 		} else {
-			dl = dev->drv->deadline ? dev->drv->deadline(dev) : INFINITY;
-			wait_until(io, dl, now);
+			m = INFINITY;
+			dl = dev->drv->deadline ? dev->drv->deadline(dev, &m) : INFINITY;
+			wait_until(io, dl, now, m, mono);
 			continue;
 		}
 		io->busy_since = 0;

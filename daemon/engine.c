@@ -430,7 +430,7 @@ static int pt_read(struct psd_engine *e, int p, double now, double *v)
 	int rc, er;
 	if (io)
 		return psd_devio_take(io, (size_t)p, now, v, e->ioerr, sizeof e->ioerr);
-	rc = d->drv->read(d, &e->pt[p], now, v);
+	rc = d->drv->read(d, &e->pt[p], now, psd_time_mono(), v);
 	er = errno;
 	if (rc)
 		snprintf(e->ioerr, sizeof e->ioerr, "%s", d->err);
@@ -445,7 +445,7 @@ static int pt_write(struct psd_engine *e, int p, double now, double v)
 	int rc, er;
 	if (io)
 		return psd_devio_write(io, (size_t)p, now, v, e->ioerr, sizeof e->ioerr);
-	rc = d->drv->write(d, &e->pt[p], now, v);
+	rc = d->drv->write(d, &e->pt[p], now, psd_time_mono(), v);
 	er = errno;
 	if (rc)
 		snprintf(e->ioerr, sizeof e->ioerr, "%s", d->err);
@@ -681,7 +681,7 @@ static void dated_ratio(struct psd_engine *e, struct psd_zone *z, double now)
 		/* the sky now from the rooftop sensor, else the typical class */
 		struct ps_dev *d = dev_of(e, z->zc->rooftop);
 		double lux;
-		if (d->drv->read(d, &e->pt[z->zc->rooftop], now, &lux) == 0) {
+		if (d->drv->read(d, &e->pt[z->zc->rooftop], now, psd_time_mono(), &lux) == 0) {
 			z->rooftop_failed = 0;
 			z->sky_class = psd_dated_rooftop_class(z->res, e->doy, tod, lux);
 			if (z->sky_class >= 0)
@@ -1053,9 +1053,10 @@ void psd_engine_step(struct psd_engine *e, double now)
 	}
 }
 
-double psd_engine_deadline(const struct psd_engine *e)
+double psd_engine_deadline(const struct psd_engine *e, double *mono)
 {
 	double t = INFINITY;
+	*mono = INFINITY;
 	for (size_t i = 0; i < e->nzone; i++) {
 		if (e->zone[i].next < t)
 			t = e->zone[i].next;
@@ -1065,23 +1066,28 @@ double psd_engine_deadline(const struct psd_engine *e)
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		const struct ps_dev *d = &e->dev[i];
 		if (d->drv->deadline && !e->io[i]) {   /* an I/O thread keeps its device's deadlines */
-			double dl = d->drv->deadline((struct ps_dev *)d);
+			double m = INFINITY, dl = d->drv->deadline((struct ps_dev *)d, &m);
 			if (dl < t)
 				t = dl;
+			if (m < *mono)
+				*mono = m;
 		}
 	}
 	return t;
 }
 
-double psd_engine_io_deadline(const struct psd_engine *e)
+double psd_engine_io_deadline(const struct psd_engine *e, double *mono)
 {
 	double t = INFINITY;
+	*mono = INFINITY;
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		const struct ps_dev *d = &e->dev[i];
 		if (d->drv->fd && d->drv->deadline && !e->io[i]) {
-			double dl = d->drv->deadline((struct ps_dev *)d);
+			double m = INFINITY, dl = d->drv->deadline((struct ps_dev *)d, &m);
 			if (dl < t)
 				t = dl;
+			if (m < *mono)
+				*mono = m;
 		}
 	}
 	return t;
@@ -1103,8 +1109,10 @@ int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, in
 
 void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *fds, const int *fd_dev, int nfds)
 {
+	double mono = psd_time_mono();
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		struct ps_dev *d = &e->dev[i];
+		double m = INFINITY;
 		int due = 0;
 		if (e->io[i]) {   /* its thread answered: events, and the zones waiting on it */
 			for (int k = 0; k < nfds; k++)
@@ -1121,9 +1129,9 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 			continue;
 		for (int k = 0; k < nfds; k++)
 			due |= fd_dev[k] == (int)i && (fds[k].revents & (POLLIN | POLLERR | POLLHUP));
-		if (d->drv->deadline && d->drv->deadline(d) <= now)
+		if (d->drv->deadline && (d->drv->deadline(d, &m) <= now || m <= mono))
 			due = 1;
-		if (due && d->drv->service(d, now) != 0)
+		if (due && d->drv->service(d, now, mono) != 0)
 			psd_log_warnx("device %s: %s", d->name, d->err);
 	}
 }
@@ -1155,7 +1163,9 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 	return failed;
 }
 
-/* Inputs: occupancy sensors and buttons (override, calibration step). */
+/* Inputs (occupancy sensors and buttons: override, calibration step), and
+ * a sensor that reports a new reading by itself (a DALI-2 light sensor's
+ * event): its zone acts on it at once instead of at its next period. */
 static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double now, double value)
 {
 	struct psd_engine *e = user;
@@ -1165,6 +1175,8 @@ static void on_event(void *user, struct ps_dev *dev, struct ps_point *pt, double
 		return;
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
+		if (z->zc->sensor == p)
+			z->asap = 1;
 		for (int k = 0; k < z->zc->ninput; k++) {
 			if (z->zc->input[k] != p)
 				continue;

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: ISC */
 /* The running control: the configuration's devices opened, their points
  * attached, and per zone the control state, its faults and its statistics.
- * It does no waiting and reads no clock: the event loop (daemon/loop.c)
+ * It does no waiting and reads no clock but the monotonic one it hands the
+ * drivers for their wire timing (drivers/driver.h): the event loop (daemon/loop.c)
  * hands it `now` and asks for its next deadline, so a simulated day and
  * real time run the same code. */
 #ifndef PSD_ENGINE_H
@@ -150,8 +151,10 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
                        const struct psd_engine *prev, const struct psd_clock *clock, char *err, size_t errlen);
 /* Run every zone whose step is due at now. */
 void psd_engine_step(struct psd_engine *e, double now);
-/* The next time something is due: a zone's step or a driver's deadline. */
-double psd_engine_deadline(const struct psd_engine *e);
+/* The next time something is due: a zone's step or a driver's deadline, on
+ * the daemon's clock; *mono gets the earliest driver deadline on the
+ * monotonic clock (INFINITY: none). */
+double psd_engine_deadline(const struct psd_engine *e, double *mono);
 /* Driver descriptors for poll(): fills up to max, returns the count; fd_dev
  * gets the device index of each. */
 int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, int max);
@@ -163,8 +166,9 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 int psd_engine_safe(struct psd_engine *e, double now, const char *why);
 /* The earliest deadline of the devices that run step-wise on their own
  * descriptor (a driver with an fd method: DALI USB, GPIO): INFINITY when
- * all of them are idle, e.g. every frame asked for is on the bus. */
-double psd_engine_io_deadline(const struct psd_engine *e);
+ * all of them are idle, e.g. every frame asked for is on the bus; *mono the
+ * same on the monotonic clock. */
+double psd_engine_io_deadline(const struct psd_engine *e, double *mono);
 /* An event in the log's events table (through the writer: never waits). */
 void psd_engine_event(struct psd_engine *e, double now, const char *zone, const char *kind, const char *text);
 /* Commit the log and close every device.  Returns the config to free (or NULL). */

@@ -335,6 +335,20 @@ static void follow_date(struct psd_daemon *d, double now)
 	psd_log_info("the dated estimate: %04d-%s, month %d, day %d of the year", tm.tm_year + 1900, mmdd, month, doy);
 }
 
+/* A poll timeout shortened to a deadline on the monotonic clock (a
+ * driver's wire timing, drivers/driver.h): timeout ms (-1 infinite) or
+ * less. */
+static int mono_wait_ms(double mono_deadline, int timeout)
+{
+	double left;
+	int w;
+	if (mono_deadline == INFINITY)
+		return timeout;
+	left = mono_deadline - psd_time_mono();
+	w = left <= 0 ? 0 : (int)ceil(left * 1000);
+	return timeout < 0 || w < timeout ? w : timeout;
+}
+
 int psd_loop_run(struct psd_daemon *d)
 {
 	struct pollfd *fds = d->fds;
@@ -345,7 +359,7 @@ int psd_loop_run(struct psd_daemon *d)
 		d->watchdog_ms = (int)(wd_usec / 2000);
 	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
 	while (!d->stop) {
-		double now = psd_clock_now(&d->clock), deadline;
+		double now = psd_clock_now(&d->clock), deadline, mono_dl;
 		int n = 0, nctl, ndev, nmq = 0, nbac = 0, nweb = 0, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
@@ -360,7 +374,7 @@ int psd_loop_run(struct psd_daemon *d)
 		if (d->bacnet)   /* COV notifications of the levels just commanded */
 			psd_bacnet_service(d->bacnet, NULL, now);
 		prom_write(d, now);
-		deadline = psd_engine_deadline(&d->engine);
+		deadline = psd_engine_deadline(&d->engine, &mono_dl);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
 		fds[n++] = (struct pollfd){ sigfd, POLLIN, 0 };
@@ -368,6 +382,7 @@ int psd_loop_run(struct psd_daemon *d)
 		n += nctl;
 		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n - 1);
 		timeout = psd_clock_wait_ms(&d->clock, deadline, d->watchdog_ms ? d->watchdog_ms : 60000);
+		timeout = mono_wait_ms(mono_dl, timeout);
 		if (d->mqtt) {
 			int w = psd_mqtt_wait_ms(d->mqtt);
 			nmq = psd_mqtt_pollfd(d->mqtt, fds + n + ndev);
@@ -429,12 +444,12 @@ int psd_loop_safe(struct psd_daemon *d, const char *why)
 	if (d->clock.simulated)
 		return unsafe;
 	for (;;) {
-		double dl = psd_engine_io_deadline(&d->engine), left = until - psd_time_mono();
+		double mono_dl, dl = psd_engine_io_deadline(&d->engine, &mono_dl), left = until - psd_time_mono();
 		int n, timeout;
-		if (!isfinite(dl) || left <= 0)
+		if ((!isfinite(dl) && mono_dl == INFINITY) || left <= 0)
 			break;
 		n = psd_engine_pollfds(&d->engine, d->fds, d->fd_dev, PSD_MAX_POLL);
-		timeout = psd_clock_wait_ms(&d->clock, dl, (int)(left * 1000) + 1);
+		timeout = mono_wait_ms(mono_dl, psd_clock_wait_ms(&d->clock, dl, (int)(left * 1000) + 1));
 		if (poll(d->fds, (nfds_t)n, timeout) < 0 && errno != EINTR)
 			break;
 		psd_engine_service(&d->engine, psd_clock_now(&d->clock), d->fds, d->fd_dev, n);

@@ -31,7 +31,7 @@ enum {
 	AD_PRESENT, AD_UNADDR, AD_TERMINATE, AD_INIT, AD_INIT_DUP, AD_RANDOMISE, AD_FIRST,
 	AD_BIN, AD_BIN_CMP, AD_CONFIRM, AD_QUERY, AD_PROGRAM, AD_VERIFY, AD_UNPROGRAM, AD_CLASH, AD_WITHDRAW, AD_FINAL,
 	PC_SEARCH,
-	GR_CMD, GR_Q0, GR_Q1,
+	GR_CMD, GR_Q0, GR_Q1, GR_DTR1, GR_DTR2, GR_DCMD, GR_DQ,
 	ID_QUERY, ID_G0, ID_G1, ID_FLASH, ID_RESTORE, ID_DEVICE, ID_DEVICE_CHECK,
 	VE_PRESENT, VE_INFO, VE_CMD, VE_QUERY,
 	AB_TERMINATE, AB_RESTORE,
@@ -739,7 +739,24 @@ static int address_result(struct ps_dali_commission *c, double now, int rx, unsi
 
 static int group_run(struct ps_dali_commission *c, double now)
 {
+	unsigned mask = 1u << (c->group % 16);
 	switch (c->pc) {
+	case GR_DTR1:
+		step(c, "group: control device %d, %s device group %d", c->target.n, c->add ? "ADD TO" : "REMOVE FROM",
+		     c->group);
+		emit(c, (unsigned)ps_dali_device_special(PS_DALI_DEVICE_DTR1, (int)(mask & 0xFF)), 0, 0);
+		return 0;
+	case GR_DTR2:
+		emit(c, (unsigned)ps_dali_device_special(PS_DALI_DEVICE_DTR2, (int)(mask >> 8)), 0, 0);
+		return 0;
+	case GR_DCMD:
+		emit(c, (unsigned)ps_dali_device_cmd(c->target.n, (c->add ? PS_DALI_DEVICE_ADD_TO_GROUPS_0_15 :
+		                                                   PS_DALI_DEVICE_REMOVE_FROM_GROUPS_0_15) + (c->group >= 16)),
+		     1, 0);
+		return 0;
+	case GR_DQ:
+		emit(c, (unsigned)ps_dali_device_cmd(c->target.n, PS_DALI_DEVICE_QUERY_GROUPS_0_7 + c->k), 0, 1);
+		return 0;
 	case GR_CMD:
 		step(c, "group: %s group %d", c->add ? "ADD TO" : "REMOVE FROM", c->group);
 		emit(c, (unsigned)ps_dali_cmd(&c->target, (c->add ? PS_DALI_ADD_TO_GROUP : PS_DALI_REMOVE_FROM_GROUP) +
@@ -759,6 +776,33 @@ static int group_run(struct ps_dali_commission *c, double now)
 static int group_result(struct ps_dali_commission *c, double now, int rx, unsigned value)
 {
 	switch (c->pc) {
+	case GR_DTR1:
+		c->pc = GR_DTR2;
+		return 1;
+	case GR_DTR2:
+		c->pc = GR_DCMD;
+		return 1;
+	case GR_DCMD:
+		c->pc = GR_DQ;
+		c->k = 0;
+		return 1;
+	case GR_DQ:
+		if (rx != PS_DALI_RX_ANSWER) {
+			end(c, now, PS_DALI_COMMISSION_FAILED, "control device %d: %s to QUERY DEVICE GROUPS", c->target.n,
+			    rx == PS_DALI_RX_NONE ? "no answer" : "no clean answer");
+			return 0;
+		}
+		c->device_groups |= (value & 0xFFu) << (8 * c->k);
+		if (++c->k < 4)
+			return 1;
+		c->device_groups_known = 1;
+		if (((c->device_groups >> c->group) & 1) == (unsigned)c->add)
+			end(c, now, PS_DALI_COMMISSION_DONE, "control device %d is %s device group %d", c->target.n,
+			    c->add ? "in" : "out of", c->group);
+		else
+			end(c, now, PS_DALI_COMMISSION_FAILED, "control device %d did not take it: still %s device group %d",
+			    c->target.n, c->add ? "out of" : "in", c->group);
+		return 0;
 	case GR_CMD:
 		if (c->target.kind != PS_DALI_SHORT) {
 			end(c, now, PS_DALI_COMMISSION_DONE, "%s group %d sent to %s", c->add ? "ADD TO" : "REMOVE FROM",
@@ -1148,6 +1192,21 @@ int ps_dali_commission_group(struct ps_dali_commission *c, const struct ps_dali_
 	return 0;
 }
 
+int ps_dali_commission_group_device(struct ps_dali_commission *c, int short_addr, int group, int add, double now)
+{
+	if (short_addr < 0 || short_addr > 63 || group < 0 || group > 31) {
+		snprintf(c->msg, sizeof c->msg, "group device: a short address 0 to 63 and a device group 0 to 31");
+		return -1;
+	}
+	start(c, PS_DALI_COMMISSION_GROUP, GR_DTR1, now);
+	c->target = (struct ps_dali_addr){ PS_DALI_SHORT, short_addr };
+	c->group = group;
+	c->add = add != 0;
+	c->on_device = 1;
+	run(c, now);
+	return 0;
+}
+
 int ps_dali_commission_identify(struct ps_dali_commission *c, int short_addr, double seconds, double now)
 {
 	if (short_addr < 0 || short_addr > 63 || !(seconds >= 1 && seconds <= 600)) {
@@ -1380,6 +1439,19 @@ void ps_dali_commission_json(const struct ps_dali_commission *c, double now, str
 		address_json(c, o);
 		break;
 	case PS_DALI_COMMISSION_GROUP:
+		if (c->on_device) {
+			json_object *a = json_object_new_array();
+			json_object_object_add(o, "control_device", json_object_new_int(c->target.n));
+			json_object_object_add(o, "group", json_object_new_int(c->group));
+			json_object_object_add(o, "action", json_object_new_string(c->add ? "add" : "remove"));
+			for (int g = 0; g < 32; g++)
+				if ((c->device_groups >> g) & 1)
+					json_object_array_add(a, json_object_new_int(g));
+			json_object_object_add(o, "device_groups", c->device_groups_known ? a : NULL);
+			if (!c->device_groups_known)
+				json_object_put(a);
+			break;
+		}
 		json_object_object_add(o, "address", json_object_new_string(addr_text(&c->target, buf, sizeof buf)));
 		json_object_object_add(o, "group", json_object_new_int(c->group));
 		json_object_object_add(o, "action", json_object_new_string(c->add ? "add" : "remove"));

@@ -136,6 +136,9 @@ struct ps_dali_commission {
 	struct ps_dali_found found[64];
 	int nfound, kept, programmed, clashes, restarts, lost, no_free, inits;
 	int groups_after;        /* group: the ballast's groups afterwards, < 0 unknown */
+	int on_device;           /* group: a control device's device group (0..31), not a ballast's */
+	unsigned device_groups;  /* group on_device: its 32 device groups afterwards */
+	int device_groups_known; /* ... all four bytes came back */
 	int flashes, saved_level;     /* identify */
 	int got[64][2];          /* verify: each present ballast's level after each test level */
 	int ok;                  /* verify: every target followed */
@@ -171,6 +174,11 @@ int ps_dali_commission_address(struct ps_dali_commission *c, int mode, double no
 int ps_dali_commission_address_devices(struct ps_dali_commission *c, int mode, double now);
 int ps_dali_commission_group(struct ps_dali_commission *c, const struct ps_dali_addr *a, int group, int add,
                              double now);
+/* The same for a DALI-2 control device (IEC 62386-103) at short address
+ * short_addr of the device space: ADD TO / REMOVE FROM DEVICE GROUPS with
+ * the group's bit in DTR2:DTR1, then QUERY DEVICE GROUPS 0-7 .. 24-31 to
+ * check; group 0 to 31. */
+int ps_dali_commission_group_device(struct ps_dali_commission *c, int short_addr, int group, int add, double now);
 int ps_dali_commission_identify(struct ps_dali_commission *c, int short_addr, double seconds, double now);
 /* A DALI-2 control device at short address short_addr of the device space:
  * QUERY DEVICE STATUS (is it there?), then IDENTIFY DEVICE (sent twice): the

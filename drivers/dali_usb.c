@@ -11,8 +11,11 @@
  * contract allows.  Instead an IN transfer is always pending, the SEND report
  * goes out as an asynchronous OUT transfer, and everything else happens in
  * service(): libusb's file descriptors are gathered in one epoll descriptor
- * (fd()), timeouts and the frame rate are deadlines on the daemon's clock
- * (deadline()).  read() and write() also run service(), so a caller that only
+ * (fd()), timeouts and the frame rate are deadlines on the monotonic clock
+ * (deadline()'s *mono): all bus timing (reply timeouts, frame gaps, retries,
+ * back-off, control-device report ages and polls, commissioning waits) runs
+ * on `mono`, so a bus keeps its real speed under psensd -x; only the input
+ * events handed to the daemon carry the daemon's clock.  read() and write() also run service(), so a caller that only
  * writes still makes progress.
  *
  * One transaction is on the bus at a time; the next SEND waits frame_gap
@@ -138,7 +141,8 @@ struct dali_usb {
 	uint8_t inbuf[64], outbuf[64];
 
 	int state;
-	double now;
+	double now;            /* the monotonic clock at the last service: all bus timing */
+	double clock;          /* the daemon's clock then: the time of input events */
 	double next_scan, backoff, closing_until;
 	char down_why[400];
 	char lost_why[160];   /* why the link last went down; kept across failed rescans */
@@ -1119,7 +1123,7 @@ static void in_done(struct libusb_transfer *t)
 
 /* ---- commissioning ------------------------------------------------------------ */
 
-static int du_service(struct ps_dev *dev, double now);
+static int du_service(struct ps_dev *dev, double clock, double now);
 static int gone(struct ps_dev *dev, struct dali_usb *d);
 
 /* Move the job's waits on; while it runs, note the points it holds back;
@@ -1167,7 +1171,8 @@ static int word_long(const char *w, long min, long max, long *out)
 }
 
 static const char command_usage[] =
-	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | identify SHORT [SECONDS] | identify device SHORT | verify ZONE | status | abort";
+	"scan | address [devices] [new|all] | group ADDRESS add|remove GROUP | group device SHORT add|remove GROUP | "
+	"identify SHORT [SECONDS] | identify device SHORT | verify ZONE | status | abort";
 
 /* Whether the serial or TCP interface can send a 24-bit forward frame (a
  * control device's): daliserver, for one, carries 16-bit frames only. */
@@ -1203,6 +1208,17 @@ static int start_job(struct ps_dev *dev, struct dali_usb *d, int nw, char **w, s
 		if (nw == 2 && !all && strcmp(w[1], "new") != 0)
 			return ps_dev_fail(dev, EINVAL, "address new|all: '%s' is neither", w[1]);
 		rc = ps_dali_commission_address(c, all ? PS_DALI_ADDRESS_ALL : PS_DALI_ADDRESS_NEW, now);
+	} else if (strcmp(w[0], "group") == 0 && nw == 5 && strcmp(w[1], "device") == 0) {
+		if (word_long(w[2], 0, 63, &n) != 0)
+			return ps_dev_fail(dev, EINVAL, "group device: '%s' is not a short address 0 to 63", w[2]);
+		if (strcmp(w[3], "add") != 0 && strcmp(w[3], "remove") != 0)
+			return ps_dev_fail(dev, EINVAL, "group device SHORT add|remove GROUP: '%s' is neither", w[3]);
+		if (word_long(w[4], 0, 31, &g) != 0)
+			return ps_dev_fail(dev, EINVAL, "group device: '%s' is not a device group 0 to 31", w[4]);
+		if (!d->codec)
+			return ps_dev_fail(dev, EINVAL, "group device: this interface carries no 24-bit frames "
+			                                "(control devices need transport atx, foxtron or luba)");
+		rc = ps_dali_commission_group_device(c, (int)n, (int)g, strcmp(w[3], "add") == 0, now);
 	} else if (strcmp(w[0], "group") == 0 && nw == 4) {
 		if (dali_addr_of_word(w[1], &a, why, sizeof why) != 0)
 			return ps_dev_fail(dev, EINVAL, "group: '%s': %s", w[1], why);
@@ -1279,8 +1295,8 @@ static void bus_json(const struct dali_usb *d, double now, json_object *o)
 	json_object_object_add(o, "bus", b);
 }
 
-static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *const *pts, int npts, double now,
-                      char *out, size_t outlen)
+static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *const *pts, int npts, double clock,
+                      double now, char *out, size_t outlen)
 {
 	struct dali_usb *d = dev->priv;
 	json_object *o;
@@ -1290,7 +1306,7 @@ static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *con
 		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
 	if (nw < 1)
 		return ps_dev_fail(dev, EINVAL, "usage: dali %s %s", dev->name, command_usage);
-	du_service(dev, now);
+	du_service(dev, clock, now);
 	if (strcmp(w[0], "abort") == 0 && nw == 1) {
 		if (!d->job || d->job->state != PS_DALI_COMMISSION_RUNNING)
 			return ps_dev_fail(dev, EINVAL, "%s: no commissioning job is running", dev->name);
@@ -1369,7 +1385,9 @@ static void input_service(struct dali_usb *d)
 }
 
 /* An occupancy input that changed (by an event or a poll) goes to the
- * daemon as an input event. */
+ * daemon as an input event; so does a light sensor's new reading, so that
+ * its zone acts on it at once (the gear's command is then the next frame
+ * the driver sends). */
 static void input_events(struct ps_dev *dev, struct dali_usb *d)
 {
 	for (int i = 0; i < d->npts; i++) {
@@ -1377,20 +1395,22 @@ static void input_events(struct ps_dev *dev, struct dali_usb *d)
 		char why[200];
 		double v;
 		int err;
-		if (!p->in || p->pt->role != PS_ROLE_INPUT || !dev->on_event ||
+		if (!p->in || (p->pt->role != PS_ROLE_INPUT && p->pt->role != PS_ROLE_SENSOR) || !dev->on_event ||
 		    ps_dali_input_value(p->in, d->now, &v, &err, why, sizeof why) != 0 || v == p->reported)
 			continue;
 		p->reported = v;
-		dev->on_event(dev->event_user, dev, p->pt, d->now, v);
+		dev->on_event(dev->event_user, dev, p->pt, d->clock, v);
 	}
 }
 
-static int du_service(struct ps_dev *dev, double now)
+/* now is the monotonic clock (the bus's), clock the daemon's */
+static int du_service(struct ps_dev *dev, double clock, double now)
 {
 	struct dali_usb *d = dev->priv;
 	if (!d)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: not open");
 	d->now = now;
+	d->clock = clock;
 	pump_events(d);
 	if (d->state == ST_CLOSING && ((!d->in_busy && !d->out_busy) || now >= d->closing_until)) {
 		teardown(d);
@@ -1434,7 +1454,8 @@ static int du_fd(struct ps_dev *dev)
 	return d ? d->epfd : -1;
 }
 
-static double du_deadline(struct ps_dev *dev)
+/* The next time service() is due, on the monotonic clock. */
+static double du_due(struct ps_dev *dev)
 {
 	struct dali_usb *d = dev->priv;
 	if (!d)
@@ -1468,6 +1489,13 @@ static double du_deadline(struct ps_dev *dev)
 	}
 }
 
+/* Every due time of the driver is on the monotonic clock. */
+static double du_deadline(struct ps_dev *dev, double *mono)
+{
+	*mono = du_due(dev);
+	return INFINITY;
+}
+
 static int gone(struct ps_dev *dev, struct dali_usb *d)
 {
 	return ps_dev_fail(dev, ENODEV, "%s%s: %s (retrying in %.1f s)", d->codec ? "DALI interface " : "DALI USB interface",
@@ -1482,7 +1510,7 @@ static int take_error(struct ps_dev *dev, struct dpoint *p)
 	return ps_dev_fail(dev, err, "%s", p->errmsg);
 }
 
-static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+static int du_write(struct ps_dev *dev, struct ps_point *pt, double clock, double now, double value)
 {
 	struct dali_usb *d = dev->priv;
 	struct dpoint *p = pt ? pt->priv : NULL;
@@ -1494,7 +1522,7 @@ static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 		return ps_dev_fail(dev, EINVAL, "%s: light output %g is outside 0 to 1", pt->name, value);
 	/* remembered even while the interface is gone: sent on reconnect */
 	p->want = pt->role == PS_ROLE_RELAY ? (value >= 0.5) : ps_dali_fraction_to_level(value);
-	du_service(dev, now);
+	du_service(dev, clock, now);
 	if (d->state != ST_UP)
 		return gone(dev, d);
 	if (!p->dapc_pending) {
@@ -1508,13 +1536,13 @@ static int du_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 	return 0;
 }
 
-static int du_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+static int du_read(struct ps_dev *dev, struct ps_point *pt, double clock, double now, double *value)
 {
 	struct dali_usb *d = dev->priv;
 	struct dpoint *p = pt ? pt->priv : NULL;
 	if (!d || !p)
 		return ps_dev_fail(dev, EINVAL, "dali_usb: point not added");
-	du_service(dev, now);
+	du_service(dev, clock, now);
 	if (d->state != ST_UP)
 		return gone(dev, d);
 	if (p->in) {

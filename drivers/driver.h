@@ -11,8 +11,15 @@
  *  - Drivers never sleep, never exit, never print.  Blocking I/O is bounded
  *    by the driver's own short timeout (tens of ms); anything longer is split
  *    into steps driven by deadline()/service().
- *  - Time comes in as `now`, seconds on the daemon's clock (monotonic, or
- *    simulated in tests).  Drivers do not read the clock for control timing.
+ *  - Time comes in on two clocks, and drivers read neither themselves:
+ *    `now`, seconds on the daemon's clock (the room's time of day: monotonic,
+ *    sped up with psensd -x, or simulated in tests), for what belongs to the
+ *    room and its control (an event's time, a simulated room's day, a
+ *    Modbus poll period); and `mono`, CLOCK_MONOTONIC seconds, never scaled,
+ *    for what belongs to a wire (a reply timeout, a frame gap, a retry's
+ *    back-off, a DALI sensor's report age): a bus runs at its own speed
+ *    however fast the room's clock runs.  A test may pass the same value for
+ *    both.
  *  - Failure: return -1 with errno set and a one-line detail in dev->err
  *    (ps_dev_fail does both):
  *      EINVAL   bad option (dev->err is "file:line: key: why")
@@ -91,15 +98,18 @@ struct ps_driver {
 	/* Attach a point with its options (address, scaling, ...). */
 	int (*add_point)(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *opts);
 	/* Read a sensor, lux or input point. */
-	int (*read)(struct ps_dev *dev, struct ps_point *pt, double now, double *value);
+	int (*read)(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double *value);
 	/* Command a dim or relay point. */
-	int (*write)(struct ps_dev *dev, struct ps_point *pt, double now, double value);
+	int (*write)(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double value);
 	/* Event-loop hooks, all optional (NULL): a file descriptor to poll for
 	 * input (-1 for none), the next time service() is due (INFINITY for
-	 * none), and the work to do when either fires. */
+	 * none), and the work to do when either fires.  deadline returns the
+	 * due time on the daemon's clock; *mono comes in INFINITY and a driver
+	 * timing a wire lowers it to its due time on the monotonic clock:
+	 * service() is due when either is reached. */
 	int (*fd)(struct ps_dev *dev);
-	double (*deadline)(struct ps_dev *dev);
-	int (*service)(struct ps_dev *dev, double now);
+	double (*deadline)(struct ps_dev *dev, double *mono);
+	int (*service)(struct ps_dev *dev, double now, double mono);
 	/* Release everything (lines, interfaces, sockets).  Safe after a failed open. */
 	void (*close)(struct ps_dev *dev);
 	/* Simulated devices only, NULL for hardware.  setup: give an opened
@@ -118,7 +128,7 @@ struct ps_driver {
 	 * (EINVAL a bad request, EBUSY other work runs, ENODEV the device is
 	 * gone). */
 	int (*command)(struct ps_dev *dev, int nwords, char **words, struct ps_point *const *pts, int npts,
-	               double now, char *out, size_t outlen);
+	               double now, double mono, char *out, size_t outlen);
 	/* Optional (NULL): the full scale of a reading point, the largest value
 	 * its input can give as the driver scales it (an analog input's top
 	 * code, a light-to-frequency sensor's saturation, a simulated sensor's

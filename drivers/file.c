@@ -114,8 +114,9 @@ static int file_add_point(struct ps_dev *dev, struct ps_point *pt, const struct 
 	return 0;
 }
 
-static int file_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+static int file_read(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double *value)
 {
+	(void)mono;
 	struct file_point *p = pt->priv;
 	char buf[64], *end;
 	ssize_t n;
@@ -138,8 +139,9 @@ static int file_read(struct ps_dev *dev, struct ps_point *pt, double now, double
 	return 0;
 }
 
-static int file_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+static int file_write(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double value)
 {
+	(void)mono;
 	struct file_point *p = pt->priv;
 	char tmp[320], buf[64];
 	int fd, len, ok;

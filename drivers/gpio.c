@@ -362,8 +362,9 @@ static void drain(struct gpio_point *p, double now)
 	}
 }
 
-static int gpio_service(struct ps_dev *dev, double now)
+static int gpio_service(struct ps_dev *dev, double now, double mono)
 {
+	(void)mono;
 	struct gpio_dev *g = dev->priv;
 	if (!g)
 		return 0;
@@ -400,8 +401,9 @@ static int gpio_fd(struct ps_dev *dev)
 	return g ? g->epfd : -1;
 }
 
-static double gpio_deadline(struct ps_dev *dev)
+static double gpio_deadline(struct ps_dev *dev, double *mono)
 {
+	(void)mono;
 	struct gpio_dev *g = dev->priv;
 	double t = INFINITY;
 	for (int i = 0; g && i < g->np; i++) {
@@ -414,8 +416,9 @@ static double gpio_deadline(struct ps_dev *dev)
 	return t;
 }
 
-static int gpio_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+static int gpio_read(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double *value)
 {
+	(void)mono;
 	struct gpio_point *p = pt->priv;
 	(void)now;
 	if (p->role == PS_ROLE_SENSOR) {
@@ -444,8 +447,9 @@ static int gpio_full_scale(struct ps_dev *dev, struct ps_point *pt, double *limi
 	return 0;
 }
 
-static int gpio_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+static int gpio_write(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double value)
 {
+	(void)mono;
 	struct gpio_point *p = pt->priv;
 	(void)now;
 	if (p->role != PS_ROLE_RELAY)

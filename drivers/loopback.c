@@ -288,8 +288,9 @@ static void earliest_after(double t, double after, double *next)
 }
 
 /* The next change of any input after the last service (INFINITY: none). */
-static double lb_deadline(struct ps_dev *dev)
+static double lb_deadline(struct ps_dev *dev, double *mono)
 {
+	(void)mono;
 	struct loopback *lb = dev->priv;
 	double next = INFINITY, day0;
 	if (!lb || !lb->room || lb->ninput == 0)
@@ -316,8 +317,9 @@ static double lb_deadline(struct ps_dev *dev)
 	return next;
 }
 
-static int lb_service(struct ps_dev *dev, double now)
+static int lb_service(struct ps_dev *dev, double now, double mono)
 {
+	(void)mono;
 	struct loopback *lb = dev->priv;
 	if (!lb || !lb->room)
 		return 0;
@@ -349,8 +351,9 @@ static int lb_full_scale(struct ps_dev *dev, struct ps_point *pt, double *limit)
 	return 0;
 }
 
-static int lb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+static int lb_read(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double *value)
 {
+	(void)mono;
 	struct loopback *lb = dev->priv;
 	if (!lb->room)
 		return ps_dev_fail(dev, ENODEV, "loopback %s: no room", dev->name);
@@ -382,8 +385,9 @@ static int lb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 	return 0;
 }
 
-static int lb_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+static int lb_write(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double value)
 {
+	(void)mono;
 	struct loopback *lb = dev->priv;
 	if (!lb->room)
 		return ps_dev_fail(dev, ENODEV, "loopback %s: no room", dev->name);

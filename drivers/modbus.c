@@ -296,8 +296,9 @@ static int read_now(struct ps_dev *dev, struct mb_point *p, double now, double *
 	return 0;
 }
 
-static int mb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *value)
+static int mb_read(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double *value)
 {
+	(void)mono;
 	struct mb_point *p = pt->priv;
 	if (!p)
 		return ps_dev_fail(dev, EINVAL, "modbus %s: %s is not a point of this device", dev->name,
@@ -315,8 +316,9 @@ static int mb_read(struct ps_dev *dev, struct ps_point *pt, double now, double *
 	return read_now(dev, p, now, value);
 }
 
-static int mb_write(struct ps_dev *dev, struct ps_point *pt, double now, double value)
+static int mb_write(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double value)
 {
+	(void)mono;
 	struct mb_point *p = pt->priv;
 	uint16_t regs[2];
 	if (!p)
@@ -329,8 +331,9 @@ static int mb_write(struct ps_dev *dev, struct ps_point *pt, double now, double 
 }
 
 /* Polled points: the earliest poll due. */
-static double mb_deadline(struct ps_dev *dev)
+static double mb_deadline(struct ps_dev *dev, double *mono)
 {
+	(void)mono;
 	struct mb_dev *m = dev->priv;
 	double next = INFINITY;
 	for (size_t i = 0; m && i < m->npts; i++)
@@ -341,8 +344,9 @@ static double mb_deadline(struct ps_dev *dev)
 	return next;
 }
 
-static int mb_service(struct ps_dev *dev, double now)
+static int mb_service(struct ps_dev *dev, double now, double mono)
 {
+	(void)mono;
 	struct mb_dev *m = dev->priv;
 	char first[256] = "";
 	int first_err = 0;

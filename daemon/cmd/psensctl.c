@@ -323,6 +323,9 @@ static void dali_show(json_object *r)
 			printf("  %-8s  %5s  %3s\n", cell(x, "random", a, sizeof a), cell(x, "address", b, sizeof b),
 			       cell(x, "was", c, sizeof c));
 		}
+	} else if (strcmp(job, "group") == 0 && member(r, "control_device")) {
+		printf("  control device %s: device groups %s\n", cell(r, "control_device", a, sizeof a),
+		       cell(r, "device_groups", b, sizeof b));
 	} else if (strcmp(job, "group") == 0) {
 		printf("  %s: groups %s\n", cell(r, "address", a, sizeof a), cell(r, "groups", b, sizeof b));
 	} else if (strcmp(job, "verify") == 0 && (list = member(r, "targets"))) {

@@ -15,6 +15,7 @@
 #include <sys/socket.h>
 
 #include "log.h"
+#include "time.h"
 
 #define MAX_CONN 8
 #define INCAP 256
@@ -176,13 +177,24 @@ static int unhex(int ch)
 	       ch >= 'a' && ch <= 'f' ? ch - 'a' + 10 : -1;
 }
 
+/* A client's forward frame onto the bus; traced with the monotonic time it
+ * reached the bus, so a trace gives the time from an event to the frame it
+ * caused. */
+static int bus_frame(struct psd_daliserve *s, int bits, uint32_t frame, int twice, uint8_t *answer)
+{
+	if (s->trace)
+		psd_log_debug("DALI %.6f forward %d-bit %0*X%s", psd_time_mono(), bits, bits / 4, (unsigned)frame,
+		              twice ? " twice" : "");
+	return psd_dalibus_frame(s->bus, s->now, bits, frame, twice, answer);
+}
+
 /* Send frame on the bus and say what came back, as 0x0D/0x0E; a bus
  * without power says so instead. */
 static void fox_send(struct psd_daliserve *s, struct conn *c, int bits, uint32_t frame, int twice)
 {
 	uint8_t m[8], ans;
 	int n = 0, nb = bits / 8;
-	int r = psd_dalibus_frame(s->bus, s->now, bits, frame, twice, &ans);
+	int r = bus_frame(s, bits, frame, twice, &ans);
 	if (r == PSD_DALIBUS_NOPOWER) {
 		fox_event(s, c, 1);
 		return;
@@ -310,7 +322,7 @@ static void atx_line(struct psd_daliserve *s, struct conn *c, const uint8_t *p, 
 	}
 	/* a frame sent twice: two sendings, each answered */
 	for (int k = 0; k <= twice; k++) {
-		r = psd_dalibus_frame(s->bus, s->now, bits, f, twice, &ans);
+		r = bus_frame(s, bits, f, twice, &ans);
 		atx_reply(s, c, r == PSD_DALIBUS_NOPOWER ? PSD_DALIBUS_NONE : r, ans);
 	}
 }
@@ -340,7 +352,9 @@ static void broadcast_events(struct psd_daliserve *s)
 {
 	uint32_t ev[PSD_DALIBUS_MAX_EVENTS];
 	int n = psd_dalibus_events(s->bus, s->now, ev);
-	for (int k = 0; k < n; k++)
+	for (int k = 0; k < n; k++) {
+		if (s->trace)
+			psd_log_debug("DALI %.6f event 24-bit %06X", psd_time_mono(), (unsigned)ev[k]);
 		for (int i = 0; i < s->nc; i++) {
 			struct conn *c = &s->c[i];
 			if (c->protocol == PSD_DALISERVE_FOXTRON) {
@@ -352,6 +366,7 @@ static void broadcast_events(struct psd_daliserve *s)
 				put(s, c, (const uint8_t *)line, (size_t)len);
 			}
 		}
+	}
 }
 
 void psd_daliserve_power(struct psd_daliserve *s, int on)

@@ -135,13 +135,13 @@ int psd_virtroom_sensor(struct psd_virtroom *r, double now, double *volts, int *
 {
 	const char *f = fault_now(r, now);
 	*state = (is(f, "open") ? PSD_VIRTROOM_OPEN : 0) | (is(f, "saturated") ? PSD_VIRTROOM_SATURATED : 0);
-	return r->dev.drv->read(&r->dev, &r->sensor, now, volts);
+	return r->dev.drv->read(&r->dev, &r->sensor, now, now, volts);
 }
 
 double psd_virtroom_task(struct psd_virtroom *r, double now)
 {
 	double lux = 0;
-	if (checked(r, CALL_TASK, "reading the task meter", r->dev.drv->read(&r->dev, &r->task, now, &lux)) != 0)
+	if (checked(r, CALL_TASK, "reading the task meter", r->dev.drv->read(&r->dev, &r->task, now, now, &lux)) != 0)
 		lux = 0;
 	return lux;
 }
@@ -149,12 +149,12 @@ double psd_virtroom_task(struct psd_virtroom *r, double now)
 double psd_virtroom_rooftop(struct psd_virtroom *r, double now)
 {
 	double lux;
-	return r->dev.drv->read(&r->dev, &r->rooftop, now, &lux) == 0 ? lux : 0.0;
+	return r->dev.drv->read(&r->dev, &r->rooftop, now, now, &lux) == 0 ? lux : 0.0;
 }
 
 void psd_virtroom_command(struct psd_virtroom *r, double now, double level)
 {
-	checked(r, CALL_WRITE, "setting the light level", r->dev.drv->write(&r->dev, &r->dim, now, level));
+	checked(r, CALL_WRITE, "setting the light level", r->dev.drv->write(&r->dev, &r->dim, now, now, level));
 }
 
 /* The truth hook never advances the room: asking cannot move its clock. */

@@ -204,7 +204,8 @@ int main(void)
 	       lost_after(30, 1, 1), lost_after(30, 1, 0), lost_after(30, 60, 1));
 	/* an event, then the command: nothing of ours in between */
 	printf("sensor event to gear command: 1 bus frame after the event (the DAPC is the next frame psensd sends); "
-	       "bus time %.1f ms (event %.1f + settling %.1f + DAPC %.1f), once the zone steps\n",
+	       "bus time %.1f ms (event %.1f + settling %.1f + DAPC %.1f), the zone stepping on the event "
+	       "(bench_dali_event.sh measures it)\n",
 	       1e3 * (FWD24 + SETTLE_FWD + FWD16), 1e3 * FWD24, 1e3 * SETTLE_FWD, 1e3 * FWD16);
 	return 0;
 }

@@ -35,10 +35,11 @@ static int job_running(struct ps_dev *dev)
 static void run(struct ps_dev *dev)
 {
 	while (job_running(dev)) {
-		double t = psd_time_mono(), dl;
+		double t = psd_time_mono(), dl, m;
 		struct pollfd p = { dev->drv->fd(dev), POLLIN, 0 };
-		dev->drv->service(dev, t);
-		dl = dev->drv->deadline(dev);
+		dev->drv->service(dev, t, t);
+		m = INFINITY;   /* the driver's due time on either clock (the same here) */
+		dl = fmin(dev->drv->deadline(dev, &m), m);
 		poll(&p, 1, isinf(dl) ? 20 : (int)fmax(0, fmin(20, (dl - t) * 1000)));
 	}
 }
@@ -52,7 +53,7 @@ static int job(struct ps_dev *dev, struct psemu *e, int n, const char *what)
 	double t0 = psd_time_mono(), t;
 	snprintf(buf, sizeof buf, "%s", what);
 	psemu_stats(e, 0, &before);
-	if (dev->drv->command(dev, 1, words, NULL, 0, t0, out, sizeof out) != 0) {
+	if (dev->drv->command(dev, 1, words, NULL, 0, t0, t0, out, sizeof out) != 0) {
 		printf("bench_dali_commission: %s\n", dev->err);
 		return 1;
 	}

@@ -54,14 +54,15 @@ static int run_until(const char *what, double limit)
 {
 	double end = now_s() + limit;
 	for (;;) {
-		double t = now_s(), dl;
+		double t = now_s(), dl, m;
 		struct pollfd p = { dev.drv->fd(&dev), POLLIN | POLLOUT, 0 };
-		dev.drv->service(&dev, t);
+		dev.drv->service(&dev, t, t);
 		if (state_is(what))
 			return 0;
 		if (t >= end)
 			return -1;
-		dl = dev.drv->deadline(&dev);
+		m = INFINITY;   /* the driver's due time on either clock (the same here) */
+		dl = fmin(dev.drv->deadline(&dev, &m), m);
 		poll(&p, p.fd >= 0, isinf(dl) ? 20 : (int)fmax(0, fmin(20, (dl - t) * 1000)));
 	}
 }
@@ -114,14 +115,14 @@ int main(int argc, char **argv)
 			}
 			i += 3;
 		} else if (strcmp(cmd, "set") == 0 && i + 2 < argc && (n = point_index(argv[i + 1])) >= 0) {
-			ok = dev.drv->write(&dev, &pts[n], now_s(), atof(argv[i + 2])) == 0;
+			ok = dev.drv->write(&dev, &pts[n], now_s(), now_s(), atof(argv[i + 2])) == 0;
 			printf("set %d %s %s\n", n, argv[i + 2], ok ? "ok" : dev.err);
 			i += 2;
 		} else if (strcmp(cmd, "get") == 0 && i + 1 < argc && (n = point_index(argv[i + 1])) >= 0) {
 			double end = now_s() + 3;
 			int r;
 			/* the first read queues the query; the answer comes with the loop */
-			while ((r = dev.drv->read(&dev, &pts[n], now_s(), &v)) != 0 && errno == ETIMEDOUT && now_s() < end)
+			while ((r = dev.drv->read(&dev, &pts[n], now_s(), now_s(), &v)) != 0 && errno == ETIMEDOUT && now_s() < end)
 				run_until("idle", 1);
 			if (r == 0)
 				printf("get %d %.6f level %d\n", n, v, ps_dali_fraction_to_level(v));

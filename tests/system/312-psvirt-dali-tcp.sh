@@ -19,12 +19,8 @@
 make_results
 S="$TMP/sock"
 mb=$(free_port)
-"$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$mb" --dali-tcp 127.0.0.1:0 \
-	--dali-fault silent --start 12:00 --ready-file "$TMP/ready" -D gain=0.5 -D noise=0 -D lag_tau=0 \
-	> "$TMP/pv.out" 2> "$TMP/pv.err" &
-pv=$!; track_pid $pv
-wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
-port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+psvirt_dali --tcp "127.0.0.1:$mb" \
+	--dali-fault silent --start 12:00 -D gain=0.5 -D noise=0 -D lag_tau=0
 check "psvirt says where its DALInet listens (port $port)" grep -q "DALI bus (Foxtron DALInet) on port $port" "$TMP/pv.out"
 { printf '[psensd]\nresults = ofb.results\ndatabase = psensd.db\nsocket = sock\nperiod = 0.5\nstale_after = 2\n'
 cat <<EOF
@@ -56,7 +52,6 @@ verify_tolerance = 0.05
 EOF
 } > "$TMP/psensd.conf"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
-arc() { awk -v u="$1" 'BEGIN { if (u <= 0) { print 0; exit } n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n < 1) n = 1; if (n > 254) n = 254; print n }'; }
 fox() { "$PY" "$PEERS/foxclient.py" "tcp:127.0.0.1:$port" "$@"; }
 # the two gear's levels (short 0 and 1)
 levels() { fox "ask 16 01A0; ask 16 03A0" | tr '\n' ' ' | sed 's/ $//'; }
@@ -70,11 +65,11 @@ check "... and the room at full output (register 202: $(hr 202))" test "$(hr 202
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 12:00 > "$TMP/out" 2> "$TMP/err" &
 ps=$!; track_pid $ps
 wait_for 10 ctl ping > /dev/null || not_ok "psensd did not start: $(cat "$TMP/err")"
-want=$(arc 0.1)
+want=$(dali_arc 0.1)
 wait_for 10 at_level "$want"
 check "noon, the zone at its minimum 10 %: both gear at arc level $want ($(levels))" at_level "$want"
 ctl override office 0.3 600 > /dev/null
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 10 at_level "$want"
 check "override 30 %: both gear at arc level $want ($(levels))" at_level "$want"
 # the room's output is the curve's value at that level, to the register's 1e-4
@@ -91,7 +86,7 @@ check "... the zone at its safe level, the fault in its status" grep -Eq '"level
 kill -USR2 $pv
 wait_for 20 grep -q "fault cleared: control resumes" "$TMP/err"
 check "the gear answer again: psensd resumes by itself" grep -q "fault cleared: control resumes" "$TMP/err"
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 10 at_level "$want"
 check "the override's level is back on the gear ($want): $(levels)" at_level "$want"
 

@@ -18,7 +18,6 @@ make_results
 S="$TMP/sock"
 mb=$(free_port)
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
-arc() { awk -v u="$1" 'BEGIN { if (u <= 0) { print 0; exit } n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n < 1) n = 1; if (n > 254) n = 254; print n }'; }
 levels() { "$PY" "$PEERS/foxclient.py" "tcp:127.0.0.1:$port" "ask 16 01A0; ask 16 03A0" | tr '\n' ' ' | sed 's/ $//'; }
 at_level() { [ "$(levels)" = "$1 $1" ]; }
 
@@ -82,7 +81,7 @@ run foxtron silent
 check "psvirt printed its DALI232's pty ($dev)" grep -q "DALI bus (Foxtron DALI232) on $dev" "$TMP/pv.out"
 check "... a pseudo-terminal's slave" test -c "$dev"
 ctl override office 0.3 600 > /dev/null
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 10 at_level "$want"
 check "DALI232 on a pty: override 30 %: both gear at arc level $want ($(levels))" at_level "$want"
 kill -USR1 $pv

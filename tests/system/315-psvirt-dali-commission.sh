@@ -16,11 +16,7 @@
 make_results
 S="$TMP/sock"
 mb=$(free_port)
-"$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$mb" --dali-tcp 127.0.0.1:0 --dali-unaddressed \
-	--zones 2 --start 12:00 --ready-file "$TMP/ready" > "$TMP/pv.out" 2> "$TMP/pv.err" &
-pv=$!; track_pid $pv
-wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
-port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+psvirt_dali --tcp "127.0.0.1:$mb" --dali-unaddressed --zones 2 --start 12:00
 { printf '[psensd]\nresults = ofb.results\ndatabase = psensd.db\nsocket = sock\nperiod = 1\n'
 cat <<EOF
 [device io]

@@ -20,13 +20,9 @@
 command -v sqlite3 > /dev/null || skip_all "sqlite3 not installed"
 make_results
 mb=$(free_port)
-"$BIN/psvirt" --results "$TMP/ofb.results" --tcp "127.0.0.1:$mb" --dali-tcp 127.0.0.1:0 --ready-file "$TMP/ready" \
+psvirt_dali --tcp "127.0.0.1:$mb" \
 	--date 03-18 --sunrise 06:00 --sunset 18:30 --start 05:00 --speed 3600 \
-	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 -D lag_tau=0 \
-	> "$TMP/pv.out" 2> "$TMP/pv.err" &
-pv=$!; track_pid $pv
-wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
-port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 -D lag_tau=0
 { printf '[psensd]\nresults = ofb.results\ndatabase = day.db\nsocket = sock\nperiod = 60\n'
 cat <<EOF
 [device io]

@@ -17,35 +17,14 @@ RUN=$BUILD/tests/psemu-run
 need_preload
 example_results
 S="$TMP/sock"
-{ psensd_section 0.5 2; cat <<EOF
-[device room]
-driver = loopback
-gain = 0.5
-noise = 0.002
+{ psensd_section 0.5 2; dali_room; cat <<EOF
 [device dali]
 driver = dali_usb
 safe_level = 1.0
 fade_time = 0
-[point sensor]
-device = room
-role = sensor
-[point lamp]
-device = room
-role = dim
-[point ballasts]
-device = dali
-role = dim
-address = broadcast
-[zone office]
-sensor = sensor
-dim = lamp ballasts
-sensor_gain = 0.5
-min_level = 0.1
 EOF
-} > "$TMP/psensd.conf"
+dali_room_zone; } > "$TMP/psensd.conf"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
-# the arc power level for a light output, by the standard curve (nearest in ratio)
-arc() { awk -v u="$1" 'BEGIN { if (u <= 0) { print 0; exit } n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n < 1) n = 1; if (n > 254) n = 254; print n }'; }
 levels() { echo dump > "$TMP/ctl"; sleep 0.2; awk '{ print $6 }' "$TMP/emu.state" | sort -u | tr '\n' ' ' | sed 's/ $//'; }
 plugged() { awk '{ print $NF }' "$TMP/emu.state" | sort -u; }
 at_level() { echo dump > "$TMP/ctl"; sleep 0.1; [ "$(awk '{ print $6 }' "$TMP/emu.state" | sort -u)" = "$1" ]; }
@@ -57,11 +36,11 @@ wait_for 10 ctl ping > /dev/null
 check "psensd runs under the emulator" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
 sleep 1.5
 check "noon: the zone is at its minimum level 10 %" test "$(ctl -j status | grep -o '"level":[0-9.]*' | head -n 1)" = '"level":0.1'
-want=$(arc 0.1)
+want=$(dali_arc 0.1)
 wait_for 5 at_level "$want"
 check "both ballasts at arc level $want (10 %): $(levels)" test "$(levels)" = "$want"
 ctl override office 0.3 600 > /dev/null
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 5 at_level "$want"
 check "override 30 %: both ballasts at arc level $want: $(levels)" test "$(levels)" = "$want"
 echo "unplug 0" > "$TMP/ctl"
@@ -76,7 +55,7 @@ check "the emulator shows them unplugged" test "$(plugged)" = 0
 echo "replug 0" > "$TMP/ctl"
 wait_for 20 grep -q "fault cleared: control resumes" "$TMP/err"
 check "replugged: psensd resumes by itself" grep -q "fault cleared: control resumes" "$TMP/err"
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 5 at_level "$want"
 check "the override's level is back on the ballasts ($want): $(levels)" test "$(levels)" = "$want"
 check "the fault was reported once, not at every period" test "$(grep -c 'fault: DALI' "$TMP/err")" = 1

@@ -17,12 +17,8 @@ example_results
 S="$TMP/sock"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 run_bus() {
-	rm -f "$TMP/pty"
-	python3 "$(dirname "$0")/peers/dalibus.py" --codec "$1" --pty "$TMP/pty" --gear 1:254,2:254 \
-		--devices 5:0x123456,9:0x222222,-:0x333333 --control "$TMP/ctl" --state "$TMP/bus.state" \
-		> "$TMP/bus-$1.log" 2>&1 &
-	bus=$!; track_pid $bus
-	wait_for 10 test -s "$TMP/pty" || not_ok "the emulator did not start"
+	dalibus_pty "$TMP/bus-$1.log" --codec "$1" --gear 1:254,2:254 \
+		--devices 5:0x123456,9:0x222222,-:0x333333 --control "$TMP/ctl" --state "$TMP/bus.state"
 }
 conf() {
 	{ psensd_section 0.5; cat <<EOC

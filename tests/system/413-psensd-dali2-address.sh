@@ -18,10 +18,8 @@ command -v python3 > /dev/null || skip_all "python3 not installed"
 example_results
 S="$TMP/sock"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
-python3 "$(dirname "$0")/peers/dalibus.py" --codec foxtron --pty "$TMP/pty" --gear 1:254 \
-	--devices=-:0x9D5BC6,5:0x123456,-:0x0C357B --state "$TMP/bus.state" > "$TMP/bus.log" 2>&1 &
-track_pid $!
-wait_for 10 test -s "$TMP/pty" || not_ok "the emulator did not start"
+dalibus_pty "$TMP/bus.log" --codec foxtron --gear 1:254 \
+	--devices=-:0x9D5BC6,5:0x123456,-:0x0C357B --state "$TMP/bus.state"
 { psensd_section 0.5; cat <<EOC
 [device room]
 driver = loopback

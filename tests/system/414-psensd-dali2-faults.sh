@@ -20,11 +20,8 @@ sensor_v() { ctl -j status | sed -n 's/.*"sensor_v":\([0-9.]*\).*/\1/p'; }
 reads() { [ "$(sensor_v)" = "$1.0" ]; }
 start() {
 	codec=$1; shift
-	rm -f "$TMP/pty"
-	python3 "$(dirname "$0")/peers/dalibus.py" --codec "$codec" --pty "$TMP/pty" --gear 1:254 \
-		--devices 5:0x123456 --control "$TMP/ctl" --state "$TMP/bus.state" "$@" > "$TMP/bus.log" 2>&1 &
-	bus=$!; track_pid $bus
-	wait_for 10 test -s "$TMP/pty" || not_ok "the emulator did not start"
+	dalibus_pty "$TMP/bus.log" --codec "$codec" --gear 1:254 \
+		--devices 5:0x123456 --control "$TMP/ctl" --state "$TMP/bus.state" "$@"
 	{ psensd_section 0.5 2; cat <<EOC
 [device dali]
 driver = dali_usb

@@ -52,7 +52,6 @@ dump() { echo dump > "$TMP/ctl"; sleep 0.3; }
 field() { awk -v s="$1" -v k="$2" '$4 == s { for (i = 1; i < NF; i++) if ($i == k) print $(i + 1) }' "$TMP/emu.state"; }
 # the slot whose short address is $1
 slot_of() { awk -v a="$1" '{ for (i = 1; i < NF; i++) if ($i == "short" && $(i + 1) == a) print $4 }' "$TMP/emu.state"; }
-arc() { awk -v u="$1" 'BEGIN { n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n > 254) n = 254; print n }'; }
 
 LD_PRELOAD=$PRE ASAN_OPTIONS="$EMU_ASAN" \
 	"$RUN" -c "$TMP/ctl" -s "$TMP/emu.state" -u "$TMP/udir" -t 150 -i 1:A1:6 \
@@ -141,7 +140,7 @@ check "verify shows each ballast's levels" grep -Eq "short 2 +expected 254,170 +
 ctl override east 0.5 600 > /dev/null
 ctl override middle 0.3 600 > /dev/null
 ctl override west 1.0 600 > /dev/null
-want="$(arc 0.5) $(arc 0.5) $(arc 0.3) $(arc 0.3) $(arc 1.0) $(arc 1.0)"
+want="$(dali_arc 0.5) $(dali_arc 0.5) $(dali_arc 0.3) $(dali_arc 0.3) $(dali_arc 1.0) $(dali_arc 1.0)"
 zone_levels() {
 	dump
 	lv=""

@@ -25,35 +25,15 @@ python3 "$(dirname "$0")/peers/daliserver.py" --port-file "$TMP/port" --gear 1:2
 	--state "$TMP/bus.state" --mode-file "$TMP/mode" > "$TMP/bus.log" 2>&1 &
 track_pid $!
 wait_for 10 test -s "$TMP/port" || not_ok "the emulator did not start"
-{ psensd_section 0.5 2; cat <<EOF
-[device room]
-driver = loopback
-gain = 0.5
-noise = 0.002
+{ psensd_section 0.5 2; dali_room; cat <<EOF
 [device dali]
 driver = dali_usb
 transport = daliserver
 device = 127.0.0.1:$(cat "$TMP/port")
 timeout = 0.1
-[point sensor]
-device = room
-role = sensor
-[point lamp]
-device = room
-role = dim
-[point ballasts]
-device = dali
-role = dim
-address = broadcast
-[zone office]
-sensor = sensor
-dim = lamp ballasts
-sensor_gain = 0.5
-min_level = 0.1
 EOF
-} > "$TMP/psensd.conf"
+dali_room_zone; } > "$TMP/psensd.conf"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
-arc() { awk -v u="$1" 'BEGIN { if (u <= 0) { print 0; exit } n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n < 1) n = 1; if (n > 254) n = 254; print n }'; }
 levels() { awk '{ print $4 }' "$TMP/bus.state" | sort -u | tr '\n' ' ' | sed 's/ $//'; }
 at_level() { [ "$(levels)" = "$1" ]; }
 faults() { grep -c 'zone office: .* fault: ' "$TMP/err"; }
@@ -78,7 +58,7 @@ check "psensd -n: safe_level (a frame sent twice) refused with daliserver: $(hea
 pid=$!; track_pid $pid
 wait_for 10 ctl ping > /dev/null
 check "psensd runs with transport daliserver" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
-want=$(arc 0.1)
+want=$(dali_arc 0.1)
 wait_for 5 at_level "$want"
 check "noon, the zone at its minimum 10 %: both gear at arc level $want: $(levels)" at_level "$want"
 hex=$(printf '%02X' "$want")
@@ -86,7 +66,7 @@ check "DAPC $want to broadcast went out as version 2, type 0, FE $hex and got st
 	grep -q "^req FE$hex -> 02000000$" "$TMP/bus.log"
 check "no request was dropped for a wrong version or type" sh -c "! grep -q dropped \"$TMP/bus.log\""
 ctl override office 0.3 600 > /dev/null
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 5 at_level "$want"
 check "override 30 %: both gear at arc level $want: $(levels)" at_level "$want"
 ctl dali dali scan > "$TMP/scan" 2>&1

@@ -15,40 +15,18 @@ command -v python3 > /dev/null || skip_all "python3 not installed"
 "$BIN/psensd" -L 2>/dev/null | grep -q "^dali_usb:" || skip_all "the dali_usb driver is not compiled in"
 example_results
 S="$TMP/sock"
-python3 "$(dirname "$0")/peers/dalibus.py" --codec atx --pty "$TMP/pty" --gear 1:254,2:254 \
-	--state "$TMP/bus.state" > "$TMP/bus.log" 2>&1 &
-bus=$!; track_pid $bus
-wait_for 10 test -s "$TMP/pty" || not_ok "the emulator did not start"
+dalibus_pty "$TMP/bus.log" --codec atx --gear 1:254,2:254 \
+	--state "$TMP/bus.state"
 dev=$(cat "$TMP/pty")
-{ psensd_section 0.5 2; cat <<EOF
-[device room]
-driver = loopback
-gain = 0.5
-noise = 0.002
+{ psensd_section 0.5 2; dali_room; cat <<EOF
 [device dali]
 driver = dali_usb
 transport = atx
 device = $dev
 timeout = 0.1
-[point sensor]
-device = room
-role = sensor
-[point lamp]
-device = room
-role = dim
-[point ballasts]
-device = dali
-role = dim
-address = broadcast
-[zone office]
-sensor = sensor
-dim = lamp ballasts
-sensor_gain = 0.5
-min_level = 0.1
 EOF
-} > "$TMP/psensd.conf"
+dali_room_zone; } > "$TMP/psensd.conf"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
-arc() { awk -v u="$1" 'BEGIN { if (u <= 0) { print 0; exit } n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n < 1) n = 1; if (n > 254) n = 254; print n }'; }
 levels() { awk '{ print $4 }' "$TMP/bus.state" | sort -u | tr '\n' ' ' | sed 's/ $//'; }
 at_level() { [ "$(levels)" = "$1" ]; }
 
@@ -61,11 +39,11 @@ check "psensd -n: transport atx without device is refused, with its line" \
 pid=$!; track_pid $pid
 wait_for 10 ctl ping > /dev/null
 check "psensd runs with the serial interface" sh -c "\"$BIN/psensctl\" -s \"$S\" ping > /dev/null"
-want=$(arc 0.1)
+want=$(dali_arc 0.1)
 wait_for 5 at_level "$want"
 check "noon, the zone at its minimum 10 %: both gear at arc level $want: $(levels)" at_level "$want"
 ctl override office 0.3 600 > /dev/null
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 5 at_level "$want"
 check "override 30 %: both gear at arc level $want: $(levels)" at_level "$want"
 kill -USR1 $bus
@@ -77,7 +55,7 @@ check "... the zone at its safe level, the fault in its status" grep -Eq '"level
 kill -USR2 $bus
 wait_for 20 grep -q "fault cleared: control resumes" "$TMP/err"
 check "the interface back: psensd resumes by itself" grep -q "fault cleared: control resumes" "$TMP/err"
-want=$(arc 0.3)
+want=$(dali_arc 0.3)
 wait_for 5 at_level "$want"
 check "the override's level is back on the gear ($want): $(levels)" at_level "$want"
 check "the fault was reported once, not at every period" test "$(grep -c 'zone office: .* fault: ' "$TMP/err")" = 1
@@ -97,7 +75,7 @@ sed "s|^transport = atx|transport = foxtron|; s|^device = /dev.*|device = 127.0.
 "$BIN/psensd" -f "$TMP/tcp.conf" -t 12:00 > "$TMP/out2" 2> "$TMP/err2" &
 pid=$!; track_pid $pid
 wait_for 10 ctl ping > /dev/null
-want=$(arc 0.1)
+want=$(dali_arc 0.1)
 wait_for 5 at_level "$want"
 check "foxtron over TCP: both gear at arc level $want (10 %): $(levels)" at_level "$want"
 pd=$(ctl -j ping | sed -n 's/.*"pid":\([0-9]*\).*/\1/p')

@@ -16,7 +16,6 @@ S="$TMP/sock"
 ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 sensor_v() { ctl -j status | sed -n 's/.*"sensor_v":\([0-9.]*\).*/\1/p'; }
 reads() { [ "$(sensor_v)" = "$1.0" ]; }
-arc() { awk -v u="$1" 'BEGIN { n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); print int(n + 0.5) }'; }
 levels() { awk '$1 == "short" { print $4 }' "$TMP/bus.state" | sort -u | tr '\n' ' ' | sed 's/ $//'; }
 one() {
 	codec=$1 link=$2 where=$3
@@ -62,7 +61,7 @@ EOC
 	wait_for 10 grep -q "zone office: .*occupied$" "$TMP/err-$codec"
 	check "$codec over $link: occupied reported" grep -q "zone office: .*occupied$" "$TMP/err-$codec"
 	ctl override office 0.5 600 > /dev/null
-	want=$(arc 0.5)
+	want=$(dali_arc 0.5)
 	wait_for 5 sh -c "[ \"\$(awk '\$1 == \"short\" { print \$4 }' \"$TMP/bus.state\" | sort -u)\" = $want ]"
 	check "$codec over $link: override 50 %: the gear at arc level $want: $(levels)" test "$(levels)" = "$want"
 	pd=$(ctl -j ping | sed -n 's/.*"pid":\([0-9]*\).*/\1/p')
@@ -71,10 +70,8 @@ EOC
 }
 
 echo "light 0 450" > "$TMP/ctl"
-python3 "$(dirname "$0")/peers/dalibus.py" --codec luba --pty "$TMP/pty" --gear 1:254,2:254 \
-	--devices 7:0x010203 --control "$TMP/ctl" --state "$TMP/bus.state" > "$TMP/bus1.log" 2>&1 &
-bus=$!; track_pid $bus
-wait_for 10 test -s "$TMP/pty" || not_ok "the LUBA emulator did not start"
+dalibus_pty "$TMP/bus1.log" --codec luba --gear 1:254,2:254 \
+	--devices 7:0x010203 --control "$TMP/ctl" --state "$TMP/bus.state"
 one luba pty "$(cat "$TMP/pty")"
 kill $bus; wait $bus 2>/dev/null
 

@@ -62,6 +62,66 @@ psensd_section() {
 	[ $# -lt 2 ] || printf 'stale_after = %s\n' "$2"
 }
 
+# psvirt_dali ARGS...: psvirt with its virtual DALI-2 bus on a TCP port the
+# kernel picks (a Foxtron DALInet), the room from $TMP/ofb.results
+# (peers/common.sh: make_results), its other options ARGS; waits until it
+# serves and sets pv (its pid, stopped on exit) and port (the bus's port)
+psvirt_dali() {
+	rm -f "$TMP/ready"
+	"$BIN/psvirt" --results "$TMP/ofb.results" --dali-tcp 127.0.0.1:0 --ready-file "$TMP/ready" "$@" \
+		> "$TMP/pv.out" 2> "$TMP/pv.err" &
+	pv=$!; track_pid $pv
+	wait_for 10 test -s "$TMP/ready" || not_ok "psvirt did not start: $(cat "$TMP/pv.err")"
+	port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
+}
+
+# dalibus_pty LOG ARGS...: the emulated DALI bus (peers/dalibus.py, written
+# from the standards' facts) behind an interface on a pty, its path in
+# $TMP/pty, its output in LOG, its other options ARGS (--codec, --gear,
+# --devices, ...); waits until the pty is there and sets bus (its pid,
+# stopped on exit)
+dalibus_pty() {
+	_log=$1; shift
+	rm -f "$TMP/pty"
+	python3 "$(dirname "$0")/peers/dalibus.py" --pty "$TMP/pty" "$@" > "$_log" 2>&1 &
+	bus=$!; track_pid $bus
+	wait_for 10 test -s "$TMP/pty" || not_ok "the DALI bus emulator did not start"
+}
+
+# DALI tests: dali_arc U prints the arc power level for a light output U
+# (0..1) by the standard logarithmic curve (IEC 62386-102; doc/hardware.md
+# section 2), nearest in ratio, 0 for off, clamped to 1..254.
+dali_arc() {
+	awk -v u="$1" 'BEGIN { if (u <= 0) { print 0; exit } n = 1 + (253 / 3) * (log(100 * u) / log(10) + 1); n = int(n + 0.5); if (n < 1) n = 1; if (n > 254) n = 254; print n }'
+}
+# dali_room: the loopback room the DALI tests close their loop through (its
+# sensor, gain 0.5 V per unit, 2 mV noise); written before [device dali]
+dali_room() {
+	printf '[device room]\ndriver = loopback\ngain = 0.5\nnoise = 0.002\n'
+}
+# dali_room_zone: the sections after [device dali]: the room's sensor and
+# lamp, the DALI gear as one broadcast point, and the zone dimming both
+# (its sensor gain the room's, a 10 % minimum)
+dali_room_zone() {
+	cat <<EOD
+[point sensor]
+device = room
+role = sensor
+[point lamp]
+device = room
+role = dim
+[point ballasts]
+device = dali
+role = dim
+address = broadcast
+[zone office]
+sensor = sensor
+dim = lamp ballasts
+sensor_gain = 0.5
+min_level = 0.1
+EOD
+}
+
 # The emulators (tests/emu, doc/emulation.md) run through umockdev's preload.
 # PRE: the preload library; EMU_ASAN: ASAN_OPTIONS that let the preload come
 # before a sanitizer's runtime (doc/emulation.md pitfall 10).

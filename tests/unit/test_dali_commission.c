@@ -181,15 +181,16 @@ static int run_until(struct fx *f, int (*pred)(struct fx *), double limit)
 {
 	double end = now_s() + limit;
 	for (;;) {
-		double t = now_s(), dl;
+		double t = now_s(), dl, m;
 		struct pollfd p = { f->dev.drv->fd(&f->dev), POLLIN | POLLOUT, 0 };
 		int ms;
-		f->dev.drv->service(&f->dev, t);
+		f->dev.drv->service(&f->dev, t, t);
 		if (pred(f))
 			return 1;
 		if (t >= end)
 			return 0;
-		dl = f->dev.drv->deadline(&f->dev);
+		m = INFINITY;   /* the driver's due time on either clock (the same here) */
+		dl = fmin(f->dev.drv->deadline(&f->dev, &m), m);
 		ms = isinf(dl) ? 20 : (int)fmax(0, fmin(20, (dl - t) * 1000));
 		poll(&p, p.fd >= 0, ms);
 	}
@@ -205,7 +206,7 @@ static int request_pts(struct fx *f, const char *line, int npts)
 	snprintf(buf, sizeof buf, "%s", line);
 	for (char *s = strtok(buf, " "); s && n < 8; s = strtok(NULL, " "))
 		w[n++] = s;
-	return f->dev.drv->command(&f->dev, n, w, pts, npts, now_s(), f->out, sizeof f->out);
+	return f->dev.drv->command(&f->dev, n, w, pts, npts, now_s(), now_s(), f->out, sizeof f->out);
 }
 
 static int request(struct fx *f, const char *line)
@@ -280,7 +281,7 @@ static void scan_reads_every_setting(void **state)
 	psemu_ballast_setup(f->emu, 0, 2, 0, 1);
 	open_dev(f, "frame_gap", "0", "fade_time", "2", NULL);
 	add_point(f, 0, "9");
-	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), 0.5), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), now_s(), 0.5), 0);
 	assert_true(run_until(f, is_idle, 3));
 	fade_clock += 5;   /* its 2 s fade to 229 is over */
 	run_job(f, "scan", 20);
@@ -509,7 +510,7 @@ static void zones_are_dimmed_between_search_frames(void **state)
 	assert_true(run_until(f, is_connected, 1));
 	while (job(f)->nfound < 1)
 		run_until(f, job_ended, 0.05);
-	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), 0.1), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), now_s(), 0.1), 0);
 	run_until(f, job_ended, 0.3);
 	/* the zone's level is on its ballast while the search goes on */
 	assert_int_equal(ballast(f, 0).level, 170);
@@ -599,7 +600,7 @@ static void identify_flashes_one_ballast_and_restores_it(void **state)
 	open_dev(f, "frame_gap", "0", NULL);
 	add_point(f, 0, "broadcast");
 	add_point(f, 1, "1");
-	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), 0.5), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), now_s(), 0.5), 0);
 	assert_true(run_until(f, is_idle, 3));
 	for (int s = 0; s < 6; s++)
 		before[s] = ballast(f, s).level_changes;
@@ -607,8 +608,8 @@ static void identify_flashes_one_ballast_and_restores_it(void **state)
 	run_until(f, job_ended, 0.7);
 	/* mid-flash: the broadcast point reaches slot 2, so its write waits; the
 	 * point at short 1 does not, and goes at once */
-	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), 0.3), 0);
-	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[1], now_s(), 0.1), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), now_s(), 0.3), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[1], now_s(), now_s(), 0.1), 0);
 	run_until(f, job_ended, 0.3);
 	assert_int_equal(job(f)->state, PS_DALI_COMMISSION_RUNNING);
 	assert_int_equal(ballast(f, 1).level, 170);
@@ -647,8 +648,8 @@ static void verify_reports_who_follows(void **state)
 	add_point(f, 0, "group 1");
 	add_point(f, 1, "3");
 	add_point(f, 2, "group 2");
-	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), 0.5), 0);
-	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[2], now_s(), 0.5), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[0], now_s(), now_s(), 0.5), 0);
+	assert_int_equal(f->dev.drv->write(&f->dev, &f->pt[2], now_s(), now_s(), 0.5), 0);
 	run_until(f, is_idle, 2);   /* short 3's frames fail: it is dead */
 	fade_clock += 5;
 	/* the zone's outputs are the first two points (as the daemon passes them) */

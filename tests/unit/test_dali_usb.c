@@ -241,15 +241,16 @@ static int run_until(struct fx *f, int (*pred)(struct fx *), double limit)
 {
 	double end = psd_time_mono() + limit;
 	for (;;) {
-		double t = psd_time_mono(), dl;
+		double t = psd_time_mono(), dl, m;
 		struct pollfd p = { f->dev.drv->fd(&f->dev), POLLIN | POLLOUT, 0 };
 		int ms;
-		f->dev.drv->service(&f->dev, t);
+		f->dev.drv->service(&f->dev, t, t);
 		if (pred(f))
 			return 1;
 		if (t >= end)
 			return 0;
-		dl = f->dev.drv->deadline(&f->dev);
+		m = INFINITY;   /* the driver's due time on either clock (the same here) */
+		dl = fmin(f->dev.drv->deadline(&f->dev, &m), m);
 		ms = isinf(dl) ? 20 : (int)fmax(0, fmin(20, (dl - t) * 1000));
 		poll(&p, p.fd >= 0, ms);
 	}
@@ -264,7 +265,7 @@ static struct psemu_ballast ballast(struct fx *f, int iface, int addr)
 
 static int dwrite(struct fx *f, int i, double v)
 {
-	return f->dev.drv->write(&f->dev, &f->pt[i], psd_time_mono(), v);
+	return f->dev.drv->write(&f->dev, &f->pt[i], psd_time_mono(), psd_time_mono(), v);
 }
 
 /* ---- the tests ----------------------------------------------------------------------- */
@@ -279,7 +280,10 @@ static void opens_detaches_and_claims(void **state)
 	assert_int_equal(st.connects, 1);
 	assert_true(f->dev.drv->fd(&f->dev) >= 0);
 	/* nothing to do yet: no deadline */
-	assert_true(isinf(f->dev.drv->deadline(&f->dev)));
+	{
+		double m = INFINITY;
+		assert_true(isinf(f->dev.drv->deadline(&f->dev, &m)) && isinf(m));
+	}
 }
 
 static void levels_reach_the_ballasts(void **state)
@@ -321,7 +325,7 @@ static void the_latest_write_wins_and_frames_keep_the_bus_rate(void **state)
 	for (int k = 1; k <= 40; k++) {
 		assert_int_equal(dwrite(f, 0, k / 40.0), 0);
 		assert_int_equal(dwrite(f, 1, 1 - k / 80.0), 0);
-		f->dev.drv->service(&f->dev, psd_time_mono());
+		f->dev.drv->service(&f->dev, psd_time_mono(), psd_time_mono());
 	}
 	assert_true(run_until(f, is_idle, 5));
 	assert_int_equal(ballast(f, 0, 0).level, 254);
@@ -354,17 +358,17 @@ static void query_answers_follow_the_fade(void **state)
 	assert_int_equal(ballast(f, 0, 0).target, 200);
 	fade_clock += 1.0;   /* half way: linear in level steps */
 	/* read() queues QUERY ACTUAL LEVEL and answers from the last reply */
-	r = f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
+	r = f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
 	assert_int_equal(r, -1);
 	assert_int_equal(errno, ETIMEDOUT);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
 	assert_int_equal(ps_dali_fraction_to_level(v), 150);
 	fade_clock += 1.5;
 	assert_true(run_until(f, is_idle, 3));   /* the query read() just queued */
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
 	assert_true(fabs(v - ps_dali_level_to_fraction(200)) < 1e-15);
 }
 
@@ -396,9 +400,9 @@ static void relay_points_switch(void **state)
 	for (int a = 0; a < 4; a++)
 		assert_int_equal(ballast(f, 0, a).level, 254);
 	/* all four answer 254 together: identical answers do not collide */
-	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
 	assert_true(v == 1.0);
 }
 
@@ -413,9 +417,9 @@ static void broadcast_query_collides(void **state)
 	assert_int_equal(dwrite(f, 0, 0.5), 0);
 	assert_true(run_until(f, is_idle, 3));
 	/* four ballasts answer 229, 254, 254, 254 at once: a framing error */
-	f->dev.drv->read(&f->dev, &f->pt[1], psd_time_mono(), &v);
+	f->dev.drv->read(&f->dev, &f->pt[1], psd_time_mono(), psd_time_mono(), &v);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[1], psd_time_mono(), &v), -1);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[1], psd_time_mono(), psd_time_mono(), &v), -1);
 	assert_int_equal(errno, EPROTO);
 	assert_non_null(strstr(f->dev.err, "garbled"));
 	assert_non_null(strstr(f->dev.err, "broadcast QUERY ACTUAL LEVEL"));
@@ -605,7 +609,7 @@ static void a_second_claim_is_refused(void **state)
 	snprintf(other.name, sizeof other.name, "other");
 	assert_int_equal(other.drv->open(&other, &none), 0);
 	assert_int_equal(other.drv->add_point(&other, &pt, &po), 0);
-	assert_int_equal(other.drv->write(&other, &pt, psd_time_mono(), 0.1), -1);
+	assert_int_equal(other.drv->write(&other, &pt, psd_time_mono(), psd_time_mono(), 0.1), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_non_null(strstr(other.err, "cannot claim it"));
 	assert_non_null(strstr(other.err, "busy"));
@@ -616,11 +620,11 @@ static void a_second_claim_is_refused(void **state)
 	/* released: the other one gets it at its next scan */
 	f->dev.drv->close(&f->dev);
 	f->open = 0;
-	for (int i = 0; i < 100 && other.drv->write(&other, &pt, psd_time_mono(), 0.1) != 0; i++) {
-		other.drv->service(&other, psd_time_mono());
+	for (int i = 0; i < 100 && other.drv->write(&other, &pt, psd_time_mono(), psd_time_mono(), 0.1) != 0; i++) {
+		other.drv->service(&other, psd_time_mono(), psd_time_mono());
 		poll(NULL, 0, 50);
 	}
-	assert_int_equal(other.drv->write(&other, &pt, psd_time_mono(), 0.1), 0);
+	assert_int_equal(other.drv->write(&other, &pt, psd_time_mono(), psd_time_mono(), 0.1), 0);
 	other.drv->close(&other);
 }
 
@@ -653,7 +657,7 @@ static void bad_options_name_file_and_line(void **state)
 	assert_non_null(strstr(f->dev.err, "dim and relay points and reads sensor and input points, not task"));
 	p.role = PS_ROLE_DIM;
 	assert_int_equal(f->dev.drv->add_point(&f->dev, &p, &po), 0);
-	assert_int_equal(f->dev.drv->write(&f->dev, &p, psd_time_mono(), 1.5), -1);
+	assert_int_equal(f->dev.drv->write(&f->dev, &p, psd_time_mono(), psd_time_mono(), 1.5), -1);
 	assert_int_equal(errno, EINVAL);
 }
 
@@ -811,9 +815,9 @@ static void another_masters_frame_is_not_an_answer(void **state)
 	assert_true(run_until(f, is_idle, 3));
 	fade_clock += 10;
 	psemu_fault(f->emu, 0, PSEMU_FAULT_OTHER_MASTER, 2);
-	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
 	assert_int_equal(ps_dali_fraction_to_level(v), 170);
 	st = stats(f);
 	assert_int_equal(st.retries, 0);
@@ -835,9 +839,9 @@ static void a_stale_report_is_not_an_answer(void **state)
 	assert_true(run_until(f, is_idle, 3));
 	fade_clock += 10;
 	psemu_fault(f->emu, 0, PSEMU_FAULT_STALE, 1);
-	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), &v), 0);
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
 	assert_int_equal(ps_dali_fraction_to_level(v), 170);   /* not 0x55 = 85 */
 	st = stats(f);
 	assert_int_equal(st.stray, 1);

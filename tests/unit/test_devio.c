@@ -2,8 +2,9 @@
 /* The I/O thread of a blocking device (daemon/devio.c), against a fake
  * driver whose reads and writes block like a slow Modbus module: the
  * caller never waits, results come back through the eventfd, queued writes
- * keep only the newest value, failures carry errno and message, and input
- * events reach the caller's thread. */
+ * keep only the newest value, failures carry errno and message, input
+ * events reach the caller's thread, and a due time on the monotonic clock
+ * is kept in real seconds however fast the room's clock runs. */
 #include <errno.h>
 #include <math.h>
 #include <poll.h>
@@ -27,6 +28,8 @@ struct fake {
 	double written[16];
 	int nwritten;
 	int serviced;
+	double mono_due;          /* > 0: service is due then on the monotonic clock */
+	double service_now, service_mono;   /* the clocks the last service ran at */
 };
 
 static void sleep_ms(int ms)
@@ -35,21 +38,23 @@ static void sleep_ms(int ms)
 	nanosleep(&ts, NULL);
 }
 
-static int fake_read(struct ps_dev *dev, struct ps_point *pt, double now, double *v)
+static int fake_read(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double *v)
 {
 	struct fake *f = dev->priv;
 	(void)pt;
 	(void)now;
+	(void)mono;
 	sleep_ms(f->read_ms);
 	*v = 42;
 	return 0;
 }
 
-static int fake_write(struct ps_dev *dev, struct ps_point *pt, double now, double v)
+static int fake_write(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double v)
 {
 	struct fake *f = dev->priv;
 	(void)pt;
 	(void)now;
+	(void)mono;
 	sleep_ms(f->write_ms);
 	if (f->gone)
 		return ps_dev_fail(dev, ENODEV, "fake %s: gone", dev->name);
@@ -58,15 +63,21 @@ static int fake_write(struct ps_dev *dev, struct ps_point *pt, double now, doubl
 	return 0;
 }
 
-static double fake_deadline(struct ps_dev *dev)
+static double fake_deadline(struct ps_dev *dev, double *mono)
 {
 	struct fake *f = dev->priv;
+	if (f->mono_due > 0) {
+		*mono = f->serviced ? INFINITY : f->mono_due;
+		return INFINITY;
+	}
 	return f->serviced ? INFINITY : -INFINITY;
 }
 
-static int fake_service(struct ps_dev *dev, double now)
+static int fake_service(struct ps_dev *dev, double now, double mono)
 {
 	struct fake *f = dev->priv;
+	f->service_now = now;
+	f->service_mono = mono;
 	f->serviced = 1;
 	dev->on_event(dev->event_user, dev, NULL, now, 1.0);   /* an input changed */
 	return 0;
@@ -180,6 +191,33 @@ static void failed_write_is_reported(void **state)
 	psd_devio_stop(r.io);
 }
 
+/* A driver's due time on the monotonic clock (a bus timeout) is met in
+ * real seconds although the room's clock runs 10000 times faster: not
+ * early (as if 0.1 s were 0.1 s of the room's clock, 10 us) and not late. */
+static void mono_deadline_in_real_seconds(void **state)
+{
+	struct rig r;
+	double t0;
+	(void)state;
+	memset(&r, 0, sizeof r);
+	r.dev.drv = &fake_driver;
+	r.dev.priv = &r.f;
+	r.dev.on_event = on_event;
+	snprintf(r.dev.name, sizeof r.dev.name, "dev");
+	t0 = psd_time_mono();
+	r.f.mono_due = t0 + 0.1;
+	psd_clock_real(&r.clock, 0, 10000);
+	r.io = psd_devio_start(&r.dev, r.pts, 2, &r.clock);
+	assert_non_null(r.io);
+	assert_true(woken(&r));   /* the service's event */
+	psd_devio_stop(r.io);
+	assert_int_equal(r.f.serviced, 1);
+	assert_true(r.f.service_mono >= t0 + 0.1);   /* not before it was due */
+	assert_true(r.f.service_mono < t0 + 1.0);    /* and not left waiting */
+	/* the room's clock went on 10000 times faster meanwhile */
+	assert_true(r.f.service_now >= 0.1 * 10000 * 0.9);
+}
+
 static void events_reach_the_caller(void **state)
 {
 	struct rig r;
@@ -201,6 +239,7 @@ int main(void)
 		cmocka_unit_test(writes_keep_the_newest),
 		cmocka_unit_test(failed_write_is_reported),
 		cmocka_unit_test(events_reach_the_caller),
+		cmocka_unit_test(mono_deadline_in_real_seconds),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -197,29 +197,29 @@ static void file_driver(void **state)
 	assert_int_equal(errno, EINVAL);
 	assert_string_equal(dev.err, "t.conf:5: file: no input points (sensor, task, dim and relay)");
 	/* no file yet: the device is gone, a fault at once */
-	assert_int_equal(drv->read(&dev, &s, 0, &v), -1);
+	assert_int_equal(drv->read(&dev, &s, 0, 0, &v), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_true(ps_dev_fault_at_once(errno));
 	snprintf(path, sizeof path, "%s/light", dir);
 	put(path, "1.25\n");
-	assert_int_equal(drv->read(&dev, &s, 0, &v), 0);
+	assert_int_equal(drv->read(&dev, &s, 0, 0, &v), 0);
 	assert_near(v, 2.5, 0);   /* times scale */
 	/* half a number is a garbled reply: a fault only once stale */
 	put(path, "1.2x");
-	assert_int_equal(drv->read(&dev, &s, 0, &v), -1);
+	assert_int_equal(drv->read(&dev, &s, 0, 0, &v), -1);
 	assert_int_equal(errno, EPROTO);
 	assert_false(ps_dev_fault_at_once(errno));
 	/* an output writes its level over scale, and reads it back */
-	assert_int_equal(drv->write(&dev, &d, 0, 0.5), 0);
+	assert_int_equal(drv->write(&dev, &d, 0, 0, 0.5), 0);
 	snprintf(path, sizeof path, "%s/lamps", dir);
 	fp = fopen(path, "r");
 	assert_non_null(fp);
 	assert_non_null(fgets(text, sizeof text, fp));
 	fclose(fp);
 	assert_string_equal(text, "0.25\n");
-	assert_int_equal(drv->read(&dev, &d, 0, &v), 0);
+	assert_int_equal(drv->read(&dev, &d, 0, 0, &v), 0);
 	assert_near(v, 0.5, 0);
-	assert_int_equal(drv->write(&dev, &s, 0, 0.5), -1);   /* a sensor is not an output */
+	assert_int_equal(drv->write(&dev, &s, 0, 0, 0.5), -1);   /* a sensor is not an output */
 	drv->close(&dev);
 	unlink(path);
 	snprintf(path, sizeof path, "%s/light", dir);

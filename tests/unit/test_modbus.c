@@ -192,20 +192,20 @@ static void reads_writes_and_scales(void **state)
 	srv.map->tab_registers[7] = 0x0002;
 	srv.map->tab_registers[8] = 0x06f6;
 	srv.map->tab_input_bits[1] = 1;
-	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 0, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 0, 0, &v), 0);
 	assert_true(fabs(v - 32768 * 10.0 / 65535) < 1e-12);
-	assert_int_equal(ps_driver_modbus.read(&dev, &pl, 0, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &pl, 0, 0, &v), 0);
 	assert_true(v == 132854);
-	assert_int_equal(ps_driver_modbus.read(&dev, &pi, 0, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &pi, 0, 0, &v), 0);
 	assert_true(v == 1);
-	assert_int_equal(ps_driver_modbus.write(&dev, &pd, 0, 0.5), 0);
+	assert_int_equal(ps_driver_modbus.write(&dev, &pd, 0, 0, 0.5), 0);
 	assert_int_equal(srv.map->tab_registers[10], 2048);
-	assert_int_equal(ps_driver_modbus.read(&dev, &pd, 0, &v), 0);   /* read back */
+	assert_int_equal(ps_driver_modbus.read(&dev, &pd, 0, 0, &v), 0);   /* read back */
 	assert_true(fabs(v - 2048 / 4095.0) < 1e-12);
-	assert_int_equal(ps_driver_modbus.write(&dev, &pr, 0, 1), 0);
+	assert_int_equal(ps_driver_modbus.write(&dev, &pr, 0, 0, 1), 0);
 	assert_int_equal(srv.map->tab_bits[16], 1);
 	/* an input cannot be written */
-	assert_int_equal(ps_driver_modbus.write(&dev, &ps, 0, 1), -1);
+	assert_int_equal(ps_driver_modbus.write(&dev, &ps, 0, 0, 1), -1);
 	assert_int_equal(errno, EINVAL);
 	/* five points, one connection */
 	assert_int_equal(atomic_load(&srv.accepted), 1);
@@ -227,21 +227,21 @@ static void exceptions_and_range_are_clear_faults(void **state)
 	add(&dev, &b, PS_ROLE_SENSOR, twelve);
 	add(&dev, &c, PS_ROLE_SENSOR, ok);
 	before = atomic_load(&srv.requests);
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, 0, &v), -1);
 	assert_int_equal(errno, EPROTO);
 	assert_string_equal(dev.err, "modbus io1 unit 1 IR 500: exception 2 (illegal data address)");
 	/* an exception is an answer: not asked again */
 	assert_int_equal(atomic_load(&srv.requests), before + 1);
 	srv.map->tab_input_registers[2] = 0xffff;
-	assert_int_equal(ps_driver_modbus.read(&dev, &b, 0, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &b, 0, 0, &v), -1);
 	assert_int_equal(errno, ERANGE);
 	assert_string_equal(dev.err, "modbus io1 unit 1 IR 2: raw 65535 outside 0 to 4095");
 	atomic_store(&srv.mode, EXCEPTION);
-	assert_int_equal(ps_driver_modbus.read(&dev, &c, 0, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &c, 0, 0, &v), -1);
 	assert_int_equal(errno, EPROTO);
 	assert_string_equal(dev.err, "modbus io1 unit 1 IR 0: exception 4 (server device failure)");
 	atomic_store(&srv.mode, NORMAL);
-	assert_int_equal(ps_driver_modbus.read(&dev, &c, 0, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &c, 0, 0, &v), 0);
 	ps_driver_modbus.close(&dev);
 }
 
@@ -256,7 +256,7 @@ static void silence_times_out_then_reconnects(void **state)
 	add(&dev, &a, PS_ROLE_SENSOR, ok);
 	atomic_store(&srv.mode, SILENT);
 	t0 = psd_time_mono();
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, 0, &v), -1);
 	took = psd_time_mono() - t0;
 	assert_int_equal(errno, ETIMEDOUT);
 	assert_string_equal(dev.err, "modbus io1 unit 1 IR 0: no reply within 0.050 s");
@@ -267,7 +267,7 @@ static void silence_times_out_then_reconnects(void **state)
 	assert_int_equal(atomic_load(&srv.accepted), 2);
 	atomic_store(&srv.mode, NORMAL);
 	srv.map->tab_input_registers[0] = 65535;
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, 0, &v), 0);
 	assert_true(v == 10);
 	assert_int_equal(atomic_load(&srv.accepted), 3);
 	ps_driver_modbus.close(&dev);
@@ -283,12 +283,12 @@ static void garbage_is_a_protocol_error(void **state)
 	open_dev(&dev, "retries=0", NULL);
 	add(&dev, &a, PS_ROLE_SENSOR, ok);
 	atomic_store(&srv.mode, GARBAGE);
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, 0, &v), -1);
 	assert_int_equal(errno, EPROTO);
 	assert_non_null(strstr(dev.err, "modbus io1 unit 1 IR 0: garbled reply"));
 	atomic_store(&srv.mode, NORMAL);
 	srv.map->tab_input_registers[0] = 0;
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 1, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 1, 1, &v), 0);
 	assert_true(v == 0);
 	ps_driver_modbus.close(&dev);
 }
@@ -303,39 +303,39 @@ static void lost_device_backs_off_on_the_callers_clock(void **state)
 	(void)state;
 	open_dev(&dev, "retries=0", NULL);   /* backoff 1 s doubling to 8 s */
 	add(&dev, &a, PS_ROLE_SENSOR, ok);
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 100, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 100, 100, &v), 0);
 	/* the module hangs up, then goes away */
 	atomic_store(&srv.mode, HANGUP);
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 100, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 100, 100, &v), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_non_null(strstr(dev.err, "modbus io1 unit 1 IR 0: connection lost"));
 	server_stop();
 	atomic_store(&srv.mode, NORMAL);
 	before = atomic_load(&srv.accepted);
 	/* before the backoff has passed: no attempt at all */
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 100.5, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 100.5, 100.5, &v), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_non_null(strstr(dev.err, "not connected"));
 	assert_non_null(strstr(dev.err, "next attempt in 0.5 s"));
 	/* at 101 it tries, is refused, and waits 2 s; then 4 s; then 8 s (the cap) */
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 101, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 101, 101, &v), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_non_null(strstr(dev.err, "cannot connect"));
 	assert_non_null(strstr(dev.err, "next attempt in 2.0 s"));
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 102.9, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 102.9, 102.9, &v), -1);
 	assert_non_null(strstr(dev.err, "not connected"));
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 103, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 103, 103, &v), -1);
 	assert_non_null(strstr(dev.err, "next attempt in 4.0 s"));
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 107, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 107, 107, &v), -1);
 	assert_non_null(strstr(dev.err, "next attempt in 8.0 s"));
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 115, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 115, 115, &v), -1);
 	assert_non_null(strstr(dev.err, "next attempt in 8.0 s"));
 	/* the module is back; the driver finds it at the next due attempt */
 	server_start(port);
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 120, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 120, 120, &v), -1);
 	assert_non_null(strstr(dev.err, "not connected"));
 	srv.map->tab_input_registers[0] = 13107;
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 123, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 123, 123, &v), 0);
 	assert_true(fabs(v - 2) < 1e-12);
 	assert_int_equal(atomic_load(&srv.accepted), before + 1);
 	ps_driver_modbus.close(&dev);
@@ -370,28 +370,28 @@ static void polled_points_and_input_events(void **state)
 	dev.event_user = &ev;
 	add(&dev, &pi, PS_ROLE_INPUT, in);
 	add(&dev, &ps, PS_ROLE_SENSOR, sensor);
-	assert_true(ps_driver_modbus.deadline(&dev) <= 0);   /* due at once */
+	assert_true(ps_driver_modbus.deadline(&dev, &(double){ INFINITY }) <= 0);   /* due at once */
 	srv.map->tab_input_registers[3] = 65535;
-	assert_int_equal(ps_driver_modbus.service(&dev, 10), 0);
+	assert_int_equal(ps_driver_modbus.service(&dev, 10, 10), 0);
 	assert_int_equal(ev.n, 1);   /* the first poll reports the state */
 	assert_true(ev.last == 0);
-	assert_true(ps_driver_modbus.deadline(&dev) == 11);
+	assert_true(ps_driver_modbus.deadline(&dev, &(double){ INFINITY }) == 11);
 	srv.map->tab_input_bits[0] = 1;
 	srv.map->tab_input_registers[3] = 0;
-	assert_int_equal(ps_driver_modbus.service(&dev, 11), 0);
+	assert_int_equal(ps_driver_modbus.service(&dev, 11, 11), 0);
 	assert_int_equal(ev.n, 2);
 	assert_true(ev.last == 1);
 	/* the sensor was polled at 10 (10 V): read answers from that poll while
 	 * it is not older than its period, although the module now says 0 V */
-	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 11.5, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 11.5, 11.5, &v), 0);
 	assert_true(v == 10);
-	assert_int_equal(ps_driver_modbus.service(&dev, 12), 0);   /* no change, no event */
+	assert_int_equal(ps_driver_modbus.service(&dev, 12, 12), 0);   /* no change, no event */
 	assert_int_equal(ev.n, 2);
-	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 12.5, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 12.5, 12.5, &v), 0);
 	assert_true(v == 0);
 	/* with no service for longer than the period, read asks the module */
 	srv.map->tab_input_registers[3] = 13107;
-	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 14.5, &v), 0);
+	assert_int_equal(ps_driver_modbus.read(&dev, &ps, 14.5, 14.5, &v), 0);
 	assert_true(fabs(v - 2) < 1e-12);
 	ps_driver_modbus.close(&dev);
 }
@@ -439,7 +439,7 @@ static void rtu_device_absent_is_enodev(void **state)
 	snprintf(dev.name, sizeof dev.name, "meter");
 	assert_int_equal(ps_driver_modbus.open(&dev, opts(&s, kv)), 0);   /* may be plugged in later */
 	add(&dev, &a, PS_ROLE_TASK_LUX, ok);
-	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, &v), -1);
+	assert_int_equal(ps_driver_modbus.read(&dev, &a, 0, 0, &v), -1);
 	assert_int_equal(errno, ENODEV);
 	assert_non_null(strstr(dev.err, "modbus meter (/nonexistent/ttyUSB9): cannot connect"));
 	assert_non_null(strstr(dev.err, "next attempt in 5.0 s"));

@@ -165,8 +165,8 @@ static void occupancy_input_day(void **state)
 		assert_int_equal(dev.drv->setup(&dev, &p, 0), 0);
 		assert_int_equal(dev.drv->add_point(&dev, &pt, &popts), 0);
 		for (double t = 0; t < 86400;) {
-			dev.drv->service(&dev, t);
-			t = dev.drv->deadline(&dev);
+			dev.drv->service(&dev, t, t);
+			t = dev.drv->deadline(&dev, &(double){ INFINITY });
 			assert_true(t > 0);
 		}
 		dev.drv->close(&dev);
@@ -175,15 +175,15 @@ static void occupancy_input_day(void **state)
 			assert_int_equal(dev.drv->setup(&dev, &p, 0), 0);
 			assert_int_equal(dev.drv->add_point(&dev, &pt, &popts), 0);
 			for (int i = 0; i < ev.n && i < 64; i++) {
-				assert_int_equal(dev.drv->read(&dev, &pt, ev.t[i], &v), 0);
+				assert_int_equal(dev.drv->read(&dev, &pt, ev.t[i], ev.t[i], &v), 0);
 				assert_int_equal((int)v, ev.value[i]);
 			}
-			assert_int_equal(dev.drv->read(&dev, &pt, 7 * 3600, &v), 0);
+			assert_int_equal(dev.drv->read(&dev, &pt, 7 * 3600, 7 * 3600, &v), 0);
 			assert_true(v == 0);
-			assert_int_equal(dev.drv->read(&dev, &pt, 13 * 3600, &v), 0);
+			assert_int_equal(dev.drv->read(&dev, &pt, 13 * 3600, 13 * 3600, &v), 0);
 			assert_true(v == 0);
 			errno = 0;
-			assert_int_equal(dev.drv->read(&dev, &pt, 14.5 * 3600, &v), -1);
+			assert_int_equal(dev.drv->read(&dev, &pt, 14.5 * 3600, 14.5 * 3600, &v), -1);
 			assert_int_equal(errno, ENODEV);
 			dev.drv->close(&dev);
 		}

@@ -156,7 +156,7 @@ static struct pt *point(const char *name)
 
 static int rd(struct pt *p, double now, double *v)
 {
-	return p->dev->d.drv->read(&p->dev->d, &p->p, now, v);
+	return p->dev->d.drv->read(&p->dev->d, &p->p, now, now, v);
 }
 
 static int cmd_read(int argc, char **argv, double t0)
@@ -182,7 +182,7 @@ static int cmd_read(int argc, char **argv, double t0)
 
 static int cmd_write(struct pt *p, double value, double t0)
 {
-	if (p->dev->d.drv->write(&p->dev->d, &p->p, psd_time_mono() - t0, value) != 0) {
+	if (p->dev->d.drv->write(&p->dev->d, &p->p, psd_time_mono() - t0, psd_time_mono() - t0, value) != 0) {
 		int e = errno;
 		printf("%s: %s: %s\n", p->p.name, errname(e), p->dev->d.err);
 		return 1;
@@ -268,7 +268,7 @@ static int cmd_control(double seconds, double t0)
 		level = fault ? safe : psd_control_step(&ctl, volts, now);
 		if (fault)
 			ctl.level = safe;
-		if (dim->dev->d.drv->write(&dim->dev->d, &dim->p, now, level) != 0)
+		if (dim->dev->d.drv->write(&dim->dev->d, &dim->p, now, now, level) != 0)
 			snprintf(why + strlen(why), sizeof why - strlen(why), "%swrite %s %s", *why ? "; " : "",
 			         errname(errno), dim->dev->d.err);
 		if (clock)
@@ -344,13 +344,13 @@ static int cmd_bench(long n, struct pt *p, double t0)
 		}
 		end = psd_time_mono() + 1.0;
 		for (;;) {
-			double due = d.drv->deadline(&d) + t0, after;
+			double due = d.drv->deadline(&d, &(double){ INFINITY }) + t0, after;
 			if (isinf(due))
 				due = psd_time_mono();   /* the first poll is due at once */
 			if (due > end)
 				break;
 			sleep_until(due);
-			d.drv->service(&d, psd_time_mono() - t0);
+			d.drv->service(&d, psd_time_mono() - t0, psd_time_mono() - t0);
 			after = psd_time_mono();
 			polls++;
 			/* finished after the next poll was due: a missed deadline */
