@@ -14,8 +14,9 @@
 # Last, psensd killed with SIGKILL while it holds samples under the lock:
 # the next start says at LOG_ERR how many were lost and records a "log
 # gap" with that count, which is the samples taken less the rows on record
-# (bounded by the status read just before the kill: at least the samples
-# held then, at most those plus the steps the wall time since allows).
+# (bounded by the status read before the kill: at least the samples held
+# then, once the state file has counted them, at most those plus the steps
+# the wall time since allows).
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 PY=/usr/bin/python3
@@ -145,6 +146,10 @@ sleep 1
 zones=$(field "len(d['zones'])")
 t0=$(date +%s.%N)
 set -- $(field "'%d %d' % (d['logged'], d['log']['held'])")
+# the writer counts what is held into the state file at its next turn (a
+# write attempt waits up to 100 ms on the lock first: psensd(8)); kill
+# once the file has caught up with the status read
+wait_for 5 awk -v h="$2" '$1 == "held" { exit !($2 >= h) }' "$DB.held"
 kill -KILL "$PID"
 t1=$(date +%s.%N)
 wait "$PID"
