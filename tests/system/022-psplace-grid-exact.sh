@@ -45,52 +45,23 @@ for fig in min p50; do
 		-w "$W" -s builtin:cosine -r 360 -a setpoint -p 3600 -T 0 -t $fig -o "$TMP/$fig.json" \
 		-x "$TMP/$fig.results" -y "$TMP/$fig.csv" > "$TMP/$fig.out" 2> "$TMP/err"
 	check "psplace -t $fig runs" test $? = 0
-	python3 - "$fig" "$TMP/$fig.json" "$TMP/$fig.results" "$TMP/$fig.csv" > "$TMP/$fig.cmp" 2>&1 <<'EOF'
+	PYTHONPATH="$TOP/tests/system" python3 - "$fig" "$TMP/$fig.json" "$TMP/$fig.results" "$TMP/$fig.csv" \
+		> "$TMP/$fig.cmp" 2>&1 <<'EOF'
 import json, sys
+from roomgrid import elec_lux, year_hours, daylight, occupied_hours
 fig, js, res, csv = sys.argv[1:]
 d = json.load(open(js)); c = d['combinations'][0]
 target = d['target_lux']
 scale = (1.0, 0.5, 2.0)
-elec = [179.0 * (0.265074126 * x + 0.670114631 * x + 0.064811243 * x) for x in (4.0, 6.0, 3.2)]
+elec = elec_lux((4.0, 6.0, 3.2))
 def figure(v):
     v = sorted(v)
     return v[0] if fig == 'min' else v[1]   # p50 of three points: the second (nearest rank)
-# the hours with light: the daylight figure is figure(scale) x the first point's
-hours = {}
-inyear = False
-for line in open(res):
-    if line.startswith('['):
-        inyear = line.strip() == '[year_hours]'
-        continue
-    if inyear and line.startswith('h'):
-        f = line.split('=')[1].split()
-        m, dd, h, task = int(f[0]), int(f[1]), float(f[2]), float(f[4])
-        hours.setdefault((m, dd), []).append((3600.0 * h, task / figure(scale)))
-# the day's points as the room makes them: dark an hour before the first and after the last
-def daylight(day, tod):
-    hs = hours.get(day)
-    if not hs:
-        return 0.0
-    step = 3600.0
-    if len(hs) > 1 and 0 < hs[1][0] - hs[0][0] < step:
-        step = hs[1][0] - hs[0][0]
-    pts = [(max(0.0, hs[0][0] - step), 0.0)] + hs + [(min(86400.0, hs[-1][0] + step), 0.0)]
-    if tod < pts[0][0] or tod > pts[-1][0]:
-        return 0.0
-    for (t0, v0), (t1, v1) in zip(pts, pts[1:]):
-        if t0 <= tod <= t1:
-            return v0 + (tod - t0) / (t1 - t0) * (v1 - v0)
-    return 0.0
-rows = [l.split(',') for l in open(csv).read().split()[1:]]
-occ = c['occupied_h'] / 365.0
+hours = year_hours(res, figure(scale))
 below = {'exact': 0, 'bound': 0}
 deficit = 0.0
-for r in rows:
-    m, dd, he, out = int(r[0]), int(r[1]), int(r[2]), float(r[3])
-    t = 3600.0 * (he - 1)
-    if not (8 * 3600 <= t < (8 + occ) * 3600):
-        continue
-    D = daylight((m, dd), t + 1e-3)
+for m, dd, t, out in occupied_hours(csv, c['occupied_h'] / 365.0):
+    D = daylight(hours, (m, dd), t + 1e-3)
     exact = figure([a * D + out * e for a, e in zip(scale, elec)])
     bound = figure(scale) * D + out * figure(elec)
     below['exact'] += exact < 0.9 * target
