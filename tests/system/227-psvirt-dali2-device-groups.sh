@@ -20,17 +20,8 @@ S="$TMP/sock"
 mb=$(free_port)
 psvirt_dali --tcp "127.0.0.1:$mb" --start 12:00
 { printf '[psensd]\nresults = ofb.results\ndatabase = psensd.db\nsocket = sock\nperiod = 1\n'
+psvirt_devices
 cat <<EOF2
-[device io]
-driver = modbus
-host = 127.0.0.1
-port = $mb
-timeout = 0.5
-[device dali]
-driver = dali_usb
-transport = foxtron
-device = 127.0.0.1:$port
-timeout = 0.5
 [point sensor]
 device = io
 role = sensor

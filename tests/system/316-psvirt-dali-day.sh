@@ -24,17 +24,8 @@ psvirt_dali --tcp "127.0.0.1:$mb" \
 	--date 03-18 --sunrise 06:00 --sunset 18:30 --start 05:00 --speed 3600 \
 	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 -D lag_tau=0
 { printf '[psensd]\nresults = ofb.results\ndatabase = day.db\nsocket = sock\nperiod = 60\n'
+psvirt_devices
 cat <<EOF
-[device io]
-driver = modbus
-host = 127.0.0.1
-port = $mb
-timeout = 0.5
-[device dali]
-driver = dali_usb
-transport = foxtron
-device = 127.0.0.1:$port
-timeout = 0.5
 [point sensor]
 device = io
 role = sensor

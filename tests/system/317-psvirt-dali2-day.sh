@@ -27,53 +27,10 @@ psvirt_dali --tcp "127.0.0.1:$mb" \
 	--date 03-18 --sunrise 06:00 --sunset 18:30 --start 07:30 --speed 600 --dali-occupancy 08:00-12:00 \
 	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 -D lag_tau=0
 { printf '[psensd]\nresults = ofb.results\ndatabase = day.db\nsocket = sock\nperiod = 10\n'
-cat <<EOF2
-[device io]
-driver = modbus
-simulated = psvirt
-host = 127.0.0.1
-port = $mb
-timeout = 0.5
-[device dali]
-driver = dali_usb
-simulated = psvirt
-transport = foxtron
-device = 127.0.0.1:$port
-timeout = 0.5
-[point light]
-device = dali
-role = sensor
-device_address = 0
-report_time = 5
-valid_max = 1023
-sensor_saturation = 1023
-[point occupancy]
-device = dali
-role = input
-action = occupancy
-device_address = 0
-report_time = 5
-[point lux]
-device = io
-role = task
-table = holding_register
-address = 100
-type = u32
-[point ballasts]
-device = dali
-role = dim
-address = broadcast
-[zone office]
-sensor = light
-task = lux
-dim = ballasts
-input = occupancy
-algorithm = setpoint
-target_lux = 500
-min_level = 0.1
-sensor_gain = 51.15
-vacancy_hold = 120
-EOF2
+psvirt_devices psvirt
+dali2_multisensor 5
+dali2_office
+echo 'vacancy_hold = 120'
 } > "$TMP/day.conf"
 timeout 8 "$BIN/psensd" -f "$TMP/day.conf" -t 07:30 -x 600 > "$TMP/out" 2> "$TMP/err"
 q() { sqlite3 "$TMP/day.db" "$1"; }

@@ -36,57 +36,11 @@ virt() {  # virt START SPEED: psvirt's room from START
 		-D gain=0.5 -D offset=0.05 -D noise=0 -D task_noise=2 -D seed=7 -D lag_tau=0 -D fade_rate=0
 }
 conf() {
+	printf '[psensd]\nresults = ofb.results\ndatabase = cal.db\nsocket = sock\nperiod = 60\n'
+	psvirt_devices psvirt
+	dali2_multisensor 2 "deadtime = 0.1"
+	dali2_office
 	cat <<EOF2
-[psensd]
-results = ofb.results
-database = cal.db
-socket = sock
-period = 60
-[device io]
-driver = modbus
-simulated = psvirt
-host = 127.0.0.1
-port = $mb
-timeout = 0.5
-[device dali]
-driver = dali_usb
-simulated = psvirt
-transport = foxtron
-device = 127.0.0.1:$port
-timeout = 0.5
-[point light]
-device = dali
-role = sensor
-device_address = 0
-report_time = 2
-deadtime = 0.1
-valid_max = 1023
-sensor_saturation = 1023
-[point occupancy]
-device = dali
-role = input
-action = occupancy
-device_address = 0
-report_time = 2
-[point lux]
-device = io
-role = task
-table = holding_register
-address = 100
-type = u32
-[point ballasts]
-device = dali
-role = dim
-address = broadcast
-[zone office]
-sensor = light
-task = lux
-dim = ballasts
-input = occupancy
-algorithm = setpoint
-target_lux = 500
-min_level = 0.1
-sensor_gain = 51.15
 cal_window = 600
 cal_day_interval = 120
 EOF2

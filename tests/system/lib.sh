@@ -75,6 +75,57 @@ psvirt_dali() {
 	port=$(sed -n 's/^dali-tcp //p' "$TMP/ready")
 }
 
+# psvirt_devices [SIMULATED]: the [device io] (psvirt's Modbus module on
+# port $mb) and [device dali] (its DALI bus, a Foxtron DALInet on $port)
+# sections; with an argument, each says `simulated = SIMULATED` (the
+# record then says the site was simulated)
+psvirt_devices() {
+	_sim=${1:+"simulated = $1
+"}
+	printf '[device io]\ndriver = modbus\n%shost = 127.0.0.1\nport = %s\ntimeout = 0.5\n' "$_sim" "$mb"
+	printf '[device dali]\ndriver = dali_usb\n%stransport = foxtron\ndevice = 127.0.0.1:%s\ntimeout = 0.5\n' "$_sim" "$port"
+}
+
+# dali2_multisensor T_REPORT [LINE...]: psvirt's multisensor (control
+# device 0) as [point light], its 304 light sensor (10-bit, saturating at
+# 1023), and [point occupancy], its 303, both reporting every T_REPORT s;
+# each LINE ("key = value") goes into the light point too
+dali2_multisensor() {
+	_rep=$1; shift
+	printf '[point light]\ndevice = dali\nrole = sensor\ndevice_address = 0\nreport_time = %s\n' "$_rep"
+	for _l in "$@"; do printf '%s\n' "$_l"; done
+	printf 'valid_max = 1023\nsensor_saturation = 1023\n'
+	printf '[point occupancy]\ndevice = dali\nrole = input\naction = occupancy\ndevice_address = 0\nreport_time = %s\n' "$_rep"
+}
+
+# dali2_office: the task meter (psvirt's register 100), the gear as one
+# broadcast point and the zone on the multisensor's points, setpoint
+# control at 500 lx with the room's sensor gain in 304 counts (0.5 V x
+# 102.3 counts per volt); a test appends its own zone keys
+dali2_office() {
+	cat <<EOD
+[point lux]
+device = io
+role = task
+table = holding_register
+address = 100
+type = u32
+[point ballasts]
+device = dali
+role = dim
+address = broadcast
+[zone office]
+sensor = light
+task = lux
+dim = ballasts
+input = occupancy
+algorithm = setpoint
+target_lux = 500
+min_level = 0.1
+sensor_gain = 51.15
+EOD
+}
+
 # dalibus_pty LOG ARGS...: the emulated DALI bus (peers/dalibus.py, written
 # from the standards' facts) behind an interface on a pty, its path in
 # $TMP/pty, its output in LOG, its other options ARGS (--codec, --gear,
