@@ -26,7 +26,7 @@ ctl() { "$BIN/psensctl" -s "$S" "$@"; }
 # run WRITES: psensd with [bacnet] on a free port, the peer against it
 # (WRITES 2: writes on, the sensor open from 08:01 to 11:00)
 run() {
-	port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+	port=$(free_udp_port)
 	f="/^faults = /d"; [ "$1" = 2 ] && f="s|^faults = .*|faults = open 08:01-11:00|"
 	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd$1.db\nsocket = sock|; $f" \
 		config/psensd.conf > "$TMP/psensd.conf"

@@ -14,15 +14,14 @@
 command -v node > /dev/null || skip_all "node is not installed (make deps: nodejs)"
 example_results
 S="$TMP/sock"
-udp_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'; }
 conf() {   # conf BBMD: psensd with [bacnet] on a free port, a foreign device of BBMD
-	port=$(udp_port)
+	port=$(free_udp_port)
 	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd.db\nsocket = sock|; /^faults = /d" \
 		config/psensd.conf > "$TMP/psensd.conf"
 	printf '\n[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 2642\nbbmd = %s\nbbmd_ttl = 10\n' "$port" "$1" >> "$TMP/psensd.conf"
 }
 
-bport=$(udp_port)
+bport=$(free_udp_port)
 node "$TOP/tests/peers/bbmd-peer.js" "$bport" 2642 10 > "$TMP/peer" 2>&1 &
 PEER=$!; track_pid $PEER
 sleep 0.3
@@ -40,7 +39,7 @@ check "psensd still answers the control socket" sh -c "\"$BIN/psensctl\" -s \"$S
 kill "$PID"; wait "$PID" 2> /dev/null
 
 # a BBMD that never answers (nothing listens on its port)
-conf "127.0.0.1:$(udp_port)"
+conf "127.0.0.1:$(free_udp_port)"
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 > "$TMP/out2" 2> "$TMP/err2" &
 PID=$!; track_pid $PID
 wait_for 10 "$BIN/psensctl" -s "$S" ping > /dev/null

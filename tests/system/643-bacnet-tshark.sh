@@ -20,7 +20,7 @@ command -v node > /dev/null || skip_all "node is not installed (make deps: nodej
 [ "$(id -u)" = 0 ] || skip_all "capturing on lo needs root"
 example_results
 S="$TMP/sock"
-port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+port=$(free_udp_port)
 sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd.db\nsocket = sock|; /^faults = /d" \
 	config/psensd.conf > "$TMP/psensd.conf"
 printf '\n[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 2643\nwrites = lighting-output\nrate = 100000\n' "$port" >> "$TMP/psensd.conf"

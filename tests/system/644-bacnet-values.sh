@@ -39,7 +39,7 @@ print(int(z) if isinstance(z, float) and z == int(z) else z)' "$1"
 # start MODE: psensd with [bacnet] on a free port (MODE 0: writes =
 # lighting-output; 2: the sensor open from 08:01 to 11:00; else every write)
 start() {
-	port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+	port=$(free_udp_port)
 	f="/^faults = /d"; [ "$1" = 2 ] && f="s|^faults = .*|faults = open 08:01-11:00|"
 	sed "s|^results = .*|results = state/ofb.results|; s|^database = .*|database = state/psensd$1.db\nsocket = sock|; $f" \
 		config/psensd.conf > "$TMP/psensd.conf"
@@ -113,7 +113,7 @@ check "a word [bacnet] writes does not know is refused with its line" \
 # 12:00, no random absences) from 11:30, the hold written down from 900 s
 # to 120 s before noon: the lights reach the vacant level (0) within the
 # hold plus one period (60 s) of the vacancy, not after 900 s
-port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+port=$(free_udp_port)
 sed -e "s|^scene = .*|scene = example/ofb.scene|; s|^results = .*|results = state/ofb.results|" \
     -e "s|^database = .*|database = state/occ.db\nsocket = sock|; s|^absences = .*|absences = 0|" \
 	config/example/occupancy.conf > "$TMP/occ.conf"

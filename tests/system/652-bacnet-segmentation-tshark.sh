@@ -21,19 +21,9 @@ command -v node > /dev/null || skip_all "node is not installed (make deps: nodej
 [ "$(id -u)" = 0 ] || skip_all "capturing on lo needs root"
 example_results
 S="$TMP/sock"
-mkdir -p "$TMP/files"
-port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+port=$(free_udp_port)
 {
-	printf '[psensd]\nresults = state/ofb.results\nsocket = sock\nperiod = 60\nsafe_level = 1\n'
-	z=0
-	while [ $z -lt 100 ]; do   # 15 zones a device: the file driver takes 32 points
-		[ $((z % 15)) = 0 ] && printf '[device files%d]\ndriver = file\ndir = files\n' $((z / 15))
-		echo "1.$z" > "$TMP/files/s$z"
-		printf '[point s%d]\ndevice = files%d\nrole = sensor\npath = s%d\n' $z $((z / 15)) $z
-		printf '[point d%d]\ndevice = files%d\nrole = dim\npath = d%d\n' $z $((z / 15)) $z
-		printf '[zone z%d]\nsensor = s%d\ndim = d%d\ntarget_lux = 500\nsensor_gain = 0.5\n' $z $z $z
-		z=$((z + 1))
-	done
+	file_zones 100
 	printf '[bacnet]\nbind = 127.0.0.1\nport = %s\ninstance = 652\nrate = 100000\n' "$port"
 } > "$TMP/many.conf"
 tshark -i lo -f "udp port $port" -w "$TMP/cap.pcapng" > "$TMP/tshark.out" 2>&1 &

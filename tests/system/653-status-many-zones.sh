@@ -12,19 +12,7 @@
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 example_results
 S="$TMP/sock"
-mkdir -p "$TMP/files"
-{
-	printf '[psensd]\nresults = state/ofb.results\nsocket = sock\nperiod = 60\nsafe_level = 1\n'
-	z=0
-	while [ $z -lt 128 ]; do   # 15 zones a device: the file driver takes 32 points
-		[ $((z % 15)) = 0 ] && printf '[device files%d]\ndriver = file\ndir = files\n' $((z / 15))
-		echo "1.$z" > "$TMP/files/s$z"
-		printf '[point s%d]\ndevice = files%d\nrole = sensor\npath = s%d\n' $z $((z / 15)) $z
-		printf '[point d%d]\ndevice = files%d\nrole = dim\npath = d%d\n' $z $((z / 15)) $z
-		printf '[zone z%d]\nsensor = s%d\ndim = d%d\ntarget_lux = 500\nsensor_gain = 0.5\n' $z $z $z
-		z=$((z + 1))
-	done
-} > "$TMP/many.conf"
+file_zones 128 > "$TMP/many.conf"
 web=0
 if ! "$BIN/psensd" -h 2>&1 | grep -q "web:.*not compiled in" && command -v curl > /dev/null; then
 	web=1

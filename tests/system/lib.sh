@@ -45,6 +45,10 @@ wait_for() {
 free_port() {
 	/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
 }
+# free_udp_port: a UDP port on the loopback that is free now (BACnet/IP)
+free_udp_port() {
+	/usr/bin/python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
+}
 # example_results: the example scene copied to $TMP/example and its results
 # precomputed (no rendering) in $TMP/state/ofb.results
 example_results() {
@@ -60,6 +64,23 @@ psensd_section() {
 	printf '[psensd]\nresults = state/ofb.results\ndatabase = state/%s\nsocket = sock\nperiod = %s\n' \
 		"${DB:-psensd.db}" "$1"
 	[ $# -lt 2 ] || printf 'stale_after = %s\n' "$2"
+}
+
+# file_zones N: a [psensd] section and N zones z0 .. zN-1 on the file
+# driver (15 zones a device: the driver takes 32 points), each with its
+# sensor's file $TMP/files/sZ holding 1.Z and a dim point
+file_zones() {
+	mkdir -p "$TMP/files"
+	printf '[psensd]\nresults = state/ofb.results\nsocket = sock\nperiod = 60\nsafe_level = 1\n'
+	_z=0
+	while [ $_z -lt "$1" ]; do
+		[ $((_z % 15)) = 0 ] && printf '[device files%d]\ndriver = file\ndir = files\n' $((_z / 15))
+		echo "1.$_z" > "$TMP/files/s$_z"
+		printf '[point s%d]\ndevice = files%d\nrole = sensor\npath = s%d\n' $_z $((_z / 15)) $_z
+		printf '[point d%d]\ndevice = files%d\nrole = dim\npath = d%d\n' $_z $((_z / 15)) $_z
+		printf '[zone z%d]\nsensor = s%d\ndim = d%d\ntarget_lux = 500\nsensor_gain = 0.5\n' $_z $_z $_z
+		_z=$((_z + 1))
+	done
 }
 
 # psvirt_dali ARGS...: psvirt with its virtual DALI-2 bus on a TCP port the
