@@ -20,7 +20,7 @@ mb=$(free_port)
 psvirt_dali --tcp "127.0.0.1:$mb" \
 	--date 03-18 --sunrise 06:00 --sunset 18:30 --start 06:10 --speed 600 --dali-occupancy 00:00-23:59 \
 	-D gain=0.5 -D noise=0 -D seed=7 -D lag_tau=0
-cat > "$TMP/ev.conf" <<EOF2
+{ cat <<EOF2
 [psensd]
 results = ofb.results
 database = ev.db
@@ -32,13 +32,9 @@ simulated = psvirt
 transport = foxtron
 device = 127.0.0.1:$port
 timeout = 0.5
-[point light]
-device = dali
-role = sensor
-device_address = 0
-report_time = 30
-valid_max = 1023
-sensor_saturation = 1023
+EOF2
+dali2_light 0 30
+cat <<EOF2
 [point ballasts]
 device = dali
 role = dim
@@ -51,6 +47,7 @@ target_lux = 500
 min_level = 0.1
 sensor_gain = 51.15
 EOF2
+} > "$TMP/ev.conf"
 timeout 6 "$BIN/psensd" -f "$TMP/ev.conf" -t 06:10 > "$TMP/out" 2> "$TMP/err"
 q() { sqlite3 "$TMP/ev.db" "$1"; }
 n=$(q "select count(*) from samples")

@@ -28,7 +28,8 @@ psvirt_dali --tcp "127.0.0.1:$mb" \
 	-D gain=0.5 -D noise=0.002 -D task_noise=2 -D seed=7 -D lag_tau=0
 { printf '[psensd]\nresults = ofb.results\ndatabase = day.db\nsocket = sock\nperiod = 10\n'
 psvirt_devices psvirt
-dali2_multisensor 5
+dali2_light 0 5
+dali2_occupancy 0 5
 dali2_office
 echo 'vacancy_hold = 120'
 } > "$TMP/day.conf"

@@ -38,7 +38,8 @@ virt() {  # virt START SPEED: psvirt's room from START
 conf() {
 	printf '[psensd]\nresults = ofb.results\ndatabase = cal.db\nsocket = sock\nperiod = 60\n'
 	psvirt_devices psvirt
-	dali2_multisensor 2 "deadtime = 0.1"
+	dali2_light 0 2 "deadtime = 0.1"
+	dali2_occupancy 0 2
 	dali2_office
 	cat <<EOF2
 cal_window = 600

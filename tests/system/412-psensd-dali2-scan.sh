@@ -27,13 +27,9 @@ driver = dali_usb
 transport = $1
 device = $(cat "$TMP/pty")
 timeout = 0.1
-[point light]
-device = dali
-role = sensor
-device_address = 9
-report_time = 5
-valid_max = 1023
-sensor_saturation = 1023
+EOC
+dali2_light 9 5
+cat <<EOC
 [point ballasts]
 device = dali
 role = dim

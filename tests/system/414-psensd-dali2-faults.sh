@@ -28,13 +28,9 @@ driver = dali_usb
 transport = $codec
 device = $(cat "$TMP/pty")
 timeout = 0.1
-[point light]
-device = dali
-role = sensor
-device_address = 5
-report_time = 2
-valid_max = 1023
-sensor_saturation = 1023
+EOC
+dali2_light 5 2
+cat <<EOC
 [point ballasts]
 device = dali
 role = dim

@@ -25,18 +25,10 @@ driver = dali_usb
 transport = $codec
 device = $where
 timeout = 0.1
-[point light]
-device = dali
-role = sensor
-device_address = 7
-report_time = 3
-valid_max = 1023
-sensor_saturation = 1023
-[point occupancy]
-device = dali
-role = input
-action = occupancy
-device_address = 7
+EOC
+dali2_light 7 3
+dali2_occupancy 7
+cat <<EOC
 [point ballasts]
 device = dali
 role = dim

@@ -107,16 +107,20 @@ psvirt_devices() {
 	printf '[device dali]\ndriver = dali_usb\n%stransport = foxtron\ndevice = 127.0.0.1:%s\ntimeout = 0.5\n' "$_sim" "$port"
 }
 
-# dali2_multisensor T_REPORT [LINE...]: psvirt's multisensor (control
-# device 0) as [point light], its 304 light sensor (10-bit, saturating at
-# 1023), and [point occupancy], its 303, both reporting every T_REPORT s;
-# each LINE ("key = value") goes into the light point too
-dali2_multisensor() {
-	_rep=$1; shift
-	printf '[point light]\ndevice = dali\nrole = sensor\ndevice_address = 0\nreport_time = %s\n' "$_rep"
+# dali2_light ADDRESS T_REPORT [LINE...]: [point light], the 304 light
+# sensor of control device ADDRESS (10-bit, saturating at 1023), reporting
+# every T_REPORT s; each LINE ("key = value") goes into the point too
+dali2_light() {
+	printf '[point light]\ndevice = dali\nrole = sensor\ndevice_address = %s\nreport_time = %s\n' "$1" "$2"
+	shift 2
 	for _l in "$@"; do printf '%s\n' "$_l"; done
 	printf 'valid_max = 1023\nsensor_saturation = 1023\n'
-	printf '[point occupancy]\ndevice = dali\nrole = input\naction = occupancy\ndevice_address = 0\nreport_time = %s\n' "$_rep"
+}
+# dali2_occupancy ADDRESS [T_REPORT]: [point occupancy], the 303 of
+# control device ADDRESS as the zone's occupancy input
+dali2_occupancy() {
+	printf '[point occupancy]\ndevice = dali\nrole = input\naction = occupancy\ndevice_address = %s\n' "$1"
+	[ $# -lt 2 ] || printf 'report_time = %s\n' "$2"
 }
 
 # dali2_office: the task meter (psvirt's register 100), the gear as one
