@@ -123,6 +123,26 @@ static void entry(const struct ps_sensor *s, double rot, const char *cdir, char 
 	snprintf(path, len, "%s/blobs/%.2s/%s", cdir, hex, hex + 2);
 }
 
+/* The files in the folder of sensor s's entry at rotation rot (hidden ones
+ * left out): the entry alone, or nothing, and never a temporary file. */
+static int files_beside_entry(const struct ps_sensor *s, double rot, const char *cdir)
+{
+	char path[512], *slash;
+	DIR *d;
+	struct dirent *de;
+	int files = 0;
+	entry(s, rot, cdir, path, sizeof path);
+	slash = strrchr(path, '/');
+	*slash = '\0';
+	d = opendir(path);
+	assert_non_null(d);
+	while ((de = readdir(d)))
+		if (de->d_name[0] != '.')
+			files++;
+	closedir(d);
+	return files;
+}
+
 static void stored_then_hit_bit_for_bit(void **state)
 {
 	struct ps_sensor s, s2;
@@ -140,23 +160,12 @@ static void stored_then_hit_bit_for_bit(void **state)
 	 * whole: the entry alone in its directory, no temporary file left */
 	assert_non_null(w.map);
 	{
-		char path[512], *slash;
+		char path[512];
 		struct stat st;
-		DIR *d;
-		struct dirent *de;
-		int files = 0;
 		entry(&s, 15, c, path, sizeof path);
 		assert_int_equal(stat(path, &st), 0);
 		assert_true((size_t)st.st_size == w.maplen);
-		slash = strrchr(path, '/');
-		*slash = '\0';
-		d = opendir(path);
-		assert_non_null(d);
-		while ((de = readdir(d)))
-			if (de->d_name[0] != '.')
-				files++;
-		closedir(d);
-		assert_int_equal(files, 1);
+		assert_int_equal(files_beside_entry(&s, 15, c), 1);
 	}
 	ps_weights_free(&w);
 	assert_int_equal(get(&w, &s, 15, c, 0, &warn), PS_WC_HIT);
@@ -472,10 +481,8 @@ static void full_disk_builds_uncached(void **state)
 	struct ps_weights ref, w;
 	struct ps_err warn;
 	struct rlimit old, small;
-	char c[128], path[512], *slash;
-	DIR *d;
-	struct dirent *de;
-	int files = 0, how;
+	char c[128];
+	int how;
 	void (*was)(int);
 	(void)state;
 	snprintf(c, sizeof c, "%s/full", dir);
@@ -494,16 +501,7 @@ static void full_disk_builds_uncached(void **state)
 	assert_null(w.map);
 	same_map(&w, &ref);
 	ps_weights_free(&w);
-	entry(&s, 7, c, path, sizeof path);
-	slash = strrchr(path, '/');
-	*slash = '\0';
-	d = opendir(path);
-	assert_non_null(d);
-	while ((de = readdir(d)))
-		if (de->d_name[0] != '.')
-			files++;
-	closedir(d);
-	assert_int_equal(files, 0);
+	assert_int_equal(files_beside_entry(&s, 7, c), 0);
 	/* with room again: stored in place */
 	assert_int_equal(get(&w, &s, 7, c, 0, &warn), PS_WC_STORED);
 	assert_non_null(w.map);
