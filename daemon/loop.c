@@ -148,8 +148,9 @@ static int date_run(struct psd_daemon *d, double now)
 	return 0;
 }
 
-/* The control socket's request function, its reply copied into a fixed
- * buffer (an error reply when it does not fit). */
+/* An MQTT command or a BACnet write (an override or a release): the
+ * control socket's request function, the same code, its reply copied into
+ * the front end's fixed buffer (an error reply when it does not fit). */
 static void fixed_request(void *user, char *line, char *reply, size_t len)
 {
 	struct psd_ctl_reply r = { 0 };
@@ -159,18 +160,6 @@ static void fixed_request(void *user, char *line, char *reply, size_t len)
 	else
 		snprintf(reply, len, "%s", r.text);
 	psd_ctlsock_reply_free(&r);
-}
-
-/* An MQTT command: the control socket's request function, the same code. */
-static void mqtt_request(void *user, char *line, char *reply, size_t len)
-{
-	fixed_request(user, line, reply, len);
-}
-
-/* A BACnet write (an override or a release): the same function again. */
-static void bacnet_request(void *user, char *line, char *reply, size_t len)
-{
-	fixed_request(user, line, reply, len);
 }
 
 /* A start given up: the lights to their safe level when the engine has
@@ -259,11 +248,11 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		return abandon_start(d, cf, 1, "refused start");
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
-	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, &d->points, mqtt_request, d, err, sizeof err))) {
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, &d->points, fixed_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "MQTT cannot start");
 	}
-	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, &d->points, bacnet_request, d, err, sizeof err))) {
+	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, &d->points, fixed_request, d, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "BACnet cannot start");
 	}
