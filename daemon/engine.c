@@ -1053,19 +1053,17 @@ void psd_engine_step(struct psd_engine *e, double now)
 	}
 }
 
-double psd_engine_deadline(const struct psd_engine *e, double *mono)
+/* The earliest deadline of the devices the loop services itself (an I/O
+ * thread keeps its own device's): on the daemon's clock, returned, and on
+ * the monotonic clock, in *mono; only those with a descriptor when
+ * fd_only. */
+static double dev_deadline(const struct psd_engine *e, int fd_only, double *mono)
 {
 	double t = INFINITY;
 	*mono = INFINITY;
-	for (size_t i = 0; i < e->nzone; i++) {
-		if (e->zone[i].next < t)
-			t = e->zone[i].next;
-		if (e->zone[i].asap)
-			t = -INFINITY;   /* now */
-	}
 	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
 		const struct ps_dev *d = &e->dev[i];
-		if (d->drv->deadline && !e->io[i]) {   /* an I/O thread keeps its device's deadlines */
+		if (d->drv->deadline && !e->io[i] && (!fd_only || d->drv->fd)) {
 			double m = INFINITY, dl = d->drv->deadline((struct ps_dev *)d, &m);
 			if (dl < t)
 				t = dl;
@@ -1076,21 +1074,21 @@ double psd_engine_deadline(const struct psd_engine *e, double *mono)
 	return t;
 }
 
-double psd_engine_io_deadline(const struct psd_engine *e, double *mono)
+double psd_engine_deadline(const struct psd_engine *e, double *mono)
 {
-	double t = INFINITY;
-	*mono = INFINITY;
-	for (size_t i = 0; e->cf && i < e->cf->ndev; i++) {
-		const struct ps_dev *d = &e->dev[i];
-		if (d->drv->fd && d->drv->deadline && !e->io[i]) {
-			double m = INFINITY, dl = d->drv->deadline((struct ps_dev *)d, &m);
-			if (dl < t)
-				t = dl;
-			if (m < *mono)
-				*mono = m;
-		}
+	double t = dev_deadline(e, 0, mono);
+	for (size_t i = 0; i < e->nzone; i++) {
+		if (e->zone[i].next < t)
+			t = e->zone[i].next;
+		if (e->zone[i].asap)
+			t = -INFINITY;   /* now */
 	}
 	return t;
+}
+
+double psd_engine_io_deadline(const struct psd_engine *e, double *mono)
+{
+	return dev_deadline(e, 1, mono);
 }
 
 int psd_engine_pollfds(struct psd_engine *e, struct pollfd *fds, int *fd_dev, int max)
