@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "canvas.h"
-#include "contour.h"
 #include "falsecolor.h"
 #include "json.h"
 #include "lum.h"
@@ -314,27 +313,6 @@ int psd_placeout_plan(const struct search *s, const char *path, char *err, size_
 
 /* ---- the best pose's sensitivity over its fisheye ------------------- */
 
-/* Contours of the sensitivity at 10, 50 and 90 % of its peak, labelled
- * where they cross azimuth 320 degrees (as mksens --overlay draws them). */
-static int fisheye_contours(struct ps_canvas *c, const struct ps_marks_place *pl, const double *grid, int nx,
-                            int ny, double font)
-{
-	static const double levels[3] = { 10, 50, 90 };
-	double lx, ly, xc, yc, xe, ye, rgb[3] = { 0.55, 0.88, 1 };
-	ps_marks_place_point(pl, 0, 0, &xc, &yc);
-	ps_marks_place_point(pl, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
-	lx = xc + 4 * (xe - xc);
-	ly = yc + 4 * (ye - yc);
-	for (int k = 0; k < 3; k++) {
-		char lab[32];
-		snprintf(lab, sizeof lab, "%g %%", levels[k]);
-		struct ps_contour_style st = { .ox = pl->ox, .oy = pl->oy, .step = 1.0, .rgb = rgb,
-		                               .width = 2.0, .label = lab, .font = font, .lx = lx, .ly = ly };
-		ps_contour_draw(c, grid, nx, ny, levels[k] / 100.0, &st);
-	}
-	return 0;
-}
-
 int psd_placeout_fisheye(const struct search *s, const struct combo *k, const char *path, char *err, size_t errlen)
 {
 	static const uint8_t bg[3] = { 28, 28, 28 };
@@ -395,7 +373,11 @@ int psd_placeout_fisheye(const struct search *s, const struct combo *k, const ch
 		}
 	ps_canvas_end(&c);
 	ps_marks_draw(&c, &pl, PS_MARK_RINGS | PS_MARK_AZIMUTH | PS_MARK_SENSOR, rot, font);
-	fisheye_contours(&c, &pl, grid, nx, ny, font);
+	{
+		/* 10, 50 and 90 % of the peak in light blue, as mksens --overlay */
+		static const double levels[3] = { 10, 50, 90 }, light_blue[3] = { 0.55, 0.88, 1 };
+		ps_marks_contours(&c, &pl, grid, nx, ny, levels, 3, light_blue, font);
+	}
 	free(grid);
 	{
 		char name[200];

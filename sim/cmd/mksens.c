@@ -19,7 +19,6 @@
 #include "cli.h"
 #include "binout.h"
 #include "canvas.h"
-#include "contour.h"
 #include "falsecolor.h"
 #include "fisheye.h"
 #include "marks.h"
@@ -296,31 +295,12 @@ static int auto_zoom(int size, int zoom)
 static int draw_contours(struct ps_canvas *c, const struct ps_marks_place *pl, const struct ps_sensor *s,
                          const struct opts *o, double font, struct ps_err *e)
 {
+	static const double white[3] = { 1, 1, 1 }, light_blue[3] = { 0.55, 0.88, 1 };
 	int nx, ny;
-	double *grid = ps_marks_place_sensitivity(pl, s, o->rot, &nx, &ny), lx, ly;
+	double *grid = ps_marks_place_sensitivity(pl, s, o->rot, &nx, &ny);
 	if (!grid)
 		return ps_err_set(e, PS_ENOMEM, "out of memory");
-	{
-		/* a target far out along azimuth 300: each contour's label goes
-		 * where the contour crosses that direction */
-		double xc, yc, xe, ye;
-		ps_marks_place_point(pl, 0, 0, &xc, &yc);
-		ps_marks_place_point(pl, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
-		lx = xc + 4 * (xe - xc);
-		ly = yc + 4 * (ye - yc);
-	}
-	for (int k = 0; k < o->nlevels; k++) {
-		double rgb[3] = { 1, 1, 1 };
-		char lab[32];
-		if (o->overlay) {
-			rgb[0] = 0.55;
-			rgb[1] = 0.88;
-		}
-		snprintf(lab, sizeof lab, "%g %%", o->levels[k]);
-		struct ps_contour_style st = { .ox = pl->ox, .oy = pl->oy, .step = 1.0, .rgb = rgb,
-		                               .width = 2.0, .label = lab, .font = font, .lx = lx, .ly = ly };
-		ps_contour_draw(c, grid, nx, ny, o->levels[k] / 100.0, &st);
-	}
+	ps_marks_contours(c, pl, grid, nx, ny, o->levels, o->nlevels, o->overlay ? light_blue : white, font);
 	free(grid);
 	return 0;
 }

@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "contour.h"
+
 #define DEG (M_PI / 180.0)
 
 void ps_marks_place_init(struct ps_marks_place *p, const struct ps_view *v, int width, int height, double ox,
@@ -16,7 +18,9 @@ void ps_marks_place_init(struct ps_marks_place *p, const struct ps_view *v, int 
 	p->zoom = zoom;
 }
 
-void ps_marks_place_point(const struct ps_marks_place *p, double theta, double phi, double *x, double *y)
+/* Canvas position of the direction (theta, phi), radians (phi the sensor
+ * azimuth: 0 up, growing to the left). */
+static void place_point(const struct ps_marks_place *p, double theta, double phi, double *x, double *y)
 {
 	double rho = ps_fisheye_rho(&p->f, theta), a = phi + M_PI / 2;
 	double u = rho * cos(a), v = rho * sin(a);
@@ -64,7 +68,7 @@ static void ring(cairo_t *cr, const struct ps_marks_place *p, double theta)
 	int started = 0;
 	for (int k = 0; k <= 360; k++) {
 		double x, y;
-		ps_marks_place_point(p, theta, k * DEG, &x, &y);
+		place_point(p, theta, k * DEG, &x, &y);
 		if (started)
 			cairo_line_to(cr, x, y);
 		else
@@ -102,8 +106,8 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_marks_place *p, int whic
 	if (which & PS_MARK_AZIMUTH) {
 		for (int a = 0; a < 360; a += 30) {
 			double x0, y0, x1, y1;
-			ps_marks_place_point(p, edge - 6 * DEG, a * DEG, &x0, &y0);
-			ps_marks_place_point(p, edge, a * DEG, &x1, &y1);
+			place_point(p, edge - 6 * DEG, a * DEG, &x0, &y0);
+			place_point(p, edge, a * DEG, &x1, &y1);
 			cairo_move_to(cr, x0, y0);
 			cairo_line_to(cr, x1, y1);
 			stroke_haloed(cr, a % 90 ? 1.0 : 2.0, 0.9);
@@ -111,8 +115,8 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_marks_place *p, int whic
 	}
 	if (which & PS_MARK_SENSOR) {
 		double x0, y0, x1, y1, ang, r = rotation_deg * DEG, hl = 0.9 * font;
-		ps_marks_place_point(p, 0, 0, &x0, &y0);
-		ps_marks_place_point(p, fmin(edge, 60 * DEG), r, &x1, &y1);
+		place_point(p, 0, 0, &x0, &y0);
+		place_point(p, fmin(edge, 60 * DEG), r, &x1, &y1);
 		ang = atan2(y1 - y0, x1 - x0);
 		cairo_move_to(cr, x0, y0);
 		cairo_line_to(cr, x1, y1);
@@ -138,7 +142,7 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_marks_place *p, int whic
 		for (int t = 30; t < 180 && t * DEG <= field + 1e-9; t += 30) {
 			char lab[16];
 			double x, y;
-			ps_marks_place_point(p, t * DEG, 225 * DEG, &x, &y);
+			place_point(p, t * DEG, 225 * DEG, &x, &y);
 			if (x < p->ox + font || x > p->ox + pw - font || y < p->oy + font || y > p->oy + ph - font)
 				continue;
 			snprintf(lab, sizeof lab, "%d\xc2\xb0", t);
@@ -151,8 +155,8 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_marks_place *p, int whic
 		static const char *const name[4] = { "0\xc2\xb0 up", "90\xc2\xb0", "180\xc2\xb0", "270\xc2\xb0" };
 		for (int k = 0; k < 4; k++) {
 			double xc, yc, xe, ye, dx, dy, d;
-			ps_marks_place_point(p, 0, 0, &xc, &yc);
-			ps_marks_place_point(p, edge, k * M_PI / 2, &xe, &ye);
+			place_point(p, 0, 0, &xc, &yc);
+			place_point(p, edge, k * M_PI / 2, &xe, &ye);
 			dx = xe - xc;
 			dy = ye - yc;
 			d = hypot(dx, dy);
@@ -166,5 +170,24 @@ void ps_marks_draw(struct ps_canvas *c, const struct ps_marks_place *p, int whic
 			else
 				ps_canvas_label(c, xe + dx * d, ye + dy * d, font, 0, white, 1, name[k]);
 		}
+	}
+}
+
+void ps_marks_contours(struct ps_canvas *c, const struct ps_marks_place *p, const double *grid, int nx, int ny,
+                       const double *levels, int n, const double rgb[3], double font)
+{
+	/* a target far out along azimuth 320: each contour's label goes where
+	 * the contour crosses that direction */
+	double xc, yc, xe, ye, lx, ly;
+	place_point(p, 0, 0, &xc, &yc);
+	place_point(p, M_PI / 2, 320 * M_PI / 180, &xe, &ye);
+	lx = xc + 4 * (xe - xc);
+	ly = yc + 4 * (ye - yc);
+	for (int k = 0; k < n; k++) {
+		char lab[32];
+		snprintf(lab, sizeof lab, "%g %%", levels[k]);
+		struct ps_contour_style st = { .ox = p->ox, .oy = p->oy, .step = 1.0, .rgb = rgb,
+		                               .width = 2.0, .label = lab, .font = font, .lx = lx, .ly = ly };
+		ps_contour_draw(c, grid, nx, ny, levels[k] / 100.0, &st);
 	}
 }

@@ -20,9 +20,6 @@ struct ps_marks_place {
 
 void ps_marks_place_init(struct ps_marks_place *p, const struct ps_view *v, int width, int height, double ox,
                          double oy, double zoom);
-/* Canvas position of the direction (theta, phi), radians (phi the sensor
- * azimuth: 0 up, growing to the left). */
-void ps_marks_place_point(const struct ps_marks_place *p, double theta, double phi, double *x, double *y);
 
 /* The sensor's sensitivity, as a fraction of its largest table value, at every
  * canvas pixel corner over the picture (the sensor looks along the view
@@ -31,6 +28,12 @@ void ps_marks_place_point(const struct ps_marks_place *p, double theta, double p
  * Free with free(); NULL when out of memory. */
 double *ps_marks_place_sensitivity(const struct ps_marks_place *p, const struct ps_sensor *s,
                                    double rotation_deg, int *nx, int *ny);
+
+/* Contours of a sensitivity grid (ps_marks_place_sensitivity's) at
+ * levels[0 .. n-1] percent of its peak, in colour rgb, 2 px wide, each
+ * labelled "L %" at text size font where it crosses azimuth 320 degrees. */
+void ps_marks_contours(struct ps_canvas *c, const struct ps_marks_place *p, const double *grid, int nx, int ny,
+                       const double *levels, int n, const double rgb[3], double font);
 
 enum { PS_MARK_RINGS = 1, PS_MARK_AZIMUTH = 2, PS_MARK_SENSOR = 4 };
 /* Draw the marks chosen (PS_MARK_*) at text size font. */
