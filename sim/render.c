@@ -121,12 +121,27 @@ void ps_render_free_argv(char **argv)
 	free(argv);
 }
 
+int ps_render_reap(pid_t pid, char *why, size_t len)
+{
+	int status;
+	while (waitpid(pid, &status, 0) < 0)
+		if (errno != EINTR)
+			return snprintf(why, len, "could not be waited for: %s", strerror(errno)), -1;
+	if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
+		return 0;
+	if (WIFSIGNALED(status))
+		snprintf(why, len, "was killed by signal %d", WTERMSIG(status));
+	else
+		snprintf(why, len, "exited with status %d", WEXITSTATUS(status));
+	return -1;
+}
+
 int ps_render_run(char *const argv[], const char *out_path, struct ps_err *e)
 {
-	char tmp[4200];
+	char tmp[4200], why[128];
 	posix_spawn_file_actions_t fa;
 	pid_t pid;
-	int status, rc;
+	int rc;
 	snprintf(tmp, sizeof tmp, "%s.rendering.%ld", out_path, (long)getpid());
 	if (posix_spawn_file_actions_init(&fa) != 0)
 		return ps_err_sys(e, "posix_spawn_file_actions_init");
@@ -138,16 +153,9 @@ int ps_render_run(char *const argv[], const char *out_path, struct ps_err *e)
 		unlink(tmp);
 		return ps_err_sys(e, "cannot run %s", argv[0]);
 	}
-	while (waitpid(pid, &status, 0) < 0)
-		if (errno != EINTR) {
-			unlink(tmp);
-			return ps_err_sys(e, "waiting for %s", argv[0]);
-		}
-	if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+	if (ps_render_reap(pid, why, sizeof why) != 0) {
 		unlink(tmp);
-		if (WIFSIGNALED(status))
-			return ps_err_set(e, PS_EIO, "%s was killed by signal %d", argv[0], WTERMSIG(status));
-		return ps_err_set(e, PS_EIO, "%s exited with status %d", argv[0], WEXITSTATUS(status));
+		return ps_err_set(e, PS_EIO, "%s %s", argv[0], why);
 	}
 	if (rename(tmp, out_path) != 0) {
 		rc = ps_err_sys(e, "rename %s to %s", tmp, out_path);

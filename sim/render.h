@@ -6,6 +6,7 @@
 #define PS_RENDER_H
 
 #include <stddef.h>
+#include <sys/types.h>
 
 #include "err.h"
 
@@ -23,6 +24,9 @@ char **ps_render_argv(const char *rpict, const double pos[3], const double dir[3
                       const double up[3], double field, int resolution, const char *options,
                       const char *octree);
 void ps_render_free_argv(char **argv);
+/* Wait for the renderer pid: 0 when it exited 0, else -1 with how it
+ * ended in why ("exited with status N", "was killed by signal N"). */
+int ps_render_reap(pid_t pid, char *why, size_t len);
 /* Run argv with stdout into out_path (through a temporary file renamed on
  * success); -1 with a message naming the program and its exit status. */
 int ps_render_run(char *const argv[], const char *out_path, struct ps_err *e);

@@ -102,22 +102,6 @@ static int spawn(char *const argv[], int in, int out, pid_t *pid)
 	return 0;
 }
 
-/* 0 when pid exited 0; else a description of how it ended in why */
-static int reap(pid_t pid, char *why, size_t n)
-{
-	int status;
-	while (waitpid(pid, &status, 0) < 0)
-		if (errno != EINTR)
-			return snprintf(why, n, "cannot wait for it: %s", strerror(errno)), -1;
-	if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
-		return 0;
-	if (WIFSIGNALED(status))
-		snprintf(why, n, "killed by signal %d", WTERMSIG(status));
-	else
-		snprintf(why, n, "exited with status %d", WEXITSTATUS(status));
-	return -1;
-}
-
 static int exists(const char *path)
 {
 	struct stat st;
@@ -204,7 +188,7 @@ static int dimensions(const struct ctx *c, const char *view, char *out, size_t n
 			got += (size_t)k;
 	close(fd[0]);
 	out[got] = 0;
-	if (reap(pid, why, sizeof why) != 0) {
+	if (ps_render_reap(pid, why, sizeof why) != 0) {
 		snprintf(err, errlen, "%.1000s: %s", cmd, why);
 		argv_free(&a);
 		return -1;
@@ -275,9 +259,9 @@ static int render_dc(struct ctx *c, struct pose *p, int serial, char *err, size_
 	close(fd[0]);
 	close(fd[1]);
 	if (!bad1)
-		bad1 = reap(p1, why1, sizeof why1);
+		bad1 = ps_render_reap(p1, why1, sizeof why1);
 	if (!bad2)
-		bad2 = reap(p2, why2, sizeof why2);
+		bad2 = ps_render_reap(p2, why2, sizeof why2);
 	if (bad1 || bad2) {
 		snprintf(err, errlen, "candidate %s: coefficient pictures: %s %s: %.1500s", p->id, bad2 ? "rfluxmtx" : "vwrays",
 		         bad2 ? why2 : why1, cmd);
