@@ -49,6 +49,7 @@ static void settle_reset(struct psd_calsession *s, const struct psd_calsession_c
 	s->nlux = 0;
 	s->level_since = INFINITY;   /* readings count once the level is commanded */
 	s->commanded = -1;
+	s->asked_at = -INFINITY;
 }
 
 /* A new session: its state, and its constants from the zone's configuration. */
@@ -66,6 +67,7 @@ static void begin(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 	s->want_samples = (int)c->zc->cal_day_samples;
 	s->next_sample = c->now;
 	s->last_input = c->now;
+	s->fed_t = s->fed_lux_t = -INFINITY;
 	settle_reset(s, c);
 }
 
@@ -412,6 +414,28 @@ int psd_calsession_level(struct psd_calsession *s, double now, double *level)
 	return 1;
 }
 
+/* A reading measured at t is fresh for a day sample: within the skew of
+ * now, or measured after the session asked for fresh readings. */
+static int day_fresh(const struct psd_calsession *s, const struct psd_calsession_ctx *c, double t)
+{
+	return t > s->level_since && (c->now - t <= PSD_CAL_PAIR_SKEW || (s->asked_at > -INFINITY && t >= s->asked_at));
+}
+
+/* 1 when the sensor's and the meter's readings make a day sample's pair;
+ * else fresh ones are asked for (once) and the sample waits for them. */
+static int day_pair(struct psd_calsession *s, const struct psd_calsession_ctx *c, struct psd_calsession_ask *ask)
+{
+	int sensor_ok = day_fresh(s, c, c->volts_t), meter_ok = day_fresh(s, c, c->lux_t);
+	if (sensor_ok && meter_ok)
+		return 1;
+	if (s->asked_at == -INFINITY) {
+		s->asked_at = c->now;
+		ask->refresh_sensor = !sensor_ok;
+		ask->refresh_task = !meter_ok;
+	}
+	return 0;
+}
+
 static void feed_day(struct psd_calsession *s, const struct psd_calsession_ctx *c, double volts, double lux,
                      double level, struct psd_calsession_ask *ask)
 {
@@ -425,16 +449,18 @@ static void feed_day(struct psd_calsession *s, const struct psd_calsession_ctx *
 		psd_calsession_abort(s, c, err, ask);
 		return;
 	}
-	if (c->zc->task < 0 || !isfinite(lux) || c->now < s->next_sample)
+	if (c->zc->task < 0 || !isfinite(lux) || c->now < s->next_sample || !day_pair(s, c, ask))
 		return;
 	s->last_input = c->now;
+	s->asked_at = -INFINITY;
 	if (record(s, c, level, volts, NAN, lux, "meter", err, sizeof err) != 0) {
 		psd_calsession_abort(s, c, err, ask);
 		return;
 	}
 	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
 	s->next_sample = c->now + s->interval;
-	snprintf(s->msg, sizeof s->msg, "%d of %d meter samples", s->nds, s->want_samples);
+	snprintf(s->msg, sizeof s->msg, "%d of %d meter samples (the last: sensor measured %.2f s %s the meter)",
+	         s->nds, s->want_samples, fabs(c->lux_t - c->volts_t), c->volts_t <= c->lux_t ? "before" : "after");
 	if (s->nds >= s->want_samples || s->nds >= PSD_CAL_MAX_DAY)
 		finish_or_abort(s, c, ask);
 }
@@ -461,16 +487,27 @@ static void feed_night(struct psd_calsession *s, const struct psd_calsession_ctx
 		psd_calsession_abort(s, c, err, ask);
 		return;
 	}
-	if (isfinite(lux)) {
+	/* each measurement counts once, and only one taken after the level
+	 * was commanded; a sensor that repeats an old value is polled */
+	if (!(c->volts_t > s->level_since) || !(c->volts_t > s->fed_t)) {
+		if (!(s->asked_at > fmax(s->fed_t, s->level_since))) {
+			s->asked_at = now;
+			ask->refresh_sensor = 1;
+		}
+		return;
+	}
+	s->fed_t = c->volts_t;
+	if (isfinite(lux) && c->lux_t > s->fed_lux_t && c->lux_t > s->level_since) {
+		s->fed_lux_t = c->lux_t;
 		if (s->nlux == PSD_CALFIT_SETTLE_MAX) {
 			memmove(s->lux_t, s->lux_t + 1, (PSD_CALFIT_SETTLE_MAX - 1) * sizeof s->lux_t[0]);
 			memmove(s->lux_v, s->lux_v + 1, (PSD_CALFIT_SETTLE_MAX - 1) * sizeof s->lux_v[0]);
 			s->nlux--;
 		}
-		s->lux_t[s->nlux] = now;
+		s->lux_t[s->nlux] = c->lux_t;
 		s->lux_v[s->nlux++] = lux;
 	}
-	if (!psd_calfit_settle_add(&s->settle, now, volts, &mean, &se)) {
+	if (!psd_calfit_settle_add(&s->settle, c->volts_t, volts, &mean, &se)) {
 		if (now - s->step_started > s->settle_timeout)
 			psd_calsession_abort(s, c, "the sensor did not settle (cal_timeout)", ask);
 		return;

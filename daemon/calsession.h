@@ -13,6 +13,15 @@
  *        the measured ratio, compared with the simulated ratio of the
  *        condition nearest in time of day.
  *
+ * A reading counts only if it was measured after the session's level was
+ * commanded, and each measurement counts once.  A sensor that reports by
+ * itself (a DALI-2 304: on a change past its hysteresis, else every
+ * T_report) may hand up the same value step after step; the session then
+ * asks for a fresh one (ask->refresh_sensor: the driver polls at once).  A
+ * day sample pairs the meter with a sensor value measured within
+ * PSD_CAL_PAIR_SKEW of it, or else with the first measured after the
+ * session asked for one, never with a report minutes old.
+ *
  * Every sample is committed to the database as it is taken (daemon/db.c),
  * so a session interrupted by a crash or SIGKILL resumes where it was when
  * psensd starts again (psd_calsession_resume).  A fault aborts a session (the
@@ -39,6 +48,11 @@ struct ps_results;
 enum psd_calsession_kind { PSD_CAL_NONE = 0, PSD_CAL_NIGHT, PSD_CAL_DAY };
 enum psd_calsession_state { PSD_CAL_IDLE = 0, PSD_CAL_RUNNING, PSD_CAL_DONE, PSD_CAL_ABORTED, PSD_CAL_ACCEPTED };
 enum { PSD_CAL_NLEVELS = 6, PSD_CAL_MAX_DAY = 64 };
+/* Seconds on the daemon's clock: a day sample's sensor and meter readings
+ * measured further apart than this are not paired as they are; a fresh one
+ * is asked for.  Daylight moves a few per cent a minute at most when the
+ * sky is steady; a second keeps the pair within a fraction of that. */
+#define PSD_CAL_PAIR_SKEW 1.0
 
 extern const double psd_calsession_levels[PSD_CAL_NLEVELS];   /* 1, 0.75, 0.5, 0.25, 0.1, 0 */
 extern const char *const psd_calsession_kind_names[];        /* "none", "night", "day", NULL */
@@ -61,6 +75,10 @@ struct psd_calsession_ctx {
 	int have_reading;
 	double volts, level;
 	double epoch0;                       /* UTC of clock time 0 (NAN: not known): log lines' dates */
+	/* when the sensor's reading and the task meter's were measured, on the
+	 * daemon's clock: now for a point read anew at each step, earlier for
+	 * a value a device reports by itself (a DALI-2 sensor) */
+	double volts_t, lux_t;
 };
 
 /* Constants an accepted calibration gives the zone's control; NAN (or not
@@ -77,6 +95,8 @@ struct psd_calsession_consts {
 /* What the zone should do after a call; the engine acts on it. */
 struct psd_calsession_ask {
 	int step_now;             /* step the zone at once, off its schedule */
+	int refresh_sensor;       /* ask the sensor's device for a value measured from now on */
+	int refresh_task;         /* and the task meter's */
 	int napply;               /* constants to apply, in order */
 	struct psd_calsession_consts apply[2];
 };
@@ -96,6 +116,9 @@ struct psd_calsession {
 	int npt;
 	double level_since;       /* when the current level was first commanded (INFINITY: not yet) */
 	int commanded;            /* the step (night) whose level was commanded */
+	double fed_t;             /* when the last reading fed was measured: each counts once */
+	double fed_lux_t;         /* and the last meter reading */
+	double asked_at;          /* when fresh readings were last asked for (-INFINITY none pending) */
 	double lux_t[PSD_CALFIT_SETTLE_MAX], lux_v[PSD_CALFIT_SETTLE_MAX];   /* the meter at this level */
 	int nlux;
 	/* day */

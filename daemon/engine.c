@@ -101,19 +101,58 @@ static int open_devices(struct psd_engine *e, double now, char *err, size_t n)
 	return 0;
 }
 
+/* When point p's value was measured, on the daemon's clock: now for a
+ * point read anew at each read (and for any a device's I/O thread reads:
+ * the step's prefetch reads it), earlier for a value the device reported
+ * by itself (driver.h, age). */
+static double pt_measured(const struct psd_engine *e, int p, double now)
+{
+	const struct ps_dev *d;
+	double age;
+	if (p < 0 || e->io[e->cf->pt[p].device])
+		return now;
+	d = &e->dev[e->cf->pt[p].device];
+	if (!d->drv->age)
+		return now;
+	age = d->drv->age((struct ps_dev *)d, (struct ps_point *)&e->pt[p], psd_time_mono());
+	return now - (age >= 0 ? age * e->speed : 0);
+}
+
+/* Ask point p's device for a value measured from now on (driver.h). */
+static void pt_refresh(struct psd_engine *e, int p, double now)
+{
+	struct ps_dev *d;
+	if (p < 0 || e->io[e->cf->pt[p].device])
+		return;
+	d = &e->dev[e->cf->pt[p].device];
+	if (d->drv->refresh && d->drv->refresh(d, &e->pt[p], now, psd_time_mono()) != 0)
+		psd_log_debug("%s: %s", e->pt[p].name, d->err);
+}
+
 /* What a calibration session may see of its zone (calsession.h). */
 static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struct psd_zone *z, double now)
 {
-	return (struct psd_calsession_ctx){ z->zc->name, z->zc, &z->ctl, z->res, e->db,
-	                                     e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
-	                                     !z->in_fault && isfinite(z->volts), z->volts, z->level, e->utc0 };
+	struct psd_calsession_ctx c = { z->zc->name, z->zc, &z->ctl, z->res, e->db,
+	                                e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
+	                                !z->in_fault && isfinite(z->volts), z->volts, z->level, e->utc0,
+	                                now, now };
+	if (c.have_reading)
+		c.volts_t = pt_measured(e, z->zc->sensor, now);
+	if (isfinite(z->task_lux))
+		c.lux_t = pt_measured(e, z->zc->task, now);
+	return c;
 }
 
-/* Do what a session asked: a step now, accepted constants in force. */
-static void cal_act(struct psd_zone *z, const struct psd_calsession_ask *ask)
+/* Do what a session asked: a step now, fresh readings, accepted constants
+ * in force. */
+static void cal_act(struct psd_engine *e, struct psd_zone *z, double now, const struct psd_calsession_ask *ask)
 {
 	if (ask->step_now)
 		z->asap = 1;
+	if (ask->refresh_sensor)
+		pt_refresh(e, z->zc->sensor, now);
+	if (ask->refresh_task)
+		pt_refresh(e, z->zc->task, now);
 	for (int i = 0; i < ask->napply; i++) {
 		const struct psd_calsession_consts *k = &ask->apply[i];
 		if (isfinite(k->offset))
@@ -137,13 +176,13 @@ static void cal_load(struct psd_engine *e, struct psd_zone *z, double now)
 	struct psd_calsession_ctx c = cal_ctx(e, z, now);
 	struct psd_calsession_ask ask;
 	psd_calsession_accepted(&c, &ask);
-	cal_act(z, &ask);
+	cal_act(e, z, now, &ask);
 	if (z->cal_night_id || z->cal_day_id)
 		psd_log_info("zone %s: calibrated (night session %lld, day session %lld): sensor gain %.5g, offset "
 		         "%.4g V, daylight ratio %.5g", z->zc->name, z->cal_night_id, z->cal_day_id, z->ctl.sensor_gain,
 		         z->ctl.offset, z->ctl.daylight_ratio);
 	psd_calsession_resume(&z->cal, &c, z->level, &ask);
-	cal_act(z, &ask);
+	cal_act(e, z, now, &ask);
 }
 
 static void zone_init(struct psd_engine *e, struct psd_zone *z, const struct psd_zone_conf *zc, double now,
@@ -270,6 +309,7 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	memset(e, 0, sizeof *e);
 	e->cf = cf;
 	e->db_batch = db_batch > 0 ? db_batch : 1;
+	e->speed = clock && !clock->simulated && clock->speed > 0 ? clock->speed : 1;
 	e->utc0 = prev ? prev->utc0 : NAN;   /* the daemon sets it after the first open */
 	if (prev)
 		e->logged = e->logged_base = prev->logged;   /* counted across reloads */
@@ -568,7 +608,7 @@ static void enter_fault(struct psd_engine *e, struct psd_zone *z, double now, co
 		struct psd_calsession_ctx c = cal_ctx(e, z, now);
 		struct psd_calsession_ask ask;
 		psd_calsession_abort(&z->cal, &c, why, &ask);
-		cal_act(z, &ask);
+		cal_act(e, z, now, &ask);
 	}
 	/* an output that cannot be commanded even to the safe level needs a
 	 * person: said once, until the safe level is reached */
@@ -979,7 +1019,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 			struct psd_calsession_ask ask;
 			drift_step(e, z, now);
 			psd_calsession_feed(&z->cal, &c, z->volts, z->task_lux, z->level, &ask);
-			cal_act(z, &ask);
+			cal_act(e, z, now, &ask);
 		}
 		if (psd_calsession_level(&z->cal, now, &level)) {
 			/* a calibration session holds the lights; in a day
@@ -1287,7 +1327,7 @@ int psd_engine_cal_start(struct psd_engine *e, struct psd_zone *z, int kind, dou
 		return psd_errbuf(err, n, "zone %s is at its safe level: %s", z->zc->name, z->why);
 	if (psd_calsession_start(&z->cal, &c, kind, level, &ask, err, n) != 0)
 		return -1;
-	cal_act(z, &ask);
+	cal_act(e, z, now, &ask);
 	return 0;
 }
 
@@ -1297,7 +1337,7 @@ int psd_engine_cal_lux(struct psd_engine *e, struct psd_zone *z, double lux, dou
 	struct psd_calsession_ask ask;
 	if (psd_calsession_typed_lux(&z->cal, &c, lux, z->in_fault ? NAN : z->volts, z->level, &ask, err, n) != 0)
 		return -1;
-	cal_act(z, &ask);
+	cal_act(e, z, now, &ask);
 	return 0;
 }
 
@@ -1307,7 +1347,7 @@ int psd_engine_cal_finish(struct psd_engine *e, struct psd_zone *z, double now, 
 	struct psd_calsession_ask ask;
 	if (psd_calsession_finish(&z->cal, &c, &ask, err, n) != 0)
 		return -1;
-	cal_act(z, &ask);
+	cal_act(e, z, now, &ask);
 	return 0;
 }
 
@@ -1317,7 +1357,7 @@ int psd_engine_cal_accept(struct psd_engine *e, struct psd_zone *z, double now, 
 	struct psd_calsession_ask ask;
 	if (psd_calsession_accept(&z->cal, &c, &ask, err, n) != 0)
 		return -1;
-	cal_act(z, &ask);
+	cal_act(e, z, now, &ask);
 	record_consts(e, z);
 	{
 		char t[24], text[64];
@@ -1338,6 +1378,6 @@ int psd_engine_cal_abort(struct psd_engine *e, struct psd_zone *z, double now, c
 	struct psd_calsession_ask ask;
 	if (psd_calsession_abort(&z->cal, &c, why, &ask) != 0)
 		return psd_errbuf(err, n, "zone %s has no running session", z->zc->name);
-	cal_act(z, &ask);
+	cal_act(e, z, now, &ask);
 	return 0;
 }

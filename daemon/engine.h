@@ -128,6 +128,7 @@ struct psd_engine {
 	struct psd_devio *io[PSD_MAX_DEVICES];   /* a device's I/O thread, NULL: called in the loop */
 	char ioerr[256];          /* the message of the last failed point read or write */
 	double utc0;              /* Unix time of clock 0 (its day's local midnight); NAN: unknown; dates in the log */
+	double speed;             /* clock seconds per monotonic second (psensd -x; 1 simulated): a reading's age */
 };
 
 /* Open cf's devices and points at time now and prepare the zones (cf is then

@@ -44,6 +44,7 @@ int ps_dali_input_init(struct ps_dali_input *in, const struct ps_dali_input_conf
 	}
 	in->bits = light ? 10 : 2;
 	in->last = -INFINITY;
+	in->wanted = -INFINITY;
 	set(in, light ? PS_DALI_LIGHT_SET_REPORT_TIMER : PS_DALI_OCC_SET_REPORT_TIMER, report);
 	if (c->deadtime >= 0) {
 		if ((code = ps_dali_device_timer_code(c->deadtime, 0.05, 0)) < 0) {
@@ -112,7 +113,7 @@ int ps_dali_input_next(struct ps_dali_input *in, double now, struct ps_dali_inpu
 		return 1;
 	}
 	if (in->stage == 0) {
-		double t = fmax(in->next_poll, in->last + poll_after(in));
+		double t = ps_dali_input_refreshing(in) ? in->next_poll : fmax(in->next_poll, in->last + poll_after(in));
 		if (now < t) {
 			*due = t;
 			return 0;
@@ -182,6 +183,22 @@ int ps_dali_input_event(struct ps_dali_input *in, double now, uint32_t frame)
 	else
 		take(in, now, (long)(ev.info & PS_DALI_OCC_EV_OCCUPIED ? 1u << (in->bits - 1) : 0));
 	return 1;
+}
+
+void ps_dali_input_refresh(struct ps_dali_input *in, double now)
+{
+	if (!(in->last >= now))
+		in->wanted = now;
+}
+
+int ps_dali_input_refreshing(const struct ps_dali_input *in)
+{
+	return in->wanted > in->last;
+}
+
+double ps_dali_input_age(const struct ps_dali_input *in, double now)
+{
+	return in->last == -INFINITY ? INFINITY : fmax(0, now - in->last);
 }
 
 int ps_dali_input_value(const struct ps_dali_input *in, double now, double *v, int *err, char *why, size_t n)

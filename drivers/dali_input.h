@@ -19,7 +19,13 @@
  * T_report, so with events flowing no frame is sent at all; without events
  * (an interface that does not pass bus traffic) a poll costs 1 + latches
  * frames per T_report.  A value older than 2 x T_report is lost: the
- * sensor stopped answering and reporting. */
+ * sensor stopped answering and reporting.
+ *
+ * A value is as old as the event, report or answer it came in: between
+ * reports a light sensor may drift up to its hysteresis band unseen.  A
+ * caller that needs a value measured from a moment on (a calibration
+ * sample paired with a task meter) asks for one with refresh(): the next
+ * transaction is then QUERY INPUT VALUE at once, whatever came lately. */
 #ifndef PS_DALI_INPUT_H
 #define PS_DALI_INPUT_H
 
@@ -57,6 +63,7 @@ struct ps_dali_input {
 	int stage;            /* polling: bytes asked so far (0: none) */
 	uint8_t bytes[4];
 	double last;          /* when the value last came, -INFINITY never */
+	double wanted;        /* a value measured at or after this is asked for (refresh), -INFINITY none */
 	double next_poll;
 	long value;           /* the raw value: 10-bit reading, or the occupancy state (1/0) */
 	unsigned long frames, events, polls, failures;
@@ -76,6 +83,13 @@ void ps_dali_input_result(struct ps_dali_input *in, double now, int rx, unsigned
 /* An event message seen on the bus: 1 when it was this instance's (the
  * value taken), 0 otherwise. */
 int ps_dali_input_event(struct ps_dali_input *in, double now, uint32_t frame);
+/* A value measured at or after now is wanted: poll at once (after the
+ * configuration, if any is still to send) unless one comes first. */
+void ps_dali_input_refresh(struct ps_dali_input *in, double now);
+/* 1 while a refresh asked for is not yet met. */
+int ps_dali_input_refreshing(const struct ps_dali_input *in);
+/* Seconds since the value came (INFINITY: none yet). */
+double ps_dali_input_age(const struct ps_dali_input *in, double now);
 /* The point's value at now: the 10-bit reading, or 1 occupied / 0 vacant.
  * 0 ok; -1 with why: ETIMEDOUT no value yet, ENODEV lost (older than
  * 2 x T_report). */

@@ -113,6 +113,7 @@ struct dpoint {
 	int input_pending;          /* its transaction is queued or on the bus */
 	double input_due;           /* when it has one next */
 	double reported;            /* input points: the value last handed to on_event, NAN none */
+	int refresh_event;          /* a refresh asked for: hand its answer to on_event, changed or not */
 };
 
 struct dali_usb {
@@ -1395,10 +1396,15 @@ static void input_events(struct ps_dev *dev, struct dali_usb *d)
 		char why[200];
 		double v;
 		int err;
+		int answered;
 		if (!p->in || (p->pt->role != PS_ROLE_INPUT && p->pt->role != PS_ROLE_SENSOR) || !dev->on_event ||
-		    ps_dali_input_value(p->in, d->now, &v, &err, why, sizeof why) != 0 || v == p->reported)
+		    ps_dali_input_value(p->in, d->now, &v, &err, why, sizeof why) != 0)
+			continue;
+		answered = p->refresh_event && !ps_dali_input_refreshing(p->in);
+		if (v == p->reported && !answered)
 			continue;
 		p->reported = v;
+		p->refresh_event = 0;
 		dev->on_event(dev->event_user, dev, p->pt, d->clock, v);
 	}
 }
@@ -1566,6 +1572,28 @@ static int du_read(struct ps_dev *dev, struct ps_point *pt, double clock, double
 	return 0;
 }
 
+static double du_age(struct ps_dev *dev, struct ps_point *pt, double now)
+{
+	struct dali_usb *d = dev->priv;
+	struct dpoint *p = pt ? pt->priv : NULL;
+	if (!d || !p)
+		return INFINITY;
+	return p->in ? ps_dali_input_age(p->in, now) : 0;
+}
+
+/* A control device's input: poll it at once (dali_input.h); its answer
+ * goes to on_event. */
+static int du_refresh(struct ps_dev *dev, struct ps_point *pt, double clock, double now)
+{
+	struct dali_usb *d = dev->priv;
+	struct dpoint *p = pt ? pt->priv : NULL;
+	if (!d || !p || !p->in)
+		return ps_dev_fail(dev, EINVAL, "%s: not a control device's input", pt ? pt->name : "?");
+	ps_dali_input_refresh(p->in, now);
+	p->refresh_event = ps_dali_input_refreshing(p->in);
+	return du_service(dev, clock, now);
+}
+
 static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps_opts *o)
 {
 	struct dali_usb *d = dev->priv;
@@ -1731,4 +1759,6 @@ const struct ps_driver ps_driver_dali_usb = {
 	.service = du_service,
 	.close = du_close,
 	.command = du_command,
+	.age = du_age,
+	.refresh = du_refresh,
 };

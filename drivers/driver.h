@@ -136,6 +136,18 @@ struct ps_driver {
 	 * *limit; -1 when the point has none (an output, a float register with
 	 * no stated range).  Pure: no I/O. */
 	int (*full_scale)(struct ps_dev *dev, struct ps_point *pt, double *limit);
+	/* Optional (NULL: every read() measures anew).  For a reading point
+	 * whose value the device sends by itself, a DALI-2 sensor's events and
+	 * periodic reports, read() gives the last value that came, and between
+	 * them the truth may drift (up to the sensor's hysteresis).  age: the
+	 * seconds on the monotonic clock since that value was measured (0 for
+	 * a point read anew at each read(); INFINITY none yet).  refresh: a
+	 * value measured from mono on is wanted; the driver asks the device as
+	 * soon as the wire allows and hands the answer to on_event, even when
+	 * it has not changed.  Both pure of I/O but for queueing the request;
+	 * 0, or -1 with errno (EINVAL a point that cannot). */
+	double (*age)(struct ps_dev *dev, struct ps_point *pt, double mono);
+	int (*refresh)(struct ps_dev *dev, struct ps_point *pt, double now, double mono);
 };
 
 /* Judge a device section (role < 0) or a point section: every key against

@@ -43,6 +43,7 @@ struct fixture {
 	double now;
 	int have_reading;         /* the zone's last reading, for a start */
 	double volts, level;
+	const double *volts_t;    /* when the sensor's value was measured (NULL: now) */
 };
 
 static void fixture_init(struct fixture *f, struct psd_db *db, int task)
@@ -85,7 +86,8 @@ static void fixture_init(struct fixture *f, struct psd_db *db, int task)
 static const struct psd_calsession_ctx *ctx(struct fixture *f)
 {
 	f->c = (struct psd_calsession_ctx){ f->zc.name, &f->zc, &f->ctl, &f->res, f->db, NULL, f->now, "03-18",
-		                             6 * 3600.0, 18.5 * 3600.0, f->have_reading, f->volts, f->level, NAN };
+		                             6 * 3600.0, 18.5 * 3600.0, f->have_reading, f->volts, f->level, NAN,
+		                             f->volts_t ? *f->volts_t : f->now, f->now };
 	return &f->c;
 }
 
@@ -235,6 +237,149 @@ static void day_with_meter_and_typed(void **state)
 	assert_int_equal(ask.napply, 1);
 	assert_near(ask.apply[0].daylight_ratio, RATIO * 0.5, 1e-9);
 	assert_true(isnan(ask.apply[0].offset) && isnan(ask.apply[0].sensor_gain));
+	psd_db_close(db);
+}
+
+/* A sensor that reports by itself, as a DALI-2 304 does: its value is the
+ * room's when it was last measured, every `every` seconds at a step, or
+ * `lag` seconds after the session asked for a fresh one (the driver's poll
+ * answered, and the zone stepped on it at once).  refresh 0: the asks are
+ * ignored, as by a driver that cannot poll. */
+struct reporter {
+	double every, lag, t, v;
+	int refresh, asks;
+};
+
+static double no_daylight(double t)
+{
+	(void)t;
+	return 0;
+}
+
+/* the morning sun on the sensor: 1 V at 10:00, rising 1 V an hour */
+static double morning(double t)
+{
+	return 1.0 + (t - 10 * 3600.0) / 3600.0;
+}
+
+static void measure(struct fixture *f, struct reporter *r, double u, double (*daylight)(double))
+{
+	r->t = f->now;
+	r->v = OFFSET + GAIN_E * u + daylight(f->now);
+}
+
+static void feed_reported(struct fixture *f, struct reporter *r, double u, double (*daylight)(double),
+                          struct psd_calsession_ask *ask)
+{
+	f->volts_t = &r->t;
+	psd_calsession_feed(&f->s, ctx(f), r->v, f->zc.task >= 0 ? LUX_E * u + RATIO * daylight(f->now) : NAN, u,
+	                    ask);
+}
+
+static void step_reported(struct fixture *f, struct reporter *r, double (*daylight)(double),
+                          struct psd_calsession_ask *ask)
+{
+	double u = NAN;
+	assert_int_equal(psd_calsession_level(&f->s, f->now, &u), 1);
+	f->now += PERIOD;
+	if (f->now - r->t >= r->every)
+		measure(f, r, u, daylight);
+	feed_reported(f, r, u, daylight, ask);
+	if (!ask->refresh_sensor || !psd_calsession_running(&f->s))
+		return;
+	r->asks++;
+	if (!r->refresh)
+		return;
+	f->now += r->lag;
+	measure(f, r, u, daylight);
+	assert_int_equal(psd_calsession_level(&f->s, f->now, &u), 1);
+	feed_reported(f, r, u, daylight, ask);
+	assert_int_equal(ask->refresh_sensor, 0);   /* one ask, one answer: no poll storm */
+}
+
+/* A night session on a sensor that reports only on its own (every 30
+ * minutes: the events of each level change lost): each level's value is
+ * polled once it is commanded, each measurement counts once, and the line
+ * comes out exact.  A session that took the repeated old value would
+ * record the previous level's volts at each step and settle on them at
+ * once (a repeated value has no spread). */
+static void night_polls_a_reporting_sensor(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask = { 0 };
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct reporter r = { 1800, 0.05, 0, 0, 1, 0 };
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 0);
+	measure(&f, &r, 1, no_daylight);   /* its last report: the lights at full output */
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 1000 && psd_calsession_running(&f.s); i++)
+		step_reported(&f, &r, no_daylight, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_DONE);
+	assert_int_equal(f.s.npt, PSD_CAL_NLEVELS);
+	for (int i = 0; i < PSD_CAL_NLEVELS; i++)
+		assert_near(f.s.pt[i].volts, OFFSET + GAIN_E * psd_calsession_levels[i], 1e-12);
+	assert_near(f.s.night.offset, OFFSET, 1e-9);
+	assert_near(f.s.night.gain, GAIN_E, 1e-9);
+	/* a poll at each step but the first of each level's (the one that
+	 * commands it): the settling test's 4 readings and no more */
+	assert_true(r.asks >= 4 * PSD_CAL_NLEVELS && r.asks <= 6 * PSD_CAL_NLEVELS);
+	psd_db_close(db);
+}
+
+/* Without a poll (a driver that cannot) the night session waits for the
+ * sensor's own reports, every 5 periods, and still counts each once: the
+ * same exact line, in more time.  Four repeats of the old level's report
+ * would have settled at once on that level's volts. */
+static void night_waits_for_reports(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask = { 0 };
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct reporter r = { 5 * PERIOD, 0, 0, 0, 0, 0 };
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 0);
+	f.zc.cal_window = 30 * PERIOD;
+	measure(&f, &r, 1, no_daylight);
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_NIGHT, 0, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 1000 && psd_calsession_running(&f.s); i++)
+		step_reported(&f, &r, no_daylight, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_DONE);
+	for (int i = 0; i < PSD_CAL_NLEVELS; i++)
+		assert_near(f.s.pt[i].volts, OFFSET + GAIN_E * psd_calsession_levels[i], 1e-12);
+	assert_near(f.s.night.offset, OFFSET, 1e-9);
+	assert_near(f.s.night.gain, GAIN_E, 1e-9);
+	psd_db_close(db);
+}
+
+/* A day session with the morning sun rising 1 V an hour on a sensor that
+ * reports every 9 minutes: each sample is the meter paired with the
+ * sensor's value polled for it, so the ratio is exact; a report up to 9
+ * minutes old would be up to 0.15 V low and the ratio some 5 % high. */
+static void day_pairs_the_meter_with_a_fresh_reading(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask = { 0 };
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct reporter r = { 540, 0.05, 0, 0, 1, 0 };
+	const double u = 0.3;
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 1);
+	f.now = 10 * 3600.0;
+	measure(&f, &r, 1, morning);
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, u, &ask, err, sizeof err), 0);
+	for (int i = 0; i < 200 && psd_calsession_running(&f.s); i++)
+		step_reported(&f, &r, morning, &ask);
+	assert_int_equal(f.s.state, PSD_CAL_DONE);
+	assert_int_equal(f.s.nds, 5);
+	assert_near(f.s.day.ratio, RATIO, 1e-9);
+	assert_true(r.asks >= 4 && r.asks <= 5);   /* the first sample's report may be fresh */
 	psd_db_close(db);
 }
 
@@ -476,6 +621,9 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(night_to_done_and_accepted),
 		cmocka_unit_test(day_with_meter_and_typed),
+		cmocka_unit_test(night_polls_a_reporting_sensor),
+		cmocka_unit_test(night_waits_for_reports),
+		cmocka_unit_test(day_pairs_the_meter_with_a_fresh_reading),
 		cmocka_unit_test(abort_on_fault),
 		cmocka_unit_test(resume_after_crash),
 		cmocka_unit_test(accept_supersedes),

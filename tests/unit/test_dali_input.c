@@ -132,6 +132,63 @@ static void poll_then_events_then_loss(void **state)
 	assert_true(v == 640);
 }
 
+/* A value wanted from a moment on: with a value 10 s old and events
+ * flowing, the next poll would be 27.5 s away; a refresh polls at once,
+ * ends when the answer comes (or an event first), and asks nothing when
+ * the value is already newer. */
+static void refresh_polls_at_once(void **state)
+{
+	struct ps_dali_input in;
+	struct ps_dali_input_conf c = light_conf(1);
+	struct ps_dali_input_tx tx;
+	uint32_t f[PS_DALI_INPUT_MAX_TX];
+	int tw[PS_DALI_INPUT_MAX_TX], n, err;
+	double due, v;
+	char why[200];
+	(void)state;
+	assert_int_equal(ps_dali_input_init(&in, &c, why, sizeof why), 0);
+	assert_true(isinf(ps_dali_input_age(&in, 0)));
+	ps_dali_input_connected(&in, 0);
+	configure(&in, 0, f, tw, &n);
+	assert_int_equal(ps_dali_input_event(&in, 10, 0x0A8400 | 700), 1);
+	assert_true(fabs(ps_dali_input_age(&in, 20) - 10) < 1e-12);
+	assert_int_equal(ps_dali_input_next(&in, 20, &tx, &due), 0);
+	assert_true(fabs(due - 47.5) < 1e-9);
+	ps_dali_input_refresh(&in, 20);
+	assert_true(ps_dali_input_refreshing(&in));
+	assert_int_equal(ps_dali_input_next(&in, 20, &tx, &due), 1);
+	assert_int_equal(tx.frame, 0x0B018C);
+	ps_dali_input_result(&in, 20.03, ANSWER, 0x4B);
+	assert_true(ps_dali_input_refreshing(&in));   /* half a value: still wanted */
+	assert_int_equal(ps_dali_input_next(&in, 20.03, &tx, &due), 1);
+	assert_int_equal(tx.frame, 0x0B018D);
+	ps_dali_input_result(&in, 20.06, ANSWER, 0x12);
+	assert_false(ps_dali_input_refreshing(&in));
+	assert_int_equal(ps_dali_input_value(&in, 20.06, &v, &err, why, sizeof why), 0);
+	assert_true(v == 300);
+	assert_true(fabs(ps_dali_input_age(&in, 20.1) - 0.04) < 1e-9);
+	/* then the usual wait again */
+	assert_int_equal(ps_dali_input_next(&in, 21, &tx, &due), 0);
+	assert_true(fabs(due - (20.06 + 37.5)) < 1e-9);
+	/* a value no older than the moment asked: nothing to do */
+	ps_dali_input_refresh(&in, 20.06);
+	assert_false(ps_dali_input_refreshing(&in));
+	/* an event before the poll meets the refresh too */
+	ps_dali_input_refresh(&in, 25);
+	assert_int_equal(ps_dali_input_event(&in, 25.01, 0x0A8400 | 710), 1);
+	assert_false(ps_dali_input_refreshing(&in));
+	assert_int_equal(ps_dali_input_next(&in, 25.01, &tx, &due), 0);
+	/* a failed poll is retried after T_report / 4, the refresh still wanted */
+	ps_dali_input_refresh(&in, 30);
+	assert_int_equal(ps_dali_input_next(&in, 30, &tx, &due), 1);
+	ps_dali_input_result(&in, 30.02, NONE, 0);
+	assert_true(ps_dali_input_refreshing(&in));
+	assert_int_equal(ps_dali_input_next(&in, 31, &tx, &due), 0);
+	assert_true(fabs(due - (30.02 + 7.5)) < 1e-9);
+	assert_int_equal(ps_dali_input_next(&in, 37.52, &tx, &due), 1);
+	assert_int_equal(tx.frame, 0x0B018C);
+}
+
 static void polling_without_events(void **state)
 {
 	struct ps_dali_input in;
@@ -206,6 +263,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(configuration_frames),
 		cmocka_unit_test(poll_then_events_then_loss),
+		cmocka_unit_test(refresh_polls_at_once),
 		cmocka_unit_test(polling_without_events),
 		cmocka_unit_test(occupancy),
 	};
