@@ -68,6 +68,7 @@ static void begin(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 	s->next_sample = c->now;
 	s->last_input = c->now;
 	s->fed_t = s->fed_lux_t = -INFINITY;
+	s->pair_skew = -1;
 	settle_reset(s, c);
 }
 
@@ -254,6 +255,8 @@ static char *results_json(const struct psd_calsession *s, const struct psd_calse
 		NUM("sd", f->sd);
 		json_object_object_add(o, "samples", json_object_new_int((int)f->n));
 		NUM("mean_tod_s", f->mean_tod);
+		if (s->pair_skew >= 0)
+			NUM("pair_skew_s", s->pair_skew);
 		NUM("sim_ratio", s->sim_ratio);
 		json_object_object_add(o, "condition", json_object_new_string(s->sim_condition));
 		NUM("error_pct", s->error_pct);
@@ -266,6 +269,14 @@ static char *results_json(const struct psd_calsession *s, const struct psd_calse
 #undef NUM
 	out = strdup(psd_json_text(o, 10));
 	json_object_put(o);
+	return out;
+}
+
+/* ", sensor and meter at most X s apart" for meter samples, else "" */
+static const char *skew_text(const struct psd_calsession *s, char *out, size_t n)
+{
+	if (s->pair_skew >= 0)
+		snprintf(out, n, ", sensor and meter at most %.2f s apart", s->pair_skew);
 	return out;
 }
 
@@ -299,9 +310,10 @@ static int finish(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 		snprintf(s->msg, sizeof s->msg, "done: offset %.4f V, %.4f V at full output (se %.4f), "
 		         "R2 %.6f; accept to use it", s->night.offset, s->night.gain, s->night.gain_se, s->night.r2);
 	else
-		snprintf(s->msg, sizeof s->msg, "done: %.2f lux per volt (se %.2f) from %zu samples; "
+		snprintf(s->msg, sizeof s->msg, "done: %.2f lux per volt (se %.2f) from %zu samples%s; "
 		         "simulated %.2f (%s): %+.1f %%, %s the %g %% tolerance%s", s->day.ratio, s->day.ratio_se,
-		         s->day.n, s->sim_ratio, s->sim_condition, s->error_pct, outside ? "outside" : "within",
+		         s->day.n, skew_text(s, (char[64]){ 0 }, 64), s->sim_ratio, s->sim_condition, s->error_pct,
+		         outside ? "outside" : "within",
 		         c->zc->cal_tolerance,
 		         outside ? " (the sensor moved or covered, the wrong filter, or a scene unlike the room?); "
 		                   "accept to use it anyway" : "; accept to use it");
@@ -459,8 +471,9 @@ static void feed_day(struct psd_calsession *s, const struct psd_calsession_ctx *
 	}
 	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
 	s->next_sample = c->now + s->interval;
-	snprintf(s->msg, sizeof s->msg, "%d of %d meter samples (the last: sensor measured %.2f s %s the meter)",
-	         s->nds, s->want_samples, fabs(c->lux_t - c->volts_t), c->volts_t <= c->lux_t ? "before" : "after");
+	s->pair_skew = fmax(s->pair_skew, fabs(c->lux_t - c->volts_t));
+	snprintf(s->msg, sizeof s->msg, "%d of %d meter samples (sensor and meter at most %.2f s apart)", s->nds,
+	         s->want_samples, s->pair_skew);
 	if (s->nds >= s->want_samples || s->nds >= PSD_CAL_MAX_DAY)
 		finish_or_abort(s, c, ask);
 }

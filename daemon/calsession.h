@@ -128,6 +128,7 @@ struct psd_calsession {
 	int want_samples;
 	struct psd_calfit_sample ds[PSD_CAL_MAX_DAY];
 	int nds;
+	double pair_skew;         /* the meter samples' largest time between sensor and meter reading, s (-1 none) */
 	/* results */
 	struct psd_calfit_line night;
 	struct psd_calfit_ratio day;

@@ -252,6 +252,8 @@ static json_object *cal_json(const struct psd_zone *z, double now)
 			json_object_array_add(pts, p);
 		}
 		json_object_object_add(o, "samples", pts);
+		if (c->pair_skew >= 0)
+			psd_json_num(o, "pair_skew_s", c->pair_skew);
 		if (c->state == PSD_CAL_DONE || c->state == PSD_CAL_ACCEPTED) {
 			psd_json_num(o, "ratio", c->day.ratio);
 			psd_json_num(o, "ratio_se", c->day.ratio_se);

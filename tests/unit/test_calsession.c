@@ -379,6 +379,7 @@ static void day_pairs_the_meter_with_a_fresh_reading(void **state)
 	assert_int_equal(f.s.state, PSD_CAL_DONE);
 	assert_int_equal(f.s.nds, 5);
 	assert_near(f.s.day.ratio, RATIO, 1e-9);
+	assert_near(f.s.pair_skew, 0, 1e-9);   /* the meter read at the step the poll's answer made */
 	assert_true(r.asks >= 4 && r.asks <= 5);   /* the first sample's report may be fresh */
 	psd_db_close(db);
 }
