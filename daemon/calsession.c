@@ -69,6 +69,7 @@ static void begin(struct psd_calsession *s, const struct psd_calsession_ctx *c, 
 	s->last_input = c->now;
 	s->fed_t = s->fed_lux_t = -INFINITY;
 	s->pair_skew = -1;
+	s->typed_lux = NAN;
 	settle_reset(s, c);
 }
 
@@ -376,12 +377,34 @@ int psd_calsession_typed_lux(struct psd_calsession *s, const struct psd_calsessi
 		return psd_errbuf(err, n, "zone %s has no good reading to pair with it", c->zone);
 	if (s->nds >= PSD_CAL_MAX_DAY)
 		return psd_errbuf(err, n, "%d samples already: finish the session", PSD_CAL_MAX_DAY);
-	if (record(s, c, level, volts, NAN, lux, "typed", err, n) != 0)
-		return -1;
-	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, lux };
+	(void)level;
+	s->typed_lux = lux;
+	s->typed_t = c->now;
 	s->last_input = c->now;
-	snprintf(s->msg, sizeof s->msg, "%d typed sample(s); finish when done", s->nds);
+	ask->step_now = 1;
+	snprintf(s->msg, sizeof s->msg, "%g lx typed: the typed sample waits for the sensor's next reading", lux);
 	return 0;
+}
+
+/* A typed lux meets a sensor reading measured at t: one taken no earlier
+ * than the skew before the typing (the installer read the meter first). */
+static void take_typed(struct psd_calsession *s, const struct psd_calsession_ctx *c, double volts, double level,
+                       struct psd_calsession_ask *ask)
+{
+	char err[512];
+	if (!(c->volts_t >= s->typed_t - PSD_CAL_PAIR_SKEW && c->volts_t > s->level_since)) {
+		if (!(s->asked_at >= s->typed_t))
+			s->asked_at = c->now, ask->refresh_sensor = 1;
+		return;
+	}
+	if (record(s, c, level, volts, NAN, s->typed_lux, "typed", err, sizeof err) != 0) {
+		psd_calsession_abort(s, c, err, ask);
+		return;
+	}
+	s->ds[s->nds++] = (struct psd_calfit_sample){ psd_clock_tod(c->now), level, volts, s->typed_lux };
+	s->typed_lux = NAN;
+	s->asked_at = -INFINITY;
+	snprintf(s->msg, sizeof s->msg, "%d typed sample(s); finish when done", s->nds);
 }
 
 /* The constants a finished session gives (NAN: keep the one in force). */
@@ -459,6 +482,10 @@ static void feed_day(struct psd_calsession *s, const struct psd_calsession_ctx *
 		         "typed lux", c->now - s->last_input, c->zc->task >= 0 ? "" :
 		         ": this zone has no task meter, so a day session needs `calibrate ZONE lux N` from a hand-held meter");
 		psd_calsession_abort(s, c, err, ask);
+		return;
+	}
+	if (isfinite(s->typed_lux)) {
+		take_typed(s, c, volts, level, ask);
 		return;
 	}
 	if (c->zc->task < 0 || !isfinite(lux) || c->now < s->next_sample || !day_pair(s, c, ask))

@@ -129,6 +129,7 @@ struct psd_calsession {
 	struct psd_calfit_sample ds[PSD_CAL_MAX_DAY];
 	int nds;
 	double pair_skew;         /* the meter samples' largest time between sensor and meter reading, s (-1 none) */
+	double typed_lux, typed_t;/* lux typed at typed_t, waiting for the sensor's reading (NAN none) */
 	/* results */
 	struct psd_calfit_line night;
 	struct psd_calfit_ratio day;
@@ -152,8 +153,10 @@ void psd_calsession_resume(struct psd_calsession *s, const struct psd_calsession
 /* Start a session of a kind; a day session holds the lights at level. */
 int psd_calsession_start(struct psd_calsession *s, const struct psd_calsession_ctx *c, int kind, double level,
                          struct psd_calsession_ask *ask, char *err, size_t n);
-/* A reading the installer typed (a hand-held meter), paired with the
- * zone's volts and output now. */
+/* A reading the installer typed (a hand-held meter): it waits for the
+ * zone's next reading (ask->step_now; a reporting sensor is polled),
+ * measured no earlier than PSD_CAL_PAIR_SKEW before the typing; volts is
+ * the zone's last reading, which must be good. */
 int psd_calsession_typed_lux(struct psd_calsession *s, const struct psd_calsession_ctx *c, double lux,
                              double volts, double level, struct psd_calsession_ask *ask, char *err, size_t n);
 /* End a running day session and fit it. */

@@ -132,14 +132,10 @@ static void pt_refresh(struct psd_engine *e, int p, double now)
 /* What a calibration session may see of its zone (calsession.h). */
 static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struct psd_zone *z, double now)
 {
-	struct psd_calsession_ctx c = { z->zc->name, z->zc, &z->ctl, z->res, e->db,
+	const struct psd_calsession_ctx c = { z->zc->name, z->zc, &z->ctl, z->res, e->db,
 	                                e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
 	                                !z->in_fault && isfinite(z->volts), z->volts, z->level, e->utc0,
-	                                now, now };
-	if (c.have_reading)
-		c.volts_t = pt_measured(e, z->zc->sensor, now);
-	if (isfinite(z->task_lux))
-		c.lux_t = pt_measured(e, z->zc->task, now);
+	                                z->volts_t, z->task_t };
 	return c;
 }
 
@@ -650,6 +646,7 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 		return 1;
 	}
 	z->volts = v;
+	z->volts_t = pt_measured(e, zc->sensor, now);
 	/* saturation is the sensor's own limit, apart from the control range:
 	 * a reading at it says only "this much or more" */
 	if (pc->saturation > 0 && v >= pc->saturation) {
@@ -996,6 +993,7 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	if (zc->task >= 0) {
 		if (pt_read(e, zc->task, now, &z->task_lux) != 0)
 			z->task_lux = NAN;   /* a meter is a record, not the control */
+		z->task_t = pt_measured(e, zc->task, now);
 	} else {
 		z->task_lux = NAN;
 	}

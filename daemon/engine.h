@@ -73,6 +73,7 @@ struct psd_zone {
 	double last_ok;           /* time of the last good reading */
 	double last_volts, same_since;  /* stuck detection */
 	double volts, task_lux;   /* last readings (NAN if none) */
+	double volts_t, task_t;   /* when they were measured, on the clock (calsession.h) */
 	double level;             /* last commanded output */
 	double override_level, override_until;   /* override: level until a time */
 	int daylight_off;         /* daylight control off: the level that meets the target

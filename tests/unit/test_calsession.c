@@ -210,10 +210,14 @@ static void day_with_meter_and_typed(void **state)
 	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, 1.5, &ask, err, sizeof err), -1);
 	assert_non_null(strstr(err, "level 1.5 is outside 0 to 1"));
 	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, u, &ask, err, sizeof err), 0);
-	/* typed: a hand-held meter's reading paired with the volts now */
-	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), LUX_E * u + RATIO * 2.0, OFFSET + GAIN_E * u + 2.0, u,
+	/* typed: a hand-held meter's reading waits for the zone's next
+	 * reading (a step at once), 1.0 V of daylight as the loop's first */
+	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), LUX_E * u + RATIO * 1.0, OFFSET + GAIN_E * u + 2.0, u,
 	                                          &ask, err, sizeof err),
 	                 0);
+	assert_int_equal(ask.step_now, 1);
+	assert_int_equal(f.s.nds, 0);
+	assert_non_null(strstr(f.s.msg, "waits for the sensor's next reading"));
 	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), 1e6, 1, u, &ask, err, sizeof err), -1);
 	assert_non_null(strstr(err, "outside 0 to 200000"));
 	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), 800, NAN, u, &ask, err, sizeof err), -1);
@@ -381,6 +385,42 @@ static void day_pairs_the_meter_with_a_fresh_reading(void **state)
 	assert_near(f.s.day.ratio, RATIO, 1e-9);
 	assert_near(f.s.pair_skew, 0, 1e-9);   /* the meter read at the step the poll's answer made */
 	assert_true(r.asks >= 4 && r.asks <= 5);   /* the first sample's report may be fresh */
+	psd_db_close(db);
+}
+
+/* Lux typed 30 s after the sensor's last report: the typed sample waits
+ * for a fresh value, polled for it, not the report. */
+static void typed_lux_waits_for_a_fresh_reading(void **state)
+{
+	char err[512];
+	struct fixture f;
+	struct psd_calsession_ask ask = { 0 };
+	struct psd_db *db = psd_db_open(":memory:", err, sizeof err);
+	struct reporter r = { 540, 0.05, 0, 0, 1, 0 };
+	const double u = 0.3;
+	double held;
+	(void)state;
+	assert_non_null(db);
+	fixture_init(&f, db, 0);
+	f.now = 10 * 3600.0;
+	measure(&f, &r, u, morning);
+	f.volts_t = &r.t;
+	assert_int_equal(psd_calsession_start(&f.s, ctx(&f), PSD_CAL_DAY, u, &ask, err, sizeof err), 0);
+	assert_int_equal(psd_calsession_level(&f.s, f.now, &held), 1);
+	f.now += 30;
+	assert_int_equal(psd_calsession_typed_lux(&f.s, ctx(&f), LUX_E * u + RATIO * morning(f.now + r.lag), r.v, u,
+	                                          &ask, err, sizeof err),
+	                 0);
+	assert_int_equal(ask.step_now, 1);
+	feed_reported(&f, &r, u, morning, &ask);   /* the step at once: still the old report */
+	assert_int_equal(ask.refresh_sensor, 1);
+	assert_int_equal(f.s.nds, 0);
+	f.now += r.lag;
+	measure(&f, &r, u, morning);
+	feed_reported(&f, &r, u, morning, &ask);   /* the poll's answer */
+	assert_int_equal(f.s.nds, 1);
+	assert_near(f.s.ds[0].volts, OFFSET + GAIN_E * u + morning(f.now), 1e-12);
+	assert_near(f.s.ds[0].lux, LUX_E * u + RATIO * morning(f.now), 1e-9);
 	psd_db_close(db);
 }
 
@@ -625,6 +665,7 @@ int main(void)
 		cmocka_unit_test(night_polls_a_reporting_sensor),
 		cmocka_unit_test(night_waits_for_reports),
 		cmocka_unit_test(day_pairs_the_meter_with_a_fresh_reading),
+		cmocka_unit_test(typed_lux_waits_for_a_fresh_reading),
 		cmocka_unit_test(abort_on_fault),
 		cmocka_unit_test(resume_after_crash),
 		cmocka_unit_test(accept_supersedes),

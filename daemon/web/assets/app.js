@@ -14,6 +14,7 @@ let zone = null;        // the zone shown, or null for the list
 let hist = null;        // its chart: {t:[], level:[], est:[], meas:[]}
 let retry = null;
 let calRunning = false; // the zone shown had a session running at the last update
+let calMsg = '';         // the running session's message at the last update
 
 function show(which) {
   for (const id of ['login', 'zones', 'zone'])
@@ -193,6 +194,12 @@ function renderZone(z) {
     if (z.calibration.message) $('cal-msg').textContent = z.calibration.message;
     calSteps(z.calibration.kind, 'running');
     calRunning = true;
+    // a new message says a level settled or a sample was taken (a typed
+    // one waits for the sensor's next reading): the table from the session
+    if (z.calibration.message !== calMsg) {
+      calMsg = z.calibration.message;
+      request('calibrate ' + z.name + ' status').then((o) => { if (o) renderCal(o.calibration); });
+    }
   } else if (calRunning) {   // it ended: its outcome, from the session itself
     calRunning = false;
     request('calibrate ' + z.name + ' status').then((o) => { if (o) renderCal(o.calibration); });
@@ -368,6 +375,7 @@ function go(name) {
     $('accept-box').hidden = true;
     $('year').hidden = true;
     calRunning = false;
+    calMsg = '';
     $('record-zone').href = 'api/record.pdf?zone=' + encodeURIComponent(name);
     $('record-zone').setAttribute('download', 'psensd-record-' + name + '.pdf');
     hist = null;
