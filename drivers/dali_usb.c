@@ -117,7 +117,8 @@ struct dpoint {
 };
 
 struct dali_usb {
-	const struct ps_dali_transport *tp;   /* a USB interface, or */
+	const struct ps_dali_transport *tp;   /* a USB interface (the one found, for transport = usb), or */
+	int any_usb;                          /* transport = usb: tp is whichever is plugged in */
 	const struct ps_dali_codec *codec;    /* a serial or TCP one */
 	char serial[64], port[32];
 	char where[256];                      /* serial, TCP: the tty or HOST:PORT */
@@ -171,18 +172,33 @@ struct dali_usb {
 /* The interfaces, and their names for the transport key (in that order):
  * USB ones through libusb, serial and TCP ones through dali_serial.c. */
 static const struct ps_dali_transport *const transports[] = { &ps_usb_tridonic, NULL, NULL, NULL, NULL,
-	                                                       &ps_usb_hasseb, NULL };
+	                                                       &ps_usb_hasseb, NULL, NULL };
 static const struct ps_dali_codec *const codecs[] = { NULL,           &ps_dali_atx, &ps_dali_foxtron, &ps_dali_luba,
-                                                       &ps_dali_daliserver, NULL, NULL };
-static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", "daliserver", "hasseb", NULL };
+                                                       &ps_dali_daliserver, NULL, NULL, NULL };
+static const char *const transport_names[] = { "tridonic", "atx", "foxtron", "luba", "daliserver", "hasseb", "usb",
+	                                        NULL };
+enum { TRANSPORT_ANY_USB = 6 };   /* "usb": whichever USB interface is plugged in, by its VID:PID */
+static const struct ps_dali_transport *const usb_transports[] = { &ps_usb_tridonic, &ps_usb_hasseb, NULL };
 
 /* A transport name that is a USB interface (no device = key). */
 static int usb_transport(const char *name)
 {
 	for (int i = 0; transport_names[i]; i++)
 		if (strcmp(name, transport_names[i]) == 0)
-			return transports[i] != NULL;
+			return transports[i] != NULL || i == TRANSPORT_ANY_USB;
 	return 0;
+}
+
+/* The USB interface a device descriptor is, among those the transport key
+ * allows (any of them for transport = usb); NULL none. */
+static const struct ps_dali_transport *usb_match(const struct dali_usb *d, const struct libusb_device_descriptor *dd)
+{
+	for (int i = 0; usb_transports[i]; i++) {
+		const struct ps_dali_transport *t = usb_transports[i];
+		if ((d->any_usb || t == d->tp) && dd->idVendor == t->vid && dd->idProduct == t->pid)
+			return t;
+	}
+	return NULL;
 }
 
 /* port: the interface's place in the USB tree, as in /sys/bus/usb/devices. */
@@ -206,7 +222,7 @@ static const struct ps_opts_spec du_options[] = {
 	{ .key = "transport", .type = PS_OPT_ENUM, .scope = DEV, .def = "tridonic",
 	  .names = transport_names,
 	  .doc = "the interface: tridonic (Tridonic and Lunatone DALI USB, 17b5:0020), hasseb (hasseb DALI "
-	         "Master, 04cc:0802), atx (AtxLED DALI HAT, serial), foxtron (Foxtron DALI232 serial, DALInet "
+	         "Master, 04cc:0802), usb (whichever of these two is plugged in, by its VID:PID), atx (AtxLED DALI HAT, serial), foxtron (Foxtron DALI232 serial, DALInet "
 	         "TCP), luba (Lunatone LUBA, serial), daliserver (a Tridonic DALI USB shared by daliserver, TCP)" },
 	{ .key = "device", .type = PS_OPT_STRING, .scope = DEV,
 	  .doc = "atx, foxtron, luba: the serial port (/dev/...) or HOST:PORT (DALInet); daliserver: HOST:PORT" },
@@ -492,6 +508,7 @@ static int connect_usb(struct dali_usb *d)
 {
 	libusb_device **list = NULL;
 	libusb_device_handle *found = NULL;
+	const struct ps_dali_transport *found_tp = NULL, *other_tp = NULL;
 	char where[64] = "", other[64] = "";
 	ssize_t n;
 	int r, matches = 0;
@@ -502,10 +519,10 @@ static int connect_usb(struct dali_usb *d)
 	n = libusb_get_device_list(d->ctx, &list);
 	for (ssize_t i = 0; i < n; i++) {
 		struct libusb_device_descriptor dd;
+		const struct ps_dali_transport *tp;
 		libusb_device_handle *h;
 		char path[64], serial[64];
-		if (libusb_get_device_descriptor(list[i], &dd) != 0 || dd.idVendor != d->tp->vid ||
-		    dd.idProduct != d->tp->pid)
+		if (libusb_get_device_descriptor(list[i], &dd) != 0 || !(tp = usb_match(d, &dd)))
 			continue;
 		port_path(list[i], path, sizeof path);
 		if (d->port[0] && strcmp(path, d->port) != 0)
@@ -519,8 +536,10 @@ static int connect_usb(struct dali_usb *d)
 		}
 		if (++matches == 1) {
 			found = h;
+			found_tp = tp;
 			snprintf(where, sizeof where, "%s", path);
 		} else {
+			other_tp = tp;
 			snprintf(other, sizeof other, "%s", path);
 			libusb_close(h);
 		}
@@ -530,20 +549,30 @@ static int connect_usb(struct dali_usb *d)
 	if (matches != 1) {
 		if (found)
 			libusb_close(found);
-		if (matches == 0)
+		if (matches == 0 && d->any_usb)
+			snprintf(d->down_why, sizeof d->down_why,
+			         "no DALI USB interface (tridonic %04x:%04x, hasseb %04x:%04x)%s%s%s%s found",
+			         ps_usb_tridonic.vid, ps_usb_tridonic.pid, ps_usb_hasseb.vid, ps_usb_hasseb.pid,
+			         d->port[0] ? " at port " : "", d->port, d->serial[0] ? " with serial " : "", d->serial);
+		else if (matches == 0)
 			snprintf(d->down_why, sizeof d->down_why, "no %s DALI USB interface %04x:%04x%s%s%s%s found",
 			         d->tp->name, d->tp->vid, d->tp->pid, d->port[0] ? " at port " : "", d->port,
 			         d->serial[0] ? " with serial " : "", d->serial);
+		else if (found_tp != other_tp)
+			snprintf(d->down_why, sizeof d->down_why,
+			         "%d DALI USB interfaces found (%s at %s, %s at %s): choose one with transport =, port = or serial =",
+			         matches, found_tp->name, where, other_tp->name, other);
 		else
 			snprintf(d->down_why, sizeof d->down_why,
 			         "%d %s interfaces found (at %s and %s): choose one with port = or serial =",
-			         matches, d->tp->name, where, other);
+			         matches, found_tp->name, where, other);
 		keep_cause(d);
 		ctx_free(d);
 		errno = matches ? EINVAL : ENODEV;
 		return -1;
 	}
 	d->h = found;
+	d->tp = found_tp;
 	d->reattach = 0;
 	/* the interface enumerates as HID: usbhid holds it until we detach it */
 	if (libusb_kernel_driver_active(d->h, d->tp->interface) == 1) {
@@ -1703,7 +1732,8 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	    ps_opts_long(&r, "retries", &d->retries) || ps_opts_double(&r, "frame_gap", &d->frame_gap) ||
 	    ps_opts_double(&r, "safe_level", &d->safe_level) || ps_opts_double(&r, "fade_time", &d->fade_time))
 		return -1;
-	d->tp = transports[transport];
+	d->any_usb = transport == TRANSPORT_ANY_USB;
+	d->tp = d->any_usb ? usb_transports[0] : transports[transport];   /* the one found replaces it */
 	d->codec = codecs[transport];
 	if (ps_opts_string(&r, "device", &where) || ps_opts_long(&r, "baud", &d->baud))
 		return -1;

@@ -120,6 +120,7 @@ struct fx {
 	struct ps_opts popts[4];
 	int open;
 	int model;   /* enum psemu_model of the emulated interfaces */
+	const char *transport;   /* the transport key open_dev adds (NULL: the model's own) */
 };
 
 static int setup_n(void **state, int nifaces, int model)
@@ -160,6 +161,26 @@ static int setup_two_hasseb(void **state)
 	return setup_n(state, 2, PSEMU_HASSEB);
 }
 
+/* the hasseb, opened with transport = usb: chosen by its VID:PID */
+static int setup_usb_hasseb(void **state)
+{
+	setup_n(state, 1, PSEMU_HASSEB);
+	((struct fx *)*state)->transport = "usb";
+	return 0;
+}
+
+/* a Tridonic interface (A1, port 1) and a hasseb (B2, port 2) plugged in */
+static int setup_mixed(void **state)
+{
+	char err[256];
+	struct fx *f;
+	setup_n(state, 1, PSEMU_TRIDONIC);
+	f = *state;
+	if (psemu_add_model(f->emu, PSEMU_HASSEB, 2, "B2", 4, err, sizeof err) != 1)
+		fail_msg("%s", err);
+	return 0;
+}
+
 static const char *model_name(const struct fx *f)
 {
 	return f->model == PSEMU_HASSEB ? "hasseb" : "tridonic";
@@ -187,9 +208,9 @@ static int open_dev(struct fx *f, ...)
 	va_start(ap, f);
 	opts = ps_test_vopts(&f->o, "test.conf", 10, ap);
 	va_end(ap);
-	if (f->model == PSEMU_HASSEB) {
+	if (f->model == PSEMU_HASSEB || f->transport) {
 		assert_true(f->o.o.n < PS_TEST_OPTS_MAX);
-		f->o.v[f->o.o.n] = (struct ps_opt){ "transport", "hasseb", 9, 0 };
+		f->o.v[f->o.o.n] = (struct ps_opt){ "transport", f->transport ? f->transport : "hasseb", 9, 0 };
 		f->o.o.n++;
 	}
 	if (f->dev.drv->open(&f->dev, opts) != 0) {
@@ -505,8 +526,9 @@ static void safe_level_unplug_and_replug(void **state)
 	assert_false(run_until(f, is_connected, 0.7));
 	assert_int_equal(dwrite(f, 0, 0.3), -1);
 	assert_int_equal(errno, ENODEV);
-	assert_non_null(strstr(f->dev.err, f->model == PSEMU_HASSEB ? "no hasseb DALI USB interface 04cc:0802"
-	                                                            : "no tridonic DALI USB interface 17b5:0020"));
+	assert_non_null(strstr(f->dev.err, f->transport ? "no DALI USB interface (tridonic 17b5:0020, hasseb 04cc:0802)"
+	                                   : f->model == PSEMU_HASSEB ? "no hasseb DALI USB interface 04cc:0802"
+	                                                              : "no tridonic DALI USB interface 17b5:0020"));
 	/* the cause stays in front of the rescan's words: a log of this fault
 	 * says what happened (500-fault-table greps the samples for it) */
 	assert_non_null(strstr(f->dev.err, "interface unplugged; rescan: "));
@@ -745,6 +767,54 @@ static void a_simulated_day_with_the_control_law(void **state)
 	assert_int_equal(stats(f).connects, 2);
 }
 
+/* transport = usb with a Tridonic and a hasseb plugged in: a choice to
+ * make, named with both; transport = hasseb, or usb with a serial, makes
+ * it; with the Tridonic unplugged, usb takes the hasseb (its own framing:
+ * the level reaches the hasseb's bus, not the other). */
+static void usb_takes_either_interface(void **state)
+{
+	struct fx *f = *state;
+	f->transport = "usb";
+	assert_int_equal(open_dev(f, NULL), -1);
+	assert_int_equal(errno, EINVAL);
+	if (!strstr(f->dev.err, "2 DALI USB interfaces found (") || !strstr(f->dev.err, "tridonic at 1-1") ||
+	    !strstr(f->dev.err, "hasseb at 1-2") || !strstr(f->dev.err, "choose one with transport ="))
+		fail_msg("%s", f->dev.err);
+	f->transport = "hasseb";
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 1, 1).level, 229);
+	assert_int_equal(ballast(f, 0, 1).level, 254);
+	f->dev.drv->close(&f->dev);
+	f->open = 0;
+	f->transport = "usb";
+	assert_int_equal(open_dev(f, "serial", "A1", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, 0.1), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 1).level, 170);
+	assert_int_equal(ballast(f, 1, 1).level, 229);
+	f->dev.drv->close(&f->dev);
+	f->open = 0;
+	assert_int_equal(psemu_unplug(f->emu, 0), 0);
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, 0.1), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 1, 1).level, 170);
+	f->dev.drv->close(&f->dev);
+	f->open = 0;
+	/* neither plugged in: the message names both */
+	assert_int_equal(psemu_unplug(f->emu, 1), 0);
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, 0.5), -1);
+	assert_int_equal(errno, ENODEV);
+	assert_non_null(strstr(f->dev.err, "no DALI USB interface (tridonic 17b5:0020, hasseb 04cc:0802) found"));
+}
+
 /* ---- the hasseb DALI Master's own paths ---------------------------------------------- */
 
 /* Its sequence numbers run 1..255 and never 0 (the emulator drops a report
@@ -889,6 +959,11 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(two_interfaces_need_a_choice, setup_two_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(a_second_claim_is_refused, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(a_simulated_day_with_the_control_law, setup_hasseb, teardown),
+		/* transport = usb: the interface by its VID:PID */
+		cmocka_unit_test_setup_teardown(usb_takes_either_interface, setup_mixed, teardown),
+		cmocka_unit_test_setup_teardown(levels_reach_the_ballasts, setup_usb_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(safe_level_unplug_and_replug, setup_usb_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(hasseb_dtr0_is_a_frame_of_its_own, setup_usb_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(another_masters_frame_is_not_an_answer, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(a_stale_report_is_not_an_answer, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_sequence_numbers_wrap_past_255, setup_hasseb, teardown),
