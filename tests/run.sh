@@ -11,11 +11,13 @@ pass=0; fail=0; skip=0; failed_files=""
 for t in "$@"; do
 	name=$(basename "$t")
 	log="$LOGDIR/$name.log"
+	t0=$(date +%s)
 	case "$t" in
 	*.sh) CMOCKA_MESSAGE_OUTPUT=TAP sh "$t" >"$log" 2>&1 ;;
 	*)    CMOCKA_MESSAGE_OUTPUT=TAP "$t" >"$log" 2>&1 ;;
 	esac
 	rc=$?
+	secs=$(($(date +%s) - t0))
 	p=$(grep -c '^ok ' "$log")
 	s=$(grep -c '^\(not \)\{0,1\}ok [0-9]* *#* *# SKIP' "$log")
 	f=$(grep '^not ok ' "$log" | grep -vc '# SKIP')
@@ -31,11 +33,11 @@ for t in "$@"; do
 	fi
 	pass=$((pass + p)); fail=$((fail + f)); skip=$((skip + s))
 	if [ "$f" != 0 ]; then
-		echo "FAIL $name ($p passed, $f failed, $s skipped, exit $rc):"
+		echo "FAIL $name ($p passed, $f failed, $s skipped, exit $rc, ${secs} s):"
 		sed 's/^/    /' "$log"
 		failed_files="$failed_files $name"
 	else
-		echo "ok   $name ($p passed, $s skipped)"
+		echo "ok   $name ($p passed, $s skipped, ${secs} s)"
 	fi
 	grep '# SKIP' "$log" | sed "s/^/     $name: /"
 done
