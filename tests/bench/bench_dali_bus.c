@@ -12,7 +12,9 @@
  * forward frame 13.5-21.2 ms by priority.  Printed: frames per second per
  * zone and the bus time they take, at T_report 30 s with events and by
  * polling, and during a night calibration session (six levels, 20 s each,
- * the zone stepping every 2 s); the configuration at connect apart;
+ * the zone stepping every 2 s, the session polling for a fresh value when
+ * the sensor sent nothing since its last step); the configuration at
+ * connect apart;
  * the sensor event to gear command latency in bus frames and time; the
  * time from a lost sensor's last value until the zone reads the loss. */
 #include <math.h>
@@ -78,8 +80,8 @@ static int light_at(double t, int session)
 static void run(struct load *l, int events, double report, double seconds, double period, int session)
 {
 	struct ps_dali_input light, occ;
-	double next_rep_l = 0, next_rep_o = 0, last_ev_l = -1e9;
-	int sent = -1, level = -1;
+	double next_rep_l = 0, next_rep_o = 0, last_ev_l = -1e9, fed = -INFINITY;
+	int sent = -1, level = -1, asked = 0;
 	memset(l, 0, sizeof *l);
 	conf(&light, PS_DALI_TYPE_LIGHT, events, report);
 	conf(&occ, PS_DALI_TYPE_OCCUPANCY, events, report);
@@ -117,7 +119,19 @@ static void run(struct load *l, int events, double report, double seconds, doubl
 			ours(l, &tx, occ.icfg < occ.ncfg);
 			ps_dali_input_result(&occ, t, tx.answer ? 1 : 0, (tx.frame & 0xFF) == 0x81 ? 2 : 0xAA);
 		}
-		/* the zone's step: a DAPC when the level moves */
+		/* a session's poll answered: the zone steps on it and feeds it */
+		if (asked && !ps_dali_input_refreshing(&light)) {
+			fed = light.last;
+			asked = 0;
+		}
+		/* the zone's step: a DAPC when the level moves; in a session, a
+		 * value fed once, and a poll when nothing new came (calsession.h) */
+		if (session && k % per == 0 && !asked) {
+			if (light.last > fed)
+				fed = light.last;
+			else
+				ps_dali_input_refresh(&light, t), asked = 1;
+		}
 		if (k % per == 0) {
 			double x;
 			int err;
