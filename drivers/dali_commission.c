@@ -975,8 +975,11 @@ static int verify_run(struct ps_dali_commission *c, double now)
 	case VE_CMD:
 		if (c->i >= c->nvt) {
 			double fade = 0;
+			/* the longest fade of the gear that answered: one that did not
+			 * (gone dead) is read back as no answer whatever its fade, so
+			 * its unknown fade (taken as the longest, 90.5 s) is not waited */
 			for (int a = 0; a < 64; a++)
-				if (c->hold & bit(a))
+				if (c->hold & c->used & bit(a))
 					fade = fmax(fade, fade_seconds(c->gear[a].fade));
 			c->i = 0;
 			c->pc = VE_QUERY;
