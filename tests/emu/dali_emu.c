@@ -62,6 +62,7 @@ struct iface {
 	struct ballast b[PSEMU_MAX_BALLASTS];
 	int nballasts;
 	int fault, fault_count;
+	uint8_t fw_major, fw_minor;      /* hasseb: its firmware version */
 	double last_final;               /* real time of the last final report, <0 none */
 	unsigned prev_frame;             /* the previous frame on the bus, for send-twice */
 	double prev_frame_t;
@@ -633,8 +634,16 @@ static void firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size_t len,
 #define HB_LEN 10
 #define HB_PREAMBLE 0xAA
 #define HB_SEND 0x07
+#define HB_VERSION 0x02
 #define HB_EP_OUT 0x01
-enum { HB_NO_ANSWER = 1, HB_ANSWER = 2, HB_INVALID = 3, HB_SNIFFED = 5 };
+enum { HB_NO_ANSWER = 1, HB_ANSWER = 2, HB_INVALID = 3, HB_TOO_EARLY = 4, HB_SNIFFED = 5 };
+
+/* A firmware-version report: AA 02 seq major minor 0 0 0 0 0 */
+static void hb_version(struct iface *f, uint8_t seq, double due)
+{
+	uint8_t r[HB_LEN] = { HB_PREAMBLE, HB_VERSION, seq, f->fw_major, f->fw_minor, 0, 0, 0, 0, 0 };
+	queue_report(f, r, sizeof r, due);
+}
 
 /* A transmission report: AA 07 seq status length data 0 0 0 0 */
 static void hb_report(struct iface *f, uint8_t seq, uint8_t status, int value, double due)
@@ -661,8 +670,16 @@ static void hasseb_firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size
 		g_mutex_unlock(&e->lock);
 		return;
 	}
-	if (ep != HB_EP_OUT || !p || len != HB_LEN || p[0] != HB_PREAMBLE || p[1] != HB_SEND || p[2] == 0) {
+	if (ep != HB_EP_OUT || !p || len != HB_LEN || p[0] != HB_PREAMBLE || (p[1] != HB_SEND && p[1] != HB_VERSION) ||
+	    p[2] == 0) {
 		f->st.rejected++;   /* not the protocol: the device does nothing */
+		g_mutex_unlock(&e->lock);
+		return;
+	}
+	if (p[1] == HB_VERSION) {
+		/* nothing on the bus: the report comes at once */
+		f->st.version_requests++;
+		hb_version(f, p[2], now);
 		g_mutex_unlock(&e->lock);
 		return;
 	}
@@ -709,11 +726,20 @@ static void hasseb_firmware(struct vusb *dev, uint8_t ep, const uint8_t *p, size
 	f->st.bus_time += t - now;
 	if (!e->timing)
 		t = now;
+	if (fault == PSEMU_FAULT_VERSION || fault == PSEMU_FAULT_VERSION_ONLY)
+		hb_version(f, seq, t);
 	switch (fault) {
 	case PSEMU_FAULT_NO_ANSWER:
+	case PSEMU_FAULT_VERSION_ONLY:
 		break;
 	case PSEMU_FAULT_GARBLED:
 		hb_report(f, seq, HB_INVALID, -1, t);
+		f->last_final = t;
+		break;
+	case PSEMU_FAULT_EARLY:
+		/* a backward frame began inside the settling time: the firmware
+		 * does not take it for the answer (whatever the ballasts said) */
+		hb_report(f, seq, HB_TOO_EARLY, -1, t);
 		f->last_final = t;
 		break;
 	case PSEMU_FAULT_STALE:
@@ -805,6 +831,8 @@ int psemu_add_model(struct psemu *e, int model, int port, const char *serial, in
 	memset(f, 0, sizeof *f);
 	f->e = e;
 	f->model = model;
+	f->fw_major = 2;
+	f->fw_minor = 5;
 	f->index = e->n;
 	f->port = port;
 	f->next_devnum = 2 + 10 * e->n;
@@ -857,6 +885,21 @@ void psemu_fault(struct psemu *e, int iface, int fault, int count)
 	e->ifc[iface].fault = fault;
 	e->ifc[iface].fault_count = count;
 	g_mutex_unlock(&e->lock);
+}
+
+int psemu_hasseb_version(struct psemu *e, int iface, int major, int minor)
+{
+	if (iface < 0 || iface >= e->n || major < 0 || major > 255 || minor < 0 || minor > 255)
+		return -1;
+	g_mutex_lock(&e->lock);
+	if (e->ifc[iface].model != PSEMU_HASSEB) {
+		g_mutex_unlock(&e->lock);
+		return -1;
+	}
+	e->ifc[iface].fw_major = (uint8_t)major;
+	e->ifc[iface].fw_minor = (uint8_t)minor;
+	g_mutex_unlock(&e->lock);
+	return 0;
 }
 
 void psemu_set_clock(struct psemu *e, double (*now)(void *user), void *user)

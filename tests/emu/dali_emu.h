@@ -42,7 +42,9 @@
  * number 1-255, the frame length in bits (16 only), an "expect an answer"
  * flag and a send-twice delay in ms; it has no echo and no DTR0 prefix, and
  * answers with one transmission report for that sequence number: status 1
- * no answer, 2 an answer, 3 invalid data (a garbled answer).  Without the
+ * no answer, 2 an answer, 3 invalid data (a garbled answer).  It also
+ * takes "read firmware version" (0x02, with a sequence number), answered by
+ * a version report: AA 02 seq major minor, zeros to 10 bytes.  Without the
  * expect-answer flag it does not listen for a backward frame (status 1
  * whatever the ballasts said): an assumption of this model, as the protocol
  * does not say.  Reports that break the protocol (sequence 0, wrong length,
@@ -57,7 +59,12 @@
  * hasseb: its two bytes sniffed, with sequence number 0), and a stale
  * report: the final report of the SEND is lost and an answer 0x55 under the
  * previous sequence number comes in its place (a late report of the
- * transaction before).  Unplug/replug at any time; a replugged interface
+ * transaction before).  The hasseb's own: an answer too early (status 4, a
+ * backward frame that began before the 5.5 ms settling time, in place of
+ * the transmission report), and an unasked firmware-version report, either
+ * before the transmission report or in its place (both under the SEND's
+ * sequence number, the worst case for matching); the Tridonic model has no
+ * such reports and ignores these three.  Unplug/replug at any time; a replugged interface
  * gets a new device number, as after a real replug.  Per ballast: dead after
  * it has answered N more backward frames (it then ignores the bus).
  *
@@ -79,6 +86,9 @@ enum psemu_fault {
 	PSEMU_FAULT_UNPLUG,       /* unplugged after the echo, before the answer */
 	PSEMU_FAULT_OTHER_MASTER, /* another master's frame on the bus before ours */
 	PSEMU_FAULT_STALE,        /* our final report is lost; an answer 0x55 for the previous sequence number comes instead */
+	PSEMU_FAULT_EARLY,        /* hasseb: a backward frame before the settling time (status 4) instead of the answer */
+	PSEMU_FAULT_VERSION,      /* hasseb: an unasked firmware-version report first, under the SEND's sequence number */
+	PSEMU_FAULT_VERSION_ONLY, /* hasseb: an unasked firmware-version report in place of the transmission report */
 };
 
 enum psemu_model { PSEMU_TRIDONIC = 0, PSEMU_HASSEB };
@@ -120,6 +130,7 @@ struct psemu_stats {
 	unsigned last_frame;      /* the last forward frame put on the bus */
 	unsigned early_compares;  /* COMPAREs within 100 ms of a RANDOMISE */
 	unsigned specials;        /* special commands (INITIALISE, COMPARE, ...) on the bus */
+	unsigned version_requests;    /* hasseb: "read firmware version" requests (0x02) answered */
 	double bus_time;          /* seconds the SENDs would take on a real bus */
 	int plugged;
 	int devnum;
@@ -144,6 +155,9 @@ int psemu_add_model(struct psemu *e, int model, int port, const char *serial, in
 int psemu_unplug(struct psemu *e, int iface);
 int psemu_replug(struct psemu *e, int iface, char *err, size_t errlen);
 void psemu_fault(struct psemu *e, int iface, int fault, int count);
+/* The hasseb's firmware version, major.minor (each 0..255; 2.5 unless set):
+ * what its version reports carry.  0 ok, -1 no such hasseb. */
+int psemu_hasseb_version(struct psemu *e, int iface, int major, int minor);
 
 /* The ballasts' clock for fades (seconds); default: the monotonic clock.
  * Tests set it to move fades along without waiting. */
