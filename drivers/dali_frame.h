@@ -43,6 +43,7 @@ enum ps_dali_bus {
 	PS_DALI_BUS_FRAMING = 3,         /* a garbled backward frame: several devices answered at once */
 	PS_DALI_BUS_SEND_COLLISION = 8,  /* our forward frame collided with another master's: send again */
 	PS_DALI_BUS_REJECTED = 9,        /* the interface refused the request (full buffer, invalid command) */
+	PS_DALI_BUS_EARLY = 10,          /* a backward frame before the settling time allowed it: not an answer */
 };
 
 struct ps_dali_reply {

@@ -1114,7 +1114,8 @@ static void on_report(struct dali_usb *d, const uint8_t *buf, size_t len)
 			job_done(d, PS_DALI_RX_COLLISION, 0, NULL);
 			break;
 		}
-		failed_try(d, EPROTO, r.value == 3 ? "garbled answer (framing error)" :
+		failed_try(d, EPROTO, r.value == PS_DALI_BUS_EARLY ? "answer too early (before the settling time)" :
+		                      r.value == 3 ? "garbled answer (framing error)" :
 		                      r.value == 2 ? "DALI bus shorted or unpowered" : "checksum error");
 		break;
 	}

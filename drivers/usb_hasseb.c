@@ -81,9 +81,14 @@ static void hb_decode(const uint8_t *in, size_t len, struct ps_dali_reply *r)
 		r->value = in[5];
 		break;
 	case 3:
-	case 4:
 		r->event = PS_DALI_EV_BUS_ERROR;
 		r->value = PS_DALI_BUS_FRAMING;
+		break;
+	case 4:
+		/* a backward frame before the settling time (5.5 ms after our
+		 * frame): not a valid answer, and no sign that several answered */
+		r->event = PS_DALI_EV_BUS_ERROR;
+		r->value = PS_DALI_BUS_EARLY;
 		break;
 	case 5:
 		r->event = PS_DALI_EV_OBSERVED;

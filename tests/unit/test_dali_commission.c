@@ -314,6 +314,28 @@ static void scan_reads_every_setting(void **state)
 	assert_non_null(strstr(f->out, "\"job\":\"scan\""));
 }
 
+/* A scan's first query answered too early (the hasseb's status 4): not a
+ * garbled answer, so not read as "several gear answered" (present = 2) but
+ * asked again; the scan finds the six ballasts at 0..5 and nothing else. */
+static void an_answer_too_early_is_asked_again(void **state)
+{
+	struct fx *f = *state;
+	const struct ps_dali_commission *c;
+	open_dev(f, "frame_gap", "0", NULL);
+	assert_true(run_until(f, is_idle, 3));
+	psemu_fault(f->emu, 0, PSEMU_FAULT_EARLY, 1);
+	run_job(f, "scan", 20);
+	c = job(f);
+	assert_int_equal(c->state, PS_DALI_COMMISSION_DONE);
+	assert_int_equal(c->scanned, 64);
+	for (int a = 0; a < 64; a++)
+		assert_int_equal(c->gear[a].present, a < 6);
+	assert_int_equal(c->unaddressed, 0);
+	assert_int_equal(stats(f).retries, 1);
+	assert_int_equal(stats(f).garbled, 1);
+	assert_int_equal(stats(f).failed, 0);
+}
+
 /* ---- address ----------------------------------------------------------------------------- */
 
 static void address_new_at_the_bus_rate(void **state)
@@ -736,6 +758,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(scan_reads_every_setting, setup6_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(address_new_at_the_bus_rate, setup6_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(colliding_random_addresses_are_separated, setup6_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(an_answer_too_early_is_asked_again, setup6_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(twins_in_step_need_address_all, setup6, teardown),
 		cmocka_unit_test_setup_teardown(a_ballast_going_quiet_mid_search, setup6, teardown),
 		cmocka_unit_test_setup_teardown(shared_short_addresses_are_split, setup6, teardown),

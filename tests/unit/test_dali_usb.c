@@ -920,6 +920,48 @@ static void a_stale_report_is_not_an_answer(void **state)
 	assert_int_equal(st.failed, 0);
 }
 
+/* A backward frame that began before the settling time (the hasseb's status
+ * 4) is not a valid answer (IEC 62386-101: 5.5 ms at the least), and
+ * nothing says several ballasts answered: the query is sent again and the
+ * retry reads the ballast.  Too early on every try (1 + 2 retries) fails the
+ * read as a bad answer named "answer too early", not as a garbled one. */
+static void hasseb_an_answer_too_early_is_not_an_answer(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dali_usb_stats st;
+	double v = -1;
+	assert_int_equal(open_dev(f, "retries", "2", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(170)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	fade_clock += 10;
+	psemu_fault(f->emu, 0, PSEMU_FAULT_EARLY, 1);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 170);
+	st = stats(f);
+	assert_int_equal(st.retries, 1);
+	assert_int_equal(st.garbled, 1);
+	assert_int_equal(st.timeouts, 0);
+	assert_int_equal(st.failed, 0);
+	/* the read above queued the next query: too early on all three tries */
+	psemu_fault(f->emu, 0, PSEMU_FAULT_EARLY, 3);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), -1);
+	assert_int_equal(errno, EPROTO);
+	assert_non_null(strstr(f->dev.err, "answer too early"));
+	assert_non_null(strstr(f->dev.err, "3 tries"));
+	st = stats(f);
+	assert_int_equal(st.retries, 3);
+	assert_int_equal(st.garbled, 4);
+	assert_int_equal(st.failed, 1);
+	/* the next query is answered again */
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 170);
+}
+
 int main(int argc, char **argv)
 {
 	const struct CMUnitTest tests[] = {
@@ -966,6 +1008,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(hasseb_dtr0_is_a_frame_of_its_own, setup_usb_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(another_masters_frame_is_not_an_answer, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(a_stale_report_is_not_an_answer, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(hasseb_an_answer_too_early_is_not_an_answer, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_sequence_numbers_wrap_past_255, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_dtr0_is_a_frame_of_its_own, setup_hasseb, teardown),
 	};

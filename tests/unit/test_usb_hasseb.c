@@ -83,8 +83,11 @@ static void decode(void **state)
 	assert_int_equal(r.event, PS_DALI_EV_BUS_ERROR);
 	assert_int_equal(r.value, PS_DALI_BUS_FRAMING);
 	assert_int_equal(r.seq, 0x2B);
+	/* an answer too early is not a garbled one: nothing says several answered */
 	r = dec(early, 10);
 	assert_int_equal(r.event, PS_DALI_EV_BUS_ERROR);
+	assert_int_equal(r.value, PS_DALI_BUS_EARLY);
+	assert_int_equal(r.seq, 0x2C);
 	r = dec(idle, 10);
 	assert_int_equal(r.event, PS_DALI_EV_IGNORE);
 	r = dec(ver, 10);
