@@ -29,6 +29,10 @@ struct ps_dali_transport {
 	void (*decode)(const uint8_t *in, size_t len, struct ps_dali_reply *r);
 	/* Next sequence number after seq (the interface's wrap rule). */
 	int (*next_seq)(int seq);
+	/* Encode "report your firmware version" (answered by an INFO event with
+	 * the version as major << 8 | minor), or NULL when the interface has no
+	 * such request.  Returns the report length, -1 if it cannot. */
+	int (*encode_version)(uint8_t *out, size_t cap, int seq);
 };
 
 #endif

@@ -129,6 +129,8 @@ struct dali_usb {
 	int ser_repeat;                       /* a 24-bit frame to send once more (the codec has no send-twice for it), -1 none */
 	int usb_then, usb_then_twice;         /* USB without a DTR0 prefix: the frame after its DTR0, -1 none */
 	int usb_then_go;                      /* DTR0 is through: send usb_then at cur_deadline */
+	int ask_version;                      /* USB: ask for the firmware version before the next frame */
+	int firmware;                         /* its last version report (major << 8 | minor), -1 none */
 	double timeout, frame_gap, safe_level, fade_time;
 	long retries;
 
@@ -605,6 +607,9 @@ static void connected(struct dali_usb *d)
 	d->backoff = BACKOFF_MIN;
 	d->cur_active = 0;
 	d->next_send = d->now;
+	/* the interface may have been swapped: its version is asked again */
+	d->firmware = -1;
+	d->ask_version = !d->codec && d->tp->encode_version;
 	/* redo each point's setup and last level on every connect */
 	for (int i = 0; i < d->npts; i++) {
 		struct dpoint *p = &d->pts[i];
@@ -931,6 +936,16 @@ static void send_next(struct dali_usb *d)
 	int have_job;
 	if (d->state != ST_UP || d->cur_active || d->out_busy || d->now < d->next_send)
 		return;
+	if (d->ask_version) {
+		/* no transaction: nothing waits for the version report, which may
+		 * come at any time (on_report records it) or never */
+		d->ask_version = 0;
+		d->seq = d->tp->next_seq(d->seq);
+		len = d->tp->encode_version(d->outbuf, sizeof d->outbuf, d->seq);
+		if (len > 0)
+			usb_submit(d, len);
+		return;
+	}
 	qi = sendable(d);
 	have_job = job_ready(d, &jt);
 	if (qi < 0 && !have_job)
@@ -1084,6 +1099,12 @@ static void on_report(struct dali_usb *d, const uint8_t *buf, size_t len)
 		d->st.garbled++;
 		if (d->cur_active)
 			d->cur_garbled = 1;
+		return;
+	}
+	/* a version report answers no transaction, whatever its sequence
+	 * number: asked at connect or not, it is recorded and matched to nothing */
+	if (r.event == PS_DALI_EV_INFO && d->tp->encode_version) {
+		d->firmware = (int)r.value;
 		return;
 	}
 	if (r.event == PS_DALI_EV_IGNORE || r.event == PS_DALI_EV_OBSERVED || r.event == PS_DALI_EV_INFO)
@@ -1372,6 +1393,13 @@ static int du_command(struct ps_dev *dev, int nw, char **w, struct ps_point *con
 	else
 		json_object_object_add(o, "job", NULL);
 	bus_json(d, now, o);
+	if (d->firmware >= 0) {
+		char v[16];
+		snprintf(v, sizeof v, "%d.%d", d->firmware >> 8, d->firmware & 0xFF);
+		json_object_object_add(o, "firmware", json_object_new_string(v));
+	} else {
+		json_object_object_add(o, "firmware", NULL);
+	}
 	json_c_set_serialization_double_format("%.10g", JSON_C_OPTION_THREAD);
 	text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PLAIN | JSON_C_TO_STRING_NOSLASHESCAPE);
 	if (strlen(text) >= outlen) {
@@ -1725,6 +1753,7 @@ static int du_open(struct ps_dev *dev, const struct ps_opts *o)
 	d->backoff = BACKOFF_MIN;
 	d->next_scan = -INFINITY;
 	d->seq = 0;
+	d->firmware = -1;
 	d->rnd = (uint32_t)(uintptr_t)d ^ (uint32_t)getpid();
 	if (d->epfd < 0)
 		return ps_dev_fail(dev, errno, "epoll: %s", strerror(errno));
@@ -1764,6 +1793,7 @@ int ps_dali_usb_stats(struct ps_dev *dev, struct ps_dali_usb_stats *st)
 		return ps_dev_fail(dev, EINVAL, "not a dali_usb device");
 	*st = d->st;
 	st->connected = d->state == ST_UP;
+	st->firmware = d->firmware;
 	st->pending = (int)d->qlen + d->cur_active;
 	st->job_running = d->job && d->job->state == PS_DALI_COMMISSION_RUNNING;
 	return 0;

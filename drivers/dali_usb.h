@@ -21,6 +21,7 @@ struct ps_dali_usb_stats {
 	int connected;              /* 1 while the interface is claimed */
 	int pending;                /* transactions queued or in flight */
 	int job_running;            /* a commissioning job runs */
+	int firmware;               /* the interface's firmware version, major << 8 | minor; -1 unknown */
 };
 
 /* 0, or -1 (EINVAL) when dev is not a dali_usb device. */

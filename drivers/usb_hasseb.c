@@ -11,6 +11,7 @@
  *   answer in d0, 3 invalid data (a garbled answer), 4 an answer too early,
  *   5 and 6 a byte sniffed on the bus (in sniffing mode only); type 0x02 the
  *   firmware version in d-bytes 3 and 4; type 0x00 nothing.
+ * Host -> device, read the firmware version:  AA 02 seq 00 ..
  * The interface has no DTR0 prefix: a command with dtr0 cannot be encoded
  * (the driver then sends DTR0 as a frame of its own). */
 #include <string.h>
@@ -108,6 +109,18 @@ static void hb_decode(const uint8_t *in, size_t len, struct ps_dali_reply *r)
 	r->seq = in[2];
 }
 
+/* "read firmware version": AA 02 seq, zeros to 10 bytes */
+static int hb_encode_version(uint8_t *out, size_t cap, int seq)
+{
+	if (cap < LEN || seq < 1 || seq > 255)
+		return -1;
+	memset(out, 0, LEN);
+	out[0] = PREAMBLE;
+	out[1] = REP_VERSION;
+	out[2] = (uint8_t)seq;
+	return LEN;
+}
+
 /* 1..255: the protocol does not allow 0 */
 static int hb_next_seq(int seq)
 {
@@ -126,4 +139,5 @@ const struct ps_dali_transport ps_usb_hasseb = {
 	.encode_send = hb_encode_send,
 	.decode = hb_decode,
 	.next_seq = hb_next_seq,
+	.encode_version = hb_encode_version,
 };

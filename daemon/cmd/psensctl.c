@@ -275,9 +275,11 @@ static int state_is(json_object *r, const char *state)
 
 static void dali_show(json_object *r)
 {
-	const char *job = text_of(r, "job"), *msg = text_of(r, "message");
+	const char *job = text_of(r, "job"), *msg = text_of(r, "message"), *fw = text_of(r, "firmware");
 	json_object *list;
 	char a[64], b[64], c[64], d[64], e[64], f[64], g[64], h[64], i[64], j[64], k[64], l[64], m[64];
+	if (fw)
+		printf("%s: interface firmware %s\n", text_of(r, "device"), fw);
 	if (!job) {
 		printf("%s: no commissioning job since psensd started\n", text_of(r, "device"));
 		return;

@@ -11,7 +11,8 @@
 # an override; a garbled answer to every
 # try is a fault that drives them to the safe level, and control resumes
 # by itself; unplugged, psensd reports the lost bus and resumes on replug;
-# SIGTERM leaves them at the safe level.
+# SIGTERM leaves them at the safe level.  psensctl dali status shows the
+# firmware version the emulated interface reports when asked at connect.
 . "$(dirname "$0")/lib.sh"
 RUN=$BUILD/tests/psemu-run
 [ -x "$RUN" ] || skip_all "the DALI emulator is not built (needs libusb-1.0 and umockdev)"
@@ -62,6 +63,10 @@ check "psensd runs under the hasseb emulator" sh -c "\"$BIN/psensctl\" -s \"$S\"
 wait_for 10 test "$(field sfl)" = 229
 check "SYSTEM FAILURE LEVEL 229 (50 %, not the default 254) through DTR0 on both ballasts: $(field sfl)" \
 	test "$(field sfl)" = 229
+# the emulated firmware's version (2.5), asked at connect, in the status
+ctl dali dali status > "$TMP/status" 2>&1
+check "psensctl dali status shows the interface's firmware: $(head -n 1 "$TMP/status")" \
+	grep -q "^dali: interface firmware 2\.5$" "$TMP/status"
 ctl override office 0.3 36000 > /dev/null
 want=$(arc 0.3)
 wait_for 10 at_level "$want"

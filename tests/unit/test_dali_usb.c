@@ -819,8 +819,8 @@ static void usb_takes_either_interface(void **state)
 
 /* Its sequence numbers run 1..255 and never 0 (the emulator drops a report
  * with 0, which would then time out); every report is answered under the
- * number it was sent with, so after N SENDs the last one carries
- * (N - 1) mod 255 + 1. */
+ * number it was sent with.  The firmware-version request at connect takes
+ * number 1, so after it and N SENDs the last one carries N mod 255 + 1. */
 static void hasseb_sequence_numbers_wrap_past_255(void **state)
 {
 	struct fx *f = *state;
@@ -840,7 +840,8 @@ static void hasseb_sequence_numbers_wrap_past_255(void **state)
 	assert_int_equal(es.sends, 301);          /* QUERY PHYSICAL MINIMUM and 300 DAPC */
 	assert_int_equal(st.frames, es.sends);
 	assert_int_equal(es.rejected, 0);
-	assert_int_equal(es.last_seq, (301 - 1) % 255 + 1);
+	assert_int_equal(es.version_requests, 1);
+	assert_int_equal(es.last_seq, 301 % 255 + 1);
 	assert_int_equal(st.timeouts, 0);
 	assert_int_equal(st.failed, 0);
 }
@@ -945,8 +946,10 @@ static void hasseb_an_answer_too_early_is_not_an_answer(void **state)
 	assert_int_equal(st.garbled, 1);
 	assert_int_equal(st.timeouts, 0);
 	assert_int_equal(st.failed, 0);
-	/* the read above queued the next query: too early on all three tries */
+	/* the read above queued the next query; then too early on all three tries */
+	assert_true(run_until(f, is_idle, 3));
 	psemu_fault(f->emu, 0, PSEMU_FAULT_EARLY, 3);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
 	assert_true(run_until(f, is_idle, 3));
 	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), -1);
 	assert_int_equal(errno, EPROTO);
@@ -960,6 +963,98 @@ static void hasseb_an_answer_too_early_is_not_an_answer(void **state)
 	assert_true(run_until(f, is_idle, 3));
 	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
 	assert_int_equal(ps_dali_fraction_to_level(v), 170);
+}
+
+/* psensctl dali DEV status: the device's report (JSON) in f->out */
+static const char *status_json(struct fx *f)
+{
+	static char out[8192];
+	char buf[] = "status", *w[1] = { buf };
+	if (f->dev.drv->command(&f->dev, 1, w, NULL, 0, psd_time_mono(), psd_time_mono(), out, sizeof out) != 0)
+		fail_msg("status: %s", f->dev.err);
+	return out;
+}
+
+/* The driver asks the hasseb for its firmware version once per connect
+ * (no transaction waits for it); the version the emulated device is given,
+ * 3.7, reaches the stats and the status report, and is asked again after a
+ * replug (a swapped device may run another). */
+static void hasseb_firmware_version_reaches_the_status(void **state)
+{
+	struct fx *f = *state;
+	struct psemu_stats es;
+	char err[256];
+	assert_int_equal(psemu_hasseb_version(f->emu, 0, 3, 7), 0);
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	assert_int_equal(dwrite(f, 0, 0.5), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(stats(f).firmware, 3 << 8 | 7);
+	assert_non_null(strstr(status_json(f), "\"firmware\":\"3.7\""));
+	assert_int_equal(psemu_stats(f->emu, 0, &es), 0);
+	assert_int_equal(es.version_requests, 1);
+	assert_int_equal(es.rejected, 0);
+	assert_int_equal(ballast(f, 0, 0).level, 229);
+	/* replugged with other firmware: the new version, asked anew */
+	assert_int_equal(psemu_unplug(f->emu, 0), 0);
+	assert_true(run_until(f, is_down, 5));
+	assert_int_equal(psemu_hasseb_version(f->emu, 0, 4, 12), 0);
+	assert_int_equal(psemu_replug(f->emu, 0, err, sizeof err), 0);
+	assert_true(run_until(f, is_connected, 5));
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(stats(f).firmware, 4 << 8 | 12);
+	assert_non_null(strstr(status_json(f), "\"firmware\":\"4.12\""));
+	assert_int_equal(psemu_stats(f->emu, 0, &es), 0);
+	assert_int_equal(es.version_requests, 2);
+}
+
+/* The Tridonic has no version request here: none is sent, none reported. */
+static void tridonic_firmware_version_is_unknown(void **state)
+{
+	struct fx *f = *state;
+	assert_int_equal(open_dev(f, NULL), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(stats(f).firmware, -1);
+	assert_non_null(strstr(status_json(f), "\"firmware\":null"));
+}
+
+/* An unasked version report under the query's own sequence number, before
+ * the transmission report: not the answer (the query reads the ballast,
+ * with no retry and nothing stray), and the version is recorded. */
+static void hasseb_an_unasked_version_report_is_not_an_answer(void **state)
+{
+	struct fx *f = *state;
+	struct ps_dali_usb_stats st;
+	double v = -1;
+	assert_int_equal(open_dev(f, "timeout", "0.05", NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "1");
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(170)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	fade_clock += 10;
+	assert_int_equal(psemu_hasseb_version(f->emu, 0, 9, 1), 0);
+	psemu_fault(f->emu, 0, PSEMU_FAULT_VERSION, 1);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 170);   /* not 9 nor 1 */
+	st = stats(f);
+	assert_int_equal(st.firmware, 9 << 8 | 1);
+	assert_int_equal(st.retries, 0);
+	assert_int_equal(st.timeouts, 0);
+	assert_int_equal(st.stray, 0);
+	assert_int_equal(st.garbled, 0);
+	/* in place of the transmission report: the query times out and its
+	 * retry reads the ballast (first the query the read above queued) */
+	assert_true(run_until(f, is_idle, 3));
+	psemu_fault(f->emu, 0, PSEMU_FAULT_VERSION_ONLY, 1);
+	f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 170);
+	st = stats(f);
+	assert_int_equal(st.timeouts, 1);
+	assert_int_equal(st.retries, 1);
+	assert_int_equal(st.failed, 0);
 }
 
 int main(int argc, char **argv)
@@ -1009,6 +1104,9 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(another_masters_frame_is_not_an_answer, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(a_stale_report_is_not_an_answer, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_an_answer_too_early_is_not_an_answer, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(hasseb_an_unasked_version_report_is_not_an_answer, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(hasseb_firmware_version_reaches_the_status, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(tridonic_firmware_version_is_unknown, setup, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_sequence_numbers_wrap_past_255, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(hasseb_dtr0_is_a_frame_of_its_own, setup_hasseb, teardown),
 	};

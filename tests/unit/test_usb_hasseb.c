@@ -44,6 +44,13 @@ static void encode(void **state)
 	assert_int_equal(ps_usb_hasseb.encode_send(out, sizeof out, 4, 0x0B2C, 1, 170), -1);
 	assert_int_equal(ps_usb_hasseb.encode_send(out, sizeof out, 0, 0x0BA0, 0, -1), -1);
 	assert_int_equal(ps_usb_hasseb.encode_send(out, 9, 4, 0x0BA0, 0, -1), -1);
+	/* read firmware version (02), sequence 5: AA 02 05 then zeros */
+	static const uint8_t ver[10] = { 0xAA, 0x02, 0x05, 0, 0, 0, 0, 0, 0, 0 };
+	memset(out, 0x77, sizeof out);
+	assert_int_equal(ps_usb_hasseb.encode_version(out, sizeof out, 5), 10);
+	assert_memory_equal(out, ver, 10);
+	assert_int_equal(ps_usb_hasseb.encode_version(out, sizeof out, 0), -1);
+	assert_int_equal(ps_usb_hasseb.encode_version(out, 9, 5), -1);
 	assert_int_equal(ps_usb_hasseb.vid, 0x04CC);
 	assert_int_equal(ps_usb_hasseb.pid, 0x0802);
 }
