@@ -38,7 +38,7 @@ run() {
 	wait_for 10 ctl ping > /dev/null
 	check "psensd logs its BACnet device (writes=$w)" grep -q "bacnet: device 2601 'psensd test site' on udp 127.0.0.1:$port" "$TMP/err$1"
 	[ -z "${FLOOD:-}" ] || return 0
-	node "$PEER" "$port" 2601 "$1" > "$TMP/peer$1" 2>&1
+	PEER_PORT=$(free_udp_port) node "$PEER" "$port" 2601 "$1" > "$TMP/peer$1" 2>&1
 	rc=$?
 	sed -n 's/^\(not \)\{0,1\}ok [0-9]* - /peer: /p' "$TMP/peer$1" | while read -r l; do diag "$l"; done
 	grep -E '^# (rp|cov)_ms' "$TMP/peer$1"

@@ -30,7 +30,7 @@ wait_for 10 grep -q "Capturing on" "$TMP/tshark.out" || skip_all "tshark cannot 
 "$BIN/psensd" -f "$TMP/psensd.conf" -t 08:00 -x 600 > "$TMP/out" 2> "$TMP/err" &
 PID=$!; track_pid $PID
 wait_for 10 "$BIN/psensctl" -s "$S" ping > /dev/null
-node "$TOP/tests/peers/bacnet-peer.js" "$port" 2643 1 > "$TMP/peer" 2>&1
+PEER_PORT=$(free_udp_port) node "$TOP/tests/peers/bacnet-peer.js" "$port" 2643 1 > "$TMP/peer" 2>&1
 check "the peer's session passes ($(grep -c '^ok' "$TMP/peer") ok)" test "$(grep -c '^not ok' "$TMP/peer")" = 0
 # a Lighting_Command fade-to 30.0 at priority 9 on (lighting-output, 1);
 # ReadProperty Present_Value of (binary-input, 1) and (multi-state-input, 1)

@@ -53,7 +53,7 @@ start() {
 
 # peer MODE: the peer against it, its lines as diagnostics
 peer() {
-	node "$PEER" "$port" 2644 "$1" "$(status_of electric_task_lux)" > "$TMP/peer$1" 2>&1
+	PEER_PORT=$(free_udp_port) node "$PEER" "$port" 2644 "$1" "$(status_of electric_task_lux)" > "$TMP/peer$1" 2>&1
 	rc=$?
 	sed -n 's/^\(not \)\{0,1\}ok [0-9]* - /peer: /p' "$TMP/peer$1" | while read -r l; do diag "$l"; done
 	grep '^# ' "$TMP/peer$1"

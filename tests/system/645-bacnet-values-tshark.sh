@@ -34,7 +34,7 @@ PID=$!; track_pid $PID
 wait_for 10 "$BIN/psensctl" -s "$S" ping > /dev/null
 elux=$("$BIN/psensctl" -s "$S" -j status | /usr/bin/python3 -c 'import json, sys
 print([z for z in json.load(sys.stdin)["zones"] if z["name"] == "office"][0]["electric_task_lux"])')
-node "$TOP/tests/peers/bacnet-values-peer.js" "$port" 2645 1 "$elux" > "$TMP/peer" 2>&1
+PEER_PORT=$(free_udp_port) node "$TOP/tests/peers/bacnet-values-peer.js" "$port" 2645 1 "$elux" > "$TMP/peer" 2>&1
 check "the peer's session passes ($(grep -c '^ok' "$TMP/peer") ok)" \
 	test "$(grep -c '^not ok' "$TMP/peer")" = 0 -a "$(grep -c '^ok' "$TMP/peer")" -ge 10
 sleep 1

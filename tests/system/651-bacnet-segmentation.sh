@@ -30,7 +30,7 @@ port=$(free_udp_port)
 "$BIN/psensd" -f "$TMP/many.conf" -t 08:00 -x 10 > "$TMP/out" 2> "$TMP/err" &
 PID=$!; track_pid $PID
 wait_for 10 "$BIN/psensctl" -s "$S" ping > /dev/null
-node "$TOP/tests/peers/bacnet-seg-peer.js" "$port" 651 1000 > "$TMP/peer" 2>&1
+PEER_PORT=$(free_udp_port) node "$TOP/tests/peers/bacnet-seg-peer.js" "$port" 651 1000 > "$TMP/peer" 2>&1
 check "the peer's session passes ($(grep -c '^ok' "$TMP/peer") ok)" \
 	sh -c "grep -q '^ok' '$TMP/peer' && ! grep -q '^not ok' '$TMP/peer'"
 grep '^not ok\|^#' "$TMP/peer" > "$TMP/peer.diag"
