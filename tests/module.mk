@@ -30,7 +30,10 @@ check: deps
 	$(MAKE) tests
 	@# '+': some tests run make themselves (091 runs make run): they share
 	@# this make's jobserver instead of warning that it is unavailable
-	+BUILD=$(BUILD) BIN=$(BUILD)/bin TOP=$(CURDIR) sh tests/run.sh $(UNIT_BINS) $(SYS_TESTS)
+	+BUILD=$(BUILD) BIN=$(BUILD)/bin TOP=$(CURDIR) sh tests/run.sh -j $(CHECK_JOBS) $(UNIT_BINS) $(SYS_TESTS)
+# tests at once: most system tests wait on sockets and clocks, so twice the
+# cores keeps the machine busy; CHECK_JOBS=1 runs them one after another
+CHECK_JOBS ?= $(shell echo $$(( $$(nproc) * 2 )))
 
 bench: all $(BENCH_BINS)
 	@for b in $(BENCH_BINS); do echo "== $$b"; BUILD=$(BUILD) $$b || exit 1; done
