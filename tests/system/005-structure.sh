@@ -1,5 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: long
 # The layout's rules for the tree's structure, checked on the built
 # objects (nm) and the sources by tests/system/structure.py:
 # - prefix: an exported symbol of sim/**/X.c or drivers/X.c is ps_X or

@@ -1,5 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: long
 # psplace renders the candidates' missing pictures with Radiance (-M, -K,
 # -L) into the content-keyed cache.  CI has no Radiance: stand-ins for
 # vwrays, rfluxmtx and rpict (radstub.py) check their command lines as

@@ -1,5 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: long
 # Pictures to look at: pspng, mksens's PNG and overlay, psshare.  The PNGs
 # are read by a decoder of our own (tests/system/peers/pngpeer.py: zlib and
 # struct) and checked by pngcheck; pixel values are stated from the curves'

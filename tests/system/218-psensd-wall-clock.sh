@@ -1,5 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: long
 # psensd in real time (speed 1, a 0.5 s period) dated by the wall clock,
 # whose steps are injected through the tests' hook (PSENSD_TEST_WALL_OFFSET:
 # a file of seconds added to every wall reading, psensd(8)):

@@ -1,5 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: alone
+# (its sessions race a fault on a 600x clock)
 # Calibration sessions on the loopback room (gain 0.5 V per unit, offset
 # 0.05 V, noise 2 mV, a task meter with 2 lx noise), psensd in real time at
 # 600x: the night session recovers the room's gain, offset and electric task

@@ -1,5 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: long
 # The fault table: each way a device can fail, during normal control and
 # during a calibration session, through the real psensd in real time (600x).
 # For every case: psensd keeps running, the lights go to the safe level, the

@@ -1,5 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: long
 # Every EXAMPLE(S) line of every man page, run (tests/system/manex.py lists
 # and classifies them): in a scratch directory holding the files the
 # examples name (config/, sensor.sen, img/, test.wea, ofb.results), with the

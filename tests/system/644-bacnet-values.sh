@@ -1,5 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: alone
+# (a vacancy hold timed on the real clock)
 # psensd's writable BACnet Values (doc/bacnet-pics.md, psensd.conf(5)
 # [bacnet] writes) against an outside BACnet stack, @bacnet-js/client
 # (tests/peers/bacnet-values-peer.js), on loopback with psensd in real time

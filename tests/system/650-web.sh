@@ -1,5 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
+# check: alone
+# (chromium and a live page at 600x)
 # The web console (psensd.conf(5) [web], doc/console.md) in a real browser:
 # Debian's chromium, headless, driven by puppeteer-core
 # (tests/peers/web-peer.js) against psensd on the loopback room in real time
