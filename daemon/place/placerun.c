@@ -311,12 +311,12 @@ void psd_placerun_all(struct search *s)
 		pthread_join(th[i], NULL);
 }
 
-static const struct search *rank_s;
-
-static int rank_cmp(const void *a, const void *b)
+/* qsort_r's comparison: the search is the context (its hours limit) */
+static int rank_cmp(const void *a, const void *b, void *search)
 {
 	const struct combo *x = a, *y = b;
-	double lim = rank_s->o->max_below;
+	const struct search *s = search;
+	double lim = s->o->max_below;
 	int ox = x->a.below_h <= lim, oy = y->a.below_h <= lim;
 	if (x->fail != y->fail)
 		return x->fail - y->fail;
@@ -362,7 +362,6 @@ double psd_placerun_rot_deg(const struct search *s, int r)
 
 void psd_placerun_rank(struct search *s)
 {
-	rank_s = s;
-	qsort(s->c, s->nc, sizeof *s->c, rank_cmp);
+	qsort_r(s->c, s->nc, sizeof *s->c, rank_cmp, s);
 	pareto(s);
 }
