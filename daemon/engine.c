@@ -132,10 +132,24 @@ static void pt_refresh(struct psd_engine *e, int p, double now)
 /* What a calibration session may see of its zone (calsession.h). */
 static struct psd_calsession_ctx cal_ctx(const struct psd_engine *e, const struct psd_zone *z, double now)
 {
-	const struct psd_calsession_ctx c = { z->zc->name, z->zc, &z->ctl, z->res, e->db,
-	                                e->cf->conf.path, now, e->cf->date, e->cf->sunrise, e->cf->sunset,
-	                                !z->in_fault && isfinite(z->volts), z->volts, z->level, e->utc0,
-	                                z->volts_t, z->task_t };
+	const struct psd_calsession_ctx c = {
+		.zone = z->zc->name,
+		.zc = z->zc,
+		.ctl = &z->ctl,
+		.res = z->res,
+		.db = e->db,
+		.config_path = e->cf->conf.path,
+		.now = now,
+		.date = e->cf->date,
+		.sunrise = e->cf->sunrise,
+		.sunset = e->cf->sunset,
+		.have_reading = !z->in_fault && isfinite(z->volts),
+		.volts = z->volts,
+		.level = z->level,
+		.epoch0 = e->utc0,
+		.volts_t = z->volts_t,
+		.lux_t = z->task_t,
+	};
 	return c;
 }
 
