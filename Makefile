@@ -109,7 +109,7 @@ LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSDBACNET) $(LIBPSDWEB) $(LIBPSDREPORT) $(LIBP
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
-.PHONY: all check bench fuzz install uninstall clean deps run sim drivers daemon config-status tests fuzz-bins
+.PHONY: all check bench fuzz install uninstall clean deps deps-peers run sim drivers daemon config-status tests fuzz-bins
 all: $(PROGRAMS)
 
 sim: $(addprefix $(BUILD)/bin/,$(SIM_CMDS))
@@ -216,6 +216,8 @@ DEB_TEST  = umockdev libumockdev-dev gpiod python3 python3-pymodbus python3-seri
             nodejs tzdata chromium zbar-tools prometheus tshark
 deps:
 	@sh tests/deps.sh $(DEB_BUILD) $(DEB_TEST)
+# the test peers (npm): make check's, not make run's, which has no use for them
+deps-peers: deps
 	@# npm: Debian's package, unless the nodejs installed carries its own
 	@command -v npm >/dev/null 2>&1 || sh tests/deps.sh npm
 	@# the BACnet peer and the browser's driver (tests/peers/package.json,
@@ -285,14 +287,23 @@ uninstall:
 # the day's summary.  Quiet: the build's commands go to $(BUILD)/build.log
 # (shown when the build fails); V=1 shows them and the commands run.
 V ?= 0
+# the quiet build's stages (target:what, _ for a space): a line on standard
+# error before each that has work, so a first build of a minute or two is
+# not silent
+RUN_STAGES = sim:the_simulation_library_and_its_tools,_sim/ drivers:the_device_drivers,_drivers/ \
+             daemon:psensd_and_its_front_ends,_daemon/ all:the_rest
 run: deps
 	@if [ "$(V)" = 1 ]; then \
 	    echo "$(MAKE) all"; $(MAKE) --no-print-directory all || exit 1; \
 	    echo "$(BUILD)/bin/psensd -f config/psensd.conf -s"; \
 	else \
-	    mkdir -p $(BUILD); \
-	    $(MAKE) --no-print-directory all > $(BUILD)/build.log 2>&1 || \
-	    { cat $(BUILD)/build.log; echo "make run: the build failed ($(BUILD)/build.log)" >&2; exit 1; }; \
+	    mkdir -p $(BUILD); : > $(BUILD)/build.log; \
+	    for s in $(RUN_STAGES); do \
+	        $(MAKE) -q --no-print-directory $${s%%:*} > /dev/null 2>&1 || \
+	            echo "building $$(echo "$${s#*:}" | tr _ ' ') ..." >&2; \
+	        $(MAKE) --no-print-directory $${s%%:*} >> $(BUILD)/build.log 2>&1 || \
+	        { cat $(BUILD)/build.log; echo "make run: the build failed ($(BUILD)/build.log)" >&2; exit 1; }; \
+	    done; \
 	fi
 	@# config/psensd.conf keeps the example's results and log in build/,
 	@# whatever BUILD this make uses

@@ -322,8 +322,9 @@ void ps_cache_blob_release(struct ps_cache_blob *b)
 }
 
 /* drop: file is a shared read-only map of the entry; the pages hashed leave
- * the resident set as the hash goes (they stay in the page cache), so a
- * large entry is never resident whole just to be checked. */
+ * the resident set when the hash is done (they stay in the page cache).
+ * Once for the whole entry, not a chunk at a time: each madvise on a shared
+ * map is a TLB shoot-down on every core. */
 static int blob_check(const void *file, size_t len, const char *hexkey, const char *name,
                       int drop, struct ps_err *e)
 {
@@ -360,11 +361,11 @@ static int blob_check(const void *file, size_t len, const char *hexkey, const ch
 			} else {
 				sum_update(&ctx, h + at, n);
 			}
-			if (drop)
-				madvise((void *)(uintptr_t)(h + at), n, MADV_DONTNEED);
 			at += n;
 		}
 	}
+	if (drop)
+		madvise((void *)(uintptr_t)h, len, MADV_DONTNEED);
 	if (sum_final(&ctx) != get_le64(h + 48))
 		return ps_err_set(e, PS_EFORMAT, "%s: checksum mismatch: cache entry removed", name);
 	for (int i = 56; i < PS_CACHE_BLOB_HEADER; i++)

@@ -26,7 +26,7 @@ tests: all $(UNIT_BINS) $(TEST_EXTRA)
 
 # The README's test command.  Installs missing Debian packages (as root), builds
 # everything, then runs every unit and system test; ends with "N passed, N failed".
-check: deps
+check: deps-peers
 	$(MAKE) tests
 	@# '+': some tests run make themselves (091 runs make run): they share
 	@# this make's jobserver instead of warning that it is unavailable

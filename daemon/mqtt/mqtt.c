@@ -138,6 +138,16 @@ static int publish(struct psd_mqtt *m, const char *topic, const char *payload, i
 	return 0;
 }
 
+/* UTC on the run's clock, the one the samples are logged on (and so the
+ * states' utc): one clock in the stream, also under -s, -t and -x, where it
+ * is not the wall clock.  The wall clock only before the clock's date is
+ * known. */
+static double run_utc(const struct psd_mqtt *m)
+{
+	double utc = m->e->utc0 + m->now;
+	return isfinite(utc) ? utc : psd_time_wall();
+}
+
 /* An event on psensd/<site>/<zone>/event (zone NULL: psensd/<site>/event). */
 static int event(struct psd_mqtt *m, const char *zone, json_object *o, int *mid)
 {
@@ -149,7 +159,7 @@ static int event(struct psd_mqtt *m, const char *zone, json_object *o, int *mid)
 	else
 		snprintf(topic, sizeof topic, "psensd/%s/event", m->site);
 	if (!json_object_object_get_ex(o, "utc", NULL)) {
-		psd_mqttmsg_iso8601(psd_time_wall(), iso, sizeof iso);
+		psd_mqttmsg_iso8601(run_utc(m), iso, sizeof iso);
 		json_object_object_add(o, "utc", json_object_new_string(iso));
 	}
 	text = psd_json_text(o, 10);
@@ -518,6 +528,7 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 		return NULL;
 	}
 	m->qcap = (size_t)c->inflight + 2;
+	m->now = NAN;   /* no turn yet: events carry the wall clock (run_utc) */
 	m->e = e;
 	m->pts = pts;
 	m->fn = fn;

@@ -13,7 +13,7 @@
 #include "sum.h"
 
 enum { MAX_THREADS = 16 };
-#define RELEASE_MIN ((size_t)64 << 20)   /* maps from 64 MiB up are released row by row */
+#define RELEASE_MIN ((size_t)64 << 20)   /* maps from 64 MiB up are released after a picture */
 
 /* What one run (one row) gives; merged in run order afterwards. */
 struct acc {
@@ -46,21 +46,23 @@ struct job {
 	const uint8_t *want;  /* row has weights in some map */
 };
 
-/* Weights mapped from the cache are read once a row: the pages a row has
- * used leave this process's resident set (they stay in the page cache, and
- * a neighbouring row that shares a page faults it back), so a large map is
- * never resident whole.  Maps under RELEASE_MIN stay resident, and so does
- * a map just built in its new entry's mapping: resident already, and read
- * again by the entry's checksum (dropping its pages took a cold run from
- * 0.22 to 0.27 s). */
-static void release(const struct ps_weights *w, const struct ps_weights_run *run, uintptr_t page)
+/* Weights mapped from the cache leave this process's resident set once
+ * the picture has been read (they stay in the page cache), so a large map
+ * held between pictures or periods is not resident.  Once a map, never a
+ * row at a time: each madvise(MADV_DONTNEED) on a shared map is a TLB
+ * shoot-down on every core, and one a row (4000 at 4000 x 4000) was most of
+ * a warm run's system time.  Maps under RELEASE_MIN stay resident, and so
+ * does a map just built in its new entry's mapping: resident already, and
+ * read again by the entry's checksum (dropping its pages took a cold run
+ * from 0.22 to 0.27 s). */
+static void release(const struct ps_weights *w, uintptr_t page)
 {
 	uintptr_t a, b;
 	/* small maps stay: a batch would fault them in again for every picture */
-	if (!w->map || w->built_in_map || w->maplen < RELEASE_MIN || run->n <= 0)
+	if (!w->map || w->built_in_map || w->maplen < RELEASE_MIN || w->nruns == 0)
 		return;
-	a = (uintptr_t)(w->w + run->off) & ~(page - 1);
-	b = ((uintptr_t)(w->w + run->off + (size_t)ps_weights_run_stored(w, run)) + page - 1) & ~(page - 1);
+	a = (uintptr_t)w->map & ~(page - 1);
+	b = ((uintptr_t)w->map + w->maplen + page - 1) & ~(page - 1);
 	madvise((void *)a, b - a, MADV_DONTNEED);
 }
 
@@ -75,7 +77,6 @@ static void row_sum_one(const struct job *j, const struct one *o, int ri, const 
 	a->best = rs.best;
 	a->bx = run->x0 + rs.best_i;   /* read only when n > 0 (totals), then best_i >= 0 */
 	ps_integrate_row_rgb(j->k, rs.raw, a->rc);
-	release(o->w, run, j->page);
 }
 
 static int row_sum(void *ctx, int y, const uint8_t *px_row)
@@ -333,6 +334,8 @@ int ps_stream_integrate_multi(const struct ps_weights *const *ws, int nmaps,
 	}
 	rc = 0;
 out:
+	for (int k = 0; k < nmaps; k++)
+		release(ws[k], j.page);
 	for (int k = 0; j.m && k < nmaps; k++) {
 		free(j.m[k].row_run);
 		free(j.m[k].acc);

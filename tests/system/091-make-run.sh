@@ -15,6 +15,9 @@ git ls-files -z 2>/dev/null | xargs -0 cp -a --parents -t "$TMP/tree" 2>/dev/nul
 	tar -cf - --exclude=./.git --exclude="./$BUILD" --exclude=./build . | tar -xf - -C "$TMP/tree"
 cp -a "$BUILD/." "$TMP/tree/b/"
 rm -f "$TMP/tree/b/build.log"
+# one source of each stage newer than the build: the quiet build has work to
+# show progress for (a line a stage, on standard error)
+touch "$TMP/tree/sim/cache.c" "$TMP/tree/daemon/log.c"
 before=$(ls -l --time-style=+%s.%N build/psensd.db build/ofb.results 2>/dev/null | md5sum)
 TOPDIR=$(pwd)
 cd "$TMP/tree"
@@ -29,6 +32,14 @@ check "make run: its first line on standard output is the summary: $(head -n 1 "
 check "make run: no command shown ($(grep -c 'psensd -f\|^make\|^cc ' "$TMP/out" "$TMP/err" | tr '\n' ' '))" \
 	sh -c "! grep -q 'psensd -f\|^make\|^cc \|Entering directory' '$TMP/out' '$TMP/err'"
 check "make run: the build's output is kept in $BUILD/build.log" test -f "$BUILD/build.log"
+check "make run: a progress line for the simulation's stage ($(grep -c '^building' "$TMP/err") lines)" \
+	grep -q '^building the simulation library and its tools' "$TMP/err"
+check "make run: a progress line for psensd's stage" grep -q '^building psensd and its front ends' "$TMP/err"
+check "make run: the progress before the summary, not on its standard output" \
+	sh -c "! grep -q '^building' '$TMP/out'"
+# the test peers (npm) are make check's, not the main command's
+check "make run: npm not run ($(grep -c 'added [0-9]* packages' "$TMP/out" "$TMP/err" | tr '\n' ' '))" \
+	sh -c "! grep -q 'added [0-9]* packages' '$TMP/out' '$TMP/err' && [ ! -d tests/peers/node_modules ]"
 make --no-print-directory BUILD="$BUILD" run V=1 > "$TMP/vout" 2> "$TMP/verr"; rc=$?
 check "make run V=1: exit 0 ($rc), shows the build and the command run" \
 	sh -c "[ $rc = 0 ] && grep -q '^make all' '$TMP/vout' && grep -q '^$BUILD/bin/psensd -f config/psensd.conf -s' '$TMP/vout'"

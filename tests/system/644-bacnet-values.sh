@@ -24,7 +24,7 @@
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v node > /dev/null || skip_all "node is not installed (make deps: nodejs)"
 [ -d "$TOP/tests/peers/node_modules/@bacnet-js/client" ] ||
-	skip_all "the BACnet peer is not installed (make deps: npm ci in tests/peers)"
+	skip_all "the BACnet peer is not installed (make deps-peers, which make check runs: npm ci in tests/peers)"
 PEER="$TOP/tests/peers/bacnet-values-peer.js"
 example_results
 S="$TMP/sock"

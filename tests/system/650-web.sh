@@ -25,7 +25,7 @@
 command -v node > /dev/null || skip_all "node is not installed (make deps: nodejs)"
 [ -x /usr/bin/chromium ] || skip_all "chromium is not installed (make deps: chromium)"
 [ -d "$TOP/tests/peers/node_modules/puppeteer-core" ] ||
-	skip_all "puppeteer-core is not installed (make deps: npm ci in tests/peers)"
+	skip_all "puppeteer-core is not installed (make deps-peers, which make check runs: npm ci in tests/peers)"
 command -v curl > /dev/null || skip_all "curl is not installed"
 ART="$TOP/$BUILD/artefacts/web"
 case "$BUILD" in /*) ART="$BUILD/artefacts/web" ;; esac

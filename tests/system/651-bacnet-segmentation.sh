@@ -19,7 +19,7 @@
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 command -v node > /dev/null || skip_all "node is not installed (make deps: nodejs)"
 [ -d "$TOP/tests/peers/node_modules/@bacnet-js/client" ] ||
-	skip_all "the BACnet peer is not installed (make deps: npm ci in tests/peers)"
+	skip_all "the BACnet peer is not installed (make deps-peers, which make check runs: npm ci in tests/peers)"
 example_results
 S="$TMP/sock"
 port=$(free_udp_port)

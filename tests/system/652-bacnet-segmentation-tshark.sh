@@ -17,7 +17,7 @@
 command -v tshark > /dev/null || skip_all "tshark is not installed (make deps: tshark)"
 command -v node > /dev/null || skip_all "node is not installed (make deps: nodejs)"
 [ -d "$TOP/tests/peers/node_modules/@bacnet-js/client" ] ||
-	skip_all "the BACnet peer is not installed (make deps: npm ci in tests/peers)"
+	skip_all "the BACnet peer is not installed (make deps-peers, which make check runs: npm ci in tests/peers)"
 [ "$(id -u)" = 0 ] || skip_all "capturing on lo needs root"
 example_results
 S="$TMP/sock"
