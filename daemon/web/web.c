@@ -128,6 +128,10 @@ static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, con
 		snprintf(msg, sizeof msg, "too many failed logins from this address: try again in %.0f s", ceil(wait));
 		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
 	}
+	if ((wait = psd_websess_wait_all(&w->sess, now)) > 0) {
+		snprintf(msg, sizeof msg, "too many failed logins from every address: try again in %.0f s", ceil(wait));
+		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
+	}
 	if (psd_webreq_form(q->body, "password", pw, sizeof pw) != 0)
 		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no password given");
 	ok = psd_webpass_check(w->c.hash, pw);
@@ -151,8 +155,10 @@ static enum MHD_Result logout(struct psd_web *w, struct MHD_Connection *conn)
 {
 	const char *h = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Cookie");
 	char token[PSD_WEBSESS_TOKEN], cookie[128];
-	if (h && psd_webreq_cookie(h, cookie_name, token, sizeof token) == 0)
-		psd_websess_revoke(&w->sess, token, psd_time_wall());
+	if (h && psd_webreq_cookie(h, cookie_name, token, sizeof token) == 0 &&
+	    psd_websess_revoke(&w->sess, token, psd_time_wall()) == 1)
+		psd_log_warnx("web: %d logouts within a session's lifetime fill the table of logged-out sessions: "
+		              "the session key changed, every login has ended", PSD_WEBSESS_REVOKED + 1);
 	snprintf(cookie, sizeof cookie, "%s=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0", cookie_name);
 	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
 }
