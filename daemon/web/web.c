@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 
 #include "canvas.h"
 #include "ctlsock.h"
@@ -25,8 +26,21 @@
 #include "webreq.h"
 #include "websess.h"
 
-enum { BODY_MAX = 4096 };
+/* The connections: CONN_MAX at once, PER_ADDR from one address, CONN_IDLE
+ * s without a byte; a request must arrive whole (its headers and body)
+ * within REQUEST_MAX s of its first byte however often its bytes come,
+ * and past ROOM connections the slowest request still arriving is closed,
+ * so that a new client always finds a place (psensd.conf(5) [web]). */
+enum { BODY_MAX = 4096, CONN_MAX = 64, PER_ADDR = 16, CONN_IDLE = 30, REQUEST_MAX = 10, ROOM = CONN_MAX - 4 };
 static const char cookie_name[] = "psd_session";
+
+/* A TCP connection: by when its request must have arrived. */
+struct conn {
+	struct conn *next, **pprev;
+	struct MHD_Connection *mc;
+	double deadline;   /* monotonic s; 0 while its request is answered */
+	int shut;       /* closed by us, waiting for MHD to see it */
+};
 
 /* A live stream (GET /api/events): what is still to be sent. */
 struct sse {
@@ -48,6 +62,8 @@ struct psd_web {
 	struct MHD_Daemon *mhd;
 	struct psd_websess sess;
 	struct sse *streams;
+	struct conn *conns;
+	int nconns;
 	int closing;
 	int drew;             /* a record was drawn: cairo's and fontconfig's caches are filled */
 	double next_update;   /* monotonic s */
@@ -102,6 +118,77 @@ static const char *client_addr(struct MHD_Connection *conn, char *buf, size_t n)
 	else if (sa && sa->sa_family == AF_INET6)
 		inet_ntop(AF_INET6, &((const struct sockaddr_in6 *)(const void *)sa)->sin6_addr, buf, (socklen_t)n);
 	return buf;
+}
+
+/* The connection's record (NULL when MHD has none). */
+static struct conn *conn_of(struct MHD_Connection *mc)
+{
+	const union MHD_ConnectionInfo *ci = MHD_get_connection_info(mc, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+	return ci ? ci->socket_context : NULL;
+}
+
+/* Close a connection under MHD: the shut socket reads as the end, and MHD
+ * closes it at its next turn. */
+static void conn_shut(struct conn *c, const char *why)
+{
+	const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c->mc, MHD_CONNECTION_INFO_CONNECTION_FD);
+	char addr[64];
+	if (c->shut || !ci)
+		return;
+	psd_log_info("web: a request from %s %s: connection closed", client_addr(c->mc, addr, sizeof addr), why);
+	shutdown(ci->connect_fd, SHUT_RDWR);
+	c->shut = 1;
+}
+
+/* The connection whose request is the latest against its deadline (the
+ * earliest deadline), but skip. */
+static struct conn *conn_slowest(struct psd_web *w, const struct conn *skip)
+{
+	struct conn *slow = NULL;
+	for (struct conn *c = w->conns; c; c = c->next)
+		if (c != skip && !c->shut && c->deadline > 0 && (!slow || c->deadline < slow->deadline))
+			slow = c;
+	return slow;
+}
+
+static void notify_cb(void *cls, struct MHD_Connection *mc, void **sctx, enum MHD_ConnectionNotificationCode toe)
+{
+	struct psd_web *w = cls;
+	struct conn *c = *sctx, *slow;
+	if (toe == MHD_CONNECTION_NOTIFY_CLOSED) {
+		if (c) {
+			*c->pprev = c->next;
+			if (c->next)
+				c->next->pprev = c->pprev;
+			w->nconns--;
+			free(c);
+			*sctx = NULL;
+		}
+		return;
+	}
+	if (!(c = calloc(1, sizeof *c)))
+		return;   /* not counted: MHD's own limits still hold */
+	c->mc = mc;
+	c->deadline = psd_time_mono() + REQUEST_MAX;
+	c->next = w->conns;
+	c->pprev = &w->conns;
+	if (c->next)
+		c->next->pprev = &c->next;
+	w->conns = c;
+	*sctx = c;
+	if (++w->nconns > ROOM && (slow = conn_slowest(w, c)))
+		conn_shut(slow, "was the slowest of too many connections");
+}
+
+/* Close every connection whose request is not in by its deadline
+ * (psd_web_wait_ms wakes the loop for the next). */
+static void conn_sweep(struct psd_web *w, double now)
+{
+	char why[64];
+	snprintf(why, sizeof why, "was not received within %d s", REQUEST_MAX);
+	for (struct conn *c = w->conns; c; c = c->next)
+		if (!c->shut && c->deadline > 0 && now >= c->deadline)
+			conn_shut(c, why);
 }
 
 /* 1 when the request carries a valid session (its end in *expiry); else
@@ -403,6 +490,7 @@ static enum MHD_Result access_cb(void *cls, struct MHD_Connection *conn, const c
 {
 	struct psd_web *w = cls;
 	struct req *q = *ctx;
+	struct conn *c;
 	(void)version;
 	if (!q) {
 		if (!(q = calloc(1, sizeof *q)))
@@ -421,14 +509,21 @@ static enum MHD_Result access_cb(void *cls, struct MHD_Connection *conn, const c
 		*upload_size = 0;
 		return MHD_YES;
 	}
+	if ((c = conn_of(conn)))
+		c->deadline = 0;   /* arrived whole: being answered, a stream perhaps */
 	return route(w, conn, url, method, q);
 }
 
 static void done_cb(void *cls, struct MHD_Connection *conn, void **ctx, enum MHD_RequestTerminationCode toe)
 {
+	struct conn *c = conn_of(conn);
 	(void)cls;
-	(void)conn;
 	(void)toe;
+	/* the next request on a kept-alive connection: its wait is not its
+	 * arrival (MHD does not say when it starts), so it has the idle time
+	 * and the arrival's both; a connection silent that long MHD closes */
+	if (c)
+		c->deadline = psd_time_mono() + CONN_IDLE + REQUEST_MAX;
 	free(*ctx);
 	*ctx = NULL;
 }
@@ -465,8 +560,9 @@ struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e,
 	inet_pton(AF_INET, c->addr, &sa.sin_addr);
 	w->mhd = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, (uint16_t)c->port, NULL,
 	                          NULL, access_cb, w, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&sa,
-	                          MHD_OPTION_NOTIFY_COMPLETED, done_cb, w, MHD_OPTION_CONNECTION_LIMIT, 64u,
-	                          MHD_OPTION_PER_IP_CONNECTION_LIMIT, 16u, MHD_OPTION_CONNECTION_TIMEOUT, 120u,
+	                          MHD_OPTION_NOTIFY_COMPLETED, done_cb, w, MHD_OPTION_NOTIFY_CONNECTION, notify_cb, w,
+	                          MHD_OPTION_CONNECTION_LIMIT, (unsigned)CONN_MAX, MHD_OPTION_PER_IP_CONNECTION_LIMIT,
+	                          (unsigned)PER_ADDR, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONN_IDLE,
 	                          MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)65536,
 	                          MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);
 	if (!w->mhd) {
@@ -509,6 +605,7 @@ void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
 		free(ev);
 		w->next_update = now + w->c.update;
 	}
+	conn_sweep(w, now);
 	MHD_run(w->mhd);
 }
 
@@ -516,8 +613,18 @@ int psd_web_wait_ms(const struct psd_web *w)
 {
 	MHD_UNSIGNED_LONG_LONG t;
 	int ms = -1;
+	double next = -1;
 	if (MHD_get_timeout(w->mhd, &t) == MHD_YES)
 		ms = t > 60000 ? 60000 : (int)t;
+	for (const struct conn *c = w->conns; c; c = c->next)   /* the next request to end unreceived */
+		if (!c->shut && c->deadline > 0 && (next < 0 || c->deadline < next))
+			next = c->deadline;
+	if (next >= 0) {
+		double left = (next - psd_time_mono()) * 1000;
+		int u = left <= 0 ? 0 : (int)ceil(left);
+		if (ms < 0 || u < ms)
+			ms = u;
+	}
 	if (w->streams) {
 		double left = (w->next_update - psd_time_mono()) * 1000;
 		int u = left <= 0 ? 0 : (int)ceil(left);
