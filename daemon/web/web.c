@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <microhttpd.h>
 #include <netinet/in.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -54,6 +55,17 @@ struct sse {
 	int ended;
 };
 
+/* The thread that checks the passwords (PBKDF2, tens of ms each): so that
+ * logins never hold the loop, the control and the other front ends. */
+struct checker {
+	pthread_t thread;
+	pthread_mutex_t lock;
+	pthread_cond_t wake;
+	struct req *head, **tail;
+	int stop, running;
+	const char *hash;
+};
+
 struct psd_web {
 	struct psd_web_conf c;
 	struct psd_engine *e;
@@ -69,14 +81,22 @@ struct psd_web {
 	double next_update;   /* monotonic s */
 	struct psd_webhist hist;
 	struct psd_ctl_reply reply;   /* the last control request's, kept for its buffer */
+	struct checker chk;
 };
 
-/* A request's state across MHD's calls: its body so far. */
+/* A request's state across MHD's calls: its body so far, and a login's
+ * password check while the worker runs it. */
 struct req {
 	char body[BODY_MAX];
 	size_t len;
 	int too_long;
+	struct req *next_check;   /* the worker's queue */
+	struct MHD_Connection *conn;
+	char pw[256];
+	enum { CHECK_NONE, CHECK_QUEUED, CHECK_DONE } check;
+	int ok;   /* the password matched (CHECK_DONE) */
 };
+
 
 static enum MHD_Result send_text(struct MHD_Connection *conn, unsigned status, const char *type, const char *text,
                                  const char *cookie)
@@ -205,12 +225,113 @@ static int authorized(struct psd_web *w, struct MHD_Connection *conn, const char
 	return 1;
 }
 
-static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, const struct req *q)
+/* The worker: each queued check in turn, its connection resumed with
+ * the outcome (MHD_resume_connection may be called from any thread).  At
+ * a stop the rest are resumed unchecked. */
+static void *checker_run(void *arg)
 {
-	char pw[256], addr[64], msg[160], token[PSD_WEBSESS_TOKEN], cookie[PSD_WEBSESS_TOKEN + 128];
+	struct checker *k = arg;
+	pthread_mutex_lock(&k->lock);
+	for (;;) {
+		struct req *q;
+		while (!k->head && !k->stop)
+			pthread_cond_wait(&k->wake, &k->lock);
+		if (!(q = k->head))
+			break;
+		if (!(k->head = q->next_check))
+			k->tail = &k->head;
+		pthread_mutex_unlock(&k->lock);
+		q->ok = k->stop ? 0 : psd_webpass_check(k->hash, q->pw);
+		memset(q->pw, 0, sizeof q->pw);
+		q->check = CHECK_DONE;
+		MHD_resume_connection(q->conn);
+		pthread_mutex_lock(&k->lock);
+	}
+	pthread_mutex_unlock(&k->lock);
+	return NULL;
+}
+
+static int checker_start(struct checker *k, const char *hash)
+{
+	*k = (struct checker){ .tail = &k->head, .hash = hash };
+	if (pthread_mutex_init(&k->lock, NULL) != 0)
+		return -1;
+	if (pthread_cond_init(&k->wake, NULL) != 0) {
+		pthread_mutex_destroy(&k->lock);
+		return -1;
+	}
+	if ((errno = pthread_create(&k->thread, NULL, checker_run, k)) != 0) {
+		pthread_cond_destroy(&k->wake);
+		pthread_mutex_destroy(&k->lock);
+		return -1;
+	}
+	k->running = 1;
+	return 0;
+}
+
+static void checker_stop(struct checker *k)
+{
+	if (!k->running)
+		return;
+	pthread_mutex_lock(&k->lock);
+	k->stop = 1;
+	pthread_cond_signal(&k->wake);
+	pthread_mutex_unlock(&k->lock);
+	pthread_join(k->thread, NULL);
+	pthread_cond_destroy(&k->wake);
+	pthread_mutex_destroy(&k->lock);
+	k->running = 0;
+}
+
+/* Queue q's password for the worker; its connection waits, suspended. */
+static void checker_queue(struct checker *k, struct MHD_Connection *conn, struct req *q)
+{
+	q->conn = conn;
+	q->check = CHECK_QUEUED;
+	q->next_check = NULL;
+	MHD_suspend_connection(conn);
+	pthread_mutex_lock(&k->lock);
+	*k->tail = q;
+	k->tail = &q->next_check;
+	pthread_cond_signal(&k->wake);
+	pthread_mutex_unlock(&k->lock);
+}
+
+/* The answer to a checked login: a session, or the failure (already
+ * counted when the check was queued). */
+static enum MHD_Result login_answer(struct psd_web *w, struct MHD_Connection *conn, int ok, const char *addr,
+                                    double now, char *token, char *cookie, size_t n)
+{
+	if (w->closing)
+		return send_error(conn, MHD_HTTP_SERVICE_UNAVAILABLE, "psensd is stopping");
+	if (!ok) {
+		psd_log_warnx("web: a failed login from %s", addr);
+		return send_error(conn, MHD_HTTP_UNAUTHORIZED, "wrong password");
+	}
+	psd_websess_outcome(&w->sess, addr, 1, now);
+	if (psd_websess_issue(&w->sess, now, token, PSD_WEBSESS_TOKEN) != 0)
+		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no random bytes for a session");
+	psd_log_info("web: login from %s", addr);
+	/* the browser keeps the cookie an hour past the session, so that a
+	 * request then is told the session expired, not that there is none */
+	snprintf(cookie, n, "%s=%s; Path=/; HttpOnly; SameSite=Strict; Max-Age=%.0f", cookie_name, token,
+	         w->c.session + 3600);
+	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
+}
+
+/* POST /api/login password=...: judged in two turns.  The first queues
+ * the check for the worker and counts it as a failure at once (so that
+ * logins sent together are throttled as if one after the other); the
+ * second, when the worker resumes the connection, answers. */
+static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, struct req *q)
+{
+	char addr[64], msg[160], token[PSD_WEBSESS_TOKEN], cookie[PSD_WEBSESS_TOKEN + 128];
 	double now = psd_time_wall(), wait;
-	int ok;
 	client_addr(conn, addr, sizeof addr);
+	if (q->check == CHECK_DONE)
+		return login_answer(w, conn, q->ok, addr, now, token, cookie, sizeof cookie);
+	if (q->check == CHECK_QUEUED)   /* not resumed by the worker: cannot happen */
+		return MHD_NO;
 	if ((wait = psd_websess_wait(&w->sess, addr, now)) > 0) {
 		snprintf(msg, sizeof msg, "too many failed logins from this address: try again in %.0f s", ceil(wait));
 		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
@@ -219,23 +340,12 @@ static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, con
 		snprintf(msg, sizeof msg, "too many failed logins from every address: try again in %.0f s", ceil(wait));
 		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
 	}
-	if (psd_webreq_form(q->body, "password", pw, sizeof pw) != 0)
+	if (psd_webreq_form(q->body, "password", q->pw, sizeof q->pw) != 0)
 		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no password given");
-	ok = psd_webpass_check(w->c.hash, pw);
-	memset(pw, 0, sizeof pw);
-	psd_websess_outcome(&w->sess, addr, ok, now);
-	if (!ok) {
-		psd_log_warnx("web: a failed login from %s", addr);
-		return send_error(conn, MHD_HTTP_UNAUTHORIZED, "wrong password");
-	}
-	if (psd_websess_issue(&w->sess, now, token, sizeof token) != 0)
-		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no random bytes for a session");
-	psd_log_info("web: login from %s", addr);
-	/* the browser keeps the cookie an hour past the session, so that a
-	 * request then is told the session expired, not that there is none */
-	snprintf(cookie, sizeof cookie, "%s=%s; Path=/; HttpOnly; SameSite=Strict; Max-Age=%.0f", cookie_name, token,
-	         w->c.session + 3600);
-	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
+	psd_websess_outcome(&w->sess, addr, 0, now);
+	psd_log_debug("web: checking a login from %s", addr);
+	checker_queue(&w->chk, conn, q);
+	return MHD_YES;
 }
 
 static enum MHD_Result logout(struct psd_web *w, struct MHD_Connection *conn)
@@ -448,7 +558,7 @@ static enum MHD_Result asset(struct MHD_Connection *conn, const char *url)
 }
 
 static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, const char *url, const char *method,
-                             const struct req *q)
+                             struct req *q)
 {
 	int post = strcmp(method, "POST") == 0, get = strcmp(method, "GET") == 0 || strcmp(method, "HEAD") == 0;
 	const char *why;
@@ -556,6 +666,11 @@ struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e,
 	w->fn = fn;
 	w->user = user;
 	psd_websess_init(&w->sess, c->hash, c->session);
+	if (checker_start(&w->chk, w->c.hash) != 0) {
+		psd_errbuf(err, errlen, "[web]: cannot start the password checks' thread: %s", strerror(errno));
+		free(w);
+		return NULL;
+	}
 	sa.sin_port = htons((uint16_t)c->port);
 	inet_pton(AF_INET, c->addr, &sa.sin_addr);
 	w->mhd = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, (uint16_t)c->port, NULL,
@@ -567,6 +682,7 @@ struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e,
 	                          MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);
 	if (!w->mhd) {
 		psd_errbuf(err, errlen, "[web]: cannot listen on %s:%ld: %s", c->addr, c->port, strerror(errno));
+		checker_stop(&w->chk);
 		free(w);
 		return NULL;
 	}
@@ -639,6 +755,7 @@ void psd_web_close(struct psd_web *w)
 	if (!w)
 		return;
 	w->closing = 1;
+	checker_stop(&w->chk);   /* every queued login resumed, answered below */
 	for (struct sse *s = w->streams; s; s = s->next)
 		if (s->suspended) {
 			s->suspended = 0;
