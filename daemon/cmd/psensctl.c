@@ -68,34 +68,53 @@ static void usage(FILE *fp)
 	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
-/* web-passwd FILE: the web console's password (psensd.conf(5) [web]),
- * read from standard input (without echo on a terminal), written to FILE
- * as a salted hash, mode 0600, through a temporary file renamed over it. */
-static int web_passwd(int argc, char **argv)
+/* One line of standard input into pw (without its newline), without echo
+ * on a terminal, after prompt there. */
+static void read_password(int tty, const char *prompt, char *pw, size_t n)
 {
-	char pw[256], line[PSD_WEBPASS_LINE], tmp[4096];
 	struct termios t0, t1;
-	int tty = isatty(0), fd, rc = 1;
-	size_t n;
-	if (argc != 1) {
-		fprintf(stderr, "usage: psensctl web-passwd FILE\n");
-		return 2;
-	}
 	if (tty) {
-		fprintf(stderr, "the web console's password: ");
+		fprintf(stderr, "%s", prompt);
 		tcgetattr(0, &t0);
 		t1 = t0;
 		t1.c_lflag &= ~(tcflag_t)ECHO;
 		tcsetattr(0, TCSAFLUSH, &t1);
 	}
-	if (!fgets(pw, sizeof pw, stdin))
+	if (!fgets(pw, (int)n, stdin))
 		pw[0] = 0;
 	if (tty) {
 		tcsetattr(0, TCSAFLUSH, &t0);
 		fputc('\n', stderr);
 	}
-	n = strcspn(pw, "\r\n");
-	pw[n] = 0;
+	pw[strcspn(pw, "\r\n")] = 0;
+}
+
+/* web-passwd FILE: the web console's password (psensd.conf(5) [web]),
+ * read from standard input (without echo on a terminal, and asked twice
+ * there: a typing mistake unseen would lock the agent out), written to
+ * FILE as a salted hash, mode 0600, through a temporary file renamed over
+ * it. */
+static int web_passwd(int argc, char **argv)
+{
+	char pw[256], again[256], line[PSD_WEBPASS_LINE], tmp[4096];
+	int tty = isatty(0), fd, rc = 1, same;
+	size_t n;
+	if (argc != 1) {
+		fprintf(stderr, "usage: psensctl web-passwd FILE\n");
+		return 2;
+	}
+	read_password(tty, "the web console's password: ", pw, sizeof pw);
+	if (tty) {
+		read_password(tty, "the same password again: ", again, sizeof again);
+		same = strcmp(pw, again) == 0;
+		memset(again, 0, sizeof again);
+		if (!same) {
+			memset(pw, 0, sizeof pw);
+			fprintf(stderr, "psensctl: web-passwd: the two passwords differ: %s left as it was\n", argv[0]);
+			return 1;
+		}
+	}
+	n = strlen(pw);
 	if (n < 8) {
 		fprintf(stderr, "psensctl: web-passwd: the password is %zu characters: give at least 8\n", n);
 		return 1;

@@ -8,9 +8,11 @@
 #include <stdarg.h>
 #include <microhttpd.h>
 #include <netinet/in.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 
 #include "canvas.h"
 #include "ctlsock.h"
@@ -25,8 +27,21 @@
 #include "webreq.h"
 #include "websess.h"
 
-enum { BODY_MAX = 4096 };
+/* The connections: CONN_MAX at once, PER_ADDR from one address, CONN_IDLE
+ * s without a byte; a request must arrive whole (its headers and body)
+ * within REQUEST_MAX s of its first byte however often its bytes come,
+ * and past ROOM connections the slowest request still arriving is closed,
+ * so that a new client always finds a place (psensd.conf(5) [web]). */
+enum { BODY_MAX = 4096, CONN_MAX = 64, PER_ADDR = 16, CONN_IDLE = 30, REQUEST_MAX = 10, ROOM = CONN_MAX - 4 };
 static const char cookie_name[] = "psd_session";
+
+/* A TCP connection: by when its request must have arrived. */
+struct conn {
+	struct conn *next, **pprev;
+	struct MHD_Connection *mc;
+	double deadline;   /* monotonic s; 0 while its request is answered */
+	int shut;       /* closed by us, waiting for MHD to see it */
+};
 
 /* A live stream (GET /api/events): what is still to be sent. */
 struct sse {
@@ -40,6 +55,17 @@ struct sse {
 	int ended;
 };
 
+/* The thread that checks the passwords (PBKDF2, tens of ms each): so that
+ * logins never hold the loop, the control and the other front ends. */
+struct checker {
+	pthread_t thread;
+	pthread_mutex_t lock;
+	pthread_cond_t wake;
+	struct req *head, **tail;
+	int stop, running;
+	const char *hash;
+};
+
 struct psd_web {
 	struct psd_web_conf c;
 	struct psd_engine *e;
@@ -48,19 +74,29 @@ struct psd_web {
 	struct MHD_Daemon *mhd;
 	struct psd_websess sess;
 	struct sse *streams;
+	struct conn *conns;
+	int nconns;
 	int closing;
 	int drew;             /* a record was drawn: cairo's and fontconfig's caches are filled */
 	double next_update;   /* monotonic s */
 	struct psd_webhist hist;
 	struct psd_ctl_reply reply;   /* the last control request's, kept for its buffer */
+	struct checker chk;
 };
 
-/* A request's state across MHD's calls: its body so far. */
+/* A request's state across MHD's calls: its body so far, and a login's
+ * password check while the worker runs it. */
 struct req {
 	char body[BODY_MAX];
 	size_t len;
 	int too_long;
+	struct req *next_check;   /* the worker's queue */
+	struct MHD_Connection *conn;
+	char pw[256];
+	enum { CHECK_NONE, CHECK_QUEUED, CHECK_DONE } check;
+	int ok;   /* the password matched (CHECK_DONE) */
 };
+
 
 static enum MHD_Result send_text(struct MHD_Connection *conn, unsigned status, const char *type, const char *text,
                                  const char *cookie)
@@ -104,6 +140,77 @@ static const char *client_addr(struct MHD_Connection *conn, char *buf, size_t n)
 	return buf;
 }
 
+/* The connection's record (NULL when MHD has none). */
+static struct conn *conn_of(struct MHD_Connection *mc)
+{
+	const union MHD_ConnectionInfo *ci = MHD_get_connection_info(mc, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+	return ci ? ci->socket_context : NULL;
+}
+
+/* Close a connection under MHD: the shut socket reads as the end, and MHD
+ * closes it at its next turn. */
+static void conn_shut(struct conn *c, const char *why)
+{
+	const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c->mc, MHD_CONNECTION_INFO_CONNECTION_FD);
+	char addr[64];
+	if (c->shut || !ci)
+		return;
+	psd_log_info("web: a request from %s %s: connection closed", client_addr(c->mc, addr, sizeof addr), why);
+	shutdown(ci->connect_fd, SHUT_RDWR);
+	c->shut = 1;
+}
+
+/* The connection whose request is the latest against its deadline (the
+ * earliest deadline), but skip. */
+static struct conn *conn_slowest(struct psd_web *w, const struct conn *skip)
+{
+	struct conn *slow = NULL;
+	for (struct conn *c = w->conns; c; c = c->next)
+		if (c != skip && !c->shut && c->deadline > 0 && (!slow || c->deadline < slow->deadline))
+			slow = c;
+	return slow;
+}
+
+static void notify_cb(void *cls, struct MHD_Connection *mc, void **sctx, enum MHD_ConnectionNotificationCode toe)
+{
+	struct psd_web *w = cls;
+	struct conn *c = *sctx, *slow;
+	if (toe == MHD_CONNECTION_NOTIFY_CLOSED) {
+		if (c) {
+			*c->pprev = c->next;
+			if (c->next)
+				c->next->pprev = c->pprev;
+			w->nconns--;
+			free(c);
+			*sctx = NULL;
+		}
+		return;
+	}
+	if (!(c = calloc(1, sizeof *c)))
+		return;   /* not counted: MHD's own limits still hold */
+	c->mc = mc;
+	c->deadline = psd_time_mono() + REQUEST_MAX;
+	c->next = w->conns;
+	c->pprev = &w->conns;
+	if (c->next)
+		c->next->pprev = &c->next;
+	w->conns = c;
+	*sctx = c;
+	if (++w->nconns > ROOM && (slow = conn_slowest(w, c)))
+		conn_shut(slow, "was the slowest of too many connections");
+}
+
+/* Close every connection whose request is not in by its deadline
+ * (psd_web_wait_ms wakes the loop for the next). */
+static void conn_sweep(struct psd_web *w, double now)
+{
+	char why[64];
+	snprintf(why, sizeof why, "was not received within %d s", REQUEST_MAX);
+	for (struct conn *c = w->conns; c; c = c->next)
+		if (!c->shut && c->deadline > 0 && now >= c->deadline)
+			conn_shut(c, why);
+}
+
 /* 1 when the request carries a valid session (its end in *expiry); else
  * 0 with why. */
 static int authorized(struct psd_web *w, struct MHD_Connection *conn, const char **why, double *expiry)
@@ -118,41 +225,137 @@ static int authorized(struct psd_web *w, struct MHD_Connection *conn, const char
 	return 1;
 }
 
-static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, const struct req *q)
+/* The worker: each queued check in turn, its connection resumed with
+ * the outcome (MHD_resume_connection may be called from any thread).  At
+ * a stop the rest are resumed unchecked. */
+static void *checker_run(void *arg)
 {
-	char pw[256], addr[64], msg[160], token[PSD_WEBSESS_TOKEN], cookie[PSD_WEBSESS_TOKEN + 128];
-	double now = psd_time_wall(), wait;
-	int ok;
-	client_addr(conn, addr, sizeof addr);
-	if ((wait = psd_websess_wait(&w->sess, addr, now)) > 0) {
-		snprintf(msg, sizeof msg, "too many failed logins from this address: try again in %.0f s", ceil(wait));
-		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
+	struct checker *k = arg;
+	pthread_mutex_lock(&k->lock);
+	for (;;) {
+		struct req *q;
+		while (!k->head && !k->stop)
+			pthread_cond_wait(&k->wake, &k->lock);
+		if (!(q = k->head))
+			break;
+		if (!(k->head = q->next_check))
+			k->tail = &k->head;
+		pthread_mutex_unlock(&k->lock);
+		q->ok = k->stop ? 0 : psd_webpass_check(k->hash, q->pw);
+		memset(q->pw, 0, sizeof q->pw);
+		q->check = CHECK_DONE;
+		MHD_resume_connection(q->conn);
+		pthread_mutex_lock(&k->lock);
 	}
-	if (psd_webreq_form(q->body, "password", pw, sizeof pw) != 0)
-		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no password given");
-	ok = psd_webpass_check(w->c.hash, pw);
-	memset(pw, 0, sizeof pw);
-	psd_websess_outcome(&w->sess, addr, ok, now);
+	pthread_mutex_unlock(&k->lock);
+	return NULL;
+}
+
+static int checker_start(struct checker *k, const char *hash)
+{
+	*k = (struct checker){ .tail = &k->head, .hash = hash };
+	if (pthread_mutex_init(&k->lock, NULL) != 0)
+		return -1;
+	if (pthread_cond_init(&k->wake, NULL) != 0) {
+		pthread_mutex_destroy(&k->lock);
+		return -1;
+	}
+	if ((errno = pthread_create(&k->thread, NULL, checker_run, k)) != 0) {
+		pthread_cond_destroy(&k->wake);
+		pthread_mutex_destroy(&k->lock);
+		return -1;
+	}
+	k->running = 1;
+	return 0;
+}
+
+static void checker_stop(struct checker *k)
+{
+	if (!k->running)
+		return;
+	pthread_mutex_lock(&k->lock);
+	k->stop = 1;
+	pthread_cond_signal(&k->wake);
+	pthread_mutex_unlock(&k->lock);
+	pthread_join(k->thread, NULL);
+	pthread_cond_destroy(&k->wake);
+	pthread_mutex_destroy(&k->lock);
+	k->running = 0;
+}
+
+/* Queue q's password for the worker; its connection waits, suspended. */
+static void checker_queue(struct checker *k, struct MHD_Connection *conn, struct req *q)
+{
+	q->conn = conn;
+	q->check = CHECK_QUEUED;
+	q->next_check = NULL;
+	MHD_suspend_connection(conn);
+	pthread_mutex_lock(&k->lock);
+	*k->tail = q;
+	k->tail = &q->next_check;
+	pthread_cond_signal(&k->wake);
+	pthread_mutex_unlock(&k->lock);
+}
+
+/* The answer to a checked login: a session, or the failure (already
+ * counted when the check was queued). */
+static enum MHD_Result login_answer(struct psd_web *w, struct MHD_Connection *conn, int ok, const char *addr,
+                                    double now, char *token, char *cookie, size_t n)
+{
+	if (w->closing)
+		return send_error(conn, MHD_HTTP_SERVICE_UNAVAILABLE, "psensd is stopping");
 	if (!ok) {
 		psd_log_warnx("web: a failed login from %s", addr);
 		return send_error(conn, MHD_HTTP_UNAUTHORIZED, "wrong password");
 	}
-	if (psd_websess_issue(&w->sess, now, token, sizeof token) != 0)
+	psd_websess_outcome(&w->sess, addr, 1, now);
+	if (psd_websess_issue(&w->sess, now, token, PSD_WEBSESS_TOKEN) != 0)
 		return send_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "no random bytes for a session");
 	psd_log_info("web: login from %s", addr);
 	/* the browser keeps the cookie an hour past the session, so that a
 	 * request then is told the session expired, not that there is none */
-	snprintf(cookie, sizeof cookie, "%s=%s; Path=/; HttpOnly; SameSite=Strict; Max-Age=%.0f", cookie_name, token,
+	snprintf(cookie, n, "%s=%s; Path=/; HttpOnly; SameSite=Strict; Max-Age=%.0f", cookie_name, token,
 	         w->c.session + 3600);
 	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
+}
+
+/* POST /api/login password=...: judged in two turns.  The first queues
+ * the check for the worker and counts it as a failure at once (so that
+ * logins sent together are throttled as if one after the other); the
+ * second, when the worker resumes the connection, answers. */
+static enum MHD_Result login(struct psd_web *w, struct MHD_Connection *conn, struct req *q)
+{
+	char addr[64], msg[160], token[PSD_WEBSESS_TOKEN], cookie[PSD_WEBSESS_TOKEN + 128];
+	double now = psd_time_wall(), wait;
+	client_addr(conn, addr, sizeof addr);
+	if (q->check == CHECK_DONE)
+		return login_answer(w, conn, q->ok, addr, now, token, cookie, sizeof cookie);
+	if (q->check == CHECK_QUEUED)   /* not resumed by the worker: cannot happen */
+		return MHD_NO;
+	if ((wait = psd_websess_wait(&w->sess, addr, now)) > 0) {
+		snprintf(msg, sizeof msg, "too many failed logins from this address: try again in %.0f s", ceil(wait));
+		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
+	}
+	if ((wait = psd_websess_wait_all(&w->sess, now)) > 0) {
+		snprintf(msg, sizeof msg, "too many failed logins from every address: try again in %.0f s", ceil(wait));
+		return send_error(conn, MHD_HTTP_TOO_MANY_REQUESTS, msg);
+	}
+	if (psd_webreq_form(q->body, "password", q->pw, sizeof q->pw) != 0)
+		return send_error(conn, MHD_HTTP_BAD_REQUEST, "no password given");
+	psd_websess_outcome(&w->sess, addr, 0, now);
+	psd_log_debug("web: checking a login from %s", addr);
+	checker_queue(&w->chk, conn, q);
+	return MHD_YES;
 }
 
 static enum MHD_Result logout(struct psd_web *w, struct MHD_Connection *conn)
 {
 	const char *h = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Cookie");
 	char token[PSD_WEBSESS_TOKEN], cookie[128];
-	if (h && psd_webreq_cookie(h, cookie_name, token, sizeof token) == 0)
-		psd_websess_revoke(&w->sess, token, psd_time_wall());
+	if (h && psd_webreq_cookie(h, cookie_name, token, sizeof token) == 0 &&
+	    psd_websess_revoke(&w->sess, token, psd_time_wall()) == 1)
+		psd_log_warnx("web: %d logouts within a session's lifetime fill the table of logged-out sessions: "
+		              "the session key changed, every login has ended", PSD_WEBSESS_REVOKED + 1);
 	snprintf(cookie, sizeof cookie, "%s=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0", cookie_name);
 	return send_text(conn, MHD_HTTP_OK, "application/json", "{\"ok\":true}", cookie);
 }
@@ -355,7 +558,7 @@ static enum MHD_Result asset(struct MHD_Connection *conn, const char *url)
 }
 
 static enum MHD_Result route(struct psd_web *w, struct MHD_Connection *conn, const char *url, const char *method,
-                             const struct req *q)
+                             struct req *q)
 {
 	int post = strcmp(method, "POST") == 0, get = strcmp(method, "GET") == 0 || strcmp(method, "HEAD") == 0;
 	const char *why;
@@ -397,6 +600,7 @@ static enum MHD_Result access_cb(void *cls, struct MHD_Connection *conn, const c
 {
 	struct psd_web *w = cls;
 	struct req *q = *ctx;
+	struct conn *c;
 	(void)version;
 	if (!q) {
 		if (!(q = calloc(1, sizeof *q)))
@@ -415,14 +619,21 @@ static enum MHD_Result access_cb(void *cls, struct MHD_Connection *conn, const c
 		*upload_size = 0;
 		return MHD_YES;
 	}
+	if ((c = conn_of(conn)))
+		c->deadline = 0;   /* arrived whole: being answered, a stream perhaps */
 	return route(w, conn, url, method, q);
 }
 
 static void done_cb(void *cls, struct MHD_Connection *conn, void **ctx, enum MHD_RequestTerminationCode toe)
 {
+	struct conn *c = conn_of(conn);
 	(void)cls;
-	(void)conn;
 	(void)toe;
+	/* the next request on a kept-alive connection: its wait is not its
+	 * arrival (MHD does not say when it starts), so it has the idle time
+	 * and the arrival's both; a connection silent that long MHD closes */
+	if (c)
+		c->deadline = psd_time_mono() + CONN_IDLE + REQUEST_MAX;
 	free(*ctx);
 	*ctx = NULL;
 }
@@ -455,16 +666,23 @@ struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e,
 	w->fn = fn;
 	w->user = user;
 	psd_websess_init(&w->sess, c->hash, c->session);
+	if (checker_start(&w->chk, w->c.hash) != 0) {
+		psd_errbuf(err, errlen, "[web]: cannot start the password checks' thread: %s", strerror(errno));
+		free(w);
+		return NULL;
+	}
 	sa.sin_port = htons((uint16_t)c->port);
 	inet_pton(AF_INET, c->addr, &sa.sin_addr);
 	w->mhd = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, (uint16_t)c->port, NULL,
 	                          NULL, access_cb, w, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&sa,
-	                          MHD_OPTION_NOTIFY_COMPLETED, done_cb, w, MHD_OPTION_CONNECTION_LIMIT, 64u,
-	                          MHD_OPTION_PER_IP_CONNECTION_LIMIT, 16u, MHD_OPTION_CONNECTION_TIMEOUT, 120u,
+	                          MHD_OPTION_NOTIFY_COMPLETED, done_cb, w, MHD_OPTION_NOTIFY_CONNECTION, notify_cb, w,
+	                          MHD_OPTION_CONNECTION_LIMIT, (unsigned)CONN_MAX, MHD_OPTION_PER_IP_CONNECTION_LIMIT,
+	                          (unsigned)PER_ADDR, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONN_IDLE,
 	                          MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)65536,
 	                          MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL, MHD_OPTION_END);
 	if (!w->mhd) {
 		psd_errbuf(err, errlen, "[web]: cannot listen on %s:%ld: %s", c->addr, c->port, strerror(errno));
+		checker_stop(&w->chk);
 		free(w);
 		return NULL;
 	}
@@ -503,6 +721,7 @@ void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
 		free(ev);
 		w->next_update = now + w->c.update;
 	}
+	conn_sweep(w, now);
 	MHD_run(w->mhd);
 }
 
@@ -510,8 +729,18 @@ int psd_web_wait_ms(const struct psd_web *w)
 {
 	MHD_UNSIGNED_LONG_LONG t;
 	int ms = -1;
+	double next = -1;
 	if (MHD_get_timeout(w->mhd, &t) == MHD_YES)
 		ms = t > 60000 ? 60000 : (int)t;
+	for (const struct conn *c = w->conns; c; c = c->next)   /* the next request to end unreceived */
+		if (!c->shut && c->deadline > 0 && (next < 0 || c->deadline < next))
+			next = c->deadline;
+	if (next >= 0) {
+		double left = (next - psd_time_mono()) * 1000;
+		int u = left <= 0 ? 0 : (int)ceil(left);
+		if (ms < 0 || u < ms)
+			ms = u;
+	}
 	if (w->streams) {
 		double left = (w->next_update - psd_time_mono()) * 1000;
 		int u = left <= 0 ? 0 : (int)ceil(left);
@@ -526,6 +755,7 @@ void psd_web_close(struct psd_web *w)
 	if (!w)
 		return;
 	w->closing = 1;
+	checker_stop(&w->chk);   /* every queued login resumed, answered below */
 	for (struct sse *s = w->streams; s; s = s->next)
 		if (s->suspended) {
 			s->suspended = 0;

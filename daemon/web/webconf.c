@@ -50,7 +50,7 @@ static void read_hash(struct psd_web_conf *w, struct ps_conf *c, struct ps_conf_
 	struct stat st;
 	FILE *fp;
 	if (!path) {
-		ps_conf_error(c, s->line, "[web] needs 'password_file' (make one with psensd --hash-password)");
+		ps_conf_error(c, s->line, "[web] needs 'password_file' (make one with psensctl web-passwd FILE)");
 		return;
 	}
 	if (!(fp = fopen(path, "re"))) {

@@ -49,7 +49,7 @@ static int parse(const char *line, unsigned long *iter, unsigned char salt[SALT]
 	const char *p = line;
 	char *end;
 	if (strncmp(p, prefix, sizeof prefix - 1) != 0) {
-		psd_errbuf(err, errlen, "not a psensd password hash (it starts '%s'; make one with psensd --hash-password)",
+		psd_errbuf(err, errlen, "not a psensd password hash (it starts '%s'; make one with psensctl web-passwd FILE)",
 		           prefix);
 		return -1;
 	}

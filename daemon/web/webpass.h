@@ -2,7 +2,7 @@
 /* The web console's password (psensd.conf(5) [web] password_file): stored
  * as a salted PBKDF2-HMAC-SHA256 hash on one line,
  *   pbkdf2-sha256$ITERATIONS$SALT_HEX$HASH_HEX
- * made by `psensd --hash-password` and checked in constant time. */
+ * made by `psensctl web-passwd FILE` and checked in constant time. */
 #ifndef PSD_WEBPASS_H
 #define PSD_WEBPASS_H
 

@@ -76,23 +76,40 @@ int psd_websess_valid(const struct psd_websess *s, const char *token, double now
 	return 1;
 }
 
-void psd_websess_revoke(struct psd_websess *s, const char *token, double now)
+/* A new key for the rest of this run: every token signed so far is
+ * refused, so the revocations can all be forgotten.  Random when the
+ * kernel gives random bytes, and always a hash of the old key, so never
+ * the old key again. */
+static void rotate(struct psd_websess *s)
 {
-	size_t k = 0;
+	static const char why[] = "psensd web console key after a full revocation table";
+	struct sha256_ctx h;
+	unsigned char r[32] = { 0 };
+	if (getrandom(r, sizeof r, 0) != (ssize_t)sizeof r)
+		memset(r, 0, sizeof r);
+	sha256_init(&h);
+	sha256_update(&h, sizeof why, (const uint8_t *)why);
+	sha256_update(&h, sizeof s->key, s->key);
+	sha256_update(&h, sizeof r, r);
+	sha256_digest(&h, sizeof s->key, s->key);
+	memset(s->revoked, 0, sizeof s->revoked);
+	s->rotations++;
+}
+
+int psd_websess_revoke(struct psd_websess *s, const char *token, double now)
+{
 	const char *dot1 = strchr(token, '.');
 	if (!psd_websess_valid(s, token, now, NULL))
-		return;
-	for (size_t i = 0; i < PSD_WEBSESS_REVOKED; i++) {   /* a free or expired slot, else the soonest to expire */
+		return 0;
+	for (size_t i = 0; i < PSD_WEBSESS_REVOKED; i++)   /* a free or expired slot */
 		if (s->revoked[i].expiry <= now) {
-			k = i;
-			break;
+			memcpy(s->revoked[i].nonce, dot1 + 1, 16);
+			s->revoked[i].nonce[16] = 0;
+			s->revoked[i].expiry = (double)strtoll(token, NULL, 10);
+			return 0;
 		}
-		if (s->revoked[i].expiry < s->revoked[k].expiry)
-			k = i;
-	}
-	memcpy(s->revoked[k].nonce, dot1 + 1, 16);
-	s->revoked[k].nonce[16] = 0;
-	s->revoked[k].expiry = (double)strtoll(token, NULL, 10);
+	rotate(s);   /* none: overwriting one would bring its token back */
+	return 1;
 }
 
 static int guard_find(const struct psd_websess *s, const char *addr)
@@ -103,38 +120,64 @@ static int guard_find(const struct psd_websess *s, const char *addr)
 	return -1;
 }
 
-double psd_websess_wait(const struct psd_websess *s, const char *addr, double now)
+static int guard_free(const struct psd_websess *s)
+{
+	for (int i = 0; i < PSD_WEBSESS_ADDRS; i++)
+		if (!s->guard[i].addr[0])
+			return i;
+	return -1;
+}
+
+/* addr's count: its own, or, while the shared one holds failures or no
+ * slot is free, the shared one (so that an address counted there does not
+ * start again from nothing when a slot frees). */
+static const struct psd_websess_guard *guard_of(const struct psd_websess *s, const char *addr)
 {
 	int i = guard_find(s, addr);
-	return i >= 0 && s->guard[i].until > now ? s->guard[i].until - now : 0;
+	if (i >= 0)
+		return &s->guard[i];
+	if (s->rest.fails > 0 || guard_free(s) < 0)
+		return &s->rest;
+	return NULL;
+}
+
+double psd_websess_wait(const struct psd_websess *s, const char *addr, double now)
+{
+	const struct psd_websess_guard *g = guard_of(s, addr);
+	return g && g->until > now ? g->until - now : 0;
+}
+
+/* The global bucket's level now, after its leak since the last failure. */
+static double bucket_level(const struct psd_websess *s, double now)
+{
+	return fmax(0, s->bucket - (now - s->bucket_at) * PSD_WEBSESS_RATE);
+}
+
+double psd_websess_wait_all(const struct psd_websess *s, double now)
+{
+	double over = bucket_level(s, now) + 1 - PSD_WEBSESS_BURST;   /* a failure more would overflow it */
+	return over > 0 ? over / PSD_WEBSESS_RATE : 0;
 }
 
 void psd_websess_outcome(struct psd_websess *s, const char *addr, int ok, double now)
 {
-	int i = guard_find(s, addr);
-	if (ok) {
-		if (i >= 0)
-			memset(&s->guard[i], 0, sizeof s->guard[i]);
+	struct psd_websess_guard *g = (struct psd_websess_guard *)guard_of(s, addr);
+	if (ok) {   /* forgets only an address's own count: the shared one is others' too */
+		if (g && g != &s->rest)
+			memset(g, 0, sizeof *g);
 		return;
 	}
-	if (i < 0) {   /* a free slot, else the one idle longest */
-		i = 0;
-		for (int k = 0; k < PSD_WEBSESS_ADDRS; k++) {
-			if (!s->guard[k].addr[0]) {
-				i = k;
-				break;
-			}
-			if (s->guard[k].last < s->guard[i].last)
-				i = k;
-		}
-		memset(&s->guard[i], 0, sizeof s->guard[i]);
-		snprintf(s->guard[i].addr, sizeof s->guard[i].addr, "%s", addr);
+	s->bucket = bucket_level(s, now) + 1;
+	s->bucket_at = now;
+	if (!g) {
+		g = &s->guard[guard_free(s)];
+		snprintf(g->addr, sizeof g->addr, "%s", addr);
 	}
-	s->guard[i].fails++;
-	s->guard[i].last = now;
-	if (s->guard[i].fails >= PSD_WEBSESS_FREE_FAILS) {
-		int over = s->guard[i].fails - PSD_WEBSESS_FREE_FAILS;
+	g->fails++;
+	g->last = now;
+	if (g->fails >= PSD_WEBSESS_FREE_FAILS) {
+		int over = g->fails - PSD_WEBSESS_FREE_FAILS;
 		double delay = over >= 6 ? PSD_WEBSESS_MAX_DELAY : fmin(PSD_WEBSESS_MAX_DELAY, (double)(1 << over));
-		s->guard[i].until = now + delay;
+		g->until = now + delay;
 	}
 }

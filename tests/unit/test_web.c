@@ -131,6 +131,83 @@ static void session_guard(void **state)
 	assert_true(psd_websess_wait(&s, "10.0.0.7", 300) == 0);
 }
 
+/* A logged-out token stays refused until its own expiry, however many
+ * logins are logged out after it: 1000 pairs, far more than any table of
+ * revocations holds; a login made after them is good. */
+static void session_revoked_many(void **state)
+{
+	static struct psd_websess s;
+	char first[PSD_WEBSESS_TOKEN], tok[PSD_WEBSESS_TOKEN];
+	const char *why;
+	(void)state;
+	psd_websess_init(&s, known, 3600);
+	assert_int_equal(psd_websess_issue(&s, 1000, first, sizeof first), 0);
+	psd_websess_revoke(&s, first, 1001);
+	for (int i = 0; i < 1000; i++) {
+		assert_int_equal(psd_websess_issue(&s, 1002 + i, tok, sizeof tok), 0);
+		assert_int_equal(psd_websess_valid(&s, tok, 1002 + i, &why), 1);
+		psd_websess_revoke(&s, tok, 1002 + i);
+		assert_int_equal(psd_websess_valid(&s, tok, 1002 + i, &why), 0);
+		if (psd_websess_valid(&s, first, 1002 + i, &why))
+			fail_msg("the first logged-out token is good again after %d later logouts", i + 1);
+	}
+	assert_int_equal(psd_websess_issue(&s, 2100, tok, sizeof tok), 0);
+	assert_int_equal(psd_websess_valid(&s, tok, 2100, &why), 1);
+}
+
+/* Failures from more addresses than the table holds forgive none: an
+ * address with 4 failures, then one failure from each of
+ * PSD_WEBSESS_ADDRS others, 3 s apart (so that the global rate does not
+ * hold anyone); its fifth failure waits 4 s (1, 2, 4 after the three
+ * free), not the nothing of a first failure. */
+static void guard_no_forgiving(void **state)
+{
+	static struct psd_websess s;
+	char addr[32];
+	double t = 100;
+	(void)state;
+	psd_websess_init(&s, known, 60);
+	for (int i = 0; i < 4; i++)
+		psd_websess_outcome(&s, "10.0.0.7", 0, t += 3);
+	assert_true(psd_websess_wait(&s, "10.0.0.7", t) == 2);
+	for (int i = 0; i < PSD_WEBSESS_ADDRS; i++) {
+		snprintf(addr, sizeof addr, "10.1.0.%d", i);
+		psd_websess_outcome(&s, addr, 0, t += 3);
+	}
+	psd_websess_outcome(&s, "10.0.0.7", 0, t += 3);
+	assert_true(psd_websess_wait(&s, "10.0.0.7", t) == 4);
+	/* the addresses that found no room share one count (the last of the
+	 * others is its first failure): 3 free, then 1 s */
+	for (int i = 0; i < 2; i++) {
+		snprintf(addr, sizeof addr, "10.2.0.%d", i);
+		assert_true(psd_websess_wait(&s, addr, t) == 0);
+		psd_websess_outcome(&s, addr, 0, t += 3);
+	}
+	assert_true(psd_websess_wait(&s, "10.2.0.99", t) == 1);
+}
+
+/* A global rate over every address: PSD_WEBSESS_BURST failures at one
+ * instant from as many addresses (one each, none held on its own); the
+ * next login from anywhere waits for one failure to leak away, 1 /
+ * PSD_WEBSESS_RATE s, half that a quarter of it later... */
+static void guard_global(void **state)
+{
+	static struct psd_websess s;
+	char addr[32];
+	(void)state;
+	psd_websess_init(&s, known, 60);
+	for (int i = 0; i < PSD_WEBSESS_BURST - 1; i++) {
+		snprintf(addr, sizeof addr, "10.3.0.%d", i);
+		psd_websess_outcome(&s, addr, 0, 100);
+	}
+	assert_true(psd_websess_wait_all(&s, 100) == 0);
+	psd_websess_outcome(&s, "10.4.0.1", 0, 100);
+	assert_true(fabs(psd_websess_wait_all(&s, 100) - 1 / PSD_WEBSESS_RATE) < 1e-9);
+	assert_true(fabs(psd_websess_wait_all(&s, 100 + 0.5 / PSD_WEBSESS_RATE) - 0.5 / PSD_WEBSESS_RATE) < 1e-9);
+	assert_true(psd_websess_wait_all(&s, 100 + 1 / PSD_WEBSESS_RATE) == 0);
+	assert_true(psd_websess_wait(&s, "10.4.0.1", 100) == 0);   /* one failure: not held on its own */
+}
+
 static void form_fields(void **state)
 {
 	char v[16];
@@ -273,7 +350,8 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(pass_known),   cmocka_unit_test(pass_made),   cmocka_unit_test(pass_malformed),
-		cmocka_unit_test(session_expiry), cmocka_unit_test(session_guard), cmocka_unit_test(form_fields),
+		cmocka_unit_test(session_expiry), cmocka_unit_test(session_guard), cmocka_unit_test(session_revoked_many),
+		cmocka_unit_test(guard_no_forgiving), cmocka_unit_test(guard_global), cmocka_unit_test(form_fields),
 		cmocka_unit_test(cookies),      cmocka_unit_test(lines),       cmocka_unit_test(charts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
