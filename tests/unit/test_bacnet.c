@@ -763,6 +763,25 @@ static void writable_values(void **state)
 		assert_true(zones[0].vprio[psd_bacobj_value_slot(target)][7] == 350.0);
 	}
 	{
+		/* a REAL NaN (0x7fc00000), +infinity (0x7f800000), -infinity
+		 * (0xff800000) at priority 8: property/value-out-of-range (37),
+		 * never a relinquish; the 350 lx stays, nothing applied */
+		static const uint8_t bits[3][4] = { { 0x7f, 0xc0, 0x00, 0x00 },
+			                            { 0x7f, 0x80, 0x00, 0x00 },
+			                            { 0xff, 0x80, 0x00, 0x00 } };
+		static const uint8_t want[] = { 0x50, 0x60, 0x0f, 0x91, 0x02, 0x91, 0x25 };
+		for (size_t i = 0; i < 3; i++) {
+			uint8_t req[] = { 0x00, 0x05, 0x60, 0x0f, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x19, 0x55,
+				          0x3e, 0x44, 0, 0, 0, 0, 0x3f, 0x49, 0x08 };
+			memcpy(req + 13, bits[i], 4);
+			value_applied[0] = 0;
+			assert_int_equal(ask(req, sizeof req, 0x0a, out, &a), sizeof want);
+			assert_memory_equal(a, want, sizeof want);
+			assert_int_equal(value_applied[0], 0);
+			assert_true(zones[0].vprio[psd_bacobj_value_slot(target)][7] == 350.0);
+		}
+	}
+	{
 		/* an unsigned for the REAL: property/invalid-data-type (9) */
 		static const uint8_t req[] = { 0x00, 0x05, 0x54, 0x0f, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x19, 0x55,
 			                       0x3e, 0x21, 0x05, 0x3f };
