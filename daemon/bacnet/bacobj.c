@@ -585,6 +585,10 @@ int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj
 	}
 	z = &m->zone[o->zone];
 	was = z->vprio[slot][prio - 1];
+	/* the same value at the same priority (a BMS re-commanding its
+	 * points): acknowledged, nothing applied, logged or sent */
+	if (was == v || (isnan(was) && isnan(v)))
+		return 0;
 	z->vprio[slot][prio - 1] = v;
 	if (m->apply_value && m->apply_value(m->user, o->zone, (size_t)o->point) != 0) {
 		z->vprio[slot][prio - 1] = was;

@@ -284,6 +284,10 @@ static int set_priority(struct psd_bacserve_model *m, const struct req *q, size_
 		return -1;
 	}
 	was = z->prio[prio - 1];
+	/* a BMS re-commanding what it commanded (each second, say) changes
+	 * nothing: acknowledged without a control step, a log line or frames */
+	if (was == level || (isnan(was) && isnan(level)))
+		return 0;
 	z->prio[prio - 1] = level;
 	if (m->apply && m->apply(m->user, zone) != 0) {
 		z->prio[prio - 1] = was;

@@ -521,6 +521,16 @@ static void write_property_with_priorities(void **state)
 		assert_int_equal(applied, 1);
 	}
 	{
+		/* the same 50 % at the same priority again: a SimpleACK, and
+		 * nothing applied (the array did not change) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x17, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x42, 0x48, 0x00, 0x00, 0x3f, 0x49, 0x08 };
+		applied = 0;
+		ASK(0x0a, 3, 0x20, 0x17, 0x0f);
+		assert_int_equal(applied, 0);
+		assert_true(zones[0].prio[7] == 50.0);
+	}
+	{
 		/* NULL at 8: relinquished */
 		static const uint8_t req[] = { 0x00, 0x05, 0x08, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
 			                       0x3e, 0x00, 0x3f, 0x49, 0x08 };
@@ -742,6 +752,14 @@ static void writable_values(void **state)
 		assert_int_equal(value_applied[0], 1);
 		assert_int_equal(value_applied[1], target);
 		assert_true(zones[0].vprio[psd_bacobj_value_slot(target)][7] == 350.0);
+	}
+	{
+		/* the same 350 lx at priority 8 again: acknowledged, not applied */
+		static const uint8_t req[] = { 0x00, 0x05, 0x61, 0x0f, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x43, 0xaf, 0x00, 0x00, 0x3f, 0x49, 0x08 };
+		value_applied[0] = 0;
+		ASK(0x0a, 3, 0x20, 0x61, 0x0f);
+		assert_int_equal(value_applied[0], 0);
 	}
 	{
 		/* Priority_Array[8] (87 = 0x57) reads it back */
