@@ -718,6 +718,40 @@ static void subscribe_cov_and_notifications(void **state)
 	}
 }
 
+/* A SubscribeCOV of (lighting-output, 1), process pid, no lifetime, from
+ * src: the reply's APDU type octet (0x20 SimpleACK, 0x50 Error). */
+static uint8_t subscribe_from(const uint8_t src[6], uint8_t pid)
+{
+	uint8_t in[] = { 0x81, 0x0a, 0x00, 0x13, 0x01, 0x04, 0x00, 0x05, 0x01, 0x05, 0x09, pid,
+		         0x1c, 0x0d, 0x80, 0x00, 0x01, 0x29, 0x00 };
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	psd_bacserve_handle(&model, in, sizeof in, src, 0, out, &r);
+	assert_true(r.len > 6);
+	return out[6];
+}
+
+/* One address cannot take every subscription: past its share its next
+ * is refused resources/no-space-to-add, another address is served. */
+static void subscriptions_per_source(void **state)
+{
+	static const uint8_t other[6] = { 10, 0, 0, 8, 0xba, 0xc0 };
+	(void)state;
+	memset(model.sub, 0, sizeof model.sub);
+	for (int i = 0; i < PSD_BACSERVE_SUBS_PER_SOURCE; i++)
+		assert_int_equal(subscribe_from(peer, (uint8_t)i), 0x20);
+	/* its own again (a renewal) is taken; a new one is not */
+	assert_int_equal(subscribe_from(peer, 0), 0x20);
+	assert_int_equal(subscribe_from(peer, PSD_BACSERVE_SUBS_PER_SOURCE), 0x50);
+	/* another port of the same host is the same source */
+	{
+		uint8_t port[6] = { 10, 0, 0, 7, 0xba, 0xc1 };
+		assert_int_equal(subscribe_from(port, 99), 0x50);
+	}
+	assert_int_equal(subscribe_from(other, 1), 0x20);
+	assert_true(PSD_BACSERVE_SUBS_PER_SOURCE < PSD_BACSERVE_SUBS);
+}
+
 static size_t value_applied[2]; /* the zone + 1 and point of the last Value applied */
 
 static int apply_value(void *user, size_t z, size_t point)
@@ -883,6 +917,7 @@ int main(void)
 		cmocka_unit_test_setup(bvll_and_npdu, setup),
 		cmocka_unit_test_setup(subscribe_cov_and_notifications, setup),
 		cmocka_unit_test_setup(writable_values, setup),
+		cmocka_unit_test_setup(subscriptions_per_source, setup),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
