@@ -537,6 +537,7 @@ int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj
 	struct psd_bacserve_zone *z;
 	int slot = o->point >= 0 ? psd_bacobj_value_slot((size_t)o->point) : -1;
 	double v = NAN, was, lo, hi;
+	int is_null;
 	uint32_t u;
 	float f;
 	*ec = EC_PROPERTY;
@@ -557,8 +558,9 @@ int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj
 		return -1;
 	}
 	*code = E_INVALID_DATA_TYPE;
-	if (!val->context && val->number == PSD_BACTAG_NULL && val->len == 0)
-		v = NAN; /* relinquish */
+	is_null = !val->context && val->number == PSD_BACTAG_NULL && val->len == 0;
+	if (is_null)
+		v = NAN; /* relinquish: NAN is the priority array's empty slot */
 	else if (val->context)
 		return -1;
 	else if (o->type == PSD_BAC_AV) {
@@ -575,12 +577,18 @@ int psd_bacobj_write_value(struct psd_bacserve_model *m, const struct psd_bacobj
 		v = u;
 	}
 	range_of(m, (size_t)o->point, &lo, &hi);
-	if (!isnan(v) && !(v >= lo && v <= hi)) {
+	/* a REAL NaN or infinity is no value (a BMS forwarding a failed
+	 * reading); NaN would otherwise pass for the empty slot, a relinquish */
+	if (!is_null && !(isfinite(v) && v >= lo && v <= hi)) {
 		*code = E_VALUE_OUT_OF_RANGE;
 		return -1;
 	}
 	z = &m->zone[o->zone];
 	was = z->vprio[slot][prio - 1];
+	/* the same value at the same priority (a BMS re-commanding its
+	 * points): acknowledged, nothing applied, logged or sent */
+	if (was == v || (isnan(was) && isnan(v)))
+		return 0;
 	z->vprio[slot][prio - 1] = v;
 	if (m->apply_value && m->apply_value(m->user, o->zone, (size_t)o->point) != 0) {
 		z->vprio[slot][prio - 1] = was;

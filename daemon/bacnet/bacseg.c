@@ -69,6 +69,7 @@ int psd_bacseg_start(struct psd_bacseg *s, const uint8_t addr[6], const uint8_t 
 	struct psd_bacseg_tx *t = NULL;
 	size_t seglen = max_apdu(accepts) - 5; /* a segment's header: type, invoke, sequence, window, service */
 	uint32_t nseg, most = max_segments(accepts);
+	size_t mine = 0;
 	if (n < 3 || npdu_len > PSD_BACSEG_NPDU)
 		return PSD_BACSEG_APDU_TOO_LONG;
 	if (n > PSD_BACSEG_MAX_LEN)
@@ -80,10 +81,13 @@ int psd_bacseg_start(struct psd_bacseg *s, const uint8_t addr[6], const uint8_t 
 		s->refused++;
 		return PSD_BACSEG_BUFFER_OVERFLOW;
 	}
-	for (size_t i = 0; i < PSD_BACSEG_MAX_TX && !t; i++)
-		if (!s->tx[i].used)
+	for (size_t i = 0; i < PSD_BACSEG_MAX_TX; i++) {
+		if (!s->tx[i].used && !t)
 			t = &s->tx[i];
-	if (!t) {
+		/* the host's share: its IPv4 address, whichever port it asks from */
+		mine += s->tx[i].used && memcmp(s->tx[i].addr, addr, 4) == 0;
+	}
+	if (!t || mine >= PSD_BACSEG_PER_SOURCE) {
 		s->refused++;
 		return PSD_BACSEG_OUT_OF_RESOURCES;
 	}

@@ -28,6 +28,9 @@
 
 enum {
 	PSD_BACSEG_MAX_TX = 8,          /* segmented answers in progress at once */
+	/* of them to one IPv4 address (whatever its ports): one host leaving
+	 * its answers unacknowledged never locks the others out */
+	PSD_BACSEG_PER_SOURCE = 2,
 	PSD_BACSEG_MAX_LEN = 1 << 16,   /* the longest answer (APDU octets) sent in segments */
 	PSD_BACSEG_WINDOW = 16,         /* the proposed window size */
 	PSD_BACSEG_TIMEOUT_MS = 2000,   /* APDU_Segment_Timeout */

@@ -284,6 +284,10 @@ static int set_priority(struct psd_bacserve_model *m, const struct req *q, size_
 		return -1;
 	}
 	was = z->prio[prio - 1];
+	/* a BMS re-commanding what it commanded (each second, say) changes
+	 * nothing: acknowledged without a control step, a log line or frames */
+	if (was == level || (isnan(was) && isnan(level)))
+		return 0;
 	z->prio[prio - 1] = level;
 	if (m->apply && m->apply(m->user, zone) != 0) {
 		z->prio[prio - 1] = was;
@@ -457,6 +461,7 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 	struct psd_bactag t;
 	struct psd_bacserve_sub *free_slot = NULL, *s = NULL;
 	struct psd_bacobj o;
+	size_t mine = 0;
 	if ((rc = need_unsigned(q, &pos, 0, &pid)) || (rc = need_objectid(q, &pos, 1, &type, &inst))) {
 		put_reject(b, q->invoke, (uint8_t)rc);
 		return;
@@ -491,6 +496,8 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 		           memcmp(x->addr, src, 6) == 0) {
 			s = x;
 		}
+		/* the host's share: its IPv4 address, whichever port it sends from */
+		mine += x->used && memcmp(x->addr, src, 4) == 0;
 	}
 	if (!has_conf) { /* a cancellation: done whether or not it was there */
 		if (s)
@@ -504,7 +511,7 @@ static void subscribe_cov(struct psd_bacserve_model *m, const struct req *q, con
 			put_error(b, q, EC_OBJECT, E_NOT_SUPPORTED);
 			return;
 		}
-		if (!s && !(s = free_slot)) {
+		if (!s && (mine >= PSD_BACSERVE_SUBS_PER_SOURCE || !(s = free_slot))) {
 			put_error(b, q, EC_RESOURCES, E_NO_SPACE_TO_ADD);
 			return;
 		}

@@ -35,6 +35,9 @@ enum {
 	PSD_BACSERVE_POINTS = 32,     /* the point model's points at most (points.h) */
 	PSD_BACSERVE_STRIDE = 100,    /* a zone's objects of one type: instances 100 x zone + 1 ... */
 	PSD_BACSERVE_SUBS = 64,       /* COV subscriptions at most */
+	/* COV subscriptions of one IPv4 address at most (whatever its ports):
+	 * one host never fills the table, so another always gets served */
+	PSD_BACSERVE_SUBS_PER_SOURCE = 16,
 	PSD_BACSERVE_VALUES = 4,      /* writable points other than the level (Values) at most */
 };
 

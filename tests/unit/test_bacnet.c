@@ -521,6 +521,16 @@ static void write_property_with_priorities(void **state)
 		assert_int_equal(applied, 1);
 	}
 	{
+		/* the same 50 % at the same priority again: a SimpleACK, and
+		 * nothing applied (the array did not change) */
+		static const uint8_t req[] = { 0x00, 0x05, 0x17, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x42, 0x48, 0x00, 0x00, 0x3f, 0x49, 0x08 };
+		applied = 0;
+		ASK(0x0a, 3, 0x20, 0x17, 0x0f);
+		assert_int_equal(applied, 0);
+		assert_true(zones[0].prio[7] == 50.0);
+	}
+	{
 		/* NULL at 8: relinquished */
 		static const uint8_t req[] = { 0x00, 0x05, 0x08, 0x0f, 0x0c, 0x0d, 0x80, 0x00, 0x01, 0x19, 0x55,
 			                       0x3e, 0x00, 0x3f, 0x49, 0x08 };
@@ -708,6 +718,40 @@ static void subscribe_cov_and_notifications(void **state)
 	}
 }
 
+/* A SubscribeCOV of (lighting-output, 1), process pid, no lifetime, from
+ * src: the reply's APDU type octet (0x20 SimpleACK, 0x50 Error). */
+static uint8_t subscribe_from(const uint8_t src[6], uint8_t pid)
+{
+	uint8_t in[] = { 0x81, 0x0a, 0x00, 0x13, 0x01, 0x04, 0x00, 0x05, 0x01, 0x05, 0x09, pid,
+		         0x1c, 0x0d, 0x80, 0x00, 0x01, 0x29, 0x00 };
+	uint8_t out[PSD_BACSERVE_MAX_PACKET];
+	struct psd_bacserve_reply r;
+	psd_bacserve_handle(&model, in, sizeof in, src, 0, out, &r);
+	assert_true(r.len > 6);
+	return out[6];
+}
+
+/* One address cannot take every subscription: past its share its next
+ * is refused resources/no-space-to-add, another address is served. */
+static void subscriptions_per_source(void **state)
+{
+	static const uint8_t other[6] = { 10, 0, 0, 8, 0xba, 0xc0 };
+	(void)state;
+	memset(model.sub, 0, sizeof model.sub);
+	for (int i = 0; i < PSD_BACSERVE_SUBS_PER_SOURCE; i++)
+		assert_int_equal(subscribe_from(peer, (uint8_t)i), 0x20);
+	/* its own again (a renewal) is taken; a new one is not */
+	assert_int_equal(subscribe_from(peer, 0), 0x20);
+	assert_int_equal(subscribe_from(peer, PSD_BACSERVE_SUBS_PER_SOURCE), 0x50);
+	/* another port of the same host is the same source */
+	{
+		uint8_t port[6] = { 10, 0, 0, 7, 0xba, 0xc1 };
+		assert_int_equal(subscribe_from(port, 99), 0x50);
+	}
+	assert_int_equal(subscribe_from(other, 1), 0x20);
+	assert_true(PSD_BACSERVE_SUBS_PER_SOURCE < PSD_BACSERVE_SUBS);
+}
+
 static size_t value_applied[2]; /* the zone + 1 and point of the last Value applied */
 
 static int apply_value(void *user, size_t z, size_t point)
@@ -744,6 +788,14 @@ static void writable_values(void **state)
 		assert_true(zones[0].vprio[psd_bacobj_value_slot(target)][7] == 350.0);
 	}
 	{
+		/* the same 350 lx at priority 8 again: acknowledged, not applied */
+		static const uint8_t req[] = { 0x00, 0x05, 0x61, 0x0f, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x19, 0x55,
+			                       0x3e, 0x44, 0x43, 0xaf, 0x00, 0x00, 0x3f, 0x49, 0x08 };
+		value_applied[0] = 0;
+		ASK(0x0a, 3, 0x20, 0x61, 0x0f);
+		assert_int_equal(value_applied[0], 0);
+	}
+	{
 		/* Priority_Array[8] (87 = 0x57) reads it back */
 		static const uint8_t req[] = { 0x00, 0x05, 0x51, 0x0c, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x19, 0x57, 0x29, 0x08 };
 		ASK(0x0a, 19, 0x30, 0x51, 0x0c, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x19, 0x57, 0x29, 0x08, 0x3e, 0x44, 0x43,
@@ -761,6 +813,25 @@ static void writable_values(void **state)
 			                       0x3e, 0x44, 0x45, 0xbb, 0x80, 0x00, 0x3f, 0x49, 0x08 };
 		ASK(0x0a, 7, 0x50, 0x53, 0x0f, 0x91, 0x02, 0x91, 0x25);
 		assert_true(zones[0].vprio[psd_bacobj_value_slot(target)][7] == 350.0);
+	}
+	{
+		/* a REAL NaN (0x7fc00000), +infinity (0x7f800000), -infinity
+		 * (0xff800000) at priority 8: property/value-out-of-range (37),
+		 * never a relinquish; the 350 lx stays, nothing applied */
+		static const uint8_t bits[3][4] = { { 0x7f, 0xc0, 0x00, 0x00 },
+			                            { 0x7f, 0x80, 0x00, 0x00 },
+			                            { 0xff, 0x80, 0x00, 0x00 } };
+		static const uint8_t want[] = { 0x50, 0x60, 0x0f, 0x91, 0x02, 0x91, 0x25 };
+		for (size_t i = 0; i < 3; i++) {
+			uint8_t req[] = { 0x00, 0x05, 0x60, 0x0f, 0x0c, 0x00, 0x80, 0x00, 0x01, 0x19, 0x55,
+				          0x3e, 0x44, 0, 0, 0, 0, 0x3f, 0x49, 0x08 };
+			memcpy(req + 13, bits[i], 4);
+			value_applied[0] = 0;
+			assert_int_equal(ask(req, sizeof req, 0x0a, out, &a), sizeof want);
+			assert_memory_equal(a, want, sizeof want);
+			assert_int_equal(value_applied[0], 0);
+			assert_true(zones[0].vprio[psd_bacobj_value_slot(target)][7] == 350.0);
+		}
 	}
 	{
 		/* an unsigned for the REAL: property/invalid-data-type (9) */
@@ -846,6 +917,7 @@ int main(void)
 		cmocka_unit_test_setup(bvll_and_npdu, setup),
 		cmocka_unit_test_setup(subscribe_cov_and_notifications, setup),
 		cmocka_unit_test_setup(writable_values, setup),
+		cmocka_unit_test_setup(subscriptions_per_source, setup),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -184,15 +184,43 @@ static void refusals(void **state)
 	assert_int_equal(psd_bacseg_start(&s, peer, npdu, sizeof npdu, 0x53, a, n, 0), 0);
 	assert_int_equal(psd_bacseg_start(&s, peer, npdu, sizeof npdu, 0x05, a, PSD_BACSEG_MAX_LEN + 1, 0),
 	                 PSD_BACSEG_APDU_TOO_LONG);
+	/* the table filled by other hosts (10.0.1.i): full for everyone */
 	for (int i = 1; i < PSD_BACSEG_MAX_TX; i++) {
+		uint8_t host[6] = { 10, 0, 1, (uint8_t)i, 0xba, 0xc0 };
 		a[1] = (uint8_t)(7 + i);
-		assert_int_equal(psd_bacseg_start(&s, peer, npdu, sizeof npdu, 0x05, a, n, 0), 0);
+		assert_int_equal(psd_bacseg_start(&s, host, npdu, sizeof npdu, 0x05, a, n, 0), 0);
 	}
 	a[1] = 99;
 	assert_int_equal(psd_bacseg_start(&s, peer, npdu, sizeof npdu, 0x05, a, n, 0), PSD_BACSEG_OUT_OF_RESOURCES);
 	/* the asker's Abort frees one */
-	psd_bacseg_cancel(&s, peer, npdu, sizeof npdu, 8);
+	{
+		uint8_t host[6] = { 10, 0, 1, 1, 0xba, 0xc0 };
+		psd_bacseg_cancel(&s, host, npdu, sizeof npdu, 8);
+	}
 	assert_int_equal(psd_bacseg_start(&s, peer, npdu, sizeof npdu, 0x05, a, n, 0), 0);
+	psd_bacseg_free(&s);
+	free(a);
+}
+
+/* One host's unacknowledged answers cannot take every transaction: past
+ * its share (whatever its ports) it is refused out-of-resources, another
+ * host is served. */
+static void transactions_per_source(void **state)
+{
+	struct psd_bacseg s = { 0 };
+	size_t n = 3 + 9500;
+	uint8_t *a = answer(n);
+	uint8_t port[6] = { 10, 0, 0, 7, 0xba, 0xc1 };
+	(void)state;
+	assert_true(PSD_BACSEG_PER_SOURCE < PSD_BACSEG_MAX_TX);
+	for (int i = 0; i < PSD_BACSEG_PER_SOURCE; i++) {
+		a[1] = (uint8_t)(20 + i);
+		assert_int_equal(psd_bacseg_start(&s, peer, npdu, sizeof npdu, 0x05, a, n, 0), 0);
+	}
+	a[1] = 50;
+	assert_int_equal(psd_bacseg_start(&s, peer, npdu, sizeof npdu, 0x05, a, n, 0), PSD_BACSEG_OUT_OF_RESOURCES);
+	assert_int_equal(psd_bacseg_start(&s, port, npdu, sizeof npdu, 0x05, a, n, 0), PSD_BACSEG_OUT_OF_RESOURCES);
+	assert_int_equal(psd_bacseg_start(&s, other, npdu, sizeof npdu, 0x05, a, n, 0), 0);
 	psd_bacseg_free(&s);
 	free(a);
 }
@@ -309,6 +337,7 @@ int main(void)
 		cmocka_unit_test(a_lost_ack_resends_the_window),
 		cmocka_unit_test(a_negative_ack_resends_after_it),
 		cmocka_unit_test(refusals),
+		cmocka_unit_test(transactions_per_source),
 		cmocka_unit_test(object_list_of_100_zones),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
