@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: ISC */
 /* What psensd -n, a start and a reload judge beyond each key alone: ranges
  * that involve two keys, and the files the configuration names (the scene,
- * the results, a loopback room's replay), each opened and parsed as the
+ * the results, a loopback room's replay, the directories of the files it
+ * writes), each opened and parsed as the
  * daemon would, every error with the configuration's file and line (and the
  * referenced file's own line when the parser gives one). */
 #include "confcheck.h"
@@ -11,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "replay.h"
 #include "results.h"
@@ -49,6 +51,45 @@ static void check_ranges(struct psd_config *cf)
 		              cf->sensor_saturation, cf->sensor_min);
 }
 
+/* A file psensd writes (the database with its journal, the socket, the
+ * textfile, results computed from a scene): each is made or replaced in its
+ * directory, so that directory must exist and take a new file, or the
+ * daemon would refuse to start with the lights at the safe level. */
+static void check_output(struct ps_conf *c, int line, const char *key, const char *path)
+{
+	struct stat st;
+	const char *slash;
+	char *dir;
+	if (!path)
+		return;
+	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+		ps_conf_error(c, line, "%s: %s is a directory, not a file", key, path);
+		return;
+	}
+	slash = strrchr(path, '/');
+	dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+	if (!dir) {
+		ps_conf_error(c, line, "%s: out of memory", key);
+		return;
+	}
+	if (stat(dir, &st) != 0)
+		ps_conf_error(c, line, "%s: %s: %s", key, dir, strerror(errno));
+	else if (!S_ISDIR(st.st_mode))
+		ps_conf_error(c, line, "%s: %s is not a directory", key, dir);
+	else if (access(dir, W_OK | X_OK) != 0)
+		ps_conf_error(c, line, "%s: %s: not writable by this user (%s)", key, dir, strerror(errno));
+	free(dir);
+}
+
+static void check_outputs(struct psd_config *cf)
+{
+	struct ps_conf *c = &cf->conf;
+	struct ps_conf_section *s = ps_conf_section(c, "psensd");
+	check_output(c, key_line(s, "database"), "database", cf->database);
+	check_output(c, key_line(s, "socket"), "socket", cf->socket_path);
+	check_output(c, key_line(ps_conf_section(c, "prometheus"), "textfile"), "textfile", cf->prom_textfile);
+}
+
 /* A scene and its results, named at lines ls and lr of the file. */
 static void check_pair(struct ps_conf *c, const char *scene, const char *results, int ls, int lr)
 {
@@ -74,6 +115,8 @@ static void check_pair(struct ps_conf *c, const char *scene, const char *results
 		if (!have_scene && !scene)
 			ps_conf_error(c, lr, "results: %s: %s (and no scene = to compute them from)", results,
 			              strerror(errno));
+		else
+			check_output(c, lr, "results", results);
 		return;   /* psensd runs psscene on the scene at start */
 	}
 	/* results older than the scene are recomputed at start: judged then */
@@ -148,4 +191,5 @@ void psd_confcheck_files(struct psd_config *cf)
 {
 	check_scene_results(cf);
 	check_replays(cf);
+	check_outputs(cf);
 }

@@ -310,6 +310,26 @@ static int point_list(struct psd_config *cf, struct ps_conf_section *s, const ch
 	return n;
 }
 
+/* The shortest period or calibration step psensd takes.  A DALI query and
+ * its answer hold the bus about 30 ms and a Modbus RTU poll at 9600 baud
+ * about 20 ms, so a shorter step asks faster than the devices answer; and
+ * every step logs a sample row per zone (864,000 a day at 0.1 s).  Below it
+ * the value is a typo: 0.001 meant 1 or 60. */
+#define PSD_MIN_STEP 0.1
+
+static void duration(struct ps_conf *c, struct ps_conf_section *s, const char *key, double def, double max,
+                     double *out)
+{
+	struct ps_conf_kv *kv = ps_conf_kv(s, key);
+	if (ps_conf_double(c, s, key, def, 0, max, out) != 0 || !kv || *out >= PSD_MIN_STEP)
+		return;
+	ps_conf_error(c, kv->line, "%s: %g s is shorter than %g s: faster than a device answers (a DALI query "
+	              "takes about 30 ms), and the log takes a sample row per zone each step (864,000 a day "
+	              "at %g s)",
+	              key, *out, PSD_MIN_STEP, PSD_MIN_STEP);
+	*out = def;
+}
+
 static void load_control(struct ps_conf *c, struct ps_conf_section *s, struct psd_control *k)
 {
 	long steps;
@@ -380,7 +400,7 @@ static void load_zones(struct psd_config *cf)
 		if (z->ndim + z->nrelay == 0)
 			ps_conf_error(c, s->line, "[zone %s] needs an output: 'dim' or 'relay' points", z->name);
 		load_control(c, s, &z->ctl);
-		ps_conf_double(c, s, "period", cf->period, 0.001, 86400, &z->period);
+		duration(c, s, "period", cf->period, 86400, &z->period);
 		ps_conf_double(c, s, "safe_level", cf->safe_level, 0, 1, &z->safe_level);
 		ps_conf_double(c, s, "stale_after", cf->stale_after > 0 ? cf->stale_after : 2.5 * z->period,
 		               0, 86400 * 7, &z->stale_after);
@@ -394,11 +414,11 @@ static void load_zones(struct psd_config *cf)
 		ps_conf_double(c, s, ps_conf_kv(s, "vacancy_delay") ? "vacancy_delay" : "vacancy_hold", 900, 0, 86400,
 		               &z->vacancy_s);
 		ps_conf_double(c, s, "vacant_level", 0, 0, 1, &z->vacant_level);
-		ps_conf_double(c, s, "cal_window", 4 * z->period, 0.001, 86400, &z->cal_window);
-		ps_conf_double(c, s, "cal_timeout", 60 * z->period, 0.001, 86400 * 7, &z->cal_timeout);
+		duration(c, s, "cal_window", 4 * z->period, 86400, &z->cal_window);
+		duration(c, s, "cal_timeout", 60 * z->period, 86400 * 7, &z->cal_timeout);
 		ps_conf_double(c, s, "cal_floor", 0.001, 0, 10, &z->cal_floor);
 		ps_conf_int(c, s, "cal_day_samples", 5, 2, 64, &z->cal_day_samples);
-		ps_conf_double(c, s, "cal_day_interval", 600, 0.001, 86400, &z->cal_day_interval);
+		duration(c, s, "cal_day_interval", 600, 86400, &z->cal_day_interval);
 		ps_conf_double(c, s, "cal_min_day_volts", 0.05, 0, 100, &z->cal_min_day_volts);
 		ps_conf_double(c, s, "cal_tolerance", 25, 0, 1000, &z->cal_tolerance);
 		ps_conf_double(c, s, "cal_dark_margin", 0.2, 0, 100, &z->cal_dark_margin);
@@ -463,7 +483,7 @@ static int load(struct psd_config *cf, int files)
 		ps_conf_error(c, 0, "no [psensd] section");
 	else if (!cf->results)
 		ps_conf_error(c, s->line, "[psensd] needs 'results' (a psscene results file)");
-	ps_conf_double(c, s, "period", 60, 0.001, 86400, &cf->period);
+	duration(c, s, "period", 60, 86400, &cf->period);
 	ps_conf_double(c, s, "safe_level", 1.0, 0, 1, &cf->safe_level);
 	ps_conf_double(c, s, "sensor_min", 0.01, -100, 100, &cf->sensor_min);
 	ps_conf_double(c, s, "sensor_max", 9.9, -100, 1000, &cf->sensor_max);
@@ -490,7 +510,7 @@ static int load(struct psd_config *cf, int files)
 	s = ps_conf_section(c, "simulate");
 	snprintf(cf->date, sizeof cf->date, "%s", ps_conf_str(c, s, "date", "03-18"));
 	if (psd_roomsetup_day_of_year(cf->date) < 0)
-		ps_conf_error(c, s ? line_of(s, "date") : 0, "date: '%s' is not MM-DD", cf->date);
+		ps_conf_error(c, s ? line_of(s, "date") : 0, "date: '%s' is not a day of the year (MM-DD)", cf->date);
 	ps_conf_int(c, s, "run_year", 0, 0, 9999, &cf->run_year);
 	if (cf->run_year != 0 && cf->run_year < 1970)
 		ps_conf_error(c, s ? line_of(s, "run_year") : 0, "run_year: %ld is before 1970", cf->run_year);

@@ -13,8 +13,11 @@
 int psd_roomsetup_day_of_year(const char *mmdd)
 {
 	static const int start[12] = { 0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334 };
+	/* February 29 is a day a leap year's weather plays (else the 28th's) */
+	static const int days[12] = { 31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
 	int m, d, n = 0;
-	if (!mmdd || sscanf(mmdd, "%d-%d%n", &m, &d, &n) != 2 || mmdd[n] || m < 1 || m > 12 || d < 1 || d > 31)
+	if (!mmdd || sscanf(mmdd, "%d-%d%n", &m, &d, &n) != 2 || mmdd[n] || m < 1 || m > 12 || d < 1 ||
+	    d > days[m - 1])
 		return -1;
 	return start[m - 1] + d;
 }

@@ -720,6 +720,42 @@ done:
 
 /* ---- log and export: the sample log, read from the database ------------------------------- */
 
+/* The zones a log holds, joined ", " into names (sorted by the reader). */
+struct zone_names {
+	const char *want;
+	int found;
+	char list[512];
+};
+
+static void add_zone_name(void *user, const char *name)
+{
+	struct zone_names *zn = user;
+	size_t n = strlen(zn->list);
+	if (strcmp(name, zn->want) == 0)
+		zn->found = 1;
+	snprintf(zn->list + n, sizeof zn->list - n, "%s%s", n ? ", " : "", name);
+}
+
+/* A --zone the log does not hold is a typo, not an empty export: 0 when
+ * the zone is there, else -1 with the message naming the zones that are. */
+static int zone_known(const char *dbpath, const char *zone, char *err, size_t errlen)
+{
+	struct zone_names zn = { .want = zone, .found = 0, .list = "" };
+	struct psd_db *db = psd_db_open_readonly(dbpath, err, errlen);
+	int rc;
+	if (!db)
+		return -1;
+	rc = psd_db_zones(db, add_zone_name, &zn, err, errlen);
+	psd_db_close(db);
+	if (rc != 0)
+		return -1;
+	if (zn.found)
+		return 0;
+	snprintf(err, errlen, "export --zone: no zone '%s' in %s: its zones are %s", zone, dbpath,
+	         zn.list[0] ? zn.list : "none (no samples logged)");
+	return -1;
+}
+
 /* export --zone Z --since T --until T --format csv|json (or the old --csv) */
 static int export_samples(const char *sock, const char *dbpath, int timeout_ms, int argc, char **argv)
 {
@@ -766,6 +802,11 @@ static int export_samples(const char *sock, const char *dbpath, int timeout_ms, 
 	}
 	if (!(dbpath = database(sock, dbpath, timeout_ms, &o)))
 		return 1;
+	if (zone && zone_known(dbpath, zone, err, sizeof err) != 0) {
+		fprintf(stderr, "psensctl: %s\n", err);
+		json_object_put(o);
+		return 1;
+	}
 	psd_sampleout_begin(&out, stdout, format);
 	rc = psd_db_select(dbpath, zone, since, until, 0, psd_sampleout_row, &out, err, sizeof err);
 	if (rc == 0 && psd_sampleout_end(&out) != 0) {

@@ -2,6 +2,7 @@
 #include "integrate.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -122,21 +123,36 @@ void ps_integrate_pic_matrix(const struct ps_picture *pic, double k[3][3])
 			k[i][c] = m[i][c] / pic->exposure[c];
 }
 
+/* A figure for a message: the number, or "infinite" / "not a number" (the
+ * C library's "inf" and "-nan" are no figure to a reader). */
+static const char *figure(double v, char buf[32])
+{
+	if (isnan(v))
+		return "not a number";
+	if (isinf(v))
+		return v > 0 ? "infinite" : "minus infinite";
+	snprintf(buf, 32, "%g", v);
+	return buf;
+}
+
 int ps_integrate_check_finite(const struct ps_response *r, const double coef[3], double sens_sum,
                               struct ps_err *e)
 {
+	char b[6][32];
 	if (isfinite(r->response) && isfinite(r->rgb[0]) && isfinite(r->rgb[1]) && isfinite(r->rgb[2]))
 		return 0;
 	if (!isfinite(coef[0]) || !isfinite(coef[1]) || !isfinite(coef[2]))
 		return ps_err_set(e, PS_ERANGE, "the response is not finite: the colour coefficients "
-		                  "(%g %g %g) are not", coef[0], coef[1], coef[2]);
+		                  "(%s %s %s) are not", figure(coef[0], b[0]), figure(coef[1], b[1]),
+		                  figure(coef[2], b[2]));
 	if (!isfinite(sens_sum))
 		return ps_err_set(e, PS_ERANGE, "the response is not finite: the sensor's weights sum "
-		                  "to %g (its sensitivities are too large)", sens_sum);
+		                  "to %s (its sensitivities are too large)", figure(sens_sum, b[0]));
 	if (!isfinite(r->rgb[0]) || !isfinite(r->rgb[1]) || !isfinite(r->rgb[2]))
 		return ps_err_set(e, PS_ERANGE, "the response is not finite: the picture's weighted "
-		                  "radiance (R %g G %g B %g) overflows with weights summing to %g",
-		                  r->rgb[0], r->rgb[1], r->rgb[2], sens_sum);
+		                  "radiance (R %s G %s B %s) overflows with weights summing to %g",
+		                  figure(r->rgb[0], b[0]), figure(r->rgb[1], b[1]), figure(r->rgb[2], b[2]),
+		                  sens_sum);
 	return ps_err_set(e, PS_ERANGE, "the response is %s: the colour coefficients (%g %g %g) "
 	                  "times the picture's weighted radiance (R %g G %g B %g) overflow",
 	                  isnan(r->response) ? "not a number" : "infinite", coef[0], coef[1], coef[2],

@@ -153,8 +153,8 @@ check "export --since $iso --until $b: the 4th to the 9th sample ($got rows)" te
 check "export: ISO ($iso) and Unix-seconds ($a) bounds agree" cmp -s "$TMP/win.csv" "$TMP/win2.csv"
 check "export csv: header and the zone and time columns" \
 	sh -c "head -n 1 '$TMP/win.csv' | grep -q '^zone,time_local,utc_s,tod_s,' && sed -n 2p '$TMP/win.csv' | grep -q '^office,20[0-9-]*T[0-9:]*,'"
-"$BIN/psensctl" -d "$DB" export --zone nosuch --format json > "$TMP/none.json"
-check "export of a zone with no samples: an empty JSON array" $PY -c "import json,sys; sys.exit(json.load(open(sys.argv[1])) != [])" "$TMP/none.json"
+"$BIN/psensctl" -d "$DB" export --zone office --since 2099-01-01 --format json > "$TMP/none.json"
+check "export of a window with no samples: an empty JSON array" $PY -c "import json,sys; sys.exit(json.load(open(sys.argv[1])) != [])" "$TMP/none.json"
 "$BIN/psensctl" -d "$DB" export --since yesterday > /dev/null 2> "$TMP/e"; rc=$?
 check "export --since yesterday: exit 2 ($rc), says what a time is" sh -c "[ $rc = 2 ] && grep -q 'not an ISO date-time' '$TMP/e'"
 "$BIN/psensctl" -d "$DB" export --csv > "$TMP/old.csv"

@@ -435,6 +435,36 @@ static void default_coefficients_are_the_primaries_luminance(void **state)
 	assert_true(fabs(m[1][2] - PS_RGB_DEFAULT_B) < 5e-9);
 }
 
+/* An overflowing response names each channel as a number, "infinite" or
+ * "not a number": never the C library's "nan" or "inf" as a figure. */
+static int has_nonfinite_word(const char *msg)
+{
+	for (const char *p = msg; *p; p++) {
+		int start = p == msg || !((p[-1] >= 'a' && p[-1] <= 'z') || (p[-1] >= 'A' && p[-1] <= 'Z'));
+		if (start && (strncmp(p, "nan", 3) == 0 || strncmp(p, "inf", 3) == 0) &&
+		    !(p[3] >= 'a' && p[3] <= 'z'))
+			return 1;
+	}
+	return 0;
+}
+
+static void overflow_messages_print_no_nan(void **state)
+{
+	struct ps_response r = { .response = NAN, .rgb = { INFINITY, NAN, 2.5 } };
+	const double coef[3] = { 0.2651, 0.6701, 0.0648 };
+	struct ps_err e = { .code = 0 };
+	(void)state;
+	assert_int_not_equal(ps_integrate_check_finite(&r, coef, 1.0, &e), 0);
+	assert_false(has_nonfinite_word(e.msg));
+	assert_non_null(strstr(e.msg, "R infinite G not a number B 2.5"));
+	r.rgb[0] = 1.5;
+	r.rgb[1] = 2;
+	r.response = -INFINITY;
+	assert_int_not_equal(ps_integrate_check_finite(&r, coef, 1.0, &e), 0);
+	assert_false(has_nonfinite_word(e.msg));
+	assert_non_null(strstr(e.msg, "R 1.5 G 2 B 2.5"));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -448,6 +478,7 @@ int main(void)
 		cmocka_unit_test(narrow_cones_stay_exact),
 		cmocka_unit_test(sun_and_walls_lose_nothing),
 		cmocka_unit_test(default_coefficients_are_the_primaries_luminance),
+		cmocka_unit_test(overflow_messages_print_no_nan),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
