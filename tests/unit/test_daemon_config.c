@@ -73,7 +73,7 @@ static void every_error_in_one_pass(void **state)
 	                   "[zone a]\n"                                        /* 18 */
 	                   "[bogus]\n";                                        /* 19 */
 	assert_int_equal(psd_config_load_string(&cf, text, "bad.conf"), -1);
-	assert_true(has_error("bad.conf:2: period: 0 is outside"));
+	assert_true(has_error("bad.conf:2: period: 0 s is shorter than 0.1 s"));
 	assert_true(has_error("bad.conf:3: socket_mode: '0666'"));
 	assert_true(has_error("bad.conf:5: driver: no driver 'nosuch'"));
 	assert_true(has_error("bad.conf:6: [device io] is defined twice"));
