@@ -80,7 +80,7 @@ for t in "$@"; do
 	esac
 done
 # shellcheck disable=SC2086
-printf '%s\n' $first $rest | grep . | xargs -P "$jobs" -n 1 sh "$here/run.sh" --one
+printf '%s\n' $first $rest | grep . | xargs -r -P "$jobs" -n 1 sh "$here/run.sh" --one
 for t in $alone; do
 	sh "$here/run.sh" --one "$t"
 done
