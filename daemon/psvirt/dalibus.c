@@ -165,6 +165,15 @@ static void go_to(struct psd_dalibus_gear *g, double now, int to, double fade)
 	g->fade_len = cur == 0 && to == 0 ? 0 : fade;
 }
 
+/* The bus lost its power: each gear goes to its SYSTEM FAILURE LEVEL at
+ * once, MASK keeping the level it has (IEC 62386-102); a site's safe level
+ * after a short is this, not the last command. */
+void psd_dalibus_power_lost(struct psd_dalibus *b, double now)
+{
+	for (int i = 0; i < b->ngear; i++)
+		go_to(&b->gear[i], now, b->gear[i].sfl, 0);
+}
+
 static double fade_seconds(int code)
 {
 	return code <= 0 ? 0 : 0.5 * pow(2.0, code / 2.0);

@@ -83,6 +83,8 @@ struct psd_dalibus {
 	int fault, target;       /* PSD_DALIBUS_OK ... */
 	long frames;
 };
+/* The bus lost its power: every gear to its system failure level. */
+void psd_dalibus_power_lost(struct psd_dalibus *b, double now);
 
 /* ngear gear spread over nzone zones (gear i lights zone i * nzone / ngear),
  * nzone devices; addressed: gear i at short i, device k at short k, else

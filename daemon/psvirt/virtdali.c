@@ -125,6 +125,8 @@ int psd_virtdali_turn(struct psd_virtdali *d, int fault, int target, double max_
 		d->power_on = !d->power_on;
 		psd_log_info("DALI bus power %s", d->power_on ? "back" : "lost (a short)");
 		psd_daliserve_power(d->serve, d->power_on);
+		if (!d->power_on)
+			psd_dalibus_power_lost(&d->bus, mono);
 	}
 	if (mono - d->sensed >= SENSE_EVERY) {
 		d->sensed = mono;
