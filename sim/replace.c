@@ -173,3 +173,11 @@ int ps_replace_mem_commit(struct ps_replace_mem *m, const char *path, mode_t mod
 	m->buf = NULL;
 	return rc;
 }
+
+void ps_replace_mem_abort(struct ps_replace_mem *m)
+{
+	fclose(m->fp);
+	free(m->buf);
+	m->fp = NULL;
+	m->buf = NULL;
+}

@@ -50,5 +50,7 @@ struct ps_replace_mem {
 /* the stream to print to, or NULL with *e */
 FILE *ps_replace_mem_open(struct ps_replace_mem *m, struct ps_err *e);
 int ps_replace_mem_commit(struct ps_replace_mem *m, const char *path, mode_t mode, struct ps_err *e);
+/* give up: nothing is written */
+void ps_replace_mem_abort(struct ps_replace_mem *m);
 
 #endif
