@@ -125,8 +125,9 @@ int ps_replace_file_ops(const struct ps_replace_ops *ops, const char *path, mode
 	int fd;
 	if (tmp_name(path, tmp, sizeof tmp, e) != 0)
 		return -1;
+	/* named by the file asked for: its directory is what is missing or shut */
 	if ((fd = ops->open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, mode)) < 0)
-		return ps_err_sys(e, "%s", tmp);
+		return ps_err_sys(e, "%s", path);
 	if (write_all(ops, fd, buf, len) != 0) {
 		ps_err_sys(e, "%s: writing", tmp);
 		ops->close(fd);
