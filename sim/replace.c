@@ -12,7 +12,7 @@ static int sys_open(const char *path, int flags, mode_t mode)
 	return open(path, flags, mode);
 }
 
-const struct ps_replace_ops ps_replace_sys = {
+static const struct ps_replace_ops ps_replace_sys = {
 	.open = sys_open,
 	.write = write,
 	.fsync = fsync,
@@ -80,13 +80,12 @@ static int sync_close(const struct ps_replace_ops *ops, int fd, const char *tmp,
 	return 0;
 }
 
-int ps_replace_install_ops(const struct ps_replace_ops *ops, const char *tmp, const char *path, struct ps_err *e)
+/* the steps every replace ends with: fsync and close the temporary, rename
+ * it over path, fsync the directory; tmp removed on a failure before the
+ * rename */
+static int sync_rename(const struct ps_replace_ops *ops, int fd, const char *tmp, const char *path,
+                       struct ps_err *e)
 {
-	int fd = ops->open(tmp, O_RDONLY | O_CLOEXEC, 0);
-	if (fd < 0) {
-		ps_err_sys(e, "%s", tmp);
-		return drop(ops, tmp);
-	}
 	if (sync_close(ops, fd, tmp, e) != 0)
 		return drop(ops, tmp);
 	if (ops->rename(tmp, path) != 0) {
@@ -94,6 +93,16 @@ int ps_replace_install_ops(const struct ps_replace_ops *ops, const char *tmp, co
 		return drop(ops, tmp);
 	}
 	return sync_dir(ops, path, e);
+}
+
+int ps_replace_install_ops(const struct ps_replace_ops *ops, const char *tmp, const char *path, struct ps_err *e)
+{
+	int fd = ops->open(tmp, O_RDONLY | O_CLOEXEC, 0);
+	if (fd < 0) {
+		ps_err_sys(e, "%s", tmp);
+		return drop(ops, tmp);
+	}
+	return sync_rename(ops, fd, tmp, path, e);
 }
 
 int ps_replace_install(const char *tmp, const char *path, struct ps_err *e)
@@ -134,13 +143,7 @@ int ps_replace_file_ops(const struct ps_replace_ops *ops, const char *path, mode
 		errno = e ? e->sys_errno : errno;
 		return drop(ops, tmp);
 	}
-	if (sync_close(ops, fd, tmp, e) != 0)
-		return drop(ops, tmp);
-	if (ops->rename(tmp, path) != 0) {
-		ps_err_sys(e, "rename %s to %s", tmp, path);
-		return drop(ops, tmp);
-	}
-	return sync_dir(ops, path, e);
+	return sync_rename(ops, fd, tmp, path, e);
 }
 
 int ps_replace_file(const char *path, mode_t mode, const void *buf, size_t len, struct ps_err *e)

@@ -25,11 +25,9 @@ struct ps_replace_ops {
 	int (*unlink)(const char *path);
 };
 
-/* the real ones */
-extern const struct ps_replace_ops ps_replace_sys;
-
 /* Put len bytes of buf in place of path (created with mode, less the
- * umask): 0, or -1 with *e and errno. */
+ * umask): 0, or -1 with *e and errno.  The _ops forms make their calls
+ * through ops; the others through the system's. */
 int ps_replace_file(const char *path, mode_t mode, const void *buf, size_t len, struct ps_err *e);
 int ps_replace_file_ops(const struct ps_replace_ops *ops, const char *path, mode_t mode, const void *buf,
                         size_t len, struct ps_err *e);
