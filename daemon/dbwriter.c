@@ -14,6 +14,7 @@
 
 #include "errbuf.h"
 #include "log.h"
+#include "replace.h"
 #include "time.h"
 
 enum { BATCH = 256, ZONE = 48, WORD = 40, TEXT = 256 };
@@ -303,19 +304,10 @@ static void held_count(struct psd_dbwriter *w, struct held *h)
 
 static int held_write(const char *file, const struct held *h)
 {
-	char tmp[4128], buf[256];
-	int fd, len, ok;
-	snprintf(tmp, sizeof tmp, "%s.tmp", file);
-	len = snprintf(buf, sizeof buf, "held %lu\nclock %.3f\nutc %.3f\nlast_utc %.3f\npid %ld\n", h->count, h->t, h->utc,
-	               h->last_utc, h->pid);
-	if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)) < 0)
-		return -1;
-	ok = write(fd, buf, (size_t)len) == len;
-	if (close(fd) != 0 || !ok || rename(tmp, file) != 0) {
-		unlink(tmp);
-		return -1;
-	}
-	return 0;
+	char buf[256];
+	int len = snprintf(buf, sizeof buf, "held %lu\nclock %.3f\nutc %.3f\nlast_utc %.3f\npid %ld\n", h->count, h->t,
+	                   h->utc, h->last_utc, h->pid);
+	return ps_replace_file(file, 0644, buf, (size_t)len, NULL);
 }
 
 /* Read the state file: 1 with *h, 0 when there is none, -1 with the

@@ -17,6 +17,7 @@
 #include "engine.h"
 #include "errbuf.h"
 #include "json.h"
+#include "replace.h"
 
 static const char *const control_states[] = { "auto", "override", "calibrating", "fault", "safe", NULL };
 static const char *const ratio_sources[] = { "scene", "dated", "sky class", "calibrated", NULL };
@@ -476,27 +477,5 @@ char *psd_points_prometheus(const struct psd_points *p, const struct psd_engine 
 
 int psd_points_write_file(const char *path, const char *text)
 {
-	char tmp[4096];
-	size_t len = strlen(text);
-	int fd, saved;
-	if ((size_t)snprintf(tmp, sizeof tmp, "%s.XXXXXX", path) >= sizeof tmp) {
-		errno = ENAMETOOLONG;
-		return -1;
-	}
-	if ((fd = mkstemp(tmp)) < 0)
-		return -1;
-	if (fchmod(fd, 0644) != 0 || write(fd, text, len) != (ssize_t)len || fsync(fd) != 0) {
-		saved = errno ? errno : EIO;
-		close(fd);
-		unlink(tmp);
-		errno = saved;
-		return -1;
-	}
-	if (close(fd) != 0 || rename(tmp, path) != 0) {
-		saved = errno;
-		unlink(tmp);
-		errno = saved;
-		return -1;
-	}
-	return 0;
+	return ps_replace_file(path, 0644, text, strlen(text), NULL);
 }

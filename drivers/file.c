@@ -139,26 +139,46 @@ static int file_read(struct ps_dev *dev, struct ps_point *pt, double now, double
 	return 0;
 }
 
+/* The value into PATH.new, fsync'd, renamed over PATH, and PATH's
+ * directory fsync'd: after a power cut the reader finds the old value or
+ * the new one, never an empty file.  The same steps as sim/replace.c, here
+ * again because drivers/ may use nothing of the simulation library (and no
+ * library below both exists). */
+static int file_put(const char *path, const char *tmp, const char *buf, size_t len)
+{
+	char dir[320];
+	const char *slash = strrchr(path, '/');
+	int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644), ok;
+	if (fd < 0)
+		return -1;
+	ok = write(fd, buf, len) == (ssize_t)len && fsync(fd) == 0;
+	if (!(close(fd) == 0 && ok) || rename(tmp, path) != 0) {
+		int e = errno ? errno : EIO;
+		unlink(tmp);
+		errno = e;
+		return -1;
+	}
+	snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+	if ((fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC)) < 0)
+		return -1;
+	ok = fsync(fd) == 0;
+	return close(fd) == 0 && ok ? 0 : -1;
+}
+
 static int file_write(struct ps_dev *dev, struct ps_point *pt, double now, double mono, double value)
 {
 	(void)mono;
 	struct file_point *p = pt->priv;
 	char tmp[320], buf[64];
-	int fd, len, ok;
+	int len;
 	(void)now;
 	if (pt->role != PS_ROLE_DIM && pt->role != PS_ROLE_RELAY)
 		return ps_dev_fail(dev, EINVAL, "file: %s is not an output", pt->name);
 	snprintf(tmp, sizeof tmp, "%s.new", p->path);
 	len = snprintf(buf, sizeof buf, "%.9g\n", value / p->scale);
-	if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)) < 0)
-		return ps_dev_fail(dev, ENODEV, "file %s: %s", tmp, strerror(errno));
-	ok = write(fd, buf, (size_t)len) == len;
-	ok = close(fd) == 0 && ok;
-	if (!ok || rename(tmp, p->path) != 0) {
-		int e = errno;
-		unlink(tmp);
-		return ps_dev_fail(dev, ENODEV, "file %s: %s", p->path, strerror(e ? e : EIO));
-	}
+	errno = 0;
+	if (file_put(p->path, tmp, buf, (size_t)len) != 0)
+		return ps_dev_fail(dev, ENODEV, "file %s: %s", p->path, strerror(errno ? errno : EIO));
 	return 0;
 }
 

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 #include "cache.h"
+#include "replace.h"
 
 #include <ctype.h>
 #include <dirent.h>
@@ -134,7 +135,8 @@ static int mkdir_p(const char *dir)
 
 int ps_cache_put(const char *dir, const char *key, const double *v, int n, struct ps_err *e)
 {
-	char path[4096], tmp[4200], *slash;
+	char path[4096], *slash;
+	struct ps_replace_mem m;
 	FILE *fp;
 	entry_path(dir, key, path, sizeof path);
 	slash = strrchr(path, '/');
@@ -142,19 +144,12 @@ int ps_cache_put(const char *dir, const char *key, const double *v, int n, struc
 	if (mkdir_p(path) != 0)
 		return ps_err_sys(e, "%s", path);
 	*slash = '/';
-	snprintf(tmp, sizeof tmp, "%s.%ld", path, (long)getpid());
-	fp = fopen(tmp, "w");
-	if (!fp)
-		return ps_err_sys(e, "%s", tmp);
+	if (!(fp = ps_replace_mem_open(&m, e)))
+		return -1;
 	fprintf(fp, "psscene-cache 1\n%s\n", key);
 	for (int i = 0; i < n; i++)
 		fprintf(fp, "%.17g\n", v[i]);
-	if (fclose(fp) != 0 || rename(tmp, path) != 0) {
-		int rc = ps_err_sys(e, "%s", path);
-		unlink(tmp);
-		return rc;
-	}
-	return 0;
+	return ps_replace_mem_commit(&m, path, 0644, e);
 }
 
 /* ---- binary entries ------------------------------------------------------- */
@@ -489,8 +484,8 @@ int ps_cache_blob_put(const char *dir, const char *hexkey, int n, const void *co
 		goto fail;
 	}
 	fd = -1;
-	if (rename(tmp, path) != 0)
-		goto fail;
+	if (ps_replace_install(tmp, path, e) != 0)
+		return -1;
 	if (max_bytes > 0)
 		ps_cache_blob_evict(dir, max_bytes, hexkey);
 	return 0;
@@ -572,9 +567,11 @@ int ps_cache_blob_commit(struct ps_cache_blob_out *o, const char *dir, size_t ma
 	from_hex(o->hex, h + 16);
 	/* the magic last: a header without it is never a whole entry */
 	memcpy(h, blob_magic, sizeof blob_magic);
-	if (close(o->fd) != 0 || rename(o->tmp, o->path) != 0) {
+	if (close(o->fd) != 0) {
 		rc = ps_err_sys(e, "%s", o->tmp);
 		unlink(o->tmp);
+	} else if (ps_replace_install(o->tmp, o->path, e) != 0) {
+		rc = -1;
 	} else if (max_bytes > 0) {
 		ps_cache_blob_evict(dir, max_bytes, o->hex);
 	}

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 #include "render.h"
+#include "replace.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -157,10 +158,5 @@ int ps_render_run(char *const argv[], const char *out_path, struct ps_err *e)
 		unlink(tmp);
 		return ps_err_set(e, PS_EIO, "%s %s", argv[0], why);
 	}
-	if (rename(tmp, out_path) != 0) {
-		rc = ps_err_sys(e, "rename %s to %s", tmp, out_path);
-		unlink(tmp);
-		return rc;
-	}
-	return 0;
+	return ps_replace_install(tmp, out_path, e);
 }

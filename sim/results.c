@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "conf.h"
+#include "replace.h"
 #include "scene.h"
 #include "sum.h"
 
@@ -119,12 +120,10 @@ static void write_year(FILE *fp, const struct ps_results *r)
 
 int ps_results_write(const struct ps_results *r, const char *path, struct ps_err *e)
 {
-	char tmp[4096];
+	struct ps_replace_mem m;
 	FILE *fp;
-	snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
-	fp = fopen(tmp, "w");
-	if (!fp)
-		return ps_err_sys(e, "%s", path);   /* the name asked for, not our copy beside it */
+	if (!(fp = ps_replace_mem_open(&m, e)))
+		return -1;
 	fprintf(fp, "; psscene results: the simulated task-sensor ratios psensd runs on.\n"
 	            "; Written by psscene; see psscene(5).\n[psresults]\nversion = %d\n",
 	        PS_RESULTS_VERSION);
@@ -137,8 +136,7 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 		const struct ps_result_cond *c = &r->cond[i];
 		if (c->computed && !(isfinite(c->sensor_response) && isfinite(c->task_irradiance) &&
 		                     isfinite(c->task_lux) && isfinite(c->ratio))) {
-			fclose(fp);
-			unlink(tmp);
+			ps_replace_mem_abort(&m);
 			return ps_err_set(e, PS_ERANGE, "%s: condition %s: not written: its %s is not finite",
 			                  path, c->label,
 			                  !isfinite(c->sensor_response) ? "sensor response"
@@ -168,20 +166,8 @@ int ps_results_write(const struct ps_results *r, const char *path, struct ps_err
 	put_num(fp, "task_sensor_ratio", r->task_sensor_ratio);
 	if (r->have_year)
 		write_year(fp, r);
-	if (fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) {
-		int rc = ps_err_sys(e, "%s: write error", path);
-		fclose(fp);
-		unlink(tmp);
-		return rc;
-	}
-	fclose(fp);
 	/* the old file stays whole until the new one is complete */
-	if (rename(tmp, path) != 0) {
-		int rc = ps_err_sys(e, "%s", path);
-		unlink(tmp);
-		return rc;
-	}
-	return 0;
+	return ps_replace_mem_commit(&m, path, 0644, e);
 }
 
 static double num(struct ps_conf *c, struct ps_conf_section *s, const char *key)

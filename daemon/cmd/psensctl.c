@@ -36,6 +36,7 @@
 #include "db.h"
 #include "canvas.h"
 #include "config.h"
+#include "replace.h"
 #include "report.h"
 #include "accept.h"
 #include "clock.h"
@@ -96,8 +97,9 @@ static void read_password(int tty, const char *prompt, char *pw, size_t n)
  * it. */
 static int web_passwd(int argc, char **argv)
 {
-	char pw[256], again[256], line[PSD_WEBPASS_LINE], tmp[4096];
-	int tty = isatty(0), fd, rc = 1, same;
+	char pw[256], again[256], line[PSD_WEBPASS_LINE], text[PSD_WEBPASS_LINE + 1];
+	struct ps_err e;
+	int tty = isatty(0), len, same;
 	size_t n;
 	if (argc != 1) {
 		fprintf(stderr, "usage: psensctl web-passwd FILE\n");
@@ -124,21 +126,10 @@ static int web_passwd(int argc, char **argv)
 		return 1;
 	}
 	memset(pw, 0, sizeof pw);
-	snprintf(tmp, sizeof tmp, "%s.XXXXXX", argv[0]);
-	if ((fd = mkstemp(tmp)) < 0) {
-		fprintf(stderr, "psensctl: web-passwd: %s: %s\n", argv[0], strerror(errno));
-		return 1;
-	}
-	if (fchmod(fd, 0600) == 0 && dprintf(fd, "%s\n", line) > 0 && fsync(fd) == 0 && close(fd) == 0) {
-		fd = -1;
-		if (rename(tmp, argv[0]) == 0)
-			rc = 0;
-	}
-	if (rc != 0) {
-		fprintf(stderr, "psensctl: web-passwd: %s: %s\n", argv[0], strerror(errno));
-		if (fd >= 0)
-			close(fd);
-		unlink(tmp);
+	/* mode 0600: the hash stays the owner's; the old file whole until the new one is */
+	len = snprintf(text, sizeof text, "%s\n", line);
+	if (ps_replace_file(argv[0], 0600, text, (size_t)len, &e) != 0) {
+		fprintf(stderr, "psensctl: web-passwd: %s\n", e.msg);
 		return 1;
 	}
 	printf("%s: the web console's password hash (mode 0600); psensd reads it when it starts\n", argv[0]);

@@ -44,6 +44,7 @@
 #include "mbpdu.h"
 #include "mbserve.h"
 #include "results.h"
+#include "replace.h"
 #include "roomsetup.h"
 #include "virtmap.h"
 #include "virtroom.h"
@@ -182,15 +183,9 @@ static int on_request(void *user, const struct psd_mbadu *req, int deferred, uin
 
 static int write_ready(const char *path, const char *what)
 {
-	char tmp[4096];
-	FILE *fp;
-	snprintf(tmp, sizeof tmp, "%s.tmp", path);
-	if (!(fp = fopen(tmp, "w")))
-		return -1;
-	fprintf(fp, "%s\n", what);
-	if (fclose(fp) != 0 || rename(tmp, path) != 0)
-		return -1;
-	return 0;
+	char line[4096];
+	int len = snprintf(line, sizeof line, "%s\n", what);
+	return ps_replace_file(path, 0644, line, (size_t)len < sizeof line ? (size_t)len : sizeof line - 1, NULL);
 }
 
 static void usage(FILE *fp)

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "log.h"
+#include "replace.h"
 #include "time.h"
 
 #define SENSE_EVERY 0.02   /* s: the 304s and 303s follow the rooms this often */
@@ -55,15 +56,9 @@ static int occupied(const struct psd_virtdali *d, double tod)
 /* path into FILE.tmp, then renamed: a reader sees all of it or nothing */
 static int write_path(const char *file, const char *path)
 {
-	char tmp[4096];
-	FILE *fp;
-	snprintf(tmp, sizeof tmp, "%s.tmp", file);
-	if (!(fp = fopen(tmp, "w")))
-		return -1;
-	fprintf(fp, "%s\n", path);
-	if (fclose(fp) != 0 || rename(tmp, file) != 0)
-		return -1;
-	return 0;
+	char line[4096];
+	int len = snprintf(line, sizeof line, "%s\n", path);
+	return ps_replace_file(file, 0644, line, (size_t)len < sizeof line ? (size_t)len : sizeof line - 1, NULL);
 }
 
 int psd_virtdali_open(struct psd_virtdali *d, const struct psd_virtdali_opts *o, struct psd_virtroom *const *room,

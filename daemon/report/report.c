@@ -22,6 +22,7 @@
 #include "chart.h"
 #include "db.h"
 #include "errbuf.h"
+#include "replace.h"
 #include "results.h"
 #include "sum.h"
 #include "time.h"
@@ -1724,41 +1725,22 @@ out:
 int psd_report_write(const struct psd_report_opts *o, const char *path, struct psd_report_out *r, char *err,
                      size_t n)
 {
-	char tmp[4096];
-	const char *slash;
-	int fd, rc;
+	struct ps_replace_mem m;
+	struct ps_err e;
 	FILE *fp;
 	memset(r, 0, sizeof *r);   /* freeable whatever fails */
 	if (!path)
 		return render(o, stdout, r, err, n) == 0 && fflush(stdout) == 0 ? 0 : -1;
-	slash = strrchr(path, '/');
-	if (slash)
-		snprintf(tmp, sizeof tmp, "%.*s/.%s.XXXXXX", (int)(slash - path), path, slash + 1);
-	else
-		snprintf(tmp, sizeof tmp, ".%s.XXXXXX", path);
-	if ((fd = mkstemp(tmp)) < 0)
-		return psd_errbuf(err, n, "%s: %s", path, strerror(errno));   /* its directory */
-	if (!(fp = fdopen(fd, "wb"))) {
-		psd_errbuf(err, n, "%s: %s", tmp, strerror(errno));
-		close(fd);
-		unlink(tmp);
+	if (!(fp = ps_replace_mem_open(&m, &e)))
+		return psd_errbuf(err, n, "%s: %s", path, e.msg);
+	if (render(o, fp, r, err, n) != 0) {
+		ps_replace_mem_abort(&m);
 		return -1;
 	}
-	rc = render(o, fp, r, err, n);
-	if (rc == 0 && (fflush(fp) != 0 || fsync(fileno(fp)) != 0))
-		rc = psd_errbuf(err, n, "%s: %s", path, strerror(errno));
-	if (fclose(fp) != 0 && rc == 0)
-		rc = psd_errbuf(err, n, "%s: %s", path, strerror(errno));
-	/* the report reads as it would have been created by fopen: 0666 less the umask */
-	if (rc == 0) {
-		mode_t um = umask(0);
-		umask(um);
-		if (chmod(tmp, 0666 & ~um) != 0 || rename(tmp, path) != 0)
-			rc = psd_errbuf(err, n, "%s: %s", path, strerror(errno));
-	}
-	if (rc != 0)
-		unlink(tmp);
-	return rc;
+	/* 0666 less the umask: the report reads as it would have been created by fopen */
+	if (ps_replace_mem_commit(&m, path, 0666, &e) != 0)
+		return psd_errbuf(err, n, "%s", e.msg);
+	return 0;
 }
 
 void psd_report_out_free(struct psd_report_out *r)

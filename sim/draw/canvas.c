@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: ISC */
 #include "canvas.h"
+#include "replace.h"
 
 #include <errno.h>
 #include <setjmp.h>
@@ -194,21 +195,14 @@ int ps_canvas_write_png(struct ps_canvas *c, FILE *fp, const char *path, struct 
 int ps_canvas_save_png(struct ps_canvas *c, const char *path, struct ps_err *e)
 {
 	/* written beside and renamed: a failed write leaves an older file whole */
-	char tmp[4096];
+	struct ps_replace_mem m;
 	FILE *fp;
-	int rc;
-	if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp", path) >= sizeof tmp)
-		return ps_err_set(e, PS_EINVAL, "%.200s...: path too long", path);
+	if (!(fp = ps_replace_mem_open(&m, e)))
+		return -1;
 	/* errors name the file asked for: the copy beside it is ours, not the user's */
-	fp = fopen(tmp, "wb");
-	if (!fp)
-		return ps_err_sys(e, "%s", path);
-	rc = ps_canvas_write_png(c, fp, path, e);
-	if (fclose(fp) != 0 && rc == 0)
-		rc = ps_err_sys(e, "%s: closing", path);
-	if (rc == 0 && rename(tmp, path) != 0)
-		rc = ps_err_sys(e, "%s", path);
-	if (rc != 0)
-		remove(tmp);
-	return rc;
+	if (ps_canvas_write_png(c, fp, path, e) != 0) {
+		ps_replace_mem_abort(&m);
+		return -1;
+	}
+	return ps_replace_mem_commit(&m, path, 0644, e);
 }
