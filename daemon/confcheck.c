@@ -81,7 +81,7 @@ static void check_output(struct ps_conf *c, int line, const char *key, const cha
 	free(dir);
 }
 
-static void check_outputs(struct psd_config *cf)
+void psd_confcheck_outputs(struct psd_config *cf)
 {
 	struct ps_conf *c = &cf->conf;
 	struct ps_conf_section *s = ps_conf_section(c, "psensd");
@@ -191,5 +191,4 @@ void psd_confcheck_files(struct psd_config *cf)
 {
 	check_scene_results(cf);
 	check_replays(cf);
-	check_outputs(cf);
 }

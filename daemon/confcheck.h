@@ -14,4 +14,9 @@ void psd_confcheck_ranges(struct psd_config *cf);
  * psd_config_load_string leaves them unopened. */
 void psd_confcheck_files(struct psd_config *cf);
 
+/* The directories of the files psensd writes (database, socket, textfile):
+ * judged by -n and a reload.  Not at a start, where opening the file itself
+ * fails and the lights go to the safe level with the cause logged. */
+void psd_confcheck_outputs(struct psd_config *cf);
+
 #endif

@@ -557,6 +557,8 @@ static int load(struct psd_config *cf, int files)
 	psd_confcheck_ranges(cf);
 	if (files)
 		psd_confcheck_files(cf);
+	if (files > 1)
+		psd_confcheck_outputs(cf);
 	ps_conf_check_unused(c);
 	return c->nerrors ? -1 : 0;
 }
@@ -566,6 +568,11 @@ static int load_file(struct psd_config *cf, const char *path, int files);
 int psd_config_load(struct psd_config *cf, const char *path)
 {
 	return load_file(cf, path, 1);
+}
+
+int psd_config_load_judged(struct psd_config *cf, const char *path)
+{
+	return load_file(cf, path, 2);
 }
 
 int psd_config_load_keys(struct psd_config *cf, const char *path)

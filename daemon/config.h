@@ -137,6 +137,10 @@ int psd_config_load(struct psd_config *cf, const char *path);
 /* The same without opening the files it names (scene, results, replays):
  * for readers of the configuration that do not run it (psensctl report). */
 int psd_config_load_keys(struct psd_config *cf, const char *path);
+
+/* psd_config_load, and the directories of the files psensd would write
+ * (psd_confcheck_outputs): for -n and a reload. */
+int psd_config_load_judged(struct psd_config *cf, const char *path);
 /* The same from text (tests and fuzzing); path only names it in messages,
  * and the files the text names are not opened (daemon/confcheck.h). */
 int psd_config_load_string(struct psd_config *cf, const char *text, const char *path);

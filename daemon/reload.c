@@ -81,7 +81,7 @@ int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 		refuse(w, "reload: %s", strerror(errno));
 		goto keep;
 	}
-	if (psd_config_load(cf, d->config_path) != 0) {
+	if (psd_config_load_judged(cf, d->config_path) != 0) {
 		for (size_t i = 0; i < cf->conf.nerrors; i++)
 			refuse(w, "%s", cf->conf.errors[i]);
 		psd_log_errx("reload: %s has errors: the running configuration stays", d->config_path);

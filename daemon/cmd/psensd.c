@@ -453,7 +453,7 @@ int main(int argc, char **argv)
 	}
 	psd_log_init(1, verbose, "psensd");
 	if (check) {
-		rc = psd_config_load(&cf, path);
+		rc = psd_config_load_judged(&cf, path);
 		psd_loop_config_errors(&cf);
 #ifndef PS_WITH_MQTT
 		if (rc == 0 && cf.mqtt.enabled) {   /* it would be refused at start */

@@ -58,8 +58,12 @@ check "the replay that does not parse, at its line and the CSV's" \
 	grep -q "bad.conf:8: replay: .*sub/bad.csv:3: " "$TMP/bad.out"
 check "the missing replay, at its line" grep -q "bad.conf:12: replay: .*sub/missing.csv" "$TMP/bad.out"
 check "all five at once" test "$(grep -c 'bad.conf:[0-9]*:' "$TMP/bad.out")" -ge 5
-# the shipped configurations pass
+# the shipped configurations pass, as shipped: a copy of config/ with the
+# build/ directory their paths name beside it (a BUILD= elsewhere leaves no
+# build/ in the tree, and -n judges the directories psensd would write to)
+mkdir -p "$TMP/ship/build"
+cp -R config "$TMP/ship/config"
 for f in config/psensd.conf config/example/site.conf config/example/dali-virtual.conf; do
-	check "$f passes -n" "$BIN/psensd" -n -f "$f"
+	check "$f passes -n" "$BIN/psensd" -n -f "$TMP/ship/$f"
 done
 done_testing

@@ -85,8 +85,11 @@ port=$(free_port)
 sed -e "s|^results = .*|results = $TMP/ofb.results|" -e "s|^database = .*|database = $TMP/site.db|" \
 	-e "s|^socket = .*|socket = $TMP/sock|" -e "s|^port = 1502|port = $port|" -e "s|^period = 60|period = 900|" \
 	-e "s|^scene = .*|scene = $TMP/example/ofb.scene|" "$TOP/config/example/site.conf" > "$TMP/site.conf"
-check "psensd -n accepts the example as shipped: $("$BIN/psensd" -f "$TOP/config/example/site.conf" -n 2>&1)" \
-	"$BIN/psensd" -f "$TOP/config/example/site.conf" -n
+# as shipped: a copy of config/ with the build/ its paths name beside it
+mkdir -p "$TMP/ship/build"
+cp -R "$TOP/config" "$TMP/ship/config"
+check "psensd -n accepts the example as shipped: $("$BIN/psensd" -f "$TMP/ship/config/example/site.conf" -n 2>&1)" \
+	"$BIN/psensd" -f "$TMP/ship/config/example/site.conf" -n
 # the options of the example's own dry-run line
 # from 01:00: four and a half room hours (4.5 s) before sunrise, so that a
 # sanitized psensd, whose start-up costs up to two room hours, still has
