@@ -1,6 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# check: long
+# check: alone
+# (the examples run against a psensd on a fast clock)
 # Every EXAMPLE(S) line of every man page, run (tests/system/manex.py lists
 # and classifies them): in a scratch directory holding the files the
 # examples name (config/, sensor.sen, img/, test.wea, ofb.results), with the
