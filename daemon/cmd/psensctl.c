@@ -74,12 +74,14 @@ static void usage(FILE *fp)
 static void read_password(int tty, const char *prompt, char *pw, size_t n)
 {
 	struct termios t0, t1;
+	/* echo off before the prompt: TCSAFLUSH drops what was typed before it,
+	 * so a password typed at the prompt must come after it */
 	if (tty) {
-		fprintf(stderr, "%s", prompt);
 		tcgetattr(0, &t0);
 		t1 = t0;
 		t1.c_lflag &= ~(tcflag_t)ECHO;
 		tcsetattr(0, TCSAFLUSH, &t1);
+		fprintf(stderr, "%s", prompt);
 	}
 	if (!fgets(pw, (int)n, stdin))
 		pw[0] = 0;
