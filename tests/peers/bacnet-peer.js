@@ -12,7 +12,6 @@
 // 100 %): a write at priority 1 is taken, and the light stays at 100 %.
 // usage: node bacnet-peer.js SERVER_PORT DEVICE_INSTANCE WRITES(0|1|2)
 'use strict';
-const Bacnet = require('@bacnet-js/client').default;
 // the library has no Who-Has request of its own: its Who-Has parameter
 // encoder (and its I-Have decoder, the 'iHave' event) over a 2-octet NPDU
 // and APDU header
@@ -21,18 +20,7 @@ const { ObjectType, PropertyIdentifier: P, ErrorClass, ErrorCode } = require('@b
 
 const [port, device, writes] = process.argv.slice(2).map(Number);
 const server = { address: `127.0.0.1:${port}` };
-// The peer's own port, from the test (PEER_PORT): the library takes port 0 for
-// its default 47808, and with SO_REUSEADDR two peers running at once would
-// share it and each lose the other's answers.
-function peerPort() {
-	const p = Number(process.env.PEER_PORT);
-	if (!Number.isInteger(p) || p <= 0 || p > 65535) {
-		console.log('not ok - PEER_PORT is not a UDP port: ' + process.env.PEER_PORT);
-		process.exit(2);
-	}
-	return p;
-}
-const client = new Bacnet({ port: peerPort(), reuseAddr: false, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 6000 });
+const client = require('./bacnet-client.js')();
 let n = 0, failed = 0;
 const ok = (cond, what) => { n++; if (!cond) failed++; console.log(`${cond ? 'ok' : 'not ok'} ${n} - ${what}`); };
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));

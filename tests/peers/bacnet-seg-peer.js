@@ -9,23 +9,11 @@
 // Prints TAP lines and "# object_list_ms N" for the whole read.
 // usage: node bacnet-seg-peer.js SERVER_PORT DEVICE_INSTANCE MIN_OBJECTS
 'use strict';
-const Bacnet = require('@bacnet-js/client').default;
 const { ObjectType, PropertyIdentifier: P, MaxApduLengthAccepted: A, MaxSegmentsAccepted: S } = require('@bacnet-js/client');
 
 const [port, device, least] = process.argv.slice(2).map(Number);
 const server = { address: `127.0.0.1:${port}` };
-// The peer's own port, from the test (PEER_PORT): the library takes port 0 for
-// its default 47808, and with SO_REUSEADDR two peers running at once would
-// share it and each lose the other's answers.
-function peerPort() {
-	const p = Number(process.env.PEER_PORT);
-	if (!Number.isInteger(p) || p <= 0 || p > 65535) {
-		console.log('not ok - PEER_PORT is not a UDP port: ' + process.env.PEER_PORT);
-		process.exit(2);
-	}
-	return p;
-}
-const client = new Bacnet({ port: peerPort(), reuseAddr: false, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 6000 });
+const client = require('./bacnet-client.js')();
 let n = 0, failed = 0;
 const ok = (cond, what) => { n++; if (!cond) failed++; console.log(`${cond ? 'ok' : 'not ok'} ${n} - ${what}`); };
 const key = (o) => `${o.type}:${o.instance}`;

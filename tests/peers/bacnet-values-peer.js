@@ -19,23 +19,11 @@
 //   MODE 4: writes = vacancy-hold, a zone with an occupancy input: its
 //     vacancy hold (Analog Value 2) read and written, 120 s at priority 8.
 'use strict';
-const Bacnet = require('@bacnet-js/client').default;
 const { ObjectType, PropertyIdentifier: P } = require('@bacnet-js/client');
 
 const [port, device, mode, elux] = process.argv.slice(2).map(Number);
 const server = { address: `127.0.0.1:${port}` };
-// The peer's own port, from the test (PEER_PORT): the library takes port 0 for
-// its default 47808, and with SO_REUSEADDR two peers running at once would
-// share it and each lose the other's answers.
-function peerPort() {
-	const p = Number(process.env.PEER_PORT);
-	if (!Number.isInteger(p) || p <= 0 || p > 65535) {
-		console.log('not ok - PEER_PORT is not a UDP port: ' + process.env.PEER_PORT);
-		process.exit(2);
-	}
-	return p;
-}
-const client = new Bacnet({ port: peerPort(), reuseAddr: false, interface: '127.0.0.1', broadcastAddress: '127.0.0.1', apduTimeout: 6000 });
+const client = require('./bacnet-client.js')();
 let n = 0, failed = 0;
 const ok = (cond, what) => { n++; if (!cond) failed++; console.log(`${cond ? 'ok' : 'not ok'} ${n} - ${what}`); };
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
