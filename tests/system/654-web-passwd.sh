@@ -11,18 +11,7 @@
 command -v python3 > /dev/null || skip_all "python3 is not installed"
 B=$(cd "$BIN" && pwd)
 conf() {  # conf [web] LINES...
-	psensd_section 60; cat <<EOC
-[device room]
-driver = loopback
-[point sensor]
-device = room
-role = sensor
-[point lamp]
-device = room
-role = dim
-[zone office]
-sensor = sensor
-dim = lamp
+	psensd_section 60; loopback_office; cat <<EOC
 [web]
 bind = 127.0.0.1:$(free_port)
 EOC

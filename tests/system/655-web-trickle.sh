@@ -14,18 +14,7 @@ B=$(cd "$BIN" && pwd)
 PORT=$(free_port)
 example_results
 printf 'lux meter 42\n' | "$BIN/psensctl" web-passwd "$TMP/web.pass" > /dev/null
-{ psensd_section 1; cat <<EOC
-[device room]
-driver = loopback
-[point sensor]
-device = room
-role = sensor
-[point lamp]
-device = room
-role = dim
-[zone office]
-sensor = sensor
-dim = lamp
+{ psensd_section 1; loopback_office; cat <<EOC
 [web]
 bind = 127.0.0.1:$PORT
 password_file = web.pass

@@ -16,18 +16,7 @@ example_results
 printf 'pbkdf2-sha256$10000000$%s$%s\n' 000102030405060708090a0b0c0d0e0f \
 	c914cc4f06cc6e8f46d157e3a1b5aa7abceebb17bb0444cd4c4ac16ca2ae9864 > "$TMP/web.pass"
 chmod 600 "$TMP/web.pass"
-{ psensd_section 1; cat <<EOC
-[device room]
-driver = loopback
-[point sensor]
-device = room
-role = sensor
-[point lamp]
-device = room
-role = dim
-[zone office]
-sensor = sensor
-dim = lamp
+{ psensd_section 1; loopback_office; cat <<EOC
 [web]
 bind = 127.0.0.1:$PORT
 password_file = web.pass

@@ -66,6 +66,12 @@ psensd_section() {
 	[ $# -lt 2 ] || printf 'stale_after = %s\n' "$2"
 }
 
+# loopback_office: the plainest site, one zone office on the loopback room
+# (a sensor point and a dimmed lamp), for a test whose subject is elsewhere
+loopback_office() {
+	printf '[device room]\ndriver = loopback\n[point sensor]\ndevice = room\nrole = sensor\n'
+	printf '[point lamp]\ndevice = room\nrole = dim\n[zone office]\nsensor = sensor\ndim = lamp\n'
+}
 # file_zones N: a [psensd] section and N zones z0 .. zN-1 on the file
 # driver (15 zones a device: the driver takes 32 points), each with its
 # sensor's file $TMP/files/sZ holding 1.Z and a dim point
