@@ -5,6 +5,7 @@
 #include <ini.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -164,6 +165,7 @@ static int on_pair(void *user, const char *section, const char *key, const char 
 	struct ps_conf *c = h->c;
 	struct ps_conf_section *s = &c->sec[c->nsec - 1];
 	struct ps_conf_kv *grown;
+	size_t first;
 	if (key == NULL)
 		return 1;
 	if (strcmp(s->name, section) != 0) {
@@ -179,24 +181,28 @@ static int on_pair(void *user, const char *section, const char *key, const char 
 		ps_conf_error(c, h->r->line, "empty key");
 		return 1;
 	}
-	for (size_t i = 0; i < s->nkv; i++) {
-		if (strcmp(s->kv[i].key, key) == 0) {
-			ps_conf_error(c, h->r->line, "key '%s' set twice in [%s] (first at line %d)",
-			              key, s->name, s->kv[i].line);
-			return 1;
+	if (ps_keyidx_find(&s->keys, key, &first)) {
+		ps_conf_error(c, h->r->line, "key '%s' set twice in [%s] (first at line %d)",
+		              key, s->name, s->kv[first].line);
+		return 1;
+	}
+	/* grown by doubling: a section of thousands of keys loads in linear time */
+	if (s->nkv == s->kv_cap) {
+		size_t cap = s->kv_cap ? s->kv_cap * 2 : 8;
+		grown = cap < SIZE_MAX / sizeof *grown ? realloc(s->kv, cap * sizeof *grown) : NULL;
+		if (!grown) {
+			h->oom = 1;
+			return 0;
 		}
+		s->kv = grown;
+		s->kv_cap = cap;
 	}
-	grown = realloc(s->kv, (s->nkv + 1) * sizeof *grown);
-	if (!grown) {
-		h->oom = 1;
-		return 0;
-	}
-	s->kv = grown;
 	s->kv[s->nkv].key = xstrdup(key);
 	s->kv[s->nkv].value = xstrdup(value ? value : "");
 	s->kv[s->nkv].line = h->r->line;
 	s->kv[s->nkv].used = 0;
-	if (!s->kv[s->nkv].key || !s->kv[s->nkv].value) {
+	if (!s->kv[s->nkv].key || !s->kv[s->nkv].value ||
+	    ps_keyidx_add(&s->keys, s->kv[s->nkv].key, s->nkv) != 0) {
 		free(s->kv[s->nkv].key);
 		free(s->kv[s->nkv].value);
 		h->oom = 1;
@@ -278,6 +284,7 @@ void ps_conf_free(struct ps_conf *c)
 			free(c->sec[i].kv[j].value);
 		}
 		free(c->sec[i].kv);
+		ps_keyidx_free(&c->sec[i].keys);
 		free(c->sec[i].name);
 	}
 	for (size_t i = 0; i < c->nerrors; i++)
@@ -318,13 +325,12 @@ struct ps_conf_kv *ps_conf_kv(struct ps_conf_section *s, const char *key)
 {
 	if (!s)
 		return NULL;
+	size_t i;
 	s->used = 1;
-	for (size_t i = 0; i < s->nkv; i++)
-		if (strcmp(s->kv[i].key, key) == 0) {
-			s->kv[i].used = 1;
-			return &s->kv[i];
-		}
-	return NULL;
+	if (!ps_keyidx_find(&s->keys, key, &i))
+		return NULL;
+	s->kv[i].used = 1;
+	return &s->kv[i];
 }
 
 const char *ps_conf_str(struct ps_conf *c, struct ps_conf_section *s, const char *key,

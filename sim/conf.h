@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "err.h"
+#include "keyidx.h"
 
 struct ps_conf_kv {
 	char *key;
@@ -25,6 +26,8 @@ struct ps_conf_section {
 	int line;
 	struct ps_conf_kv *kv;
 	size_t nkv;
+	size_t kv_cap;         /* kv's allocated length */
+	struct ps_keyidx keys; /* key -> its index in kv */
 	int used;
 };
 
