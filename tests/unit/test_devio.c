@@ -10,6 +10,7 @@
 #include <poll.h>
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -26,7 +27,8 @@
 struct fake {
 	int read_ms, write_ms, gone;
 	double written[16];
-	int nwritten;
+	atomic_int nwritten;      /* atomic: the test polls it while the thread writes */
+	atomic_int nstarted;      /* writes begun (the value is on the wire) */
 	int serviced;
 	double mono_due;          /* > 0: service is due then on the monotonic clock */
 	double service_now, service_mono;   /* the clocks the last service ran at */
@@ -55,11 +57,14 @@ static int fake_write(struct ps_dev *dev, struct ps_point *pt, double now, doubl
 	(void)pt;
 	(void)now;
 	(void)mono;
+	atomic_fetch_add(&f->nstarted, 1);
 	sleep_ms(f->write_ms);
 	if (f->gone)
 		return ps_dev_fail(dev, ENODEV, "fake %s: gone", dev->name);
-	if (f->nwritten < 16)
-		f->written[f->nwritten++] = v;
+	if (f->nwritten < 16) {
+		f->written[f->nwritten] = v;
+		atomic_fetch_add(&f->nwritten, 1);
+	}
 	return 0;
 }
 
@@ -125,6 +130,14 @@ static void rig_start(struct rig *r, int read_ms, int write_ms, int service_due)
 	assert_non_null(r->io);
 }
 
+/* Wait (at most 5 s) until *count reaches n: 1 when it did. */
+static int wait_until(atomic_int *count, int n)
+{
+	for (int i = 0; i < 500 && atomic_load(count) < n; i++)
+		sleep_ms(10);
+	return atomic_load(count) >= n;
+}
+
 /* Wait (at most 2 s) for the thread to wake us, then drain. */
 static int woken(struct rig *r)
 {
@@ -164,12 +177,15 @@ static void writes_keep_the_newest(void **state)
 	struct rig r;
 	char err[256];
 	(void)state;
-	rig_start(&r, 0, 100, 0);
+	rig_start(&r, 0, 300, 0);   /* 0.2 and 0.3 are queued while 0.1 takes 300 ms */
 	assert_int_equal(psd_devio_write(r.io, 1, 0, 0.1, err, sizeof err), 0);
-	sleep_ms(20);   /* the first is on the wire */
+	/* until the first is on the wire (a loaded machine may take a while
+	 * to run the thread: waited for, not assumed after a sleep) */
+	assert_true(wait_until(&r.f.nstarted, 1));
 	assert_int_equal(psd_devio_write(r.io, 1, 0, 0.2, err, sizeof err), 0);
 	assert_int_equal(psd_devio_write(r.io, 1, 0, 0.3, err, sizeof err), 0);
-	sleep_ms(400);
+	assert_true(wait_until(&r.f.nwritten, 2));
+	sleep_ms(150);   /* room for a wrong third write to show */
 	psd_devio_stop(r.io);
 	assert_int_equal(r.f.nwritten, 2);   /* 0.2 was replaced before it was sent */
 	assert_true(r.f.written[0] == 0.1);
