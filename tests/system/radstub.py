@@ -21,8 +21,9 @@ pictures made by the real programs: the placement fixture's.
 
 Environment: STUB_SRC the folder of the fixture's poses (pN/dc_*.hdr,
 elec_128.hdr), STUB_CANDS their candidates.txt, STUB_LOG a folder where
-each call appends a line to calls (program, pose, renderers running at
-its start) and keeps running/ up to date, STUB_SLEEP seconds each
+each call appends a line to calls (program, pose, most renderers running
+at once during it: counted at its start and at its end, so that two calls
+that overlap at all are seen however late a loaded machine starts one) and keeps running/ up to date, STUB_SLEEP seconds each
 rendering call lasts, STUB_FAIL a pose whose rfluxmtx or rpict (STUB_FAIL_PROG,
 default rfluxmtx) fails half-way."""
 import os
@@ -101,7 +102,13 @@ def log(pose, how):
 
 
 class Running:
-    """A file in STUB_LOG/running/ while this call renders."""
+    """A file in STUB_LOG/running/ while this call renders; the call logged
+    at its end with the most calls seen running (of two that overlap, the
+    one started first sees the other at its end, or the other, nested in
+    it, saw it at its start)."""
+
+    def __init__(self, pose):
+        self.pose = pose
 
     def __enter__(self):
         d = os.path.join(os.environ.get('STUB_LOG', '/tmp'), 'running')
@@ -114,7 +121,9 @@ class Running:
 
     def __exit__(self, *a):
         time.sleep(float(os.environ.get('STUB_SLEEP', '0')))
+        n = max(self.n, len(os.listdir(os.path.dirname(self.f))))
         os.unlink(self.f)
+        log(self.pose, n)
 
 
 def fails(pose):
@@ -180,8 +189,7 @@ def rfluxmtx():
         die('read %d bytes of rays, expected %d x %d x 24' % (len(data), x, y))
     pose = pose_at(struct.unpack('<3f', data[:12]))
     src = os.path.join(os.environ['STUB_SRC'], pose)
-    with Running() as r:
-        log(pose, r.n)
+    with Running(pose):
         for b in range(bins):
             if fails(pose) and b == 10:
                 die('simulated failure')
@@ -197,8 +205,7 @@ def rpict():
     if opts.get('-x') != ['128'] or opts.get('-y') != ['128']:
         die('the fixture\'s electric pictures are 128 x 128, asked %r' % opts)
     pose = pose_at(view['-vp'])
-    with Running() as r:
-        log(pose, r.n)
+    with Running(pose):
         data = open(os.path.join(os.environ['STUB_SRC'], pose, 'elec_128.hdr'), 'rb').read()
         if fails(pose):
             sys.stdout.buffer.write(data[:len(data) // 2])
