@@ -307,10 +307,10 @@ static int elevation_field(const char *line, double *field, const char *name, in
 		x = strtod(q, &end);
 		if (end == q || isalnum((unsigned char)*end) || *end == '.')
 			continue;
-		if (!(x > 0.0 && x <= 180.0))
+		if (!(x > 0.0 && x <= 180.0))   /* the text as written: 1e999 is no "inf" */
 			return ps_err_set(e, PS_ERANGE,
-			                  "%s:%d: the field %g is not a polar angle above 0 and at most 180",
-			                  name, lineno, x);
+			                  "%s:%d: the field %.*s is not a polar angle above 0 and at most 180",
+			                  name, lineno, (int)(end - q), q);
 		*field = x;
 		return 1;
 	}

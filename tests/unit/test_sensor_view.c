@@ -107,6 +107,8 @@ static void field_coverage(void **state)
 		  "a.sen:1: the field 0 is not a polar angle above 0 and at most 180" },
 		{ "Elevation field 200\ndegrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n",
 		  "a.sen:1: the field 200 is not a polar angle above 0 and at most 180" },
+		{ "Elevation field 1e999\ndegrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n",
+		  "a.sen:1: the field 1e999 is not a polar angle above 0 and at most 180" },
 		/* no statement, a non-zero end short of 90: a cut copy or a cone? */
 		{ "degrees 0 90 180 270\n0 1 1 1 1\n2 1 1 1 1\n4 1 0.5 1 1\n",
 		  "a.sen:4: the table ends at polar angle 4 with a non-zero response (1 at azimuth 0) "
