@@ -3,6 +3,7 @@
 
 #include "fileio.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -283,6 +284,91 @@ static int line_numbers(const char *line, double **v, int *n, int *cap, const ch
 	}
 }
 
+/* The field a table states on its "Elevation" line: the word "field", an
+ * optional ':' or '=', and a polar angle in degrees ("Elevation field 90").
+ * The line is free text that rsensor skips, so the statement keeps the
+ * file readable by rsensor.  1 and *field when stated, 0 when not,
+ * -1 when the angle is out of range. */
+static int elevation_field(const char *line, double *field, const char *name, int lineno,
+                           struct ps_err *e)
+{
+	for (const char *p = strstr(line, "field"); p; p = strstr(p + 5, "field")) {
+		const char *q = p + 5;
+		char *end;
+		double x;
+		if (p > line && (isalnum((unsigned char)p[-1]) || p[-1] == '_'))
+			continue;
+		q += strspn(q, " \t");
+		if (*q == ':' || *q == '=')
+			q++;
+		q += strspn(q, " \t");
+		if (!isdigit((unsigned char)*q) && *q != '.' && *q != '+' && *q != '-')
+			continue;   /* "field" as a word of the title */
+		x = strtod(q, &end);
+		if (end == q || isalnum((unsigned char)*end) || *end == '.')
+			continue;
+		if (!(x > 0.0 && x <= 180.0))   /* the text as written: 1e999 is no "inf" */
+			return ps_err_set(e, PS_ERANGE,
+			                  "%s:%d: the field %.*s is not a polar angle above 0 and at most 180",
+			                  name, lineno, (int)(end - q), q);
+		*field = x;
+		return 1;
+	}
+	return 0;
+}
+
+/* "the row for 90 degrees is missing", or a range with the count at the
+ * step of the last two rows when the gap is a whole number of them. */
+static void missing_rows(char *out, size_t n, double last, double step, double field)
+{
+	double k = step > 0.0 ? (field - last) / step : 0.0;
+	if (k > 0.5 && fabs(k - floor(k + 0.5)) < 1e-6 && k < 1e7) {
+		long rows = (long)floor(k + 0.5);
+		if (rows == 1)
+			snprintf(out, n, "the row for %g degrees is missing", field);
+		else
+			snprintf(out, n, "the rows for %g to %g degrees are missing (%ld rows at the "
+			         "table's %g-degree step)", last + step, field, rows, step);
+		return;
+	}
+	snprintf(out, n, "the rows above %g up to %g degrees are missing", last, field);
+}
+
+/* A table must reach the field it states.  One that states none is taken
+ * only when it cannot be a cut copy: it reaches the hemisphere (90 degrees
+ * or more) or its last row is zero at every azimuth; otherwise a truncated
+ * file (a cosine table cut after 4 degrees reads 400 times too low) cannot
+ * be told from a narrow sensor, and the reader asks for the statement. */
+static int check_field(const struct ps_sensor *s, const char *name, int stated, double field,
+                       int field_line, int last_line, struct ps_err *e)
+{
+	int n = s->ntheta;
+	double last = s->theta[n - 1];
+	const double *row = s->val + (size_t)(n - 1) * (size_t)s->nphi;
+	if (stated) {
+		char what[160];
+		if (last >= field)
+			return 0;
+		missing_rows(what, sizeof what, last, last - s->theta[n - 2], field);
+		return ps_err_set(e, PS_EFORMAT,
+		                  "%s:%d: the table ends at polar angle %g but line %d states a field of "
+		                  "%g: %s (a cut copy?)",
+		                  name, last_line, last, field_line, field, what);
+	}
+	if (last >= 90.0)
+		return 0;
+	for (int j = 0; j < s->nphi; j++)
+		if (row[j] != 0.0)
+			return ps_err_set(e, PS_EFORMAT,
+			                  "%s:%d: the table ends at polar angle %g with a non-zero response "
+			                  "(%g at azimuth %g) and states no field, so a cut copy cannot be "
+			                  "told from a sensor that sees to %g: restore the missing rows, or, "
+			                  "if the table is whole, state its field on a first line "
+			                  "'Elevation field %g'",
+			                  name, last_line, last, row[j], s->phi[j], last, last);
+	return 0;
+}
+
 int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const char *name,
                     struct ps_err *e)
 {
@@ -290,6 +376,8 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 	char *line = NULL;
 	double *row = NULL;
 	int nrow = 0, caprow = 0, rows_cap = 0, header_line = 0;
+	int stated = 0, field_line = 0, last_line = 0;
+	double field = 0.0;
 	memset(s, 0, sizeof *s);
 	s->kind = PS_SENS_TABLE;
 	s->path = strdup(name);
@@ -301,6 +389,10 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 	while ((line = next_line(&l)) && blank(line))
 		free(line);
 	if (line && strncmp(line, "Elevation", 9) == 0) {
+		field_line = l.lineno;
+		stated = elevation_field(line + 9, &field, name, l.lineno, e);
+		if (stated < 0)
+			goto fail;
 		free(line);
 		while ((line = next_line(&l)) && blank(line))
 			free(line);
@@ -364,6 +456,12 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 			ps_err_set(e, PS_ERANGE, "%s:%d: polar angle %g is beyond 180", name, l.lineno, row[0]);
 			goto fail;
 		}
+		if (stated && row[0] > field) {
+			ps_err_set(e, PS_ERANGE, "%s:%d: polar angle %g is beyond the field of %g stated on line %d",
+			           name, l.lineno, row[0], field, field_line);
+			goto fail;
+		}
+		last_line = l.lineno;
 		for (int j = 1; j < nrow; j++)
 			if (row[j] < 0.0) {
 				ps_err_set(e, PS_ERANGE, "%s:%d: negative sensitivity %g (azimuth %g)", name,
@@ -410,6 +508,8 @@ int ps_sensor_parse(struct ps_sensor *s, const char *text, size_t len, const cha
 		ps_err_set(e, PS_ERANGE, "%s: every sensitivity is zero", name);
 		goto fail;
 	}
+	if (check_field(s, name, stated, field, field_line, last_line, e) != 0)
+		goto fail;
 	if (!isfinite(s->total)) {
 		ps_err_set(e, PS_ERANGE,
 		           "%s: the sensitivities (up to %g) add up past the largest number: the total "

@@ -8,6 +8,11 @@
  * at most 180).  Tabs or spaces.  Azimuth 0 is the view's up vector and
  * azimuth grows towards the picture's left.
  *
+ * The "Elevation" line may state the field, "Elevation field 90": the last
+ * row must then be at that polar angle.  Without it a table is taken only
+ * when it reaches 90 degrees or ends with a zero row, so that a cut copy
+ * is never read as a narrow sensor (psens(1), "Sensitivity files").
+ *
  * Readings:
  *   linear (the default): bilinear in theta and phi between the table's
  *     points, periodic in phi, zero beyond the last theta.  Continuous, so a

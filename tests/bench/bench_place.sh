@@ -25,7 +25,7 @@ else
 	for p in p01 p07 p09; do tar -xzf "$D/$p.tar.gz" -C "$tmp/poses"; done
 	cands=$D/candidates.txt dir=$tmp/poses
 fi
-awk 'BEGIN { printf "degrees\t0\t90\t180\t270\n";
+awk 'BEGIN { printf "Elevation field 90\ndegrees\t0\t90\t180\t270\n";
 	for (t = 0; t <= 90; t += 10) { c = cos(t * 3.14159265358979 / 180); if (t == 90) c = 0;
 		printf "%d\t%.6f\t%.6f\t%.6f\t%.6f\n", t, 1.9 * c, c, 0.1 * c, c } }' > "$tmp/lopsided.sen"
 S="config/example/ofb/sensors"

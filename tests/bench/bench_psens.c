@@ -51,7 +51,7 @@ static uint8_t *slurp(const char *path, size_t *len)
 static int cone(struct ps_sensor *s, double h, struct ps_err *e)
 {
 	char text[160];
-	int n = snprintf(text, sizeof text, "degrees 0 90 180 270\n0 1 1 1 1\n%g 1 1 1 1\n"
+	int n = snprintf(text, sizeof text, "Elevation field 90\ndegrees 0 90 180 270\n0 1 1 1 1\n%g 1 1 1 1\n"
 	                 "%g 0 0 0 0\n90 0 0 0 0\n", h, h + 0.5);
 	return ps_sensor_parse(s, text, (size_t)n, "cone", e) != 0 ? -1
 	       : ps_sensor_set_reading(s, PS_READ_LINEAR, e);

@@ -275,7 +275,8 @@ int main(void)
 	 * textured 4000 x 4000 (its decoding costs); error: each response
 	 * against the whole-picture route's */
 	{
-		static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
+		static const char table[] = "Elevation field 90\n"
+		                            "degrees 0 45 90 135 180 225 270 315\n"
 		                            "0 1 1 1 1 1 1 1 1\n"
 		                            "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
 		                            "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"
@@ -512,7 +513,8 @@ int main(void)
 	 * directly (weights at each step: 10 steps measured, scaled to 360) and
 	 * re-evaluated from one projection (0.25 x 1 degree cells, as psens) */
 	{
-		static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
+		static const char table[] = "Elevation field 90\n"
+		                            "degrees 0 45 90 135 180 225 270 315\n"
 		                            "0 1 1 1 1 1 1 1 1\n"
 		                            "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
 		                            "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"

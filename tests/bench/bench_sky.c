@@ -106,7 +106,7 @@ int main(void)
 	static const struct hour hours[3] = {
 		{ "clear", 6, 21, 12.5 }, { "intermediate", 3, 21, 12.5 }, { "overcast", 3, 21, 13.5 }
 	};
-	static const char cone_text[] = "degrees 0 90 180 270\n0 1 1 1 1\n29 1 1 1 1\n31 0 0 0 0\n";
+	static const char cone_text[] = "Elevation field 31\ndegrees 0 90 180 270\n0 1 1 1 1\n29 1 1 1 1\n31 0 0 0 0\n";
 	struct ps_sensor sens[2];
 	const char *sname[2] = { "cosine", "cone 30" };
 	struct ps_weather w;

@@ -47,7 +47,8 @@ static double cpu_now(void)
 
 #define DECODED_ONE 1.00390625   /* RGBE's 1 as Radiance decodes it */
 
-static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
+static const char table[] = "Elevation field 90\n"
+                            "degrees 0 45 90 135 180 225 270 315\n"
                             "0 1 1 1 1 1 1 1 1\n"
                             "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
                             "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"

@@ -10,6 +10,7 @@ I=config/example/ofb/img
 P=$I/day_0318_sensor_256.hdr
 # a sensor that changes with azimuth, so rotations matter
 cat >"$TMP/a.sen" <<'SEN'
+Elevation field 90
 degrees 0 45 90 135 180 225 270 315
 0 1 1 1 1 1 1 1 1
 20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9

@@ -12,6 +12,7 @@
 [ -x "$BIN/psens" ] && [ -x "$BIN/mksens" ] || skip_all "psens or mksens not built"
 I=config/example/ofb/img
 cat >"$TMP/a.sen" <<'SEN'
+Elevation field 90
 degrees 0 45 90 135 180 225 270 315
 0 1 1 1 1 1 1 1 1
 20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9

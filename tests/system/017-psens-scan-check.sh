@@ -9,6 +9,7 @@
 [ -x "$BIN/psens" ] || skip_all "psens not built"
 P=config/example/ofb/img/day_0318_sensor_256.hdr
 cat >"$TMP/a.sen" <<'SEN'
+Elevation field 90
 degrees 0 45 90 135 180 225 270 315
 0 1 1 1 1 1 1 1 1
 20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9

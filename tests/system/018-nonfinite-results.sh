@@ -24,7 +24,7 @@ refused() {
 	check "$_n: no nan or inf printed" no_figure "$TMP/out"
 }
 
-printf 'degrees 0 90 180 270\n0 1e308 1e308 1e308 1e308\n90 1e308 1e308 1e308 1e308\n' > "$TMP/big.sen"
+printf 'Elevation field 90\ndegrees 0 90 180 270\n0 1e308 1e308 1e308 1e308\n90 1e308 1e308 1e308 1e308\n' > "$TMP/big.sen"
 refused "psens, a table holding 1e308" "add up past the largest number" "$BIN/psens" -N -s "$TMP/big.sen" "$P"
 refused "psens -R -G -B 1e308" "colour coefficients (1e+308 1e+308 1e+308)" \
 	"$BIN/psens" -N -s builtin:cosine -R 1e308 -G 1e308 -B 1e308 "$P"

@@ -32,7 +32,7 @@ for f in "$TOP"/config/example/ofb/dc/sensor/dc_*.hdr; do ln -s "$f" "$TMP/poses
 ln -s "$TOP/config/example/ofb/img/elec_sensor_256.hdr" "$TMP/poses/ex/elec.hdr"
 { cat "$D/candidates.txt"; echo "ex -vta -vp 1.85 2.285 2.2 -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180"; } > "$TMP/cands.txt"
 # a sensor that sees more towards its azimuth 0: cos(theta) (1 + 0.9 cos(phi))
-awk 'BEGIN { printf "degrees\t0\t90\t180\t270\n";
+awk 'BEGIN { printf "Elevation field 90\ndegrees\t0\t90\t180\t270\n";
 	for (t = 0; t <= 90; t += 10) { c = cos(t * 3.14159265358979 / 180); if (t == 90) c = 0;
 		printf "%d\t%.6f\t%.6f\t%.6f\t%.6f\n", t, 1.9 * c, c, 0.1 * c, c } }' > "$TMP/lopsided.sen"
 sed "s|^database = .*|database = $TMP/psensd.db|; s|^scene = .*|scene = $TOP/config/example/ofb.scene|; s|^results = .*|results = $TMP/best.results|" \

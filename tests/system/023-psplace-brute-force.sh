@@ -18,7 +18,7 @@ D=$TOP/tests/data/ofb-place
 W=$TOP/config/example/ofb/weather/sf-tmy3.wea
 mkdir -p "$TMP/poses"
 for p in p01 p07 p09; do tar -xzf "$D/$p.tar.gz" -C "$TMP/poses"; done
-awk 'BEGIN { printf "degrees\t0\t90\t180\t270\n";
+awk 'BEGIN { printf "Elevation field 90\ndegrees\t0\t90\t180\t270\n";
 	for (t = 0; t <= 90; t += 10) { c = cos(t * 3.14159265358979 / 180); if (t == 90) c = 0;
 		printf "%d\t%.6f\t%.6f\t%.6f\t%.6f\n", t, 1.9 * c, c, 0.1 * c, c } }' > "$TMP/lopsided.sen"
 sed "s|^database = .*|database = $TMP/psensd.db|; s|^scene = .*|scene = $TOP/config/example/ofb.scene|; s|^results = .*|results = $TMP/best.results|; s|^period = .*|period = 600|" \

@@ -24,7 +24,7 @@ tar -xzf "$D/p01.tar.gz" -C "$TMP"
 grep "^p01 " "$D/candidates.txt" > "$TMP/c.txt"
 sed "s|^database = .*|database = $TMP/psensd.db|; s|^scene = .*|scene = $TOP/config/example/ofb.scene|" \
 	"$TOP/config/psensd.conf" > "$TMP/psensd.conf"
-awk 'BEGIN { printf "degrees\t0\t90\t180\t270\n";
+awk 'BEGIN { printf "Elevation field 90\ndegrees\t0\t90\t180\t270\n";
 	for (t = 0; t <= 90; t += 10) { c = cos(t * 3.14159265358979 / 180); if (t == 90) c = 0;
 		printf "%d\t%.6f\t%.6f\t%.6f\t%.6f\n", t, 1.9 * c, c, 0.1 * c, c } }' > "$TMP/lopsided.sen"
 place() {

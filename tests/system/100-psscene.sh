@@ -75,8 +75,8 @@ check "cosine sensor: -vta -vh 180" sh -c "head -n 40 '$TMP/argv' | tr '\n' ' ' 
 check "uniform stand-in picture gives pi x 1.00390625 at the task" \
 	within "$(val "$TMP/r.results" night task_irradiance)" 3.1538633 1e-6
 # a narrow sensor gets a narrow view, one past 90 degrees a 360-degree one
-printf 'degrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n' > "$TMP/narrow.sen"
-printf 'degrees 0 90 180 270\n0 1 1 1 1\n120 1 1 1 1\n' > "$TMP/wide.sen"
+printf 'Elevation field 30\ndegrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n' > "$TMP/narrow.sen"
+printf 'Elevation field 120\ndegrees 0 90 180 270\n0 1 1 1 1\n120 1 1 1 1\n' > "$TMP/wide.sen"
 for s in narrow:60 wide:360; do
 	name=${s%%:*}; want=${s##*:}
 	sed "s|sensitivity = builtin:cosine|sensitivity = $name.sen|" "$TMP/r.scene" > "$TMP/$name.scene"

@@ -25,6 +25,7 @@ with open(sys.argv[1], "wb") as f:
     f.write(b"\x80\x80\x80\x81" * (n * n))
 PY
 cat > "$TMP/az.sen" <<'SEN'
+Elevation field 90
 degrees 0 45 90 135 180 225 270 315
 0 1 1 1 1 1 1 1 1
 20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9

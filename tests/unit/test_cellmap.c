@@ -32,7 +32,8 @@
 #include "wcache.h"
 #include "weights.h"
 
-static const char table_text[] = "degrees 0 45 90 135 180 225 270 315\n"
+static const char table_text[] = "Elevation field 90\n"
+                                 "degrees 0 45 90 135 180 225 270 315\n"
                                  "0 1 1 1 1 1 1 1 1\n"
                                  "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
                                  "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"
@@ -59,7 +60,7 @@ static char *fine_table(size_t *len)
 	size_t cap = 1 << 20, n = 0;
 	char *t = malloc(cap);
 	assert_non_null(t);
-	n += (size_t)snprintf(t + n, cap - n, "degrees");
+	n += (size_t)snprintf(t + n, cap - n, "Elevation field 12\ndegrees");
 	for (int j = 0; j < 720; j++)
 		n += (size_t)snprintf(t + n, cap - n, " %g", 0.5 * j);
 	for (int i = 0; i <= 12; i++) {
@@ -301,7 +302,7 @@ static void which_sensors(void **state)
 {
 	struct ps_sensor s, c;
 	struct ps_err e;
-	static const char sym[] = "degrees 0 90 180 270\n0 1 1 1 1\n45 0.5 0.5 0.5 0.5\n90 0 0 0 0\n";
+	static const char sym[] = "Elevation field 90\ndegrees 0 90 180 270\n0 1 1 1 1\n45 0.5 0.5 0.5 0.5\n90 0 0 0 0\n";
 	(void)state;
 	load(&s, PS_READ_LINEAR);
 	assert_int_equal(ps_cellmap_fits(&s, PS_W_EXACT), PS_CELLMAP_LINEAR);

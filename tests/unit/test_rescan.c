@@ -30,7 +30,8 @@ enum { N = 256 };
 
 static const double coef[3] = { PS_RGB_DEFAULT_R, PS_RGB_DEFAULT_G, PS_RGB_DEFAULT_B };
 
-static const char table[] = "degrees 0 45 90 135 180 225 270 315\n"
+static const char table[] = "Elevation field 90\n"
+                            "degrees 0 45 90 135 180 225 270 315\n"
                             "0 1 1 1 1 1 1 1 1\n"
                             "20 0.95 0.9 0.7 0.6 0.8 0.9 0.85 0.9\n"
                             "40 0.8 0.6 0.4 0.3 0.5 0.7 0.7 0.75\n"
@@ -315,15 +316,18 @@ static void projections_together(void **state)
  * the centre); turning the sensor by r reads the table at 90 - r, so the
  * edge crosses the sun between rotations -2 and 0 and again between 178 and
  * 180.  The exact route at every rotation near the edges is the reference. */
-static const char edge_table[] = "degrees 0 90 92 270 272\n"
+static const char edge_table[] = "Elevation field 90\n"
+                                 "degrees 0 90 92 270 272\n"
                                  "0 1 1 0.05 0.05 1\n"
                                  "80 1 1 0.05 0.05 1\n"
                                  "90 0 0 0 0 0\n";
-static const char steep_table[] = "degrees 0 90 90.5 270 270.5\n"
+static const char steep_table[] = "Elevation field 90\n"
+                                  "degrees 0 90 90.5 270 270.5\n"
                                   "0 1 1 0.05 0.05 1\n"
                                   "80 1 1 0.05 0.05 1\n"
                                   "90 0 0 0 0 0\n";
-static const char cliff_table[] = "degrees 0 90 92 270 272\n"
+static const char cliff_table[] = "Elevation field 90\n"
+                                  "degrees 0 90 92 270 272\n"
                                   "0 1 1 0 0 1\n"
                                   "80 1 1 0 0 1\n"
                                   "90 0 0 0 0 0\n";
@@ -438,7 +442,7 @@ static void coarse_cells_fine_table(void **state)
 	struct ps_err e;
 	double out[36];
 	(void)state;
-	len += (size_t)snprintf(text + len, sizeof text - len, "degrees 0 90 180 270\n");
+	len += (size_t)snprintf(text + len, sizeof text - len, "Elevation field 180\ndegrees 0 90 180 270\n");
 	for (int t = 0; t <= 180; t++) {   /* to 180: every polar cell inside the table */
 		double c = t <= 90 ? cos(t * M_PI / 180) : 0;
 		len += (size_t)snprintf(text + len, sizeof text - len, "%d %.6f %.6f %.6f %.6f\n", t, c, 0.8 * c, 0.6 * c,

@@ -84,6 +84,70 @@ static void located_errors(void **state)
 	}
 }
 
+/* A table must cover the field it states; one that states none is taken
+ * only when it cannot be a cut copy: it reaches the hemisphere or ends with
+ * a zero response. */
+static void field_coverage(void **state)
+{
+	static const struct {
+		const char *text, *want;
+	} refused[] = {
+		/* states 90 but stops at 60: the step is 30, so 90 alone is missing */
+		{ "Elevation field 90\ndegrees 0 90 180 270\n0 1 1 1 1\n30 0.9 0.9 0.9 0.9\n"
+		  "60 0.5 0.5 0.5 0.5\n",
+		  "a.sen:5: the table ends at polar angle 60 but line 1 states a field of 90: "
+		  "the row for 90 degrees is missing" },
+		/* stops at 4 of a 2-degree table stating 10: 6, 8 and 10 are missing */
+		{ "Elevation field 10\ndegrees 0 90 180 270\n0 1 1 1 1\n2 1 1 1 1\n4 1 1 1 1\n",
+		  "a.sen:5: the table ends at polar angle 4 but line 1 states a field of 10: "
+		  "the rows for 6 to 10 degrees are missing (3 rows at the table's 2-degree step)" },
+		{ "Elevation field 30\ndegrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n40 0 0 0 0\n",
+		  "a.sen:5: polar angle 40 is beyond the field of 30 stated on line 1" },
+		{ "Elevation field 0\ndegrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n",
+		  "a.sen:1: the field 0 is not a polar angle above 0 and at most 180" },
+		{ "Elevation field 200\ndegrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n",
+		  "a.sen:1: the field 200 is not a polar angle above 0 and at most 180" },
+		{ "Elevation field 1e999\ndegrees 0 90 180 270\n0 1 1 1 1\n30 1 1 1 1\n",
+		  "a.sen:1: the field 1e999 is not a polar angle above 0 and at most 180" },
+		/* no statement, a non-zero end short of 90: a cut copy or a cone? */
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n2 1 1 1 1\n4 1 0.5 1 1\n",
+		  "a.sen:4: the table ends at polar angle 4 with a non-zero response (1 at azimuth 0) "
+		  "and states no field" },
+	};
+	static const struct {
+		const char *text;
+		double end_deg;
+	} taken[] = {
+		/* ends with response 0 at 60, no statement */
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n30 0.8 0.8 0.8 0.8\n60 0 0 0 0\n", 60 },
+		/* a flat response to 90, no statement */
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n90 1 1 1 1\n", 90 },
+		/* a wide sensor to 135 */
+		{ "degrees 0 90 180 270\n0 1 1 1 1\n135 0.2 0.2 0.2 0.2\n", 135 },
+		/* a cone whose response is still 0.1 at its stated edge */
+		{ "Elevation field 30 (degrees)\ndegrees 0 90 180 270\n0 1 1 1 1\n30 0.1 0.1 0.1 0.1\n", 30 },
+		{ "Elevation field: 60\ndegrees 0 90 180 270\n0 1 1 1 1\n60 0 0 0 0\n", 60 },
+		/* a title without a statement, a complete table */
+		{ "Elevation angles of the photometer\ndegrees 0 90 180 270\n0 1 1 1 1\n90 0 0 0 0\n", 90 },
+	};
+	(void)state;
+	for (size_t k = 0; k < sizeof refused / sizeof *refused; k++) {
+		struct ps_sensor s;
+		struct ps_err e;
+		assert_int_equal(ps_sensor_parse(&s, refused[k].text, strlen(refused[k].text), "a.sen", &e), -1);
+		if (!strstr(e.msg, refused[k].want))
+			fail_msg("refused %zu: '%s' lacks '%s'", k, e.msg, refused[k].want);
+	}
+	for (size_t k = 0; k < sizeof taken / sizeof *taken; k++) {
+		struct ps_sensor s;
+		struct ps_err e;
+		if (ps_sensor_parse(&s, taken[k].text, strlen(taken[k].text), "a.sen", &e) != 0)
+			fail_msg("taken %zu refused: %s", k, e.msg);
+		assert_true(fabs(s.theta_end - taken[k].end_deg * DEG) < 1e-15);
+		ps_sensor_free(&s);
+	}
+}
+
 static void views(void **state)
 {
 	struct ps_view v;
@@ -122,6 +186,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(good_tables),
 		cmocka_unit_test(located_errors),
+		cmocka_unit_test(field_coverage),
 		cmocka_unit_test(views),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -54,7 +54,7 @@ static uint8_t *make(int w, int h, int sx, int sy, const char *extra, size_t *le
 
 /* A narrow sensor (nothing beyond 30 degrees): most rows have no weights,
  * and are only checked, not decoded. */
-static const char narrow[] = "degrees 0 90 180 270\n0 1 1 1 1\n20 0.8 0.6 0.7 0.9\n30 0 0 0 0\n";
+static const char narrow[] = "Elevation field 30\ndegrees 0 90 180 270\n0 1 1 1 1\n20 0.8 0.6 0.7 0.9\n30 0 0 0 0\n";
 
 static void routes_with(const uint8_t *data, size_t len, int expect_standard, int use_narrow);
 

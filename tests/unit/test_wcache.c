@@ -55,7 +55,8 @@ static int teardown(void **state)
 	return rm_rf(dir) == 0 ? 0 : -1;
 }
 
-static const char table[] = "degrees 0 90 180 270\n"
+static const char table[] = "Elevation field 90\n"
+                            "degrees 0 90 180 270\n"
                             "0 1 1 1 1\n30 0.9 0.7 0.8 0.6\n60 0.5 0.2 0.4 0.3\n90 0 0 0 0\n";
 
 static void sensor(struct ps_sensor *s, const char *name)

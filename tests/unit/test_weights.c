@@ -42,7 +42,7 @@ static void table_sensor(struct ps_sensor *s, int reading, const double *th, int
 	char *text = malloc(1 << 20);
 	size_t n = 0;
 	struct ps_err e;
-	n += (size_t)sprintf(text + n, "degrees");
+	n += (size_t)sprintf(text + n, "Elevation field %.17g\ndegrees", th[nth - 1]);
 	for (int j = 0; j < nph; j++)
 		n += (size_t)sprintf(text + n, "\t%.17g", ph[j]);
 	n += (size_t)sprintf(text + n, "\n");
@@ -211,7 +211,7 @@ static void rotations_move_the_sensitivity(void **state)
 	view_of(&v, PS_VT_ANGULAR, 180, 180);
 	{
 		/* value 1 at azimuth 0 only; cells are +-45 degrees */
-		char text[] = "degrees 0 90 180 270\n0 1 0 0 0\n60 1 0 0 0\n";
+		char text[] = "Elevation field 60\ndegrees 0 90 180 270\n0 1 0 0 0\n60 1 0 0 0\n";
 		assert_int_equal(ps_sensor_parse(&s, text, strlen(text), "wedge", &e), 0);
 		assert_int_equal(ps_sensor_set_reading(&s, PS_READ_CELL, &e), 0);
 	}

@@ -149,7 +149,7 @@ static void other_views(void **state)
 static void compact_equals_full(void **state)
 {
 	/* a table the same at every azimuth: symmetric too */
-	static const char table[] = "degrees 0 90 180 270\n0 1 1 1 1\n30 0.9 0.9 0.9 0.9\n"
+	static const char table[] = "Elevation field 90\ndegrees 0 90 180 270\n0 1 1 1 1\n30 0.9 0.9 0.9 0.9\n"
 	                            "60 0.5 0.5 0.5 0.5\n85 0.1 0.1 0.1 0.1\n90 0 0 0 0\n";
 	struct ps_sensor cosine, uni, tab;
 	struct ps_err e;
@@ -227,7 +227,7 @@ static void uniform_picture_integrates_to_pi(void **state)
 
 static void azimuthal_sensor_gets_a_full_map(void **state)
 {
-	static const char table[] = "degrees 0 90 180 270\n0 1 1 1 1\n30 0.9 0.7 0.8 0.6\n"
+	static const char table[] = "Elevation field 90\ndegrees 0 90 180 270\n0 1 1 1 1\n30 0.9 0.7 0.8 0.6\n"
 	                            "90 0 0 0 0\n";
 	struct ps_sensor s;
 	struct ps_weights w;

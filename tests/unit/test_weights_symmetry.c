@@ -29,7 +29,7 @@ static void table(struct ps_sensor *s, double tweak)
 	char text[1024];
 	struct ps_err e;
 	int n = snprintf(text, sizeof text,
-	                 "degrees 0 90 180 270\n0 1 1 1 1\n30 0.9 0.9 0.9 0.9\n"
+	                 "Elevation field 90\ndegrees 0 90 180 270\n0 1 1 1 1\n30 0.9 0.9 0.9 0.9\n"
 	                 "60 0.5 0.5 %.17g 0.5\n85 0.1 0.1 0.1 0.1\n90 0 0 0 0\n",
 	                 tweak ? nextafter(0.5, 1.0) : 0.5);
 	if (ps_sensor_parse(s, text, (size_t)n, "table", &e) != 0 ||
