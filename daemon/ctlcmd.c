@@ -608,6 +608,8 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, struct psd_
 		psd_json_str(t, "verdict", psd_accept_verdict_names[r[i].verdict + 1]);
 		psd_json_num(t, "value", r[i].value);
 		psd_json_num(t, "limit", r[i].limit);
+		psd_json_str(t, "unit", r[i].unit);
+		psd_json_str(t, "bound", r[i].bound);
 		json_object_object_add(t, "samples", json_object_new_int64(r[i].samples));
 		psd_json_str(t, "measured", r[i].measured);
 		json_object_array_add(tests, t);
