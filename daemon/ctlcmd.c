@@ -131,6 +131,8 @@ static json_object *zone_json(const struct psd_points *pts, const struct psd_eng
 	psd_json_num(o, "level", z->level);
 	json_object_object_add(o, "sample", sample_json(z));
 	psd_json_str(o, "sensor", cf->pt[z->zc->sensor].name);
+	/* what the record calls it (loop.c logs it as the zone's "simulated" event) */
+	psd_json_str(o, "simulated", psd_config_zone_simulated(cf, z->zc));
 	psd_json_str(o, "fault", z->in_fault ? z->why : NULL);
 	psd_json_num(o, "safe_level", z->zc->safe_level);
 	psd_json_num(o, "period", z->zc->period);
