@@ -278,6 +278,8 @@ static void occupancy_result(const struct scan *c, struct psd_accept_result *r)
 	r->test = "occupancy";
 	r->samples = c->nvac + c->narr;
 	r->limit = p->vacancy_hold;
+	r->unit = "s";
+	r->bound = "by the first step after";
 	r->value = c->nvac ? c->vac_delay_max : NAN;
 	if (p->vacant_level > 0)
 		snprintf(arr, sizeof arr, "arrivals not judged (a partial off at %.0f %%: the daylight control may "
@@ -357,6 +359,8 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	r->settle_s = c.held.settle;
 	r->value = c.n ? 100 * sqrt(ps_sum_get(&c.e2) / (double)c.n) : NAN;
 	r->limit = p->rms_max;
+	r->unit = "%";
+	r->bound = "at most";
 	if (c.n == 0) {
 		r->verdict = PSD_ACCEPT_NOT_TESTED;
 		snprintf(r->measured, sizeof r->measured, "no sample with a task meter reading and an estimate");
@@ -381,6 +385,8 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	r->samples = c.nfull;
 	r->limit = 35;
 	r->value = c.nfull ? 100 * c.full_max : NAN;
+	r->unit = "%";   /* of full output */
+	r->bound = "at most";
 	if (!c.nfull) {
 		r->verdict = PSD_ACCEPT_NOT_TESTED;
 		snprintf(r->measured, sizeof r->measured, "no sample with daylight at the task at 150 %% of the "
@@ -397,6 +403,8 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	r->samples = c.nlow;
 	r->limit = 90;
 	r->value = c.nlow ? 100 * c.low_min / p->target_lux : NAN;
+	r->unit = "%";   /* of the target */
+	r->bound = "at least";
 	if (!c.nlow) {
 		r->verdict = PSD_ACCEPT_NOT_TESTED;
 		snprintf(r->measured, sizeof r->measured, "no sample with daylight at the task below 10 %% of the "
@@ -413,6 +421,8 @@ int psd_accept_run(struct psd_db *db, const char *zone, const struct psd_accept_
 	r->samples = c.swings;
 	r->limit = p->delay;
 	r->value = c.swings ? c.min_gap : NAN;
+	r->unit = "s";
+	r->bound = "at least";
 	r->verdict = c.fast ? PSD_ACCEPT_FAIL : PSD_ACCEPT_PASS;
 	if (c.swings)
 		snprintf(r->measured, sizeof r->measured, "%ld reversal%s of the output by more than %.0f %%, the "

@@ -80,6 +80,9 @@ struct psd_accept_result {
 	                             "occupancy"; NULL: the test does not apply to the zone */
 	int verdict;              /* enum psd_accept_verdict */
 	double value, limit;      /* the measured figure and its limit */
+	const char *unit;         /* theirs: "%" or "s" */
+	const char *bound;        /* how the value must meet the limit: "at most", "at least",
+	                             "by the first step after" (occupancy: the hold) */
 	long samples;             /* samples judged */
 	long left_out;            /* verification: samples of sessions and their settling not judged */
 	double settle_s;          /* verification: the settling time after a session, s */

@@ -131,6 +131,8 @@ static json_object *zone_json(const struct psd_points *pts, const struct psd_eng
 	psd_json_num(o, "level", z->level);
 	json_object_object_add(o, "sample", sample_json(z));
 	psd_json_str(o, "sensor", cf->pt[z->zc->sensor].name);
+	/* what the record calls it (loop.c logs it as the zone's "simulated" event) */
+	psd_json_str(o, "simulated", psd_config_zone_simulated(cf, z->zc));
 	psd_json_str(o, "fault", z->in_fault ? z->why : NULL);
 	psd_json_num(o, "safe_level", z->zc->safe_level);
 	psd_json_num(o, "period", z->zc->period);
@@ -608,6 +610,8 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, struct psd_
 		psd_json_str(t, "verdict", psd_accept_verdict_names[r[i].verdict + 1]);
 		psd_json_num(t, "value", r[i].value);
 		psd_json_num(t, "limit", r[i].limit);
+		psd_json_str(t, "unit", r[i].unit);
+		psd_json_str(t, "bound", r[i].bound);
 		json_object_object_add(t, "samples", json_object_new_int64(r[i].samples));
 		psd_json_str(t, "measured", r[i].measured);
 		json_object_array_add(tests, t);

@@ -458,14 +458,16 @@ static enum MHD_Result events(struct psd_web *w, struct MHD_Connection *conn, do
 	struct MHD_Response *r;
 	enum MHD_Result rc;
 	char *ev = status_event(w);
-	size_t n = ev ? strlen(ev) + 16 : 0;
+	size_t n = ev ? strlen(ev) + 80 : 0;
 	if (!s || !ev || !(s->buf = malloc(n))) {
 		free(s);
 		free(ev);
 		return MHD_NO;
 	}
-	/* the reconnection delay a browser keeps, and the first update */
-	snprintf(s->buf, n, "retry: 2000\n%s", ev);
+	/* the reconnection delay a browser keeps, the seconds between updates
+	 * (a page that hears nothing for a few of them knows psensd is not
+	 * answering although the connection stays open), and the first update */
+	snprintf(s->buf, n, "retry: 2000\nevent: stream\ndata: {\"update_s\":%g}\n\n%s", w->c.update, ev);
 	s->len = strlen(s->buf);
 	free(ev);
 	s->w = w;

@@ -8,8 +8,8 @@
 # sped up 600 times.  A wrong password refused with its message, the zone
 # list and a zone's estimate and output changing live as the room's sun
 # rises, a session ending after [web] session seconds (the live page back at
-# the login, saying it expired), override and release (and the control
-# socket's error for a bad level), a night session run to its end and
+# the login, saying it expired), override and release (a bad level
+# refused in the % typed), a night session run to its end and
 # accepted, a second agent at the same zone seeing the override live and
 # refused a second session, psensd restarted under the page (reconnecting,
 # then live), a day session with the lux readings typed in, the acceptance

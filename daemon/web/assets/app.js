@@ -15,6 +15,10 @@ let hist = null;        // its chart: {t:[], level:[], est:[], meas:[]}
 let retry = null;
 let calRunning = false; // the zone shown had a session running at the last update
 let calMsg = '';         // the running session's message at the last update
+let lastGood = null;    // when the last status arrived (the browser's clock)
+let stale = false;      // psensd has not answered since lastGood
+let updateS = 1;        // [web] update: seconds between status events
+let quiet = null;       // the timer that notices a stream gone silent
 
 function show(which) {
   for (const id of ['login', 'zones', 'zone'])
@@ -51,6 +55,7 @@ async function request(line) {
     r = await post('api/request', { line });
   } catch (e) {
     toast('psensd does not answer: ' + e.message, true);
+    markStale();
     return null;
   }
   const o = await r.json().catch(() => ({ ok: false, error: 'not a reply psensd sends' }));
@@ -68,6 +73,7 @@ async function request(line) {
 function loggedOut(why) {
   if (es) { es.close(); es = null; }
   clearTimeout(retry);
+  clearTimeout(quiet);
   setConn('off', 'logged out');
   $('login-msg').textContent = !why ? ''
     : /expired/.test(why) ? 'Your session has expired: log in again.'
@@ -78,23 +84,72 @@ function loggedOut(why) {
 }
 
 // ---- the live stream ------------------------------------------------------
+// The stream broke, or went silent: the lights may no longer be at the
+// level last shown (psensd drives them to its stop or safe level when it
+// stops or fails, and the page cannot know which), so every figure shown
+// is marked stale and the stream is opened again.
+function lost() {
+  if (es) { es.close(); es = null; }
+  clearTimeout(quiet);
+  setConn('reconnecting', 'reconnecting…');
+  markStale();
+  clearTimeout(retry);
+  retry = setTimeout(recheck, 1500);
+}
+
+// A few updates missed (an open connection to a psensd that has stopped
+// answering, or a network that dropped it without a word).
+function expectUpdate() {
+  const wait = (3 * updateS + 5) * 1000;
+  clearTimeout(quiet);
+  quiet = setTimeout(silent, wait, performance.now() + wait);
+}
+
+// The timer ran at least a second late: the page itself was asleep (a
+// background tab, a phone's screen off, a starved CPU), and the updates
+// that came meanwhile are still queued: they go first, one more second.
+function silent(due) {
+  if (performance.now() - due > 1000) {
+    quiet = setTimeout(silent, 1000, performance.now() + 1000);
+    return;
+  }
+  lost();
+}
+
 function connect() {
   if (es) es.close();
   es = new EventSource('api/events');
-  es.addEventListener('status', (e) => {
-    setConn('live', 'live');
+  es.addEventListener('stream', (e) => {
     let o;
     try { o = JSON.parse(e.data); } catch (err) { return; }
+    if (Number.isFinite(o.update_s) && o.update_s > 0) updateS = o.update_s;
+  });
+  es.addEventListener('status', (e) => {
+    let o;
+    try { o = JSON.parse(e.data); } catch (err) { return; }
+    setConn('live', 'live');
+    expectUpdate();
+    lastGood = new Date();
+    stale = false;
     update(o);
   });
-  es.onerror = () => {
-    // closed or broken: psensd restarting, the network, or the session gone
-    es.close();
-    es = null;
-    setConn('reconnecting', 'reconnecting…');
-    clearTimeout(retry);
-    retry = setTimeout(recheck, 1500);
-  };
+  // closed or broken: psensd stopped or restarting, the network, or the session gone
+  es.onerror = lost;
+}
+
+function markStale() {
+  if (stale || !last) return;
+  stale = true;
+  update(last);
+}
+
+// "HH:MM:SS" of the browser's clock
+const hms = (d) => [d.getHours(), d.getMinutes(), d.getSeconds()].map((v) => String(v).padStart(2, '0')).join(':');
+
+// What a stale figure says instead of the level.
+function staleNote() {
+  return 'psensd has not answered since ' + (lastGood ? hms(lastGood) : 'the page opened') +
+    ': the level is unknown (psensd drives the lights to its stop or safe level when it stops or fails)';
 }
 
 async function recheck() {
@@ -103,6 +158,7 @@ async function recheck() {
     r = await fetch('api/session', { credentials: 'same-origin' });
   } catch (e) {
     setConn('reconnecting', 'reconnecting…');
+    markStale();
     retry = setTimeout(recheck, 1500);
     return;
   }
@@ -127,13 +183,24 @@ function update(o) {
   }
   pid = o.pid;
   last = o;
-  $('clock').textContent = o.time + (o.clock === 'simulated' ? ' (simulated)' : '');
+  $('clock').textContent = o.time + (o.clock === 'simulated' ? ' (simulated)' : '') + (stale ? ', at the last answer' : '');
+  simulatedNote(o.zones);
   if (zone) {
     const z = o.zones.find((x) => x.name === zone);
     if (z) renderZone(z); else { toast('no zone ' + zone, true); go(null); }
   } else {
     renderList(o.zones);
   }
+}
+
+// The zones whose devices are simulated (the status's simulated: what
+// simulates them, as the commissioning record names it).
+function simulatedNote(zones) {
+  const sim = zones.filter((z) => z.simulated);
+  const p = $('simulated');
+  p.hidden = sim.length === 0;
+  p.textContent = sim.length === 0 ? '' : 'Simulated, not a building: ' +
+    sim.map((z) => z.name + ' (' + z.simulated + ')').join(', ') + '.';
 }
 
 function renderList(zones) {
@@ -143,15 +210,20 @@ function renderList(zones) {
     const a = document.createElement('a');
     a.href = '#zone=' + encodeURIComponent(z.name);
     a.dataset.zone = z.name;
-    const s = z.sample || {};
-    const state = z.fault ? '<span class="badge bad">fault</span>'
+    if (stale) a.classList.add('stale');
+    const s = stale ? {} : z.sample || {};
+    const state = stale ? '<span class="badge off">stale</span>'
+      : z.fault ? '<span class="badge bad">fault</span>'
       : z.override ? '<span class="badge">override</span>'
       : z.calibration ? '<span class="badge">calibrating</span>' : '';
-    a.innerHTML = '<div class="name"><span></span>' + state + '</div>' +
-      '<div class="nums"><span><span class="big level">' + pct(z.level) + '</span><br><span class="muted">output</span></span>' +
+    const sim = z.simulated ? '<span class="badge sim">simulated</span>' : '';
+    a.innerHTML = '<div class="name"><span></span>' + sim + state + '</div>' +
+      '<div class="nums"><span><span class="big level">' + (stale ? 'unknown' : pct(z.level)) + '</span><br><span class="muted">output</span></span>' +
       '<span><span class="big">' + fmt(s.est_task_lux, 0) + '</span><br><span class="muted">estimate lx</span></span>' +
-      '<span><span class="big">' + fmt(s.task_lux, 0) + '</span><br><span class="muted">measured lx</span></span></div>';
+      '<span><span class="big">' + fmt(s.task_lux, 0) + '</span><br><span class="muted">measured lx</span></span></div>' +
+      (stale ? '<div class="stale-note muted"></div>' : '');
     a.querySelector('.name span').textContent = z.name;
+    if (stale) a.querySelector('.stale-note').textContent = staleNote();
     li.append(a);
     return li;
   }));
@@ -169,10 +241,19 @@ function value(label, text, id) {
 }
 
 function renderZone(z) {
-  const s = z.sample || {};
+  const s = stale ? {} : z.sample || {};
   $('z-name').textContent = z.name;
-  $('z-fault').hidden = !z.fault;
+  $('z-stale').hidden = !stale;
+  $('z-stale').textContent = stale ? staleNote() : '';
+  $('z-sim').hidden = !z.simulated;
+  $('z-sim').textContent = z.simulated ? 'Simulated: this zone\'s devices are ' + z.simulated + '\'s, not a building\'s.' : '';
+  $('z-fault').hidden = stale || !z.fault;
   $('z-fault').textContent = z.fault ? 'Fault: ' + z.fault + ' (at the safe level ' + pct(z.safe_level) + ')' : '';
+  if (stale) {   // nothing below is known now
+    $('z-values').replaceChildren(value('output', 'unknown', 'v-level'), value('estimate', '–', 'v-est'),
+      value('measured', '–', 'v-meas'));
+    return;
+  }
   const v = [
     value('output', pct(z.level), 'v-level'),
     value('target', fmt(z.target_lux, 0, 'lx')),
@@ -362,9 +443,15 @@ async function runAccept() {
   v.textContent = a.verdict;
   v.className = 'badge ' + (a.failed ? 'bad' : 'good');
   $('accept-count').textContent = a.tested + ' run, ' + a.failed + ' failed';
-  table($('accept-table'), ['test', 'verdict', 'value', 'limit', 'samples'], a.tests.map((t) =>
-    [t.test, t.verdict, fmt(t.value, 2), fmt(t.limit, 2), String(t.samples)]));
+  // each figure in its test's unit, the limit as the test judges it, and
+  // the acceptance module's own words for what it measured
+  table($('accept-table'), ['test', 'verdict', 'value', 'limit', 'samples', 'reason'], a.tests.map((t) =>
+    [t.test, t.verdict, fmt(t.value, t.unit === 's' ? 0 : 2, t.unit), t.bound + ' ' + num(t.limit) + ' ' + t.unit,
+     String(t.samples), t.measured || '']));
 }
+
+// a limit as the configuration states it: 10, 0.5, 300
+const num = (v) => (Number.isFinite(v) ? String(Number(v.toPrecision(6))) : '–');
 
 // ---- navigation ---------------------------------------------------------------
 function go(name) {
@@ -423,7 +510,13 @@ $('logout').addEventListener('click', async () => {
 });
 $('override-form').addEventListener('submit', async (e) => {
   e.preventDefault();
-  const lv = Number($('ov-level').value) / 100, s = Number($('ov-min').value) * 60;
+  // the level is typed in %: a refusal says so in %, not in psensd's 0 to 1
+  const typed = $('ov-level').value.trim(), p = Number(typed);
+  if (!(p >= 0 && p <= 100)) {
+    toast(typed + ' % is outside 0 to 100 %', true);
+    return;
+  }
+  const lv = p / 100, s = Number($('ov-min').value) * 60;
   if (await request('override ' + zone + ' ' + lv + ' ' + s)) toast('override: ' + pct(lv) + ' for ' + s / 60 + ' min');
 });
 $('ov-release').addEventListener('click', async () => {
