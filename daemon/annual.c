@@ -125,6 +125,11 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 		a->month[m].light_h += output * h;
 		a->month[m].energy_h += power * h;
 		a->month[m].ideal_h += ideal * h;
+		if (truth < 0.999 * c->target_lux && power < ideal) {
+			a->short_h += h;
+			a->short_lxh += (c->target_lux - truth) * h;
+			a->short_saved_h += (ideal - power) * h;
+		}
 		if (truth < 0.9 * c->target_lux) {
 			a->below_h += h;
 			a->month[m].below_h += h;
@@ -212,6 +217,8 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	a->savings = a->occ_h > 0 ? 1 - a->energy_h / a->occ_h : NAN;
 	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
 	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
+	a->effectiveness_at_target = a->ideal_savings > 0
+	        ? (1 - (a->energy_h + a->short_saved_h) / a->occ_h) / a->ideal_savings : NAN;
 	a->changes_per_h = a->occ_h > 0 ? a->changes / a->occ_h : NAN;
 	a->est_rooftop = r->year.have_site && r->year.n > 0 && !isnan(r->year.h[0].horiz_lux);
 	for (int k = 0; k < 3; k++) {

@@ -25,6 +25,13 @@
  *                   up to the target, min_level to 1, each step, through
  *                   the same power curve; its savings
  *                   and the law's effectiveness = savings / ideal savings;
+ *   short of target hours with the true task lux more than 0.1 % below
+ *                   the target (less is rounding) and the power below the
+ *                   ideal's: the law saving by under-lighting, which is how
+ *                   an effectiveness passes 100 %; the lux-hours it is short
+ *                   by and the full-power hours it saves there; the
+ *                   effectiveness at target charges those steps the
+ *                   ideal's power (lighting delivered at target);
  *   below 90 %      hours with the true task lux below 0.9 x target;
  *   over-dimming    hours with the output more than 0.01 below the ideal's
  *                   while the task is below the target (dimmed past what
@@ -64,6 +71,8 @@ struct psd_annual {
 	double day_light_h[PSD_ANNUAL_MAX_DAYS];   /* light output over each day's occupied
 	                                              hours (day of year from 1 at [0]) */
 	double savings, ideal_savings, effectiveness, changes_per_h;
+	double short_h, short_lxh, short_saved_h;   /* short of target (above) */
+	double effectiveness_at_target;
 	double est_mean[3], est_rms[3];   /* [0] mean ratio, [1] dated (typical class),
 	                                     [2] dated with the class from a rooftop
 	                                     sensor reading the hour; percent */

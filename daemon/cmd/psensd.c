@@ -124,6 +124,25 @@ static void weather_title(const char *path, char *out, size_t n)
 	ps_weather_free(&w);
 }
 
+/* An effectiveness above 100 % is the law saving by leaving the task short
+ * of its target (annual.h): say so next to it, with the hours, the lux they
+ * are short by and the effectiveness with lighting delivered at target. */
+static void print_above_ideal(const struct psd_annual *a, double target)
+{
+	if (!(a->effectiveness > 1))
+		return;
+	if (!(a->short_h > 0)) {
+		printf("    above 100 %%: the law uses less power than the ideal photocell with the task\n"
+		       "    within 0.1 %% of its target or above (dimmed below the ideal's floor, or off)\n");
+		return;
+	}
+	printf("    above 100 %% by under-lighting: %.1f occupied hours with the task short of the\n"
+	       "    %g lx target, by %.0f lx on average, saving %.2f full-power hours there; with\n"
+	       "    those hours charged the ideal's power (lighting delivered at target): %.1f %%\n",
+	       a->short_h, target, a->short_lxh / a->short_h, a->short_saved_h,
+	       100 * a->effectiveness_at_target);
+}
+
 static int year_report(struct psd_daemon *d, const char *png)
 {
 	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
@@ -212,10 +231,11 @@ static int year_report(struct psd_daemon *d, const char *png)
 				printf("  the sun's placement: no estimate of its error (results without the sun in its\n"
 				       "    nearest patch: a 5-phase sun, or written by an older psscene)\n");
 		}
-		if (isfinite(a.effectiveness))
+		if (isfinite(a.effectiveness)) {
 			printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
 			       "effectiveness %.1f %%\n", 100 * a.ideal_savings, 100 * a.effectiveness);
-		else   /* nothing to save: no effectiveness to give */
+			print_above_ideal(&a, ctl.target_lux);
+		} else   /* nothing to save: no effectiveness to give */
 			printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
 			       "no effectiveness to give\n", 100 * a.ideal_savings);
 		printf("  occupied hours below 90 %% of target: %.1f h (%.2f %%); over-dimmed %.1f h; "
@@ -264,8 +284,8 @@ static int year_report(struct psd_daemon *d, const char *png)
 		/* the laws side by side, each with the zone's constants */
 		printf("  the control laws over the year (the zone's constants; switching thresholds\n"
 		       "  from the model where the zone sets none):\n");
-		printf("  %-32s %9s %9s %9s %9s %9s %9s\n", "algorithm (dated ratio)", "energy %", "savings %",
-		       "effect. %", "below90 h", "overdim h", "changes/h");
+		printf("  %-32s %9s %9s %9s %9s %9s %9s %9s\n", "algorithm (dated ratio)", "energy %",
+		       "savings %", "effect. %", "at tgt %", "below90 h", "overdim h", "changes/h");
 		for (int row = 0; row < PSD_ALG_COUNT + 2; row++) {
 			/* the five laws with the dated ratio, then the two that use a
 			 * ratio again with the one mean ratio */
@@ -288,12 +308,14 @@ static int year_report(struct psd_daemon *d, const char *png)
 			snprintf(name, sizeof name, "%s%s", psd_control_algorithm_names[alg],
 			         row < PSD_ALG_COUNT ? "" : ", mean ratio");
 			{
-				char eff[16] = "-";
+				char eff[16] = "-", eff_t[16] = "-";
 				if (isfinite(b.effectiveness))
 					snprintf(eff, sizeof eff, "%.1f", 100 * b.effectiveness);
-				printf("  %-32s %9.1f %9.1f %9s %9.1f %9.1f %9.2f\n", name,
-				       100 * b.energy_h / b.occ_h, 100 * b.savings, eff, b.below_h, b.overdim_h,
-				       b.changes_per_h);
+				if (isfinite(b.effectiveness_at_target))
+					snprintf(eff_t, sizeof eff_t, "%.1f", 100 * b.effectiveness_at_target);
+				printf("  %-32s %9.1f %9.1f %9s %9s %9.1f %9.1f %9.2f\n", name,
+				       100 * b.energy_h / b.occ_h, 100 * b.savings, eff, eff_t, b.below_h,
+				       b.overdim_h, b.changes_per_h);
 			}
 		}
 	}

@@ -74,6 +74,12 @@ conf ten 600 0.01 > "$TMP/ten.conf"
 check "-Y runs the 10-minute day" test $? = 0
 check "it says the daylight is linear between 10-minute steps" grep -q "linear between the weather's steps of 10 min" "$TMP/ten.out"
 check "the hourly year states its in-hour error" grep -q "daylight inside each hour: linear between the weather's hours" "$TMP/hourly.out"
+# an hourly file cannot measure it: the one figure printed is the example
+# office's, said to be that office's (not this site's) with its source
+sed -n '/daylight inside each hour/,/against 3.7/p' "$TMP/hourly.out" | tr '\n' ' ' | tr -s ' ' > "$TMP/inhour"
+check "it says the error is not measured for this site" grep -q "not measured for this site" "$TMP/inhour"
+check "the figure is the example office's, not this site's" grep -q "the example office's measured figure (doc/year.md; not this site's)" "$TMP/inhour"
+check "with its weather file named" grep -q "san_francisco_10min.wea" "$TMP/inhour"
 # the task daylight of the 10-minute steps 08:00-18:00 against the hourly
 # points interpolated linearly between the hours' middles
 task() {   # task RESULTS: "hour lux" per step with light
