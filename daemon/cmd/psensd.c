@@ -203,12 +203,18 @@ static int year_report(struct psd_daemon *d, const char *png)
 				       "full-output hours over the occupied hours\n", e->cf->date, a.day_light_h[doy - 1]);
 		}
 		{
-			/* the stated errors of the year's daylight (doc/year.md measures them) */
+			/* an hourly file cannot measure its own in-hour error: the
+			 * one figure there is, the example office's, is given as
+			 * that office's, with its source, never as this site's */
 			double step = psd_annual_weather_step(&e->res);
 			if (step >= 3599)
-				printf("  daylight inside each hour: linear between the weather's hours; on the example office\n"
-				       "    against San Francisco's 10-minute TMY3 year, task daylight -0.75 %% over the occupied\n"
-				       "    hours (rms 8.1 %% a step), energy -0.8 %%, over-dimmed hours 16.9 against 3.7\n");
+				printf("  daylight inside each hour: linear between the weather's hours; its error is not\n"
+				       "    measured for this site (that needs sub-hourly weather). For comparison only,\n"
+				       "    the example office's measured figure (doc/year.md; not this site's): against\n"
+				       "    San Francisco Intl's TMY3 hours at 10-minute steps (NREL's typical year,\n"
+				       "    ladybug-tools' san_francisco_10min.wea), task daylight -0.75 %% over the\n"
+				       "    occupied hours (rms 8.1 %% a step), energy -0.8 %%, over-dimmed hours 16.9\n"
+				       "    against 3.7\n");
 			else if (step > 0)
 				printf("  daylight inside each step: linear between the weather's steps of %.0f min\n", step / 60);
 		}
