@@ -166,6 +166,26 @@ struct psd_annual_sunbar {
 int psd_annual_sunbar(const struct ps_results *r, const struct psd_control *ctl,
                       const struct psd_annual_opt *o, struct psd_annual_sunbar *b);
 
+/* The daylight's in-hour error, measured for this scene when its weather
+ * is sub-hourly and has a step at every hour's middle (as NREL's hours
+ * interpolated to shorter steps have): the year run again on those steps
+ * alone, so that the room interpolates linearly between the hours as it
+ * does on an hourly file, against the year at the file's own steps, the
+ * same law and devices.  Over the occupied control steps: the task
+ * daylight's sum (hourly / sub-hourly - 1) and its rms a step where the
+ * sub-hourly daylight is 50 lx or more; hourly: that year's figures.
+ * -1 when the weather is hourly or has no steps at the hours' middles,
+ * -2 when memory runs out (or as psd_annual_run). */
+struct psd_annual_inhour {
+	double hours;          /* the hourly points taken */
+	double task_sum;       /* fraction */
+	double task_rms;       /* fraction, over task_n steps */
+	double task_n;
+	struct psd_annual hourly;
+};
+int psd_annual_inhour(const struct ps_results *r, const struct psd_control *ctl,
+                      const struct psd_annual_opt *o, struct psd_annual_inhour *b);
+
 /* Draw the year's first `days` days (hour of day up, day of year across:
  * task lux and light output) into a PNG, 2 pixels a day. */
 int psd_annual_png(const char *path, const float *task_img, const float *level_img, int days,
