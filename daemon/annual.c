@@ -146,7 +146,7 @@ int psd_annual_inhour(const struct ps_results *r, const struct psd_control *ctl,
 	struct ps_results hr = *r;
 	struct psd_annual sub;
 	double step = psd_annual_weather_step(r);
-	int rc = -1;
+	int rc = -3;
 	memset(b, 0, sizeof *b);
 	if (!(step > 0 && step < 3599) || !(o->period > 0))
 		return -1;

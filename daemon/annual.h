@@ -175,7 +175,8 @@ int psd_annual_sunbar(const struct ps_results *r, const struct psd_control *ctl,
  * daylight's sum (hourly / sub-hourly - 1) and its rms a step where the
  * sub-hourly daylight is 50 lx or more; hourly: that year's figures.
  * -1 when the weather is hourly or has no steps at the hours' middles,
- * -2 when memory runs out (or as psd_annual_run). */
+ * -2 when memory runs out, -3 when a year does not run or the two runs'
+ * occupied steps differ in number. */
 struct psd_annual_inhour {
 	double hours;          /* the hourly points taken */
 	double task_sum;       /* fraction */

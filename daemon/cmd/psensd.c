@@ -156,15 +156,20 @@ static void print_inhour(const struct ps_results *r, const struct psd_control *c
 		return;
 	}
 	if (rc != 0) {
-		printf("    (the in-hour error could not be measured: out of memory)\n");
+		printf("    (the in-hour error could not be measured: %s)\n",
+		       rc == -2 ? "out of memory" : "the hourly year's steps are not the year's");
 		return;
 	}
+	char rms[48] = "no step with 50 lx or more";
+	if (b.task_n > 0)
+		snprintf(rms, sizeof rms, "rms %.1f %% a step with 50 lx or more", 100 * b.task_rms);
 	printf("    measured for this scene, the year on its %.0f steps at the hours' middles alone\n"
 	       "    (as an hourly file, linear between the hours) against the year at its own steps:\n"
-	       "    task daylight %+.2f %% over the occupied hours (rms %.1f %% a step with 50 lx or\n"
-	       "    more), energy %+.1f %%, over-dimmed hours %.1f against %.1f\n",
-	       b.hours, 100 * b.task_sum, 100 * b.task_rms, a->energy_h > 0 ? 100 * (b.hourly.energy_h / a->energy_h - 1) : 0.0,
-	       b.hourly.overdim_h, a->overdim_h);
+	       "    task daylight %+.2f %% over the occupied hours (%s), energy %+.1f %%,\n"
+	       "    over-dimmed hours %.1f against %.1f\n",
+	       b.hours, 100 * b.task_sum, rms,
+	       a->energy_h > 0 ? 100 * (b.hourly.energy_h / a->energy_h - 1) : 0.0, b.hourly.overdim_h,
+	       a->overdim_h);
 }
 
 static int year_report(struct psd_daemon *d, const char *png)
