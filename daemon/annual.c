@@ -78,6 +78,109 @@ double psd_annual_power(const struct psd_annual_opt *o, double y)
 	return pm + (1 - pm) * (y - lo) / (1 - lo);
 }
 
+/* the in-hour measurement's two passes: the sub-hourly year's occupied
+ * steps' daylight kept, then the hourly year's compared with it step by
+ * step (both runs step the same days at the same period) */
+struct inhour_acc {
+	const struct psd_annual_opt *o;
+	float *dl;
+	size_t n, cap, at;
+	int second, overflow;
+	double sum_sub, sum_hourly, sq, nsq;
+};
+
+static void inhour_step(void *ctx, int doy, double t, double level, double output, double truth, double dl)
+{
+	struct inhour_acc *k = ctx;
+	(void)doy;
+	(void)level;
+	(void)output;
+	(void)truth;
+	if (!(t >= k->o->occ_start && t < k->o->occ_end))
+		return;
+	if (!k->second) {
+		if (k->n == k->cap) {
+			k->overflow = 1;
+			return;
+		}
+		k->dl[k->n++] = (float)dl;
+		k->sum_sub += dl;
+		return;
+	}
+	if (k->at >= k->n) {
+		k->overflow = 1;
+		return;
+	}
+	k->sum_hourly += dl;
+	if (k->dl[k->at] >= 50) {
+		double e = dl / k->dl[k->at] - 1;
+		k->sq += e * e;
+		k->nsq++;
+	}
+	k->at++;
+}
+
+/* the results' steps at the hours' middles (h + 0.5), into y (its tables
+ * recomputed); 0 when there are none */
+static size_t hourly_points(const struct ps_results *r, struct ps_year *y)
+{
+	*y = r->year;
+	y->n = 0;
+	y->h = malloc((r->year.n ? r->year.n : 1) * sizeof *y->h);
+	if (!y->h)
+		return 0;
+	for (size_t i = 0; i < r->year.n; i++) {
+		double f = r->year.h[i].hour - floor(r->year.h[i].hour);
+		if (fabs(f - 0.5) < 1e-3)
+			y->h[y->n++] = r->year.h[i];
+	}
+	ps_year_tabulate(y);
+	return y->n;
+}
+
+int psd_annual_inhour(const struct ps_results *r, const struct psd_control *ctl,
+                      const struct psd_annual_opt *o, struct psd_annual_inhour *b)
+{
+	struct psd_annual_opt q = *o;
+	struct inhour_acc k = { .o = o };
+	struct ps_results hr = *r;
+	struct psd_annual sub;
+	double step = psd_annual_weather_step(r);
+	int rc = -3;
+	memset(b, 0, sizeof *b);
+	if (!(step > 0 && step < 3599) || !(o->period > 0))
+		return -1;
+	if (hourly_points(r, &hr.year) == 0) {
+		rc = hr.year.h ? -1 : -2;
+		free(hr.year.h);
+		return rc;
+	}
+	b->hours = (double)hr.year.n;
+	k.cap = (size_t)(PSD_ANNUAL_MAX_DAYS * ((o->occ_end - o->occ_start) / o->period + 2));
+	k.dl = malloc(k.cap * sizeof *k.dl);
+	if (!k.dl) {
+		free(hr.year.h);
+		return -2;
+	}
+	q.task_img = q.level_img = NULL;
+	q.no_estimate = 1;
+	q.occupied_only = 0;
+	q.step = inhour_step;
+	q.step_ctx = &k;
+	if (psd_annual_run(r, ctl, &q, &sub) == 0) {
+		k.second = 1;
+		if (psd_annual_run(&hr, ctl, &q, &b->hourly) == 0 && !k.overflow && k.at == k.n && k.sum_sub > 0) {
+			b->task_sum = k.sum_hourly / k.sum_sub - 1;
+			b->task_n = k.nsq;
+			b->task_rms = k.nsq > 0 ? sqrt(k.sq / k.nsq) : NAN;
+			rc = 0;
+		}
+	}
+	free(k.dl);
+	free(hr.year.h);
+	return rc;
+}
+
 static double task_of(void *ctx, double t, double lamp)
 {
 	struct run *u = ctx;
@@ -125,6 +228,11 @@ static void seen(void *ctx, double t, double level, double output, double truth,
 		a->month[m].light_h += output * h;
 		a->month[m].energy_h += power * h;
 		a->month[m].ideal_h += ideal * h;
+		if (truth < 0.999 * c->target_lux && power < ideal) {
+			a->short_h += h;
+			a->short_lxh += (c->target_lux - truth) * h;
+			a->short_saved_h += (ideal - power) * h;
+		}
 		if (truth < 0.9 * c->target_lux) {
 			a->below_h += h;
 			a->month[m].below_h += h;
@@ -212,6 +320,8 @@ int psd_annual_run(const struct ps_results *r, const struct psd_control *ctl,
 	a->savings = a->occ_h > 0 ? 1 - a->energy_h / a->occ_h : NAN;
 	a->ideal_savings = a->occ_h > 0 ? 1 - a->ideal_h / a->occ_h : NAN;
 	a->effectiveness = a->ideal_savings > 0 ? a->savings / a->ideal_savings : NAN;
+	a->effectiveness_at_target = a->ideal_savings > 0
+	        ? (1 - (a->energy_h + a->short_saved_h) / a->occ_h) / a->ideal_savings : NAN;
 	a->changes_per_h = a->occ_h > 0 ? a->changes / a->occ_h : NAN;
 	a->est_rooftop = r->year.have_site && r->year.n > 0 && !isnan(r->year.h[0].horiz_lux);
 	for (int k = 0; k < 3; k++) {

@@ -25,6 +25,13 @@
  *                   up to the target, min_level to 1, each step, through
  *                   the same power curve; its savings
  *                   and the law's effectiveness = savings / ideal savings;
+ *   short of target hours with the true task lux more than 0.1 % below
+ *                   the target (less is rounding) and the power below the
+ *                   ideal's: the law saving by under-lighting, which is how
+ *                   an effectiveness passes 100 %; the lux-hours it is short
+ *                   by and the full-power hours it saves there; the
+ *                   effectiveness at target charges those steps the
+ *                   ideal's power (lighting delivered at target);
  *   below 90 %      hours with the true task lux below 0.9 x target;
  *   over-dimming    hours with the output more than 0.01 below the ideal's
  *                   while the task is below the target (dimmed past what
@@ -64,6 +71,8 @@ struct psd_annual {
 	double day_light_h[PSD_ANNUAL_MAX_DAYS];   /* light output over each day's occupied
 	                                              hours (day of year from 1 at [0]) */
 	double savings, ideal_savings, effectiveness, changes_per_h;
+	double short_h, short_lxh, short_saved_h;   /* short of target (above) */
+	double effectiveness_at_target;
 	double est_mean[3], est_rms[3];   /* [0] mean ratio, [1] dated (typical class),
 	                                     [2] dated with the class from a rooftop
 	                                     sensor reading the hour; percent */
@@ -156,6 +165,27 @@ struct psd_annual_sunbar {
 };
 int psd_annual_sunbar(const struct ps_results *r, const struct psd_control *ctl,
                       const struct psd_annual_opt *o, struct psd_annual_sunbar *b);
+
+/* The daylight's in-hour error, measured for this scene when its weather
+ * is sub-hourly and has a step at every hour's middle (as NREL's hours
+ * interpolated to shorter steps have): the year run again on those steps
+ * alone, so that the room interpolates linearly between the hours as it
+ * does on an hourly file, against the year at the file's own steps, the
+ * same law and devices.  Over the occupied control steps: the task
+ * daylight's sum (hourly / sub-hourly - 1) and its rms a step where the
+ * sub-hourly daylight is 50 lx or more; hourly: that year's figures.
+ * -1 when the weather is hourly or has no steps at the hours' middles,
+ * -2 when memory runs out, -3 when a year does not run or the two runs'
+ * occupied steps differ in number. */
+struct psd_annual_inhour {
+	double hours;          /* the hourly points taken */
+	double task_sum;       /* fraction */
+	double task_rms;       /* fraction, over task_n steps */
+	double task_n;
+	struct psd_annual hourly;
+};
+int psd_annual_inhour(const struct ps_results *r, const struct psd_control *ctl,
+                      const struct psd_annual_opt *o, struct psd_annual_inhour *b);
 
 /* Draw the year's first `days` days (hour of day up, day of year across:
  * task lux and light output) into a PNG, 2 pixels a day. */

@@ -124,6 +124,54 @@ static void weather_title(const char *path, char *out, size_t n)
 	ps_weather_free(&w);
 }
 
+/* An effectiveness above 100 % is the law saving by leaving the task short
+ * of its target (annual.h): say so next to it, with the hours, the lux they
+ * are short by and the effectiveness with lighting delivered at target. */
+static void print_above_ideal(const struct psd_annual *a, double target)
+{
+	if (!(a->effectiveness > 1))
+		return;
+	if (!(a->short_h > 0)) {
+		printf("    above 100 %%: the law uses less power than the ideal photocell with the task\n"
+		       "    within 0.1 %% of its target or above (dimmed below the ideal's floor, or off)\n");
+		return;
+	}
+	printf("    above 100 %% by under-lighting: %.1f occupied hours with the task short of the\n"
+	       "    %g lx target, by %.0f lx on average, saving %.2f full-power hours there; with\n"
+	       "    those hours charged the ideal's power (lighting delivered at target): %.1f %%\n",
+	       a->short_h, target, a->short_lxh / a->short_h, a->short_saved_h,
+	       100 * a->effectiveness_at_target);
+}
+
+/* A sub-hourly year measures what an hourly file's interpolation would
+ * cost this scene (annual.h, psd_annual_inhour). */
+static void print_inhour(const struct ps_results *r, const struct psd_control *ctl,
+                         const struct psd_annual_opt *o, const struct psd_annual *a, double step)
+{
+	struct psd_annual_inhour b;
+	int rc = psd_annual_inhour(r, ctl, o, &b);
+	printf("  daylight inside each step: linear between the weather's steps of %.0f min\n", step / 60);
+	if (rc == -1) {
+		printf("    (no step at the hours' middles: no in-hour error measured)\n");
+		return;
+	}
+	if (rc != 0) {
+		printf("    (the in-hour error could not be measured: %s)\n",
+		       rc == -2 ? "out of memory" : "the hourly year's steps are not the year's");
+		return;
+	}
+	char rms[48] = "no step with 50 lx or more";
+	if (b.task_n > 0)
+		snprintf(rms, sizeof rms, "rms %.1f %% a step with 50 lx or more", 100 * b.task_rms);
+	printf("    measured for this scene, the year on its %.0f steps at the hours' middles alone\n"
+	       "    (as an hourly file, linear between the hours) against the year at its own steps:\n"
+	       "    task daylight %+.2f %% over the occupied hours (%s), energy %+.1f %%,\n"
+	       "    over-dimmed hours %.1f against %.1f\n",
+	       b.hours, 100 * b.task_sum, rms,
+	       a->energy_h > 0 ? 100 * (b.hourly.energy_h / a->energy_h - 1) : 0.0, b.hourly.overdim_h,
+	       a->overdim_h);
+}
+
 static int year_report(struct psd_daemon *d, const char *png)
 {
 	static const char *const mon[] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
@@ -184,14 +232,20 @@ static int year_report(struct psd_daemon *d, const char *png)
 				       "full-output hours over the occupied hours\n", e->cf->date, a.day_light_h[doy - 1]);
 		}
 		{
-			/* the stated errors of the year's daylight (doc/year.md measures them) */
+			/* an hourly file cannot measure its own in-hour error: the
+			 * one figure there is, the example office's, is given as
+			 * that office's, with its source, never as this site's */
 			double step = psd_annual_weather_step(&e->res);
 			if (step >= 3599)
-				printf("  daylight inside each hour: linear between the weather's hours; on the example office\n"
-				       "    against San Francisco's 10-minute TMY3 year, task daylight -0.75 %% over the occupied\n"
-				       "    hours (rms 8.1 %% a step), energy -0.8 %%, over-dimmed hours 16.9 against 3.7\n");
+				printf("  daylight inside each hour: linear between the weather's hours; its error is not\n"
+				       "    measured for this site (that needs sub-hourly weather). For comparison only,\n"
+				       "    the example office's measured figure (doc/year.md; not this site's): against\n"
+				       "    San Francisco Intl's TMY3 hours at 10-minute steps (NREL's typical year,\n"
+				       "    ladybug-tools' san_francisco_10min.wea), task daylight -0.75 %% over the\n"
+				       "    occupied hours (rms 8.1 %% a step), energy -0.8 %%, over-dimmed hours 16.9\n"
+				       "    against 3.7\n");
 			else if (step > 0)
-				printf("  daylight inside each step: linear between the weather's steps of %.0f min\n", step / 60);
+				print_inhour(&e->res, &ctl, &o, &a, step);
 		}
 		{
 			/* the sun's discretisation error, estimated on this scene's own
@@ -212,10 +266,11 @@ static int year_report(struct psd_daemon *d, const char *png)
 				printf("  the sun's placement: no estimate of its error (results without the sun in its\n"
 				       "    nearest patch: a 5-phase sun, or written by an older psscene)\n");
 		}
-		if (isfinite(a.effectiveness))
+		if (isfinite(a.effectiveness)) {
 			printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
 			       "effectiveness %.1f %%\n", 100 * a.ideal_savings, 100 * a.effectiveness);
-		else   /* nothing to save: no effectiveness to give */
+			print_above_ideal(&a, ctl.target_lux);
+		} else   /* nothing to save: no effectiveness to give */
 			printf("  ideal photocell (DAYSIM: output from the task's true daylight) saves %.1f %%: "
 			       "no effectiveness to give\n", 100 * a.ideal_savings);
 		printf("  occupied hours below 90 %% of target: %.1f h (%.2f %%); over-dimmed %.1f h; "
@@ -264,8 +319,8 @@ static int year_report(struct psd_daemon *d, const char *png)
 		/* the laws side by side, each with the zone's constants */
 		printf("  the control laws over the year (the zone's constants; switching thresholds\n"
 		       "  from the model where the zone sets none):\n");
-		printf("  %-32s %9s %9s %9s %9s %9s %9s\n", "algorithm (dated ratio)", "energy %", "savings %",
-		       "effect. %", "below90 h", "overdim h", "changes/h");
+		printf("  %-32s %9s %9s %9s %9s %9s %9s %9s\n", "algorithm (dated ratio)", "energy %",
+		       "savings %", "effect. %", "at tgt %", "below90 h", "overdim h", "changes/h");
 		for (int row = 0; row < PSD_ALG_COUNT + 2; row++) {
 			/* the five laws with the dated ratio, then the two that use a
 			 * ratio again with the one mean ratio */
@@ -288,12 +343,14 @@ static int year_report(struct psd_daemon *d, const char *png)
 			snprintf(name, sizeof name, "%s%s", psd_control_algorithm_names[alg],
 			         row < PSD_ALG_COUNT ? "" : ", mean ratio");
 			{
-				char eff[16] = "-";
+				char eff[16] = "-", eff_t[16] = "-";
 				if (isfinite(b.effectiveness))
 					snprintf(eff, sizeof eff, "%.1f", 100 * b.effectiveness);
-				printf("  %-32s %9.1f %9.1f %9s %9.1f %9.1f %9.2f\n", name,
-				       100 * b.energy_h / b.occ_h, 100 * b.savings, eff, b.below_h, b.overdim_h,
-				       b.changes_per_h);
+				if (isfinite(b.effectiveness_at_target))
+					snprintf(eff_t, sizeof eff_t, "%.1f", 100 * b.effectiveness_at_target);
+				printf("  %-32s %9.1f %9.1f %9s %9s %9.1f %9.1f %9.2f\n", name,
+				       100 * b.energy_h / b.occ_h, 100 * b.savings, eff, eff_t, b.below_h,
+				       b.overdim_h, b.changes_per_h);
 			}
 		}
 	}

@@ -67,7 +67,8 @@ static void mat3_mul(const double a[3][3], const double b[3][3], double m[3][3])
  * whites' XYZ with Y = 1.  The exact inverse of S is used, so white maps to
  * white exactly (Radiance's colour code tables a 4-digit inverse: its
  * D65-to-neutral matrix differs from this one by at most 8.3e-5, and takes
- * the D65 white to Y = 0.99994). */
+ * the D65 white to Y = 0.99994; psens(1) states it, test_colour_formats
+ * measures it). */
 static void white_balance(double x1, double y1, double x2, double y2, double m[3][3])
 {
 	double w1[3] = { x1 / y1, 1.0, (1 - x1 - y1) / y1 }, w2[3] = { x2 / y2, 1.0, (1 - x2 - y2) / y2 };

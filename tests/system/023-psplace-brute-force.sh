@@ -39,7 +39,7 @@ mine = {c['law']: c for c in d['combinations']
 bad = seen = 0
 for line in open(sys.argv[2]):
     m = re.match(r'^  (setpoint|closed-proportional|open-proportional|integral-reset|switching) +'
-                 r'([0-9.]+) +([0-9.]+) +\S+ +([0-9.]+) +([0-9.]+) +([0-9.]+)$', line)
+                 r'([0-9.]+) +([0-9.]+) +\S+ +\S+ +([0-9.]+) +([0-9.]+) +([0-9.]+)$', line)
     if not m:
         continue
     c = mine[m.group(1)]

@@ -52,6 +52,18 @@ check "dated estimate rms $d % below the mean ratio's $m %" awk -v m="$m" -v d="
 # and the sky class from a rooftop reading beats the typical class
 g=$(rms "sky class from a rooftop sensor")
 check "rooftop class estimate rms $g % below the typical class's $d %" awk -v g="$g" -v d="$d" 'BEGIN { exit !(g != "" && g < d) }'
+# an effectiveness above 100 % says why next to it: integral reset on the
+# example saves more than the ideal photocell by leaving the task short of
+# its target; the hours, the lux and the effectiveness at target are given
+sed 's/^algorithm = .*/algorithm = integral-reset/' "$TMP/psensd.conf" > "$TMP/ir.conf"
+"$BIN/psensd" -f "$TMP/ir.conf" -Y > "$TMP/ir.out" 2>&1
+eff=$(sed -n 's/^  ideal photocell.*effectiveness \([0-9.]*\) %$/\1/p' "$TMP/ir.out")
+sed -n '/^  ideal photocell/,/^  occupied hours below/p' "$TMP/ir.out" | tr '\n' ' ' | tr -s ' ' > "$TMP/ir.why"
+check "integral reset's effectiveness is above 100 % ($eff %)" awk -v e="$eff" 'BEGIN { exit !(e > 100) }'
+check "and says why next to it: $(cat "$TMP/ir.why")" grep -q "above 100 % by under-lighting: [0-9.]* occupied hours with the task short of the 500 lx target, by [0-9]* lx" "$TMP/ir.why"
+att=$(sed -n 's/.*lighting delivered at target): \([0-9.]*\) %.*/\1/p' "$TMP/ir.why")
+check "its effectiveness at target ($att %) below the figure ($eff %)" awk -v a="$att" -v e="$eff" 'BEGIN { exit !(a != "" && a < e) }'
+check "the laws' table gives the effectiveness at target" grep -q "effect. %  at tgt %" "$TMP/ir.out"
 # the occupied hours from [simulate]
 sed 's/^\[simulate\]/[simulate]\noccupied_from = 09:00\noccupied_to = 17:00/' "$TMP/psensd.conf" > "$TMP/occ.conf"
 "$BIN/psensd" -f "$TMP/occ.conf" -Y > "$TMP/occ.out" 2>&1

@@ -14,7 +14,10 @@
 # lamp_watts) is named and gives kWh.  The same day at 10-minute steps (the TMY3 hours
 # interpolated to 10 minutes) is played at its own steps, and the hourly
 # file's linear interpolation moves the day's task daylight 08:00-18:00 by
-# less than 2 %.
+# less than 2 %; psensd -Y on the 10-minute day measures that itself (its
+# steps at the hours' middles alone against its own steps) within 0.1
+# points of an independent sum, and an hourly year says the one figure it
+# prints is the example office's, not the site's.
 . "$(dirname "$0")/lib.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
 example_results
@@ -74,6 +77,12 @@ conf ten 600 0.01 > "$TMP/ten.conf"
 check "-Y runs the 10-minute day" test $? = 0
 check "it says the daylight is linear between 10-minute steps" grep -q "linear between the weather's steps of 10 min" "$TMP/ten.out"
 check "the hourly year states its in-hour error" grep -q "daylight inside each hour: linear between the weather's hours" "$TMP/hourly.out"
+# an hourly file cannot measure it: the one figure printed is the example
+# office's, said to be that office's (not this site's) with its source
+sed -n '/daylight inside each hour/,/against 3.7/p' "$TMP/hourly.out" | tr '\n' ' ' | tr -s ' ' > "$TMP/inhour"
+check "it says the error is not measured for this site" grep -q "not measured for this site" "$TMP/inhour"
+check "the figure is the example office's, not this site's" grep -q "the example office's measured figure (doc/year.md; not this site's)" "$TMP/inhour"
+check "with its weather file named" grep -q "san_francisco_10min.wea" "$TMP/inhour"
 # the task daylight of the 10-minute steps 08:00-18:00 against the hourly
 # points interpolated linearly between the hours' middles
 task() {   # task RESULTS: "hour lux" per step with light
@@ -89,4 +98,25 @@ err=$(awk 'NR == FNR { n++; H[n] = $1; L[n] = $2; next }
 diag "18 March 08:00-18:00: the hourly interpolation's task daylight $err % against the 10-minute steps"
 check "the hourly interpolation moves the day's task daylight by $err % (under 2 %)" \
 	awk -v e="$err" 'BEGIN { exit !(e > -2 && e < 2 && e != 0) }'
+# a sub-hourly year measures that error itself: its steps at the hours'
+# middles alone against its own steps, over the occupied hours (here
+# 08:00-18:00).  The independent sum: the 10-minute points from 08:00 to
+# before 18:00 against the hourly points interpolated linearly, dark an
+# hour before the first and after the last (the room's rule, roomsetup.c);
+# psensd sums the control's 60 s steps instead of the 10-minute points
+err2=$(awk 'NR == FNR { n++; H[n] = $1; L[n] = $2; next }
+	FNR == 1 { H[0] = H[1] - 1; L[0] = 0; H[n + 1] = H[n] + 1; L[n + 1] = 0 }
+	$1 >= 8 && $1 < 18 { x = 0
+		for (i = 0; i <= n; i++) if (H[i] <= $1 && $1 <= H[i + 1]) x = L[i] + (L[i + 1] - L[i]) * ($1 - H[i]) / (H[i + 1] - H[i])
+		a += x; b += $2 }
+	END { printf "%.3f", 100 * (a / b - 1) }' "$TMP/h.txt" "$TMP/t.txt")
+sed 's/^occupied_from = .*/occupied_from = 08:00/' "$TMP/ten.conf" > "$TMP/ten8.conf"
+"$BIN/psensd" -f "$TMP/ten8.conf" -Y > "$TMP/ten8.out" 2>&1
+sed -n '/daylight inside each step/,/over-dimmed hours/p' "$TMP/ten8.out" | tr '\n' ' ' | tr -s ' ' > "$TMP/inten"
+diag "$(cat "$TMP/inten")"
+check "the 10-minute year measures its in-hour error for this scene" grep -q "measured for this scene, the year on its 12 steps at the hours' middles" "$TMP/inten"
+me=$(sed -n 's/.*task daylight \([-+0-9.]*\) % over the occupied hours.*/\1/p' "$TMP/inten")
+check "its task daylight $me % is the independent sum's $err2 % within 0.1 points" \
+	awk -v a="$me" -v b="$err2" 'BEGIN { d = a - b; exit !(a != "" && d < 0.1 && d > -0.1) }'
+check "and no figure of the example office's" sh -c "! grep -q 'example office' '$TMP/inten'"
 done_testing

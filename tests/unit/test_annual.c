@@ -19,6 +19,10 @@
  *     give bars of +20 % and -20 % on the hours and energy 20 % and 30 % of
  *     full against 25 % (the law's closed form (500 - daylight) / 1000); a
  *     results file without the moved sun gives no bar;
+ *   - an effectiveness above 100 % (a law on one mean ratio under-lighting
+ *     the dark days of a year whose bright days hold the ideal photocell at
+ *     its floor): the hours short of target, the lux they are short by,
+ *     the energy saved there and the effectiveness at target in closed form;
  *   - the lean run (occupied_only: the unoccupied steps run the law and the
  *     ballast without looking at the room) gives every figure of the full
  *     run bit for bit, and the same occupied steps to the step hook, for
@@ -201,6 +205,58 @@ static void overdim_is_light_not_power(void **state)
 	}
 }
 
+/* An effectiveness above 100 % comes with its reason.  Daylight 200 lx at
+ * the task on the 183 even days of the year and 450 lx on the 182 odd ones
+ * (1 unit of response every hour); the law on the mean ratio
+ * mr = (183 x 200 + 182 x 450) / 365 = 118500 / 365 lx, instant ballast,
+ * power proportional to light.  The law commands 0.5 - mr / 1000 every
+ * occupied step: energy 3650 x 0.5 - 1185 = 640 full-power hours.  The
+ * ideal photocell commands 0.3 on the dark days and its floor 0.1 on the
+ * bright ones (450 lx needs 0.05): 0.3 x 1830 + 0.1 x 1820 = 731.  The law
+ * "saves" more than the ideal by leaving the task at 200 + 500 - mr lx,
+ * mr - 200 under the 500 lx target, for the 1830 dark hours, which saves
+ * (mr / 1000 - 0.2) x 1830 full-power hours.  Charged the ideal's power in
+ * those hours (lighting delivered at target), its energy is
+ * 0.3 x 1830 + (0.5 - mr / 1000) x 1820. */
+static void effectiveness_above_ideal_says_why(void **state)
+{
+	static const int md[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
+	const double mr = 118500.0 / 365, law = 0.5 - mr / 1000, ideal_s = 1 - 731 / 3650.0;
+	struct ps_results r;
+	struct psd_control c;
+	struct psd_annual_opt o;
+	struct psd_annual a;
+	size_t n = 0;
+	int day = 0;
+	(void)state;
+	base(&r, &c, &o);
+	o.dated = 0;
+	o.power_at_min = -1;
+	r.year.h = calloc(8760, sizeof *r.year.h);
+	for (int m = 1; m <= 12; m++)
+		for (int d = 1; d <= md[m - 1]; d++, day++)
+			for (int h = 0; h < 24; h++)
+				r.year.h[n++] = (struct ps_year_hour){ m, d, h + 0.5, 1.0, day % 2 ? 450.0 : 200.0, 1,
+				                                       2.0, NAN, NAN, NAN };
+	r.year.n = n;
+	ps_year_tabulate(&r.year);
+	assert_true(fabs(r.year.mean_ratio - mr) < 1e-9);
+	assert_int_equal(psd_annual_run(&r, &c, &o, &a), 0);
+	print_message("effectiveness %.6f; short of target %.3f h by %.4f lx, saving %.4f h; at target "
+	              "%.6f\n", a.effectiveness, a.short_h, a.short_lxh / a.short_h, a.short_saved_h,
+	              a.effectiveness_at_target);
+	assert_true(fabs(a.energy_h - 640) < 1e-6 && fabs(a.ideal_h - 731) < 1e-6);
+	assert_true(fabs(a.effectiveness - (1 - 640 / 3650.0) / ideal_s) < 1e-9);
+	assert_true(a.effectiveness > 1.03);
+	assert_true(fabs(a.short_h - 1830) < 1e-6);
+	assert_true(fabs(a.short_lxh / a.short_h - (mr - 200)) < 1e-6);
+	assert_true(fabs(a.short_saved_h - (mr / 1000 - 0.2) * 1830) < 1e-6);
+	assert_true(fabs(a.effectiveness_at_target - (1 - (0.3 * 1830 + law * 1820) / 3650) / ideal_s) <
+	            1e-9);
+	assert_true(a.effectiveness_at_target < 1);
+	free(r.year.h);
+}
+
 static void power_curve_kwh(void **state)
 {
 	struct ps_results r;
@@ -351,6 +407,7 @@ int main(void)
 		cmocka_unit_test(power_curve_kwh),
 		cmocka_unit_test(dali_levels),
 		cmocka_unit_test(overdim_is_light_not_power),
+		cmocka_unit_test(effectiveness_above_ideal_says_why),
 		cmocka_unit_test(sun_bar_per_scene),
 		cmocka_unit_test(lean_is_the_same),
 	};
