@@ -696,15 +696,24 @@ static int read_sensor(struct psd_engine *e, struct psd_zone *z, double now, cha
 	return 0;
 }
 
-/* A ballast that did not follow the last command: read the dim points back. */
+/* A ballast that did not follow the last command: read the dim points back.
+ * 0 followed, -1 a fault (why), 1 not judged yet: a driver whose read says
+ * EAGAIN has no level read since the command and its fade (a DALI answer to
+ * a query sent before the command is the level from before it). */
 static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, char *why, size_t n)
 {
 	const struct psd_zone_conf *zc = z->zc;
+	int judged = 1;
 	if (zc->verify_tolerance <= 0 || now < z->verify_at)
 		return 0;
 	for (int i = 0; i < zc->ndim; i++) {
 		double got;
 		if (pt_read(e, zc->dim[i], now, &got) != 0) {
+			if (errno == EAGAIN) {
+				psd_log_debug("zone %s: %s", zc->name, e->ioerr);
+				judged = 0;
+				continue;
+			}
 			snprintf(why, n, "%s: cannot read the output back: %.180s", e->pt[zc->dim[i]].name, e->ioerr);
 			return -1;
 		}
@@ -715,7 +724,7 @@ static int verify_outputs(struct psd_engine *e, struct psd_zone *z, double now, 
 			return -1;
 		}
 	}
-	return 0;
+	return judged ? 0 : 1;
 }
 
 /* The dated estimate (dated.h): the month's and hour's expected ratio, unless
@@ -1014,8 +1023,13 @@ static void zone_step(struct psd_engine *e, struct psd_zone *z, double now)
 	occ_poll(e, z, now);
 	rc = read_sensor(e, z, now, why, sizeof why);
 	t0 = psd_time_mono();
-	if (rc == 0)
-		rc = verify_outputs(e, z, now, why, sizeof why);
+	if (rc == 0) {
+		int vr = verify_outputs(e, z, now, why, sizeof why);
+		/* not judged yet: control goes on, but a fault is not cleared on
+		 * a read-back that has not seen the gear since the command */
+		if (vr < 0 || (vr > 0 && z->in_fault))
+			rc = vr;
+	}
 	if (rc < 0) {
 		enter_fault(e, z, now, why);
 	} else if (rc == 0 || !z->in_fault) {

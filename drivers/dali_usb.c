@@ -106,6 +106,14 @@ struct dpoint {
 	int actual_errno;  /* the last query's failure, 0 if it was answered */
 	int dapc_pending;  /* a DAPC is queued or on the bus */
 	int query_pending;
+	/* The read-back rule, on the monotonic clock: an answer counts only if its
+	 * query went out once the last level change was on the bus and its fade
+	 * had passed; an earlier one is the level from before the command. */
+	double settle_at;  /* the last level-changing DAPC's end plus the fade time */
+	double asked_at;   /* when the query on the bus went out */
+	double actual_at;  /* when the query that actual (or actual_errno) answers went out */
+	double query_due;  /* a query to send once settled, INFINITY none */
+	int read_back;     /* read() was called: each level change is read back by itself */
 	int held;          /* a commissioning job held its frames back */
 	int err;           /* an asynchronous failure to report on the next call */
 	char errmsg[200];
@@ -615,6 +623,7 @@ static void connected(struct dali_usb *d)
 		struct dpoint *p = &d->pts[i];
 		p->sent = -1;
 		p->dapc_pending = p->query_pending = p->input_pending = 0;
+		p->query_due = INFINITY;
 		if (p->in) {
 			ps_dali_input_connected(p->in, d->now);
 			p->input_due = d->now;
@@ -988,8 +997,20 @@ static void send_next(struct dali_usb *d)
 	d->cur_garbled = 0;
 	d->cur_frame = frame;
 	d->cur.tries++;
+	if (d->cur.kind == TX_QUERY_ACTUAL)
+		d->pts[d->cur.point].asked_at = d->now;
 	d->cur_deadline = d->now + d->timeout;
 	d->st.frames++;
+}
+
+/* A DAPC that changes the gear's level is through: an answer counts again
+ * once the fade is over.  The fade time is the one the driver programs
+ * (fade_time); without it the gear's own is not known and taken as 0. */
+static void level_changed(struct dali_usb *d, struct dpoint *p)
+{
+	p->settle_at = d->now + (d->fade_time > 0 ? ps_dali_fade_time_seconds(ps_dali_fade_time_code(d->fade_time)) : 0);
+	if (p->read_back)
+		p->query_due = p->settle_at;
 }
 
 /* The current transaction ended: answer >= 0, -1 no answer. */
@@ -1015,6 +1036,8 @@ static void finish(struct dali_usb *d, int answer)
 	case TX_DAPC: {
 		int twice, dtr0;
 		p->dapc_pending = 0;
+		if ((d->cur_frame & 0xFF) != p->sent)
+			level_changed(d, p);
 		p->sent = d->cur_frame & 0xFF;
 		p->err = 0;
 		/* a write arrived while this frame was on the bus: send the new level */
@@ -1026,6 +1049,7 @@ static void finish(struct dali_usb *d, int answer)
 	}
 	case TX_QUERY_ACTUAL:
 		p->query_pending = 0;
+		p->actual_at = p->asked_at;
 		p->actual = answer;
 		p->actual_errno = answer < 0 ? ETIMEDOUT : 0;
 		if (answer < 0)
@@ -1086,6 +1110,7 @@ static void failed_try(struct dali_usb *d, int err, const char *why)
 		p->sent = -1;
 	} else if (t.kind == TX_QUERY_ACTUAL) {
 		p->query_pending = 0;
+		p->actual_at = p->asked_at;
 		p->actual = -1;
 		p->actual_errno = err;
 	}
@@ -1426,6 +1451,19 @@ static void take_observed(struct dali_usb *d)
 					d->st.events++;
 }
 
+/* Queue the read-back queries whose level change has faded in. */
+static void query_service(struct dali_usb *d)
+{
+	for (int i = 0; i < d->npts; i++) {
+		struct dpoint *p = &d->pts[i];
+		if (p->query_due > d->now)
+			continue;
+		p->query_due = INFINITY;
+		if (!p->query_pending && q_push(d, TX_QUERY_ACTUAL, i) == 0)
+			p->query_pending = 1;
+	}
+}
+
 /* Queue the input instances' transactions that are due. */
 static void input_service(struct dali_usb *d)
 {
@@ -1505,8 +1543,10 @@ static int du_service(struct ps_dev *dev, double clock, double now)
 		           d->cur_garbled ? "garbled report from the interface" : "no reply from the interface");
 	}
 	job_service(d);
-	if (d->state == ST_UP)
+	if (d->state == ST_UP) {
+		query_service(d);
 		input_service(d);
+	}
 	send_next(d);
 	input_events(dev, d);
 	return 0;
@@ -1543,6 +1583,9 @@ static double du_due(struct ps_dev *dev)
 		for (int i = 0; i < d->npts; i++)
 			if (d->pts[i].in && !d->pts[i].input_pending)
 				t = fmin(t, d->pts[i].input_due);
+		/* a read-back query after a fade */
+		for (int i = 0; i < d->npts; i++)
+			t = fmin(t, d->pts[i].query_due);
 		/* a TCP gateway's keep-alive */
 		if (d->ser)
 			t = fmin(t, ps_dali_serial_deadline(d->ser));
@@ -1600,6 +1643,14 @@ static int du_write(struct ps_dev *dev, struct ps_point *pt, double clock, doubl
 	return 0;
 }
 
+/* A DAPC to another level than the gear's is queued or on the bus. */
+static int level_change_pending(struct dali_usb *d, const struct dpoint *p)
+{
+	struct tx t = { .kind = TX_DAPC, .point = (int)(p - d->pts) };
+	int twice, dtr0;
+	return p->dapc_pending && (frame_for(d, &t, &twice, &dtr0) & 0xFF) != p->sent;
+}
+
 static int du_read(struct ps_dev *dev, struct ps_point *pt, double clock, double now, double *value)
 {
 	struct dali_usb *d = dev->priv;
@@ -1616,14 +1667,20 @@ static int du_read(struct ps_dev *dev, struct ps_point *pt, double clock, double
 			return ps_dev_fail(dev, err, "%s: %s", pt->name, why);
 		return 0;
 	}
-	if (!p->query_pending && q_push(d, TX_QUERY_ACTUAL, (int)(p - d->pts)) == 0) {
+	p->read_back = 1;
+	/* a query now, unless it would be answered mid-fade (one is due then) */
+	if (!p->query_pending && now >= p->settle_at && q_push(d, TX_QUERY_ACTUAL, (int)(p - d->pts)) == 0) {
 		p->query_pending = 1;
 		send_next(d);
+	} else if (!p->query_pending && now < p->settle_at) {
+		p->query_due = p->settle_at;
 	}
+	if (level_change_pending(d, p) || p->actual_at < p->settle_at)
+		return ps_dev_fail(dev, EAGAIN, "%s: no QUERY ACTUAL LEVEL answer since the level changed yet", pt->name);
 	if (p->actual_errno)
 		return ps_dev_fail(dev, p->actual_errno, "%s: %s", pt->name, p->errmsg);
 	if (p->actual < 0)
-		return ps_dev_fail(dev, ETIMEDOUT, "%s: no answer to QUERY ACTUAL LEVEL yet", pt->name);
+		return ps_dev_fail(dev, EAGAIN, "%s: no answer to QUERY ACTUAL LEVEL yet", pt->name);
 	if (p->actual == PS_DALI_MASK)
 		return ps_dev_fail(dev, ERANGE, "%s: the ballast answers MASK (level unknown)", pt->name);
 	*value = pt->role == PS_ROLE_RELAY ? (p->actual > 0) : ps_dali_level_to_fraction(p->actual);
@@ -1692,6 +1749,8 @@ static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 		p->pt = pt;
 		p->want = p->sent = p->actual = -1;
 		p->reported = NAN;
+		p->settle_at = p->asked_at = p->actual_at = -INFINITY;
+		p->query_due = INFINITY;
 		pt->priv = p;
 		d->npts++;
 		ps_dali_input_connected(p->in, d->now);
@@ -1702,6 +1761,8 @@ static int du_add_point(struct ps_dev *dev, struct ps_point *pt, const struct ps
 	p->pt = pt;
 	p->want = p->sent = p->actual = -1;
 	p->phys_min = 1;
+	p->settle_at = p->asked_at = p->actual_at = -INFINITY;
+	p->query_due = INFINITY;
 	pt->priv = p;
 	d->npts++;
 	if (d->state == ST_UP) {

@@ -1,7 +1,5 @@
 #!/bin/sh
 # SPDX-License-Identifier: ISC
-# check: alone
-# (the DALI read-back it judges is timed by the bus and the period)
 # psvirt's virtual DALI bus as a Foxtron DALInet on TCP, answered by
 # psensd's own DALI driver (dali_usb, transport = foxtron): psensd reads the
 # room's sensor on psvirt's Modbus module and dims two virtual ballasts over

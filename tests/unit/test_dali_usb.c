@@ -104,6 +104,12 @@ static void tridonic_reports(void **state)
 /* ---- the emulator and a device on it ---------------------------------------------- */
 
 static double fade_clock;   /* the ballasts' clock: tests move fades along */
+static double clock_ahead;  /* the driver's clock: the monotonic one plus this (a test moves it on) */
+
+static double tnow(void)
+{
+	return psd_time_mono() + clock_ahead;
+}
 
 static double get_fade_clock(void *user)
 {
@@ -136,6 +142,7 @@ static int setup_n(void **state, int nifaces, int model)
 		if (psemu_add_model(f.emu, model, i + 1, i ? "B2" : "A1", 4, err, sizeof err) != i)
 			fail_msg("%s", err);
 	fade_clock = 1000;
+	clock_ahead = 0;
 	psemu_set_clock(f.emu, get_fade_clock, NULL);
 	*state = &f;
 	return 0;
@@ -260,9 +267,9 @@ static int is_down(struct fx *f)
  * service(); until pred holds or the (real-time) limit passes. */
 static int run_until(struct fx *f, int (*pred)(struct fx *), double limit)
 {
-	double end = psd_time_mono() + limit;
+	double end = tnow() + limit;
 	for (;;) {
-		double t = psd_time_mono(), dl, m;
+		double t = tnow(), dl, m;
 		struct pollfd p = { f->dev.drv->fd(&f->dev), POLLIN | POLLOUT, 0 };
 		int ms;
 		f->dev.drv->service(&f->dev, t, t);
@@ -286,7 +293,12 @@ static struct psemu_ballast ballast(struct fx *f, int iface, int addr)
 
 static int dwrite(struct fx *f, int i, double v)
 {
-	return f->dev.drv->write(&f->dev, &f->pt[i], psd_time_mono(), psd_time_mono(), v);
+	return f->dev.drv->write(&f->dev, &f->pt[i], tnow(), tnow(), v);
+}
+
+static int dread(struct fx *f, int i, double *v)
+{
+	return f->dev.drv->read(&f->dev, &f->pt[i], tnow(), tnow(), v);
 }
 
 /* ---- the tests ----------------------------------------------------------------------- */
@@ -361,36 +373,83 @@ static void the_latest_write_wins_and_frames_keep_the_bus_rate(void **state)
 	assert_int_equal(st.frames, es.sends);
 }
 
+/* The read-back rule: an answer counts only if its query went out once the
+ * last level change was on the bus and its fade (fade_time) had passed.
+ * The driver's clock is moved on by hand, the ballasts' with it. */
 static void query_answers_follow_the_fade(void **state)
 {
 	struct fx *f = *state;
 	double v = -1;
-	int r;
+	unsigned long frames;
 	/* 2 s fade: FADE TIME code 4, sent as DTR0 + SET FADE TIME twice */
 	assert_int_equal(open_dev(f, "fade_time", "2", NULL), 0);
 	add_point(f, 0, PS_ROLE_DIM, "0");
 	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(100)), 0);
 	assert_true(run_until(f, is_idle, 3));
 	assert_int_equal(ballast(f, 0, 0).fade_time, 4);
-	fade_clock += 10;   /* the first fade is over */
-	assert_int_equal(ballast(f, 0, 0).level, 100);
+	/* inside the first fade: not yet, and no query is sent mid-fade */
+	frames = stats(f).frames;
+	assert_int_equal(dread(f, 0, &v), -1);
+	assert_int_equal(errno, EAGAIN);
+	assert_int_equal(stats(f).frames, frames);
+	/* 2.5 s on: the query read() asked for at the fade's end is answered */
+	clock_ahead += 2.5;
+	fade_clock += 2.5;
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(stats(f).frames, frames + 1);
+	assert_int_equal(dread(f, 0, &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 100);
+	assert_true(run_until(f, is_idle, 3));
+	/* to 200: half way through the fade the gear is at 150, which is not
+	 * taken for an answer */
 	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(200)), 0);
 	assert_true(run_until(f, is_idle, 3));
 	assert_int_equal(ballast(f, 0, 0).target, 200);
-	fade_clock += 1.0;   /* half way: linear in level steps */
-	/* read() queues QUERY ACTUAL LEVEL and answers from the last reply */
-	r = f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v);
-	assert_int_equal(r, -1);
-	assert_int_equal(errno, ETIMEDOUT);
+	fade_clock += 1.0;
+	assert_int_equal(ballast(f, 0, 0).level, 150);
+	assert_int_equal(dread(f, 0, &v), -1);
+	assert_int_equal(errno, EAGAIN);
+	/* past the fade (2.1 s after the DAPC): the driver queries by itself,
+	 * the point being read back */
+	clock_ahead += 2.1;
+	fade_clock += 1.1;
+	frames = stats(f).frames;
 	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
-	assert_int_equal(ps_dali_fraction_to_level(v), 150);
-	fade_clock += 1.5;
-	assert_true(run_until(f, is_idle, 3));   /* the query read() just queued */
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
-	assert_true(run_until(f, is_idle, 3));
-	assert_int_equal(f->dev.drv->read(&f->dev, &f->pt[0], psd_time_mono(), psd_time_mono(), &v), 0);
+	assert_int_equal(stats(f).frames, frames + 1);
+	assert_int_equal(dread(f, 0, &v), 0);
 	assert_true(fabs(v - ps_dali_level_to_fraction(200)) < 1e-15);
+}
+
+/* Without a fade: an answer to a query queued before a level change is the
+ * level from before the command, never returned after it. */
+static void a_query_before_the_command_is_stale(void **state)
+{
+	struct fx *f = *state;
+	double v = -1;
+	assert_int_equal(open_dev(f, NULL), 0);
+	add_point(f, 0, PS_ROLE_DIM, "0");
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(100)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	/* the first read: no answer yet is "not yet", not a failure */
+	assert_int_equal(dread(f, 0, &v), -1);
+	assert_int_equal(errno, EAGAIN);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(dread(f, 0, &v), 0);   /* queues the next query */
+	assert_int_equal(ps_dali_fraction_to_level(v), 100);
+	/* the level changes behind that query: 100 is answered, then DAPC 150 */
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(150)), 0);
+	assert_int_equal(dread(f, 0, &v), -1);
+	assert_int_equal(errno, EAGAIN);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(ballast(f, 0, 0).level, 150);
+	/* the query sent after the DAPC answers: 150, not the 100 from before */
+	assert_int_equal(dread(f, 0, &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 150);
+	/* the same level again changes nothing: the answer stands */
+	assert_int_equal(dwrite(f, 0, ps_dali_level_to_fraction(150)), 0);
+	assert_true(run_until(f, is_idle, 3));
+	assert_int_equal(dread(f, 0, &v), 0);
+	assert_int_equal(ps_dali_fraction_to_level(v), 150);
 }
 
 static void physical_minimum_is_respected(void **state)
@@ -1066,6 +1125,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(levels_reach_the_ballasts, setup, teardown),
 		cmocka_unit_test_setup_teardown(the_latest_write_wins_and_frames_keep_the_bus_rate, setup, teardown),
 		cmocka_unit_test_setup_teardown(query_answers_follow_the_fade, setup, teardown),
+		cmocka_unit_test_setup_teardown(a_query_before_the_command_is_stale, setup, teardown),
 		cmocka_unit_test_setup_teardown(physical_minimum_is_respected, setup, teardown),
 		cmocka_unit_test_setup_teardown(relay_points_switch, setup, teardown),
 		cmocka_unit_test_setup_teardown(broadcast_query_collides, setup, teardown),
@@ -1085,6 +1145,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test_setup_teardown(levels_reach_the_ballasts, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(the_latest_write_wins_and_frames_keep_the_bus_rate, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(query_answers_follow_the_fade, setup_hasseb, teardown),
+		cmocka_unit_test_setup_teardown(a_query_before_the_command_is_stale, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(physical_minimum_is_respected, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(relay_points_switch, setup_hasseb, teardown),
 		cmocka_unit_test_setup_teardown(broadcast_query_collides, setup_hasseb, teardown),
