@@ -3,9 +3,9 @@
 #   sim/      the simulation library (libpsim.a) and its tools in sim/cmd/
 #   drivers/  device drivers behind one method table (libpsdrv.a); no simulation here
 #   daemon/   psensd's core (libpsd.a) and its programs psensd, psensctl in
-#             daemon/cmd/: joins sim/ and drivers/; one room per front end:
-#             daemon/mqtt/ (libpsdmqtt.a), daemon/bacnet/ (libpsdbacnet.a),
-#             daemon/report/ (libpsdreport.a), daemon/web/ (libpsdweb.a),
+#             daemon/cmd/: joins sim/ and drivers/; one room per front end
+#             (daemon/X/, libpsdX.a, a row of daemon/frontend.c): mqtt,
+#             bacnet, web, prom; daemon/report/ (libpsdreport.a),
 #             daemon/psvirt/ (psvirt and its Modbus server, libpsvirt.a),
 #             daemon/place/ (psplace, the pose search, libpsdplace.a)
 #   tests/    unit (cmocka), system (shell, real binaries), fuzz (libFuzzer), bench
@@ -52,34 +52,18 @@ SIM_CMDS     := $(patsubst sim/cmd/%.c,%,$(wildcard sim/cmd/*.c))
 # the rules that use DRV_SRC.
 include drivers/module.mk
 DAEMON_SRC   := $(wildcard daemon/*.c)
-# MQTT (daemon/mqtt/, psensd-mqtt(7)): WITH_MQTT = auto | yes | no, like the
-# drivers.  Without libmosquitto daemon/mqtt/mqtt_off.c stands in: the [mqtt]
-# section is still judged, and a configured one is refused at start.
+# MQTT (daemon/mqtt/, psensd-mqtt(7)) and the web console (daemon/web/,
+# doc/console.md): WITH_MQTT, WITH_WEB = auto | yes | no, like the drivers.
+# Without its library a front end's X_off.c stands in (see frontend below).
 WITH_MQTT ?= auto
 $(eval $(call feature,MQTT,libmosquitto,PS_WITH_MQTT))
-MQTT_SRC     := $(wildcard daemon/mqtt/*.c)
-ifeq ($(HAVE_MQTT),yes)
-  MQTT_SRC := $(filter-out daemon/mqtt/mqtt_off.c,$(MQTT_SRC))
-else
-  MQTT_SRC := $(filter-out daemon/mqtt/mqtt.c,$(MQTT_SRC))
-endif
-# The web console (daemon/web/, doc/console.md): WITH_WEB = auto | yes | no.
-# Without libmicrohttpd daemon/web/web_off.c stands in: [web] is still
-# judged, and a configured one is refused at start.
 WITH_WEB ?= auto
 $(eval $(call feature,WEB,libmicrohttpd,PS_WITH_WEB))
-WEB_SRC      := $(wildcard daemon/web/*.c)
-ifeq ($(HAVE_WEB),yes)
-  WEB_SRC := $(filter-out daemon/web/web_off.c,$(WEB_SRC))
-else
-  WEB_SRC := $(filter-out daemon/web/web.c,$(WEB_SRC))
-endif
 REPORT_SRC   := $(wildcard daemon/report/*.c)
 # The record's QR codes to the web console ([web] url): WITH_QRENCODE =
 # auto | yes | no; without libqrencode the record has none.
 WITH_QRENCODE ?= auto
 $(eval $(call feature,QRENCODE,libqrencode,PS_WITH_QRENCODE))
-BACNET_SRC   := $(wildcard daemon/bacnet/*.c)
 # psvirt's room: its main (psvirt.c) and the library of its Modbus server
 PSVIRT_SRC   := $(filter-out daemon/psvirt/psvirt.c,$(wildcard daemon/psvirt/*.c))
 # psplace's room: its main (psplace.c) and the library of the pose search
@@ -93,19 +77,39 @@ endif
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
+# A front end of psensd (daemon/frontend.h): $(call frontend,X[,FEATURE])
+# builds its room daemon/X/ into libpsdX.a, puts the room's public header
+# X.h on the core's include path and links it into every program of the
+# core.  With a FEATURE whose library this build lacks (HAVE_FEATURE not
+# yes), X_off.c stands in for X.c: the section is still judged, and a
+# configured one is refused at start.  Its row goes in daemon/frontend.c.
+define frontend
+FRONT_SRC_$(1) := $$(filter-out daemon/$(1)/$(1)$$(if $$(filter yes,$$(or $$(HAVE_$(2)),yes)),_off).c,\
+                  $$(wildcard daemon/$(1)/*.c))
+LIBPSD_FRONTS += $$(BUILD)/lib/libpsd$(1).a
+INC_FRONTS += -iquote daemon/$(1)
+$$(BUILD)/lib/libpsd$(1).a: $$(call obj,$$(FRONT_SRC_$(1)))
+	@mkdir -p $$(dir $$@)
+	rm -f $$@ && ar rcs $$@ $$^
+endef
+LIBPSD_FRONTS :=
+INC_FRONTS :=
+$(eval $(call frontend,mqtt,MQTT))
+$(eval $(call frontend,bacnet))
+$(eval $(call frontend,web,WEB))
+$(eval $(call frontend,prom))
+
 LIBPSIM   = $(BUILD)/lib/libpsim.a
 LIBPSDRV  = $(BUILD)/lib/libpsdrv.a
 LIBPSD    = $(BUILD)/lib/libpsd.a
-LIBPSDMQTT   = $(BUILD)/lib/libpsdmqtt.a
 LIBPSDREPORT = $(BUILD)/lib/libpsdreport.a
-LIBPSDBACNET = $(BUILD)/lib/libpsdbacnet.a
-LIBPSDWEB    = $(BUILD)/lib/libpsdweb.a
 LIBPSVIRT    = $(BUILD)/lib/libpsvirt.a
 LIBPSDPLACE  = $(BUILD)/lib/libpsdplace.a
-# the daemon's core with the MQTT, BACnet and web rooms: config.c judges
-# [mqtt], [bacnet] and [web] (their *conf.c) and loop.c runs their sockets,
-# which drive the engine; the web console serves the record (report room)
-LIBPSD_CORE  = $(LIBPSDMQTT) $(LIBPSDBACNET) $(LIBPSDWEB) $(LIBPSDREPORT) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
+# the daemon's core with its front ends: config.c judges their sections
+# (their *conf.c) and the loop runs them through the front-end table
+# (daemon/frontend.c), which drive the engine; the web console serves the
+# record (report room)
+LIBPSD_CORE  = $(LIBPSD_FRONTS) $(LIBPSDREPORT) $(LIBPSD) $(LIBPSDRV) $(LIBPSIM)
 PROGRAMS  = $(addprefix $(BUILD)/bin/,$(SIM_CMDS) $(DAEMON_CMDS))
 LIBS      = $(LIBS_REQ) $(LIBS_OPT) $(LDLIBS_BASE)
 
@@ -120,15 +124,14 @@ config-status:
 	@echo "modbus=$(HAVE_MODBUS) usb=$(HAVE_USB) gpiod=$(HAVE_GPIOD) mqtt=$(HAVE_MQTT) web=$(HAVE_WEB) qrencode=$(HAVE_QRENCODE) cc=$(CC) build=$(BUILD) san=$(SAN)"
 
 # The include path enforces the layering: sim/ sees only sim/, drivers/ only
-# drivers/ (SIM_INC: sim/ and each of its folders); the daemon's core sees sim/, drivers/, itself and MQTT's public
-# header (daemon/mqtt/mqtt.h: tests/system/005 keeps the rest of the room
-# out of the core); a room sees the core and itself; the programs in
+# drivers/ (SIM_INC: sim/ and each of its folders); the daemon's core sees sim/, drivers/, itself and each front
+# end's folder for its public header (daemon/X/X.h: tests/system/005 keeps
+# the rest of the room out of the core); a room sees the core and itself; the programs in
 # daemon/cmd/ and tests/ see everything.  daemon/ and its rooms are
 # -iquote: daemon/time.h and json.h are found by #include "..." only, never
 # in place of the system's <time.h> or json-c's json.h.
 SIM_INC = $(addprefix -I,$(SIM_DIRS))
-INC_CORE = $(SIM_INC) -Idrivers -iquote daemon -iquote daemon/mqtt -iquote daemon/bacnet \
-           -iquote daemon/web
+INC_CORE = $(SIM_INC) -Idrivers -iquote daemon $(INC_FRONTS)
 INC = $(INC_CORE) -iquote daemon/report -iquote daemon/psvirt
 $(BUILD)/obj/sim/%.o: INC = $(SIM_INC)
 $(BUILD)/obj/drivers/%.o: INC = -Idrivers
@@ -157,16 +160,7 @@ $(LIBPSDRV): $(call obj,$(DRV_SRC))
 $(LIBPSD): $(call obj,$(DAEMON_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
-$(LIBPSDMQTT): $(call obj,$(MQTT_SRC))
-	@mkdir -p $(dir $@)
-	rm -f $@ && ar rcs $@ $^
 $(LIBPSDREPORT): $(call obj,$(REPORT_SRC))
-	@mkdir -p $(dir $@)
-	rm -f $@ && ar rcs $@ $^
-$(LIBPSDBACNET): $(call obj,$(BACNET_SRC))
-	@mkdir -p $(dir $@)
-	rm -f $@ && ar rcs $@ $^
-$(LIBPSDWEB): $(call obj,$(WEB_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 $(LIBPSVIRT): $(call obj,$(PSVIRT_SRC))

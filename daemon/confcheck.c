@@ -87,7 +87,7 @@ void psd_confcheck_outputs(struct psd_config *cf)
 	struct ps_conf_section *s = ps_conf_section(c, "psensd");
 	check_output(c, key_line(s, "database"), "database", cf->database);
 	check_output(c, key_line(s, "socket"), "socket", cf->socket_path);
-	check_output(c, key_line(ps_conf_section(c, "prometheus"), "textfile"), "textfile", cf->prom_textfile);
+	check_output(c, key_line(ps_conf_section(c, "prometheus"), "textfile"), "textfile", cf->prom.textfile);
 }
 
 /* A scene and its results, named at lines ls and lr of the file. */

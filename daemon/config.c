@@ -546,12 +546,7 @@ static int load(struct psd_config *cf, int files)
 	psd_mqttconf_load(&cf->mqtt, c);
 	psd_bacconf_load(&cf->bacnet, c);
 	psd_webconf_load(&cf->web, c);
-	s = ps_conf_section(c, "prometheus");
-	cf->prom_textfile = ps_conf_path(c, s, "textfile");
-	ps_conf_double(c, s, "interval", 15, 1, 3600, &cf->prom_interval);
-	if (s && !cf->prom_textfile)
-		ps_conf_error(c, s->line, "[prometheus] needs 'textfile' (the .prom file node-exporter's textfile "
-		              "collector reads)");
+	psd_promconf_load(&cf->prom, c);
 	if (cf->mqtt.enabled && !cf->database)
 		ps_conf_error(c, cf->mqtt.line, "[mqtt] publishes the sample log: set database in [psensd]");
 	psd_confcheck_ranges(cf);
@@ -611,7 +606,6 @@ void psd_config_free(struct psd_config *cf)
 	free(cf->scene);
 	free(cf->database);
 	free(cf->socket_path);
-	free(cf->prom_textfile);
 	for (size_t i = 0; i < cf->npath; i++)
 		free(cf->path[i]);
 	for (size_t i = 0; i < cf->nzone; i++) {
@@ -619,6 +613,7 @@ void psd_config_free(struct psd_config *cf)
 		free(cf->zone[i].results);
 	}
 	psd_mqttconf_free(&cf->mqtt);
+	psd_promconf_free(&cf->prom);
 	ps_conf_free(&cf->conf);
 	memset(cf, 0, sizeof *cf);
 }

@@ -22,6 +22,7 @@
 #include "driver.h"
 #include "bacnet.h"
 #include "mqtt.h"
+#include "prom.h"
 #include "web.h"
 
 enum {
@@ -97,8 +98,6 @@ struct psd_zone_conf {
 struct psd_config {
 	struct ps_conf conf;      /* owns every string the options point into */
 	char *results, *scene, *database, *socket_path;
-	char *prom_textfile;      /* [prometheus] textfile: the point model's .prom file, NULL: none */
-	double prom_interval;     /* [prometheus] interval: seconds between its writes */
 	const char *timezone;     /* the site's time zone (TZ: a zoneinfo name or a POSIX rule), NULL: the process's */
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;
@@ -128,6 +127,7 @@ struct psd_config {
 	struct psd_mqtt_conf mqtt;   /* [mqtt] (daemon/mqtt/mqttconf.h, through mqtt.h) */
 	struct psd_bacnet_conf bacnet;   /* [bacnet] (daemon/bacnet/bacconf.h, through bacnet.h) */
 	struct psd_web_conf web;   /* [web] (daemon/web/webconf.h, through web.h) */
+	struct psd_prom_conf prom;   /* [prometheus] (daemon/prom/promconf.h, through prom.h) */
 };
 
 /* Read and check path into cf (allocated by the caller, may be large).

@@ -447,22 +447,7 @@ static void status(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_r
 				psd_json_num(io, e->dev[i].name, psd_devio_busy(e->io[i]));
 		json_object_object_add(o, "io_busy_s", io);
 	}
-	if (d->mqtt) {   /* [mqtt]: the publisher's state (daemon/mqtt/mqtt.h) */
-		struct psd_mqtt_stats ms;
-		json_object *mq = json_object_new_object();
-		psd_mqtt_stats(d->mqtt, &ms);
-		json_object_object_add(mq, "connected", json_object_new_boolean(ms.connected));
-		json_object_object_add(mq, "cursor", json_object_new_int64(ms.cursor));
-		json_object_object_add(mq, "sent", json_object_new_int64(ms.sent));
-		json_object_object_add(mq, "published", json_object_new_int64((int64_t)ms.published));
-		json_object_object_add(mq, "acked", json_object_new_int64((int64_t)ms.acked));
-		json_object_object_add(mq, "commands", json_object_new_int64((int64_t)ms.commands));
-		json_object_object_add(mq, "refused", json_object_new_int64((int64_t)ms.refused));
-		json_object_object_add(mq, "connects", json_object_new_int64((int64_t)ms.connects));
-		psd_json_num(mq, "turn_max_s", ms.turn_max);
-		psd_json_num(mq, "turn_cpu_max_s", ms.turn_cpu_max);
-		json_object_object_add(o, "mqtt", mq);
-	}
+	psd_frontend_status(&d->fronts, o);   /* each front end its part: [mqtt] the publisher's state */
 	for (size_t i = 0; i < e->nzone; i++)
 		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
 			json_object_array_add(zones, zone_json(&d->points, e, &e->zone[i], now));

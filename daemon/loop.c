@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: ISC */
-/* The event loop: one poll() over the signals, the control socket and the
- * drivers' descriptors, with the timeout set by the next deadline.  A
+/* The event loop: one poll() over the signals, the control socket, the
+ * drivers' descriptors and the front ends' (frontend.h, walked as one
+ * table), with the timeout set by the next deadline.  A
  * simulated clock jumps to that deadline instead of waiting, so a day runs
  * in seconds through this same loop. */
 #include <errno.h>
@@ -163,16 +164,14 @@ static void fixed_request(void *user, char *line, char *reply, size_t len)
 }
 
 /* A start given up: the lights to their safe level when the engine has
- * opened the devices (with the reason logged), then every front end opened
- * so far closed and the configuration freed.  Always -1. */
+ * opened the devices (with the reason logged), then every front end started
+ * so far stopped (in the reverse order) and the configuration freed.
+ * Always -1. */
 static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine_open, const char *why)
 {
 	if (engine_open && why)
 		psd_loop_safe(d, why);
-	psd_bacnet_close(d->bacnet);
-	d->bacnet = NULL;
-	psd_mqtt_close(d->mqtt);
-	d->mqtt = NULL;
+	psd_frontend_stop(&d->fronts);
 	if (d->have_ctl)
 		psd_ctlsock_close(&d->ctl);
 	d->have_ctl = 0;
@@ -187,6 +186,24 @@ static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine
 static void web_request(void *user, char *line, struct psd_ctl_reply *reply)
 {
 	psd_ctlcmd_request(user, line, reply);
+}
+
+/* Every front end the configuration wants (frontend.h), in the table's
+ * order; at the first that cannot start, the start is given up. */
+static int start_fronts(struct psd_daemon *d, struct psd_config *cf)
+{
+	const struct psd_frontend_env env = { .cf = cf,
+		                              .engine = &d->engine,
+		                              .points = &d->points,
+		                              .fixed = fixed_request,
+		                              .request = web_request,
+		                              .user = d };
+	const struct psd_frontend *failed = NULL;
+	char err[1024] = "";
+	if (psd_frontend_start(&d->fronts, &env, &failed, err, sizeof err) == 0)
+		return 0;
+	psd_log_errx("%s", err);
+	return abandon_start(d, cf, 1, failed->refused);
 }
 
 int psd_loop_start(struct psd_daemon *d, const char *path)
@@ -218,6 +235,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		cf->database = NULL;
 		cf->mqtt.enabled = 0;
 		cf->web.enabled = 0;
+		psd_promconf_free(&cf->prom);
 	} else if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctlsock_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
 		                 (int)cf->max_clients, psd_ctlcmd_handle, d, err, sizeof err) != 0) {
@@ -248,45 +266,12 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		return abandon_start(d, cf, 1, "refused start");
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
-	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, &d->points, fixed_request, d, err, sizeof err))) {
-		psd_log_errx("%s", err);
-		return abandon_start(d, cf, 1, "MQTT cannot start");
-	}
-	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, &d->points, fixed_request, d, err, sizeof err))) {
-		psd_log_errx("%s", err);
-		return abandon_start(d, cf, 1, "BACnet cannot start");
-	}
-	if (cf->web.enabled && !(d->web = psd_web_open(&cf->web, &d->engine, web_request, d, err, sizeof err))) {
-		psd_log_errx("%s", err);
-		return abandon_start(d, cf, 1, "the web console cannot start");
-	}
-	return 0;
+	return start_fronts(d, cf);
 }
 
 /* A step of the wall clock (NTP, settimeofday): logged with its size; a
  * run dated by the wall clock moves its dates with it (the samples' utc and
  * local columns), while periods and timeouts keep to the monotonic clock. */
-/* [prometheus]: the point model into its textfile every interval (real
- * seconds, whatever the clock's speed). */
-static void prom_write(struct psd_daemon *d, double now)
-{
-	const struct psd_config *cf = d->engine.cf;
-	double t = psd_time_mono();
-	char *text;
-	if (!cf || !cf->prom_textfile || d->dry || t < d->prom_next)
-		return;
-	d->prom_next = t + cf->prom_interval;
-	text = psd_points_prometheus(&d->points, &d->engine, now);
-	if (!text || psd_points_write_file(cf->prom_textfile, text) != 0) {
-		if (!d->prom_failing++)
-			psd_log_err("prometheus: %s", cf->prom_textfile);
-	} else if (d->prom_failing) {
-		psd_log_info("prometheus: %s written again", cf->prom_textfile);
-		d->prom_failing = 0;
-	}
-	free(text);
-}
-
 static void follow_wall(struct psd_daemon *d, double now)
 {
 	double step = psd_wallstep_check(&d->wall);
@@ -349,7 +334,7 @@ int psd_loop_run(struct psd_daemon *d)
 	sd_notifyf(0, "READY=1\nSTATUS=controlling %zu zone(s)\nMAINPID=%d", d->engine.nzone, (int)getpid());
 	while (!d->stop) {
 		double now = psd_clock_now(&d->clock), deadline, mono_dl;
-		int n = 0, nctl, ndev, nmq = 0, nbac = 0, nweb = 0, timeout;
+		int n = 0, nctl, ndev, nfront, timeout;
 		if (d->clock.simulated && now >= d->end)
 			break;
 		if (d->wall_dated) {
@@ -358,11 +343,7 @@ int psd_loop_run(struct psd_daemon *d)
 		}
 		psd_engine_step(&d->engine, now);
 		psd_points_update(&d->points, &d->engine, now);
-		if (d->mqtt)   /* the samples just logged go out now, within the bounds */
-			psd_mqtt_service(d->mqtt, NULL, now);
-		if (d->bacnet)   /* COV notifications of the levels just commanded */
-			psd_bacnet_service(d->bacnet, NULL, now);
-		prom_write(d, now);
+		psd_frontend_step(&d->fronts, now);
 		deadline = psd_engine_deadline(&d->engine, &mono_dl);
 		if (d->clock.simulated && deadline > d->end)
 			deadline = d->end;
@@ -372,32 +353,8 @@ int psd_loop_run(struct psd_daemon *d)
 		ndev = psd_engine_pollfds(&d->engine, fds + n, fd_dev, PSD_MAX_POLL - n - 1);
 		timeout = psd_clock_wait_ms(&d->clock, deadline, d->watchdog_ms ? d->watchdog_ms : 60000);
 		timeout = mono_wait_ms(mono_dl, timeout);
-		if (d->mqtt) {
-			int w = psd_mqtt_wait_ms(d->mqtt);
-			nmq = psd_mqtt_pollfd(d->mqtt, fds + n + ndev);
-			if (w >= 0 && (timeout < 0 || w < timeout))
-				timeout = w;
-		}
-		if (d->bacnet) {
-			int w = psd_bacnet_wait_ms(d->bacnet);
-			nbac = psd_bacnet_pollfd(d->bacnet, fds + n + ndev + nmq);
-			if (w >= 0 && (timeout < 0 || w < timeout))
-				timeout = w;
-		}
-		if (d->web) {
-			int w = psd_web_wait_ms(d->web);
-			nweb = psd_web_pollfd(d->web, fds + n + ndev + nmq + nbac);
-			if (w >= 0 && (timeout < 0 || w < timeout))
-				timeout = w;
-		}
-		if (d->engine.cf && d->engine.cf->prom_textfile && !d->dry) {   /* the textfile's next write */
-			int w = (int)ceil((d->prom_next - psd_time_mono()) * 1000);
-			if (w < 0)
-				w = 0;
-			if (timeout < 0 || w < timeout)
-				timeout = w;
-		}
-		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac + nweb), timeout) < 0 && errno != EINTR) {
+		nfront = psd_frontend_pollfds(&d->fronts, fds + n + ndev, PSD_MAX_POLL - n - ndev, &timeout);
+		if (poll(fds, (nfds_t)(n + ndev + nfront), timeout) < 0 && errno != EINTR) {
 			psd_log_err("poll");
 			break;
 		}
@@ -407,12 +364,7 @@ int psd_loop_run(struct psd_daemon *d)
 			psd_ctlsock_service(&d->ctl, fds + 1, nctl);
 		now = psd_clock_now(&d->clock);
 		psd_engine_service(&d->engine, now, fds + 1 + nctl, fd_dev, ndev);
-		if (d->mqtt)
-			psd_mqtt_service(d->mqtt, nmq ? fds + n + ndev : NULL, now);
-		if (d->bacnet)
-			psd_bacnet_service(d->bacnet, nbac ? fds + n + ndev + nmq : NULL, now);
-		if (d->web)
-			psd_web_service(d->web, nweb ? fds + n + ndev + nmq + nbac : NULL);
+		psd_frontend_service(&d->fronts, fds + n + ndev, now);
 		if (d->reload) {
 			d->reload = 0;
 			psd_reload(d);
@@ -449,12 +401,7 @@ int psd_loop_safe(struct psd_daemon *d, const char *why)
 void psd_loop_stop(struct psd_daemon *d, const char *why)
 {
 	sd_notify(0, "STOPPING=1");
-	psd_web_close(d->web);
-	d->web = NULL;
-	psd_bacnet_close(d->bacnet);
-	d->bacnet = NULL;
-	psd_mqtt_close(d->mqtt);   /* offline, the last acknowledgements, while the log is open */
-	d->mqtt = NULL;
+	psd_frontend_stop(&d->fronts);   /* while the log is open: MQTT's last acknowledgements */
 	if (d->engine.cf) {
 		if (why)
 			psd_loop_safe(d, why);

@@ -8,14 +8,12 @@
 #include "clock.h"
 #include "ctlsock.h"
 #include "engine.h"
-#include "bacnet.h"
-#include "mqtt.h"
-#include "web.h"
+#include "frontend.h"
 #include "points.h"
 #include "wallstep.h"
 
 /* Descriptors one turn of the loop polls: the signals, the control socket's
- * clients and listener, the drivers'. */
+ * clients and listener, the drivers', the front ends'. */
 enum { PSD_MAX_POLL = 8 + 1024 + PSD_MAX_DEVICES };
 
 struct psd_daemon {
@@ -24,12 +22,8 @@ struct psd_daemon {
 	struct psd_clock clock;
 	struct psd_ctlsock ctl;
 	int have_ctl;
-	struct psd_mqtt *mqtt;    /* [mqtt]: the publisher (daemon/mqtt/mqtt.h), NULL: none */
-	struct psd_bacnet *bacnet;/* [bacnet]: the BACnet/IP server (daemon/bacnet/bacnet.h), NULL: none */
-	struct psd_web *web;      /* [web]: the web console (daemon/web/web.h), NULL: none */
+	struct psd_frontend_set fronts; /* the front ends running (frontend.h) */
 	struct psd_points points; /* the point model's own state: energy, acceptance (points.h) */
-	double prom_next;         /* [prometheus]: the next write of its textfile, monotonic s */
-	int prom_failing;         /* its writes fail (logged once until one succeeds) */
 	double end;               /* simulated: stop at this time; real: INFINITY */
 	int advance_date;         /* the date is the configuration's (a set clock): when the
 	                             database already holds it, the run is dated the next

@@ -17,7 +17,6 @@
 #include "engine.h"
 #include "errbuf.h"
 #include "json.h"
-#include "replace.h"
 
 static const char *const control_states[] = { "auto", "override", "calibrating", "fault", "safe", NULL };
 static const char *const ratio_sources[] = { "scene", "dated", "sky class", "calibrated", NULL };
@@ -473,9 +472,4 @@ char *psd_points_prometheus(const struct psd_points *p, const struct psd_engine 
 		return NULL;
 	}
 	return t.s;
-}
-
-int psd_points_write_file(const char *path, const char *text)
-{
-	return ps_replace_file(path, 0644, text, strlen(text), NULL);
 }

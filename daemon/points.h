@@ -107,8 +107,4 @@ json_object *psd_points_json(const struct psd_points *p, const struct psd_engine
  * memory ran out. */
 char *psd_points_prometheus(const struct psd_points *p, const struct psd_engine *e, double now);
 
-/* Write text to path atomically (a temporary file beside it, renamed over
- * it: node-exporter never reads half a file).  0, or -1 with errno. */
-int psd_points_write_file(const char *path, const char *text);
-
 #endif

@@ -120,10 +120,7 @@ int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 	free(old);
 	free(snap);
 	d->reloads++;
-	if (d->mqtt)
-		psd_mqtt_reload(d->mqtt);
-	if (cf->mqtt.enabled != (d->mqtt != NULL))
-		psd_log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
+	psd_frontend_reload(&d->fronts, cf);
 	psd_log_info("reloaded %s", d->config_path);
 	psd_engine_event(&d->engine, now, NULL, "reload", d->config_path);   /* dated: the engine kept utc0 */
 	sd_notify(0, "READY=1");

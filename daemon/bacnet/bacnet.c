@@ -16,6 +16,7 @@
 
 #include "bacobj.h"
 #include "bacserve.h"
+#include "config.h"
 #include "engine.h"
 #include "errbuf.h"
 #include "log.h"
@@ -41,7 +42,7 @@ struct psd_bacnet {
 	struct psd_bacnet_conf c;
 	struct psd_engine *e;
 	const struct psd_points *pts;
-	psd_bacnet_request_fn fn;
+	psd_frontend_fixed_fn fn;
 	void *user;
 	struct psd_bacserve_zone zone[PSD_MAX_ZONES];
 	double issued[PSD_MAX_ZONES]; /* clock time of the last override sent for a zone */
@@ -268,7 +269,7 @@ static void fd_service(struct psd_bacnet *b, double t)
 		fd_register(b, t);
 }
 
-int psd_bacnet_wait_ms(const struct psd_bacnet *b)
+static int bacnet_wait_ms(const struct psd_bacnet *b)
 {
 	double t = psd_time_mono(), due, seg = psd_bacseg_due(&b->m.seg, t);
 	int ms = seg < 0 ? -1 : (int)ceil(seg * 1000);
@@ -279,8 +280,8 @@ int psd_bacnet_wait_ms(const struct psd_bacnet *b)
 	return ms >= 0 && ms < due ? ms : (int)due;
 }
 
-struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                   const struct psd_points *pts, psd_bacnet_request_fn fn, void *user, char *err,
+static struct psd_bacnet *bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
+                                      const struct psd_points *pts, psd_frontend_fixed_fn fn, void *user, char *err,
                                    size_t errlen)
 {
 	struct psd_bacnet *b = calloc(1, sizeof *b);
@@ -334,7 +335,7 @@ struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_e
 	return b;
 }
 
-int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd)
+static int bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd)
 {
 	*pfd = (struct pollfd){ b->fd, POLLIN, 0 };
 	return 1;
@@ -351,7 +352,7 @@ static void send_to(struct psd_bacnet *b, const uint8_t *out, size_t len, const 
 	(void)sendto(b->fd, out, len, MSG_DONTWAIT, (struct sockaddr *)&to, sizeof to);
 }
 
-void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double now)
+static void bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double now)
 {
 	uint8_t in[PSD_BACSERVE_MAX_PACKET + 1], out[PSD_BACSERVE_MAX_PACKET];
 	struct psd_bacserve_reply r;
@@ -404,7 +405,7 @@ void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double n
 			apply(b, i);
 }
 
-void psd_bacnet_close(struct psd_bacnet *b)
+static void bacnet_close(struct psd_bacnet *b)
 {
 	if (!b)
 		return;
@@ -412,3 +413,54 @@ void psd_bacnet_close(struct psd_bacnet *b)
 	close(b->fd);
 	free(b);
 }
+
+/* ---- the room's row (frontend.h) ---- */
+
+static int wanted(const struct psd_config *cf)
+{
+	return cf->bacnet.enabled;
+}
+
+static void *start(const struct psd_frontend_env *env, char *err, size_t errlen)
+{
+	return bacnet_open(&env->cf->bacnet, env->engine, env->points, env->fixed, env->user, err, errlen);
+}
+
+/* COV notifications of the levels just commanded */
+static void step(void *fe, double now)
+{
+	bacnet_service(fe, NULL, now);
+}
+
+static int pollfds(void *fe, struct pollfd *fds, int max)
+{
+	return max > 0 ? bacnet_pollfd(fe, fds) : 0;
+}
+
+static int wait_ms(const void *fe)
+{
+	return bacnet_wait_ms(fe);
+}
+
+static void turn(void *fe, const struct pollfd *fds, int n, double now)
+{
+	(void)n;
+	bacnet_service(fe, fds, now);
+}
+
+static void stop(void *fe)
+{
+	bacnet_close(fe);
+}
+
+const struct psd_frontend psd_bacnet_frontend = {
+	.name = "bacnet",
+	.refused = "BACnet cannot start",
+	.wanted = wanted,
+	.start = start,
+	.step = step,
+	.pollfds = pollfds,
+	.wait_ms = wait_ms,
+	.service = turn,
+	.stop = stop,
+};

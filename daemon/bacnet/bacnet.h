@@ -26,25 +26,11 @@
  * configuration holds and judges comes with it. */
 #include "bacconf.h"
 
-struct psd_engine;
-struct psd_bacnet;
-struct psd_points;
+#include "frontend.h"
 
-/* A control request: what psd_ctlcmd_request does. */
-typedef void (*psd_bacnet_request_fn)(void *user, char *line, char *reply, size_t len);
-
-/* Open the socket for the engine's zones, their points read through pts
- * (points.h).  NULL with a message in err. */
-struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                   const struct psd_points *pts, psd_bacnet_request_fn fn, void *user, char *err, size_t errlen);
-/* The socket for poll(): 1 written. */
-int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd);
-/* Answer what arrived (pfd from psd_bacnet_pollfd, or NULL), renew the
- * overrides a BMS holds.  now: the daemon's clock. */
-void psd_bacnet_service(struct psd_bacnet *b, const struct pollfd *pfd, double now);
-/* Wall milliseconds until the server wants a turn of its own (a
- * foreign-device registration due), -1 never. */
-int psd_bacnet_wait_ms(const struct psd_bacnet *b);
-void psd_bacnet_close(struct psd_bacnet *b);
+/* The room's row in the front-end table (frontend.h): [bacnet] wanted, the
+ * socket opened for the engine's zones, their points read from the point
+ * model; answers and COV notifications in the loop's turns. */
+extern const struct psd_frontend psd_bacnet_frontend;
 
 #endif

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "config.h"
 #include "engine.h"
 #include "errbuf.h"
 #include "json.h"
@@ -40,11 +41,21 @@ struct seen {
 	int have_live, cal_state, drift;
 };
 
+/* The client's counters, status -j's "mqtt". */
+struct stats {
+	int connected;
+	long long cursor;            /* last sample id acknowledged */
+	long long sent;              /* last sample id published */
+	unsigned long published, acked, commands, refused, connects;
+	double turn_max;             /* the longest mqtt_service, wall seconds */
+	double turn_cpu_max;         /* the most CPU time one took (the rest: waiting for the CPU) */
+};
+
 struct psd_mqtt {
 	struct mosquitto *mosq;
 	struct psd_engine *e;
 	const struct psd_points *pts; /* the point model's state: the state's "points" */
-	psd_mqtt_request_fn fn;
+	psd_frontend_fixed_fn fn;
 	void *user;
 	char site[PSD_MQTT_NAME], prefix[64], status_topic[TOPIC];
 	double rate;
@@ -60,7 +71,7 @@ struct psd_mqtt {
 	double now;               /* the daemon's clock at the last turn */
 	struct seen seen[MAX_SEEN];
 	size_t nseen;
-	struct psd_mqtt_stats st;
+	struct stats st;
 };
 
 static struct seen *seen_of(struct psd_mqtt *m, const char *zone)
@@ -512,8 +523,8 @@ static void try_connect(struct psd_mqtt *m)
 	lost(m, "connect");
 }
 
-struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
-                               psd_mqtt_request_fn fn, void *user, char *err, size_t errlen)
+static struct psd_mqtt *mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
+                                  psd_frontend_fixed_fn fn, void *user, char *err, size_t errlen)
 {
 	struct psd_mqtt *m;
 	char id[128];
@@ -595,7 +606,7 @@ bad:
 	return NULL;
 }
 
-int psd_mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd)
+static int mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd)
 {
 	int fd = m->sock_ok ? mosquitto_socket(m->mosq) : -1;
 	if (fd < 0)
@@ -606,7 +617,7 @@ int psd_mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd)
 
 static void service(struct psd_mqtt *m, const struct pollfd *pfd, double now);
 
-void psd_mqtt_service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
+static void mqtt_service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
 {
 	double t0 = psd_time_mono(), c0 = psd_time_thread_cpu(), dt, dc;
 	service(m, pfd, now);
@@ -649,7 +660,7 @@ static void service(struct psd_mqtt *m, const struct pollfd *pfd, double now)
 	save_cursor(m, 0);
 }
 
-int psd_mqtt_wait_ms(const struct psd_mqtt *m)
+static int mqtt_wait_ms(const struct psd_mqtt *m)
 {
 	double ms = 1000;
 	if (!m->sock_ok)
@@ -661,7 +672,7 @@ int psd_mqtt_wait_ms(const struct psd_mqtt *m)
 	return ms > 1000 ? 1000 : (int)ms;
 }
 
-void psd_mqtt_reload(struct psd_mqtt *m)
+static void mqtt_reload(struct psd_mqtt *m)
 {
 	int mid;
 	m->announce = 1;
@@ -670,7 +681,7 @@ void psd_mqtt_reload(struct psd_mqtt *m)
 	event(m, NULL, event_new("reload"), &mid);
 }
 
-void psd_mqtt_stats(const struct psd_mqtt *m, struct psd_mqtt_stats *st)
+static void mqtt_stats(const struct psd_mqtt *m, struct stats *st)
 {
 	*st = m->st;
 	st->connected = m->connected;
@@ -678,7 +689,7 @@ void psd_mqtt_stats(const struct psd_mqtt *m, struct psd_mqtt_stats *st)
 	st->sent = m->sent;
 }
 
-void psd_mqtt_close(struct psd_mqtt *m)
+static void mqtt_close(struct psd_mqtt *m)
 {
 	int mid;
 	if (!m)
@@ -702,3 +713,84 @@ void psd_mqtt_close(struct psd_mqtt *m)
 	free(m->q);
 	free(m);
 }
+
+/* ---- the room's row (frontend.h) ---- */
+
+static int wanted(const struct psd_config *cf)
+{
+	return cf->mqtt.enabled;
+}
+
+static void *start(const struct psd_frontend_env *env, char *err, size_t errlen)
+{
+	return mqtt_open(&env->cf->mqtt, env->engine, env->points, env->fixed, env->user, err, errlen);
+}
+
+/* the samples just logged go out now, within the bounds */
+static void step(void *fe, double now)
+{
+	mqtt_service(fe, NULL, now);
+}
+
+static int pollfds(void *fe, struct pollfd *fds, int max)
+{
+	return max > 0 ? mqtt_pollfd(fe, fds) : 0;
+}
+
+static int wait_ms(const void *fe)
+{
+	return mqtt_wait_ms(fe);
+}
+
+static void turn(void *fe, const struct pollfd *fds, int n, double now)
+{
+	(void)n;
+	mqtt_service(fe, fds, now);
+}
+
+/* a client started at the start stays its configuration's until a restart */
+static void reload(void *fe, const struct psd_config *cf)
+{
+	if (fe)
+		mqtt_reload(fe);
+	if (cf->mqtt.enabled != (fe != NULL))
+		psd_log_warnx("reload: [mqtt] was %s: that takes effect at a restart", cf->mqtt.enabled ? "added" : "removed");
+}
+
+static void status(const void *fe, json_object *o)
+{
+	struct stats ms;
+	json_object *mq = json_object_new_object();
+	mqtt_stats(fe, &ms);
+	json_object_object_add(mq, "connected", json_object_new_boolean(ms.connected));
+	json_object_object_add(mq, "cursor", json_object_new_int64(ms.cursor));
+	json_object_object_add(mq, "sent", json_object_new_int64(ms.sent));
+	json_object_object_add(mq, "published", json_object_new_int64((int64_t)ms.published));
+	json_object_object_add(mq, "acked", json_object_new_int64((int64_t)ms.acked));
+	json_object_object_add(mq, "commands", json_object_new_int64((int64_t)ms.commands));
+	json_object_object_add(mq, "refused", json_object_new_int64((int64_t)ms.refused));
+	json_object_object_add(mq, "connects", json_object_new_int64((int64_t)ms.connects));
+	psd_json_num(mq, "turn_max_s", ms.turn_max);
+	psd_json_num(mq, "turn_cpu_max_s", ms.turn_cpu_max);
+	json_object_object_add(o, "mqtt", mq);
+}
+
+/* offline published, the last acknowledgements, while the log is open */
+static void stop(void *fe)
+{
+	mqtt_close(fe);
+}
+
+const struct psd_frontend psd_mqtt_frontend = {
+	.name = "mqtt",
+	.refused = "MQTT cannot start",
+	.wanted = wanted,
+	.start = start,
+	.step = step,
+	.pollfds = pollfds,
+	.wait_ms = wait_ms,
+	.service = turn,
+	.reload = reload,
+	.status = status,
+	.stop = stop,
+};

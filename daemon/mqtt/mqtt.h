@@ -26,40 +26,12 @@
  * configuration holds and judges comes with it. */
 #include "mqttconf.h"
 
-struct psd_engine;
-struct psd_mqtt;
-struct psd_points;
+#include "frontend.h"
 
-/* A control request: what psd_ctlcmd_request does. */
-typedef void (*psd_mqtt_request_fn)(void *user, char *line, char *reply, size_t len);
-
-struct psd_mqtt_stats {
-	int connected;
-	long long cursor;            /* last sample id acknowledged */
-	long long sent;              /* last sample id published */
-	unsigned long published, acked, commands, refused, connects;
-	double turn_max;             /* the longest psd_mqtt_service, wall seconds */
-	double turn_cpu_max;         /* the most CPU time one took (the rest: waiting for the CPU) */
-};
-
-/* Start the client for the engine's log (the engine must have a database);
- * it connects in the background.  pts: the point model's state (points.h)
- * the state messages' "points" read.  NULL with a message in err. */
-struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
-                               psd_mqtt_request_fn fn, void *user, char *err, size_t errlen);
-/* The broker's descriptor for poll(): 1 written, 0 none now. */
-int psd_mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd);
-/* Do what is due: the socket's I/O (pfd from psd_mqtt_pollfd, or NULL),
- * keepalive, reconnecting, publishing the log's new samples within the
- * bounds, live events.  now: the daemon's clock. */
-void psd_mqtt_service(struct psd_mqtt *m, const struct pollfd *pfd, double now);
-/* Wall milliseconds until the client wants a turn (a backlog, a retry). */
-int psd_mqtt_wait_ms(const struct psd_mqtt *m);
-/* The engine was reopened (SIGHUP): announce the zones again, remove the
- * ones that left, publish a reload event. */
-void psd_mqtt_reload(struct psd_mqtt *m);
-void psd_mqtt_stats(const struct psd_mqtt *m, struct psd_mqtt_stats *st);
-/* Publish offline (retained), disconnect, free. */
-void psd_mqtt_close(struct psd_mqtt *m);
+/* The room's row in the front-end table (frontend.h): [mqtt] wanted, the
+ * client started on the engine's log (it connects in the background), the
+ * broker's socket in the poll set, the state's "points" read from the
+ * point model, "mqtt" in status -j, offline published at its stop. */
+extern const struct psd_frontend psd_mqtt_frontend;
 
 #endif

@@ -16,6 +16,7 @@
 
 #include "canvas.h"
 #include "ctlsock.h"
+#include "config.h"
 #include "engine.h"
 #include "errbuf.h"
 #include "json.h"
@@ -69,7 +70,7 @@ struct checker {
 struct psd_web {
 	struct psd_web_conf c;
 	struct psd_engine *e;
-	psd_web_request_fn fn;
+	psd_frontend_request_fn fn;
 	void *user;
 	struct MHD_Daemon *mhd;
 	struct psd_websess sess;
@@ -201,7 +202,7 @@ static void notify_cb(void *cls, struct MHD_Connection *mc, void **sctx, enum MH
 }
 
 /* Close every connection whose request is not in by its deadline
- * (psd_web_wait_ms wakes the loop for the next). */
+ * (web_wait_ms wakes the loop for the next). */
 static void conn_sweep(struct psd_web *w, double now)
 {
 	char why[64];
@@ -654,8 +655,8 @@ static void mhd_log(void *cls, const char *fmt, va_list ap)
 	psd_log_debug("web: %s", msg);
 }
 
-struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e, psd_web_request_fn fn, void *user,
-                             char *err, size_t errlen)
+static struct psd_web *web_open(const struct psd_web_conf *c, struct psd_engine *e, psd_frontend_request_fn fn,
+                                void *user, char *err, size_t errlen)
 {
 	struct psd_web *w = calloc(1, sizeof *w);
 	struct sockaddr_in sa = { .sin_family = AF_INET };
@@ -692,7 +693,7 @@ struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e,
 	return w;
 }
 
-int psd_web_pollfd(struct psd_web *w, struct pollfd *pfd)
+static int web_pollfd(struct psd_web *w, struct pollfd *pfd)
 {
 	const union MHD_DaemonInfo *i = MHD_get_daemon_info(w->mhd, MHD_DAEMON_INFO_EPOLL_FD);
 	if (!i)
@@ -701,7 +702,7 @@ int psd_web_pollfd(struct psd_web *w, struct pollfd *pfd)
 	return 1;
 }
 
-void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
+static void web_service(struct psd_web *w, const struct pollfd *pfd)
 {
 	double now = psd_time_mono();
 	(void)pfd;   /* MHD_run reads its epoll set without waiting, whatever poll() said */
@@ -727,7 +728,7 @@ void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
 	MHD_run(w->mhd);
 }
 
-int psd_web_wait_ms(const struct psd_web *w)
+static int web_wait_ms(const struct psd_web *w)
 {
 	MHD_UNSIGNED_LONG_LONG t;
 	int ms = -1;
@@ -752,7 +753,7 @@ int psd_web_wait_ms(const struct psd_web *w)
 	return ms;
 }
 
-void psd_web_close(struct psd_web *w)
+static void web_close(struct psd_web *w)
 {
 	if (!w)
 		return;
@@ -770,3 +771,48 @@ void psd_web_close(struct psd_web *w)
 	psd_ctlsock_reply_free(&w->reply);
 	free(w);
 }
+
+/* ---- the room's row (frontend.h) ---- */
+
+static int wanted(const struct psd_config *cf)
+{
+	return cf->web.enabled;
+}
+
+static void *start(const struct psd_frontend_env *env, char *err, size_t errlen)
+{
+	return web_open(&env->cf->web, env->engine, env->request, env->user, err, errlen);
+}
+
+static int pollfds(void *fe, struct pollfd *fds, int max)
+{
+	return max > 0 ? web_pollfd(fe, fds) : 0;
+}
+
+static int wait_ms(const void *fe)
+{
+	return web_wait_ms(fe);
+}
+
+static void turn(void *fe, const struct pollfd *fds, int n, double now)
+{
+	(void)n;
+	(void)now;   /* the console's timers run on the monotonic clock */
+	web_service(fe, fds);
+}
+
+static void stop(void *fe)
+{
+	web_close(fe);
+}
+
+const struct psd_frontend psd_web_frontend = {
+	.name = "web",
+	.refused = "the web console cannot start",
+	.wanted = wanted,
+	.start = start,
+	.pollfds = pollfds,
+	.wait_ms = wait_ms,
+	.service = turn,
+	.stop = stop,
+};

@@ -21,26 +21,11 @@
  * configuration holds and judges comes with it. */
 #include "webconf.h"
 
-struct psd_engine;
-struct psd_web;
-struct psd_ctl_reply;
+#include "frontend.h"
 
-/* A control request: what psd_ctlcmd_request does (the reply grows as it
- * needs, up to the control socket's PSD_CTL_MAX_REPLY). */
-typedef void (*psd_web_request_fn)(void *user, char *line, struct psd_ctl_reply *reply);
-
-/* Listen on the configured address for the engine's zones.  NULL with a
- * message in err. */
-struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e, psd_web_request_fn fn, void *user,
-                             char *err, size_t errlen);
-/* The server's descriptor for poll(): 1 written. */
-int psd_web_pollfd(struct psd_web *w, struct pollfd *pfd);
-/* Answer what is due (pfd from psd_web_pollfd, or NULL), keep the charts'
- * history, send the live update when one is due. */
-void psd_web_service(struct psd_web *w, const struct pollfd *pfd);
-/* Wall milliseconds until the server wants a turn, -1 none. */
-int psd_web_wait_ms(const struct psd_web *w);
-/* Close every connection and the socket, free. */
-void psd_web_close(struct psd_web *w);
+/* The room's row in the front-end table (frontend.h): [web] wanted, the
+ * server listening on the configured address for the engine's zones, every
+ * request answered in the loop's turn. */
+extern const struct psd_frontend psd_web_frontend;
 
 #endif

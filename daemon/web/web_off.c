@@ -1,43 +1,35 @@
 /* SPDX-License-Identifier: ISC */
 /* The web console in a build without libmicrohttpd (WITH_WEB=no, or auto
  * without it): the [web] section is still read and judged, and a file that
- * has one is refused at start rather than run without its console. */
+ * has one is refused at start rather than run without its console.  The
+ * row never starts, so it needs no other hook. */
 #include <stddef.h>
 
+#include "config.h"
 #include "errbuf.h"
 #include "web.h"
 
-struct psd_web *psd_web_open(const struct psd_web_conf *c, struct psd_engine *e, psd_web_request_fn fn, void *user,
-                             char *err, size_t errlen)
+static int wanted(const struct psd_config *cf)
 {
-	(void)c;
-	(void)e;
-	(void)fn;
-	(void)user;
+	return cf->web.enabled;
+}
+
+static void *start(const struct psd_frontend_env *env, char *err, size_t errlen)
+{
+	(void)env;
 	psd_errbuf(err, errlen, "[web]: this psensd was built without the web console (WITH_WEB=no or no libmicrohttpd)");
 	return NULL;
 }
 
-int psd_web_pollfd(struct psd_web *w, struct pollfd *pfd)
+static void stop(void *fe)
 {
-	(void)w;
-	(void)pfd;
-	return 0;
+	(void)fe;
 }
 
-void psd_web_service(struct psd_web *w, const struct pollfd *pfd)
-{
-	(void)w;
-	(void)pfd;
-}
-
-int psd_web_wait_ms(const struct psd_web *w)
-{
-	(void)w;
-	return -1;
-}
-
-void psd_web_close(struct psd_web *w)
-{
-	(void)w;
-}
+const struct psd_frontend psd_web_frontend = {
+	.name = "web",
+	.refused = "the web console cannot start",
+	.wanted = wanted,
+	.start = start,
+	.stop = stop,
+};

@@ -11,8 +11,9 @@
 #   program, unit test, bench, emulator) or a fuzz target;
 # - cycle: no files of libpsim, libpsdrv or the daemon's libraries use each
 #   other's symbols, directly or round a longer cycle;
-# - room: the daemon's core includes a front end's room (daemon/mqtt/,
-#   daemon/bacnet/, daemon/report/, daemon/web/, daemon/psvirt/) only through its public header, a room
+# - room: the daemon's core includes a room (each front end of the table
+#   in daemon/frontend.c, daemon/report/, daemon/psvirt/) only through its
+#   public header, a room
 #   includes no other room's private header, and psvirt's room is not in
 #   the core's library (libpsd.a);
 # and, on the sources: daemon/ reaches devices only through the driver

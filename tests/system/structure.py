@@ -32,14 +32,28 @@ import sys
 
 LIBS = {  # archive -> library name (the cycle rule is judged per library)
     "libpsim.a": "sim", "libpsdrv.a": "drivers", "libpsd.a": "daemon",
-    "libpsdmqtt.a": "daemon", "libpsdbacnet.a": "daemon", "libpsdreport.a": "daemon", "libpsdweb.a": "daemon",
-    "libpsvirt.a": "daemon", "libpsdplace.a": "daemon",
+    "libpsdreport.a": "daemon", "libpsvirt.a": "daemon", "libpsdplace.a": "daemon",
 }
-ROOMS = {"mqtt": "mqtt.h", "bacnet": "bacnet.h", "report": "report.h", "web": "web.h", "psvirt": None,
-         "place": None}   # room -> its public header
+ROOMS = {"report": "report.h", "psvirt": None, "place": None}   # room -> its public header
 # a stand-in, built instead of X.c when X's library is left out, defines
-# X.c's functions (declared in X.h): it takes X's prefix and header
-STANDINS = {"mqtt_off": "mqtt", "web_off": "web"}
+# X.c's symbols (declared in X.h): it takes X's prefix and header
+STANDINS = {}
+# the front ends: each row &psd_X_frontend of daemon/frontend.c's table is
+# a room daemon/X/ with its public header X.h, its library libpsdX.a and,
+# when the folder has one, its stand-in X_off.c (added by add_frontends)
+FRONTEND_ROW = re.compile(r"&psd_([a-z0-9]+)_frontend\b")
+
+
+def add_frontends(top):
+    """LIBS, ROOMS and STANDINS completed from the front-end table"""
+    with open(os.path.join(top, "daemon", "frontend.c"), encoding="utf-8") as f:
+        names = FRONTEND_ROW.findall(f.read())
+    for x in names:
+        LIBS["libpsd%s.a" % x] = "daemon"
+        ROOMS[x] = "%s.h" % x
+        if os.path.exists(os.path.join(top, "daemon", x, "%s_off.c" % x)):
+            STANDINS["%s_off" % x] = x
+    return names
 EXPORTED = set("TDBRCGSV")
 
 
@@ -210,8 +224,11 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 
 
 def tree(build, top, exceptions, allow):
+    fronts = add_frontends(top)
     srcs = sources(top)
     found = list(rule_basename(srcs))
+    if not fronts:
+        found.append("room: daemon/frontend.c: no row &psd_X_frontend found")
     lib_rows = []   # (archive, path, kind, symbol)
     for a in sorted(LIBS):
         p = os.path.join(build, "lib", a)
@@ -304,6 +321,7 @@ def selftest():
     """Each rule on a planted violation and a case that keeps it."""
     def show(name, got):
         print(" | ".join(got) if got else name + ": none")
+    ROOMS["mqtt"], STANDINS["mqtt_off"] = "mqtt.h", "mqtt"   # a front end, as add_frontends makes it
     show("prefix", list(rule_prefix([("sim/sky/sky.c", "ps_sky_sun"), ("sim/sky/sky.c", "ps_sun_az"),
                                      ("daemon/report/chart.c", "psd_chart"), ("daemon/db.c", "ps_db_open"),
                                      ("daemon/mqtt/mqtt_off.c", "psd_mqtt_open")], set())))

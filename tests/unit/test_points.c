@@ -208,7 +208,7 @@ static void discovery_lists_the_points(void **state)
 
 /* ReadProperty of (type, instance) prop from the BACnet server over UDP:
  * the value's octets (after [3] opening) into v, their count. */
-static size_t read_property(struct psd_bacnet *b, int cs, const struct sockaddr_in *to, uint32_t type,
+static size_t read_property(void *b, int cs, const struct sockaddr_in *to, uint32_t type,
                             uint32_t inst, uint32_t prop, uint8_t *v, size_t cap)
 {
 	uint8_t req[64], rep[1600];
@@ -222,10 +222,10 @@ static size_t read_property(struct psd_bacnet *b, int cs, const struct sockaddr_
 	psd_bactag_put_enum(&q, 1, prop);
 	req[3] = (uint8_t)q.len;
 	assert_int_equal(sendto(cs, req, q.len, 0, (const struct sockaddr *)to, sizeof *to), (ssize_t)q.len);
-	psd_bacnet_pollfd(b, &pfd);
+	psd_bacnet_frontend.pollfds(b, &pfd, 1);
 	pfd.revents = POLLIN;
 	usleep(2000);
-	psd_bacnet_service(b, &pfd, 3600);
+	psd_bacnet_frontend.service(b, &pfd, 1, 3600);
 	n = recv(cs, rep, sizeof rep, 0);
 	assert_true(n > 9);
 	assert_int_equal(rep[6], 0x30);   /* a ComplexACK */
@@ -252,13 +252,16 @@ static void bacnet_lists_the_points(void **state)
 	struct sockaddr_in to;
 	socklen_t tl = sizeof to;
 	struct pollfd pfd;
-	struct psd_bacnet *b = psd_bacnet_open(&c, &d.engine, &d.points, NULL, NULL, err, sizeof err);
+	static struct psd_config cf;   /* only its [bacnet] */
+	const struct psd_frontend_env env = { .cf = &cf, .engine = &d.engine, .points = &d.points };
+	void *b;
 	int cs = socket(AF_INET, SOCK_DGRAM, 0);
 	size_t n, pos = 0, nobj = 0, want = 1;
 	(void)state;
-	assert_non_null(b);
+	cf.bacnet = c;
+	assert_non_null(b = psd_bacnet_frontend.start(&env, err, sizeof err));
 	assert_true(cs >= 0);
-	psd_bacnet_pollfd(b, &pfd);
+	psd_bacnet_frontend.pollfds(b, &pfd, 1);
 	assert_int_equal(getsockname(pfd.fd, (struct sockaddr *)&to, &tl), 0);
 	n = read_property(b, cs, &to, 8, 77, 76 /* Object_List */, v, sizeof v);
 	while (pos < n) {
@@ -287,7 +290,7 @@ static void bacnet_lists_the_points(void **state)
 		}
 	assert_int_equal(nobj, want);   /* the Device and the points, nothing else */
 	close(cs);
-	psd_bacnet_close(b);
+	psd_bacnet_frontend.stop(b);
 }
 
 /* A value of the Prometheus text: the series' number, NAN when absent. */
