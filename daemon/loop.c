@@ -428,7 +428,13 @@ int psd_loop_run(struct psd_daemon *d)
 
 int psd_loop_safe(struct psd_daemon *d, const char *why)
 {
-	int unsafe = psd_engine_safe(&d->engine, psd_clock_now(&d->clock), why);
+	return psd_loop_end(d, why, 0);
+}
+
+int psd_loop_end(struct psd_daemon *d, const char *why, int planned)
+{
+	double now = psd_clock_now(&d->clock);
+	int unsafe = planned ? psd_engine_stop(&d->engine, now, why) : psd_engine_safe(&d->engine, now, why);
 	double until = psd_time_mono() + PSD_SETTLE_MS / 1000.0;
 	if (d->clock.simulated)
 		return unsafe;
