@@ -399,6 +399,7 @@ int psd_loop_run(struct psd_daemon *d)
 		}
 		if (poll(fds, (nfds_t)(n + ndev + nmq + nbac + nweb), timeout) < 0 && errno != EINTR) {
 			psd_log_err("poll");
+			d->fault = "the event loop failed";
 			break;
 		}
 		if (fds[0].revents & POLLIN)

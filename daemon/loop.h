@@ -41,6 +41,9 @@ struct psd_daemon {
 	int dry;                  /* psensd -Y: no socket, database, event, MQTT, nor a moved
 	                             date; only the results and the zones */
 	int stop;                 /* the signal that ends the run (SIGTERM, SIGINT), 0: none */
+	const char *fault;        /* a fault that ends the run (the loop's poll failed, a
+	                             reload could not reopen the devices), NULL: none;
+	                             it ends at the safe level, never the stop level */
 	int reload;               /* 1: SIGHUP seen */
 	unsigned long reloads, reload_failures;
 	const char *self;         /* argv[0], to find psscene */

@@ -13,6 +13,8 @@
 #    stop_level says;
 #  - a refused reload neither stops psensd nor moves the lights (0.42 held),
 #    and the SIGTERM after it is still a planned stop;
+#  - a reload that cannot reopen the running configuration is a fault:
+#    the safe level (1) with stop_level = hold, exit 1;
 #  - a start refused for its database: the safe level (1) with
 #    stop_level = hold;
 #  - psensd -n refuses a stop_level that is none of hold, safe or 0-1 with
@@ -20,6 +22,7 @@
 . "$(dirname "$0")/lib.sh"
 . "$(dirname "$0")/peers/common.sh"
 [ -x "$BIN/psensd" ] || skip_all "psensd not built"
+need sqlite3
 example_results
 mkdir -p "$TMP/files"
 S="$TMP/sock"
@@ -148,6 +151,24 @@ at reload 0.42 "a refused reload: the running level"
 stop TERM
 check "the SIGTERM after it: exit 0 (got $rc)" test "$rc" = 0
 at reload 0.42 "the SIGTERM after it, stop_level = hold"
+
+# a reload that cannot reopen the running configuration (its database
+# now another application's file) ends the run: a fault, the safe level,
+# exit 1
+conf reopen "$OCC" "stop_level = hold" ""
+run reopen
+"$BIN/psensctl" -s "$S" override office 0.42 6000 > /dev/null
+wait_for 10 sh -c "[ \"\$(cat '$TMP/files/reopen.dim' 2>/dev/null)\" = 0.42 ]"
+mv "$TMP/state/reopen.db" "$TMP/state/reopen.moved"
+sqlite3 "$TMP/state/reopen.db" "CREATE TABLE contacts(name TEXT, phone TEXT)"
+kill -HUP $pd
+wait_for 20 sh -c "! kill -0 $pd 2>/dev/null" || kill -TERM $pd   # never a hang
+wait $pd
+rc=$?
+check "a reload that cannot reopen the running configuration: psensd ends, exit 1 (got $rc)" test "$rc" = 1
+check "... said at LOG_ERR: $(grep -o 'stopped by a fault: .*' "$TMP/reopen.err")" \
+	grep -q "stopped by a fault: a reload could not reopen the running configuration" "$TMP/reopen.err"
+at reopen 1 "... with stop_level = hold: the safe level"
 
 # a start refused for its database: a fault, the safe level whatever stop_level says
 conf badstart "$OCC" "stop_level = hold" ""
