@@ -168,7 +168,7 @@ static void fixed_request(void *user, char *line, char *reply, size_t len)
 static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine_open, const char *why)
 {
 	if (engine_open && why)
-		psd_loop_safe(d, why);
+		psd_loop_end(d, why, 0);
 	psd_bacnet_close(d->bacnet);
 	d->bacnet = NULL;
 	psd_mqtt_close(d->mqtt);
@@ -427,11 +427,6 @@ int psd_loop_run(struct psd_daemon *d)
 	return 0;
 }
 
-int psd_loop_safe(struct psd_daemon *d, const char *why)
-{
-	return psd_loop_end(d, why, 0);
-}
-
 int psd_loop_end(struct psd_daemon *d, const char *why, int planned)
 {
 	double now = psd_clock_now(&d->clock);
@@ -464,7 +459,7 @@ void psd_loop_stop(struct psd_daemon *d, const char *why)
 	d->mqtt = NULL;
 	if (d->engine.cf) {
 		if (why)
-			psd_loop_safe(d, why);
+			psd_loop_end(d, why, 0);
 		{
 			struct psd_config *cf = psd_engine_close(&d->engine);
 			psd_config_free(cf);

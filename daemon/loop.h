@@ -66,8 +66,6 @@ void psd_loop_config_errors(const struct psd_config *cf);
  * count of zones whose level cannot be commanded. */
 enum { PSD_SETTLE_MS = 1000 };
 int psd_loop_end(struct psd_daemon *d, const char *why, int planned);
-/* psd_loop_end after a fault: the safe level. */
-int psd_loop_safe(struct psd_daemon *d, const char *why);
 /* Safe level (unless why is NULL: already done), close everything. */
 void psd_loop_stop(struct psd_daemon *d, const char *why);
 
