@@ -365,7 +365,12 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	if (cf->database && (!(e->db = psd_db_open(cf->database, err, errlen)) ||
 	                     (!e->log && !(e->log = psd_dbwriter_open(cf->database, (size_t)cf->log_hold,
 	                                                              !clock || clock->simulated, err, errlen))))) {
-		safe_without_log(e, now, prev);
+		/* a start: the lights safe before it is refused; a reload
+		 * (prev) reopens the running configuration, which takes the
+		 * outputs back at their level: the safe level between would be
+		 * a flash of every zone */
+		if (!prev)
+			safe_without_log(e, now, prev);
 		goto bad;
 	}
 	if (e->db) {

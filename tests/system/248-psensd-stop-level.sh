@@ -152,6 +152,21 @@ stop TERM
 check "the SIGTERM after it: exit 0 (got $rc)" test "$rc" = 0
 at reload 0.42 "the SIGTERM after it, stop_level = hold"
 
+# a reload refused when it opens (its new database another application's
+# file): the running level stays, never a flash to the safe level between
+conf reload2 "$OCC" "stop_level = hold" ""
+run reload2
+"$BIN/psensctl" -s "$S" override office 0.42 6000 > /dev/null
+sqlite3 "$TMP/state/other.db" "CREATE TABLE contacts(name TEXT, phone TEXT)"
+sed -i "s|^database = .*|database = state/other.db|" "$TMP/reload2.conf"
+"$BIN/psensctl" -s "$S" reload > /dev/null 2>&1
+rrc=$?
+check "a database that is not psensd's: the reload is refused (psensctl exit $rrc)" test "$rrc" = 1
+check "... no zone was driven to the safe level meanwhile" sh -c "! grep -q 'safe level' '$TMP/reload2.err'"
+at reload2 0.42 "... the running level"
+stop TERM
+at reload2 0.42 "the SIGTERM after it, stop_level = hold"
+
 # a reload that cannot reopen the running configuration (its database
 # now another application's file) ends the run: a fault, the safe level,
 # exit 1
