@@ -33,6 +33,31 @@ static int line_of(struct ps_conf_section *s, const char *key)
 	return kv ? kv->line : s->line;
 }
 
+/* stop_level = hold | safe | a level 0-1 (psensd(8), STOPPING): def when
+ * the key is absent; -1 after an error at the key's line. */
+static int stop_level(struct ps_conf *c, struct ps_conf_section *s, struct psd_stop def, struct psd_stop *out)
+{
+	struct ps_conf_kv *kv = ps_conf_kv(s, "stop_level");
+	double v;
+	*out = def;
+	if (!kv)
+		return 0;
+	if (strcmp(kv->value, "hold") == 0) {
+		*out = (struct psd_stop){ .mode = PSD_STOP_HOLD, .level = 0 };
+		return 0;
+	}
+	if (strcmp(kv->value, "safe") == 0) {
+		*out = (struct psd_stop){ .mode = PSD_STOP_SAFE, .level = 0 };
+		return 0;
+	}
+	if (ps_conf_parse_double(kv->value, &v) != 0 || !(v >= 0 && v <= 1)) {
+		ps_conf_error(c, kv->line, "stop_level: '%s' is none of hold, safe or a level from 0 to 1", kv->value);
+		return -1;
+	}
+	*out = (struct psd_stop){ .mode = PSD_STOP_LEVEL, .level = v };
+	return 0;
+}
+
 /* Points that read lux (a task meter, a rooftop sensor): valid 0 to 200 klx
  * by default, not the sensor's volts. */
 static int lux_role(int role)
@@ -402,6 +427,7 @@ static void load_zones(struct psd_config *cf)
 		load_control(c, s, &z->ctl);
 		duration(c, s, "period", cf->period, 86400, &z->period);
 		ps_conf_double(c, s, "safe_level", cf->safe_level, 0, 1, &z->safe_level);
+		stop_level(c, s, cf->stop, &z->stop);
 		ps_conf_double(c, s, "stale_after", cf->stale_after > 0 ? cf->stale_after : 2.5 * z->period,
 		               0, 86400 * 7, &z->stale_after);
 		ps_conf_double(c, s, "stuck_after", cf->stuck_after, 0, 86400 * 7, &z->stuck_after);
@@ -485,6 +511,7 @@ static int load(struct psd_config *cf, int files)
 		ps_conf_error(c, s->line, "[psensd] needs 'results' (a psscene results file)");
 	duration(c, s, "period", 60, 86400, &cf->period);
 	ps_conf_double(c, s, "safe_level", 1.0, 0, 1, &cf->safe_level);
+	stop_level(c, s, (struct psd_stop){ .mode = PSD_STOP_SAFE, .level = 0 }, &cf->stop);
 	ps_conf_double(c, s, "sensor_min", 0.01, -100, 100, &cf->sensor_min);
 	ps_conf_double(c, s, "sensor_max", 9.9, -100, 1000, &cf->sensor_max);
 	ps_conf_double(c, s, "sensor_saturation", 10, 0, 1000, &cf->sensor_saturation);

@@ -55,6 +55,18 @@ struct psd_point_conf {
 	int line;
 };
 
+/* stop_level: what a planned stop (SIGTERM, SIGINT, a simulated run's
+ * end) leaves a zone at; a fault always leaves the safe level. */
+enum psd_stop_mode {
+	PSD_STOP_SAFE,            /* the safe level; a vacant zone keeps its level */
+	PSD_STOP_HOLD,            /* nothing commanded: the gear keep the last level */
+	PSD_STOP_LEVEL,           /* every zone to level, vacant or not */
+};
+struct psd_stop {
+	int mode;                 /* enum psd_stop_mode */
+	double level;             /* PSD_STOP_LEVEL: 0-1 */
+};
+
 struct psd_zone_conf {
 	char name[48];
 	int sensor;               /* point index */
@@ -66,6 +78,7 @@ struct psd_zone_conf {
 	struct psd_control ctl;   /* constants; state is zeroed */
 	double period;            /* seconds between control steps */
 	double safe_level;        /* light output on a fault */
+	struct psd_stop stop;     /* what a planned stop leaves (psensd(8), STOPPING) */
 	double stale_after;       /* no good reading for this long: fault (s) */
 	double stuck_after;       /* an unchanged reading for this long: fault (s), 0: off */
 	double verify_tolerance;  /* read dim points back: a ballast that differs by more
@@ -100,6 +113,7 @@ struct psd_config {
 	char *results, *scene, *database, *socket_path;
 	const char *timezone;     /* the site's time zone (TZ: a zoneinfo name or a POSIX rule), NULL: the process's */
 	double socket_mode;       /* permission bits of the socket (octal in the file) */
+	struct psd_stop stop;     /* [psensd] stop_level: the zones' default */
 	double period, safe_level, sensor_min, sensor_max, stale_after, stuck_after;
 	double sensor_saturation;   /* volts at which a sensor saturates (0: unknown) */
 	long max_clients;

@@ -365,7 +365,12 @@ int psd_engine_open_io(struct psd_engine *e, struct psd_config *cf, double now, 
 	if (cf->database && (!(e->db = psd_db_open(cf->database, err, errlen)) ||
 	                     (!e->log && !(e->log = psd_dbwriter_open(cf->database, (size_t)cf->log_hold,
 	                                                              !clock || clock->simulated, err, errlen))))) {
-		safe_without_log(e, now, prev);
+		/* a start: the lights safe before it is refused; a reload
+		 * (prev) reopens the running configuration, which takes the
+		 * outputs back at their level: the safe level between would be
+		 * a flash of every zone */
+		if (!prev)
+			safe_without_log(e, now, prev);
 		goto bad;
 	}
 	if (e->db) {
@@ -1200,20 +1205,54 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 	}
 }
 
-int psd_engine_safe(struct psd_engine *e, double now, const char *why)
+/* The level a planned stop leaves zone z at (psensd(8), STOPPING), NAN:
+ * nothing commanded.  A fault or a calibration session (its levels are
+ * not the control's) is no planned state: the safe level.  A vacant zone
+ * keeps the level the control gave it unless stop_level names a level. */
+static double stop_target(const struct psd_zone *z, double now)
+{
+	const struct psd_stop *st = &z->zc->stop;
+	if (z->in_fault || psd_calsession_running(&z->cal))
+		return z->zc->safe_level;
+	if (st->mode == PSD_STOP_LEVEL)
+		return st->level;
+	if (st->mode == PSD_STOP_HOLD || (z->occupancy >= 0 && psd_occupancy_vacant(&z->occ, now)))
+		return NAN;
+	return z->zc->safe_level;
+}
+
+/* Every zone to its stop level (planned) or its safe level; the count of
+ * zones whose outputs could not be commanded. */
+static int stop_zones(struct psd_engine *e, double now, const char *why, int planned)
 {
 	char err[256];
 	int failed = 0;
-	stop_io(e);   /* the last commands wait for their outcome */
 	for (size_t i = 0; i < e->nzone; i++) {
 		struct psd_zone *z = &e->zone[i];
-		if (command(e, z, now, z->zc->safe_level, err, sizeof err) != 0) {
-			psd_log_errx("zone %s: cannot reach the safe level: %s", z->zc->name, err);
+		double level = planned ? stop_target(z, now) : z->zc->safe_level;
+		const char *what = level == z->zc->safe_level ? "the safe level" : "the stop level";
+		if (isnan(level)) {
+			const char *vac = z->zc->stop.mode == PSD_STOP_HOLD ? "" : " (vacant)";
+			if (isfinite(z->level))
+				psd_log_info("zone %s: %s: lights held at %.0f %%%s", z->zc->name, why, 100 * z->level, vac);
+			else
+				psd_log_info("zone %s: %s: lights left as they are%s", z->zc->name, why, vac);
+			continue;
+		}
+		if (command(e, z, now, level, err, sizeof err) != 0) {
+			psd_log_errx("zone %s: cannot reach %s: %s", z->zc->name, what, err);
 			failed++;
 		} else
-			psd_log_info("zone %s: %s: lights at the safe level %.0f %%", z->zc->name, why,
-			         100 * z->zc->safe_level);
+			psd_log_info("zone %s: %s: lights at %s %.0f %%", z->zc->name, why, what, 100 * level);
 	}
+	return failed;
+}
+
+static int engine_end(struct psd_engine *e, double now, const char *why, int planned)
+{
+	int failed;
+	stop_io(e);   /* the last commands wait for their outcome */
+	failed = stop_zones(e, now, why, planned);
 	if (e->log) {
 		/* what is queued, written: a simulated day waits for it; real
 		 * time, or a failing log, at most 2 s (psd_engine_close tries
@@ -1225,6 +1264,16 @@ int psd_engine_safe(struct psd_engine *e, double now, const char *why)
 		e->logged = e->logged_base + psd_dbwriter_committed(e->log);
 	}
 	return failed;
+}
+
+int psd_engine_safe(struct psd_engine *e, double now, const char *why)
+{
+	return engine_end(e, now, why, 0);
+}
+
+int psd_engine_stop(struct psd_engine *e, double now, const char *why)
+{
+	return engine_end(e, now, why, 1);
 }
 
 /* Inputs (occupancy sensors and buttons: override, calibration step), and

@@ -166,6 +166,10 @@ void psd_engine_service(struct psd_engine *e, double now, const struct pollfd *f
 /* Every output to its zone's safe level (shutdown).  Returns the count of
  * zones that could not reach it (each logged at LOG_ERR). */
 int psd_engine_safe(struct psd_engine *e, double now, const char *why);
+/* A planned stop: every zone to its stop_level (psensd(8), STOPPING: a
+ * zone in a fault to its safe level, a vacant one or stop_level = hold
+ * left where it is).  The same return. */
+int psd_engine_stop(struct psd_engine *e, double now, const char *why);
 /* The earliest deadline of the devices that run step-wise on their own
  * descriptor (a driver with an fd method: DALI USB, GPIO): INFINITY when
  * all of them are idle, e.g. every frame asked for is on the bus; *mono the

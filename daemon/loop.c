@@ -170,7 +170,7 @@ static void fixed_request(void *user, char *line, char *reply, size_t len)
 static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine_open, const char *why)
 {
 	if (engine_open && why)
-		psd_loop_safe(d, why);
+		psd_loop_end(d, why, 0);
 	psd_frontend_stop(&d->fronts);
 	if (d->have_ctl)
 		psd_ctlsock_close(&d->ctl);
@@ -356,6 +356,7 @@ int psd_loop_run(struct psd_daemon *d)
 		nfront = psd_frontend_pollfds(&d->fronts, fds + n + ndev, PSD_MAX_POLL - n - ndev, &timeout);
 		if (poll(fds, (nfds_t)(n + ndev + nfront), timeout) < 0 && errno != EINTR) {
 			psd_log_err("poll");
+			d->fault = "the event loop failed";
 			break;
 		}
 		if (fds[0].revents & POLLIN)
@@ -378,9 +379,10 @@ int psd_loop_run(struct psd_daemon *d)
 	return 0;
 }
 
-int psd_loop_safe(struct psd_daemon *d, const char *why)
+int psd_loop_end(struct psd_daemon *d, const char *why, int planned)
 {
-	int unsafe = psd_engine_safe(&d->engine, psd_clock_now(&d->clock), why);
+	double now = psd_clock_now(&d->clock);
+	int unsafe = planned ? psd_engine_stop(&d->engine, now, why) : psd_engine_safe(&d->engine, now, why);
 	double until = psd_time_mono() + PSD_SETTLE_MS / 1000.0;
 	if (d->clock.simulated)
 		return unsafe;
@@ -404,7 +406,7 @@ void psd_loop_stop(struct psd_daemon *d, const char *why)
 	psd_frontend_stop(&d->fronts);   /* while the log is open: MQTT's last acknowledgements */
 	if (d->engine.cf) {
 		if (why)
-			psd_loop_safe(d, why);
+			psd_loop_end(d, why, 0);
 		{
 			struct psd_config *cf = psd_engine_close(&d->engine);
 			psd_config_free(cf);

@@ -34,7 +34,10 @@ struct psd_daemon {
 	                             they follow its steps */
 	int dry;                  /* psensd -Y: no socket, database, event, MQTT, nor a moved
 	                             date; only the results and the zones */
-	int stop;                 /* 1: SIGTERM/SIGINT seen */
+	int stop;                 /* the signal that ends the run (SIGTERM, SIGINT), 0: none */
+	const char *fault;        /* a fault that ends the run (the loop's poll failed, a
+	                             reload could not reopen the devices), NULL: none;
+	                             it ends at the safe level, never the stop level */
 	int reload;               /* 1: SIGHUP seen */
 	unsigned long reloads, reload_failures;
 	const char *self;         /* argv[0], to find psscene */
@@ -49,13 +52,14 @@ int psd_loop_start(struct psd_daemon *d, const char *path);
 int psd_loop_run(struct psd_daemon *d);
 /* Log a refused configuration's errors, each at LOG_ERR. */
 void psd_loop_config_errors(const struct psd_config *cf);
-/* Shutdown: every zone to its safe level, then (real time) the devices
+/* Shutdown: every zone to its safe level (planned 0: a fault) or its
+ * stop level (planned 1: psensd(8), STOPPING), then (real time) the devices
  * that send step-wise are served until what was asked is sent (their
  * deadlines idle) or for at most PSD_SETTLE_S: a DALI frame queued behind
  * one on the bus would be lost when the interface closes.  Returns the
- * count of zones that cannot reach the safe level. */
+ * count of zones whose level cannot be commanded. */
 enum { PSD_SETTLE_MS = 1000 };
-int psd_loop_safe(struct psd_daemon *d, const char *why);
+int psd_loop_end(struct psd_daemon *d, const char *why, int planned);
 /* Safe level (unless why is NULL: already done), close everything. */
 void psd_loop_stop(struct psd_daemon *d, const char *why);
 

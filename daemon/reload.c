@@ -62,6 +62,22 @@ static void locate(const struct psd_config *cf, const char *err, char *out, size
 		snprintf(out, n, "%s: %s", path, err);
 }
 
+/* Neither configuration opens: the running one's devices once more
+ * without its database (what failed may be the database alone), only so
+ * that the fault that ends the run can drive the lights to the safe
+ * level.  -1 when even that fails (the outputs are then left as they are,
+ * said at LOG_ERR); old is then still the caller's. */
+static int reopen_outputs(struct psd_daemon *d, struct psd_config *old, double now, int batch,
+                          const struct psd_engine *snap)
+{
+	char err[1024];
+	old->database = NULL;   /* a string of old->conf's: freed with it */
+	if (psd_engine_open_io(&d->engine, old, now, batch, snap, &d->clock, err, sizeof err) == 0)
+		return 0;
+	psd_log_errx("reload: no output can be commanded: the lights are left as they are: %s", err);
+	return -1;
+}
+
 int psd_reload(struct psd_daemon *d)
 {
 	return psd_reload_explain(d, NULL);
@@ -104,8 +120,13 @@ int psd_reload_explain(struct psd_daemon *d, struct psd_reload_why *w)
 		psd_log_errx("reload: the running configuration stays");
 		if (psd_engine_open_io(&d->engine, old, now, batch, snap, &d->clock, err, sizeof err) != 0) {
 			refuse(w, "reload: cannot reopen the running configuration either: %s", err);
+			d->fault = "a reload could not reopen the running configuration";
+			d->stop = SIGTERM;   /* the loop ends; d->fault says it is no planned stop */
+			if (reopen_outputs(d, old, now, batch, snap) != 0) {
+				psd_config_free(old);
+				free(old);
+			}
 			psd_dbwriter_close(snap->log, 2.0);
-			d->stop = SIGTERM;
 		}
 		psd_config_free(cf);
 		free(cf);

@@ -435,6 +435,23 @@ static void list_options(void)
 	}
 }
 
+/* The end of the run, before the summary (it commits the log): a fault
+ * drives every zone to its safe level; a planned stop (SIGTERM, SIGINT,
+ * the simulated run's end) to its stop level (psensd(8), STOPPING).  The
+ * count of zones that could not be commanded. */
+static int loop_end(struct psd_daemon *d)
+{
+	if (d->fault) {
+		psd_log_errx("%s: the lights to the safe level", d->fault);
+		return psd_loop_end(d, d->fault, 0);
+	}
+	if (d->stop) {
+		psd_log_info("%s: stopping", strsignal(d->stop));
+		return psd_loop_end(d, strsignal(d->stop), 1);
+	}
+	return psd_loop_end(d, "end of the simulated day", 1);
+}
+
 int main(int argc, char **argv)
 {
 	const char *path = "/etc/psensd/psensd.conf";
@@ -589,16 +606,19 @@ int main(int argc, char **argv)
 	psd_log_info("controlling %zu zone(s) from %s on a %s clock", d.engine.nzone, path,
 	         simulate ? "simulated" : "real-time");
 	psd_loop_run(&d);
-	if (d.stop)
-		psd_log_info("%s: stopping", strsignal(d.stop));
-	/* the safe level first (it commits the log), then the summary */
-	unsafe = psd_loop_safe(&d, d.stop ? strsignal(d.stop) : "end of the simulated day");
+	unsafe = loop_end(&d);
 	summary(&d, start, psd_clock_now(&d.clock));
 	psd_loop_stop(&d, NULL);
-	/* a shutdown that leaves lights where nobody can see them is a failure:
-	 * said at LOG_ERR, and the exit status says it to systemd and scripts */
+	/* a shutdown that leaves lights where nobody can see them, or a run
+	 * ended by a fault, is a failure: said at LOG_ERR, and the exit status
+	 * says it to systemd and scripts */
 	if (unsafe) {
-		psd_log_errx("stopped with %d zone(s) not at the safe level: check the outputs", unsafe);
+		psd_log_errx("stopped with %d zone(s) not at their %s level: check the outputs", unsafe,
+		             d.fault ? "safe" : "stop");
+		rc = 1;
+	}
+	if (d.fault) {
+		psd_log_errx("stopped by a fault: %s", d.fault);
 		rc = 1;
 	}
 	return rc;

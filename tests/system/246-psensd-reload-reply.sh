@@ -81,7 +81,7 @@ if "$PY" -c "import pymodbus" 2>/dev/null; then
 	rc=$?
 	check "SIGTERM with the module gone: exits non-zero (got $rc)" test "$rc" != 0
 	diag "$(grep 'stopped with' "$TMP/mb.err")"
-	check "... said at LOG_ERR" grep -q "^<3>psensd: stopped with 1 zone(s) not at the safe level\|^<3>stopped with 1 zone(s) not at the safe level" "$TMP/mb.err"
+	check "... said at LOG_ERR" grep -q "^<3>psensd: stopped with 1 zone(s) not at their stop level\|^<3>stopped with 1 zone(s) not at their stop level" "$TMP/mb.err"
 else
 	skip "pymodbus not installed: the unreachable safe level at shutdown"
 	skip "pymodbus not installed: the unreachable safe level at shutdown"
