@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "accept.h"
+#include "cmdtab.h"
 #include "loop.h"
 #include "ctlcmd.h"
 #include "reload.h"
@@ -24,22 +25,9 @@
 #include "points.h"
 #include "time.h"
 
-static const char help_text[] =
-	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | off ZONE | release ZONE | "
-	"ratios [ZONE] | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort | "
-	"accept-test ZONE [--since YYYY-MM-DD] [--samples N] | "
-	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
-
-/* The request words psensd answers (the first word of each help_text entry). */
-static const char *const request_words[] = { "ping", "status", "target", "override", "off", "release", "ratios", "log",
-	                                     "reload", "help", "calibrate", "accept-test", "dali", NULL };
-
 int psd_ctlcmd_is_request(const char *word)
 {
-	for (size_t i = 0; request_words[i]; i++)
-		if (strcmp(word, request_words[i]) == 0)
-			return 1;
-	return 0;
+	return psd_cmdtab_allows(word, PSD_CMDTAB_SOCKET);
 }
 
 /* A path psensd names to a client, absolute: a relative one (from a
@@ -276,9 +264,11 @@ static struct psd_zone *zone_arg(struct psd_daemon *d, const char *name, struct 
 
 static const char cal_usage[] = "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort";
 
-static void calibrate(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+void psd_ctlcmd_calibrate(struct psd_daemon *d, const struct psd_cmdtab_args *args, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
+	int argc = args->argc;
+	char **argv = args->argv;
 	struct psd_zone *z;
 	double now = psd_clock_now(&d->clock), a;
 	char err[512], *end;
@@ -329,9 +319,11 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, struct psd_ct
 /* dali DEVICE REQUEST...: a DALI interface's own requests (commissioning),
  * answered by its driver's command method; verify ZONE hands it the zone's
  * outputs on that interface. */
-static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+void psd_ctlcmd_dali(struct psd_daemon *d, const struct psd_cmdtab_args *args, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
+	int argc = args->argc;
+	char **argv = args->argv;
 	struct ps_dev *dev = NULL;
 	struct ps_point *pts[2 * PSD_MAX_ZONE_OUT];
 	int npts = 0, di = -1;
@@ -399,18 +391,13 @@ static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_rep
 	finish(o, reply);
 }
 
-static void status(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+/* status [ZONE]: the table's parser has judged the words and the zone. */
+void psd_ctlcmd_status(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
 	double now = psd_clock_now(&d->clock);
 	json_object *o, *zones;
 	char t[8];
-	if (argc > 2) {
-		error_reply(reply, "usage: status [ZONE]");
-		return;
-	}
-	if (argc == 2 && !zone_arg(d, argv[1], reply))
-		return;
 	o = ok_reply();
 	zones = json_object_new_array();
 	psd_clock_hhmm(now, t);
@@ -462,24 +449,20 @@ static void status(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_r
 		json_object_object_add(o, "mqtt", mq);
 	}
 	for (size_t i = 0; i < e->nzone; i++)
-		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
+		if (!a->zone || a->zone == &e->zone[i])
 			json_object_array_add(zones, zone_json(&d->points, e, &e->zone[i], now));
 	json_object_object_add(o, "zones", zones);
 	finish(o, reply);
 }
 
 /* ratios [ZONE]: [psensd]'s results, or the zone's own simulation. */
-static void ratios(struct psd_daemon *d, const char *zone, struct psd_ctl_reply *reply)
+void psd_ctlcmd_ratios(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
 	const struct ps_results *r = d->engine.have_res ? &d->engine.res : NULL;
 	const char *path = d->engine.cf->results;
 	json_object *o, *conds;
-	if (zone) {
-		struct psd_zone *z = psd_engine_zone(&d->engine, zone);
-		if (!z) {
-			error_reply(reply, "no zone '%s'", zone);
-			return;
-		}
+	if (a->zone) {
+		const struct psd_zone *z = a->zone;
 		r = z->res;
 		path = psd_config_zone_results(d->engine.cf, z->zc);
 	}
@@ -511,21 +494,14 @@ static void ratios(struct psd_daemon *d, const char *zone, struct psd_ctl_reply 
 	finish(o, reply);
 }
 
-static int number(const char *text, double *out)
-{
-	char *end;
-	errno = 0;
-	*out = strtod(text, &end);
-	return *text && !*end && errno == 0 && isfinite(*out) ? 0 : -1;
-}
-
 /* reload: now, and the outcome in the reply: ok, or ok false with the
  * reasons (each file:line) and the running configuration kept. */
-static void reload(struct psd_daemon *d, struct psd_ctl_reply *reply)
+void psd_ctlcmd_reload(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
 	struct psd_reload_why *w = malloc(sizeof *w);   /* 6 kB: not on the handler's stack */
 	json_object *o, *arr;
 	char msg[512];
+	(void)a;
 	if (!w) {
 		error_reply(reply, "reload: out of memory");
 		return;
@@ -557,9 +533,11 @@ static const char accept_usage[] = "usage: accept-test ZONE [--since YYYY-MM-DD]
  * them.  psensd runs them because it is the log's one writer: its open
  * batch holds the newest samples, and psensctl -d could not write beside
  * it. */
-static void accept_test(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+void psd_ctlcmd_accept_test(struct psd_daemon *d, const struct psd_cmdtab_args *args, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
+	int argc = args->argc;
+	char **argv = args->argv;
 	struct psd_accept_params p;
 	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
 	struct psd_accept_summary sum;
@@ -626,13 +604,80 @@ void psd_ctlcmd_handle(void *user, const struct psd_ctl_client *c, char *line, s
 	psd_ctlcmd_request(user, line, reply);
 }
 
+void psd_ctlcmd_ping(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	json_object *o = ok_reply();
+	(void)d;
+	(void)a;
+	json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
+	finish(o, reply);
+}
+
+void psd_ctlcmd_help(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char text[1024];
+	json_object *o = ok_reply();
+	(void)d;
+	(void)a;
+	psd_cmdtab_help(text, sizeof text);
+	psd_json_str(o, "commands", text);
+	finish(o, reply);
+}
+
+void psd_ctlcmd_log(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	json_object *o = ok_reply();
+	(void)a;
+	put_path(o, "database", d->engine.cf->database);
+	json_object_object_add(o, "logged", json_object_new_int64((int64_t)d->engine.logged));
+	finish(o, reply);
+}
+
+void psd_ctlcmd_target(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char err[512];
+	(void)d;
+	if (psd_engine_set_target(a->zone, a->num[0], err, sizeof err) != 0)
+		error_reply(reply, "%s", err);
+	else
+		finish(ok_reply(), reply);
+}
+
+/* override and release: the typed entries BACnet calls too (cmdtab.h) */
+void psd_ctlcmd_override(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char err[512];
+	if (psd_cmdtab_override(&d->engine, a->zone->zc->name, a->num[0], a->num[1], psd_clock_now(&d->clock), err,
+	                        sizeof err) != 0)
+		error_reply(reply, "%s", err);
+	else
+		finish(ok_reply(), reply);
+}
+
+void psd_ctlcmd_release(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char err[512];
+	if (psd_cmdtab_release(&d->engine, a->zone->zc->name, err, sizeof err) != 0)
+		error_reply(reply, "%s", err);
+	else
+		finish(ok_reply(), reply);
+}
+
+void psd_ctlcmd_off(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	(void)d;
+	psd_engine_off(a->zone);
+	finish(ok_reply(), reply);
+}
+
+/* One request: its words split, its row found in the table (cmdtab.c), its
+ * arguments judged by the row's types, then the row's handler. */
 void psd_ctlcmd_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *reply)
 {
-	struct psd_engine *e = &d->engine;
-	struct psd_zone *z;
+	const struct psd_cmdtab *t;
+	struct psd_cmdtab_args a;
 	char *argv[PSD_CTL_MAX_WORDS], err[512];
 	int argc = psd_ctlsock_split(line, argv, err, sizeof err);
-	double a, b;
 	if (argc < 0) {
 		error_reply(reply, "%s", err);
 		return;
@@ -641,66 +686,15 @@ void psd_ctlcmd_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *
 		error_reply(reply, "empty request; try help");
 		return;
 	}
-	if (strcmp(argv[0], "ping") == 0 && argc == 1) {
-		json_object *o = ok_reply();
-		json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
-		finish(o, reply);
-	} else if (strcmp(argv[0], "help") == 0) {
-		json_object *o = ok_reply();
-		psd_json_str(o, "commands", help_text);
-		finish(o, reply);
-	} else if (strcmp(argv[0], "status") == 0) {
-		status(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "ratios") == 0 && argc <= 2) {
-		ratios(d, argc == 2 ? argv[1] : NULL, reply);
-	} else if (strcmp(argv[0], "log") == 0 && argc == 1) {
-		json_object *o = ok_reply();
-		put_path(o, "database", e->cf->database);
-		json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
-		finish(o, reply);
-	} else if (strcmp(argv[0], "target") == 0) {
-		if (argc != 3 || number(argv[2], &a) != 0)
-			error_reply(reply, "usage: target ZONE LUX");
-		else if (!(z = zone_arg(d, argv[1], reply)))
-			;
-		else if (psd_engine_set_target(z, a, err, sizeof err) != 0)
-			error_reply(reply, "%s", err);
-		else
-			finish(ok_reply(), reply);
-	} else if (strcmp(argv[0], "override") == 0) {
-		if (argc != 4 || number(argv[2], &a) != 0 || number(argv[3], &b) != 0)
-			error_reply(reply, "usage: override ZONE LEVEL SECONDS (level 0 to 1)");
-		else if (!(z = zone_arg(d, argv[1], reply)))
-			;
-		else if (psd_engine_override(z, a, b, psd_clock_now(&d->clock), err, sizeof err) != 0)
-			error_reply(reply, "%s", err);
-		else
-			finish(ok_reply(), reply);
-	} else if (strcmp(argv[0], "off") == 0) {
-		if (argc != 2) {
-			error_reply(reply, "usage: off ZONE");
-		} else if ((z = zone_arg(d, argv[1], reply))) {
-			psd_engine_off(z);
-			finish(ok_reply(), reply);
-		}
-	} else if (strcmp(argv[0], "release") == 0) {
-		if (argc != 2) {
-			error_reply(reply, "usage: release ZONE");
-		} else if ((z = zone_arg(d, argv[1], reply))) {
-			psd_engine_release(z);
-			finish(ok_reply(), reply);
-		}
-	} else if (strcmp(argv[0], "accept-test") == 0) {
-		accept_test(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "calibrate") == 0) {
-		calibrate(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "dali") == 0) {
-		dali(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
-		reload(d, reply);
-	} else {
+	if (!(t = psd_cmdtab_find(argv[0])) || !(t->fronts & PSD_CMDTAB_SOCKET)) {
 		char shown[64];
 		snprintf(shown, sizeof shown, "%s", argv[0]);
 		error_reply(reply, "unknown request '%s' or wrong arguments; try help", shown);
+		return;
 	}
+	if (psd_cmdtab_parse(t, &d->engine, argc, argv, &a, err, sizeof err) != 0) {
+		error_reply(reply, "%s", err);
+		return;
+	}
+	t->fn(d, &a, reply);
 }
