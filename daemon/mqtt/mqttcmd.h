@@ -25,9 +25,11 @@ struct psd_mqtt_cmd {
 int psd_mqttcmd_parse(const char *site, const char *zone, const char *verb, const void *payload, size_t len,
                        double override_s, struct psd_mqtt_cmd *out, char *err, size_t errlen);
 
-/* The [mqtt] commands scope (PSD_MQTT_COMMANDS_*) verb needs: override for
- * override, release and status, all for the others; none for a verb that
- * is no command (psd_mqttcmd_parse refuses it with its own words). */
+/* The [mqtt] commands scope (PSD_MQTT_COMMANDS_*) verb needs, from the
+ * command table (cmdtab.h): override for a row granted MQTT_OVERRIDE
+ * (override, release, status), all for one granted MQTT_ALL alone; none
+ * for a verb that is no command (psd_mqttcmd_parse refuses it with its own
+ * words). */
 int psd_mqttcmd_scope(const char *verb);
 
 #endif
