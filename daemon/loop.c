@@ -148,9 +148,9 @@ static int date_run(struct psd_daemon *d, double now)
 	return 0;
 }
 
-/* An MQTT command or a BACnet write (an override or a release): the
- * control socket's request function, the same code, its reply copied into
- * the front end's fixed buffer (an error reply when it does not fit). */
+/* An MQTT command: the control socket's request function, the same code,
+ * its reply copied into the front end's fixed buffer (an error reply when
+ * it does not fit). */
 static void fixed_request(void *user, char *line, char *reply, size_t len)
 {
 	struct psd_ctl_reply r = { 0 };
@@ -252,7 +252,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "MQTT cannot start");
 	}
-	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, &d->points, fixed_request, d, err, sizeof err))) {
+	if (cf->bacnet.enabled && !(d->bacnet = psd_bacnet_open(&cf->bacnet, &d->engine, &d->points, err, sizeof err))) {
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "BACnet cannot start");
 	}

@@ -9,9 +9,9 @@
  * may).  An answer in segments (bacseg.h) goes out a window at a time from
  * the same turns, its retry timer part of the loop's poll timeout.  The
  * objects are filled from the engine before each batch.  A
- * write to a zone's Lighting Output becomes the control socket's
- * `override` or `release` request, through the same function
- * (psd_ctlcmd_request), so it is judged like one and never overrides the
+ * write to a zone's Lighting Output becomes the command table's typed
+ * `override` or `release` (cmdtab.h), the entries the control socket's
+ * requests reach too, so it is judged like one and never overrides the
  * safe level of a zone in a fault.  A write to a Value (the target lux,
  * daylight control, the vacancy hold) becomes the point model's write
  * (psd_points_write), again whenever the engine lost the value in force
@@ -30,13 +30,10 @@ struct psd_engine;
 struct psd_bacnet;
 struct psd_points;
 
-/* A control request: what psd_ctlcmd_request does. */
-typedef void (*psd_bacnet_request_fn)(void *user, char *line, char *reply, size_t len);
-
 /* Open the socket for the engine's zones, their points read through pts
  * (points.h).  NULL with a message in err. */
 struct psd_bacnet *psd_bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                   const struct psd_points *pts, psd_bacnet_request_fn fn, void *user, char *err, size_t errlen);
+                                   const struct psd_points *pts, char *err, size_t errlen);
 /* The socket for poll(): 1 written. */
 int psd_bacnet_pollfd(struct psd_bacnet *b, struct pollfd *pfd);
 /* Answer what arrived (pfd from psd_bacnet_pollfd, or NULL), renew the

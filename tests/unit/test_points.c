@@ -252,7 +252,7 @@ static void bacnet_lists_the_points(void **state)
 	struct sockaddr_in to;
 	socklen_t tl = sizeof to;
 	struct pollfd pfd;
-	struct psd_bacnet *b = psd_bacnet_open(&c, &d.engine, &d.points, NULL, NULL, err, sizeof err);
+	struct psd_bacnet *b = psd_bacnet_open(&c, &d.engine, &d.points, err, sizeof err);
 	int cs = socket(AF_INET, SOCK_DGRAM, 0);
 	size_t n, pos = 0, nobj = 0, want = 1;
 	(void)state;
