@@ -12,7 +12,8 @@
 #include "engine.h"
 #include "errbuf.h"
 
-#define ALL_BUT_BACNET (PSD_CMDTAB_SOCKET | PSD_CMDTAB_CONSOLE)
+/* what psensctl and the web console may both send */
+#define SOCKET_CONSOLE (PSD_CMDTAB_SOCKET | PSD_CMDTAB_CONSOLE)
 
 static const char *const verbs_status[] = { "status", NULL };
 static const char *const verbs_target[] = { "target", NULL };
@@ -24,19 +25,19 @@ static const char *const verbs_calibrate[] = { "calibrate", "lux", "finish", "ac
 /* In help's order.  An MQTT verb's row needs MQTT_ALL as well as
  * MQTT_OVERRIDE: commands = all allows what override does. */
 static const struct psd_cmdtab rows[] = {
-	{ .word = "ping", .help = "ping", .fronts = ALL_BUT_BACNET, .fn = psd_ctlcmd_ping },
+	{ .word = "ping", .help = "ping", .fronts = SOCKET_CONSOLE, .fn = psd_ctlcmd_ping },
 	{ .word = "status",
 	  .arg = { PSD_CMDTAB_ZONE_OPT },
 	  .help = "status [ZONE]",
 	  .usage = "usage: status [ZONE]",
-	  .fronts = ALL_BUT_BACNET | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL,
+	  .fronts = SOCKET_CONSOLE | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL,
 	  .mqtt_verbs = verbs_status,
 	  .fn = psd_ctlcmd_status },
 	{ .word = "target",
 	  .arg = { PSD_CMDTAB_ZONE, PSD_CMDTAB_LUX },
 	  .help = "target ZONE LUX",
 	  .usage = "usage: target ZONE LUX",
-	  .fronts = ALL_BUT_BACNET | PSD_CMDTAB_MQTT_ALL,
+	  .fronts = SOCKET_CONSOLE | PSD_CMDTAB_MQTT_ALL,
 	  .changes = 1,
 	  .mqtt_verbs = verbs_target,
 	  .fn = psd_ctlcmd_target },
@@ -44,7 +45,7 @@ static const struct psd_cmdtab rows[] = {
 	  .arg = { PSD_CMDTAB_ZONE, PSD_CMDTAB_LEVEL, PSD_CMDTAB_SECONDS },
 	  .help = "override ZONE LEVEL SECONDS",
 	  .usage = "usage: override ZONE LEVEL SECONDS (level 0 to 1)",
-	  .fronts = ALL_BUT_BACNET | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL | PSD_CMDTAB_BACNET,
+	  .fronts = SOCKET_CONSOLE | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL | PSD_CMDTAB_BACNET,
 	  .changes = 1,
 	  .mqtt_verbs = verbs_override,
 	  .fn = psd_ctlcmd_override },
@@ -59,29 +60,29 @@ static const struct psd_cmdtab rows[] = {
 	  .arg = { PSD_CMDTAB_ZONE },
 	  .help = "release ZONE",
 	  .usage = "usage: release ZONE",
-	  .fronts = ALL_BUT_BACNET | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL | PSD_CMDTAB_BACNET,
+	  .fronts = SOCKET_CONSOLE | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL | PSD_CMDTAB_BACNET,
 	  .changes = 1,
 	  .mqtt_verbs = verbs_release,
 	  .fn = psd_ctlcmd_release },
 	{ .word = "ratios",
 	  .arg = { PSD_CMDTAB_ZONE_OPT },
 	  .help = "ratios [ZONE]",
-	  .fronts = ALL_BUT_BACNET,
+	  .fronts = SOCKET_CONSOLE,
 	  .fn = psd_ctlcmd_ratios },
 	{ .word = "log", .help = "log", .fronts = PSD_CMDTAB_SOCKET, .fn = psd_ctlcmd_log },
 	{ .word = "reload", .help = "reload", .fronts = PSD_CMDTAB_SOCKET, .changes = 1, .fn = psd_ctlcmd_reload },
-	{ .word = "help", .arg = { PSD_CMDTAB_WORDS }, .help = "help", .fronts = ALL_BUT_BACNET, .fn = psd_ctlcmd_help },
+	{ .word = "help", .arg = { PSD_CMDTAB_WORDS }, .help = "help", .fronts = SOCKET_CONSOLE, .fn = psd_ctlcmd_help },
 	{ .word = "calibrate",
 	  .arg = { PSD_CMDTAB_WORDS },
 	  .help = "calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort",
-	  .fronts = ALL_BUT_BACNET | PSD_CMDTAB_MQTT_ALL,
+	  .fronts = SOCKET_CONSOLE | PSD_CMDTAB_MQTT_ALL,
 	  .changes = 1,
 	  .mqtt_verbs = verbs_calibrate,
 	  .fn = psd_ctlcmd_calibrate },
 	{ .word = "accept-test",
 	  .arg = { PSD_CMDTAB_WORDS },
 	  .help = "accept-test ZONE [--since YYYY-MM-DD] [--samples N]",
-	  .fronts = ALL_BUT_BACNET,
+	  .fronts = SOCKET_CONSOLE,
 	  .changes = 1,
 	  .fn = psd_ctlcmd_accept_test },
 	{ .word = "dali",
