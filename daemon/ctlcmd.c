@@ -283,9 +283,12 @@ void psd_ctlcmd_calibrate(struct psd_daemon *d, const struct psd_cmdtab_args *ar
 		rc = psd_engine_cal_start(e, z, PSD_CAL_NIGHT, 0, now, err, sizeof err);
 	} else if (strcmp(argv[2], "day") == 0 && argc <= 4) {
 		a = z->level;
-		if (argc == 4 && (a = strtod(argv[3], &end), *end || end == argv[3])) {
-			error_reply(reply, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
-			return;
+		if (argc == 4) {
+			a = strtod(argv[3], &end);
+			if (*end || end == argv[3]) {
+				error_reply(reply, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
+				return;
+			}
 		}
 		rc = psd_engine_cal_start(e, z, PSD_CAL_DAY, a, now, err, sizeof err);
 	} else if (strcmp(argv[2], "lux") == 0 && argc == 4) {

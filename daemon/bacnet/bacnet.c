@@ -254,7 +254,9 @@ static void fd_result(struct psd_bacnet *b, const uint8_t *in, size_t n, double 
 		size_t len = psd_bacserve_i_am(&b->m, 0x09, out);
 		send_to(b, out, len, b->fdr.addr);
 	}
-	b->fdr.pending = 0, b->fdr.fails = 0, b->fdr.registered = 1;
+	b->fdr.pending = 0;
+	b->fdr.fails = 0;
+	b->fdr.registered = 1;
 	b->fdr.backoff = FD_BACKOFF_MIN_S;
 	b->fdr.expires = t + (double)b->c.bbmd_ttl;
 	b->fdr.next = t + (double)b->c.bbmd_ttl / 2; /* renewed well before the TTL runs out */
