@@ -9,8 +9,14 @@
 #include <string.h>
 
 #include "ctlcmd.h"
+#include "ctlsock.h"
 #include "engine.h"
 #include "errbuf.h"
+#include "loop.h"
+
+static void run_help(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply);
+static void run_override(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply);
+static void run_release(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply);
 
 /* what psensctl and the web console may both send */
 #define SOCKET_CONSOLE (PSD_CMDTAB_SOCKET | PSD_CMDTAB_CONSOLE)
@@ -48,7 +54,7 @@ static const struct psd_cmdtab rows[] = {
 	  .fronts = SOCKET_CONSOLE | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL | PSD_CMDTAB_BACNET,
 	  .changes = 1,
 	  .mqtt_verbs = verbs_override,
-	  .fn = psd_ctlcmd_override },
+	  .fn = run_override },
 	{ .word = "off",
 	  .arg = { PSD_CMDTAB_ZONE },
 	  .help = "off ZONE",
@@ -63,7 +69,7 @@ static const struct psd_cmdtab rows[] = {
 	  .fronts = SOCKET_CONSOLE | PSD_CMDTAB_MQTT_OVERRIDE | PSD_CMDTAB_MQTT_ALL | PSD_CMDTAB_BACNET,
 	  .changes = 1,
 	  .mqtt_verbs = verbs_release,
-	  .fn = psd_ctlcmd_release },
+	  .fn = run_release },
 	{ .word = "ratios",
 	  .arg = { PSD_CMDTAB_ZONE_OPT },
 	  .help = "ratios [ZONE]",
@@ -71,7 +77,7 @@ static const struct psd_cmdtab rows[] = {
 	  .fn = psd_ctlcmd_ratios },
 	{ .word = "log", .help = "log", .fronts = PSD_CMDTAB_SOCKET, .fn = psd_ctlcmd_log },
 	{ .word = "reload", .help = "reload", .fronts = PSD_CMDTAB_SOCKET, .changes = 1, .fn = psd_ctlcmd_reload },
-	{ .word = "help", .arg = { PSD_CMDTAB_WORDS }, .help = "help", .fronts = SOCKET_CONSOLE, .fn = psd_ctlcmd_help },
+	{ .word = "help", .arg = { PSD_CMDTAB_WORDS }, .help = "help", .fronts = SOCKET_CONSOLE, .fn = run_help },
 	{ .word = "calibrate",
 	  .arg = { PSD_CMDTAB_WORDS },
 	  .help = "calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort",
@@ -115,6 +121,12 @@ const struct psd_cmdtab *psd_cmdtab_find_verb(const char *verb)
 			if (strcmp(verb, rows[i].mqtt_verbs[k]) == 0)
 				return &rows[i];
 	return NULL;
+}
+
+unsigned psd_cmdtab_verb_fronts(const char *verb)
+{
+	const struct psd_cmdtab *t = psd_cmdtab_find_verb(verb);
+	return t ? t->fronts : 0;
 }
 
 int psd_cmdtab_allows(const char *word, unsigned front)
@@ -211,4 +223,69 @@ int psd_cmdtab_release(struct psd_engine *e, const char *zone, char *err, size_t
 		return -1;
 	psd_engine_release(z);
 	return 0;
+}
+
+/* help, override and release: the table's own rows, the last two the
+ * typed entries' socket face */
+static void run_help(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char text[1024];
+	(void)d;
+	(void)a;
+	psd_cmdtab_help(text, sizeof text);
+	psd_ctlcmd_ok(reply, "commands", text);
+}
+
+static void run_override(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char err[512];
+	if (psd_cmdtab_override(&d->engine, a->argv[1], a->num[0], a->num[1], psd_clock_now(&d->clock), err,
+	                        sizeof err) != 0)
+		psd_ctlcmd_error(reply, "%s", err);
+	else
+		psd_ctlcmd_ok(reply, NULL, NULL);
+}
+
+static void run_release(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char err[512];
+	if (psd_cmdtab_release(&d->engine, a->argv[1], err, sizeof err) != 0)
+		psd_ctlcmd_error(reply, "%s", err);
+	else
+		psd_ctlcmd_ok(reply, NULL, NULL);
+}
+
+void psd_cmdtab_handle(void *daemon, const struct psd_ctl_client *c, char *line, struct psd_ctl_reply *reply)
+{
+	(void)c;
+	psd_cmdtab_request(daemon, line, reply);
+}
+
+/* One request: its words split, its row found, its arguments judged by
+ * the row's types, then the row's handler. */
+void psd_cmdtab_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *reply)
+{
+	const struct psd_cmdtab *t;
+	struct psd_cmdtab_args a;
+	char *argv[PSD_CTL_MAX_WORDS], err[512];
+	int argc = psd_ctlsock_split(line, argv, err, sizeof err);
+	if (argc < 0) {
+		psd_ctlcmd_error(reply, "%s", err);
+		return;
+	}
+	if (argc == 0) {
+		psd_ctlcmd_error(reply, "empty request; try help");
+		return;
+	}
+	if (!(t = psd_cmdtab_find(argv[0])) || !(t->fronts & PSD_CMDTAB_SOCKET)) {
+		char shown[64];
+		snprintf(shown, sizeof shown, "%s", argv[0]);
+		psd_ctlcmd_error(reply, "unknown request '%s' or wrong arguments; try help", shown);
+		return;
+	}
+	if (psd_cmdtab_parse(t, &d->engine, argc, argv, &a, err, sizeof err) != 0) {
+		psd_ctlcmd_error(reply, "%s", err);
+		return;
+	}
+	t->fn(d, &a, reply);
 }

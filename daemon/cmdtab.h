@@ -15,6 +15,7 @@ struct psd_daemon;
 struct psd_engine;
 struct psd_zone;
 struct psd_ctl_reply;
+struct psd_ctl_client;
 
 /* The front ends, one bit each: which may send a command. */
 enum psd_cmdtab_front {
@@ -58,7 +59,7 @@ struct psd_cmdtab {
 	unsigned fronts;                            /* PSD_CMDTAB_* bits: who may send it */
 	int changes;                                /* 1: it changes what psensd does */
 	const char *const *mqtt_verbs;              /* the set/<verb> topics that reach it, NULL none */
-	psd_cmdtab_fn fn;                           /* its handler (daemon/ctlcmd.c) */
+	psd_cmdtab_fn fn;                           /* its handler (ctlcmd.c; help, override, release here) */
 };
 
 /* The table's rows, *n of them. */
@@ -67,6 +68,9 @@ const struct psd_cmdtab *psd_cmdtab_rows(size_t *n);
 const struct psd_cmdtab *psd_cmdtab_find(const char *word);
 /* The row of MQTT verb (set/<verb>), NULL none. */
 const struct psd_cmdtab *psd_cmdtab_find_verb(const char *verb);
+/* The PSD_CMDTAB_* bits of MQTT verb's row, 0 when no row has it: what
+ * the MQTT room is handed at open (it calls no core function itself). */
+unsigned psd_cmdtab_verb_fronts(const char *verb);
 /* 1 when front (one PSD_CMDTAB_* bit) may send command word, else 0. */
 int psd_cmdtab_allows(const char *word, unsigned front);
 /* help's list of the socket's commands, " | " between entries, into out.
@@ -77,6 +81,14 @@ size_t psd_cmdtab_help(char *out, size_t n);
  * "no zone", or "unknown request"). */
 int psd_cmdtab_parse(const struct psd_cmdtab *t, struct psd_engine *e, int argc, char **argv,
                      struct psd_cmdtab_args *a, char *err, size_t errlen);
+
+/* One request line, judged by the table and answered by its row's handler
+ * (a JSON line in reply, grown as it needs up to PSD_CTL_MAX_REPLY; the
+ * caller frees it with psd_ctlsock_reply_free): what the socket, the web
+ * console and MQTT's set/ topics all call. */
+void psd_cmdtab_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *reply);
+/* The control socket's handler (ctlsock.h): psd_cmdtab_request. */
+void psd_cmdtab_handle(void *daemon, const struct psd_ctl_client *c, char *line, struct psd_ctl_reply *reply);
 
 /* Typed entries, with the socket's very checks and error texts: 0, or -1
  * with the error in err.  now: the daemon's clock. */

@@ -25,11 +25,6 @@
 #include "points.h"
 #include "time.h"
 
-int psd_ctlcmd_is_request(const char *word)
-{
-	return psd_cmdtab_allows(word, PSD_CMDTAB_SOCKET);
-}
-
 /* A path psensd names to a client, absolute: a relative one (from a
  * relative -f) is relative to psensd's directory, not the client's. */
 static void put_path(json_object *o, const char *key, const char *path)
@@ -54,8 +49,7 @@ static void finish(json_object *o, struct psd_ctl_reply *reply)
 	json_object_put(o);
 }
 
-static void error_reply(struct psd_ctl_reply *reply, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void error_reply(struct psd_ctl_reply *reply, const char *fmt, ...)
+void psd_ctlcmd_error(struct psd_ctl_reply *reply, const char *fmt, ...)
 {
 	char msg[512];
 	va_list ap;
@@ -73,6 +67,14 @@ static json_object *ok_reply(void)
 	json_object *o = json_object_new_object();
 	json_object_object_add(o, "ok", json_object_new_boolean(1));
 	return o;
+}
+
+void psd_ctlcmd_ok(struct psd_ctl_reply *reply, const char *key, const char *text)
+{
+	json_object *o = ok_reply();
+	if (key)
+		psd_json_str(o, key, text);
+	finish(o, reply);
 }
 
 static void cal_progress(json_object *o, const struct psd_zone *z, double now);
@@ -258,7 +260,7 @@ static struct psd_zone *zone_arg(struct psd_daemon *d, const char *name, struct 
 {
 	struct psd_zone *z = psd_engine_zone(&d->engine, name);
 	if (!z)
-		error_reply(reply, "no zone '%s'", name);
+		psd_ctlcmd_error(reply, "no zone '%s'", name);
 	return z;
 }
 
@@ -274,7 +276,7 @@ void psd_ctlcmd_calibrate(struct psd_daemon *d, const struct psd_cmdtab_args *ar
 	char err[512], *end;
 	int rc = 0;
 	if (argc < 3) {
-		error_reply(reply, "%s", cal_usage);
+		psd_ctlcmd_error(reply, "%s", cal_usage);
 		return;
 	}
 	if (!(z = zone_arg(d, argv[1], reply)))
@@ -286,7 +288,7 @@ void psd_ctlcmd_calibrate(struct psd_daemon *d, const struct psd_cmdtab_args *ar
 		if (argc == 4) {
 			a = strtod(argv[3], &end);
 			if (*end || end == argv[3]) {
-				error_reply(reply, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
+				psd_ctlcmd_error(reply, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
 				return;
 			}
 		}
@@ -294,7 +296,7 @@ void psd_ctlcmd_calibrate(struct psd_daemon *d, const struct psd_cmdtab_args *ar
 	} else if (strcmp(argv[2], "lux") == 0 && argc == 4) {
 		a = strtod(argv[3], &end);
 		if (*end || end == argv[3]) {
-			error_reply(reply, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
+			psd_ctlcmd_error(reply, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
 			return;
 		}
 		rc = psd_engine_cal_lux(e, z, a, now, err, sizeof err);
@@ -305,11 +307,11 @@ void psd_ctlcmd_calibrate(struct psd_daemon *d, const struct psd_cmdtab_args *ar
 	} else if (strcmp(argv[2], "abort") == 0 && argc == 3) {
 		rc = psd_engine_cal_abort(e, z, now, "by request", err, sizeof err);
 	} else if (strcmp(argv[2], "status") != 0 || argc != 3) {
-		error_reply(reply, "%s", cal_usage);
+		psd_ctlcmd_error(reply, "%s", cal_usage);
 		return;
 	}
 	if (rc != 0) {
-		error_reply(reply, "%s", err);
+		psd_ctlcmd_error(reply, "%s", err);
 		return;
 	}
 	{
@@ -334,7 +336,7 @@ void psd_ctlcmd_dali(struct psd_daemon *d, const struct psd_cmdtab_args *args, s
 	char *out;
 	json_object *o, *res;
 	if (argc < 3) {
-		error_reply(reply, "usage: dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|"
+		psd_ctlcmd_error(reply, "usage: dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|"
 		                        "identify SHORT [SECONDS]|verify ZONE|status|abort");
 		return;
 	}
@@ -342,12 +344,12 @@ void psd_ctlcmd_dali(struct psd_daemon *d, const struct psd_cmdtab_args *args, s
 		if (e->dev_open[i] && strcmp(e->dev[i].name, argv[1]) == 0)
 			di = (int)i;
 	if (di < 0) {
-		error_reply(reply, "no device '%s'", argv[1]);
+		psd_ctlcmd_error(reply, "no device '%s'", argv[1]);
 		return;
 	}
 	dev = &e->dev[di];
 	if (!dev->drv->command || strncmp(dev->drv->name, "dali", 4) != 0) {
-		error_reply(reply, "device %s (driver %s) is not a DALI interface", argv[1], dev->drv->name);
+		psd_ctlcmd_error(reply, "device %s (driver %s) is not a DALI interface", argv[1], dev->drv->name);
 		return;
 	}
 	if (strcmp(argv[2], "verify") == 0 && argc == 4) {
@@ -362,24 +364,24 @@ void psd_ctlcmd_dali(struct psd_daemon *d, const struct psd_cmdtab_args *args, s
 				pts[npts++] = &e->pt[p];
 		}
 		if (!npts) {
-			error_reply(reply, "zone %s has no outputs on %s", argv[3], argv[1]);
+			psd_ctlcmd_error(reply, "zone %s has no outputs on %s", argv[3], argv[1]);
 			return;
 		}
 	}
 	if (!(out = malloc(outlen))) {
-		error_reply(reply, "out of memory");
+		psd_ctlcmd_error(reply, "out of memory");
 		return;
 	}
 	if (dev->drv->command(dev, argc - 2, argv + 2, pts, npts, psd_clock_now(&d->clock), psd_time_mono(), out,
 	                      outlen) != 0) {
-		error_reply(reply, "%s", dev->err);
+		psd_ctlcmd_error(reply, "%s", dev->err);
 		free(out);
 		return;
 	}
 	res = json_tokener_parse(out);
 	free(out);
 	if (!res) {
-		error_reply(reply, "device %s: its driver's reply is not JSON", argv[1]);
+		psd_ctlcmd_error(reply, "device %s: its driver's reply is not JSON", argv[1]);
 		return;
 	}
 	if (strcmp(argv[2], "status") != 0) {
@@ -470,7 +472,7 @@ void psd_ctlcmd_ratios(struct psd_daemon *d, const struct psd_cmdtab_args *a, st
 		path = psd_config_zone_results(d->engine.cf, z->zc);
 	}
 	if (!r) {
-		error_reply(reply, "no results loaded");
+		psd_ctlcmd_error(reply, "no results loaded");
 		return;
 	}
 	o = ok_reply();
@@ -506,7 +508,7 @@ void psd_ctlcmd_reload(struct psd_daemon *d, const struct psd_cmdtab_args *a, st
 	char msg[512];
 	(void)a;
 	if (!w) {
-		error_reply(reply, "reload: out of memory");
+		psd_ctlcmd_error(reply, "reload: out of memory");
 		return;
 	}
 	if (psd_reload_explain(d, w) == 0) {
@@ -548,25 +550,25 @@ void psd_ctlcmd_accept_test(struct psd_daemon *d, const struct psd_cmdtab_args *
 	char err[512], stamp[24];
 	psd_accept_defaults(&p);
 	if (argc < 2) {
-		error_reply(reply, "%s", accept_usage);
+		psd_ctlcmd_error(reply, "%s", accept_usage);
 		return;
 	}
 	for (int i = 2; i < argc; i += 2) {
 		int rc = i + 1 < argc ? psd_accept_option(&p, argv[i], argv[i + 1], err, sizeof err) : 0;
 		if (rc <= 0) {
-			error_reply(reply, "%s", rc < 0 ? err : accept_usage);
+			psd_ctlcmd_error(reply, "%s", rc < 0 ? err : accept_usage);
 			return;
 		}
 	}
 	if (!zone_arg(d, argv[1], reply))
 		return;
 	if (!e->db) {
-		error_reply(reply, "psensd keeps no database: the acceptance tests judge its log");
+		psd_ctlcmd_error(reply, "psensd keeps no database: the acceptance tests judge its log");
 		return;
 	}
 	if (psd_accept_zone(e->db, argv[1], &p, floor(psd_time_wall()), r, &sum, err, sizeof err) != 0 ||
 	    psd_db_commit(e->db, err, sizeof err) != 0) {
-		error_reply(reply, "accept-test %s: %s", argv[1], err);
+		psd_ctlcmd_error(reply, "accept-test %s: %s", argv[1], err);
 		return;
 	}
 	psd_points_set_verdict(&d->points, argv[1], psd_accept_overall(&sum));
@@ -601,29 +603,12 @@ void psd_ctlcmd_accept_test(struct psd_daemon *d, const struct psd_cmdtab_args *
 	finish(o, reply);
 }
 
-void psd_ctlcmd_handle(void *user, const struct psd_ctl_client *c, char *line, struct psd_ctl_reply *reply)
-{
-	(void)c;
-	psd_ctlcmd_request(user, line, reply);
-}
-
 void psd_ctlcmd_ping(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
 	json_object *o = ok_reply();
 	(void)d;
 	(void)a;
 	json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
-	finish(o, reply);
-}
-
-void psd_ctlcmd_help(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
-{
-	char text[1024];
-	json_object *o = ok_reply();
-	(void)d;
-	(void)a;
-	psd_cmdtab_help(text, sizeof text);
-	psd_json_str(o, "commands", text);
 	finish(o, reply);
 }
 
@@ -641,27 +626,7 @@ void psd_ctlcmd_target(struct psd_daemon *d, const struct psd_cmdtab_args *a, st
 	char err[512];
 	(void)d;
 	if (psd_engine_set_target(a->zone, a->num[0], err, sizeof err) != 0)
-		error_reply(reply, "%s", err);
-	else
-		finish(ok_reply(), reply);
-}
-
-/* override and release: the typed entries BACnet calls too (cmdtab.h) */
-void psd_ctlcmd_override(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
-{
-	char err[512];
-	if (psd_cmdtab_override(&d->engine, a->zone->zc->name, a->num[0], a->num[1], psd_clock_now(&d->clock), err,
-	                        sizeof err) != 0)
-		error_reply(reply, "%s", err);
-	else
-		finish(ok_reply(), reply);
-}
-
-void psd_ctlcmd_release(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
-{
-	char err[512];
-	if (psd_cmdtab_release(&d->engine, a->zone->zc->name, err, sizeof err) != 0)
-		error_reply(reply, "%s", err);
+		psd_ctlcmd_error(reply, "%s", err);
 	else
 		finish(ok_reply(), reply);
 }
@@ -671,33 +636,4 @@ void psd_ctlcmd_off(struct psd_daemon *d, const struct psd_cmdtab_args *a, struc
 	(void)d;
 	psd_engine_off(a->zone);
 	finish(ok_reply(), reply);
-}
-
-/* One request: its words split, its row found in the table (cmdtab.c), its
- * arguments judged by the row's types, then the row's handler. */
-void psd_ctlcmd_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *reply)
-{
-	const struct psd_cmdtab *t;
-	struct psd_cmdtab_args a;
-	char *argv[PSD_CTL_MAX_WORDS], err[512];
-	int argc = psd_ctlsock_split(line, argv, err, sizeof err);
-	if (argc < 0) {
-		error_reply(reply, "%s", err);
-		return;
-	}
-	if (argc == 0) {
-		error_reply(reply, "empty request; try help");
-		return;
-	}
-	if (!(t = psd_cmdtab_find(argv[0])) || !(t->fronts & PSD_CMDTAB_SOCKET)) {
-		char shown[64];
-		snprintf(shown, sizeof shown, "%s", argv[0]);
-		error_reply(reply, "unknown request '%s' or wrong arguments; try help", shown);
-		return;
-	}
-	if (psd_cmdtab_parse(t, &d->engine, argc, argv, &a, err, sizeof err) != 0) {
-		error_reply(reply, "%s", err);
-		return;
-	}
-	t->fn(d, &a, reply);
 }

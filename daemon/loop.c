@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 #include "loop.h"
-#include "ctlcmd.h"
+#include "cmdtab.h"
 #include "refresh.h"
 #include "reload.h"
 #include "dated.h"
@@ -154,7 +154,7 @@ static int date_run(struct psd_daemon *d, double now)
 static void fixed_request(void *user, char *line, char *reply, size_t len)
 {
 	struct psd_ctl_reply r = { 0 };
-	psd_ctlcmd_request(user, line, &r);
+	psd_cmdtab_request(user, line, &r);
 	if (strlen(r.text) >= len)
 		snprintf(reply, len, "{\"ok\":false,\"error\":\"reply too long\"}");
 	else
@@ -186,7 +186,7 @@ static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine
 /* A web console's action or live update: the same function again. */
 static void web_request(void *user, char *line, struct psd_ctl_reply *reply)
 {
-	psd_ctlcmd_request(user, line, reply);
+	psd_cmdtab_request(user, line, reply);
 }
 
 int psd_loop_start(struct psd_daemon *d, const char *path)
@@ -220,7 +220,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		cf->web.enabled = 0;
 	} else if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctlsock_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
-		                 (int)cf->max_clients, psd_ctlcmd_handle, d, err, sizeof err) != 0) {
+		                 (int)cf->max_clients, psd_cmdtab_handle, d, err, sizeof err) != 0) {
 			if (errno == EADDRINUSE)
 				psd_log_errx("control socket %s", err);
 			else
@@ -248,7 +248,8 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		return abandon_start(d, cf, 1, "refused start");
 	if (d->have_ctl)
 		psd_log_info("control socket %s", d->ctl.path);
-	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, &d->points, fixed_request, d, err, sizeof err))) {
+	if (cf->mqtt.enabled && !(d->mqtt = psd_mqtt_open(&cf->mqtt, &d->engine, &d->points, fixed_request, psd_cmdtab_verb_fronts, d, err,
+	                                                sizeof err))) {
 		psd_log_errx("%s", err);
 		return abandon_start(d, cf, 1, "MQTT cannot start");
 	}

@@ -45,6 +45,7 @@ struct psd_mqtt {
 	struct psd_engine *e;
 	const struct psd_points *pts; /* the point model's state: the state's "points" */
 	psd_mqtt_request_fn fn;
+	psd_mqtt_grants_fn grants;
 	void *user;
 	char site[PSD_MQTT_NAME], prefix[64], status_topic[TOPIC];
 	double rate;
@@ -407,7 +408,7 @@ static void on_message(struct mosquitto *mosq, void *user, const struct mosquitt
 		refuse(m, lev[2], lev[4], NULL, "a retained command is refused (it would run again at every connect)");
 		goto done;
 	}
-	if (psd_mqttcmd_scope(lev[4]) > m->commands) {
+	if (psd_mqttcmd_scope(m->grants(lev[4])) > m->commands) {
 		snprintf(err, sizeof err, "set/%.24s is not allowed: [mqtt] commands = override (override, release, "
 		         "status)", lev[4]);
 		refuse(m, lev[2], lev[4], NULL, err);
@@ -513,7 +514,8 @@ static void try_connect(struct psd_mqtt *m)
 }
 
 struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
-                               psd_mqtt_request_fn fn, void *user, char *err, size_t errlen)
+                               psd_mqtt_request_fn fn, psd_mqtt_grants_fn grants, void *user, char *err,
+                               size_t errlen)
 {
 	struct psd_mqtt *m;
 	char id[128];
@@ -532,6 +534,7 @@ struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine 
 	m->e = e;
 	m->pts = pts;
 	m->fn = fn;
+	m->grants = grants;
 	m->user = user;
 	snprintf(m->site, sizeof m->site, "%s", c->site);
 	snprintf(m->prefix, sizeof m->prefix, "%s", c->discovery_prefix);

@@ -13,7 +13,7 @@
  * loop's turn, each turn publishing at most what the rate bound and the
  * in-flight window allow, so neither the control nor the control socket
  * ever waits on the broker; commands run in the same thread as socket
- * requests, through the same function (psd_ctlcmd_request), with no hand-off.
+ * requests, through the same function (psd_cmdtab_request), with no hand-off.
  * (Resolving the host name is the one blocking call: give an address or a
  * name in /etc/hosts.)  Built only WITH_MQTT; daemon/mqtt/mqtt_off.c otherwise. */
 #ifndef PSD_MQTT_H
@@ -30,8 +30,11 @@ struct psd_engine;
 struct psd_mqtt;
 struct psd_points;
 
-/* A control request: what psd_ctlcmd_request does. */
+/* A control request: what psd_cmdtab_request does. */
 typedef void (*psd_mqtt_request_fn)(void *user, char *line, char *reply, size_t len);
+/* The front ends a set/ verb's command grants (psd_cmdtab_verb_fronts):
+ * the command table, handed in so that the room calls no core function. */
+typedef unsigned (*psd_mqtt_grants_fn)(const char *verb);
 
 struct psd_mqtt_stats {
 	int connected;
@@ -46,7 +49,8 @@ struct psd_mqtt_stats {
  * it connects in the background.  pts: the point model's state (points.h)
  * the state messages' "points" read.  NULL with a message in err. */
 struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
-                               psd_mqtt_request_fn fn, void *user, char *err, size_t errlen);
+                               psd_mqtt_request_fn fn, psd_mqtt_grants_fn grants, void *user, char *err,
+                               size_t errlen);
 /* The broker's descriptor for poll(): 1 written, 0 none now. */
 int psd_mqtt_pollfd(struct psd_mqtt *m, struct pollfd *pfd);
 /* Do what is due: the socket's I/O (pfd from psd_mqtt_pollfd, or NULL),

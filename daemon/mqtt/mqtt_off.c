@@ -8,12 +8,14 @@
 #include "mqtt.h"
 
 struct psd_mqtt *psd_mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
-                               psd_mqtt_request_fn fn, void *user, char *err, size_t errlen)
+                               psd_mqtt_request_fn fn, psd_mqtt_grants_fn grants, void *user, char *err,
+                               size_t errlen)
 {
 	(void)c;
 	(void)e;
 	(void)pts;
 	(void)fn;
+	(void)grants;
 	(void)user;
 	psd_errbuf(err, errlen, "[mqtt]: this psensd was built without MQTT (WITH_MQTT=no or no libmosquitto)");
 	return NULL;

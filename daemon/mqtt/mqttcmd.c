@@ -261,15 +261,11 @@ static int build(const struct payload *p, const char *zone, const char *verb, do
 	return 0;
 }
 
-/* The scope is the table's (cmdtab.c): the verb's row and its MQTT bits. */
-int psd_mqttcmd_scope(const char *verb)
+int psd_mqttcmd_scope(unsigned fronts)
 {
-	const struct psd_cmdtab *t = psd_cmdtab_find_verb(verb);
-	if (!t)
-		return PSD_MQTT_COMMANDS_NONE;
-	if (t->fronts & PSD_CMDTAB_MQTT_OVERRIDE)
+	if (fronts & PSD_CMDTAB_MQTT_OVERRIDE)
 		return PSD_MQTT_COMMANDS_OVERRIDE;
-	if (t->fronts & PSD_CMDTAB_MQTT_ALL)
+	if (fronts & PSD_CMDTAB_MQTT_ALL)
 		return PSD_MQTT_COMMANDS_ALL;
 	return PSD_MQTT_COMMANDS_NONE;
 }

@@ -8,7 +8,7 @@
  * one epoll descriptor, one more in psensd's poll() (no thread): every
  * request is answered in the loop's turn, on the loop's thread.  Every
  * action a page asks for is a control request line given to the same
- * function as the control socket's (psd_ctlcmd_request), judged and
+ * function as the control socket's (psd_cmdtab_request), judged and
  * answered alike; the live updates (server-sent events) are its `status`
  * reply.  Built only WITH_WEB; daemon/web/web_off.c otherwise. */
 #ifndef PSD_WEB_H
@@ -25,7 +25,7 @@ struct psd_engine;
 struct psd_web;
 struct psd_ctl_reply;
 
-/* A control request: what psd_ctlcmd_request does (the reply grows as it
+/* A control request: what psd_cmdtab_request does (the reply grows as it
  * needs, up to the control socket's PSD_CTL_MAX_REPLY). */
 typedef void (*psd_web_request_fn)(void *user, char *line, struct psd_ctl_reply *reply);
 

@@ -3,7 +3,7 @@
  * (application/x-www-form-urlencoded), a cookie, and the control request
  * line a page asks psensd to run.  The line is the control socket's own
  * (psensctl(1)); it is judged here only for what the console may ask and
- * for its form, and then by psd_ctlcmd_request like any other. */
+ * for its form, and then by psd_cmdtab_request like any other. */
 #ifndef PSD_WEBREQ_H
 #define PSD_WEBREQ_H
 

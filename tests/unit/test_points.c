@@ -29,7 +29,7 @@
 
 #include "bacnet.h"
 #include "bactag.h"
-#include "ctlcmd.h"
+#include "cmdtab.h"
 #include "loop.h"
 #include "mqttmsg.h"
 #include "points.h"
@@ -150,7 +150,7 @@ static json_object *status(void)
 	struct psd_ctl_reply reply = { 0 };
 	char line[] = "status";
 	json_object *o;
-	psd_ctlcmd_request(&d, line, &reply);
+	psd_cmdtab_request(&d, line, &reply);
 	o = json_tokener_parse(reply.text);
 	psd_ctlsock_reply_free(&reply);
 	assert_non_null(o);
