@@ -135,7 +135,9 @@ int psd_cmdtab_allows(const char *word, unsigned front)
 	return t && (t->fronts & front) ? 1 : 0;
 }
 
-size_t psd_cmdtab_help(char *out, size_t n)
+/* help's list of the socket's commands, " | " between entries, into out:
+ * the length it needs (as snprintf). */
+static size_t help_list(char *out, size_t n)
 {
 	size_t k = 0;
 	for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
@@ -232,7 +234,7 @@ static void run_help(struct psd_daemon *d, const struct psd_cmdtab_args *a, stru
 	char text[1024];
 	(void)d;
 	(void)a;
-	psd_cmdtab_help(text, sizeof text);
+	help_list(text, sizeof text);
 	psd_ctlcmd_ok(reply, "commands", text);
 }
 

@@ -73,9 +73,6 @@ const struct psd_cmdtab *psd_cmdtab_find_verb(const char *verb);
 unsigned psd_cmdtab_verb_fronts(const char *verb);
 /* 1 when front (one PSD_CMDTAB_* bit) may send command word, else 0. */
 int psd_cmdtab_allows(const char *word, unsigned front);
-/* help's list of the socket's commands, " | " between entries, into out.
- * The length it needs (as snprintf). */
-size_t psd_cmdtab_help(char *out, size_t n);
 /* A request's words (argv[0] the command of row t) checked against the
  * row's arguments into a: 0, or -1 with the error in err (the row's usage,
  * "no zone", or "unknown request"). */
