@@ -15,8 +15,9 @@ int psd_webreq_form(const char *body, const char *key, char *out, size_t n);
 /* The value of cookie name in a Cookie: header into out.  0 or -1. */
 int psd_webreq_cookie(const char *header, const char *name, char *out, size_t n);
 /* 0 when line is a request the console may send: printable ASCII, shorter
- * than the control socket's line, its first word a command the table
- * (cmdtab.h) grants the console.  -1 with why. */
+ * than the control socket's line, its first word one of ping, help, status,
+ * ratios, target, override, release, calibrate, accept-test (the command
+ * table's console rows, cmdtab.h).  -1 with why. */
 int psd_webreq_line_ok(const char *line, char *err, size_t errlen);
 
 #endif
