@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "accept.h"
+#include "cmdtab.h"
 #include "loop.h"
 #include "ctlcmd.h"
 #include "reload.h"
@@ -23,24 +24,6 @@
 #include "log.h"
 #include "points.h"
 #include "time.h"
-
-static const char help_text[] =
-	"ping | status [ZONE] | target ZONE LUX | override ZONE LEVEL SECONDS | off ZONE | release ZONE | "
-	"ratios [ZONE] | log | reload | help | calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort | "
-	"accept-test ZONE [--since YYYY-MM-DD] [--samples N] | "
-	"dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|identify SHORT [SECONDS]|verify ZONE|status|abort";
-
-/* The request words psensd answers (the first word of each help_text entry). */
-static const char *const request_words[] = { "ping", "status", "target", "override", "off", "release", "ratios", "log",
-	                                     "reload", "help", "calibrate", "accept-test", "dali", NULL };
-
-int psd_ctlcmd_is_request(const char *word)
-{
-	for (size_t i = 0; request_words[i]; i++)
-		if (strcmp(word, request_words[i]) == 0)
-			return 1;
-	return 0;
-}
 
 /* A path psensd names to a client, absolute: a relative one (from a
  * relative -f) is relative to psensd's directory, not the client's. */
@@ -66,8 +49,7 @@ static void finish(json_object *o, struct psd_ctl_reply *reply)
 	json_object_put(o);
 }
 
-static void error_reply(struct psd_ctl_reply *reply, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void error_reply(struct psd_ctl_reply *reply, const char *fmt, ...)
+void psd_ctlcmd_error(struct psd_ctl_reply *reply, const char *fmt, ...)
 {
 	char msg[512];
 	va_list ap;
@@ -85,6 +67,14 @@ static json_object *ok_reply(void)
 	json_object *o = json_object_new_object();
 	json_object_object_add(o, "ok", json_object_new_boolean(1));
 	return o;
+}
+
+void psd_ctlcmd_ok(struct psd_ctl_reply *reply, const char *key, const char *text)
+{
+	json_object *o = ok_reply();
+	if (key)
+		psd_json_str(o, key, text);
+	finish(o, reply);
 }
 
 static void cal_progress(json_object *o, const struct psd_zone *z, double now);
@@ -272,21 +262,23 @@ static struct psd_zone *zone_arg(struct psd_daemon *d, const char *name, struct 
 {
 	struct psd_zone *z = psd_engine_zone(&d->engine, name);
 	if (!z)
-		error_reply(reply, "no zone '%s'", name);
+		psd_ctlcmd_error(reply, "no zone '%s'", name);
 	return z;
 }
 
 static const char cal_usage[] = "usage: calibrate ZONE night|day [LEVEL]|lux N|finish|status|accept|abort";
 
-static void calibrate(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+void psd_ctlcmd_calibrate(struct psd_daemon *d, const struct psd_cmdtab_args *args, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
+	int argc = args->argc;
+	char **argv = args->argv;
 	struct psd_zone *z;
 	double now = psd_clock_now(&d->clock), a;
 	char err[512], *end;
 	int rc = 0;
 	if (argc < 3) {
-		error_reply(reply, "%s", cal_usage);
+		psd_ctlcmd_error(reply, "%s", cal_usage);
 		return;
 	}
 	if (!(z = zone_arg(d, argv[1], reply)))
@@ -295,15 +287,18 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, struct psd_ct
 		rc = psd_engine_cal_start(e, z, PSD_CAL_NIGHT, 0, now, err, sizeof err);
 	} else if (strcmp(argv[2], "day") == 0 && argc <= 4) {
 		a = z->level;
-		if (argc == 4 && (a = strtod(argv[3], &end), *end || end == argv[3])) {
-			error_reply(reply, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
-			return;
+		if (argc == 4) {
+			a = strtod(argv[3], &end);
+			if (*end || end == argv[3]) {
+				psd_ctlcmd_error(reply, "calibrate ZONE day [LEVEL]: '%s' is not a level", argv[3]);
+				return;
+			}
 		}
 		rc = psd_engine_cal_start(e, z, PSD_CAL_DAY, a, now, err, sizeof err);
 	} else if (strcmp(argv[2], "lux") == 0 && argc == 4) {
 		a = strtod(argv[3], &end);
 		if (*end || end == argv[3]) {
-			error_reply(reply, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
+			psd_ctlcmd_error(reply, "calibrate ZONE lux N: '%s' is not a number", argv[3]);
 			return;
 		}
 		rc = psd_engine_cal_lux(e, z, a, now, err, sizeof err);
@@ -314,11 +309,11 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, struct psd_ct
 	} else if (strcmp(argv[2], "abort") == 0 && argc == 3) {
 		rc = psd_engine_cal_abort(e, z, now, "by request", err, sizeof err);
 	} else if (strcmp(argv[2], "status") != 0 || argc != 3) {
-		error_reply(reply, "%s", cal_usage);
+		psd_ctlcmd_error(reply, "%s", cal_usage);
 		return;
 	}
 	if (rc != 0) {
-		error_reply(reply, "%s", err);
+		psd_ctlcmd_error(reply, "%s", err);
 		return;
 	}
 	{
@@ -331,9 +326,11 @@ static void calibrate(struct psd_daemon *d, int argc, char **argv, struct psd_ct
 /* dali DEVICE REQUEST...: a DALI interface's own requests (commissioning),
  * answered by its driver's command method; verify ZONE hands it the zone's
  * outputs on that interface. */
-static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+void psd_ctlcmd_dali(struct psd_daemon *d, const struct psd_cmdtab_args *args, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
+	int argc = args->argc;
+	char **argv = args->argv;
 	struct ps_dev *dev = NULL;
 	struct ps_point *pts[2 * PSD_MAX_ZONE_OUT];
 	int npts = 0, di = -1;
@@ -341,7 +338,7 @@ static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_rep
 	char *out;
 	json_object *o, *res;
 	if (argc < 3) {
-		error_reply(reply, "usage: dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|"
+		psd_ctlcmd_error(reply, "usage: dali DEVICE scan|address [new|all]|group ADDRESS add|remove GROUP|"
 		                        "identify SHORT [SECONDS]|verify ZONE|status|abort");
 		return;
 	}
@@ -349,12 +346,12 @@ static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_rep
 		if (e->dev_open[i] && strcmp(e->dev[i].name, argv[1]) == 0)
 			di = (int)i;
 	if (di < 0) {
-		error_reply(reply, "no device '%s'", argv[1]);
+		psd_ctlcmd_error(reply, "no device '%s'", argv[1]);
 		return;
 	}
 	dev = &e->dev[di];
 	if (!dev->drv->command || strncmp(dev->drv->name, "dali", 4) != 0) {
-		error_reply(reply, "device %s (driver %s) is not a DALI interface", argv[1], dev->drv->name);
+		psd_ctlcmd_error(reply, "device %s (driver %s) is not a DALI interface", argv[1], dev->drv->name);
 		return;
 	}
 	if (strcmp(argv[2], "verify") == 0 && argc == 4) {
@@ -369,24 +366,24 @@ static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_rep
 				pts[npts++] = &e->pt[p];
 		}
 		if (!npts) {
-			error_reply(reply, "zone %s has no outputs on %s", argv[3], argv[1]);
+			psd_ctlcmd_error(reply, "zone %s has no outputs on %s", argv[3], argv[1]);
 			return;
 		}
 	}
 	if (!(out = malloc(outlen))) {
-		error_reply(reply, "out of memory");
+		psd_ctlcmd_error(reply, "out of memory");
 		return;
 	}
 	if (dev->drv->command(dev, argc - 2, argv + 2, pts, npts, psd_clock_now(&d->clock), psd_time_mono(), out,
 	                      outlen) != 0) {
-		error_reply(reply, "%s", dev->err);
+		psd_ctlcmd_error(reply, "%s", dev->err);
 		free(out);
 		return;
 	}
 	res = json_tokener_parse(out);
 	free(out);
 	if (!res) {
-		error_reply(reply, "device %s: its driver's reply is not JSON", argv[1]);
+		psd_ctlcmd_error(reply, "device %s: its driver's reply is not JSON", argv[1]);
 		return;
 	}
 	if (strcmp(argv[2], "status") != 0) {
@@ -401,18 +398,13 @@ static void dali(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_rep
 	finish(o, reply);
 }
 
-static void status(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+/* status [ZONE]: the table's parser has judged the words and the zone. */
+void psd_ctlcmd_status(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
 	double now = psd_clock_now(&d->clock);
 	json_object *o, *zones;
 	char t[8];
-	if (argc > 2) {
-		error_reply(reply, "usage: status [ZONE]");
-		return;
-	}
-	if (argc == 2 && !zone_arg(d, argv[1], reply))
-		return;
 	o = ok_reply();
 	zones = json_object_new_array();
 	psd_clock_hhmm(now, t);
@@ -449,29 +441,25 @@ static void status(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_r
 	}
 	psd_frontend_status(&d->fronts, o);   /* each front end its part: [mqtt] the publisher's state */
 	for (size_t i = 0; i < e->nzone; i++)
-		if (argc < 2 || strcmp(argv[1], e->zone[i].zc->name) == 0)
+		if (!a->zone || a->zone == &e->zone[i])
 			json_object_array_add(zones, zone_json(&d->points, e, &e->zone[i], now));
 	json_object_object_add(o, "zones", zones);
 	finish(o, reply);
 }
 
 /* ratios [ZONE]: [psensd]'s results, or the zone's own simulation. */
-static void ratios(struct psd_daemon *d, const char *zone, struct psd_ctl_reply *reply)
+void psd_ctlcmd_ratios(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
 	const struct ps_results *r = d->engine.have_res ? &d->engine.res : NULL;
 	const char *path = d->engine.cf->results;
 	json_object *o, *conds;
-	if (zone) {
-		struct psd_zone *z = psd_engine_zone(&d->engine, zone);
-		if (!z) {
-			error_reply(reply, "no zone '%s'", zone);
-			return;
-		}
+	if (a->zone) {
+		const struct psd_zone *z = a->zone;
 		r = z->res;
 		path = psd_config_zone_results(d->engine.cf, z->zc);
 	}
 	if (!r) {
-		error_reply(reply, "no results loaded");
+		psd_ctlcmd_error(reply, "no results loaded");
 		return;
 	}
 	o = ok_reply();
@@ -498,23 +486,16 @@ static void ratios(struct psd_daemon *d, const char *zone, struct psd_ctl_reply 
 	finish(o, reply);
 }
 
-static int number(const char *text, double *out)
-{
-	char *end;
-	errno = 0;
-	*out = strtod(text, &end);
-	return *text && !*end && errno == 0 && isfinite(*out) ? 0 : -1;
-}
-
 /* reload: now, and the outcome in the reply: ok, or ok false with the
  * reasons (each file:line) and the running configuration kept. */
-static void reload(struct psd_daemon *d, struct psd_ctl_reply *reply)
+void psd_ctlcmd_reload(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
 	struct psd_reload_why *w = malloc(sizeof *w);   /* 6 kB: not on the handler's stack */
 	json_object *o, *arr;
 	char msg[512];
+	(void)a;
 	if (!w) {
-		error_reply(reply, "reload: out of memory");
+		psd_ctlcmd_error(reply, "reload: out of memory");
 		return;
 	}
 	if (psd_reload_explain(d, w) == 0) {
@@ -544,9 +525,11 @@ static const char accept_usage[] = "usage: accept-test ZONE [--since YYYY-MM-DD]
  * them.  psensd runs them because it is the log's one writer: its open
  * batch holds the newest samples, and psensctl -d could not write beside
  * it. */
-static void accept_test(struct psd_daemon *d, int argc, char **argv, struct psd_ctl_reply *reply)
+void psd_ctlcmd_accept_test(struct psd_daemon *d, const struct psd_cmdtab_args *args, struct psd_ctl_reply *reply)
 {
 	struct psd_engine *e = &d->engine;
+	int argc = args->argc;
+	char **argv = args->argv;
 	struct psd_accept_params p;
 	struct psd_accept_result r[PSD_ACCEPT_NTESTS];
 	struct psd_accept_summary sum;
@@ -554,25 +537,25 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, struct psd_
 	char err[512], stamp[24];
 	psd_accept_defaults(&p);
 	if (argc < 2) {
-		error_reply(reply, "%s", accept_usage);
+		psd_ctlcmd_error(reply, "%s", accept_usage);
 		return;
 	}
 	for (int i = 2; i < argc; i += 2) {
 		int rc = i + 1 < argc ? psd_accept_option(&p, argv[i], argv[i + 1], err, sizeof err) : 0;
 		if (rc <= 0) {
-			error_reply(reply, "%s", rc < 0 ? err : accept_usage);
+			psd_ctlcmd_error(reply, "%s", rc < 0 ? err : accept_usage);
 			return;
 		}
 	}
 	if (!zone_arg(d, argv[1], reply))
 		return;
 	if (!e->db) {
-		error_reply(reply, "psensd keeps no database: the acceptance tests judge its log");
+		psd_ctlcmd_error(reply, "psensd keeps no database: the acceptance tests judge its log");
 		return;
 	}
 	if (psd_accept_zone(e->db, argv[1], &p, floor(psd_time_wall()), r, &sum, err, sizeof err) != 0 ||
 	    psd_db_commit(e->db, err, sizeof err) != 0) {
-		error_reply(reply, "accept-test %s: %s", argv[1], err);
+		psd_ctlcmd_error(reply, "accept-test %s: %s", argv[1], err);
 		return;
 	}
 	psd_points_set_verdict(&d->points, argv[1], psd_accept_overall(&sum));
@@ -609,87 +592,37 @@ static void accept_test(struct psd_daemon *d, int argc, char **argv, struct psd_
 	finish(o, reply);
 }
 
-void psd_ctlcmd_handle(void *user, const struct psd_ctl_client *c, char *line, struct psd_ctl_reply *reply)
+void psd_ctlcmd_ping(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
-	(void)c;
-	psd_ctlcmd_request(user, line, reply);
+	json_object *o = ok_reply();
+	(void)d;
+	(void)a;
+	json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
+	finish(o, reply);
 }
 
-void psd_ctlcmd_request(struct psd_daemon *d, char *line, struct psd_ctl_reply *reply)
+void psd_ctlcmd_log(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
 {
-	struct psd_engine *e = &d->engine;
-	struct psd_zone *z;
-	char *argv[PSD_CTL_MAX_WORDS], err[512];
-	int argc = psd_ctlsock_split(line, argv, err, sizeof err);
-	double a, b;
-	if (argc < 0) {
-		error_reply(reply, "%s", err);
-		return;
-	}
-	if (argc == 0) {
-		error_reply(reply, "empty request; try help");
-		return;
-	}
-	if (strcmp(argv[0], "ping") == 0 && argc == 1) {
-		json_object *o = ok_reply();
-		json_object_object_add(o, "pid", json_object_new_int((int)getpid()));
-		finish(o, reply);
-	} else if (strcmp(argv[0], "help") == 0) {
-		json_object *o = ok_reply();
-		psd_json_str(o, "commands", help_text);
-		finish(o, reply);
-	} else if (strcmp(argv[0], "status") == 0) {
-		status(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "ratios") == 0 && argc <= 2) {
-		ratios(d, argc == 2 ? argv[1] : NULL, reply);
-	} else if (strcmp(argv[0], "log") == 0 && argc == 1) {
-		json_object *o = ok_reply();
-		put_path(o, "database", e->cf->database);
-		json_object_object_add(o, "logged", json_object_new_int64((int64_t)e->logged));
-		finish(o, reply);
-	} else if (strcmp(argv[0], "target") == 0) {
-		if (argc != 3 || number(argv[2], &a) != 0)
-			error_reply(reply, "usage: target ZONE LUX");
-		else if (!(z = zone_arg(d, argv[1], reply)))
-			;
-		else if (psd_engine_set_target(z, a, err, sizeof err) != 0)
-			error_reply(reply, "%s", err);
-		else
-			finish(ok_reply(), reply);
-	} else if (strcmp(argv[0], "override") == 0) {
-		if (argc != 4 || number(argv[2], &a) != 0 || number(argv[3], &b) != 0)
-			error_reply(reply, "usage: override ZONE LEVEL SECONDS (level 0 to 1)");
-		else if (!(z = zone_arg(d, argv[1], reply)))
-			;
-		else if (psd_engine_override(z, a, b, psd_clock_now(&d->clock), err, sizeof err) != 0)
-			error_reply(reply, "%s", err);
-		else
-			finish(ok_reply(), reply);
-	} else if (strcmp(argv[0], "off") == 0) {
-		if (argc != 2) {
-			error_reply(reply, "usage: off ZONE");
-		} else if ((z = zone_arg(d, argv[1], reply))) {
-			psd_engine_off(z);
-			finish(ok_reply(), reply);
-		}
-	} else if (strcmp(argv[0], "release") == 0) {
-		if (argc != 2) {
-			error_reply(reply, "usage: release ZONE");
-		} else if ((z = zone_arg(d, argv[1], reply))) {
-			psd_engine_release(z);
-			finish(ok_reply(), reply);
-		}
-	} else if (strcmp(argv[0], "accept-test") == 0) {
-		accept_test(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "calibrate") == 0) {
-		calibrate(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "dali") == 0) {
-		dali(d, argc, argv, reply);
-	} else if (strcmp(argv[0], "reload") == 0 && argc == 1) {
-		reload(d, reply);
-	} else {
-		char shown[64];
-		snprintf(shown, sizeof shown, "%s", argv[0]);
-		error_reply(reply, "unknown request '%s' or wrong arguments; try help", shown);
-	}
+	json_object *o = ok_reply();
+	(void)a;
+	put_path(o, "database", d->engine.cf->database);
+	json_object_object_add(o, "logged", json_object_new_int64((int64_t)d->engine.logged));
+	finish(o, reply);
+}
+
+void psd_ctlcmd_target(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	char err[512];
+	(void)d;
+	if (psd_engine_set_target(a->zone, a->num[0], err, sizeof err) != 0)
+		psd_ctlcmd_error(reply, "%s", err);
+	else
+		finish(ok_reply(), reply);
+}
+
+void psd_ctlcmd_off(struct psd_daemon *d, const struct psd_cmdtab_args *a, struct psd_ctl_reply *reply)
+{
+	(void)d;
+	psd_engine_off(a->zone);
+	finish(ok_reply(), reply);
 }

@@ -20,10 +20,14 @@ struct psd_engine;
 struct psd_points;
 struct json_object;
 
-/* A control request (psd_ctlcmd_request), its reply copied into a fixed
+/* A control request (psd_cmdtab_request), its reply copied into a fixed
  * buffer (an error reply when it does not fit), or growing as it needs. */
 typedef void (*psd_frontend_fixed_fn)(void *user, char *line, char *reply, size_t len);
 typedef void (*psd_frontend_request_fn)(void *user, char *line, struct psd_ctl_reply *reply);
+/* The front ends a command word grants (psd_cmdtab_verb_fronts): MQTT's
+ * verbs are checked against the command table, handed in so that the room
+ * calls no core function. */
+typedef unsigned (*psd_frontend_grants_fn)(const char *verb);
 
 /* What a front end is given at its start: the configuration (freed at a
  * reload: keep what is needed, or read engine->cf), the engine and the
@@ -34,6 +38,7 @@ struct psd_frontend_env {
 	const struct psd_points *points;
 	psd_frontend_fixed_fn fixed;
 	psd_frontend_request_fn request;
+	psd_frontend_grants_fn grants;
 	void *user;
 };
 

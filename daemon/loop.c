@@ -16,7 +16,7 @@
 #include <unistd.h>
 
 #include "loop.h"
-#include "ctlcmd.h"
+#include "cmdtab.h"
 #include "refresh.h"
 #include "reload.h"
 #include "dated.h"
@@ -149,13 +149,13 @@ static int date_run(struct psd_daemon *d, double now)
 	return 0;
 }
 
-/* An MQTT command or a BACnet write (an override or a release): the
- * control socket's request function, the same code, its reply copied into
- * the front end's fixed buffer (an error reply when it does not fit). */
+/* An MQTT command: the control socket's request function, the same code,
+ * its reply copied into the front end's fixed buffer (an error reply when
+ * it does not fit). */
 static void fixed_request(void *user, char *line, char *reply, size_t len)
 {
 	struct psd_ctl_reply r = { 0 };
-	psd_ctlcmd_request(user, line, &r);
+	psd_cmdtab_request(user, line, &r);
 	if (strlen(r.text) >= len)
 		snprintf(reply, len, "{\"ok\":false,\"error\":\"reply too long\"}");
 	else
@@ -185,7 +185,7 @@ static int abandon_start(struct psd_daemon *d, struct psd_config *cf, int engine
 /* A web console's action or live update: the same function again. */
 static void web_request(void *user, char *line, struct psd_ctl_reply *reply)
 {
-	psd_ctlcmd_request(user, line, reply);
+	psd_cmdtab_request(user, line, reply);
 }
 
 /* Every front end the configuration wants (frontend.h), in the table's
@@ -197,6 +197,7 @@ static int start_fronts(struct psd_daemon *d, struct psd_config *cf)
 		                              .points = &d->points,
 		                              .fixed = fixed_request,
 		                              .request = web_request,
+		                              .grants = psd_cmdtab_verb_fronts,
 		                              .user = d };
 	const struct psd_frontend *failed = NULL;
 	char err[1024] = "";
@@ -238,7 +239,7 @@ int psd_loop_start(struct psd_daemon *d, const char *path)
 		psd_promconf_free(&cf->prom);
 	} else if (!d->clock.simulated || cf->socket_path) {
 		if (psd_ctlsock_open(&d->ctl, socket_path(cf, sock, sizeof sock), (int)cf->socket_mode,
-		                 (int)cf->max_clients, psd_ctlcmd_handle, d, err, sizeof err) != 0) {
+		                 (int)cf->max_clients, psd_cmdtab_handle, d, err, sizeof err) != 0) {
 			if (errno == EADDRINUSE)
 				psd_log_errx("control socket %s", err);
 			else

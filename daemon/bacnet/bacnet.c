@@ -17,6 +17,7 @@
 #include "bacobj.h"
 #include "bacserve.h"
 #include "config.h"
+#include "cmdtab.h"
 #include "engine.h"
 #include "errbuf.h"
 #include "log.h"
@@ -42,8 +43,6 @@ struct psd_bacnet {
 	struct psd_bacnet_conf c;
 	struct psd_engine *e;
 	const struct psd_points *pts;
-	psd_frontend_fixed_fn fn;
-	void *user;
 	struct psd_bacserve_zone zone[PSD_MAX_ZONES];
 	double issued[PSD_MAX_ZONES]; /* clock time of the last override sent for a zone */
 	struct psd_bacserve_model m;
@@ -104,21 +103,26 @@ static int in_force(const struct psd_bacserve_zone *z)
 }
 
 /* The zone's priority array to the engine: an override at the highest
- * priority's level for `hold` seconds, or, all relinquished, release. */
+ * priority's level for `hold` seconds, or, all relinquished, release.
+ * The command table's typed entries (cmdtab.h): the socket's own checks
+ * and messages, with no request line between. */
 static int apply(void *user, size_t i)
 {
 	struct psd_bacnet *b = user;
 	struct psd_bacserve_zone *z = &b->zone[i];
-	char line[160], reply[600];
-	int p = in_force(z);
+	char err[512];
+	int p = in_force(z), rc;
 	if (p >= 0)
-		snprintf(line, sizeof line, "override %s %.17g %.17g", z->name, z->prio[p] / 100, b->c.hold);
+		rc = psd_cmdtab_override(b->e, z->name, z->prio[p] / 100, b->c.hold, b->now, err, sizeof err);
 	else
-		snprintf(line, sizeof line, "release %s", z->name);
-	b->fn(b->user, line, reply, sizeof reply);
+		rc = psd_cmdtab_release(b->e, z->name, err, sizeof err);
 	b->issued[i] = b->now; /* a refusal too: tried again at the next renewal, not every turn */
-	if (strncmp(reply, "{\"ok\":true", 10) != 0) {
-		psd_log_warnx("bacnet: zone %s: %s refused: %s", z->name, line, reply);
+	if (rc != 0) {
+		if (p >= 0)
+			psd_log_warnx("bacnet: zone %s: override %s %.17g %.17g refused: %s", z->name, z->name,
+			              z->prio[p] / 100, b->c.hold, err);
+		else
+			psd_log_warnx("bacnet: zone %s: release %s refused: %s", z->name, z->name, err);
 		return -1;
 	}
 	if (p >= 0)
@@ -251,7 +255,9 @@ static void fd_result(struct psd_bacnet *b, const uint8_t *in, size_t n, double 
 		size_t len = psd_bacserve_i_am(&b->m, 0x09, out);
 		send_to(b, out, len, b->fdr.addr);
 	}
-	b->fdr.pending = 0, b->fdr.fails = 0, b->fdr.registered = 1;
+	b->fdr.pending = 0;
+	b->fdr.fails = 0;
+	b->fdr.registered = 1;
 	b->fdr.backoff = FD_BACKOFF_MIN_S;
 	b->fdr.expires = t + (double)b->c.bbmd_ttl;
 	b->fdr.next = t + (double)b->c.bbmd_ttl / 2; /* renewed well before the TTL runs out */
@@ -281,8 +287,7 @@ static int bacnet_wait_ms(const struct psd_bacnet *b)
 }
 
 static struct psd_bacnet *bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                      const struct psd_points *pts, psd_frontend_fixed_fn fn, void *user, char *err,
-                                   size_t errlen)
+                                      const struct psd_points *pts, char *err, size_t errlen)
 {
 	struct psd_bacnet *b = calloc(1, sizeof *b);
 	struct sockaddr_in sa = { .sin_family = AF_INET, .sin_port = htons((uint16_t)c->port) };
@@ -293,7 +298,8 @@ static struct psd_bacnet *bacnet_open(const struct psd_bacnet_conf *c, struct ps
 	}
 	b->fd = -1;
 	b->c = *c;
-	b->e = e, b->pts = pts, b->fn = fn, b->user = user;
+	b->e = e;
+	b->pts = pts;
 	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance,
 		                            .name = b->c.name,
 		                            .vendor_id = (uint16_t)c->vendor_id,
@@ -423,7 +429,7 @@ static int wanted(const struct psd_config *cf)
 
 static void *start(const struct psd_frontend_env *env, char *err, size_t errlen)
 {
-	return bacnet_open(&env->cf->bacnet, env->engine, env->points, env->fixed, env->user, err, errlen);
+	return bacnet_open(&env->cf->bacnet, env->engine, env->points, err, errlen);
 }
 
 /* COV notifications of the levels just commanded */

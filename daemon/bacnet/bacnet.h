@@ -9,9 +9,9 @@
  * may).  An answer in segments (bacseg.h) goes out a window at a time from
  * the same turns, its retry timer part of the loop's poll timeout.  The
  * objects are filled from the engine before each batch.  A
- * write to a zone's Lighting Output becomes the control socket's
- * `override` or `release` request, through the same function
- * (psd_ctlcmd_request), so it is judged like one and never overrides the
+ * write to a zone's Lighting Output becomes the command table's typed
+ * `override` or `release` (cmdtab.h), the entries the control socket's
+ * requests reach too, so it is judged like one and never overrides the
  * safe level of a zone in a fault.  A write to a Value (the target lux,
  * daylight control, the vacancy hold) becomes the point model's write
  * (psd_points_write), again whenever the engine lost the value in force

@@ -32,7 +32,7 @@
 
 #include "cli.h"
 #include "ctlsock.h"
-#include "ctlcmd.h"
+#include "cmdtab.h"
 #include "db.h"
 #include "canvas.h"
 #include "config.h"
@@ -1027,7 +1027,7 @@ int main(int argc, char **argv)
 		return report(sock, dbpath, timeout_ms, argc - optind - 1, argv + optind + 1);
 	if (strcmp(argv[optind], "accept-test") == 0)
 		return accept_test(sock, dbpath, raw, timeout_ms, argc - optind - 1, argv + optind + 1);
-	if (!psd_ctlcmd_is_request(argv[optind])) {
+	if (!psd_cmdtab_allows(argv[optind], PSD_CMDTAB_SOCKET)) {
 		fprintf(stderr, "psensctl: '%s' is not a command (psensctl --help lists them)\n", argv[optind]);
 		return 2;
 	}

@@ -56,6 +56,7 @@ struct psd_mqtt {
 	struct psd_engine *e;
 	const struct psd_points *pts; /* the point model's state: the state's "points" */
 	psd_frontend_fixed_fn fn;
+	psd_frontend_grants_fn grants;
 	void *user;
 	char site[PSD_MQTT_NAME], prefix[64], status_topic[TOPIC];
 	double rate;
@@ -418,7 +419,7 @@ static void on_message(struct mosquitto *mosq, void *user, const struct mosquitt
 		refuse(m, lev[2], lev[4], NULL, "a retained command is refused (it would run again at every connect)");
 		goto done;
 	}
-	if (psd_mqttcmd_scope(lev[4]) > m->commands) {
+	if (psd_mqttcmd_scope(m->grants(lev[4])) > m->commands) {
 		snprintf(err, sizeof err, "set/%.24s is not allowed: [mqtt] commands = override (override, release, "
 		         "status)", lev[4]);
 		refuse(m, lev[2], lev[4], NULL, err);
@@ -524,7 +525,8 @@ static void try_connect(struct psd_mqtt *m)
 }
 
 static struct psd_mqtt *mqtt_open(const struct psd_mqtt_conf *c, struct psd_engine *e, const struct psd_points *pts,
-                                  psd_frontend_fixed_fn fn, void *user, char *err, size_t errlen)
+                                  psd_frontend_fixed_fn fn, psd_frontend_grants_fn grants, void *user, char *err,
+                                  size_t errlen)
 {
 	struct psd_mqtt *m;
 	char id[128];
@@ -543,6 +545,7 @@ static struct psd_mqtt *mqtt_open(const struct psd_mqtt_conf *c, struct psd_engi
 	m->e = e;
 	m->pts = pts;
 	m->fn = fn;
+	m->grants = grants;
 	m->user = user;
 	snprintf(m->site, sizeof m->site, "%s", c->site);
 	snprintf(m->prefix, sizeof m->prefix, "%s", c->discovery_prefix);
@@ -723,7 +726,7 @@ static int wanted(const struct psd_config *cf)
 
 static void *start(const struct psd_frontend_env *env, char *err, size_t errlen)
 {
-	return mqtt_open(&env->cf->mqtt, env->engine, env->points, env->fixed, env->user, err, errlen);
+	return mqtt_open(&env->cf->mqtt, env->engine, env->points, env->fixed, env->grants, env->user, err, errlen);
 }
 
 /* the samples just logged go out now, within the bounds */

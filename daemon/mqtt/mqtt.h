@@ -13,7 +13,7 @@
  * loop's turn, each turn publishing at most what the rate bound and the
  * in-flight window allow, so neither the control nor the control socket
  * ever waits on the broker; commands run in the same thread as socket
- * requests, through the same function (psd_ctlcmd_request), with no hand-off.
+ * requests, through the same function (psd_cmdtab_request), with no hand-off.
  * (Resolving the host name is the one blocking call: give an address or a
  * name in /etc/hosts.)  Built only WITH_MQTT; daemon/mqtt/mqtt_off.c otherwise. */
 #ifndef PSD_MQTT_H

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cmdtab.h"
 #include "errbuf.h"
 #include "mqttconf.h"
 
@@ -260,16 +261,12 @@ static int build(const struct payload *p, const char *zone, const char *verb, do
 	return 0;
 }
 
-int psd_mqttcmd_scope(const char *verb)
+int psd_mqttcmd_scope(unsigned fronts)
 {
-	static const char *const override[] = { "override", "release", "status", NULL };
-	static const char *const all[] = { "target", "calibrate", "lux", "finish", "accept", "abort", NULL };
-	for (size_t i = 0; override[i]; i++)
-		if (strcmp(verb, override[i]) == 0)
-			return PSD_MQTT_COMMANDS_OVERRIDE;
-	for (size_t i = 0; all[i]; i++)
-		if (strcmp(verb, all[i]) == 0)
-			return PSD_MQTT_COMMANDS_ALL;
+	if (fronts & PSD_CMDTAB_MQTT_OVERRIDE)
+		return PSD_MQTT_COMMANDS_OVERRIDE;
+	if (fronts & PSD_CMDTAB_MQTT_ALL)
+		return PSD_MQTT_COMMANDS_ALL;
 	return PSD_MQTT_COMMANDS_NONE;
 }
 

@@ -2,7 +2,7 @@
 /* MQTT command payloads (psensd-mqtt(7)): a message on
  * psensd/<site>/<zone>/set/<verb> becomes the control-socket request that
  * does the same (psensctl(1)), so that it is judged by the very code that
- * judges socket requests (psd_ctlcmd_request).  Only the payload's shape is
+ * judges socket requests (psd_cmdtab_request).  Only the payload's shape is
  * checked here: its JSON, its types, its size; the values' ranges and the
  * zone's existence are the request's business. */
 #ifndef PSD_MQTTCMD_H
@@ -25,9 +25,12 @@ struct psd_mqtt_cmd {
 int psd_mqttcmd_parse(const char *site, const char *zone, const char *verb, const void *payload, size_t len,
                        double override_s, struct psd_mqtt_cmd *out, char *err, size_t errlen);
 
-/* The [mqtt] commands scope (PSD_MQTT_COMMANDS_*) verb needs: override for
- * override, release and status, all for the others; none for a verb that
- * is no command (psd_mqttcmd_parse refuses it with its own words). */
-int psd_mqttcmd_scope(const char *verb);
+/* The [mqtt] commands scope (PSD_MQTT_COMMANDS_*) a verb needs, from the
+ * front ends its command table row grants (fronts, PSD_CMDTAB_* bits, as
+ * psd_cmdtab_verb_fronts gives them): override for a row granted
+ * MQTT_OVERRIDE (override, release, status), all for one granted MQTT_ALL
+ * alone; none for no MQTT bit, a verb that is no command
+ * (psd_mqttcmd_parse refuses it with its own words). */
+int psd_mqttcmd_scope(unsigned fronts);
 
 #endif

@@ -8,7 +8,7 @@
  * one epoll descriptor, one more in psensd's poll() (no thread): every
  * request is answered in the loop's turn, on the loop's thread.  Every
  * action a page asks for is a control request line given to the same
- * function as the control socket's (psd_ctlcmd_request), judged and
+ * function as the control socket's (psd_cmdtab_request), judged and
  * answered alike; the live updates (server-sent events) are its `status`
  * reply.  Built only WITH_WEB; daemon/web/web_off.c otherwise. */
 #ifndef PSD_WEB_H

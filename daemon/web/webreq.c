@@ -75,6 +75,8 @@ int psd_webreq_cookie(const char *header, const char *name, char *out, size_t n)
 	return -1;
 }
 
+/* What the console sends; tests/unit/test_cmdtab.c checks that it is
+ * exactly what the command table grants PSD_CMDTAB_CONSOLE. */
 static const char *const allowed[] = { "ping", "help", "status", "ratios", "target", "override", "release",
 	                               "calibrate", "accept-test", NULL };
 

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "loop.h"
-#include "ctlcmd.h"
+#include "cmdtab.h"
 #include "log.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -69,7 +69,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	line[n] = '\0';
 	if (strlen(line) != n || memchr(line, '\n', n))
 		return 0;   /* the socket splits lines and refuses NUL before the handler */
-	psd_ctlcmd_handle(&d, &c, line, &r);
+	psd_cmdtab_handle(&d, &c, line, &r);
 	reply = r.text;
 	if (!reply || strchr(reply, '\n') || !(o = json_tokener_parse(reply)) || !json_object_object_get_ex(o, "ok", &ok))
 		abort();

@@ -15,6 +15,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
+#include "cmdtab.h"
 #include "config.h"
 #include "db.h"
 #include "mqttcmd.h"
@@ -127,13 +128,13 @@ static void conf_commands(void **state)
 	assert_true(has_error("t.conf:10: commands"));
 	psd_config_free(&cf);
 	/* the scope each verb needs */
-	assert_int_equal(psd_mqttcmd_scope("override"), PSD_MQTT_COMMANDS_OVERRIDE);
-	assert_int_equal(psd_mqttcmd_scope("release"), PSD_MQTT_COMMANDS_OVERRIDE);
-	assert_int_equal(psd_mqttcmd_scope("status"), PSD_MQTT_COMMANDS_OVERRIDE);
-	assert_int_equal(psd_mqttcmd_scope("target"), PSD_MQTT_COMMANDS_ALL);
-	assert_int_equal(psd_mqttcmd_scope("calibrate"), PSD_MQTT_COMMANDS_ALL);
-	assert_int_equal(psd_mqttcmd_scope("accept"), PSD_MQTT_COMMANDS_ALL);
-	assert_int_equal(psd_mqttcmd_scope("reboot"), PSD_MQTT_COMMANDS_NONE);
+	assert_int_equal(psd_mqttcmd_scope(psd_cmdtab_verb_fronts("override")), PSD_MQTT_COMMANDS_OVERRIDE);
+	assert_int_equal(psd_mqttcmd_scope(psd_cmdtab_verb_fronts("release")), PSD_MQTT_COMMANDS_OVERRIDE);
+	assert_int_equal(psd_mqttcmd_scope(psd_cmdtab_verb_fronts("status")), PSD_MQTT_COMMANDS_OVERRIDE);
+	assert_int_equal(psd_mqttcmd_scope(psd_cmdtab_verb_fronts("target")), PSD_MQTT_COMMANDS_ALL);
+	assert_int_equal(psd_mqttcmd_scope(psd_cmdtab_verb_fronts("calibrate")), PSD_MQTT_COMMANDS_ALL);
+	assert_int_equal(psd_mqttcmd_scope(psd_cmdtab_verb_fronts("accept")), PSD_MQTT_COMMANDS_ALL);
+	assert_int_equal(psd_mqttcmd_scope(psd_cmdtab_verb_fronts("reboot")), PSD_MQTT_COMMANDS_NONE);
 }
 
 static void state_json(void **state)

@@ -29,7 +29,7 @@
 
 #include "bacnet.h"
 #include "bactag.h"
-#include "ctlcmd.h"
+#include "cmdtab.h"
 #include "loop.h"
 #include "mqttmsg.h"
 #include "points.h"
@@ -65,7 +65,9 @@ static int setup(void **state)
 	(void)state;
 	if (!cf || !mkdtemp(dir))
 		return -1;
-	put("s1", "1.25\n"), put("t1", "310\n"), put("s2", "0.8\n");
+	put("s1", "1.25\n");
+	put("t1", "310\n");
+	put("s2", "0.8\n");
 	{   /* the simulation's results: one daylight and one electric condition */
 		struct ps_result_cond c[2] = {
 			{ "d1", PS_COND_DAYLIGHT, "03-18", 43200, 1, 5.0, 6.0, 1074.0, 200.0, 0.01 },
@@ -148,7 +150,7 @@ static json_object *status(void)
 	struct psd_ctl_reply reply = { 0 };
 	char line[] = "status";
 	json_object *o;
-	psd_ctlcmd_request(&d, line, &reply);
+	psd_cmdtab_request(&d, line, &reply);
 	o = json_tokener_parse(reply.text);
 	psd_ctlsock_reply_free(&reply);
 	assert_non_null(o);
