@@ -28,6 +28,11 @@ typedef void (*psd_frontend_request_fn)(void *user, char *line, struct psd_ctl_r
  * verbs are checked against the command table, handed in so that the room
  * calls no core function. */
 typedef unsigned (*psd_frontend_grants_fn)(const char *verb);
+/* The command table's typed entries (psd_cmdtab_override, _release), for a
+ * front end whose values are typed (BACnet), handed in the same way. */
+typedef int (*psd_frontend_override_fn)(struct psd_engine *e, const char *zone, double level, double seconds,
+                                        double now, char *err, size_t errlen);
+typedef int (*psd_frontend_release_fn)(struct psd_engine *e, const char *zone, char *err, size_t errlen);
 
 /* What a front end is given at its start: the configuration (freed at a
  * reload: keep what is needed, or read engine->cf), the engine and the
@@ -39,6 +44,8 @@ struct psd_frontend_env {
 	psd_frontend_fixed_fn fixed;
 	psd_frontend_request_fn request;
 	psd_frontend_grants_fn grants;
+	psd_frontend_override_fn override;
+	psd_frontend_release_fn release;
 	void *user;
 };
 

@@ -198,6 +198,8 @@ static int start_fronts(struct psd_daemon *d, struct psd_config *cf)
 		                              .fixed = fixed_request,
 		                              .request = web_request,
 		                              .grants = psd_cmdtab_verb_fronts,
+		                              .override = psd_cmdtab_override,
+		                              .release = psd_cmdtab_release,
 		                              .user = d };
 	const struct psd_frontend *failed = NULL;
 	char err[1024] = "";

@@ -17,7 +17,6 @@
 #include "bacobj.h"
 #include "bacserve.h"
 #include "config.h"
-#include "cmdtab.h"
 #include "engine.h"
 #include "errbuf.h"
 #include "log.h"
@@ -43,6 +42,8 @@ struct psd_bacnet {
 	struct psd_bacnet_conf c;
 	struct psd_engine *e;
 	const struct psd_points *pts;
+	psd_frontend_override_fn override;   /* the command table's typed entries */
+	psd_frontend_release_fn release;
 	struct psd_bacserve_zone zone[PSD_MAX_ZONES];
 	double issued[PSD_MAX_ZONES]; /* clock time of the last override sent for a zone */
 	struct psd_bacserve_model m;
@@ -113,9 +114,9 @@ static int apply(void *user, size_t i)
 	char err[512];
 	int p = in_force(z), rc;
 	if (p >= 0)
-		rc = psd_cmdtab_override(b->e, z->name, z->prio[p] / 100, b->c.hold, b->now, err, sizeof err);
+		rc = b->override(b->e, z->name, z->prio[p] / 100, b->c.hold, b->now, err, sizeof err);
 	else
-		rc = psd_cmdtab_release(b->e, z->name, err, sizeof err);
+		rc = b->release(b->e, z->name, err, sizeof err);
 	b->issued[i] = b->now; /* a refusal too: tried again at the next renewal, not every turn */
 	if (rc != 0) {
 		if (p >= 0)
@@ -286,8 +287,8 @@ static int bacnet_wait_ms(const struct psd_bacnet *b)
 	return ms >= 0 && ms < due ? ms : (int)due;
 }
 
-static struct psd_bacnet *bacnet_open(const struct psd_bacnet_conf *c, struct psd_engine *e,
-                                      const struct psd_points *pts, char *err, size_t errlen)
+static struct psd_bacnet *bacnet_open(const struct psd_bacnet_conf *c, const struct psd_frontend_env *env,
+                                      char *err, size_t errlen)
 {
 	struct psd_bacnet *b = calloc(1, sizeof *b);
 	struct sockaddr_in sa = { .sin_family = AF_INET, .sin_port = htons((uint16_t)c->port) };
@@ -298,8 +299,10 @@ static struct psd_bacnet *bacnet_open(const struct psd_bacnet_conf *c, struct ps
 	}
 	b->fd = -1;
 	b->c = *c;
-	b->e = e;
-	b->pts = pts;
+	b->e = env->engine;
+	b->pts = env->points;
+	b->override = env->override;
+	b->release = env->release;
 	b->m = (struct psd_bacserve_model){ .device = (uint32_t)c->instance,
 		                            .name = b->c.name,
 		                            .vendor_id = (uint16_t)c->vendor_id,
@@ -332,7 +335,7 @@ static struct psd_bacnet *bacnet_open(const struct psd_bacnet_conf *c, struct ps
 	}
 	refresh(b);
 	psd_log_info("bacnet: device %ld '%s' on udp %s:%ld, %zu zone(s), writes %s%s%s%s%s%s%s", c->instance, c->name,
-	             c->bind, c->port, e->nzone, !b->m.writes ? "refused" : "to:",
+	             c->bind, c->port, b->e->nzone, !b->m.writes ? "refused" : "to:",
 	             c->writes & PSD_BACCONF_LIGHTING_OUTPUT ? " the lighting outputs" : "",
 	             c->writes & PSD_BACCONF_TARGET ? " the target" : "",
 	             c->writes & PSD_BACCONF_DAYLIGHTING ? " daylighting" : "",
@@ -429,7 +432,7 @@ static int wanted(const struct psd_config *cf)
 
 static void *start(const struct psd_frontend_env *env, char *err, size_t errlen)
 {
-	return bacnet_open(&env->cf->bacnet, env->engine, env->points, err, errlen);
+	return bacnet_open(&env->cf->bacnet, env, err, errlen);
 }
 
 /* COV notifications of the levels just commanded */

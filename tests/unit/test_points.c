@@ -255,7 +255,8 @@ static void bacnet_lists_the_points(void **state)
 	socklen_t tl = sizeof to;
 	struct pollfd pfd;
 	static struct psd_config cf;   /* only its [bacnet] */
-	const struct psd_frontend_env env = { .cf = &cf, .engine = &d.engine, .points = &d.points };
+	const struct psd_frontend_env env = { .cf = &cf, .engine = &d.engine, .points = &d.points,
+	                                      .override = psd_cmdtab_override, .release = psd_cmdtab_release };
 	void *b;
 	int cs = socket(AF_INET, SOCK_DGRAM, 0);
 	size_t n, pos = 0, nobj = 0, want = 1;
