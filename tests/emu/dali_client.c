@@ -121,8 +121,9 @@ int main(int argc, char **argv)
 		} else if (strcmp(cmd, "get") == 0 && i + 1 < argc && (n = point_index(argv[i + 1])) >= 0) {
 			double end = now_s() + 3;
 			int r;
-			/* the first read queues the query; the answer comes with the loop */
-			while ((r = dev.drv->read(&dev, &pts[n], now_s(), now_s(), &v)) != 0 && errno == ETIMEDOUT && now_s() < end)
+			/* the first read queues the query; the answer comes with the loop
+			 * (EAGAIN: a level written is not read back before it is on the bus) */
+			while ((r = dev.drv->read(&dev, &pts[n], now_s(), now_s(), &v)) != 0 && (errno == ETIMEDOUT || errno == EAGAIN) && now_s() < end)
 				run_until("idle", 1);
 			if (r == 0)
 				printf("get %d %.6f level %d\n", n, v, ps_dali_fraction_to_level(v));
