@@ -71,7 +71,8 @@ static int reopen_outputs(struct psd_daemon *d, struct psd_config *old, double n
                           const struct psd_engine *snap)
 {
 	char err[1024];
-	old->database = NULL;   /* a string of old->conf's: freed with it */
+	free(old->database);    /* its own copy (config.c): the engine opens no log without it */
+	old->database = NULL;
 	if (psd_engine_open_io(&d->engine, old, now, batch, snap, &d->clock, err, sizeof err) == 0)
 		return 0;
 	psd_log_errx("reload: no output can be commanded: the lights are left as they are: %s", err);
