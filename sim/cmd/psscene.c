@@ -491,6 +491,16 @@ static void usage(FILE *fp)
 	            "  -h, --help  this help;  -V, --version  the version\n");
 }
 
+/* An error before the run: said, and what was read freed. */
+static int early_error(struct run *r, struct ps_scene *sc, const struct ps_err *e)
+{
+	fprintf(stderr, "psscene: %s\n", e->msg);
+	ps_sensor_free(&r->sensor);
+	ps_sensor_free(&r->cosine);
+	ps_scene_free(sc);
+	return 1;
+}
+
 int main(int argc, char **argv)
 {
 	const char *out = NULL, *cache = NULL;
@@ -550,21 +560,18 @@ int main(int argc, char **argv)
 	if (ps_sensor_open(&r.sensor, sc.sensitivity, &e) != 0 ||
 	    ps_sensor_set_reading(&r.sensor, sc.reading, &e) != 0 ||
 	    ps_sensor_builtin(&r.cosine, PS_SENS_COSINE, &e) != 0) {
-		fprintf(stderr, "psscene: %s\n", e.msg);
-		return 1;
+		return early_error(&r, &sc, &e);
 	}
 	if (strncmp(sc.sensitivity, "builtin:", 8) == 0)
 		snprintf(r.sensor_id, sizeof r.sensor_id, "%s", sc.sensitivity);
 	else if (ps_cache_hash_file(sc.sensitivity, hash, &e) == 0)
 		snprintf(r.sensor_id, sizeof r.sensor_id, "sensor:%s", hash);
 	else {
-		fprintf(stderr, "psscene: %s\n", e.msg);
-		return 1;
+		return early_error(&r, &sc, &e);
 	}
 	memcpy(r.rgb, sc.rgb, sizeof r.rgb);
 	if (sc.filter && ps_filter_rgb(sc.filter, r.rgb, &e) != 0) {
-		fprintf(stderr, "psscene: %s\n", e.msg);
-		return 1;
+		return early_error(&r, &sc, &e);
 	}
 	r.tty = isatty(2);
 	r.total = (int)(2 * sc.ncond);
@@ -656,7 +663,8 @@ int main(int argc, char **argv)
 		ps_results_summarise(&res);
 		if (ps_cache_hash_file(sc.path, shash, &e) != 0) {
 			fprintf(stderr, "psscene: %s\n", e.msg);
-			return 1;
+			status = 1;
+			goto done;
 		}
 		snprintf(all, sizeof all, "%s|%s|%s|%.17g|%.17g,%.17g,%.17g", shash, r.sensor_id, r.hashes,
 		         sc.rotation, r.rgb[0], r.rgb[1], r.rgb[2]);
@@ -682,6 +690,7 @@ int main(int argc, char **argv)
 			printf("results: %s\n", out);
 		}
 	}
+done:
 	ps_results_free(&res);
 	ps_dcset_row_free(&srow);
 	ps_dcset_row_free(&trow);
