@@ -52,9 +52,9 @@ check "the socket was the user's, in build/" grep -q "control socket config/exam
 # (and the fade after them) out of its figures on the control.  The span
 # ends at the accept, which the walk-through sends after polling the status
 # once a second: at 600x each second of latency is 10 room minutes, so the
-# end is checked to within the hour, not the minute.
+# start and end are checked to within the hour, not the minute.
 check "the night run's summary names its session: $(grep 'calibration sessions held' "$TMP/out" | head -n 1)" \
-	grep -q "calibration sessions held the lights for [0-9]* periods .*not counted below: 2026-03-18 21:0[0-9] to 2026-03-18 21:[1-5][0-9]" "$TMP/out"
+	grep -q "calibration sessions held the lights for [0-9]* periods .*not counted below: 2026-03-18 21:[0-5][0-9] to 2026-03-18 21:[1-5][0-9]" "$TMP/out"
 w=$(sed -n 's/.*estimated against true task illuminance:.*worst \([0-9.]*\) %.*/\1/p' "$TMP/out" | head -n 1)
 check "the night run's estimate worst $w % is the control's, not the session's (below 25 %)" \
 	awk -v w="$w" 'BEGIN { exit !(w != "" && w < 25) }'
