@@ -37,6 +37,11 @@ if pid == 0:
     os.execv(sys.argv[1], [sys.argv[1], "web-passwd", sys.argv[2]])
 out = b""
 answers = sys.argv[3:]
+# a prompt is answered once: only text after the last answer can be the
+# next prompt (the newline psensctl writes after an answer would leave the
+# old prompt at the end, and an answer typed before the next prompt's
+# TCSAFLUSH is dropped: the run would hang)
+since = 0
 while True:
     try:
         b = os.read(fd, 1024)
@@ -45,9 +50,10 @@ while True:
     if not b:
         break
     out += b
-    if answers and out.rstrip().endswith(b":"):
+    if answers and out[since:].rstrip().endswith(b":"):
         os.write(fd, answers.pop(0).encode() + b"\n")
         out += b"\n"
+        since = len(out)
 _, st = os.waitpid(pid, 0)
 sys.stdout.write(out.decode(errors="replace"))
 print("exit %d" % os.waitstatus_to_exitcode(st))
